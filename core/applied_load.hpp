@@ -1,0 +1,46 @@
+#pragma once
+/// \file applied_load.hpp
+/// Prescribed loads: a force at a body point or a pure torque, given in the world or the
+/// body frame, scaled by a time profile. Non-conservative: no potential energy.
+#include "core/force_element.hpp"
+#include "core/time_profile.hpp"
+
+namespace flexref::core {
+
+enum class LoadFrame { kWorld, kBody };
+
+/// f(t) = profile(t) · value, applied at the body point p_BoP_B.
+class AppliedForce final : public ForceElement {
+ public:
+  AppliedForce(int body, const Eigen::Vector3d& value, LoadFrame frame,
+               const Eigen::Vector3d& p_BoP_B, TimeProfile profile);
+  void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
+                    std::span<Wrench> wrenches) const override;
+  void append_discontinuities(std::vector<double>& times) const override;
+  std::string describe() const override;
+
+ private:
+  int body_;
+  Eigen::Vector3d value_;
+  LoadFrame frame_;
+  Eigen::Vector3d p_BoP_B_;
+  TimeProfile profile_;
+};
+
+/// Γ(t) = profile(t) · value, a pure torque (couple).
+class AppliedTorque final : public ForceElement {
+ public:
+  AppliedTorque(int body, const Eigen::Vector3d& value, LoadFrame frame, TimeProfile profile);
+  void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
+                    std::span<Wrench> wrenches) const override;
+  void append_discontinuities(std::vector<double>& times) const override;
+  std::string describe() const override;
+
+ private:
+  int body_;
+  Eigen::Vector3d value_;
+  LoadFrame frame_;
+  TimeProfile profile_;
+};
+
+}  // namespace flexref::core

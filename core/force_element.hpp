@@ -1,0 +1,82 @@
+#pragma once
+/// \file force_element.hpp
+/// The interface of everything that applies loads: applied forces and torques, gravity,
+/// potentials; later contacts and bushings. An element adds, for each body it acts on, a
+/// force (world) and a torque about the body's reference point Br (world); the model maps
+/// these to generalized forces (design/model.md: Qe_R += f, Qe_θ += ũ_P Aᵀ f).
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/state.hpp"
+
+namespace flexref::core {
+
+/// When loads are evaluated: t, and a time strictly inside the current step or solver
+/// interval that selects the active branch of piecewise time laws (see time_profile.hpp).
+struct LoadContext {
+  double t = 0.0;
+  double t_segment = 0.0;
+};
+
+/// Pose of one body at the evaluation, computed once and shared by all elements.
+struct BodyKinematics {
+  const BodyState* state = nullptr;
+  Eigen::Matrix3d R_WB = Eigen::Matrix3d::Identity();  ///< A(θ)
+  Eigen::Vector3d p_BoBr_B = Eigen::Vector3d::Zero();
+
+  /// Arm from Br to a body point given from the frame origin, world frame.
+  Eigen::Vector3d p_BrP_W(const Eigen::Vector3d& p_BoP_B) const {
+    return R_WB * (p_BoP_B - p_BoBr_B);
+  }
+  /// World position of a body point given from the frame origin.
+  Eigen::Vector3d p_WP(const Eigen::Vector3d& p_BoP_B) const {
+    return state->p_WBr + p_BrP_W(p_BoP_B);
+  }
+  /// World velocity of a body point given from the frame origin: v_Br + ω × p_BrP.
+  Eigen::Vector3d v_WP(const Eigen::Vector3d& p_BoP_B) const {
+    return state->v_WBr + R_WB * state->w_WB_B.cross(p_BoP_B - p_BoBr_B);
+  }
+};
+
+/// Resultant of the loads on one body: force (world) and torque about Br (world).
+struct Wrench {
+  Eigen::Vector3d f_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tau_Br_W = Eigen::Vector3d::Zero();
+
+  void set_zero() {
+    f_W.setZero();
+    tau_Br_W.setZero();
+  }
+  /// Adds a force applied at a point whose arm from Br is p_BrP_W.
+  void add_force_at(const Eigen::Vector3d& force_W, const Eigen::Vector3d& p_BrP_W) {
+    f_W += force_W;
+    tau_Br_W += p_BrP_W.cross(force_W);
+  }
+};
+
+class ForceElement {
+ public:
+  virtual ~ForceElement() = default;
+
+  /// Adds this element's loads to the bodies' wrenches. Must not allocate.
+  virtual void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
+                            std::span<Wrench> wrenches) const = 0;
+  /// Potential energy of conservative elements (zero for applied loads).
+  virtual double potential_energy(const LoadContext& context,
+                                  std::span<const BodyKinematics> bodies) const {
+    (void)context;
+    (void)bodies;
+    return 0.0;
+  }
+  /// Known times where the element's loads jump (both sides must be integrated separately).
+  virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
+  /// True when the loads depend on velocities (then schemes use a predicted velocity).
+  virtual bool depends_on_velocity() const { return false; }
+  /// One line for `flexref check`.
+  virtual std::string describe() const = 0;
+};
+
+}  // namespace flexref::core

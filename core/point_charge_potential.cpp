@@ -1,0 +1,52 @@
+#include "core/point_charge_potential.hpp"
+
+#include <cstddef>
+#include <sstream>
+#include <utility>
+
+namespace flexref::core {
+
+PointChargePotential::PointChargePotential(double alpha, double beta, const Eigen::Vector3d& p_WM,
+                                           std::vector<Charge> charges)
+    : alpha_(alpha), beta_(beta), p_WM_(p_WM), charges_(std::move(charges)) {}
+
+Eigen::Vector3d PointChargePotential::unit_force_W(const Eigen::Vector3d& p_WP) const {
+  const Eigen::Vector3d d = p_WP - p_WM_;
+  const double r = d.norm();
+  const double z = p_WP.z();
+  return -alpha_ * d / (r * r * r) + Eigen::Vector3d(0.0, 0.0, beta_ / (z * z));
+}
+
+double PointChargePotential::unit_potential(const Eigen::Vector3d& p_WP) const {
+  return -alpha_ / (p_WP - p_WM_).norm() + beta_ / p_WP.z();
+}
+
+void PointChargePotential::add_wrenches(const LoadContext& /*context*/,
+                                        std::span<const BodyKinematics> bodies,
+                                        std::span<Wrench> wrenches) const {
+  for (const Charge& c : charges_) {
+    const auto i = static_cast<std::size_t>(c.body);
+    const BodyKinematics& body = bodies[i];
+    wrenches[i].add_force_at(c.weight * unit_force_W(body.p_WP(c.p_BoP_B)),
+                             body.p_BrP_W(c.p_BoP_B));
+  }
+}
+
+double PointChargePotential::potential_energy(const LoadContext& /*context*/,
+                                              std::span<const BodyKinematics> bodies) const {
+  double v = 0.0;
+  for (const Charge& c : charges_) {
+    v += c.weight * unit_potential(bodies[static_cast<std::size_t>(c.body)].p_WP(c.p_BoP_B));
+  }
+  return v;
+}
+
+std::string PointChargePotential::describe() const {
+  std::ostringstream out;
+  out << "point-charge potential: alpha " << alpha_ << ", beta " << beta_ << ", attractor ("
+      << p_WM_.x() << ", " << p_WM_.y() << ", " << p_WM_.z() << "), wall z = 0, "
+      << charges_.size() << " charges";
+  return out.str();
+}
+
+}  // namespace flexref::core

@@ -1,0 +1,42 @@
+#pragma once
+/// \file point_charge_potential.hpp
+/// The soft Coulomb wall of the paper's Fig. 2: charges c_i at body points P_i, attracted to
+/// a fixed point M and repelled by the wall z = 0 (design/scenes.md, `coulomb_wall`):
+///   V = Σ_i c_i ( −α/|r_i − M| + β/z_i ),
+///   f_i = −∇V = −c_i α (r_i − M)/|r_i − M|³ + c_i β/z_i² e_z.
+/// Conservative: the energy output includes V.
+#include <vector>
+
+#include "core/force_element.hpp"
+
+namespace flexref::core {
+
+class PointChargePotential final : public ForceElement {
+ public:
+  struct Charge {
+    int body = 0;
+    Eigen::Vector3d p_BoP_B = Eigen::Vector3d::Zero();
+    double weight = 1.0;  ///< c_i
+  };
+
+  PointChargePotential(double alpha, double beta, const Eigen::Vector3d& p_WM,
+                       std::vector<Charge> charges);
+  void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
+                    std::span<Wrench> wrenches) const override;
+  double potential_energy(const LoadContext& context,
+                          std::span<const BodyKinematics> bodies) const override;
+  std::string describe() const override;
+
+  /// Force on a unit-weight charge at r (world); exposed for derivative tests.
+  Eigen::Vector3d unit_force_W(const Eigen::Vector3d& p_WP) const;
+  /// Potential of a unit-weight charge at r.
+  double unit_potential(const Eigen::Vector3d& p_WP) const;
+
+ private:
+  double alpha_;
+  double beta_;
+  Eigen::Vector3d p_WM_;
+  std::vector<Charge> charges_;
+};
+
+}  // namespace flexref::core

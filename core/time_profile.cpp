@@ -1,0 +1,53 @@
+#include "core/time_profile.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace flexref::core {
+
+TimeProfile::TimeProfile(Shape shape, double start, double duration)
+    : shape_(shape), start_(start), duration_(duration) {
+  if (shape != Shape::kConstant && !(duration > 0.0)) {
+    throw std::invalid_argument("pulse duration must be positive");
+  }
+}
+
+TimeProfile TimeProfile::constant() { return TimeProfile(Shape::kConstant, 0.0, 0.0); }
+
+TimeProfile TimeProfile::sin2_pulse(double start, double duration) {
+  return TimeProfile(Shape::kSin2Pulse, start, duration);
+}
+
+TimeProfile TimeProfile::rectangular_pulse(double start, double duration) {
+  return TimeProfile(Shape::kRectangularPulse, start, duration);
+}
+
+bool TimeProfile::active(double t_segment) const {
+  return t_segment >= start_ && t_segment < start_ + duration_;
+}
+
+double TimeProfile::value(double t, double t_segment) const {
+  switch (shape_) {
+    case Shape::kConstant:
+      return 1.0;
+    case Shape::kSin2Pulse: {
+      if (!active(t_segment)) return 0.0;
+      const double s = std::sin(std::numbers::pi * (t - start_) / duration_);
+      return s * s;
+    }
+    case Shape::kRectangularPulse:
+      return active(t_segment) ? 1.0 : 0.0;
+  }
+  return 0.0;
+}
+
+void TimeProfile::append_discontinuities(std::vector<double>& times) const {
+  if (shape_ == Shape::kConstant) return;
+  // sin² is C¹ at its ends (its second derivative jumps by 2π²/duration²); the rectangular
+  // pulse jumps. Both ends are switches every integrator must step on.
+  times.push_back(start_);
+  times.push_back(start_ + duration_);
+}
+
+}  // namespace flexref::core

@@ -1,0 +1,44 @@
+#pragma once
+/// \file time_profile.hpp
+/// Scalar time laws that multiply a load: constant, sin² pulse, rectangular pulse.
+///
+/// Piecewise laws are evaluated with two times: t, where the smooth branch is evaluated, and
+/// t_segment, a time strictly inside the integration step or solver interval that decides
+/// which branch is active. An integrator evaluating at the end of a step that ends on a switch
+/// passes a t_segment inside that step and so gets the left limit; the next step gets the
+/// right limit. This is how every integrator stops at load discontinuities without ever
+/// evaluating the "wrong side" of a jump (design/schemes.md, "Reference integrators").
+#include <vector>
+
+namespace flexref::core {
+
+class TimeProfile {
+ public:
+  enum class Shape { kConstant, kSin2Pulse, kRectangularPulse };
+
+  /// f(t) = 1.
+  static TimeProfile constant();
+  /// f(t) = sin²(π (t − start)/duration) for start ≤ t < start + duration, else 0 (C¹ at ends).
+  static TimeProfile sin2_pulse(double start, double duration);
+  /// f(t) = 1 for start ≤ t < start + duration, else 0 (jumps at both ends).
+  static TimeProfile rectangular_pulse(double start, double duration);
+
+  /// Value at t on the branch active at t_segment.
+  double value(double t, double t_segment) const;
+  /// Times where the law or one of its first derivatives jumps.
+  void append_discontinuities(std::vector<double>& times) const;
+
+  Shape shape() const { return shape_; }
+  double start() const { return start_; }
+  double duration() const { return duration_; }
+
+ private:
+  TimeProfile(Shape shape, double start, double duration);
+  bool active(double t_segment) const;
+
+  Shape shape_;
+  double start_;
+  double duration_;
+};
+
+}  // namespace flexref::core

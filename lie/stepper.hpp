@@ -1,0 +1,49 @@
+#pragma once
+/// \file stepper.hpp
+/// The common interface of the Lie-group Newmark-family schemes (design/schemes.md), after
+/// Drake's IntegratorBase and Boost.Odeint's stepper concept: initialize, step(h) returning a
+/// status, order(), name(). A failed step leaves the state at the start of the step and says
+/// why. Stepping allocates nothing.
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "core/model.hpp"
+
+namespace flexref::lie {
+
+struct StepStatus {
+  bool ok = true;
+  std::string message;  ///< why the step failed (time and residual), empty when ok
+};
+
+class Stepper {
+ public:
+  virtual ~Stepper() = default;
+  Stepper(const Stepper&) = delete;
+  Stepper& operator=(const Stepper&) = delete;
+
+  /// "c1", "c2", "nmb".
+  virtual std::string_view name() const = 0;
+  /// The order the scheme's authors claim (measured by the tests and `converge`).
+  virtual int order() const = 0;
+  /// Force evaluations per step (1 for the explicit schemes).
+  virtual double force_evaluations_per_step() const = 0;
+
+  /// Sets t0 and the state, and evaluates the initial accelerations.
+  virtual void initialize(double t0, const core::State& state) = 0;
+  /// Advances by h. Steps never straddle a known load discontinuity: the driver makes them
+  /// land on it.
+  virtual StepStatus step(double h) = 0;
+
+  virtual double time() const = 0;
+  virtual const core::State& state() const = 0;
+
+ protected:
+  Stepper() = default;
+};
+
+/// "c1", "c2" or "nmb"; throws std::invalid_argument for anything else.
+std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model);
+
+}  // namespace flexref::lie
