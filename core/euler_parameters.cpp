@@ -88,7 +88,28 @@ Eigen::Vector3d log_quaternion(const EulerParameters& theta) {
 }
 
 EulerParameters euler_parameters_from_matrix(const Eigen::Matrix3d& rotation) {
-  return exp_quaternion(log_so3(rotation));
+  // Shepperd (J. Guidance 1(3), 1978): the largest of 4e0² = 1 + tr A, 4ei² = 1 + 2Aii − tr A
+  // comes from the diagonal without cancellation, the other three from off-diagonal sums and
+  // differences divided by it. (Going through exp_quaternion(log_so3(A)) instead gave
+  // e0 = −1.6e-16 at |φ| = π, where the rounded |φ| slightly exceeds π.)
+  const Eigen::Matrix3d& a = rotation;
+  const double trace = a.trace();
+  EulerParameters q;
+  if (trace > a(0, 0) && trace > a(1, 1) && trace > a(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + trace);  // 4 e0
+    q << 0.25 * s, (a(2, 1) - a(1, 2)) / s, (a(0, 2) - a(2, 0)) / s, (a(1, 0) - a(0, 1)) / s;
+  } else if (a(0, 0) > a(1, 1) && a(0, 0) > a(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + a(0, 0) - a(1, 1) - a(2, 2));  // 4 e1
+    q << (a(2, 1) - a(1, 2)) / s, 0.25 * s, (a(0, 1) + a(1, 0)) / s, (a(0, 2) + a(2, 0)) / s;
+  } else if (a(1, 1) > a(2, 2)) {
+    const double s = 2.0 * std::sqrt(1.0 + a(1, 1) - a(0, 0) - a(2, 2));  // 4 e2
+    q << (a(0, 2) - a(2, 0)) / s, (a(0, 1) + a(1, 0)) / s, 0.25 * s, (a(1, 2) + a(2, 1)) / s;
+  } else {
+    const double s = 2.0 * std::sqrt(1.0 + a(2, 2) - a(0, 0) - a(1, 1));  // 4 e3
+    q << (a(1, 0) - a(0, 1)) / s, (a(0, 2) + a(2, 0)) / s, (a(1, 2) + a(2, 1)) / s, 0.25 * s;
+  }
+  if (q(0) < 0.0) q = -q;  // θ and −θ give the same A; the convention is e0 ≥ 0
+  return q / q.norm();
 }
 
 double geodesic_angle(const EulerParameters& a, const EulerParameters& b) {

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/model.hpp"
 
@@ -43,7 +44,11 @@ class Stepper {
   Stepper() = default;
 };
 
-/// "c1", "c2" or "nmb"; throws std::invalid_argument for anything else.
+/// "c1", "c2" or "nmb"; throws std::invalid_argument for anything else. The model must
+/// outlive the stepper.
 std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model);
+
+/// The names make_stepper accepts: {"c1", "c2", "nmb"}.
+std::vector<std::string> scheme_names();
 
 }  // namespace flexref::lie

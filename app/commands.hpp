@@ -1,0 +1,62 @@
+#pragma once
+/// \file commands.hpp
+/// The `flexref` subcommands (design/README.md). Each returns the process exit code; errors
+/// are thrown and mapped to exit codes in main.cpp.
+#include <string>
+#include <vector>
+
+namespace flexref::app {
+
+/// Exit codes.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitInputError = 1;    ///< bad scene, CSV or option value
+inline constexpr int kExitSolverError = 3;   ///< an integrator failed
+inline constexpr int kExitRefused = 4;       ///< a study refused (e.g. uncertified reference)
+
+struct CheckOptions {
+  std::string scene;
+};
+int check_command(const CheckOptions& options);
+
+struct RunOptions {
+  std::string scene;
+  std::string scheme = "c2";
+  double dt = 1e-3;
+  std::string output;
+};
+int run_command(const RunOptions& options);
+
+struct ReferenceOptions {
+  std::string scene;
+  std::string solver = "cvode";
+  double rtol = 1e-10;
+  double atol = -1.0;
+  bool estimate = true;
+  std::string output;
+};
+int reference_command(const ReferenceOptions& options);
+
+struct CompareOptions {
+  std::string run;
+  std::string reference;
+  std::string metric = "rotation+points";
+};
+int compare_command(const CompareOptions& options);
+
+struct ConvergeOptions {
+  std::string scene;
+  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  double dt = 1e-2;
+  int levels = 6;
+  std::string metric = "rotation+points";
+  std::string reference_solver = "auto";
+  double reference_rtol = 1e-12;
+  int jobs = 0;  ///< 0: all cores
+  std::string out_dir = "out/converge";
+};
+int converge_command(const ConvergeOptions& options);
+
+/// "key = value" TOML lines describing a scene file for result metadata.
+std::string scene_metadata(const std::string& scene_file, const std::string& scene_name);
+
+}  // namespace flexref::app

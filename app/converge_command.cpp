@@ -1,0 +1,67 @@
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "app/commands.hpp"
+#include "app/scene_reader.hpp"
+#include "core/output_times.hpp"
+#include "studies/convergence.hpp"
+#include "studies/parallel.hpp"
+#include "studies/plot.hpp"
+#include "studies/trajectory_table.hpp"
+#include "studies/versions.hpp"
+
+namespace flexref::app {
+
+int converge_command(const ConvergeOptions& options) {
+  const Scene scene = read_scene(options.scene);
+  const core::Model& model = *scene.model;
+  const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
+
+  studies::ConvergenceOptions study;
+  study.schemes = options.schemes;
+  study.h0 = options.dt;
+  study.levels = options.levels;
+  study.metric = options.metric;
+  study.reference_solver = options.reference_solver;
+  study.reference_rtol = options.reference_rtol;
+  study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
+  study.progress = true;
+  const studies::ConvergenceResult result = studies::run_convergence(model, times, study);
+
+  std::filesystem::create_directories(options.out_dir);
+  const std::filesystem::path dir(options.out_dir);
+  const std::string table = format_convergence_table(result);
+  std::ostringstream settings;
+  settings.precision(17);
+  settings << scene_metadata(options.scene, scene.name) << "\n[study]\nkind = \"converge\"\n"
+           << "schemes = [";
+  for (std::size_t i = 0; i < options.schemes.size(); ++i) {
+    settings << (i ? ", " : "") << '"' << options.schemes[i] << '"';
+  }
+  settings << "]\ndt = " << options.dt << "\nlevels = " << options.levels << "\nmetric = \""
+           << options.metric << "\"\njobs = " << study.jobs << "\n\n[reference]\nsolver = \""
+           << result.reference.run.solver << "\"\nrtol = " << result.reference.run.options.rtol
+           << "\nestimated_error = " << result.reference.estimate.estimate()
+           << "\nvs_tighter = " << result.reference.estimate.vs_tighter
+           << "\nvs_other_solver = " << result.reference.estimate.vs_other_solver
+           << "\nother_solver = \"" << result.reference.estimate.other_solver << "\"\n\n"
+           << studies::versions_toml();
+
+  const std::string csv_path = (dir / "convergence.csv").string();
+  studies::write_file_atomically(csv_path, studies::convergence_csv(result));
+  studies::write_file_atomically((dir / "convergence.txt").string(), table);
+  studies::write_file_atomically((dir / "study.toml").string(), settings.str());
+  studies::write_csv(result.reference.table, (dir / "reference.csv").string());
+  const std::string png = (dir / "convergence.png").string();
+  const studies::PlotOutcome plot = studies::run_plot_script(
+      "plot_convergence.py", {csv_path, png, "convergence: " + scene.name}, png);
+
+  std::cout << "converge " << scene.name << "\n" << table;
+  std::cout << "wrote " << csv_path << ", convergence.txt, study.toml, reference.csv";
+  std::cout << (plot.ok ? ", " + plot.message : "") << "\n";
+  if (!plot.ok) std::cout << plot.message << "\n";
+  return kExitOk;
+}
+
+}  // namespace flexref::app

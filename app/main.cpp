@@ -1,0 +1,99 @@
+/// \file main.cpp
+/// The `flexref` command line (CLI11). Exit codes: 0 success, 1 bad input, 2 usage error
+/// (CLI11), 3 solver failure, 4 a study refused its inputs.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "app/commands.hpp"
+#include "core/error.hpp"
+
+int main(int argc, char** argv) {
+  using namespace flexref::app;
+  CLI::App app{
+      "flexref: trusted reference solutions for rigid bodies in large rotation, and the "
+      "verification of time integrators against them"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "flexref 0.1.0");
+
+  CheckOptions check;
+  auto* check_cmd = app.add_subcommand("check", "validate a scene and print its model");
+  check_cmd->add_option("scene", check.scene, "scene file (TOML)")->required();
+
+  RunOptions run;
+  auto* run_cmd = app.add_subcommand("run", "integrate a scene with a Lie-group scheme");
+  run_cmd->add_option("scene", run.scene, "scene file (TOML)")->required();
+  run_cmd->add_option("--scheme", run.scheme, "c1 | c2 | nmb")
+      ->check(CLI::IsMember({"c1", "c2", "nmb"}))
+      ->capture_default_str();
+  run_cmd->add_option("--dt", run.dt, "step [s]")->check(CLI::PositiveNumber)->capture_default_str();
+  run_cmd->add_option("-o,--output", run.output, "CSV file to write")->required();
+
+  ReferenceOptions ref;
+  auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
+  ref_cmd->add_option("scene", ref.scene, "scene file (TOML)")->required();
+  ref_cmd->add_option("--solver", ref.solver, "ida | cvode | odeint | exact")
+      ->check(CLI::IsMember({"ida", "cvode", "odeint", "exact"}))
+      ->capture_default_str();
+  ref_cmd->add_option("--rtol", ref.rtol, "relative tolerance")
+      ->check(CLI::Range(1e-15, 1e-1))
+      ->capture_default_str();
+  ref_cmd->add_option("--atol", ref.atol, "absolute tolerance (default: = rtol)")
+      ->check(CLI::Range(1e-16, 1.0));
+  ref_cmd->add_flag("!--no-estimate", ref.estimate,
+                    "skip the error estimate (rerun 100x tighter and a second solver)");
+  ref_cmd->add_option("-o,--output", ref.output, "CSV file to write")->required();
+
+  CompareOptions cmp;
+  auto* cmp_cmd = app.add_subcommand("compare", "error norms of a run against a reference");
+  cmp_cmd->add_option("run", cmp.run, "CSV of the run")->required();
+  cmp_cmd->add_option("reference", cmp.reference, "CSV of the reference")->required();
+  cmp_cmd->add_option("--metric", cmp.metric, "metric for the summary line")->capture_default_str();
+
+  ConvergeOptions conv;
+  auto* conv_cmd = app.add_subcommand("converge", "observed orders of convergence");
+  conv_cmd->add_option("scene", conv.scene, "scene file (TOML)")->required();
+  conv_cmd->add_option("--schemes", conv.schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"c1", "c2", "nmb"}))
+      ->capture_default_str();
+  conv_cmd->add_option("--dt", conv.dt, "coarsest step [s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  conv_cmd->add_option("--levels", conv.levels, "number of halvings")
+      ->check(CLI::Range(2, 16))
+      ->capture_default_str();
+  conv_cmd->add_option("--metric", conv.metric, "error metric")->capture_default_str();
+  conv_cmd->add_option("--reference-solver", conv.reference_solver, "auto | ida | cvode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "odeint", "exact"}))
+      ->capture_default_str();
+  conv_cmd->add_option("--reference-rtol", conv.reference_rtol, "reference tolerance")
+      ->check(CLI::Range(1e-14, 1e-4))
+      ->capture_default_str();
+  conv_cmd->add_option("--jobs", conv.jobs, "parallel runs (0: all cores)")->check(CLI::NonNegativeNumber);
+  conv_cmd->add_option("--out", conv.out_dir, "output directory")->capture_default_str();
+
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    if (*check_cmd) return check_command(check);
+    if (*run_cmd) return run_command(run);
+    if (*ref_cmd) return reference_command(ref);
+    if (*cmp_cmd) return compare_command(cmp);
+    if (*conv_cmd) return converge_command(conv);
+  } catch (const flexref::core::InputError& e) {
+    std::fprintf(stderr, "flexref: error: %s\n", e.what());
+    return kExitInputError;
+  } catch (const flexref::core::SolverError& e) {
+    std::fprintf(stderr, "flexref: solver error: %s\n", e.what());
+    return kExitSolverError;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "flexref: error: %s\n", e.what());
+    return kExitInputError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "flexref: error: %s\n", e.what());
+    return kExitSolverError;
+  }
+  return kExitOk;
+}

@@ -1,0 +1,65 @@
+#include <iostream>
+#include <sstream>
+
+#include "app/commands.hpp"
+#include "app/scene_reader.hpp"
+#include "core/output_times.hpp"
+#include "reference/solve_reference.hpp"
+#include "studies/certified_reference.hpp"
+#include "studies/trajectory_table.hpp"
+#include "studies/versions.hpp"
+
+namespace flexref::app {
+
+int reference_command(const ReferenceOptions& options) {
+  const Scene scene = read_scene(options.scene);
+  const core::Model& model = *scene.model;
+  const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
+  reference::SolverOptions solver_options;
+  solver_options.rtol = options.rtol;
+  solver_options.atol = options.atol;
+
+  studies::CertifiedReference ref;
+  if (options.estimate) {
+    ref = studies::certified_reference(model, times, options.solver, solver_options,
+                                       "rotation+points");
+  } else {
+    ref.run = reference::solve_reference(options.solver, model, times, solver_options);
+    ref.table = studies::tabulate(model, ref.run.trajectory);
+  }
+  studies::write_csv(ref.table, options.output);
+
+  const auto& st = ref.run.stats;
+  std::ostringstream meta;
+  meta.precision(17);
+  meta << scene_metadata(options.scene, scene.name) << "\n[integrator]\nkind = \"reference\"\n"
+       << "solver = \"" << ref.run.solver << "\"\nrtol = " << options.rtol
+       << "\natol = " << solver_options.absolute_tolerance() << "\nsteps = " << st.steps
+       << "\nrhs_evaluations = " << st.rhs_evaluations
+       << "\njacobian_evaluations = " << st.jacobian_evaluations
+       << "\nerror_test_failures = " << st.error_test_failures
+       << "\nnonlinear_failures = " << st.nonlinear_failures
+       << "\ncpu_seconds = " << st.cpu_seconds << "\n";
+  if (options.estimate) {
+    const auto& e = ref.estimate;
+    meta << "\n[error_estimate]\nmetric = \"" << e.metric << "\"\nestimate = " << e.estimate()
+         << "\nvs_tighter = " << e.vs_tighter << "\ntighter_solver = \"" << e.tighter_solver
+         << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_other_solver = " << e.vs_other_solver
+         << "\nother_solver = \"" << e.other_solver << "\"\n";
+  }
+  meta << "\n" << studies::versions_toml();
+  studies::write_file_atomically(options.output + ".meta.toml", meta.str());
+
+  std::cout << "reference " << scene.name << " with " << ref.run.solver << " (rtol "
+            << options.rtol << "): " << st.steps << " steps, " << st.rhs_evaluations
+            << " evaluations, " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
+  if (options.estimate) {
+    const auto& e = ref.estimate;
+    std::cout << "estimated error (" << e.metric << "): " << e.estimate() << "  [vs "
+              << e.tighter_solver << " at rtol " << e.tighter_rtol << ": " << e.vs_tighter
+              << "; vs " << e.other_solver << ": " << e.vs_other_solver << "]\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace flexref::app

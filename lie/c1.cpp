@@ -1,0 +1,187 @@
+#include "lie/c1.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/LU>
+
+#include "core/euler_parameters.hpp"
+#include "lie/c1_newton.hpp"
+#include "lie/scheme_support.hpp"
+
+namespace flexref::lie {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+C1Stepper::C1Stepper(const core::Model& model)
+    : model_(model),
+      state_(model.initial_state()),
+      next_(state_),
+      mid_(state_),
+      acc_(state_.size()),
+      acc_next_(state_.size()),
+      R_n_transpose_(state_.size(), Matrix3d::Identity()),
+      b_(state_.size(), Vector3d::Zero()),
+      residual_(state_.size(), Vector3d::Zero()),
+      ws_(model.make_workspace()) {
+  for (const core::Body& body : model.bodies()) has_free_body_ = has_free_body_ || body.is_free();
+}
+
+double C1Stepper::force_evaluations_per_step() const {
+  if (steps_ == 0) return has_free_body_ ? 2.0 : 1.0;
+  return static_cast<double>(evaluations_) / static_cast<double>(steps_);
+}
+
+void C1Stepper::initialize(double t0, const core::State& state) {
+  if (state.size() != state_.size()) {
+    throw std::invalid_argument("c1: the state has a different number of bodies than the model");
+  }
+  time_ = t0;
+  state_ = state;
+  next_ = state;
+  mid_ = state;
+  // t_segment = t0 selects the branch on the right of t0; the first step re-evaluates on its
+  // own segment [t0, t0 + h).
+  model_.compute_accelerations(core::LoadContext{t0, t0}, state_, ws_, acc_);
+  restart_pending_ = true;
+  newton_iterations_ = 0;
+  max_newton_iterations_ = 0;
+  evaluations_ = 0;
+  steps_ = 0;
+}
+
+void C1Stepper::restart(double h) {
+  // a_n = f_n/m (right limit at t_n); A_n from the Euler equation (the Newton predictor).
+  model_.compute_accelerations(core::LoadContext{time_, time_ + 0.5 * h}, state_, ws_, acc_);
+  ++evaluations_;
+}
+
+StepStatus C1Stepper::step(double h) {
+  const double t_n = time_;
+  const double t_np1 = t_n + h;
+  if (restart_pending_ || detail::starts_on_discontinuity(model_.discontinuities(), t_n, h)) {
+    restart(h);
+  }
+  const std::size_t n_bodies = state_.size();
+
+  // 1. Translation (explicit) and the Newton predictor.
+  for (std::size_t i = 0; i < n_bodies; ++i) {
+    const core::BodyState& s = state_[i];
+    core::BodyState& s1 = next_[i];
+    core::BodyState& sm = mid_[i];
+    const Vector3d& a_n = acc_[i].a_WBr;
+    if (model_.body(static_cast<int>(i)).is_free()) {
+      // x_{n+1} ← x_n + h v_n + ½ h² a_n
+      s1.p_WBr = s.p_WBr + h * s.v_WBr + (0.5 * h * h) * a_n;
+      // x_{n+½} ← ½ (x_n + x_{n+1}),  v_{n+½} ← v_n + ½ h a_n   (predictor)
+      sm.p_WBr = 0.5 * (s.p_WBr + s1.p_WBr);
+      sm.v_WBr = s.v_WBr + (0.5 * h) * a_n;
+    } else {
+      s1.p_WBr = s.p_WBr;
+      sm.p_WBr = s.p_WBr;
+      s1.v_WBr.setZero();
+      sm.v_WBr.setZero();
+    }
+    R_n_transpose_[i] = core::rotation_matrix(s.theta_WB).transpose();
+    // W_{n+1} ← W_n + h A_n   (predictor)
+    s1.w_WB_B = s.w_WB_B + h * acc_[i].alpha_WB_B;
+  }
+
+  // 2. Newton on W_{n+1}:  r(W) = J W − exp(−Θ̃)(J W_n + h R_nᵀ Γ_{n+½}) = 0.
+  const core::LoadContext midpoint{t_n + 0.5 * h, t_n + 0.5 * h};
+  int iterations = 0;
+  for (;; ++iterations) {
+    for (std::size_t i = 0; i < n_bodies; ++i) {
+      const core::BodyState& s = state_[i];
+      // Θ ← (h/2)(W_n + W_{n+1})
+      const Vector3d theta = detail::c1_increment(s.w_WB_B, next_[i].w_WB_B, h);
+      // R_{n+½} ← R_n exp(Θ̃/2),  W_{n+½} ← ½ (W_n + W_{n+1})
+      mid_[i].theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(0.5 * theta));
+      mid_[i].theta_WB.normalize();
+      mid_[i].w_WB_B = 0.5 * (s.w_WB_B + next_[i].w_WB_B);
+    }
+    // Γ_{n+½} at t_{n+½} and the midpoint configuration.
+    model_.compute_wrenches(midpoint, mid_, ws_);
+    ++evaluations_;
+
+    double worst = 0.0;
+    int worst_body = 0;
+    for (std::size_t i = 0; i < n_bodies; ++i) {
+      const Matrix3d& J = model_.body(static_cast<int>(i)).I_Br_B();
+      const Vector3d& W_n = state_[i].w_WB_B;
+      const Vector3d& W = next_[i].w_WB_B;
+      const Vector3d impulse_B = h * (R_n_transpose_[i] * ws_.wrenches[i].tau_Br_W);
+      const Vector3d J_W_n = J * W_n;
+      // b ← J W_n + h R_nᵀ Γ_{n+½}
+      b_[i] = J_W_n + impulse_B;
+      // r ← J W − exp(−Θ̃) b
+      residual_[i] = detail::c1_residual(J, b_[i], W_n, W, h);
+      const double scale =
+          detail::max_abs(J * W) + detail::max_abs(J_W_n) + detail::max_abs(impulse_B);
+      const double relative = detail::max_abs(residual_[i]) / (scale > 0.0 ? scale : 1.0);
+      if (!std::isfinite(relative)) return {false, detail::non_finite_failure("C1", t_n, h)};
+      if (relative > worst) {
+        worst = relative;
+        worst_body = static_cast<int>(i);
+      }
+    }
+    if (worst <= detail::kNewtonTolerance) break;
+    if (iterations == kMaxNewtonIterations) {
+      return {false, detail::newton_failure("C1", t_n, h, worst, iterations, worst_body)};
+    }
+    for (std::size_t i = 0; i < n_bodies; ++i) {
+      const Matrix3d& J = model_.body(static_cast<int>(i)).I_Br_B();
+      // W ← W − [J − (h/2)(exp(−Θ̃) b)~ J_r(Θ)]⁻¹ r
+      next_[i].w_WB_B -= detail::c1_jacobian(J, b_[i], state_[i].w_WB_B, next_[i].w_WB_B, h)
+                             .partialPivLu()
+                             .solve(residual_[i]);
+    }
+  }
+
+  // 3. Attitude at t_{n+1} and the Newmark acceleration.
+  for (std::size_t i = 0; i < n_bodies; ++i) {
+    const core::BodyState& s = state_[i];
+    core::BodyState& s1 = next_[i];
+    // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
+    const Vector3d theta = detail::c1_increment(s.w_WB_B, s1.w_WB_B, h);
+    s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
+    s1.theta_WB.normalize();
+    // A_{n+1} ← (W_{n+1} − W_n)/h
+    acc_next_[i].alpha_WB_B = (s1.w_WB_B - s.w_WB_B) / h;
+    // v ← v_n + h a_n   (predictor for the end evaluation)
+    if (model_.body(static_cast<int>(i)).is_free()) s1.v_WBr = s.v_WBr + h * acc_[i].a_WBr;
+  }
+
+  // 4. Translation: a_{n+1} from the loads at the new configuration (central differences).
+  if (has_free_body_) {
+    model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
+    ++evaluations_;
+  }
+  for (std::size_t i = 0; i < n_bodies; ++i) {
+    const core::Body& body = model_.body(static_cast<int>(i));
+    if (body.is_free()) {
+      // a_{n+1} ← f_{n+1}/m
+      acc_next_[i].a_WBr = ws_.wrenches[i].f_W / body.mass();
+      // v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
+      next_[i].v_WBr = state_[i].v_WBr + (0.5 * h) * (acc_[i].a_WBr + acc_next_[i].a_WBr);
+    } else {
+      acc_next_[i].a_WBr.setZero();
+    }
+  }
+
+  if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C1", t_n, h)};
+  std::swap(state_, next_);
+  std::swap(acc_, acc_next_);
+  time_ = t_np1;
+  restart_pending_ = false;
+  newton_iterations_ += iterations;
+  max_newton_iterations_ = std::max(max_newton_iterations_, iterations);
+  ++steps_;
+  return {};
+}
+
+}  // namespace flexref::lie

@@ -1,0 +1,113 @@
+#include "lie/c2.hpp"
+
+#include <cstddef>
+#include <stdexcept>
+#include <utility>
+
+#include "core/euler_parameters.hpp"
+#include "lie/scheme_support.hpp"
+
+namespace flexref::lie {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+C2Stepper::C2Stepper(const core::Model& model)
+    : model_(model),
+      state_(model.initial_state()),
+      next_(state_),
+      acc_(state_.size()),
+      acc_next_(state_.size()),
+      torque_W_(state_.size(), Vector3d::Zero()),
+      torque_next_W_(state_.size(), Vector3d::Zero()),
+      ws_(model.make_workspace()) {}
+
+void C2Stepper::initialize(double t0, const core::State& state) {
+  if (state.size() != state_.size()) {
+    throw std::invalid_argument("c2: the state has a different number of bodies than the model");
+  }
+  time_ = t0;
+  state_ = state;
+  next_ = state;
+  // The step length is not known yet: evaluate on the right of t0 (t_segment = t0 is inside
+  // [t0, t0 + h) for every half-open time law); the first step re-evaluates on its own segment.
+  model_.compute_accelerations(core::LoadContext{t0, t0}, state_, ws_, acc_);
+  for (std::size_t i = 0; i < state_.size(); ++i) torque_W_[i] = ws_.wrenches[i].tau_Br_W;
+  restart_pending_ = true;
+}
+
+void C2Stepper::restart(double h) {
+  // a_n = f_n/m,  A_n = J⁻¹ (R_nᵀ Γ_n − W_n × J W_n)   (Euler, right limit at t_n)
+  model_.compute_accelerations(core::LoadContext{time_, time_ + 0.5 * h}, state_, ws_, acc_);
+  for (std::size_t i = 0; i < state_.size(); ++i) torque_W_[i] = ws_.wrenches[i].tau_Br_W;
+}
+
+StepStatus C2Stepper::step(double h) {
+  const double t_n = time_;
+  const double t_np1 = t_n + h;
+  if (restart_pending_ || detail::starts_on_discontinuity(model_.discontinuities(), t_n, h)) {
+    restart(h);
+  }
+
+  // 1. Configuration at t_{n+1}, explicit.
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    const core::BodyState& s = state_[i];
+    core::BodyState& s1 = next_[i];
+    const Vector3d& a_n = acc_[i].a_WBr;
+    const Vector3d& A_n = acc_[i].alpha_WB_B;
+    if (model_.body(static_cast<int>(i)).is_free()) {
+      // x_{n+1} ← x_n + h v_n + ½ h² a_n
+      s1.p_WBr = s.p_WBr + h * s.v_WBr + (0.5 * h * h) * a_n;
+      // v ← v_n + h a_n   (predictor, seen only by velocity-dependent loads)
+      s1.v_WBr = s.v_WBr + h * a_n;
+    } else {
+      s1.p_WBr = s.p_WBr;
+      s1.v_WBr.setZero();
+    }
+    // Θ ← h (W_n + ½ h A_n)
+    const Vector3d theta = h * (s.w_WB_B + (0.5 * h) * A_n);
+    // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
+    s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
+    s1.theta_WB.normalize();
+    // W ← W_n + h A_n   (predictor, seen only by velocity-dependent loads)
+    s1.w_WB_B = s.w_WB_B + h * A_n;
+  }
+
+  // 2. The one force evaluation: f_{n+1}, Γ_{n+1} at the new configuration.
+  model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
+
+  // 3. Velocities at t_{n+1}.
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    const core::Body& body = model_.body(static_cast<int>(i));
+    const core::BodyState& s = state_[i];
+    core::BodyState& s1 = next_[i];
+    const Matrix3d& J = body.I_Br_B();
+    const Matrix3d& R_np1 = ws_.kinematics[i].R_WB;
+    if (body.is_free()) {
+      // a_{n+1} ← f_{n+1}/m
+      acc_next_[i].a_WBr = ws_.wrenches[i].f_W / body.mass();
+      // v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
+      s1.v_WBr = s.v_WBr + (0.5 * h) * (acc_[i].a_WBr + acc_next_[i].a_WBr);
+    } else {
+      acc_next_[i].a_WBr.setZero();
+    }
+    torque_next_W_[i] = ws_.wrenches[i].tau_Br_W;
+    // π_{n+1} ← R_n J W_n + (h/2)(Γ_n + Γ_{n+1})
+    const Vector3d pi_np1 = core::rotation_matrix(s.theta_WB) * (J * s.w_WB_B) +
+                            (0.5 * h) * (torque_W_[i] + torque_next_W_[i]);
+    // W_{n+1} ← J⁻¹ R_{n+1}ᵀ π_{n+1}
+    s1.w_WB_B = body.I_Br_B_inverse() * (R_np1.transpose() * pi_np1);
+    // A_{n+1} ← (W_{n+1} − W_n)/h
+    acc_next_[i].alpha_WB_B = (s1.w_WB_B - s.w_WB_B) / h;
+  }
+
+  if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C2", t_n, h)};
+  std::swap(state_, next_);
+  std::swap(acc_, acc_next_);
+  std::swap(torque_W_, torque_next_W_);
+  time_ = t_np1;
+  restart_pending_ = false;
+  return {};
+}
+
+}  // namespace flexref::lie

@@ -1,0 +1,143 @@
+#include "lie/nmb.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/LU>
+
+#include "core/euler_parameters.hpp"
+#include "lie/nmb_newton.hpp"
+#include "lie/scheme_support.hpp"
+
+namespace flexref::lie {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+NmbStepper::NmbStepper(const core::Model& model)
+    : model_(model),
+      state_(model.initial_state()),
+      next_(state_),
+      acc_(state_.size()),
+      acc_next_(state_.size()),
+      ws_(model.make_workspace()) {}
+
+void NmbStepper::initialize(double t0, const core::State& state) {
+  if (state.size() != state_.size()) {
+    throw std::invalid_argument("nmb: the state has a different number of bodies than the model");
+  }
+  time_ = t0;
+  state_ = state;
+  next_ = state;
+  // t_segment = t0 selects the branch on the right of t0; the first step re-evaluates on its
+  // own segment [t0, t0 + h).
+  model_.compute_accelerations(core::LoadContext{t0, t0}, state_, ws_, acc_);
+  restart_pending_ = true;
+  newton_iterations_ = 0;
+  max_newton_iterations_ = 0;
+  steps_ = 0;
+}
+
+void NmbStepper::restart(double h) {
+  // a_n = f_n/m,  A_n = J⁻¹ (T_n − W_n × J W_n)   (Euler, right limit at t_n)
+  model_.compute_accelerations(core::LoadContext{time_, time_ + 0.5 * h}, state_, ws_, acc_);
+}
+
+StepStatus NmbStepper::step(double h) {
+  const double t_n = time_;
+  const double t_np1 = t_n + h;
+  if (restart_pending_ || detail::starts_on_discontinuity(model_.discontinuities(), t_n, h)) {
+    restart(h);
+  }
+
+  // 1. Configuration at t_{n+1}, explicit.
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    const core::BodyState& s = state_[i];
+    core::BodyState& s1 = next_[i];
+    const Vector3d& a_n = acc_[i].a_WBr;
+    const Vector3d& A_n = acc_[i].alpha_WB_B;
+    if (model_.body(static_cast<int>(i)).is_free()) {
+      // x_{n+1} ← x_n + h v_n + ½ h² a_n
+      s1.p_WBr = s.p_WBr + h * s.v_WBr + (0.5 * h * h) * a_n;
+      // v ← v_n + h a_n   (predictor, seen only by velocity-dependent loads)
+      s1.v_WBr = s.v_WBr + h * a_n;
+    } else {
+      s1.p_WBr = s.p_WBr;
+      s1.v_WBr.setZero();
+    }
+    // Θ ← h W_n + ½ h² A_n
+    const Vector3d theta = h * s.w_WB_B + (0.5 * h * h) * A_n;
+    // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
+    s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
+    s1.theta_WB.normalize();
+    // W ← W_n + h A_n   (predictor, seen only by velocity-dependent loads)
+    s1.w_WB_B = s.w_WB_B + h * A_n;
+  }
+
+  // 2. The one force evaluation: f_{n+1}, Γ_{n+1} at the new configuration.
+  model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
+
+  // 3. Accelerations and velocities at t_{n+1}.
+  int step_max_iterations = 0;
+  long step_iterations = 0;
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    const core::Body& body = model_.body(static_cast<int>(i));
+    const core::BodyState& s = state_[i];
+    core::BodyState& s1 = next_[i];
+    if (body.is_free()) {
+      // a_{n+1} ← f_{n+1}/m
+      acc_next_[i].a_WBr = ws_.wrenches[i].f_W / body.mass();
+      // v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
+      s1.v_WBr = s.v_WBr + (0.5 * h) * (acc_[i].a_WBr + acc_next_[i].a_WBr);
+    } else {
+      acc_next_[i].a_WBr.setZero();
+    }
+    const Matrix3d& J = body.I_Br_B();
+    const Vector3d& W_n = s.w_WB_B;
+    const Vector3d& A_n = acc_[i].alpha_WB_B;
+    // T_{n+1} ← R_{n+1}ᵀ Γ_{n+1}
+    const Vector3d T_np1 = ws_.kinematics[i].R_WB.transpose() * ws_.wrenches[i].tau_Br_W;
+    // Newton on f(A) = J A + W(A) × J W(A) − T_{n+1} = 0, from A ← A_n.
+    Vector3d& A = acc_next_[i].alpha_WB_B;
+    A = A_n;
+    double relative_residual = 0.0;
+    int iterations = 0;
+    for (;; ++iterations) {
+      // f ← J A + W × J W − T_{n+1},  W = W_n + (h/2)(A_n + A)
+      const Vector3d f = detail::nmb_residual(J, T_np1, W_n, A_n, A, h);
+      const Vector3d W = detail::nmb_velocity(W_n, A_n, A, h);
+      const double scale = detail::max_abs(J * A) + detail::max_abs(W.cross(J * W)) +
+                           detail::max_abs(T_np1);
+      relative_residual = detail::max_abs(f) / (scale > 0.0 ? scale : 1.0);
+      if (relative_residual <= detail::kNewtonTolerance) break;
+      if (!std::isfinite(relative_residual)) {
+        return {false, detail::non_finite_failure("NMB", t_n, h)};
+      }
+      if (iterations == kMaxNewtonIterations) {
+        return {false, detail::newton_failure("NMB", t_n, h, relative_residual, iterations,
+                                              static_cast<int>(i))};
+      }
+      // A ← A − [J + (h/2)(W̃ J − (J W)~)]⁻¹ f
+      A -= detail::nmb_jacobian(J, W_n, A_n, A, h).partialPivLu().solve(f);
+    }
+    step_iterations += iterations;
+    step_max_iterations = std::max(step_max_iterations, iterations);
+    // W_{n+1} ← W_n + (h/2)(A_n + A_{n+1})
+    s1.w_WB_B = detail::nmb_velocity(W_n, A_n, A, h);
+  }
+
+  if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("NMB", t_n, h)};
+  std::swap(state_, next_);
+  std::swap(acc_, acc_next_);
+  time_ = t_np1;
+  restart_pending_ = false;
+  newton_iterations_ += step_iterations;
+  max_newton_iterations_ = std::max(max_newton_iterations_, step_max_iterations);
+  ++steps_;
+  return {};
+}
+
+}  // namespace flexref::lie

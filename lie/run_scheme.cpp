@@ -1,0 +1,76 @@
+#include "lie/run_scheme.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/output_times.hpp"
+#include "lie/scheme_support.hpp"
+
+namespace flexref::lie {
+namespace {
+
+void require_on_grid(const char* what, double t, double t0, double dt) {
+  if (core::is_multiple_of(t - t0, dt)) return;
+  std::ostringstream out;
+  out.precision(17);
+  out << what << " t = " << t << " is not on the step grid t0 + n·dt (t0 = " << t0
+      << ", dt = " << dt << ")";
+  throw std::invalid_argument(out.str());
+}
+
+long step_index(double t, double t0, double dt) { return std::lround((t - t0) / dt); }
+
+}  // namespace
+
+core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double dt,
+                            const std::vector<double>& output_times) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) {
+    throw std::invalid_argument("run_scheme: the step dt must be positive and finite");
+  }
+  if (output_times.empty()) throw std::invalid_argument("run_scheme: no output times");
+  for (std::size_t k = 0; k < output_times.size(); ++k) {
+    if (!std::isfinite(output_times[k]) || (k > 0 && !(output_times[k] > output_times[k - 1]))) {
+      throw std::invalid_argument(
+          "run_scheme: output times must be finite and strictly increasing");
+    }
+  }
+  const double t0 = output_times.front();
+  const double t_end = output_times.back();
+  for (std::size_t k = 1; k < output_times.size(); ++k) {
+    require_on_grid("output time", output_times[k], t0, dt);
+  }
+  for (double d : model.discontinuities()) {
+    if (d > t0 && d <= t_end) require_on_grid("load discontinuity", d, t0, dt);
+  }
+
+  core::Trajectory trajectory;
+  trajectory.times = output_times;
+  trajectory.states.reserve(output_times.size());
+  stepper.initialize(t0, model.initial_state());
+  trajectory.states.push_back(stepper.state());
+
+  const long n_end = step_index(t_end, t0, dt);
+  std::size_t next_output = 1;
+  for (long n = 0; n < n_end; ++n) {
+    const double t_n = stepper.time();
+    const double t_next = t0 + static_cast<double>(n + 1) * dt;
+    const StepStatus status = stepper.step(t_next - t_n);
+    if (!status.ok) throw core::SolverError(std::string(stepper.name()), t_n, n, status.message);
+    if (!detail::all_finite(stepper.state())) {
+      throw core::SolverError(std::string(stepper.name()), t_n, n,
+                              "the step left a non-finite state");
+    }
+    while (next_output < output_times.size() &&
+           step_index(output_times[next_output], t0, dt) == n + 1) {
+      trajectory.states.push_back(stepper.state());
+      ++next_output;
+    }
+  }
+  return trajectory;
+}
+
+}  // namespace flexref::lie

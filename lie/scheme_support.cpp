@@ -1,0 +1,43 @@
+#include "lie/scheme_support.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace flexref::lie::detail {
+
+bool starts_on_discontinuity(std::span<const double> discontinuities, double t_n, double h) {
+  const double tolerance = 1e-9 * std::max(h, std::abs(t_n));
+  const auto it =
+      std::lower_bound(discontinuities.begin(), discontinuities.end(), t_n - tolerance);
+  return it != discontinuities.end() && *it <= t_n + tolerance;
+}
+
+bool all_finite(const core::State& state) {
+  for (const core::BodyState& s : state) {
+    if (!s.p_WBr.allFinite() || !s.theta_WB.allFinite() || !s.v_WBr.allFinite() ||
+        !s.w_WB_B.allFinite()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+std::string newton_failure(const char* scheme, double t_n, double h, double relative_residual,
+                           int iterations, int body) {
+  std::ostringstream out;
+  out.precision(17);
+  out << scheme << " Newton did not converge at t = " << t_n << " (step h = " << h
+      << "), residual " << relative_residual << " (relative, tolerance " << kNewtonTolerance
+      << ") after " << iterations << " iterations, body " << body;
+  return out.str();
+}
+
+std::string non_finite_failure(const char* scheme, double t_n, double h) {
+  std::ostringstream out;
+  out.precision(17);
+  out << scheme << ": non-finite state in the step from t = " << t_n << " with h = " << h;
+  return out.str();
+}
+
+}  // namespace flexref::lie::detail

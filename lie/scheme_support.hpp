@@ -1,0 +1,41 @@
+#pragma once
+/// \file scheme_support.hpp
+/// Helpers shared by the C1, C2 and NMB steppers (not part of the public interface): where a
+/// step starts on a load discontinuity, finiteness checks, the Newton tolerance, and the
+/// failure messages (built only on failure, so a successful step allocates nothing).
+#include <span>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "core/state.hpp"
+
+namespace flexref::lie::detail {
+
+/// Relative Newton tolerance of C1 and NMB: a residual is converged when every component is
+/// ≤ kNewtonTolerance · (size of the terms it is the sum of). Evaluating a residual costs a
+/// handful of rounded operations per component (a rotation, two matrix-vector products and
+/// a difference), so its round-off floor is ≈ 5 ε ≈ 1e-15 of that size: 1e-14 is reachable,
+/// yet leaves a relative error in W_{n+1} or A_{n+1} below the local truncation error of any
+/// step a study uses (O(h³) ≥ 1e-14 for h ≥ 1e-4 and rates O(1)).
+inline constexpr double kNewtonTolerance = 1e-14;
+
+/// True when a known load discontinuity lies at the start t_n of the step [t_n, t_n + h]: the
+/// loads carried over from the previous step are then left limits and must be re-evaluated.
+/// The match tolerance 1e-9·max(h, |t_n|) is that of core::is_multiple_of, which the driver
+/// used to put the discontinuity on the grid.
+bool starts_on_discontinuity(std::span<const double> discontinuities, double t_n, double h);
+
+/// Every position, attitude and velocity of every body is finite.
+bool all_finite(const core::State& state);
+
+/// "<scheme> Newton did not converge at t = …, h = …: residual … after … iterations (body …)".
+std::string newton_failure(const char* scheme, double t_n, double h, double relative_residual,
+                           int iterations, int body);
+/// "<scheme>: non-finite state at t = … (step from t_n with h = …)".
+std::string non_finite_failure(const char* scheme, double t_n, double h);
+
+/// Largest |component| of a 3-vector (the norm the Newton tests use).
+inline double max_abs(const Eigen::Vector3d& v) { return v.cwiseAbs().maxCoeff(); }
+
+}  // namespace flexref::lie::detail

@@ -1,0 +1,215 @@
+/// \file ida_solver.cpp
+/// IDA (variable-order BDF for DAEs) on the Euler-parameter DAE form of design/model.md
+/// (core/dae_form.hpp: Gear–Gupta–Leimkuhler stabilized index 2, multipliers λ, μ).
+///
+/// - Dense direct linear solver with IDA's difference-quotient Jacobian (the systems are
+///   10–16 unknowns per body; an analytic Jacobian would save little and is one more thing to
+///   get wrong).
+/// - λ and μ are marked algebraic (IDASetId) and left out of the local error test
+///   (IDASetSuppressAlg): the index-2 multipliers cannot be controlled like the states, and on
+///   a solution they are zero anyway (they only measure the discretization's drift).
+/// - [0, T] is integrated segment by segment between the model's known load discontinuities:
+///   IDASetStopTime at each segment end, then IDAReInit from the state there with consistent
+///   (y, y') from DaeForm::initial_values on the new load branch. Every residual call passes
+///   t_segment = the segment's midpoint.
+/// - Outputs: IDASolve in IDA_NORMAL mode with tout = each requested time, which IDA fills from
+///   its own interpolating polynomial (the solver's dense output), never beyond the stop time.
+/// - SolverOptions::max_steps is IDA's mxstep: the most steps taken to reach one output time.
+#include <cmath>
+#include <ctime>
+#include <exception>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/dae_form.hpp"
+#include "core/error.hpp"
+#include "reference/reference_solver.hpp"
+#include "reference/sundials_handle.hpp"
+
+namespace flexref::reference {
+namespace {
+
+namespace sun = sundials;
+
+/// Absolute tolerance of λ and μ. They are out of the error test, but IDA's Newton iteration
+/// still weighs their corrections with 1/(rtol |y| + atol) in its convergence test. Since
+/// λ = μ = 0 on the solution, the differential tolerance would ask for corrections of the
+/// multipliers far below their own round-off (their residual rows mix terms of size |ω|²);
+/// 1 (in the units of λ and μ) lets the iteration converge on the differential variables,
+/// which are what the multipliers' errors feed into and what the test keeps tight.
+constexpr double kMultiplierAbsoluteTolerance = 1.0;
+
+struct IdaData {
+  const core::DaeForm* form = nullptr;
+  core::DaeForm::Scratch scratch;
+  double t_segment = 0.0;
+  sun::ErrorLog log;
+  std::exception_ptr callback_error;
+  double last_nonfinite_time = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// F(t, y, y') of the DAE form; allocates nothing.
+int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void* user_data) {
+  auto& d = *static_cast<IdaData*>(user_data);
+  try {
+    d.form->residual(core::LoadContext{t, d.t_segment}, sun::data(y), sun::data(yp),
+                     sun::data(r), d.scratch);
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;  // unrecoverable; the driver rethrows the message
+  }
+  if (!sun::all_finite(sun::data(r), d.form->size())) {
+    // Recoverable: a trial step may have reached a singular load (a charge on the wall); IDA
+    // retries with a smaller step and gives up with its own message if that does not help.
+    d.last_nonfinite_time = t;
+    return 1;
+  }
+  return 0;
+}
+
+/// Adds the counters of the current IDA run (they restart at every IDAReInit).
+void add_counters(void* ida, SolverStats& stats) {
+  long steps = 0, residuals = 0, jacobian_residuals = 0, jacobians = 0, error_fails = 0,
+       convergence_fails = 0;
+  sun::check(IDAGetNumSteps(ida, &steps), "IDAGetNumSteps");
+  sun::check(IDAGetNumResEvals(ida, &residuals), "IDAGetNumResEvals");
+  sun::check(IDAGetNumLinResEvals(ida, &jacobian_residuals), "IDAGetNumLinResEvals");
+  sun::check(IDAGetNumJacEvals(ida, &jacobians), "IDAGetNumJacEvals");
+  sun::check(IDAGetNumErrTestFails(ida, &error_fails), "IDAGetNumErrTestFails");
+  sun::check(IDAGetNumNonlinSolvConvFails(ida, &convergence_fails),
+             "IDAGetNumNonlinSolvConvFails");
+  stats.steps += steps;
+  stats.rhs_evaluations += residuals + jacobian_residuals;
+  stats.jacobian_evaluations += jacobians;
+  stats.error_test_failures += error_fails;
+  stats.nonlinear_failures += convergence_fails;
+}
+
+std::string failure_message(const std::string& what, const IdaData& d) {
+  std::ostringstream out;
+  out.precision(17);
+  out << what;
+  if (!d.log.message.empty()) out << " (" << d.log.message << ")";
+  if (d.callback_error) {
+    try {
+      std::rethrow_exception(d.callback_error);
+    } catch (const std::exception& e) {
+      out << "; the residual threw: " << e.what();
+    } catch (...) {
+      out << "; the residual threw an unknown exception";
+    }
+  }
+  if (!std::isnan(d.last_nonfinite_time)) {
+    out << "; last non-finite residual at t = " << d.last_nonfinite_time;
+  }
+  return out.str();
+}
+
+}  // namespace
+
+ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& output_times,
+                       const SolverOptions& options) {
+  const sun::SegmentPlan plan = sun::plan_segments(model.discontinuities(), output_times);
+  const core::DaeForm form(model);
+  const int n = form.size();
+
+  ReferenceRun run;
+  run.solver = "ida";
+  run.options = options;
+  run.trajectory.times = output_times;
+  run.trajectory.states.reserve(output_times.size());
+  core::State state = model.initial_state();
+  for (std::size_t k = 0; k < plan.initial_outputs; ++k) run.trajectory.states.push_back(state);
+  if (plan.segments.empty()) return run;
+
+  IdaData data;
+  data.form = &form;
+  data.scratch = form.make_scratch();
+
+  const sun::Context context = sun::make_context();
+  const sun::Vector y = sun::make_vector(n, context.get());
+  const sun::Vector yp = sun::make_vector(n, context.get());
+  const sun::Vector ids = sun::make_vector(n, context.get());
+  const sun::Vector atol = sun::make_vector(n, context.get());
+  const std::vector<double> differential = form.differential_ids();
+  for (int i = 0; i < n; ++i) {
+    const auto u = static_cast<std::size_t>(i);
+    sun::data(ids.get())[i] = differential[u];
+    sun::data(atol.get())[i] =
+        differential[u] > 0.0 ? options.absolute_tolerance() : kMultiplierAbsoluteTolerance;
+  }
+  const sun::Matrix jacobian = sun::make_dense_matrix(n, context.get());
+  const sun::LinearSolver linear_solver =
+      sun::make_dense_linear_solver(y.get(), jacobian.get(), context.get());
+  // Declared last so that it is freed first (as in SUNDIALS' examples).
+  const sun::IdaMemory ida(sun::check_created(IDACreate(context.get()), "IDACreate"));
+
+  double t_reached = 0.0;
+  std::clock_t cpu = 0;
+  try {
+    bool initialized = false;
+    for (const sun::Segment& segment : plan.segments) {
+      std::clock_t start = std::clock();
+      data.t_segment = segment.t_segment;
+      // Consistent (y, y') on the new load branch: λ = μ = 0, y' from the ODE form.
+      form.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
+                          sun::data(y.get()), sun::data(yp.get()));
+      if (!sun::all_finite(sun::data(y.get()), n) || !sun::all_finite(sun::data(yp.get()), n)) {
+        throw core::SolverError("ida", segment.start, run.stats.steps,
+                                "the loads are not finite at the initial state of the segment");
+      }
+      if (!initialized) {
+        sun::check(IDAInit(ida.get(), residual, segment.start, y.get(), yp.get()), "IDAInit");
+        sun::check(IDASetUserData(ida.get(), &data), "IDASetUserData");
+        sun::check(IDASetErrHandlerFn(ida.get(), sun::record_error, &data.log),
+                   "IDASetErrHandlerFn");
+        sun::check(IDASVtolerances(ida.get(), options.rtol, atol.get()), "IDASVtolerances");
+        sun::check(IDASetLinearSolver(ida.get(), linear_solver.get(), jacobian.get()),
+                   "IDASetLinearSolver");
+        sun::check(IDASetId(ida.get(), ids.get()), "IDASetId");
+        sun::check(IDASetSuppressAlg(ida.get(), SUNTRUE), "IDASetSuppressAlg");
+        sun::check(IDASetMaxNumSteps(ida.get(), options.max_steps), "IDASetMaxNumSteps");
+        initialized = true;
+      } else {
+        sun::check(IDAReInit(ida.get(), segment.start, y.get(), yp.get()), "IDAReInit");
+      }
+      sun::check(IDASetStopTime(ida.get(), segment.end), "IDASetStopTime");
+      t_reached = segment.start;
+      cpu += std::clock() - start;
+
+      const auto advance_to = [&](double tout) {
+        const std::clock_t solve_start = std::clock();
+        double t_returned = tout;
+        sun::check(IDASolve(ida.get(), tout, &t_returned, y.get(), yp.get(), IDA_NORMAL),
+                   "IDASolve");
+        cpu += std::clock() - solve_start;
+        t_reached = tout;
+      };
+      for (std::size_t k = segment.first_output; k < segment.end_output; ++k) {
+        // Outputs within boundary_slack of the segment end are taken at the end.
+        const double tout = std::min(output_times[k], segment.end);
+        if (tout > t_reached) advance_to(tout);
+        form.unpack(sun::data(y.get()), state);
+        run.trajectory.states.push_back(state);
+      }
+      if (t_reached < segment.end) advance_to(segment.end);
+      // The state is continuous across a load switch; unpacking normalizes θ, so the restart
+      // also projects the Euler parameters back onto the unit sphere.
+      form.unpack(sun::data(y.get()), state);
+      add_counters(ida.get(), run.stats);
+    }
+  } catch (const sun::SundialsError& e) {
+    double t_failed = t_reached;
+    long steps = 0;
+    if (IDAGetCurrentTime(ida.get(), &t_failed) < 0) t_failed = t_reached;
+    if (IDAGetNumSteps(ida.get(), &steps) < 0) steps = 0;
+    throw core::SolverError("ida", t_failed, run.stats.steps + steps,
+                            failure_message(e.what(), data));
+  }
+  run.stats.cpu_seconds = static_cast<double>(cpu) / CLOCKS_PER_SEC;
+  return run;
+}
+
+}  // namespace flexref::reference

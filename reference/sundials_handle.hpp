@@ -1,0 +1,237 @@
+#pragma once
+/// \file sundials_handle.hpp
+/// The SUNDIALS boundary (design/style.md, after SUNDIALS' own C++ `sundials::Context`):
+///  - RAII owners with custom deleters for every handle SUNDIALS hands out (context, vectors,
+///    matrices, linear solvers, IDA and CVODE memory);
+///  - one `check(flag, "Function")` that turns a negative return into a SundialsError naming
+///    the function and the flag (IDAGetReturnFlagName / CVodeGetReturnFlagName);
+///  - an error handler that records SUNDIALS' own message ("At t = 0.3, mxstep steps taken
+///    before reaching tout.") instead of printing it, so the driver can put it into the
+///    core::SolverError it throws;
+///  - the segment plan both SUNDIALS drivers integrate: [0, T] split at the model's known load
+///    discontinuities (design/schemes.md, "Reference integrators": stop and restart at every
+///    switch), with the output times each segment owns.
+/// Boost.Odeint (odeint_solver.cpp) plans its segments on its own: it is the independent code
+/// path of the three.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <cvode/cvode.h>
+#include <ida/ida.h>
+#include <ida/ida_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+namespace flexref::reference::sundials {
+
+// ---------------------------------------------------------------------------------------------
+// Owners
+
+struct ContextDeleter {
+  void operator()(SUNContext context) const noexcept { SUNContext_Free(&context); }
+};
+struct VectorDeleter {
+  void operator()(N_Vector v) const noexcept { N_VDestroy(v); }
+};
+struct MatrixDeleter {
+  void operator()(SUNMatrix m) const noexcept { SUNMatDestroy(m); }
+};
+struct LinearSolverDeleter {
+  void operator()(SUNLinearSolver s) const noexcept { SUNLinSolFree(s); }
+};
+struct IdaMemoryDeleter {
+  void operator()(void* memory) const noexcept { IDAFree(&memory); }
+};
+struct CvodeMemoryDeleter {
+  void operator()(void* memory) const noexcept { CVodeFree(&memory); }
+};
+
+using Context = std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextDeleter>;
+using Vector = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorDeleter>;
+using Matrix = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixDeleter>;
+using LinearSolver = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, LinearSolverDeleter>;
+using IdaMemory = std::unique_ptr<void, IdaMemoryDeleter>;
+using CvodeMemory = std::unique_ptr<void, CvodeMemoryDeleter>;
+
+// ---------------------------------------------------------------------------------------------
+// Errors
+
+/// A SUNDIALS call that returned a negative flag.
+class SundialsError : public std::runtime_error {
+ public:
+  SundialsError(std::string function, int flag, const std::string& flag_name)
+      : std::runtime_error(function + " returned " + flag_name),
+        function_(std::move(function)),
+        flag_(flag) {}
+  const std::string& function() const { return function_; }
+  int flag() const { return flag_; }
+
+ private:
+  std::string function_;
+  int flag_;
+};
+
+/// The symbolic name of a flag returned by `function`: IDA and CVODE reuse the same numbers
+/// for different meanings, and their linear-solver interfaces have a third table.
+inline std::string flag_name(int flag, std::string_view function) {
+  const bool linear_solver_interface =
+      function.find("LinearSolver") != std::string_view::npos ||
+      function.find("JacFn") != std::string_view::npos;
+  char* name = nullptr;  // malloc'ed by SUNDIALS, freed here
+  if (function.starts_with("IDA")) {
+    name = linear_solver_interface ? IDAGetLinReturnFlagName(flag) : IDAGetReturnFlagName(flag);
+  } else if (function.starts_with("CVode")) {
+    name = linear_solver_interface ? CVodeGetLinReturnFlagName(flag)
+                                   : CVodeGetReturnFlagName(flag);
+  }
+  std::string text = name != nullptr ? std::string(name) : "flag " + std::to_string(flag);
+  std::free(name);  // NOLINT(cppcoreguidelines-no-malloc): SUNDIALS allocates with malloc
+  return text;
+}
+
+/// Throws SundialsError when `flag` is negative (a SUNDIALS error; positive flags are
+/// successful returns such as IDA_TSTOP_RETURN or warnings).
+inline void check(int flag, const char* function) {
+  if (flag < 0) throw SundialsError(function, flag, flag_name(flag, function));
+}
+
+/// Throws SundialsError when a constructor returned null.
+template <class Handle>
+Handle check_created(Handle handle, const char* function) {
+  if (handle == nullptr) throw SundialsError(function, 0, "a null handle (out of memory?)");
+  return handle;
+}
+
+/// The last error SUNDIALS reported through its error handler.
+struct ErrorLog {
+  std::string message;
+};
+
+/// Error handler for IDASetErrHandlerFn / CVodeSetErrHandlerFn (same signature): keeps the
+/// message of the last error and drops warnings (such as "t + h = t"), which either resolve
+/// themselves or end in an error whose message is kept.
+inline void record_error(int error_code, const char* module, const char* function, char* message,
+                         void* log) {
+  if (error_code >= 0 || log == nullptr) return;
+  static_cast<ErrorLog*>(log)->message = std::string(module) + "/" + function + ": " + message;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Constructors
+
+inline Context make_context() {
+  SUNContext context = nullptr;
+  check(SUNContext_Create(nullptr, &context), "SUNContext_Create");
+  return Context(context);
+}
+
+/// A serial vector of length n, zero-filled.
+inline Vector make_vector(int n, SUNContext context) {
+  Vector v(check_created(N_VNew_Serial(n, context), "N_VNew_Serial"));
+  N_VConst(0.0, v.get());
+  return v;
+}
+
+inline Matrix make_dense_matrix(int n, SUNContext context) {
+  return Matrix(check_created(SUNDenseMatrix(n, n, context), "SUNDenseMatrix"));
+}
+
+inline LinearSolver make_dense_linear_solver(N_Vector y, SUNMatrix a, SUNContext context) {
+  return LinearSolver(check_created(SUNLinSol_Dense(y, a, context), "SUNLinSol_Dense"));
+}
+
+/// Raw data of a serial vector.
+inline double* data(N_Vector v) { return N_VGetArrayPointer(v); }
+
+/// True when the n entries at p are finite.
+inline bool all_finite(const double* p, long n) {
+  return std::all_of(p, p + n, [](double x) { return std::isfinite(x); });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Segments
+
+/// Times closer than this to a segment boundary are taken as that boundary: a few ulp of t.
+/// It is above SUNDIALS' "tout too close to t0" threshold 2·u·max(|t0|, |tout|) (u = unit
+/// round-off) and far below any meaningful time difference.
+inline double boundary_slack(double t) {
+  return 8.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
+}
+
+/// Throws std::invalid_argument unless the output times are finite, non-negative and strictly
+/// increasing. Integration starts at t = 0, where the model's initial state is given (the
+/// time profiles of its loads use absolute times).
+inline void validate_output_times(const std::vector<double>& output_times) {
+  if (output_times.empty()) throw std::invalid_argument("no output times");
+  for (std::size_t k = 0; k < output_times.size(); ++k) {
+    const double t = output_times[k];
+    if (!std::isfinite(t) || t < 0.0) {
+      throw std::invalid_argument("output times must be finite and non-negative");
+    }
+    if (k > 0 && !(t > output_times[k - 1])) {
+      throw std::invalid_argument("output times must be strictly increasing");
+    }
+  }
+}
+
+/// One interval between consecutive known load discontinuities, integrated without restart.
+struct Segment {
+  double start = 0.0;
+  double end = 0.0;
+  /// A time strictly inside (start, end); selects the active branch of piecewise loads.
+  double t_segment = 0.0;
+  /// Outputs [first_output, end_output) lie in (start, end] (within boundary_slack).
+  std::size_t first_output = 0;
+  std::size_t end_output = 0;
+};
+
+/// The plan: outputs [0, initial_outputs) are at t = 0 (the initial state); the segments cover
+/// [0, T], T the last output time, split at the discontinuities inside (0, T).
+struct SegmentPlan {
+  std::size_t initial_outputs = 0;
+  std::vector<Segment> segments;
+};
+
+inline SegmentPlan plan_segments(const std::vector<double>& discontinuities,
+                                 const std::vector<double>& output_times) {
+  validate_output_times(output_times);
+  SegmentPlan plan;
+  std::size_t k = 0;
+  while (k < output_times.size() && output_times[k] <= boundary_slack(0.0)) ++k;
+  plan.initial_outputs = k;
+  const double t_end = output_times.back();
+  if (t_end <= boundary_slack(0.0)) return plan;
+
+  std::vector<double> bounds{0.0};
+  for (double d : discontinuities) {
+    if (d > bounds.back() + boundary_slack(d) && d < t_end - boundary_slack(t_end)) {
+      bounds.push_back(d);
+    }
+  }
+  bounds.push_back(t_end);
+  for (std::size_t i = 0; i + 1 < bounds.size(); ++i) {
+    Segment s;
+    s.start = bounds[i];
+    s.end = bounds[i + 1];
+    s.t_segment = 0.5 * (s.start + s.end);
+    s.first_output = k;
+    while (k < output_times.size() && output_times[k] <= s.end + boundary_slack(s.end)) ++k;
+    s.end_output = k;
+    plan.segments.push_back(s);
+  }
+  return plan;
+}
+
+}  // namespace flexref::reference::sundials

@@ -1,0 +1,52 @@
+#include "studies/certified_reference.hpp"
+
+#include <algorithm>
+
+#include "reference/exact_solution.hpp"
+#include "reference/solve_reference.hpp"
+#include "studies/error_metrics.hpp"
+
+namespace flexref::studies {
+
+std::string cross_check_solver(const std::string& solver) {
+  if (solver == "cvode") return "ida";
+  return "cvode";
+}
+
+std::string resolve_reference_solver(const std::string& solver, const core::Model& model) {
+  if (solver != "auto") return solver;
+  return reference::classify_exact_solution(model).kind.empty() ? "cvode" : "exact";
+}
+
+CertifiedReference certified_reference(const core::Model& model,
+                                       const std::vector<double>& output_times,
+                                       const std::string& solver,
+                                       const reference::SolverOptions& options,
+                                       const std::string& metric) {
+  CertifiedReference result;
+  result.run = reference::solve_reference(solver, model, output_times, options);
+  result.table = tabulate(model, result.run.trajectory);
+  result.estimate.metric = metric;
+
+  // Rerun 100× tighter (relative tolerances below ~1e-14 are round-off limited: clamp there).
+  reference::SolverOptions tighter = options;
+  tighter.rtol = std::max(options.rtol / 100.0, 1e-14);
+  tighter.atol = options.atol < 0.0 ? -1.0 : std::max(options.atol / 100.0, 1e-14);
+  const std::string tight_solver = solver == "exact" ? "cvode" : solver;
+  const reference::ReferenceRun tight_run =
+      reference::solve_reference(tight_solver, model, output_times, tighter);
+  result.estimate.tighter_solver = tight_solver;
+  result.estimate.tighter_rtol = tighter.rtol;
+  result.estimate.vs_tighter = metric_value(
+      compare_trajectories(result.table, tabulate(model, tight_run.trajectory)), metric);
+
+  const std::string other = cross_check_solver(solver);
+  const reference::ReferenceRun other_run =
+      reference::solve_reference(other, model, output_times, options);
+  result.estimate.other_solver = other;
+  result.estimate.vs_other_solver = metric_value(
+      compare_trajectories(result.table, tabulate(model, other_run.trajectory)), metric);
+  return result;
+}
+
+}  // namespace flexref::studies

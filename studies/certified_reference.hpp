@@ -1,0 +1,46 @@
+#pragma once
+/// \file certified_reference.hpp
+/// A reference run with its error estimate (design/schemes.md): the difference, in a named
+/// metric, to a second run at 100× tighter tolerance and to a second, independent solver at
+/// the same tolerance. The estimate is the larger of the two. An exact solution is certified
+/// against the tightest CVODE run instead (its own error is that of Boost.Math's elliptic
+/// functions and quadrature, ~1e-12).
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "reference/reference_solver.hpp"
+#include "studies/trajectory_table.hpp"
+
+namespace flexref::studies {
+
+struct ReferenceEstimate {
+  std::string metric;
+  std::string tighter_solver;  ///< "" when not run
+  double tighter_rtol = 0.0;
+  double vs_tighter = 0.0;     ///< metric(run, tighter run)
+  std::string other_solver;
+  double vs_other_solver = 0.0;  ///< metric(run, other solver)
+  double estimate() const { return vs_tighter > vs_other_solver ? vs_tighter : vs_other_solver; }
+};
+
+struct CertifiedReference {
+  reference::ReferenceRun run;
+  TrajectoryTable table;
+  ReferenceEstimate estimate;
+};
+
+/// The solver used to cross-check `solver`: ida ↔ cvode, odeint → cvode, exact → cvode.
+std::string cross_check_solver(const std::string& solver);
+
+/// "auto" picks "exact" when the model has an exact solution, else "cvode".
+std::string resolve_reference_solver(const std::string& solver, const core::Model& model);
+
+/// Runs the reference and its two checks; throws like the solvers do.
+CertifiedReference certified_reference(const core::Model& model,
+                                       const std::vector<double>& output_times,
+                                       const std::string& solver,
+                                       const reference::SolverOptions& options,
+                                       const std::string& metric);
+
+}  // namespace flexref::studies

@@ -1,0 +1,43 @@
+#pragma once
+/// \file error_metrics.hpp
+/// Error of a trajectory against a reference on the same output times (design/schemes.md,
+/// "Error metrics"): per body the position of the frame origin |x − x_ref|, the geodesic
+/// rotation angle |log(A_refᵀ A)|, the velocity and angular-velocity errors; per tracked point
+/// its position error. Each is reduced over time to L∞ (max), RMS and final value.
+#include <string>
+#include <vector>
+
+#include "studies/trajectory_table.hpp"
+
+namespace flexref::studies {
+
+struct ErrorNorms {
+  double linf = 0.0;
+  double rms = 0.0;
+  double final = 0.0;
+};
+
+struct QuantityError {
+  std::string name;  ///< e.g. "book.rotation", "book.velocity", "book.corner" (a point)
+  std::string unit;  ///< "m", "rad", "m/s", "rad/s"
+  ErrorNorms norms;
+};
+
+struct ComparisonReport {
+  std::vector<QuantityError> quantities;
+  double max_rotation_linf = 0.0;  ///< max over bodies, rad
+  double max_point_linf = 0.0;     ///< max over tracked points, m
+  /// Default study metric: L∞ geodesic rotation angle + L∞ tracked-point position (max over
+  /// bodies and points). Named "rotation+points".
+  double default_metric() const { return max_rotation_linf + max_point_linf; }
+};
+
+/// Compares two tables with the same columns on the same times (to 1e-9 relative); throws
+/// std::invalid_argument naming the first mismatch.
+ComparisonReport compare_trajectories(const TrajectoryTable& run, const TrajectoryTable& reference);
+
+/// The metrics a study may name: "rotation+points" (default), "rotation", "points",
+/// "position", "velocity", "angular_velocity". Throws std::invalid_argument otherwise.
+double metric_value(const ComparisonReport& report, const std::string& metric);
+
+}  // namespace flexref::studies

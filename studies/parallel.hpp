@@ -1,0 +1,19 @@
+#pragma once
+/// \file parallel.hpp
+/// Independent integrations on all cores: tasks 0..n−1 on `jobs` threads, each writing its own
+/// result slot, so a parallel run gives exactly the numbers of a serial one.
+#include <functional>
+
+namespace flexref::studies {
+
+/// Hardware concurrency, at least 1.
+int default_jobs();
+
+/// Runs task(i) for i in [0, n) on min(jobs, n) threads; rethrows the first exception (by task
+/// index) after all threads have stopped.
+void parallel_for(int n, int jobs, const std::function<void(int)>& task);
+
+/// CPU time consumed by the calling thread, in seconds.
+double thread_cpu_seconds();
+
+}  // namespace flexref::studies

@@ -1,0 +1,73 @@
+#include "studies/plot.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace flexref::studies {
+namespace {
+
+std::string shell_quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) {
+    if (c == '\'') {
+      out += "'\\''";
+    } else {
+      out += c;
+    }
+  }
+  return out + "'";
+}
+
+bool imports_matplotlib(const std::string& python) {
+  const std::string cmd = shell_quote(python) + " -c 'import matplotlib' >/dev/null 2>&1";
+  return std::system(cmd.c_str()) == 0;
+}
+
+std::string script_path(const std::string& script) {
+  if (const char* dir = std::getenv("FLEXREF_PLOT_SCRIPT_DIR")) {
+    return (std::filesystem::path(dir) / script).string();
+  }
+  return (std::filesystem::path(FLEXREF_PLOT_SCRIPT_DIR) / script).string();
+}
+
+}  // namespace
+
+std::string find_python_with_matplotlib() {
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("FLEXREF_PYTHON")) candidates.emplace_back(env);
+  candidates.emplace_back("/usr/bin/python3");
+  candidates.emplace_back("python3");
+  for (const auto& c : candidates) {
+    if (imports_matplotlib(c)) return c;
+  }
+  return {};
+}
+
+PlotOutcome run_plot_script(const std::string& script, std::vector<std::string> arguments,
+                            const std::string& png_path) {
+  const std::string python = find_python_with_matplotlib();
+  if (python.empty()) {
+    return {false,
+            "no plot: no Python with matplotlib found (tried $FLEXREF_PYTHON, /usr/bin/python3, "
+            "python3; on Debian: apt-get install python3-matplotlib)"};
+  }
+  const std::string path = script_path(script);
+  if (!std::filesystem::exists(path)) return {false, "no plot: script " + path + " not found"};
+  const std::string temp = png_path + ".tmp.png";
+  std::string cmd = shell_quote(python) + " " + shell_quote(path);
+  for (std::size_t i = 0; i < arguments.size(); ++i) {
+    cmd += " " + shell_quote(arguments[i] == png_path ? temp : arguments[i]);
+  }
+  cmd += " 2>&1";
+  if (std::system(cmd.c_str()) != 0) {
+    std::error_code ignore;
+    std::filesystem::remove(temp, ignore);
+    return {false, "no plot: " + script + " failed (" + python + ")"};
+  }
+  std::error_code ec;
+  std::filesystem::rename(temp, png_path, ec);
+  if (ec) return {false, "no plot: cannot rename " + temp + ": " + ec.message()};
+  return {true, png_path};
+}
+
+}  // namespace flexref::studies

@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""Log-log convergence plot of a `flexref converge` study.
+
+Usage: plot_convergence.py convergence.csv out.png "title"
+Reads the CSV written by the study (scheme,h,steps,error,order,cpu_seconds,status), draws the
+error of each scheme against its step, marks levels that were not used in the fit, and adds
+reference slopes 1 and 2 anchored at the coarsest certified point.
+"""
+import csv
+import math
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main(argv):
+    if len(argv) != 4:
+        sys.stderr.write(__doc__)
+        return 2
+    rows = list(csv.DictReader(open(argv[1], newline="")))
+    schemes = []
+    for r in rows:
+        if r["scheme"] not in schemes:
+            schemes.append(r["scheme"])
+    fig, ax = plt.subplots(figsize=(6.4, 4.8), dpi=120)
+    markers = "osD^v<>"
+    anchor = None
+    for k, s in enumerate(schemes):
+        pts = [(float(r["h"]), float(r["error"]), r["status"]) for r in rows if r["scheme"] == s]
+        pts = [p for p in pts if math.isfinite(p[1]) and p[1] > 0]
+        if not pts:
+            continue
+        h = [p[0] for p in pts]
+        e = [p[1] for p in pts]
+        line, = ax.loglog(h, e, marker=markers[k % len(markers)], label=s.upper())
+        bad = [(p[0], p[1]) for p in pts if p[2] != "ok"]
+        if bad:
+            ax.loglog([b[0] for b in bad], [b[1] for b in bad], linestyle="none", marker="x",
+                      color="k", markersize=9)
+        ok = [p for p in pts if p[2] == "ok"]
+        if ok and (anchor is None or ok[0][1] > anchor[1]):
+            anchor = ok[0]
+    if anchor is not None:
+        hs = sorted({float(r["h"]) for r in rows})
+        for p, style in ((1, ":"), (2, "--")):
+            ax.loglog(hs, [anchor[1] * (x / anchor[0]) ** p for x in hs], style, color="gray",
+                      label=f"slope {p}")
+    ax.set_xlabel("step h [s]")
+    ax.set_ylabel("error (L∞ rotation [rad] + L∞ tracked points [m])")
+    ax.set_title(argv[3])
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(argv[2])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

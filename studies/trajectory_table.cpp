@@ -1,0 +1,167 @@
+#include "studies/trajectory_table.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.hpp"
+
+namespace flexref::studies {
+
+int TrajectoryTable::column(const std::string& name) const {
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (columns[i] == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+std::vector<std::string> trajectory_columns(const core::Model& model) {
+  std::vector<std::string> names{"t"};
+  for (const core::Body& b : model.bodies()) {
+    const std::string& n = b.name();
+    for (const char* c : {".x", ".y", ".z", ".e0", ".e1", ".e2", ".e3", ".vx", ".vy", ".vz",
+                          ".W1", ".W2", ".W3"}) {
+      names.push_back(n + c);
+    }
+    for (const core::TrackedPoint& p : b.description().points) {
+      for (const char* c : {".x", ".y", ".z"}) names.push_back(n + "." + p.name + c);
+    }
+  }
+  names.emplace_back("energy");
+  return names;
+}
+
+TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory) {
+  TrajectoryTable table;
+  table.columns = trajectory_columns(model);
+  core::Workspace ws = model.make_workspace();
+  table.rows.reserve(trajectory.times.size());
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    const core::State& state = trajectory.states[k];
+    std::vector<double> row;
+    row.reserve(table.columns.size());
+    row.push_back(t);
+    for (int i = 0; i < model.num_bodies(); ++i) {
+      const core::BodyState& s = state[static_cast<std::size_t>(i)];
+      const Eigen::Vector3d p = model.p_WBo(i, s);
+      const Eigen::Vector3d v = model.v_WBo(i, s);
+      row.insert(row.end(), {p.x(), p.y(), p.z(), s.theta_WB(0), s.theta_WB(1), s.theta_WB(2),
+                             s.theta_WB(3), v.x(), v.y(), v.z(), s.w_WB_B.x(), s.w_WB_B.y(),
+                             s.w_WB_B.z()});
+      for (const core::TrackedPoint& pt : model.body(i).description().points) {
+        const Eigen::Vector3d r = model.p_WP(i, s, pt.p_BoP_B);
+        row.insert(row.end(), {r.x(), r.y(), r.z()});
+      }
+    }
+    // Energy at an output time: the right-limit branch of piecewise loads (potentials do not
+    // depend on time, so the branch only matters for future time-dependent potentials).
+    const core::LoadContext context{t, t};
+    row.push_back(model.kinetic_energy(state) + model.potential_energy(context, state, ws));
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  if (target.has_parent_path() && !fs::exists(target.parent_path())) {
+    throw std::runtime_error("cannot write " + path + ": directory " +
+                             target.parent_path().string() + " does not exist");
+  }
+  std::random_device rd;
+  const fs::path temp = target.string() + ".tmp" + std::to_string(rd() % 1000000u);
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write " + temp.string() + ": " + std::strerror(errno));
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ignore;
+      fs::remove(temp, ignore);
+      throw std::runtime_error("write to " + temp.string() + " failed");
+    }
+  }
+  std::error_code ec;
+  fs::rename(temp, target, ec);
+  if (ec) {
+    std::error_code ignore;
+    fs::remove(temp, ignore);
+    throw std::runtime_error("cannot rename " + temp.string() + " to " + path + ": " +
+                             ec.message());
+  }
+}
+
+void write_csv(const TrajectoryTable& table, const std::string& path) {
+  std::ostringstream out;
+  out.precision(17);
+  for (std::size_t i = 0; i < table.columns.size(); ++i) {
+    out << (i ? "," : "") << table.columns[i];
+  }
+  out << '\n';
+  for (const auto& row : table.rows) {
+    for (std::size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << row[i];
+    out << '\n';
+  }
+  write_file_atomically(path, out.str());
+}
+
+TrajectoryTable read_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw core::InputError(path, 0, "", "cannot open file: " + std::string(std::strerror(errno)));
+  TrajectoryTable table;
+  std::string line;
+  int line_number = 0;
+  auto split = [](const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ',')) out.push_back(item);
+    if (!s.empty() && s.back() == ',') out.emplace_back();
+    return out;
+  };
+  if (!std::getline(in, line)) throw core::InputError(path, 1, "", "empty file, expected a header");
+  ++line_number;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  table.columns = split(line);
+  if (table.columns.empty() || table.columns[0] != "t") {
+    throw core::InputError(path, 1, "t", "the first column must be 't'");
+  }
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    const auto cells = split(line);
+    if (cells.size() != table.columns.size()) {
+      throw core::InputError(path, line_number, "",
+                             "expected " + std::to_string(table.columns.size()) +
+                                 " values, found " + std::to_string(cells.size()));
+    }
+    std::vector<double> row(cells.size());
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const char* begin = cells[i].c_str();
+      char* end = nullptr;
+      errno = 0;
+      const double v = std::strtod(begin, &end);
+      if (end == begin || *end != '\0' || errno == ERANGE) {
+        throw core::InputError(path, line_number, table.columns[i],
+                               "'" + cells[i] + "' is not a number");
+      }
+      row[i] = v;
+    }
+    if (!table.rows.empty() && !(row[0] > table.rows.back()[0])) {
+      throw core::InputError(path, line_number, "t", "times must increase");
+    }
+    table.rows.push_back(std::move(row));
+  }
+  if (table.rows.empty()) throw core::InputError(path, line_number, "", "no data rows");
+  return table;
+}
+
+}  // namespace flexref::studies

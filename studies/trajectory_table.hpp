@@ -1,0 +1,42 @@
+#pragma once
+/// \file trajectory_table.hpp
+/// A trajectory as named columns, the common currency of every integrator's output: the CSV
+/// files `run`, `reference` and studies write, and what `compare` and the error metrics read.
+///
+/// Columns (docs/output.md): `t`; per body B: `B.x,B.y,B.z` (frame origin Bo, world, m),
+/// `B.e0..B.e3` (Euler parameters B → W), `B.vx,B.vy,B.vz` (velocity of Bo, world, m/s),
+/// `B.W1..B.W3` (body-frame angular velocity, rad/s); per tracked point P of B: `B.P.x,B.P.y,
+/// B.P.z` (world, m); then `energy` (J): kinetic + potential of conservative elements.
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "core/state.hpp"
+
+namespace flexref::studies {
+
+struct TrajectoryTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+
+  /// Index of a column, or −1.
+  int column(const std::string& name) const;
+  std::size_t size() const { return rows.size(); }
+  double time(std::size_t row) const { return rows[row][0]; }
+};
+
+/// The column names for a model, in file order.
+std::vector<std::string> trajectory_columns(const core::Model& model);
+/// Tabulates states at their times (energy evaluated with the load branch active at t).
+TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory);
+
+/// Writes the table as CSV (17 significant digits) atomically: to a temporary file in the
+/// same directory, then renamed, so an interrupted run never leaves a half-written file.
+void write_csv(const TrajectoryTable& table, const std::string& path);
+/// Reads a CSV written by write_csv; throws core::InputError naming file and line.
+TrajectoryTable read_csv(const std::string& path);
+
+/// Writes text to path atomically (temporary file + rename); throws std::runtime_error.
+void write_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace flexref::studies

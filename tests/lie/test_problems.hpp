@@ -1,0 +1,192 @@
+#pragma once
+/// \file test_problems.hpp
+/// Test problems for the rotation schemes, built in code from core types (no scene files),
+/// each with its source and, where one exists, its exact solution (Drake test_utilities
+/// style). Header-only so that any test can reuse them.
+///
+///   free_spin           design/scenes.md `free_spin` (paper Fig. 1): torque-free asymmetric
+///                       body; invariants π and kinetic energy.
+///   book_toss           design/scenes.md `book_toss` (paper Fig. 3): spin about the
+///                       intermediate axis, sin² torque pulse on [0, 0.1).
+///   book_toss_step      the same with a rectangular pulse (a load discontinuity at 0.1).
+///   heavy_top           design/scenes.md `heavy_top` (after Brüls & Cardona 2010).
+///   coulomb_wall        design/scenes.md `coulomb_wall` (paper Fig. 2): translation and
+///                       rotation coupled through configuration-dependent forces.
+///   RegularPrecession   torque-free symmetric body with its closed-form solution.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/applied_load.hpp"
+#include "core/body.hpp"
+#include "core/euler_parameters.hpp"
+#include "core/gravity.hpp"
+#include "core/model.hpp"
+#include "core/point_charge_potential.hpp"
+#include "core/so3.hpp"
+#include "core/state.hpp"
+#include "core/time_profile.hpp"
+
+namespace flexref::testing {
+
+/// The point every metric tracks: body point (1, 0, 0) from the frame origin.
+inline Eigen::Vector3d tracked_point() { return Eigen::Vector3d(1.0, 0.0, 0.0); }
+
+inline core::RigidBodyDescription rigid_body(const char* name, double mass,
+                                             const Eigen::Vector3d& principal_inertia,
+                                             const Eigen::Vector3d& w0_B) {
+  core::RigidBodyDescription d;
+  d.name = name;
+  d.mass = mass;
+  d.I_Bcm_B = principal_inertia.asDiagonal();
+  d.initial.w_WB_B = w0_B;
+  d.points.push_back({"tracked", tracked_point()});
+  return d;
+}
+
+using Elements = std::vector<std::unique_ptr<const core::ForceElement>>;
+
+/// free_spin: m = 1, J = diag(3, 4, 5), W0 = (0.2, 0.3, 2.0), identity attitude, at rest in
+/// translation, no loads. Exact solution by Jacobi elliptic functions (not needed here: the
+/// tests use its invariants, the kinetic energy and π = R J W).
+inline core::Model free_spin() {
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(rigid_body("spinner", 1.0, {3.0, 4.0, 5.0}, {0.2, 0.3, 2.0}));
+  return core::Model(std::move(bodies), Elements{});
+}
+
+/// book_toss: m = 1, J = diag(1, 2, 2.8), W0 = (0, 10, 0) (about the intermediate axis),
+/// world torque (0.2, 0, 0.2)·sin²(πt/0.1) for t < 0.1 (C¹ at both ends).
+inline core::Model book_toss() {
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(rigid_body("book", 1.0, {1.0, 2.0, 2.8}, {0.0, 10.0, 0.0}));
+  Elements elements;
+  elements.push_back(std::make_unique<core::AppliedTorque>(
+      0, Eigen::Vector3d(0.2, 0.0, 0.2), core::LoadFrame::kWorld,
+      core::TimeProfile::sin2_pulse(0.0, 0.1)));
+  return core::Model(std::move(bodies), std::move(elements));
+}
+
+/// book_toss_step: book_toss with the torque as a rectangular pulse on [0, 0.1): the torque
+/// jumps at 0.1 (a load discontinuity every integrator must step on).
+inline core::Model book_toss_step() {
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(rigid_body("book", 1.0, {1.0, 2.0, 2.8}, {0.0, 10.0, 0.0}));
+  Elements elements;
+  elements.push_back(std::make_unique<core::AppliedTorque>(
+      0, Eigen::Vector3d(0.2, 0.0, 0.2), core::LoadFrame::kWorld,
+      core::TimeProfile::rectangular_pulse(0.0, 0.1)));
+  return core::Model(std::move(bodies), std::move(elements));
+}
+
+/// heavy_top: pivot body, m = 15, J_C = diag(0.234375, 0.46875, 0.234375) (symmetric about
+/// the body y axis), centre of mass at body (0, 1, 0), pivot at the body origin, gravity
+/// (0, 0, −9.81), W0 = (0, 150, −4.61538), identity attitude. A fast top: the symmetric heavy
+/// top has a Lagrange closed form (design/schemes.md); here it is compared with RKF7(8).
+inline core::Model heavy_top() {
+  core::RigidBodyDescription d =
+      rigid_body("top", 15.0, {0.234375, 0.46875, 0.234375}, {0.0, 150.0, -4.61538});
+  d.p_BoBcm_B = Eigen::Vector3d(0.0, 1.0, 0.0);
+  d.motion = core::MotionKind::kPivot;
+  d.p_BoPivot_B = Eigen::Vector3d::Zero();
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(std::move(d));
+  Elements elements;
+  elements.push_back(std::make_unique<core::UniformGravity>(
+      Eigen::Vector3d(0.0, 0.0, -9.81),
+      std::vector<core::UniformGravity::BodyMass>{{0, 15.0, Eigen::Vector3d(0.0, 1.0, 0.0)}}));
+  return core::Model(std::move(bodies), std::move(elements));
+}
+
+/// coulomb_wall: m = 1, J = diag(0.4, 0.9, 1.1); charges at body points (0.5, 0, 0) weight 1
+/// and (−0.5, 0, 0) weight 0.6 in the potential c (−α/|r − M| + β/r_z), α = 4, β = 0.3,
+/// M = (0, 0, −1); x_C(0) = (0, 0, 1), v(0) = (0.8, 0, 0), W0 = (0.2, 0.3, 1.5).
+inline core::Model coulomb_wall() {
+  core::RigidBodyDescription d = rigid_body("charged", 1.0, {0.4, 0.9, 1.1}, {0.2, 0.3, 1.5});
+  d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, 1.0);
+  d.initial.v_WBo = Eigen::Vector3d(0.8, 0.0, 0.0);
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(std::move(d));
+  Elements elements;
+  elements.push_back(std::make_unique<core::PointChargePotential>(
+      4.0, 0.3, Eigen::Vector3d(0.0, 0.0, -1.0),
+      std::vector<core::PointChargePotential::Charge>{{0, Eigen::Vector3d(0.5, 0.0, 0.0), 1.0},
+                                                      {0, Eigen::Vector3d(-0.5, 0.0, 0.0), 0.6}}));
+  return core::Model(std::move(bodies), std::move(elements));
+}
+
+/// Torque-free symmetric body J = diag(I1, I1, I3) (regular precession), with the exact
+/// solution (e.g. Goldstein, Classical Mechanics §5.6; derived here in the body frame):
+///   λ = (I3 − I1) W0_z / I1,   n = R0 J W0 / |J W0|,   μ = |J W0| / I1
+///   W(t) = exp(λ t ẑ~) (J W0 / I1) − λ ẑ
+///   R(t) = exp(μ t ñ) R0 exp(−λ t ẑ~)
+/// (check: RᵀṘ = (μ exp(λtẑ~) R0ᵀ n − λ ẑ)~ = W̃, and Ẇ = λ ẑ × W solves the Euler equation
+/// I1 Ẇ1 = (I1 − I3) W2 W3, I1 Ẇ2 = (I3 − I1) W3 W1, Ẇ3 = 0). The body also translates
+/// uniformly, x(t) = x0 + v0 t. W is not constant, so the flow is not solved exactly by every
+/// consistent scheme.
+struct RegularPrecession {
+  double I1 = 2.0;
+  double I3 = 3.0;
+  Eigen::Vector3d w0_B = Eigen::Vector3d(0.6, -0.4, 1.5);
+  core::EulerParameters theta0 = core::exp_quaternion(Eigen::Vector3d(0.3, -0.2, 0.5));
+  Eigen::Vector3d p0 = Eigen::Vector3d(0.1, 0.2, 0.3);
+  Eigen::Vector3d v0 = Eigen::Vector3d(0.5, -0.25, 0.125);
+
+  core::Model model() const {
+    core::RigidBodyDescription d = rigid_body("symmetric", 2.5, {I1, I1, I3}, w0_B);
+    d.initial.theta_WB = theta0;
+    d.initial.p_WBo = p0;
+    d.initial.v_WBo = v0;
+    std::vector<core::Body> bodies;
+    bodies.emplace_back(std::move(d));
+    return core::Model(std::move(bodies), Elements{});
+  }
+  Eigen::Vector3d J_w0() const { return Eigen::Vector3d(I1 * w0_B.x(), I1 * w0_B.y(), I3 * w0_B.z()); }
+  double lambda() const { return (I3 - I1) * w0_B.z() / I1; }
+  Eigen::Vector3d w_B(double t) const {
+    return core::exp_so3(lambda() * t * Eigen::Vector3d::UnitZ()) * (J_w0() / I1) -
+           lambda() * Eigen::Vector3d::UnitZ();
+  }
+  Eigen::Matrix3d R_WB(double t) const {
+    const Eigen::Matrix3d R0 = core::rotation_matrix(theta0);
+    const Eigen::Vector3d pi_W = R0 * J_w0();
+    const double mu = pi_W.norm() / I1;
+    return core::exp_so3(mu * t * pi_W.normalized()) * R0 *
+           core::exp_so3(-lambda() * t * Eigen::Vector3d::UnitZ());
+  }
+  core::BodyState state(double t) const {
+    core::BodyState s;
+    s.p_WBr = p0 + v0 * t;  // the centre of mass is the frame origin
+    s.theta_WB = core::euler_parameters_from_matrix(R_WB(t));
+    s.v_WBr = v0;
+    s.w_WB_B = w_B(t);
+    return s;
+  }
+};
+
+/// Error of a run against a reference on the same output times (design/schemes.md default
+/// metric): L∞ over times and bodies of the geodesic rotation angle, plus L∞ of the position
+/// error of the tracked point (1, 0, 0) of each body.
+inline double trajectory_error(const core::Model& model, const core::Trajectory& run,
+                               const core::Trajectory& reference) {
+  double rotation = 0.0;
+  double position = 0.0;
+  for (std::size_t k = 0; k < run.states.size(); ++k) {
+    for (int i = 0; i < model.num_bodies(); ++i) {
+      const auto& s = run.states[k][static_cast<std::size_t>(i)];
+      const auto& r = reference.states[k][static_cast<std::size_t>(i)];
+      rotation = std::max(rotation, core::geodesic_angle(r.theta_WB, s.theta_WB));
+      position = std::max(position, (model.p_WP(i, s, tracked_point()) -
+                                     model.p_WP(i, r, tracked_point()))
+                                        .norm());
+    }
+  }
+  return rotation + position;
+}
+
+}  // namespace flexref::testing
