@@ -394,8 +394,9 @@ std::vector<Table> Table::tables(std::string_view key, const std::string& expect
   const toml::value* v = find(key);
   if (v == nullptr) return out;
   if (v->is_table()) {
-    fail(key, "expected " + expected + ", got a single table (write [[" + key_path(key) +
-                  "]] for each element)");
+    const std::string hint = path_.empty() ? "write [[" + std::string(key) + "]] for each element"
+                                           : "write an array: " + std::string(key) + " = [{...}]";
+    fail(key, "expected " + expected + ", got a single table (" + hint + ")");
   }
   if (!v->is_array()) fail(key, "expected " + expected + ", got " + describe(*v));
   const toml::array& elements = v->as_array();

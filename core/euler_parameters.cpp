@@ -1,8 +1,7 @@
 #include "core/euler_parameters.hpp"
 
-#include <cmath>
-
 #include <Eigen/Geometry>  // Vector3d::cross
+#include <cmath>
 
 #include "core/so3.hpp"
 

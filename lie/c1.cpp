@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -27,6 +28,8 @@ C1Stepper::C1Stepper(const core::Model& model)
       R_n_transpose_(state_.size(), Matrix3d::Identity()),
       b_(state_.size(), Vector3d::Zero()),
       residual_(state_.size(), Vector3d::Zero()),
+      w_accepted_(state_.size(), Vector3d::Zero()),
+      delta_(state_.size(), Vector3d::Zero()),
       ws_(model.make_workspace()) {
   for (const core::Body& body : model.bodies()) has_free_body_ = has_free_body_ || body.is_free();
 }
@@ -60,6 +63,82 @@ void C1Stepper::restart(double h) {
   ++evaluations_;
 }
 
+C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
+  const core::LoadContext midpoint{t_n + 0.5 * h, t_n + 0.5 * h};
+  const std::size_t n_bodies = state_.size();
+  NewtonOutcome outcome;
+  double merit = std::numeric_limits<double>::infinity();  // Σ |r|² at the accepted iterate
+  double step_length = 1.0;                                // α of the current trial
+  for (int evaluations = 0; evaluations < kMaxNewtonEvaluations; ++evaluations) {
+    for (std::size_t i = 0; i < n_bodies; ++i) {
+      const core::BodyState& s = state_[i];
+      // Θ ← (h/2)(W_n + W_{n+1})
+      const Vector3d theta = detail::c1_increment(s.w_WB_B, next_[i].w_WB_B, h);
+      // R_{n+½} ← R_n exp(Θ̃/2),  W_{n+½} ← ½ (W_n + W_{n+1})
+      mid_[i].theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(0.5 * theta));
+      mid_[i].theta_WB.normalize();
+      mid_[i].w_WB_B = 0.5 * (s.w_WB_B + next_[i].w_WB_B);
+    }
+    // Γ_{n+½} at t_{n+½} and the midpoint configuration.
+    model_.compute_wrenches(midpoint, mid_, ws_);
+    ++evaluations_;
+
+    double trial_merit = 0.0;
+    outcome.relative_residual = 0.0;
+    for (std::size_t i = 0; i < n_bodies; ++i) {
+      const Matrix3d& J = model_.body(static_cast<int>(i)).I_Br_B();
+      const Vector3d& W_n = state_[i].w_WB_B;
+      const Vector3d& W = next_[i].w_WB_B;
+      const Vector3d impulse_B = h * (R_n_transpose_[i] * ws_.wrenches[i].tau_Br_W);
+      const Vector3d J_W_n = J * W_n;
+      // b ← J W_n + h R_nᵀ Γ_{n+½}
+      b_[i] = J_W_n + impulse_B;
+      // r ← J W − exp(−Θ̃) b
+      residual_[i] = detail::c1_residual(J, b_[i], W_n, W, h);
+      const double scale =
+          detail::max_abs(J * W) + detail::max_abs(J_W_n) + detail::max_abs(impulse_B);
+      const double relative = detail::max_abs(residual_[i]) / (scale > 0.0 ? scale : 1.0);
+      if (!std::isfinite(relative)) {
+        outcome.finite = false;
+        return outcome;
+      }
+      if (relative > outcome.relative_residual) {
+        outcome.relative_residual = relative;
+        outcome.worst_body = static_cast<int>(i);
+      }
+      trial_merit += residual_[i].squaredNorm();
+    }
+    // Backtracking (only far from the root, when h|W| ≳ 1): a full step that does not
+    // decrease Σ|r|² (Armijo, slope 1e-4) is halved, down to 1/64.
+    if (trial_merit > (1.0 - 1e-4 * step_length) * merit && step_length > kMinStepLength) {
+      step_length *= 0.5;
+      for (std::size_t i = 0; i < n_bodies; ++i) {
+        next_[i].w_WB_B = w_accepted_[i] - step_length * delta_[i];
+      }
+      continue;
+    }
+    merit = trial_merit;
+    // W ← W − [J − (h/2)(exp(−Θ̃) b)~ J_r(Θ)]⁻¹ r   (also after the test has passed: the
+    // correction then only removes the last ≤ 1e-14 of the error and costs no evaluation, and
+    // without it that remainder would bias every step the same way and add up over a run)
+    ++outcome.iterations;
+    for (std::size_t i = 0; i < n_bodies; ++i) {
+      const Matrix3d& J = model_.body(static_cast<int>(i)).I_Br_B();
+      w_accepted_[i] = next_[i].w_WB_B;
+      delta_[i] = detail::c1_jacobian(J, b_[i], state_[i].w_WB_B, w_accepted_[i], h)
+                      .partialPivLu()
+                      .solve(residual_[i]);
+      next_[i].w_WB_B = w_accepted_[i] - delta_[i];
+    }
+    step_length = 1.0;
+    if (outcome.relative_residual <= detail::kNewtonTolerance) {
+      outcome.converged = true;
+      return outcome;
+    }
+  }
+  return outcome;
+}
+
 StepStatus C1Stepper::step(double h) {
   const double t_n = time_;
   const double t_np1 = t_n + h;
@@ -91,55 +170,12 @@ StepStatus C1Stepper::step(double h) {
     s1.w_WB_B = s.w_WB_B + h * acc_[i].alpha_WB_B;
   }
 
-  // 2. Newton on W_{n+1}:  r(W) = J W − exp(−Θ̃)(J W_n + h R_nᵀ Γ_{n+½}) = 0.
-  const core::LoadContext midpoint{t_n + 0.5 * h, t_n + 0.5 * h};
-  int iterations = 0;
-  for (;; ++iterations) {
-    for (std::size_t i = 0; i < n_bodies; ++i) {
-      const core::BodyState& s = state_[i];
-      // Θ ← (h/2)(W_n + W_{n+1})
-      const Vector3d theta = detail::c1_increment(s.w_WB_B, next_[i].w_WB_B, h);
-      // R_{n+½} ← R_n exp(Θ̃/2),  W_{n+½} ← ½ (W_n + W_{n+1})
-      mid_[i].theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(0.5 * theta));
-      mid_[i].theta_WB.normalize();
-      mid_[i].w_WB_B = 0.5 * (s.w_WB_B + next_[i].w_WB_B);
-    }
-    // Γ_{n+½} at t_{n+½} and the midpoint configuration.
-    model_.compute_wrenches(midpoint, mid_, ws_);
-    ++evaluations_;
-
-    double worst = 0.0;
-    int worst_body = 0;
-    for (std::size_t i = 0; i < n_bodies; ++i) {
-      const Matrix3d& J = model_.body(static_cast<int>(i)).I_Br_B();
-      const Vector3d& W_n = state_[i].w_WB_B;
-      const Vector3d& W = next_[i].w_WB_B;
-      const Vector3d impulse_B = h * (R_n_transpose_[i] * ws_.wrenches[i].tau_Br_W);
-      const Vector3d J_W_n = J * W_n;
-      // b ← J W_n + h R_nᵀ Γ_{n+½}
-      b_[i] = J_W_n + impulse_B;
-      // r ← J W − exp(−Θ̃) b
-      residual_[i] = detail::c1_residual(J, b_[i], W_n, W, h);
-      const double scale =
-          detail::max_abs(J * W) + detail::max_abs(J_W_n) + detail::max_abs(impulse_B);
-      const double relative = detail::max_abs(residual_[i]) / (scale > 0.0 ? scale : 1.0);
-      if (!std::isfinite(relative)) return {false, detail::non_finite_failure("C1", t_n, h)};
-      if (relative > worst) {
-        worst = relative;
-        worst_body = static_cast<int>(i);
-      }
-    }
-    if (worst <= detail::kNewtonTolerance) break;
-    if (iterations == kMaxNewtonIterations) {
-      return {false, detail::newton_failure("C1", t_n, h, worst, iterations, worst_body)};
-    }
-    for (std::size_t i = 0; i < n_bodies; ++i) {
-      const Matrix3d& J = model_.body(static_cast<int>(i)).I_Br_B();
-      // W ← W − [J − (h/2)(exp(−Θ̃) b)~ J_r(Θ)]⁻¹ r
-      next_[i].w_WB_B -= detail::c1_jacobian(J, b_[i], state_[i].w_WB_B, next_[i].w_WB_B, h)
-                             .partialPivLu()
-                             .solve(residual_[i]);
-    }
+  // 2. W_{n+1} ← root of r(W) = J W − exp(−Θ̃)(J W_n + h R_nᵀ Γ_{n+½}), Θ = (h/2)(W_n + W).
+  const NewtonOutcome newton = solve_balance(t_n, h);
+  if (!newton.finite) return {false, detail::non_finite_failure("C1", t_n, h)};
+  if (!newton.converged) {
+    return {false, detail::newton_failure("C1", t_n, h, newton.relative_residual,
+                                          newton.iterations, newton.worst_body)};
   }
 
   // 3. Attitude at t_{n+1} and the Newmark acceleration.
@@ -178,8 +214,8 @@ StepStatus C1Stepper::step(double h) {
   std::swap(acc_, acc_next_);
   time_ = t_np1;
   restart_pending_ = false;
-  newton_iterations_ += iterations;
-  max_newton_iterations_ = std::max(max_newton_iterations_, iterations);
+  newton_iterations_ += newton.iterations;
+  max_newton_iterations_ = std::max(max_newton_iterations_, newton.iterations);
   ++steps_;
   return {};
 }

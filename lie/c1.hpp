@@ -36,9 +36,12 @@ namespace flexref::lie {
 
 class C1Stepper final : public Stepper {
  public:
-  /// Quadratic convergence from the O(h²) predictor needs 2–3 iterations; linear convergence
-  /// with a contraction ≤ 0.2 needs ≤ 20 to gain 14 digits. Beyond 25 the step fails.
-  static constexpr int kMaxNewtonIterations = 25;
+  /// Residual (= force) evaluations allowed in one step. Quadratic convergence from the O(h²)
+  /// predictor needs 2–3; linear convergence with a contraction ≤ 0.2 needs ≤ 20 to gain 14
+  /// digits; beyond 30 (backtracking included) the step fails.
+  static constexpr int kMaxNewtonEvaluations = 30;
+  /// Shortest backtracking step (α = 1/64) before a non-decreasing step is taken anyway.
+  static constexpr double kMinStepLength = 1.0 / 64.0;
 
   /// The model must outlive the stepper.
   explicit C1Stepper(const core::Model& model);
@@ -65,7 +68,16 @@ class C1Stepper final : public Stepper {
   long steps_taken() const { return steps_; }
 
  private:
+  struct NewtonOutcome {
+    bool converged = false;
+    bool finite = true;
+    int iterations = 0;  ///< Jacobian solves
+    double relative_residual = 0.0;
+    int worst_body = 0;
+  };
   void restart(double h);
+  /// Newton on W_{n+1} (in next_), from the predictor already in next_.
+  NewtonOutcome solve_balance(double t_n, double h);
 
   const core::Model& model_;
   bool has_free_body_ = false;
@@ -79,6 +91,8 @@ class C1Stepper final : public Stepper {
   std::vector<Eigen::Matrix3d> R_n_transpose_;  ///< R_nᵀ per body
   std::vector<Eigen::Vector3d> b_;              ///< J W_n + h R_nᵀ Γ_{n+½} per body
   std::vector<Eigen::Vector3d> residual_;       ///< r(W) per body
+  std::vector<Eigen::Vector3d> w_accepted_;     ///< last accepted Newton iterate per body
+  std::vector<Eigen::Vector3d> delta_;          ///< its Newton correction per body
   core::Workspace ws_;
   long newton_iterations_ = 0;
   int max_newton_iterations_ = 0;

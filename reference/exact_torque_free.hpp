@@ -33,6 +33,12 @@ struct RigidAttitude {
 core::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta,
                                            double sin_half_theta, double psi);
 
+namespace detail {
+/// θ/|θ| for the initial attitude of an exact solution; `who` names the caller in the error.
+/// \throws std::invalid_argument if θ is not finite or ||θ| − 1| > 1e-6 (scenes.md's rule).
+core::EulerParameters unit_euler_parameters(const core::EulerParameters& theta, const char* who);
+}  // namespace detail
+
 /// Elliptic functions and integrals parametrised by the modulus k AND its complement
 /// k' = √(1 − k²), both supplied by the caller. Near k = 1 the complement carries all the
 /// information (the period K ≈ ln(4/k')); boost::math::jacobi_elliptic and ellint_1 take k
@@ -196,6 +202,8 @@ class TorqueFreeExact {
   core::EulerParameters q_perm_;  ///< P
 
   double separatrix_h(double tau) const;
+  /// R_z(φ)R_x(ϑ)R_z(ψ) at t, and ω_B(t) (non-steady regimes).
+  core::EulerParameters euler_part(double t, Eigen::Vector3d& w_B) const;
 };
 
 }  // namespace flexref::reference
