@@ -6,6 +6,7 @@
 ///   Ḡ  = [−e  e0 I − ẽ],  G = [−e  e0 I + ẽ],  A = G Ḡᵀ
 ///   ω̄  = 2 Ḡ θ̇,  ω = 2 G θ̇,  θ̇ = ½ Ḡᵀ ω̄ = ½ θ ⊗ (0, ω̄)
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace flexref::core {
 

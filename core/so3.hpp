@@ -10,6 +10,7 @@
 /// Small-angle branches switch to Taylor series below kSmallAngle, where the first neglected
 /// term is below machine epsilon (see so3.cpp).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace flexref::core {
 
