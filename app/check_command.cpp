@@ -20,8 +20,8 @@ int check_command(const CheckOptions& options) {
   std::cout << "  " << model.num_bodies() << " bodies, " << dofs << " degrees of freedom\n";
   for (const core::Body& b : model.bodies()) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(b.I_Br_B());
-    std::cout << "  body " << b.name() << ": " << (b.is_free() ? "free" : "pivot")
-              << ", mass " << b.mass() << " kg, principal inertia about "
+    std::cout << "  body " << b.name() << ": " << (b.is_free() ? "free" : "pivot") << ", mass "
+              << b.mass() << " kg, principal inertia about "
               << (b.is_free() ? "the centre of mass" : "the pivot") << " ["
               << eig.eigenvalues().transpose() << "] kg·m², " << b.description().points.size()
               << " tracked points\n";

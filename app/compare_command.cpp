@@ -16,8 +16,9 @@ int compare_command(const CompareOptions& options) {
   try {
     report = studies::compare_trajectories(run, ref);
   } catch (const std::invalid_argument& e) {
-    throw core::InputError(options.run, 0, "",
-                           std::string("cannot compare with ") + options.reference + ": " + e.what());
+    throw core::InputError(
+        options.run, 0, "",
+        std::string("cannot compare with ") + options.reference + ": " + e.what());
   }
   std::cout << std::left << std::setw(28) << "quantity" << std::setw(7) << "unit" << std::right
             << std::setw(13) << "L-inf" << std::setw(13) << "RMS" << std::setw(13) << "final"

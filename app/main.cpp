@@ -27,7 +27,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--scheme", run.scheme, "c1 | c2 | nmb")
       ->check(CLI::IsMember({"c1", "c2", "nmb"}))
       ->capture_default_str();
-  run_cmd->add_option("--dt", run.dt, "step [s]")->check(CLI::PositiveNumber)->capture_default_str();
+  run_cmd->add_option("--dt", run.dt, "step [s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   run_cmd->add_option("-o,--output", run.output, "CSV file to write")->required();
 
   ReferenceOptions ref;
@@ -65,13 +67,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2, 16))
       ->capture_default_str();
   conv_cmd->add_option("--metric", conv.metric, "error metric")->capture_default_str();
-  conv_cmd->add_option("--reference-solver", conv.reference_solver, "auto | ida | cvode | odeint | exact")
+  conv_cmd
+      ->add_option("--reference-solver", conv.reference_solver,
+                   "auto | ida | cvode | odeint | exact")
       ->check(CLI::IsMember({"auto", "ida", "cvode", "odeint", "exact"}))
       ->capture_default_str();
   conv_cmd->add_option("--reference-rtol", conv.reference_rtol, "reference tolerance")
       ->check(CLI::Range(1e-14, 1e-4))
       ->capture_default_str();
-  conv_cmd->add_option("--jobs", conv.jobs, "parallel runs (0: all cores)")->check(CLI::NonNegativeNumber);
+  conv_cmd->add_option("--jobs", conv.jobs, "parallel runs (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
   conv_cmd->add_option("--out", conv.out_dir, "output directory")->capture_default_str();
 
   CLI11_PARSE(app, argc, argv);

@@ -38,8 +38,8 @@ int reference_command(const ReferenceOptions& options) {
        << "\nrhs_evaluations = " << st.rhs_evaluations
        << "\njacobian_evaluations = " << st.jacobian_evaluations
        << "\nerror_test_failures = " << st.error_test_failures
-       << "\nnonlinear_failures = " << st.nonlinear_failures
-       << "\ncpu_seconds = " << st.cpu_seconds << "\n";
+       << "\nnonlinear_failures = " << st.nonlinear_failures << "\ncpu_seconds = " << st.cpu_seconds
+       << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
     meta << "\n[error_estimate]\nmetric = \"" << e.metric << "\"\nestimate = " << e.estimate()
@@ -50,9 +50,9 @@ int reference_command(const ReferenceOptions& options) {
   meta << "\n" << studies::versions_toml();
   studies::write_file_atomically(options.output + ".meta.toml", meta.str());
 
-  std::cout << "reference " << scene.name << " with " << ref.run.solver << " (rtol "
-            << options.rtol << "): " << st.steps << " steps, " << st.rhs_evaluations
-            << " evaluations, " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
+  std::cout << "reference " << scene.name << " with " << ref.run.solver << " (rtol " << options.rtol
+            << "): " << st.steps << " steps, " << st.rhs_evaluations << " evaluations, "
+            << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
     std::cout << "estimated error (" << e.metric << "): " << e.estimate() << "  [vs "

@@ -4,9 +4,11 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
-#include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
+#include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -138,9 +140,9 @@ Eigen::Matrix3d read_inertia(const Table& body) {
     }
   }
   if (const std::string problem = core::inertia_problem(inertia); !problem.empty()) {
-    body.fail("inertia", problem + "; expected " + kInertiaExpected +
-                             " (symmetric positive "
-                             "definite, J1 + J2 >= J3 for every permutation), got " +
+    body.fail("inertia", problem +
+                             "; expected a symmetric positive definite inertia in kg*m^2 with "
+                             "J1 + J2 >= J3 for every permutation, got " +
                              scene_toml::describe(*v));
   }
   return inertia;
@@ -173,6 +175,10 @@ core::Body read_body(const Table& t, BodyNames& names) {
   d.name = t.name("name", "a body name");
   names.add(t, d.name);
   d.mass = t.number("mass", Sign::kPositive, "a positive mass in kg");
+  if (!std::isfinite(1.0 / d.mass)) {
+    t.fail("mass", "expected a positive mass in kg, got " + format(d.mass) +
+                       " (too small: 1/mass overflows)");
+  }
   d.I_Bcm_B = read_inertia(t);
   d.p_BoBcm_B = t.vector3_or("center_of_mass", Eigen::Vector3d::Zero(),
                              "the centre of mass [x, y, z] in m, body frame");
@@ -191,10 +197,9 @@ core::Body read_body(const Table& t, BodyNames& names) {
                    "rotation");
   const double norm = theta.norm();
   if (!(std::abs(norm - 1.0) <= kOrientationTolerance)) {
-    t.fail("orientation",
-           "expected unit Euler parameters [e0, e1, e2, e3] (norm 1 within 1e-6), "
-           "got norm " +
-               format(norm));
+    const std::string expected =
+        "expected unit Euler parameters [e0, e1, e2, e3] (norm 1 within 1e-6)";
+    t.fail("orientation", expected + ", got norm " + format(norm));
   }
   d.initial.theta_WB = theta / norm;
   d.initial.v_WBo = t.vector3_or("velocity", Eigen::Vector3d::Zero(),
@@ -235,9 +240,10 @@ core::TimeProfile read_profile(const Table& load) {
   const int shape = p->choice("shape", {"constant", "sin2_pulse", "rectangular_pulse"}, -1);
   if (shape == 0) {
     for (const std::string_view key : {"start", "duration"}) {
-      if (p->has(key))
+      if (p->has(key)) {
         p->fail(key, "applies only to pulses; expected no " + std::string(key) +
                          " with shape = \"constant\"");
+      }
     }
     return core::TimeProfile::constant();
   }
@@ -315,6 +321,32 @@ std::unique_ptr<const core::ForceElement> read_potential(const Table& t, const B
   return std::make_unique<core::PointChargePotential>(alpha, beta, p_WM, std::move(charges));
 }
 
+// Finite input can still overflow (a spin of 1e308 rad/s, a charge 1e-300 m above the wall):
+// evaluate the model once at the initial state so that no integrator starts from inf or NaN.
+void check_initial_evaluation(const core::Model& model, const Table& root,
+                              const std::vector<Table>& body_tables) {
+  const core::State state = model.initial_state();
+  core::Workspace ws = model.make_workspace();
+  core::Accelerations accelerations(state.size());
+  model.compute_accelerations(core::LoadContext{0.0, 0.0}, state, ws, accelerations);
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    const core::BodyState& s = state[i];
+    const core::BodyAcceleration& a = accelerations[i];
+    if (!s.p_WBr.allFinite() || !s.v_WBr.allFinite() || !a.a_WBr.allFinite() ||
+        !a.alpha_WB_B.allFinite()) {
+      body_tables[i].fail_table(
+          "the initial state or accelerations of this body are not finite (values too large or "
+          "too small); expected values whose products stay within the range of a double");
+    }
+  }
+  const double energy = model.kinetic_energy(state) + model.potential_energy({}, state, ws);
+  if (!std::isfinite(energy)) {
+    root.fail("scene",
+              "the initial energy is not finite (values too large or too small); "
+              "expected values whose products stay within the range of a double");
+  }
+}
+
 Scene read_document(const toml::value& document, const std::string& file) {
   const Table root(document, file, "");
   root.check_keys({"scene", "body", "load", "potential"}, {"contact", "joint"});
@@ -349,6 +381,7 @@ Scene read_document(const toml::value& document, const std::string& file) {
   scene.end_time = settings.end_time;
   scene.output_step = settings.output_step;
   scene.model = std::make_unique<core::Model>(std::move(bodies), std::move(elements));
+  check_initial_evaluation(*scene.model, root, body_tables);
   return scene;
 }
 
@@ -369,16 +402,24 @@ Scene parse_scene(const std::string& text, const std::string& file_name) {
 }
 
 Scene read_scene(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw core::InputError(path, 0, "", "is a directory; expected a scene file (TOML)");
+  std::string text;
+  try {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+      throw core::InputError(path, 0, "", "is a directory; expected a scene file (TOML)");
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw core::InputError(path, 0, "", "cannot open the scene file");
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    if (in.bad()) throw core::InputError(path, 0, "", "cannot read the scene file");
+    text = std::move(buffer).str();
+  } catch (const core::InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw core::InputError(path, 0, "", std::string("cannot read the scene file: ") + e.what());
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw core::InputError(path, 0, "", "cannot open the scene file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw core::InputError(path, 0, "", "cannot read the scene file");
-  return parse_scene(text.str(), path);
+  return parse_scene(text, path);
 }
 
 }  // namespace flexref::app

@@ -18,6 +18,7 @@ class AppliedForce final : public ForceElement {
                     std::span<Wrench> wrenches) const override;
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
+  int max_body_index() const override { return body_; }
 
  private:
   int body_;
@@ -35,6 +36,7 @@ class AppliedTorque final : public ForceElement {
                     std::span<Wrench> wrenches) const override;
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
+  int max_body_index() const override { return body_; }
 
  private:
   int body_;

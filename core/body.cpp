@@ -1,6 +1,7 @@
 #include "core/body.hpp"
 
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <utility>
 
@@ -41,6 +42,29 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
   if (const std::string problem = inertia_problem(d.I_Bcm_B); !problem.empty()) {
     throw std::invalid_argument("body '" + d.name + "': " + problem);
   }
+  const bool vectors_finite = d.p_BoBcm_B.allFinite() && d.p_BoPivot_B.allFinite() &&
+                              d.initial.p_WBo.allFinite() && d.initial.theta_WB.allFinite() &&
+                              d.initial.v_WBo.allFinite() && d.initial.w_WB_B.allFinite();
+  if (!vectors_finite) {
+    throw std::invalid_argument("body '" + d.name + "': a position, attitude or velocity is not finite");
+  }
+  for (std::size_t i = 0; i < d.points.size(); ++i) {
+    if (!d.points[i].p_BoP_B.allFinite()) {
+      throw std::invalid_argument("body '" + d.name + "': point '" + d.points[i].name +
+                                  "' is not finite");
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (d.points[j].name == d.points[i].name) {
+        throw std::invalid_argument("body '" + d.name + "': duplicate point name '" +
+                                    d.points[i].name + "'");
+      }
+    }
+  }
+  if (d.motion == MotionKind::kPivot && d.initial.v_WBo.squaredNorm() != 0.0) {
+    throw std::invalid_argument("body '" + d.name +
+                                "': a pivot body's origin velocity follows from its angular "
+                                "velocity; give none");
+  }
   if (std::abs(d.initial.theta_WB.norm() - 1.0) > 1e-12) {
     throw std::invalid_argument("body '" + d.name + "': orientation is not a unit quaternion");
   }
@@ -55,6 +79,10 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
     I_Br_B_ = shift_inertia_from_com(I_sym, d.mass, p_BrBcm_B_);
   }
   I_Br_B_inverse_ = I_Br_B_.inverse();
+  if (!I_Br_B_.allFinite() || !I_Br_B_inverse_.allFinite() || !std::isfinite(1.0 / d.mass)) {
+    throw std::invalid_argument("body '" + d.name +
+                                "': mass or inertia out of the representable range");
+  }
 }
 
 }  // namespace flexref::core

@@ -76,6 +76,8 @@ class ForceElement {
   virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
   /// True when the loads depend on velocities (then schemes use a predicted velocity).
   virtual bool depends_on_velocity() const { return false; }
+  /// Largest body index the element refers to (−1 for none); the model checks it.
+  virtual int max_body_index() const = 0;
   /// One line for `flexref check`.
   virtual std::string describe() const = 0;
 };

@@ -1,5 +1,6 @@
 #include "core/gravity.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <sstream>
 #include <utility>
@@ -25,6 +26,12 @@ double UniformGravity::potential_energy(const LoadContext& /*context*/,
     v -= b.mass * g_W_.dot(bodies[static_cast<std::size_t>(b.body)].p_WP(b.p_BoBcm_B));
   }
   return v;
+}
+
+int UniformGravity::max_body_index() const {
+  int m = -1;
+  for (const BodyMass& b : bodies_) m = std::max(m, b.body);
+  return m;
 }
 
 std::string UniformGravity::describe() const {

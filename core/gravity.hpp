@@ -22,6 +22,7 @@ class UniformGravity final : public ForceElement {
   double potential_energy(const LoadContext& context,
                           std::span<const BodyKinematics> bodies) const override;
   std::string describe() const override;
+  int max_body_index() const override;
   const Eigen::Vector3d& g_W() const { return g_W_; }
 
  private:

@@ -2,13 +2,27 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace flexref::core {
 
 Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements)
     : bodies_(std::move(bodies)), elements_(std::move(elements)) {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (bodies_[i].name() == bodies_[j].name()) {
+        throw std::invalid_argument("duplicate body name '" + bodies_[i].name() + "'");
+      }
+    }
+  }
   for (const auto& e : elements_) {
+    if (e->max_body_index() >= static_cast<int>(bodies_.size())) {
+      throw std::invalid_argument("a force element refers to body " +
+                                  std::to_string(e->max_body_index()) + " of " +
+                                  std::to_string(bodies_.size()));
+    }
     e->append_discontinuities(discontinuities_);
     velocity_dependent_ = velocity_dependent_ || e->depends_on_velocity();
   }

@@ -15,6 +15,8 @@ std::vector<double> output_times(double end_time, double output_step) {
   }
   std::vector<double> times;
   const double n_exact = end_time / output_step;
+  // 1e9 rows would be tens of gigabytes of CSV: certainly a typing error.
+  if (!(n_exact <= 1e9)) throw std::invalid_argument("more than 1e9 output times");
   // Accept the last grid point when it lies within 1e-9 steps of the end time.
   const auto n = static_cast<long>(std::floor(n_exact + 1e-9));
   times.reserve(static_cast<std::size_t>(n + 2));

@@ -1,5 +1,6 @@
 #include "core/point_charge_potential.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <sstream>
 #include <utility>
@@ -39,6 +40,12 @@ double PointChargePotential::potential_energy(const LoadContext& /*context*/,
     v += c.weight * unit_potential(bodies[static_cast<std::size_t>(c.body)].p_WP(c.p_BoP_B));
   }
   return v;
+}
+
+int PointChargePotential::max_body_index() const {
+  int m = -1;
+  for (const Charge& c : charges_) m = std::max(m, c.body);
+  return m;
 }
 
 std::string PointChargePotential::describe() const {

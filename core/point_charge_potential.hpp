@@ -26,6 +26,7 @@ class PointChargePotential final : public ForceElement {
   double potential_energy(const LoadContext& context,
                           std::span<const BodyKinematics> bodies) const override;
   std::string describe() const override;
+  int max_body_index() const override;
 
   /// Force on a unit-weight charge at r (world); exposed for derivative tests.
   Eigen::Vector3d unit_force_W(const Eigen::Vector3d& p_WP) const;

@@ -8,9 +8,10 @@ namespace flexref::core {
 
 TimeProfile::TimeProfile(Shape shape, double start, double duration)
     : shape_(shape), start_(start), duration_(duration) {
-  if (shape != Shape::kConstant && !(duration > 0.0)) {
-    throw std::invalid_argument("pulse duration must be positive");
+  if (shape != Shape::kConstant && !(duration > 0.0 && std::isfinite(duration))) {
+    throw std::invalid_argument("pulse duration must be positive and finite");
   }
+  if (!std::isfinite(start)) throw std::invalid_argument("pulse start must be finite");
 }
 
 TimeProfile TimeProfile::constant() { return TimeProfile(Shape::kConstant, 0.0, 0.0); }

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include <Eigen/LU>
+#include <Eigen/LU>  // Matrix3d::inverse
 
 #include "core/euler_parameters.hpp"
 #include "lie/c1_newton.hpp"
@@ -28,6 +28,7 @@ C1Stepper::C1Stepper(const core::Model& model)
       R_n_transpose_(state_.size(), Matrix3d::Identity()),
       b_(state_.size(), Vector3d::Zero()),
       residual_(state_.size(), Vector3d::Zero()),
+      jacobian_(state_.size(), Matrix3d::Identity()),
       w_accepted_(state_.size(), Vector3d::Zero()),
       delta_(state_.size(), Vector3d::Zero()),
       ws_(model.make_workspace()) {
@@ -93,8 +94,10 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
       const Vector3d J_W_n = J * W_n;
       // b ← J W_n + h R_nᵀ Γ_{n+½}
       b_[i] = J_W_n + impulse_B;
-      // r ← J W − exp(−Θ̃) b
-      residual_[i] = detail::c1_residual(J, b_[i], W_n, W, h);
+      // r ← J W − exp(−Θ̃) b,  K ← J − (h/2)(exp(−Θ̃) b)~ J_r(Θ)
+      const detail::C1Linearization linearization = detail::c1_linearize(J, b_[i], W_n, W, h);
+      residual_[i] = linearization.residual;
+      jacobian_[i] = linearization.jacobian;
       const double scale =
           detail::max_abs(J * W) + detail::max_abs(J_W_n) + detail::max_abs(impulse_B);
       const double relative = detail::max_abs(residual_[i]) / (scale > 0.0 ? scale : 1.0);
@@ -118,16 +121,13 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
       continue;
     }
     merit = trial_merit;
-    // W ← W − [J − (h/2)(exp(−Θ̃) b)~ J_r(Θ)]⁻¹ r   (also after the test has passed: the
-    // correction then only removes the last ≤ 1e-14 of the error and costs no evaluation, and
-    // without it that remainder would bias every step the same way and add up over a run)
+    // W ← W − K⁻¹ r   (also after the test has passed: the correction then only removes the
+    // last ≤ 1e-14 of the error and costs no evaluation, and without it that remainder would
+    // bias every step the same way and add up over a run)
     ++outcome.iterations;
     for (std::size_t i = 0; i < n_bodies; ++i) {
-      const Matrix3d& J = model_.body(static_cast<int>(i)).I_Br_B();
       w_accepted_[i] = next_[i].w_WB_B;
-      delta_[i] = detail::c1_jacobian(J, b_[i], state_[i].w_WB_B, w_accepted_[i], h)
-                      .partialPivLu()
-                      .solve(residual_[i]);
+      delta_[i] = jacobian_[i].inverse() * residual_[i];
       next_[i].w_WB_B = w_accepted_[i] - delta_[i];
     }
     step_length = 1.0;

@@ -91,6 +91,7 @@ class C1Stepper final : public Stepper {
   std::vector<Eigen::Matrix3d> R_n_transpose_;  ///< R_nᵀ per body
   std::vector<Eigen::Vector3d> b_;              ///< J W_n + h R_nᵀ Γ_{n+½} per body
   std::vector<Eigen::Vector3d> residual_;       ///< r(W) per body
+  std::vector<Eigen::Matrix3d> jacobian_;       ///< ∂r/∂W per body
   std::vector<Eigen::Vector3d> w_accepted_;     ///< last accepted Newton iterate per body
   std::vector<Eigen::Vector3d> delta_;          ///< its Newton correction per body
   core::Workspace ws_;

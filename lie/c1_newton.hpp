@@ -29,21 +29,21 @@ inline Eigen::Matrix3d d_rotated_by_minus_theta(const Eigen::Vector3d& b,
   return core::hat(rotated) * core::right_jacobian(theta);
 }
 
-/// r(W) = J W − exp(−Θ̃) b with Θ = (h/2)(W_n + W).
-inline Eigen::Vector3d c1_residual(const Eigen::Matrix3d& J, const Eigen::Vector3d& b,
-                                   const Eigen::Vector3d& w_n, const Eigen::Vector3d& w,
-                                   double h) {
-  const Eigen::Vector3d theta = c1_increment(w_n, w, h);
-  return J * w - core::exp_so3(theta).transpose() * b;
-}
+/// The residual and its Newton matrix at one iterate.
+struct C1Linearization {
+  Eigen::Vector3d residual;  ///< r(W) = J W − exp(−Θ̃) b
+  /// ∂r/∂W = J − (h/2) (exp(−Θ̃) b)~ J_r(Θ): exact for a fixed b, i.e. for a global torque
+  /// that does not depend on the configuration (C1 uses it as a quasi-Newton matrix otherwise).
+  Eigen::Matrix3d jacobian;
+};
 
-/// ∂r/∂W = J − (h/2) (exp(−Θ̃) b)~ J_r(Θ): exact for a fixed b, i.e. for a global torque that
-/// does not depend on the configuration (C1 uses it as a quasi-Newton matrix otherwise).
-inline Eigen::Matrix3d c1_jacobian(const Eigen::Matrix3d& J, const Eigen::Vector3d& b,
-                                   const Eigen::Vector3d& w_n, const Eigen::Vector3d& w,
-                                   double h) {
+inline C1Linearization c1_linearize(const Eigen::Matrix3d& J, const Eigen::Vector3d& b,
+                                    const Eigen::Vector3d& w_n, const Eigen::Vector3d& w,
+                                    double h) {
   const Eigen::Vector3d theta = c1_increment(w_n, w, h);
-  return J - 0.5 * h * d_rotated_by_minus_theta(b, theta);
+  const Eigen::Vector3d rotated_b = core::exp_so3(theta).transpose() * b;  // exp(−Θ̃) b
+  return {J * w - rotated_b,
+          J - (0.5 * h) * (core::hat(rotated_b) * core::right_jacobian(theta))};
 }
 
 }  // namespace flexref::lie::detail

@@ -37,9 +37,27 @@ void C2Stepper::initialize(double t0, const core::State& state) {
 }
 
 void C2Stepper::restart(double h) {
-  // a_n = f_n/m,  A_n = J⁻¹ (R_nᵀ Γ_n − W_n × J W_n)   (Euler, right limit at t_n)
-  model_.compute_accelerations(core::LoadContext{time_, time_ + 0.5 * h}, state_, ws_, acc_);
-  for (std::size_t i = 0; i < state_.size(); ++i) torque_W_[i] = ws_.wrenches[i].tau_Br_W;
+  const core::LoadContext start{time_, time_ + 0.5 * h};
+  if (restart_pending_) {
+    // First step: a_0 = f_0/m, A_0 = J⁻¹ (R_0ᵀ Γ_0 − W_0 × J W_0)   (Euler, right limit at t0)
+    model_.compute_accelerations(start, state_, ws_, acc_);
+    for (std::size_t i = 0; i < state_.size(); ++i) torque_W_[i] = ws_.wrenches[i].tau_Br_W;
+    return;
+  }
+  // Step from a load discontinuity: Γ_n and a_n are re-evaluated (right limits). A_n is the
+  // scheme's backward difference (W_n − W_{n−1})/h, not a load: it keeps its value and takes
+  // the jump of the acceleration the load jump implies, A_n ← A_n + J⁻¹ R_nᵀ (Γ_n⁺ − Γ_n⁻)
+  // (zero for a body whose loads do not jump).
+  model_.compute_wrenches(start, state_, ws_);
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    const core::Body& body = model_.body(static_cast<int>(i));
+    const Vector3d& torque_plus_W = ws_.wrenches[i].tau_Br_W;
+    acc_[i].alpha_WB_B += body.I_Br_B_inverse() * (ws_.kinematics[i].R_WB.transpose() *
+                                                     (torque_plus_W - torque_W_[i]));
+    torque_W_[i] = torque_plus_W;
+    acc_[i].a_WBr = body.is_free() ? Vector3d(ws_.wrenches[i].f_W / body.mass())
+                                   : Vector3d::Zero();
+  }
 }
 
 StepStatus C2Stepper::step(double h) {

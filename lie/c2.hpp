@@ -14,9 +14,11 @@
 ///
 /// Velocity-dependent loads are evaluated at the predicted velocities v_n + h a_n and
 /// W_n + h A_n (explicit Euler predictors; the evaluation is at t_{n+1}, before v_{n+1} and
-/// W_{n+1} are known). A_0 is the true angular acceleration from the Euler equation, and A_n
-/// is reset the same way (with Γ_n and a_n) when t_n is a known load discontinuity: the
-/// carried loads are then left limits, re-evaluated at t_n on the new segment.
+/// W_{n+1} are known). A_0 is the true angular acceleration from the Euler equation at t0.
+/// When t_n is a known load discontinuity, the carried loads Γ_n and a_n are left limits and
+/// are re-evaluated at t_n on the new segment; A_n, a backward difference of W and not a
+/// load, takes the jump the load jump implies, A_n += J⁻¹ R_nᵀ (Γ_n⁺ − Γ_n⁻) (nothing changes
+/// for a body whose loads are continuous, so bodies stay independent).
 #include <vector>
 
 #include <Eigen/Core>
@@ -44,7 +46,8 @@ class C2Stepper final : public Stepper {
   const core::Accelerations& accelerations() const { return acc_; }
 
  private:
-  /// a_n, A_n and Γ_n from the loads at t_n on the segment of the step [t_n, t_n + h].
+  /// Γ_n and a_n (and A_0 at the first step) from the loads at t_n on the segment of the
+  /// step [t_n, t_n + h].
   void restart(double h);
 
   const core::Model& model_;

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include <Eigen/LU>
+#include <Eigen/LU>  // Matrix3d::inverse
 
 #include "core/euler_parameters.hpp"
 #include "lie/nmb_newton.hpp"
@@ -105,19 +105,17 @@ StepStatus NmbStepper::step(double h) {
     A = A_n;
     int iterations = 0;  // Jacobian solves
     for (;;) {
-      // f ← J A + W × J W − T_{n+1},  W = W_n + (h/2)(A_n + A)
-      const Vector3d f = detail::nmb_residual(J, T_np1, W_n, A_n, A, h);
-      const Vector3d W = detail::nmb_velocity(W_n, A_n, A, h);
-      const double scale = detail::max_abs(J * A) + detail::max_abs(W.cross(J * W)) +
-                           detail::max_abs(T_np1);
-      const double relative_residual = detail::max_abs(f) / (scale > 0.0 ? scale : 1.0);
+      // f ← J A + W × J W − T_{n+1},  W = W_n + (h/2)(A_n + A);  K ← J + (h/2)(W̃ J − (J W)~)
+      const detail::NmbLinearization f = detail::nmb_linearize(J, T_np1, W_n, A_n, A, h);
+      const double relative_residual =
+          detail::max_abs(f.residual) / (f.scale > 0.0 ? f.scale : 1.0);
       if (!std::isfinite(relative_residual)) {
         return {false, detail::non_finite_failure("NMB", t_n, h)};
       }
-      // A ← A − [J + (h/2)(W̃ J − (J W)~)]⁻¹ f   (also after the test has passed: the
-      // correction then costs nothing but a 3×3 solve and removes the remainder ≤ 1e-14 that
-      // would otherwise bias every step the same way)
-      A -= detail::nmb_jacobian(J, W_n, A_n, A, h).partialPivLu().solve(f);
+      // A ← A − K⁻¹ f   (also after the test has passed: the correction then costs nothing
+      // but a 3×3 solve and removes the remainder ≤ 1e-14 that would otherwise bias every
+      // step the same way)
+      A -= f.jacobian.inverse() * f.residual;
       ++iterations;
       if (relative_residual <= detail::kNewtonTolerance) break;
       if (iterations == kMaxNewtonIterations) {

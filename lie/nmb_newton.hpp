@@ -15,23 +15,29 @@ namespace flexref::lie::detail {
 /// W(A) = W_n + (h/2)(A_n + A): the trapezoidal velocity update (γ = ½).
 inline Eigen::Vector3d nmb_velocity(const Eigen::Vector3d& w_n, const Eigen::Vector3d& alpha_n,
                                     const Eigen::Vector3d& alpha, double h) {
-  return w_n + 0.5 * h * (alpha_n + alpha);
+  return w_n + (0.5 * h) * (alpha_n + alpha);
 }
 
-/// f(A) = J A + W(A) × J W(A) − T.
-inline Eigen::Vector3d nmb_residual(const Eigen::Matrix3d& J, const Eigen::Vector3d& torque_B,
-                                    const Eigen::Vector3d& w_n, const Eigen::Vector3d& alpha_n,
-                                    const Eigen::Vector3d& alpha, double h) {
-  const Eigen::Vector3d w = nmb_velocity(w_n, alpha_n, alpha, h);
-  return J * alpha + w.cross(J * w) - torque_B;
-}
+/// The residual, its Newton matrix and the size of its terms at one iterate.
+struct NmbLinearization {
+  Eigen::Vector3d residual;  ///< f(A) = J A + W × J W − T
+  Eigen::Matrix3d jacobian;  ///< ∂f/∂A = J + (h/2)(W̃ J − (J W)~)
+  /// |J A| + |W| |J W| + |T| (max norms): f's round-off is ε times this (W × J W is rounded
+  /// relative to |W| |J W|, not to its own size).
+  double scale = 0.0;
+};
 
-/// ∂f/∂A = J + (h/2)(W̃ J − (J W)~) at W = W(A).
-inline Eigen::Matrix3d nmb_jacobian(const Eigen::Matrix3d& J, const Eigen::Vector3d& w_n,
-                                    const Eigen::Vector3d& alpha_n, const Eigen::Vector3d& alpha,
-                                    double h) {
+inline NmbLinearization nmb_linearize(const Eigen::Matrix3d& J, const Eigen::Vector3d& torque_B,
+                                      const Eigen::Vector3d& w_n,
+                                      const Eigen::Vector3d& alpha_n,
+                                      const Eigen::Vector3d& alpha, double h) {
   const Eigen::Vector3d w = nmb_velocity(w_n, alpha_n, alpha, h);
-  return J + 0.5 * h * (core::hat(w) * J - core::hat(J * w));
+  const Eigen::Vector3d J_w = J * w;
+  const Eigen::Vector3d J_alpha = J * alpha;
+  return {J_alpha + w.cross(J_w) - torque_B,
+          J + (0.5 * h) * (core::hat(w) * J - core::hat(J_w)),
+          J_alpha.cwiseAbs().maxCoeff() + w.cwiseAbs().maxCoeff() * J_w.cwiseAbs().maxCoeff() +
+              torque_B.cwiseAbs().maxCoeff()};
 }
 
 }  // namespace flexref::lie::detail

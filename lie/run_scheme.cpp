@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -16,7 +17,7 @@ namespace {
 void require_on_grid(const char* what, double t, double t0, double dt) {
   if (core::is_multiple_of(t - t0, dt)) return;
   std::ostringstream out;
-  out.precision(17);
+  out.precision(std::numeric_limits<double>::digits10);  // 0.03 prints as 0.03
   out << what << " t = " << t << " is not on the step grid t0 + n·dt (t0 = " << t0
       << ", dt = " << dt << ")";
   throw std::invalid_argument(out.str());

@@ -190,6 +190,33 @@ TEST_CASE("the minimal test scene is valid", "[app][scene]") {
   CHECK(s.model->num_bodies() == 1);
 }
 
+TEST_CASE("sub-tables and arrays of tables may use headers", "[app][scene]") {
+  const Scene s = parse_scene(kScene + kBody +
+                                  "[[body.points]]\nname = \"p\"\nat = [1, 0, 0]\n"
+                                  "[[load]]\nkind = \"force\"\nbody = \"b\"\nvalue = [1, 0, 0]\n"
+                                  "at = [0, 1, 0]\nframe = \"body\"\n"
+                                  "[load.profile]\nshape = \"rectangular_pulse\"\nstart = 1\n"
+                                  "duration = 2\n",
+                              "ok.toml");
+  REQUIRE(s.model->body(0).description().points.size() == 1);
+  CHECK(s.model->body(0).description().points[0].p_BoP_B == Eigen::Vector3d(1, 0, 0));
+  CHECK(s.model->discontinuities() == std::vector<double>{1.0, 3.0});
+  // A force (1, 0, 0) at body point (0, 1, 0): torque (0, 1, 0) × (1, 0, 0) = (0, 0, −1).
+  CHECK(loads_at(*s.model, 2.0).wrenches[0].tau_Br_W == Eigen::Vector3d(0, 0, -1));
+  require_error(kScene + kBody + "[[body.points]]\nname = \"p\"\n", 9, "body[1].points[1].at",
+                "required key is missing");
+}
+
+TEST_CASE("brackets in strings and comments are not nesting", "[app][scene]") {
+  // The nesting guard (scene_toml.cpp) lexes strings and comments: 40 brackets there are text.
+  const std::string brackets(40, '[');
+  const Scene s =
+      parse_scene("# " + brackets + "\n[scene]\nname = \"t\"\ndescription = \"\"\"" + brackets +
+                      "\n{'\\\"\"\"\"\nend_time = 1.0\noutput_step = 0.1\n" + kBody,
+                  "ok.toml");
+  CHECK(s.description == brackets + "\n{'\"");
+}
+
 TEST_CASE("every bad input is an InputError naming file, line and key", "[app][scene]") {
   SECTION("unknown key, at every level") {
     require_error("colour = 1\n" + kScene + kBody, 1, "colour", "unknown key");
@@ -291,6 +318,12 @@ TEST_CASE("every bad input is an InputError naming file, line and key", "[app][s
                       "mass = 1e300\ninertia = [1, 1, 1]\ncenter_of_mass = [1e10, 0, 0]\n"
                       "motion = \"pivot\"\npivot = [0, 0, 0]\n",
                   8, "body[1].inertia", "about the pivot");
+  }
+  SECTION("finite input whose model overflows") {
+    require_error(kScene + "[[body]]\nname = \"b\"\nmass = 1e-320\ninertia = [1, 1, 1]\n", 7,
+                  "body[1].mass", "too small");
+    require_error(kScene + kBody + "angular_velocity = [1e200, 0, 1e200]\n", 5, "body[1]",
+                  "not finite");
   }
   SECTION("orientation not unit") {
     require_error(kScene + kBody + "orientation = [1, 0, 0, 0.1]\n", 9, "body[1].orientation",

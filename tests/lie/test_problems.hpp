@@ -10,12 +10,18 @@
 ///                       intermediate axis, sin² torque pulse on [0, 0.1).
 ///   book_toss_step      the same with a rectangular pulse (a load discontinuity at 0.1).
 ///   heavy_top           design/scenes.md `heavy_top` (after Brüls & Cardona 2010).
+///   book_and_top        book_toss's book and heavy_top's top in one model (uncoupled).
 ///   coulomb_wall        design/scenes.md `coulomb_wall` (paper Fig. 2): translation and
 ///                       rotation coupled through configuration-dependent forces.
+///   damped_coulomb_wall coulomb_wall with viscous damping (velocity-dependent loads).
+///   free_spin_failing_after  free_spin with a NaN torque injected after a given time.
 ///   RegularPrecession   torque-free symmetric body with its closed-form solution.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -37,11 +43,11 @@ namespace flexref::testing {
 /// The point every metric tracks: body point (1, 0, 0) from the frame origin.
 inline Eigen::Vector3d tracked_point() { return Eigen::Vector3d(1.0, 0.0, 0.0); }
 
-inline core::RigidBodyDescription rigid_body(const char* name, double mass,
+inline core::RigidBodyDescription rigid_body(std::string name, double mass,
                                              const Eigen::Vector3d& principal_inertia,
                                              const Eigen::Vector3d& w0_B) {
   core::RigidBodyDescription d;
-  d.name = name;
+  d.name = std::move(name);
   d.mass = mass;
   d.I_Bcm_B = principal_inertia.asDiagonal();
   d.initial.w_WB_B = w0_B;
@@ -103,6 +109,27 @@ inline core::Model heavy_top() {
   return core::Model(std::move(bodies), std::move(elements));
 }
 
+/// Two bodies in one model, uncoupled: the book of book_toss (free, torque pulse) and the top
+/// of heavy_top (pivot, gravity), to check that schemes advance all bodies at once exactly as
+/// they advance each alone.
+inline core::Model book_and_top() {
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(rigid_body("book", 1.0, {1.0, 2.0, 2.8}, {0.0, 10.0, 0.0}));
+  core::RigidBodyDescription top =
+      rigid_body("top", 15.0, {0.234375, 0.46875, 0.234375}, {0.0, 150.0, -4.61538});
+  top.p_BoBcm_B = Eigen::Vector3d(0.0, 1.0, 0.0);
+  top.motion = core::MotionKind::kPivot;
+  bodies.emplace_back(std::move(top));
+  Elements elements;
+  elements.push_back(std::make_unique<core::AppliedTorque>(
+      0, Eigen::Vector3d(0.2, 0.0, 0.2), core::LoadFrame::kWorld,
+      core::TimeProfile::sin2_pulse(0.0, 0.1)));
+  elements.push_back(std::make_unique<core::UniformGravity>(
+      Eigen::Vector3d(0.0, 0.0, -9.81),
+      std::vector<core::UniformGravity::BodyMass>{{1, 15.0, Eigen::Vector3d(0.0, 1.0, 0.0)}}));
+  return core::Model(std::move(bodies), std::move(elements));
+}
+
 /// coulomb_wall: m = 1, J = diag(0.4, 0.9, 1.1); charges at body points (0.5, 0, 0) weight 1
 /// and (−0.5, 0, 0) weight 0.6 in the potential c (−α/|r − M| + β/r_z), α = 4, β = 0.3,
 /// M = (0, 0, −1); x_C(0) = (0, 0, 1), v(0) = (0.8, 0, 0), W0 = (0.2, 0.3, 1.5).
@@ -117,6 +144,71 @@ inline core::Model coulomb_wall() {
       4.0, 0.3, Eigen::Vector3d(0.0, 0.0, -1.0),
       std::vector<core::PointChargePotential::Charge>{{0, Eigen::Vector3d(0.5, 0.0, 0.0), 1.0},
                                                       {0, Eigen::Vector3d(-0.5, 0.0, 0.0), 0.6}}));
+  return core::Model(std::move(bodies), std::move(elements));
+}
+
+/// Linear viscous damping of body 0 (a free body): f = −c_v v_Bcm at the centre of mass and
+/// τ = −c_w ω_W, both world. Velocity-dependent, so the schemes evaluate it at their
+/// predicted velocities.
+class ViscousDamping final : public core::ForceElement {
+ public:
+  ViscousDamping(double c_v, double c_w) : c_v_(c_v), c_w_(c_w) {}
+  void add_wrenches(const core::LoadContext&, std::span<const core::BodyKinematics> bodies,
+                    std::span<core::Wrench> wrenches) const override {
+    const core::BodyKinematics& k = bodies[0];
+    wrenches[0].f_W -= c_v_ * k.state->v_WBr;
+    wrenches[0].tau_Br_W -= c_w_ * (k.R_WB * k.state->w_WB_B);
+  }
+  bool depends_on_velocity() const override { return true; }
+  int max_body_index() const override { return 0; }
+  std::string describe() const override { return "viscous damping"; }
+
+ private:
+  double c_v_;
+  double c_w_;
+};
+
+/// coulomb_wall with viscous damping c_v = 0.3 N·s/m, c_w = 0.2 N·m·s: configuration- and
+/// velocity-dependent loads on a translating and rotating body.
+inline core::Model damped_coulomb_wall() {
+  core::RigidBodyDescription d = rigid_body("charged", 1.0, {0.4, 0.9, 1.1}, {0.2, 0.3, 1.5});
+  d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, 1.0);
+  d.initial.v_WBo = Eigen::Vector3d(0.8, 0.0, 0.0);
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(std::move(d));
+  Elements elements;
+  elements.push_back(std::make_unique<core::PointChargePotential>(
+      4.0, 0.3, Eigen::Vector3d(0.0, 0.0, -1.0),
+      std::vector<core::PointChargePotential::Charge>{{0, Eigen::Vector3d(0.5, 0.0, 0.0), 1.0},
+                                                      {0, Eigen::Vector3d(-0.5, 0.0, 0.0), 0.6}}));
+  elements.push_back(std::make_unique<ViscousDamping>(0.3, 0.2));
+  return core::Model(std::move(bodies), std::move(elements));
+}
+
+/// A fault to inject: a torque that becomes NaN on body 0 for steps inside (t_bad, ∞), to
+/// check that schemes and drivers detect non-finite states.
+class NanTorqueAfter final : public core::ForceElement {
+ public:
+  explicit NanTorqueAfter(double t_bad) : t_bad_(t_bad) {}
+  void add_wrenches(const core::LoadContext& context, std::span<const core::BodyKinematics>,
+                    std::span<core::Wrench> wrenches) const override {
+    if (context.t_segment > t_bad_) {
+      wrenches[0].tau_Br_W.x() += std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  int max_body_index() const override { return 0; }
+  std::string describe() const override { return "NaN torque after t_bad"; }
+
+ private:
+  double t_bad_;
+};
+
+/// free_spin with a NanTorqueAfter(t_bad) fault.
+inline core::Model free_spin_failing_after(double t_bad) {
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(rigid_body("spinner", 1.0, {3.0, 4.0, 5.0}, {0.2, 0.3, 2.0}));
+  Elements elements;
+  elements.push_back(std::make_unique<NanTorqueAfter>(t_bad));
   return core::Model(std::move(bodies), std::move(elements));
 }
 

@@ -1,0 +1,407 @@
+#include "reference/exact_torque_free.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
+#include <boost/math/special_functions/ellint_1.hpp>
+#include <boost/math/special_functions/ellint_3.hpp>
+#include <boost/math/special_functions/jacobi_elliptic.hpp>
+#include <boost/numeric/odeint.hpp>
+#include <catch2/catch.hpp>
+
+#include "core/euler_parameters.hpp"
+
+namespace {
+
+namespace ref = flexref::reference;
+namespace core = flexref::core;
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// ---- independent reference: the 7-dimensional ODE (θ, ω_B) by RKF78 at tolerance 1e-13 ----
+using State = std::array<double, 7>;
+
+State pack(const core::EulerParameters& theta, const Eigen::Vector3d& w_B) {
+  return {theta(0), theta(1), theta(2), theta(3), w_B(0), w_B(1), w_B(2)};
+}
+core::EulerParameters theta_of(const State& x) { return {x[0], x[1], x[2], x[3]}; }
+Eigen::Vector3d w_of(const State& x) { return {x[4], x[5], x[6]}; }
+
+/// θ̇ = ½ θ ⊗ (0, ω), J ω̇ = −ω × J ω.
+std::vector<State> integrate_torque_free(const Eigen::Vector3d& inertia,
+                                         const core::EulerParameters& theta0,
+                                         const Eigen::Vector3d& w0, const std::vector<double>& times) {
+  namespace odeint = boost::numeric::odeint;
+  const auto rhs = [&inertia](const State& x, State& dxdt, double) {
+    const Eigen::Vector3d w = w_of(x);
+    const core::EulerParameters theta_rate = core::euler_parameter_rate(theta_of(x), w);
+    const Eigen::Vector3d w_rate = (-w.cross(inertia.cwiseProduct(w))).cwiseQuotient(inertia);
+    dxdt = pack(theta_rate, w_rate);
+  };
+  std::vector<State> out;
+  State x = pack(theta0, w0);
+  odeint::integrate_times(
+      odeint::make_controlled(1e-13, 1e-13, odeint::runge_kutta_fehlberg78<State>()), rhs, x,
+      times.begin(), times.end(), 1e-3, [&out](const State& s, double) { out.push_back(s); });
+  return out;
+}
+
+std::vector<double> sample_times(double t_end, int count) {
+  // Irregular spacing (offset and a sine wobble) so that no sample hits a symmetric point.
+  std::vector<double> times;
+  for (int i = 0; i <= count; ++i) {
+    const double s = static_cast<double>(i) / count;
+    times.push_back(t_end * (s + 0.003 * std::sin(7.0 * s) * (i > 0 && i < count ? 1.0 : 0.0)));
+  }
+  return times;
+}
+
+struct Case {
+  std::string name;
+  Eigen::Vector3d inertia;
+  core::EulerParameters theta0;
+  Eigen::Vector3d w0;
+  double t_end;
+  ref::TorqueFreeRegime regime;
+};
+
+core::EulerParameters tilted() {
+  return core::exp_quaternion(Eigen::Vector3d(0.3, -0.7, 1.1));
+}
+
+std::vector<Case> cases() {
+  using R = ref::TorqueFreeRegime;
+  return {
+      // free_spin scene: circulation about the max-inertia axis.
+      {"free_spin", {3.0, 4.0, 5.0}, core::identity_euler_parameters(), {0.2, 0.3, 2.0}, 100.0,
+       R::kCirculationMaxAxis},
+      // book toss after the kick, 2.4e-6 off the separatrix (k'² ≈ 1.4e-8).
+      {"book_toss_near_separatrix", {1.0, 2.0, 2.8}, core::identity_euler_parameters(),
+       {1e-3, 10.0, 1e-3}, 100.0, R::kCirculationMaxAxis},
+      // circulation about the min-inertia axis, inertia in a non-sorted order, tilted start.
+      {"min_axis_unsorted", {2.0, 1.0, 3.0}, tilted(), {0.3, 2.0, -0.4}, 50.0,
+       R::kCirculationMinAxis},
+      // symmetric (oblate) body: regular precession, k = 0.
+      {"symmetric_oblate", {2.0, 3.0, 2.0}, tilted(), {0.5, 1.5, -0.2}, 50.0,
+       R::kCirculationMaxAxis},
+      // symmetric (prolate) body.
+      {"symmetric_prolate", {1.0, 2.5, 2.5}, tilted(), {1.5, 0.4, 0.3}, 50.0,
+       R::kCirculationMinAxis},
+  };
+}
+
+/// Largest |ω|; every rate in the problem scales with it.
+double rate_scale(const ref::TorqueFreeExact& exact, const std::vector<double>& times) {
+  double omega = 0.0;
+  for (double t : times) omega = std::max(omega, exact.at(t).w_B.norm());
+  return omega;
+}
+
+}  // namespace
+
+TEST_CASE("elliptic helpers agree with Boost.Math where Boost is accurate",
+          "[reference][exact_torque_free][elliptic]") {
+  for (double k : {0.0, 0.1, 0.5, 0.9}) {
+    const double k_prime = std::sqrt((1.0 - k) * (1.0 + k));
+    for (double u = -20.0; u <= 20.0; u += 0.731) {
+      double cn = 0.0, dn = 0.0;
+      const double sn = boost::math::jacobi_elliptic(k, u, &cn, &dn);
+      const ref::elliptic::JacobiValues f = ref::elliptic::jacobi(u, k, k_prime);
+      CAPTURE(k, u, sn, f.sn, cn, f.cn, dn, f.dn);
+      // Both are AGM evaluations; Boost does not reduce the argument, so its absolute error
+      // grows like ε·|u|·(few): 1e-13 covers |u| ≤ 20 with a factor ~20 margin.
+      CHECK(std::abs(f.sn - sn) <= 1e-13);
+      CHECK(std::abs(f.cn - cn) <= 1e-13);
+      CHECK(std::abs(f.dn - dn) <= 1e-13);
+    }
+    // K and the inverse F(am) round-trip. Carlson's R_F is accurate to a few ε.
+    CHECK(std::abs(ref::elliptic::complete_k(k_prime) - boost::math::ellint_1(k)) <= 4 * kEps);
+    for (double am = -3.0; am <= 3.0; am += 0.25) {
+      const double u = ref::elliptic::incomplete_f(std::sin(am), std::cos(am), k_prime);
+      const ref::elliptic::JacobiValues f = ref::elliptic::jacobi(u, k, k_prime);
+      CAPTURE(k, am, u);
+      CHECK(std::abs(std::atan2(f.sn, f.cn) - am) <= 16 * kEps);  // well-conditioned: dF/dam ≤ 1/k'
+    }
+  }
+}
+
+TEST_CASE("elliptic helpers stay accurate near k = 1 where Boost loses k'",
+          "[reference][exact_torque_free][elliptic]") {
+  // A&S 16.15: sn = tanh u + ¼k'²(sinh u cosh u − u) sech²u + O(k'⁴) etc.; with k' = 1e-5 the
+  // neglected O(k'⁴ e^{4u}) terms are below 1e-18 for |u| ≤ 2.
+  const double k_prime = 1e-5;
+  const double k = std::sqrt((1.0 - k_prime) * (1.0 + k_prime));
+  const double m1 = k_prime * k_prime;
+  for (double u = -2.0; u <= 2.0; u += 0.173) {
+    const double sech = 1.0 / std::cosh(u);
+    const double sc = std::sinh(u) * std::cosh(u);
+    const double sn = std::tanh(u) + 0.25 * m1 * (sc - u) * sech * sech;
+    const double cn = sech - 0.25 * m1 * (sc - u) * std::tanh(u) * sech;
+    const double dn = sech + 0.25 * m1 * (sc + u) * std::tanh(u) * sech;
+    const ref::elliptic::JacobiValues f = ref::elliptic::jacobi(u, k, k_prime);
+    CAPTURE(u, sn, f.sn, cn, f.cn, dn, f.dn);
+    CHECK(std::abs(f.sn - sn) <= 1e-14);  // a few ε from the AGM, 4ε from the expansion
+    CHECK(std::abs(f.cn - cn) <= 1e-14);
+    CHECK(std::abs(f.dn - dn) <= 1e-14);
+  }
+  // K = ln(4/k') + O(k'² ln k'): the complement carries K to full precision, while Boost's
+  // ellint_1(k) has to recover k' from k and is off by about ε/k'² relative in k'.
+  const double asymptotic = std::log(4.0 / k_prime) + 0.25 * m1 * (std::log(4.0 / k_prime) - 1.0);
+  CHECK(std::abs(ref::elliptic::complete_k(k_prime) - asymptotic) <= 1e-14);
+}
+
+TEST_CASE("elliptic Pi forms agree with Boost ellint_3 and with quadrature",
+          "[reference][exact_torque_free][elliptic]") {
+  for (double k : {0.2, 0.8}) {
+    const double k_prime = std::sqrt((1.0 - k) * (1.0 + k));
+    const double quarter = ref::elliptic::complete_k(k_prime);
+    for (double n : {0.0, 0.3, 0.95}) {
+      const ref::elliptic::CircularPi pi(n, 1.0 - n, k, k_prime);
+      for (double u = -9.0; u <= 9.0; u += 0.61) {
+        const ref::elliptic::JacobiValues f = ref::elliptic::jacobi(u, k, k_prime);
+        const double j = std::nearbyint(u / (2.0 * quarter));
+        const double sign = std::fmod(j, 2.0) != 0.0 ? -1.0 : 1.0;
+        const double amplitude = std::atan2(sign * f.sn, sign * f.cn) + j * M_PI;
+        const double expected = boost::math::ellint_3(k, n, amplitude);
+        CAPTURE(k, n, u, expected);
+        // Boost's Π with |φ| > π/2 uses the same quasi-periodicity; relative few ε.
+        CHECK(std::abs(pi(u, f, 1.0 - n * f.sn * f.sn) - expected) <= 64 * kEps * std::abs(expected) + 1e-15);
+      }
+    }
+  }
+  // The shifted hyperbolic form against adaptive Gauss–Kronrod, including ν = 1e8 where
+  // Carlson's direct form would cancel to ~1e-8 relative.
+  for (double k : {0.0, 0.6, 0.99999}) {
+    const double k_prime = std::sqrt((1.0 - k) * (1.0 + k));
+    const double quarter = ref::elliptic::complete_k(k_prime);
+    for (double nu : {1e-3, 1.0, 1e8}) {
+      const ref::elliptic::ShiftedHyperbolicPi h(nu, k, k_prime);
+      const auto integrand = [&](double x) {
+        const double sn = ref::elliptic::jacobi(x, k, k_prime).sn;
+        return 1.0 / (1.0 + nu * sn * sn);
+      };
+      for (double u : {-3.3, -1.0, 0.2, 2.9}) {
+        double error_estimate = 0.0;
+        const double expected = boost::math::quadrature::gauss_kronrod<double, 61>::integrate(
+            integrand, quarter, u, 12, 1e-14, &error_estimate);
+        CAPTURE(k, nu, u, expected, error_estimate);
+        CHECK(std::abs(h(u, ref::elliptic::jacobi(u, k, k_prime)) - expected) <=
+              1e-14 * std::max(1.0, std::abs(expected)) + error_estimate);
+      }
+    }
+  }
+}
+
+TEST_CASE("TorqueFreeExact reproduces the initial state and classifies the regime",
+          "[reference][exact_torque_free]") {
+  for (const Case& c : cases()) {
+    const ref::TorqueFreeExact exact(c.inertia, c.theta0, c.w0);
+    const ref::RigidAttitude s0 = exact.at(0.0);
+    CAPTURE(c.name, s0.w_B, c.w0, s0.theta, c.theta0);
+    CHECK(exact.regime() == c.regime);
+    // ω from sn, cn, dn of F(am₀): a few ε relative; θ(0) = R_π R'(0) P: a few ε.
+    CHECK((s0.w_B - c.w0).norm() <= 16 * kEps * c.w0.norm());
+    CHECK(core::geodesic_angle(s0.theta, c.theta0) <= 16 * kEps);
+    CHECK((s0.theta - c.theta0).norm() <= 16 * kEps);  // same sign, not only same rotation
+  }
+}
+
+TEST_CASE("TorqueFreeExact satisfies Euler's equations and the attitude kinematics",
+          "[reference][exact_torque_free]") {
+  for (const Case& c : cases()) {
+    const ref::TorqueFreeExact exact(c.inertia, c.theta0, c.w0);
+    const std::vector<double> times = sample_times(c.t_end, 41);
+    const double omega = rate_scale(exact, times);
+    // Step h = 1e-4/Ω. Truncation: h²/6 |d³x/dt³| ≈ 1.7e-9·C·(Ω² for ω, Ω for θ), C ≤ ~10 for
+    // these inertia ratios. Round-off: the phase τ = λt + τ₀ and φ carry an absolute error
+    // ~ε·Ω·t ≤ 2.2e-13 (Ωt ≤ 1000), divided by 2h gives ≤ 1.1e-9·Ω(²). Hence 1e-7 (relative
+    // to Ω² resp. Ω) leaves a margin ≥ 10.
+    const double h = 1e-4 / omega;
+    for (double t : times) {
+      const double tc = std::max(t, h);
+      const ref::RigidAttitude s = exact.at(tc);
+      const ref::RigidAttitude plus = exact.at(tc + h);
+      const ref::RigidAttitude minus = exact.at(tc - h);
+      const Eigen::Vector3d w_rate_fd = (plus.w_B - minus.w_B) / (2.0 * h);
+      const Eigen::Vector3d w_rate =
+          (-s.w_B.cross(c.inertia.cwiseProduct(s.w_B))).cwiseQuotient(c.inertia);
+      const core::EulerParameters theta_rate_fd = (plus.theta - minus.theta) / (2.0 * h);
+      const core::EulerParameters theta_rate = core::euler_parameter_rate(s.theta, s.w_B);
+      CAPTURE(c.name, tc, w_rate_fd, w_rate, theta_rate_fd, theta_rate);
+      CHECK((w_rate_fd - w_rate).norm() <= 1e-7 * omega * omega);
+      CHECK((theta_rate_fd - theta_rate).norm() <= 1e-7 * omega);
+      CHECK(std::abs(s.theta.norm() - 1.0) <= 8 * kEps);
+    }
+  }
+}
+
+TEST_CASE("TorqueFreeExact conserves energy and the global angular momentum",
+          "[reference][exact_torque_free]") {
+  for (const Case& c : cases()) {
+    const ref::TorqueFreeExact exact(c.inertia, c.theta0, c.w0);
+    const double energy0 = 0.5 * c.w0.dot(c.inertia.cwiseProduct(c.w0));
+    const Eigen::Vector3d pi0 = core::rotation_matrix(c.theta0) * c.inertia.cwiseProduct(c.w0);
+    for (double t : sample_times(c.t_end, 97)) {
+      const ref::RigidAttitude s = exact.at(t);
+      const double energy = 0.5 * s.w_B.dot(c.inertia.cwiseProduct(s.w_B));
+      const Eigen::Vector3d pi = core::rotation_matrix(s.theta) * c.inertia.cwiseProduct(s.w_B);
+      CAPTURE(c.name, t, energy, energy0, pi, pi0);
+      // ω_B is evaluated to a few ε relative, so E to ~10ε relative.
+      CHECK(std::abs(energy - energy0) <= 32 * kEps * energy0);
+      // |π| from ω alone: few ε. Global π also rotates with the attitude, whose absolute error
+      // is ~ε·(M t/I_a) ≤ ε·1000 here: 1e-12 relative.
+      CHECK(std::abs(pi.norm() - pi0.norm()) <= 32 * kEps * pi0.norm());
+      CHECK((pi - pi0).norm() <= 1e-12 * pi0.norm());
+    }
+  }
+}
+
+TEST_CASE("TorqueFreeExact agrees with RKF78 at tolerance 1e-13",
+          "[reference][exact_torque_free][odeint]") {
+  for (const Case& c : cases()) {
+    const ref::TorqueFreeExact exact(c.inertia, c.theta0, c.w0);
+    const std::vector<double> times = sample_times(c.t_end, 200);
+    const std::vector<State> numeric = integrate_torque_free(c.inertia, c.theta0, c.w0, times);
+    REQUIRE(numeric.size() == times.size());
+    const double omega = rate_scale(exact, times);
+    double worst_w = 0.0;
+    double worst_angle = 0.0;
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      const ref::RigidAttitude s = exact.at(times[i]);
+      worst_w = std::max(worst_w, (s.w_B - w_of(numeric[i])).norm() / omega);
+      worst_angle = std::max(worst_angle, core::geodesic_angle(s.theta, theta_of(numeric[i])));
+    }
+    CAPTURE(c.name, worst_w, worst_angle);
+    // RKF78 with local tolerance 1e-13 over ≤ 1000 rad of rotation accumulates a global error
+    // of ~1e-13 per radian-scale step sequence, i.e. ≤ ~1e-10; the exact solution is ~1e-13.
+    // Near the separatrix errors are amplified by the sensitivity of the flip times, which is
+    // why the brief's 1e-9 is the bound.
+    CHECK(worst_w <= 1e-9);
+    CHECK(worst_angle <= 1e-9);
+  }
+}
+
+TEST_CASE("TorqueFreeExact is periodic in the body and precesses regularly when symmetric",
+          "[reference][exact_torque_free]") {
+  for (const Case& c : cases()) {
+    const ref::TorqueFreeExact exact(c.inertia, c.theta0, c.w0);
+    const double period = exact.period();
+    REQUIRE(std::isfinite(period));
+    for (double t : {0.0, 0.37, 1.9}) {
+      CAPTURE(c.name, t, period);
+      // ω(t + T) = ω(t): K and λ to a few ε, phase error ~ε(λT) → ~1e-14·Ω.
+      CHECK((exact.at(t + period).w_B - exact.at(t).w_B).norm() <= 1e-13 * c.w0.norm());
+    }
+  }
+  // Oblate symmetric body, axis c = body y (I = 3), I⊥ = 2: ω_c constant, the transverse ω
+  // turns about the symmetry axis at (I_c − I⊥)/I⊥ ω_c in the body, and the symmetry axis
+  // precesses about π at |π|/I⊥ at a constant angle (Landau–Lifshitz §33).
+  const Eigen::Vector3d inertia(2.0, 3.0, 2.0);
+  const Eigen::Vector3d w0(0.5, 1.5, -0.2);
+  const ref::TorqueFreeExact exact(inertia, tilted(), w0);
+  CHECK(exact.modulus() == 0.0);
+  const Eigen::Vector3d pi = core::rotation_matrix(tilted()) * inertia.cwiseProduct(w0);
+  const Eigen::Vector3d axis0 = core::rotation_matrix(tilted()) * Eigen::Vector3d::UnitY();
+  const double body_rate = (3.0 - 2.0) / 2.0 * w0(1);
+  const double precession_rate = pi.norm() / 2.0;
+  for (double t = 0.0; t <= 40.0; t += 1.3) {
+    const ref::RigidAttitude s = exact.at(t);
+    const Eigen::Vector3d w_expected =
+        Eigen::AngleAxisd(body_rate * t, Eigen::Vector3d::UnitY()) * w0;
+    const Eigen::Vector3d axis_expected =
+        Eigen::AngleAxisd(precession_rate * t, pi.normalized()) * axis0;
+    const Eigen::Vector3d axis = core::rotation_matrix(s.theta) * Eigen::Vector3d::UnitY();
+    CAPTURE(t, s.w_B, w_expected, axis, axis_expected);
+    // Elementary closed forms; both sides accurate to ~ε·(rate·t) ≤ ε·60.
+    CHECK((s.w_B - w_expected).norm() <= 1e-13);
+    CHECK((axis - axis_expected).norm() <= 1e-13);
+  }
+}
+
+TEST_CASE("TorqueFreeExact on the separatrix", "[reference][exact_torque_free][odeint]") {
+  // 2E I₂ = |π|² exactly for J = diag(2, 3, 6), ω = (3, 1, 1), and to rounding for
+  // J = diag(1, 2, 3), ω = (√3, 0.5, 1) (m₃²/3 = m₁²).
+  const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> states = {
+      {{2.0, 3.0, 6.0}, {3.0, 1.0, 1.0}},
+      {{1.0, 2.0, 3.0}, {std::sqrt(3.0), 0.5, 1.0}},
+      {{1.0, 2.0, 3.0}, {-std::sqrt(3.0), -0.5, 1.0}}};
+  for (const auto& [inertia, w0] : states) {
+    const ref::TorqueFreeExact exact(inertia, tilted(), w0);
+    REQUIRE(exact.regime() == ref::TorqueFreeRegime::kSeparatrix);
+    const double momentum = inertia.cwiseProduct(w0).norm();
+    const double two_energy = w0.dot(inertia.cwiseProduct(w0));
+    // λ = √((I₃ − I₂)(M² − 2E I₁)/(I₁I₂I₃)); the asymptotic approach to the middle axis
+    // amplifies any perturbation like e^{λt}, so compare with RKF78 while e^{λt}·1e-13 ≲ 1e-10:
+    // λ t_end = 7 (e⁷ ≈ 1100).
+    const double lambda = std::sqrt((inertia(2) - inertia(1)) *
+                                    (momentum * momentum - two_energy * inertia(0)) /
+                                    (inertia(0) * inertia(1) * inertia(2)));
+    const double t_end = 7.0 / lambda;
+    const std::vector<double> times = sample_times(t_end, 60);
+    const std::vector<State> numeric = integrate_torque_free(inertia, tilted(), w0, times);
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      const ref::RigidAttitude s = exact.at(times[i]);
+      CAPTURE(inertia, w0, times[i], s.w_B, w_of(numeric[i]));
+      CHECK((s.w_B - w_of(numeric[i])).norm() <= 1e-9 * w0.norm());
+      CHECK(core::geodesic_angle(s.theta, theta_of(numeric[i])) <= 1e-9);
+    }
+    // Asymptotically ω → rotation about the middle axis with |m| = M: ω₂ → ±M/I₂.
+    const ref::RigidAttitude late = exact.at(60.0 / lambda);
+    CHECK(std::abs(std::abs(late.w_B(1)) - momentum / inertia(1)) <= 1e-12 * momentum);
+    // Euler's equations hold on the separatrix as well (same finite-difference bound as above).
+    const double omega = w0.norm();
+    const double h = 1e-4 / omega;
+    for (double t : times) {
+      const double tc = std::max(t, h);
+      const ref::RigidAttitude s = exact.at(tc);
+      const Eigen::Vector3d w_rate_fd = (exact.at(tc + h).w_B - exact.at(tc - h).w_B) / (2.0 * h);
+      const Eigen::Vector3d w_rate =
+          (-s.w_B.cross(inertia.cwiseProduct(s.w_B))).cwiseQuotient(inertia);
+      const core::EulerParameters theta_rate_fd =
+          (exact.at(tc + h).theta - exact.at(tc - h).theta) / (2.0 * h);
+      CAPTURE(tc, w_rate_fd, w_rate);
+      CHECK((w_rate_fd - w_rate).norm() <= 1e-7 * omega * omega);
+      CHECK((theta_rate_fd - core::euler_parameter_rate(s.theta, s.w_B)).norm() <= 1e-7 * omega);
+    }
+  }
+}
+
+TEST_CASE("TorqueFreeExact permanent rotations", "[reference][exact_torque_free]") {
+  // About a principal axis (including the unstable middle one), in the isotropic plane of a
+  // symmetric body, at rest, and for a sphere: θ(t) = θ₀ ⊗ exp(ω₀ t) exactly.
+  const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> states = {
+      {{1.0, 2.0, 3.0}, {0.0, 2.0, 0.0}}, {{1.0, 2.0, 3.0}, {0.0, 0.0, -1.5}},
+      {{2.0, 2.0, 3.0}, {0.7, -0.4, 0.0}}, {{1.0, 2.0, 3.0}, {0.0, 0.0, 0.0}},
+      {{2.0, 2.0, 2.0}, {0.3, 0.2, 0.1}}};
+  for (const auto& [inertia, w0] : states) {
+    const ref::TorqueFreeExact exact(inertia, tilted(), w0);
+    CHECK(exact.regime() == ref::TorqueFreeRegime::kSteadyRotation);
+    for (double t : {0.0, 1.0, 17.3}) {
+      const ref::RigidAttitude s = exact.at(t);
+      CHECK(s.w_B == w0);
+      CHECK(core::geodesic_angle(
+                s.theta, core::quaternion_multiply(tilted(), core::exp_quaternion(w0 * t))) <=
+            4 * kEps);
+    }
+  }
+}
+
+TEST_CASE("TorqueFreeExact rejects invalid input", "[reference][exact_torque_free]") {
+  const core::EulerParameters identity = core::identity_euler_parameters();
+  const Eigen::Vector3d w0(0.1, 0.2, 0.3);
+  CHECK_THROWS_AS(ref::TorqueFreeExact({0.0, 1.0, 2.0}, identity, w0), std::invalid_argument);
+  CHECK_THROWS_AS(ref::TorqueFreeExact({1.0, -1.0, 2.0}, identity, w0), std::invalid_argument);
+  CHECK_THROWS_AS(ref::TorqueFreeExact({1.0, std::nan(""), 2.0}, identity, w0),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(ref::TorqueFreeExact({1.0, 2.0, 3.0}, core::EulerParameters(1.0, 0.1, 0.0, 0.0), w0),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(ref::TorqueFreeExact({1.0, 2.0, 3.0}, identity, {0.0, INFINITY, 0.0}),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(ref::elliptic::jacobi(0.3, 0.5, 0.5), std::invalid_argument);
+}
