@@ -1,13 +1,12 @@
 #include "lie/c1.hpp"
 
+#include <Eigen/LU>  // Matrix3d::inverse
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <stdexcept>
 #include <utility>
-
-#include <Eigen/LU>  // Matrix3d::inverse
 
 #include "core/euler_parameters.hpp"
 #include "lie/c1_newton.hpp"
@@ -174,8 +173,8 @@ StepStatus C1Stepper::step(double h) {
   const NewtonOutcome newton = solve_balance(t_n, h);
   if (!newton.finite) return {false, detail::non_finite_failure("C1", t_n, h)};
   if (!newton.converged) {
-    return {false, detail::newton_failure("C1", t_n, h, newton.relative_residual,
-                                          newton.iterations, newton.worst_body)};
+    return {false, detail::newton_failure("C1", t_n, h, newton.relative_residual, newton.iterations,
+                                          newton.worst_body)};
   }
 
   // 3. Attitude at t_{n+1} and the Newmark acceleration.

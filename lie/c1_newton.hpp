@@ -42,8 +42,7 @@ inline C1Linearization c1_linearize(const Eigen::Matrix3d& J, const Eigen::Vecto
                                     double h) {
   const Eigen::Vector3d theta = c1_increment(w_n, w, h);
   const Eigen::Vector3d rotated_b = core::exp_so3(theta).transpose() * b;  // exp(−Θ̃) b
-  return {J * w - rotated_b,
-          J - (0.5 * h) * (core::hat(rotated_b) * core::right_jacobian(theta))};
+  return {J * w - rotated_b, J - (0.5 * h) * (core::hat(rotated_b) * core::right_jacobian(theta))};
 }
 
 }  // namespace flexref::lie::detail

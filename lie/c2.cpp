@@ -52,11 +52,10 @@ void C2Stepper::restart(double h) {
   for (std::size_t i = 0; i < state_.size(); ++i) {
     const core::Body& body = model_.body(static_cast<int>(i));
     const Vector3d& torque_plus_W = ws_.wrenches[i].tau_Br_W;
-    acc_[i].alpha_WB_B += body.I_Br_B_inverse() * (ws_.kinematics[i].R_WB.transpose() *
-                                                     (torque_plus_W - torque_W_[i]));
+    acc_[i].alpha_WB_B += body.I_Br_B_inverse() *
+                          (ws_.kinematics[i].R_WB.transpose() * (torque_plus_W - torque_W_[i]));
     torque_W_[i] = torque_plus_W;
-    acc_[i].a_WBr = body.is_free() ? Vector3d(ws_.wrenches[i].f_W / body.mass())
-                                   : Vector3d::Zero();
+    acc_[i].a_WBr = body.is_free() ? Vector3d(ws_.wrenches[i].f_W / body.mass()) : Vector3d::Zero();
   }
 }
 

@@ -19,9 +19,8 @@
 /// are re-evaluated at t_n on the new segment; A_n, a backward difference of W and not a
 /// load, takes the jump the load jump implies, A_n += J⁻¹ R_nᵀ (Γ_n⁺ − Γ_n⁻) (nothing changes
 /// for a body whose loads are continuous, so bodies stay independent).
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "lie/stepper.hpp"
 
@@ -53,10 +52,10 @@ class C2Stepper final : public Stepper {
   const core::Model& model_;
   double time_ = 0.0;
   bool restart_pending_ = true;
-  core::State state_;              ///< step n
-  core::State next_;               ///< step n + 1 while it is computed
-  core::Accelerations acc_;        ///< a_n, A_n
-  core::Accelerations acc_next_;   ///< a_{n+1}, A_{n+1}
+  core::State state_;                           ///< step n
+  core::State next_;                            ///< step n + 1 while it is computed
+  core::Accelerations acc_;                     ///< a_n, A_n
+  core::Accelerations acc_next_;                ///< a_{n+1}, A_{n+1}
   std::vector<Eigen::Vector3d> torque_W_;       ///< Γ_n about Br (world)
   std::vector<Eigen::Vector3d> torque_next_W_;  ///< Γ_{n+1}
   core::Workspace ws_;

@@ -1,12 +1,11 @@
 #include "lie/nmb.hpp"
 
+#include <Eigen/LU>  // Matrix3d::inverse
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
 #include <utility>
-
-#include <Eigen/LU>  // Matrix3d::inverse
 
 #include "core/euler_parameters.hpp"
 #include "lie/nmb_newton.hpp"

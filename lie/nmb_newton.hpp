@@ -28,14 +28,12 @@ struct NmbLinearization {
 };
 
 inline NmbLinearization nmb_linearize(const Eigen::Matrix3d& J, const Eigen::Vector3d& torque_B,
-                                      const Eigen::Vector3d& w_n,
-                                      const Eigen::Vector3d& alpha_n,
+                                      const Eigen::Vector3d& w_n, const Eigen::Vector3d& alpha_n,
                                       const Eigen::Vector3d& alpha, double h) {
   const Eigen::Vector3d w = nmb_velocity(w_n, alpha_n, alpha, h);
   const Eigen::Vector3d J_w = J * w;
   const Eigen::Vector3d J_alpha = J * alpha;
-  return {J_alpha + w.cross(J_w) - torque_B,
-          J + (0.5 * h) * (core::hat(w) * J - core::hat(J_w)),
+  return {J_alpha + w.cross(J_w) - torque_B, J + (0.5 * h) * (core::hat(w) * J - core::hat(J_w)),
           J_alpha.cwiseAbs().maxCoeff() + w.cwiseAbs().maxCoeff() * J_w.cwiseAbs().maxCoeff() +
               torque_B.cwiseAbs().maxCoeff()};
 }

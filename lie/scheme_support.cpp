@@ -8,8 +8,7 @@ namespace flexref::lie::detail {
 
 bool starts_on_discontinuity(std::span<const double> discontinuities, double t_n, double h) {
   const double tolerance = 1e-9 * std::max(h, std::abs(t_n));
-  const auto it =
-      std::lower_bound(discontinuities.begin(), discontinuities.end(), t_n - tolerance);
+  const auto it = std::lower_bound(discontinuities.begin(), discontinuities.end(), t_n - tolerance);
   return it != discontinuities.end() && *it <= t_n + tolerance;
 }
 
@@ -27,9 +26,9 @@ std::string newton_failure(const char* scheme, double t_n, double h, double rela
                            int iterations, int body) {
   std::ostringstream out;
   out.precision(17);
-  out << scheme << " Newton did not converge at t = " << t_n << " (step h = " << h
-      << "), residual " << relative_residual << " (relative, tolerance " << kNewtonTolerance
-      << ") after " << iterations << " iterations, body " << body;
+  out << scheme << " Newton did not converge at t = " << t_n << " (step h = " << h << "), residual "
+      << relative_residual << " (relative, tolerance " << kNewtonTolerance << ") after "
+      << iterations << " iterations, body " << body;
   return out.str();
 }
 

@@ -3,10 +3,9 @@
 /// Helpers shared by the C1, C2 and NMB steppers (not part of the public interface): where a
 /// step starts on a load discontinuity, finiteness checks, the Newton tolerance, and the
 /// failure messages (built only on failure, so a successful step allocates nothing).
+#include <Eigen/Core>
 #include <span>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "core/state.hpp"
 

@@ -1,17 +1,16 @@
 #include "reference/exact_torque_free.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <boost/math/special_functions/ellint_rf.hpp>
+#include <boost/math/special_functions/ellint_rj.hpp>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
-
-#include <Eigen/Geometry>
-#include <boost/math/special_functions/ellint_rf.hpp>
-#include <boost/math/special_functions/ellint_rj.hpp>
 
 namespace flexref::reference {
 
@@ -35,8 +34,8 @@ void check_modulus(double k, double k_prime) {
 
 }  // namespace
 
-core::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta,
-                                           double sin_half_theta, double psi) {
+core::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta, double sin_half_theta,
+                                           double psi) {
   // q_z(φ) ⊗ q_x(ϑ) ⊗ q_z(ψ) multiplied out.
   const double half_sum = 0.5 * (phi + psi);
   const double half_difference = 0.5 * (phi - psi);
@@ -50,9 +49,9 @@ namespace detail {
 core::EulerParameters unit_euler_parameters(const core::EulerParameters& theta, const char* who) {
   const double norm = theta.norm();
   if (!theta.allFinite() || std::abs(norm - 1.0) > 1e-6) {
-    throw std::invalid_argument(std::string(who) +
-                                ": initial Euler parameters must be unit, |theta0| = " +
-                                std::to_string(norm));
+    throw std::invalid_argument(
+        std::string(who) +
+        ": initial Euler parameters must be unit, |theta0| = " + std::to_string(norm));
   }
   return theta / norm;
 }
@@ -156,16 +155,15 @@ double ShiftedHyperbolicPi::operator()(double tau, const JacobiValues& f) const 
   const double inverse_dn = 1.0 / f.dn;
   const JacobiValues shifted{-f.cn * inverse_dn, k_prime_ * f.sn * inverse_dn,
                              k_prime_ * inverse_dn};
-  const double p = k_prime_ * k_prime_ * (1.0 + nu_ * f.sn * f.sn) /
-                   ((1.0 + nu_) * f.dn * f.dn);  // 1 − n' sn²σ
+  const double p =
+      k_prime_ * k_prime_ * (1.0 + nu_ * f.sn * f.sn) / ((1.0 + nu_) * f.dn * f.dn);  // 1 − n' sn²σ
   return (k2_ * sigma + weight_ * pi_(sigma, shifted, p)) / (k2_ + nu_);
 }
 
 }  // namespace elliptic
 
 TorqueFreeExact::TorqueFreeExact(const Eigen::Vector3d& inertia_B,
-                                 const core::EulerParameters& theta0,
-                                 const Eigen::Vector3d& w0_B)
+                                 const core::EulerParameters& theta0, const Eigen::Vector3d& w0_B)
     : regime_(TorqueFreeRegime::kSteadyRotation),
       inertia_B_(inertia_B),
       theta0_(detail::unit_euler_parameters(theta0, "TorqueFreeExact")),
@@ -266,13 +264,14 @@ TorqueFreeExact::TorqueFreeExact(const Eigen::Vector3d& inertia_B,
   permutation(0, ix_) = 1.0;
   permutation(1, iy_) = 1.0;
   permutation(2, ia_) = 1.0;
-  q_perm_ = core::euler_parameters_from_matrix(permutation);
+  q_perm_ = core::euler_parameters_from_matrix(permutation).normalized();
   // R_π = A(θ₀) Pᵀ R'(0)ᵀ, with R'(0) from the same evaluation as at(0) (φ(0) = 0).
   Eigen::Vector3d w_B;
   const core::EulerParameters q_euler0 = euler_part(0.0, w_B);
   q_pi_ = core::quaternion_multiply(
-      core::quaternion_multiply(theta0_, core::quaternion_conjugate(q_perm_)),
-      core::quaternion_conjugate(q_euler0));
+              core::quaternion_multiply(theta0_, core::quaternion_conjugate(q_perm_)),
+              core::quaternion_conjugate(q_euler0))
+              .normalized();
 }
 
 double TorqueFreeExact::separatrix_h(double tau) const {
@@ -318,8 +317,7 @@ core::EulerParameters TorqueFreeExact::euler_part(double t, Eigen::Vector3d& w_B
   // φ = (M/I_a)(t − (I_c − I_a)/(I_c λ) (H(τ) − H(τ₀))).
   const double phi = phi_rate_ * (t - phi_coeff_ * (h - h0_));
   // ψ = atan2(m_x, m_y), unwrapped: m_c (= m_x or m_y) never changes sign.
-  const double psi =
-      std::atan2(sign_c_ * mu(ix_), sign_c_ * mu(iy_)) + (sign_c_ < 0.0 ? kPi : 0.0);
+  const double psi = std::atan2(sign_c_ * mu(ix_), sign_c_ * mu(iy_)) + (sign_c_ < 0.0 ? kPi : 0.0);
   const double half_theta = 0.5 * std::atan2(std::hypot(mu(ix_), mu(iy_)), mu(ia_));
   return zxz_euler_parameters(phi, std::cos(half_theta), std::sin(half_theta), psi);
 }

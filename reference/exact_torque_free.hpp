@@ -8,9 +8,8 @@
 /// splitting methods", SIAM J. Sci. Comput. 30(4):2084–2112 (2008); B. C. Carlson, "Numerical
 /// computation of real or complex elliptic integrals", Numer. Algorithms 10 (1995);
 /// Abramowitz & Stegun §16.4 (arithmetic-geometric mean), §17.7 (Π).
-#include <optional>
-
 #include <Eigen/Core>
+#include <optional>
 
 #include "core/euler_parameters.hpp"
 
@@ -30,8 +29,8 @@ struct RigidAttitude {
 /// \dot\varphi\sin\vartheta\cos\psi - \dot\vartheta\sin\psi,\; \dot\varphi\cos\vartheta +
 /// \dot\psi)\f$). The half-angle cosine and sine of ϑ are passed separately so that callers can
 /// form them from 1 ± cos ϑ without cancellation near ϑ = 0 or π.
-core::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta,
-                                           double sin_half_theta, double psi);
+core::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta, double sin_half_theta,
+                                           double psi);
 
 namespace detail {
 /// θ/|θ| for the initial attitude of an exact solution; `who` names the caller in the error.
@@ -186,20 +185,20 @@ class TorqueFreeExact {
   Eigen::Vector3d inertia_B_;
   core::EulerParameters theta0_;
   Eigen::Vector3d w0_B_;
-  double momentum_norm_ = 0.0;  ///< M = |π|
+  double momentum_norm_ = 0.0;    ///< M = |π|
   int ia_ = 2, ib_ = 0, ic_ = 1;  ///< body indices of the axes a, b, c
   int ix_ = 0, iy_ = 1;           ///< body indices of the Euler x, y axes (cyclic after a)
   double amp_a_ = 0.0, amp_b_ = 0.0, amp_c_ = 0.0;  ///< signed A_a, A_b, A_c divided by M
   double sign_c_ = 1.0;                             ///< sign of m_c (constant)
   double lambda_ = 0.0, tau0_ = 0.0;
   double k_ = 0.0, k_prime_ = 1.0;
-  double nu_ = 0.0;            ///< A_a²/A_c²
-  double phi_rate_ = 0.0;      ///< M/I_a
-  double phi_coeff_ = 0.0;     ///< (I_c − I_a)/(I_c λ)
-  double h0_ = 0.0;            ///< H_ν(τ₀)
+  double nu_ = 0.0;                                            ///< A_a²/A_c²
+  double phi_rate_ = 0.0;                                      ///< M/I_a
+  double phi_coeff_ = 0.0;                                     ///< (I_c − I_a)/(I_c λ)
+  double h0_ = 0.0;                                            ///< H_ν(τ₀)
   std::optional<elliptic::ShiftedHyperbolicPi> phi_integral_;  ///< H_ν (elliptic regimes)
-  core::EulerParameters q_pi_;    ///< R_π
-  core::EulerParameters q_perm_;  ///< P
+  core::EulerParameters q_pi_;                                 ///< R_π
+  core::EulerParameters q_perm_;                               ///< P
 
   double separatrix_h(double tau) const;
   /// R_z(φ)R_x(ϑ)R_z(ψ) at t, and ω_B(t) (non-steady regimes).

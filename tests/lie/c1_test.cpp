@@ -1,13 +1,12 @@
 #include "lie/c1.hpp"
 
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
-#include <catch2/catch.hpp>
 
 #include "core/so3.hpp"
 #include "lie/c1_newton.hpp"
@@ -79,8 +78,8 @@ TEST_CASE("C1 conserves the energy and the angular momentum of free_spin to roun
   double momentum_drift = 0.0;
   for (int n = 0; n < 10000; ++n) {
     REQUIRE(stepper.step(0.01).ok);
-    energy_drift = std::max(
-        energy_drift, std::abs(model.kinetic_energy(stepper.state()) - energy0) / energy0);
+    energy_drift =
+        std::max(energy_drift, std::abs(model.kinetic_energy(stepper.state()) - energy0) / energy0);
     momentum_drift =
         std::max(momentum_drift,
                  (model.angular_momentum_W(stepper.state()) - momentum0).norm() / momentum0.norm());

@@ -1,10 +1,9 @@
 #include "lie/c2.hpp"
 
-#include <cmath>
-#include <numbers>
-
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
 
 #include "tests/lie/test_problems.hpp"
 
@@ -25,8 +24,8 @@ TEST_CASE("C2 conserves the angular momentum of free_spin to round-off, not the 
   double momentum_drift = 0.0;
   for (int n = 0; n < 10000; ++n) {
     REQUIRE(stepper.step(0.01).ok);
-    energy_drift = std::max(
-        energy_drift, std::abs(model.kinetic_energy(stepper.state()) - energy0) / energy0);
+    energy_drift =
+        std::max(energy_drift, std::abs(model.kinetic_energy(stepper.state()) - energy0) / energy0);
     momentum_drift =
         std::max(momentum_drift,
                  (model.angular_momentum_W(stepper.state()) - momentum0).norm() / momentum0.norm());

@@ -1,12 +1,11 @@
 #include "lie/nmb.hpp"
 
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
-#include <catch2/catch.hpp>
 
 #include "core/euler_parameters.hpp"
 #include "core/so3.hpp"
@@ -34,8 +33,7 @@ TEST_CASE("the NMB Newton matrix J + (h/2)(W̃J − (JW)~) is the exact Jacobian
             return detail::nmb_linearize(J, torque_B, w_n, alpha_n, Vector3d(x), h).residual;
           },
           alpha);
-      const Matrix3d analytic =
-          detail::nmb_linearize(J, torque_B, w_n, alpha_n, alpha, h).jacobian;
+      const Matrix3d analytic = detail::nmb_linearize(J, torque_B, w_n, alpha_n, alpha, h).jacobian;
       // Central differences agree to ≈ ε^(2/3) times the third derivative, which is zero
       // here (f is quadratic in A): 1e-7 as everywhere (finite_difference.hpp).
       CHECK(testing::max_relative_difference(analytic, numeric) <= 1e-7);

@@ -5,12 +5,11 @@
 /// tracked point (1, 0, 0). For each scheme the steps h, h/2, h/4 are chosen in the scheme's
 /// asymptotic range on that scene; where that range starts late, and why, is measured and
 /// explained in docs/schemes.md ("Observed orders"), and pinned by the finding tests below.
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <map>
 #include <string>
 #include <vector>
-
-#include <catch2/catch.hpp>
 
 #include "core/output_times.hpp"
 #include "lie/run_scheme.hpp"
@@ -58,8 +57,8 @@ void check_order_two(const std::vector<double>& errors, const Reference& referen
   CHECK(reference.error_estimate <= 1e-2 * errors.back());
   for (std::size_t k = 0; k + 1 < errors.size(); ++k) {
     const double ratio = errors[k] / errors[k + 1];
-    INFO("e = " << errors[k] << " -> " << errors[k + 1] << ", ratio " << ratio << ", p = "
-                << std::log2(ratio));
+    INFO("e = " << errors[k] << " -> " << errors[k + 1] << ", ratio " << ratio
+                << ", p = " << std::log2(ratio));
     CHECK(ratio >= std::pow(2.0, 1.8));
     CHECK(ratio <= std::pow(2.0, 2.3));
   }
@@ -80,7 +79,7 @@ TEST_CASE("observed order 2 on book_toss over [0, 2], pulse included", "[lie][or
 
 TEST_CASE("observed order 2 on book_toss over [0, 10] for C1 and NMB", "[lie][order]") {
   // The errors stay above 1e-4, far from the amplified round-off (≈ 1e-6, docs/schemes.md).
-  // Measured ratios: C1 4.02, 3.92; NMB 4.01, 4.00.
+  // Measured ratios: C1 4.00, 4.00; NMB 4.01, 4.00.
   const core::Model model = testing::book_toss();
   const std::vector<double> times = core::output_times(10.0, 0.1);
   const Reference reference = make_reference(model, times);
@@ -95,7 +94,7 @@ TEST_CASE("observed order 2 across a load discontinuity (rectangular torque puls
           "[lie][order]") {
   // The torque jumps at t = 0.1: steps land on it and the carried loads are re-evaluated on
   // the new side. Without that, C2's trapezoid would use the left limit once, an O(h) error.
-  // Measured ratios: C1 4.00, C2 3.94–3.97, NMB 4.00.
+  // Measured ratios: C1 4.00, C2 3.97–3.99, NMB 4.00.
   const core::Model model = testing::book_toss_step();
   const std::vector<double> times = core::output_times(2.0, 0.1);
   const Reference reference = make_reference(model, times);
@@ -116,8 +115,7 @@ TEST_CASE("observed order 2 on heavy_top over [0, 0.5]", "[lie][order]") {
   const std::map<std::string, double> first_step{{"c1", 1e-3}, {"c2", 6.25e-5}, {"nmb", 1e-3}};
   for (const std::string& name : scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
-      check_order_two(scheme_errors(model, name, times, reference, first_step.at(name)),
-                      reference);
+      check_order_two(scheme_errors(model, name, times, reference, first_step.at(name)), reference);
     }
   }
 }
@@ -157,15 +155,15 @@ TEST_CASE("finding: C2 leaves the book_toss separatrix distance at moderate step
   const std::vector<double> times = core::output_times(10.0, 0.1);
   const core::Trajectory reference = testing::odeint_reference(model, times, 1e-13);
   const double d_reference = separatrix_distance(model, reference.states.back());
-  REQUIRE(std::abs(d_reference) <= 1e-6 * model.angular_momentum_W(reference.states.back())
-                                              .squaredNorm());
+  REQUIRE(std::abs(d_reference) <=
+          1e-6 * model.angular_momentum_W(reference.states.back()).squaredNorm());
   for (const std::string& name : scheme_names()) {
     const auto stepper = make_stepper(name, model);
     const core::Trajectory run = run_scheme(model, *stepper, 1.25e-3, times);
     double d_error = 0.0;
     for (std::size_t k = 2; k < times.size(); ++k) {  // after the pulse
-      d_error = std::max(d_error, std::abs(separatrix_distance(model, run.states[k]) -
-                                           d_reference));
+      d_error =
+          std::max(d_error, std::abs(separatrix_distance(model, run.states[k]) - d_reference));
     }
     const double error = testing::trajectory_error(model, run, reference);
     INFO(name << ": max |D - D_ref| = " << d_error << ", error " << error);

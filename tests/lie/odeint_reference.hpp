@@ -6,10 +6,9 @@
 /// piece between the model's load discontinuities with t_segment inside each piece, stepping
 /// exactly onto every output time (integrate_times adjusts the steps; no interpolation), and
 /// the Euler parameters renormalized at the piece ends (unpack normalizes them at output).
+#include <boost/numeric/odeint.hpp>
 #include <cstddef>
 #include <vector>
-
-#include <boost/numeric/odeint.hpp>
 
 #include "core/model.hpp"
 #include "core/ode_form.hpp"

@@ -1,12 +1,11 @@
 #include "lie/run_scheme.hpp"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <catch2/catch.hpp>
 
 #include "core/output_times.hpp"
 #include "lie/scheme_support.hpp"
@@ -31,8 +30,9 @@ TEST_CASE("run_scheme rejects a bad step or output grid", "[lie][run_scheme]") {
   const std::vector<double> grid = core::output_times(1.0, 0.1);
   CHECK(invalid_argument_message(model, 0.0, grid).find("dt") != std::string::npos);
   CHECK(invalid_argument_message(model, -0.1, grid).find("dt") != std::string::npos);
-  CHECK(invalid_argument_message(model, std::numeric_limits<double>::quiet_NaN(), grid)
-            .find("dt") != std::string::npos);
+  CHECK(
+      invalid_argument_message(model, std::numeric_limits<double>::quiet_NaN(), grid).find("dt") !=
+      std::string::npos);
   CHECK(invalid_argument_message(model, 0.1, {}).find("no output") != std::string::npos);
   CHECK(invalid_argument_message(model, 0.1, {0.0, 0.2, 0.2}).find("increasing") !=
         std::string::npos);

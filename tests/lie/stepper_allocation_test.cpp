@@ -1,12 +1,11 @@
 /// step() allocates nothing: the global operator new is replaced in this test program and
 /// counts allocations while a flag is set around the calls to step().
 #include <atomic>
+#include <catch2/catch.hpp>
 #include <cstddef>
 #include <cstdlib>
 #include <new>
 #include <string>
-
-#include <catch2/catch.hpp>
 
 #include "lie/stepper.hpp"
 #include "tests/lie/test_problems.hpp"
@@ -16,25 +15,58 @@ namespace {
 std::atomic<long> g_allocations{0};
 std::atomic<bool> g_counting{false};
 
-void* counted_allocation(std::size_t size, std::size_t alignment) {
+void* counted_allocation(std::size_t size, std::size_t alignment) noexcept {
   if (g_counting.load()) ++g_allocations;
-  const std::size_t rounded = (size + alignment - 1) / alignment * alignment;
-  void* p = alignment <= alignof(std::max_align_t) ? std::malloc(size == 0 ? 1 : size)
-                                                   : std::aligned_alloc(alignment, rounded);
+  if (size == 0) size = 1;
+  if (alignment <= alignof(std::max_align_t)) return std::malloc(size);
+  return std::aligned_alloc(alignment, (size + alignment - 1) / alignment * alignment);
+}
+
+void* checked(void* p) {
   if (p == nullptr) throw std::bad_alloc();
   return p;
 }
 
+// Every replaceable form is replaced, so that allocation and deallocation always pair
+// malloc/free (a sanitizer's own operator new[] must not meet this free). Not inlined: GCC
+// would otherwise warn that free() receives a pointer from operator new, which is true and
+// intended here.
+[[gnu::noinline]] void release(void* p) noexcept { std::free(p); }
+
 }  // namespace
 
-void* operator new(std::size_t size) { return counted_allocation(size, 1); }
-void* operator new(std::size_t size, std::align_val_t alignment) {
-  return counted_allocation(size, static_cast<std::size_t>(alignment));
+void* operator new(std::size_t n) { return checked(counted_allocation(n, 1)); }
+void* operator new[](std::size_t n) { return checked(counted_allocation(n, 1)); }
+void* operator new(std::size_t n, std::align_val_t a) {
+  return checked(counted_allocation(n, static_cast<std::size_t>(a)));
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void* operator new[](std::size_t n, std::align_val_t a) {
+  return checked(counted_allocation(n, static_cast<std::size_t>(a)));
+}
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+  return counted_allocation(n, 1);
+}
+void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
+  return counted_allocation(n, 1);
+}
+void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+  return counted_allocation(n, static_cast<std::size_t>(a));
+}
+void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+  return counted_allocation(n, static_cast<std::size_t>(a));
+}
+void operator delete(void* p) noexcept { release(p); }
+void operator delete[](void* p) noexcept { release(p); }
+void operator delete(void* p, std::size_t) noexcept { release(p); }
+void operator delete[](void* p, std::size_t) noexcept { release(p); }
+void operator delete(void* p, std::align_val_t) noexcept { release(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { release(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { release(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { release(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { release(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
 
 namespace flexref::lie {
 namespace {

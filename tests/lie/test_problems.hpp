@@ -16,6 +16,8 @@
 ///   damped_coulomb_wall coulomb_wall with viscous damping (velocity-dependent loads).
 ///   free_spin_failing_after  free_spin with a NaN torque injected after a given time.
 ///   RegularPrecession   torque-free symmetric body with its closed-form solution.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -24,9 +26,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "core/applied_load.hpp"
 #include "core/body.hpp"
@@ -238,7 +237,9 @@ struct RegularPrecession {
     bodies.emplace_back(std::move(d));
     return core::Model(std::move(bodies), Elements{});
   }
-  Eigen::Vector3d J_w0() const { return Eigen::Vector3d(I1 * w0_B.x(), I1 * w0_B.y(), I3 * w0_B.z()); }
+  Eigen::Vector3d J_w0() const {
+    return Eigen::Vector3d(I1 * w0_B.x(), I1 * w0_B.y(), I3 * w0_B.z());
+  }
   double lambda() const { return (I3 - I1) * w0_B.z() / I1; }
   Eigen::Vector3d w_B(double t) const {
     return core::exp_so3(lambda() * t * Eigen::Vector3d::UnitZ()) * (J_w0() / I1) -
@@ -273,9 +274,8 @@ inline double trajectory_error(const core::Model& model, const core::Trajectory&
       const auto& s = run.states[k][static_cast<std::size_t>(i)];
       const auto& r = reference.states[k][static_cast<std::size_t>(i)];
       rotation = std::max(rotation, core::geodesic_angle(r.theta_WB, s.theta_WB));
-      position = std::max(position, (model.p_WP(i, s, tracked_point()) -
-                                     model.p_WP(i, r, tracked_point()))
-                                        .norm());
+      position = std::max(
+          position, (model.p_WP(i, s, tracked_point()) - model.p_WP(i, r, tracked_point())).norm());
     }
   }
   return rotation + position;
