@@ -20,6 +20,8 @@ C2Stepper::C2Stepper(const core::Model& model)
       acc_next_(state_.size()),
       torque_W_(state_.size(), Vector3d::Zero()),
       torque_next_W_(state_.size(), Vector3d::Zero()),
+      momentum_W_(state_.size(), Vector3d::Zero()),
+      momentum_next_W_(state_.size(), Vector3d::Zero()),
       ws_(model.make_workspace()) {}
 
 void C2Stepper::initialize(double t0, const core::State& state) {
@@ -32,7 +34,12 @@ void C2Stepper::initialize(double t0, const core::State& state) {
   // The step length is not known yet: evaluate on the right of t0 (t_segment = t0 is inside
   // [t0, t0 + h) for every half-open time law); the first step re-evaluates on its own segment.
   model_.compute_accelerations(core::LoadContext{t0, t0}, state_, ws_, acc_);
-  for (std::size_t i = 0; i < state_.size(); ++i) torque_W_[i] = ws_.wrenches[i].tau_Br_W;
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    torque_W_[i] = ws_.wrenches[i].tau_Br_W;
+    // π_0 = R_0 J W_0, then carried by the scheme (it is the scheme's primary unknown).
+    momentum_W_[i] = ws_.kinematics[i].R_WB *
+                     (model_.body(static_cast<int>(i)).I_Br_B() * state_[i].w_WB_B);
+  }
   restart_pending_ = true;
 }
 
@@ -98,7 +105,6 @@ StepStatus C2Stepper::step(double h) {
     const core::Body& body = model_.body(static_cast<int>(i));
     const core::BodyState& s = state_[i];
     core::BodyState& s1 = next_[i];
-    const Matrix3d& J = body.I_Br_B();
     const Matrix3d& R_np1 = ws_.kinematics[i].R_WB;
     if (body.is_free()) {
       // a_{n+1} ← f_{n+1}/m
@@ -110,10 +116,10 @@ StepStatus C2Stepper::step(double h) {
     }
     torque_next_W_[i] = ws_.wrenches[i].tau_Br_W;
     // π_{n+1} ← R_n J W_n + (h/2)(Γ_n + Γ_{n+1})
-    const Vector3d pi_np1 = core::rotation_matrix(s.theta_WB) * (J * s.w_WB_B) +
-                            (0.5 * h) * (torque_W_[i] + torque_next_W_[i]);
+    //          (π_n = R_n J W_n is carried from the previous step)
+    momentum_next_W_[i] = momentum_W_[i] + (0.5 * h) * (torque_W_[i] + torque_next_W_[i]);
     // W_{n+1} ← J⁻¹ R_{n+1}ᵀ π_{n+1}
-    s1.w_WB_B = body.I_Br_B_inverse() * (R_np1.transpose() * pi_np1);
+    s1.w_WB_B = body.I_Br_B_inverse() * (R_np1.transpose() * momentum_next_W_[i]);
     // A_{n+1} ← (W_{n+1} − W_n)/h
     acc_next_[i].alpha_WB_B = (s1.w_WB_B - s.w_WB_B) / h;
   }
@@ -122,6 +128,7 @@ StepStatus C2Stepper::step(double h) {
   std::swap(state_, next_);
   std::swap(acc_, acc_next_);
   std::swap(torque_W_, torque_next_W_);
+  std::swap(momentum_W_, momentum_next_W_);
   time_ = t_np1;
   restart_pending_ = false;
   return {};

@@ -58,6 +58,8 @@ class C2Stepper final : public Stepper {
   core::Accelerations acc_next_;                ///< a_{n+1}, A_{n+1}
   std::vector<Eigen::Vector3d> torque_W_;       ///< Γ_n about Br (world)
   std::vector<Eigen::Vector3d> torque_next_W_;  ///< Γ_{n+1}
+  std::vector<Eigen::Vector3d> momentum_W_;       ///< π_n = R_n J W_n about Br (world)
+  std::vector<Eigen::Vector3d> momentum_next_W_;  ///< π_{n+1}
   core::Workspace ws_;
 };
 

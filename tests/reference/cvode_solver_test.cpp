@@ -118,9 +118,10 @@ TEST_CASE("cvode writes exactly the requested output times with unit Euler param
   CHECK(run.stats.cpu_seconds >= 0.0);
 
   // The value at 0.37 does not depend on the output grid: CVODE steps past each tout and fills
-  // it from its own interpolant, so its steps are the same for any grid with the same
-  // segments, and the two runs agree to round-off (measured: bit for bit; 1e-12 leaves room
-  // for 0.37 and 37 × 0.01 differing in the last bit).
+  // it from its own interpolant, and the driver sizes each segment's first step towards the
+  // segment end rather than the first output, so its steps are the same for any grid with the
+  // same segments and the two runs agree to round-off (measured: bit for bit; 1e-12 leaves
+  // room for 0.37 and 37 × 0.01 differing in the last bit).
   const ReferenceRun fine = solve_cvode(model, core::output_times(1.0, 0.01), with_rtol(1e-10));
   const double difference =
       (fine.trajectory.states[37][0].w_WB_B - run.trajectory.states[6][0].w_WB_B).norm();
