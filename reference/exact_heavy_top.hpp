@@ -45,8 +45,9 @@ namespace flexref::reference {
 /// steps π at the passages (the jump in (φ ± ψ)/2 is multiplied by cos or sin of ϑ/2 = 0, so
 /// θ(t) stays continuous); at() is then undefined (0/0) only at the passage instants.
 ///
-/// Accuracy: ω and θ to ~1e-13 over the bundled scene (measured against RKF78, see the test).
-/// at() allocates nothing: one AGM plus two R_F and two R_J evaluations.
+/// Accuracy, measured against RKF78 in float128 at tolerance 1e-24 over the bundled scene
+/// (t ≤ 2): ω to 4e-15 relative, θ to 9e-14 rad (also with b + a = 0 exactly). at()
+/// allocates nothing: one AGM plus two R_F and two R_J evaluations (≈ 2.5 µs).
 class HeavyTopExact {
  public:
   /// \throws std::invalid_argument for non-positive mass, distance or inertias, a symmetry

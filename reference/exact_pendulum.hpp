@@ -25,6 +25,11 @@ namespace flexref::reference {
 /// \f$A(t) = \mathrm{Rot}(n, \theta_0 - \theta(t))\,A(\theta_0)\f$ and
 /// \f$\omega_B = 2 k \omega_0\,\mathrm{cn}(K - \omega_0 t)\, n_B\f$. A body released exactly
 /// above or below the pivot (c ∥ g), or with c = 0, stays at rest.
+///
+/// Accuracy, against RKF78 in float128 over the bundled scene (t ≤ 10): ω to 8e-15·ω₀, θ to
+/// 1e-14 rad. Note that above the horizontal the planar motion is unstable to out-of-plane
+/// perturbations, so a numerical solution drifts away from it (see the test); this is the
+/// exact planar solution. at() allocates nothing and costs one AGM (≈ 0.7 µs).
 class PendulumExact {
  public:
   /// \throws std::invalid_argument for non-positive mass, non-finite input, a J_pivot that is

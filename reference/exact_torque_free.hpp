@@ -162,8 +162,11 @@ enum class TorqueFreeRegime {
 /// φ(0) = 0 (so R_π e_z = π/M). ψ is unwrapped with the constant sign of m_c, so θ(t) is
 /// continuous in t (no quaternion sign flips).
 ///
-/// Accuracy: ω to a few ε relative to |ω|; attitude to ~ε·(M t/I_a) rad (the secular part
-/// of φ). at() allocates nothing and costs one AGM (≈ 10 levels) plus one R_F and one R_J.
+/// Accuracy: the phase τ and the secular part of φ are rounded to ~ε·λt and ~ε·Mt/I_a, which
+/// bounds the error growth; against RKF78 in float128 at tolerance 1e-24 over t ≤ 100:
+/// free_spin ω to 4e-15 relative, θ to 6e-14 rad; book toss 2.4e-6 off the separatrix
+/// (k'² = 7e-9) ω to 1.1e-13, θ to 4e-13 rad. at() allocates nothing and costs one AGM
+/// (≈ 10 levels) plus one R_F and one R_J (≈ 2 µs).
 class TorqueFreeExact {
  public:
   /// \throws std::invalid_argument for non-finite or non-positive inertia, a non-unit θ₀
@@ -186,8 +189,8 @@ class TorqueFreeExact {
   core::EulerParameters theta0_;
   Eigen::Vector3d w0_B_;
   double momentum_norm_ = 0.0;    ///< M = |π|
-  int ia_ = 2, ib_ = 0, ic_ = 1;  ///< body indices of the axes a, b, c
-  int ix_ = 0, iy_ = 1;           ///< body indices of the Euler x, y axes (cyclic after a)
+  int ia_ = 0, ib_ = 1, ic_ = 2;  ///< body indices of the axes a, b, c
+  int ix_ = 1, iy_ = 2;           ///< body indices of the Euler x, y axes (cyclic after a)
   double amp_a_ = 0.0, amp_b_ = 0.0, amp_c_ = 0.0;  ///< signed A_a, A_b, A_c divided by M
   double sign_c_ = 1.0;                             ///< sign of m_c (constant)
   double lambda_ = 0.0, tau0_ = 0.0;
