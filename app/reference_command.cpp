@@ -44,7 +44,7 @@ int reference_command(const ReferenceOptions& options) {
     const auto& e = ref.estimate;
     meta << "\n[error_estimate]\nmetric = \"" << e.metric << "\"\nestimate = " << e.estimate()
          << "\nvs_tighter = " << e.vs_tighter << "\ntighter_solver = \"" << e.tighter_solver
-         << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_other_solver = " << e.vs_other_solver
+         << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_other_solver = " << e.vs_other_solver << "\nother_rtol = " << e.other_rtol
          << "\nother_solver = \"" << e.other_solver << "\"\n";
   }
   meta << "\n" << studies::versions_toml();
@@ -57,7 +57,10 @@ int reference_command(const ReferenceOptions& options) {
     const auto& e = ref.estimate;
     std::cout << "estimated error (" << e.metric << "): " << e.estimate() << "  [vs "
               << e.tighter_solver << " at rtol " << e.tighter_rtol << ": " << e.vs_tighter
-              << "; vs " << e.other_solver << ": " << e.vs_other_solver << "]\n";
+              << "; vs " << e.other_solver << " at rtol " << e.other_rtol << ": "
+              << e.vs_other_solver << "]"
+              << (e.exact ? " (exact solution: the smaller difference bounds its error)" : "")
+              << "\n";
   }
   return kExitOk;
 }

@@ -32,7 +32,16 @@ CertifiedReference certified_reference(const core::Model& model,
   reference::SolverOptions tighter = options;
   tighter.rtol = std::max(options.rtol / 100.0, 1e-14);
   tighter.atol = options.atol < 0.0 ? -1.0 : std::max(options.atol / 100.0, 1e-14);
-  const std::string tight_solver = solver == "exact" ? "cvode" : solver;
+  reference::SolverOptions other_options = options;
+  std::string tight_solver = solver;
+  if (solver == "exact") {
+    result.estimate.exact = true;
+    tight_solver = "odeint";
+    tighter = reference::SolverOptions{};
+    tighter.rtol = 1e-13;
+    other_options = reference::SolverOptions{};
+    other_options.rtol = 1e-12;
+  }
   const reference::ReferenceRun tight_run =
       reference::solve_reference(tight_solver, model, output_times, tighter);
   result.estimate.tighter_solver = tight_solver;
@@ -42,8 +51,9 @@ CertifiedReference certified_reference(const core::Model& model,
 
   const std::string other = cross_check_solver(solver);
   const reference::ReferenceRun other_run =
-      reference::solve_reference(other, model, output_times, options);
+      reference::solve_reference(other, model, output_times, other_options);
   result.estimate.other_solver = other;
+  result.estimate.other_rtol = other_options.rtol;
   result.estimate.vs_other_solver = metric_value(
       compare_trajectories(result.table, tabulate(model, other_run.trajectory)), metric);
   return result;
