@@ -50,9 +50,14 @@ int reference_command(const ReferenceOptions& options) {
   meta << "\n" << studies::versions_toml();
   studies::write_file_atomically(options.output + ".meta.toml", meta.str());
 
-  std::cout << "reference " << scene.name << " with " << ref.run.solver << " (rtol " << options.rtol
-            << "): " << st.steps << " steps, " << st.rhs_evaluations << " evaluations, "
-            << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
+  std::cout << "reference " << scene.name << " with " << ref.run.solver;
+  if (ref.run.solver == "exact") {
+    std::cout << " (analytic, " << st.steps << " output times)";
+  } else {
+    std::cout << " (rtol " << options.rtol << "): " << st.steps << " steps, "
+              << st.rhs_evaluations << " evaluations";
+  }
+  std::cout << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
     std::cout << "estimated error (" << e.metric << "): " << e.estimate() << "  [vs "
