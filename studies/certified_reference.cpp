@@ -9,7 +9,9 @@
 namespace flexref::studies {
 
 std::string cross_check_solver(const std::string& solver) {
-  if (solver == "cvode") return "ida";
+  // CVODE and Odeint check each other: they share only the ODE form's right-hand side, and
+  // both reach ~1e-8 on the book toss where IDA (BDF on the index-2 DAE) stops near 1e-5.
+  if (solver == "cvode") return "odeint";
   return "cvode";
 }
 

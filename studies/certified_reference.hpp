@@ -38,7 +38,7 @@ struct CertifiedReference {
   ReferenceEstimate estimate;
 };
 
-/// The solver used to cross-check `solver`: ida ↔ cvode, odeint → cvode, exact → cvode.
+/// The solver used to cross-check `solver`: cvode → odeint; ida, odeint, exact → cvode.
 std::string cross_check_solver(const std::string& solver);
 
 /// "auto" picks "exact" when the model has an exact solution, else "cvode".

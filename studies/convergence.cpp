@@ -108,6 +108,23 @@ ConvergenceResult run_convergence(const core::Model& model,
     summary.claimed_order = lie::make_stepper(summary.scheme, model)->order();
     summary.fitted_order = least_squares_order(steps, errors, use);
     for (bool u : use) summary.fitted_levels += u ? 1 : 0;
+    // Asymptotic range: the last two pairwise orders of the fitted levels must agree to 0.3
+    // (a second-order scheme with an O(h³) term still visible drifts by more than that).
+    std::vector<double> fitted_orders;
+    for (int l = 1; l < options.levels; ++l) {
+      const auto k = static_cast<std::size_t>(l);
+      if (use[k] && use[k - 1]) fitted_orders.push_back(p[k - 1]);
+    }
+    const std::size_t m = fitted_orders.size();
+    if (m >= 2 && std::abs(fitted_orders[m - 1] - fitted_orders[m - 2]) > 0.3) {
+      std::ostringstream note;
+      note << std::fixed << std::setprecision(2) << summary.scheme
+           << ": the pairwise orders are still changing (" << fitted_orders[m - 2] << ", "
+           << fitted_orders[m - 1]
+           << "): the finest levels are not yet in the asymptotic range; refine further "
+              "(more --levels) before trusting the fitted order";
+      result.notes.push_back(note.str());
+    }
     result.summaries.push_back(summary);
   }
   bool any_uncertified = false;
