@@ -82,7 +82,8 @@ void DaeForm::unpack(const double* y, State& state) const {
     BodyState& s = state[i];
     const EulerParameters theta = ConstMap4(yi + k.theta);
     s.theta_WB = theta.normalized();
-    s.w_WB_B = 2.0 * g_bar_matrix(theta) * ConstMap4(yi + k.v_theta);
+    // For θ = s θ̂ off the sphere, Ḡ(θ) θ̇ = s² Ḡ(θ̂) θ̂̇: divide by |θ|² so ω̄ is exact.
+    s.w_WB_B = 2.0 * g_bar_matrix(theta) * ConstMap4(yi + k.v_theta) / theta.squaredNorm();
     if (k.p >= 0) {
       s.p_WBr = ConstMap3(yi + k.p);
       s.v_WBr = ConstMap3(yi + k.v);
@@ -93,8 +94,8 @@ void DaeForm::unpack(const double* y, State& state) const {
   }
 }
 
-void DaeForm::residual(const LoadContext& context, const double* y, const double* yp,
-                       double* res, Scratch& scratch) const {
+void DaeForm::residual(const LoadContext& context, const double* y, const double* yp, double* res,
+                       Scratch& scratch) const {
   // Loads at the current iterate. θ enters A(θ) unnormalized here: the residual is that of
   // eq. 19 exactly as written, and the constraint row keeps θ on the sphere.
   State& state = scratch.state;
@@ -125,8 +126,8 @@ void DaeForm::residual(const LoadContext& context, const double* y, const double
     const double mu = yi[k.mu];
 
     if (k.p >= 0) {
-      Map3(ri + k.p) = ConstMap3(ypi + k.p) - s.v_WBr;            // ṗ − v
-      Map3(ri + k.v) = b.mass() * ConstMap3(ypi + k.v) - w.f_W;   // m v̇ − f
+      Map3(ri + k.p) = ConstMap3(ypi + k.p) - s.v_WBr;           // ṗ − v
+      Map3(ri + k.v) = b.mass() * ConstMap3(ypi + k.v) - w.f_W;  // m v̇ − f
     }
     Map4(ri + k.theta) = ConstMap4(ypi + k.theta) - v_theta + 2.0 * mu * theta;  // GGL
     const Matrix34d g_bar = g_bar_matrix(theta);
@@ -135,8 +136,8 @@ void DaeForm::residual(const LoadContext& context, const double* y, const double
     const Eigen::Vector3d euler =
         b.I_Br_B() * alpha_B + s.w_WB_B.cross(b.I_Br_B() * s.w_WB_B) - tau_B;
     Map4(ri + k.v_theta) = 2.0 * g_bar.transpose() * euler + 2.0 * lambda * theta;
-    ri[k.lambda] = theta.dot(v_theta);                 // velocity constraint
-    ri[k.mu] = 0.5 * (theta.squaredNorm() - 1.0);      // position constraint
+    ri[k.lambda] = theta.dot(v_theta);             // velocity constraint
+    ri[k.mu] = 0.5 * (theta.squaredNorm() - 1.0);  // position constraint
   }
 }
 

@@ -68,15 +68,16 @@ void OdeForm::rhs(const LoadContext& context, const double* y, double* ydot,
   model_->compute_accelerations(context, scratch.state, scratch.workspace, scratch.accelerations);
   for (std::size_t i = 0; i < scratch.state.size(); ++i) {
     double* fi = ydot + offsets_[i];
+    const double* yi = y + offsets_[i];
     const BodyState& s = scratch.state[i];
     const BodyAcceleration& a = scratch.accelerations[i];
     if (model_->body(static_cast<int>(i)).is_free()) {
-      Map3{fi} = s.v_WBr;                                        // ṗ = v
-      Map4(fi + 3) = euler_parameter_rate(s.theta_WB, s.w_WB_B);  // θ̇ = ½ θ ⊗ (0, ω̄)
-      Map3(fi + 7) = a.a_WBr;                                    // v̇ = a
-      Map3(fi + 10) = a.alpha_WB_B;                              // ω̄̇ = α̅
+      Map3{fi} = s.v_WBr;                                                // ṗ = v
+      Map4(fi + 3) = euler_parameter_rate(ConstMap4(yi + 3), s.w_WB_B);  // θ̇ = ½ θ ⊗ (0, ω̄)
+      Map3(fi + 7) = a.a_WBr;                                            // v̇ = a
+      Map3(fi + 10) = a.alpha_WB_B;                                      // ω̄̇ = α̅
     } else {
-      Map4{fi} = euler_parameter_rate(s.theta_WB, s.w_WB_B);
+      Map4{fi} = euler_parameter_rate(ConstMap4(yi), s.w_WB_B);
       Map3(fi + 4) = a.alpha_WB_B;
     }
   }

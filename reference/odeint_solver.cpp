@@ -14,6 +14,9 @@
 /// - SolverOptions::max_steps bounds the steps between two consecutive output times, as it
 ///   does for IDA and CVODE (mxstep).
 #include <algorithm>
+#include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
+#include <boost/numeric/odeint/stepper/generation.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 #include <cmath>
 #include <cstddef>
 #include <ctime>
@@ -23,10 +26,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
-#include <boost/numeric/odeint/stepper/generation.hpp>
-#include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
 
 #include "core/error.hpp"
 #include "core/ode_form.hpp"
@@ -97,8 +96,8 @@ class Integrator {
         options_(options),
         stats_(&stats),
         scratch_(form.make_scratch()),
-        stepper_(odeint::make_controlled(options.absolute_tolerance(), options.rtol,
-                                         ErrorStepper())),
+        stepper_(
+            odeint::make_controlled(options.absolute_tolerance(), options.rtol, ErrorStepper())),
         x_(static_cast<std::size_t>(form.size())),
         x_new_(x_.size()),
         dxdt_(x_.size()) {}
@@ -124,9 +123,8 @@ class Integrator {
       double t_trial = t_;
       double h_next = h;
       counters_.nonfinite = false;
-      const odeint::controlled_step_result result =
-          stepper_.try_step(SegmentRhs(*form_, scratch_, counters_, t_segment_), x_, dxdt_,
-                            t_trial, x_new_, h_next);
+      const odeint::controlled_step_result result = stepper_.try_step(
+          SegmentRhs(*form_, scratch_, counters_, t_segment_), x_, dxdt_, t_trial, x_new_, h_next);
       if (counters_.nonfinite || !all_finite(x_new_)) {
         // A trial stage reached a singular load: reject and retry a quarter of the step.
         reject(0.25 * h, "a trial step produced a non-finite right-hand side or state");
@@ -190,7 +188,13 @@ class Integrator {
   double t_segment_ = 0.0;
 };
 
-void validate(const std::vector<double>& output_times) {
+void validate(const std::vector<double>& output_times, const SolverOptions& options) {
+  const double rtol = options.rtol;
+  const double atol = options.absolute_tolerance();
+  if (!(rtol > 0.0) || !std::isfinite(rtol) || !(atol > 0.0) || !std::isfinite(atol)) {
+    throw std::invalid_argument("tolerances must be positive and finite");
+  }
+  if (options.max_steps <= 0) throw std::invalid_argument("max_steps must be positive");
   if (output_times.empty()) throw std::invalid_argument("no output times");
   for (std::size_t k = 0; k < output_times.size(); ++k) {
     if (!std::isfinite(output_times[k]) || output_times[k] < 0.0) {
@@ -206,7 +210,7 @@ void validate(const std::vector<double>& output_times) {
 
 ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& output_times,
                           const SolverOptions& options) {
-  validate(output_times);
+  validate(output_times, options);
   const core::OdeForm form(model);
 
   ReferenceRun run;

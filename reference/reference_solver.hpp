@@ -17,6 +17,7 @@ struct SolverOptions {
   double rtol = 1e-10;
   /// Absolute tolerance; a negative value means atol = rtol (the states are O(1) in SI).
   double atol = -1.0;
+  /// Most internal steps between two consecutive output times (SUNDIALS' mxstep meaning).
   long max_steps = 50'000'000;
   double absolute_tolerance() const { return atol < 0.0 ? rtol : atol; }
 };

@@ -13,6 +13,14 @@
 ///    switch), with the output times each segment owns.
 /// Boost.Odeint (odeint_solver.cpp) plans its segments on its own: it is the independent code
 /// path of the three.
+#include <cvode/cvode.h>
+#include <ida/ida.h>
+#include <ida/ida_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -25,14 +33,6 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
-
-#include <cvode/cvode.h>
-#include <ida/ida.h>
-#include <ida/ida_ls.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
 
 namespace flexref::reference::sundials {
 
@@ -86,15 +86,13 @@ class SundialsError : public std::runtime_error {
 /// The symbolic name of a flag returned by `function`: IDA and CVODE reuse the same numbers
 /// for different meanings, and their linear-solver interfaces have a third table.
 inline std::string flag_name(int flag, std::string_view function) {
-  const bool linear_solver_interface =
-      function.find("LinearSolver") != std::string_view::npos ||
-      function.find("JacFn") != std::string_view::npos;
+  const bool linear_solver_interface = function.find("LinearSolver") != std::string_view::npos ||
+                                       function.find("JacFn") != std::string_view::npos;
   char* name = nullptr;  // malloc'ed by SUNDIALS, freed here
   if (function.starts_with("IDA")) {
     name = linear_solver_interface ? IDAGetLinReturnFlagName(flag) : IDAGetReturnFlagName(flag);
   } else if (function.starts_with("CVode")) {
-    name = linear_solver_interface ? CVodeGetLinReturnFlagName(flag)
-                                   : CVodeGetReturnFlagName(flag);
+    name = linear_solver_interface ? CVodeGetLinReturnFlagName(flag) : CVodeGetReturnFlagName(flag);
   }
   std::string text = name != nullptr ? std::string(name) : "flag " + std::to_string(flag);
   std::free(name);  // NOLINT(cppcoreguidelines-no-malloc): SUNDIALS allocates with malloc
@@ -184,6 +182,15 @@ inline void validate_output_times(const std::vector<double>& output_times) {
       throw std::invalid_argument("output times must be strictly increasing");
     }
   }
+}
+
+/// Throws std::invalid_argument unless rtol and atol are positive and finite and max_steps is
+/// positive (SUNDIALS would fail later with a less helpful flag).
+inline void validate_tolerances(double rtol, double atol, long max_steps) {
+  if (!(rtol > 0.0) || !std::isfinite(rtol) || !(atol > 0.0) || !std::isfinite(atol)) {
+    throw std::invalid_argument("tolerances must be positive and finite");
+  }
+  if (max_steps <= 0) throw std::invalid_argument("max_steps must be positive");
 }
 
 /// One interval between consecutive known load discontinuities, integrated without restart.

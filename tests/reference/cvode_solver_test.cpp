@@ -1,8 +1,8 @@
 /// \file cvode_solver_test.cpp
 /// CVODE on the ODE form with projection (reference/cvode_solver.cpp): conservation on a
 /// torque-free body, output times and unit Euler parameters, the failure path.
+#include <Eigen/Core>
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -10,63 +10,31 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "core/applied_load.hpp"
 #include "core/body.hpp"
 #include "core/error.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "core/point_charge_potential.hpp"
 #include "reference/reference_solver.hpp"
+#include "tests/lie/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {
 
-using Elements = std::vector<std::unique_ptr<const core::ForceElement>>;
-
-core::Model single_body(const core::RigidBodyDescription& description, Elements elements) {
+/// coulomb_wall (tests/lie/test_problems.hpp) started with both charges on the wall z = 0,
+/// where the wall force β/z² is infinite.
+core::Model coulomb_wall_on_the_wall() {
+  core::RigidBodyDescription d =
+      testing::rigid_body("charged", 1.0, {0.4, 0.9, 1.1}, {0.2, 0.3, 1.5});
+  d.initial.v_WBo = Eigen::Vector3d(0.8, 0.0, 0.0);  // p_WBo = 0: the charges start at z = 0
   std::vector<core::Body> bodies;
-  bodies.emplace_back(description);
-  return core::Model(std::move(bodies), std::move(elements));
-}
-
-/// free_spin (design/scenes.md): m = 1, J = diag(3, 4, 5), W0 = (0.2, 0.3, 2), at rest.
-core::Model free_spin() {
-  core::RigidBodyDescription d;
-  d.name = "body";
-  d.I_Bcm_B = Eigen::Vector3d(3.0, 4.0, 5.0).asDiagonal();
-  d.initial.w_WB_B = Eigen::Vector3d(0.2, 0.3, 2.0);
-  return single_body(d, {});
-}
-
-/// book_toss (design/scenes.md): J = diag(1, 2, 2.8), W0 = (0, 10, 0), world torque
-/// (0.2, 0, 0.2) × sin²(πt/0.1) on [0, 0.1) (or the rectangular pulse).
-core::Model book_toss(core::TimeProfile profile) {
-  core::RigidBodyDescription d;
-  d.name = "book";
-  d.I_Bcm_B = Eigen::Vector3d(1.0, 2.0, 2.8).asDiagonal();
-  d.initial.w_WB_B = Eigen::Vector3d(0.0, 10.0, 0.0);
-  Elements e;
-  e.push_back(std::make_unique<core::AppliedTorque>(0, Eigen::Vector3d(0.2, 0.0, 0.2),
-                                                    core::LoadFrame::kWorld, profile));
-  return single_body(d, std::move(e));
-}
-
-/// coulomb_wall (design/scenes.md), with the initial height as a parameter.
-core::Model coulomb_wall(double z0) {
-  core::RigidBodyDescription d;
-  d.name = "body";
-  d.I_Bcm_B = Eigen::Vector3d(0.4, 0.9, 1.1).asDiagonal();
-  d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, z0);
-  d.initial.v_WBo = Eigen::Vector3d(0.8, 0.0, 0.0);
-  d.initial.w_WB_B = Eigen::Vector3d(0.2, 0.3, 1.5);
-  Elements e;
-  e.push_back(std::make_unique<core::PointChargePotential>(
+  bodies.emplace_back(std::move(d));
+  testing::Elements elements;
+  elements.push_back(std::make_unique<core::PointChargePotential>(
       4.0, 0.3, Eigen::Vector3d(0.0, 0.0, -1.0),
       std::vector<core::PointChargePotential::Charge>{{0, Eigen::Vector3d(0.5, 0.0, 0.0), 1.0},
                                                       {0, Eigen::Vector3d(-0.5, 0.0, 0.0), 0.6}}));
-  return single_body(d, std::move(e));
+  return core::Model(std::move(bodies), std::move(elements));
 }
 
 SolverOptions with_rtol(double rtol) {
@@ -78,7 +46,7 @@ SolverOptions with_rtol(double rtol) {
 }  // namespace
 
 TEST_CASE("cvode conserves energy and angular momentum of a torque-free body", "[cvode]") {
-  const core::Model model = free_spin();
+  const core::Model model = testing::free_spin();
   // Outputs every second, so that the tolerance, not the output grid, sets the steps.
   const std::vector<double> times = core::output_times(100.0, 1.0);
   const double rtol = 1e-10;
@@ -102,7 +70,7 @@ TEST_CASE("cvode conserves energy and angular momentum of a torque-free body", "
 }
 
 TEST_CASE("cvode writes exactly the requested output times with unit Euler parameters", "[cvode]") {
-  const core::Model model = book_toss(core::TimeProfile::rectangular_pulse(0.0, 0.1));
+  const core::Model model = testing::book_toss_step();
   // Irregular times around the switch at 0.1 (one on it, one 1e-7 before, one 1e-7 after).
   const std::vector<double> times{0.0, 0.013, 0.05, 0.1 - 1e-7, 0.1, 0.1 + 1e-7, 0.37, 1.0};
   const ReferenceRun run = solve_cvode(model, times, with_rtol(1e-10));
@@ -130,7 +98,7 @@ TEST_CASE("cvode writes exactly the requested output times with unit Euler param
 }
 
 TEST_CASE("cvode starts at t = 0 even when the first output is later", "[cvode]") {
-  const core::Model model = free_spin();
+  const core::Model model = testing::free_spin();
   const std::vector<double> times{0.5, 1.0};
   const ReferenceRun late = solve_cvode(model, times, with_rtol(1e-10));
   const ReferenceRun full = solve_cvode(model, core::output_times(1.0, 0.5), with_rtol(1e-10));
@@ -141,15 +109,21 @@ TEST_CASE("cvode starts at t = 0 even when the first output is later", "[cvode]"
   CHECK(difference <= 1e-12);
 }
 
-TEST_CASE("cvode rejects invalid output times", "[cvode]") {
-  const core::Model model = free_spin();
+TEST_CASE("cvode rejects invalid output times and tolerances", "[cvode]") {
+  const core::Model model = testing::free_spin();
   CHECK_THROWS_AS(solve_cvode(model, {}, SolverOptions{}), std::invalid_argument);
   CHECK_THROWS_AS(solve_cvode(model, {0.0, 1.0, 0.5}, SolverOptions{}), std::invalid_argument);
   CHECK_THROWS_AS(solve_cvode(model, {-1.0, 1.0}, SolverOptions{}), std::invalid_argument);
+  SolverOptions bad;
+  bad.rtol = 0.0;
+  CHECK_THROWS_AS(solve_cvode(model, {0.0, 1.0}, bad), std::invalid_argument);
+  bad.rtol = 1e-10;
+  bad.max_steps = 0;
+  CHECK_THROWS_AS(solve_cvode(model, {0.0, 1.0}, bad), std::invalid_argument);
 }
 
 TEST_CASE("cvode reports too much work with the time where it stopped", "[cvode]") {
-  const core::Model model = coulomb_wall(1.0);
+  const core::Model model = testing::coulomb_wall();
   SolverOptions options = with_rtol(1e-10);
   options.max_steps = 10;
   try {
@@ -168,7 +142,7 @@ TEST_CASE("cvode reports too much work with the time where it stopped", "[cvode]
 
 TEST_CASE("cvode reports singular loads at the initial state", "[cvode]") {
   // Both charges start on the wall z = 0: the wall force β/z² is infinite.
-  const core::Model model = coulomb_wall(0.0);
+  const core::Model model = coulomb_wall_on_the_wall();
   try {
     solve_cvode(model, {0.0, 1.0}, with_rtol(1e-10));
     FAIL("no SolverError");
