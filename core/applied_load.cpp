@@ -33,8 +33,7 @@ AppliedForce::AppliedForce(int body, const Eigen::Vector3d& value, LoadFrame fra
                            const Eigen::Vector3d& p_BoP_B, TimeProfile profile)
     : body_(body), value_(value), frame_(frame), p_BoP_B_(p_BoP_B), profile_(profile) {}
 
-void AppliedForce::add_wrenches(const LoadContext& context,
-                                std::span<const BodyKinematics> bodies,
+void AppliedForce::add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
                                 std::span<Wrench> wrenches) const {
   const auto i = static_cast<std::size_t>(body_);
   const BodyKinematics& body = bodies[i];
@@ -58,8 +57,7 @@ AppliedTorque::AppliedTorque(int body, const Eigen::Vector3d& value, LoadFrame f
                              TimeProfile profile)
     : body_(body), value_(value), frame_(frame), profile_(profile) {}
 
-void AppliedTorque::add_wrenches(const LoadContext& context,
-                                 std::span<const BodyKinematics> bodies,
+void AppliedTorque::add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
                                  std::span<Wrench> wrenches) const {
   const auto i = static_cast<std::size_t>(body_);
   const double scale = profile_.value(context.t, context.t_segment);

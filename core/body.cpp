@@ -1,11 +1,10 @@
 #include "core/body.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
 #include <utility>
-
-#include <Eigen/Eigenvalues>
 
 namespace flexref::core {
 
@@ -46,7 +45,8 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
                               d.initial.p_WBo.allFinite() && d.initial.theta_WB.allFinite() &&
                               d.initial.v_WBo.allFinite() && d.initial.w_WB_B.allFinite();
   if (!vectors_finite) {
-    throw std::invalid_argument("body '" + d.name + "': a position, attitude or velocity is not finite");
+    throw std::invalid_argument("body '" + d.name +
+                                "': a position, attitude or velocity is not finite");
   }
   for (std::size_t i = 0; i < d.points.size(); ++i) {
     if (!d.points[i].p_BoP_B.allFinite()) {

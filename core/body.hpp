@@ -7,10 +7,9 @@
 /// origin Bo, Bcm centre of mass, Br the reference point the equations are written about:
 /// Bcm for a free body (Newton–Euler uncoupled), the pivot for a pivot body. A flexible body
 /// (modal coordinates) will add its inertia invariants here and keep Br = Bo.
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/euler_parameters.hpp"
 
@@ -39,7 +38,7 @@ struct BodyInitialState {
 struct RigidBodyDescription {
   std::string name;
   double mass = 1.0;
-  Eigen::Vector3d p_BoBcm_B = Eigen::Vector3d::Zero();  ///< centre of mass
+  Eigen::Vector3d p_BoBcm_B = Eigen::Vector3d::Zero();    ///< centre of mass
   Eigen::Matrix3d I_Bcm_B = Eigen::Matrix3d::Identity();  ///< inertia about Bcm, body frame
   MotionKind motion = MotionKind::kFree;
   Eigen::Vector3d p_BoPivot_B = Eigen::Vector3d::Zero();  ///< pivot (motion = pivot only)

@@ -32,8 +32,7 @@ class DaeForm {
   Scratch make_scratch() const;
 
   /// Consistent initial values y, y' from a state (λ = μ = 0, y' from the ODE form).
-  void initial_values(const LoadContext& context, const State& state, double* y,
-                      double* yp) const;
+  void initial_values(const LoadContext& context, const State& state, double* y, double* yp) const;
   /// 1 for differential components, 0 for λ and μ (IDASetId).
   std::vector<double> differential_ids() const;
   void residual(const LoadContext& context, const double* y, const double* yp, double* res,

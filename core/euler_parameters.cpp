@@ -25,10 +25,15 @@ EulerParameters quaternion_conjugate(const EulerParameters& q) {
 }
 
 Eigen::Matrix3d rotation_matrix(const EulerParameters& theta) {
-  const double e0 = theta(0);
-  const Eigen::Vector3d e = theta.tail<3>();
-  return (2.0 * e0 * e0 - 1.0) * Eigen::Matrix3d::Identity() +
-         2.0 * (e * e.transpose() + e0 * hat(e));
+  // A = (2e0² − 1) I + 2 (e eᵀ + e0 ẽ), written out entry by entry (this is on every
+  // evaluation's path).
+  const double e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
+  const double d = 2.0 * e0 * e0 - 1.0;
+  Eigen::Matrix3d a;
+  a << d + 2.0 * e1 * e1, 2.0 * (e1 * e2 - e0 * e3), 2.0 * (e1 * e3 + e0 * e2),  //
+      2.0 * (e1 * e2 + e0 * e3), d + 2.0 * e2 * e2, 2.0 * (e2 * e3 - e0 * e1),   //
+      2.0 * (e1 * e3 - e0 * e2), 2.0 * (e2 * e3 + e0 * e1), d + 2.0 * e3 * e3;
+  return a;
 }
 
 Matrix34d g_bar_matrix(const EulerParameters& theta) {

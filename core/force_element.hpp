@@ -4,12 +4,11 @@
 /// potentials; later contacts and bushings. An element adds, for each body it acts on, a
 /// force (world) and a torque about the body's reference point Br (world); the model maps
 /// these to generalized forces (design/model.md: Qe_R += f, Qe_θ += ũ_P Aᵀ f).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 
 #include "core/state.hpp"
 

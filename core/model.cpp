@@ -65,8 +65,7 @@ Workspace Model::make_workspace() const {
   return ws;
 }
 
-void Model::compute_wrenches(const LoadContext& context, const State& state,
-                             Workspace& ws) const {
+void Model::compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     ws.kinematics[i].state = &state[i];
     ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);

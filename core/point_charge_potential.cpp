@@ -51,8 +51,8 @@ int PointChargePotential::max_body_index() const {
 std::string PointChargePotential::describe() const {
   std::ostringstream out;
   out << "point-charge potential: alpha " << alpha_ << ", beta " << beta_ << ", attractor ("
-      << p_WM_.x() << ", " << p_WM_.y() << ", " << p_WM_.z() << "), wall z = 0, "
-      << charges_.size() << " charges";
+      << p_WM_.x() << ", " << p_WM_.y() << ", " << p_WM_.z() << "), wall z = 0, " << charges_.size()
+      << " charges";
   return out.str();
 }
 

@@ -28,7 +28,9 @@ Eigen::Vector3d log_so3(const Eigen::Matrix3d& rotation);
 ///     + \frac{|\varphi|-\sin|\varphi|}{|\varphi|^3}\tilde\varphi^2 \f]  (left Jacobian).
 Eigen::Matrix3d dexp(const Eigen::Vector3d& phi);
 /// \f[ \mathrm{dexp}^{-1}_\varphi = I - \tfrac12\tilde\varphi
-///     + \frac{1}{|\varphi|^2}\Bigl(1-\frac{|\varphi|}{2}\cot\frac{|\varphi|}{2}\Bigr)\tilde\varphi^2 \f]
+///     +
+///     \frac{1}{|\varphi|^2}\Bigl(1-\frac{|\varphi|}{2}\cot\frac{|\varphi|}{2}\Bigr)\tilde\varphi^2
+///     \f]
 Eigen::Matrix3d dexp_inv(const Eigen::Vector3d& phi);
 /// Right Jacobian (body-frame tangent operator T(φ)) = dexp_{−φ} = dexp_φᵀ.
 Eigen::Matrix3d right_jacobian(const Eigen::Vector3d& phi);

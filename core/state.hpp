@@ -4,9 +4,8 @@
 /// design/model.md: position of the reference point Br (world), Euler parameters θ (B → W),
 /// velocity of Br (world) and body-frame angular velocity ω̄ = w_WB_B. A pivot body keeps
 /// p_WBr fixed and v_WBr = 0.
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/euler_parameters.hpp"
 

@@ -76,7 +76,7 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
       const Vector3d theta = detail::c1_increment(s.w_WB_B, next_[i].w_WB_B, h);
       // R_{n+½} ← R_n exp(Θ̃/2),  W_{n+½} ← ½ (W_n + W_{n+1})
       mid_[i].theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(0.5 * theta));
-      mid_[i].theta_WB.normalize();
+      detail::renormalize_unit_product(mid_[i].theta_WB);
       mid_[i].w_WB_B = 0.5 * (s.w_WB_B + next_[i].w_WB_B);
     }
     // Γ_{n+½} at t_{n+½} and the midpoint configuration.
@@ -184,7 +184,7 @@ StepStatus C1Stepper::step(double h) {
     // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
     const Vector3d theta = detail::c1_increment(s.w_WB_B, s1.w_WB_B, h);
     s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
-    s1.theta_WB.normalize();
+    detail::renormalize_unit_product(s1.theta_WB);
     // A_{n+1} ← (W_{n+1} − W_n)/h
     acc_next_[i].alpha_WB_B = (s1.w_WB_B - s.w_WB_B) / h;
     // v ← v_n + h a_n   (predictor for the end evaluation)

@@ -37,8 +37,8 @@ void C2Stepper::initialize(double t0, const core::State& state) {
   for (std::size_t i = 0; i < state_.size(); ++i) {
     torque_W_[i] = ws_.wrenches[i].tau_Br_W;
     // π_0 = R_0 J W_0, then carried by the scheme (it is the scheme's primary unknown).
-    momentum_W_[i] = ws_.kinematics[i].R_WB *
-                     (model_.body(static_cast<int>(i)).I_Br_B() * state_[i].w_WB_B);
+    momentum_W_[i] =
+        ws_.kinematics[i].R_WB * (model_.body(static_cast<int>(i)).I_Br_B() * state_[i].w_WB_B);
   }
   restart_pending_ = true;
 }
@@ -92,7 +92,7 @@ StepStatus C2Stepper::step(double h) {
     const Vector3d theta = h * (s.w_WB_B + (0.5 * h) * A_n);
     // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
     s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
-    s1.theta_WB.normalize();
+    detail::renormalize_unit_product(s1.theta_WB);
     // W ← W_n + h A_n   (predictor, seen only by velocity-dependent loads)
     s1.w_WB_B = s.w_WB_B + h * A_n;
   }

@@ -52,12 +52,12 @@ class C2Stepper final : public Stepper {
   const core::Model& model_;
   double time_ = 0.0;
   bool restart_pending_ = true;
-  core::State state_;                           ///< step n
-  core::State next_;                            ///< step n + 1 while it is computed
-  core::Accelerations acc_;                     ///< a_n, A_n
-  core::Accelerations acc_next_;                ///< a_{n+1}, A_{n+1}
-  std::vector<Eigen::Vector3d> torque_W_;       ///< Γ_n about Br (world)
-  std::vector<Eigen::Vector3d> torque_next_W_;  ///< Γ_{n+1}
+  core::State state_;                             ///< step n
+  core::State next_;                              ///< step n + 1 while it is computed
+  core::Accelerations acc_;                       ///< a_n, A_n
+  core::Accelerations acc_next_;                  ///< a_{n+1}, A_{n+1}
+  std::vector<Eigen::Vector3d> torque_W_;         ///< Γ_n about Br (world)
+  std::vector<Eigen::Vector3d> torque_next_W_;    ///< Γ_{n+1}
   std::vector<Eigen::Vector3d> momentum_W_;       ///< π_n = R_n J W_n about Br (world)
   std::vector<Eigen::Vector3d> momentum_next_W_;  ///< π_{n+1}
   core::Workspace ws_;

@@ -71,7 +71,7 @@ StepStatus NmbStepper::step(double h) {
     const Vector3d theta = h * s.w_WB_B + (0.5 * h * h) * A_n;
     // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
     s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
-    s1.theta_WB.normalize();
+    detail::renormalize_unit_product(s1.theta_WB);
     // W ← W_n + h A_n   (predictor, seen only by velocity-dependent loads)
     s1.w_WB_B = s.w_WB_B + h * A_n;
   }

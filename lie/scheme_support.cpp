@@ -13,13 +13,14 @@ bool starts_on_discontinuity(std::span<const double> discontinuities, double t_n
 }
 
 bool all_finite(const core::State& state) {
+  // One sum instead of 13 tests per body: NaN and ±inf propagate through a sum. The sum of
+  // finite values can overflow only for entries near 1e308, which are reported as non-finite
+  // too — a state that large has already failed.
+  double sum = 0.0;
   for (const core::BodyState& s : state) {
-    if (!s.p_WBr.allFinite() || !s.theta_WB.allFinite() || !s.v_WBr.allFinite() ||
-        !s.w_WB_B.allFinite()) {
-      return false;
-    }
+    sum += s.p_WBr.sum() + s.theta_WB.sum() + s.v_WBr.sum() + s.w_WB_B.sum();
   }
-  return true;
+  return std::isfinite(sum) && sum == sum;
 }
 
 std::string newton_failure(const char* scheme, double t_n, double h, double relative_residual,
