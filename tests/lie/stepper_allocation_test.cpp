@@ -9,64 +9,12 @@
 
 #include "lie/stepper.hpp"
 #include "tests/lie/test_problems.hpp"
+#include "tests/support/allocation_counting.hpp"
 
 namespace {
-
-std::atomic<long> g_allocations{0};
-std::atomic<bool> g_counting{false};
-
-void* counted_allocation(std::size_t size, std::size_t alignment) noexcept {
-  if (g_counting.load()) ++g_allocations;
-  if (size == 0) size = 1;
-  if (alignment <= alignof(std::max_align_t)) return std::malloc(size);
-  return std::aligned_alloc(alignment, (size + alignment - 1) / alignment * alignment);
-}
-
-void* checked(void* p) {
-  if (p == nullptr) throw std::bad_alloc();
-  return p;
-}
-
-// Every replaceable form is replaced, so that allocation and deallocation always pair
-// malloc/free (a sanitizer's own operator new[] must not meet this free). Not inlined: GCC
-// would otherwise warn that free() receives a pointer from operator new, which is true and
-// intended here.
-[[gnu::noinline]] void release(void* p) noexcept { std::free(p); }
-
+using flexref::testing::g_allocations;
+using flexref::testing::g_counting;
 }  // namespace
-
-void* operator new(std::size_t n) { return checked(counted_allocation(n, 1)); }
-void* operator new[](std::size_t n) { return checked(counted_allocation(n, 1)); }
-void* operator new(std::size_t n, std::align_val_t a) {
-  return checked(counted_allocation(n, static_cast<std::size_t>(a)));
-}
-void* operator new[](std::size_t n, std::align_val_t a) {
-  return checked(counted_allocation(n, static_cast<std::size_t>(a)));
-}
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  return counted_allocation(n, 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t&) noexcept {
-  return counted_allocation(n, 1);
-}
-void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  return counted_allocation(n, static_cast<std::size_t>(a));
-}
-void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
-  return counted_allocation(n, static_cast<std::size_t>(a));
-}
-void operator delete(void* p) noexcept { release(p); }
-void operator delete[](void* p) noexcept { release(p); }
-void operator delete(void* p, std::size_t) noexcept { release(p); }
-void operator delete[](void* p, std::size_t) noexcept { release(p); }
-void operator delete(void* p, std::align_val_t) noexcept { release(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { release(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { release(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { release(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { release(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { release(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { release(p); }
 
 namespace flexref::lie {
 namespace {
