@@ -2,6 +2,7 @@
 /// energy, on models with every force element kind. The global operator new of this program
 /// counts allocations (tests/support/allocation_counting.hpp).
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <vector>
 
 #include "core/dae_form.hpp"
@@ -36,7 +37,7 @@ TEST_CASE("model evaluations allocate nothing", "[core][allocation]") {
       model->compute_accelerations(ctx, s, ws, acc);
       energy = model->kinetic_energy(s) + model->potential_energy(ctx, s, ws);
     });
-    CHECK(energy > 0.0);
+    CHECK(std::isfinite(energy));
     INFO("model with body " << model->body(0).name());
     CHECK(n == 0);
   }
