@@ -45,13 +45,10 @@ namespace {
 
 namespace sun = sundials;
 
-struct CvodeData {
+struct CvodeData : sun::CallbackRecord {
   const core::OdeForm* form = nullptr;
   core::OdeForm::Scratch scratch;
   double t_segment = 0.0;
-  sun::ErrorLog log;
-  std::exception_ptr callback_error;
-  double last_nonfinite_time = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// y' = f(t, y) of the ODE form; allocates nothing.
@@ -112,26 +109,6 @@ void add_counters(void* cvode, SolverStats& stats) {
   stats.jacobian_evaluations += jacobians;
   stats.error_test_failures += error_fails;
   stats.nonlinear_failures += convergence_fails;
-}
-
-std::string failure_message(const std::string& what, const CvodeData& d) {
-  std::ostringstream out;
-  out.precision(17);
-  out << what;
-  if (!d.log.message.empty()) out << " (" << d.log.message << ")";
-  if (d.callback_error) {
-    try {
-      std::rethrow_exception(d.callback_error);
-    } catch (const std::exception& e) {
-      out << "; the right-hand side threw: " << e.what();
-    } catch (...) {
-      out << "; the right-hand side threw an unknown exception";
-    }
-  }
-  if (!std::isnan(d.last_nonfinite_time)) {
-    out << "; last non-finite right-hand side at t = " << d.last_nonfinite_time;
-  }
-  return out.str();
 }
 
 }  // namespace
@@ -224,7 +201,7 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
     if (CVodeGetCurrentTime(cvode.get(), &t_failed) < 0) t_failed = t_reached;
     if (CVodeGetNumSteps(cvode.get(), &steps) < 0) steps = 0;
     throw core::SolverError("cvode", t_failed, run.stats.steps + steps,
-                            failure_message(e.what(), data));
+                            sun::failure_message(e.what(), data, "right-hand side"));
   }
   run.stats.cpu_seconds = static_cast<double>(cpu) / CLOCKS_PER_SEC;
   return run;

@@ -50,8 +50,7 @@ ExactSolutionKind classify_exact_solution(const core::Model& model) {
   if (c_B.norm() == 0.0) return {"", "the centre of mass is at the pivot"};
   const core::BodyState s0 = model.initial_state()[0];
   if (s0.w_WB_B.norm() == 0.0) {
-    const Eigen::Vector3d axis_W =
-        (core::rotation_matrix(s0.theta_WB) * c_B).cross(gravity->g_W());
+    const Eigen::Vector3d axis_W = (core::rotation_matrix(s0.theta_WB) * c_B).cross(gravity->g_W());
     if (axis_W.norm() <= 1e-12 * c_B.norm() * gravity->g_W().norm()) {
       return {"", "released at rest in equilibrium"};
     }
@@ -79,7 +78,8 @@ ExactSolutionKind classify_exact_solution(const core::Model& model) {
 
 ReferenceRun solve_exact(const core::Model& model, const std::vector<double>& output_times) {
   const ExactSolutionKind kind = classify_exact_solution(model);
-  if (kind.kind.empty()) throw std::invalid_argument("no exact solution for this scene: " + kind.reason);
+  if (kind.kind.empty())
+    throw std::invalid_argument("no exact solution for this scene: " + kind.reason);
   const core::Body& body = model.body(0);
   const core::BodyState s0 = model.initial_state()[0];
   ReferenceRun run;
@@ -116,10 +116,9 @@ ReferenceRun solve_exact(const core::Model& model, const std::vector<double>& ou
       }
     } else {
       const Principal p = principal_axes(body.I_Br_B());
-      const int axis = std::abs(p.moments(0) - p.moments(1)) <=
-                               kSymmetryTolerance * p.moments.maxCoeff()
-                           ? 2
-                           : 0;
+      const int axis =
+          std::abs(p.moments(0) - p.moments(1)) <= kSymmetryTolerance * p.moments.maxCoeff() ? 2
+                                                                                             : 0;
       const double j_axial = p.moments(axis);
       const double j_perp = p.moments(axis == 2 ? 0 : 1);
       const HeavyTopExact exact(body.mass(), c_B.norm(), c_B.normalized(), j_perp, j_axial,

@@ -62,13 +62,10 @@ namespace sun = sundials;
 /// same solutions (errors within 10 %); 1, in the units of λ and μ, is the round middle.
 constexpr double kMultiplierAbsoluteTolerance = 1.0;
 
-struct IdaData {
+struct IdaData : sun::CallbackRecord {
   const core::DaeForm* form = nullptr;
   core::DaeForm::Scratch scratch;
   double t_segment = 0.0;
-  sun::ErrorLog log;
-  std::exception_ptr callback_error;
-  double last_nonfinite_time = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// F(t, y, y') of the DAE form; allocates nothing.
@@ -105,26 +102,6 @@ void add_counters(void* ida, SolverStats& stats) {
   stats.jacobian_evaluations += jacobians;
   stats.error_test_failures += error_fails;
   stats.nonlinear_failures += convergence_fails;
-}
-
-std::string failure_message(const std::string& what, const IdaData& d) {
-  std::ostringstream out;
-  out.precision(17);
-  out << what;
-  if (!d.log.message.empty()) out << " (" << d.log.message << ")";
-  if (d.callback_error) {
-    try {
-      std::rethrow_exception(d.callback_error);
-    } catch (const std::exception& e) {
-      out << "; the residual threw: " << e.what();
-    } catch (...) {
-      out << "; the residual threw an unknown exception";
-    }
-  }
-  if (!std::isnan(d.last_nonfinite_time)) {
-    out << "; last non-finite residual at t = " << d.last_nonfinite_time;
-  }
-  return out.str();
 }
 
 }  // namespace
@@ -228,7 +205,7 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
     if (IDAGetCurrentTime(ida.get(), &t_failed) < 0) t_failed = t_reached;
     if (IDAGetNumSteps(ida.get(), &steps) < 0) steps = 0;
     throw core::SolverError("ida", t_failed, run.stats.steps + steps,
-                            failure_message(e.what(), data));
+                            sun::failure_message(e.what(), data, "residual"));
   }
   run.stats.cpu_seconds = static_cast<double>(cpu) / CLOCKS_PER_SEC;
   return run;

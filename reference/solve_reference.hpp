@@ -13,7 +13,6 @@ std::vector<std::string> reference_solver_names();
 
 /// Runs the named solver; throws std::invalid_argument for an unknown name.
 ReferenceRun solve_reference(const std::string& solver, const core::Model& model,
-                             const std::vector<double>& output_times,
-                             const SolverOptions& options);
+                             const std::vector<double>& output_times, const SolverOptions& options);
 
 }  // namespace flexref::reference

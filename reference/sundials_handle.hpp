@@ -25,8 +25,10 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
+#include <exception>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -116,6 +118,38 @@ Handle check_created(Handle handle, const char* function) {
 struct ErrorLog {
   std::string message;
 };
+
+/// What a solver's callbacks leave behind for the failure message: the solver's own last error,
+/// an exception a callback caught (callbacks must not throw through C), and the last time a
+/// callback produced a non-finite value.
+struct CallbackRecord {
+  ErrorLog log;
+  std::exception_ptr callback_error;
+  double last_nonfinite_time = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// `what`, then the solver's message, the callback's exception and the last non-finite
+/// evaluation, if any. `callback` names the function ("right-hand side", "residual").
+inline std::string failure_message(const std::string& what, const CallbackRecord& record,
+                                   const char* callback) {
+  std::ostringstream out;
+  out.precision(17);
+  out << what;
+  if (!record.log.message.empty()) out << " (" << record.log.message << ")";
+  if (record.callback_error) {
+    try {
+      std::rethrow_exception(record.callback_error);
+    } catch (const std::exception& e) {
+      out << "; the " << callback << " threw: " << e.what();
+    } catch (...) {
+      out << "; the " << callback << " threw an unknown exception";
+    }
+  }
+  if (!std::isnan(record.last_nonfinite_time)) {
+    out << "; last non-finite " << callback << " at t = " << record.last_nonfinite_time;
+  }
+  return out.str();
+}
 
 /// Error handler for IDASetErrHandlerFn / CVodeSetErrHandlerFn (same signature): keeps the
 /// message of the last error and drops warnings (such as "t + h = t"), which either resolve
