@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/work_precision_command.hpp"
 #include "core/error.hpp"
 
 int main(int argc, char** argv) {
@@ -79,6 +80,45 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   conv_cmd->add_option("--out", conv.out_dir, "output directory")->capture_default_str();
 
+  WorkPrecisionOptions wp;
+  auto* wp_cmd = app.add_subcommand("work-precision", "error against CPU time, cheapest method");
+  wp_cmd->add_option("scene", wp.scene, "scene file (TOML)")->required();
+  wp_cmd->add_option("--schemes", wp.schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"c1", "c2", "nmb"}))
+      ->capture_default_str();
+  wp_cmd->add_option("--dt", wp.dt, "coarsest step [s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  wp_cmd->add_option("--levels", wp.levels, "number of steps dt, dt/2, ...")
+      ->check(CLI::Range(1, 16))
+      ->capture_default_str();
+  wp_cmd->add_option("--solvers", wp.solvers, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"ida", "cvode", "odeint"}))
+      ->capture_default_str();
+  wp_cmd->add_option("--tolerances", wp.tolerances, "comma-separated relative tolerances")
+      ->delimiter(',')
+      ->check(CLI::Range(1e-14, 1e-1))
+      ->capture_default_str();
+  wp_cmd->add_option("--repeats", wp.repeats, "CPU time: minimum over this many runs")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  wp_cmd->add_option("--metric", wp.metric, "error metric")->capture_default_str();
+  wp_cmd
+      ->add_option("--reference-solver", wp.reference_solver, "auto | ida | cvode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "odeint", "exact"}))
+      ->capture_default_str();
+  wp_cmd->add_option("--reference-rtol", wp.reference_rtol, "reference tolerance")
+      ->check(CLI::Range(1e-14, 1e-4))
+      ->capture_default_str();
+  wp_cmd
+      ->add_option("--jobs", wp.jobs,
+                   "parallel runs (0: all cores); timings are per-thread CPU time, cleanest "
+                   "with --jobs 1")
+      ->check(CLI::NonNegativeNumber);
+  wp_cmd->add_option("--out", wp.out_dir, "output directory")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -87,6 +127,7 @@ int main(int argc, char** argv) {
     if (*ref_cmd) return reference_command(ref);
     if (*cmp_cmd) return compare_command(cmp);
     if (*conv_cmd) return converge_command(conv);
+    if (*wp_cmd) return work_precision_command(wp);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;

@@ -1,0 +1,141 @@
+#include "app/stability_command.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "app/commands.hpp"
+#include "app/scene_reader.hpp"
+#include "studies/parallel.hpp"
+#include "studies/plot.hpp"
+#include "studies/stability.hpp"
+#include "studies/trajectory_table.hpp"
+#include "studies/versions.hpp"
+
+namespace flexref::app {
+namespace {
+
+/// `count` values spaced logarithmically in [lo, hi] (just lo when count is 1).
+std::vector<double> log_spaced(double lo, double hi, int count) {
+  if (!(lo > 0.0) || !(hi >= lo) || count < 1) {
+    throw std::invalid_argument("stability: need 0 < --min <= --max and --count >= 1");
+  }
+  std::vector<double> values;
+  for (int i = 0; i < count; ++i) {
+    const double f = count == 1 ? 0.0 : static_cast<double>(i) / (count - 1);
+    values.push_back(lo * std::pow(hi / lo, f));
+  }
+  return values;
+}
+
+}  // namespace
+
+int stability_command(const StabilityCommandOptions& options) {
+  studies::StabilityOptions study;
+  study.parameter = options.parameter;
+  study.schemes = options.schemes;
+  std::string body_source = "built-in free_spin body, J = diag(3, 4, 5), W0 = (0.2, 0.3, 2.0)";
+  std::string metadata = "[scene]\nfile = \"\"\nname = \"built-in free_spin body\"\n";
+  if (!options.scene.empty()) {
+    const Scene scene = read_scene(options.scene);
+    int free_body = -1;
+    for (int i = 0; i < scene.model->num_bodies() && free_body < 0; ++i) {
+      if (scene.model->body(i).is_free()) free_body = i;
+    }
+    if (free_body < 0) {
+      throw std::invalid_argument("stability: scene '" + options.scene + "' has no free body");
+    }
+    const core::RigidBodyDescription& body = scene.model->body(free_body).description();
+    if (!(body.initial.w_WB_B.norm() > 0.0)) {
+      throw std::invalid_argument("stability: body '" + body.name + "' of scene '" + options.scene +
+                                  "' has no initial angular velocity");
+    }
+    study.I_Bcm_B = body.I_Bcm_B;
+    study.w_direction_B = body.initial.w_WB_B;
+    body_source = "inertia and W0 of body '" + body.name + "' of " + options.scene +
+                  " (torque-free: the scene's loads are not used)";
+    metadata = scene_metadata(options.scene, scene.name) + "\n";
+  }
+  const bool spin_sweep = options.parameter == "spin";
+  if (!options.values.empty()) {
+    study.values = options.values;
+  } else {
+    const double lo = options.min > 0.0 ? options.min : (spin_sweep ? 0.1 : 1.0);
+    const double hi = options.max > 0.0 ? options.max : (spin_sweep ? 1000.0 : 1e6);
+    study.values = log_spaced(lo, hi, options.count);
+  }
+  study.spin = options.spin > 0.0 ? options.spin : study.w_direction_B.norm();
+  study.criterion.steps = options.steps;
+  study.criterion.energy_factor = options.energy_factor;
+  study.criterion.momentum_factor = options.energy_factor;
+  study.relative_tolerance = options.rtol;
+  study.degenerate = options.degenerate;
+  study.long_run_steps = options.long_run_steps;
+  study.long_run_h = options.long_run_dt;
+  study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
+
+  std::cerr << "stability: " << study.values.size() * study.schemes.size() << " bisections"
+            << (study.degenerate ? " + degenerate set" : "")
+            << (study.long_run_steps > 0
+                    ? " + long runs of " + std::to_string(study.long_run_steps) + " steps"
+                    : "")
+            << " on " << study.jobs << " threads ...\n";
+  const studies::StabilityResult result = studies::run_stability(study);
+
+  std::filesystem::create_directories(options.out_dir);
+  const std::filesystem::path dir(options.out_dir);
+  const std::string table = "body: " + body_source + "\n" + studies::format_stability_table(result);
+  std::ostringstream settings;
+  settings.precision(17);
+  settings << metadata << "\n[study]\nkind = \"stability\"\nparameter = \"" << study.parameter
+           << "\"\nvalues = [";
+  for (std::size_t i = 0; i < study.values.size(); ++i) {
+    settings << (i ? ", " : "") << study.values[i];
+  }
+  settings << "]\nschemes = [";
+  for (std::size_t i = 0; i < study.schemes.size(); ++i) {
+    settings << (i ? ", " : "") << '"' << study.schemes[i] << '"';
+  }
+  settings << "]\ninertia_B = [" << study.I_Bcm_B(0, 0) << ", " << study.I_Bcm_B(1, 1) << ", "
+           << study.I_Bcm_B(2, 2) << "]  # diagonal of the swept body's inertia (spin sweep)\n"
+           << "w_direction_B = [" << study.w_direction_B(0) << ", " << study.w_direction_B(1)
+           << ", " << study.w_direction_B(2) << "]\nspin = " << study.spin
+           << "\nsteps_per_run = " << study.criterion.steps
+           << "\nenergy_factor = " << study.criterion.energy_factor
+           << "\nmomentum_factor = " << study.criterion.momentum_factor
+           << "\nrelative_tolerance = " << study.relative_tolerance
+           << "\ndegenerate = " << (study.degenerate ? "true" : "false")
+           << "\nlong_run_steps = " << study.long_run_steps
+           << "\nlong_run_dt = " << study.long_run_h << "\njobs = " << study.jobs << "\n\n"
+           << studies::versions_toml();
+
+  const std::string csv_path = (dir / "stability.csv").string();
+  studies::write_file_atomically(csv_path, studies::stability_csv(result));
+  studies::write_file_atomically((dir / "stability.txt").string(), table);
+  studies::write_file_atomically((dir / "study.toml").string(), settings.str());
+  const std::string png = (dir / "stability.png").string();
+  const studies::PlotOutcome plot = studies::run_plot_script(
+      "plot_stability.py", {"sweep", csv_path, png, "stability: " + study.parameter}, png);
+  std::vector<std::string> written{csv_path, "stability.txt", "study.toml"};
+  std::vector<std::string> plot_problems;
+  (plot.ok ? written : plot_problems).push_back(plot.message);
+  if (!result.long_run.empty()) {
+    const std::string long_csv = (dir / "long_run.csv").string();
+    studies::write_file_atomically(long_csv, studies::long_run_csv(result));
+    written.push_back("long_run.csv");
+    const std::string long_png = (dir / "long_run.png").string();
+    const studies::PlotOutcome long_plot = studies::run_plot_script(
+        "plot_stability.py", {"long_run", long_csv, long_png, "long run"}, long_png);
+    (long_plot.ok ? written : plot_problems).push_back(long_plot.message);
+  }
+
+  std::cout << "stability\n" << table << "wrote ";
+  for (std::size_t i = 0; i < written.size(); ++i) std::cout << (i ? ", " : "") << written[i];
+  std::cout << "\n";
+  for (const std::string& problem : plot_problems) std::cout << problem << "\n";
+  return kExitOk;
+}
+
+}  // namespace flexref::app

@@ -1,0 +1,34 @@
+#pragma once
+/// \file stability_command.hpp
+/// `flexref stability`: largest stable step of each scheme against spin rate or inertia ratio
+/// on a torque-free body, the degenerate-body set and long-run drifts (studies/stability.hpp).
+#include <string>
+#include <vector>
+
+namespace flexref::app {
+
+struct StabilityCommandOptions {
+  /// Optional scene: its first free body's inertia and W0 direction replace free_spin's.
+  std::string scene;
+  std::string parameter = "spin";  ///< "spin" (|W0|, rad/s) or "inertia_ratio" (J3/J1)
+  /// Swept values; when empty, `count` values spaced logarithmically in [min, max]; min and
+  /// max ≤ 0 mean the parameter's default range: spin 0.1 … 1000 rad/s, ratio 1 … 1e6.
+  std::vector<double> values;
+  double min = 0.0;
+  double max = 0.0;
+  int count = 9;
+  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  double spin = 0.0;           ///< |W0| of the ratio sweep and degenerate set (0: the body's)
+  long steps = 1000;           ///< steps per stability run
+  double energy_factor = 0.5;  ///< unstable when |E − E0| > factor·|E0| (same for |π|)
+  double rtol = 1e-3;          ///< bisection relative tolerance
+  bool degenerate = true;      ///< run the built-in degenerate bodies
+  long long_run_steps = 1000000;
+  double long_run_dt = 0.01;  ///< s
+  int jobs = 0;               ///< 0: all cores
+  std::string out_dir = "out/stability";
+};
+
+int stability_command(const StabilityCommandOptions& options);
+
+}  // namespace flexref::app

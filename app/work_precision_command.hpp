@@ -1,0 +1,30 @@
+#pragma once
+/// \file work_precision_command.hpp
+/// The `work-precision` subcommand (design/studies.md, "Work-precision"): error against CPU
+/// time for each scheme over a range of steps and each reference solver over a range of
+/// tolerances, the cheapest method per target error, a CSV, a table, study.toml and a plot.
+#include <string>
+#include <vector>
+
+namespace flexref::app {
+
+struct WorkPrecisionOptions {
+  std::string scene;
+  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  double dt = 1e-2;  ///< coarsest step [s]
+  int levels = 6;    ///< number of steps dt, dt/2, …
+  std::vector<std::string> solvers{"ida", "cvode", "odeint"};
+  std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
+  int repeats = 3;  ///< CPU time: minimum over this many runs
+  std::string metric = "rotation+points";
+  std::string reference_solver = "auto";
+  double reference_rtol = 1e-12;
+  int jobs = 0;  ///< 0: all cores (timings are cleanest with 1)
+  std::string out_dir = "out/work_precision";
+};
+
+/// Runs the study on the scene and writes work_precision.csv, work_precision.txt, study.toml,
+/// reference.csv and work_precision.png (when matplotlib is available) to out_dir.
+int work_precision_command(const WorkPrecisionOptions& app_options);
+
+}  // namespace flexref::app

@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""Plots of a `flexref stability` study.
+
+Usage:
+  plot_stability.py sweep stability.csv out.png "title"
+  plot_stability.py long_run long_run.csv out.png "title"
+
+sweep: reads scheme,parameter,value,h_max,h_max_times_spin,classification and draws, log-log,
+the largest stable step h_max of each scheme against the swept parameter (the rows of the
+degenerate set, whose parameter is a body name, are left to the table). Guides: h|W0| = 2,
+the central-difference limit of a linear oscillator at the spin frequency, and h|W0| = pi,
+a rotation of pi per step. A free rigid body has no exact central-difference limit: these are
+orientation marks, not theorems.
+
+long_run: reads scheme,step,t,energy_drift,momentum_drift,quaternion_norm_drift,status and
+draws the three drifts (maximum over each sampling interval) of each scheme against time.
+"""
+import csv
+import math
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def ordered(values):
+    out = []
+    for v in values:
+        if v not in out:
+            out.append(v)
+    return out
+
+
+def plot_sweep(rows, png, title):
+    swept = [r for r in rows if r["parameter"] in ("spin", "inertia_ratio")]
+    if not swept:
+        sys.stderr.write("plot_stability.py: no sweep rows\n")
+        return 1
+    parameter = swept[0]["parameter"]
+    fig, ax = plt.subplots(figsize=(6.4, 4.8), dpi=120)
+    markers = "osD^v<>"
+    for k, s in enumerate(ordered(r["scheme"] for r in swept)):
+        pts = [(float(r["value"]), float(r["h_max"])) for r in swept if r["scheme"] == s]
+        pts = [p for p in pts if p[1] > 0 and math.isfinite(p[1])]
+        if pts:
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=markers[k % len(markers)],
+                      label=s.upper())
+    values = sorted({float(r["value"]) for r in swept})
+    if parameter == "spin":
+        spins = values
+        ax.set_xlabel("spin rate |W0| [rad/s]")
+    else:
+        # One spin for the whole ratio sweep: |W0| = (h_max |W0|) / h_max.
+        r0 = next(r for r in swept if float(r["h_max"]) > 0)
+        spin = float(r0["h_max_times_spin"]) / float(r0["h_max"])
+        spins = [spin for _ in values]
+        ax.set_xlabel("inertia ratio J3/J1")
+    for c, style, text in ((math.pi, "--", "h|W0| = π (rotation π per step)"),
+                           (2.0, ":", "h|W0| = 2 (central-difference limit at ω = |W0|)")):
+        ax.loglog(values, [c / w for w in spins], style, color="gray", label=text)
+    ax.set_ylabel("largest stable step h_max [s]")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png)
+    return 0
+
+
+def plot_long_run(rows, png, title):
+    columns = (("energy_drift", "|E − E0| / E0"), ("momentum_drift", "|π − π0| / |π0|"),
+               ("quaternion_norm_drift", "| |θ| − 1 |"))
+    fig, axes = plt.subplots(3, 1, figsize=(6.4, 8.0), dpi=120, sharex=True)
+    for s in ordered(r["scheme"] for r in rows):
+        mine = [r for r in rows if r["scheme"] == s]
+        t = [float(r["t"]) for r in mine]
+        for ax, (key, _) in zip(axes, columns):
+            # Exact zeros (an invariant kept to the last bit) are drawn at 1e-17.
+            ax.semilogy(t, [max(float(r[key]), 1e-17) for r in mine], label=s.upper())
+    for ax, (_, label) in zip(axes, columns):
+        ax.set_ylabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_title(title)
+    axes[0].legend()
+    axes[-1].set_xlabel("time t [s]")
+    fig.tight_layout()
+    fig.savefig(png)
+    return 0
+
+
+def main(argv):
+    if len(argv) != 5 or argv[1] not in ("sweep", "long_run"):
+        sys.stderr.write(__doc__)
+        return 2
+    rows = list(csv.DictReader(open(argv[2], newline="")))
+    if argv[1] == "sweep":
+        return plot_sweep(rows, argv[3], argv[4])
+    return plot_long_run(rows, argv[3], argv[4])
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

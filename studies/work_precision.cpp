@@ -1,0 +1,265 @@
+#include "studies/work_precision.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/state.hpp"
+#include "lie/run_scheme.hpp"
+#include "lie/stepper.hpp"
+#include "reference/solve_reference.hpp"
+#include "studies/error_metrics.hpp"
+#include "studies/parallel.hpp"
+
+namespace flexref::studies {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+void validate(const WorkPrecisionOptions& options) {
+  if (!(options.h0 > 0.0) || !std::isfinite(options.h0)) {
+    throw std::invalid_argument("--dt must be positive");
+  }
+  if (options.levels < 1) throw std::invalid_argument("--levels must be at least 1");
+  if (options.repeats < 1) throw std::invalid_argument("--repeats must be at least 1");
+  if (options.schemes.empty() && options.solvers.empty()) {
+    throw std::invalid_argument("work-precision needs at least one scheme or solver");
+  }
+  const std::vector<std::string> schemes = lie::scheme_names();
+  for (const auto& s : options.schemes) {
+    if (!contains(schemes, s)) throw std::invalid_argument("unknown scheme '" + s + "'");
+  }
+  const std::vector<std::string> solvers = reference::reference_solver_names();
+  for (const auto& s : options.solvers) {
+    if (s == "exact" || !contains(solvers, s)) {
+      throw std::invalid_argument("unknown or tolerance-free solver '" + s +
+                                  "' (use ida, cvode or odeint)");
+    }
+  }
+  if (!options.solvers.empty() && options.tolerances.empty()) {
+    throw std::invalid_argument("--tolerances must not be empty when solvers are given");
+  }
+  for (double tol : options.tolerances) {
+    if (!(tol > 0.0) || !std::isfinite(tol)) {
+      throw std::invalid_argument("--tolerances must be positive");
+    }
+  }
+}
+
+/// Integrates `repeats` times and returns the last trajectory; `cpu_seconds` is the minimum
+/// thread CPU time of the `integrate` calls alone.
+template <typename Integrate>
+core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integrate) {
+  cpu_seconds = kInf;
+  core::Trajectory trajectory;
+  for (int r = 0; r < repeats; ++r) {
+    const double start = thread_cpu_seconds();
+    trajectory = integrate();
+    cpu_seconds = std::min(cpu_seconds, thread_cpu_seconds() - start);
+  }
+  return trajectory;
+}
+
+std::string csv_safe(std::string s) {
+  for (char& c : s) {
+    if (c == ',' || c == '\n') c = ';';
+  }
+  return s;
+}
+
+}  // namespace
+
+std::vector<double> default_target_errors() { return {1e-2, 1e-4, 1e-6, 1e-8}; }
+
+std::vector<CheapestMethod> cheapest_methods(const std::vector<WorkPrecisionRun>& runs,
+                                             const std::vector<double>& targets) {
+  std::vector<CheapestMethod> out;
+  out.reserve(targets.size());
+  for (double target : targets) {
+    CheapestMethod best;
+    best.target = target;
+    for (const auto& run : runs) {
+      if (run.status != "ok" || !(run.error <= target) || !std::isfinite(run.cpu_seconds)) {
+        continue;
+      }
+      if (!best.found || run.cpu_seconds < best.run.cpu_seconds) {
+        best.found = true;
+        best.run = run;
+      }
+    }
+    out.push_back(best);
+  }
+  return out;
+}
+
+WorkPrecisionResult run_work_precision(const core::Model& model,
+                                       const std::vector<double>& output_times,
+                                       const WorkPrecisionOptions& options) {
+  validate(options);
+  WorkPrecisionResult result;
+  result.options = options;
+
+  reference::SolverOptions ref_options;
+  ref_options.rtol = options.reference_rtol;
+  const std::string solver = resolve_reference_solver(options.reference_solver, model);
+  if (options.progress) {
+    std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
+  }
+  result.reference = certified_reference(model, output_times, solver, ref_options, options.metric);
+
+  const int n_scheme_runs = static_cast<int>(options.schemes.size()) * options.levels;
+  const int n_tolerances = static_cast<int>(options.tolerances.size());
+  const int n_runs = n_scheme_runs + static_cast<int>(options.solvers.size()) * n_tolerances;
+  result.runs.resize(static_cast<std::size_t>(n_runs));
+  std::atomic<int> done{0};
+  const bool tty = options.progress && isatty(STDERR_FILENO);
+  parallel_for(n_runs, options.jobs, [&](int k) {
+    WorkPrecisionRun& out = result.runs[static_cast<std::size_t>(k)];
+    try {
+      core::Trajectory trajectory;
+      if (k < n_scheme_runs) {
+        out.method = options.schemes[static_cast<std::size_t>(k / options.levels)];
+        out.kind = "scheme";
+        out.setting = options.h0 / std::ldexp(1.0, k % options.levels);
+        trajectory = timed_min(options.repeats, out.cpu_seconds, [&] {
+          // The stepper is built inside the timed region: building it is part of the run's
+          // cost just as a reference solver's setup is part of solve_reference.
+          auto stepper = lie::make_stepper(out.method, model);
+          return lie::run_scheme(model, *stepper, out.setting, output_times);
+        });
+      } else {
+        const int j = k - n_scheme_runs;
+        out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];
+        out.kind = "solver";
+        out.setting = options.tolerances[static_cast<std::size_t>(j % n_tolerances)];
+        reference::SolverOptions solver_options;
+        solver_options.rtol = out.setting;
+        trajectory = timed_min(options.repeats, out.cpu_seconds, [&] {
+          return reference::solve_reference(out.method, model, output_times, solver_options)
+              .trajectory;
+        });
+      }
+      out.error =
+          metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
+                       options.metric);
+      out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
+    } catch (const std::exception& e) {
+      out.error = kInf;
+      out.cpu_seconds = kNaN;
+      out.status = std::string("failed: ") + e.what();
+    }
+    const int finished = ++done;
+    if (tty) std::fprintf(stderr, "\rwork-precision: %d/%d runs", finished, n_runs);
+  });
+  if (tty) std::fprintf(stderr, "\n");
+
+  const double ref_estimate = result.reference.estimate.estimate();
+  bool any_uncertified = false;
+  for (auto& run : result.runs) {
+    if (run.status == "ok" && run.error < 100.0 * ref_estimate) {
+      run.status = "uncertified";
+      any_uncertified = true;
+    }
+  }
+  result.cheapest = cheapest_methods(result.runs, default_target_errors());
+
+  if (any_uncertified) {
+    std::ostringstream note;
+    note << "runs marked 'uncertified' have an error below 100x the reference's estimated "
+            "error "
+         << ref_estimate
+         << ": it cannot be measured, and they are left out of the cheapest-method table "
+            "(tighten --reference-rtol to measure them)";
+    result.notes.push_back(note.str());
+  }
+  for (const auto& run : result.runs) {
+    if (run.status.rfind("failed", 0) == 0) {
+      result.notes.push_back("some runs failed (see their status); they are left out");
+      break;
+    }
+  }
+  std::ostringstream timing;
+  timing << "CPU time: thread CPU time of the integration alone (output excluded), minimum of "
+         << options.repeats << " run(s), " << options.jobs
+         << " job(s); parallel runs share caches and memory bandwidth, --jobs 1 gives the "
+            "cleanest timings (the errors do not depend on --jobs)";
+  result.notes.push_back(timing.str());
+  return result;
+}
+
+std::string format_work_precision_table(const WorkPrecisionResult& r) {
+  std::ostringstream out;
+  const auto& est = r.reference.estimate;
+  out << "reference: " << r.reference.run.solver << " rtol " << r.reference.run.options.rtol
+      << ", estimated error " << std::scientific << std::setprecision(2) << est.estimate()
+      << " (vs " << est.tighter_solver << " at rtol " << est.tighter_rtol << ": " << est.vs_tighter
+      << "; vs " << est.other_solver << " at rtol " << est.other_rtol << ": " << est.vs_other_solver
+      << (est.exact ? "; the smaller bounds an exact solution" : "") << ")\n";
+  out << "metric: " << r.options.metric << "\n";
+
+  std::string current;
+  for (const auto& run : r.runs) {
+    if (run.method + run.kind != current) {
+      current = run.method + run.kind;
+      out << "\n"
+          << run.method << " (" << run.kind << ")\n"
+          << std::right << std::setw(12) << (run.kind == "scheme" ? "h [s]" : "rtol")
+          << std::setw(12) << "error" << std::setw(11) << "cpu [s]"
+          << "  status\n";
+    }
+    out << std::scientific << std::setprecision(3) << std::setw(12) << run.setting << std::setw(12)
+        << run.error << std::setprecision(2) << std::setw(11);
+    if (std::isnan(run.cpu_seconds)) {
+      out << "-";
+    } else {
+      out << run.cpu_seconds;
+    }
+    out << "  " << run.status << "\n";
+  }
+
+  out << "\ncheapest method per target error (certified runs only):\n"
+      << std::right << std::setw(8) << "target"
+      << "  " << std::left << std::setw(8) << "method" << std::setw(18) << "setting" << std::right
+      << std::setw(11) << "error" << std::setw(11) << "cpu [s]\n";
+  for (const auto& c : r.cheapest) {
+    out << std::right << std::scientific << std::setprecision(0) << std::setw(8) << c.target
+        << "  ";
+    if (!c.found) {
+      out << "none reaches it\n";
+      continue;
+    }
+    std::ostringstream setting;
+    setting << (c.run.kind == "scheme" ? "h = " : "rtol = ") << std::scientific
+            << std::setprecision(2) << c.run.setting;
+    out << std::left << std::setw(8) << c.run.method << std::setw(18) << setting.str() << std::right
+        << std::setprecision(2) << std::setw(11) << c.run.error << std::setw(11)
+        << c.run.cpu_seconds << "\n";
+  }
+  for (const auto& n : r.notes) out << "note: " << n << "\n";
+  return out.str();
+}
+
+std::string work_precision_csv(const WorkPrecisionResult& r) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "method,kind,setting,error,cpu_seconds,status\n";
+  for (const auto& run : r.runs) {
+    out << run.method << ',' << run.kind << ',' << run.setting << ',' << run.error << ','
+        << run.cpu_seconds << ',' << csv_safe(run.status) << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace flexref::studies

@@ -1,0 +1,83 @@
+#pragma once
+/// \file work_precision.hpp
+/// The `work-precision` study (design/studies.md): the speed/accuracy trade. Each scheme at
+/// steps h0, h0/2, …, and each reference solver at relative tolerances 1e-3 … 1e-12, gives an
+/// error against a certified reference (in a named metric) and a CPU time; the summary names,
+/// for each target error, the cheapest method that reaches it.
+///
+/// CPU time is the calling thread's CPU time (CLOCK_THREAD_CPUTIME_ID) of the integration
+/// only — lie::run_scheme or reference::solve_reference, never tabulation or output — and the
+/// minimum over `repeats` runs, which filters out preemption and cache effects. Runs execute in
+/// parallel on `jobs` threads: the errors do not depend on `jobs`, the timings do (threads on a
+/// small machine share caches and memory bandwidth), so `jobs = 1` gives the cleanest timings.
+///
+/// Errors below 100× the reference's estimated error cannot be measured: those runs are
+/// "uncertified" and take no part in the cheapest-method summary.
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "studies/certified_reference.hpp"
+
+namespace flexref::studies {
+
+struct WorkPrecisionOptions {
+  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  double h0 = 1e-2;  ///< coarsest step [s]
+  int levels = 6;    ///< steps h0, h0/2, …, h0/2^(levels−1)
+  std::vector<std::string> solvers{"ida", "cvode", "odeint"};
+  std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
+  int repeats = 3;  ///< CPU time is the minimum over this many runs
+  std::string metric = "rotation+points";
+  std::string reference_solver = "auto";
+  double reference_rtol = 1e-12;
+  int jobs = 1;
+  bool progress = false;  ///< progress line on stderr
+};
+
+/// One point of the work-precision diagram.
+struct WorkPrecisionRun {
+  std::string method;        ///< scheme ("c1", "c2", "nmb") or solver ("ida", "cvode", …)
+  std::string kind;          ///< "scheme" or "solver"
+  double setting = 0.0;      ///< step h [s] for a scheme, relative tolerance for a solver
+  double error = 0.0;        ///< metric against the reference (+inf when failed)
+  double cpu_seconds = 0.0;  ///< minimum thread CPU time over the repeats (NaN when failed)
+  std::string status;        ///< "ok", "uncertified", or "failed: why"
+};
+
+/// The cheapest run reaching a target error (see cheapest_methods).
+struct CheapestMethod {
+  double target = 0.0;
+  bool found = false;  ///< false: no "ok" run has error ≤ target ("none reaches it")
+  WorkPrecisionRun run;
+};
+
+struct WorkPrecisionResult {
+  WorkPrecisionOptions options;
+  CertifiedReference reference;
+  std::vector<WorkPrecisionRun> runs;  ///< schemes × levels, then solvers × tolerances
+  std::vector<CheapestMethod> cheapest;
+  std::vector<std::string> notes;
+};
+
+/// The target errors of the summary table: 1e-2, 1e-4, 1e-6, 1e-8.
+std::vector<double> default_target_errors();
+
+/// For each target, the run with the smallest CPU time among the runs with status "ok" and
+/// error ≤ target (ties: the first in `runs` order).
+std::vector<CheapestMethod> cheapest_methods(const std::vector<WorkPrecisionRun>& runs,
+                                             const std::vector<double>& targets);
+
+/// Runs the study; throws std::invalid_argument for bad options and like the solvers when the
+/// reference fails. A failing scheme or solver run is recorded as "failed: why".
+WorkPrecisionResult run_work_precision(const core::Model& model,
+                                       const std::vector<double>& output_times,
+                                       const WorkPrecisionOptions& options);
+
+/// The terminal table: one block per method (setting, error, CPU time, status), then the
+/// cheapest method per target error, then the notes.
+std::string format_work_precision_table(const WorkPrecisionResult& result);
+/// CSV: method,kind,setting,error,cpu_seconds,status.
+std::string work_precision_csv(const WorkPrecisionResult& result);
+
+}  // namespace flexref::studies
