@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
 
@@ -119,6 +120,54 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   wp_cmd->add_option("--out", wp.out_dir, "output directory")->capture_default_str();
 
+  StabilityCommandOptions stab;
+  auto* stab_cmd =
+      app.add_subcommand("stability", "largest stable step vs spin rate / inertia ratio");
+  stab_cmd->add_option("scene", stab.scene,
+                       "optional scene: first free body's inertia and W0 direction");
+  stab_cmd->add_option("--parameter", stab.parameter, "spin | inertia_ratio")
+      ->check(CLI::IsMember({"spin", "inertia_ratio"}))
+      ->capture_default_str();
+  auto* values_opt = stab_cmd->add_option("--values", stab.values, "swept values (comma-separated)")
+                         ->delimiter(',');
+  stab_cmd->add_option("--min", stab.min, "log-spaced range start (default: spin 0.1, ratio 1)")
+      ->excludes(values_opt);
+  stab_cmd->add_option("--max", stab.max, "log-spaced range end (default: spin 1000, ratio 1e6)")
+      ->excludes(values_opt);
+  stab_cmd->add_option("--count", stab.count, "number of values")
+      ->check(CLI::Range(1, 200))
+      ->capture_default_str();
+  stab_cmd->add_option("--schemes", stab.schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"c1", "c2", "nmb"}))
+      ->capture_default_str();
+  stab_cmd
+      ->add_option("--spin", stab.spin,
+                   "|W0| for the ratio sweep and degenerate set (0: the body's) [rad/s]")
+      ->check(CLI::NonNegativeNumber);
+  stab_cmd->add_option("--steps", stab.steps, "steps per stability run")
+      ->check(CLI::Range(10L, 100000000L))
+      ->capture_default_str();
+  stab_cmd
+      ->add_option("--energy-factor", stab.energy_factor,
+                   "unstable when |dE| > f|E0| (and |dpi| > f|pi0|)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  stab_cmd->add_option("--rtol", stab.rtol, "bisection relative tolerance")
+      ->check(CLI::Range(1e-8, 0.5))
+      ->capture_default_str();
+  stab_cmd->add_flag("--degenerate,!--no-degenerate", stab.degenerate,
+                     "run the degenerate-body set");
+  stab_cmd->add_option("--long-run-steps", stab.long_run_steps, "0: no long run")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  stab_cmd->add_option("--long-run-dt", stab.long_run_dt, "long-run step [s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  stab_cmd->add_option("--jobs", stab.jobs, "parallel runs (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  stab_cmd->add_option("--out", stab.out_dir, "output directory")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -128,6 +177,7 @@ int main(int argc, char** argv) {
     if (*cmp_cmd) return compare_command(cmp);
     if (*conv_cmd) return converge_command(conv);
     if (*wp_cmd) return work_precision_command(wp);
+    if (*stab_cmd) return stability_command(stab);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;
