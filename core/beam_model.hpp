@@ -68,8 +68,10 @@ std::string beam_parameters_problem(const BeamParameters& parameters);
 /// that its value at the tip (x = origin + L) is positive.
 struct BeamMode {
   BeamModeFamily family = BeamModeFamily::kBendingXY;
-  int order = 1;       ///< 1 for the family's lowest elastic mode
-  double omega = 0.0;  ///< rad/s
+  int order = 1;  ///< 1 for the family's lowest elastic mode
+  /// rad/s; ω² is the Rayleigh quotient of the mode evaluated from the element strains (the
+  /// eigenvalue without its rounding floor ε·λ_max/λ, see docs/modal_data.md).
+  double omega = 0.0;
   /// The family's field at the elements + 1 nodes, root to tip: u, v, w (m) or θx (rad).
   Eigen::VectorXd value;
   /// Its derivative d/dx at the nodes (bending families: dv/dx, dw/dx); empty otherwise.

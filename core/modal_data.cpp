@@ -18,6 +18,7 @@ constexpr std::array<std::array<int, 3>, 3> kCyclic = {{{0, 1, 2}, {1, 2, 0}, {2
 constexpr std::size_t pair(int a, int b) {
   return 3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(b);
 }
+constexpr Eigen::Index pair_row(int a, int b) { return static_cast<Eigen::Index>(pair(a, b)); }
 
 [[noreturn]] void fail(const std::string& what) {
   throw std::invalid_argument("modal data: " + what);
@@ -191,7 +192,7 @@ ModalInvariants make_modal_invariants(const ModalData& data) {
     inv.S += m * phi_k;
     for (int a = 0; a < 3; ++a) {
       for (int b = 0; b < 3; ++b) {
-        inv.x_phi.row(static_cast<Eigen::Index>(pair(a, b))) += (m * x(a)) * phi_k.row(b);
+        inv.x_phi.row(pair_row(a, b)) += (m * x(a)) * phi_k.row(b);
         // Only the upper triangle (a ≤ b) is summed; the lower one is its transpose.
         if (b >= a) {
           inv.phi_phi[pair(a, b)].noalias() += m * phi_k.row(a).transpose() * phi_k.row(b);
@@ -210,8 +211,7 @@ ModalInvariants make_modal_invariants(const ModalData& data) {
   inv.I_theta_f0 = Eigen::Matrix3Xd::Zero(3, n);
   for (const auto& [a, b, c] : kCyclic) {
     // (x̃ Φ)_a = x_b Φ_c − x_c Φ_b
-    inv.I_theta_f0.row(a) = inv.x_phi.row(static_cast<Eigen::Index>(pair(b, c))) -
-                            inv.x_phi.row(static_cast<Eigen::Index>(pair(c, b)));
+    inv.I_theta_f0.row(a) = inv.x_phi.row(pair_row(b, c)) - inv.x_phi.row(pair_row(c, b));
     inv.phi_cross_phi[static_cast<std::size_t>(a)] =
         inv.phi_phi[pair(b, c)] - inv.phi_phi[pair(c, b)];
   }
@@ -253,8 +253,7 @@ Eigen::Matrix3d inertia_theta_theta(const ModalInvariants& inv,
   for (int a = 0; a < 3; ++a) {
     for (int b = 0; b < 3; ++b) {
       double sum = 0.0;
-      for (Eigen::Index j = 0; j < n; ++j)
-        sum += inv.x_phi(static_cast<Eigen::Index>(pair(a, b)), j) * q_f(j);
+      for (Eigen::Index j = 0; j < n; ++j) sum += inv.x_phi(pair_row(a, b), j) * q_f(j);
       L(a, b) = sum;
     }
   }
