@@ -1,8 +1,11 @@
 #pragma once
 /// \file allocation_counting.hpp
 /// Replaces the global operator new/delete of a test program with versions that count
-/// allocations while `flexref::testing::g_counting` is set. Include in exactly ONE
-/// translation unit of a test executable (it defines the replaceable global operators).
+/// allocations while `flexref::testing::g_counting` is set, and (with glibc, outside
+/// AddressSanitizer builds, which intercept malloc themselves) interposes malloc, calloc and
+/// realloc too: Eigen allocates its heap matrices with std::malloc, not operator new, so
+/// counting operator new alone would not see them. Include in exactly ONE translation unit of
+/// a test executable (it defines the replaceable global operators and the C allocators).
 #include <atomic>
 #include <cstddef>
 #include <cstdlib>
@@ -22,6 +25,32 @@ long count_allocations(F&& f) {
   return g_allocations.load();
 }
 }  // namespace flexref::testing
+
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+// glibc exports its allocator under these names; a program that defines malloc interposes it
+// for every shared library it loads, Eigen's inline code included.
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t count, std::size_t size);
+void* __libc_realloc(void* pointer, std::size_t size);
+
+void* malloc(std::size_t size) noexcept {
+  if (flexref::testing::g_counting.load(std::memory_order_relaxed))
+    ++flexref::testing::g_allocations;
+  return __libc_malloc(size);
+}
+void* calloc(std::size_t count, std::size_t size) noexcept {
+  if (flexref::testing::g_counting.load(std::memory_order_relaxed))
+    ++flexref::testing::g_allocations;
+  return __libc_calloc(count, size);
+}
+void* realloc(void* pointer, std::size_t size) noexcept {
+  if (flexref::testing::g_counting.load(std::memory_order_relaxed))
+    ++flexref::testing::g_allocations;
+  return __libc_realloc(pointer, size);
+}
+}
+#endif
 
 namespace {
 
