@@ -9,9 +9,9 @@ namespace flexref::app {
 
 /// Exit codes.
 inline constexpr int kExitOk = 0;
-inline constexpr int kExitInputError = 1;    ///< bad scene, CSV or option value
-inline constexpr int kExitSolverError = 3;   ///< an integrator failed
-inline constexpr int kExitRefused = 4;       ///< a study refused (e.g. uncertified reference)
+inline constexpr int kExitInputError = 1;   ///< bad scene, CSV or option value
+inline constexpr int kExitSolverError = 3;  ///< an integrator failed
+inline constexpr int kExitRefused = 4;      ///< a study refused (e.g. uncertified reference)
 
 struct CheckOptions {
   std::string scene;

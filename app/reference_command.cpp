@@ -44,8 +44,8 @@ int reference_command(const ReferenceOptions& options) {
     const auto& e = ref.estimate;
     meta << "\n[error_estimate]\nmetric = \"" << e.metric << "\"\nestimate = " << e.estimate()
          << "\nvs_tighter = " << e.vs_tighter << "\ntighter_solver = \"" << e.tighter_solver
-         << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_other_solver = " << e.vs_other_solver << "\nother_rtol = " << e.other_rtol
-         << "\nother_solver = \"" << e.other_solver << "\"\n";
+         << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_other_solver = " << e.vs_other_solver
+         << "\nother_rtol = " << e.other_rtol << "\nother_solver = \"" << e.other_solver << "\"\n";
   }
   meta << "\n" << studies::versions_toml();
   studies::write_file_atomically(options.output + ".meta.toml", meta.str());
@@ -54,8 +54,8 @@ int reference_command(const ReferenceOptions& options) {
   if (ref.run.solver == "exact") {
     std::cout << " (analytic, " << st.steps << " output times)";
   } else {
-    std::cout << " (rtol " << options.rtol << "): " << st.steps << " steps, "
-              << st.rhs_evaluations << " evaluations";
+    std::cout << " (rtol " << options.rtol << "): " << st.steps << " steps, " << st.rhs_evaluations
+              << " evaluations";
   }
   std::cout << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
   if (options.estimate) {

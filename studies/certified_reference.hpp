@@ -21,7 +21,7 @@ struct ReferenceEstimate {
   std::string metric;
   std::string tighter_solver;  ///< "" when not run
   double tighter_rtol = 0.0;
-  double vs_tighter = 0.0;     ///< metric(run, tighter run)
+  double vs_tighter = 0.0;  ///< metric(run, tighter run)
   std::string other_solver;
   double other_rtol = 0.0;
   double vs_other_solver = 0.0;  ///< metric(run, other solver)

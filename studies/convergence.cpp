@@ -29,8 +29,7 @@ constexpr double kRoundOffFloor = 1e-11;
 
 }  // namespace
 
-ConvergenceResult run_convergence(const core::Model& model,
-                                  const std::vector<double>& output_times,
+ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
                                   const ConvergenceOptions& options) {
   if (!(options.h0 > 0.0)) throw std::invalid_argument("--dt must be positive");
   if (options.levels < 2) throw std::invalid_argument("--levels must be at least 2");
@@ -61,9 +60,9 @@ ConvergenceResult run_convergence(const core::Model& model,
       const double start = thread_cpu_seconds();
       const core::Trajectory trajectory = lie::run_scheme(model, *stepper, out.h, output_times);
       out.cpu_seconds = thread_cpu_seconds() - start;
-      out.error = metric_value(
-          compare_trajectories(tabulate(model, trajectory), result.reference.table),
-          options.metric);
+      out.error =
+          metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
+                       options.metric);
       out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
     } catch (const std::exception& e) {
       out.error = std::numeric_limits<double>::infinity();
@@ -145,9 +144,8 @@ std::string format_convergence_table(const ConvergenceResult& r) {
   out << "reference: " << r.reference.run.solver << " rtol " << r.reference.run.options.rtol
       << ", estimated error " << std::scientific << std::setprecision(2) << est.estimate()
       << " (vs " << est.tighter_solver << " at rtol " << est.tighter_rtol << ": " << est.vs_tighter
-      << "; vs " << est.other_solver << " at rtol " << est.other_rtol << ": "
-      << est.vs_other_solver << (est.exact ? "; the smaller bounds an exact solution" : "")
-      << ")\n";
+      << "; vs " << est.other_solver << " at rtol " << est.other_rtol << ": " << est.vs_other_solver
+      << (est.exact ? "; the smaller bounds an exact solution" : "") << ")\n";
   out << "metric: " << r.options.metric << "\n\n";
   out << std::left << std::setw(7) << "scheme" << std::right << std::setw(12) << "h"
       << std::setw(10) << "steps" << std::setw(12) << "error" << std::setw(8) << "order"

@@ -49,8 +49,7 @@ struct ConvergenceResult {
   std::vector<std::string> notes;
 };
 
-ConvergenceResult run_convergence(const core::Model& model,
-                                  const std::vector<double>& output_times,
+ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
                                   const ConvergenceOptions& options);
 
 /// The terminal table (errors, pairwise orders, fitted orders, notes).

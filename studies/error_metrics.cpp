@@ -52,9 +52,8 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
     }
   }
   if (run.size() != reference.size()) {
-    throw std::invalid_argument("different numbers of output times: " +
-                                std::to_string(run.size()) + " vs " +
-                                std::to_string(reference.size()));
+    throw std::invalid_argument("different numbers of output times: " + std::to_string(run.size()) +
+                                " vs " + std::to_string(reference.size()));
   }
   for (std::size_t k = 0; k < run.size(); ++k) {
     const double a = run.time(k);
@@ -85,8 +84,8 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
       std::size_t j = i + 13;
       while (j + 2 < cols.size() && cols[j].starts_with(body + ".") && cols[j].ends_with(".x") &&
              cols[j + 1].ends_with(".y") && cols[j + 2].ends_with(".z")) {
-        items.push_back({cols[j].substr(0, cols[j].size() - 2), "m",
-                         static_cast<int>(j), Item::kPoint});
+        items.push_back(
+            {cols[j].substr(0, cols[j].size() - 2), "m", static_cast<int>(j), Item::kPoint});
         j += 3;
       }
       i = j - 1;
@@ -112,7 +111,8 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
     if (item.kind == Item::kRotation) {
       report.max_rotation_linf = std::max(report.max_rotation_linf, norms.linf);
     }
-    if (item.kind == Item::kPoint) report.max_point_linf = std::max(report.max_point_linf, norms.linf);
+    if (item.kind == Item::kPoint)
+      report.max_point_linf = std::max(report.max_point_linf, norms.linf);
     report.quantities.push_back({item.name, item.unit, norms});
   }
   return report;

@@ -24,8 +24,8 @@ std::vector<std::string> trajectory_columns(const core::Model& model) {
   std::vector<std::string> names{"t"};
   for (const core::Body& b : model.bodies()) {
     const std::string& n = b.name();
-    for (const char* c : {".x", ".y", ".z", ".e0", ".e1", ".e2", ".e3", ".vx", ".vy", ".vz",
-                          ".W1", ".W2", ".W3"}) {
+    for (const char* c :
+         {".x", ".y", ".z", ".e0", ".e1", ".e2", ".e3", ".vx", ".vy", ".vz", ".W1", ".W2", ".W3"}) {
       names.push_back(n + c);
     }
     for (const core::TrackedPoint& p : b.description().points) {
@@ -51,9 +51,9 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
       const core::BodyState& s = state[static_cast<std::size_t>(i)];
       const Eigen::Vector3d p = model.p_WBo(i, s);
       const Eigen::Vector3d v = model.v_WBo(i, s);
-      row.insert(row.end(), {p.x(), p.y(), p.z(), s.theta_WB(0), s.theta_WB(1), s.theta_WB(2),
-                             s.theta_WB(3), v.x(), v.y(), v.z(), s.w_WB_B.x(), s.w_WB_B.y(),
-                             s.w_WB_B.z()});
+      row.insert(row.end(),
+                 {p.x(), p.y(), p.z(), s.theta_WB(0), s.theta_WB(1), s.theta_WB(2), s.theta_WB(3),
+                  v.x(), v.y(), v.z(), s.w_WB_B.x(), s.w_WB_B.y(), s.w_WB_B.z()});
       for (const core::TrackedPoint& pt : model.body(i).description().points) {
         const Eigen::Vector3d r = model.p_WP(i, s, pt.p_BoP_B);
         row.insert(row.end(), {r.x(), r.y(), r.z()});
@@ -79,7 +79,8 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   const fs::path temp = target.string() + ".tmp" + std::to_string(rd() % 1000000u);
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + temp.string() + ": " + std::strerror(errno));
+    if (!out)
+      throw std::runtime_error("cannot write " + temp.string() + ": " + std::strerror(errno));
     out << text;
     out.flush();
     if (!out) {
@@ -114,7 +115,8 @@ void write_csv(const TrajectoryTable& table, const std::string& path) {
 
 TrajectoryTable read_csv(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw core::InputError(path, 0, "", "cannot open file: " + std::string(std::strerror(errno)));
+  if (!in)
+    throw core::InputError(path, 0, "", "cannot open file: " + std::string(std::strerror(errno)));
   TrajectoryTable table;
   std::string line;
   int line_number = 0;

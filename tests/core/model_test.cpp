@@ -48,7 +48,8 @@ TEST_CASE("energy rate equals the power of the applied loads", "[core]") {
   const State s = model.initial_state();
   const Eigen::Matrix3d R = rotation_matrix(s[0].theta_WB);
   const Eigen::Vector3d p_BoP_B(1, 0, 0);
-  const Eigen::Vector3d v_P = s[0].v_WBr + R * s[0].w_WB_B.cross(p_BoP_B - model.body(0).p_BoBr_B());
+  const Eigen::Vector3d v_P =
+      s[0].v_WBr + R * s[0].w_WB_B.cross(p_BoP_B - model.body(0).p_BoBr_B());
   const double power = (R * Eigen::Vector3d(1.0, 2.0, -0.5)).dot(v_P) +
                        Eigen::Vector3d(0.2, 0.0, 0.2).dot(R * s[0].w_WB_B);
   // Same derivation as above; the potential part (gravity) cancels.

@@ -12,8 +12,8 @@ TEST_CASE("point-charge force is minus the gradient of its potential", "[core]")
   const PointChargePotential potential(4.0, 0.3, Eigen::Vector3d(0, 0, -1), {});
   // Central differences (see finite_difference.hpp): agreement to ~1e-10 relative; forces
   // here are O(1), so 1e-7 leaves three decades.
-  for (const Eigen::Vector3d& p :
-       {Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(0.5, -0.3, 0.2), Eigen::Vector3d(2, 1, 3)}) {
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(0.5, -0.3, 0.2),
+                                   Eigen::Vector3d(2, 1, 3)}) {
     const Eigen::MatrixXd grad = testing::central_difference_jacobian(
         [&](const Eigen::VectorXd& x) {
           return Eigen::VectorXd::Constant(1, potential.unit_potential(x));

@@ -24,9 +24,9 @@ double central_difference_error(double h, double omega, double t_end) {
   double x = 1.0, v = 0.0, a = -omega * omega * x;
   const long n = std::lround(t_end / h);
   for (long k = 0; k < n; ++k) {
-    x += h * v + 0.5 * h * h * a;       // x_{n+1} = x_n + h v_n + ½h² a_n
+    x += h * v + 0.5 * h * h * a;  // x_{n+1} = x_n + h v_n + ½h² a_n
     const double a_next = -omega * omega * x;
-    v += 0.5 * h * (a + a_next);        // v_{n+1} = v_n + ½h (a_n + a_{n+1})
+    v += 0.5 * h * (a + a_next);  // v_{n+1} = v_n + ½h (a_n + a_{n+1})
     a = a_next;
   }
   return std::abs(x - std::cos(omega * t_end));

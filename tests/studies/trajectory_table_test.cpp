@@ -41,10 +41,10 @@ TEST_CASE("tabulate names the documented columns and recovers the frame origin",
   trajectory.times = {0.0};
   trajectory.states = {model.initial_state()};
   const TrajectoryTable table = tabulate(model, trajectory);
-  const std::vector<std::string> expected{
-      "t",     "rod.x",  "rod.y",  "rod.z",  "rod.e0",    "rod.e1",    "rod.e2",    "rod.e3",
-      "rod.vx", "rod.vy", "rod.vz", "rod.W1", "rod.W2", "rod.W3", "rod.tip.x", "rod.tip.y",
-      "rod.tip.z", "energy"};
+  const std::vector<std::string> expected{"t",         "rod.x",     "rod.y",  "rod.z",  "rod.e0",
+                                          "rod.e1",    "rod.e2",    "rod.e3", "rod.vx", "rod.vy",
+                                          "rod.vz",    "rod.W1",    "rod.W2", "rod.W3", "rod.tip.x",
+                                          "rod.tip.y", "rod.tip.z", "energy"};
   CHECK(table.columns == expected);
   const auto& row = table.rows[0];
   // The origin starts at 0 and moves at (1,0,0): internal Br = Bcm must map back exactly
@@ -55,13 +55,12 @@ TEST_CASE("tabulate names the documented columns and recovers the frame origin",
   // energy = ½ m |v_cm|² + ½ ωᵀ I ω + potential (z_cm = 0 → 0); v_cm = v_o + ω × c.
   const Eigen::Vector3d w(0.1, 0.2, 0.3);
   const Eigen::Vector3d v_cm = Eigen::Vector3d(1, 0, 0) + w.cross(Eigen::Vector3d(0.5, 0, 0));
-  const double energy = 0.5 * 2.0 * v_cm.squaredNorm() +
-                        0.5 * w.dot(Eigen::Vector3d(0.01, 0.2, 0.2).cwiseProduct(w));
+  const double energy =
+      0.5 * 2.0 * v_cm.squaredNorm() + 0.5 * w.dot(Eigen::Vector3d(0.01, 0.2, 0.2).cwiseProduct(w));
   CHECK(row.back() == Approx(energy).epsilon(1e-14));
 }
 
-TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero",
-          "[studies]") {
+TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero", "[studies]") {
   const core::Model model = pendulum_like_model();
   core::Trajectory trajectory;
   for (int k = 0; k < 5; ++k) {
