@@ -197,15 +197,9 @@ StepStatus C1Stepper::step(double h) {
     ++evaluations_;
   }
   for (std::size_t i = 0; i < n_bodies; ++i) {
-    const core::Body& body = model_.body(static_cast<int>(i));
-    if (body.is_free()) {
-      // a_{n+1} ← f_{n+1}/m
-      acc_next_[i].a_WBr = ws_.wrenches[i].f_W / body.mass();
-      // v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
-      next_[i].v_WBr = state_[i].v_WBr + (0.5 * h) * (acc_[i].a_WBr + acc_next_[i].a_WBr);
-    } else {
-      acc_next_[i].a_WBr.setZero();
-    }
+    // a_{n+1} ← f_{n+1}/m,  v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
+    detail::update_translation(model_.body(static_cast<int>(i)), ws_.wrenches[i], state_[i],
+                               acc_[i], h, next_[i], acc_next_[i]);
   }
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C1", t_n, h)};

@@ -73,29 +73,8 @@ StepStatus C2Stepper::step(double h) {
     restart(h);
   }
 
-  // 1. Configuration at t_{n+1}, explicit.
-  for (std::size_t i = 0; i < state_.size(); ++i) {
-    const core::BodyState& s = state_[i];
-    core::BodyState& s1 = next_[i];
-    const Vector3d& a_n = acc_[i].a_WBr;
-    const Vector3d& A_n = acc_[i].alpha_WB_B;
-    if (model_.body(static_cast<int>(i)).is_free()) {
-      // x_{n+1} ← x_n + h v_n + ½ h² a_n
-      s1.p_WBr = s.p_WBr + h * s.v_WBr + (0.5 * h * h) * a_n;
-      // v ← v_n + h a_n   (predictor, seen only by velocity-dependent loads)
-      s1.v_WBr = s.v_WBr + h * a_n;
-    } else {
-      s1.p_WBr = s.p_WBr;
-      s1.v_WBr.setZero();
-    }
-    // Θ ← h (W_n + ½ h A_n)
-    const Vector3d theta = h * (s.w_WB_B + (0.5 * h) * A_n);
-    // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
-    s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
-    detail::renormalize_unit_product(s1.theta_WB);
-    // W ← W_n + h A_n   (predictor, seen only by velocity-dependent loads)
-    s1.w_WB_B = s.w_WB_B + h * A_n;
-  }
+  // 1. Configuration at t_{n+1}, explicit (Θ ← h W_n + ½ h² A_n, x_{n+1} ← x_n + h v_n + ½ h² a_n).
+  detail::predict_configuration(model_, state_, acc_, h, next_);
 
   // 2. The one force evaluation: f_{n+1}, Γ_{n+1} at the new configuration.
   model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
@@ -106,14 +85,8 @@ StepStatus C2Stepper::step(double h) {
     const core::BodyState& s = state_[i];
     core::BodyState& s1 = next_[i];
     const Matrix3d& R_np1 = ws_.kinematics[i].R_WB;
-    if (body.is_free()) {
-      // a_{n+1} ← f_{n+1}/m
-      acc_next_[i].a_WBr = ws_.wrenches[i].f_W / body.mass();
-      // v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
-      s1.v_WBr = s.v_WBr + (0.5 * h) * (acc_[i].a_WBr + acc_next_[i].a_WBr);
-    } else {
-      acc_next_[i].a_WBr.setZero();
-    }
+    // a_{n+1} ← f_{n+1}/m,  v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
+    detail::update_translation(body, ws_.wrenches[i], s, acc_[i], h, s1, acc_next_[i]);
     torque_next_W_[i] = ws_.wrenches[i].tau_Br_W;
     // π_{n+1} ← R_n J W_n + (h/2)(Γ_n + Γ_{n+1})
     //          (π_n = R_n J W_n is carried from the previous step)

@@ -12,6 +12,45 @@ bool starts_on_discontinuity(std::span<const double> discontinuities, double t_n
   return it != discontinuities.end() && *it <= t_n + tolerance;
 }
 
+void predict_configuration(const core::Model& model, const core::State& state,
+                           const core::Accelerations& acc, double h, core::State& next) {
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    const core::BodyState& s = state[i];
+    core::BodyState& s1 = next[i];
+    const Eigen::Vector3d& a_n = acc[i].a_WBr;
+    const Eigen::Vector3d& A_n = acc[i].alpha_WB_B;
+    if (model.body(static_cast<int>(i)).is_free()) {
+      // x_{n+1} ← x_n + h v_n + ½ h² a_n
+      s1.p_WBr = s.p_WBr + h * s.v_WBr + (0.5 * h * h) * a_n;
+      // v ← v_n + h a_n   (predictor, seen only by velocity-dependent loads)
+      s1.v_WBr = s.v_WBr + h * a_n;
+    } else {
+      s1.p_WBr = s.p_WBr;
+      s1.v_WBr.setZero();
+    }
+    // Θ ← h W_n + ½ h² A_n
+    const Eigen::Vector3d theta = h * s.w_WB_B + (0.5 * h * h) * A_n;
+    // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
+    s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
+    renormalize_unit_product(s1.theta_WB);
+    // W ← W_n + h A_n   (predictor, seen only by velocity-dependent loads)
+    s1.w_WB_B = s.w_WB_B + h * A_n;
+  }
+}
+
+void update_translation(const core::Body& body, const core::Wrench& wrench,
+                        const core::BodyState& state, const core::BodyAcceleration& acc, double h,
+                        core::BodyState& next, core::BodyAcceleration& acc_next) {
+  if (body.is_free()) {
+    // a_{n+1} ← f_{n+1}/m
+    acc_next.a_WBr = wrench.f_W / body.mass();
+    // v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
+    next.v_WBr = state.v_WBr + (0.5 * h) * (acc.a_WBr + acc_next.a_WBr);
+  } else {
+    acc_next.a_WBr.setZero();
+  }
+}
+
 bool all_finite(const core::State& state) {
   // One sum instead of 13 tests per body: NaN and ±inf propagate through a sum. The sum of
   // finite values can overflow only for entries near 1e308, which are reported as non-finite

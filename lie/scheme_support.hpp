@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 
+#include "core/model.hpp"
 #include "core/state.hpp"
 
 namespace flexref::lie::detail {
@@ -34,6 +35,20 @@ bool all_finite(const core::State& state);
 inline void renormalize_unit_product(core::EulerParameters& theta) {
   theta *= 0.5 * (3.0 - theta.squaredNorm());
 }
+
+/// The explicit configuration update of C2 and NMB (Newmark β = 0) for every body:
+///   x_{n+1} = x_n + h v_n + ½ h² a_n            (free bodies; a pivot body stays put)
+///   Θ = h W_n + ½ h² A_n,  R_{n+1} = R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
+/// and the predicted velocities v_n + h a_n, W_n + h A_n, seen only by velocity-dependent
+/// loads at the step's one evaluation.
+void predict_configuration(const core::Model& model, const core::State& state,
+                           const core::Accelerations& acc, double h, core::State& next);
+
+/// The central-difference velocity update of a body's translation, shared by all schemes:
+///   a_{n+1} = f_{n+1}/m,  v_{n+1} = v_n + ½ h (a_n + a_{n+1})   (a pivot body: a = 0).
+void update_translation(const core::Body& body, const core::Wrench& wrench,
+                        const core::BodyState& state, const core::BodyAcceleration& acc, double h,
+                        core::BodyState& next, core::BodyAcceleration& acc_next);
 
 /// "<scheme> Newton did not converge at t = …, h = …: residual … after … iterations (body …)".
 std::string newton_failure(const char* scheme, double t_n, double h, double relative_residual,
