@@ -216,14 +216,12 @@ core::Body read_body(const Table& t, BodyNames& names) {
   std::optional<core::Body> body;
   try {
     body.emplace(std::move(d));
-  } catch (const std::exception& e) {
+  } catch (const core::InertiaRangeError&) {
     // The reference-point data core::Body derives (the parallel-axis shift to the pivot and
     // the inverse) can overflow for extreme but finite input: report it at the inertia.
-    if (std::string(e.what()).find("representable") != std::string::npos) {
-      t.fail("inertia", std::string("the inertia about the ") +
-                            (pivot ? "pivot" : "centre of mass") +
-                            " or its inverse is not finite (values too large or too small)");
-    }
+    t.fail("inertia", std::string("the inertia about the ") + (pivot ? "pivot" : "centre of mass") +
+                          " or its inverse is not finite (values too large or too small)");
+  } catch (const std::exception& e) {
     t.fail_table(e.what());
   }
   return *std::move(body);

@@ -80,8 +80,8 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
   }
   I_Br_B_inverse_ = I_Br_B_.inverse();
   if (!I_Br_B_.allFinite() || !I_Br_B_inverse_.allFinite() || !std::isfinite(1.0 / d.mass)) {
-    throw std::invalid_argument("body '" + d.name +
-                                "': mass or inertia out of the representable range");
+    throw InertiaRangeError("body '" + d.name +
+                            "': mass or inertia out of the representable range");
   }
 }
 

@@ -8,6 +8,7 @@
 /// Bcm for a free body (Newton–Euler uncoupled), the pivot for a pivot body. A flexible body
 /// (modal coordinates) will add its inertia invariants here and keep Br = Bo.
 #include <Eigen/Core>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,14 @@ struct RigidBodyDescription {
   Eigen::Vector3d p_BoPivot_B = Eigen::Vector3d::Zero();  ///< pivot (motion = pivot only)
   BodyInitialState initial;
   std::vector<TrackedPoint> points;
+};
+
+/// Thrown by Body when finite input gives mass or inertia data that overflow once derived
+/// (1/m, the inertia about the pivot or its inverse), so a reader can report it at the
+/// inertia key instead of guessing from the message.
+class InertiaRangeError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
 };
 
 /// The body the model integrates: data about the reference point Br, computed once.
