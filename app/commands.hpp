@@ -56,6 +56,10 @@ struct ConvergeOptions {
 };
 int converge_command(const ConvergeOptions& options);
 
+/// TOML arrays for result metadata: ["a", "b"] and [1e-3, 1e-4] (17 digits).
+std::string toml_string_array(const std::vector<std::string>& items);
+std::string toml_number_array(const std::vector<double>& items);
+
 /// "key = value" TOML lines describing a scene file for result metadata.
 std::string scene_metadata(const std::string& scene_file, const std::string& scene_name);
 

@@ -35,17 +35,10 @@ int converge_command(const ConvergeOptions& options) {
   std::ostringstream settings;
   settings.precision(17);
   settings << scene_metadata(options.scene, scene.name) << "\n[study]\nkind = \"converge\"\n"
-           << "schemes = [";
-  for (std::size_t i = 0; i < options.schemes.size(); ++i) {
-    settings << (i ? ", " : "") << '"' << options.schemes[i] << '"';
-  }
-  settings << "]\ndt = " << options.dt << "\nlevels = " << options.levels << "\nmetric = \""
-           << options.metric << "\"\njobs = " << study.jobs << "\n\n[reference]\nsolver = \""
-           << result.reference.run.solver << "\"\nrtol = " << result.reference.run.options.rtol
-           << "\nestimated_error = " << result.reference.estimate.estimate()
-           << "\nvs_tighter = " << result.reference.estimate.vs_tighter
-           << "\nvs_other_solver = " << result.reference.estimate.vs_other_solver
-           << "\nother_solver = \"" << result.reference.estimate.other_solver << "\"\n\n"
+           << "schemes = " << toml_string_array(options.schemes) << "\ndt = " << options.dt
+           << "\nlevels = " << options.levels << "\nmetric = \"" << options.metric
+           << "\"\njobs = " << study.jobs << "\n\n"
+           << studies::reference_toml(result.reference) << "\n"
            << studies::versions_toml();
 
   const std::string csv_path = (dir / "convergence.csv").string();

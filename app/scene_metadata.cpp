@@ -7,6 +7,23 @@
 
 namespace flexref::app {
 
+std::string toml_string_array(const std::vector<std::string>& items) {
+  std::ostringstream out;
+  out << '[';
+  for (std::size_t i = 0; i < items.size(); ++i) out << (i ? ", " : "") << '"' << items[i] << '"';
+  out << ']';
+  return out.str();
+}
+
+std::string toml_number_array(const std::vector<double>& items) {
+  std::ostringstream out;
+  out.precision(17);
+  out << '[';
+  for (std::size_t i = 0; i < items.size(); ++i) out << (i ? ", " : "") << items[i];
+  out << ']';
+  return out.str();
+}
+
 std::string scene_metadata(const std::string& scene_file, const std::string& scene_name) {
   std::ostringstream out;
   std::error_code ec;

@@ -14,27 +14,6 @@
 #include "studies/work_precision.hpp"
 
 namespace flexref::app {
-namespace {
-
-std::string toml_string_array(const std::vector<std::string>& items) {
-  std::ostringstream out;
-  out << '[';
-  for (std::size_t i = 0; i < items.size(); ++i) out << (i ? ", " : "") << '"' << items[i] << '"';
-  out << ']';
-  return out.str();
-}
-
-std::string toml_number_array(const std::vector<double>& items) {
-  std::ostringstream out;
-  out.precision(17);
-  out << '[';
-  for (std::size_t i = 0; i < items.size(); ++i) out << (i ? ", " : "") << items[i];
-  out << ']';
-  return out.str();
-}
-
-}  // namespace
-
 int work_precision_command(const WorkPrecisionOptions& app_options) {
   const Scene scene = read_scene(app_options.scene);
   const core::Model& model = *scene.model;
@@ -67,13 +46,8 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
            << "\nrepeats = " << study.repeats << "\nmetric = \"" << study.metric
            << "\"\njobs = " << study.jobs
            << "\ncpu_time = \"thread CPU time of the integration only, minimum over repeats\""
-           << "\ntarget_errors = " << toml_number_array(studies::default_target_errors())
-           << "\n\n[reference]\nsolver = \"" << result.reference.run.solver
-           << "\"\nrtol = " << result.reference.run.options.rtol
-           << "\nestimated_error = " << result.reference.estimate.estimate()
-           << "\nvs_tighter = " << result.reference.estimate.vs_tighter
-           << "\nvs_other_solver = " << result.reference.estimate.vs_other_solver
-           << "\nother_solver = \"" << result.reference.estimate.other_solver << "\"\n\n"
+           << "\ntarget_errors = " << toml_number_array(studies::default_target_errors()) << "\n\n"
+           << studies::reference_toml(result.reference) << "\n"
            << studies::versions_toml();
 
   const std::string csv_path = (dir / "work_precision.csv").string();

@@ -1,6 +1,7 @@
 #include "studies/certified_reference.hpp"
 
 #include <algorithm>
+#include <sstream>
 
 #include "reference/exact_solution.hpp"
 #include "reference/solve_reference.hpp"
@@ -18,6 +19,19 @@ std::string cross_check_solver(const std::string& solver) {
 std::string resolve_reference_solver(const std::string& solver, const core::Model& model) {
   if (solver != "auto") return solver;
   return reference::classify_exact_solution(model).kind.empty() ? "cvode" : "exact";
+}
+
+std::string reference_toml(const CertifiedReference& reference) {
+  const ReferenceEstimate& e = reference.estimate;
+  std::ostringstream out;
+  out.precision(17);
+  out << "[reference]\nsolver = \"" << reference.run.solver
+      << "\"\nrtol = " << reference.run.options.rtol << "\nestimated_error = " << e.estimate()
+      << "\nmetric = \"" << e.metric << "\"\ntighter_solver = \"" << e.tighter_solver
+      << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_tighter = " << e.vs_tighter
+      << "\nother_solver = \"" << e.other_solver << "\"\nother_rtol = " << e.other_rtol
+      << "\nvs_other_solver = " << e.vs_other_solver << "\n";
+  return out.str();
 }
 
 CertifiedReference certified_reference(const core::Model& model,

@@ -44,6 +44,10 @@ std::string cross_check_solver(const std::string& solver);
 /// "auto" picks "exact" when the model has an exact solution, else "cvode".
 std::string resolve_reference_solver(const std::string& solver, const core::Model& model);
 
+/// The `[reference]` section a study records next to its results: solver, tolerance and the
+/// error estimate with both of its checks.
+std::string reference_toml(const CertifiedReference& reference);
+
 /// Runs the reference and its two checks; throws like the solvers do.
 CertifiedReference certified_reference(const core::Model& model,
                                        const std::vector<double>& output_times,
