@@ -1,7 +1,6 @@
 #include "reference/exact_heavy_top.hpp"
 
 #include <Eigen/Geometry>
-#include <boost/numeric/odeint.hpp>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -10,11 +9,14 @@
 #include <vector>
 
 #include "core/euler_parameters.hpp"
+#include "tests/support/attitude_ode.hpp"
 
 namespace {
 
 namespace ref = flexref::reference;
 namespace core = flexref::core;
+namespace testing = flexref::testing;
+using flexref::testing::sample_times;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
@@ -139,39 +141,6 @@ std::vector<Top> tops() {
   return result;
 }
 
-using State = std::vector<double>;  // std::array triggers a spurious -Wuninitialized in odeint
-
-/// θ̇ = ½ θ ⊗ (0, ω), J ω̇ = T − ω × J ω (J, T about the pivot) by RKF78 at tolerance 1e-13.
-std::vector<State> integrate(const Top& top, const std::vector<double>& times) {
-  namespace odeint = boost::numeric::odeint;
-  const Eigen::Matrix3d inertia = top.inertia_B();
-  const Eigen::Matrix3d inertia_inverse = inertia.inverse();
-  const auto rhs = [&](const State& x, State& dxdt, double) {
-    const core::EulerParameters theta(x[0], x[1], x[2], x[3]);
-    const Eigen::Vector3d w(x[4], x[5], x[6]);
-    const core::EulerParameters theta_rate = core::euler_parameter_rate(theta, w);
-    const Eigen::Vector3d w_rate = inertia_inverse * (top.torque_B(theta) - w.cross(inertia * w));
-    dxdt = {theta_rate(0), theta_rate(1), theta_rate(2), theta_rate(3),
-            w_rate(0),     w_rate(1),     w_rate(2)};
-  };
-  using Stepper = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<State>>;
-  std::vector<State> out;
-  State x{top.theta0(0), top.theta0(1), top.theta0(2), top.theta0(3),
-          top.w0_B(0),   top.w0_B(1),   top.w0_B(2)};
-  odeint::integrate_times(Stepper(Stepper::error_checker_type(1e-13, 1e-13)), rhs, x, times.begin(),
-                          times.end(), 1e-5, [&out](const State& s, double) { out.push_back(s); });
-  return out;
-}
-
-std::vector<double> sample_times(double t_end, int count) {
-  std::vector<double> times;
-  for (int i = 0; i <= count; ++i) {
-    const double s = static_cast<double>(i) / count;
-    times.push_back(t_end * (s + 0.003 * std::sin(7.0 * s) * (i > 0 && i < count ? 1.0 : 0.0)));
-  }
-  return times;
-}
-
 }  // namespace
 
 TEST_CASE("HeavyTopExact reproduces the initial state", "[reference][exact_heavy_top]") {
@@ -243,7 +212,10 @@ TEST_CASE("HeavyTopExact agrees with RKF78 at tolerance 1e-13",
   for (const Top& top : tops()) {
     const ref::HeavyTopExact exact = top.exact();
     const std::vector<double> times = sample_times(top.t_end, 400);
-    const std::vector<State> numeric = integrate(top, times);
+    // θ̇ = ½ θ ⊗ (0, ω), J ω̇ = T − ω × J ω (J, T about the pivot) by RKF78 at tolerance 1e-13.
+    const std::vector<testing::AttitudeState> numeric = testing::integrate_attitude(
+        top.inertia_B(), [&top](const core::EulerParameters& q) { return top.torque_B(q); },
+        top.theta0, top.w0_B, times, 1e-13, 1e-5);
     REQUIRE(numeric.size() == times.size());
     double worst_w = 0.0;
     double worst_angle = 0.0;

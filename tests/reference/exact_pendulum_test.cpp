@@ -2,7 +2,6 @@
 
 #include <Eigen/Geometry>
 #include <boost/math/special_functions/ellint_1.hpp>
-#include <boost/numeric/odeint.hpp>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -11,11 +10,14 @@
 #include <vector>
 
 #include "core/euler_parameters.hpp"
+#include "tests/support/attitude_ode.hpp"
 
 namespace {
 
 namespace ref = flexref::reference;
 namespace core = flexref::core;
+namespace testing = flexref::testing;
+using flexref::testing::sample_times;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
@@ -87,37 +89,6 @@ std::vector<Pendulum> pendulums() {
           oblique("oblique, small amplitude", 1e-3, 10.0, 10.0)};
 }
 
-using State = std::vector<double>;  // std::array triggers a spurious -Wuninitialized in odeint
-
-/// θ̇ = ½ θ ⊗ (0, ω), J ω̇ = T − ω × J ω about the pivot, RKF78 at tolerance 1e-13.
-std::vector<State> integrate(const Pendulum& p, const std::vector<double>& times) {
-  namespace odeint = boost::numeric::odeint;
-  const Eigen::Matrix3d inverse = p.j_pivot_B.inverse();
-  const auto rhs = [&](const State& x, State& dxdt, double) {
-    const core::EulerParameters theta(x[0], x[1], x[2], x[3]);
-    const Eigen::Vector3d w(x[4], x[5], x[6]);
-    const core::EulerParameters theta_rate = core::euler_parameter_rate(theta, w);
-    const Eigen::Vector3d w_rate = inverse * (p.torque_B(theta) - w.cross(p.j_pivot_B * w));
-    dxdt = {theta_rate(0), theta_rate(1), theta_rate(2), theta_rate(3),
-            w_rate(0),     w_rate(1),     w_rate(2)};
-  };
-  using Stepper = odeint::controlled_runge_kutta<odeint::runge_kutta_fehlberg78<State>>;
-  std::vector<State> out;
-  State x{p.theta0(0), p.theta0(1), p.theta0(2), p.theta0(3), 0.0, 0.0, 0.0};
-  odeint::integrate_times(Stepper(Stepper::error_checker_type(1e-13, 1e-13)), rhs, x, times.begin(),
-                          times.end(), 1e-4, [&out](const State& s, double) { out.push_back(s); });
-  return out;
-}
-
-std::vector<double> sample_times(double t_end, int count) {
-  std::vector<double> times;
-  for (int i = 0; i <= count; ++i) {
-    const double s = static_cast<double>(i) / count;
-    times.push_back(t_end * (s + 0.003 * std::sin(7.0 * s) * (i > 0 && i < count ? 1.0 : 0.0)));
-  }
-  return times;
-}
-
 }  // namespace
 
 TEST_CASE("PendulumExact starts at rest at the release attitude", "[reference][exact_pendulum]") {
@@ -170,7 +141,10 @@ TEST_CASE("PendulumExact agrees with RKF78 at tolerance 1e-13",
   for (const Pendulum& p : pendulums()) {
     const ref::PendulumExact exact = p.exact();
     const std::vector<double> times = sample_times(p.t_end_numeric, 400);
-    const std::vector<State> numeric = integrate(p, times);
+    // θ̇ = ½ θ ⊗ (0, ω), J ω̇ = T − ω × J ω about the pivot, RKF78 at tolerance 1e-13.
+    const std::vector<testing::AttitudeState> numeric = testing::integrate_attitude(
+        p.j_pivot_B, [&p](const core::EulerParameters& q) { return p.torque_B(q); }, p.theta0,
+        Eigen::Vector3d::Zero(), times, 1e-13, 1e-4);
     REQUIRE(numeric.size() == times.size());
     const double rate = exact.natural_frequency();  // |ω| ≤ 2kω₀
     double worst_w = 0.0;

@@ -15,11 +15,13 @@
 #include <vector>
 
 #include "core/euler_parameters.hpp"
+#include "tests/support/attitude_ode.hpp"
 
 namespace {
 
 namespace ref = flexref::reference;
 namespace core = flexref::core;
+using flexref::testing::sample_times;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
@@ -69,16 +71,6 @@ std::vector<State<Scalar>> integrate_torque_free(const Eigen::Vector3d& inertia,
                           scalar_times.begin(), scalar_times.end(), Scalar(1e-3),
                           [&out](const State<Scalar>& s, Scalar) { out.push_back(s); });
   return out;
-}
-
-std::vector<double> sample_times(double t_end, int count) {
-  // Irregular spacing (offset and a sine wobble) so that no sample hits a symmetric point.
-  std::vector<double> times;
-  for (int i = 0; i <= count; ++i) {
-    const double s = static_cast<double>(i) / count;
-    times.push_back(t_end * (s + 0.003 * std::sin(7.0 * s) * (i > 0 && i < count ? 1.0 : 0.0)));
-  }
-  return times;
 }
 
 struct Case {
