@@ -4,9 +4,8 @@
 /// balances the O(h²) truncation error against the O(ε/h) round-off, so a correct analytic
 /// derivative agrees to about ε^(2/3) ≈ 4e-11 relative (times the size of the third
 /// derivative); tests compare with 1e-7 to leave room for that constant.
-#include <functional>
-
 #include <Eigen/Core>
+#include <functional>
 
 namespace flexref::testing {
 
