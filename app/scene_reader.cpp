@@ -326,7 +326,7 @@ void check_initial_evaluation(const core::Model& model, const Table& root,
                               const std::vector<Table>& body_tables) {
   const core::State state = model.initial_state();
   core::Workspace ws = model.make_workspace();
-  core::Accelerations accelerations(state.size());
+  core::Accelerations accelerations = model.make_accelerations();
   model.compute_accelerations(core::LoadContext{0.0, 0.0}, state, ws, accelerations);
   for (std::size_t i = 0; i < state.size(); ++i) {
     const core::BodyState& s = state[i];

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace flexref::core {
@@ -33,17 +34,75 @@ std::string inertia_problem(const Eigen::Matrix3d& inertia) {
   return {};
 }
 
+namespace {
+
+/// J = ½ tr(I) 1 − I: the second moment Σ m x xᵀ whose inertia tr(J) 1 − J is I.
+Eigen::Matrix3d second_moment_from_inertia(const Eigen::Matrix3d& inertia) {
+  return 0.5 * inertia.trace() * Eigen::Matrix3d::Identity() - inertia;
+}
+
+/// Adds a rigid part (mass m, centre of mass c from Br, inertia I_c about it) to invariants
+/// taken about Br: m, s0 = Σ m x and J0 = Σ m x xᵀ are the only invariants a rigid part
+/// changes (it has no mode shape).
+void add_rigid_part(ModalInvariants& inv, double mass, const Eigen::Vector3d& c,
+                    const Eigen::Matrix3d& I_c) {
+  inv.mass += mass;
+  inv.s0 += mass * c;
+  inv.J0 += second_moment_from_inertia(I_c) + mass * c * c.transpose();
+  inv.I0 = inv.J0.trace() * Eigen::Matrix3d::Identity() - inv.J0;
+}
+
+void check_flexible_part(const RigidBodyDescription& d) {
+  const FlexiblePart& f = *d.flexible;
+  try {
+    f.modal.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("body '" + d.name + "': modal data: " + e.what());
+  }
+  const Eigen::Index n = f.modal.mode_count();
+  if ((f.q0.size() != 0 && f.q0.size() != n) || (f.qd0.size() != 0 && f.qd0.size() != n)) {
+    throw std::invalid_argument("body '" + d.name + "': initial modal coordinates need " +
+                                std::to_string(n) + " entries");
+  }
+  if (!f.q0.allFinite() || !f.qd0.allFinite()) {
+    throw std::invalid_argument("body '" + d.name + "': initial modal coordinates not finite");
+  }
+  for (const TrackedPoint& p : d.points) {
+    if (p.node >= f.modal.node_count()) {
+      throw std::invalid_argument("body '" + d.name + "': point '" + p.name +
+                                  "' refers to a node that does not exist");
+    }
+  }
+  // A hub may be absent (zero mass and inertia) or a physical rigid body.
+  const bool no_hub = d.mass == 0.0 && d.I_Bcm_B.isZero(0.0);
+  if (!no_hub) {
+    if (!(d.mass > 0.0) || !std::isfinite(d.mass)) {
+      throw std::invalid_argument("body '" + d.name + "': hub mass must be positive and finite");
+    }
+    if (const std::string problem = inertia_problem(d.I_Bcm_B); !problem.empty()) {
+      throw std::invalid_argument("body '" + d.name + "': hub " + problem);
+    }
+  }
+}
+
+}  // namespace
+
 Body::Body(RigidBodyDescription description) : description_(std::move(description)) {
   const auto& d = description_;
-  if (!(d.mass > 0.0) || !std::isfinite(d.mass)) {
-    throw std::invalid_argument("body '" + d.name + "': mass must be positive and finite");
-  }
-  if (const std::string problem = inertia_problem(d.I_Bcm_B); !problem.empty()) {
-    throw std::invalid_argument("body '" + d.name + "': " + problem);
+  if (d.flexible) {
+    check_flexible_part(d);
+  } else {
+    if (!(d.mass > 0.0) || !std::isfinite(d.mass)) {
+      throw std::invalid_argument("body '" + d.name + "': mass must be positive and finite");
+    }
+    if (const std::string problem = inertia_problem(d.I_Bcm_B); !problem.empty()) {
+      throw std::invalid_argument("body '" + d.name + "': " + problem);
+    }
   }
   const bool vectors_finite = d.p_BoBcm_B.allFinite() && d.p_BoPivot_B.allFinite() &&
                               d.initial.p_WBo.allFinite() && d.initial.theta_WB.allFinite() &&
-                              d.initial.v_WBo.allFinite() && d.initial.w_WB_B.allFinite();
+                              d.initial.v_WBo.allFinite() && d.initial.w_WB_B.allFinite() &&
+                              d.prescribed.axis_W.allFinite();
   if (!vectors_finite) {
     throw std::invalid_argument("body '" + d.name +
                                 "': a position, attitude or velocity is not finite");
@@ -59,30 +118,99 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
                                     d.points[i].name + "'");
       }
     }
+    if (d.points[i].node >= 0 && !d.flexible) {
+      throw std::invalid_argument("body '" + d.name + "': point '" + d.points[i].name +
+                                  "' names a node but the body is rigid");
+    }
   }
-  if (d.motion == MotionKind::kPivot && d.initial.v_WBo.squaredNorm() != 0.0) {
+  if (d.motion != MotionKind::kFree && d.initial.v_WBo.squaredNorm() != 0.0) {
     throw std::invalid_argument("body '" + d.name +
-                                "': a pivot body's origin velocity follows from its angular "
-                                "velocity; give none");
+                                "': the origin velocity of a pivot or prescribed body follows "
+                                "from its angular velocity; give none");
+  }
+  if (d.motion == MotionKind::kPrescribed) {
+    if (std::abs(d.prescribed.axis_W.norm() - 1.0) > 1e-12) {
+      throw std::invalid_argument("body '" + d.name +
+                                  "': the prescribed axis is not a unit vector");
+    }
+    const AngleLaw& law = d.prescribed.law;
+    if (!std::isfinite(law.rate) ||
+        (law.kind == AngleLaw::Kind::kSpinUp &&
+         (!(law.spin_up_time > 0.0) || !std::isfinite(law.spin_up_time)))) {
+      throw std::invalid_argument("body '" + d.name +
+                                  "': the prescribed angle law needs a finite rate and a "
+                                  "positive spin-up time");
+    }
   }
   if (std::abs(d.initial.theta_WB.norm() - 1.0) > 1e-12) {
     throw std::invalid_argument("body '" + d.name + "': orientation is not a unit quaternion");
   }
   const Eigen::Matrix3d I_sym = 0.5 * (d.I_Bcm_B + d.I_Bcm_B.transpose());
-  if (d.motion == MotionKind::kFree) {
-    p_BoBr_B_ = d.p_BoBcm_B;
-    p_BrBcm_B_.setZero();
-    I_Br_B_ = I_sym;
+
+  if (!d.flexible) {
+    mass_ = d.mass;
+    if (d.motion == MotionKind::kFree) {
+      p_BoBr_B_ = d.p_BoBcm_B;
+      p_BrBcm_B_.setZero();
+      I_Br_B_ = I_sym;
+    } else {
+      p_BoBr_B_ = d.motion == MotionKind::kPivot ? d.p_BoPivot_B : Eigen::Vector3d::Zero();
+      p_BrBcm_B_ = d.p_BoBcm_B - p_BoBr_B_;
+      I_Br_B_ = shift_inertia_from_com(I_sym, d.mass, p_BrBcm_B_);
+    }
   } else {
-    p_BoBr_B_ = d.p_BoPivot_B;
-    p_BrBcm_B_ = d.p_BoBcm_B - d.p_BoPivot_B;
-    I_Br_B_ = shift_inertia_from_com(I_sym, d.mass, p_BrBcm_B_);
+    // Invariants about Bo first (nodes, then the hub), to find the undeformed centre of mass.
+    ModalInvariants about_Bo = make_modal_invariants(d.flexible->modal);
+    add_rigid_part(about_Bo, d.mass, d.p_BoBcm_B, I_sym);
+    mass_ = about_Bo.mass;
+    const Eigen::Vector3d p_BoBcm_B = about_Bo.s0 / mass_;
+    switch (d.motion) {
+      case MotionKind::kFree:
+        p_BoBr_B_ = p_BoBcm_B;
+        break;
+      case MotionKind::kPivot:
+        p_BoBr_B_ = d.p_BoPivot_B;
+        break;
+      case MotionKind::kPrescribed:
+        p_BoBr_B_.setZero();
+        break;
+    }
+    p_BrBcm_B_ = p_BoBcm_B - p_BoBr_B_;
+    // Then about Br: the nodes shifted by −p_BoBr (mode shapes are unchanged by the shift).
+    ModalData shifted = d.flexible->modal;
+    shifted.p_BoNode_B.colwise() -= p_BoBr_B_;
+    invariants_ = make_modal_invariants(shifted);
+    add_rigid_part(invariants_, d.mass, d.p_BoBcm_B - p_BoBr_B_, I_sym);
+    I_Br_B_ = invariants_.I0;
+    mode_count_ = invariants_.mode_count;
+    stiffness_ = d.flexible->modal.stiffness;
+    damping_ = core::modal_damping(d.flexible->modal);
+    frequencies_ = core::natural_frequencies(d.flexible->modal);
+    modal_mass_llt_.compute(invariants_.m_ff);
+    if (d.motion != MotionKind::kPrescribed) {
+      if (const std::string problem = inertia_problem(I_Br_B_); !problem.empty()) {
+        throw std::invalid_argument("body '" + d.name + "': the undeformed inertia about the " +
+                                    (d.motion == MotionKind::kFree ? "centre of mass" : "pivot") +
+                                    " " + problem +
+                                    " (nodes on a line have no inertia about it: add a hub)");
+      }
+    }
   }
-  I_Br_B_inverse_ = I_Br_B_.inverse();
-  if (!I_Br_B_.allFinite() || !I_Br_B_inverse_.allFinite() || !std::isfinite(1.0 / d.mass)) {
+  if (d.motion == MotionKind::kPrescribed) {
+    I_Br_B_inverse_ = Eigen::Matrix3d::Zero();
+  } else {
+    I_Br_B_inverse_ = I_Br_B_.inverse();
+  }
+  if (!I_Br_B_.allFinite() || !I_Br_B_inverse_.allFinite() || !std::isfinite(1.0 / mass_)) {
     throw InertiaRangeError("body '" + d.name +
                             "': mass or inertia out of the representable range");
   }
+}
+
+Eigen::Vector3d Body::p_BrP_B(const TrackedPoint& point, const Eigen::VectorXd& q_f) const {
+  Eigen::Vector3d p = point.p_BoP_B - p_BoBr_B_;
+  if (point.node >= 0) p.noalias() += description_.flexible->modal.mode_rows(point.node) * q_f;
+  return p;
 }
 
 }  // namespace flexref::core

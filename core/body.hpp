@@ -6,25 +6,37 @@
 /// Frames and points (Drake monogram notation): W world (global, Galilean), B body frame with
 /// origin Bo, Bcm centre of mass, Br the reference point the equations are written about:
 /// Bcm for a free body (Newton–Euler uncoupled), the pivot for a pivot body. A flexible body
-/// (modal coordinates) will add its inertia invariants here and keep Br = Bo.
+/// (modal coordinates q_f) keeps these reference points, taken on the UNDEFORMED body (Br is the
+/// undeformed centre of mass of a free flexible body, hub included), and a prescribed body has
+/// Br = Bo on the rotation axis. Flexible bodies carry their inertia invariants about Br.
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/euler_parameters.hpp"
+#include "core/modal_data.hpp"
+#include "core/prescribed_motion.hpp"
 
 namespace flexref::core {
 
 enum class MotionKind {
   kFree,   ///< 6 DOF
   kPivot,  ///< a body point fixed in space (spherical joint to ground): 3 rotational DOF
+  /// The frame rotates by a given law about a fixed world axis through Bo (fixed): 0 rigid
+  /// DOF; only modal coordinates are integrated (prescribed_motion.hpp).
+  kPrescribed,
 };
 
 /// A named material point whose trajectory is an output (and where loads may be applied).
 struct TrackedPoint {
   std::string name;
-  Eigen::Vector3d p_BoP_B;  ///< position from the frame origin, body frame
+  Eigen::Vector3d p_BoP_B;  ///< undeformed position from the frame origin, body frame
+  /// Flexible bodies: the modal-data node this point is (it moves by Φ_k q_f), or −1 for a
+  /// point of the rigid part (hub), which does not deform.
+  int node = -1;
 };
 
 /// Initial state in the user's frame: origin Bo, attitude, origin velocity, angular velocity.
@@ -35,7 +47,16 @@ struct BodyInitialState {
   Eigen::Vector3d w_WB_B = Eigen::Vector3d::Zero();
 };
 
-/// A rigid body as described by a scene.
+/// The deformable part of a body (design/model.md): modal data (nodes from the frame origin Bo)
+/// and the initial modal coordinates.
+struct FlexiblePart {
+  ModalData modal;
+  Eigen::VectorXd q0;   ///< initial q_f (empty: zero)
+  Eigen::VectorXd qd0;  ///< initial q̇_f (empty: zero)
+};
+
+/// A body as described by a scene: its rigid part (the whole body when `flexible` is empty,
+/// else the hub, whose mass may then be zero) and optionally a flexible part.
 struct RigidBodyDescription {
   std::string name;
   double mass = 1.0;
@@ -43,8 +64,10 @@ struct RigidBodyDescription {
   Eigen::Matrix3d I_Bcm_B = Eigen::Matrix3d::Identity();  ///< inertia about Bcm, body frame
   MotionKind motion = MotionKind::kFree;
   Eigen::Vector3d p_BoPivot_B = Eigen::Vector3d::Zero();  ///< pivot (motion = pivot only)
+  PrescribedRotation prescribed;                          ///< motion = prescribed only
   BodyInitialState initial;
   std::vector<TrackedPoint> points;
+  std::optional<FlexiblePart> flexible;
 };
 
 /// Thrown by Body when finite input gives mass or inertia data that overflow once derived
@@ -59,27 +82,54 @@ class InertiaRangeError : public std::invalid_argument {
 class Body {
  public:
   /// Validates (mass > 0, inertia symmetric positive definite with the triangle inequality,
-  /// unit attitude) and throws std::invalid_argument naming the problem.
+  /// unit attitude; a flexible body: valid modal data, a hub mass ≥ 0 with a physical or zero
+  /// inertia, and a positive definite undeformed inertia unless prescribed) and throws
+  /// std::invalid_argument naming the problem.
   explicit Body(RigidBodyDescription description);
 
   const std::string& name() const { return description_.name; }
   const RigidBodyDescription& description() const { return description_; }
   MotionKind motion() const { return description_.motion; }
   bool is_free() const { return description_.motion == MotionKind::kFree; }
-  double mass() const { return description_.mass; }
+  bool is_prescribed() const { return description_.motion == MotionKind::kPrescribed; }
+  bool is_flexible() const { return description_.flexible.has_value(); }
+  /// Number of modal coordinates n (0 for a rigid body).
+  int mode_count() const { return mode_count_; }
+  /// Total mass (hub and nodes for a flexible body).
+  double mass() const { return mass_; }
 
   /// Br in the body frame (Bcm for free bodies, the pivot for pivot bodies).
   const Eigen::Vector3d& p_BoBr_B() const { return p_BoBr_B_; }
   /// Centre of mass relative to Br (zero for free bodies).
   const Eigen::Vector3d& p_BrBcm_B() const { return p_BrBcm_B_; }
-  /// Inertia about Br, body frame, and its inverse.
+  /// Inertia about Br, body frame (undeformed for a flexible body, hub included), and its
+  /// inverse (not formed for a prescribed body, whose inertia may be singular).
   const Eigen::Matrix3d& I_Br_B() const { return I_Br_B_; }
   const Eigen::Matrix3d& I_Br_B_inverse() const { return I_Br_B_inverse_; }
   /// Position of a body point relative to Br, body frame.
   Eigen::Vector3d p_BrP_B(const Eigen::Vector3d& p_BoP_B) const { return p_BoP_B - p_BoBr_B_; }
+  /// Position of a tracked point relative to Br, body frame, deformed by q_f when it is a node:
+  /// ū_P = x_P + Φ_P q_f (eq. 10).
+  Eigen::Vector3d p_BrP_B(const TrackedPoint& point, const Eigen::VectorXd& q_f) const;
+
+  /// Flexible bodies: invariants about Br (nodes and hub), modal stiffness K_i and damping
+  /// d_i = 2ζ_iω_iμ_i (diagonals), natural frequencies with the frame fixed (rad/s, ascending).
+  const ModalInvariants& invariants() const { return invariants_; }
+  const Eigen::VectorXd& modal_stiffness() const { return stiffness_; }
+  const Eigen::VectorXd& modal_damping() const { return damping_; }
+  const Eigen::VectorXd& natural_frequencies() const { return frequencies_; }
+  /// Cholesky factor of the constant modal mass matrix m_ff (the LTE modal equations).
+  const Eigen::LLT<Eigen::MatrixXd>& modal_mass_llt() const { return modal_mass_llt_; }
 
  private:
   RigidBodyDescription description_;
+  double mass_ = 0.0;
+  int mode_count_ = 0;
+  ModalInvariants invariants_;
+  Eigen::VectorXd stiffness_;
+  Eigen::VectorXd damping_;
+  Eigen::VectorXd frequencies_;
+  Eigen::LLT<Eigen::MatrixXd> modal_mass_llt_;
   Eigen::Vector3d p_BoBr_B_;
   Eigen::Vector3d p_BrBcm_B_;
   Eigen::Matrix3d I_Br_B_;

@@ -2,11 +2,14 @@
 /// \file dae_form.hpp
 /// The Euler-parameter DAE form F(t, y, y') = 0 of design/model.md (paper eq. 19–20), in the
 /// stabilized index-2 form of Gear, Gupta and Leimkuhler (1985), for IDA. Per body:
-///   free  y = [p(3) θ(4) v(3) v_θ(4) λ μ],  pivot y = [θ(4) v_θ(4) λ μ]
+///   free  y = [p(3) θ(4) v(3) v_θ(4) q(n) v_q(n) λ μ],  pivot y = [θ(4) v_θ(4) q v_q λ μ],
+///   prescribed y = [q(n) v_q(n)]   (q, v_q only for a flexible body)
 ///   ṗ − v = 0
 ///   θ̇ − v_θ + 2θ μ = 0                         (GGL: C_qᵀ μ with C_q = 2θᵀ)
-///   m v̇ − f = 0
-///   2Ḡᵀ [ I α̅ + ω̄ × I ω̄ − Aᵀ τ ] + 2θ λ = 0,   ω̄ = 2Ḡ v_θ,  α̅ = 2Ḡ v̇_θ   (θ rows, eq. 19)
+///   q̇ − v_q = 0
+///   m v̇ − f = 0                                 (a flexible body: the rows of Model::
+///   2Ḡᵀ [ I α̅ + ω̄ × I ω̄ − Aᵀ τ ] + 2θ λ = 0      dynamics_residual, M v − Q, translation,
+///   (modal rows)                                 2Ḡᵀ·rotation, modes; ω̄ = 2Ḡ v_θ, α̅ = 2Ḡ v̇_θ)
 ///   θᵀ v_θ = 0                                   (velocity constraint, for λ)
 ///   ½ (θᵀθ − 1) = 0                              (position constraint, for μ)
 /// The θ rows are the quasi-velocity rows premultiplied by 2Ḡᵀ (m_θθ = 4ḠᵀIḠ is singular along
@@ -25,6 +28,8 @@ class DaeForm {
   struct Scratch {
     State state;
     Workspace workspace;
+    Accelerations accelerations;
+    Eigen::VectorXd residual;
   };
 
   int size() const { return size_; }
@@ -37,14 +42,24 @@ class DaeForm {
   std::vector<double> differential_ids() const;
   void residual(const LoadContext& context, const double* y, const double* yp, double* res,
                 Scratch& scratch) const;
-  /// State at y (θ normalized, ω̄ = 2Ḡ v_θ).
-  void unpack(const double* y, State& state) const;
+  /// State at time t and y (θ normalized, ω̄ = 2Ḡ v_θ; prescribed bodies follow their law).
+  void unpack(double t, const double* y, State& state) const;
+
+  /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
+  struct Block {
+    int p = -1, theta = -1, v = -1, v_theta = -1, q = -1, v_q = -1, lambda = -1, mu = -1;
+    int n = 0, end = 0;
+  };
+  const std::vector<Block>& blocks() const { return blocks_; }
 
  private:
+  static Block block_of(const Body& b, int offset);
+
   const Model* model_;
   State fixed_;
-  std::vector<int> offsets_;
+  std::vector<Block> blocks_;
   int size_ = 0;
+  int max_rows_ = 6;
 };
 
 }  // namespace flexref::core

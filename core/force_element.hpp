@@ -3,13 +3,17 @@
 /// The interface of everything that applies loads: applied forces and torques, gravity,
 /// potentials; later contacts and bushings. An element adds, for each body it acts on, a
 /// force (world) and a torque about the body's reference point Br (world); the model maps
-/// these to generalized forces (design/model.md: Qe_R += f, Qe_θ += ũ_P Aᵀ f).
+/// these to generalized forces (design/model.md: Qe_R += f, Qe_θ += ũ_P Aᵀ f). On a flexible
+/// body a point load given by its position is a load on the rigid part (hub, Φ = 0); loads on
+/// the deformable part add the modal force Qe_f += Φ_Pᵀ Aᵀ f (Wrench::Q_f; gravity does this
+/// with the invariant S).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "core/modal_data.hpp"
 #include "core/state.hpp"
 
 namespace flexref::core {
@@ -26,6 +30,10 @@ struct BodyKinematics {
   const BodyState* state = nullptr;
   Eigen::Matrix3d R_WB = Eigen::Matrix3d::Identity();  ///< A(θ)
   Eigen::Vector3d p_BoBr_B = Eigen::Vector3d::Zero();
+  /// Flexible bodies: invariants about Br and the modal coordinates the loads see (the state's
+  /// under the coupled model; zero under LTE, whose loads act on the undeformed body).
+  const ModalInvariants* invariants = nullptr;
+  const Eigen::VectorXd* q_f = nullptr;
 
   /// Arm from Br to a body point given from the frame origin, world frame.
   Eigen::Vector3d p_BrP_W(const Eigen::Vector3d& p_BoP_B) const {
@@ -45,10 +53,13 @@ struct BodyKinematics {
 struct Wrench {
   Eigen::Vector3d f_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d tau_Br_W = Eigen::Vector3d::Zero();
+  /// Generalized modal force Qe_f (n; empty for a rigid body).
+  Eigen::VectorXd Q_f;
 
   void set_zero() {
     f_W.setZero();
     tau_Br_W.setZero();
+    Q_f.setZero();
   }
   /// Adds a force applied at a point whose arm from Br is p_BrP_W.
   void add_force_at(const Eigen::Vector3d& force_W, const Eigen::Vector3d& p_BrP_W) {

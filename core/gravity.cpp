@@ -15,7 +15,19 @@ void UniformGravity::add_wrenches(const LoadContext& /*context*/,
                                   std::span<Wrench> wrenches) const {
   for (const BodyMass& b : bodies_) {
     const auto i = static_cast<std::size_t>(b.body);
-    wrenches[i].add_force_at(b.mass * g_W_, bodies[i].p_BrP_W(b.p_BoBcm_B));
+    const BodyKinematics& k = bodies[i];
+    if (k.invariants == nullptr) {
+      wrenches[i].add_force_at(b.mass * g_W_, k.p_BrP_W(b.p_BoBcm_B));
+      continue;
+    }
+    // Flexible (design/model.md): Qe_R += m g, Qe_θ += s̃_t Aᵀ g, Qe_f += Sᵀ Aᵀ g, with
+    // s_t = s0 + S q_f the first moment about Br (masses included). τ_Br_W = A(s_t × Aᵀg).
+    const ModalInvariants& inv = *k.invariants;
+    const Eigen::Vector3d g_B = k.R_WB.transpose() * g_W_;
+    const Eigen::Vector3d s_t = first_moment(inv, *k.q_f);
+    wrenches[i].f_W += inv.mass * g_W_;
+    wrenches[i].tau_Br_W += k.R_WB * s_t.cross(g_B);
+    wrenches[i].Q_f.noalias() += inv.S.transpose() * g_B;
   }
 }
 
@@ -23,7 +35,14 @@ double UniformGravity::potential_energy(const LoadContext& /*context*/,
                                         std::span<const BodyKinematics> bodies) const {
   double v = 0.0;
   for (const BodyMass& b : bodies_) {
-    v -= b.mass * g_W_.dot(bodies[static_cast<std::size_t>(b.body)].p_WP(b.p_BoBcm_B));
+    const BodyKinematics& k = bodies[static_cast<std::size_t>(b.body)];
+    if (k.invariants == nullptr) {
+      v -= b.mass * g_W_.dot(k.p_WP(b.p_BoBcm_B));
+    } else {
+      // V = −g · Σ m_k r_k = −g · (m p_WBr + A s_t)
+      v -= g_W_.dot(k.invariants->mass * k.state->p_WBr +
+                    k.R_WB * first_moment(*k.invariants, *k.q_f));
+    }
   }
   return v;
 }

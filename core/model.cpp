@@ -6,10 +6,35 @@
 #include <string>
 #include <utility>
 
+#include "core/flexible_dynamics.hpp"
+
 namespace flexref::core {
 
-Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements)
-    : bodies_(std::move(bodies)), elements_(std::move(elements)) {
+namespace {
+
+/// First generalized-velocity row a body integrates: free 0, pivot 3 (a = 0), prescribed 6.
+Eigen::Index first_unknown_row(const Body& b) {
+  switch (b.motion()) {
+    case MotionKind::kFree:
+      return 0;
+    case MotionKind::kPivot:
+      return 3;
+    case MotionKind::kPrescribed:
+      return 6;
+  }
+  return 0;
+}
+
+}  // namespace
+
+const char* to_string(FlexibleFormulation formulation) {
+  return formulation == FlexibleFormulation::kLte ? "lte" : "coupled";
+}
+
+Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements,
+             FlexibleFormulation formulation)
+    : bodies_(std::move(bodies)), elements_(std::move(elements)), formulation_(formulation) {
+  for (const Body& b : bodies_) flexible_ = flexible_ || b.is_flexible();
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
       if (bodies_[i].name() == bodies_[j].name()) {
@@ -51,33 +76,151 @@ State Model::initial_state() const {
     s.p_WBr = init.p_WBo + R_WB * b.p_BoBr_B();
     s.v_WBr = b.is_free() ? Eigen::Vector3d(init.v_WBo + R_WB * init.w_WB_B.cross(b.p_BoBr_B()))
                           : Eigen::Vector3d::Zero();
+    const Eigen::Index n = b.mode_count();
+    s.q_f = Eigen::VectorXd::Zero(n);
+    s.qd_f = Eigen::VectorXd::Zero(n);
+    if (b.is_flexible()) {
+      const FlexiblePart& f = *b.description().flexible;
+      if (f.q0.size() == n) s.q_f = f.q0;
+      if (f.qd0.size() == n) s.qd_f = f.qd0;
+    }
   }
+  apply_prescribed_motion(0.0, state);
   return state;
+}
+
+Accelerations Model::make_accelerations() const {
+  Accelerations acc(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    acc[i].qdd_f = Eigen::VectorXd::Zero(bodies_[i].mode_count());
+  }
+  return acc;
+}
+
+void Model::apply_prescribed_motion(double t, State& state) const {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    if (!b.is_prescribed()) continue;
+    const RigidBodyDescription& d = b.description();
+    const PrescribedAttitude law = prescribed_attitude(d.prescribed, d.initial.theta_WB, t);
+    BodyState& s = state[i];
+    s.p_WBr = d.initial.p_WBo;  // Br = Bo, fixed on the axis
+    s.v_WBr.setZero();
+    s.theta_WB = law.theta_WB;
+    s.w_WB_B = law.w_WB_B;
+  }
 }
 
 Workspace Model::make_workspace() const {
   Workspace ws;
   ws.kinematics.resize(bodies_.size());
   ws.wrenches.resize(bodies_.size());
+  ws.flexible.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    ws.kinematics[i].p_BoBr_B = bodies_[i].p_BoBr_B();
+    const Body& b = bodies_[i];
+    ws.kinematics[i].p_BoBr_B = b.p_BoBr_B();
+    const Eigen::Index n = b.mode_count();
+    ws.wrenches[i].Q_f = Eigen::VectorXd::Zero(n);
+    if (!b.is_flexible()) continue;
+    ws.kinematics[i].invariants = &b.invariants();
+    FlexibleScratch& fs = ws.flexible[i];
+    fs.M = Eigen::MatrixXd::Zero(6 + n, 6 + n);
+    fs.Qv = Eigen::VectorXd::Zero(6 + n);
+    fs.rhs = Eigen::VectorXd::Zero(6 + n);
+    fs.x = Eigen::VectorXd::Zero(6 + n);
+    fs.zero = Eigen::VectorXd::Zero(n);
+    const Eigen::Index start = first_unknown_row(b);
+    fs.sub_rhs = Eigen::VectorXd::Zero(6 + n - start);
+    fs.unknown_llt = Eigen::LLT<Eigen::MatrixXd>(6 + n - start);
+    fs.rigid_llt = Eigen::LLT<Eigen::MatrixXd>(6 - start);
   }
   return ws;
 }
 
 void Model::compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const {
+  ws.time = context.t;
+  const bool lte = formulation_ == FlexibleFormulation::kLte;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     ws.kinematics[i].state = &state[i];
     ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
+    ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
     ws.wrenches[i].set_zero();
   }
   for (const auto& e : elements_) e->add_wrenches(context, ws.kinematics, ws.wrenches);
 }
 
-void Model::accelerations_from_wrenches(const State& state, const Workspace& ws,
+void Model::flexible_system(int i, const BodyState& s, Workspace& ws) const {
+  const auto k = static_cast<std::size_t>(i);
+  const Body& b = bodies_[k];
+  FlexibleScratch& fs = ws.flexible[k];
+  const Eigen::Matrix3d& R_WB = ws.kinematics[k].R_WB;
+  const Wrench& w = ws.wrenches[k];
+  const Eigen::Index n = b.mode_count();
+  const bool lte = formulation_ == FlexibleFormulation::kLte;
+  const Eigen::VectorXd& q_inertia = lte ? fs.zero : s.q_f;
+  const Eigen::VectorXd& qd_inertia = lte ? fs.zero : s.qd_f;
+  flexible_mass_matrix(b.invariants(), R_WB, q_inertia, fs.M);
+  // LTE: no feedback of the elastic motion on the rigid one.
+  if (lte) fs.M.topRightCorner(6, n).setZero();
+  flexible_quadratic_velocity(b.invariants(), R_WB, q_inertia, s.w_WB_B, qd_inertia, fs.Qv);
+  fs.rhs.head<3>() = w.f_W + fs.Qv.head<3>();
+  fs.rhs.segment<3>(3) = R_WB.transpose() * w.tau_Br_W + fs.Qv.segment<3>(3);
+  fs.rhs.tail(n) = w.Q_f + fs.Qv.tail(n) - b.modal_stiffness().cwiseProduct(s.q_f) -
+                   b.modal_damping().cwiseProduct(s.qd_f);
+}
+
+void Model::flexible_accelerations(int i, const BodyState& s, Workspace& ws,
+                                   BodyAcceleration& a) const {
+  const auto k = static_cast<std::size_t>(i);
+  const Body& b = bodies_[k];
+  FlexibleScratch& fs = ws.flexible[k];
+  flexible_system(i, s, ws);
+  const Eigen::Index n = b.mode_count();
+  const Eigen::Index start = first_unknown_row(b);
+  // Known rows: a = 0 (pivot, prescribed), α̅ of the law (prescribed).
+  fs.x.head<6>().setZero();
+  if (b.is_prescribed()) {
+    const RigidBodyDescription& d = b.description();
+    fs.x.segment<3>(3) = prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
+  }
+  if (formulation_ == FlexibleFormulation::kCoupled) {
+    const Eigen::Index m = 6 + n - start;
+    fs.sub_rhs = fs.rhs.tail(m);
+    fs.sub_rhs.noalias() -= fs.M.bottomLeftCorner(m, start) * fs.x.head(start);
+    fs.unknown_llt.compute(fs.M.bottomRightCorner(m, m));
+    fs.x.tail(m) = fs.unknown_llt.solve(fs.sub_rhs);
+  } else {
+    const Eigen::Index r = 6 - start;
+    if (r > 0) {
+      fs.sub_rhs.head(r) = fs.rhs.segment(start, r);
+      fs.sub_rhs.head(r).noalias() -= fs.M.block(start, 0, r, start) * fs.x.head(start);
+      fs.rigid_llt.compute(fs.M.block(start, start, r, r));
+      fs.x.segment(start, r) = fs.rigid_llt.solve(fs.sub_rhs.head(r));
+    }
+    fs.sub_rhs.tail(n) = fs.rhs.tail(n);
+    fs.sub_rhs.tail(n).noalias() -= fs.M.bottomLeftCorner(n, 6) * fs.x.head<6>();
+    fs.x.tail(n) = b.modal_mass_llt().solve(fs.sub_rhs.tail(n));
+  }
+  a.a_WBr = fs.x.head<3>();
+  a.alpha_WB_B = fs.x.segment<3>(3);
+  a.qdd_f = fs.x.tail(n);
+}
+
+void Model::accelerations_from_wrenches(const State& state, Workspace& ws,
                                         Accelerations& accelerations) const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
+    if (b.is_flexible()) {
+      flexible_accelerations(static_cast<int>(i), state[i], ws, accelerations[i]);
+      continue;
+    }
+    if (b.is_prescribed()) {
+      const RigidBodyDescription& d = b.description();
+      accelerations[i].a_WBr.setZero();
+      accelerations[i].alpha_WB_B =
+          prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
+      continue;
+    }
     const BodyState& s = state[i];
     const Wrench& w = ws.wrenches[i];
     BodyAcceleration& a = accelerations[i];
@@ -95,11 +238,52 @@ void Model::compute_accelerations(const LoadContext& context, const State& state
   accelerations_from_wrenches(state, ws, accelerations);
 }
 
+void Model::dynamics_residual(int i, const BodyState& s, const BodyAcceleration& acc, Workspace& ws,
+                              Eigen::Ref<Eigen::VectorXd> out) const {
+  const auto k = static_cast<std::size_t>(i);
+  const Body& b = bodies_[k];
+  const Wrench& w = ws.wrenches[k];
+  const Eigen::Matrix3d& R_WB = ws.kinematics[k].R_WB;
+  if (!b.is_flexible()) {
+    // m a − f;  I α̅ + ω̄ × I ω̄ − Aᵀ τ   (about Br)
+    out.head<3>() = b.mass() * acc.a_WBr - w.f_W;
+    out.segment<3>(3) = b.I_Br_B() * acc.alpha_WB_B + s.w_WB_B.cross(b.I_Br_B() * s.w_WB_B) -
+                        R_WB.transpose() * w.tau_Br_W;
+    return;
+  }
+  FlexibleScratch& fs = ws.flexible[k];
+  flexible_system(i, s, ws);
+  const Eigen::Index n = b.mode_count();
+  fs.x.head<3>() = acc.a_WBr;
+  fs.x.segment<3>(3) = acc.alpha_WB_B;
+  fs.x.tail(n) = acc.qdd_f;
+  out = -fs.rhs;
+  out.noalias() += fs.M * fs.x;
+}
+
+double Model::driving_torque(int i, const BodyState& s, const BodyAcceleration& acc,
+                             Workspace& ws) const {
+  const Body& b = body(i);
+  if (!b.is_prescribed()) return 0.0;
+  FlexibleScratch& fs = ws.flexible[static_cast<std::size_t>(i)];
+  if (fs.residual.size() != 6 + b.mode_count()) fs.residual.resize(6 + b.mode_count());
+  dynamics_residual(i, s, acc, ws, fs.residual);
+  // The drive's torque τ_d enters the rotation rows as +Aᵀ τ_d, so τ_d,B = the residual there.
+  const Eigen::Vector3d tau_drive_W =
+      ws.kinematics[static_cast<std::size_t>(i)].R_WB * fs.residual.segment<3>(3);
+  return b.description().prescribed.axis_W.dot(tau_drive_W);
+}
+
 double Model::kinetic_energy(const State& state) const {
   double t = 0.0;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     const BodyState& s = state[i];
+    if (b.is_flexible()) {
+      t += flexible_kinetic_energy(b.invariants(), rotation_matrix(s.theta_WB), s.q_f, s.v_WBr,
+                                   s.w_WB_B, s.qd_f);
+      continue;
+    }
     // T = ½ m |v_Bcm|² + ½ ω̄ᵀ I_Bcm ω̄ (free, Br = Bcm);  T = ½ ω̄ᵀ I_Pv ω̄ (pivot).
     t += 0.5 * s.w_WB_B.dot(b.I_Br_B() * s.w_WB_B);
     if (b.is_free()) t += 0.5 * b.mass() * s.v_WBr.squaredNorm();
@@ -109,12 +293,24 @@ double Model::kinetic_energy(const State& state) const {
 
 double Model::potential_energy(const LoadContext& context, const State& state,
                                Workspace& ws) const {
+  const bool lte = formulation_ == FlexibleFormulation::kLte;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     ws.kinematics[i].state = &state[i];
     ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
+    ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
   }
-  double v = 0.0;
+  double v = elastic_energy(state);
   for (const auto& e : elements_) v += e->potential_energy(context, ws.kinematics);
+  return v;
+}
+
+double Model::elastic_energy(const State& state) const {
+  double v = 0.0;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (!bodies_[i].is_flexible()) continue;
+    // ½ q_fᵀ K q_f with K = diag(K_i)
+    v += 0.5 * state[i].q_f.dot(bodies_[i].modal_stiffness().cwiseProduct(state[i].q_f));
+  }
   return v;
 }
 
@@ -124,6 +320,12 @@ Eigen::Vector3d Model::linear_momentum_W(const State& state) const {
     const Body& b = bodies_[i];
     const BodyState& s = state[i];
     const Eigen::Matrix3d R_WB = rotation_matrix(s.theta_WB);
+    if (b.is_flexible()) {
+      // First row of M v: m Ṙ + A (ω̄ × s_t + S q̇_f)
+      const ModalInvariants& inv = b.invariants();
+      p += inv.mass * s.v_WBr + R_WB * (s.w_WB_B.cross(first_moment(inv, s.q_f)) + inv.S * s.qd_f);
+      continue;
+    }
     p += b.mass() * (s.v_WBr + R_WB * s.w_WB_B.cross(b.p_BrBcm_B()));
   }
   return p;
@@ -137,6 +339,18 @@ Eigen::Vector3d Model::angular_momentum_W(const State& state) const {
     const Body& b = bodies_[i];
     const BodyState& s = state[i];
     const Eigen::Matrix3d R_WB = rotation_matrix(s.theta_WB);
+    if (b.is_flexible()) {
+      // H_O = p_WBr × p + H_Br,  H_Br = A (s̃_t Aᵀ Ṙ + Ī_θθ ω̄ + Ī_θf q̇_f)  (θ row of M v)
+      const ModalInvariants& inv = b.invariants();
+      const Eigen::Vector3d s_t = first_moment(inv, s.q_f);
+      const Eigen::Vector3d p_W =
+          inv.mass * s.v_WBr + R_WB * (s.w_WB_B.cross(s_t) + inv.S * s.qd_f);
+      const Eigen::Vector3d h_B = s_t.cross(R_WB.transpose() * s.v_WBr) +
+                                  inertia_theta_theta(inv, s.q_f) * s.w_WB_B +
+                                  inertia_theta_f(inv, s.q_f) * s.qd_f;
+      h += s.p_WBr.cross(p_W) + R_WB * h_B;
+      continue;
+    }
     const Eigen::Vector3d v_WBcm = s.v_WBr + R_WB * s.w_WB_B.cross(b.p_BrBcm_B());
     h += s.p_WBr.cross(b.mass() * v_WBcm) + R_WB * (b.I_Br_B() * s.w_WB_B);
   }
@@ -153,6 +367,10 @@ Eigen::Vector3d Model::v_WBo(int i, const BodyState& s) const {
 
 Eigen::Vector3d Model::p_WP(int i, const BodyState& s, const Eigen::Vector3d& p_BoP_B) const {
   return s.p_WBr + rotation_matrix(s.theta_WB) * (p_BoP_B - body(i).p_BoBr_B());
+}
+
+Eigen::Vector3d Model::p_WP(int i, const BodyState& s, const TrackedPoint& point) const {
+  return s.p_WBr + rotation_matrix(s.theta_WB) * body(i).p_BrP_B(point, s.q_f);
 }
 
 }  // namespace flexref::core

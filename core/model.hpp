@@ -8,6 +8,16 @@
 /// Equations (design/model.md, quasi-velocity form, rigid bodies about Br):
 ///   free:  m a_WBr = f_W,                  I_Br α̅ + ω̄ × I_Br ω̄ = Aᵀ τ_Br_W
 ///   pivot: a_WBr = 0,                      I_Pv α̅ + ω̄ × I_Pv ω̄ = Aᵀ τ_Pv_W
+/// and for a flexible body, about Br with v = (a_WBr, α̅, q̈_f):
+///   coupled: M(θ, q_f) v = Qe + Qv − [0; 0; K q_f + D q̇_f]     (core/flexible_dynamics.hpp)
+///   LTE:     the same blocks at q_f = 0, q̇_f = 0 and without the rigid rows' elastic terms
+///            (M_Rf = M_θf = 0): rigid motion of the undeformed body first, then
+///            m_ff q̈_f + D q̇_f + K q_f = Qe_f − Sᵀ Aᵀ a − Ī_θf0ᵀ α̅ − Σ m_k Φ_kᵀ ω̄̃ω̄̃ x_k,
+///            with loads evaluated on the undeformed body (design/model.md, "The LTE model").
+/// Rows of known accelerations (pivot: a = 0; prescribed: a = 0 and the law's α̅) are moved to
+/// the right-hand side; the remaining rows are solved by Cholesky (coupled) or block forward
+/// substitution (LTE).
+#include <Eigen/Cholesky>
 #include <memory>
 #include <span>
 #include <string>
@@ -19,15 +29,40 @@
 
 namespace flexref::core {
 
+/// Which model a flexible body's equations are (design/model.md); rigid bodies are the same in
+/// both.
+enum class FlexibleFormulation {
+  kCoupled,  ///< the full floating-frame model (the paper's eq. 19–21)
+  kLte,      ///< linear theory of elastodynamics (the paper's §3)
+};
+/// "coupled" / "lte".
+const char* to_string(FlexibleFormulation formulation);
+
+/// Scratch of one flexible body's evaluation (sized once; never reallocated).
+struct FlexibleScratch {
+  Eigen::MatrixXd M;                        ///< effective mass matrix (6+n)²
+  Eigen::VectorXd Qv;                       ///< quadratic-velocity vector (6+n)
+  Eigen::VectorXd rhs;                      ///< Qe + Qv − [0; 0; K q + D q̇]
+  Eigen::VectorXd x;                        ///< (a, α̅, q̈_f)
+  Eigen::VectorXd sub_rhs;                  ///< right-hand side of the unknown rows
+  Eigen::VectorXd residual;                 ///< dynamics_residual's rows (6+n), for outputs
+  Eigen::VectorXd zero;                     ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
+  Eigen::LLT<Eigen::MatrixXd> unknown_llt;  ///< coupled: Cholesky of the unknown rows
+  Eigen::LLT<Eigen::MatrixXd> rigid_llt;    ///< LTE: Cholesky of the unknown rigid rows
+};
+
 /// Per-evaluation scratch space; make one per thread with Model::make_workspace().
 struct Workspace {
   std::vector<BodyKinematics> kinematics;
   std::vector<Wrench> wrenches;
+  std::vector<FlexibleScratch> flexible;  ///< one per body (empty matrices for rigid bodies)
+  double time = 0.0;                      ///< t of the last compute_wrenches (prescribed α̅)
 };
 
 class Model {
  public:
-  Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements);
+  Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements,
+        FlexibleFormulation formulation = FlexibleFormulation::kCoupled);
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
   const Body& body(int i) const { return bodies_[static_cast<std::size_t>(i)]; }
@@ -40,21 +75,42 @@ class Model {
   const std::vector<double>& discontinuities() const { return discontinuities_; }
   /// True when some element depends on velocities.
   bool has_velocity_dependent_loads() const { return velocity_dependent_; }
+  FlexibleFormulation formulation() const { return formulation_; }
+  bool has_flexible_bodies() const { return flexible_; }
 
   State initial_state() const;
   Workspace make_workspace() const;
+  /// Accelerations sized for the model (modal parts included).
+  Accelerations make_accelerations() const;
+  /// Sets the rigid part of every prescribed body to its angle law's at time t (p_WBr fixed,
+  /// v_WBr = 0, θ and ω̄ of the law). Other bodies are untouched.
+  void apply_prescribed_motion(double t, State& state) const;
 
   /// Fills workspace.kinematics (A(θ) per body) and workspace.wrenches.
   void compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const;
   /// Accelerations from the loads already in ws.wrenches (see compute_wrenches).
-  void accelerations_from_wrenches(const State& state, const Workspace& ws,
+  void accelerations_from_wrenches(const State& state, Workspace& ws,
                                    Accelerations& accelerations) const;
   /// compute_wrenches then accelerations_from_wrenches.
   void compute_accelerations(const LoadContext& context, const State& state, Workspace& ws,
                              Accelerations& accelerations) const;
 
+  /// The generalized equations of body i as a residual at the given accelerations, with the
+  /// loads already in ws (compute_wrenches): the 6 + n rows M v − (Qe + Qv − [0; 0; Kq + Dq̇]) in
+  /// the quasi-velocity variables (translation, rotation in the body frame, modes). The rows a
+  /// pivot or prescribed body does not integrate are the reactions its constraint supplies.
+  void dynamics_residual(int i, const BodyState& state, const BodyAcceleration& acc, Workspace& ws,
+                         Eigen::Ref<Eigen::VectorXd> out) const;
+  /// Torque about the axis that drives a prescribed body along its law (N·m): the axis
+  /// component of the rotational reaction (dynamics_residual's rotation rows, to world).
+  double driving_torque(int i, const BodyState& state, const BodyAcceleration& acc,
+                        Workspace& ws) const;
+
   double kinetic_energy(const State& state) const;
+  /// Potential energy of the force elements plus the elastic energy ½ q_fᵀ K q_f.
   double potential_energy(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// ½ Σ q_fᵀ K q_f over the flexible bodies.
+  double elastic_energy(const State& state) const;
   /// Total linear momentum, world.
   Eigen::Vector3d linear_momentum_W(const State& state) const;
   /// Total angular momentum about the world origin, world.
@@ -65,12 +121,19 @@ class Model {
   Eigen::Vector3d v_WBo(int i, const BodyState& s) const;
   /// World position of a body point given from the frame origin.
   Eigen::Vector3d p_WP(int i, const BodyState& s, const Eigen::Vector3d& p_BoP_B) const;
+  /// World position of a tracked point, deformed when it is a node of a flexible body.
+  Eigen::Vector3d p_WP(int i, const BodyState& s, const TrackedPoint& point) const;
 
  private:
+  void flexible_system(int i, const BodyState& s, Workspace& ws) const;
+  void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
+
   std::vector<Body> bodies_;
   std::vector<std::unique_ptr<const ForceElement>> elements_;
   std::vector<double> discontinuities_;
   bool velocity_dependent_ = false;
+  FlexibleFormulation formulation_ = FlexibleFormulation::kCoupled;
+  bool flexible_ = false;
 };
 
 }  // namespace flexref::core

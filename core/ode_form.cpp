@@ -3,20 +3,51 @@
 #include <cstddef>
 
 namespace flexref::core {
+
 namespace {
 
 using ConstMap3 = Eigen::Map<const Eigen::Vector3d>;
 using ConstMap4 = Eigen::Map<const Eigen::Vector4d>;
+using ConstMapX = Eigen::Map<const Eigen::VectorXd>;
 using Map3 = Eigen::Map<Eigen::Vector3d>;
 using Map4 = Eigen::Map<Eigen::Vector4d>;
+using MapX = Eigen::Map<Eigen::VectorXd>;
 
 }  // namespace
 
+OdeForm::Block OdeForm::block_of(const Body& b, int offset) {
+  Block k;
+  const int n = b.mode_count();
+  int next = offset;
+  if (b.is_free()) {
+    k.p = next;
+    next += 3;
+  }
+  if (!b.is_prescribed()) {
+    k.theta = next;
+    next += 4;
+  }
+  if (b.is_free()) {
+    k.v = next;
+    next += 3;
+  }
+  if (!b.is_prescribed()) {
+    k.w = next;
+    next += 3;
+  }
+  k.q = next;
+  k.qd = next + n;
+  k.n = n;
+  k.end = next + 2 * n;
+  return k;
+}
+
 OdeForm::OdeForm(const Model& model) : model_(&model), fixed_(model.initial_state()) {
   for (const Body& b : model.bodies()) {
-    offsets_.push_back(size_);
-    theta_offsets_.push_back(size_ + (b.is_free() ? 3 : 0));
-    size_ += b.is_free() ? 13 : 7;
+    const Block k = block_of(b, size_);
+    blocks_.push_back(k);
+    if (k.theta >= 0) theta_offsets_.push_back(k.theta);
+    size_ = k.end;
   }
 }
 
@@ -24,62 +55,63 @@ OdeForm::Scratch OdeForm::make_scratch() const {
   Scratch s;
   s.state = fixed_;
   s.workspace = model_->make_workspace();
-  s.accelerations.resize(fixed_.size());
+  s.accelerations = model_->make_accelerations();
   return s;
 }
 
 void OdeForm::pack(const State& state, double* y) const {
   for (std::size_t i = 0; i < state.size(); ++i) {
-    double* yi = y + offsets_[i];
+    const Block& k = blocks_[i];
     const BodyState& s = state[i];
-    if (model_->body(static_cast<int>(i)).is_free()) {
-      Map3{yi} = s.p_WBr;
-      Map4(yi + 3) = s.theta_WB;
-      Map3(yi + 7) = s.v_WBr;
-      Map3(yi + 10) = s.w_WB_B;
-    } else {
-      Map4{yi} = s.theta_WB;
-      Map3(yi + 4) = s.w_WB_B;
-    }
+    if (k.p >= 0) Map3(y + k.p) = s.p_WBr;
+    if (k.theta >= 0) Map4(y + k.theta) = s.theta_WB;
+    if (k.v >= 0) Map3(y + k.v) = s.v_WBr;
+    if (k.w >= 0) Map3(y + k.w) = s.w_WB_B;
+    MapX(y + k.q, k.n) = s.q_f;
+    MapX(y + k.qd, k.n) = s.qd_f;
   }
 }
 
-void OdeForm::unpack(const double* y, State& state) const {
+void OdeForm::unpack(double t, const double* y, State& state) const {
   for (std::size_t i = 0; i < state.size(); ++i) {
-    const double* yi = y + offsets_[i];
+    const Block& k = blocks_[i];
     BodyState& s = state[i];
-    if (model_->body(static_cast<int>(i)).is_free()) {
-      s.p_WBr = ConstMap3(yi);
-      s.theta_WB = ConstMap4(yi + 3).normalized();
-      s.v_WBr = ConstMap3(yi + 7);
-      s.w_WB_B = ConstMap3(yi + 10);
+    if (k.p >= 0) {
+      s.p_WBr = ConstMap3(y + k.p);
+      s.v_WBr = ConstMap3(y + k.v);
     } else {
       s.p_WBr = fixed_[i].p_WBr;
-      s.theta_WB = ConstMap4(yi).normalized();
       s.v_WBr.setZero();
-      s.w_WB_B = ConstMap3(yi + 4);
     }
+    if (k.theta >= 0) {
+      s.theta_WB = ConstMap4(y + k.theta).normalized();
+      s.w_WB_B = ConstMap3(y + k.w);
+    }
+    s.q_f = ConstMapX(y + k.q, k.n);
+    s.qd_f = ConstMapX(y + k.qd, k.n);
   }
+  model_->apply_prescribed_motion(t, state);
 }
 
 void OdeForm::rhs(const LoadContext& context, const double* y, double* ydot,
                   Scratch& scratch) const {
-  unpack(y, scratch.state);
+  unpack(context.t, y, scratch.state);
   model_->compute_accelerations(context, scratch.state, scratch.workspace, scratch.accelerations);
   for (std::size_t i = 0; i < scratch.state.size(); ++i) {
-    double* fi = ydot + offsets_[i];
-    const double* yi = y + offsets_[i];
+    const Block& k = blocks_[i];
     const BodyState& s = scratch.state[i];
     const BodyAcceleration& a = scratch.accelerations[i];
-    if (model_->body(static_cast<int>(i)).is_free()) {
-      Map3{fi} = s.v_WBr;                                                // ṗ = v
-      Map4(fi + 3) = euler_parameter_rate(ConstMap4(yi + 3), s.w_WB_B);  // θ̇ = ½ θ ⊗ (0, ω̄)
-      Map3(fi + 7) = a.a_WBr;                                            // v̇ = a
-      Map3(fi + 10) = a.alpha_WB_B;                                      // ω̄̇ = α̅
-    } else {
-      Map4{fi} = euler_parameter_rate(ConstMap4(yi), s.w_WB_B);
-      Map3(fi + 4) = a.alpha_WB_B;
+    if (k.p >= 0) {
+      Map3(ydot + k.p) = s.v_WBr;  // ṗ = v
+      Map3(ydot + k.v) = a.a_WBr;  // v̇ = a
     }
+    if (k.theta >= 0) {
+      // θ̇ = ½ θ ⊗ (0, ω̄), with the unnormalized θ of y (tangent to its sphere)
+      Map4(ydot + k.theta) = euler_parameter_rate(ConstMap4(y + k.theta), s.w_WB_B);
+      Map3(ydot + k.w) = a.alpha_WB_B;  // ω̄̇ = α̅
+    }
+    MapX(ydot + k.q, k.n) = s.qd_f;    // q̇_f
+    MapX(ydot + k.qd, k.n) = a.qdd_f;  // q̈_f
   }
 }
 

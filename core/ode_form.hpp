@@ -4,6 +4,8 @@
 /// solvers (CVODE, Boost.Odeint). Per body:
 ///   free  [p_WBr(3) θ(4) v_WBr(3) ω̄(3)]   ṗ = v,  θ̇ = ½ θ ⊗ (0, ω̄),  v̇ = a,  ω̄̇ = α̅
 ///   pivot [θ(4) ω̄(3)]
+///   prescribed []                         (the angle law gives θ, ω̄ at the time of evaluation)
+/// followed, for a flexible body, by [q_f(n) q̇_f(n)] with q̇_f' = q̈_f.
 /// The Euler parameters drift off the unit sphere under a generic solver; solvers project
 /// them back (normalize_euler_parameters), which is the projection CVODE is given.
 #include <vector>
@@ -28,21 +30,30 @@ class OdeForm {
   Scratch make_scratch() const;
 
   void pack(const State& state, double* y) const;
-  /// Unpacks into a state sized for the model (pivot positions are the fixed pivots). θ is
+  /// Unpacks the state at time t into a state sized for the model (pivot positions are the
+  /// fixed pivots; prescribed bodies follow their law at t). θ is
   /// normalized, so loads always see an orthogonal A(θ); θ̇ = ½ θ̂ ⊗ (0, ω̄) is still tangent
   /// to the sphere through the unnormalized y, so |θ| is conserved by the exact flow.
-  void unpack(const double* y, State& state) const;
+  void unpack(double t, const double* y, State& state) const;
   /// ydot = f(t, y); must not allocate.
   void rhs(const LoadContext& context, const double* y, double* ydot, Scratch& scratch) const;
   /// Scales every body's θ to unit norm.
   void normalize_euler_parameters(double* y) const;
-  /// Offsets of each body's θ block in y (for projections and error weights).
+  /// Offsets of the θ blocks in y (bodies that integrate an attitude; for projections).
   const std::vector<int>& theta_offsets() const { return theta_offsets_; }
 
+  /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
+  struct Block {
+    int p = -1, theta = -1, v = -1, w = -1, q = -1, qd = -1, n = 0, end = 0;
+  };
+  const std::vector<Block>& blocks() const { return blocks_; }
+
  private:
+  static Block block_of(const Body& b, int offset);
+
   const Model* model_;
   State fixed_;  ///< pivot positions
-  std::vector<int> offsets_;
+  std::vector<Block> blocks_;
   std::vector<int> theta_offsets_;
   int size_ = 0;
 };

@@ -2,8 +2,10 @@
 /// \file state.hpp
 /// The state every integrator advances, body by body, in the quasi-velocity variables of
 /// design/model.md: position of the reference point Br (world), Euler parameters θ (B → W),
-/// velocity of Br (world) and body-frame angular velocity ω̄ = w_WB_B. A pivot body keeps
-/// p_WBr fixed and v_WBr = 0.
+/// velocity of Br (world) and body-frame angular velocity ω̄ = w_WB_B, and for a flexible body
+/// the modal coordinates q_f and their rates (empty for a rigid body). A pivot body keeps p_WBr
+/// fixed and v_WBr = 0; a prescribed body's rigid part is the angle law's at the state's time.
+/// Copying a state into one of the same shape allocates nothing (Eigen keeps the storage).
 #include <Eigen/Core>
 #include <vector>
 
@@ -16,6 +18,8 @@ struct BodyState {
   EulerParameters theta_WB = identity_euler_parameters();
   Eigen::Vector3d v_WBr = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_WB_B = Eigen::Vector3d::Zero();
+  Eigen::VectorXd q_f;   ///< modal coordinates (n)
+  Eigen::VectorXd qd_f;  ///< their rates (n)
 };
 
 using State = std::vector<BodyState>;
@@ -24,6 +28,7 @@ using State = std::vector<BodyState>;
 struct BodyAcceleration {
   Eigen::Vector3d a_WBr = Eigen::Vector3d::Zero();
   Eigen::Vector3d alpha_WB_B = Eigen::Vector3d::Zero();
+  Eigen::VectorXd qdd_f;  ///< modal accelerations (n)
 };
 
 using Accelerations = std::vector<BodyAcceleration>;

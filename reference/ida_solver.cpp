@@ -190,13 +190,13 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
         // Outputs within boundary_slack of the segment end are taken at the end.
         const double tout = std::min(output_times[k], segment.end);
         if (tout > t_reached) advance_to(tout);
-        form.unpack(sun::data(y.get()), state);
+        form.unpack(tout, sun::data(y.get()), state);
         run.trajectory.states.push_back(state);
       }
       if (t_reached < segment.end) advance_to(segment.end);
       // The state is continuous across a load switch; unpacking normalizes θ, so the restart
       // also projects the Euler parameters back onto the unit sphere.
-      form.unpack(sun::data(y.get()), state);
+      form.unpack(t_reached, sun::data(y.get()), state);
       add_counters(ida.get(), run.stats);
     }
   } catch (const sun::SundialsError& e) {

@@ -154,7 +154,7 @@ class Integrator {
     evaluate_derivative();
   }
 
-  void unpack(core::State& state) const { form_->unpack(x_.data(), state); }
+  void unpack(core::State& state) const { form_->unpack(time(), x_.data(), state); }
   long rhs_evaluations() const { return counters_.rhs_evaluations; }
 
  private:

@@ -30,7 +30,7 @@ Eigen::Matrix3d diag(double a, double b, double c) { return Eigen::Vector3d(a, b
 bool initial_accelerations_finite(const core::Model& model) {
   core::Workspace ws = model.make_workspace();
   const core::State state = model.initial_state();
-  core::Accelerations acc(state.size());
+  core::Accelerations acc = model.make_accelerations();
   model.compute_accelerations(core::LoadContext{0.0, 0.0}, state, ws, acc);
   for (const core::BodyAcceleration& a : acc) {
     if (!a.a_WBr.allFinite() || !a.alpha_WB_B.allFinite()) return false;

@@ -67,7 +67,7 @@ TEST_CASE("DAE unpack recovers the state", "[core]") {
   const State s0 = model.initial_state();
   dae.initial_values({0, 0}, s0, y.data(), yp.data());
   State s = s0;
-  dae.unpack(y.data(), s);
+  dae.unpack(0.0, y.data(), s);
   // ω̄ = 2Ḡ(½Ḡᵀω̄) = ω̄ since ḠḠᵀ = I: a few ulp of |ω| ≈ 4.
   CHECK((s[0].w_WB_B - s0[0].w_WB_B).norm() < 1e-14);
   CHECK((s[0].p_WBr - s0[0].p_WBr).norm() == 0.0);
@@ -83,7 +83,7 @@ TEST_CASE("ODE form pack/unpack round trip and normalization", "[core]") {
   y[0] *= 1.5;  // off the sphere
   ode.normalize_euler_parameters(y.data());
   CHECK(std::hypot(std::hypot(y[0], y[1]), std::hypot(y[2], y[3])) == Approx(1.0).epsilon(1e-15));
-  ode.unpack(y.data(), s);
+  ode.unpack(0.0, y.data(), s);
   CHECK(s[0].p_WBr == model.initial_state()[0].p_WBr);  // pivot stays put
 }
 

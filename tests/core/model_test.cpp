@@ -28,7 +28,7 @@ double energy_rate(const Model& model, double t) {
     std::vector<double> z(y.size());
     for (std::size_t i = 0; i < y.size(); ++i) z[i] = y[i] + s * f[i];
     State state = model.initial_state();
-    ode.unpack(z.data(), state);
+    ode.unpack(ctx.t, z.data(), state);
     Workspace ws = model.make_workspace();
     return model.kinetic_energy(state) + model.potential_energy(ctx, state, ws);
   };
@@ -71,7 +71,7 @@ TEST_CASE("angular momentum rate equals the moment of external loads", "[core]")
     std::vector<double> z(y.size());
     for (std::size_t i = 0; i < y.size(); ++i) z[i] = y[i] + sgn * eps * f[i];
     State state = s0;
-    ode.unpack(z.data(), state);
+    ode.unpack(t, z.data(), state);
     return model.angular_momentum_W(state);
   };
   const Eigen::Vector3d dh = (h_at(1) - h_at(-1)) / (2 * eps);

@@ -53,7 +53,7 @@ inline core::Trajectory odeint_reference(const core::Model& model,
     };
     auto observer = [&](const Vector& x, double t) {
       if (next_output < output_times.size() && t == output_times[next_output]) {
-        ode.unpack(x.data(), trajectory.states[next_output]);
+        ode.unpack(t, x.data(), trajectory.states[next_output]);
         ++next_output;
       }
     };

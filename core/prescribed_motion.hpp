@@ -1,0 +1,53 @@
+#pragma once
+
+/// \file prescribed_motion.hpp
+/// Rigid motion `prescribed` (design/model.md, "Rigid motion modes"): the body frame rotates
+/// about a fixed world axis through its fixed origin Bo by a given angle law φ(t),
+///
+///   R_WB(t) = exp(φ(t) â_W) R_WB(0),   ω̄ = φ̇ R_WBᵀ a_W,   α̅ = φ̈ R_WBᵀ a_W
+///
+/// (a_W is fixed in the world, so d(Rᵀa_W)/dt = −ω̄ × Rᵀa_W = 0 because ω̄ ∥ Rᵀa_W). Only
+/// the modal coordinates are integrated; the torque that drives the law is an output.
+
+#include <Eigen/Core>
+#include <string>
+
+#include "core/euler_parameters.hpp"
+
+namespace flexref::core {
+
+/// The angle law φ(t) about the axis, with its first two derivatives.
+struct AngleLaw {
+  enum class Kind {
+    kConstantRate,  ///< φ = Ω t
+    /// Kane–Ryan–Banerjee (1987) spin-up: φ = (Ω_s/T_s)[t²/2 + (T_s/2π)²(cos(2πt/T_s) − 1)]
+    /// for t ≤ T_s, Ω_s (t − T_s/2) after; φ̇ rises smoothly from 0 to Ω_s (φ̈ is continuous).
+    kSpinUp,
+  };
+  Kind kind = Kind::kConstantRate;
+  double rate = 0.0;          ///< Ω (constant rate) or Ω_s (spin-up), rad/s
+  double spin_up_time = 1.0;  ///< T_s, s (spin-up only)
+
+  double angle(double t) const;
+  double angular_rate(double t) const;
+  double angular_acceleration(double t) const;
+  /// "constant rate 2 rad/s" / "spin-up to 2 rad/s over 15 s".
+  std::string describe() const;
+};
+
+/// A rotation about a fixed world axis through the fixed frame origin.
+struct PrescribedRotation {
+  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();  ///< unit
+  AngleLaw law;
+};
+
+/// Attitude, body-frame angular velocity and acceleration at t, from the attitude at t = 0.
+struct PrescribedAttitude {
+  EulerParameters theta_WB;
+  Eigen::Vector3d w_WB_B;
+  Eigen::Vector3d alpha_WB_B;
+};
+PrescribedAttitude prescribed_attitude(const PrescribedRotation& rotation,
+                                       const EulerParameters& theta_WB0, double t);
+
+}  // namespace flexref::core
