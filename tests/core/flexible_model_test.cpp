@@ -54,7 +54,7 @@ BodyState random_state(const Body& b, std::mt19937& rng) {
 /// at its centre with its own inertia, with world positions and velocities (eq. 10, 14).
 struct NodalBody {
   std::vector<double> m;
-  std::vector<Eigen::Vector3d> u_B;  ///< ū_k from Br, body frame
+  std::vector<Eigen::Vector3d> u_B;   ///< ū_k from Br, body frame
   std::vector<Eigen::Matrix3Xd> phi;  ///< Φ_k (zero for the hub)
   std::vector<Eigen::Vector3d> r_W, v_W;
   Eigen::Matrix3d I_hub = Eigen::Matrix3d::Zero();
@@ -374,7 +374,8 @@ TEST_CASE("flexible evaluations allocate nothing", "[core][flexible][allocation]
       dae.residual(ctx, z.data(), zp.data(), r.data(), dae_scratch);
       model->compute_accelerations(ctx, s, ws, acc);
       model->dynamics_residual(0, s[0], acc[0], ws, res);
-      energy = model->kinetic_energy(s) + model->potential_energy(ctx, s, ws);
+      energy = model->kinetic_energy(s) + model->potential_energy(ctx, s, ws) +
+               model->driving_torque(0, s[0], acc[0], ws);
     };
     evaluate();  // warm-up
     const long n = testing::count_allocations(evaluate);

@@ -5,8 +5,8 @@
 ///   - centrifugal softening of the coupled model (in-plane ω = √(ω1² − Ω²)), absent from LTE;
 ///   - the Kane–Ryan–Banerjee spin-up beam: bounded below ω1, divergent above it (the known
 ///     limit of the linear floating-frame model without geometric stiffening).
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -82,9 +82,8 @@ TEST_CASE("a stiffened flexible spinner approaches the rigid body", "[reference]
     }
     errors.push_back(error);
   }
-  INFO("max ‖A_flex − A_rigid‖ over [0, 2] s for s = 1e2, 1e4, 1e6: " << errors[0] << ", "
-                                                                      << errors[1] << ", "
-                                                                      << errors[2]);
+  INFO("max ‖A_flex − A_rigid‖ over [0, 2] s for s = 1e2, 1e4, 1e6: "
+       << errors[0] << ", " << errors[1] << ", " << errors[2]);
   // Not converging to some other body: at s = 100 already below 1e-3 (3.4e-4 measured;
   // extrapolated with 1/s, the spinner as given, s = 1, deviates by ≈ 3e-2).
   CHECK(errors[0] < 1e-3);
@@ -122,10 +121,11 @@ TEST_CASE("without rotation LTE and coupled agree; their difference grows like �
   CHECK(lte_coupled_difference(0.0) < 1e-9);
   // Small Ω: the coupled model's extra term is the centrifugal softening −Ω² Σ m Φ_yᵀ Φ_y q (no
   // elastic Coriolis term between these modes: ω̄̃ maps the in-plane displacement (y) to x,
-  // orthogonal to every Φ, and annihilates the out-of-plane one (z)), so the in-plane frequency shifts by Ω²/(2ω1) and over 5 s the
-  // phase difference, and the q_f difference, is ∝ Ω² while small (5 · 0.04/12.6 ≈ 0.016 rad at
-  // Ω = 0.2). Halving Ω must divide it by 4: band [3.5, 4.5] (measured 4.00; O(Ω) would give 2,
-  // O(Ω⁴) 16). The solver error (≈ 1e-12) is far below the smallest difference (≈ 2e-5).
+  // orthogonal to every Φ, and annihilates the out-of-plane one (z)), so the in-plane frequency
+  // shifts by Ω²/(2ω1) and over 5 s the phase difference, and the q_f difference, is ∝ Ω² while
+  // small (5 · 0.04/12.6 ≈ 0.016 rad at Ω = 0.2). Halving Ω must divide it by 4: band [3.5, 4.5]
+  // (measured 4.00; O(Ω) would give 2, O(Ω⁴) 16). The solver error (≈ 1e-12) is far below the
+  // smallest difference (≈ 2e-5).
   const double d1 = lte_coupled_difference(0.2);
   const double d2 = lte_coupled_difference(0.1);
   const double d3 = lte_coupled_difference(0.05);
@@ -180,9 +180,9 @@ TEST_CASE("centrifugal softening: in-plane ω = √(ω1² − Ω²) in the coupl
       const double in_plane = measured_frequency(run, 0);
       const double out_of_plane = measured_frequency(run, 1);
       const double softened = std::sqrt(w1 * w1 - omega * omega);
-      INFO(core::to_string(formulation) << " Ω = " << omega << ": in-plane " << in_plane
-                                        << " (√(ω1² − Ω²) = " << softened << "), out-of-plane "
-                                        << out_of_plane << " (ω1 = " << w1 << ")");
+      INFO(core::to_string(formulation)
+           << " Ω = " << omega << ": in-plane " << in_plane << " (√(ω1² − Ω²) = " << softened
+           << "), out-of-plane " << out_of_plane << " (ω1 = " << w1 << ")");
       if (formulation == FlexibleFormulation::kCoupled) {
         CHECK(in_plane == Approx(softened).epsilon(5e-3));
       } else {
@@ -244,8 +244,8 @@ TEST_CASE("spin-up beam: bounded below the first frequency, divergent above it",
       11.0 * rho_A * phi_dd * L * std::pow(L, 4) / (120.0 * EI) * w1 * w1 / (w1 * w1 - 4.0);
   const double max2 = max_abs(s2, 0.0, 30.0);
   INFO("Ω_s = 2: max |tip deflection| " << max2 << " m (quasi-static estimate " << quasi_static
-                                         << "); max over [20, 25] " << max_abs(s2, 20.0, 25.0)
-                                         << ", over [25, 30] " << max_abs(s2, 25.0, 30.0));
+                                        << "); max over [20, 25] " << max_abs(s2, 20.0, 25.0)
+                                        << ", over [25, 30] " << max_abs(s2, 25.0, 30.0));
   CHECK(max2 < 2.0 * quasi_static);
   CHECK(max2 > 0.25 * quasi_static);  // the load is really there
   CHECK(max_abs(s2, 25.0, 30.0) <= 1.1 * max_abs(s2, 20.0, 25.0));
@@ -259,8 +259,8 @@ TEST_CASE("spin-up beam: bounded below the first frequency, divergent above it",
   const double rate = std::log(d28 / d24) / 4.0;
   const double predicted_rate = std::sqrt(36.0 - w1 * w1);
   INFO("Ω_s = 6: max |tip deflection| " << max6 << " m; growth rate after T_s " << rate
-                                         << " /s (predicted √(Ω_s² − ω1²) = " << predicted_rate
-                                         << ")");
+                                        << " /s (predicted √(Ω_s² − ω1²) = " << predicted_rate
+                                        << ")");
   CHECK(max6 > 1e2 * max2);
   // The higher in-plane mode (ω2 ≈ 24 rad/s > Ω_s) stays bounded, so after 9 s of growth
   // (e^40) the first mode dominates the tip completely: rate within 1 %.
