@@ -160,7 +160,7 @@ TEST_CASE("IDA on the DAE form and CVODE on the ODE form agree on the flexible s
       CHECK(d.attitude < bound);
       // The difference is the solvers' error, not a modelling difference between the forms:
       // it shrinks with the tolerance. Global errors of these controllers are close to
-      // proportional to rtol (a factor 100 here; 73–77 measured); > 10 rules out a
+      // proportional to rtol (a factor 100 here; 39–77 measured); > 10 rules out a
       // tolerance-independent floor.
       CHECK(dl.q > 10.0 * d.q);
       CHECK(dl.attitude > 10.0 * d.attitude);
