@@ -261,6 +261,29 @@ void Model::dynamics_residual(int i, const BodyState& s, const BodyAcceleration&
   out.noalias() += fs.M * fs.x;
 }
 
+void Model::modal_accelerations(int i, const BodyState& s, const Eigen::Vector3d& a_WBr,
+                                const Eigen::Vector3d& alpha_WB_B, Workspace& ws,
+                                Eigen::VectorXd& qdd_f) const {
+  const auto k = static_cast<std::size_t>(i);
+  const Body& b = bodies_[k];
+  FlexibleScratch& fs = ws.flexible[k];
+  flexible_system(i, s, ws);
+  const Eigen::Index n = b.mode_count();
+  if (b.is_prescribed()) {
+    const RigidBodyDescription& d = b.description();
+    fs.x.head<3>().setZero();
+    fs.x.segment<3>(3) = prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
+  } else {
+    fs.x.head<3>() = a_WBr;
+    fs.x.segment<3>(3) = alpha_WB_B;
+  }
+  // M_ff q̈ = rhs_f − M_fR a − M_fθ α̅
+  fs.sub_rhs.tail(n) = fs.rhs.tail(n);
+  fs.sub_rhs.tail(n).noalias() -= fs.M.bottomLeftCorner(n, 6) * fs.x.head<6>();
+  // M_ff = m_ff in both formulations (the modal block does not depend on the state).
+  qdd_f = b.modal_mass_llt().solve(fs.sub_rhs.tail(n));
+}
+
 double Model::driving_torque(int i, const BodyState& s, const BodyAcceleration& acc,
                              Workspace& ws) const {
   const Body& b = body(i);

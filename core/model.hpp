@@ -101,6 +101,13 @@ class Model {
   /// pivot or prescribed body does not integrate are the reactions its constraint supplies.
   void dynamics_residual(int i, const BodyState& state, const BodyAcceleration& acc, Workspace& ws,
                          Eigen::Ref<Eigen::VectorXd> out) const;
+  /// The modal rows of a flexible body solved for q̈_f with the rigid accelerations given
+  /// (a_WBr, α̅; a prescribed body uses a = 0 and its law's α̅ at ws.time), the loads already
+  /// in ws (compute_wrenches) and the state's q_f, q̇_f, ω̄. Under LTE this is the modal
+  /// equation of design/model.md, which the hybrid schemes integrate by central differences.
+  void modal_accelerations(int i, const BodyState& state, const Eigen::Vector3d& a_WBr,
+                           const Eigen::Vector3d& alpha_WB_B, Workspace& ws,
+                           Eigen::VectorXd& qdd_f) const;
   /// Torque about the axis that drives a prescribed body along its law (N·m): the axis
   /// component of the rotational reaction (dynamics_residual's rotation rows, to world).
   double driving_torque(int i, const BodyState& state, const BodyAcceleration& acc,

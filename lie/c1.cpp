@@ -22,8 +22,8 @@ C1Stepper::C1Stepper(const core::Model& model)
       state_(model.initial_state()),
       next_(state_),
       mid_(state_),
-      acc_(state_.size()),
-      acc_next_(state_.size()),
+      acc_(model.make_accelerations()),
+      acc_next_(model.make_accelerations()),
       R_n_transpose_(state_.size(), Matrix3d::Identity()),
       b_(state_.size(), Vector3d::Zero()),
       residual_(state_.size(), Vector3d::Zero()),
@@ -31,7 +31,10 @@ C1Stepper::C1Stepper(const core::Model& model)
       w_accepted_(state_.size(), Vector3d::Zero()),
       delta_(state_.size(), Vector3d::Zero()),
       ws_(model.make_workspace()) {
-  for (const core::Body& body : model.bodies()) has_free_body_ = has_free_body_ || body.is_free();
+  detail::require_lte_for_flexible_bodies(model, "c1");
+  for (const core::Body& body : model.bodies()) {
+    has_free_body_ = has_free_body_ || body.is_free() || body.is_flexible();
+  }
 }
 
 double C1Stepper::force_evaluations_per_step() const {
@@ -79,6 +82,7 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
       detail::renormalize_unit_product(mid_[i].theta_WB);
       mid_[i].w_WB_B = 0.5 * (s.w_WB_B + next_[i].w_WB_B);
     }
+    model_.apply_prescribed_motion(t_n + 0.5 * h, mid_);
     // Γ_{n+½} at t_{n+½} and the midpoint configuration.
     model_.compute_wrenches(midpoint, mid_, ws_);
     ++evaluations_;
@@ -86,6 +90,12 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
     double trial_merit = 0.0;
     outcome.relative_residual = 0.0;
     for (std::size_t i = 0; i < n_bodies; ++i) {
+      if (model_.body(static_cast<int>(i)).is_prescribed()) {
+        // W follows the law: nothing to solve (zero residual, zero correction).
+        residual_[i].setZero();
+        jacobian_[i].setIdentity();
+        continue;
+      }
       const Matrix3d& J = model_.body(static_cast<int>(i)).I_Br_B();
       const Vector3d& W_n = state_[i].w_WB_B;
       const Vector3d& W = next_[i].w_WB_B;
@@ -167,6 +177,14 @@ StepStatus C1Stepper::step(double h) {
     R_n_transpose_[i] = core::rotation_matrix(s.theta_WB).transpose();
     // W_{n+1} ← W_n + h A_n   (predictor)
     s1.w_WB_B = s.w_WB_B + h * acc_[i].alpha_WB_B;
+    // q_{n+½} ← ½ (q_n + q_{n+1}) below, once q_{n+1} is predicted.
+  }
+  // q_{n+1} ← q_n + h q̇_n + ½ h² q̈_n;  prescribed bodies: their law at t_{n+1}.
+  detail::predict_modes(model_, state_, acc_, h, t_np1, next_);
+  for (std::size_t i = 0; i < n_bodies; ++i) {
+    if (state_[i].q_f.size() == 0) continue;
+    mid_[i].q_f = 0.5 * (state_[i].q_f + next_[i].q_f);
+    mid_[i].qd_f = state_[i].qd_f + (0.5 * h) * acc_[i].qdd_f;
   }
 
   // 2. W_{n+1} ← root of r(W) = J W − exp(−Θ̃)(J W_n + h R_nᵀ Γ_{n+½}), Θ = (h/2)(W_n + W).
@@ -181,6 +199,7 @@ StepStatus C1Stepper::step(double h) {
   for (std::size_t i = 0; i < n_bodies; ++i) {
     const core::BodyState& s = state_[i];
     core::BodyState& s1 = next_[i];
+    if (model_.body(static_cast<int>(i)).is_prescribed()) continue;  // the law's attitude
     // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
     const Vector3d theta = detail::c1_increment(s.w_WB_B, s1.w_WB_B, h);
     s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
@@ -191,7 +210,8 @@ StepStatus C1Stepper::step(double h) {
     if (model_.body(static_cast<int>(i)).is_free()) s1.v_WBr = s.v_WBr + h * acc_[i].a_WBr;
   }
 
-  // 4. Translation: a_{n+1} from the loads at the new configuration (central differences).
+  // 4. Translation and modes: a_{n+1} from the loads at the new configuration (central
+  //    differences).
   if (has_free_body_) {
     model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
     ++evaluations_;
@@ -201,6 +221,8 @@ StepStatus C1Stepper::step(double h) {
     detail::update_translation(model_.body(static_cast<int>(i)), ws_.wrenches[i], state_[i],
                                acc_[i], h, next_[i], acc_next_[i]);
   }
+  // 5. Modes: q̈_{n+1} from the LTE modal equation, q̇_{n+1} ← q̇_n + ½ h (q̈_n + q̈_{n+1}).
+  detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C1", t_n, h)};
   std::swap(state_, next_);

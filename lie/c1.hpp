@@ -85,7 +85,7 @@ class C1Stepper final : public Stepper {
   NewtonOutcome solve_balance(double t_n, double h);
 
   const core::Model& model_;
-  bool has_free_body_ = false;
+  bool has_free_body_ = false;  ///< a free or flexible body: evaluate again at t_{n+1}
   double time_ = 0.0;
   bool restart_pending_ = true;
   core::State state_;

@@ -16,13 +16,15 @@ C2Stepper::C2Stepper(const core::Model& model)
     : model_(model),
       state_(model.initial_state()),
       next_(state_),
-      acc_(state_.size()),
-      acc_next_(state_.size()),
+      acc_(model.make_accelerations()),
+      acc_next_(model.make_accelerations()),
       torque_W_(state_.size(), Vector3d::Zero()),
       torque_next_W_(state_.size(), Vector3d::Zero()),
       momentum_W_(state_.size(), Vector3d::Zero()),
       momentum_next_W_(state_.size(), Vector3d::Zero()),
-      ws_(model.make_workspace()) {}
+      ws_(model.make_workspace()) {
+  detail::require_lte_for_flexible_bodies(model, "c2");
+}
 
 void C2Stepper::initialize(double t0, const core::State& state) {
   if (state.size() != state_.size()) {
@@ -63,6 +65,11 @@ void C2Stepper::restart(double h) {
                           (ws_.kinematics[i].R_WB.transpose() * (torque_plus_W - torque_W_[i]));
     torque_W_[i] = torque_plus_W;
     acc_[i].a_WBr = body.is_free() ? Vector3d(ws_.wrenches[i].f_W / body.mass()) : Vector3d::Zero();
+    // The modal accelerations are loads' consequences: right limits from the new loads.
+    if (body.is_flexible()) {
+      model_.modal_accelerations(static_cast<int>(i), state_[i], acc_[i].a_WBr, acc_[i].alpha_WB_B,
+                                 ws_, acc_[i].qdd_f);
+    }
   }
 }
 
@@ -75,6 +82,8 @@ StepStatus C2Stepper::step(double h) {
 
   // 1. Configuration at t_{n+1}, explicit (Θ ← h W_n + ½ h² A_n, x_{n+1} ← x_n + h v_n + ½ h² a_n).
   detail::predict_configuration(model_, state_, acc_, h, next_);
+  // q_{n+1} ← q_n + h q̇_n + ½ h² q̈_n;  prescribed bodies: their law at t_{n+1}.
+  detail::predict_modes(model_, state_, acc_, h, t_np1, next_);
 
   // 2. The one force evaluation: f_{n+1}, Γ_{n+1} at the new configuration.
   model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
@@ -88,6 +97,7 @@ StepStatus C2Stepper::step(double h) {
     // a_{n+1} ← f_{n+1}/m,  v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
     detail::update_translation(body, ws_.wrenches[i], s, acc_[i], h, s1, acc_next_[i]);
     torque_next_W_[i] = ws_.wrenches[i].tau_Br_W;
+    if (body.is_prescribed()) continue;  // attitude and W follow the law
     // π_{n+1} ← R_n J W_n + (h/2)(Γ_n + Γ_{n+1})
     //          (π_n = R_n J W_n is carried from the previous step)
     momentum_next_W_[i] = momentum_W_[i] + (0.5 * h) * (torque_W_[i] + torque_next_W_[i]);
@@ -96,6 +106,8 @@ StepStatus C2Stepper::step(double h) {
     // A_{n+1} ← (W_{n+1} − W_n)/h
     acc_next_[i].alpha_WB_B = (s1.w_WB_B - s.w_WB_B) / h;
   }
+  // 4. Modes: q̈_{n+1} from the LTE modal equation, q̇_{n+1} ← q̇_n + ½ h (q̈_n + q̈_{n+1}).
+  detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C2", t_n, h)};
   std::swap(state_, next_);

@@ -20,9 +20,11 @@ NmbStepper::NmbStepper(const core::Model& model)
     : model_(model),
       state_(model.initial_state()),
       next_(state_),
-      acc_(state_.size()),
-      acc_next_(state_.size()),
-      ws_(model.make_workspace()) {}
+      acc_(model.make_accelerations()),
+      acc_next_(model.make_accelerations()),
+      ws_(model.make_workspace()) {
+  detail::require_lte_for_flexible_bodies(model, "nmb");
+}
 
 void NmbStepper::initialize(double t0, const core::State& state) {
   if (state.size() != state_.size()) {
@@ -54,6 +56,8 @@ StepStatus NmbStepper::step(double h) {
 
   // 1. Configuration at t_{n+1}, explicit (Θ ← h W_n + ½ h² A_n, x_{n+1} ← x_n + h v_n + ½ h² a_n).
   detail::predict_configuration(model_, state_, acc_, h, next_);
+  // q_{n+1} ← q_n + h q̇_n + ½ h² q̈_n;  prescribed bodies: their law at t_{n+1}.
+  detail::predict_modes(model_, state_, acc_, h, t_np1, next_);
 
   // 2. The one force evaluation: f_{n+1}, Γ_{n+1} at the new configuration.
   model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
@@ -67,6 +71,7 @@ StepStatus NmbStepper::step(double h) {
     core::BodyState& s1 = next_[i];
     // a_{n+1} ← f_{n+1}/m,  v_{n+1} ← v_n + ½ h (a_n + a_{n+1})
     detail::update_translation(body, ws_.wrenches[i], s, acc_[i], h, s1, acc_next_[i]);
+    if (body.is_prescribed()) continue;  // attitude and W follow the law
     const Matrix3d& J = body.I_Br_B();
     const Vector3d& W_n = s.w_WB_B;
     const Vector3d& A_n = acc_[i].alpha_WB_B;
@@ -100,6 +105,8 @@ StepStatus NmbStepper::step(double h) {
     // W_{n+1} ← W_n + (h/2)(A_n + A_{n+1})
     s1.w_WB_B = detail::nmb_velocity(W_n, A_n, A, h);
   }
+  // 4. Modes: q̈_{n+1} from the LTE modal equation, q̇_{n+1} ← q̇_n + ½ h (q̈_n + q̈_{n+1}).
+  detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("NMB", t_n, h)};
   std::swap(state_, next_);

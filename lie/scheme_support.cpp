@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/prescribed_motion.hpp"
 
 namespace flexref::lie::detail {
 
@@ -51,13 +55,66 @@ void update_translation(const core::Body& body, const core::Wrench& wrench,
   }
 }
 
+void predict_modes(const core::Model& model, const core::State& state,
+                   const core::Accelerations& acc, double h, double t_np1, core::State& next) {
+  if (!model.has_flexible_bodies()) {
+    model.apply_prescribed_motion(t_np1, next);
+    return;
+  }
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    if (state[i].q_f.size() == 0) continue;
+    // q_{n+1} ← q_n + h q̇_n + ½ h² q̈_n;  q̇ ← q̇_n + h q̈_n (predictor)
+    next[i].q_f = state[i].q_f + h * state[i].qd_f + (0.5 * h * h) * acc[i].qdd_f;
+    next[i].qd_f = state[i].qd_f + h * acc[i].qdd_f;
+  }
+  model.apply_prescribed_motion(t_np1, next);
+}
+
+void update_modes(const core::Model& model, core::Workspace& ws, const core::State& state,
+                  const core::Accelerations& acc, double h, core::State& next,
+                  core::Accelerations& acc_next) {
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    const core::Body& body = model.body(static_cast<int>(i));
+    if (body.is_prescribed()) {
+      const core::RigidBodyDescription& d = body.description();
+      acc_next[i].alpha_WB_B =
+          core::prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
+    }
+    if (!body.is_flexible()) continue;
+    core::BodyState& s1 = next[i];
+    // α̅_{n+1} ← J⁻¹ (R_{n+1}ᵀ Γ_{n+1} − W_{n+1} × J W_{n+1})   (not used for prescribed bodies)
+    Eigen::Vector3d alpha = Eigen::Vector3d::Zero();
+    if (!body.is_prescribed()) {
+      const Eigen::Matrix3d& J = body.I_Br_B();
+      const Eigen::Vector3d T_B = ws.kinematics[i].R_WB.transpose() * ws.wrenches[i].tau_Br_W;
+      alpha = body.I_Br_B_inverse() * (T_B - s1.w_WB_B.cross(J * s1.w_WB_B));
+    }
+    // q̈_{n+1} from the modal equation (q_{n+1}, predicted q̇, W_{n+1}, a_{n+1}, α̅_{n+1})
+    model.modal_accelerations(static_cast<int>(i), s1, acc_next[i].a_WBr, alpha, ws,
+                              acc_next[i].qdd_f);
+    // q̇_{n+1} ← q̇_n + ½ h (q̈_n + q̈_{n+1})
+    s1.qd_f = state[i].qd_f + (0.5 * h) * (acc[i].qdd_f + acc_next[i].qdd_f);
+  }
+}
+
+void require_lte_for_flexible_bodies(const core::Model& model, const char* scheme) {
+  if (model.has_flexible_bodies() && model.formulation() != core::FlexibleFormulation::kLte) {
+    throw std::invalid_argument(
+        std::string(scheme) +
+        ": the hybrid schemes integrate the LTE model of flexible bodies (rigid motion first, "
+        "then the modes by central differences, as in the paper); use the LTE formulation "
+        "(--model lte) or a reference solver for the coupled model");
+  }
+}
+
 bool all_finite(const core::State& state) {
   // One sum instead of 13 tests per body: NaN and ±inf propagate through a sum. The sum of
   // finite values can overflow only for entries near 1e308, which are reported as non-finite
   // too — a state that large has already failed.
   double sum = 0.0;
   for (const core::BodyState& s : state) {
-    sum += s.p_WBr.sum() + s.theta_WB.sum() + s.v_WBr.sum() + s.w_WB_B.sum();
+    sum += s.p_WBr.sum() + s.theta_WB.sum() + s.v_WBr.sum() + s.w_WB_B.sum() + s.q_f.sum() +
+           s.qd_f.sum();
   }
   return std::isfinite(sum) && sum == sum;
 }

@@ -50,6 +50,25 @@ void update_translation(const core::Body& body, const core::Wrench& wrench,
                         const core::BodyState& state, const core::BodyAcceleration& acc, double h,
                         core::BodyState& next, core::BodyAcceleration& acc_next);
 
+/// The hybrid scheme's modal part and prescribed bodies, before the step's force evaluation:
+///   q_{n+1} = q_n + h q̇_n + ½ h² q̈_n,  q̇ ← q̇_n + h q̈_n   (central differences; the predicted
+///   rate is seen only by the modal damping, an O(h²) error like the explicit predictor of
+///   velocity-dependent loads)
+/// and the rigid part of every prescribed body from its law at t_{n+1}.
+void predict_modes(const core::Model& model, const core::State& state,
+                   const core::Accelerations& acc, double h, double t_np1, core::State& next);
+/// After the rigid update to t_{n+1} (W_{n+1}, a_{n+1} known, the loads at the new configuration
+/// in ws): the modal accelerations from the LTE modal equation with the rigid accelerations of
+/// the same step, a_{n+1} and α̅_{n+1} = J⁻¹ (T_{n+1} − W_{n+1} × J W_{n+1}) (the Euler equation
+/// at t_{n+1}, second-order accurate for every scheme; NMB's A_{n+1} is this value), then
+///   q̇_{n+1} = q̇_n + ½ h (q̈_n + q̈_{n+1}).
+/// Prescribed bodies take the law's α̅ (stored in acc_next).
+void update_modes(const core::Model& model, core::Workspace& ws, const core::State& state,
+                  const core::Accelerations& acc, double h, core::State& next,
+                  core::Accelerations& acc_next);
+/// Throws std::invalid_argument when the model has a flexible body under the coupled
+/// formulation: the hybrid schemes integrate the LTE model (the paper's final algorithm).
+void require_lte_for_flexible_bodies(const core::Model& model, const char* scheme);
 /// "<scheme> Newton did not converge at t = …, h = …: residual … after … iterations (body …)".
 std::string newton_failure(const char* scheme, double t_n, double h, double relative_residual,
                            int iterations, int body);

@@ -10,6 +10,7 @@
 #include "lie/stepper.hpp"
 #include "tests/lie/test_problems.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/flexible_models.hpp"
 
 namespace {
 using flexref::testing::g_allocations;
@@ -25,7 +26,12 @@ TEST_CASE("step() allocates nothing", "[lie][conformance][allocation]") {
   const core::Model book = testing::book_toss_step();
   const core::Model top = testing::heavy_top();
   const core::Model wall = testing::damped_coulomb_wall();
-  for (const core::Model* model : {&book, &top, &wall}) {
+  // The hybrid scheme (LTE): a free flexible body under its torque pulse, and a prescribed
+  // rotating beam.
+  const core::Model spinner = testing::flexible_spinner_model(core::FlexibleFormulation::kLte);
+  const core::Model cantilever =
+      testing::rotating_cantilever_model(core::FlexibleFormulation::kLte, 3.0);
+  for (const core::Model* model : {&book, &top, &wall, &spinner, &cantilever}) {
     for (const std::string& name : scheme_names()) {
       const auto stepper = make_stepper(name, *model);
       stepper->initialize(0.0, model->initial_state());
