@@ -82,6 +82,14 @@ class ForceElement {
     (void)bodies;
     return 0.0;
   }
+  /// Power the element dissipates, W (≥ 0: dampers, friction). Its time integral W_d is the
+  /// dissipated work of the energy balance E(t) − E(0) + W_d(t) = work of applied loads.
+  virtual double dissipated_power(const LoadContext& context,
+                                  std::span<const BodyKinematics> bodies) const {
+    (void)context;
+    (void)bodies;
+    return 0.0;
+  }
   /// Known times where the element's loads jump (both sides must be integrated separately).
   virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
   /// True when the loads depend on velocities (then schemes use a predicted velocity).

@@ -327,6 +327,23 @@ double Model::potential_energy(const LoadContext& context, const State& state,
   return v;
 }
 
+double Model::dissipated_power(const LoadContext& context, const State& state,
+                               Workspace& ws) const {
+  const bool lte = formulation_ == FlexibleFormulation::kLte;
+  double p = 0.0;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    ws.kinematics[i].state = &state[i];
+    ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
+    ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
+    if (bodies_[i].is_flexible()) {
+      // q̇_fᵀ D q̇_f with D = diag(d_i)
+      p += state[i].qd_f.dot(bodies_[i].modal_damping().cwiseProduct(state[i].qd_f));
+    }
+  }
+  for (const auto& e : elements_) p += e->dissipated_power(context, ws.kinematics);
+  return p;
+}
+
 double Model::elastic_energy(const State& state) const {
   double v = 0.0;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {

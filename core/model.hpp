@@ -116,6 +116,8 @@ class Model {
   double kinetic_energy(const State& state) const;
   /// Potential energy of the force elements plus the elastic energy ½ q_fᵀ K q_f.
   double potential_energy(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// Power dissipated by the force elements and the modal damping (q̇_fᵀ D q̇_f), W.
+  double dissipated_power(const LoadContext& context, const State& state, Workspace& ws) const;
   /// ½ Σ q_fᵀ K q_f over the flexible bodies.
   double elastic_energy(const State& state) const;
   /// Total linear momentum, world.
