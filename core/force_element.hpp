@@ -90,6 +90,18 @@ class ForceElement {
     (void)bodies;
     return 0.0;
   }
+  /// Number of switching functions: signed gaps of contacts whose zeros (onset, release) the
+  /// references locate with root finding and restart at, so that no step straddles an impact.
+  virtual int switching_function_count() const { return 0; }
+  /// Writes the switching_function_count() values g_k at this configuration (a gap: positive
+  /// when separated, negative when penetrating, m).
+  virtual void switching_functions(const LoadContext& context,
+                                   std::span<const BodyKinematics> bodies,
+                                   std::span<double> g) const {
+    (void)context;
+    (void)bodies;
+    (void)g;
+  }
   /// Known times where the element's loads jump (both sides must be integrated separately).
   virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
   /// True when the loads depend on velocities (then schemes use a predicted velocity).

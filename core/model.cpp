@@ -50,6 +50,7 @@ Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceEl
     }
     e->append_discontinuities(discontinuities_);
     velocity_dependent_ = velocity_dependent_ || e->depends_on_velocity();
+    switching_count_ += e->switching_function_count();
   }
   std::sort(discontinuities_.begin(), discontinuities_.end());
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
@@ -325,6 +326,23 @@ double Model::potential_energy(const LoadContext& context, const State& state,
   double v = elastic_energy(state);
   for (const auto& e : elements_) v += e->potential_energy(context, ws.kinematics);
   return v;
+}
+
+void Model::switching_functions(const LoadContext& context, const State& state, Workspace& ws,
+                                std::span<double> g) const {
+  const bool lte = formulation_ == FlexibleFormulation::kLte;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    ws.kinematics[i].state = &state[i];
+    ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
+    ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
+  }
+  std::size_t offset = 0;
+  for (const auto& e : elements_) {
+    const auto count = static_cast<std::size_t>(e->switching_function_count());
+    if (count == 0) continue;
+    e->switching_functions(context, ws.kinematics, g.subspan(offset, count));
+    offset += count;
+  }
 }
 
 double Model::dissipated_power(const LoadContext& context, const State& state,

@@ -116,6 +116,12 @@ class Model {
   double kinetic_energy(const State& state) const;
   /// Potential energy of the force elements plus the elastic energy ½ q_fᵀ K q_f.
   double potential_energy(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// Total number of switching functions of the force elements (contact gaps).
+  int switching_function_count() const { return switching_count_; }
+  /// All switching functions at a state, element by element (g has switching_function_count()
+  /// entries). Allocates nothing.
+  void switching_functions(const LoadContext& context, const State& state, Workspace& ws,
+                           std::span<double> g) const;
   /// Power dissipated by the force elements and the modal damping (q̇_fᵀ D q̇_f), W.
   double dissipated_power(const LoadContext& context, const State& state, Workspace& ws) const;
   /// ½ Σ q_fᵀ K q_f over the flexible bodies.
@@ -143,6 +149,7 @@ class Model {
   bool velocity_dependent_ = false;
   FlexibleFormulation formulation_ = FlexibleFormulation::kCoupled;
   bool flexible_ = false;
+  int switching_count_ = 0;
 };
 
 }  // namespace flexref::core
