@@ -23,6 +23,9 @@
 ///   rebuild there are no convergence failures, and the error at rtol 1e-12 drops ~50× (5e-9
 ///   instead of 2.6e-7 rad over 100 s) at the same CPU time (15 % fewer steps pay for the
 ///   ~4× more Jacobians).
+/// - Switching functions (contact gaps, core::Model::switching_functions): IDARootInit
+///   locates their zeros; at each (IDA_ROOT_RETURN) the time is recorded and IDA restarts
+///   there from consistent values, so no step straddles a contact onset or release.
 /// - SolverOptions::max_steps is IDA's mxstep: the most steps taken to reach one output time.
 ///
 /// Accuracy per rtol is lower than CVODE's on the same model. In the DAE form a steady spin
@@ -40,6 +43,7 @@
 #include <ctime>
 #include <exception>
 #include <limits>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -67,6 +71,22 @@ struct IdaData : sun::CallbackRecord {
   core::DaeForm::Scratch scratch;
   double t_segment = 0.0;
 };
+
+/// The model's switching functions at (t, y); allocates nothing.
+int switching(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void* user_data) {
+  auto& d = *static_cast<IdaData*>(user_data);
+  try {
+    d.form->unpack(t, sun::data(y), d.scratch.state);
+    const core::Model& model = d.form->model();
+    model.switching_functions(
+        core::LoadContext{t, d.t_segment}, d.scratch.state, d.scratch.workspace,
+        std::span<double>(g, static_cast<std::size_t>(model.switching_function_count())));
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  return 0;
+}
 
 /// F(t, y, y') of the DAE form; allocates nothing.
 int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void* user_data) {
@@ -170,6 +190,10 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
         sun::check(IDASetSuppressAlg(ida.get(), SUNTRUE), "IDASetSuppressAlg");
         sun::check(IDASetMaxNumSteps(ida.get(), options.max_steps), "IDASetMaxNumSteps");
         sun::check(IDASetDeltaCjLSetup(ida.get(), 0.0), "IDASetDeltaCjLSetup");
+        if (model.switching_function_count() > 0) {
+          sun::check(IDARootInit(ida.get(), model.switching_function_count(), switching),
+                     "IDARootInit");
+        }
         initialized = true;
       } else {
         sun::check(IDAReInit(ida.get(), segment.start, y.get(), yp.get()), "IDAReInit");
@@ -180,9 +204,24 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
 
       const auto advance_to = [&](double tout) {
         const std::clock_t solve_start = std::clock();
-        double t_returned = tout;
-        sun::check(IDASolve(ida.get(), tout, &t_returned, y.get(), yp.get(), IDA_NORMAL),
-                   "IDASolve");
+        double t_returned = t_reached;
+        while (t_returned < tout) {
+          const int flag = IDASolve(ida.get(), tout, &t_returned, y.get(), yp.get(), IDA_NORMAL);
+          sun::check(flag, "IDASolve");
+          if (flag == IDA_ROOT_RETURN) {
+            // A contact onset or release: restart there from consistent values.
+            run.event_times.push_back(t_returned);
+            ++run.stats.events;
+            add_counters(ida.get(), run.stats);
+            form.unpack(t_returned, sun::data(y.get()), state);
+            form.initial_values(core::LoadContext{t_returned, segment.t_segment}, state,
+                                sun::data(y.get()), sun::data(yp.get()));
+            sun::check(IDAReInit(ida.get(), t_returned, y.get(), yp.get()), "IDAReInit");
+            sun::check(IDASetStopTime(ida.get(), segment.end), "IDASetStopTime");
+          } else {
+            t_returned = tout;
+          }
+        }
         cpu += std::clock() - solve_start;
         t_reached = tout;
       };

@@ -11,6 +11,13 @@
 ///   loads with t_segment = the segment's midpoint.
 /// - The Euler parameters are renormalized at every output and segment end (a one-step method
 ///   carries no history, so this projection costs only the derivative at the projected state).
+/// - Switching functions (contact gaps, core::Model::switching_functions) are evaluated after
+///   every accepted step; when one changes sign, the step is bisected on its length, re-taking
+///   the RKF7(8) step from the accepted start each time (no interpolation: the step's own
+///   solution, as accurate as the accepted step), down to a few ulp of t, and the step ends
+///   just past the zero. The event time is recorded; no step straddles a contact onset or
+///   release. (The design allows bisection on dense output; RKF7(8) has none, and re-stepping
+///   is exact to the step's accuracy.)
 /// - SolverOptions::max_steps bounds the steps between two consecutive output times, as it
 ///   does for IDA and CVODE (mxstep).
 #include <algorithm>
@@ -100,7 +107,14 @@ class Integrator {
             odeint::make_controlled(options.absolute_tolerance(), options.rtol, ErrorStepper())),
         x_(static_cast<std::size_t>(form.size())),
         x_new_(x_.size()),
-        dxdt_(x_.size()) {}
+        x_mid_(x_.size()),
+        dxdt_(x_.size()),
+        g_(static_cast<std::size_t>(form.model().switching_function_count())),
+        g_new_(g_.size()),
+        g_mid_(g_.size()) {}
+
+  /// Where located event times are appended.
+  void record_events_in(std::vector<double>* events) { events_ = events; }
 
   double time() const { return t_; }
 
@@ -109,6 +123,7 @@ class Integrator {
     t_segment_ = t_segment;
     form_->pack(state, x_.data());
     evaluate_derivative();
+    evaluate_switching(x_, t_, g_);
     if (dt_ <= 0.0) dt_ = initial_step(x_, dxdt_, options_.rtol, options_.absolute_tolerance());
   }
 
@@ -118,8 +133,12 @@ class Integrator {
     while (t_ < target) {
       const double remaining = target - t_;
       // Land when the proposal reaches the target or would leave a sliver of a few ulp.
-      const bool lands = dt_ >= remaining - time_slack(target);
-      const double h = lands ? remaining : dt_;
+      // Never step far past a switch: the trial is capped at twice the time to the nearest
+      // zero of a switching function at its current rate, so a step that reaches a contact
+      // ends on its other side (where the sign test sees it) instead of passing through.
+      const double proposal = std::min(dt_, switching_step_cap(dt_));
+      const bool lands = proposal >= remaining - time_slack(target);
+      const double h = lands ? remaining : proposal;
       double t_trial = t_;
       double h_next = h;
       counters_.nonfinite = false;
@@ -134,10 +153,42 @@ class Integrator {
         reject(h_next, "the step size fell below round-off (error test failures)");
         continue;
       }
+      double t_new = lands ? target : t_trial;
+      if (!g_.empty()) {
+        evaluate_switching(x_new_, t_new, g_new_);
+        bool crossed = sign_changed(g_, g_new_);
+        if (!crossed) {
+          // Both ends on the same side: a gap can still dip through zero and back within the
+          // step (a short contact inside a long flight step). Check the quadratic through g
+          // and ġ at the start and g at the end; if its extremum is on the other side, step
+          // to it and look there.
+          const double s_candidate = double_crossing_candidate(t_new - t_);
+          if (s_candidate > 0.0) {
+            const double h_candidate = s_candidate * (t_new - t_);
+            stepper_.stepper().do_step(SegmentRhs(*form_, scratch_, counters_, t_segment_), x_,
+                                       dxdt_, t_, x_mid_, h_candidate);
+            evaluate_switching(x_mid_, t_ + h_candidate, g_mid_);
+            if (sign_changed(g_, g_mid_)) {
+              std::swap(x_new_, x_mid_);
+              std::swap(g_new_, g_mid_);
+              t_new = t_ + h_candidate;
+              crossed = true;
+            }
+          }
+        }
+        if (crossed) {
+          // Bisect the step length: x_new_ becomes the solution just past the zero.
+          t_new = t_ + locate_event(t_new - t_);
+          if (events_ != nullptr) events_->push_back(t_new);
+          ++stats_->events;
+        }
+        std::swap(g_, g_new_);
+      }
       std::swap(x_, x_new_);
-      t_ = lands ? target : t_trial;
+      const bool landed = t_new == target;
+      t_ = t_new;
       // A truncated landing step does not shrink the next proposal.
-      dt_ = lands && h < dt_ ? std::max(dt_, h_next) : h_next;
+      dt_ = landed && h < dt_ ? std::max(dt_, h_next) : h_next;
       ++stats_->steps;
       if (++steps_here > options_.max_steps) {
         throw core::SolverError("odeint", t_, stats_->steps,
@@ -152,6 +203,7 @@ class Integrator {
   void normalize() {
     form_->normalize_euler_parameters(x_.data());
     evaluate_derivative();
+    evaluate_switching(x_, t_, g_);
   }
 
   void unpack(core::State& state) const { form_->unpack(time(), x_.data(), state); }
@@ -168,6 +220,83 @@ class Integrator {
     }
   }
 
+  void evaluate_switching(const StateVector& x, double t, std::vector<double>& g) {
+    if (g.empty()) return;
+    form_->unpack(t, x.data(), scratch_.state);
+    form_->model().switching_functions(core::LoadContext{t, t_segment_}, scratch_.state,
+                                       scratch_.workspace, g);
+  }
+
+  /// Some switching function changed side (positive ↔ not positive).
+  static bool sign_changed(const std::vector<double>& a, const std::vector<double>& b) {
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      if ((a[k] > 0.0) != (b[k] > 0.0)) return true;
+    }
+    return false;
+  }
+
+  /// 2 min_k |g_k| / |ġ_k| over the functions moving towards zero (ġ by a forward difference
+  /// along dxdt_), or `h` when none is.
+  double switching_step_cap(double h) {
+    if (g_.empty()) return h;
+    const double delta = 1e-7 * h;
+    for (std::size_t i = 0; i < x_.size(); ++i) x_mid_[i] = x_[i] + delta * dxdt_[i];
+    evaluate_switching(x_mid_, t_ + delta, g_mid_);
+    double cap = h;
+    for (std::size_t k = 0; k < g_.size(); ++k) {
+      const double rate = (g_mid_[k] - g_[k]) / delta;
+      if (g_[k] != 0.0 && rate != 0.0 && (g_[k] > 0.0) != (rate > 0.0)) {
+        cap = std::min(cap, 2.0 * std::abs(g_[k] / rate));
+      }
+    }
+    return cap;
+  }
+
+  /// For a step of length h from (t_, x_) whose switching functions end on the side they
+  /// started (g_ → g_new_): the fraction s ∈ (0, 1) of the step where the quadratic through
+  /// g(0), ġ(0) and g(h) reaches its extremum on the other side of zero (the smallest over the
+  /// functions), or 0 when no quadratic does. ġ(0) = ∇g · ẋ by a forward difference along
+  /// dxdt_ (one extra switching evaluation, no right-hand side).
+  double double_crossing_candidate(double h) {
+    const double delta = 1e-7 * h;
+    for (std::size_t i = 0; i < x_.size(); ++i) x_mid_[i] = x_[i] + delta * dxdt_[i];
+    evaluate_switching(x_mid_, t_ + delta, g_mid_);
+    double best = 0.0;
+    for (std::size_t k = 0; k < g_.size(); ++k) {
+      const double slope = (g_mid_[k] - g_[k]) / delta * h;  // dg/ds
+      const double curvature = g_new_[k] - g_[k] - slope;    // q(s) = g0 + slope s + c s²
+      if (curvature == 0.0) continue;
+      const double s_star = -slope / (2.0 * curvature);
+      if (!(s_star > 0.0 && s_star < 1.0)) continue;
+      const double extremum = g_[k] - slope * slope / (4.0 * curvature);
+      if ((extremum > 0.0) != (g_[k] > 0.0) && (best == 0.0 || s_star < best)) best = s_star;
+    }
+    return best;
+  }
+
+  /// Smallest step length (to a few ulp of t) from (t_, x_) after which a switching function
+  /// has changed side; x_new_ and g_new_ hold the state there. `h` is a step known to cross.
+  double locate_event(double h) {
+    double lo = 0.0;
+    double hi = h;
+    const double resolution =
+        4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t_));
+    for (int k = 0; k < 200 && hi - lo > resolution; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      stepper_.stepper().do_step(SegmentRhs(*form_, scratch_, counters_, t_segment_), x_, dxdt_, t_,
+                                 x_mid_, mid);
+      evaluate_switching(x_mid_, t_ + mid, g_mid_);
+      if (sign_changed(g_, g_mid_)) {
+        hi = mid;
+        std::swap(x_new_, x_mid_);
+        std::swap(g_new_, g_mid_);
+      } else {
+        lo = mid;
+      }
+    }
+    return hi;
+  }
+
   void reject(double dt, const char* why) {
     ++stats_->error_test_failures;
     dt_ = dt;
@@ -182,7 +311,9 @@ class Integrator {
   core::OdeForm::Scratch scratch_;
   Counters counters_;
   ControlledStepper stepper_;
-  StateVector x_, x_new_, dxdt_;
+  StateVector x_, x_new_, x_mid_, dxdt_;
+  std::vector<double> g_, g_new_, g_mid_;  ///< switching functions at x_, x_new_, x_mid_
+  std::vector<double>* events_ = nullptr;
   double t_ = 0.0;
   double dt_ = 0.0;  ///< proposal for the next step; 0 before the first segment
   double t_segment_ = 0.0;
@@ -236,6 +367,7 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
   if (k == output_times.size()) return run;
 
   Integrator integrator(form, options, run.stats);
+  integrator.record_events_in(&run.event_times);
   std::clock_t cpu = 0;
   try {
     double start = 0.0;

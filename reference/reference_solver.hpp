@@ -28,6 +28,7 @@ struct SolverStats {
   long jacobian_evaluations = 0;
   long error_test_failures = 0;
   long nonlinear_failures = 0;
+  long events = 0;           ///< zeros of switching functions located (contact onset and release)
   double cpu_seconds = 0.0;  ///< process CPU time of the integration, output excluded
 };
 
@@ -36,6 +37,9 @@ struct ReferenceRun {
   SolverOptions options;
   core::Trajectory trajectory;
   SolverStats stats;
+  /// Times of the located switching events (contact onset and release), ascending; the solver
+  /// restarted at each (no step straddles one).
+  std::vector<double> event_times;
 };
 
 /// Throws core::SolverError (time, step, the solver's message) when the solver fails.
