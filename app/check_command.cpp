@@ -1,6 +1,11 @@
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
+#include <numbers>
+#include <string>
 
 #include "app/commands.hpp"
 #include "app/scene_reader.hpp"
@@ -16,15 +21,46 @@ int check_command(const CheckOptions& options) {
   std::cout << "  end time " << scene.end_time << " s, output every " << scene.output_step
             << " s\n";
   int dofs = 0;
-  for (const core::Body& b : model.bodies()) dofs += b.is_free() ? 6 : 3;
+  for (const core::Body& b : model.bodies()) {
+    dofs += (b.is_free() ? 6 : b.is_prescribed() ? 0 : 3) + b.mode_count();
+  }
   std::cout << "  " << model.num_bodies() << " bodies, " << dofs << " degrees of freedom\n";
+  double step_limit = std::numeric_limits<double>::infinity();
   for (const core::Body& b : model.bodies()) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(b.I_Br_B());
-    std::cout << "  body " << b.name() << ": " << (b.is_free() ? "free" : "pivot") << ", mass "
-              << b.mass() << " kg, principal inertia about "
-              << (b.is_free() ? "the centre of mass" : "the pivot") << " ["
-              << eig.eigenvalues().transpose() << "] kg·m², " << b.description().points.size()
-              << " tracked points\n";
+    const char* motion = b.is_free() ? "free" : b.is_prescribed() ? "prescribed" : "pivot";
+    const char* about = b.is_free()         ? "the centre of mass"
+                        : b.is_prescribed() ? "the frame origin"
+                                            : "the pivot";
+    std::cout << "  body " << b.name() << ": " << motion << (b.is_flexible() ? ", flexible" : "")
+              << ", mass " << b.mass() << " kg, principal inertia about " << about << " ["
+              << eig.eigenvalues().transpose() << "] kg·m²"
+              << (b.is_flexible() ? " (undeformed, hub included)" : "") << ", "
+              << b.description().points.size() << " tracked points\n";
+    if (b.is_prescribed()) {
+      const core::PrescribedRotation& p = b.description().prescribed;
+      std::cout << "    prescribed rotation about [" << p.axis_W.transpose()
+                << "] (world): " << p.law.describe() << "\n";
+    }
+    if (!b.is_flexible()) continue;
+    const core::ModalData& modal = b.description().flexible->modal;
+    const Eigen::VectorXd& w = b.natural_frequencies();
+    std::cout << "    " << b.mode_count() << " modes on " << modal.node_count()
+              << " nodes; natural frequencies with the frame held fixed:\n";
+    for (Eigen::Index k = 0; k < w.size(); ++k) {
+      const std::string name = static_cast<std::size_t>(k) < modal.mode_names.size()
+                                   ? modal.mode_names[static_cast<std::size_t>(k)]
+                                   : "mode-" + std::to_string(k + 1);
+      std::printf("      %2d  %-16s %14.6g rad/s %14.6g Hz\n", static_cast<int>(k + 1),
+                  name.c_str(), w(k), w(k) / (2.0 * std::numbers::pi));
+    }
+    std::fflush(stdout);
+    if (w.size() > 0 && w.maxCoeff() > 0.0) {
+      const double limit = 2.0 / w.maxCoeff();
+      step_limit = std::min(step_limit, limit);
+      std::cout << "    explicit step limit (central differences) 2/omega_max = " << limit
+                << " s\n";
+    }
   }
   for (const auto& e : model.elements()) std::cout << "  " << e->describe() << "\n";
   if (!model.discontinuities().empty()) {
@@ -38,8 +74,13 @@ int check_command(const CheckOptions& options) {
   const Eigen::Vector3d h0 = model.angular_momentum_W(s0);
   std::cout << "  initial energy " << e0 << " J, angular momentum about the origin ["
             << h0.transpose() << "] N·m·s\n";
-  std::cout << "  explicit step limit: none from elastic modes or penalty elements (rigid "
-               "bodies only); the rotation schemes' accuracy is governed by |W| h\n";
+  if (std::isfinite(step_limit)) {
+    std::cout << "  explicit step limit: " << step_limit
+              << " s (2/omega_max of the stiffest flexible body; `run` warns above it)\n";
+  } else {
+    std::cout << "  explicit step limit: none from elastic modes or penalty elements (rigid "
+                 "bodies only); the rotation schemes' accuracy is governed by |W| h\n";
+  }
   const auto exact = reference::classify_exact_solution(model);
   std::cout << "  exact solution: "
             << (exact.kind.empty() ? "none (" + exact.reason + ")" : exact.kind) << "\n";

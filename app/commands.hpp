@@ -5,6 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "app/scene.hpp"
+#include "core/model.hpp"
+
 namespace flexref::app {
 
 /// Exit codes.
@@ -18,8 +21,14 @@ struct CheckOptions {
 };
 int check_command(const CheckOptions& options);
 
+/// `--model coupled|lte`: the formulation of flexible bodies' equations (rigid bodies are the
+/// same in both), a command-line choice so that scenes stay model-agnostic. Returns the
+/// core::FlexibleFormulation of the value; throws std::invalid_argument for any other.
+core::FlexibleFormulation parse_formulation(const std::string& model);
+
 struct RunOptions {
   std::string scene;
+  std::string model = "coupled";
   std::string scheme = "c2";
   double dt = 1e-3;
   std::string output;
@@ -28,6 +37,7 @@ int run_command(const RunOptions& options);
 
 struct ReferenceOptions {
   std::string scene;
+  std::string model = "coupled";
   std::string solver = "cvode";
   double rtol = 1e-10;
   double atol = -1.0;
@@ -45,6 +55,7 @@ int compare_command(const CompareOptions& options);
 
 struct ConvergeOptions {
   std::string scene;
+  std::string model = "coupled";
   std::vector<std::string> schemes{"c1", "c2", "nmb"};
   double dt = 1e-2;
   int levels = 6;
@@ -60,7 +71,8 @@ int converge_command(const ConvergeOptions& options);
 std::string toml_string_array(const std::vector<std::string>& items);
 std::string toml_number_array(const std::vector<double>& items);
 
-/// "key = value" TOML lines describing a scene file for result metadata.
-std::string scene_metadata(const std::string& scene_file, const std::string& scene_name);
+/// The [scene] table of result metadata: the scene file, its name, the creation time and the
+/// model formulation (`model = "coupled"` or `"lte"`, the --model option).
+std::string scene_metadata(const std::string& scene_file, const Scene& scene);
 
 }  // namespace flexref::app

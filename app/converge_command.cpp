@@ -14,7 +14,7 @@
 namespace flexref::app {
 
 int converge_command(const ConvergeOptions& options) {
-  const Scene scene = read_scene(options.scene);
+  const Scene scene = read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
 
@@ -34,7 +34,7 @@ int converge_command(const ConvergeOptions& options) {
   const std::string table = format_convergence_table(result);
   std::ostringstream settings;
   settings.precision(17);
-  settings << scene_metadata(options.scene, scene.name) << "\n[study]\nkind = \"converge\"\n"
+  settings << scene_metadata(options.scene, scene) << "\n[study]\nkind = \"converge\"\n"
            << "schemes = " << toml_string_array(options.schemes) << "\ndt = " << options.dt
            << "\nlevels = " << options.levels << "\nmetric = \"" << options.metric
            << "\"\njobs = " << study.jobs << "\n\n"

@@ -33,6 +33,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   run_cmd->add_option("-o,--output", run.output, "CSV file to write")->required();
+  run_cmd->add_option("--model", run.model, "flexible bodies' equations: coupled | lte")
+      ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
 
   ReferenceOptions ref;
   auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
@@ -48,6 +51,9 @@ int main(int argc, char** argv) {
   ref_cmd->add_flag("!--no-estimate", ref.estimate,
                     "skip the error estimate (rerun 100x tighter and a second solver)");
   ref_cmd->add_option("-o,--output", ref.output, "CSV file to write")->required();
+  ref_cmd->add_option("--model", ref.model, "flexible bodies' equations: coupled | lte")
+      ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
 
   CompareOptions cmp;
   auto* cmp_cmd = app.add_subcommand("compare", "error norms of a run against a reference");
@@ -80,6 +86,9 @@ int main(int argc, char** argv) {
   conv_cmd->add_option("--jobs", conv.jobs, "parallel runs (0: all cores)")
       ->check(CLI::NonNegativeNumber);
   conv_cmd->add_option("--out", conv.out_dir, "output directory")->capture_default_str();
+  conv_cmd->add_option("--model", conv.model, "flexible bodies' equations: coupled | lte")
+      ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
 
   WorkPrecisionOptions wp;
   auto* wp_cmd = app.add_subcommand("work-precision", "error against CPU time, cheapest method");
@@ -119,6 +128,9 @@ int main(int argc, char** argv) {
                    "with --jobs 1")
       ->check(CLI::NonNegativeNumber);
   wp_cmd->add_option("--out", wp.out_dir, "output directory")->capture_default_str();
+  wp_cmd->add_option("--model", wp.model, "flexible bodies' equations: coupled | lte")
+      ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
 
   StabilityCommandOptions stab;
   auto* stab_cmd =

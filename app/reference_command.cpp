@@ -12,7 +12,7 @@
 namespace flexref::app {
 
 int reference_command(const ReferenceOptions& options) {
-  const Scene scene = read_scene(options.scene);
+  const Scene scene = read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
   reference::SolverOptions solver_options;
@@ -32,7 +32,7 @@ int reference_command(const ReferenceOptions& options) {
   const auto& st = ref.run.stats;
   std::ostringstream meta;
   meta.precision(17);
-  meta << scene_metadata(options.scene, scene.name) << "\n[integrator]\nkind = \"reference\"\n"
+  meta << scene_metadata(options.scene, scene) << "\n[integrator]\nkind = \"reference\"\n"
        << "solver = \"" << ref.run.solver << "\"\nrtol = " << options.rtol
        << "\natol = " << solver_options.absolute_tolerance() << "\nsteps = " << st.steps
        << "\nrhs_evaluations = " << st.rhs_evaluations
@@ -51,6 +51,9 @@ int reference_command(const ReferenceOptions& options) {
   studies::write_file_atomically(options.output + ".meta.toml", meta.str());
 
   std::cout << "reference " << scene.name << " with " << ref.run.solver;
+  if (model.has_flexible_bodies()) {
+    std::cout << " (" << core::to_string(model.formulation()) << " model)";
+  }
   if (ref.run.solver == "exact") {
     std::cout << " (analytic, " << st.steps << " output times)";
   } else {

@@ -15,9 +15,22 @@
 namespace flexref::app {
 
 int run_command(const RunOptions& options) {
-  const Scene scene = read_scene(options.scene);
+  const Scene scene = read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
+  // Central differences are stable for h ω_max ≤ 2: warn when the step exceeds it for the
+  // stiffest mode of a flexible body (implicit schemes stay stable but do not resolve it).
+  for (const core::Body& b : model.bodies()) {
+    if (!b.is_flexible() || b.natural_frequencies().size() == 0) continue;
+    const double omega_max = b.natural_frequencies().maxCoeff();
+    if (omega_max > 0.0 && options.dt > 2.0 / omega_max) {
+      std::cerr << "flexref: warning: step " << options.dt
+                << " s exceeds 2/omega_max = " << 2.0 / omega_max << " s of flexible body "
+                << b.name() << " (omega_max = " << omega_max
+                << " rad/s): explicit central differences would be unstable and the highest "
+                   "modes are not resolved\n";
+    }
+  }
   auto stepper = lie::make_stepper(options.scheme, model);
   const double start = studies::thread_cpu_seconds();
   const core::Trajectory trajectory = lie::run_scheme(model, *stepper, options.dt, times);
@@ -30,14 +43,18 @@ int run_command(const RunOptions& options) {
   const double e_last = table.rows.back()[static_cast<std::size_t>(energy)];
   std::ostringstream meta;
   meta.precision(17);
-  meta << scene_metadata(options.scene, scene.name) << "\n[integrator]\nkind = \"scheme\"\n"
+  meta << scene_metadata(options.scene, scene) << "\n[integrator]\nkind = \"scheme\"\n"
        << "scheme = \"" << options.scheme << "\"\ndt = " << options.dt
        << "\nsteps = " << std::lround((times.back() - times.front()) / options.dt)
        << "\ncpu_seconds = " << cpu << "\n\n"
        << studies::versions_toml();
   studies::write_file_atomically(options.output + ".meta.toml", meta.str());
 
-  std::cout << "run " << scene.name << " with " << options.scheme << ", dt " << options.dt
+  std::cout << "run " << scene.name << " with " << options.scheme
+            << (model.has_flexible_bodies()
+                    ? std::string(" (") + core::to_string(model.formulation()) + " model)"
+                    : std::string())
+            << ", dt " << options.dt
             << " s: " << std::lround((times.back() - times.front()) / options.dt) << " steps, "
             << cpu << " s CPU; energy " << e_first << " -> " << e_last << " J; wrote "
             << options.output << "\n";

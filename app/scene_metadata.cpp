@@ -2,6 +2,7 @@
 #include <ctime>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 
 #include "app/commands.hpp"
 
@@ -24,17 +25,27 @@ std::string toml_number_array(const std::vector<double>& items) {
   return out.str();
 }
 
-std::string scene_metadata(const std::string& scene_file, const std::string& scene_name) {
+core::FlexibleFormulation parse_formulation(const std::string& model) {
+  if (model == "coupled") return core::FlexibleFormulation::kCoupled;
+  if (model == "lte") return core::FlexibleFormulation::kLte;
+  throw std::invalid_argument("unknown --model \"" + model + "\"; expected coupled or lte");
+}
+
+std::string scene_metadata(const std::string& scene_file, const Scene& scene) {
   std::ostringstream out;
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(scene_file, ec);
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  int flexible_bodies = 0;
+  for (const core::Body& b : scene.model->bodies()) flexible_bodies += b.is_flexible() ? 1 : 0;
   out << "[scene]\n"
       << "file = \"" << (ec ? scene_file : absolute.string()) << "\"\n"
-      << "name = \"" << scene_name << "\"\n"
-      << "created = \"" << stamp << "\"\n";
+      << "name = \"" << scene.name << "\"\n"
+      << "created = \"" << stamp << "\"\n"
+      << "model = \"" << core::to_string(scene.model->formulation()) << "\"\n"
+      << "flexible_bodies = " << flexible_bodies << "\n";
   return out.str();
 }
 

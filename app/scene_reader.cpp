@@ -1,6 +1,8 @@
 #include "app/scene_reader.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -13,8 +15,10 @@
 #include <utility>
 #include <vector>
 
+#include "app/modal_data_reader.hpp"
 #include "app/scene_toml.hpp"
 #include "core/applied_load.hpp"
+#include "core/beam_model.hpp"
 #include "core/body.hpp"
 #include "core/error.hpp"
 #include "core/euler_parameters.hpp"
@@ -148,11 +152,181 @@ Eigen::Matrix3d read_inertia(const Table& body) {
   return inertia;
 }
 
-std::vector<core::TrackedPoint> read_points(const Table& body) {
+// Largest element and mode counts of a [body.beam]: the generalized eigenproblem is dense, so
+// larger values are almost certainly typing errors (and would take minutes).
+constexpr int kMaxBeamElements = 500;
+constexpr int kMaxModes = 1000;
+
+/// A required (or, with fallback >= 0, optional) TOML integer in [1, max].
+int read_count(const Table& t, std::string_view key, int max, const std::string& expected,
+               int fallback = -1) {
+  const toml::value* v = t.find(key);
+  if (v == nullptr) {
+    if (fallback >= 0) return fallback;
+    t.fail(key, "required key is missing; expected " + expected);
+  }
+  if (!v->is_integer()) t.fail(key, "expected " + expected + ", got " + scene_toml::describe(*v));
+  const std::int64_t n = v->as_integer();
+  if (n < 1 || n > max) {
+    t.fail(key, "expected " + expected + " (1 to " + std::to_string(max) + "), got " +
+                    scene_toml::describe(*v));
+  }
+  return static_cast<int>(n);
+}
+
+/// An array of exactly n finite numbers (modal coordinates, damping ratios).
+Eigen::VectorXd read_vector(const Table& t, std::string_view key, Eigen::Index n, Sign sign,
+                            const std::string& expected) {
+  const toml::value* v = t.find(key);
+  const std::string full = "an array of " + std::to_string(n) + " " + expected;
+  if (v == nullptr) t.fail(key, "required key is missing; expected " + full);
+  if (!v->is_array() || static_cast<Eigen::Index>(v->as_array().size()) != n) {
+    t.fail(key, "expected " + full + " (one per mode), got " + scene_toml::describe(*v));
+  }
+  Eigen::VectorXd out(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    out(i) = t.to_number(v->as_array()[static_cast<std::size_t>(i)], key, sign, expected);
+  }
+  return out;
+}
+
+/// [body.beam]: the built-in beam finite-element model (core/beam_model.hpp).
+core::ModalData read_beam(const Table& body) {
+  const std::optional<Table> b =
+      body.table("beam", "a table [body.beam] with length, elements, EA, EI, rho_A and modes");
+  b->check_keys({"length", "elements", "EA", "EI", "EI_y", "EI_z", "GJ", "rho_A", "boundary",
+                 "origin", "modes", "families", "damping_ratio"});
+  core::BeamParameters p;
+  p.origin =
+      b->vector3_or("origin", Eigen::Vector3d::Zero(),
+                    "the beam root [x, y, z] in m from the frame origin, body frame (the beam "
+                    "runs along the body x axis from there)");
+  p.length = b->number("length", Sign::kPositive, "a positive beam length in m");
+  p.elements = read_count(*b, "elements", kMaxBeamElements, "a positive integer element count");
+  p.EA = b->number("EA", Sign::kPositive, "a positive axial stiffness EA in N");
+  if (b->has("EI")) {
+    for (const std::string_view key : {"EI_y", "EI_z"}) {
+      if (b->has(key)) {
+        b->fail(key,
+                "EI already gives both bending stiffnesses; expected either EI or EI_y "
+                "and EI_z");
+      }
+    }
+    p.EI_y = p.EI_z = b->number("EI", Sign::kPositive, "a positive bending stiffness EI in N*m^2");
+  } else {
+    if (!b->has("EI_y") && !b->has("EI_z")) {
+      b->fail("EI",
+              "required key is missing; expected a positive bending stiffness EI in N*m^2 "
+              "(both planes), or EI_y and EI_z");
+    }
+    p.EI_y = b->number("EI_y", Sign::kPositive,
+                       "a positive bending stiffness EI_y in N*m^2 (about y, deflection along z)");
+    p.EI_z = b->number("EI_z", Sign::kPositive,
+                       "a positive bending stiffness EI_z in N*m^2 (about z, deflection along y)");
+  }
+  if (b->has("GJ")) {
+    p.GJ = b->number("GJ", Sign::kPositive, "a positive torsional stiffness GJ in N*m^2");
+  }
+  p.rho_A = b->number("rho_A", Sign::kPositive, "a positive mass per length rho_A in kg/m");
+  p.boundary = b->choice("boundary", {"clamped-free", "free-free"}, 0) == 0
+                   ? core::BeamBoundary::kClampedFree
+                   : core::BeamBoundary::kFreeFree;
+  const int modes = read_count(*b, "modes", kMaxModes, "a positive integer mode count");
+  core::BeamModeFilter filter;
+  if (const toml::value* f = b->find("families")) {
+    const std::string expected =
+        "an array of mode families from \"bending-xy\", \"bending-xz\", \"axial\"";
+    if (!f->is_array() || f->as_array().empty()) {
+      b->fail("families", "expected " + expected + ", got " + scene_toml::describe(*f));
+    }
+    filter = core::BeamModeFilter{false, false, false};
+    for (const toml::value& item : f->as_array()) {
+      const std::string name = item.is_string() ? item.as_string().str : std::string();
+      bool* flag = name == "bending-xy"   ? &filter.bending_xy
+                   : name == "bending-xz" ? &filter.bending_xz
+                   : name == "axial"      ? &filter.axial
+                                          : nullptr;
+      if (flag == nullptr) {
+        b->fail_at(item, "families",
+                   "expected " + expected +
+                       (name == "torsion" ? " (torsion modes do not move the beam axis and are "
+                                            "not part of the modal data)"
+                                          : "") +
+                       ", got " + scene_toml::describe(item));
+      }
+      if (*flag) b->fail_at(item, "families", "family \"" + name + "\" is listed twice");
+      *flag = true;
+    }
+  }
+  if (const std::string problem = core::beam_parameters_problem(p); !problem.empty()) {
+    b->fail_table(problem);
+  }
+  core::ModalData data;
+  try {
+    data = core::make_beam_modal_data(p, modes, filter);
+  } catch (const std::invalid_argument& e) {
+    b->fail("modes", std::string("cannot make the beam's modal data: ") + e.what());
+  } catch (const std::exception& e) {
+    // The eigen-solve fails for extreme but finite parameters (a length of 1e-320 m).
+    b->fail_table(std::string("cannot make the beam's modal data (extreme parameters?): ") +
+                  e.what());
+  }
+  if (b->has("damping_ratio")) {
+    const toml::value& v = *b->find("damping_ratio");
+    const std::string expected = "a modal damping ratio >= 0 (dimensionless)";
+    if (v.is_array()) {
+      data.damping_ratio =
+          read_vector(*b, "damping_ratio", data.mode_count(), Sign::kNonNegative, expected);
+    } else {
+      data.damping_ratio.setConstant(data.mode_count(),
+                                     b->to_number(v, "damping_ratio", Sign::kNonNegative,
+                                                  expected + " or an array of one per mode"));
+    }
+  }
+  return data;
+}
+
+/// The scene file's directory joined with a path given in it (absolute paths stay).
+std::string relative_to(const std::string& scene_file, const std::string& path) {
+  const std::filesystem::path p(path);
+  if (p.is_absolute()) return path;
+  return (std::filesystem::path(scene_file).parent_path() / p).lexically_normal().string();
+}
+
+/// `modal = "file.toml"`: a modal-data file (docs/modal_data.md), relative to the scene.
+core::ModalData read_modal_file(const Table& body) {
+  const std::string given = body.string("modal", "the path of a modal-data file (TOML)");
+  if (given.empty()) body.fail("modal", "expected the path of a modal-data file, got \"\"");
+  const std::string path = relative_to(body.file(), given);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    body.fail("modal", "cannot open the modal-data file " + path +
+                           " (paths are relative to the scene file's directory)");
+  }
+  try {
+    return read_modal_data(path);
+  } catch (const core::InputError& e) {
+    // The error is in the modal-data file: keep its file, line and key, and say which scene
+    // body reads it.
+    std::string what = e.what();
+    std::string prefix = e.file();
+    if (e.line() > 0) prefix += ":" + std::to_string(e.line());
+    prefix += ": ";
+    if (!e.key().empty()) prefix += "key '" + e.key() + "': ";
+    if (what.starts_with(prefix)) what.erase(0, prefix.size());
+    throw core::InputError(e.file(), e.line(), e.key(),
+                           what + " (modal data of " + body.key_path("modal") + ", " + body.file() +
+                               ":" + std::to_string(body.line_of("modal")) + ")");
+  }
+}
+
+std::vector<core::TrackedPoint> read_points(const Table& body, const core::ModalData* modal) {
   std::vector<core::TrackedPoint> points;
-  const std::string expected = "an array of points { name = \"...\", at = [x, y, z] }";
+  const std::string expected =
+      "an array of points { name = \"...\", at = [x, y, z] } (or node = \"...\" on a flexible "
+      "body)";
   for (const Table& p : body.tables("points", expected)) {
-    p.check_keys({"name", "at"});
+    p.check_keys({"name", "at", "node"});
     core::TrackedPoint point;
     point.name = p.name("name", "a point name");
     for (const core::TrackedPoint& other : points) {
@@ -161,33 +335,159 @@ std::vector<core::TrackedPoint> read_points(const Table& body) {
                "duplicate point name \"" + point.name + "\" in this body; expected a unique name");
       }
     }
-    point.p_BoP_B = p.vector3("at", "the point [x, y, z] in m from the frame origin, body frame");
+    if (p.has("node")) {
+      if (modal == nullptr) {
+        p.fail("node",
+               "applies only to flexible bodies (beam or modal); expected at = [x, y, z] on a "
+               "rigid body");
+      }
+      if (p.has("at")) {
+        p.fail("at", "a node point is at its node; expected either at or node, not both");
+      }
+      const std::string node = p.string("node", "the name of a node of the body's modal data");
+      const auto& names = modal->node_names;
+      const auto it = std::find(names.begin(), names.end(), node);
+      if (it == names.end()) {
+        std::string known;
+        if (names.empty()) {
+          known = " (the modal data has no node names)";
+        } else {
+          known =
+              "; expected a node name such as \"" + names.front() + "\" … \"" + names.back() + "\"";
+        }
+        p.fail("node", "no node named \"" + node + "\" in the body's modal data" + known);
+      }
+      point.node = static_cast<int>(it - names.begin());
+      point.p_BoP_B = modal->p_BoNode_B.col(point.node);
+    } else {
+      point.p_BoP_B = p.vector3("at", "the point [x, y, z] in m from the frame origin, body frame");
+    }
     points.push_back(std::move(point));
   }
   return points;
 }
 
+/// [body.prescribed]: the angle law of motion = "prescribed".
+core::PrescribedRotation read_prescribed(const Table& body) {
+  const std::optional<Table> t = body.table(
+      "prescribed", "a table [body.prescribed] with axis, law and rate (motion = \"prescribed\")");
+  if (!t) {
+    body.fail("prescribed",
+              "required table is missing; expected [body.prescribed] with axis, law and rate "
+              "for motion = \"prescribed\"");
+  }
+  t->check_keys({"axis", "law", "rate", "spin_up_time"});
+  core::PrescribedRotation r;
+  const Eigen::Vector3d axis =
+      t->vector3("axis", "the rotation axis [x, y, z], a unit vector, world frame");
+  const double norm = axis.norm();
+  if (!(std::abs(norm - 1.0) <= kOrientationTolerance)) {
+    t->fail("axis",
+            "expected a unit axis [x, y, z] (norm 1 within 1e-6), got norm " + format(norm));
+  }
+  r.axis_W = axis / norm;
+  const bool spin_up = t->choice("law", {"constant-rate", "spin-up"}, -1) == 1;
+  r.law.kind = spin_up ? core::AngleLaw::Kind::kSpinUp : core::AngleLaw::Kind::kConstantRate;
+  r.law.rate = t->number(
+      "rate", Sign::kAny,
+      spin_up ? "the final angular rate Omega_s in rad/s" : "the angular rate Omega in rad/s");
+  if (spin_up) {
+    r.law.spin_up_time =
+        t->number("spin_up_time", Sign::kPositive, "a positive spin-up time T_s in s");
+  } else if (t->has("spin_up_time")) {
+    t->fail("spin_up_time",
+            "applies only to law = \"spin-up\"; expected no spin_up_time with "
+            "law = \"constant-rate\"");
+  }
+  return r;
+}
+
 core::Body read_body(const Table& t, BodyNames& names) {
-  t.check_keys({"name", "mass", "inertia", "center_of_mass", "motion", "pivot", "position",
-                "orientation", "velocity", "angular_velocity", "points"},
-               {"beam", "modal"});
+  t.check_keys({"name", "mass", "inertia", "center_of_mass", "motion", "pivot", "prescribed",
+                "position", "orientation", "velocity", "angular_velocity", "points", "beam",
+                "modal", "q0", "qd0"});
   core::RigidBodyDescription d;
   d.name = t.name("name", "a body name");
   names.add(t, d.name);
-  d.mass = t.number("mass", Sign::kPositive, "a positive mass in kg");
-  if (!std::isfinite(1.0 / d.mass)) {
+
+  // The flexible part first: it decides what the mass keys mean (the hub's).
+  std::optional<core::FlexiblePart> flexible;
+  if (t.has("beam") && t.has("modal")) {
+    t.fail("modal",
+           "a flexible body has one source of modal data; expected either [body.beam] or "
+           "modal = \"file.toml\", not both");
+  }
+  if (t.has("beam")) flexible.emplace(core::FlexiblePart{read_beam(t), {}, {}});
+  if (t.has("modal")) flexible.emplace(core::FlexiblePart{read_modal_file(t), {}, {}});
+  if (flexible) {
+    const Eigen::Index n = flexible->modal.mode_count();
+    if (t.has("q0")) {
+      flexible->q0 = read_vector(t, "q0", n, Sign::kAny, "initial modal coordinates q0");
+    }
+    if (t.has("qd0")) {
+      flexible->qd0 = read_vector(t, "qd0", n, Sign::kAny, "initial modal velocities qd0 in 1/s");
+    }
+  } else {
+    for (const std::string_view key : {"q0", "qd0"}) {
+      if (t.has(key)) {
+        t.fail(key, "applies only to flexible bodies; expected no " + std::string(key) +
+                        " without [body.beam] or modal");
+      }
+    }
+  }
+
+  if (flexible) {
+    // The hub: optional; mass 0 (the default) is no hub, and then no inertia.
+    d.mass = t.number_or("mass", 0.0, Sign::kNonNegative,
+                         "a hub mass >= 0 in kg (0: no hub) for a flexible body");
+    if (d.mass == 0.0) {
+      if (t.has("inertia")) {
+        t.fail("inertia",
+               "a flexible body without hub mass has no hub inertia; expected no inertia with "
+               "mass = 0 (or a positive hub mass)");
+      }
+      d.I_Bcm_B.setZero();
+    } else {
+      d.I_Bcm_B = read_inertia(t);
+    }
+  } else {
+    const toml::value* m = t.find("mass");
+    if (m != nullptr && (m->is_floating() || m->is_integer()) &&
+        t.to_number(*m, "mass", Sign::kAny, "a positive mass in kg") == 0.0) {
+      t.fail("mass", "expected a positive mass in kg, got " + scene_toml::describe(*m) +
+                         " (mass 0 is allowed only for the hub of a flexible body: [body.beam] "
+                         "or modal)");
+    }
+    d.mass = t.number("mass", Sign::kPositive, "a positive mass in kg");
+    d.I_Bcm_B = read_inertia(t);
+  }
+  if (d.mass > 0.0 && !std::isfinite(1.0 / d.mass)) {
     t.fail("mass", "expected a positive mass in kg, got " + format(d.mass) +
                        " (too small: 1/mass overflows)");
   }
-  d.I_Bcm_B = read_inertia(t);
   d.p_BoBcm_B = t.vector3_or("center_of_mass", Eigen::Vector3d::Zero(),
                              "the centre of mass [x, y, z] in m, body frame");
-  const bool pivot = t.choice("motion", {"free", "pivot"}, 0, {"prescribed"}) == 1;
-  d.motion = pivot ? core::MotionKind::kPivot : core::MotionKind::kFree;
+  const int motion = t.choice("motion", {"free", "pivot", "prescribed"}, 0);
+  const bool pivot = motion == 1;
+  const bool prescribed = motion == 2;
+  d.motion = pivot        ? core::MotionKind::kPivot
+             : prescribed ? core::MotionKind::kPrescribed
+                          : core::MotionKind::kFree;
+  if (prescribed && !flexible) {
+    t.fail("motion",
+           "motion = \"prescribed\" applies only to flexible bodies (a prescribed rigid body has "
+           "no degrees of freedom); expected \"free\" or \"pivot\"");
+  }
   if (pivot) {
     d.p_BoPivot_B = t.vector3("pivot", "the pivot [x, y, z] in m, body frame (motion = \"pivot\")");
   } else if (t.has("pivot")) {
     t.fail("pivot", "applies only to motion = \"pivot\"; expected no pivot for a free body");
+  }
+  if (prescribed) {
+    d.prescribed = read_prescribed(t);
+  } else if (t.has("prescribed")) {
+    t.fail("prescribed",
+           "applies only to motion = \"prescribed\"; expected no [body.prescribed] here");
   }
   d.initial.p_WBo = t.vector3_or("position", Eigen::Vector3d::Zero(),
                                  "the frame origin's position [x, y, z] in m, world frame");
@@ -209,9 +509,21 @@ core::Body read_body(const Table& t, BodyNames& names) {
            "a pivot body's velocities follow from its angular velocity; expected no "
            "velocity (or [0, 0, 0]) with motion = \"pivot\"");
   }
+  if (prescribed && t.has("velocity")) {
+    t.fail("velocity",
+           "a prescribed body's frame origin is fixed; expected no velocity with "
+           "motion = \"prescribed\"");
+  }
+  if (prescribed && t.has("angular_velocity")) {
+    t.fail("angular_velocity",
+           "a prescribed body's angular velocity follows from its law; expected no "
+           "angular_velocity with motion = \"prescribed\"");
+  }
   d.initial.w_WB_B = t.vector3_or("angular_velocity", Eigen::Vector3d::Zero(),
                                   "the angular velocity [wx, wy, wz] in rad/s, body frame");
-  d.points = read_points(t);
+  d.points = read_points(t, flexible ? &flexible->modal : nullptr);
+  d.flexible = std::move(flexible);
+  const bool is_flexible = d.flexible.has_value();
 
   std::optional<core::Body> body;
   try {
@@ -222,6 +534,9 @@ core::Body read_body(const Table& t, BodyNames& names) {
     t.fail("inertia", std::string("the inertia about the ") + (pivot ? "pivot" : "centre of mass") +
                           " or its inverse is not finite (values too large or too small)");
   } catch (const std::exception& e) {
+    // Flexible bodies: everything but the undeformed inertia of a free or pivot body (a beam
+    // without hub has none about its axis) is checked above.
+    if (is_flexible) t.fail(t.has("inertia") ? "inertia" : "mass", e.what());
     t.fail_table(e.what());
   }
   return *std::move(body);
@@ -332,7 +647,7 @@ void check_initial_evaluation(const core::Model& model, const Table& root,
     const core::BodyState& s = state[i];
     const core::BodyAcceleration& a = accelerations[i];
     if (!s.p_WBr.allFinite() || !s.v_WBr.allFinite() || !a.a_WBr.allFinite() ||
-        !a.alpha_WB_B.allFinite()) {
+        !a.alpha_WB_B.allFinite() || !a.qdd_f.allFinite()) {
       body_tables[i].fail_table(
           "the initial state or accelerations of this body are not finite (values too large or "
           "too small); expected values whose products stay within the range of a double");
@@ -346,7 +661,8 @@ void check_initial_evaluation(const core::Model& model, const Table& root,
   }
 }
 
-Scene read_document(const toml::value& document, const std::string& file) {
+Scene read_document(const toml::value& document, const std::string& file,
+                    core::FlexibleFormulation formulation) {
   const Table root(document, file, "");
   root.check_keys({"scene", "body", "load", "potential"}, {"contact", "joint"});
   SceneSettings settings = read_settings(root);
@@ -360,6 +676,13 @@ Scene read_document(const toml::value& document, const std::string& file) {
 
   std::vector<std::unique_ptr<const core::ForceElement>> elements;
   if (!settings.g_W.isZero(0.0)) {
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      if (bodies[i].is_flexible()) {
+        const Table scene = *root.table("scene", "a [scene] table");
+        scene.fail("gravity", "gravity on flexible bodies (body \"" + bodies[i].name() +
+                                  "\") is not supported yet; expected no gravity");
+      }
+    }
     std::vector<core::UniformGravity::BodyMass> masses;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       masses.push_back({static_cast<int>(i), bodies[i].mass(), bodies[i].description().p_BoBcm_B});
@@ -379,17 +702,18 @@ Scene read_document(const toml::value& document, const std::string& file) {
   scene.description = std::move(settings.description);
   scene.end_time = settings.end_time;
   scene.output_step = settings.output_step;
-  scene.model = std::make_unique<core::Model>(std::move(bodies), std::move(elements));
+  scene.model = std::make_unique<core::Model>(std::move(bodies), std::move(elements), formulation);
   check_initial_evaluation(*scene.model, root, body_tables);
   return scene;
 }
 
 }  // namespace
 
-Scene parse_scene(const std::string& text, const std::string& file_name) {
+Scene parse_scene(const std::string& text, const std::string& file_name,
+                  core::FlexibleFormulation formulation) {
   try {
     const toml::value document = scene_toml::parse(text, file_name);
-    return read_document(document, file_name);
+    return read_document(document, file_name, formulation);
   } catch (const core::InputError&) {
     throw;
   } catch (const toml::exception& e) {
@@ -400,7 +724,7 @@ Scene parse_scene(const std::string& text, const std::string& file_name) {
   }
 }
 
-Scene read_scene(const std::string& path) {
+Scene read_scene(const std::string& path, core::FlexibleFormulation formulation) {
   std::string text;
   try {
     std::error_code ec;
@@ -418,7 +742,7 @@ Scene read_scene(const std::string& path) {
   } catch (const std::exception& e) {
     throw core::InputError(path, 0, "", std::string("cannot read the scene file: ") + e.what());
   }
-  return parse_scene(text, path);
+  return parse_scene(text, path, formulation);
 }
 
 }  // namespace flexref::app

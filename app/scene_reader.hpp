@@ -12,10 +12,15 @@
 
 namespace flexref::app {
 
-/// Reads and validates the scene file at `path`. Throws core::InputError.
-Scene read_scene(const std::string& path);
+/// Reads and validates the scene file at `path`. Throws core::InputError. The formulation of
+/// flexible bodies' equations is a command-line choice, not part of the scene
+/// (`--model coupled|lte`); rigid bodies are the same in both.
+Scene read_scene(const std::string& path,
+                 core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
 
-/// Same, from text in memory; `file_name` is only used in messages and Scene::file.
-Scene parse_scene(const std::string& text, const std::string& file_name);
+/// Same, from text in memory; `file_name` is used in messages and Scene::file, and relative
+/// modal-data paths are resolved from its directory.
+Scene parse_scene(const std::string& text, const std::string& file_name,
+                  core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
 
 }  // namespace flexref::app

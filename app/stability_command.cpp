@@ -42,10 +42,11 @@ int stability_command(const StabilityCommandOptions& options) {
     const Scene scene = read_scene(options.scene);
     int free_body = -1;
     for (int i = 0; i < scene.model->num_bodies() && free_body < 0; ++i) {
-      if (scene.model->body(i).is_free()) free_body = i;
+      if (scene.model->body(i).is_free() && !scene.model->body(i).is_flexible()) free_body = i;
     }
     if (free_body < 0) {
-      throw std::invalid_argument("stability: scene '" + options.scene + "' has no free body");
+      throw std::invalid_argument("stability: scene '" + options.scene +
+                                  "' has no free rigid body");
     }
     const core::RigidBodyDescription& body = scene.model->body(free_body).description();
     if (!(body.initial.w_WB_B.norm() > 0.0)) {
@@ -56,7 +57,7 @@ int stability_command(const StabilityCommandOptions& options) {
     study.w_direction_B = body.initial.w_WB_B;
     body_source = "inertia and W0 of body '" + body.name + "' of " + options.scene +
                   " (torque-free: the scene's loads are not used)";
-    metadata = scene_metadata(options.scene, scene.name) + "\n";
+    metadata = scene_metadata(options.scene, scene) + "\n";
   }
   const bool spin_sweep = options.parameter == "spin";
   if (!options.values.empty()) {

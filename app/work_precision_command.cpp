@@ -15,7 +15,7 @@
 
 namespace flexref::app {
 int work_precision_command(const WorkPrecisionOptions& app_options) {
-  const Scene scene = read_scene(app_options.scene);
+  const Scene scene = read_scene(app_options.scene, parse_formulation(app_options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
 
@@ -38,7 +38,7 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   const std::string table = format_work_precision_table(result);
   std::ostringstream settings;
   settings.precision(17);
-  settings << scene_metadata(app_options.scene, scene.name)
+  settings << scene_metadata(app_options.scene, scene)
            << "\n[study]\nkind = \"work-precision\"\nschemes = " << toml_string_array(study.schemes)
            << "\ndt = " << study.h0 << "\nlevels = " << study.levels
            << "\nsolvers = " << toml_string_array(study.solvers)

@@ -10,6 +10,7 @@ namespace flexref::app {
 
 struct WorkPrecisionOptions {
   std::string scene;
+  std::string model = "coupled";  ///< --model coupled|lte (flexible bodies)
   std::vector<std::string> schemes{"c1", "c2", "nmb"};
   double dt = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< number of steps dt, dt/2, …

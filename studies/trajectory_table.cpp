@@ -28,9 +28,14 @@ std::vector<std::string> trajectory_columns(const core::Model& model) {
          {".x", ".y", ".z", ".e0", ".e1", ".e2", ".e3", ".vx", ".vy", ".vz", ".W1", ".W2", ".W3"}) {
       names.push_back(n + c);
     }
+    // Points right after the rigid block: the error metrics find them there
+    // (studies/error_metrics.cpp).
     for (const core::TrackedPoint& p : b.description().points) {
       for (const char* c : {".x", ".y", ".z"}) names.push_back(n + "." + p.name + c);
     }
+    for (int k = 1; k <= b.mode_count(); ++k) names.push_back(n + ".q" + std::to_string(k));
+    for (int k = 1; k <= b.mode_count(); ++k) names.push_back(n + ".qd" + std::to_string(k));
+    if (b.is_prescribed()) names.push_back(n + ".drive_torque");
   }
   names.emplace_back("energy");
   return names;
@@ -40,10 +45,18 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
   TrajectoryTable table;
   table.columns = trajectory_columns(model);
   core::Workspace ws = model.make_workspace();
+  core::Accelerations accelerations = model.make_accelerations();
+  bool prescribed = false;
+  for (const core::Body& b : model.bodies()) prescribed = prescribed || b.is_prescribed();
   table.rows.reserve(trajectory.times.size());
   for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
     const double t = trajectory.times[k];
     const core::State& state = trajectory.states[k];
+    // Driving torques of prescribed bodies need the accelerations at the state (loads of the
+    // right-limit branch at t, like the energy below).
+    if (prescribed) {
+      model.compute_accelerations(core::LoadContext{t, t}, state, ws, accelerations);
+    }
     std::vector<double> row;
     row.reserve(table.columns.size());
     row.push_back(t);
@@ -54,9 +67,15 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
       row.insert(row.end(),
                  {p.x(), p.y(), p.z(), s.theta_WB(0), s.theta_WB(1), s.theta_WB(2), s.theta_WB(3),
                   v.x(), v.y(), v.z(), s.w_WB_B.x(), s.w_WB_B.y(), s.w_WB_B.z()});
-      for (const core::TrackedPoint& pt : model.body(i).description().points) {
-        const Eigen::Vector3d r = model.p_WP(i, s, pt.p_BoP_B);
+      const core::Body& b = model.body(i);
+      for (const core::TrackedPoint& pt : b.description().points) {
+        const Eigen::Vector3d r = model.p_WP(i, s, pt);
         row.insert(row.end(), {r.x(), r.y(), r.z()});
+      }
+      for (int m = 0; m < b.mode_count(); ++m) row.push_back(s.q_f(m));
+      for (int m = 0; m < b.mode_count(); ++m) row.push_back(s.qd_f(m));
+      if (b.is_prescribed()) {
+        row.push_back(model.driving_torque(i, s, accelerations[static_cast<std::size_t>(i)], ws));
       }
     }
     // Energy at an output time: the right-limit branch of piecewise loads (potentials do not

@@ -6,7 +6,10 @@
 /// Columns (docs/output.md): `t`; per body B: `B.x,B.y,B.z` (frame origin Bo, world, m),
 /// `B.e0..B.e3` (Euler parameters B → W), `B.vx,B.vy,B.vz` (velocity of Bo, world, m/s),
 /// `B.W1..B.W3` (body-frame angular velocity, rad/s); per tracked point P of B: `B.P.x,B.P.y,
-/// B.P.z` (world, m); then `energy` (J): kinetic + potential of conservative elements.
+/// B.P.z` (world, m; node points of flexible bodies deformed); for a flexible body with n modes
+/// `B.q1..B.qn` (modal coordinates) and `B.qd1..B.qdn` (their rates, 1/s); for a prescribed
+/// body `B.drive_torque` (N·m, about the axis); then `energy` (J): kinetic + potential of
+/// conservative elements + elastic energy ½ q_fᵀ K q_f.
 #include <string>
 #include <vector>
 

@@ -49,6 +49,52 @@ code=$?
   fail "unknown scheme accepted"
 [[ ! -e $tmp/y.csv ]] || fail "unknown scheme: an output file was written"
 
+# 7. Flexible scenes: check prints the modal frequencies and the explicit step limit.
+out=$("$flexref" check scenes/flexible_spinner.toml 2>&1) || fail "check flexible_spinner: $out"
+[[ $out == *"bending-xy-1"*"rad/s"*"Hz"* ]] || fail "check lacks mode names/frequencies: $out"
+[[ $out == *"2/omega_max"* ]] || fail "check lacks the explicit step limit: $out"
+for scene in rotating_cantilever spin_up_beam spin_up_beam_4 spin_up_beam_6; do
+  "$flexref" check "scenes/$scene.toml" >/dev/null 2>&1 || fail "check $scene failed"
+done
+
+# 8. reference --model lte on flexible scenes: modal and drive-torque columns, model recorded.
+for scene in flexible_spinner spin_up_beam; do
+  "$flexref" reference "scenes/$scene.toml" --model lte --rtol 1e-8 --no-estimate \
+    -o "$tmp/$scene.csv" >/dev/null || fail "reference --model lte $scene failed"
+  grep -q '^model = "lte"' "$tmp/$scene.csv.meta.toml" ||
+    fail "$scene: meta.toml does not record model = \"lte\""
+done
+header=$(head -1 "$tmp/flexible_spinner.csv")
+[[ $header == *"spinner.tip.x"*"spinner.q4,spinner.qd1"*"spinner.qd4,energy" ]] ||
+  fail "flexible_spinner CSV columns: $header"
+[[ $(head -1 "$tmp/spin_up_beam.csv") == *"beam.qd4,beam.drive_torque,energy" ]] ||
+  fail "spin_up_beam CSV lacks beam.drive_torque"
+"$flexref" reference scenes/rotating_cantilever.toml --rtol 1e-8 --no-estimate \
+  -o "$tmp/rc.csv" >/dev/null || fail "reference rotating_cantilever (coupled) failed"
+grep -q '^model = "coupled"' "$tmp/rc.csv.meta.toml" || fail "default model is not coupled"
+
+# 9. run --model lte on a flexible scene; a step above 2/omega_max warns on stderr.
+sed 's/^output_step = 0.01 /output_step = 0.1 /' scenes/flexible_spinner.toml >"$tmp/fs.toml"
+"$flexref" run scenes/flexible_spinner.toml --model lte --scheme c2 --dt 0.01 \
+  -o "$tmp/fs_run.csv" >/dev/null 2>"$tmp/err.txt" || fail "run --model lte flexible_spinner"
+[[ ! -s $tmp/err.txt ]] || fail "run below the step limit warned: $(cat "$tmp/err.txt")"
+grep -q '^model = "lte"' "$tmp/fs_run.csv.meta.toml" || fail "run meta.toml lacks the model"
+"$flexref" run "$tmp/fs.toml" --model lte --scheme c2 --dt 0.1 -o "$tmp/fs_big.csv" \
+  >/dev/null 2>"$tmp/err.txt"
+grep -q "warning: step 0.1 s exceeds 2/omega_max" "$tmp/err.txt" ||
+  fail "no step-limit warning: $(cat "$tmp/err.txt")"
+# A scheme the flexible model does not support is bad input (exit 1, no file), not a crash.
+out=$("$flexref" run scenes/spin_up_beam.toml --model coupled --scheme c2 --dt 0.01 \
+  -o "$tmp/coupled_run.csv" 2>&1)
+code=$?
+if ((code != 0)); then
+  [[ $code -eq 1 ]] || fail "unsupported scheme/model: exit code $code: $out"
+  [[ ! -e $tmp/coupled_run.csv ]] || fail "unsupported scheme/model: an output file was written"
+fi
+# Unknown --model value: CLI11 usage error.
+"$flexref" run scenes/spin_up_beam.toml --model rigid -o "$tmp/z.csv" >/dev/null 2>&1 &&
+  fail "unknown --model accepted"
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1

@@ -25,8 +25,9 @@
 namespace flexref::app {
 namespace {
 
-constexpr std::array<std::string_view, 6> kScenes = {"free_spin",    "book_toss", "book_toss_step",
-                                                     "coulomb_wall", "heavy_top", "pendulum"};
+constexpr std::array<std::string_view, 9> kScenes = {
+    "free_spin", "book_toss",        "book_toss_step",      "coulomb_wall", "heavy_top",
+    "pendulum",  "flexible_spinner", "rotating_cantilever", "spin_up_beam"};
 
 // Replacements for a value: non-finite, huge, tiny, wrong types, wrong shapes.
 constexpr std::array<std::string_view, 18> kHostileValues = {

@@ -237,7 +237,7 @@ TEST_CASE("every bad input is an InputError naming file, line and key", "[app][s
     require_error(kScene + kBody + "[[contact]]\nkind = \"sphere_plane\"\n", 9, "contact",
                   "not supported yet");
     require_error(kScene + kBody + "modal = { file = \"m.txt\" }\n", 9, "body[1].modal",
-                  "not supported yet");
+                  "expected the path of a modal-data file (TOML), got { file");
   }
   SECTION("missing key") {
     require_error("[scene]\nname = \"t\"\noutput_step = 0.1\n" + kBody, 1, "scene.end_time",
@@ -384,9 +384,9 @@ TEST_CASE("every bad input is an InputError naming file, line and key", "[app][s
   }
   SECTION("unknown enum values") {
     require_error(kScene + kBody + "motion = \"fixed\"\n", 9, "body[1].motion",
-                  "expected one of \"free\", \"pivot\", got \"fixed\" (a string)");
+                  "expected one of \"free\", \"pivot\", \"prescribed\", got \"fixed\" (a string)");
     require_error(kScene + kBody + "motion = \"prescribed\"\n", 9, "body[1].motion",
-                  "planned but not supported yet");
+                  "applies only to flexible bodies");
     const std::string load = kScene + kBody + "[[load]]\nbody = \"b\"\nvalue = [1, 0, 0]\n";
     require_error(load + "kind = \"moment\"\n", 12, "load[1].kind",
                   "expected one of \"torque\", \"force\"");
