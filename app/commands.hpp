@@ -26,6 +26,13 @@ int check_command(const CheckOptions& options);
 /// core::FlexibleFormulation of the value; throws std::invalid_argument for any other.
 core::FlexibleFormulation parse_formulation(const std::string& model);
 
+/// The reference solver to use for a scene: `solver` itself, except that a model with flexible
+/// bodies has no analytic solution — "exact" is refused (std::invalid_argument naming
+/// `option`) and "auto" becomes "cvode". (reference::classify_exact_solution does not look at
+/// flexibility and would call a free flexible body torque-free.)
+std::string reference_solver_for(const core::Model& model, const std::string& solver,
+                                 const std::string& option);
+
 struct RunOptions {
   std::string scene;
   std::string model = "coupled";

@@ -23,7 +23,8 @@ int converge_command(const ConvergeOptions& options) {
   study.h0 = options.dt;
   study.levels = options.levels;
   study.metric = options.metric;
-  study.reference_solver = options.reference_solver;
+  study.reference_solver =
+      reference_solver_for(model, options.reference_solver, "--reference-solver");
   study.reference_rtol = options.reference_rtol;
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
   study.progress = true;

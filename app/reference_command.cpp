@@ -15,16 +15,16 @@ int reference_command(const ReferenceOptions& options) {
   const Scene scene = read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
+  const std::string solver = reference_solver_for(model, options.solver, "--solver");
   reference::SolverOptions solver_options;
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
 
   studies::CertifiedReference ref;
   if (options.estimate) {
-    ref = studies::certified_reference(model, times, options.solver, solver_options,
-                                       "rotation+points");
+    ref = studies::certified_reference(model, times, solver, solver_options, "rotation+points");
   } else {
-    ref.run = reference::solve_reference(options.solver, model, times, solver_options);
+    ref.run = reference::solve_reference(solver, model, times, solver_options);
     ref.table = studies::tabulate(model, ref.run.trajectory);
   }
   studies::write_csv(ref.table, options.output);

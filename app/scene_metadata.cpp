@@ -31,6 +31,17 @@ core::FlexibleFormulation parse_formulation(const std::string& model) {
   throw std::invalid_argument("unknown --model \"" + model + "\"; expected coupled or lte");
 }
 
+std::string reference_solver_for(const core::Model& model, const std::string& solver,
+                                 const std::string& option) {
+  if (!model.has_flexible_bodies()) return solver;
+  if (solver == "exact") {
+    throw std::invalid_argument(option +
+                                " exact: the scene has flexible bodies, which have no analytic "
+                                "solution; use cvode, ida or odeint");
+  }
+  return solver == "auto" ? "cvode" : solver;
+}
+
 std::string scene_metadata(const std::string& scene_file, const Scene& scene) {
   std::ostringstream out;
   std::error_code ec;

@@ -27,7 +27,8 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   study.tolerances = app_options.tolerances;
   study.repeats = app_options.repeats;
   study.metric = app_options.metric;
-  study.reference_solver = app_options.reference_solver;
+  study.reference_solver =
+      reference_solver_for(model, app_options.reference_solver, "--reference-solver");
   study.reference_rtol = app_options.reference_rtol;
   study.jobs = app_options.jobs > 0 ? app_options.jobs : studies::default_jobs();
   study.progress = true;

@@ -91,6 +91,11 @@ if ((code != 0)); then
   [[ $code -eq 1 ]] || fail "unsupported scheme/model: exit code $code: $out"
   [[ ! -e $tmp/coupled_run.csv ]] || fail "unsupported scheme/model: an output file was written"
 fi
+# Flexible bodies have no exact solution: --solver exact is bad input.
+out=$("$flexref" reference scenes/flexible_spinner.toml --solver exact -o "$tmp/ex.csv" 2>&1)
+code=$?
+[[ $code -eq 1 ]] || fail "reference --solver exact on a flexible scene: exit $code: $out"
+[[ ! -e $tmp/ex.csv ]] || fail "reference --solver exact on a flexible scene wrote a file"
 # Unknown --model value: CLI11 usage error.
 "$flexref" run scenes/spin_up_beam.toml --model rigid -o "$tmp/z.csv" >/dev/null 2>&1 &&
   fail "unknown --model accepted"
