@@ -676,13 +676,8 @@ Scene read_document(const toml::value& document, const std::string& file,
 
   std::vector<std::unique_ptr<const core::ForceElement>> elements;
   if (!settings.g_W.isZero(0.0)) {
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-      if (bodies[i].is_flexible()) {
-        const Table scene = *root.table("scene", "a [scene] table");
-        scene.fail("gravity", "gravity on flexible bodies (body \"" + bodies[i].name() +
-                                  "\") is not supported yet; expected no gravity");
-      }
-    }
+    // Flexible bodies take their gravity loads from the inertia invariants (m g, s̃_t Aᵀ g,
+    // Sᵀ Aᵀ g; core/gravity.cpp); the mass and centre given here are used for rigid bodies.
     std::vector<core::UniformGravity::BodyMass> masses;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       masses.push_back({static_cast<int>(i), bodies[i].mass(), bodies[i].description().p_BoBcm_B});

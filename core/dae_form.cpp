@@ -47,6 +47,7 @@ DaeForm::DaeForm(const Model& model) : model_(&model), fixed_(model.initial_stat
     size_ = k.end;
     max_rows_ = std::max(max_rows_, 6 + k.n);
   }
+  if (model.dissipates()) work_index_ = size_++;
 }
 
 DaeForm::Scratch DaeForm::make_scratch() const {
@@ -97,6 +98,10 @@ void DaeForm::initial_values(const LoadContext& context, const State& state, dou
     MapX(y + k.v_q, k.n) = s.qd_f;
     MapX(yp + k.q, k.n) = s.qd_f;
     MapX(yp + k.v_q, k.n) = acc[i].qdd_f;
+  }
+  if (work_index_ >= 0) {
+    y[work_index_] = 0.0;
+    yp[work_index_] = model_->dissipated_power(context, state, ws);
   }
 }
 
@@ -178,6 +183,11 @@ void DaeForm::residual(const LoadContext& context, const double* y, const double
     }
     MapX(res + k.q, k.n) = ConstMapX(yp + k.q, k.n) - ConstMapX(y + k.v_q, k.n);  // q̇ − v_q
     MapX(res + k.v_q, k.n) = r.tail(k.n);                                         // modal rows
+  }
+  if (work_index_ >= 0) {
+    // W_d' − P = 0
+    res[work_index_] =
+        yp[work_index_] - model_->dissipated_power(context, state, scratch.workspace);
   }
 }
 

@@ -45,6 +45,14 @@ class DaeForm {
   /// State at time t and y (θ normalized, ω̄ = 2Ḡ v_θ; prescribed bodies follow their law).
   void unpack(double t, const double* y, State& state) const;
 
+  /// Index of the dissipated work W_d in y (differential, W_d' = dissipated power), or −1.
+  int work_index() const { return work_index_; }
+  double dissipated_work(const double* y) const { return work_index_ < 0 ? 0.0 : y[work_index_]; }
+  /// Sets W_d in y (the initial values set it to 0).
+  void set_dissipated_work(double* y, double work) const {
+    if (work_index_ >= 0) y[work_index_] = work;
+  }
+
   /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
   struct Block {
     int p = -1, theta = -1, v = -1, v_theta = -1, q = -1, v_q = -1, lambda = -1, mu = -1;
@@ -60,6 +68,7 @@ class DaeForm {
   std::vector<Block> blocks_;
   int size_ = 0;
   int max_rows_ = 6;
+  int work_index_ = -1;
 };
 
 }  // namespace flexref::core

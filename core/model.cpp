@@ -52,6 +52,10 @@ Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceEl
     velocity_dependent_ = velocity_dependent_ || e->depends_on_velocity();
     switching_count_ += e->switching_function_count();
   }
+  dissipates_ = velocity_dependent_;
+  for (const Body& b : bodies_) {
+    dissipates_ = dissipates_ || (b.is_flexible() && b.modal_damping().cwiseAbs().maxCoeff() > 0.0);
+  }
   std::sort(discontinuities_.begin(), discontinuities_.end());
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());

@@ -77,6 +77,9 @@ class Model {
   bool has_velocity_dependent_loads() const { return velocity_dependent_; }
   FlexibleFormulation formulation() const { return formulation_; }
   bool has_flexible_bodies() const { return flexible_; }
+  /// True when some element may dissipate (velocity-dependent loads) or a body has modal
+  /// damping: integrators then track the dissipated work W_d (Trajectory::dissipated_work).
+  bool dissipates() const { return dissipates_; }
 
   State initial_state() const;
   Workspace make_workspace() const;
@@ -150,6 +153,7 @@ class Model {
   FlexibleFormulation formulation_ = FlexibleFormulation::kCoupled;
   bool flexible_ = false;
   int switching_count_ = 0;
+  bool dissipates_ = false;
 };
 
 }  // namespace flexref::core

@@ -49,6 +49,7 @@ OdeForm::OdeForm(const Model& model) : model_(&model), fixed_(model.initial_stat
     if (k.theta >= 0) theta_offsets_.push_back(k.theta);
     size_ = k.end;
   }
+  if (model.dissipates()) work_index_ = size_++;
 }
 
 OdeForm::Scratch OdeForm::make_scratch() const {
@@ -70,6 +71,7 @@ void OdeForm::pack(const State& state, double* y) const {
     MapX(y + k.q, k.n) = s.q_f;
     MapX(y + k.qd, k.n) = s.qd_f;
   }
+  if (work_index_ >= 0) y[work_index_] = 0.0;
 }
 
 void OdeForm::unpack(double t, const double* y, State& state) const {
@@ -112,6 +114,10 @@ void OdeForm::rhs(const LoadContext& context, const double* y, double* ydot,
     }
     MapX(ydot + k.q, k.n) = s.qd_f;    // q̇_f
     MapX(ydot + k.qd, k.n) = a.qdd_f;  // q̈_f
+  }
+  if (work_index_ >= 0) {
+    // W_d' = dissipated power at the same state
+    ydot[work_index_] = model_->dissipated_power(context, scratch.state, scratch.workspace);
   }
 }
 

@@ -5,7 +5,9 @@
 ///   free  [p_WBr(3) θ(4) v_WBr(3) ω̄(3)]   ṗ = v,  θ̇ = ½ θ ⊗ (0, ω̄),  v̇ = a,  ω̄̇ = α̅
 ///   pivot [θ(4) ω̄(3)]
 ///   prescribed []                         (the angle law gives θ, ω̄ at the time of evaluation)
-/// followed, for a flexible body, by [q_f(n) q̇_f(n)] with q̇_f' = q̈_f.
+/// followed, for a flexible body, by [q_f(n) q̇_f(n)] with q̇_f' = q̈_f; and last, when the
+/// model dissipates, the dissipated work W_d with W_d' = Model::dissipated_power (the energy
+/// balance E(t) − E(0) + W_d(t) = work of applied loads is then an output).
 /// The Euler parameters drift off the unit sphere under a generic solver; solvers project
 /// them back (normalize_euler_parameters), which is the projection CVODE is given.
 #include <vector>
@@ -39,6 +41,13 @@ class OdeForm {
   void rhs(const LoadContext& context, const double* y, double* ydot, Scratch& scratch) const;
   /// Scales every body's θ to unit norm.
   void normalize_euler_parameters(double* y) const;
+  /// Index of W_d in y, or −1 when not tracked.
+  int work_index() const { return work_index_; }
+  double dissipated_work(const double* y) const { return work_index_ < 0 ? 0.0 : y[work_index_]; }
+  void set_dissipated_work(double* y, double work) const {
+    if (work_index_ >= 0) y[work_index_] = work;
+  }
+
   /// Offsets of the θ blocks in y (bodies that integrate an attitude; for projections).
   const std::vector<int>& theta_offsets() const { return theta_offsets_; }
 
@@ -56,6 +65,7 @@ class OdeForm {
   std::vector<Block> blocks_;
   std::vector<int> theta_offsets_;
   int size_ = 0;
+  int work_index_ = -1;
 };
 
 }  // namespace flexref::core

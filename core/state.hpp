@@ -37,6 +37,9 @@ using Accelerations = std::vector<BodyAcceleration>;
 struct Trajectory {
   std::vector<double> times;
   std::vector<State> states;
+  /// W_d(t): work dissipated since t0 by dampers, friction and modal damping (J), at the output
+  /// times; empty when the integrator does not track it (a model that dissipates nothing).
+  std::vector<double> dissipated_work;
 };
 
 }  // namespace flexref::core

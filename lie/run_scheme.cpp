@@ -53,6 +53,16 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
   trajectory.states.reserve(output_times.size());
   stepper.initialize(t0, model.initial_state());
   trajectory.states.push_back(stepper.state());
+  // Dissipated work by the trapezoidal rule on the step's end powers (second order, like the
+  // schemes); one extra evaluation of the dissipative loads per step, only when they exist.
+  const bool track_work = model.dissipates();
+  core::Workspace ws = model.make_workspace();
+  double work = 0.0;
+  double power = 0.0;
+  if (track_work) {
+    trajectory.dissipated_work.push_back(0.0);
+    power = model.dissipated_power(core::LoadContext{t0, t0}, stepper.state(), ws);
+  }
 
   const long n_end = step_index(t_end, t0, dt);
   std::size_t next_output = 1;
@@ -65,9 +75,17 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
       throw core::SolverError(std::string(stepper.name()), t_n, n,
                               "the step left a non-finite state");
     }
+    if (track_work) {
+      const double t_np1 = stepper.time();
+      const double power_next = model.dissipated_power(
+          core::LoadContext{t_np1, 0.5 * (t_n + t_np1)}, stepper.state(), ws);
+      work += 0.5 * (t_np1 - t_n) * (power + power_next);
+      power = power_next;
+    }
     while (next_output < output_times.size() &&
            step_index(output_times[next_output], t0, dt) == n + 1) {
       trajectory.states.push_back(stepper.state());
+      if (track_work) trajectory.dissipated_work.push_back(work);
       ++next_output;
     }
   }

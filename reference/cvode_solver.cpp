@@ -146,7 +146,12 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
   run.trajectory.times = output_times;
   run.trajectory.states.reserve(output_times.size());
   core::State state = model.initial_state();
-  for (std::size_t k = 0; k < plan.initial_outputs; ++k) run.trajectory.states.push_back(state);
+  const bool track_work = form.work_index() >= 0;
+  double work = 0.0;  // W_d carried across restarts
+  for (std::size_t k = 0; k < plan.initial_outputs; ++k) {
+    run.trajectory.states.push_back(state);
+    if (track_work) run.trajectory.dissipated_work.push_back(0.0);
+  }
   if (plan.segments.empty()) return run;
 
   CvodeData data;
@@ -170,6 +175,7 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
       const std::clock_t start = std::clock();
       data.t_segment = segment.t_segment;
       form.pack(state, sun::data(y.get()));
+      form.set_dissipated_work(sun::data(y.get()), work);
       if (!initialized) {
         sun::check(CVodeInit(cvode.get(), rhs, segment.start, y.get()), "CVodeInit");
         sun::check(CVodeSetUserData(cvode.get(), &data), "CVodeSetUserData");
@@ -230,10 +236,13 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
         if (tout > t_reached) advance_to(tout);
         form.unpack(tout, sun::data(y.get()), state);
         run.trajectory.states.push_back(state);
+        if (track_work)
+          run.trajectory.dissipated_work.push_back(form.dissipated_work(sun::data(y.get())));
       }
       if (t_reached < segment.end) advance_to(segment.end);
       // The state is continuous across a load switch; unpack normalizes θ.
       form.unpack(t_reached, sun::data(y.get()), state);
+      work = form.dissipated_work(sun::data(y.get()));
       add_counters(cvode.get(), run.stats);
     }
   } catch (const sun::SundialsError& e) {

@@ -40,6 +40,10 @@ const core::UniformGravity* only_gravity(const core::Model& model) {
 ExactSolutionKind classify_exact_solution(const core::Model& model) {
   if (model.num_bodies() != 1) return {"", "exact solutions exist for one body only"};
   const core::Body& body = model.body(0);
+  if (body.is_flexible()) {
+    return {"", "no exact solution for a flexible body (its references are the solvers)"};
+  }
+  if (body.is_prescribed()) return {"", "a prescribed rigid body has no dynamics to solve"};
   if (body.is_free()) {
     if (!model.elements().empty()) return {"", "the free body is loaded"};
     return {"torque_free", ""};

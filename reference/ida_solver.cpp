@@ -139,7 +139,12 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
   run.trajectory.times = output_times;
   run.trajectory.states.reserve(output_times.size());
   core::State state = model.initial_state();
-  for (std::size_t k = 0; k < plan.initial_outputs; ++k) run.trajectory.states.push_back(state);
+  const bool track_work = form.work_index() >= 0;
+  double work = 0.0;  // W_d carried across restarts
+  for (std::size_t k = 0; k < plan.initial_outputs; ++k) {
+    run.trajectory.states.push_back(state);
+    if (track_work) run.trajectory.dissipated_work.push_back(0.0);
+  }
   if (plan.segments.empty()) return run;
 
   IdaData data;
@@ -174,6 +179,7 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
       // Consistent (y, y') on the new load branch: λ = μ = 0, y' from the ODE form.
       form.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
                           sun::data(y.get()), sun::data(yp.get()));
+      form.set_dissipated_work(sun::data(y.get()), work);
       if (!sun::all_finite(sun::data(y.get()), n) || !sun::all_finite(sun::data(yp.get()), n)) {
         throw core::SolverError("ida", segment.start, run.stats.steps,
                                 "the loads are not finite at the initial state of the segment");
@@ -214,8 +220,10 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
             ++run.stats.events;
             add_counters(ida.get(), run.stats);
             form.unpack(t_returned, sun::data(y.get()), state);
+            const double work_at_event = form.dissipated_work(sun::data(y.get()));
             form.initial_values(core::LoadContext{t_returned, segment.t_segment}, state,
                                 sun::data(y.get()), sun::data(yp.get()));
+            form.set_dissipated_work(sun::data(y.get()), work_at_event);
             sun::check(IDAReInit(ida.get(), t_returned, y.get(), yp.get()), "IDAReInit");
             sun::check(IDASetStopTime(ida.get(), segment.end), "IDASetStopTime");
           } else {
@@ -231,11 +239,14 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
         if (tout > t_reached) advance_to(tout);
         form.unpack(tout, sun::data(y.get()), state);
         run.trajectory.states.push_back(state);
+        if (track_work)
+          run.trajectory.dissipated_work.push_back(form.dissipated_work(sun::data(y.get())));
       }
       if (t_reached < segment.end) advance_to(segment.end);
       // The state is continuous across a load switch; unpacking normalizes θ, so the restart
       // also projects the Euler parameters back onto the unit sphere.
       form.unpack(t_reached, sun::data(y.get()), state);
+      work = form.dissipated_work(sun::data(y.get()));
       add_counters(ida.get(), run.stats);
     }
   } catch (const sun::SundialsError& e) {

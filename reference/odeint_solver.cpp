@@ -121,7 +121,9 @@ class Integrator {
   /// Starts a segment at the current time: the loads switch to the branch at t_segment.
   void begin_segment(const core::State& state, double t_segment) {
     t_segment_ = t_segment;
+    const double work = form_->dissipated_work(x_.data());  // carried across segments
     form_->pack(state, x_.data());
+    form_->set_dissipated_work(x_.data(), work);
     evaluate_derivative();
     evaluate_switching(x_, t_, g_);
     if (dt_ <= 0.0) dt_ = initial_step(x_, dxdt_, options_.rtol, options_.absolute_tolerance());
@@ -207,6 +209,7 @@ class Integrator {
   }
 
   void unpack(core::State& state) const { form_->unpack(time(), x_.data(), state); }
+  double dissipated_work() const { return form_->dissipated_work(x_.data()); }
   long rhs_evaluations() const { return counters_.rhs_evaluations; }
 
  private:
@@ -361,8 +364,10 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
   ends.push_back(t_end);
 
   std::size_t k = 0;
+  const bool track_work = form.work_index() >= 0;
   for (; k < output_times.size() && output_times[k] <= time_slack(0.0); ++k) {
     run.trajectory.states.push_back(state);
+    if (track_work) run.trajectory.dissipated_work.push_back(0.0);
   }
   if (k == output_times.size()) return run;
 
@@ -382,6 +387,7 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
         cpu += std::clock() - tic;
         integrator.unpack(state);
         run.trajectory.states.push_back(state);
+        if (track_work) run.trajectory.dissipated_work.push_back(integrator.dissipated_work());
       }
       if (integrator.time() < end) {
         tic = std::clock();
