@@ -1,0 +1,148 @@
+#include "app/figure_command.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+#include <toml.hpp>
+#include <vector>
+
+#include "app/commands.hpp"
+#include "app/scene_reader.hpp"
+#include "app/scene_toml.hpp"
+#include "core/error.hpp"
+#include "core/output_times.hpp"
+#include "reference/solve_reference.hpp"
+#include "studies/parallel.hpp"
+#include "studies/plot.hpp"
+#include "studies/trajectory_figure.hpp"
+#include "studies/trajectory_table.hpp"
+#include "studies/versions.hpp"
+
+namespace flexref::app {
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw core::InputError(path, 0, "", "cannot open the study file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// An array of strings or numbers under `key` of table t (file:line:key errors).
+std::vector<std::string> string_array(const scene_toml::Table& t, std::string_view key) {
+  std::vector<std::string> out;
+  const toml::value* v = t.find(key);
+  if (v == nullptr) return out;
+  if (!v->is_array() || v->as_array().empty()) t.fail(key, "expected a non-empty array of names");
+  for (const toml::value& e : v->as_array()) {
+    if (!e.is_string()) t.fail_at(e, key, "expected a name (string)");
+    out.push_back(e.as_string().str);
+  }
+  return out;
+}
+
+std::vector<double> number_array(const scene_toml::Table& t, std::string_view key) {
+  std::vector<double> out;
+  const toml::value* v = t.find(key);
+  if (v == nullptr || !v->is_array() || v->as_array().empty()) {
+    t.fail(key, "expected a non-empty array of steps [s]");
+  }
+  for (const toml::value& e : v->as_array()) {
+    out.push_back(t.to_number(e, key, scene_toml::Sign::kPositive, "a positive step [s]"));
+  }
+  return out;
+}
+
+}  // namespace
+
+int figure_command(const FigureCommandOptions& options) {
+  const std::string text = read_text(options.study);
+  const toml::value document = scene_toml::parse(text, options.study);
+  const scene_toml::Table root(document, options.study, "");
+  root.check_keys({"figure"});
+  const std::optional<scene_toml::Table> figure = root.table("figure", "a [figure] table");
+  if (!figure) root.fail("figure", "expected a [figure] table");
+  const scene_toml::Table& f = *figure;
+  f.check_keys(
+      {"title", "scene", "schemes", "steps", "body", "point", "solver", "rtol", "end_time"});
+  const std::string title = f.optional_string("title", "a title").value_or("");
+  // The scene path is relative to the study file.
+  const std::filesystem::path scene_path =
+      std::filesystem::path(options.study).parent_path() / f.string("scene", "a scene file");
+  const Scene scene = read_scene(scene_path.string());
+  const core::Model& model = *scene.model;
+
+  studies::FigureSettings settings;
+  if (f.has("schemes")) settings.schemes = string_array(f, "schemes");
+  for (const std::string& s : settings.schemes) {
+    if (s != "c1" && s != "c2" && s != "nmb")
+      f.fail("schemes", "unknown scheme \"" + s + "\"; expected c1, c2, nmb");
+  }
+  settings.steps = number_array(f, "steps");
+  if (const auto body = f.optional_string("body", "a body name")) {
+    settings.body = model.body_index(*body);
+    if (settings.body < 0) f.fail("body", "no body \"" + *body + "\" in " + scene_path.string());
+  }
+  const auto& points = model.body(settings.body).description().points;
+  if (points.empty()) f.fail("point", "the body has no tracked point to draw");
+  if (const auto point = f.optional_string("point", "a tracked point name")) {
+    settings.point = -1;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (points[i].name == *point) settings.point = static_cast<int>(i);
+    }
+    if (settings.point < 0) f.fail("point", "no tracked point \"" + *point + "\" on the body");
+  }
+  settings.solver = f.optional_string("solver", "a reference solver").value_or("cvode");
+  if (settings.solver != "cvode" && settings.solver != "ida" && settings.solver != "odeint" &&
+      settings.solver != "exact") {
+    f.fail("solver", "expected cvode, ida, odeint or exact");
+  }
+  settings.rtol = f.number_or("rtol", 1e-10, scene_toml::Sign::kPositive, "a tolerance");
+  const double end_time =
+      f.number_or("end_time", scene.end_time, scene_toml::Sign::kPositive, "an end time [s]");
+  if (end_time > scene.end_time) f.fail("end_time", "exceeds the scene's end time");
+  for (double h : settings.steps) {
+    if (!core::is_multiple_of(end_time, h)) {
+      f.fail("steps", "a step must divide the end time");
+    }
+  }
+  settings.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
+
+  std::cerr << "figure: reference (" << settings.solver << ") and "
+            << settings.schemes.size() * settings.steps.size() << " scheme runs on "
+            << settings.jobs << " threads ...\n";
+  const std::vector<double> times = core::output_times(end_time, scene.output_step);
+  const studies::FigureResult result = studies::run_trajectory_figure(model, times, settings);
+
+  std::filesystem::create_directories(options.out_dir);
+  const std::filesystem::path dir(options.out_dir);
+  const std::string table = studies::figure_table(result);
+  std::ostringstream meta;
+  meta.precision(17);
+  meta << scene_metadata(scene_path.string(), scene) << "\n[study]\nkind = \"figure\"\nfile = \""
+       << options.study << "\"\ntitle = \"" << title
+       << "\"\nschemes = " << toml_string_array(settings.schemes)
+       << "\nsteps = " << toml_number_array(settings.steps) << "\npoint = \""
+       << points[static_cast<std::size_t>(settings.point)].name << "\"\nend_time = " << end_time
+       << "\n\n[reference]\nsolver = \"" << settings.solver << "\"\nrtol = " << settings.rtol
+       << "\n\n"
+       << studies::versions_toml();
+  const std::string csv = (dir / "figure.csv").string();
+  studies::write_file_atomically(csv, studies::figure_csv(result));
+  studies::write_file_atomically((dir / "figure.txt").string(), table);
+  studies::write_file_atomically((dir / "study.toml").string(), meta.str());
+  const std::string png = (dir / "figure.png").string();
+  const studies::PlotOutcome plot = studies::run_plot_script(
+      "plot_trajectory_figure.py", {csv, png, title.empty() ? scene.name : title}, png);
+
+  std::cout << (title.empty() ? scene.name : title) << "\n"
+            << table << "wrote figure.csv, figure.txt, study.toml" << (plot.ok ? ", " : "\n")
+            << plot.message << "\n";
+  return kExitOk;
+}
+
+}  // namespace flexref::app

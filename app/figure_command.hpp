@@ -1,0 +1,19 @@
+#pragma once
+
+/// \file figure_command.hpp
+/// `flexref figure STUDY.toml --out DIR`: the paper's trajectory figures (studies/
+/// trajectory_figure.hpp) from a study file (docs/figures.md; studies/paper/*.toml).
+
+#include <string>
+
+namespace flexref::app {
+
+struct FigureCommandOptions {
+  std::string study;  ///< the study file (TOML)
+  std::string out_dir = "out/figure";
+  int jobs = 0;  ///< 0: all cores
+};
+
+int figure_command(const FigureCommandOptions& options);
+
+}  // namespace flexref::app

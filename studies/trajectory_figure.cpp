@@ -1,0 +1,160 @@
+#include "studies/trajectory_figure.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/output_times.hpp"
+#include "lie/stepper.hpp"
+#include "reference/solve_reference.hpp"
+#include "studies/parallel.hpp"
+
+namespace flexref::studies {
+
+namespace {
+
+std::string step_text(double h) {
+  std::ostringstream out;
+  out << h;
+  return out.str();
+}
+
+FigureCurve run_scheme_curve(const core::Model& model, const std::string& scheme, double h,
+                             double t0, double t_end, double output_step,
+                             const FigureSettings& settings) {
+  FigureCurve curve;
+  curve.scheme = scheme;
+  curve.step = h;
+  curve.label = scheme + " h=" + step_text(h);
+  const auto stepper = lie::make_stepper(scheme, model);
+  stepper->initialize(t0, model.initial_state());
+  const core::TrackedPoint& point =
+      model.body(settings.body).description().points[static_cast<std::size_t>(settings.point)];
+  const auto record = [&] {
+    curve.times.push_back(stepper->time());
+    curve.p_W.push_back(model.p_WP(
+        settings.body, stepper->state()[static_cast<std::size_t>(settings.body)], point));
+  };
+  record();
+  const long n_steps = std::lround((t_end - t0) / h);
+  const long stride = std::max(1L, std::lround(output_step / h));
+  for (long n = 0; n < n_steps; ++n) {
+    const double t_n = stepper->time();
+    const double t_next = t0 + static_cast<double>(n + 1) * h;
+    const lie::StepStatus status = stepper->step(t_next - t_n);
+    const auto& s = stepper->state()[static_cast<std::size_t>(settings.body)];
+    const bool finite = s.p_WBr.allFinite() && s.theta_WB.allFinite() && s.w_WB_B.allFinite();
+    if (!status.ok || !finite) {
+      std::ostringstream why;
+      why << "stopped at t = " << t_n << " (step " << n
+          << "): " << (status.ok ? std::string("non-finite state") : status.message);
+      curve.completed = false;
+      curve.failure = why.str();
+      break;
+    }
+    if ((n + 1) % stride == 0 || n + 1 == n_steps) record();
+  }
+  return curve;
+}
+
+/// L∞ distance to the reference over the curve's times that are on the reference grid.
+double max_distance(const FigureCurve& curve, const FigureCurve& reference, double t0,
+                    double output_step) {
+  double worst = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t k = 0; k < curve.times.size(); ++k) {
+    const double index = (curve.times[k] - t0) / output_step;
+    const long i = std::lround(index);
+    if (std::abs(index - static_cast<double>(i)) > 1e-6 || i < 0 ||
+        i >= static_cast<long>(reference.times.size())) {
+      continue;
+    }
+    const double d = (curve.p_W[k] - reference.p_W[static_cast<std::size_t>(i)]).norm();
+    worst = std::isnan(worst) ? d : std::max(worst, d);
+  }
+  return worst;
+}
+
+}  // namespace
+
+FigureResult run_trajectory_figure(const core::Model& model,
+                                   const std::vector<double>& output_times,
+                                   const FigureSettings& settings) {
+  if (settings.body < 0 || settings.body >= model.num_bodies()) {
+    throw std::invalid_argument("figure: body index out of range");
+  }
+  const auto& points = model.body(settings.body).description().points;
+  if (settings.point < 0 || settings.point >= static_cast<int>(points.size())) {
+    throw std::invalid_argument("figure: the body has no tracked point " +
+                                std::to_string(settings.point));
+  }
+  if (output_times.size() < 2) throw std::invalid_argument("figure: need two output times");
+  const double t0 = output_times.front();
+  const double t_end = output_times.back();
+  const double output_step = output_times[1] - output_times[0];
+  for (double h : settings.steps) {
+    if (!(h > 0.0) || !core::is_multiple_of(t_end - t0, h)) {
+      throw std::invalid_argument("figure: step " + step_text(h) +
+                                  " does not divide the time span " + step_text(t_end - t0));
+    }
+  }
+  for (const std::string& s : settings.schemes) (void)lie::make_stepper(s, model);
+
+  FigureResult result;
+  reference::SolverOptions options;
+  options.rtol = settings.rtol;
+  const reference::ReferenceRun run =
+      reference::solve_reference(settings.solver, model, output_times, options);
+  result.reference.label = "reference (" + settings.solver + ")";
+  result.reference.times = run.trajectory.times;
+  const core::TrackedPoint& point = points[static_cast<std::size_t>(settings.point)];
+  for (const core::State& s : run.trajectory.states) {
+    result.reference.p_W.push_back(
+        model.p_WP(settings.body, s[static_cast<std::size_t>(settings.body)], point));
+  }
+
+  const std::size_t n_steps = settings.steps.size();
+  result.curves.resize(settings.schemes.size() * n_steps);
+  parallel_for(static_cast<int>(result.curves.size()), settings.jobs, [&](int k) {
+    const auto u = static_cast<std::size_t>(k);
+    FigureCurve& curve = result.curves[u];
+    curve = run_scheme_curve(model, settings.schemes[u / n_steps], settings.steps[u % n_steps], t0,
+                             t_end, output_step, settings);
+    curve.max_error = max_distance(curve, result.reference, t0, output_step);
+  });
+  return result;
+}
+
+std::string figure_csv(const FigureResult& result) {
+  std::ostringstream out;
+  out << std::setprecision(17);
+  out << "curve,scheme,step,t,x,y,z\n";
+  const auto write = [&out](const FigureCurve& c) {
+    for (std::size_t k = 0; k < c.times.size(); ++k) {
+      out << c.label << ',' << c.scheme << ',' << c.step << ',' << c.times[k] << ',' << c.p_W[k].x()
+          << ',' << c.p_W[k].y() << ',' << c.p_W[k].z() << '\n';
+    }
+  };
+  write(result.reference);
+  for (const FigureCurve& c : result.curves) write(c);
+  return out.str();
+}
+
+std::string figure_table(const FigureResult& result) {
+  std::ostringstream out;
+  out << std::left << std::setw(8) << "scheme" << std::setw(12) << "step [s]" << std::setw(16)
+      << "max |dp| [m]"
+      << "status\n";
+  for (const FigureCurve& c : result.curves) {
+    std::ostringstream error;
+    error << std::setprecision(3) << std::scientific << c.max_error;
+    out << std::left << std::setw(8) << c.scheme << std::setw(12) << step_text(c.step)
+        << std::setw(16) << error.str() << (c.completed ? "completed" : c.failure) << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace flexref::studies
