@@ -11,6 +11,7 @@
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
 #include "studies/stability.hpp"
+#include "studies/stability_sweeps.hpp"
 #include "studies/trajectory_table.hpp"
 #include "studies/versions.hpp"
 
@@ -30,9 +31,68 @@ std::vector<double> log_spaced(double lo, double hi, int count) {
   return values;
 }
 
+/// The modal-frequency and contact-stiffness sweeps (studies/stability_sweeps.hpp).
+int linear_stability_command(const StabilityCommandOptions& options) {
+  if (!options.scene.empty()) {
+    throw std::invalid_argument("stability: --parameter " + options.parameter +
+                                " uses its built-in model (studies/stability_sweeps.hpp); give "
+                                "no scene");
+  }
+  studies::LinearSweepOptions study;
+  study.parameter = options.parameter;
+  study.schemes = options.schemes;
+  study.relative_tolerance = options.rtol;
+  study.steps = options.steps;
+  study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
+  const bool modal = options.parameter == "modal_frequency";
+  if (!options.values.empty()) {
+    study.values = options.values;
+  } else {
+    const double lo = options.min > 0.0 ? options.min : (modal ? 10.0 : 1e3);
+    const double hi = options.max > 0.0 ? options.max : (modal ? 1e4 : 1e9);
+    study.values = log_spaced(lo, hi, options.count);
+  }
+  std::cerr << "stability: " << study.values.size() * study.schemes.size() << " bisections ("
+            << options.parameter << ") on " << study.jobs << " threads ...\n";
+  const std::vector<studies::LinearSweepPoint> points = studies::run_linear_sweep(study);
+
+  std::filesystem::create_directories(options.out_dir);
+  const std::filesystem::path dir(options.out_dir);
+  const std::string model =
+      modal ? "flexible_spinner's hub and beam (LTE, torque-free, spin 1 rad/s, modes deflected), "
+              "EI scaled to put omega_max at the swept value"
+            : "ball m = 1 kg on a linear undamped penalty floor under gravity, oscillating "
+              "about its static penetration";
+  const std::string table =
+      "model: " + model + "\n" + studies::format_linear_sweep_table(options.parameter, points);
+  std::ostringstream settings;
+  settings.precision(17);
+  settings << "[study]\nkind = \"stability\"\nparameter = \"" << options.parameter
+           << "\"\nmodel = \"" << model << "\"\nvalues = " << toml_number_array(study.values)
+           << "\nschemes = " << toml_string_array(study.schemes)
+           << "\nsteps_per_run = " << study.steps << "\ngrowth_factor = " << study.growth_factor
+           << "\nrelative_tolerance = " << study.relative_tolerance << "\njobs = " << study.jobs
+           << "\n\n"
+           << studies::versions_toml();
+  const std::string csv_path = (dir / "stability.csv").string();
+  studies::write_file_atomically(csv_path, studies::linear_sweep_csv(options.parameter, points));
+  studies::write_file_atomically((dir / "stability.txt").string(), table);
+  studies::write_file_atomically((dir / "study.toml").string(), settings.str());
+  const std::string png = (dir / "stability.png").string();
+  const studies::PlotOutcome plot = studies::run_plot_script(
+      "plot_stability.py", {"linear", csv_path, png, "stability: " + options.parameter}, png);
+  std::cout << "stability\n"
+            << table << "wrote " << csv_path << ", stability.txt, study.toml"
+            << (plot.ok ? ", " : "\n") << plot.message << "\n";
+  return kExitOk;
+}
+
 }  // namespace
 
 int stability_command(const StabilityCommandOptions& options) {
+  if (options.parameter == "modal_frequency" || options.parameter == "contact_stiffness") {
+    return linear_stability_command(options);
+  }
   studies::StabilityOptions study;
   study.parameter = options.parameter;
   study.schemes = options.schemes;

@@ -10,7 +10,10 @@ namespace flexref::app {
 struct StabilityCommandOptions {
   /// Optional scene: its first free body's inertia and W0 direction replace free_spin's.
   std::string scene;
-  std::string parameter = "spin";  ///< "spin" (|W0|, rad/s) or "inertia_ratio" (J3/J1)
+  /// "spin" (|W0|, rad/s), "inertia_ratio" (J3/J1), "modal_frequency" (ω_max, rad/s; default
+  /// 10 … 1e4) or "contact_stiffness" (k, N/m; default 1e3 … 1e9) — the last two on built-in
+  /// linear models with the limit 2/ω (studies/stability_sweeps.hpp).
+  std::string parameter = "spin";
   /// Swept values; when empty, `count` values spaced logarithmically in [min, max]; min and
   /// max ≤ 0 mean the parameter's default range: spin 0.1 … 1000 rad/s, ratio 1 … 1e6.
   std::vector<double> values;

@@ -4,6 +4,7 @@
 Usage:
   plot_stability.py sweep stability.csv out.png "title"
   plot_stability.py long_run long_run.csv out.png "title"
+  plot_stability.py linear stability.csv out.png "title"
 
 sweep: reads scheme,parameter,value,h_max,h_max_times_spin,classification and draws, log-log,
 the largest stable step h_max of each scheme against the swept parameter (the rows of the
@@ -11,6 +12,10 @@ degenerate set, whose parameter is a body name, are left to the table). Guides: 
 the central-difference limit of a linear oscillator at the spin frequency, and h|W0| = pi,
 a rotation of pi per step. A free rigid body has no exact central-difference limit: these are
 orientation marks, not theorems.
+
+linear: reads scheme,parameter,value,omega,h_max,h_theory,... (modal_frequency or
+contact_stiffness sweeps) and draws h_max of each scheme against the swept value, log-log,
+with the theoretical central-difference limit 2/omega as a dashed line.
 
 long_run: reads scheme,step,t,energy_drift,momentum_drift,quaternion_norm_drift,status and
 draws the three drifts (maximum over each sampling interval) of each scheme against time.
@@ -90,13 +95,42 @@ def plot_long_run(rows, png, title):
     return 0
 
 
+def plot_linear(rows, png, title):
+    if not rows:
+        sys.stderr.write("plot_stability.py: no rows\n")
+        return 1
+    parameter = rows[0]["parameter"]
+    xlabel = {"modal_frequency": "highest modal frequency omega_max [rad/s]",
+              "contact_stiffness": "contact stiffness k [N/m]"}.get(parameter, parameter)
+    fig, ax = plt.subplots(figsize=(7, 5))
+    theory = sorted({(float(r["value"]), float(r["h_theory"])) for r in rows})
+    ax.loglog([t[0] for t in theory], [t[1] for t in theory], "k--", linewidth=1.0,
+              label="2/omega (central differences)")
+    markers = {"c1": "o", "c2": "s", "nmb": "^"}
+    for scheme in ordered(r["scheme"] for r in rows):
+        pts = sorted((float(r["value"]), float(r["h_max"])) for r in rows
+                     if r["scheme"] == scheme)
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=markers.get(scheme, "x"),
+                  linestyle="none", label=scheme.upper())
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("largest stable step h_max [s]")
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(png)
+    return 0
+
+
 def main(argv):
-    if len(argv) != 5 or argv[1] not in ("sweep", "long_run"):
+    if len(argv) != 5 or argv[1] not in ("sweep", "long_run", "linear"):
         sys.stderr.write(__doc__)
         return 2
     rows = list(csv.DictReader(open(argv[2], newline="")))
     if argv[1] == "sweep":
         return plot_sweep(rows, argv[3], argv[4])
+    if argv[1] == "linear":
+        return plot_linear(rows, argv[3], argv[4])
     return plot_long_run(rows, argv[3], argv[4])
 
 

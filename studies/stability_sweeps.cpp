@@ -1,0 +1,181 @@
+#include "studies/stability_sweeps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/beam_model.hpp"
+#include "core/contact.hpp"
+#include "core/gravity.hpp"
+#include "lie/stepper.hpp"
+#include "studies/parallel.hpp"
+#include "studies/stability.hpp"
+
+namespace flexref::studies {
+
+namespace {
+
+constexpr double kGravity = 9.81;        // m/s²
+constexpr double kBallMass = 1.0;        // kg
+constexpr double kBallRadius = 0.1;      // m
+constexpr double kBallOvershoot = 0.05;  // initial penetration (1 + this) δ_s
+
+/// The flexible spinner's beam and hub (tests/support/flexible_models.hpp, design/scenes.md)
+/// with bending stiffness EI, torque-free, spinning at 1 rad/s with deflected modes (LTE).
+core::Model spinner(double EI) {
+  core::BeamParameters p;
+  p.origin = Eigen::Vector3d(0.1, 0.0, 0.0);
+  p.length = 1.0;
+  p.elements = 10;
+  p.EA = 1e5;
+  p.EI_y = EI;
+  p.EI_z = EI;
+  p.rho_A = 1.0;
+  core::BeamModeFilter filter;
+  filter.axial = false;
+  core::RigidBodyDescription d;
+  d.name = "spinner";
+  d.mass = 10.0;
+  d.I_Bcm_B = Eigen::Vector3d(0.5, 0.5, 1.0).asDiagonal();
+  d.initial.w_WB_B = Eigen::Vector3d(0.0, 0.0, 1.0);
+  Eigen::VectorXd q0(4);
+  q0 << 0.02, 0.01, 0.005, 0.0;
+  d.flexible = core::FlexiblePart{core::make_beam_modal_data(p, 4, filter), q0, {}};
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(std::move(d));
+  return core::Model(std::move(bodies), {}, core::FlexibleFormulation::kLte);
+}
+
+core::Model ball(double k) {
+  core::RigidBodyDescription d;
+  d.name = "ball";
+  d.mass = kBallMass;
+  d.I_Bcm_B = 0.4 * kBallMass * kBallRadius * kBallRadius * Eigen::Matrix3d::Identity();
+  const double delta_static = kBallMass * kGravity / k;
+  d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, kBallRadius - (1.0 + kBallOvershoot) * delta_static);
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(std::move(d));
+  std::vector<std::unique_ptr<const core::ForceElement>> elements;
+  elements.push_back(std::make_unique<core::UniformGravity>(
+      Eigen::Vector3d(0.0, 0.0, -kGravity),
+      std::vector<core::UniformGravity::BodyMass>{{0, kBallMass, Eigen::Vector3d::Zero()}}));
+  elements.push_back(std::make_unique<core::ContactElement>(
+      std::vector<core::ContactPair>{
+          core::ContactPair::sphere_plane(0, Eigen::Vector3d::Zero(), kBallRadius,
+                                          Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ())},
+      core::NormalLaw::linear(k, 0.0), core::FrictionLaw{0.0, 1e-3}, kBallMass));
+  return core::Model(std::move(bodies), std::move(elements));
+}
+
+}  // namespace
+
+core::Model make_linear_sweep_model(const std::string& parameter, double value, double& omega) {
+  if (!(value > 0.0) || !std::isfinite(value)) {
+    throw std::invalid_argument("stability: swept values must be positive and finite");
+  }
+  if (parameter == "modal_frequency") {
+    // ω ∝ √EI: scale EI from the spinner's 3.2 N·m² to put ω_max at the swept value.
+    const double omega_base = spinner(3.2).body(0).natural_frequencies().maxCoeff();
+    core::Model model = spinner(3.2 * (value / omega_base) * (value / omega_base));
+    omega = model.body(0).natural_frequencies().maxCoeff();
+    return model;
+  }
+  if (parameter == "contact_stiffness") {
+    omega = std::sqrt(value / kBallMass);
+    return ball(value);
+  }
+  throw std::invalid_argument("stability: unknown linear parameter '" + parameter +
+                              "'; expected modal_frequency or contact_stiffness");
+}
+
+std::string classify_linear_run(const core::Model& model, const std::string& parameter,
+                                const std::string& scheme, double h,
+                                const LinearSweepOptions& options) {
+  const auto stepper = lie::make_stepper(scheme, model);
+  const core::State s0 = model.initial_state();
+  stepper->initialize(0.0, s0);
+  const bool modal = parameter == "modal_frequency";
+  // Amplitude measure and its initial value.
+  double initial = 0.0;
+  double z_rest = 0.0;
+  if (modal) {
+    initial = s0[0].q_f.cwiseAbs().maxCoeff();
+  } else {
+    // δ_s from the initial penetration (1 + overshoot) δ_s.
+    const double delta0 = kBallRadius - s0[0].p_WBr.z();
+    const double delta_s = delta0 / (1.0 + kBallOvershoot);
+    z_rest = kBallRadius - delta_s;
+    initial = std::abs(s0[0].p_WBr.z() - z_rest);
+  }
+  for (long n = 0; n < options.steps; ++n) {
+    const lie::StepStatus status = stepper->step(h);
+    if (!status.ok) return "step failure: " + status.message;
+    const core::BodyState& s = stepper->state()[0];
+    const double amplitude = modal ? s.q_f.cwiseAbs().maxCoeff() : std::abs(s.p_WBr.z() - z_rest);
+    if (!std::isfinite(amplitude) || !s.theta_WB.allFinite()) return "non-finite";
+    if (amplitude > options.growth_factor * initial) return "amplitude growth";
+  }
+  return "stable";
+}
+
+std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options) {
+  const std::size_t n_schemes = options.schemes.size();
+  std::vector<LinearSweepPoint> points(options.values.size() * n_schemes);
+  parallel_for(static_cast<int>(points.size()), options.jobs, [&](int task) {
+    const auto u = static_cast<std::size_t>(task);
+    LinearSweepPoint& p = points[u];
+    p.scheme = options.schemes[u % n_schemes];
+    p.value = options.values[u / n_schemes];
+    const core::Model model = make_linear_sweep_model(options.parameter, p.value, p.omega);
+    p.h_theory = 2.0 / p.omega;
+    const auto stable = [&](double h) {
+      return classify_linear_run(model, options.parameter, p.scheme, h, options) == "stable";
+    };
+    // Start a decade under the theoretical limit; cap a decade above it.
+    const StableStepBracket b = bisect_largest_stable(stable, 0.1 * p.h_theory, 10.0 * p.h_theory,
+                                                      options.relative_tolerance);
+    p.h_max = b.h_stable;
+    p.classification =
+        std::isfinite(b.h_unstable)
+            ? classify_linear_run(model, options.parameter, p.scheme, b.h_unstable, options)
+            : "stable to cap";
+  });
+  return points;
+}
+
+std::string linear_sweep_csv(const std::string& parameter,
+                             const std::vector<LinearSweepPoint>& points) {
+  std::ostringstream out;
+  out << std::setprecision(17);
+  out << "scheme,parameter,value,omega,h_max,h_theory,h_max_times_omega,classification\n";
+  for (const LinearSweepPoint& p : points) {
+    out << p.scheme << ',' << parameter << ',' << p.value << ',' << p.omega << ',' << p.h_max << ','
+        << p.h_theory << ',' << p.h_max * p.omega << ",\"" << p.classification << "\"\n";
+  }
+  return out.str();
+}
+
+std::string format_linear_sweep_table(const std::string& parameter,
+                                      const std::vector<LinearSweepPoint>& points) {
+  std::ostringstream out;
+  const std::string label = parameter == "modal_frequency" ? "w_max [rad/s]" : "k [N/m]";
+  out << std::left << std::setw(8) << "scheme" << std::setw(14) << label << std::setw(14)
+      << "omega [rad/s]" << std::setw(13) << "h_max [s]" << std::setw(13) << "2/omega [s]"
+      << std::setw(10) << "h*omega"
+      << "first unstable step\n";
+  for (const LinearSweepPoint& p : points) {
+    std::ostringstream row;
+    row << std::setprecision(4);
+    row << std::left << std::setw(8) << p.scheme << std::setw(14) << p.value << std::setw(14)
+        << p.omega << std::setw(13) << p.h_max << std::setw(13) << p.h_theory << std::setw(10)
+        << p.h_max * p.omega << p.classification << "\n";
+    out << row.str();
+  }
+  return out.str();
+}
+
+}  // namespace flexref::studies
