@@ -76,6 +76,14 @@ double energy_scale(const core::Model& model, const core::Trajectory& trajectory
   return t_max + v_max;
 }
 
+/// First time the symmetry axis (body z) of body 0 points below the horizon, or −1 (tippe top).
+double inversion_time(const core::Trajectory& trajectory) {
+  for (std::size_t i = 0; i < trajectory.times.size(); ++i) {
+    if (testing::symmetry_axis_W(trajectory.states[i][0]).z() < 0.0) return trajectory.times[i];
+  }
+  return -1.0;
+}
+
 double step_within(double limit) {
   double h = 1e-4;
   for (double candidate : {2e-4, 5e-4, 1e-3}) {
@@ -130,7 +138,12 @@ TEST_CASE("contact scenes: C1, C2 and NMB stay bounded inside the explicit step 
                       << " rad, energy growth " << growth << " J of " << e_scale << " J");
       WARN(scene.name << " " << name << " h " << h_used << " limit " << scene.step_limit()
                       << ": pos err " << e.position << " m, angle err " << e.angle
-                      << " rad, energy growth " << growth / e_scale << " rel");
+                      << " rad, energy growth " << growth / e_scale << " rel"
+                      << (scene.name == "tippe_top"
+                              ? ", inversion at " + std::to_string(inversion_time(run)) +
+                                    " s (reference " +
+                                    std::to_string(inversion_time(ref.trajectory)) + " s)"
+                              : std::string()));
       REQUIRE(std::isfinite(e.position));
       // Loose bounds: the scenes are ≤ 2 m across, so a blow-up exceeds them by far; the
       // chaotic double pendulum may legitimately be O(1) m off after 10 s.
