@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/lte_map_command.hpp"
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
@@ -180,6 +181,56 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   stab_cmd->add_option("--out", stab.out_dir, "output directory")->capture_default_str();
 
+  LteMapCommandOptions lte;
+  auto* lte_cmd = app.add_subcommand(
+      "lte-map", "LTE model error vs coupled model over spin ratio and inertia ratio");
+  lte_cmd->add_option("scene", lte.scene, "scene file with a free flexible body (TOML)")
+      ->required();
+  auto* lte_spins = lte_cmd->add_option("--spin-ratios", lte.spin_ratios,
+                                        "Omega0/omega1 values (comma-separated)")
+                        ->delimiter(',');
+  lte_cmd->add_option("--spin-min", lte.spin_min, "log-spaced spin ratios: first")
+      ->excludes(lte_spins)
+      ->capture_default_str();
+  lte_cmd->add_option("--spin-max", lte.spin_max, "log-spaced spin ratios: last")
+      ->excludes(lte_spins)
+      ->capture_default_str();
+  lte_cmd->add_option("--spin-count", lte.spin_count, "log-spaced spin ratios: count")
+      ->excludes(lte_spins)
+      ->check(CLI::Range(1, 200))
+      ->capture_default_str();
+  auto* lte_inertias = lte_cmd->add_option("--inertia-ratios", lte.inertia_ratios,
+                                           "I_flex/I_rigid values (comma-separated)")
+                           ->delimiter(',');
+  lte_cmd->add_option("--inertia-min", lte.inertia_min, "log-spaced inertia ratios: first")
+      ->excludes(lte_inertias)
+      ->capture_default_str();
+  lte_cmd->add_option("--inertia-max", lte.inertia_max, "log-spaced inertia ratios: last")
+      ->excludes(lte_inertias)
+      ->capture_default_str();
+  lte_cmd->add_option("--inertia-count", lte.inertia_count, "log-spaced inertia ratios: count")
+      ->excludes(lte_inertias)
+      ->check(CLI::Range(1, 200))
+      ->capture_default_str();
+  lte_cmd->add_option("--solver", lte.solver, "reference solver: cvode | ida | odeint")
+      ->check(CLI::IsMember({"cvode", "ida", "odeint"}))
+      ->capture_default_str();
+  lte_cmd->add_option("--rtol", lte.rtol, "reference tolerance (both models)")
+      ->check(CLI::Range(1e-14, 1e-4))
+      ->capture_default_str();
+  lte_cmd->add_option("--estimate-factor", lte.estimate_factor,
+                      "accuracy check: rerun at this factor times rtol")
+      ->check(CLI::Range(2.0, 1e6))
+      ->capture_default_str();
+  lte_cmd->add_flag("!--no-scale-loads", lte.scale_loads,
+                    "keep the loads (default: scale them with spin and inertia)");
+  lte_cmd->add_option("--point", lte.point, "tracked node point (default: farthest node)");
+  lte_cmd->add_option("--end-time", lte.end_time, "s (default: the scene's)")
+      ->check(CLI::PositiveNumber);
+  lte_cmd->add_option("--jobs", lte.jobs, "parallel runs (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  lte_cmd->add_option("--out", lte.out_dir, "output directory")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -190,6 +241,7 @@ int main(int argc, char** argv) {
     if (*conv_cmd) return converge_command(conv);
     if (*wp_cmd) return work_precision_command(wp);
     if (*stab_cmd) return stability_command(stab);
+    if (*lte_cmd) return lte_map_command(lte);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;

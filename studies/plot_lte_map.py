@@ -1,0 +1,82 @@
+#!/usr/bin/env python3
+"""Contour map of a `flexref lte-map` study.
+
+Usage: plot_lte_map.py lte_map.csv out.png "title"
+
+Reads spin_ratio,inertia_ratio,...,tip_error,...,resolved,status (one row per grid point) and
+draws, on log axes, filled contours of log10 of the LTE tip-deflection error relative to the
+coupled model against the spin ratio Omega0/omega1 (x) and the inertia ratio I_flex/I_rigid (y),
+with the 1 %, 5 % and 20 % lines drawn and labelled. Grid points are marked: a cross where the
+error is below 100x the estimated reference error (an upper bound only), a red x where the run
+failed. Needs a full grid (every x at every y).
+"""
+import csv
+import math
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib import colors  # noqa: E402
+
+
+def main(argv):
+    if len(argv) != 4:
+        sys.stderr.write(__doc__)
+        return 2
+    rows = list(csv.DictReader(open(argv[1], newline="")))
+    xs = sorted({float(r["spin_ratio"]) for r in rows})
+    ys = sorted({float(r["inertia_ratio"]) for r in rows})
+    if len(xs) < 2 or len(ys) < 2:
+        sys.stderr.write("plot_lte_map.py: a contour map needs at least 2 spin and 2 inertia "
+                         "ratios\n")
+        return 1
+    error = {}
+    for r in rows:
+        e = float(r["tip_error"]) if r["status"] == "ok" else float("nan")
+        error[(float(r["spin_ratio"]), float(r["inertia_ratio"]))] = e
+    z = [[error.get((x, y), float("nan")) for x in xs] for y in ys]
+    # Exact zeros cannot be drawn on a log scale: floor at 1e-6 (0.0001 %).
+    z = [[max(v, 1e-6) if math.isfinite(v) else float("nan") for v in row] for row in z]
+
+    fig, ax = plt.subplots(figsize=(7.0, 5.2), dpi=120)
+    finite = [v for row in z for v in row if math.isfinite(v)]
+    lo = min(min(finite), 1e-3)
+    hi = max(max(finite), 1.0)
+    levels = [10.0 ** (k / 4.0) for k in range(math.floor(4 * math.log10(lo)),
+                                                math.ceil(4 * math.log10(hi)) + 1)]
+    filled = ax.contourf(xs, ys, z, levels=levels, norm=colors.LogNorm(vmin=levels[0],
+                                                                        vmax=levels[-1]),
+                         cmap="viridis")
+    bar = fig.colorbar(filled, ax=ax)
+    bar.set_label("LTE tip-deflection error / max coupled deflection")
+    lines = ax.contour(xs, ys, z, levels=[0.01, 0.05, 0.20], colors=["white", "orange", "red"],
+                       linewidths=[1.2, 2.0, 1.2])
+    ax.clabel(lines, fmt={0.01: "1 %", 0.05: "5 %", 0.20: "20 %"}, fontsize=9)
+    unresolved = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows
+                  if r["status"] == "ok" and r["resolved"] != "1"]
+    failed = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows
+              if r["status"] != "ok"]
+    grid = [(x, y) for x in xs for y in ys]
+    ax.plot([p[0] for p in grid], [p[1] for p in grid], ".", color="black", markersize=2,
+            label="grid point")
+    if unresolved:
+        ax.plot([p[0] for p in unresolved], [p[1] for p in unresolved], "+", color="white",
+                label="< 100x reference error (upper bound)")
+    if failed:
+        ax.plot([p[0] for p in failed], [p[1] for p in failed], "x", color="red",
+                label="failed")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("spin ratio Ω0/ω1 (initial spin / first clamped frequency) [-]")
+    ax.set_ylabel("inertia ratio I_flex/I_rigid about the spin axis [-]")
+    ax.set_title(argv[3])
+    ax.legend(fontsize=7, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(argv[2])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
