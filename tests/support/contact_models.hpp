@@ -7,7 +7,7 @@
 /// swing plane is x–z with gravity −z as well (the wall is the plane x = 0.8).
 ///
 ///   bouncing_ball                sphere (m = 1, r = 0.1) dropped from 1 m with a lateral speed
-///                                and spin onto the plane z = 0 with friction.
+///                                onto the frictionless plane z = 0.
 ///   sliding_block                0.2 cube (m = 1) on four corner contacts, launched at 2 m/s,
 ///                                stops by friction.
 ///   top_on_plane                 heavy_top scaled down on a spherical tip (free body).
@@ -197,7 +197,7 @@ inline ContactScene sliding_block() {
 /// Hunt–Crossley k = 1e6 N/m^1.5, n = 1.5, e = 0.5 at v_ref = 0.1 m/s; μ = 0.3, v_reg = 1e-3.
 /// Static: F = m g = 0.98 N, δ = 9.9e-5 m (2 % of r), k_lin = 1.5e4 N/m; vertical m_eff at
 /// the tip 0.094 kg → 2/ω = 5.0e-3 s. Friction: c_t = 294 N·s/m, tangential m_eff at the
-/// tip ≈ 0.038 kg → 2.6e-4 s (the binding limit).
+/// contact point (tilted arm) 0.033 kg → 2.3e-4 s (the binding limit).
 inline ContactScene top_on_plane() {
   using namespace contact_detail;
   const double m = 0.1, r = 0.005, l = 0.04, tilt = 0.2, k = 1e6, n = 1.5, mu = 0.3, v_reg = 1e-3;
@@ -245,7 +245,7 @@ inline Eigen::Vector3d symmetry_axis_W(const core::BodyState& s) {
 /// μ = 0.3, v_reg = 1e-3, g = 9.81. Hunt–Crossley k = 1e6 N/m^1.5, n = 1.5, e = 0.5 at
 /// v_ref = 0.1 m/s for both spheres. Static: F = 0.059 N, δ = 1.5e-5 m (1e-3 of the radius),
 /// k_lin = 5.8e3 N/m, vertical m_eff ≈ m → 2/ω = 2.0e-3 s; friction c_t = 17.7 N·s/m,
-/// tangential m_eff at the ball's contact point 1.7e-3 kg → 2.0e-4 s (binding). End 8 s
+/// tangential m_eff at the ball's contact point 2.9e-3 kg → 3.3e-4 s (binding). End 8 s
 /// (the inversion is over by then; see contact_scenes_test and docs/contact_results.md).
 inline ContactScene tippe_top(double end_time = 8.0) {
   using namespace contact_detail;
