@@ -63,6 +63,24 @@ int check_command(const CheckOptions& options) {
     }
   }
   for (const auto& e : model.elements()) std::cout << "  " << e->describe() << "\n";
+  // Penalty elements: each contact's and joint's stiffest mode (docs/contact.md,
+  // docs/joints.md) and the explicit step it allows.
+  double penalty_limit = std::numeric_limits<double>::infinity();
+  std::string penalty_label;
+  for (const PenaltyMode& m : scene.penalty_modes) {
+    const bool angular = m.label.ends_with(" angular");
+    std::cout << "  " << m.label << ": omega = sqrt(k/" << (angular ? "I_eff" : "m_eff")
+              << ") = sqrt(" << m.stiffness << (angular ? " N·m/rad / " : " N/m / ") << m.inertia
+              << (angular ? " kg·m²" : " kg") << ") = " << m.frequency
+              << " rad/s, explicit step limit 2/omega = " << m.step_limit << " s"
+              << (m.kind == "joint" ? " (damping, if any, included)" : "") << "\n";
+    if (m.step_limit < penalty_limit) {
+      penalty_limit = m.step_limit;
+      penalty_label = m.label;
+    }
+  }
+  const double flexible_limit = step_limit;
+  step_limit = std::min(step_limit, penalty_limit);
   if (!model.discontinuities().empty()) {
     std::cout << "  load switches at t =";
     for (double t : model.discontinuities()) std::cout << ' ' << t;
@@ -75,8 +93,11 @@ int check_command(const CheckOptions& options) {
   std::cout << "  initial energy " << e0 << " J, angular momentum about the origin ["
             << h0.transpose() << "] N·m·s\n";
   if (std::isfinite(step_limit)) {
-    std::cout << "  explicit step limit: " << step_limit
-              << " s (2/omega_max of the stiffest flexible body; `run` warns above it)\n";
+    std::cout << "  explicit step limit: " << step_limit << " s ("
+              << (penalty_limit < flexible_limit
+                      ? "of " + penalty_label + ", the stiffest penalty element"
+                      : std::string("2/omega_max of the stiffest flexible body"))
+              << "; `run` warns above it)\n";
   } else {
     std::cout << "  explicit step limit: none from elastic modes or penalty elements (rigid "
                  "bodies only); the rotation schemes' accuracy is governed by |W| h\n";

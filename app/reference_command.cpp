@@ -39,7 +39,8 @@ int reference_command(const ReferenceOptions& options) {
        << "\njacobian_evaluations = " << st.jacobian_evaluations
        << "\nerror_test_failures = " << st.error_test_failures
        << "\nnonlinear_failures = " << st.nonlinear_failures << "\ncpu_seconds = " << st.cpu_seconds
-       << "\n";
+       << "\nevents = " << ref.run.event_times.size()
+       << "\nevent_times = " << toml_number_array(ref.run.event_times) << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
     meta << "\n[error_estimate]\nmetric = \"" << e.metric << "\"\nestimate = " << e.estimate()
@@ -59,6 +60,9 @@ int reference_command(const ReferenceOptions& options) {
   } else {
     std::cout << " (rtol " << options.rtol << "): " << st.steps << " steps, " << st.rhs_evaluations
               << " evaluations";
+  }
+  if (model.switching_function_count() > 0 || !ref.run.event_times.empty()) {
+    std::cout << ", " << ref.run.event_times.size() << " events located";
   }
   std::cout << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
   if (options.estimate) {

@@ -31,6 +31,16 @@ int run_command(const RunOptions& options) {
                    "modes are not resolved\n";
     }
   }
+  // The same for the stiffest mode of every contact and joint (penalty elements).
+  for (const PenaltyMode& m : scene.penalty_modes) {
+    if (options.dt > m.step_limit) {
+      std::cerr << "flexref: warning: step " << options.dt
+                << " s exceeds 2/omega = " << m.step_limit << " s of " << m.label
+                << " (omega = " << m.frequency
+                << " rad/s): explicit central differences would be unstable and the " << m.kind
+                << " is not resolved\n";
+    }
+  }
   auto stepper = lie::make_stepper(options.scheme, model);
   const double start = studies::thread_cpu_seconds();
   const core::Trajectory trajectory = lie::run_scheme(model, *stepper, options.dt, times);

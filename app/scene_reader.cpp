@@ -1,11 +1,13 @@
 #include "app/scene_reader.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -20,6 +22,8 @@
 #include "core/applied_load.hpp"
 #include "core/beam_model.hpp"
 #include "core/body.hpp"
+#include "core/bushing.hpp"
+#include "core/contact.hpp"
 #include "core/error.hpp"
 #include "core/euler_parameters.hpp"
 #include "core/gravity.hpp"
@@ -635,6 +639,322 @@ std::unique_ptr<const core::ForceElement> read_potential(const Table& t, const B
   return std::make_unique<core::PointChargePotential>(alpha, beta, p_WM, std::move(charges));
 }
 
+// --- [[contact]] ---------------------------------------------------------------------------
+
+/// A unit vector: renormalized when within 1e-6 of unit norm, else an error.
+Eigen::Vector3d read_unit(const Table& t, std::string_view key, const Eigen::Vector3d* fallback,
+                          const std::string& expected) {
+  const Eigen::Vector3d v =
+      fallback != nullptr ? t.vector3_or(key, *fallback, expected) : t.vector3(key, expected);
+  const double norm = v.norm();
+  if (!(std::abs(norm - 1.0) <= kOrientationTolerance)) {
+    t.fail(key, "expected " + expected + " (norm 1 within 1e-6), got norm " + format(norm));
+  }
+  return v / norm;
+}
+
+/// `single` (one 3-vector) or `plural` (an array of 3-vectors), exactly one of them.
+std::vector<Eigen::Vector3d> read_vector_list(const Table& t, std::string_view single,
+                                              std::string_view plural,
+                                              const std::string& expected) {
+  if (t.has(single) && t.has(plural)) {
+    t.fail(plural,
+           "expected either " + std::string(single) + " or " + std::string(plural) + ", not both");
+  }
+  if (t.has(single)) return {t.vector3(single, expected)};
+  const toml::value* v = t.find(plural);
+  const std::string list = "an array of " + expected + " vectors [[x, y, z], ...]";
+  if (v == nullptr) {
+    t.fail(single, "required key is missing; expected " + std::string(single) + " = " + expected +
+                       " or " + std::string(plural) + " = " + list);
+  }
+  if (!v->is_array() || v->as_array().empty()) {
+    t.fail(plural, "expected " + list + " (at least one), got " + scene_toml::describe(*v));
+  }
+  std::vector<Eigen::Vector3d> out;
+  for (const toml::value& e : v->as_array()) {
+    if (!e.is_array() || e.as_array().size() != 3) {
+      t.fail_at(e, plural, "expected " + list + ", got an element " + scene_toml::describe(e));
+    }
+    Eigen::Vector3d p;
+    for (int i = 0; i < 3; ++i) {
+      p(i) = t.to_number(e.as_array()[static_cast<std::size_t>(i)], plural, Sign::kAny, expected);
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+/// The keys every contact and joint law shares are checked by check_keys; this rejects the
+/// ones that do not apply to the chosen kind or law.
+void reject_keys(const Table& t, std::initializer_list<std::string_view> keys,
+                 const std::string& why) {
+  for (const std::string_view key : keys) {
+    if (t.has(key)) t.fail(key, why + "; expected no " + std::string(key) + " here");
+  }
+}
+
+std::unique_ptr<const core::ForceElement> read_contact(const Table& t, const BodyNames& names,
+                                                       const std::vector<core::Body>& bodies,
+                                                       PenaltyMode& mode) {
+  t.check_keys({"kind",
+                "body",
+                "center",
+                "centers",
+                "radius",
+                "point",
+                "points",
+                "body_b",
+                "center_b",
+                "radius_b",
+                "plane_point",
+                "plane_normal",
+                "law",
+                "stiffness",
+                "exponent",
+                "restitution",
+                "reference_speed",
+                "damping",
+                "friction",
+                "regularization_speed",
+                "effective_mass"});
+  const int kind = t.choice("kind", {"sphere-plane", "point-plane", "sphere-sphere"}, -1);
+  const int body = names.resolve(t, "body");
+  std::vector<core::ContactPair> pairs;
+  double mass = bodies[static_cast<std::size_t>(body)].mass();
+  if (kind == 2) {
+    reject_keys(t, {"centers", "point", "points", "plane_point", "plane_normal"},
+                "applies only to sphere-plane and point-plane contacts");
+    const int body_b = names.resolve(t, "body_b");
+    if (body_b == body) {
+      t.fail("body_b",
+             "a sphere-sphere contact joins two different bodies; expected a body "
+             "other than body");
+    }
+    const Eigen::Vector3d c_a =
+        t.vector3("center", "the centre [x, y, z] of body's sphere in m, body frame");
+    const double r_a = t.number("radius", Sign::kNonNegative, "a sphere radius >= 0 in m");
+    const Eigen::Vector3d c_b =
+        t.vector3("center_b", "the centre [x, y, z] of body_b's sphere in m, body_b's frame");
+    const double r_b = t.number("radius_b", Sign::kNonNegative, "a sphere radius >= 0 in m");
+    pairs.push_back(core::ContactPair::sphere_sphere(body, c_a, r_a, body_b, c_b, r_b));
+    const double m_b = bodies[static_cast<std::size_t>(body_b)].mass();
+    mass = mass * m_b / (mass + m_b);
+  } else {
+    reject_keys(t, {"body_b", "center_b", "radius_b"}, "applies only to sphere-sphere contacts");
+    const Eigen::Vector3d p_WQ = t.vector3_or("plane_point", Eigen::Vector3d::Zero(),
+                                              "a point [x, y, z] of the plane in m, world frame");
+    const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d n_W =
+        read_unit(t, "plane_normal", &up,
+                  "the plane's unit normal [x, y, z] toward the free side, world frame");
+    if (kind == 0) {
+      reject_keys(t, {"point", "points"},
+                  "a sphere-plane contact is given by center(s) and radius");
+      const std::vector<Eigen::Vector3d> centers =
+          read_vector_list(t, "center", "centers", "the sphere centre [x, y, z] in m, body frame");
+      const double r = t.number("radius", Sign::kNonNegative, "a sphere radius >= 0 in m");
+      for (const Eigen::Vector3d& c : centers) {
+        pairs.push_back(core::ContactPair::sphere_plane(body, c, r, p_WQ, n_W));
+      }
+    } else {
+      reject_keys(t, {"center", "centers", "radius"}, "a point-plane contact is given by point(s)");
+      const std::vector<Eigen::Vector3d> points =
+          read_vector_list(t, "point", "points", "the contact point [x, y, z] in m, body frame");
+      for (const Eigen::Vector3d& p : points) {
+        pairs.push_back(core::ContactPair::point_plane(body, p, p_WQ, n_W));
+      }
+    }
+  }
+  const double m_eff = t.number_or("effective_mass", mass / static_cast<double>(pairs.size()),
+                                   Sign::kPositive, "a positive effective mass in kg");
+
+  const bool linear = t.choice("law", {"hunt-crossley", "linear"}, 0) == 1;
+  const double k =
+      t.number_or("stiffness", 1e6, Sign::kPositive,
+                  linear ? "a positive stiffness in N/m" : "a positive stiffness in N/m^n");
+  std::optional<core::NormalLaw> law;
+  const auto restitution = [&] {
+    const double e =
+        t.number_or("restitution", 0.5, Sign::kPositive, "a restitution coefficient in (0, 1]");
+    if (e > 1.0) {
+      t.fail("restitution", "expected a restitution coefficient in (0, 1], got " + format(e));
+    }
+    return e;
+  };
+  try {
+    if (linear) {
+      reject_keys(t, {"exponent", "reference_speed"}, "applies only to law = \"hunt-crossley\"");
+      if (t.has("damping") && t.has("restitution")) {
+        t.fail("damping",
+               "the linear law takes either damping or restitution; expected one "
+               "of them, not both");
+      }
+      if (t.has("damping")) {
+        law = core::NormalLaw::linear(
+            k, t.number("damping", Sign::kNonNegative, "a damping >= 0 in N*s/m"));
+      } else {
+        law = core::NormalLaw::linear_from_restitution(k, restitution(), m_eff);
+      }
+    } else {
+      reject_keys(t, {"damping"},
+                  "applies only to law = \"linear\" (Hunt-Crossley damping follows from "
+                  "restitution and reference_speed)");
+      const double n = t.number_or("exponent", 1.5, Sign::kPositive, "an exponent >= 1");
+      if (n < 1.0) t.fail("exponent", "expected an exponent >= 1, got " + format(n));
+      const double e = restitution();
+      const double v_ref = t.number_or("reference_speed", 1.0, Sign::kPositive,
+                                       "a positive reference impact speed in m/s");
+      law = core::NormalLaw::hunt_crossley(k, n, e, v_ref);
+    }
+  } catch (const core::InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // Every parameter is checked above; what remains are extreme values (a restitution of
+    // 1e-320) for which the law's damping cannot be computed.
+    t.fail(t.has("restitution") ? "restitution" : "stiffness",
+           std::string("cannot build the contact law: ") + e.what() +
+               "; expected less extreme law parameters");
+  }
+  core::FrictionLaw friction;
+  friction.mu = t.number_or("friction", 0.0, Sign::kNonNegative,
+                            "a friction coefficient mu >= 0 (0: frictionless)");
+  friction.v_reg = t.number_or("regularization_speed", 1e-3, Sign::kPositive,
+                               "a positive regularization speed in m/s");
+  try {
+    auto element = std::make_unique<core::ContactElement>(std::move(pairs), *law, friction, m_eff);
+    mode.kind = "contact";
+    mode.inertia = m_eff;
+    mode.stiffness = element->effective_stiffness(m_eff);
+    mode.frequency = element->frequency(m_eff);
+    mode.step_limit = element->explicit_step_limit(m_eff);
+    return element;
+  } catch (const std::invalid_argument& e) {
+    t.fail_table(e.what());
+  }
+}
+
+// --- [[joint]] -----------------------------------------------------------------------------
+
+/// Translational and angular compliance (inverse effective mass and inertia matrices, world
+/// frame, at the initial state) of a body at its point p_BoP_B (docs/joints.md): a free body
+/// 1/m + r̃ᵀ J⁻¹ r̃ (r from the centre of mass), a pivot body r̃ᵀ J_O⁻¹ r̃ (r from the pivot), a
+/// prescribed body none.
+struct Compliance {
+  Eigen::Matrix3d translational = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d angular = Eigen::Matrix3d::Zero();
+};
+
+Compliance body_compliance(const core::Body& b, const Eigen::Vector3d& p_BoP_B) {
+  Compliance c;
+  if (b.is_prescribed()) return c;
+  const Eigen::Matrix3d& J_inv = b.I_Br_B_inverse();
+  const Eigen::Vector3d r = b.p_BrP_B(p_BoP_B);
+  Eigen::Matrix3d r_tilde;
+  r_tilde << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+  Eigen::Matrix3d t = r_tilde.transpose() * J_inv * r_tilde;
+  if (b.is_free()) t += Eigen::Matrix3d::Identity() / b.mass();
+  const Eigen::Matrix3d A = core::rotation_matrix(b.description().initial.theta_WB);
+  c.translational = A * t * A.transpose();
+  c.angular = A * J_inv * A.transpose();
+  return c;
+}
+
+/// 1/λ_max of a compliance matrix: the smallest effective mass or inertia over directions
+/// (+∞ when nothing moves).
+double smallest_effective(const Eigen::Matrix3d& compliance) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 *
+                                                           (compliance + compliance.transpose()));
+  const double lambda = eig.eigenvalues().maxCoeff();
+  return lambda > 0.0 ? 1.0 / lambda : std::numeric_limits<double>::infinity();
+}
+
+std::unique_ptr<const core::ForceElement> read_joint(const Table& t, const BodyNames& names,
+                                                     const std::vector<core::Body>& bodies,
+                                                     std::vector<PenaltyMode>& modes,
+                                                     const std::string& label) {
+  t.check_keys({"kind", "body_a", "body_b", "point_a", "point_b", "axis_a", "axis_b", "stiffness",
+                "damping", "angular_stiffness", "angular_damping"});
+  const bool revolute = t.choice("kind", {"spherical", "revolute"}, -1) == 1;
+  core::BushingEnd a;
+  core::BushingEnd b;
+  a.body = names.resolve(t, "body_a");
+  const toml::value* vb = t.find("body_b");
+  if (vb != nullptr && vb->is_string() && vb->as_string() == "ground") {
+    b.body = core::kGround;
+  } else {
+    b.body = names.resolve(t, "body_b");
+    if (b.body == a.body) {
+      t.fail("body_b",
+             "a joint joins two different bodies; expected another body or "
+             "\"ground\"");
+    }
+  }
+  const bool ground = b.body == core::kGround;
+  a.point = t.vector3("point_a", "the joint point [x, y, z] in m on body_a, body frame");
+  b.point = t.vector3("point_b", ground ? "the joint point [x, y, z] in m, world frame (ground)"
+                                        : "the joint point [x, y, z] in m on body_b, body frame");
+  core::BushingParameters p;
+  p.stiffness = t.number_or("stiffness", core::BushingParameters::kDefaultStiffness,
+                            Sign::kPositive, "a positive stiffness in N/m");
+  p.damping = t.number_or("damping", 0.0, Sign::kNonNegative, "a damping >= 0 in N*s/m");
+  if (revolute) {
+    a.axis =
+        read_unit(t, "axis_a", nullptr, "the hinge axis [x, y, z], a unit vector, body_a frame");
+    b.axis = read_unit(t, "axis_b", nullptr,
+                       ground ? "the hinge axis [x, y, z], a unit vector, world frame (ground)"
+                              : "the hinge axis [x, y, z], a unit vector, body_b frame");
+    p.angular_stiffness =
+        t.number_or("angular_stiffness", core::BushingParameters::kDefaultAngularStiffness,
+                    Sign::kNonNegative, "an angular stiffness >= 0 in N*m/rad");
+    p.angular_damping = t.number_or("angular_damping", 0.0, Sign::kNonNegative,
+                                    "an angular damping >= 0 in N*m*s/rad");
+  } else {
+    reject_keys(t, {"axis_a", "axis_b", "angular_stiffness", "angular_damping"},
+                "applies only to kind = \"revolute\"");
+  }
+
+  // The joint modes: compliances of both ends add (the ground adds none).
+  Compliance c = body_compliance(bodies[static_cast<std::size_t>(a.body)], a.point);
+  Eigen::Vector3d axis_W =
+      core::rotation_matrix(
+          bodies[static_cast<std::size_t>(a.body)].description().initial.theta_WB) *
+      a.axis;
+  if (!ground) {
+    const Compliance cb = body_compliance(bodies[static_cast<std::size_t>(b.body)], b.point);
+    c.translational += cb.translational;
+    c.angular += cb.angular;
+  }
+  PenaltyMode translational;
+  translational.label = label + (revolute ? " translational" : "");
+  translational.kind = "joint";
+  translational.stiffness = p.stiffness;
+  translational.inertia = smallest_effective(c.translational);
+  translational.frequency = core::bushing_frequency(p.stiffness, translational.inertia);
+  translational.step_limit =
+      core::bushing_stable_step(p.stiffness, p.damping, translational.inertia);
+  modes.push_back(translational);
+  if (revolute) {
+    // The angular spring acts on rotations about directions perpendicular to the hinge.
+    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - axis_W * axis_W.transpose();
+    PenaltyMode angular;
+    angular.label = label + " angular";
+    angular.kind = "joint";
+    angular.stiffness = p.angular_stiffness;
+    angular.inertia = smallest_effective(P * c.angular * P);
+    angular.frequency = core::bushing_frequency(p.angular_stiffness, angular.inertia);
+    angular.step_limit =
+        core::bushing_stable_step(p.angular_stiffness, p.angular_damping, angular.inertia);
+    modes.push_back(angular);
+  }
+  try {
+    if (revolute) return std::make_unique<core::RevoluteBushing>(a, b, p);
+    return std::make_unique<core::SphericalBushing>(a, b, p);
+  } catch (const std::invalid_argument& e) {
+    t.fail_table(e.what());
+  }
+}
+
 // Finite input can still overflow (a spin of 1e308 rad/s, a charge 1e-300 m above the wall):
 // evaluate the model once at the initial state so that no integrator starts from inf or NaN.
 void check_initial_evaluation(const core::Model& model, const Table& root,
@@ -664,7 +984,7 @@ void check_initial_evaluation(const core::Model& model, const Table& root,
 Scene read_document(const toml::value& document, const std::string& file,
                     core::FlexibleFormulation formulation) {
   const Table root(document, file, "");
-  root.check_keys({"scene", "body", "load", "potential"}, {"contact", "joint"});
+  root.check_keys({"scene", "body", "load", "potential", "contact", "joint"});
   SceneSettings settings = read_settings(root);
 
   const std::vector<Table> body_tables = root.tables("body", "[[body]] tables");
@@ -690,6 +1010,19 @@ Scene read_document(const toml::value& document, const std::string& file,
   for (const Table& t : root.tables("potential", "[[potential]] tables")) {
     elements.push_back(read_potential(t, names, bodies));
   }
+  std::vector<PenaltyMode> penalty_modes;
+  int index = 0;
+  for (const Table& t : root.tables("contact", "[[contact]] tables")) {
+    PenaltyMode mode;
+    mode.label = "contact[" + std::to_string(++index) + "]";
+    elements.push_back(read_contact(t, names, bodies, mode));
+    penalty_modes.push_back(std::move(mode));
+  }
+  index = 0;
+  for (const Table& t : root.tables("joint", "[[joint]] tables")) {
+    elements.push_back(
+        read_joint(t, names, bodies, penalty_modes, "joint[" + std::to_string(++index) + "]"));
+  }
 
   Scene scene;
   scene.name = std::move(settings.name);
@@ -698,6 +1031,7 @@ Scene read_document(const toml::value& document, const std::string& file,
   scene.end_time = settings.end_time;
   scene.output_step = settings.output_step;
   scene.model = std::make_unique<core::Model>(std::move(bodies), std::move(elements), formulation);
+  scene.penalty_modes = std::move(penalty_modes);
   check_initial_evaluation(*scene.model, root, body_tables);
   return scene;
 }

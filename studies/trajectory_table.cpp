@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -38,6 +39,10 @@ std::vector<std::string> trajectory_columns(const core::Model& model) {
     if (b.is_prescribed()) names.push_back(n + ".drive_torque");
   }
   names.emplace_back("energy");
+  if (model.dissipates()) {
+    names.emplace_back("dissipated_work");
+    names.emplace_back("energy_balance");
+  }
   return names;
 }
 
@@ -49,6 +54,7 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
   bool prescribed = false;
   for (const core::Body& b : model.bodies()) prescribed = prescribed || b.is_prescribed();
   table.rows.reserve(trajectory.times.size());
+  double energy0 = 0.0;
   for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
     const double t = trajectory.times[k];
     const core::State& state = trajectory.states[k];
@@ -81,7 +87,18 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
     // Energy at an output time: the right-limit branch of piecewise loads (potentials do not
     // depend on time, so the branch only matters for future time-dependent potentials).
     const core::LoadContext context{t, t};
-    row.push_back(model.kinetic_energy(state) + model.potential_energy(context, state, ws));
+    const double energy = model.kinetic_energy(state) + model.potential_energy(context, state, ws);
+    row.push_back(energy);
+    if (model.dissipates()) {
+      // W_d(t) and the balance E(t) − E(0) + W_d(t) (0 up to the integration error when no
+      // prescribed load or drive does work). NaN when the integrator did not track W_d.
+      const double work = trajectory.dissipated_work.size() == trajectory.times.size()
+                              ? trajectory.dissipated_work[k]
+                              : std::numeric_limits<double>::quiet_NaN();
+      if (k == 0) energy0 = energy;
+      row.push_back(work);
+      row.push_back(energy - energy0 + work);
+    }
     table.rows.push_back(std::move(row));
   }
   return table;

@@ -9,7 +9,10 @@
 /// B.P.z` (world, m; node points of flexible bodies deformed); for a flexible body with n modes
 /// `B.q1..B.qn` (modal coordinates) and `B.qd1..B.qdn` (their rates, 1/s); for a prescribed
 /// body `B.drive_torque` (N·m, about the axis); then `energy` (J): kinetic + potential of
-/// conservative elements + elastic energy ½ q_fᵀ K q_f.
+/// conservative elements (contact and joint springs included) + elastic energy ½ q_fᵀ K q_f;
+/// when the model dissipates (Model::dissipates()), `dissipated_work` (W_d(t), J, from
+/// Trajectory::dissipated_work; NaN when the integrator did not track it) and `energy_balance`
+/// (E(t) − E(0) + W_d(t), J).
 #include <string>
 #include <vector>
 

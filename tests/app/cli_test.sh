@@ -100,6 +100,40 @@ code=$?
 "$flexref" run scenes/spin_up_beam.toml --model rigid -o "$tmp/z.csv" >/dev/null 2>&1 &&
   fail "unknown --model accepted"
 
+# Contact and joint scenes: check prints each penalty element's frequency and step limit;
+# reference writes the dissipated work and the energy balance, and counts the events.
+for scene in bouncing_ball sliding_block top_on_plane tippe_top pendulum_on_sliding_support \
+  double_pendulum_impacts; do
+  out=$("$flexref" check "scenes/$scene.toml" 2>&1) || fail "check $scene failed: $out"
+  [[ $out == *"explicit step limit 2/omega"* ]] || fail "check $scene: no penalty step limit: $out"
+  out=$("$flexref" reference "scenes/$scene.toml" --rtol 1e-8 --no-estimate \
+    -o "$tmp/$scene.csv" 2>&1) || fail "reference $scene failed: $out"
+  [[ $out == *"events located"* ]] || fail "reference $scene: no event count: $out"
+  head -1 "$tmp/$scene.csv" | grep -q ',energy,dissipated_work,energy_balance$' ||
+    fail "$scene: CSV lacks dissipated_work and energy_balance"
+  grep -q '^events = ' "$tmp/$scene.csv.meta.toml" || fail "$scene: meta.toml lacks events"
+  grep -q '^event_times = \[' "$tmp/$scene.csv.meta.toml" || fail "$scene: meta.toml lacks event_times"
+done
+out=$("$flexref" check scenes/pendulum_on_sliding_support.toml 2>&1)
+[[ $out == *"joint[1] angular: omega = sqrt(k/I_eff)"* ]] || fail "check: no angular joint mode: $out"
+# The event count of the bouncing ball: two per bounce.
+grep -q '^events = [1-9][0-9]*$' "$tmp/bouncing_ball.csv.meta.toml" || fail "bouncing_ball: no events"
+# run warns when the step exceeds a contact's explicit limit, and still runs.
+out=$("$flexref" run scenes/bouncing_ball.toml --scheme c2 --dt 0.01 -o "$tmp/bb_run.csv" 2>&1) ||
+  fail "run bouncing_ball failed: $out"
+[[ $out == *"warning: step 0.01 s exceeds 2/omega"*"contact[1]"* ]] ||
+  fail "run bouncing_ball: no step-limit warning: $out"
+out=$("$flexref" run scenes/bouncing_ball.toml --scheme c2 --dt 1e-3 -o "$tmp/bb_run.csv" 2>&1)
+[[ $out != *"warning"* ]] || fail "run bouncing_ball below the limit warned: $out"
+# compare: run and reference files of a contact scene have the same columns.
+"$flexref" compare "$tmp/bb_run.csv" "$tmp/bouncing_ball.csv" >/dev/null 2>&1 ||
+  fail "compare of bouncing_ball run and reference failed"
+# A bad contact key names file, line and key.
+sed 's/^radius = 0.1 /radius = -0.1 /' scenes/bouncing_ball.toml >"$tmp/bad_contact.toml"
+out=$("$flexref" check "$tmp/bad_contact.toml" 2>&1)
+[[ $? -eq 1 && $out == *"bad_contact.toml:"*"contact[1].radius"* ]] ||
+  fail "bad contact radius: $out"
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1

@@ -25,9 +25,21 @@
 namespace flexref::app {
 namespace {
 
-constexpr std::array<std::string_view, 9> kScenes = {
-    "free_spin", "book_toss",        "book_toss_step",      "coulomb_wall", "heavy_top",
-    "pendulum",  "flexible_spinner", "rotating_cantilever", "spin_up_beam"};
+constexpr std::array<std::string_view, 15> kScenes = {"free_spin",
+                                                      "book_toss",
+                                                      "book_toss_step",
+                                                      "coulomb_wall",
+                                                      "heavy_top",
+                                                      "pendulum",
+                                                      "flexible_spinner",
+                                                      "rotating_cantilever",
+                                                      "spin_up_beam",
+                                                      "bouncing_ball",
+                                                      "sliding_block",
+                                                      "top_on_plane",
+                                                      "tippe_top",
+                                                      "pendulum_on_sliding_support",
+                                                      "double_pendulum_impacts"};
 
 // Replacements for a value: non-finite, huge, tiny, wrong types, wrong shapes.
 constexpr std::array<std::string_view, 18> kHostileValues = {

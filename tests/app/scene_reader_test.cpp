@@ -233,9 +233,9 @@ TEST_CASE("every bad input is an InputError naming file, line and key", "[app][s
                       "attractor = [0, 0, -1]\n"
                       "charges = [{ body = \"b\", at = [0, 0, 1], wieght = 1 }]\n",
                   14, "potential[1].charges[1].wieght", "unknown key");
-    // Keys planned for later versions say so.
-    require_error(kScene + kBody + "[[contact]]\nkind = \"sphere_plane\"\n", 9, "contact",
-                  "not supported yet");
+    // Contacts and joints are read (tests/app/contact_scene_test.cpp); their kinds are checked.
+    require_error(kScene + kBody + "[[contact]]\nkind = \"sphere_plane\"\n", 10, "contact[1].kind",
+                  "sphere-plane");
     require_error(kScene + kBody + "modal = { file = \"m.txt\" }\n", 9, "body[1].modal",
                   "expected the path of a modal-data file (TOML), got { file");
   }
