@@ -89,13 +89,20 @@ class SceneFactory {
   int body_index_;
 };
 
+std::string number(double x) {
+  std::ostringstream s;
+  s.precision(17);
+  s << x;
+  return s.str();
+}
+
 std::vector<double> ratios(const std::vector<double>& given, double lo, double hi, int count,
                            const std::string& option) {
   if (!given.empty()) {
     for (const double v : given) {
       if (!(v > 0.0) || !std::isfinite(v)) {
         throw std::invalid_argument("lte-map: --" + option + "-ratios must be positive, got " +
-                                    std::to_string(v));
+                                    number(v));
       }
     }
     return given;
@@ -166,7 +173,10 @@ int lte_map_command(const LteMapCommandOptions& options) {
   studies::write_file_atomically((dir / "study.toml").string(), settings.str());
   const std::string png = (dir / "lte_map.png").string();
   const studies::PlotOutcome plot = studies::run_plot_script(
-      "plot_lte_map.py", {csv_path, png, "LTE error on " + scene.name}, png);
+      "plot_lte_map.py",
+      {csv_path, png, "LTE error on " + scene.name + " (" + number(study.end_time) + " s)",
+       number(base.spin_ratio), number(base.inertia_ratio)},
+      png);
 
   std::cout << "lte-map\n" << table << "wrote " << csv_path << ", lte_map.txt, study.toml";
   if (plot.ok) std::cout << ", " << plot.message;

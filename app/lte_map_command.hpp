@@ -15,13 +15,13 @@ struct LteMapCommandOptions {
   std::vector<double> spin_ratios;
   double spin_min = 0.01;
   double spin_max = 0.5;
-  int spin_count = 8;
+  int spin_count = 11;
   /// Inertia ratios y = I_flex/I_rigid; when empty, inertia_count log-spaced values in
   /// [inertia_min, inertia_max].
   std::vector<double> inertia_ratios;
   double inertia_min = 1e-4;
   double inertia_max = 1.0;
-  int inertia_count = 9;
+  int inertia_count = 11;
   std::string solver = "cvode";
   double rtol = 1e-10;
   double estimate_factor = 10.0;  ///< the accuracy check reruns at estimate_factor·rtol

@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """Contour map of a `flexref lte-map` study.
 
-Usage: plot_lte_map.py lte_map.csv out.png "title"
+Usage: plot_lte_map.py lte_map.csv out.png "title" [scene_spin_ratio scene_inertia_ratio]
 
 Reads spin_ratio,inertia_ratio,...,tip_error,...,resolved,status (one row per grid point) and
 draws, on log axes, filled contours of log10 of the LTE tip-deflection error relative to the
 coupled model against the spin ratio Omega0/omega1 (x) and the inertia ratio I_flex/I_rigid (y),
 with the 1 %, 5 % and 20 % lines drawn and labelled. Grid points are marked: a cross where the
 error is below 100x the estimated reference error (an upper bound only), a red x where the run
-failed. Needs a full grid (every x at every y).
+failed; a star at the scene's own (x, y) when given. Needs a full grid (every x at every y).
 """
 import csv
 import math
@@ -22,7 +22,7 @@ from matplotlib import colors  # noqa: E402
 
 
 def main(argv):
-    if len(argv) != 4:
+    if len(argv) not in (4, 6):
         sys.stderr.write(__doc__)
         return 2
     rows = list(csv.DictReader(open(argv[1], newline="")))
@@ -54,6 +54,10 @@ def main(argv):
     lines = ax.contour(xs, ys, z, levels=[0.01, 0.05, 0.20], colors=["white", "orange", "red"],
                        linewidths=[1.2, 2.0, 1.2])
     ax.clabel(lines, fmt={0.01: "1 %", 0.05: "5 %", 0.20: "20 %"}, fontsize=9)
+    # clabel drops labels on short segments: the legend names the lines too.
+    for color, width, text in (("white", 1.2, "1 % line"), ("orange", 2.0, "5 % line"),
+                               ("red", 1.2, "20 % line")):
+        ax.plot([], [], color=color, linewidth=width, label=text)
     unresolved = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows
                   if r["status"] == "ok" and r["resolved"] != "1"]
     failed = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows
@@ -67,12 +71,16 @@ def main(argv):
     if failed:
         ax.plot([p[0] for p in failed], [p[1] for p in failed], "x", color="red",
                 label="failed")
+    if len(argv) == 6:
+        ax.plot([float(argv[4])], [float(argv[5])], "*", color="magenta", markersize=12,
+                markeredgecolor="black", label="the scene itself")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("spin ratio Ω0/ω1 (initial spin / first clamped frequency) [-]")
     ax.set_ylabel("inertia ratio I_flex/I_rigid about the spin axis [-]")
     ax.set_title(argv[3])
-    ax.legend(fontsize=7, loc="lower left")
+    legend = ax.legend(fontsize=7, loc="upper left", framealpha=0.9)
+    legend.get_frame().set_facecolor("0.55")  # grey, so that the white 1 % line shows
     fig.tight_layout()
     fig.savefig(argv[2])
     return 0
