@@ -72,6 +72,7 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
   NewtonOutcome outcome;
   double merit = std::numeric_limits<double>::infinity();  // Σ |r|² at the accepted iterate
   double step_length = 1.0;                                // α of the current trial
+  double previous_relative = std::numeric_limits<double>::infinity();  // at the last iterate
   for (int evaluations = 0; evaluations < kMaxNewtonEvaluations; ++evaluations) {
     for (std::size_t i = 0; i < n_bodies; ++i) {
       const core::BodyState& s = state_[i];
@@ -140,10 +141,12 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
       next_[i].w_WB_B = w_accepted_[i] - delta_[i];
     }
     step_length = 1.0;
-    if (outcome.relative_residual <= detail::kNewtonTolerance) {
+    if (outcome.relative_residual <= detail::kNewtonTolerance ||
+        detail::newton_stagnated(outcome.relative_residual, previous_relative)) {
       outcome.converged = true;
       return outcome;
     }
+    previous_relative = outcome.relative_residual;
   }
   return outcome;
 }

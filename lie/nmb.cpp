@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -81,6 +82,7 @@ StepStatus NmbStepper::step(double h) {
     Vector3d& A = acc_next_[i].alpha_WB_B;
     A = A_n;
     int iterations = 0;  // Jacobian solves
+    double previous_relative = std::numeric_limits<double>::infinity();
     for (;;) {
       // f ← J A + W × J W − T_{n+1},  W = W_n + (h/2)(A_n + A);  K ← J + (h/2)(W̃ J − (J W)~)
       const detail::NmbLinearization f = detail::nmb_linearize(J, T_np1, W_n, A_n, A, h);
@@ -94,7 +96,11 @@ StepStatus NmbStepper::step(double h) {
       // step the same way)
       A -= f.jacobian.inverse() * f.residual;
       ++iterations;
-      if (relative_residual <= detail::kNewtonTolerance) break;
+      if (relative_residual <= detail::kNewtonTolerance ||
+          detail::newton_stagnated(relative_residual, previous_relative)) {
+        break;
+      }
+      previous_relative = relative_residual;
       if (iterations == kMaxNewtonIterations) {
         return {false, detail::newton_failure("NMB", t_n, h, relative_residual, iterations,
                                               static_cast<int>(i))};
