@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/figure_command.hpp"
 #include "app/lte_map_command.hpp"
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
@@ -135,11 +136,15 @@ int main(int argc, char** argv) {
 
   StabilityCommandOptions stab;
   auto* stab_cmd =
-      app.add_subcommand("stability", "largest stable step vs spin rate / inertia ratio");
+      app.add_subcommand("stability",
+                         "largest stable step vs spin rate, inertia ratio, modal frequency or "
+                         "contact stiffness");
   stab_cmd->add_option("scene", stab.scene,
                        "optional scene: first free body's inertia and W0 direction");
-  stab_cmd->add_option("--parameter", stab.parameter, "spin | inertia_ratio")
-      ->check(CLI::IsMember({"spin", "inertia_ratio"}))
+  stab_cmd
+      ->add_option("--parameter", stab.parameter,
+                   "spin | inertia_ratio | modal_frequency | contact_stiffness")
+      ->check(CLI::IsMember({"spin", "inertia_ratio", "modal_frequency", "contact_stiffness"}))
       ->capture_default_str();
   auto* values_opt = stab_cmd->add_option("--values", stab.values, "swept values (comma-separated)")
                          ->delimiter(',');
@@ -181,14 +186,24 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   stab_cmd->add_option("--out", stab.out_dir, "output directory")->capture_default_str();
 
+  FigureCommandOptions fig;
+  auto* fig_cmd = app.add_subcommand(
+      "figure", "trajectory of a tracked point by each scheme and step, with the reference");
+  fig_cmd->add_option("study", fig.study, "study file (TOML), e.g. studies/paper/*.toml")
+      ->required();
+  fig_cmd->add_option("--jobs", fig.jobs, "parallel runs (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  fig_cmd->add_option("--out", fig.out_dir, "output directory")->capture_default_str();
+
   LteMapCommandOptions lte;
   auto* lte_cmd = app.add_subcommand(
       "lte-map", "LTE model error vs coupled model over spin ratio and inertia ratio");
   lte_cmd->add_option("scene", lte.scene, "scene file with a free flexible body (TOML)")
       ->required();
-  auto* lte_spins = lte_cmd->add_option("--spin-ratios", lte.spin_ratios,
-                                        "Omega0/omega1 values (comma-separated)")
-                        ->delimiter(',');
+  auto* lte_spins =
+      lte_cmd
+          ->add_option("--spin-ratios", lte.spin_ratios, "Omega0/omega1 values (comma-separated)")
+          ->delimiter(',');
   lte_cmd->add_option("--spin-min", lte.spin_min, "log-spaced spin ratios: first")
       ->excludes(lte_spins)
       ->capture_default_str();
@@ -199,8 +214,9 @@ int main(int argc, char** argv) {
       ->excludes(lte_spins)
       ->check(CLI::Range(1, 200))
       ->capture_default_str();
-  auto* lte_inertias = lte_cmd->add_option("--inertia-ratios", lte.inertia_ratios,
-                                           "I_flex/I_rigid values (comma-separated)")
+  auto* lte_inertias = lte_cmd
+                           ->add_option("--inertia-ratios", lte.inertia_ratios,
+                                        "I_flex/I_rigid values (comma-separated)")
                            ->delimiter(',');
   lte_cmd->add_option("--inertia-min", lte.inertia_min, "log-spaced inertia ratios: first")
       ->excludes(lte_inertias)
@@ -218,8 +234,9 @@ int main(int argc, char** argv) {
   lte_cmd->add_option("--rtol", lte.rtol, "reference tolerance (both models)")
       ->check(CLI::Range(1e-14, 1e-4))
       ->capture_default_str();
-  lte_cmd->add_option("--estimate-factor", lte.estimate_factor,
-                      "accuracy check: rerun at this factor times rtol")
+  lte_cmd
+      ->add_option("--estimate-factor", lte.estimate_factor,
+                   "accuracy check: rerun at this factor times rtol")
       ->check(CLI::Range(2.0, 1e6))
       ->capture_default_str();
   lte_cmd->add_flag("!--no-scale-loads", lte.scale_loads,
@@ -242,6 +259,7 @@ int main(int argc, char** argv) {
     if (*wp_cmd) return work_precision_command(wp);
     if (*stab_cmd) return stability_command(stab);
     if (*lte_cmd) return lte_map_command(lte);
+    if (*fig_cmd) return figure_command(fig);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;
