@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/euler_parameters.hpp"
+#include "core/so3.hpp"
 #include "lie/c1_newton.hpp"
 #include "lie/scheme_support.hpp"
 
@@ -131,6 +132,12 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
       continue;
     }
     merit = trial_merit;
+    // Velocity-dependent loads (friction, dampers): add −exp(−Θ̃) h R_nᵀ ∂Γ_{n+½}/∂W to K by
+    // forward differences (docs/schemes.md, "C1 on velocity-dependent loads").
+    if (model_.has_velocity_dependent_loads() &&
+        outcome.relative_residual > detail::kNewtonTolerance) {
+      add_load_jacobian(t_n, h);
+    }
     // W ← W − K⁻¹ r   (also after the test has passed: the correction then only removes the
     // last ≤ 1e-14 of the error and costs no evaluation, and without it that remainder would
     // bias every step the same way and add up over a run)
@@ -149,6 +156,35 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
     previous_relative = outcome.relative_residual;
   }
   return outcome;
+}
+
+void C1Stepper::add_load_jacobian(double t_n, double h) {
+  const core::LoadContext midpoint{t_n + 0.5 * h, t_n + 0.5 * h};
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    if (model_.body(static_cast<int>(i)).is_prescribed()) continue;
+    const core::BodyState& s = state_[i];
+    const Vector3d W = next_[i].w_WB_B;
+    const core::BodyState mid_saved = mid_[i];
+    const Matrix3d exp_minus = core::exp_so3(-detail::c1_increment(s.w_WB_B, W, h));
+    // ε: the square root of the unit round-off times the size of W (forward differences).
+    const double eps = 1.5e-8 * std::max(1.0, W.cwiseAbs().maxCoeff());
+    for (int k = 0; k < 3; ++k) {
+      next_[i].w_WB_B = W;
+      next_[i].w_WB_B(k) += eps;
+      const Vector3d theta = detail::c1_increment(s.w_WB_B, next_[i].w_WB_B, h);
+      mid_[i].theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(0.5 * theta));
+      detail::renormalize_unit_product(mid_[i].theta_WB);
+      mid_[i].w_WB_B = 0.5 * (s.w_WB_B + next_[i].w_WB_B);
+      model_.compute_wrenches(midpoint, mid_, ws_);
+      ++evaluations_;
+      // ∂b/∂W_k = h R_nᵀ (Γ(W + ε e_k) − Γ(W))/ε,  with b = J W_n + h R_nᵀ Γ
+      const Vector3d b_plus = model_.body(static_cast<int>(i)).I_Br_B() * s.w_WB_B +
+                              h * (R_n_transpose_[i] * ws_.wrenches[i].tau_Br_W);
+      jacobian_[i].col(k) -= exp_minus * ((b_plus - b_[i]) / eps);
+    }
+    next_[i].w_WB_B = W;
+    mid_[i] = mid_saved;
+  }
 }
 
 StepStatus C1Stepper::step(double h) {

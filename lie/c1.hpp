@@ -83,6 +83,9 @@ class C1Stepper final : public Stepper {
   void restart(double h);
   /// Newton on W_{n+1} (in next_), from the predictor already in next_.
   NewtonOutcome solve_balance(double t_n, double h);
+  /// Adds the loads' dependence on W_{n+1} to every body's Jacobian (forward differences, three
+  /// evaluations per body), for models with velocity-dependent loads.
+  void add_load_jacobian(double t_n, double h);
 
   const core::Model& model_;
   bool has_free_body_ = false;  ///< a free or flexible body: evaluate again at t_{n+1}
