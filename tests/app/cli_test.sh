@@ -134,6 +134,31 @@ out=$("$flexref" check "$tmp/bad_contact.toml" 2>&1)
 [[ $? -eq 1 && $out == *"bad_contact.toml:"*"contact[1].radius"* ]] ||
   fail "bad contact radius: $out"
 
+# figure: a paper study file, shortened; table and CSV written, failed runs explained.
+sed 's/^end_time = 20.0/end_time = 2.0/' studies/paper/fig1_free_spin.toml >"$tmp/fig1.toml"
+sed -i 's|scene = "../../scenes/free_spin.toml"|scene = "'"$PWD"'/scenes/free_spin.toml"|' "$tmp/fig1.toml"
+out=$("$flexref" figure "$tmp/fig1.toml" --jobs 2 --out "$tmp/fig1" 2>&1) ||
+  fail "figure failed: $out"
+[[ -s "$tmp/fig1/figure.csv" && -s "$tmp/fig1/study.toml" && $out == *"completed"* ]] ||
+  fail "figure: missing outputs: $out"
+printf '[figure]\nscene = "%s/scenes/free_spin.toml"\nsteps = [0.3]\n' "$PWD" >"$tmp/fig_bad.toml"
+out=$("$flexref" figure "$tmp/fig_bad.toml" --out "$tmp/fig_bad" 2>&1)
+[[ $? -eq 1 && $out == *"fig_bad.toml:"*"figure.steps"* ]] || fail "figure bad step: $out"
+# lte-map on a tiny grid; bad ratios and a scene without a flexible body are refused.
+"$flexref" lte-map scenes/flexible_spinner.toml --spin-ratios 0.02,0.05 --inertia-ratios 1e-4,0.1 \
+  --end-time 1 --jobs 2 --out "$tmp/lte" >/dev/null 2>&1 || fail "lte-map failed"
+[[ $(wc -l <"$tmp/lte/lte_map.csv") -eq 5 && -s "$tmp/lte/study.toml" ]] ||
+  fail "lte-map: expected 4 grid rows and study.toml"
+"$flexref" lte-map scenes/flexible_spinner.toml --inertia-ratios 0.1,-1 --out "$tmp/lte_bad" \
+  >/dev/null 2>&1
+[[ $? -eq 1 ]] || fail "lte-map accepted a negative inertia ratio"
+"$flexref" lte-map scenes/free_spin.toml --out "$tmp/lte_bad" >/dev/null 2>&1
+[[ $? -eq 1 ]] || fail "lte-map accepted a scene without a flexible body"
+# stability against modal frequency: the limit 2/omega.
+out=$("$flexref" stability --parameter modal_frequency --values 50 --schemes c2 \
+  --out "$tmp/stab_modal" 2>&1) || fail "stability modal_frequency failed: $out"
+[[ $out == *"1.999"* ]] || fail "stability modal_frequency: h*omega not 1.999: $out"
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1
