@@ -68,7 +68,8 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
   struct Item {
     std::string name, unit;
     int column;
-    enum Kind { kVector, kRotation, kPoint } kind;
+    enum Kind { kVector, kRotation, kPoint, kModes } kind;
+    std::vector<std::size_t> modal_columns = {};  ///< kModes: the B.q1 … B.qn columns
   };
   std::vector<Item> items;
   const auto& cols = run.columns;
@@ -88,6 +89,16 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
             {cols[j].substr(0, cols[j].size() - 2), "m", static_cast<int>(j), Item::kPoint});
         j += 3;
       }
+      // Modal coordinates of a flexible body: "<B>.q<k>" (not the rates "<B>.qd<k>").
+      Item modes{body + ".modes", "-", -1, Item::kModes};
+      for (std::size_t m = j; m < cols.size() && cols[m].starts_with(body + ".q"); ++m) {
+        const std::string tail = cols[m].substr(body.size() + 2);
+        if (!tail.empty() &&
+            std::all_of(tail.begin(), tail.end(), [](char ch) { return ch >= '0' && ch <= '9'; })) {
+          modes.modal_columns.push_back(m);
+        }
+      }
+      if (!modes.modal_columns.empty()) items.push_back(modes);
       i = j - 1;
     }
   }
@@ -98,7 +109,12 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
     for (std::size_t k = 0; k < run.size(); ++k) {
       const auto& a = run.rows[k];
       const auto& b = reference.rows[k];
-      if (item.kind == Item::kRotation) {
+      if (item.kind == Item::kModes) {
+        // max_i |q_i − q_i,ref| at this time
+        double worst = 0.0;
+        for (std::size_t c : item.modal_columns) worst = std::max(worst, std::abs(a[c] - b[c]));
+        acc.add(worst);
+      } else if (item.kind == Item::kRotation) {
         const auto c = static_cast<std::size_t>(item.column);
         const core::EulerParameters qa(a[c], a[c + 1], a[c + 2], a[c + 3]);
         const core::EulerParameters qb(b[c], b[c + 1], b[c + 2], b[c + 3]);
@@ -113,6 +129,8 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
     }
     if (item.kind == Item::kPoint)
       report.max_point_linf = std::max(report.max_point_linf, norms.linf);
+    if (item.kind == Item::kModes)
+      report.max_modal_linf = std::max(report.max_modal_linf, norms.linf);
     report.quantities.push_back({item.name, item.unit, norms});
   }
   return report;
@@ -122,6 +140,7 @@ double metric_value(const ComparisonReport& report, const std::string& metric) {
   if (metric == "rotation+points") return report.default_metric();
   if (metric == "rotation") return report.max_rotation_linf;
   if (metric == "points") return report.max_point_linf;
+  if (metric == "modes") return report.max_modal_linf;
   if (metric == "position" || metric == "velocity" || metric == "angular_velocity") {
     double value = 0.0;
     for (const QuantityError& q : report.quantities) {
@@ -130,8 +149,8 @@ double metric_value(const ComparisonReport& report, const std::string& metric) {
     return value;
   }
   throw std::invalid_argument("unknown metric '" + metric +
-                              "' (rotation+points, rotation, points, position, velocity, "
-                              "angular_velocity)");
+                              "' (rotation+points, rotation, points, modes, position, "
+                              "velocity, angular_velocity)");
 }
 
 }  // namespace flexref::studies

@@ -3,7 +3,8 @@
 /// Error of a trajectory against a reference on the same output times (design/schemes.md,
 /// "Error metrics"): per body the position of the frame origin |x − x_ref|, the geodesic
 /// rotation angle |log(A_refᵀ A)|, the velocity and angular-velocity errors; per tracked point
-/// its position error. Each is reduced over time to L∞ (max), RMS and final value.
+/// its position error; per flexible body the modal-coordinate error max_i |q_i − q_i,ref|. Each
+/// is reduced over time to L∞ (max), RMS and final value.
 #include <string>
 #include <vector>
 
@@ -27,6 +28,7 @@ struct ComparisonReport {
   std::vector<QuantityError> quantities;
   double max_rotation_linf = 0.0;  ///< max over bodies, rad
   double max_point_linf = 0.0;     ///< max over tracked points, m
+  double max_modal_linf = 0.0;     ///< max over flexible bodies of max_i |q_i − q_i,ref|
   /// Default study metric: L∞ geodesic rotation angle + L∞ tracked-point position (max over
   /// bodies and points). Named "rotation+points".
   double default_metric() const { return max_rotation_linf + max_point_linf; }
@@ -36,7 +38,8 @@ struct ComparisonReport {
 /// std::invalid_argument naming the first mismatch.
 ComparisonReport compare_trajectories(const TrajectoryTable& run, const TrajectoryTable& reference);
 
-/// The metrics a study may name: "rotation+points" (default), "rotation", "points",
+/// The metrics a study may name: "rotation+points" (default), "rotation", "points", "modes"
+/// (L∞ over time of max_i |q_i − q_i,ref| over the flexible bodies' modal coordinates),
 /// "position", "velocity", "angular_velocity". Throws std::invalid_argument otherwise.
 double metric_value(const ComparisonReport& report, const std::string& metric);
 

@@ -1,0 +1,45 @@
+#include "studies/error_metrics.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <stdexcept>
+
+#include "studies/trajectory_table.hpp"
+#include "tests/support/flexible_models.hpp"
+
+namespace flexref::studies {
+namespace {
+
+TEST_CASE("the modes metric is the L-infinity modal-coordinate error", "[studies][metrics]") {
+  Eigen::VectorXd q0(2);
+  q0 << 0.02, 0.01;
+  const core::Model model =
+      testing::rotating_cantilever_model(core::FlexibleFormulation::kCoupled, 3.0, 2, 10, q0);
+  core::Trajectory reference;
+  for (int k = 0; k < 4; ++k) {
+    core::State s = model.initial_state();
+    model.apply_prescribed_motion(0.1 * k, s);
+    reference.times.push_back(0.1 * k);
+    reference.states.push_back(s);
+  }
+  core::Trajectory run = reference;
+  // Perturb q2 by 3e-4 at the third output and q1 by 1e-4 at the last.
+  run.states[2][0].q_f(1) += 3e-4;
+  run.states[3][0].q_f(0) -= 1e-4;
+  const ComparisonReport report =
+      compare_trajectories(tabulate(model, run), tabulate(model, reference));
+  // CSV values are written with 17 digits: the difference is exact to ~1e-17.
+  CHECK(metric_value(report, "modes") == Approx(3e-4).epsilon(1e-12));
+  // The tip moves with q: the points metric sees the perturbation too, the rotation does not.
+  CHECK(metric_value(report, "points") > 0.0);
+  CHECK(metric_value(report, "rotation") == 0.0);
+  CHECK_THROWS_AS(metric_value(report, "modal"), std::invalid_argument);
+}
+
+TEST_CASE("rigid scenes have no modes metric contribution", "[studies][metrics]") {
+  const ComparisonReport empty;
+  CHECK(metric_value(empty, "modes") == 0.0);
+}
+
+}  // namespace
+}  // namespace flexref::studies
