@@ -136,6 +136,7 @@ int stability_command(const StabilityCommandOptions& options) {
   study.long_run_steps = options.long_run_steps;
   study.long_run_h = options.long_run_dt;
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
+  study.progress = true;
 
   std::cerr << "stability: " << study.values.size() * study.schemes.size() << " bisections"
             << (study.degenerate ? " + degenerate set" : "")

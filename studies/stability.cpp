@@ -1,6 +1,9 @@
 #include "studies/stability.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -275,6 +278,16 @@ StabilityResult run_stability(const StabilityOptions& options) {
 
   // Sweep: task = value index × schemes + scheme index; each task writes its own slot.
   const auto n_values = static_cast<int>(options.values.size());
+  const int n_total =
+      n_values * n_schemes +
+      (options.degenerate ? static_cast<int>(degenerate_bodies().size()) : 0) * n_schemes +
+      (options.long_run_steps > 0 ? n_schemes : 0);
+  std::atomic<int> done{0};
+  const bool tty = options.progress && isatty(STDERR_FILENO);
+  const auto report = [&] {
+    const int finished = ++done;
+    if (tty) std::fprintf(stderr, "\rstability: %d/%d runs", finished, n_total);
+  };
   result.sweep.resize(options.values.size() * options.schemes.size());
   parallel_for(n_values * n_schemes, options.jobs, [&](int task) {
     const double value = options.values[static_cast<std::size_t>(task / n_schemes)];
@@ -287,6 +300,7 @@ StabilityResult run_stability(const StabilityOptions& options) {
     point.parameter = options.parameter;
     point.value = value;
     result.sweep[static_cast<std::size_t>(task)] = std::move(point);
+    report();
   });
 
   if (options.degenerate) {
@@ -303,6 +317,7 @@ StabilityResult run_stability(const StabilityOptions& options) {
       point.near_pi = classify_run(make_free_body_model(inertia, w), scheme_of(task),
                                    kNearPiStepTimesSpin / options.spin, options.criterion);
       result.degenerate[static_cast<std::size_t>(task)] = std::move(point);
+      report();
     });
   }
 
@@ -310,9 +325,11 @@ StabilityResult run_stability(const StabilityOptions& options) {
     std::vector<std::vector<LongRunSample>> runs(options.schemes.size());
     parallel_for(n_schemes, options.jobs, [&](int i) {
       runs[static_cast<std::size_t>(i)] = long_run(scheme_of(i), options);
+      report();
     });
     for (auto& run : runs) result.long_run.insert(result.long_run.end(), run.begin(), run.end());
   }
+  if (tty) std::fprintf(stderr, "\n");
   return result;
 }
 
