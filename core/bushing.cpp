@@ -190,7 +190,11 @@ void RevoluteBushing::add_wrenches(const LoadContext& /*context*/,
       parameters_.angular_stiffness * a.axis_W.cross(b.axis_W) +
       parameters_.angular_damping * perpendicular_part(a, b, b.w_WB_W - a.w_WB_W);
   wrenches[static_cast<std::size_t>(a_.body)].tau_Br_W += tau_W;
-  if (!b.ground) wrenches[static_cast<std::size_t>(b_.body)].tau_Br_W -= tau_W;
+  wrenches[static_cast<std::size_t>(a_.body)].torque_magnitude += tau_W.norm();
+  if (!b.ground) {
+    wrenches[static_cast<std::size_t>(b_.body)].tau_Br_W -= tau_W;
+    wrenches[static_cast<std::size_t>(b_.body)].torque_magnitude += tau_W.norm();
+  }
 }
 
 double RevoluteBushing::potential_energy(const LoadContext& /*context*/,

@@ -55,16 +55,23 @@ struct Wrench {
   Eigen::Vector3d tau_Br_W = Eigen::Vector3d::Zero();
   /// Generalized modal force Qe_f (n; empty for a rigid body).
   Eigen::VectorXd Q_f;
+  /// Σ of the magnitudes of the torque contributions about Br that add_force_at summed (N·m):
+  /// the scale of the net torque's round-off when contributions cancel (four corner contacts
+  /// carrying a block's weight), used by implicit schemes' convergence tests.
+  double torque_magnitude = 0.0;
 
   void set_zero() {
     f_W.setZero();
     tau_Br_W.setZero();
     Q_f.setZero();
+    torque_magnitude = 0.0;
   }
   /// Adds a force applied at a point whose arm from Br is p_BrP_W.
   void add_force_at(const Eigen::Vector3d& force_W, const Eigen::Vector3d& p_BrP_W) {
     f_W += force_W;
-    tau_Br_W += p_BrP_W.cross(force_W);
+    const Eigen::Vector3d tau = p_BrP_W.cross(force_W);
+    tau_Br_W += tau;
+    torque_magnitude += tau.norm();
   }
 };
 

@@ -109,8 +109,10 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
       const detail::C1Linearization linearization = detail::c1_linearize(J, b_[i], W_n, W, h);
       residual_[i] = linearization.residual;
       jacobian_[i] = linearization.jacobian;
-      const double scale =
-          detail::max_abs(J * W) + detail::max_abs(J_W_n) + detail::max_abs(impulse_B);
+      // Scale of the residual's terms, including the individual torques that make up the net
+      // impulse (their round-off survives when they cancel).
+      const double scale = detail::max_abs(J * W) + detail::max_abs(J_W_n) +
+                           detail::max_abs(impulse_B) + h * ws_.wrenches[i].torque_magnitude;
       const double relative = detail::max_abs(residual_[i]) / (scale > 0.0 ? scale : 1.0);
       if (!std::isfinite(relative)) {
         outcome.finite = false;
