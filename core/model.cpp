@@ -126,6 +126,8 @@ Workspace Model::make_workspace() const {
     ws.kinematics[i].p_BoBr_B = b.p_BoBr_B();
     const Eigen::Index n = b.mode_count();
     ws.wrenches[i].Q_f = Eigen::VectorXd::Zero(n);
+    // The rows driving_torque evaluates (rigid prescribed bodies too).
+    ws.flexible[i].residual = Eigen::VectorXd::Zero(6 + n);
     if (!b.is_flexible()) continue;
     ws.kinematics[i].invariants = &b.invariants();
     FlexibleScratch& fs = ws.flexible[i];
@@ -142,15 +144,29 @@ Workspace Model::make_workspace() const {
   return ws;
 }
 
-void Model::compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const {
-  ws.time = context.t;
+void Model::pose_bodies(const State& state, Workspace& ws) const {
+  // Loads see the state's q_f under the coupled model, q_f = 0 under LTE (undeformed body).
   const bool lte = formulation_ == FlexibleFormulation::kLte;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     ws.kinematics[i].state = &state[i];
     ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
     ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
-    ws.wrenches[i].set_zero();
   }
+}
+
+void Model::solve_modal_rows(const Body& b, FlexibleScratch& fs) const {
+  // M_ff q̈ = rhs_f − M_fR a − M_fθ α̅, with M_ff = m_ff in both formulations (the modal block
+  // does not depend on the state): the constant Cholesky factor.
+  const Eigen::Index n = b.mode_count();
+  fs.sub_rhs.tail(n) = fs.rhs.tail(n);
+  fs.sub_rhs.tail(n).noalias() -= fs.M.bottomLeftCorner(n, 6) * fs.x.head<6>();
+  fs.x.tail(n) = b.modal_mass_llt().solve(fs.sub_rhs.tail(n));
+}
+
+void Model::compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const {
+  ws.time = context.t;
+  pose_bodies(state, ws);
+  for (Wrench& w : ws.wrenches) w.set_zero();
   for (const auto& e : elements_) e->add_wrenches(context, ws.kinematics, ws.wrenches);
 }
 
@@ -202,9 +218,7 @@ void Model::flexible_accelerations(int i, const BodyState& s, Workspace& ws,
       fs.rigid_llt.compute(fs.M.block(start, start, r, r));
       fs.x.segment(start, r) = fs.rigid_llt.solve(fs.sub_rhs.head(r));
     }
-    fs.sub_rhs.tail(n) = fs.rhs.tail(n);
-    fs.sub_rhs.tail(n).noalias() -= fs.M.bottomLeftCorner(n, 6) * fs.x.head<6>();
-    fs.x.tail(n) = b.modal_mass_llt().solve(fs.sub_rhs.tail(n));
+    solve_modal_rows(b, fs);
   }
   a.a_WBr = fs.x.head<3>();
   a.alpha_WB_B = fs.x.segment<3>(3);
@@ -282,11 +296,8 @@ void Model::modal_accelerations(int i, const BodyState& s, const Eigen::Vector3d
     fs.x.head<3>() = a_WBr;
     fs.x.segment<3>(3) = alpha_WB_B;
   }
-  // M_ff q̈ = rhs_f − M_fR a − M_fθ α̅
-  fs.sub_rhs.tail(n) = fs.rhs.tail(n);
-  fs.sub_rhs.tail(n).noalias() -= fs.M.bottomLeftCorner(n, 6) * fs.x.head<6>();
-  // M_ff = m_ff in both formulations (the modal block does not depend on the state).
-  qdd_f = b.modal_mass_llt().solve(fs.sub_rhs.tail(n));
+  solve_modal_rows(b, fs);
+  qdd_f = fs.x.tail(n);
 }
 
 double Model::driving_torque(int i, const BodyState& s, const BodyAcceleration& acc,
@@ -294,7 +305,6 @@ double Model::driving_torque(int i, const BodyState& s, const BodyAcceleration& 
   const Body& b = body(i);
   if (!b.is_prescribed()) return 0.0;
   FlexibleScratch& fs = ws.flexible[static_cast<std::size_t>(i)];
-  if (fs.residual.size() != 6 + b.mode_count()) fs.residual.resize(6 + b.mode_count());
   dynamics_residual(i, s, acc, ws, fs.residual);
   // The drive's torque τ_d enters the rotation rows as +Aᵀ τ_d, so τ_d,B = the residual there.
   const Eigen::Vector3d tau_drive_W =
@@ -321,12 +331,7 @@ double Model::kinetic_energy(const State& state) const {
 
 double Model::potential_energy(const LoadContext& context, const State& state,
                                Workspace& ws) const {
-  const bool lte = formulation_ == FlexibleFormulation::kLte;
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    ws.kinematics[i].state = &state[i];
-    ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
-    ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
-  }
+  pose_bodies(state, ws);
   double v = elastic_energy(state);
   for (const auto& e : elements_) v += e->potential_energy(context, ws.kinematics);
   return v;
@@ -334,12 +339,7 @@ double Model::potential_energy(const LoadContext& context, const State& state,
 
 void Model::switching_functions(const LoadContext& context, const State& state, Workspace& ws,
                                 std::span<double> g) const {
-  const bool lte = formulation_ == FlexibleFormulation::kLte;
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    ws.kinematics[i].state = &state[i];
-    ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
-    ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
-  }
+  pose_bodies(state, ws);
   std::size_t offset = 0;
   for (const auto& e : elements_) {
     const auto count = static_cast<std::size_t>(e->switching_function_count());
@@ -351,12 +351,9 @@ void Model::switching_functions(const LoadContext& context, const State& state, 
 
 double Model::dissipated_power(const LoadContext& context, const State& state,
                                Workspace& ws) const {
-  const bool lte = formulation_ == FlexibleFormulation::kLte;
+  pose_bodies(state, ws);
   double p = 0.0;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    ws.kinematics[i].state = &state[i];
-    ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
-    ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
     if (bodies_[i].is_flexible()) {
       // q̇_fᵀ D q̇_f with D = diag(d_i)
       p += state[i].qd_f.dot(bodies_[i].modal_damping().cwiseProduct(state[i].qd_f));

@@ -143,6 +143,10 @@ class Model {
   Eigen::Vector3d p_WP(int i, const BodyState& s, const TrackedPoint& point) const;
 
  private:
+  /// Points ws.kinematics at the state (A(θ), and the q_f the loads see).
+  void pose_bodies(const State& state, Workspace& ws) const;
+  /// fs.x's modal rows from its rigid rows (a, α̅) and fs.M, fs.rhs.
+  void solve_modal_rows(const Body& b, FlexibleScratch& fs) const;
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
 

@@ -67,6 +67,20 @@ void check_order_two(const std::vector<double>& errors, double reference_error) 
   }
 }
 
+// Order 2 of every scheme over [0, 2] with steps 0.01, 0.005, 0.0025 (below 2/ω_max = 0.05),
+// against the LTE reference at 1e-12 whose error is bounded by its distance to a run 100×
+// looser.
+void check_hybrid_orders(const core::Model& model) {
+  const std::vector<double> times = core::output_times(2.0, 0.05);
+  const core::Trajectory ref = reference(model, times, 1e-12);
+  const double ref_error = trajectory_error(model, reference(model, times, 1e-10), ref);
+  for (const std::string& name : scheme_names()) {
+    DYNAMIC_SECTION("scheme " << name) {
+      check_order_two(errors_for(model, name, times, ref, 0.01), ref_error);
+    }
+  }
+}
+
 TEST_CASE("the hybrid schemes refuse the coupled model", "[lie][flexible]") {
   const core::Model coupled = testing::flexible_spinner_model(FlexibleFormulation::kCoupled);
   for (const std::string& name : scheme_names()) {
@@ -79,16 +93,7 @@ TEST_CASE("hybrid scheme: observed order 2 on flexible_spinner against the LTE r
   // Span [0, 2]: the torque pulse [0, 0.5) and 1.5 s of free spinning with vibrating modes
   // (ω = 6.3 and 39.4 rad/s). Steps 0.01 → 0.0025 are below 2/ω_max = 0.05 (stability) and
   // h ω_max ≤ 0.4 (the asymptotic range of central differences on the fastest mode).
-  const core::Model model = testing::flexible_spinner_model(FlexibleFormulation::kLte);
-  const std::vector<double> times = core::output_times(2.0, 0.05);
-  const core::Trajectory ref = reference(model, times, 1e-12);
-  // The reference's error: its distance to a run 100× looser bounds it.
-  const double ref_error = trajectory_error(model, reference(model, times, 1e-10), ref);
-  for (const std::string& name : scheme_names()) {
-    DYNAMIC_SECTION("scheme " << name) {
-      check_order_two(errors_for(model, name, times, ref, 0.01), ref_error);
-    }
-  }
+  check_hybrid_orders(testing::flexible_spinner_model(FlexibleFormulation::kLte));
 }
 
 TEST_CASE("hybrid scheme: observed order 2 on a tumbling flexible spinner (non-commuting)",
@@ -107,14 +112,7 @@ TEST_CASE("hybrid scheme: observed order 2 on a tumbling flexible spinner (non-c
       0, Eigen::Vector3d(1.0, 0.0, 5.0), core::LoadFrame::kWorld,
       core::TimeProfile::sin2_pulse(0.0, 0.5)));
   const core::Model model(std::move(bodies), std::move(elements), FlexibleFormulation::kLte);
-  const std::vector<double> times = core::output_times(2.0, 0.05);
-  const core::Trajectory ref = reference(model, times, 1e-12);
-  const double ref_error = trajectory_error(model, reference(model, times, 1e-10), ref);
-  for (const std::string& name : scheme_names()) {
-    DYNAMIC_SECTION("scheme " << name) {
-      check_order_two(errors_for(model, name, times, ref, 0.01), ref_error);
-    }
-  }
+  check_hybrid_orders(model);
 }
 
 TEST_CASE("hybrid scheme: observed order 2 on a rotating cantilever (prescribed hub)",
@@ -123,14 +121,7 @@ TEST_CASE("hybrid scheme: observed order 2 on a rotating cantilever (prescribed 
   q0 << 0.02, 0.01;
   const core::Model model =
       testing::rotating_cantilever_model(FlexibleFormulation::kLte, 3.0, 2, 10, q0);
-  const std::vector<double> times = core::output_times(2.0, 0.05);
-  const core::Trajectory ref = reference(model, times, 1e-12);
-  const double ref_error = trajectory_error(model, reference(model, times, 1e-10), ref);
-  for (const std::string& name : scheme_names()) {
-    DYNAMIC_SECTION("scheme " << name) {
-      check_order_two(errors_for(model, name, times, ref, 0.01), ref_error);
-    }
-  }
+  check_hybrid_orders(model);
 }
 
 TEST_CASE("hybrid scheme: central differences on the modes are stable below 2/omega_max only",

@@ -32,9 +32,8 @@ namespace flexref::testing {
 using FlexibleElements = std::vector<std::unique_ptr<const core::ForceElement>>;
 
 /// Bending-only modal data of a uniform clamped-free beam along x from `origin`.
-inline core::ModalData beam_bending_modes(const Eigen::Vector3d& origin, double length,
-                                          double EI, double EA, double rho_A, int elements,
-                                          int modes) {
+inline core::ModalData beam_bending_modes(const Eigen::Vector3d& origin, double length, double EI,
+                                          double EA, double rho_A, int elements, int modes) {
   core::BeamParameters p;
   p.origin = origin;
   p.length = length;
@@ -66,8 +65,8 @@ inline core::RigidBodyDescription flexible_body(std::string name, core::ModalDat
 inline core::Model flexible_spinner_model(core::FlexibleFormulation formulation, int modes = 4,
                                           int elements = 10, double torque_z = 5.0) {
   core::RigidBodyDescription d = flexible_body(
-      "spinner", beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0,
-                                    elements, modes));
+      "spinner",
+      beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0, elements, modes));
   d.mass = 10.0;
   d.I_Bcm_B = Eigen::Vector3d(0.5, 0.5, 1.0).asDiagonal();
   d.initial.w_WB_B = Eigen::Vector3d(0.0, 0.0, 1.0);
@@ -86,8 +85,8 @@ inline core::Model rotating_cantilever_model(core::FlexibleFormulation formulati
                                              int modes = 2, int elements = 10,
                                              const Eigen::VectorXd& q0 = {}) {
   core::RigidBodyDescription d = flexible_body(
-      "beam", beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0, elements,
-                                 modes));
+      "beam",
+      beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0, elements, modes));
   d.motion = core::MotionKind::kPrescribed;
   d.prescribed.axis_W = Eigen::Vector3d::UnitZ();
   d.prescribed.law.kind = core::AngleLaw::Kind::kConstantRate;
@@ -102,8 +101,8 @@ inline core::Model rotating_cantilever_model(core::FlexibleFormulation formulati
 inline core::Model spin_up_beam_model(core::FlexibleFormulation formulation, double omega_s,
                                       int modes = 4, int elements = 10) {
   core::RigidBodyDescription d = flexible_body(
-      "beam", beam_bending_modes(Eigen::Vector3d::Zero(), 10.0, 1.4e4, 2.8e7, 1.2, elements,
-                                 modes));
+      "beam",
+      beam_bending_modes(Eigen::Vector3d::Zero(), 10.0, 1.4e4, 2.8e7, 1.2, elements, modes));
   d.motion = core::MotionKind::kPrescribed;
   d.prescribed.axis_W = Eigen::Vector3d::UnitZ();
   d.prescribed.law.kind = core::AngleLaw::Kind::kSpinUp;
