@@ -8,13 +8,13 @@
 #include <string>
 
 #include "app/commands.hpp"
-#include "app/scene_reader.hpp"
 #include "reference/exact_solution.hpp"
+#include "scene/scene_reader.hpp"
 
 namespace flexref::app {
 
 int check_command(const CheckOptions& options) {
-  const Scene scene = read_scene(options.scene);
+  const scene::Scene scene = scene::read_scene(options.scene);
   const core::Model& model = *scene.model;
   std::cout << "scene " << scene.name << " (" << options.scene << "): OK\n";
   if (!scene.description.empty()) std::cout << "  " << scene.description << "\n";
@@ -43,7 +43,7 @@ int check_command(const CheckOptions& options) {
                 << "] (world): " << p.law.describe() << "\n";
     }
     if (!b.is_flexible()) continue;
-    const core::ModalData& modal = b.description().flexible->modal;
+    const flexible::ModalData& modal = b.description().flexible->modal;
     const Eigen::VectorXd& w = b.natural_frequencies();
     std::cout << "    " << b.mode_count() << " modes on " << modal.node_count()
               << " nodes; natural frequencies with the frame held fixed:\n";
@@ -67,7 +67,7 @@ int check_command(const CheckOptions& options) {
   // docs/joints.md) and the explicit step it allows.
   double penalty_limit = std::numeric_limits<double>::infinity();
   std::string penalty_label;
-  for (const PenaltyMode& m : scene.penalty_modes) {
+  for (const scene::PenaltyMode& m : scene.penalty_modes) {
     const bool angular = m.label.ends_with(" angular");
     std::cout << "  " << m.label << ": omega = sqrt(k/" << (angular ? "I_eff" : "m_eff")
               << ") = sqrt(" << m.stiffness << (angular ? " N·m/rad / " : " N/m / ") << m.inertia

@@ -1,12 +1,12 @@
 #pragma once
 /// \file commands.hpp
-/// The `flexref` subcommands (design/README.md). Each returns the process exit code; errors
+/// The `flexref` subcommands (docs/design/README.md). Each returns the process exit code; errors
 /// are thrown and mapped to exit codes in main.cpp.
 #include <string>
 #include <vector>
 
-#include "app/scene.hpp"
 #include "core/model.hpp"
+#include "scene/scene.hpp"
 
 namespace flexref::app {
 
@@ -80,6 +80,6 @@ std::string toml_number_array(const std::vector<double>& items);
 
 /// The [scene] table of result metadata: the scene file, its name, the creation time and the
 /// model formulation (`model = "coupled"` or `"lte"`, the --model option).
-std::string scene_metadata(const std::string& scene_file, const Scene& scene);
+std::string scene_metadata(const std::string& scene_file, const scene::Scene& scene);
 
 }  // namespace flexref::app

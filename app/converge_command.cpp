@@ -3,8 +3,9 @@
 #include <sstream>
 
 #include "app/commands.hpp"
-#include "app/scene_reader.hpp"
 #include "core/output_times.hpp"
+#include "io/atomic_file.hpp"
+#include "scene/scene_reader.hpp"
 #include "studies/convergence.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
@@ -14,7 +15,7 @@
 namespace flexref::app {
 
 int converge_command(const ConvergeOptions& options) {
-  const Scene scene = read_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = scene::read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
 
@@ -43,9 +44,9 @@ int converge_command(const ConvergeOptions& options) {
            << studies::versions_toml();
 
   const std::string csv_path = (dir / "convergence.csv").string();
-  studies::write_file_atomically(csv_path, studies::convergence_csv(result));
-  studies::write_file_atomically((dir / "convergence.txt").string(), table);
-  studies::write_file_atomically((dir / "study.toml").string(), settings.str());
+  io::write_file_atomically(csv_path, studies::convergence_csv(result));
+  io::write_file_atomically((dir / "convergence.txt").string(), table);
+  io::write_file_atomically((dir / "study.toml").string(), settings.str());
   studies::write_csv(result.reference.table, (dir / "reference.csv").string());
   const std::string png = (dir / "convergence.png").string();
   const studies::PlotOutcome plot = studies::run_plot_script(

@@ -9,11 +9,12 @@
 #include <vector>
 
 #include "app/commands.hpp"
-#include "app/scene_reader.hpp"
-#include "app/scene_toml.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
+#include "io/atomic_file.hpp"
 #include "reference/solve_reference.hpp"
+#include "scene/scene_reader.hpp"
+#include "scene/scene_toml.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
 #include "studies/trajectory_figure.hpp"
@@ -33,7 +34,7 @@ std::string read_text(const std::string& path) {
 }
 
 /// An array of strings or numbers under `key` of table t (file:line:key errors).
-std::vector<std::string> string_array(const scene_toml::Table& t, std::string_view key) {
+std::vector<std::string> string_array(const scene::scene_toml::Table& t, std::string_view key) {
   std::vector<std::string> out;
   const toml::value* v = t.find(key);
   if (v == nullptr) return out;
@@ -45,14 +46,14 @@ std::vector<std::string> string_array(const scene_toml::Table& t, std::string_vi
   return out;
 }
 
-std::vector<double> number_array(const scene_toml::Table& t, std::string_view key) {
+std::vector<double> number_array(const scene::scene_toml::Table& t, std::string_view key) {
   std::vector<double> out;
   const toml::value* v = t.find(key);
   if (v == nullptr || !v->is_array() || v->as_array().empty()) {
     t.fail(key, "expected a non-empty array of steps [s]");
   }
   for (const toml::value& e : v->as_array()) {
-    out.push_back(t.to_number(e, key, scene_toml::Sign::kPositive, "a positive step [s]"));
+    out.push_back(t.to_number(e, key, scene::scene_toml::Sign::kPositive, "a positive step [s]"));
   }
   return out;
 }
@@ -61,19 +62,19 @@ std::vector<double> number_array(const scene_toml::Table& t, std::string_view ke
 
 int figure_command(const FigureCommandOptions& options) {
   const std::string text = read_text(options.study);
-  const toml::value document = scene_toml::parse(text, options.study);
-  const scene_toml::Table root(document, options.study, "");
+  const toml::value document = scene::scene_toml::parse(text, options.study);
+  const scene::scene_toml::Table root(document, options.study, "");
   root.check_keys({"figure"});
-  const std::optional<scene_toml::Table> figure = root.table("figure", "a [figure] table");
+  const std::optional<scene::scene_toml::Table> figure = root.table("figure", "a [figure] table");
   if (!figure) root.fail("figure", "expected a [figure] table");
-  const scene_toml::Table& f = *figure;
+  const scene::scene_toml::Table& f = *figure;
   f.check_keys(
       {"title", "scene", "schemes", "steps", "body", "point", "solver", "rtol", "end_time"});
   const std::string title = f.optional_string("title", "a title").value_or("");
   // The scene path is relative to the study file.
   const std::filesystem::path scene_path =
       std::filesystem::path(options.study).parent_path() / f.string("scene", "a scene file");
-  const Scene scene = read_scene(scene_path.string());
+  const scene::Scene scene = scene::read_scene(scene_path.string());
   const core::Model& model = *scene.model;
 
   studies::FigureSettings settings;
@@ -101,9 +102,9 @@ int figure_command(const FigureCommandOptions& options) {
       settings.solver != "exact") {
     f.fail("solver", "expected cvode, ida, odeint or exact");
   }
-  settings.rtol = f.number_or("rtol", 1e-10, scene_toml::Sign::kPositive, "a tolerance");
-  const double end_time =
-      f.number_or("end_time", scene.end_time, scene_toml::Sign::kPositive, "an end time [s]");
+  settings.rtol = f.number_or("rtol", 1e-10, scene::scene_toml::Sign::kPositive, "a tolerance");
+  const double end_time = f.number_or("end_time", scene.end_time,
+                                      scene::scene_toml::Sign::kPositive, "an end time [s]");
   if (end_time > scene.end_time) f.fail("end_time", "exceeds the scene's end time");
   for (double h : settings.steps) {
     if (!core::is_multiple_of(end_time, h)) {
@@ -132,9 +133,9 @@ int figure_command(const FigureCommandOptions& options) {
        << "\n\n"
        << studies::versions_toml();
   const std::string csv = (dir / "figure.csv").string();
-  studies::write_file_atomically(csv, studies::figure_csv(result));
-  studies::write_file_atomically((dir / "figure.txt").string(), table);
-  studies::write_file_atomically((dir / "study.toml").string(), meta.str());
+  io::write_file_atomically(csv, studies::figure_csv(result));
+  io::write_file_atomically((dir / "figure.txt").string(), table);
+  io::write_file_atomically((dir / "study.toml").string(), meta.str());
   const std::string png = (dir / "figure.png").string();
   const studies::PlotOutcome plot = studies::run_plot_script(
       "plot_trajectory_figure.py", {csv, png, title.empty() ? scene.name : title}, png);

@@ -9,9 +9,10 @@
 #include <stdexcept>
 
 #include "app/commands.hpp"
-#include "app/scene_reader.hpp"
-#include "app/scene_toml.hpp"
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
+#include "scene/scene_reader.hpp"
+#include "scene/scene_toml.hpp"
 #include "studies/lte_map.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
@@ -44,13 +45,13 @@ class SceneFactory {
 
   core::Model operator()(core::FlexibleFormulation formulation,
                          const std::optional<studies::LteMapScaling>& scaling) const {
-    if (!scaling) return std::move(*parse_scene(text_, path_, formulation).model);
-    const core::Model scene_model = std::move(*parse_scene(text_, path_, formulation).model);
+    if (!scaling) return std::move(*scene::parse_scene(text_, path_, formulation).model);
+    const core::Model scene_model = std::move(*scene::parse_scene(text_, path_, formulation).model);
     const core::RigidBodyDescription& d = scene_model.body(body_index_).description();
     const double mass = scaling->hub_scale * d.mass;
     const Eigen::Matrix3d inertia = scaling->hub_scale * d.I_Bcm_B;
 
-    toml::value document = scene_toml::parse(text_, path_);
+    toml::value document = scene::scene_toml::parse(text_, path_);
     toml::table& body = document.as_table()
                             .at("body")
                             .as_array()
@@ -74,7 +75,8 @@ class SceneFactory {
       }
     }
     // toml11 writes floats with max_digits10 digits: the values read back are the ones set.
-    core::Model model = std::move(*parse_scene(toml::format(document), path_, formulation).model);
+    core::Model model =
+        std::move(*scene::parse_scene(toml::format(document), path_, formulation).model);
     const core::RigidBodyDescription& e = model.body(body_index_).description();
     if (!close(e.mass, mass) || !close(e.I_Bcm_B(2, 2), inertia(2, 2)) ||
         !close(e.initial.w_WB_B.norm(), scaling->w0_WB_B.norm())) {
@@ -117,7 +119,7 @@ std::vector<double> ratios(const std::vector<double>& given, double lo, double h
 }  // namespace
 
 int lte_map_command(const LteMapCommandOptions& options) {
-  const Scene scene = read_scene(options.scene);
+  const scene::Scene scene = scene::read_scene(options.scene);
   studies::LteMapOptions study;
   study.spin_ratios =
       ratios(options.spin_ratios, options.spin_min, options.spin_max, options.spin_count, "spin");
@@ -168,9 +170,9 @@ int lte_map_command(const LteMapCommandOptions& options) {
            << studies::versions_toml();
 
   const std::string csv_path = (dir / "lte_map.csv").string();
-  studies::write_file_atomically(csv_path, studies::lte_map_csv(result));
-  studies::write_file_atomically((dir / "lte_map.txt").string(), table);
-  studies::write_file_atomically((dir / "study.toml").string(), settings.str());
+  io::write_file_atomically(csv_path, studies::lte_map_csv(result));
+  io::write_file_atomically((dir / "lte_map.txt").string(), table);
+  io::write_file_atomically((dir / "study.toml").string(), settings.str());
   const std::string png = (dir / "lte_map.png").string();
   const studies::PlotOutcome plot = studies::run_plot_script(
       "plot_lte_map.py",

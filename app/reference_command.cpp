@@ -2,9 +2,10 @@
 #include <sstream>
 
 #include "app/commands.hpp"
-#include "app/scene_reader.hpp"
 #include "core/output_times.hpp"
+#include "io/atomic_file.hpp"
 #include "reference/solve_reference.hpp"
+#include "scene/scene_reader.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/trajectory_table.hpp"
 #include "studies/versions.hpp"
@@ -12,7 +13,7 @@
 namespace flexref::app {
 
 int reference_command(const ReferenceOptions& options) {
-  const Scene scene = read_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = scene::read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
   const std::string solver = reference_solver_for(model, options.solver, "--solver");
@@ -49,7 +50,7 @@ int reference_command(const ReferenceOptions& options) {
          << "\nother_rtol = " << e.other_rtol << "\nother_solver = \"" << e.other_solver << "\"\n";
   }
   meta << "\n" << studies::versions_toml();
-  studies::write_file_atomically(options.output + ".meta.toml", meta.str());
+  io::write_file_atomically(options.output + ".meta.toml", meta.str());
 
   std::cout << "reference " << scene.name << " with " << ref.run.solver;
   if (model.has_flexible_bodies()) {

@@ -4,10 +4,11 @@
 #include <sstream>
 
 #include "app/commands.hpp"
-#include "app/scene_reader.hpp"
 #include "core/output_times.hpp"
+#include "io/atomic_file.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
+#include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/trajectory_table.hpp"
 #include "studies/versions.hpp"
@@ -15,7 +16,7 @@
 namespace flexref::app {
 
 int run_command(const RunOptions& options) {
-  const Scene scene = read_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = scene::read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
   // Central differences are stable for h ω_max ≤ 2: warn when the step exceeds it for the
@@ -32,7 +33,7 @@ int run_command(const RunOptions& options) {
     }
   }
   // The same for the stiffest mode of every contact and joint (penalty elements).
-  for (const PenaltyMode& m : scene.penalty_modes) {
+  for (const scene::PenaltyMode& m : scene.penalty_modes) {
     if (options.dt > m.step_limit) {
       std::cerr << "flexref: warning: step " << options.dt
                 << " s exceeds 2/omega = " << m.step_limit << " s of " << m.label
@@ -58,7 +59,7 @@ int run_command(const RunOptions& options) {
        << "\nsteps = " << std::lround((times.back() - times.front()) / options.dt)
        << "\ncpu_seconds = " << cpu << "\n\n"
        << studies::versions_toml();
-  studies::write_file_atomically(options.output + ".meta.toml", meta.str());
+  io::write_file_atomically(options.output + ".meta.toml", meta.str());
 
   std::cout << "run " << scene.name << " with " << options.scheme
             << (model.has_flexible_bodies()

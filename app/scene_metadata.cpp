@@ -42,7 +42,7 @@ std::string reference_solver_for(const core::Model& model, const std::string& so
   return solver == "auto" ? "cvode" : solver;
 }
 
-std::string scene_metadata(const std::string& scene_file, const Scene& scene) {
+std::string scene_metadata(const std::string& scene_file, const scene::Scene& scene) {
   std::ostringstream out;
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(scene_file, ec);

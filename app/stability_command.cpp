@@ -7,7 +7,8 @@
 #include <stdexcept>
 
 #include "app/commands.hpp"
-#include "app/scene_reader.hpp"
+#include "io/atomic_file.hpp"
+#include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
 #include "studies/stability.hpp"
@@ -75,9 +76,9 @@ int linear_stability_command(const StabilityCommandOptions& options) {
            << "\n\n"
            << studies::versions_toml();
   const std::string csv_path = (dir / "stability.csv").string();
-  studies::write_file_atomically(csv_path, studies::linear_sweep_csv(options.parameter, points));
-  studies::write_file_atomically((dir / "stability.txt").string(), table);
-  studies::write_file_atomically((dir / "study.toml").string(), settings.str());
+  io::write_file_atomically(csv_path, studies::linear_sweep_csv(options.parameter, points));
+  io::write_file_atomically((dir / "stability.txt").string(), table);
+  io::write_file_atomically((dir / "study.toml").string(), settings.str());
   const std::string png = (dir / "stability.png").string();
   const studies::PlotOutcome plot = studies::run_plot_script(
       "plot_stability.py", {"linear", csv_path, png, "stability: " + options.parameter}, png);
@@ -99,7 +100,7 @@ int stability_command(const StabilityCommandOptions& options) {
   std::string body_source = "built-in free_spin body, J = diag(3, 4, 5), W0 = (0.2, 0.3, 2.0)";
   std::string metadata = "[scene]\nfile = \"\"\nname = \"built-in free_spin body\"\n";
   if (!options.scene.empty()) {
-    const Scene scene = read_scene(options.scene);
+    const scene::Scene scene = scene::read_scene(options.scene);
     int free_body = -1;
     for (int i = 0; i < scene.model->num_bodies() && free_body < 0; ++i) {
       if (scene.model->body(i).is_free() && !scene.model->body(i).is_flexible()) free_body = i;
@@ -174,9 +175,9 @@ int stability_command(const StabilityCommandOptions& options) {
            << studies::versions_toml();
 
   const std::string csv_path = (dir / "stability.csv").string();
-  studies::write_file_atomically(csv_path, studies::stability_csv(result));
-  studies::write_file_atomically((dir / "stability.txt").string(), table);
-  studies::write_file_atomically((dir / "study.toml").string(), settings.str());
+  io::write_file_atomically(csv_path, studies::stability_csv(result));
+  io::write_file_atomically((dir / "stability.txt").string(), table);
+  io::write_file_atomically((dir / "study.toml").string(), settings.str());
   const std::string png = (dir / "stability.png").string();
   const studies::PlotOutcome plot = studies::run_plot_script(
       "plot_stability.py", {"sweep", csv_path, png, "stability: " + study.parameter}, png);
@@ -185,7 +186,7 @@ int stability_command(const StabilityCommandOptions& options) {
   (plot.ok ? written : plot_problems).push_back(plot.message);
   if (!result.long_run.empty()) {
     const std::string long_csv = (dir / "long_run.csv").string();
-    studies::write_file_atomically(long_csv, studies::long_run_csv(result));
+    io::write_file_atomically(long_csv, studies::long_run_csv(result));
     written.push_back("long_run.csv");
     const std::string long_png = (dir / "long_run.png").string();
     const studies::PlotOutcome long_plot = studies::run_plot_script(

@@ -5,8 +5,9 @@
 #include <sstream>
 
 #include "app/commands.hpp"
-#include "app/scene_reader.hpp"
 #include "core/output_times.hpp"
+#include "io/atomic_file.hpp"
+#include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
 #include "studies/trajectory_table.hpp"
@@ -15,7 +16,8 @@
 
 namespace flexref::app {
 int work_precision_command(const WorkPrecisionOptions& app_options) {
-  const Scene scene = read_scene(app_options.scene, parse_formulation(app_options.model));
+  const scene::Scene scene =
+      scene::read_scene(app_options.scene, parse_formulation(app_options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
 
@@ -52,9 +54,9 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
            << studies::versions_toml();
 
   const std::string csv_path = (dir / "work_precision.csv").string();
-  studies::write_file_atomically(csv_path, studies::work_precision_csv(result));
-  studies::write_file_atomically((dir / "work_precision.txt").string(), table);
-  studies::write_file_atomically((dir / "study.toml").string(), settings.str());
+  io::write_file_atomically(csv_path, studies::work_precision_csv(result));
+  io::write_file_atomically((dir / "work_precision.txt").string(), table);
+  io::write_file_atomically((dir / "study.toml").string(), settings.str());
   studies::write_csv(result.reference.table, (dir / "reference.csv").string());
   const std::string png = (dir / "work_precision.png").string();
   const studies::PlotOutcome plot =

@@ -1,6 +1,6 @@
 #pragma once
 /// \file work_precision_command.hpp
-/// The `work-precision` subcommand (design/studies.md, "Work-precision"): error against CPU
+/// The `work-precision` subcommand (docs/design/studies.md, "Work-precision"): error against CPU
 /// time for each scheme over a range of steps and each reference solver over a range of
 /// tolerances, the cheapest method per target error, a CSV, a table, study.toml and a plot.
 #include <string>

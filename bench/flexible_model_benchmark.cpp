@@ -19,18 +19,20 @@
 #include <vector>
 
 #include "core/body.hpp"
-#include "core/euler_parameters.hpp"
-#include "core/flexible_dynamics.hpp"
 #include "core/model.hpp"
-#include "core/ode_form.hpp"
+#include "flexible/flexible_dynamics.hpp"
+#include "reference/ode_form.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/allocation_counting.hpp"
 #include "tests/support/flexible_models.hpp"
+
+namespace reference = flexref::reference;
 
 namespace {
 
 using flexref::core::FlexibleFormulation;
 using flexref::core::Model;
-using flexref::core::OdeForm;
+using flexref::reference::OdeForm;
 
 /// A generic state: tilted and tumbling hub, deformed and vibrating beam.
 flexref::core::State generic_state(const Model& model) {
@@ -53,8 +55,8 @@ void BM_Rhs(benchmark::State& state, FlexibleFormulation formulation) {
   const int modes = static_cast<int>(state.range(0));
   const int elements = static_cast<int>(state.range(1));
   const Model model = flexref::testing::flexible_spinner_model(formulation, modes, elements);
-  const OdeForm form(model);
-  OdeForm::Scratch scratch = form.make_scratch();
+  const reference::OdeForm form(model);
+  reference::OdeForm::Scratch scratch = form.make_scratch();
   std::vector<double> y(static_cast<std::size_t>(form.size()));
   std::vector<double> ydot(y.size());
   form.pack(generic_state(model), y.data());
@@ -93,18 +95,19 @@ void BM_MassAndQvImpl(benchmark::State& state) {
       flexref::testing::flexible_spinner_model(FlexibleFormulation::kCoupled, modes, elements);
   const flexref::core::Body& body = model.body(0);
   const flexref::core::BodyState s = generic_state(model)[0];
-  const Eigen::Matrix3d R_WB = flexref::core::rotation_matrix(s.theta_WB);
+  const Eigen::Matrix3d R_WB = flexref::rotation::rotation_matrix(s.theta_WB);
   Eigen::MatrixXd M(6 + modes, 6 + modes);
   Eigen::VectorXd Qv(6 + modes);
   const auto evaluate = [&] {
     if constexpr (kByNodes) {
-      const flexref::core::ModalData& data = body.description().flexible->modal;
-      flexref::core::flexible_mass_matrix_by_nodes(data, R_WB, s.q_f, M);
-      flexref::core::flexible_quadratic_velocity_by_nodes(data, R_WB, s.q_f, s.w_WB_B, s.qd_f, Qv);
+      const flexref::flexible::ModalData& data = body.description().flexible->modal;
+      flexref::flexible::flexible_mass_matrix_by_nodes(data, R_WB, s.q_f, M);
+      flexref::flexible::flexible_quadratic_velocity_by_nodes(data, R_WB, s.q_f, s.w_WB_B, s.qd_f,
+                                                              Qv);
     } else {
-      flexref::core::flexible_mass_matrix(body.invariants(), R_WB, s.q_f, M);
-      flexref::core::flexible_quadratic_velocity(body.invariants(), R_WB, s.q_f, s.w_WB_B, s.qd_f,
-                                                 Qv);
+      flexref::flexible::flexible_mass_matrix(body.invariants(), R_WB, s.q_f, M);
+      flexref::flexible::flexible_quadratic_velocity(body.invariants(), R_WB, s.q_f, s.w_WB_B,
+                                                     s.qd_f, Qv);
     }
   };
   evaluate();

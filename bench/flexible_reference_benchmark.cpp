@@ -21,10 +21,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/flexible_models.hpp"
 
 namespace {
@@ -80,7 +80,7 @@ double difference(const flexref::core::State& a, const flexref::core::State& b) 
   const Model& model = spinner();
   const flexref::core::TrackedPoint& tip = model.body(0).description().points[0];
   const double tip_error = (model.p_WP(0, a[0], tip) - model.p_WP(0, b[0], tip)).norm();
-  const double angle = flexref::core::geodesic_angle(a[0].theta_WB, b[0].theta_WB);
+  const double angle = flexref::rotation::geodesic_angle(a[0].theta_WB, b[0].theta_WB);
   return std::max(tip_error, angle);
 }
 

@@ -4,7 +4,7 @@
 /// process-CPU measurement of the integration.
 ///
 /// Reference setting: the tolerance whose estimated error (the difference to a run at 100×
-/// tighter rtol, design/schemes.md) is ≤ 1e-9. Measured on the final attitude (geodesic angle
+/// tighter rtol, docs/design/schemes.md) is ≤ 1e-9. Measured on the final attitude (geodesic angle
 /// at t = 10 s):
 ///   CVODE   rtol 1e-12: 7.0e-9, 1e-13: 1.6e-10  → 1e-13
 ///   odeint  rtol 1e-12: 9.5e-12 (against 1e-14). Its steps are bounded by the 0.01 s output
@@ -13,7 +13,7 @@
 ///   IDA     rtol 1e-12: 5.2e-8, 1e-13: 3.2e-8; 1e-14 cannot be estimated (IDA fails at
 ///           1e-16) and no setting reaches 1e-9 (ida_solver.cpp explains why) → 1e-14, its
 ///           tightest reliable setting
-/// Over the whole trajectory (L∞, design/schemes.md "Error metrics") no solver gets below
+/// Over the whole trajectory (L∞, docs/design/schemes.md "Error metrics") no solver gets below
 /// ~2e-8 rad on this scene: the flips amplify errors in ω̄ by ~1e5, so 1e-9 would need local
 /// errors below double-precision round-off (CVODE 4.2e-8 at 1e-13, odeint 2.4e-8 at 1e-12).
 #include <benchmark/benchmark.h>
@@ -24,7 +24,7 @@
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace {
 

@@ -8,8 +8,8 @@
 
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
-#include "tests/lie/test_problems.hpp"
 #include "tests/support/flexible_models.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace {
 

@@ -44,7 +44,7 @@ Eigen::Matrix3d second_moment_from_inertia(const Eigen::Matrix3d& inertia) {
 /// Adds a rigid part (mass m, centre of mass c from Br, inertia I_c about it) to invariants
 /// taken about Br: m, s0 = Σ m x and J0 = Σ m x xᵀ are the only invariants a rigid part
 /// changes (it has no mode shape).
-void add_rigid_part(ModalInvariants& inv, double mass, const Eigen::Vector3d& c,
+void add_rigid_part(flexible::ModalInvariants& inv, double mass, const Eigen::Vector3d& c,
                     const Eigen::Matrix3d& I_c) {
   inv.mass += mass;
   inv.s0 += mass * c;
@@ -160,7 +160,7 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
     }
   } else {
     // Invariants about Bo first (nodes, then the hub), to find the undeformed centre of mass.
-    ModalInvariants about_Bo = make_modal_invariants(d.flexible->modal);
+    flexible::ModalInvariants about_Bo = flexible::make_modal_invariants(d.flexible->modal);
     add_rigid_part(about_Bo, d.mass, d.p_BoBcm_B, I_sym);
     mass_ = about_Bo.mass;
     const Eigen::Vector3d p_BoBcm_B = about_Bo.s0 / mass_;
@@ -177,15 +177,15 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
     }
     p_BrBcm_B_ = p_BoBcm_B - p_BoBr_B_;
     // Then about Br: the nodes shifted by −p_BoBr (mode shapes are unchanged by the shift).
-    ModalData shifted = d.flexible->modal;
+    flexible::ModalData shifted = d.flexible->modal;
     shifted.p_BoNode_B.colwise() -= p_BoBr_B_;
-    invariants_ = make_modal_invariants(shifted);
+    invariants_ = flexible::make_modal_invariants(shifted);
     add_rigid_part(invariants_, d.mass, d.p_BoBcm_B - p_BoBr_B_, I_sym);
     I_Br_B_ = invariants_.I0;
     mode_count_ = invariants_.mode_count;
     stiffness_ = d.flexible->modal.stiffness;
-    damping_ = core::modal_damping(d.flexible->modal);
-    frequencies_ = core::natural_frequencies(d.flexible->modal);
+    damping_ = flexible::modal_damping(d.flexible->modal);
+    frequencies_ = flexible::natural_frequencies(d.flexible->modal);
     modal_mass_llt_.compute(invariants_.m_ff);
     if (d.motion != MotionKind::kPrescribed) {
       if (const std::string problem = inertia_problem(I_Br_B_); !problem.empty()) {

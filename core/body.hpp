@@ -1,6 +1,6 @@
 #pragma once
 /// \file body.hpp
-/// A body as the user describes it (design/model.md, "Bodies and inertia invariants" and
+/// A body as the user describes it (docs/design/model.md, "Bodies and inertia invariants" and
 /// "Rigid motion modes"), and the internal form the model integrates.
 ///
 /// Frames and points (Drake monogram notation): W world (global, Galilean), B body frame with
@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
-#include "core/modal_data.hpp"
 #include "core/prescribed_motion.hpp"
+#include "flexible/modal_data.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::core {
 
@@ -42,15 +42,15 @@ struct TrackedPoint {
 /// Initial state in the user's frame: origin Bo, attitude, origin velocity, angular velocity.
 struct BodyInitialState {
   Eigen::Vector3d p_WBo = Eigen::Vector3d::Zero();
-  EulerParameters theta_WB = identity_euler_parameters();
+  rotation::EulerParameters theta_WB = rotation::identity_euler_parameters();
   Eigen::Vector3d v_WBo = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_WB_B = Eigen::Vector3d::Zero();
 };
 
-/// The deformable part of a body (design/model.md): modal data (nodes from the frame origin Bo)
+/// The deformable part of a body (docs/design/model.md): modal data (nodes from the frame origin Bo)
 /// and the initial modal coordinates.
 struct FlexiblePart {
-  ModalData modal;
+  flexible::ModalData modal;
   Eigen::VectorXd q0;   ///< initial q_f (empty: zero)
   Eigen::VectorXd qd0;  ///< initial q̇_f (empty: zero)
 };
@@ -114,7 +114,7 @@ class Body {
 
   /// Flexible bodies: invariants about Br (nodes and hub), modal stiffness K_i and damping
   /// d_i = 2ζ_iω_iμ_i (diagonals), natural frequencies with the frame fixed (rad/s, ascending).
-  const ModalInvariants& invariants() const { return invariants_; }
+  const flexible::ModalInvariants& invariants() const { return invariants_; }
   const Eigen::VectorXd& modal_stiffness() const { return stiffness_; }
   const Eigen::VectorXd& modal_damping() const { return damping_; }
   const Eigen::VectorXd& natural_frequencies() const { return frequencies_; }
@@ -125,7 +125,7 @@ class Body {
   RigidBodyDescription description_;
   double mass_ = 0.0;
   int mode_count_ = 0;
-  ModalInvariants invariants_;
+  flexible::ModalInvariants invariants_;
   Eigen::VectorXd stiffness_;
   Eigen::VectorXd damping_;
   Eigen::VectorXd frequencies_;

@@ -3,7 +3,7 @@
 /// The interface of everything that applies loads: applied forces and torques, gravity,
 /// potentials; later contacts and bushings. An element adds, for each body it acts on, a
 /// force (world) and a torque about the body's reference point Br (world); the model maps
-/// these to generalized forces (design/model.md: Qe_R += f, Qe_θ += ũ_P Aᵀ f). On a flexible
+/// these to generalized forces (docs/design/model.md: Qe_R += f, Qe_θ += ũ_P Aᵀ f). On a flexible
 /// body a point load given by its position is a load on the rigid part (hub, Φ = 0); loads on
 /// the deformable part add the modal force Qe_f += Φ_Pᵀ Aᵀ f (Wrench::Q_f; gravity does this
 /// with the invariant S).
@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "core/modal_data.hpp"
 #include "core/state.hpp"
+#include "flexible/modal_data.hpp"
 
 namespace flexref::core {
 
@@ -32,7 +32,7 @@ struct BodyKinematics {
   Eigen::Vector3d p_BoBr_B = Eigen::Vector3d::Zero();
   /// Flexible bodies: invariants about Br and the modal coordinates the loads see (the state's
   /// under the coupled model; zero under LTE, whose loads act on the undeformed body).
-  const ModalInvariants* invariants = nullptr;
+  const flexible::ModalInvariants* invariants = nullptr;
   const Eigen::VectorXd* q_f = nullptr;
 
   /// Arm from Br to a body point given from the frame origin, world frame.

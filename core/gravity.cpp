@@ -20,11 +20,11 @@ void UniformGravity::add_wrenches(const LoadContext& /*context*/,
       wrenches[i].add_force_at(b.mass * g_W_, k.p_BrP_W(b.p_BoBcm_B));
       continue;
     }
-    // Flexible (design/model.md): Qe_R += m g, Qe_θ += s̃_t Aᵀ g, Qe_f += Sᵀ Aᵀ g, with
+    // Flexible (docs/design/model.md): Qe_R += m g, Qe_θ += s̃_t Aᵀ g, Qe_f += Sᵀ Aᵀ g, with
     // s_t = s0 + S q_f the first moment about Br (masses included). τ_Br_W = A(s_t × Aᵀg).
-    const ModalInvariants& inv = *k.invariants;
+    const flexible::ModalInvariants& inv = *k.invariants;
     const Eigen::Vector3d g_B = k.R_WB.transpose() * g_W_;
-    const Eigen::Vector3d s_t = first_moment(inv, *k.q_f);
+    const Eigen::Vector3d s_t = flexible::first_moment(inv, *k.q_f);
     wrenches[i].f_W += inv.mass * g_W_;
     wrenches[i].tau_Br_W += k.R_WB * s_t.cross(g_B);
     wrenches[i].Q_f.noalias() += inv.S.transpose() * g_B;
@@ -41,7 +41,7 @@ double UniformGravity::potential_energy(const LoadContext& /*context*/,
     } else {
       // V = −g · Σ m_k r_k = −g · (m p_WBr + A s_t)
       v -= g_W_.dot(k.invariants->mass * k.state->p_WBr +
-                    k.R_WB * first_moment(*k.invariants, *k.q_f));
+                    k.R_WB * flexible::first_moment(*k.invariants, *k.q_f));
     }
   }
   return v;

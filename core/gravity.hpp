@@ -1,6 +1,6 @@
 #pragma once
 /// \file gravity.hpp
-/// Uniform gravity g_W on every body: f = m g at the centre of mass (design/model.md:
+/// Uniform gravity g_W on every body: f = m g at the centre of mass (docs/design/model.md:
 /// Qe_R += m g, Qe_θ += s̃ Aᵀ g), potential V = −Σ m g·p_WBcm.
 #include <vector>
 

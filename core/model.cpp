@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "core/flexible_dynamics.hpp"
+#include "flexible/flexible_dynamics.hpp"
 
 namespace flexref::core {
 
@@ -74,7 +74,7 @@ State Model::initial_state() const {
     const Body& b = bodies_[i];
     const BodyInitialState& init = b.description().initial;
     BodyState& s = state[i];
-    const Eigen::Matrix3d R_WB = rotation_matrix(init.theta_WB);
+    const Eigen::Matrix3d R_WB = rotation::rotation_matrix(init.theta_WB);
     s.theta_WB = init.theta_WB;
     s.w_WB_B = init.w_WB_B;
     // p_WBr = p_WBo + A p_BoBr;  v_WBr = v_WBo + A (ω̄ × p_BoBr).
@@ -149,7 +149,7 @@ void Model::pose_bodies(const State& state, Workspace& ws) const {
   const bool lte = formulation_ == FlexibleFormulation::kLte;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     ws.kinematics[i].state = &state[i];
-    ws.kinematics[i].R_WB = rotation_matrix(state[i].theta_WB);
+    ws.kinematics[i].R_WB = rotation::rotation_matrix(state[i].theta_WB);
     ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
   }
 }
@@ -180,10 +180,11 @@ void Model::flexible_system(int i, const BodyState& s, Workspace& ws) const {
   const bool lte = formulation_ == FlexibleFormulation::kLte;
   const Eigen::VectorXd& q_inertia = lte ? fs.zero : s.q_f;
   const Eigen::VectorXd& qd_inertia = lte ? fs.zero : s.qd_f;
-  flexible_mass_matrix(b.invariants(), R_WB, q_inertia, fs.M);
+  flexible::flexible_mass_matrix(b.invariants(), R_WB, q_inertia, fs.M);
   // LTE: no feedback of the elastic motion on the rigid one.
   if (lte) fs.M.topRightCorner(6, n).setZero();
-  flexible_quadratic_velocity(b.invariants(), R_WB, q_inertia, s.w_WB_B, qd_inertia, fs.Qv);
+  flexible::flexible_quadratic_velocity(b.invariants(), R_WB, q_inertia, s.w_WB_B, qd_inertia,
+                                        fs.Qv);
   fs.rhs.head<3>() = w.f_W + fs.Qv.head<3>();
   fs.rhs.segment<3>(3) = R_WB.transpose() * w.tau_Br_W + fs.Qv.segment<3>(3);
   fs.rhs.tail(n) = w.Q_f + fs.Qv.tail(n) - b.modal_stiffness().cwiseProduct(s.q_f) -
@@ -318,8 +319,8 @@ double Model::kinetic_energy(const State& state) const {
     const Body& b = bodies_[i];
     const BodyState& s = state[i];
     if (b.is_flexible()) {
-      t += flexible_kinetic_energy(b.invariants(), rotation_matrix(s.theta_WB), s.q_f, s.v_WBr,
-                                   s.w_WB_B, s.qd_f);
+      t += flexible::flexible_kinetic_energy(b.invariants(), rotation::rotation_matrix(s.theta_WB),
+                                             s.q_f, s.v_WBr, s.w_WB_B, s.qd_f);
       continue;
     }
     // T = ½ m |v_Bcm|² + ½ ω̄ᵀ I_Bcm ω̄ (free, Br = Bcm);  T = ½ ω̄ᵀ I_Pv ω̄ (pivot).
@@ -378,11 +379,12 @@ Eigen::Vector3d Model::linear_momentum_W(const State& state) const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     const BodyState& s = state[i];
-    const Eigen::Matrix3d R_WB = rotation_matrix(s.theta_WB);
+    const Eigen::Matrix3d R_WB = rotation::rotation_matrix(s.theta_WB);
     if (b.is_flexible()) {
       // First row of M v: m Ṙ + A (ω̄ × s_t + S q̇_f)
-      const ModalInvariants& inv = b.invariants();
-      p += inv.mass * s.v_WBr + R_WB * (s.w_WB_B.cross(first_moment(inv, s.q_f)) + inv.S * s.qd_f);
+      const flexible::ModalInvariants& inv = b.invariants();
+      p += inv.mass * s.v_WBr +
+           R_WB * (s.w_WB_B.cross(flexible::first_moment(inv, s.q_f)) + inv.S * s.qd_f);
       continue;
     }
     p += b.mass() * (s.v_WBr + R_WB * s.w_WB_B.cross(b.p_BrBcm_B()));
@@ -397,16 +399,16 @@ Eigen::Vector3d Model::angular_momentum_W(const State& state) const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     const BodyState& s = state[i];
-    const Eigen::Matrix3d R_WB = rotation_matrix(s.theta_WB);
+    const Eigen::Matrix3d R_WB = rotation::rotation_matrix(s.theta_WB);
     if (b.is_flexible()) {
       // H_O = p_WBr × p + H_Br,  H_Br = A (s̃_t Aᵀ Ṙ + Ī_θθ ω̄ + Ī_θf q̇_f)  (θ row of M v)
-      const ModalInvariants& inv = b.invariants();
-      const Eigen::Vector3d s_t = first_moment(inv, s.q_f);
+      const flexible::ModalInvariants& inv = b.invariants();
+      const Eigen::Vector3d s_t = flexible::first_moment(inv, s.q_f);
       const Eigen::Vector3d p_W =
           inv.mass * s.v_WBr + R_WB * (s.w_WB_B.cross(s_t) + inv.S * s.qd_f);
       const Eigen::Vector3d h_B = s_t.cross(R_WB.transpose() * s.v_WBr) +
-                                  inertia_theta_theta(inv, s.q_f) * s.w_WB_B +
-                                  inertia_theta_f(inv, s.q_f) * s.qd_f;
+                                  flexible::inertia_theta_theta(inv, s.q_f) * s.w_WB_B +
+                                  flexible::inertia_theta_f(inv, s.q_f) * s.qd_f;
       h += s.p_WBr.cross(p_W) + R_WB * h_B;
       continue;
     }
@@ -417,19 +419,19 @@ Eigen::Vector3d Model::angular_momentum_W(const State& state) const {
 }
 
 Eigen::Vector3d Model::p_WBo(int i, const BodyState& s) const {
-  return s.p_WBr - rotation_matrix(s.theta_WB) * body(i).p_BoBr_B();
+  return s.p_WBr - rotation::rotation_matrix(s.theta_WB) * body(i).p_BoBr_B();
 }
 
 Eigen::Vector3d Model::v_WBo(int i, const BodyState& s) const {
-  return s.v_WBr - rotation_matrix(s.theta_WB) * s.w_WB_B.cross(body(i).p_BoBr_B());
+  return s.v_WBr - rotation::rotation_matrix(s.theta_WB) * s.w_WB_B.cross(body(i).p_BoBr_B());
 }
 
 Eigen::Vector3d Model::p_WP(int i, const BodyState& s, const Eigen::Vector3d& p_BoP_B) const {
-  return s.p_WBr + rotation_matrix(s.theta_WB) * (p_BoP_B - body(i).p_BoBr_B());
+  return s.p_WBr + rotation::rotation_matrix(s.theta_WB) * (p_BoP_B - body(i).p_BoBr_B());
 }
 
 Eigen::Vector3d Model::p_WP(int i, const BodyState& s, const TrackedPoint& point) const {
-  return s.p_WBr + rotation_matrix(s.theta_WB) * body(i).p_BrP_B(point, s.q_f);
+  return s.p_WBr + rotation::rotation_matrix(s.theta_WB) * body(i).p_BrP_B(point, s.q_f);
 }
 
 }  // namespace flexref::core

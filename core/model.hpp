@@ -5,15 +5,15 @@
 /// energy and momentum at a state. Scratch space lives in a separate Workspace, so no
 /// evaluation allocates.
 ///
-/// Equations (design/model.md, quasi-velocity form, rigid bodies about Br):
+/// Equations (docs/design/model.md, quasi-velocity form, rigid bodies about Br):
 ///   free:  m a_WBr = f_W,                  I_Br α̅ + ω̄ × I_Br ω̄ = Aᵀ τ_Br_W
 ///   pivot: a_WBr = 0,                      I_Pv α̅ + ω̄ × I_Pv ω̄ = Aᵀ τ_Pv_W
 /// and for a flexible body, about Br with v = (a_WBr, α̅, q̈_f):
-///   coupled: M(θ, q_f) v = Qe + Qv − [0; 0; K q_f + D q̇_f]     (core/flexible_dynamics.hpp)
+///   coupled: M(θ, q_f) v = Qe + Qv − [0; 0; K q_f + D q̇_f]     (flexible/flexible_dynamics.hpp)
 ///   LTE:     the same blocks at q_f = 0, q̇_f = 0 and without the rigid rows' elastic terms
 ///            (M_Rf = M_θf = 0): rigid motion of the undeformed body first, then
 ///            m_ff q̈_f + D q̇_f + K q_f = Qe_f − Sᵀ Aᵀ a − Ī_θf0ᵀ α̅ − Σ m_k Φ_kᵀ ω̄̃ω̄̃ x_k,
-///            with loads evaluated on the undeformed body (design/model.md, "The LTE model").
+///            with loads evaluated on the undeformed body (docs/design/model.md, "The LTE model").
 /// Rows of known accelerations (pivot: a = 0; prescribed: a = 0 and the law's α̅) are moved to
 /// the right-hand side; the remaining rows are solved by Cholesky (coupled) or block forward
 /// substitution (LTE).
@@ -29,7 +29,7 @@
 
 namespace flexref::core {
 
-/// Which model a flexible body's equations are (design/model.md); rigid bodies are the same in
+/// Which model a flexible body's equations are (docs/design/model.md); rigid bodies are the same in
 /// both.
 enum class FlexibleFormulation {
   kCoupled,  ///< the full floating-frame model (the paper's eq. 19–21)
@@ -107,7 +107,7 @@ class Model {
   /// The modal rows of a flexible body solved for q̈_f with the rigid accelerations given
   /// (a_WBr, α̅; a prescribed body uses a = 0 and its law's α̅ at ws.time), the loads already
   /// in ws (compute_wrenches) and the state's q_f, q̇_f, ω̄. Under LTE this is the modal
-  /// equation of design/model.md, which the hybrid schemes integrate by central differences.
+  /// equation of docs/design/model.md, which the hybrid schemes integrate by central differences.
   void modal_accelerations(int i, const BodyState& state, const Eigen::Vector3d& a_WBr,
                            const Eigen::Vector3d& alpha_WB_B, Workspace& ws,
                            Eigen::VectorXd& qdd_f) const;

@@ -1,7 +1,7 @@
 #pragma once
 /// \file point_charge_potential.hpp
 /// The soft Coulomb wall of the paper's Fig. 2: charges c_i at body points P_i, attracted to
-/// a fixed point M and repelled by the wall z = 0 (design/scenes.md, `coulomb_wall`):
+/// a fixed point M and repelled by the wall z = 0 (docs/design/scenes.md, `coulomb_wall`):
 ///   V = Σ_i c_i ( −α/|r_i − M| + β/z_i ),
 ///   f_i = −∇V = −c_i α (r_i − M)/|r_i − M|³ + c_i β/z_i² e_z.
 /// Conservative: the energy output includes V.

@@ -1,7 +1,7 @@
 #pragma once
 
 /// \file prescribed_motion.hpp
-/// Rigid motion `prescribed` (design/model.md, "Rigid motion modes"): the body frame rotates
+/// Rigid motion `prescribed` (docs/design/model.md, "Rigid motion modes"): the body frame rotates
 /// about a fixed world axis through its fixed origin Bo by a given angle law φ(t),
 ///
 ///   R_WB(t) = exp(φ(t) â_W) R_WB(0),   ω̄ = φ̇ R_WBᵀ a_W,   α̅ = φ̈ R_WBᵀ a_W
@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "core/euler_parameters.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::core {
 
@@ -43,11 +43,11 @@ struct PrescribedRotation {
 
 /// Attitude, body-frame angular velocity and acceleration at t, from the attitude at t = 0.
 struct PrescribedAttitude {
-  EulerParameters theta_WB;
+  rotation::EulerParameters theta_WB;
   Eigen::Vector3d w_WB_B;
   Eigen::Vector3d alpha_WB_B;
 };
 PrescribedAttitude prescribed_attitude(const PrescribedRotation& rotation,
-                                       const EulerParameters& theta_WB0, double t);
+                                       const rotation::EulerParameters& theta_WB0, double t);
 
 }  // namespace flexref::core

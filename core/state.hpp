@@ -1,7 +1,7 @@
 #pragma once
 /// \file state.hpp
 /// The state every integrator advances, body by body, in the quasi-velocity variables of
-/// design/model.md: position of the reference point Br (world), Euler parameters θ (B → W),
+/// docs/design/model.md: position of the reference point Br (world), Euler parameters θ (B → W),
 /// velocity of Br (world) and body-frame angular velocity ω̄ = w_WB_B, and for a flexible body
 /// the modal coordinates q_f and their rates (empty for a rigid body). A pivot body keeps p_WBr
 /// fixed and v_WBr = 0; a prescribed body's rigid part is the angle law's at the state's time.
@@ -9,13 +9,13 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::core {
 
 struct BodyState {
   Eigen::Vector3d p_WBr = Eigen::Vector3d::Zero();
-  EulerParameters theta_WB = identity_euler_parameters();
+  rotation::EulerParameters theta_WB = rotation::identity_euler_parameters();
   Eigen::Vector3d v_WBr = Eigen::Vector3d::Zero();
   Eigen::Vector3d w_WB_B = Eigen::Vector3d::Zero();
   Eigen::VectorXd q_f;   ///< modal coordinates (n)

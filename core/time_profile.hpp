@@ -7,7 +7,7 @@
 /// which branch is active. An integrator evaluating at the end of a step that ends on a switch
 /// passes a t_segment inside that step and so gets the left limit; the next step gets the
 /// right limit. This is how every integrator stops at load discontinuities without ever
-/// evaluating the "wrong side" of a jump (design/schemes.md, "Reference integrators").
+/// evaluating the "wrong side" of a jump (docs/design/schemes.md, "Reference integrators").
 #include <vector>
 
 namespace flexref::core {

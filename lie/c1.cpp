@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "core/euler_parameters.hpp"
-#include "core/so3.hpp"
 #include "lie/c1_newton.hpp"
 #include "lie/scheme_support.hpp"
+#include "rotation/euler_parameters.hpp"
+#include "rotation/so3.hpp"
 
 namespace flexref::lie {
 
@@ -80,7 +80,8 @@ C1Stepper::NewtonOutcome C1Stepper::solve_balance(double t_n, double h) {
       // Θ ← (h/2)(W_n + W_{n+1})
       const Vector3d theta = detail::c1_increment(s.w_WB_B, next_[i].w_WB_B, h);
       // R_{n+½} ← R_n exp(Θ̃/2),  W_{n+½} ← ½ (W_n + W_{n+1})
-      mid_[i].theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(0.5 * theta));
+      mid_[i].theta_WB =
+          rotation::quaternion_multiply(s.theta_WB, rotation::exp_quaternion(0.5 * theta));
       detail::renormalize_unit_product(mid_[i].theta_WB);
       mid_[i].w_WB_B = 0.5 * (s.w_WB_B + next_[i].w_WB_B);
     }
@@ -167,14 +168,15 @@ void C1Stepper::add_load_jacobian(double t_n, double h) {
     const core::BodyState& s = state_[i];
     const Vector3d W = next_[i].w_WB_B;
     const core::BodyState mid_saved = mid_[i];
-    const Matrix3d exp_minus = core::exp_so3(-detail::c1_increment(s.w_WB_B, W, h));
+    const Matrix3d exp_minus = rotation::exp_so3(-detail::c1_increment(s.w_WB_B, W, h));
     // ε: the square root of the unit round-off times the size of W (forward differences).
     const double eps = 1.5e-8 * std::max(1.0, W.cwiseAbs().maxCoeff());
     for (int k = 0; k < 3; ++k) {
       next_[i].w_WB_B = W;
       next_[i].w_WB_B(k) += eps;
       const Vector3d theta = detail::c1_increment(s.w_WB_B, next_[i].w_WB_B, h);
-      mid_[i].theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(0.5 * theta));
+      mid_[i].theta_WB =
+          rotation::quaternion_multiply(s.theta_WB, rotation::exp_quaternion(0.5 * theta));
       detail::renormalize_unit_product(mid_[i].theta_WB);
       mid_[i].w_WB_B = 0.5 * (s.w_WB_B + next_[i].w_WB_B);
       model_.compute_wrenches(midpoint, mid_, ws_);
@@ -215,7 +217,7 @@ StepStatus C1Stepper::step(double h) {
       s1.v_WBr.setZero();
       sm.v_WBr.setZero();
     }
-    R_n_transpose_[i] = core::rotation_matrix(s.theta_WB).transpose();
+    R_n_transpose_[i] = rotation::rotation_matrix(s.theta_WB).transpose();
     // W_{n+1} ← W_n + h A_n   (predictor)
     s1.w_WB_B = s.w_WB_B + h * acc_[i].alpha_WB_B;
     // q_{n+½} ← ½ (q_n + q_{n+1}) below, once q_{n+1} is predicted.
@@ -243,7 +245,7 @@ StepStatus C1Stepper::step(double h) {
     if (model_.body(static_cast<int>(i)).is_prescribed()) continue;  // the law's attitude
     // R_{n+1} ← R_n exp(Θ̃)   (θ_{n+1} = θ_n ⊗ exp(Θ), renormalized)
     const Vector3d theta = detail::c1_increment(s.w_WB_B, s1.w_WB_B, h);
-    s1.theta_WB = core::quaternion_multiply(s.theta_WB, core::exp_quaternion(theta));
+    s1.theta_WB = rotation::quaternion_multiply(s.theta_WB, rotation::exp_quaternion(theta));
     detail::renormalize_unit_product(s1.theta_WB);
     // A_{n+1} ← (W_{n+1} − W_n)/h
     acc_next_[i].alpha_WB_B = (s1.w_WB_B - s.w_WB_B) / h;

@@ -1,6 +1,6 @@
 #pragma once
 /// \file c1.hpp
-/// ALGO C1 of Simo & Wong (1991), implicit (Newmark β = ½, γ = 1; design/schemes.md),
+/// ALGO C1 of Simo & Wong (1991), implicit (Newmark β = ½, γ = 1; docs/design/schemes.md),
 /// combined with central differences for the translation of free bodies (the paper's hybrid
 /// step). Per step:
 ///   x_{n+1} = x_n + h v_n + ½ h² a_n                                   (explicit)

@@ -1,14 +1,14 @@
 #pragma once
 /// \file c1_newton.hpp
 /// The nonlinear equation of one C1 step for one body and its Jacobian (Simo & Wong 1991,
-/// ALGO C1; design/schemes.md), exposed so that tests can check the Jacobian against finite
+/// ALGO C1; docs/design/schemes.md), exposed so that tests can check the Jacobian against finite
 /// differences. With the global torque Γ_{n+½} held fixed, the balance of angular momentum
 ///   R_{n+1} J W_{n+1} − R_n J W_n = h Γ_{n+½},   R_{n+1} = R_n exp(Θ̃),  Θ = (h/2)(W_n + W_{n+1})
 /// is, premultiplied by R_{n+1}ᵀ = exp(−Θ̃) R_nᵀ,
 ///   r(W) = J W − exp(−Θ̃) b = 0,   b = J W_n + h R_nᵀ Γ_{n+½}   (body frame of step n).
 #include <Eigen/Core>
 
-#include "core/so3.hpp"
+#include "rotation/so3.hpp"
 
 namespace flexref::lie::detail {
 
@@ -21,12 +21,12 @@ inline Eigen::Vector3d c1_increment(const Eigen::Vector3d& w_n, const Eigen::Vec
 /// \f[ \frac{\partial}{\partial\Theta}\bigl(e^{-\tilde\Theta} b\bigr)
 ///     = \bigl(e^{-\tilde\Theta} b\bigr)^\sim \, J_r(\Theta) \f]
 /// Derivation: exp((Θ + δ)~) = exp(Θ̃) exp((J_r(Θ) δ)~) + O(δ²) with the right Jacobian
-/// J_r(Θ) = dexp_{−Θ} (core/so3.hpp); transposing, exp(−(Θ + δ)~) = (I − (J_r δ)~) exp(−Θ̃),
+/// J_r(Θ) = dexp_{−Θ} (rotation/so3.hpp); transposing, exp(−(Θ + δ)~) = (I − (J_r δ)~) exp(−Θ̃),
 /// so δ(exp(−Θ̃) b) = −(J_r δ) × exp(−Θ̃) b = (exp(−Θ̃) b)~ J_r δ.
 inline Eigen::Matrix3d d_rotated_by_minus_theta(const Eigen::Vector3d& b,
                                                 const Eigen::Vector3d& theta) {
-  const Eigen::Vector3d rotated = core::exp_so3(theta).transpose() * b;
-  return core::hat(rotated) * core::right_jacobian(theta);
+  const Eigen::Vector3d rotated = rotation::exp_so3(theta).transpose() * b;
+  return rotation::hat(rotated) * rotation::right_jacobian(theta);
 }
 
 /// The residual and its Newton matrix at one iterate.
@@ -41,8 +41,9 @@ inline C1Linearization c1_linearize(const Eigen::Matrix3d& J, const Eigen::Vecto
                                     const Eigen::Vector3d& w_n, const Eigen::Vector3d& w,
                                     double h) {
   const Eigen::Vector3d theta = c1_increment(w_n, w, h);
-  const Eigen::Vector3d rotated_b = core::exp_so3(theta).transpose() * b;  // exp(−Θ̃) b
-  return {J * w - rotated_b, J - (0.5 * h) * (core::hat(rotated_b) * core::right_jacobian(theta))};
+  const Eigen::Vector3d rotated_b = rotation::exp_so3(theta).transpose() * b;  // exp(−Θ̃) b
+  return {J * w - rotated_b,
+          J - (0.5 * h) * (rotation::hat(rotated_b) * rotation::right_jacobian(theta))};
 }
 
 }  // namespace flexref::lie::detail

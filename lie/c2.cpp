@@ -4,8 +4,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "core/euler_parameters.hpp"
 #include "lie/scheme_support.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::lie {
 

@@ -1,7 +1,7 @@
 #pragma once
 /// \file c2.hpp
 /// ALGO C2 of Simo & Wong (1991), explicit (Newmark β = 0, γ = 1), as the paper implements it
-/// (design/schemes.md), combined with central differences for the translation of free bodies
+/// (docs/design/schemes.md), combined with central differences for the translation of free bodies
 /// (the paper's hybrid step):
 ///   x_{n+1} = x_n + h v_n + ½ h² a_n
 ///   Θ = h (W_n + ½ h A_n),   R_{n+1} = R_n exp(Θ̃)

@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include "core/euler_parameters.hpp"
 #include "lie/nmb_newton.hpp"
 #include "lie/scheme_support.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::lie {
 

@@ -1,7 +1,7 @@
 #pragma once
 /// \file nmb.hpp
 /// NMB, the explicit Newmark scheme for rigid-body rotations of Krysl & Endres (2005)
-/// (Newmark β = 0, γ = ½; design/schemes.md), combined with central differences for the
+/// (Newmark β = 0, γ = ½; docs/design/schemes.md), combined with central differences for the
 /// translation of free bodies (the paper's hybrid step):
 ///   x_{n+1} = x_n + h v_n + ½ h² a_n
 ///   Θ = h W_n + ½ h² A_n,   R_{n+1} = R_n exp(Θ̃)

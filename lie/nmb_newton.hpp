@@ -1,14 +1,14 @@
 #pragma once
 /// \file nmb_newton.hpp
 /// The Euler equation NMB solves for A_{n+1} (Krysl & Endres 2005, explicit Newmark β = 0,
-/// γ = ½; design/schemes.md) and its exact Jacobian, exposed for finite-difference tests:
+/// γ = ½; docs/design/schemes.md) and its exact Jacobian, exposed for finite-difference tests:
 ///   f(A) = J A + W(A) × J W(A) − T_{n+1},   W(A) = W_n + (h/2)(A_n + A)
 ///   ∂f/∂A = J + (h/2) (W̃ J − (J W)~)
 /// (d(W × JW) = dW × JW + W × J dW = −(JW)~ dW + W̃ J dW, and dW = (h/2) dA).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "core/so3.hpp"
+#include "rotation/so3.hpp"
 
 namespace flexref::lie::detail {
 
@@ -33,7 +33,8 @@ inline NmbLinearization nmb_linearize(const Eigen::Matrix3d& J, const Eigen::Vec
   const Eigen::Vector3d w = nmb_velocity(w_n, alpha_n, alpha, h);
   const Eigen::Vector3d J_w = J * w;
   const Eigen::Vector3d J_alpha = J * alpha;
-  return {J_alpha + w.cross(J_w) - torque_B, J + (0.5 * h) * (core::hat(w) * J - core::hat(J_w)),
+  return {J_alpha + w.cross(J_w) - torque_B,
+          J + (0.5 * h) * (rotation::hat(w) * J - rotation::hat(J_w)),
           J_alpha.cwiseAbs().maxCoeff() + w.cwiseAbs().maxCoeff() * J_w.cwiseAbs().maxCoeff() +
               torque_B.cwiseAbs().maxCoeff()};
 }

@@ -46,7 +46,7 @@ bool all_finite(const core::State& state);
 /// Renormalizes the product of two unit quaternions. Its squared norm is 1 + δ with δ a few ε,
 /// so one Newton step for 1/√x at x = 1, θ ← θ (3 − |θ|²)/2, leaves an error (3/8)δ² — below
 /// round-off — without a square root or a division on the step's critical path.
-inline void renormalize_unit_product(core::EulerParameters& theta) {
+inline void renormalize_unit_product(rotation::EulerParameters& theta) {
   theta *= 0.5 * (3.0 - theta.squaredNorm());
 }
 

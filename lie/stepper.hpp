@@ -1,6 +1,6 @@
 #pragma once
 /// \file stepper.hpp
-/// The common interface of the Lie-group Newmark-family schemes (design/schemes.md), after
+/// The common interface of the Lie-group Newmark-family schemes (docs/design/schemes.md), after
 /// Drake's IntegratorBase and Boost.Odeint's stepper concept: initialize, step(h) returning a
 /// status, order(), name(). A failed step leaves the state at the start of the step and says
 /// why. Stepping allocates nothing.

@@ -1,5 +1,5 @@
 /// \file cvode_solver.cpp
-/// CVODE on the quasi-velocity ODE form of design/model.md (core/ode_form.hpp), with a
+/// CVODE on the quasi-velocity ODE form of docs/design/model.md (reference/ode_form.hpp), with a
 /// projection (CVodeSetProjFn) that puts the Euler parameters back on the unit sphere after
 /// every step.
 ///
@@ -40,7 +40,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/ode_form.hpp"
+#include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
 #include "reference/sundials_handle.hpp"
 
@@ -50,8 +50,8 @@ namespace {
 namespace sun = sundials;
 
 struct CvodeData : sun::CallbackRecord {
-  const core::OdeForm* form = nullptr;
-  core::OdeForm::Scratch scratch;
+  const reference::OdeForm* form = nullptr;
+  reference::OdeForm::Scratch scratch;
   double t_segment = 0.0;
 };
 
@@ -137,7 +137,7 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
                          const SolverOptions& options) {
   sun::validate_tolerances(options.rtol, options.absolute_tolerance(), options.max_steps);
   const sun::SegmentPlan plan = sun::plan_segments(model.discontinuities(), output_times);
-  const core::OdeForm form(model);
+  const reference::OdeForm form(model);
   const int n = form.size();
 
   ReferenceRun run;

@@ -73,7 +73,7 @@ std::pair<double, double> quadratic_roots(double c2, double c1, double c0) {
 
 HeavyTopExact::HeavyTopExact(double mass, double com_distance, const Eigen::Vector3d& axis_B,
                              double j_perp, double j_axial, const Eigen::Vector3d& g_W,
-                             const core::EulerParameters& theta0, const Eigen::Vector3d& w0_B)
+                             const rotation::EulerParameters& theta0, const Eigen::Vector3d& w0_B)
     : theta0_(detail::unit_euler_parameters(theta0, "HeavyTopExact")), w0_B_(w0_B) {
   const auto positive = [](double x) { return std::isfinite(x) && x > 0.0; };
   if (!positive(mass) || !positive(com_distance) || !positive(j_perp) || !positive(j_axial)) {
@@ -100,9 +100,9 @@ HeavyTopExact::HeavyTopExact(double mass, double com_distance, const Eigen::Vect
   frame.row(0) = x_B_.transpose();
   frame.row(1) = y_B_.transpose();
   frame.row(2) = axis_B_.transpose();
-  q_frame_ = core::euler_parameters_from_matrix(frame).normalized();
+  q_frame_ = rotation::euler_parameters_from_matrix(frame).normalized();
 
-  const Eigen::Vector3d up_B = core::rotation_matrix(theta0_).transpose() * (-g_W / gravity);
+  const Eigen::Vector3d up_B = rotation::rotation_matrix(theta0_).transpose() * (-g_W / gravity);
   spin_ = axis_B_.dot(w0_B);
   a_ = j_axial * spin_ / j_perp;
   const Eigen::Vector3d w_perp_B = w0_B - spin_ * axis_B_;
@@ -201,10 +201,10 @@ HeavyTopExact::HeavyTopExact(double mass, double com_distance, const Eigen::Vect
 
   // R_up = A(θ₀) Pᵀ R'(0)ᵀ with R'(0) from the same evaluation as at(0).
   Eigen::Vector3d w_B;
-  const core::EulerParameters q_euler0 = euler_part(0.0, w_B);
-  q_up_ = core::quaternion_multiply(
-              core::quaternion_multiply(theta0_, core::quaternion_conjugate(q_frame_)),
-              core::quaternion_conjugate(q_euler0))
+  const rotation::EulerParameters q_euler0 = euler_part(0.0, w_B);
+  q_up_ = rotation::quaternion_multiply(
+              rotation::quaternion_multiply(theta0_, rotation::quaternion_conjugate(q_frame_)),
+              rotation::quaternion_conjugate(q_euler0))
               .normalized();
 }
 
@@ -236,15 +236,16 @@ HeavyTopExact::PoleIntegrals HeavyTopExact::pole_integrals(double tau,
 
 RigidAttitude HeavyTopExact::at(double t) const {
   if (motion_ == Motion::kPermanentRotation) {
-    return {core::quaternion_multiply(theta0_, core::exp_quaternion(w0_B_ * t)), w0_B_};
+    return {rotation::quaternion_multiply(theta0_, rotation::exp_quaternion(w0_B_ * t)), w0_B_};
   }
   RigidAttitude result;
-  const core::EulerParameters q_euler = euler_part(t, result.w_B);
-  result.theta = core::quaternion_multiply(core::quaternion_multiply(q_up_, q_euler), q_frame_);
+  const rotation::EulerParameters q_euler = euler_part(t, result.w_B);
+  result.theta =
+      rotation::quaternion_multiply(rotation::quaternion_multiply(q_up_, q_euler), q_frame_);
   return result;
 }
 
-core::EulerParameters HeavyTopExact::euler_part(double t, Eigen::Vector3d& w_B) const {
+rotation::EulerParameters HeavyTopExact::euler_part(double t, Eigen::Vector3d& w_B) const {
   const double amplitude = v2_ - v1_;
   double one_plus_u = y1_;
   double one_minus_u = z2_;

@@ -8,8 +8,8 @@
 #include <Eigen/Core>
 #include <optional>
 
-#include "core/euler_parameters.hpp"
 #include "reference/exact_torque_free.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::reference {
 
@@ -56,7 +56,7 @@ class HeavyTopExact {
   /// chart is singular there; tilt it by any amount). A top spinning exactly upright or
   /// hanging exactly down about its axis is a permanent rotation and is accepted.
   HeavyTopExact(double mass, double com_distance, const Eigen::Vector3d& axis_B, double j_perp,
-                double j_axial, const Eigen::Vector3d& g_W, const core::EulerParameters& theta0,
+                double j_axial, const Eigen::Vector3d& g_W, const rotation::EulerParameters& theta0,
                 const Eigen::Vector3d& w0_B);
 
   RigidAttitude at(double t) const;
@@ -70,7 +70,7 @@ class HeavyTopExact {
  private:
   enum class Motion { kPermanentRotation, kSteadyPrecession, kNutation };
   Motion motion_ = Motion::kNutation;
-  core::EulerParameters theta0_;
+  rotation::EulerParameters theta0_;
   Eigen::Vector3d w0_B_;
   Eigen::Vector3d x_B_, y_B_, axis_B_;  ///< body frame E = (x, y, e) of the Euler angles
   double a_ = 0.0;                      ///< J_a ω₃ / J⊥
@@ -88,8 +88,8 @@ class HeavyTopExact {
   double north0_ = 0.0, south0_ = 0.0;            ///< the pole integrals at τ₀
   std::optional<elliptic::CircularPi> north_;
   std::optional<elliptic::ShiftedHyperbolicPi> south_;
-  core::EulerParameters q_up_;     ///< R_up
-  core::EulerParameters q_frame_;  ///< P: body → E
+  rotation::EulerParameters q_up_;     ///< R_up
+  rotation::EulerParameters q_frame_;  ///< P: body → E
 
   struct PoleIntegrals {
     double north;  ///< Φ₊ up to the constant
@@ -97,7 +97,7 @@ class HeavyTopExact {
   };
   PoleIntegrals pole_integrals(double tau, const elliptic::JacobiValues& f,
                                double one_minus_u) const;
-  core::EulerParameters euler_part(double t, Eigen::Vector3d& w_B) const;
+  rotation::EulerParameters euler_part(double t, Eigen::Vector3d& w_B) const;
 };
 
 }  // namespace flexref::reference

@@ -9,7 +9,7 @@ namespace flexref::reference {
 
 PendulumExact::PendulumExact(double mass, const Eigen::Vector3d& c_B,
                              const Eigen::Matrix3d& j_pivot_B, const Eigen::Vector3d& g_W,
-                             const core::EulerParameters& theta0)
+                             const rotation::EulerParameters& theta0)
     : theta0_(detail::unit_euler_parameters(theta0, "PendulumExact")) {
   if (!std::isfinite(mass) || !(mass > 0.0)) {
     throw std::invalid_argument("PendulumExact: mass must be finite and > 0");
@@ -21,7 +21,7 @@ PendulumExact::PendulumExact(double mass, const Eigen::Vector3d& c_B,
   if ((j_pivot_B - j_pivot_B.transpose()).norm() > 1e-12 * j_norm) {
     throw std::invalid_argument("PendulumExact: inertia about the pivot must be symmetric");
   }
-  const Eigen::Matrix3d attitude0 = core::rotation_matrix(theta0_);
+  const Eigen::Matrix3d attitude0 = rotation::rotation_matrix(theta0_);
   const Eigen::Vector3d c_W = attitude0 * c_B;
   const Eigen::Vector3d cross = c_W.cross(g_W);
   if (cross.isZero(0.0)) return;  // c = 0, g = 0 or c ∥ g: equilibrium, stays at rest
@@ -65,11 +65,11 @@ RigidAttitude PendulumExact::at(double t) const {
   // cos(δ/2) = k' dn + k² sn, sin(δ/2) = k (dn − k' sn).
   const double cos_half = k_prime_ * f.dn + k_ * k_ * f.sn;
   const double sin_half = k_ * (f.dn - k_prime_ * f.sn);
-  core::EulerParameters rotation;
+  rotation::EulerParameters rotation;
   rotation(0) = cos_half;
   rotation.tail<3>() = sin_half * axis_W_;
   RigidAttitude result;
-  result.theta = core::quaternion_multiply(rotation, theta0_);
+  result.theta = rotation::quaternion_multiply(rotation, theta0_);
   result.w_B = (2.0 * k_ * omega0_ * f.cn) * axis_B_;  // δ̇ = −θ̇ = 2kω₀ cn
   return result;
 }

@@ -6,8 +6,8 @@
 /// Abramowitz & Stegun §16.4 and DLMF §22.19(i) (pendulum in Jacobi functions).
 #include <Eigen/Core>
 
-#include "core/euler_parameters.hpp"
 #include "reference/exact_torque_free.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::reference {
 
@@ -37,7 +37,7 @@ class PendulumExact {
   /// coupling would tilt the plane of motion by more than the accuracy claimed here), or
   /// n_Bᵀ J n_B ≤ 0.
   PendulumExact(double mass, const Eigen::Vector3d& c_B, const Eigen::Matrix3d& j_pivot_B,
-                const Eigen::Vector3d& g_W, const core::EulerParameters& theta0);
+                const Eigen::Vector3d& g_W, const rotation::EulerParameters& theta0);
 
   RigidAttitude at(double t) const;
   /// 4K(k)/ω₀; +∞ when the body stays at rest.
@@ -50,7 +50,7 @@ class PendulumExact {
   const Eigen::Vector3d& axis_W() const { return axis_W_; }
 
  private:
-  core::EulerParameters theta0_;
+  rotation::EulerParameters theta0_;
   bool at_rest_ = true;
   Eigen::Vector3d axis_W_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis_B_ = Eigen::Vector3d::Zero();

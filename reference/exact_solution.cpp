@@ -54,12 +54,13 @@ ExactSolutionKind classify_exact_solution(const core::Model& model) {
   if (c_B.norm() == 0.0) return {"", "the centre of mass is at the pivot"};
   const core::BodyState s0 = model.initial_state()[0];
   if (s0.w_WB_B.norm() == 0.0) {
-    const Eigen::Vector3d axis_W = (core::rotation_matrix(s0.theta_WB) * c_B).cross(gravity->g_W());
+    const Eigen::Vector3d axis_W =
+        (rotation::rotation_matrix(s0.theta_WB) * c_B).cross(gravity->g_W());
     if (axis_W.norm() <= 1e-12 * c_B.norm() * gravity->g_W().norm()) {
       return {"", "released at rest in equilibrium"};
     }
     const Eigen::Vector3d n_B =
-        core::rotation_matrix(s0.theta_WB).transpose() * axis_W.normalized();
+        rotation::rotation_matrix(s0.theta_WB).transpose() * axis_W.normalized();
     const Eigen::Vector3d In = body.I_Br_B() * n_B;
     if ((In - n_B.dot(In) * n_B).norm() > kSymmetryTolerance * In.norm()) {
       return {"", "the swing axis is not a principal axis (the motion is not planar)"};
@@ -89,7 +90,7 @@ ReferenceRun solve_exact(const core::Model& model, const std::vector<double>& ou
   ReferenceRun run;
   run.solver = "exact";
   const std::clock_t start = std::clock();
-  auto record = [&](double t, const core::EulerParameters& theta, const Eigen::Vector3d& w_B) {
+  auto record = [&](double t, const rotation::EulerParameters& theta, const Eigen::Vector3d& w_B) {
     core::BodyState s = s0;
     s.theta_WB = theta;
     s.w_WB_B = w_B;
@@ -101,13 +102,13 @@ ReferenceRun solve_exact(const core::Model& model, const std::vector<double>& ou
   if (kind.kind == "torque_free") {
     // Solve in the principal frame P of the inertia: θ_WP = θ_WB ⊗ q_BP, ω_P = R_BPᵀ ω_B.
     const Principal p = principal_axes(body.I_Br_B());
-    const core::EulerParameters q_BP = core::euler_parameters_from_matrix(p.R_BP);
-    const TorqueFreeExact exact(p.moments, core::quaternion_multiply(s0.theta_WB, q_BP),
+    const rotation::EulerParameters q_BP = rotation::euler_parameters_from_matrix(p.R_BP);
+    const TorqueFreeExact exact(p.moments, rotation::quaternion_multiply(s0.theta_WB, q_BP),
                                 p.R_BP.transpose() * s0.w_WB_B);
-    const core::EulerParameters q_PB = core::quaternion_conjugate(q_BP);
+    const rotation::EulerParameters q_PB = rotation::quaternion_conjugate(q_BP);
     for (double t : output_times) {
       const RigidAttitude a = exact.at(t - t0);
-      record(t, core::quaternion_multiply(a.theta, q_PB).normalized(), p.R_BP * a.w_B);
+      record(t, rotation::quaternion_multiply(a.theta, q_PB).normalized(), p.R_BP * a.w_B);
     }
   } else {
     const core::UniformGravity* gravity = only_gravity(model);

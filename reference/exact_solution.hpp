@@ -1,6 +1,6 @@
 #pragma once
 /// \file exact_solution.hpp
-/// Analytic references for the scenes that have one (design/schemes.md, "Exact solutions"):
+/// Analytic references for the scenes that have one (docs/design/schemes.md, "Exact solutions"):
 /// a single free body without loads (torque-free, Jacobi elliptic functions), a single
 /// symmetric pivot body under gravity with its centre of mass on the symmetry axis (Lagrange
 /// top), and a single pivot body under gravity released at rest swinging about a principal

@@ -34,19 +34,20 @@ void check_modulus(double k, double k_prime) {
 
 }  // namespace
 
-core::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta, double sin_half_theta,
-                                           double psi) {
+rotation::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta,
+                                               double sin_half_theta, double psi) {
   // q_z(φ) ⊗ q_x(ϑ) ⊗ q_z(ψ) multiplied out.
   const double half_sum = 0.5 * (phi + psi);
   const double half_difference = 0.5 * (phi - psi);
-  return core::EulerParameters(
+  return rotation::EulerParameters(
       cos_half_theta * std::cos(half_sum), sin_half_theta * std::cos(half_difference),
       sin_half_theta * std::sin(half_difference), cos_half_theta * std::sin(half_sum));
 }
 
 namespace detail {
 
-core::EulerParameters unit_euler_parameters(const core::EulerParameters& theta, const char* who) {
+rotation::EulerParameters unit_euler_parameters(const rotation::EulerParameters& theta,
+                                                const char* who) {
   const double norm = theta.norm();
   if (!theta.allFinite() || std::abs(norm - 1.0) > 1e-6) {
     throw std::invalid_argument(
@@ -163,7 +164,8 @@ double ShiftedHyperbolicPi::operator()(double tau, const JacobiValues& f) const 
 }  // namespace elliptic
 
 TorqueFreeExact::TorqueFreeExact(const Eigen::Vector3d& inertia_B,
-                                 const core::EulerParameters& theta0, const Eigen::Vector3d& w0_B)
+                                 const rotation::EulerParameters& theta0,
+                                 const Eigen::Vector3d& w0_B)
     : regime_(TorqueFreeRegime::kSteadyRotation),
       inertia_B_(inertia_B),
       theta0_(detail::unit_euler_parameters(theta0, "TorqueFreeExact")),
@@ -264,13 +266,13 @@ TorqueFreeExact::TorqueFreeExact(const Eigen::Vector3d& inertia_B,
   permutation(0, ix_) = 1.0;
   permutation(1, iy_) = 1.0;
   permutation(2, ia_) = 1.0;
-  q_perm_ = core::euler_parameters_from_matrix(permutation).normalized();
+  q_perm_ = rotation::euler_parameters_from_matrix(permutation).normalized();
   // R_π = A(θ₀) Pᵀ R'(0)ᵀ, with R'(0) from the same evaluation as at(0) (φ(0) = 0).
   Eigen::Vector3d w_B;
-  const core::EulerParameters q_euler0 = euler_part(0.0, w_B);
-  q_pi_ = core::quaternion_multiply(
-              core::quaternion_multiply(theta0_, core::quaternion_conjugate(q_perm_)),
-              core::quaternion_conjugate(q_euler0))
+  const rotation::EulerParameters q_euler0 = euler_part(0.0, w_B);
+  q_pi_ = rotation::quaternion_multiply(
+              rotation::quaternion_multiply(theta0_, rotation::quaternion_conjugate(q_perm_)),
+              rotation::quaternion_conjugate(q_euler0))
               .normalized();
 }
 
@@ -289,15 +291,16 @@ double TorqueFreeExact::period() const {
 
 RigidAttitude TorqueFreeExact::at(double t) const {
   if (regime_ == TorqueFreeRegime::kSteadyRotation) {
-    return {core::quaternion_multiply(theta0_, core::exp_quaternion(w0_B_ * t)), w0_B_};
+    return {rotation::quaternion_multiply(theta0_, rotation::exp_quaternion(w0_B_ * t)), w0_B_};
   }
   RigidAttitude result;
-  const core::EulerParameters q_euler = euler_part(t, result.w_B);
-  result.theta = core::quaternion_multiply(core::quaternion_multiply(q_pi_, q_euler), q_perm_);
+  const rotation::EulerParameters q_euler = euler_part(t, result.w_B);
+  result.theta =
+      rotation::quaternion_multiply(rotation::quaternion_multiply(q_pi_, q_euler), q_perm_);
   return result;
 }
 
-core::EulerParameters TorqueFreeExact::euler_part(double t, Eigen::Vector3d& w_B) const {
+rotation::EulerParameters TorqueFreeExact::euler_part(double t, Eigen::Vector3d& w_B) const {
   const double tau = lambda_ * t + tau0_;
   elliptic::JacobiValues f{};
   double h = 0.0;

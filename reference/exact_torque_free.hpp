@@ -11,14 +11,14 @@
 #include <Eigen/Core>
 #include <optional>
 
-#include "core/euler_parameters.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::reference {
 
 /// Attitude and angular velocity of a rigid body at one instant.
 struct RigidAttitude {
-  core::EulerParameters theta;  ///< Euler parameters, body → global
-  Eigen::Vector3d w_B;          ///< angular velocity of the body, body frame
+  rotation::EulerParameters theta;  ///< Euler parameters, body → global
+  Eigen::Vector3d w_B;              ///< angular velocity of the body, body frame
 };
 
 /// Euler parameters of the z-x-z Euler-angle rotation
@@ -29,13 +29,14 @@ struct RigidAttitude {
 /// \dot\varphi\sin\vartheta\cos\psi - \dot\vartheta\sin\psi,\; \dot\varphi\cos\vartheta +
 /// \dot\psi)\f$). The half-angle cosine and sine of ϑ are passed separately so that callers can
 /// form them from 1 ± cos ϑ without cancellation near ϑ = 0 or π.
-core::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta, double sin_half_theta,
-                                           double psi);
+rotation::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta,
+                                               double sin_half_theta, double psi);
 
 namespace detail {
 /// θ/|θ| for the initial attitude of an exact solution; `who` names the caller in the error.
 /// \throws std::invalid_argument if θ is not finite or ||θ| − 1| > 1e-6 (scenes.md's rule).
-core::EulerParameters unit_euler_parameters(const core::EulerParameters& theta, const char* who);
+rotation::EulerParameters unit_euler_parameters(const rotation::EulerParameters& theta,
+                                                const char* who);
 }  // namespace detail
 
 /// Elliptic functions and integrals parametrised by the modulus k AND its complement
@@ -171,7 +172,7 @@ class TorqueFreeExact {
  public:
   /// \throws std::invalid_argument for non-finite or non-positive inertia, a non-unit θ₀
   /// (|θ₀| − 1 > 1e-6; smaller deviations are normalised away) or a non-finite ω₀.
-  TorqueFreeExact(const Eigen::Vector3d& inertia_B, const core::EulerParameters& theta0,
+  TorqueFreeExact(const Eigen::Vector3d& inertia_B, const rotation::EulerParameters& theta0,
                   const Eigen::Vector3d& w0_B);
 
   RigidAttitude at(double t) const;
@@ -186,7 +187,7 @@ class TorqueFreeExact {
  private:
   TorqueFreeRegime regime_;
   Eigen::Vector3d inertia_B_;
-  core::EulerParameters theta0_;
+  rotation::EulerParameters theta0_;
   Eigen::Vector3d w0_B_;
   double momentum_norm_ = 0.0;    ///< M = |π|
   int ia_ = 0, ib_ = 1, ic_ = 2;  ///< body indices of the axes a, b, c
@@ -200,12 +201,12 @@ class TorqueFreeExact {
   double phi_coeff_ = 0.0;                                     ///< (I_c − I_a)/(I_c λ)
   double h0_ = 0.0;                                            ///< H_ν(τ₀)
   std::optional<elliptic::ShiftedHyperbolicPi> phi_integral_;  ///< H_ν (elliptic regimes)
-  core::EulerParameters q_pi_;                                 ///< R_π
-  core::EulerParameters q_perm_;                               ///< P
+  rotation::EulerParameters q_pi_;                             ///< R_π
+  rotation::EulerParameters q_perm_;                           ///< P
 
   double separatrix_h(double tau) const;
   /// R_z(φ)R_x(ϑ)R_z(ψ) at t, and ω_B(t) (non-steady regimes).
-  core::EulerParameters euler_part(double t, Eigen::Vector3d& w_B) const;
+  rotation::EulerParameters euler_part(double t, Eigen::Vector3d& w_B) const;
 };
 
 }  // namespace flexref::reference

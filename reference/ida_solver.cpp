@@ -1,6 +1,6 @@
 /// \file ida_solver.cpp
-/// IDA (variable-order BDF for DAEs) on the Euler-parameter DAE form of design/model.md
-/// (core/dae_form.hpp: Gear–Gupta–Leimkuhler stabilized index 2, multipliers λ, μ).
+/// IDA (variable-order BDF for DAEs) on the Euler-parameter DAE form of docs/design/model.md
+/// (reference/dae_form.hpp: Gear–Gupta–Leimkuhler stabilized index 2, multipliers λ, μ).
 ///
 /// - Dense direct linear solver with IDA's difference-quotient Jacobian (the systems are
 ///   10–16 unknowns per body; an analytic Jacobian would save little and is one more thing to
@@ -48,8 +48,8 @@
 #include <string>
 #include <vector>
 
-#include "core/dae_form.hpp"
 #include "core/error.hpp"
+#include "reference/dae_form.hpp"
 #include "reference/reference_solver.hpp"
 #include "reference/sundials_handle.hpp"
 
@@ -67,8 +67,8 @@ namespace sun = sundials;
 constexpr double kMultiplierAbsoluteTolerance = 1.0;
 
 struct IdaData : sun::CallbackRecord {
-  const core::DaeForm* form = nullptr;
-  core::DaeForm::Scratch scratch;
+  const reference::DaeForm* form = nullptr;
+  reference::DaeForm::Scratch scratch;
   double t_segment = 0.0;
 };
 
@@ -130,7 +130,7 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
                        const SolverOptions& options) {
   sun::validate_tolerances(options.rtol, options.absolute_tolerance(), options.max_steps);
   const sun::SegmentPlan plan = sun::plan_segments(model.discontinuities(), output_times);
-  const core::DaeForm form(model);
+  const reference::DaeForm form(model);
   const int n = form.size();
 
   ReferenceRun run;

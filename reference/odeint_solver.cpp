@@ -1,7 +1,7 @@
 /// \file odeint_solver.cpp
 /// Boost.Odeint's controlled Runge–Kutta–Fehlberg 7(8) on the quasi-velocity ODE form
-/// (core/ode_form.hpp): the independent cross-check of the two SUNDIALS drivers (design/
-/// schemes.md, "Reference integrators"). It shares nothing with them but the model and the
+/// (reference/ode_form.hpp): the independent cross-check of the two SUNDIALS drivers
+/// (docs/design/schemes.md, "Reference integrators"). It shares nothing with them but the model and the
 /// ODE form: its own segment plan, stepping loop, output and failure handling.
 ///
 /// - Error control: odeint's default checker, err_i / (atol + rtol (|x_i| + h |x'_i|)) ≤ 1 in
@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/ode_form.hpp"
+#include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
 
 namespace flexref::reference {
@@ -66,8 +66,8 @@ struct Counters {
 /// it holds pointers; allocates nothing.
 class SegmentRhs {
  public:
-  SegmentRhs(const core::OdeForm& form, core::OdeForm::Scratch& scratch, Counters& counters,
-             double t_segment)
+  SegmentRhs(const reference::OdeForm& form, reference::OdeForm::Scratch& scratch,
+             Counters& counters, double t_segment)
       : form_(&form), scratch_(&scratch), counters_(&counters), t_segment_(t_segment) {}
 
   void operator()(const StateVector& x, StateVector& dxdt, double t) const {
@@ -77,8 +77,8 @@ class SegmentRhs {
   }
 
  private:
-  const core::OdeForm* form_;
-  core::OdeForm::Scratch* scratch_;
+  const reference::OdeForm* form_;
+  reference::OdeForm::Scratch* scratch_;
   Counters* counters_;
   double t_segment_;
 };
@@ -98,7 +98,7 @@ double initial_step(const StateVector& x, const StateVector& dxdt, double rtol, 
 
 class Integrator {
  public:
-  Integrator(const core::OdeForm& form, const SolverOptions& options, SolverStats& stats)
+  Integrator(const reference::OdeForm& form, const SolverOptions& options, SolverStats& stats)
       : form_(&form),
         options_(options),
         stats_(&stats),
@@ -308,10 +308,10 @@ class Integrator {
     }
   }
 
-  const core::OdeForm* form_;
+  const reference::OdeForm* form_;
   SolverOptions options_;
   SolverStats* stats_;
-  core::OdeForm::Scratch scratch_;
+  reference::OdeForm::Scratch scratch_;
   Counters counters_;
   ControlledStepper stepper_;
   StateVector x_, x_new_, x_mid_, dxdt_;
@@ -345,7 +345,7 @@ void validate(const std::vector<double>& output_times, const SolverOptions& opti
 ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& output_times,
                           const SolverOptions& options) {
   validate(output_times, options);
-  const core::OdeForm form(model);
+  const reference::OdeForm form(model);
 
   ReferenceRun run;
   run.solver = "odeint";

@@ -1,6 +1,6 @@
 #pragma once
 /// \file reference_solver.hpp
-/// The reference integrators (design/schemes.md, "Reference integrators"): IDA on the DAE
+/// The reference integrators (docs/design/schemes.md, "Reference integrators"): IDA on the DAE
 /// form, CVODE on the ODE form with projection, Boost.Odeint RKF7(8) on the ODE form. Each
 /// stops and restarts at every known load discontinuity and writes the state at the requested
 /// output times (by the solver's own dense output or by stepping exactly onto them, never by

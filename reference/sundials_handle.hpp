@@ -1,6 +1,6 @@
 #pragma once
 /// \file sundials_handle.hpp
-/// The SUNDIALS boundary (design/style.md, after SUNDIALS' own C++ `sundials::Context`):
+/// The SUNDIALS boundary (docs/design/style.md, after SUNDIALS' own C++ `sundials::Context`):
 ///  - RAII owners with custom deleters for every handle SUNDIALS hands out (context, vectors,
 ///    matrices, linear solvers, IDA and CVODE memory);
 ///  - one `check(flag, "Function")` that turns a negative return into a SundialsError naming
@@ -9,7 +9,7 @@
 ///    before reaching tout.") instead of printing it, so the driver can put it into the
 ///    core::SolverError it throws;
 ///  - the segment plan both SUNDIALS drivers integrate: [0, T] split at the model's known load
-///    discontinuities (design/schemes.md, "Reference integrators": stop and restart at every
+///    discontinuities (docs/design/schemes.md, "Reference integrators": stop and restart at every
 ///    switch), with the output times each segment owns.
 /// Boost.Odeint (odeint_solver.cpp) plans its segments on its own: it is the independent code
 /// path of the three.

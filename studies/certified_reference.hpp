@@ -1,6 +1,6 @@
 #pragma once
 /// \file certified_reference.hpp
-/// A reference run with its error estimate (design/schemes.md): the difference, in a named
+/// A reference run with its error estimate (docs/design/schemes.md): the difference, in a named
 /// metric, to a second run at 100× tighter tolerance and to a second, independent solver at
 /// the same tolerance. The estimate is the larger of the two.
 ///

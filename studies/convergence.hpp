@@ -1,6 +1,6 @@
 #pragma once
 /// \file convergence.hpp
-/// The `converge` study (design/studies.md): each scheme at steps h0, h0/2, …, its error
+/// The `converge` study (docs/design/studies.md): each scheme at steps h0, h0/2, …, its error
 /// against a certified reference in a named metric, pairwise and least-squares observed
 /// orders. Levels whose error is not at least 100× the reference's estimated error are
 /// "uncertified" and left out of the fit; levels at round-off stop the refinement; both are

@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/euler_parameters.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -116,9 +116,9 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
         acc.add(worst);
       } else if (item.kind == Item::kRotation) {
         const auto c = static_cast<std::size_t>(item.column);
-        const core::EulerParameters qa(a[c], a[c + 1], a[c + 2], a[c + 3]);
-        const core::EulerParameters qb(b[c], b[c + 1], b[c + 2], b[c + 3]);
-        acc.add(core::geodesic_angle(qa, qb));
+        const rotation::EulerParameters qa(a[c], a[c + 1], a[c + 2], a[c + 3]);
+        const rotation::EulerParameters qb(b[c], b[c + 1], b[c + 2], b[c + 3]);
+        acc.add(rotation::geodesic_angle(qa, qb));
       } else {
         acc.add((vec3(a, item.column) - vec3(b, item.column)).norm());
       }

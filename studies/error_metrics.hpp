@@ -1,6 +1,6 @@
 #pragma once
 /// \file error_metrics.hpp
-/// Error of a trajectory against a reference on the same output times (design/schemes.md,
+/// Error of a trajectory against a reference on the same output times (docs/design/schemes.md,
 /// "Error metrics"): per body the position of the frame origin |x − x_ref|, the geodesic
 /// rotation angle |log(A_refᵀ A)|, the velocity and angular-velocity errors; per tracked point
 /// its position error; per flexible body the modal-coordinate error max_i |q_i − q_i,ref|. Each

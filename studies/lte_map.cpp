@@ -14,9 +14,9 @@
 #include <utility>
 
 #include "core/body.hpp"
-#include "core/euler_parameters.hpp"
 #include "core/output_times.hpp"
 #include "reference/solve_reference.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "studies/parallel.hpp"
 
 namespace flexref::studies {
@@ -94,7 +94,7 @@ std::pair<double, double> axis_inertias(const LteMapBase& b, double s) {
 /// Deflections δ(t) (body frame) and attitudes of one run.
 struct Response {
   std::vector<Eigen::Vector3d> deflection;
-  std::vector<core::EulerParameters> attitude;
+  std::vector<rotation::EulerParameters> attitude;
 };
 
 Response integrate(const core::Model& model, int body_index, const core::TrackedPoint& point,
@@ -133,7 +133,7 @@ double max_difference(const Response& a, const Response& b, double scale) {
 double max_angle(const Response& a, const Response& b) {
   double m = 0.0;
   for (std::size_t i = 0; i < a.attitude.size(); ++i) {
-    m = std::max(m, core::geodesic_angle(a.attitude[i], b.attitude[i]));
+    m = std::max(m, rotation::geodesic_angle(a.attitude[i], b.attitude[i]));
   }
   return m;
 }

@@ -1,6 +1,6 @@
 #pragma once
 /// \file lte_map.hpp
-/// The `lte-map` study (design/studies.md, "LTE breakdown"; design/model.md, "The LTE model"):
+/// The `lte-map` study (docs/design/studies.md, "LTE breakdown"; docs/design/model.md, "The LTE model"):
 /// where the linear theory of elastodynamics stops describing a spinning flexible body. On a
 /// scene with one free flexible body, a grid of
 ///   - spin ratio x = Ω0/ω1: the initial spin rate over the first clamped elastic frequency
@@ -30,7 +30,7 @@
 ///     = Φ_P q_f (relative: the metric does not depend on the excitation's amplitude while the
 ///     response is linear);
 ///   - attitude_error: max_t of the geodesic angle between the two models' attitudes (rad).
-/// **Reference accuracy** (the 100× rule of design/studies.md): each of the two references is
+/// **Reference accuracy** (the 100× rule of docs/design/studies.md): each of the two references is
 /// rerun at estimate_factor·rtol (looser); the difference of the deflections (same
 /// normalization) estimates the looser run's error, an upper bound of the tight run's. A point
 /// is `resolved` when tip_error ≥ 100 × the larger of the two estimates.

@@ -1,6 +1,6 @@
 #pragma once
 /// \file stability.hpp
-/// The `stability` study for rigid bodies (design/studies.md, "Stability at the extremes"):
+/// The `stability` study for rigid bodies (docs/design/studies.md, "Stability at the extremes"):
 /// the largest stable step of each scheme by bisection against a swept parameter (spin rate
 /// |W0| or inertia ratio J3/J1 of a torque-free body), a built-in set of degenerate and extreme
 /// bodies, and long runs recording energy, angular-momentum and quaternion-norm drift.

@@ -8,9 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/beam_model.hpp"
-#include "core/contact.hpp"
+#include "contact/contact.hpp"
 #include "core/gravity.hpp"
+#include "flexible/beam_model.hpp"
 #include "lie/stepper.hpp"
 #include "studies/parallel.hpp"
 #include "studies/stability.hpp"
@@ -24,10 +24,10 @@ constexpr double kBallMass = 1.0;        // kg
 constexpr double kBallRadius = 0.1;      // m
 constexpr double kBallOvershoot = 0.05;  // initial penetration (1 + this) δ_s
 
-/// The flexible spinner's beam and hub (tests/support/flexible_models.hpp, design/scenes.md)
+/// The flexible spinner's beam and hub (tests/support/flexible_models.hpp, docs/design/scenes.md)
 /// with bending stiffness EI, torque-free, spinning at 1 rad/s with deflected modes (LTE).
 core::Model spinner(double EI) {
-  core::BeamParameters p;
+  flexible::BeamParameters p;
   p.origin = Eigen::Vector3d(0.1, 0.0, 0.0);
   p.length = 1.0;
   p.elements = 10;
@@ -35,7 +35,7 @@ core::Model spinner(double EI) {
   p.EI_y = EI;
   p.EI_z = EI;
   p.rho_A = 1.0;
-  core::BeamModeFilter filter;
+  flexible::BeamModeFilter filter;
   filter.axial = false;
   core::RigidBodyDescription d;
   d.name = "spinner";
@@ -44,7 +44,7 @@ core::Model spinner(double EI) {
   d.initial.w_WB_B = Eigen::Vector3d(0.0, 0.0, 1.0);
   Eigen::VectorXd q0(4);
   q0 << 0.02, 0.01, 0.005, 0.0;
-  d.flexible = core::FlexiblePart{core::make_beam_modal_data(p, 4, filter), q0, {}};
+  d.flexible = core::FlexiblePart{flexible::make_beam_modal_data(p, 4, filter), q0, {}};
   std::vector<core::Body> bodies;
   bodies.emplace_back(std::move(d));
   return core::Model(std::move(bodies), {}, core::FlexibleFormulation::kLte);
@@ -63,11 +63,11 @@ core::Model ball(double k) {
   elements.push_back(std::make_unique<core::UniformGravity>(
       Eigen::Vector3d(0.0, 0.0, -kGravity),
       std::vector<core::UniformGravity::BodyMass>{{0, kBallMass, Eigen::Vector3d::Zero()}}));
-  elements.push_back(std::make_unique<core::ContactElement>(
-      std::vector<core::ContactPair>{
-          core::ContactPair::sphere_plane(0, Eigen::Vector3d::Zero(), kBallRadius,
-                                          Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ())},
-      core::NormalLaw::linear(k, 0.0), core::FrictionLaw{0.0, 1e-3}, kBallMass));
+  elements.push_back(std::make_unique<contact::ContactElement>(
+      std::vector<contact::ContactPair>{
+          contact::ContactPair::sphere_plane(0, Eigen::Vector3d::Zero(), kBallRadius,
+                                             Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ())},
+      contact::NormalLaw::linear(k, 0.0), contact::FrictionLaw{0.0, 1e-3}, kBallMass));
   return core::Model(std::move(bodies), std::move(elements));
 }
 

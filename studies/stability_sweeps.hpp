@@ -2,7 +2,7 @@
 
 /// \file stability_sweeps.hpp
 /// Stability sweeps whose limits are linear: the modal frequency of a flexible body and the
-/// stiffness of a penalty contact (design/studies.md, "swept parameter ... modal frequency,
+/// stiffness of a penalty contact (docs/design/studies.md, "swept parameter ... modal frequency,
 /// contact stiffness ... with the theoretical limits drawn"). Both parts are advanced by
 /// central differences in every hybrid scheme, whose limit on an undamped linear oscillator
 /// of frequency ω is h ω < 2 exactly; the sweep measures where each scheme's run actually

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 
 namespace flexref::studies {
 
@@ -104,37 +105,6 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
   return table;
 }
 
-void write_file_atomically(const std::string& path, const std::string& text) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  if (target.has_parent_path() && !fs::exists(target.parent_path())) {
-    throw std::runtime_error("cannot write " + path + ": directory " +
-                             target.parent_path().string() + " does not exist");
-  }
-  std::random_device rd;
-  const fs::path temp = target.string() + ".tmp" + std::to_string(rd() % 1000000u);
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw std::runtime_error("cannot write " + temp.string() + ": " + std::strerror(errno));
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ignore;
-      fs::remove(temp, ignore);
-      throw std::runtime_error("write to " + temp.string() + " failed");
-    }
-  }
-  std::error_code ec;
-  fs::rename(temp, target, ec);
-  if (ec) {
-    std::error_code ignore;
-    fs::remove(temp, ignore);
-    throw std::runtime_error("cannot rename " + temp.string() + " to " + path + ": " +
-                             ec.message());
-  }
-}
-
 void write_csv(const TrajectoryTable& table, const std::string& path) {
   std::ostringstream out;
   out.precision(17);
@@ -146,7 +116,7 @@ void write_csv(const TrajectoryTable& table, const std::string& path) {
     for (std::size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << row[i];
     out << '\n';
   }
-  write_file_atomically(path, out.str());
+  io::write_file_atomically(path, out.str());
 }
 
 TrajectoryTable read_csv(const std::string& path) {

@@ -42,7 +42,4 @@ void write_csv(const TrajectoryTable& table, const std::string& path);
 /// Reads a CSV written by write_csv; throws core::InputError naming file and line.
 TrajectoryTable read_csv(const std::string& path);
 
-/// Writes text to path atomically (temporary file + rename); throws std::runtime_error.
-void write_file_atomically(const std::string& path, const std::string& text);
-
 }  // namespace flexref::studies

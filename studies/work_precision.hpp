@@ -1,6 +1,6 @@
 #pragma once
 /// \file work_precision.hpp
-/// The `work-precision` study (design/studies.md): the speed/accuracy trade. Each scheme at
+/// The `work-precision` study (docs/design/studies.md): the speed/accuracy trade. Each scheme at
 /// steps h0, h0/2, …, and each reference solver at relative tolerances 1e-3 … 1e-12, gives an
 /// error against a certified reference (in a named metric) and a CPU time; the summary names,
 /// for each target error, the cheapest method that reaches it.

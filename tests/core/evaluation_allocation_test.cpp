@@ -5,10 +5,10 @@
 #include <cmath>
 #include <vector>
 
-#include "core/dae_form.hpp"
-#include "core/ode_form.hpp"
-#include "tests/core/test_models.hpp"
+#include "reference/dae_form.hpp"
+#include "reference/ode_form.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/test_models.hpp"
 
 namespace flexref::core {
 namespace {
@@ -18,10 +18,10 @@ TEST_CASE("model evaluations allocate nothing", "[core][allocation]") {
   const Model top = testing::heavy_top_model();
   const Model loaded = testing::loaded_free_body_model();
   for (const Model* model : {&wall, &top, &loaded}) {
-    const OdeForm ode(*model);
-    OdeForm::Scratch ode_scratch = ode.make_scratch();
-    const DaeForm dae(*model);
-    DaeForm::Scratch dae_scratch = dae.make_scratch();
+    const reference::OdeForm ode(*model);
+    reference::OdeForm::Scratch ode_scratch = ode.make_scratch();
+    const reference::DaeForm dae(*model);
+    reference::DaeForm::Scratch dae_scratch = dae.make_scratch();
     std::vector<double> y(static_cast<std::size_t>(ode.size())), f(y.size());
     std::vector<double> z(static_cast<std::size_t>(dae.size())), zp(z.size()), r(z.size());
     const State s = model->initial_state();

@@ -1,4 +1,4 @@
-/// Model-level checks of flexible bodies (design/model.md, "Bodies and inertia invariants",
+/// Model-level checks of flexible bodies (docs/design/model.md, "Bodies and inertia invariants",
 /// "Equations of motion", "The LTE model", "Energy and momentum"): every invariant-based quantity
 /// the Model evaluates (gravity's generalized forces, kinetic energy, momenta) equals the direct
 /// sum over the material points plus the hub at random states; the accelerations satisfy the
@@ -11,10 +11,10 @@
 #include <random>
 #include <vector>
 
-#include "core/dae_form.hpp"
 #include "core/gravity.hpp"
-#include "core/ode_form.hpp"
-#include "core/so3.hpp"
+#include "reference/dae_form.hpp"
+#include "reference/ode_form.hpp"
+#include "rotation/so3.hpp"
 #include "tests/support/allocation_counting.hpp"
 #include "tests/support/flexible_models.hpp"
 
@@ -61,8 +61,8 @@ struct NodalBody {
 };
 
 NodalBody nodal_body(const Body& b, const BodyState& s) {
-  const ModalData& md = b.description().flexible->modal;
-  const Eigen::Matrix3d A = rotation_matrix(s.theta_WB);
+  const flexible::ModalData& md = b.description().flexible->modal;
+  const Eigen::Matrix3d A = rotation::rotation_matrix(s.theta_WB);
   const Eigen::Index n = b.mode_count();
   NodalBody nb;
   auto add = [&](double m, const Eigen::Vector3d& u, const Eigen::Matrix3Xd& phi) {
@@ -117,7 +117,7 @@ TEST_CASE("gravity's generalized forces on a flexible body equal the nodal sums"
       BodyState seen = state[0];
       if (formulation == kLte) seen.q_f.setZero();
       const NodalBody nb = nodal_body(b, seen);
-      const Eigen::Matrix3d A = rotation_matrix(seen.theta_WB);
+      const Eigen::Matrix3d A = rotation::rotation_matrix(seen.theta_WB);
       Eigen::Vector3d f = Eigen::Vector3d::Zero(), tau_B = Eigen::Vector3d::Zero();
       Eigen::VectorXd Q = Eigen::VectorXd::Zero(b.mode_count());
       for (std::size_t k = 0; k < nb.m.size(); ++k) {
@@ -250,7 +250,7 @@ TEST_CASE("kinetic energy and momenta of a flexible body equal the nodal sums",
         model->apply_prescribed_motion(0.4, state);
       }
       const NodalBody nb = nodal_body(b, state[0]);
-      const Eigen::Matrix3d A = rotation_matrix(state[0].theta_WB);
+      const Eigen::Matrix3d A = rotation::rotation_matrix(state[0].theta_WB);
       const Eigen::Vector3d& w = state[0].w_WB_B;
       double T = 0.5 * w.dot(nb.I_hub * w);
       Eigen::Vector3d p = Eigen::Vector3d::Zero();
@@ -275,8 +275,8 @@ TEST_CASE("kinetic energy and momenta of a flexible body equal the nodal sums",
 /// d/dt (T + V) along the ODE right-hand side at the state `state` and time t, by central
 /// differences: E(y ± ε f) at t ± ε (prescribed bodies follow their law at t ± ε).
 double energy_rate(const Model& model, const State& state, double t) {
-  const OdeForm ode(model);
-  OdeForm::Scratch scratch = ode.make_scratch();
+  const reference::OdeForm ode(model);
+  reference::OdeForm::Scratch scratch = ode.make_scratch();
   std::vector<double> y(static_cast<std::size_t>(ode.size())), f(y.size());
   ode.pack(state, y.data());
   ode.rhs({t, t}, y.data(), f.data(), scratch);
@@ -321,7 +321,7 @@ TEST_CASE("the coupled equations balance energy with the applied and damping pow
         const Body& b = model.body(0);
         State s{random_state(b, rng)};
         const double t = 0.25;  // sin²(π t / 0.5) = 1: the full torque
-        const Eigen::Matrix3d A = rotation_matrix(s[0].theta_WB);
+        const Eigen::Matrix3d A = rotation::rotation_matrix(s[0].theta_WB);
         const double torque_power = Eigen::Vector3d(0, 0, torque).dot(A * s[0].w_WB_B);
         const double damping_power = s[0].qd_f.dot(b.modal_damping().cwiseProduct(s[0].qd_f));
         INFO("zeta " << zeta << " torque " << torque << " damping power " << damping_power);
@@ -353,10 +353,10 @@ TEST_CASE("flexible evaluations allocate nothing", "[core][flexible][allocation]
   const Model cantilever = rotating_cantilever_model(kCoupled, 3.0);
   const Model cantilever_lte = rotating_cantilever_model(kLte, 3.0);
   for (const Model* model : {&coupled, &lte, &cantilever, &cantilever_lte}) {
-    const OdeForm ode(*model);
-    OdeForm::Scratch ode_scratch = ode.make_scratch();
-    const DaeForm dae(*model);
-    DaeForm::Scratch dae_scratch = dae.make_scratch();
+    const reference::OdeForm ode(*model);
+    reference::OdeForm::Scratch ode_scratch = ode.make_scratch();
+    const reference::DaeForm dae(*model);
+    reference::DaeForm::Scratch dae_scratch = dae.make_scratch();
     std::vector<double> y(static_cast<std::size_t>(ode.size())), f(y.size());
     std::vector<double> z(static_cast<std::size_t>(dae.size())), zp(z.size()), r(z.size());
     State s = model->initial_state();

@@ -3,9 +3,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/ode_form.hpp"
-#include "tests/core/test_models.hpp"
+#include "reference/ode_form.hpp"
 #include "tests/support/finite_difference.hpp"
+#include "tests/support/test_models.hpp"
 
 namespace flexref::core {
 namespace {
@@ -16,8 +16,8 @@ namespace {
 // O(ε²·|E'''|) ≈ 1e-10·|E'''| and round-off ε_mach·|E|/ε ≈ 1e-11·|E|; individual power terms
 // here are O(1–10) W, so 1e-6 separates "zero" from any wrong sign by five decades.
 double energy_rate(const Model& model, double t) {
-  const OdeForm ode(model);
-  OdeForm::Scratch scratch = ode.make_scratch();
+  const reference::OdeForm ode(model);
+  reference::OdeForm::Scratch scratch = ode.make_scratch();
   std::vector<double> y(static_cast<std::size_t>(ode.size()));
   std::vector<double> f(y.size());
   ode.pack(model.initial_state(), y.data());
@@ -46,7 +46,7 @@ TEST_CASE("energy rate equals the power of the applied loads", "[core]") {
   const Model model = testing::loaded_free_body_model();
   const double t = 0.05;
   const State s = model.initial_state();
-  const Eigen::Matrix3d R = rotation_matrix(s[0].theta_WB);
+  const Eigen::Matrix3d R = rotation::rotation_matrix(s[0].theta_WB);
   const Eigen::Vector3d p_BoP_B(1, 0, 0);
   const Eigen::Vector3d v_P =
       s[0].v_WBr + R * s[0].w_WB_B.cross(p_BoP_B - model.body(0).p_BoBr_B());
@@ -59,8 +59,8 @@ TEST_CASE("energy rate equals the power of the applied loads", "[core]") {
 TEST_CASE("angular momentum rate equals the moment of external loads", "[core]") {
   // dH_O/dt = Σ r × f + Σ Γ about the world origin. Torque-free: zero.
   const Model model = testing::loaded_free_body_model();
-  const OdeForm ode(model);
-  OdeForm::Scratch scratch = ode.make_scratch();
+  const reference::OdeForm ode(model);
+  reference::OdeForm::Scratch scratch = ode.make_scratch();
   std::vector<double> y(static_cast<std::size_t>(ode.size())), f(y.size());
   const State s0 = model.initial_state();
   ode.pack(s0, y.data());
@@ -75,7 +75,7 @@ TEST_CASE("angular momentum rate equals the moment of external loads", "[core]")
     return model.angular_momentum_W(state);
   };
   const Eigen::Vector3d dh = (h_at(1) - h_at(-1)) / (2 * eps);
-  const Eigen::Matrix3d R = rotation_matrix(s0[0].theta_WB);
+  const Eigen::Matrix3d R = rotation::rotation_matrix(s0[0].theta_WB);
   const Body& b = model.body(0);
   const Eigen::Vector3d p_Wcm = s0[0].p_WBr;  // Br = Bcm for a free body
   const Eigen::Vector3d p_WP = p_Wcm + R * (Eigen::Vector3d(1, 0, 0) - b.p_BoBr_B());

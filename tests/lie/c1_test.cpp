@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "core/so3.hpp"
 #include "lie/c1_newton.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "rotation/so3.hpp"
 #include "tests/support/finite_difference.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::lie {
 namespace {
@@ -22,7 +22,7 @@ using Eigen::Vector3d;
 // A symmetric positive definite inertia that is not diagonal, so that no term of the Jacobian
 // hides behind a zero.
 Matrix3d generic_inertia() {
-  const Matrix3d R = core::exp_so3(Vector3d(0.4, -0.9, 0.3));
+  const Matrix3d R = rotation::exp_so3(Vector3d(0.4, -0.9, 0.3));
   return R * Vector3d(1.0, 2.0, 2.8).asDiagonal() * R.transpose();
 }
 
@@ -40,7 +40,7 @@ TEST_CASE("d/dΘ exp(−Θ̃) b = (exp(−Θ̃) b)~ J_r(Θ) matches central diff
     INFO("Θ = " << theta.transpose());
     const Eigen::MatrixXd numeric = testing::central_difference_jacobian(
         [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-          return core::exp_so3(Vector3d(x)).transpose() * b;
+          return rotation::exp_so3(Vector3d(x)).transpose() * b;
         },
         theta);
     const Matrix3d analytic = detail::d_rotated_by_minus_theta(b, theta);
@@ -151,7 +151,7 @@ TEST_CASE("C1 Newton converges up to h|W| = 1.5 and reports when it does not", "
     CHECK(status.message.find("residual") != std::string::npos);
     CHECK(stepper.time() == 0.0);
     CHECK(stepper.state()[0].w_WB_B == w0);
-    CHECK(stepper.state()[0].theta_WB == core::identity_euler_parameters());
+    CHECK(stepper.state()[0].theta_WB == rotation::identity_euler_parameters());
   }
 }
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "tests/lie/test_problems.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::lie {
 namespace {

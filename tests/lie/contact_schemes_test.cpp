@@ -16,11 +16,11 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/euler_parameters.hpp"
 #include "core/output_times.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/reference_solver.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/contact_models.hpp"
 
 namespace flexref::lie {
@@ -42,8 +42,8 @@ Error trajectory_error(const core::Model& model, const core::Trajectory& a,
       e.position =
           std::max(e.position,
                    (model.p_WBo(k, a.states[i][body]) - model.p_WBo(k, b.states[i][body])).norm());
-      e.angle = std::max(
-          e.angle, core::geodesic_angle(a.states[i][body].theta_WB, b.states[i][body].theta_WB));
+      e.angle = std::max(e.angle, rotation::geodesic_angle(a.states[i][body].theta_WB,
+                                                           b.states[i][body].theta_WB));
     }
   }
   return e;

@@ -1,7 +1,7 @@
 /// The energy balance E(t) − E(0) + W_d(t) = 0 of a system without applied work, where W_d is
 /// the dissipated work the references integrate as one more ODE/DAE component
-/// (core/ode_form.hpp, core/dae_form.hpp) and the schemes accumulate by the trapezoidal rule
-/// (lie/run_scheme.cpp). Problem: the torque-free flexible spinner, tumbling, with modal
+/// (reference/ode_form.hpp, reference/dae_form.hpp) and the schemes accumulate by the trapezoidal
+/// rule (lie/run_scheme.cpp). Problem: the torque-free flexible spinner, tumbling, with modal
 /// damping ζ = 0.05 on every mode, so that most of the vibration energy is dissipated in 20 s.
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -1,4 +1,4 @@
-/// The paper's hybrid scheme on flexible bodies (design/schemes.md, "The hybrid step"): C1, C2
+/// The paper's hybrid scheme on flexible bodies (docs/design/schemes.md, "The hybrid step"): C1, C2
 /// or NMB for the rotation, central differences for the translation and the modal coordinates,
 /// integrating the LTE model. The error is measured against the LTE model integrated by
 /// Boost.Odeint RKF7(8) at 1e-12 (CVODE agrees with it, tests/reference). Metric: L∞ over the
@@ -10,11 +10,11 @@
 #include <string>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
 #include "core/output_times.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/reference_solver.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/flexible_models.hpp"
 
 namespace flexref::lie {
@@ -31,7 +31,7 @@ double trajectory_error(const core::Model& model, const core::Trajectory& a,
     const core::BodyState& s = a.states[k][0];
     const core::BodyState& r = b.states[k][0];
     const double modal = (s.q_f - r.q_f).cwiseAbs().maxCoeff();
-    const double angle = core::geodesic_angle(s.theta_WB, r.theta_WB);
+    const double angle = rotation::geodesic_angle(s.theta_WB, r.theta_WB);
     const double tip_error = (model.p_WP(0, s, tip) - model.p_WP(0, r, tip)).norm();
     e = std::max(e, modal + angle + tip_error);
   }

@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
-#include "core/so3.hpp"
 #include "lie/nmb_newton.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "rotation/euler_parameters.hpp"
+#include "rotation/so3.hpp"
 #include "tests/support/finite_difference.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::lie {
 namespace {
@@ -20,7 +20,7 @@ using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
 TEST_CASE("the NMB Newton matrix J + (h/2)(W̃J − (JW)~) is the exact Jacobian", "[lie][nmb]") {
-  const Matrix3d R = core::exp_so3(Vector3d(0.4, -0.9, 0.3));
+  const Matrix3d R = rotation::exp_so3(Vector3d(0.4, -0.9, 0.3));
   const Matrix3d J = R * Vector3d(1.0, 2.0, 2.8).asDiagonal() * R.transpose();
   const Vector3d w_n(0.8, -2.5, 1.7);
   const Vector3d alpha_n(0.3, 0.1, -0.4);
@@ -53,13 +53,13 @@ TEST_CASE("NMB solves the Euler equation at t_{n+1} in 2–4 Newton iterations",
     const double t = stepper.time();
     const double pulse = t < 0.1 ? std::pow(std::sin(std::numbers::pi * t / 0.1), 2) : 0.0;
     const Vector3d T =
-        core::rotation_matrix(s.theta_WB).transpose() * (Vector3d(0.2, 0.0, 0.2) * pulse);
+        rotation::rotation_matrix(s.theta_WB).transpose() * (Vector3d(0.2, 0.0, 0.2) * pulse);
     // J A + W × J W = T to the Newton tolerance 1e-14 of the terms' size (|W||JW| = 200),
     // after the final correction: 1e-13 absolute leaves a factor 2 for the torque rounding.
     CHECK((J * A + s.w_WB_B.cross(J * s.w_WB_B) - T).norm() <= 1e-13 * 200.0);
   }
   // Quadratic convergence from the guess A_n (O(h) off): ≤ 2 corrections reach 1e-14, and
-  // the last is verified by one more (design/schemes.md: 2–4 iterations).
+  // the last is verified by one more (docs/design/schemes.md: 2–4 iterations).
   CHECK(stepper.max_newton_iterations() >= 2);
   CHECK(stepper.max_newton_iterations() <= 4);
 }
@@ -100,7 +100,7 @@ TEST_CASE("NMB reports a Newton failure and keeps the state", "[lie][nmb]") {
   CHECK(status.message.find("NMB Newton did not converge at t = 0") != std::string::npos);
   CHECK(stepper.time() == 0.0);
   CHECK(stepper.state()[0].w_WB_B == w0);
-  CHECK(stepper.state()[0].theta_WB == core::identity_euler_parameters());
+  CHECK(stepper.state()[0].theta_WB == rotation::identity_euler_parameters());
 }
 
 }  // namespace

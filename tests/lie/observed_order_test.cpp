@@ -1,6 +1,6 @@
 /// Two-sided observed-order tests of C1, C2 and NMB (Drake ErrEstOrder style) on
 /// non-commuting dynamics, against a reference computed here with Boost.Odeint RKF7(8) at
-/// abs/rel 1e-13 (odeint_reference.hpp). Metric (design/schemes.md default): L∞ over the output
+/// abs/rel 1e-13 (odeint_reference.hpp). Metric (docs/design/schemes.md default): L∞ over the output
 /// times (every 0.1 s) of the geodesic rotation angle plus L∞ of the position error of the
 /// tracked point (1, 0, 0). For each scheme the steps h, h/2, h/4 are chosen in the scheme's
 /// asymptotic range on that scene; where that range starts late, and why, is measured and
@@ -14,8 +14,8 @@
 #include "core/output_times.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
-#include "tests/lie/odeint_reference.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "tests/support/odeint_reference.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::lie {
 namespace {
@@ -53,7 +53,7 @@ std::vector<double> scheme_errors(const core::Model& model, const std::string& s
 // e(h)/e(h/2) ∈ [2^(p−0.2), 2^(p+0.3)] = [3.48, 4.92], so a scheme of order 1 or 3 fails.
 void check_order_two(const std::vector<double>& errors, const Reference& reference) {
   // The reference must be ≥ 100× more accurate than the smallest error it measures
-  // (design/schemes.md); its error is at most its distance to the looser run.
+  // (docs/design/schemes.md); its error is at most its distance to the looser run.
   CHECK(reference.error_estimate <= 1e-2 * errors.back());
   for (std::size_t k = 0; k + 1 < errors.size(); ++k) {
     const double ratio = errors[k] / errors[k + 1];

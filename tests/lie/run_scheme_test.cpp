@@ -9,7 +9,7 @@
 
 #include "core/output_times.hpp"
 #include "lie/scheme_support.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::lie {
 namespace {

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "lie/stepper.hpp"
-#include "tests/lie/test_problems.hpp"
 #include "tests/support/allocation_counting.hpp"
 #include "tests/support/flexible_models.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace {
 using flexref::testing::g_allocations;

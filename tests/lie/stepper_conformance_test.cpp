@@ -10,7 +10,7 @@
 #include "core/output_times.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::lie {
 namespace {

@@ -13,15 +13,18 @@
 #include <utility>
 #include <vector>
 
+#include "contact/bushing.hpp"
 #include "core/applied_load.hpp"
 #include "core/body.hpp"
-#include "core/bushing.hpp"
-#include "core/euler_parameters.hpp"
 #include "core/gravity.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/exact_pendulum.hpp"
 #include "reference/reference_solver.hpp"
+#include "rotation/euler_parameters.hpp"
+
+namespace rotation = flexref::rotation;
+namespace contact = flexref::contact;
 
 namespace {
 
@@ -32,7 +35,7 @@ using Elements = std::vector<std::unique_ptr<const core::ForceElement>>;
 
 const Vector3d kGravity_W(0.0, 0.0, -9.81);
 
-/// A uniform rod of the scenes (design/scenes.md, pendulum_on_sliding_support and
+/// A uniform rod of the scenes (docs/design/scenes.md, pendulum_on_sliding_support and
 /// double_pendulum_impacts): m = 1, L = 1 along body x from its frame origin (the hinge),
 /// centre of mass at (0.5, 0, 0), J_C = diag(1e-3, 1/12, 1/12) (a thin rod with a little
 /// axial inertia, so that the spin about its axis is not a needlessly stiff mode).
@@ -68,12 +71,13 @@ ref::SolverOptions tight() {
 /// The rod released horizontal (at rest, identity attitude), held at its end by a spherical
 /// bushing to the ground point at the origin.
 core::Model rod_on_spherical_bushing(double stiffness) {
-  core::BushingParameters p;
+  contact::BushingParameters p;
   p.stiffness = stiffness;
   Elements elements;
   elements.push_back(gravity(1));
-  elements.push_back(std::make_unique<core::SphericalBushing>(
-      core::BushingEnd{0, Vector3d::Zero()}, core::BushingEnd{core::kGround, Vector3d::Zero()}, p));
+  elements.push_back(std::make_unique<contact::SphericalBushing>(
+      contact::BushingEnd{0, Vector3d::Zero()},
+      contact::BushingEnd{contact::kGround, Vector3d::Zero()}, p));
   return make_model({rod("rod", Vector3d::Zero())}, std::move(elements));
 }
 
@@ -81,13 +85,13 @@ core::Model rod_on_spherical_bushing(double stiffness) {
 double pivot_error(double stiffness, const std::vector<double>& times) {
   const ref::PendulumExact exact(1.0, Vector3d(0.5, 0.0, 0.0),
                                  Eigen::Matrix3d(Vector3d(1e-3, 1.0 / 3.0, 1.0 / 3.0).asDiagonal()),
-                                 kGravity_W, core::identity_euler_parameters());
+                                 kGravity_W, rotation::identity_euler_parameters());
   const ref::ReferenceRun run =
       ref::solve_odeint(rod_on_spherical_bushing(stiffness), times, tight());
   double error = 0.0;
   for (std::size_t k = 0; k < times.size(); ++k) {
     const Vector3d p_exact =
-        core::rotation_matrix(exact.at(times[k]).theta) * Vector3d(0.5, 0.0, 0.0);
+        rotation::rotation_matrix(exact.at(times[k]).theta) * Vector3d(0.5, 0.0, 0.0);
     error = std::max(error, (run.trajectory.states[k][0].p_WBr - p_exact).norm());
   }
   return error;
@@ -123,7 +127,7 @@ TEST_CASE("A revolute bushing pendulum swings in its plane") {
   // ≈ 0.5 %. Bound: α ≤ 2.1 α_s; and α ≥ 1.5 α_s shows the joint does carry the load.
   const double k_theta = 1e3;
   const double force = 1.0;
-  core::BushingParameters p;
+  contact::BushingParameters p;
   p.stiffness = 1e5;
   p.angular_stiffness = k_theta;
   Elements elements;
@@ -131,9 +135,9 @@ TEST_CASE("A revolute bushing pendulum swings in its plane") {
   elements.push_back(
       std::make_unique<core::AppliedForce>(0, Vector3d(0.0, force, 0.0), core::LoadFrame::kWorld,
                                            Vector3d(1.0, 0.0, 0.0), core::TimeProfile::constant()));
-  elements.push_back(std::make_unique<core::RevoluteBushing>(
-      core::BushingEnd{0, Vector3d::Zero(), Vector3d::UnitY()},
-      core::BushingEnd{core::kGround, Vector3d::Zero(), Vector3d::UnitY()}, p));
+  elements.push_back(std::make_unique<contact::RevoluteBushing>(
+      contact::BushingEnd{0, Vector3d::Zero(), Vector3d::UnitY()},
+      contact::BushingEnd{contact::kGround, Vector3d::Zero(), Vector3d::UnitY()}, p));
   const core::Model model = make_model({rod("rod", Vector3d::Zero())}, std::move(elements));
   const std::vector<double> times = core::output_times(2.0, 0.002);
   const ref::ReferenceRun run = ref::solve_odeint(model, times, tight());
@@ -141,7 +145,7 @@ TEST_CASE("A revolute bushing pendulum swings in its plane") {
   double tilt = 0.0;
   double lowest_x = 1.0;
   for (const core::State& s : run.trajectory.states) {
-    const Vector3d hinge_W = core::rotation_matrix(s[0].theta_WB) * Vector3d::UnitY();
+    const Vector3d hinge_W = rotation::rotation_matrix(s[0].theta_WB) * Vector3d::UnitY();
     tilt = std::max(tilt, std::atan2(hinge_W.cross(Vector3d::UnitY()).norm(), hinge_W.y()));
     lowest_x = std::min(lowest_x, s[0].p_WBr.x());
   }
@@ -183,7 +187,7 @@ TEST_CASE("Small joint oscillations have the frequencies sqrt(k/m) and sqrt(k_th
   d.name = "block";
   d.mass = mass;
   d.I_Bcm_B = Vector3d(0.3, 0.4, 0.5).asDiagonal();
-  core::BushingParameters p;
+  contact::BushingParameters p;
   p.stiffness = 1e4;
   p.angular_stiffness = 300.0;  // √(300/0.3) ≈ 31.6 rad/s: ten crossings in 1 s
   const std::vector<double> times = core::output_times(1.0, 2e-4);
@@ -192,32 +196,32 @@ TEST_CASE("Small joint oscillations have the frequencies sqrt(k/m) and sqrt(k_th
     const Vector3d direction = Vector3d(1.0, 2.0, 2.0) / 3.0;
     d.initial.p_WBo = 1e-3 * direction;
     Elements elements;
-    elements.push_back(std::make_unique<core::SphericalBushing>(
-        core::BushingEnd{0, Vector3d::Zero()}, core::BushingEnd{core::kGround, Vector3d::Zero()},
-        p));
+    elements.push_back(std::make_unique<contact::SphericalBushing>(
+        contact::BushingEnd{0, Vector3d::Zero()},
+        contact::BushingEnd{contact::kGround, Vector3d::Zero()}, p));
     const ref::ReferenceRun run =
         ref::solve_odeint(make_model({d}, std::move(elements)), times, tight());
     std::vector<double> y;
     for (const core::State& s : run.trajectory.states) y.push_back(s[0].p_WBr.dot(direction));
     const double omega = frequency_from_crossings(zero_crossings(times, y));
-    const double expected = core::bushing_frequency(p.stiffness, mass);
+    const double expected = contact::bushing_frequency(p.stiffness, mass);
     INFO("measured " << omega << " rad/s, sqrt(k/m) = " << expected);
     CHECK(std::abs(omega / expected - 1.0) < 0.01);
   }
   SECTION("angular") {
-    d.initial.theta_WB = core::exp_quaternion(Vector3d(1e-3, 0.0, 0.0));
+    d.initial.theta_WB = rotation::exp_quaternion(Vector3d(1e-3, 0.0, 0.0));
     Elements elements;
-    elements.push_back(std::make_unique<core::RevoluteBushing>(
-        core::BushingEnd{0, Vector3d::Zero(), Vector3d::UnitZ()},
-        core::BushingEnd{core::kGround, Vector3d::Zero(), Vector3d::UnitZ()}, p));
+    elements.push_back(std::make_unique<contact::RevoluteBushing>(
+        contact::BushingEnd{0, Vector3d::Zero(), Vector3d::UnitZ()},
+        contact::BushingEnd{contact::kGround, Vector3d::Zero(), Vector3d::UnitZ()}, p));
     const ref::ReferenceRun run =
         ref::solve_odeint(make_model({d}, std::move(elements)), times, tight());
     std::vector<double> y;
     for (const core::State& s : run.trajectory.states) {
-      y.push_back(core::log_quaternion(s[0].theta_WB).x());
+      y.push_back(rotation::log_quaternion(s[0].theta_WB).x());
     }
     const double omega = frequency_from_crossings(zero_crossings(times, y));
-    const double expected = core::bushing_frequency(p.angular_stiffness, 0.3);
+    const double expected = contact::bushing_frequency(p.angular_stiffness, 0.3);
     INFO("measured " << omega << " rad/s, sqrt(k_theta/I) = " << expected);
     CHECK(std::abs(omega / expected - 1.0) < 0.01);
   }
@@ -227,7 +231,7 @@ TEST_CASE("Small joint oscillations have the frequencies sqrt(k/m) and sqrt(k_th
 /// ground at the origin, the second at the first's tip; released horizontal, and turning as
 /// one rigid body at 0.5 rad/s about the vertical, so that the hinges are loaded out of plane
 /// and every term of the bushings works.
-core::Model double_pendulum(const core::BushingParameters& p) {
+core::Model double_pendulum(const contact::BushingParameters& p) {
   std::vector<core::RigidBodyDescription> rods{rod("upper", Vector3d::Zero()),
                                                rod("lower", Vector3d(1.0, 0.0, 0.0))};
   const Vector3d w_W(0.0, 0.0, 0.5);
@@ -237,12 +241,12 @@ core::Model double_pendulum(const core::BushingParameters& p) {
   }
   Elements elements;
   elements.push_back(gravity(2));
-  elements.push_back(std::make_unique<core::RevoluteBushing>(
-      core::BushingEnd{0, Vector3d::Zero(), Vector3d::UnitY()},
-      core::BushingEnd{core::kGround, Vector3d::Zero(), Vector3d::UnitY()}, p));
-  elements.push_back(std::make_unique<core::RevoluteBushing>(
-      core::BushingEnd{0, Vector3d(1.0, 0.0, 0.0), Vector3d::UnitY()},
-      core::BushingEnd{1, Vector3d::Zero(), Vector3d::UnitY()}, p));
+  elements.push_back(std::make_unique<contact::RevoluteBushing>(
+      contact::BushingEnd{0, Vector3d::Zero(), Vector3d::UnitY()},
+      contact::BushingEnd{contact::kGround, Vector3d::Zero(), Vector3d::UnitY()}, p));
+  elements.push_back(std::make_unique<contact::RevoluteBushing>(
+      contact::BushingEnd{0, Vector3d(1.0, 0.0, 0.0), Vector3d::UnitY()},
+      contact::BushingEnd{1, Vector3d::Zero(), Vector3d::UnitY()}, p));
   return make_model(std::move(rods), std::move(elements));
 }
 
@@ -265,7 +269,7 @@ EnergyHistory energy_history(const core::Model& model, const std::vector<double>
 }
 
 TEST_CASE("Bushing energy: conserved without dampers, balanced by the dissipated work with") {
-  core::BushingParameters p;
+  contact::BushingParameters p;
   p.stiffness = 1e5;
   p.angular_stiffness = 1e3;
   const double t_end = 2.0;

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/contact_models.hpp"
 
 namespace flexref {
@@ -206,7 +206,8 @@ TEST_CASE("contact scenes: reference error estimates and cost", "[.long][contact
               pos = std::max(pos, (scene.model.p_WBo(b, run.trajectory.states[i][k]) -
                                    scene.model.p_WBo(b, tight.trajectory.states[i][k]))
                                       .norm());
-              angle = std::max(angle, core::geodesic_angle(run.trajectory.states[i][k].theta_WB,
+              angle =
+                  std::max(angle, rotation::geodesic_angle(run.trajectory.states[i][k].theta_WB,
                                                            tight.trajectory.states[i][k].theta_WB));
             }
             error = std::max(error, pos + angle);

@@ -8,13 +8,14 @@
 #include <string>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/attitude_ode.hpp"
+
+namespace rotation = flexref::rotation;
 
 namespace {
 
 namespace ref = flexref::reference;
-namespace core = flexref::core;
 namespace testing = flexref::testing;
 using flexref::testing::sample_times;
 
@@ -28,7 +29,7 @@ struct Top {
   double j_perp;   ///< about the pivot
   double j_axial;  ///< about the pivot
   Eigen::Vector3d g_W;
-  core::EulerParameters theta0;
+  rotation::EulerParameters theta0;
   Eigen::Vector3d w0_B;
   double t_end;
 
@@ -40,16 +41,17 @@ struct Top {
            j_axial * axis_B * axis_B.transpose();
   }
   /// Gravity torque about the pivot, body frame: (l e) × (Aᵀ m g).
-  Eigen::Vector3d torque_B(const core::EulerParameters& theta) const {
-    return (com_distance * axis_B).cross(core::rotation_matrix(theta).transpose() * (mass * g_W));
+  Eigen::Vector3d torque_B(const rotation::EulerParameters& theta) const {
+    return (com_distance * axis_B)
+        .cross(rotation::rotation_matrix(theta).transpose() * (mass * g_W));
   }
   Eigen::Vector3d up_W() const { return -g_W.normalized(); }
   double energy(const ref::RigidAttitude& s) const {
-    const double height = com_distance * up_W().dot(core::rotation_matrix(s.theta) * axis_B);
+    const double height = com_distance * up_W().dot(rotation::rotation_matrix(s.theta) * axis_B);
     return 0.5 * s.w_B.dot(inertia_B() * s.w_B) + mass * g_W.norm() * height;
   }
   double momentum_vertical(const ref::RigidAttitude& s) const {  // p_φ
-    return up_W().dot(core::rotation_matrix(s.theta) * (inertia_B() * s.w_B));
+    return up_W().dot(rotation::rotation_matrix(s.theta) * (inertia_B() * s.w_B));
   }
   double momentum_axial(const ref::RigidAttitude& s) const {  // p_ψ = J_a ω₃
     return j_axial * axis_B.dot(s.w_B);
@@ -66,7 +68,7 @@ Top scene(double w_vertical) {
           0.234375 + 15.0,
           0.46875,
           {0.0, 0.0, -9.81},
-          core::identity_euler_parameters(),
+          rotation::identity_euler_parameters(),
           {0.0, 150.0, w_vertical},
           2.0};
 }
@@ -81,7 +83,7 @@ std::vector<Top> tops() {
   exact_pass.name = "heavy_top scene through the pole";
   result.push_back(exact_pass);
   // Generic top: axis body z, tilted start, gravity along −y, u̇₀ of either sign.
-  const core::EulerParameters tilt = core::exp_quaternion(Eigen::Vector3d(0.9, 0.2, -0.4));
+  const rotation::EulerParameters tilt = rotation::exp_quaternion(Eigen::Vector3d(0.9, 0.2, -0.4));
   result.push_back({"tilted, rising",
                     2.0,
                     0.3,
@@ -110,7 +112,7 @@ std::vector<Top> tops() {
                     0.6,
                     0.2,
                     {0.0, 0.0, -9.81},
-                    core::exp_quaternion({0.1, -0.3, 0.2}),
+                    rotation::exp_quaternion({0.1, -0.3, 0.2}),
                     Eigen::Vector3d(0.5, -1.0, 3.0),
                     5.0});
   // Near the upright position: b − a = 1e-6, the axis passes within ~1e-6 rad of straight up
@@ -123,10 +125,10 @@ std::vector<Top> tops() {
             0.05,
             0.02,
             {0.0, 0.0, -9.81},
-            core::exp_quaternion({0.5, 0.0, 0.0}),
+            rotation::exp_quaternion({0.5, 0.0, 0.0}),
             Eigen::Vector3d::Zero(),
             3.0};
-    const Eigen::Vector3d up_B = core::rotation_matrix(top.theta0).transpose() * top.up_W();
+    const Eigen::Vector3d up_B = rotation::rotation_matrix(top.theta0).transpose() * top.up_W();
     const double u0 = up_B.dot(top.axis_B);
     const double spin = 40.0;
     const double a = top.j_axial * spin / top.j_perp;
@@ -174,8 +176,8 @@ TEST_CASE("HeavyTopExact satisfies the equations of motion", "[reference][exact_
       const Eigen::Vector3d w_rate_fd = (plus.w_B - minus.w_B) / (2.0 * h);
       const Eigen::Vector3d w_rate =
           inertia.inverse() * (top.torque_B(s.theta) - s.w_B.cross(inertia * s.w_B));
-      const core::EulerParameters theta_rate_fd = (plus.theta - minus.theta) / (2.0 * h);
-      const core::EulerParameters theta_rate = core::euler_parameter_rate(s.theta, s.w_B);
+      const rotation::EulerParameters theta_rate_fd = (plus.theta - minus.theta) / (2.0 * h);
+      const rotation::EulerParameters theta_rate = rotation::euler_parameter_rate(s.theta, s.w_B);
       CAPTURE(top.name, tc, w_rate_fd, w_rate, theta_rate_fd, theta_rate);
       CHECK((w_rate_fd - w_rate).norm() <= 3e-8 * omega * omega);
       CHECK((theta_rate_fd - theta_rate).norm() <= 3e-8 * omega);
@@ -214,17 +216,18 @@ TEST_CASE("HeavyTopExact agrees with RKF78 at tolerance 1e-13",
     const std::vector<double> times = sample_times(top.t_end, 400);
     // θ̇ = ½ θ ⊗ (0, ω), J ω̇ = T − ω × J ω (J, T about the pivot) by RKF78 at tolerance 1e-13.
     const std::vector<testing::AttitudeState> numeric = testing::integrate_attitude(
-        top.inertia_B(), [&top](const core::EulerParameters& q) { return top.torque_B(q); },
+        top.inertia_B(), [&top](const rotation::EulerParameters& q) { return top.torque_B(q); },
         top.theta0, top.w0_B, times, 1e-13, 1e-5);
     REQUIRE(numeric.size() == times.size());
     double worst_w = 0.0;
     double worst_angle = 0.0;
     for (std::size_t i = 0; i < times.size(); ++i) {
       const ref::RigidAttitude s = exact.at(times[i]);
-      const core::EulerParameters theta(numeric[i][0], numeric[i][1], numeric[i][2], numeric[i][3]);
+      const rotation::EulerParameters theta(numeric[i][0], numeric[i][1], numeric[i][2],
+                                            numeric[i][3]);
       const Eigen::Vector3d w(numeric[i][4], numeric[i][5], numeric[i][6]);
       worst_w = std::max(worst_w, (s.w_B - w).norm() / top.w0_B.norm());
-      worst_angle = std::max(worst_angle, core::geodesic_angle(s.theta, theta));
+      worst_angle = std::max(worst_angle, rotation::geodesic_angle(s.theta, theta));
     }
     CAPTURE(top.name, worst_w, worst_angle);
     // RKF78 at 1e-13 over ≤ 300 rad of spin: global error ≲ 1e-11 (measured ≤ 2e-11 rad);
@@ -247,7 +250,7 @@ TEST_CASE("HeavyTopExact bundled scene: nutation between horizontal and nearly h
   const double period = exact.nutation_period();
   for (int n = 1; n <= 2; ++n) {
     const ref::RigidAttitude s = exact.at(n * period);
-    const double u = top.up_W().dot(core::rotation_matrix(s.theta) * top.axis_B);
+    const double u = top.up_W().dot(rotation::rotation_matrix(s.theta) * top.axis_B);
     CAPTURE(n, period, u);
     CHECK(std::abs(u) <= 1e-13);  // u(t) is stationary there: the error is ~ε·(spin·t)
   }
@@ -260,11 +263,12 @@ TEST_CASE("HeavyTopExact special motions", "[reference][exact_heavy_top]") {
   for (const double g_z : {-9.81, 9.81}) {
     const ref::HeavyTopExact sleeping(base.mass, base.com_distance, Eigen::Vector3d::UnitZ(),
                                       base.j_perp, base.j_axial, {0.0, 0.0, g_z},
-                                      core::identity_euler_parameters(), {0.0, 0.0, 100.0});
+                                      rotation::identity_euler_parameters(), {0.0, 0.0, 100.0});
     for (double t : {0.0, 0.7, 1.9}) {
       const ref::RigidAttitude s = sleeping.at(t);
       CHECK(s.w_B == Eigen::Vector3d(0.0, 0.0, 100.0));
-      CHECK(core::geodesic_angle(s.theta, core::exp_quaternion({0.0, 0.0, 100.0 * t})) <= 4 * kEps);
+      CHECK(rotation::geodesic_angle(s.theta, rotation::exp_quaternion({0.0, 0.0, 100.0 * t})) <=
+            4 * kEps);
     }
   }
   // Steady precession of a horizontal axis: φ̇ = m g l/(J_a ω₃) solves 2u₀φ̇² − 2aφ̇ + β = 0
@@ -276,7 +280,7 @@ TEST_CASE("HeavyTopExact special motions", "[reference][exact_heavy_top]") {
   CHECK(steady.u_max() - steady.u_min() <= 1e-14);
   for (double t : {0.3, 1.1, 2.0}) {
     const ref::RigidAttitude s = steady.at(t);
-    const Eigen::Vector3d axis = core::rotation_matrix(s.theta) * base.axis_B;
+    const Eigen::Vector3d axis = rotation::rotation_matrix(s.theta) * base.axis_B;
     const Eigen::Vector3d expected =
         Eigen::AngleAxisd(precession * t, Eigen::Vector3d::UnitZ()) * base.axis_B;
     CAPTURE(t, axis, expected);
@@ -287,8 +291,8 @@ TEST_CASE("HeavyTopExact special motions", "[reference][exact_heavy_top]") {
 TEST_CASE("HeavyTopExact rejects invalid input", "[reference][exact_heavy_top]") {
   const Top t = scene(-4.61538);
   const auto make = [](double mass, double l, const Eigen::Vector3d& axis, double j_perp,
-                       double j_axial, const Eigen::Vector3d& g, const core::EulerParameters& theta,
-                       const Eigen::Vector3d& w) {
+                       double j_axial, const Eigen::Vector3d& g,
+                       const rotation::EulerParameters& theta, const Eigen::Vector3d& w) {
     return ref::HeavyTopExact(mass, l, axis, j_perp, j_axial, g, theta, w);
   };
   CHECK_THROWS_AS(make(0.0, t.com_distance, t.axis_B, t.j_perp, t.j_axial, t.g_W, t.theta0, t.w0_B),
@@ -306,10 +310,10 @@ TEST_CASE("HeavyTopExact rejects invalid input", "[reference][exact_heavy_top]")
                        Eigen::Vector3d::Zero(), t.theta0, t.w0_B),
                   std::invalid_argument);
   CHECK_THROWS_AS(make(t.mass, t.com_distance, t.axis_B, t.j_perp, t.j_axial, t.g_W,
-                       core::EulerParameters(2.0, 0.0, 0.0, 0.0), t.w0_B),
+                       rotation::EulerParameters(2.0, 0.0, 0.0, 0.0), t.w0_B),
                   std::invalid_argument);
   // Axis exactly vertical with transverse rate: Euler-angle chart singular at t = 0.
   CHECK_THROWS_AS(make(t.mass, t.com_distance, Eigen::Vector3d::UnitZ(), t.j_perp, t.j_axial, t.g_W,
-                       core::identity_euler_parameters(), {1.0, 0.0, 100.0}),
+                       rotation::identity_euler_parameters(), {1.0, 0.0, 100.0}),
                   std::invalid_argument);
 }

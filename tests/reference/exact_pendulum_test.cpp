@@ -9,13 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/attitude_ode.hpp"
+
+namespace rotation = flexref::rotation;
 
 namespace {
 
 namespace ref = flexref::reference;
-namespace core = flexref::core;
 namespace testing = flexref::testing;
 using flexref::testing::sample_times;
 
@@ -27,17 +28,17 @@ struct Pendulum {
   Eigen::Vector3d c_B;
   Eigen::Matrix3d j_pivot_B;
   Eigen::Vector3d g_W;
-  core::EulerParameters theta0;
+  rotation::EulerParameters theta0;
   double t_end;          ///< span of the exact-solution checks
   double t_end_numeric;  ///< span of the RKF78 comparison
 
   ref::PendulumExact exact() const { return ref::PendulumExact(mass, c_B, j_pivot_B, g_W, theta0); }
-  Eigen::Vector3d torque_B(const core::EulerParameters& theta) const {
-    return c_B.cross(core::rotation_matrix(theta).transpose() * (mass * g_W));
+  Eigen::Vector3d torque_B(const rotation::EulerParameters& theta) const {
+    return c_B.cross(rotation::rotation_matrix(theta).transpose() * (mass * g_W));
   }
   double energy(const ref::RigidAttitude& s) const {
     return 0.5 * s.w_B.dot(j_pivot_B * s.w_B) -
-           mass * g_W.dot(core::rotation_matrix(s.theta) * c_B);
+           mass * g_W.dot(rotation::rotation_matrix(s.theta) * c_B);
   }
 };
 
@@ -54,7 +55,7 @@ Pendulum scene() {
           c,
           j_pivot,
           {0.0, 0.0, -9.81},
-          core::identity_euler_parameters(),
+          rotation::identity_euler_parameters(),
           10.0,
           10.0};
 }
@@ -63,13 +64,13 @@ Pendulum scene() {
 /// gravity chosen to give that angle, and an inertia whose principal axis is the resulting n.
 Pendulum oblique(const std::string& name, double amplitude, double t_end, double t_end_numeric) {
   const Eigen::Vector3d c_B(0.3, -0.2, 0.5);
-  const core::EulerParameters theta0 = core::exp_quaternion({0.4, -1.1, 0.7});
-  const Eigen::Vector3d c_hat_W = (core::rotation_matrix(theta0) * c_B).normalized();
+  const rotation::EulerParameters theta0 = rotation::exp_quaternion({0.4, -1.1, 0.7});
+  const Eigen::Vector3d c_hat_W = (rotation::rotation_matrix(theta0) * c_B).normalized();
   const Eigen::Vector3d p_hat_W = c_hat_W.cross(Eigen::Vector3d(0.2, 0.9, -0.3)).normalized();
   const Eigen::Vector3d down = std::cos(amplitude) * c_hat_W + std::sin(amplitude) * p_hat_W;
   // n ∝ c × g = c × p̂ direction; build J = Σ J_i e_i e_iᵀ with e₁ = n_B.
   const Eigen::Vector3d n_B =
-      core::rotation_matrix(theta0).transpose() * c_hat_W.cross(p_hat_W).normalized();
+      rotation::rotation_matrix(theta0).transpose() * c_hat_W.cross(p_hat_W).normalized();
   const Eigen::Vector3d e2 = n_B.cross(Eigen::Vector3d::UnitX()).normalized();
   const Eigen::Vector3d e3 = n_B.cross(e2);
   const Eigen::Matrix3d j_pivot =
@@ -122,8 +123,8 @@ TEST_CASE("PendulumExact satisfies the equations of motion", "[reference][exact_
       const Eigen::Vector3d w_rate_fd = (plus.w_B - minus.w_B) / (2.0 * h);
       const Eigen::Vector3d w_rate =
           p.j_pivot_B.inverse() * (p.torque_B(s.theta) - s.w_B.cross(p.j_pivot_B * s.w_B));
-      const core::EulerParameters theta_rate_fd = (plus.theta - minus.theta) / (2.0 * h);
-      const core::EulerParameters theta_rate = core::euler_parameter_rate(s.theta, s.w_B);
+      const rotation::EulerParameters theta_rate_fd = (plus.theta - minus.theta) / (2.0 * h);
+      const rotation::EulerParameters theta_rate = rotation::euler_parameter_rate(s.theta, s.w_B);
       CAPTURE(p.name, tc, w_rate_fd, w_rate, theta_rate_fd, theta_rate);
       CHECK((w_rate_fd - w_rate).norm() <= 1e-8 * rate * rate);
       CHECK((theta_rate_fd - theta_rate).norm() <= 1e-8 * rate);
@@ -143,7 +144,7 @@ TEST_CASE("PendulumExact agrees with RKF78 at tolerance 1e-13",
     const std::vector<double> times = sample_times(p.t_end_numeric, 400);
     // θ̇ = ½ θ ⊗ (0, ω), J ω̇ = T − ω × J ω about the pivot, RKF78 at tolerance 1e-13.
     const std::vector<testing::AttitudeState> numeric = testing::integrate_attitude(
-        p.j_pivot_B, [&p](const core::EulerParameters& q) { return p.torque_B(q); }, p.theta0,
+        p.j_pivot_B, [&p](const rotation::EulerParameters& q) { return p.torque_B(q); }, p.theta0,
         Eigen::Vector3d::Zero(), times, 1e-13, 1e-4);
     REQUIRE(numeric.size() == times.size());
     const double rate = exact.natural_frequency();  // |ω| ≤ 2kω₀
@@ -151,10 +152,11 @@ TEST_CASE("PendulumExact agrees with RKF78 at tolerance 1e-13",
     double worst_angle = 0.0;
     for (std::size_t i = 0; i < times.size(); ++i) {
       const ref::RigidAttitude s = exact.at(times[i]);
-      const core::EulerParameters theta(numeric[i][0], numeric[i][1], numeric[i][2], numeric[i][3]);
+      const rotation::EulerParameters theta(numeric[i][0], numeric[i][1], numeric[i][2],
+                                            numeric[i][3]);
       const Eigen::Vector3d w(numeric[i][4], numeric[i][5], numeric[i][6]);
       worst_w = std::max(worst_w, (s.w_B - w).norm() / rate);
-      worst_angle = std::max(worst_angle, core::geodesic_angle(s.theta, theta));
+      worst_angle = std::max(worst_angle, rotation::geodesic_angle(s.theta, theta));
     }
     CAPTURE(p.name, worst_w, worst_angle);
     // RKF78 at 1e-13 over ≤ 5 swings: ≲ 1e-12 (measured ≤ 4e-14 for the scene); the spans of
@@ -170,7 +172,7 @@ TEST_CASE("PendulumExact period and turning points", "[reference][exact_pendulum
     const ref::PendulumExact exact = p.exact();
     const double period = exact.period();
     const double k = std::sin(exact.amplitude() / 2.0);
-    const Eigen::Vector3d n_B = core::rotation_matrix(p.theta0).transpose() * exact.axis_W();
+    const Eigen::Vector3d n_B = rotation::rotation_matrix(p.theta0).transpose() * exact.axis_W();
     const double omega0 =
         std::sqrt(p.mass * p.g_W.norm() * p.c_B.norm() / n_B.dot(p.j_pivot_B * n_B));
     CHECK(exact.natural_frequency() == Approx(omega0).epsilon(4 * kEps));
@@ -181,10 +183,10 @@ TEST_CASE("PendulumExact period and turning points", "[reference][exact_pendulum
     // Back at the release point after a period, at rest; mirrored after half a period.
     const ref::RigidAttitude full = exact.at(period);
     CHECK(full.w_B.norm() <= 1e-12 * omega0);
-    CHECK(core::geodesic_angle(full.theta, p.theta0) <= 1e-12);
+    CHECK(rotation::geodesic_angle(full.theta, p.theta0) <= 1e-12);
     const ref::RigidAttitude half = exact.at(0.5 * period);
-    const Eigen::Vector3d c0_W = core::rotation_matrix(p.theta0) * p.c_B;
-    const Eigen::Vector3d c_half_W = core::rotation_matrix(half.theta) * p.c_B;
+    const Eigen::Vector3d c0_W = rotation::rotation_matrix(p.theta0) * p.c_B;
+    const Eigen::Vector3d c_half_W = rotation::rotation_matrix(half.theta) * p.c_B;
     // Same height, swept through 2θ₀ about n.
     CHECK(std::abs(p.g_W.dot(c_half_W - c0_W)) <= 1e-12 * p.g_W.norm() * p.c_B.norm());
     CHECK((c_half_W - Eigen::AngleAxisd(2.0 * exact.amplitude(), exact.axis_W()) * c0_W).norm() <=
@@ -221,7 +223,7 @@ TEST_CASE("PendulumExact equilibria and invalid input", "[reference][exact_pendu
                   std::invalid_argument);
   CHECK_THROWS_AS(ref::PendulumExact(p.mass, p.c_B, -p.j_pivot_B, p.g_W, p.theta0),
                   std::invalid_argument);
-  CHECK_THROWS_AS(
-      ref::PendulumExact(p.mass, p.c_B, p.j_pivot_B, p.g_W, core::EulerParameters(0.5, 0, 0, 0)),
-      std::invalid_argument);
+  CHECK_THROWS_AS(ref::PendulumExact(p.mass, p.c_B, p.j_pivot_B, p.g_W,
+                                     rotation::EulerParameters(0.5, 0, 0, 0)),
+                  std::invalid_argument);
 }

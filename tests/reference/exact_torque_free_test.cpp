@@ -14,13 +14,14 @@
 #include <string>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/attitude_ode.hpp"
+
+namespace rotation = flexref::rotation;
 
 namespace {
 
 namespace ref = flexref::reference;
-namespace core = flexref::core;
 using flexref::testing::sample_times;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
@@ -33,9 +34,9 @@ template <class Scalar>
 using State = std::vector<Scalar>;
 
 template <class Scalar>
-core::EulerParameters theta_of(const State<Scalar>& x) {
-  return core::EulerParameters(static_cast<double>(x[0]), static_cast<double>(x[1]),
-                               static_cast<double>(x[2]), static_cast<double>(x[3]));
+rotation::EulerParameters theta_of(const State<Scalar>& x) {
+  return rotation::EulerParameters(static_cast<double>(x[0]), static_cast<double>(x[1]),
+                                   static_cast<double>(x[2]), static_cast<double>(x[3]));
 }
 template <class Scalar>
 Eigen::Vector3d w_of(const State<Scalar>& x) {
@@ -46,7 +47,7 @@ Eigen::Vector3d w_of(const State<Scalar>& x) {
 /// θ̇ = ½ θ ⊗ (0, ω), J ω̇ = −ω × J ω, by RKF78 with absolute and relative tolerance `tol`.
 template <class Scalar>
 std::vector<State<Scalar>> integrate_torque_free(const Eigen::Vector3d& inertia,
-                                                 const core::EulerParameters& theta0,
+                                                 const rotation::EulerParameters& theta0,
                                                  const Eigen::Vector3d& w0,
                                                  const std::vector<double>& times, Scalar tol) {
   namespace odeint = boost::numeric::odeint;
@@ -76,14 +77,16 @@ std::vector<State<Scalar>> integrate_torque_free(const Eigen::Vector3d& inertia,
 struct Case {
   std::string name;
   Eigen::Vector3d inertia;
-  core::EulerParameters theta0;
+  rotation::EulerParameters theta0;
   Eigen::Vector3d w0;
   double t_end;          ///< span of the exact-solution checks
   double t_end_numeric;  ///< span of the RKF78 comparison
   ref::TorqueFreeRegime regime;
 };
 
-core::EulerParameters tilted() { return core::exp_quaternion(Eigen::Vector3d(0.3, -0.7, 1.1)); }
+rotation::EulerParameters tilted() {
+  return rotation::exp_quaternion(Eigen::Vector3d(0.3, -0.7, 1.1));
+}
 
 std::vector<Case> cases() {
   using R = ref::TorqueFreeRegime;
@@ -91,7 +94,7 @@ std::vector<Case> cases() {
       // free_spin scene: circulation about the max-inertia axis.
       {"free_spin",
        {3.0, 4.0, 5.0},
-       core::identity_euler_parameters(),
+       rotation::identity_euler_parameters(),
        {0.2, 0.3, 2.0},
        100.0,
        100.0,
@@ -104,7 +107,7 @@ std::vector<Case> cases() {
       // over [0, 100]. The RKF78 comparison therefore covers the scene's span, [0, 10].
       {"book_toss_near_separatrix",
        {1.0, 2.0, 2.8},
-       core::identity_euler_parameters(),
+       rotation::identity_euler_parameters(),
        {1e-3, 10.0, 1e-3},
        100.0,
        10.0,
@@ -155,7 +158,7 @@ std::pair<double, double> worst_difference(const ref::TorqueFreeExact& exact,
   for (std::size_t i = 0; i < times.size(); ++i) {
     const ref::RigidAttitude s = exact.at(times[i]);
     worst_w = std::max(worst_w, (s.w_B - w_of(numeric[i])).norm() / omega);
-    worst_angle = std::max(worst_angle, core::geodesic_angle(s.theta, theta_of(numeric[i])));
+    worst_angle = std::max(worst_angle, rotation::geodesic_angle(s.theta, theta_of(numeric[i])));
   }
   return {worst_w, worst_angle};
 }
@@ -265,7 +268,7 @@ TEST_CASE("TorqueFreeExact reproduces the initial state and classifies the regim
     CHECK(exact.regime() == c.regime);
     // ω from sn, cn, dn of F(am₀): a few ε relative; θ(0) = R_π R'(0) P: a few ε.
     CHECK((s0.w_B - c.w0).norm() <= 16 * kEps * c.w0.norm());
-    CHECK(core::geodesic_angle(s0.theta, c.theta0) <= 16 * kEps);
+    CHECK(rotation::geodesic_angle(s0.theta, c.theta0) <= 16 * kEps);
     CHECK((s0.theta - c.theta0).norm() <= 16 * kEps);  // same sign, not only same rotation
   }
 }
@@ -289,8 +292,8 @@ TEST_CASE("TorqueFreeExact satisfies Euler's equations and the attitude kinemati
       const Eigen::Vector3d w_rate_fd = (plus.w_B - minus.w_B) / (2.0 * h);
       const Eigen::Vector3d w_rate =
           (-s.w_B.cross(c.inertia.cwiseProduct(s.w_B))).cwiseQuotient(c.inertia);
-      const core::EulerParameters theta_rate_fd = (plus.theta - minus.theta) / (2.0 * h);
-      const core::EulerParameters theta_rate = core::euler_parameter_rate(s.theta, s.w_B);
+      const rotation::EulerParameters theta_rate_fd = (plus.theta - minus.theta) / (2.0 * h);
+      const rotation::EulerParameters theta_rate = rotation::euler_parameter_rate(s.theta, s.w_B);
       CAPTURE(c.name, tc, w_rate_fd, w_rate, theta_rate_fd, theta_rate);
       CHECK((w_rate_fd - w_rate).norm() <= 1e-7 * omega * omega);
       CHECK((theta_rate_fd - theta_rate).norm() <= 1e-7 * omega);
@@ -304,11 +307,11 @@ TEST_CASE("TorqueFreeExact conserves energy and the global angular momentum",
   for (const Case& c : cases()) {
     const ref::TorqueFreeExact exact(c.inertia, c.theta0, c.w0);
     const double energy0 = 0.5 * c.w0.dot(c.inertia.cwiseProduct(c.w0));
-    const Eigen::Vector3d pi0 = core::rotation_matrix(c.theta0) * c.inertia.cwiseProduct(c.w0);
+    const Eigen::Vector3d pi0 = rotation::rotation_matrix(c.theta0) * c.inertia.cwiseProduct(c.w0);
     for (double t : sample_times(c.t_end, 97)) {
       const ref::RigidAttitude s = exact.at(t);
       const double energy = 0.5 * s.w_B.dot(c.inertia.cwiseProduct(s.w_B));
-      const Eigen::Vector3d pi = core::rotation_matrix(s.theta) * c.inertia.cwiseProduct(s.w_B);
+      const Eigen::Vector3d pi = rotation::rotation_matrix(s.theta) * c.inertia.cwiseProduct(s.w_B);
       CAPTURE(c.name, t, energy, energy0, pi, pi0);
       // ω_B is evaluated to a few ε relative, so E to ~10ε relative.
       CHECK(std::abs(energy - energy0) <= 32 * kEps * energy0);
@@ -371,8 +374,8 @@ TEST_CASE("TorqueFreeExact is periodic in the body and precesses regularly when 
   const Eigen::Vector3d w0(0.5, 1.5, -0.2);
   const ref::TorqueFreeExact exact(inertia, tilted(), w0);
   CHECK(exact.modulus() == 0.0);
-  const Eigen::Vector3d pi = core::rotation_matrix(tilted()) * inertia.cwiseProduct(w0);
-  const Eigen::Vector3d axis0 = core::rotation_matrix(tilted()) * Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d pi = rotation::rotation_matrix(tilted()) * inertia.cwiseProduct(w0);
+  const Eigen::Vector3d axis0 = rotation::rotation_matrix(tilted()) * Eigen::Vector3d::UnitY();
   const double body_rate = (3.0 - 2.0) / 2.0 * w0(1);
   const double precession_rate = pi.norm() / 2.0;
   for (double t = 0.0; t <= 40.0; t += 1.3) {
@@ -381,7 +384,7 @@ TEST_CASE("TorqueFreeExact is periodic in the body and precesses regularly when 
         Eigen::AngleAxisd(body_rate * t, Eigen::Vector3d::UnitY()) * w0;
     const Eigen::Vector3d axis_expected =
         Eigen::AngleAxisd(precession_rate * t, pi.normalized()) * axis0;
-    const Eigen::Vector3d axis = core::rotation_matrix(s.theta) * Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d axis = rotation::rotation_matrix(s.theta) * Eigen::Vector3d::UnitY();
     CAPTURE(t, s.w_B, w_expected, axis, axis_expected);
     // Elementary closed forms; both sides accurate to ~ε·(rate·t) ≤ ε·60.
     CHECK((s.w_B - w_expected).norm() <= 1e-13);
@@ -416,7 +419,7 @@ TEST_CASE("TorqueFreeExact on the separatrix", "[reference][exact_torque_free][o
       const ref::RigidAttitude s = exact.at(times[i]);
       CAPTURE(inertia, w0, times[i], s.w_B, w_of(numeric[i]));
       CHECK((s.w_B - w_of(numeric[i])).norm() <= 1e-9 * w0.norm());
-      CHECK(core::geodesic_angle(s.theta, theta_of(numeric[i])) <= 1e-9);
+      CHECK(rotation::geodesic_angle(s.theta, theta_of(numeric[i])) <= 1e-9);
     }
     // Asymptotically ω → rotation about the middle axis with |m| = M: ω₂ → ±M/I₂. At λt = 60
     // tanh = 1 and sech = 9e-27 in double, and |A_b| = M to a few ε: bound 16ε·M/I₂. (This
@@ -434,11 +437,12 @@ TEST_CASE("TorqueFreeExact on the separatrix", "[reference][exact_torque_free][o
       const Eigen::Vector3d w_rate_fd = (exact.at(tc + h).w_B - exact.at(tc - h).w_B) / (2.0 * h);
       const Eigen::Vector3d w_rate =
           (-s.w_B.cross(inertia.cwiseProduct(s.w_B))).cwiseQuotient(inertia);
-      const core::EulerParameters theta_rate_fd =
+      const rotation::EulerParameters theta_rate_fd =
           (exact.at(tc + h).theta - exact.at(tc - h).theta) / (2.0 * h);
       CAPTURE(tc, w_rate_fd, w_rate);
       CHECK((w_rate_fd - w_rate).norm() <= 1e-7 * omega * omega);
-      CHECK((theta_rate_fd - core::euler_parameter_rate(s.theta, s.w_B)).norm() <= 1e-7 * omega);
+      CHECK((theta_rate_fd - rotation::euler_parameter_rate(s.theta, s.w_B)).norm() <=
+            1e-7 * omega);
     }
   }
 }
@@ -459,21 +463,22 @@ TEST_CASE("TorqueFreeExact permanent rotations", "[reference][exact_torque_free]
       const ref::RigidAttitude s = exact.at(t);
       CHECK(s.w_B == w0);
       // The same formula with θ₀ normalised once more: equal to a few ε.
-      CHECK(core::geodesic_angle(s.theta, core::quaternion_multiply(
-                                              tilted(), core::exp_quaternion(w0 * t))) <= 4 * kEps);
+      CHECK(rotation::geodesic_angle(s.theta, rotation::quaternion_multiply(
+                                                  tilted(), rotation::exp_quaternion(w0 * t))) <=
+            4 * kEps);
     }
   }
 }
 
 TEST_CASE("TorqueFreeExact rejects invalid input", "[reference][exact_torque_free]") {
-  const core::EulerParameters identity = core::identity_euler_parameters();
+  const rotation::EulerParameters identity = rotation::identity_euler_parameters();
   const Eigen::Vector3d w0(0.1, 0.2, 0.3);
   CHECK_THROWS_AS(ref::TorqueFreeExact({0.0, 1.0, 2.0}, identity, w0), std::invalid_argument);
   CHECK_THROWS_AS(ref::TorqueFreeExact({1.0, -1.0, 2.0}, identity, w0), std::invalid_argument);
   CHECK_THROWS_AS(ref::TorqueFreeExact({1.0, std::nan(""), 2.0}, identity, w0),
                   std::invalid_argument);
   CHECK_THROWS_AS(
-      ref::TorqueFreeExact({1.0, 2.0, 3.0}, core::EulerParameters(1.0, 0.1, 0.0, 0.0), w0),
+      ref::TorqueFreeExact({1.0, 2.0, 3.0}, rotation::EulerParameters(1.0, 0.1, 0.0, 0.0), w0),
       std::invalid_argument);
   CHECK_THROWS_AS(ref::TorqueFreeExact({1.0, 2.0, 3.0}, identity, {0.0, INFINITY, 0.0}),
                   std::invalid_argument);

@@ -1,4 +1,4 @@
-/// Physics of the flexible-body models (design/model.md), each checked against a closed-form
+/// Physics of the flexible-body models (docs/design/model.md), each checked against a closed-form
 /// prediction with reference solutions (CVODE, tight tolerance):
 ///   - rigid limit: stiffening every mode by s makes the coupled spinner a rigid body, O(1/s);
 ///   - no rotation, no difference: LTE = coupled at Ω = 0, and the difference grows like Ω²;
@@ -12,8 +12,8 @@
 #include <numbers>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
 #include "reference/reference_solver.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/flexible_models.hpp"
 
 namespace flexref {
@@ -76,9 +76,10 @@ TEST_CASE("a stiffened flexible spinner approaches the rigid body", "[reference]
     const auto run = reference::solve_cvode(stiff, times, tolerance(1e-10));
     double error = 0.0;
     for (std::size_t k = 0; k < times.size(); ++k) {
-      error = std::max(error, (core::rotation_matrix(run.trajectory.states[k][0].theta_WB) -
-                               core::rotation_matrix(rigid_run.trajectory.states[k][0].theta_WB))
-                                  .norm());
+      error =
+          std::max(error, (rotation::rotation_matrix(run.trajectory.states[k][0].theta_WB) -
+                           rotation::rotation_matrix(rigid_run.trajectory.states[k][0].theta_WB))
+                              .norm());
     }
     errors.push_back(error);
   }
@@ -251,7 +252,7 @@ TEST_CASE("spin-up beam: bounded below the first frequency, divergent above it",
   CHECK(max_abs(s2, 25.0, 30.0) <= 1.1 * max_abs(s2, 20.0, 25.0));
 
   // Ω_s = 6 > ω1: the linear FFR model without geometric stiffening has in-plane modal stiffness
-  // ω1² − Ω² < 0 once Ω(t) > ω1 (design/model.md, "Geometric stiffening"): the deflection grows
+  // ω1² − Ω² < 0 once Ω(t) > ω1 (docs/design/model.md, "Geometric stiffening"): the deflection grows
   // like exp(√(Ω_s² − ω1²) t) after T_s. This is the model's known limit, not a solver failure.
   const double max6 = max_abs(s6, 0.0, 30.0);
   const double d24 = std::abs(s6.deflection[static_cast<std::size_t>(24.0 / 0.02)]);

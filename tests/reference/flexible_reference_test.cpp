@@ -1,5 +1,5 @@
-/// The reference solvers on flexible bodies (design/schemes.md, "Reference integrators";
-/// design/model.md, "Euler-parameter form with constraint": the DAE form and the ODE form are the
+/// The reference solvers on flexible bodies (docs/design/schemes.md, "Reference integrators";
+/// docs/design/model.md, "Euler-parameter form with constraint": the DAE form and the ODE form are the
 /// same physics and must agree to the solvers' tolerances). Torque-free flexible_spinner with an
 /// initial deformation q0 = (0.05, 0.03, 0.01, 0) and a wobbling spin ω̄0 = (0.3, 0.2, 1), no
 /// damping, over 50 s (~50 periods of the first bending mode, ~300 of the highest).
@@ -8,8 +8,8 @@
 #include <cmath>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
 #include "reference/reference_solver.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/flexible_models.hpp"
 
 namespace flexref {
@@ -88,9 +88,9 @@ Difference difference(const reference::ReferenceRun& a, const reference::Referen
     const core::BodyState& sa = a.trajectory.states[k][0];
     const core::BodyState& sb = b.trajectory.states[k][0];
     d.q = std::max(d.q, (sa.q_f - sb.q_f).norm());
-    d.attitude =
-        std::max(d.attitude,
-                 (core::rotation_matrix(sa.theta_WB) - core::rotation_matrix(sb.theta_WB)).norm());
+    d.attitude = std::max(
+        d.attitude,
+        (rotation::rotation_matrix(sa.theta_WB) - rotation::rotation_matrix(sb.theta_WB)).norm());
   }
   return d;
 }
@@ -190,7 +190,7 @@ TEST_CASE("the LTE spinner through the three solvers", "[reference][flexible]") 
     const auto& states = run.trajectory.states;
     auto rigid_energy = [&](const core::BodyState& s) { return 0.5 * s.w_WB_B.dot(J * s.w_WB_B); };
     auto rigid_momentum = [&](const core::BodyState& s) {
-      return Eigen::Vector3d(core::rotation_matrix(s.theta_WB) * (J * s.w_WB_B));
+      return Eigen::Vector3d(rotation::rotation_matrix(s.theta_WB) * (J * s.w_WB_B));
     };
     double de = 0.0, dh = 0.0;
     for (const auto& s : states) {

@@ -6,7 +6,7 @@
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {

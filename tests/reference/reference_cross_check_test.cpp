@@ -1,5 +1,5 @@
 /// \file reference_cross_check_test.cpp
-/// The reference solvers against each other (design/schemes.md, "Reference integrators"):
+/// The reference solvers against each other (docs/design/schemes.md, "Reference integrators"):
 /// IDA on the DAE form against CVODE on the ODE form (same physics, different equations), the
 /// three solvers pairwise on book_toss, and the load switch of the rectangular pulse, checked
 /// against the exact angular-momentum balance.
@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/euler_parameters.hpp"
 #include "core/force_element.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "rotation/euler_parameters.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {
@@ -30,7 +30,7 @@ namespace {
 using Solver = ReferenceRun (*)(const core::Model&, const std::vector<double>&,
                                 const SolverOptions&);
 
-/// book_toss's torque (design/scenes.md, tests/lie/test_problems.hpp): world (0.2, 0, 0.2)
+/// book_toss's torque (docs/design/scenes.md, tests/support/test_problems.hpp): world (0.2, 0, 0.2)
 /// N·m on [0, 0.1).
 const Eigen::Vector3d kBookTorque_W(0.2, 0.0, 0.2);
 constexpr double kPulse = 0.1;
@@ -88,7 +88,7 @@ SolverOptions with_rtol(double rtol) {
   return options;
 }
 
-/// Largest differences over the output times (L∞, design/schemes.md "Error metrics").
+/// Largest differences over the output times (L∞, docs/design/schemes.md "Error metrics").
 struct Difference {
   double position = 0.0;          ///< |Δp_WBr|, m
   double angle = 0.0;             ///< geodesic angle, rad
@@ -103,7 +103,7 @@ Difference difference(const ReferenceRun& a, const ReferenceRun& b) {
     const core::BodyState& x = a.trajectory.states[k][0];
     const core::BodyState& y = b.trajectory.states[k][0];
     d.position = std::max(d.position, (x.p_WBr - y.p_WBr).norm());
-    d.angle = std::max(d.angle, core::geodesic_angle(x.theta_WB, y.theta_WB));
+    d.angle = std::max(d.angle, rotation::geodesic_angle(x.theta_WB, y.theta_WB));
     d.velocity = std::max(d.velocity, (x.v_WBr - y.v_WBr).norm());
     d.angular_velocity = std::max(d.angular_velocity, (x.w_WB_B - y.w_WB_B).norm());
   }
@@ -137,7 +137,7 @@ TEST_CASE("IDA (DAE form) and CVODE (ODE form) agree on coulomb_wall", "[ida][cv
 
   const Difference between = difference(ida, cvode);
   const Difference between_tight = difference(ida_tight, cvode_tight);
-  // Each run's error estimate (design/schemes.md): the difference to a run at 100× tighter
+  // Each run's error estimate (docs/design/schemes.md): the difference to a run at 100× tighter
   // tolerance, whose own error is ~100× smaller.
   const Difference ida_estimate = difference(ida, ida_tight);
   const Difference cvode_estimate = difference(cvode, cvode_tight);

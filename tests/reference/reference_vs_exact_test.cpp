@@ -1,5 +1,5 @@
 /// \file reference_vs_exact_test.cpp
-/// The three reference solvers against the exact solutions (design/schemes.md, "Exact
+/// The three reference solvers against the exact solutions (docs/design/schemes.md, "Exact
 /// solutions: references for the references"): the torque-free body in both circulation cases
 /// and near the separatrix, the symmetric heavy top, and the compound pendulum.
 #include <Eigen/Core>
@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "core/body.hpp"
-#include "core/euler_parameters.hpp"
 #include "core/gravity.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
@@ -21,7 +20,8 @@
 #include "reference/exact_pendulum.hpp"
 #include "reference/exact_torque_free.hpp"
 #include "reference/reference_solver.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "rotation/euler_parameters.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {
@@ -31,7 +31,7 @@ using Exact = std::function<RigidAttitude(double)>;
 const Eigen::Vector3d kGravity_W(0.0, 0.0, -9.81);
 
 /// A torque-free body with principal inertia diag(inertia), attitude θ0, angular velocity W0.
-core::Model free_body(const Eigen::Vector3d& inertia, const core::EulerParameters& theta0,
+core::Model free_body(const Eigen::Vector3d& inertia, const rotation::EulerParameters& theta0,
                       const Eigen::Vector3d& w0_B) {
   core::RigidBodyDescription d = testing::rigid_body("body", 1.0, inertia, w0_B);
   d.initial.theta_WB = theta0;
@@ -40,7 +40,7 @@ core::Model free_body(const Eigen::Vector3d& inertia, const core::EulerParameter
   return core::Model(std::move(bodies), testing::Elements{});
 }
 
-/// pendulum (design/scenes.md): m = 1, J_C = 1e-3 I, centre of mass at body (1, 0, 0), pivot
+/// pendulum (docs/design/scenes.md): m = 1, J_C = 1e-3 I, centre of mass at body (1, 0, 0), pivot
 /// at the body origin, gravity, released at rest from the identity attitude (horizontal).
 core::Model pendulum() {
   const Eigen::Vector3d com(1.0, 0.0, 0.0);
@@ -68,8 +68,9 @@ struct Case {
 };
 
 std::vector<Case> cases() {
-  const core::EulerParameters identity = core::identity_euler_parameters();
-  const core::EulerParameters tilted = core::EulerParameters(0.9, 0.1, -0.3, 0.2).normalized();
+  const rotation::EulerParameters identity = rotation::identity_euler_parameters();
+  const rotation::EulerParameters tilted =
+      rotation::EulerParameters(0.9, 0.1, -0.3, 0.2).normalized();
   // The tight settings: IDA and CVODE at 1e-14 (CVODE refuses 1e-15 on the heavy top, "too
   // much accuracy requested", and IDA's steps collapse there), odeint at 1e-12 (its steps are
   // bounded by the 0.01 s output grid, so tighter changes nothing).
@@ -114,7 +115,7 @@ std::vector<Case> cases() {
                    3.0, 1e-14, 1e-15, 1e-12});
   }
   {
-    // heavy_top (design/scenes.md, tests/lie/test_problems.hpp): the exact solution takes the
+    // heavy_top (docs/design/scenes.md, tests/support/test_problems.hpp): the exact solution takes the
     // inertia about the pivot, J_C + m l² on the transverse axes (l = 1).
     const double mass = 15.0;
     const Eigen::Vector3d w0(0.0, 150.0, -4.61538);
@@ -122,7 +123,7 @@ std::vector<Case> cases() {
                    [=] {
                      const auto exact = std::make_shared<HeavyTopExact>(
                          mass, 1.0, Eigen::Vector3d(0.0, 1.0, 0.0), 0.234375 + mass * 1.0, 0.46875,
-                         kGravity_W, core::identity_euler_parameters(), w0);
+                         kGravity_W, rotation::identity_euler_parameters(), w0);
                      return Exact([exact](double t) { return exact->at(t); });
                    },
                    2.0, 1e-14, 1e-14, 1e-12});
@@ -135,7 +136,7 @@ std::vector<Case> cases() {
                      const Eigen::Matrix3d j_pivot =
                          core::shift_inertia_from_com(inertia_cm.asDiagonal(), 1.0, com);
                      const auto exact = std::make_shared<PendulumExact>(
-                         1.0, com, j_pivot, kGravity_W, core::identity_euler_parameters());
+                         1.0, com, j_pivot, kGravity_W, rotation::identity_euler_parameters());
                      return Exact([exact](double t) { return exact->at(t); });
                    },
                    10.0, 1e-14, 1e-14, 1e-12});
@@ -144,7 +145,7 @@ std::vector<Case> cases() {
 }
 
 /// Largest errors against the exact solution over the output times, relative to the
-/// reference's range (design/schemes.md, "Error metrics"): |Δω̄| / max|ω̄|, and the geodesic
+/// reference's range (docs/design/schemes.md, "Error metrics"): |Δω̄| / max|ω̄|, and the geodesic
 /// attitude error / the angle turned by t_end (at least 1 rad), the natural scale of a phase
 /// error.
 struct RelativeError {
@@ -161,7 +162,7 @@ RelativeError relative_error(const ReferenceRun& run, const std::vector<RigidAtt
     if (k > 0) turned += 0.5 * (exact[k].w_B.norm() + exact[k - 1].w_B.norm()) * (t[k] - t[k - 1]);
     const core::BodyState& s = run.trajectory.states[k][0];
     w_error = std::max(w_error, (s.w_WB_B - exact[k].w_B).norm());
-    angle = std::max(angle, core::geodesic_angle(s.theta_WB, exact[k].theta));
+    angle = std::max(angle, rotation::geodesic_angle(s.theta_WB, exact[k].theta));
   }
   return {w_error / w_max, angle / std::max(1.0, turned), angle};
 }

@@ -19,7 +19,7 @@
 #include "core/output_times.hpp"
 #include "core/point_charge_potential.hpp"
 #include "reference/reference_solver.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {
@@ -37,7 +37,7 @@ const Solver kSolvers[] = {{"ida", solve_ida, "IDA_TOO_MUCH_WORK", true},
                            {"cvode", solve_cvode, "CV_TOO_MUCH_WORK", true},
                            {"odeint", solve_odeint, "too much work", false}};
 
-/// coulomb_wall (tests/lie/test_problems.hpp) started with both charges on the wall z = 0,
+/// coulomb_wall (tests/support/test_problems.hpp) started with both charges on the wall z = 0,
 /// where the wall force β/z² is infinite.
 core::Model coulomb_wall_on_the_wall() {
   core::RigidBodyDescription d =

@@ -115,7 +115,7 @@ TEST_CASE("lte-map refuses scenes without a spinning free flexible body", "[lte_
 
 // The LTE model's error against the coupled one has two sources (docs/lte_map.md):
 //   - spin: the coupled model's in-plane modal stiffness is ω1² − Ω² (centrifugal softening,
-//     design/model.md "Geometric stiffening"), the LTE model's ω1²: a relative frequency shift
+//     docs/design/model.md "Geometric stiffening"), the LTE model's ω1²: a relative frequency shift
 //     1 − √(1 − x²) ≈ x²/2, hence a phase error, and a tip error, ∝ x² at small x;
 //   - inertia coupling: the coupled model's free hub recoils from the beam (rotation and
 //     translation), raising the elastic frequency by a shift that grows with y; the LTE model's

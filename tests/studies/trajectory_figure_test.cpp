@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/output_times.hpp"
-#include "tests/lie/test_problems.hpp"
+#include "tests/support/test_problems.hpp"
 
 namespace flexref::studies {
 namespace {

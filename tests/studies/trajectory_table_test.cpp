@@ -66,7 +66,7 @@ TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero"
   for (int k = 0; k < 5; ++k) {
     trajectory.times.push_back(0.1 * k);
     core::State s = model.initial_state();
-    s[0].theta_WB = core::exp_quaternion(Eigen::Vector3d(0.3 * k, -0.1, 0.7 * k));
+    s[0].theta_WB = rotation::exp_quaternion(Eigen::Vector3d(0.3 * k, -0.1, 0.7 * k));
     trajectory.states.push_back(s);
   }
   const TrajectoryTable table = tabulate(model, trajectory);
@@ -82,9 +82,9 @@ TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero"
   // A rotation of 1e-3 rad about z at every time shows as a geodesic error of 1e-3.
   TrajectoryTable rotated = table;
   for (auto& row : rotated.rows) {
-    const core::EulerParameters q(row[4], row[5], row[6], row[7]);
-    const core::EulerParameters r =
-        core::quaternion_multiply(q, core::exp_quaternion(Eigen::Vector3d(0, 0, 1e-3)));
+    const rotation::EulerParameters q(row[4], row[5], row[6], row[7]);
+    const rotation::EulerParameters r =
+        rotation::quaternion_multiply(q, rotation::exp_quaternion(Eigen::Vector3d(0, 0, 1e-3)));
     for (int i = 0; i < 4; ++i) row[static_cast<std::size_t>(4 + i)] = r(i);
   }
   const ComparisonReport report = compare_trajectories(rotated, table);

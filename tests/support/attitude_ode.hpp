@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/euler_parameters.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::testing {
 
@@ -18,16 +18,16 @@ using AttitudeState = std::vector<double>;
 /// The state at each time; torque_B(θ) is the body-frame torque about the fixed point.
 template <typename TorqueB>
 std::vector<AttitudeState> integrate_attitude(const Eigen::Matrix3d& inertia_B, TorqueB torque_B,
-                                              const core::EulerParameters& theta0,
+                                              const rotation::EulerParameters& theta0,
                                               const Eigen::Vector3d& w0_B,
                                               const std::vector<double>& times, double tolerance,
                                               double first_step) {
   namespace odeint = boost::numeric::odeint;
   const Eigen::Matrix3d inertia_inverse = inertia_B.inverse();
   const auto rhs = [&](const AttitudeState& x, AttitudeState& dxdt, double) {
-    const core::EulerParameters theta(x[0], x[1], x[2], x[3]);
+    const rotation::EulerParameters theta(x[0], x[1], x[2], x[3]);
     const Eigen::Vector3d w(x[4], x[5], x[6]);
-    const core::EulerParameters theta_rate = core::euler_parameter_rate(theta, w);
+    const rotation::EulerParameters theta_rate = rotation::euler_parameter_rate(theta, w);
     const Eigen::Vector3d w_rate = inertia_inverse * (torque_B(theta) - w.cross(inertia_B * w));
     dxdt = {theta_rate(0), theta_rate(1), theta_rate(2), theta_rate(3),
             w_rate(0),     w_rate(1),     w_rate(2)};

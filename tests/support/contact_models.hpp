@@ -2,7 +2,7 @@
 
 /// \file contact_models.hpp
 /// Contact scenes built in code from core types (no scene files), with the parameters of
-/// design/scenes.md ("Bundled cases") where that table gives them. Header-only, like
+/// docs/design/scenes.md ("Bundled cases") where that table gives them. Header-only, like
 /// flexible_models.hpp. Gravity is (0, 0, −9.81) except for double_pendulum_impacts, whose
 /// swing plane is x–z with gravity −z as well (the wall is the plane x = 0.8).
 ///
@@ -36,13 +36,13 @@
 #include <utility>
 #include <vector>
 
+#include "contact/bushing.hpp"
+#include "contact/contact.hpp"
+#include "contact/contact_laws.hpp"
 #include "core/body.hpp"
-#include "core/bushing.hpp"
-#include "core/contact.hpp"
-#include "core/contact_laws.hpp"
-#include "core/euler_parameters.hpp"
 #include "core/gravity.hpp"
 #include "core/model.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::testing {
 
@@ -67,8 +67,8 @@ namespace contact_detail {
 
 inline Eigen::Vector3d gravity() { return {0.0, 0.0, -9.81}; }
 
-inline core::EulerParameters rotation_about(const Eigen::Vector3d& axis, double angle) {
-  return core::exp_quaternion(angle * axis.normalized());
+inline rotation::EulerParameters rotation_about(const Eigen::Vector3d& axis, double angle) {
+  return rotation::exp_quaternion(angle * axis.normalized());
 }
 
 /// Step limit of a regularized-friction contact acting as a damper c_t = μ F_n / v_reg on a
@@ -105,7 +105,7 @@ inline double explicit_limit(double stiffness, double mass) {
 /// hinge end) to (0, 0, −L); axial inertia J_axial (a rod of finite radius: 1e-3 kg·m² keeps
 /// the angular joint mode about the rod axis at a reasonable frequency, docs/joints.md).
 inline core::RigidBodyDescription rod(std::string name, double m, double L, double J_axial,
-                                      const core::EulerParameters& theta,
+                                      const rotation::EulerParameters& theta,
                                       const Eigen::Vector3d& p_WBo) {
   core::RigidBodyDescription d;
   d.name = std::move(name);
@@ -144,10 +144,10 @@ inline ContactScene bouncing_ball() {
   ContactElements elements;
   elements.push_back(std::make_unique<core::UniformGravity>(
       gravity(), std::vector<core::UniformGravity::BodyMass>{{0, m, Eigen::Vector3d::Zero()}}));
-  elements.push_back(std::make_unique<core::ContactElement>(
-      std::vector<core::ContactPair>{core::ContactPair::sphere_plane(
+  elements.push_back(std::make_unique<contact::ContactElement>(
+      std::vector<contact::ContactPair>{contact::ContactPair::sphere_plane(
           0, Eigen::Vector3d::Zero(), r, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ())},
-      core::NormalLaw::hunt_crossley(k, n, 0.5, v_imp), core::FrictionLaw{0.0, 1e-3}, m));
+      contact::NormalLaw::hunt_crossley(k, n, 0.5, v_imp), contact::FrictionLaw{0.0, 1e-3}, m));
   ContactScene s{"bouncing_ball", core::Model(std::move(bodies), std::move(elements)), 2.0, {}};
   s.step_limits.push_back(
       {"contact normal", explicit_limit(hc_impact_stiffness(k, n, m, v_imp), m)});
@@ -171,19 +171,19 @@ inline ContactScene sliding_block() {
   d.initial.v_WBo = Eigen::Vector3d(2.0, 0.0, 0.0);
   std::vector<core::Body> bodies;
   bodies.emplace_back(std::move(d));
-  std::vector<core::ContactPair> pairs;
+  std::vector<contact::ContactPair> pairs;
   for (double x : {-0.5 * a, 0.5 * a}) {
     for (double y : {-0.5 * a, 0.5 * a}) {
-      pairs.push_back(core::ContactPair::point_plane(
+      pairs.push_back(contact::ContactPair::point_plane(
           0, Eigen::Vector3d(x, y, -0.5 * a), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()));
     }
   }
   ContactElements elements;
   elements.push_back(std::make_unique<core::UniformGravity>(
       gravity(), std::vector<core::UniformGravity::BodyMass>{{0, m, Eigen::Vector3d::Zero()}}));
-  elements.push_back(std::make_unique<core::ContactElement>(
-      std::move(pairs), core::NormalLaw::hunt_crossley(k, n, 0.5, 0.1),
-      core::FrictionLaw{mu, v_reg}, m / 4.0));
+  elements.push_back(std::make_unique<contact::ContactElement>(
+      std::move(pairs), contact::NormalLaw::hunt_crossley(k, n, 0.5, 0.1),
+      contact::FrictionLaw{mu, v_reg}, m / 4.0));
   ContactScene s{"sliding_block", core::Model(std::move(bodies), std::move(elements)), 1.5, {}};
   s.step_limits.push_back(
       {"contact normal", explicit_limit(hc_static_stiffness(k, n, m * 9.81 / 4.0), m / 4.0)});
@@ -191,7 +191,7 @@ inline ContactScene sliding_block() {
   return s;
 }
 
-/// top_on_plane (design/scenes.md): m = 0.1, J_C = diag(1e-4, 1e-4, 1.6e-4) (symmetry axis z,
+/// top_on_plane (docs/design/scenes.md): m = 0.1, J_C = diag(1e-4, 1e-4, 1.6e-4) (symmetry axis z,
 /// frame at the centre of mass), tip sphere r = 0.005 centred at (0, 0, −0.04); tilt 0.2 rad
 /// about x, spin 100 rad/s about the symmetry axis; the sphere touches z = 0 (gap 0). End 5.
 /// Hunt–Crossley k = 1e6 N/m^1.5, n = 1.5, e = 0.5 at v_ref = 0.1 m/s; μ = 0.3, v_reg = 1e-3.
@@ -208,7 +208,7 @@ inline ContactScene top_on_plane() {
   d.mass = m;
   d.I_Bcm_B = J;
   d.initial.theta_WB = rotation_about(Eigen::Vector3d::UnitX(), tilt);
-  const Eigen::Matrix3d R = core::rotation_matrix(d.initial.theta_WB);
+  const Eigen::Matrix3d R = rotation::rotation_matrix(d.initial.theta_WB);
   d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, r) - R * p_tip_B;
   d.initial.w_WB_B = Eigen::Vector3d(0.0, 0.0, 100.0);
   d.points.push_back({"tip", p_tip_B, -1});
@@ -222,10 +222,10 @@ inline ContactScene top_on_plane() {
   const double m_t =
       std::min(effective_mass(m, J, r_contact_B, R.transpose() * Eigen::Vector3d::UnitX()),
                effective_mass(m, J, r_contact_B, R.transpose() * Eigen::Vector3d::UnitY()));
-  elements.push_back(std::make_unique<core::ContactElement>(
-      std::vector<core::ContactPair>{core::ContactPair::sphere_plane(
+  elements.push_back(std::make_unique<contact::ContactElement>(
+      std::vector<contact::ContactPair>{contact::ContactPair::sphere_plane(
           0, p_tip_B, r, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ())},
-      core::NormalLaw::hunt_crossley(k, n, 0.5, 0.1), core::FrictionLaw{mu, v_reg}, m_n));
+      contact::NormalLaw::hunt_crossley(k, n, 0.5, 0.1), contact::FrictionLaw{mu, v_reg}, m_n));
   ContactScene s{"top_on_plane", core::Model(std::move(bodies), std::move(elements)), 5.0, {}};
   s.step_limits.push_back(
       {"contact normal", explicit_limit(hc_static_stiffness(k, n, m * 9.81), m_n)});
@@ -235,10 +235,10 @@ inline ContactScene top_on_plane() {
 
 /// The symmetry axis of a top (body z) in the world, from a body state.
 inline Eigen::Vector3d symmetry_axis_W(const core::BodyState& s) {
-  return core::rotation_matrix(s.theta_WB).col(2);
+  return rotation::rotation_matrix(s.theta_WB).col(2);
 }
 
-/// tippe_top (Leine & Glocker 2003; design/scenes.md): m = 0.006, I1 = 8e-7 (transverse),
+/// tippe_top (Leine & Glocker 2003; docs/design/scenes.md): m = 0.006, I1 = 8e-7 (transverse),
 /// I3 = 7e-7 (symmetry axis z), frame at the centre of mass; ball of radius 0.015 centred
 /// 0.003 above the centre of mass, stem sphere of radius 0.005 centred 0.016 above the ball's
 /// centre; tilt 0.1 rad about x, spin 180 rad/s about the symmetry axis, ball touching z = 0.
@@ -259,7 +259,7 @@ inline ContactScene tippe_top(double end_time = 8.0) {
   d.mass = m;
   d.I_Bcm_B = J;
   d.initial.theta_WB = rotation_about(Eigen::Vector3d::UnitX(), tilt);
-  const Eigen::Matrix3d R = core::rotation_matrix(d.initial.theta_WB);
+  const Eigen::Matrix3d R = rotation::rotation_matrix(d.initial.theta_WB);
   d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, R_ball) - R * p_ball_B;
   d.initial.w_WB_B = Eigen::Vector3d(0.0, 0.0, spin);
   d.points.push_back({"stem", p_stem_B, -1});
@@ -273,13 +273,13 @@ inline ContactScene tippe_top(double end_time = 8.0) {
   const double m_t =
       std::min(effective_mass(m, J, r_contact_B, R.transpose() * Eigen::Vector3d::UnitX()),
                effective_mass(m, J, r_contact_B, R.transpose() * Eigen::Vector3d::UnitY()));
-  elements.push_back(std::make_unique<core::ContactElement>(
-      std::vector<core::ContactPair>{
-          core::ContactPair::sphere_plane(0, p_ball_B, R_ball, Eigen::Vector3d::Zero(),
-                                          Eigen::Vector3d::UnitZ()),
-          core::ContactPair::sphere_plane(0, p_stem_B, r_stem, Eigen::Vector3d::Zero(),
-                                          Eigen::Vector3d::UnitZ())},
-      core::NormalLaw::hunt_crossley(k, n, 0.5, 0.1), core::FrictionLaw{mu, v_reg}, m_n));
+  elements.push_back(std::make_unique<contact::ContactElement>(
+      std::vector<contact::ContactPair>{
+          contact::ContactPair::sphere_plane(0, p_ball_B, R_ball, Eigen::Vector3d::Zero(),
+                                             Eigen::Vector3d::UnitZ()),
+          contact::ContactPair::sphere_plane(0, p_stem_B, r_stem, Eigen::Vector3d::Zero(),
+                                             Eigen::Vector3d::UnitZ())},
+      contact::NormalLaw::hunt_crossley(k, n, 0.5, 0.1), contact::FrictionLaw{mu, v_reg}, m_n));
   ContactScene s{"tippe_top", core::Model(std::move(bodies), std::move(elements)), end_time, {}};
   s.step_limits.push_back(
       {"contact normal", explicit_limit(hc_static_stiffness(k, n, m * 9.81), m_n)});
@@ -287,7 +287,7 @@ inline ContactScene tippe_top(double end_time = 8.0) {
   return s;
 }
 
-/// pendulum_on_sliding_support (design/scenes.md): block m = 2, 0.2 cube (J = m a²/6), frame at
+/// pendulum_on_sliding_support (docs/design/scenes.md): block m = 2, 0.2 cube (J = m a²/6), frame at
 /// its centre, resting on four corner point contacts on z = 0 (Hunt–Crossley k = 1e7 N/m^1.5,
 /// n = 1.5, e = 0.5 at v_ref = 0.1 m/s, μ = 0.2, v_reg = 1e-2 m/s); rod m = 1, L = 1 (centre of
 /// mass at 0.5, J = m L²/12 across, 1e-3 axial) hinged at the block's top centre by a revolute
@@ -302,7 +302,7 @@ inline ContactScene pendulum_on_sliding_support() {
   using namespace contact_detail;
   const double m_block = 2.0, a = 0.2, m_rod = 1.0, L = 1.0, angle = M_PI / 3.0;
   const double k_c = 1e7, n = 1.5, mu = 0.2, v_reg = 1e-2;
-  core::BushingParameters joint;
+  contact::BushingParameters joint;
   joint.stiffness = 1e5;
   joint.angular_stiffness = 1e3;
   core::RigidBodyDescription block;
@@ -316,10 +316,10 @@ inline ContactScene pendulum_on_sliding_support() {
   std::vector<core::Body> bodies;
   bodies.emplace_back(std::move(block));
   bodies.emplace_back(std::move(rod_d));
-  std::vector<core::ContactPair> pairs;
+  std::vector<contact::ContactPair> pairs;
   for (double x : {-0.5 * a, 0.5 * a}) {
     for (double y : {-0.5 * a, 0.5 * a}) {
-      pairs.push_back(core::ContactPair::point_plane(
+      pairs.push_back(contact::ContactPair::point_plane(
           0, Eigen::Vector3d(x, y, -0.5 * a), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()));
     }
   }
@@ -328,13 +328,13 @@ inline ContactScene pendulum_on_sliding_support() {
       gravity(),
       std::vector<core::UniformGravity::BodyMass>{
           {0, m_block, Eigen::Vector3d::Zero()}, {1, m_rod, Eigen::Vector3d(0.0, 0.0, -0.5 * L)}}));
-  elements.push_back(std::make_unique<core::RevoluteBushing>(
-      core::BushingEnd{1, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY()},
-      core::BushingEnd{0, Eigen::Vector3d(0.0, 0.0, 0.5 * a), Eigen::Vector3d::UnitY()}, joint));
+  elements.push_back(std::make_unique<contact::RevoluteBushing>(
+      contact::BushingEnd{1, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY()},
+      contact::BushingEnd{0, Eigen::Vector3d(0.0, 0.0, 0.5 * a), Eigen::Vector3d::UnitY()}, joint));
   const double load = (m_block + m_rod) * 9.81 / 4.0;
-  elements.push_back(std::make_unique<core::ContactElement>(
-      std::move(pairs), core::NormalLaw::hunt_crossley(k_c, n, 0.5, 0.1),
-      core::FrictionLaw{mu, v_reg}, m_block / 4.0));
+  elements.push_back(std::make_unique<contact::ContactElement>(
+      std::move(pairs), contact::NormalLaw::hunt_crossley(k_c, n, 0.5, 0.1),
+      contact::FrictionLaw{mu, v_reg}, m_block / 4.0));
   ContactScene s{
       "pendulum_on_sliding_support", core::Model(std::move(bodies), std::move(elements)), 10.0, {}};
   const double m_joint = 1.0 / (1.0 / 0.25 + 1.0 / m_block + 0.01 / (m_block * a * a / 6.0));
@@ -346,7 +346,7 @@ inline ContactScene pendulum_on_sliding_support() {
   return s;
 }
 
-/// double_pendulum_impacts (design/scenes.md): two rods m = 1, L = 1 (J = m L²/12 across,
+/// double_pendulum_impacts (docs/design/scenes.md): two rods m = 1, L = 1 (J = m L²/12 across,
 /// 1e-3 axial), each frame at its upper end, rod along body −z. Rod 1 pivots at the origin
 /// (MotionKind::kPivot); rod 2 hangs from rod 1's end by a revolute bushing (axis y in both;
 /// k = 1e5 N/m, k_θ = 1e3 N·m/rad, undamped). Released at rest horizontal along −x (both rods
@@ -361,10 +361,10 @@ inline ContactScene pendulum_on_sliding_support() {
 inline ContactScene double_pendulum_impacts(double end_time = 10.0) {
   using namespace contact_detail;
   const double m = 1.0, L = 1.0, r_tip = 0.05, k_c = 1e6, n = 1.5;
-  core::BushingParameters joint;
+  contact::BushingParameters joint;
   joint.stiffness = 1e5;
   joint.angular_stiffness = 1e3;
-  const core::EulerParameters theta = rotation_about(Eigen::Vector3d::UnitY(), M_PI / 2.0);
+  const rotation::EulerParameters theta = rotation_about(Eigen::Vector3d::UnitY(), M_PI / 2.0);
   core::RigidBodyDescription rod1 = rod("rod1", m, L, 1e-3, theta, Eigen::Vector3d::Zero());
   rod1.motion = core::MotionKind::kPivot;
   rod1.p_BoPivot_B = Eigen::Vector3d::Zero();
@@ -377,14 +377,14 @@ inline ContactScene double_pendulum_impacts(double end_time = 10.0) {
       gravity(),
       std::vector<core::UniformGravity::BodyMass>{{0, m, Eigen::Vector3d(0.0, 0.0, -0.5 * L)},
                                                   {1, m, Eigen::Vector3d(0.0, 0.0, -0.5 * L)}}));
-  elements.push_back(std::make_unique<core::RevoluteBushing>(
-      core::BushingEnd{1, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY()},
-      core::BushingEnd{0, Eigen::Vector3d(0.0, 0.0, -L), Eigen::Vector3d::UnitY()}, joint));
-  elements.push_back(std::make_unique<core::ContactElement>(
-      std::vector<core::ContactPair>{core::ContactPair::sphere_plane(
+  elements.push_back(std::make_unique<contact::RevoluteBushing>(
+      contact::BushingEnd{1, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY()},
+      contact::BushingEnd{0, Eigen::Vector3d(0.0, 0.0, -L), Eigen::Vector3d::UnitY()}, joint));
+  elements.push_back(std::make_unique<contact::ContactElement>(
+      std::vector<contact::ContactPair>{contact::ContactPair::sphere_plane(
           1, Eigen::Vector3d(0.0, 0.0, -L), r_tip, Eigen::Vector3d(0.8, 0.0, 0.0),
           -Eigen::Vector3d::UnitX())},
-      core::NormalLaw::hunt_crossley(k_c, n, 0.8, 5.0), core::FrictionLaw{0.0, 1e-3}, 0.2));
+      contact::NormalLaw::hunt_crossley(k_c, n, 0.8, 5.0), contact::FrictionLaw{0.0, 1e-3}, 0.2));
   ContactScene s{
       "double_pendulum_impacts", core::Model(std::move(bodies), std::move(elements)), end_time, {}};
   s.step_limits.push_back(

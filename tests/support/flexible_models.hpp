@@ -2,7 +2,7 @@
 
 /// \file flexible_models.hpp
 /// Flexible-body test problems built in code from core types (no scene files), with the
-/// parameters of design/scenes.md:
+/// parameters of docs/design/scenes.md:
 ///
 ///   flexible_spinner     free rigid hub (m_h = 10, J_h = diag(0.5, 0.5, 1)) carrying a radial
 ///                        clamped-free beam along x from r = 0.1 to 1.1 (ρA = 1, EI = 3.2 in both
@@ -22,19 +22,20 @@
 #include <vector>
 
 #include "core/applied_load.hpp"
-#include "core/beam_model.hpp"
 #include "core/body.hpp"
 #include "core/model.hpp"
 #include "core/time_profile.hpp"
+#include "flexible/beam_model.hpp"
 
 namespace flexref::testing {
 
 using FlexibleElements = std::vector<std::unique_ptr<const core::ForceElement>>;
 
 /// Bending-only modal data of a uniform clamped-free beam along x from `origin`.
-inline core::ModalData beam_bending_modes(const Eigen::Vector3d& origin, double length, double EI,
-                                          double EA, double rho_A, int elements, int modes) {
-  core::BeamParameters p;
+inline flexible::ModalData beam_bending_modes(const Eigen::Vector3d& origin, double length,
+                                              double EI, double EA, double rho_A, int elements,
+                                              int modes) {
+  flexible::BeamParameters p;
   p.origin = origin;
   p.length = length;
   p.elements = elements;
@@ -42,13 +43,13 @@ inline core::ModalData beam_bending_modes(const Eigen::Vector3d& origin, double 
   p.EI_y = EI;
   p.EI_z = EI;
   p.rho_A = rho_A;
-  core::BeamModeFilter filter;
+  flexible::BeamModeFilter filter;
   filter.axial = false;
-  return core::make_beam_modal_data(p, modes, filter);
+  return flexible::make_beam_modal_data(p, modes, filter);
 }
 
 /// A flexible body from modal data, with the tip node tracked.
-inline core::RigidBodyDescription flexible_body(std::string name, core::ModalData modal) {
+inline core::RigidBodyDescription flexible_body(std::string name, flexible::ModalData modal) {
   core::RigidBodyDescription d;
   d.name = std::move(name);
   d.mass = 0.0;
@@ -97,7 +98,7 @@ inline core::Model rotating_cantilever_model(core::FlexibleFormulation formulati
   return core::Model(std::move(bodies), {}, formulation);
 }
 
-/// Kane–Ryan–Banerjee spin-up beam (design/scenes.md), n bending modes.
+/// Kane–Ryan–Banerjee spin-up beam (docs/design/scenes.md), n bending modes.
 inline core::Model spin_up_beam_model(core::FlexibleFormulation formulation, double omega_s,
                                       int modes = 4, int elements = 10) {
   core::RigidBodyDescription d = flexible_body(

@@ -1,0 +1,232 @@
+#include "contact/bushing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace flexref::contact {
+namespace {
+
+/// The pose and velocity of one end, world frame; the ground is at rest with R = I.
+struct EndMotion {
+  bool ground = true;
+  Eigen::Vector3d p_WP = Eigen::Vector3d::Zero();   ///< attachment point
+  Eigen::Vector3d p_WBr = Eigen::Vector3d::Zero();  ///< reference point Br
+  Eigen::Vector3d v_WBr = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_WB_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();
+
+  /// Velocity of the body's material point now at p_WM: v_Br + ω × (p_WM − p_WBr).
+  Eigen::Vector3d v_WM(const Eigen::Vector3d& p_WM) const {
+    return v_WBr + w_WB_W.cross(p_WM - p_WBr);
+  }
+};
+
+EndMotion end_motion(const BushingEnd& end, std::span<const core::BodyKinematics> bodies) {
+  EndMotion m;
+  if (end.body == kGround) {
+    m.p_WP = end.point;
+    m.axis_W = end.axis;
+    return m;
+  }
+  const core::BodyKinematics& k = bodies[static_cast<std::size_t>(end.body)];
+  m.ground = false;
+  m.p_WP = k.p_WP(end.point);
+  m.p_WBr = k.state->p_WBr;
+  m.v_WBr = k.state->v_WBr;
+  m.w_WB_W = k.R_WB * k.state->w_WB_B;
+  m.axis_W = k.R_WB * end.axis;
+  return m;
+}
+
+/// The spherical part: d = p_WQ − p_WP, midpoint M, u = v_B(M) − v_A(M).
+struct Separation {
+  Eigen::Vector3d d_W;
+  Eigen::Vector3d p_WM;
+  Eigen::Vector3d u_W;
+};
+
+Separation separation(const EndMotion& a, const EndMotion& b) {
+  Separation s;
+  s.d_W = b.p_WP - a.p_WP;
+  s.p_WM = a.p_WP + 0.5 * s.d_W;
+  s.u_W = b.v_WM(s.p_WM) - a.v_WM(s.p_WM);
+  return s;
+}
+
+/// f = k d + c u on A at M, −f on B at M.
+void add_spherical(const BushingEnd& a_end, const BushingEnd& b_end, const EndMotion& a,
+                   const EndMotion& b, const BushingParameters& p,
+                   std::span<core::Wrench> wrenches) {
+  const Separation s = separation(a, b);
+  const Eigen::Vector3d f_W = p.stiffness * s.d_W + p.damping * s.u_W;
+  wrenches[static_cast<std::size_t>(a_end.body)].add_force_at(f_W, s.p_WM - a.p_WBr);
+  if (!b.ground) {
+    wrenches[static_cast<std::size_t>(b_end.body)].add_force_at(-f_W, s.p_WM - b.p_WBr);
+  }
+}
+
+/// P ω_rel with P = I − ½(a_A a_Aᵀ + a_B a_Bᵀ), without forming P.
+Eigen::Vector3d perpendicular_part(const EndMotion& a, const EndMotion& b,
+                                   const Eigen::Vector3d& w_W) {
+  return w_W - 0.5 * (a.axis_W * a.axis_W.dot(w_W) + b.axis_W * b.axis_W.dot(w_W));
+}
+
+void validate(const BushingEnd& a, const BushingEnd& b, const BushingParameters& p, bool revolute) {
+  if (a.body < 0) throw std::invalid_argument("bushing: the first end must be a body (index ≥ 0)");
+  if (b.body < kGround)
+    throw std::invalid_argument("bushing: invalid body index of the second end");
+  if (a.body == b.body) throw std::invalid_argument("bushing: both ends on the same body");
+  if (!a.point.allFinite() || !b.point.allFinite()) {
+    throw std::invalid_argument("bushing: attachment point not finite");
+  }
+  const double values[] = {p.stiffness, p.damping, p.angular_stiffness, p.angular_damping};
+  for (double v : values) {
+    if (!std::isfinite(v) || v < 0.0) {
+      throw std::invalid_argument("bushing: stiffness and damping must be finite and ≥ 0");
+    }
+  }
+  if (revolute) {
+    for (const BushingEnd* e : {&a, &b}) {
+      const double n = e->axis.norm();
+      if (!std::isfinite(n) || n == 0.0) {
+        throw std::invalid_argument("bushing: hinge axis must be finite and non-zero");
+      }
+    }
+  }
+}
+
+std::string vector_text(const Eigen::Vector3d& v) {
+  std::ostringstream out;
+  out << '(' << v.x() << ", " << v.y() << ", " << v.z() << ')';
+  return out.str();
+}
+
+std::string ends_text(const BushingEnd& a, const BushingEnd& b) {
+  std::ostringstream out;
+  out << "body " << a.body << " point " << vector_text(a.point) << " to ";
+  if (b.body == kGround) {
+    out << "ground point " << vector_text(b.point);
+  } else {
+    out << "body " << b.body << " point " << vector_text(b.point);
+  }
+  return out.str();
+}
+
+}  // namespace
+
+double bushing_frequency(double stiffness, double effective_inertia) {
+  return std::sqrt(stiffness / effective_inertia);
+}
+
+double bushing_stable_step(double stiffness, double damping, double effective_inertia) {
+  if (stiffness <= 0.0) return std::numeric_limits<double>::infinity();
+  const double omega = bushing_frequency(stiffness, effective_inertia);
+  const double zeta = damping / (2.0 * std::sqrt(stiffness * effective_inertia));
+  // √(1 + ζ²) − ζ = 1/(√(1 + ζ²) + ζ), without cancellation for large ζ.
+  return 2.0 / omega / (std::sqrt(1.0 + zeta * zeta) + zeta);
+}
+
+// ---------------------------------------------------------------------------------------------
+// SphericalBushing
+
+SphericalBushing::SphericalBushing(const BushingEnd& a, const BushingEnd& b,
+                                   const BushingParameters& parameters)
+    : a_(a), b_(b), parameters_(parameters) {
+  validate(a_, b_, parameters_, false);
+  parameters_.angular_stiffness = 0.0;
+  parameters_.angular_damping = 0.0;
+}
+
+void SphericalBushing::add_wrenches(const core::LoadContext& /*context*/,
+                                    std::span<const core::BodyKinematics> bodies,
+                                    std::span<core::Wrench> wrenches) const {
+  add_spherical(a_, b_, end_motion(a_, bodies), end_motion(b_, bodies), parameters_, wrenches);
+}
+
+double SphericalBushing::potential_energy(const core::LoadContext& /*context*/,
+                                          std::span<const core::BodyKinematics> bodies) const {
+  const Eigen::Vector3d d_W = end_motion(b_, bodies).p_WP - end_motion(a_, bodies).p_WP;
+  return 0.5 * parameters_.stiffness * d_W.squaredNorm();
+}
+
+double SphericalBushing::dissipated_power(const core::LoadContext& /*context*/,
+                                          std::span<const core::BodyKinematics> bodies) const {
+  if (parameters_.damping == 0.0) return 0.0;
+  const Separation s = separation(end_motion(a_, bodies), end_motion(b_, bodies));
+  return parameters_.damping * s.u_W.squaredNorm();
+}
+
+int SphericalBushing::max_body_index() const { return std::max(a_.body, b_.body); }
+
+std::string SphericalBushing::describe() const {
+  std::ostringstream out;
+  out << "spherical bushing: " << ends_text(a_, b_) << ", k = " << parameters_.stiffness
+      << " N/m, c = " << parameters_.damping << " N·s/m";
+  return out.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+// RevoluteBushing
+
+RevoluteBushing::RevoluteBushing(const BushingEnd& a, const BushingEnd& b,
+                                 const BushingParameters& parameters)
+    : a_(a), b_(b), parameters_(parameters) {
+  validate(a_, b_, parameters_, true);
+  a_.axis.normalize();
+  b_.axis.normalize();
+}
+
+void RevoluteBushing::add_wrenches(const core::LoadContext& /*context*/,
+                                   std::span<const core::BodyKinematics> bodies,
+                                   std::span<core::Wrench> wrenches) const {
+  const EndMotion a = end_motion(a_, bodies);
+  const EndMotion b = end_motion(b_, bodies);
+  add_spherical(a_, b_, a, b, parameters_, wrenches);
+  // τ_A = k_θ a_A × a_B + c_θ P (ω_B − ω_A), τ_B = −τ_A.
+  const Eigen::Vector3d tau_W =
+      parameters_.angular_stiffness * a.axis_W.cross(b.axis_W) +
+      parameters_.angular_damping * perpendicular_part(a, b, b.w_WB_W - a.w_WB_W);
+  wrenches[static_cast<std::size_t>(a_.body)].tau_Br_W += tau_W;
+  wrenches[static_cast<std::size_t>(a_.body)].torque_magnitude += tau_W.norm();
+  if (!b.ground) {
+    wrenches[static_cast<std::size_t>(b_.body)].tau_Br_W -= tau_W;
+    wrenches[static_cast<std::size_t>(b_.body)].torque_magnitude += tau_W.norm();
+  }
+}
+
+double RevoluteBushing::potential_energy(const core::LoadContext& /*context*/,
+                                         std::span<const core::BodyKinematics> bodies) const {
+  const EndMotion a = end_motion(a_, bodies);
+  const EndMotion b = end_motion(b_, bodies);
+  // ½k|d|² + k_θ(1 − a_Aᵀa_B); 1 − cos α = ½|a_A − a_B|² for unit axes, without cancellation.
+  return 0.5 * parameters_.stiffness * (b.p_WP - a.p_WP).squaredNorm() +
+         0.5 * parameters_.angular_stiffness * (a.axis_W - b.axis_W).squaredNorm();
+}
+
+double RevoluteBushing::dissipated_power(const core::LoadContext& /*context*/,
+                                         std::span<const core::BodyKinematics> bodies) const {
+  const EndMotion a = end_motion(a_, bodies);
+  const EndMotion b = end_motion(b_, bodies);
+  const Separation s = separation(a, b);
+  const Eigen::Vector3d w_rel_W = b.w_WB_W - a.w_WB_W;
+  return parameters_.damping * s.u_W.squaredNorm() +
+         parameters_.angular_damping * w_rel_W.dot(perpendicular_part(a, b, w_rel_W));
+}
+
+int RevoluteBushing::max_body_index() const { return std::max(a_.body, b_.body); }
+
+std::string RevoluteBushing::describe() const {
+  std::ostringstream out;
+  out << "revolute bushing: " << ends_text(a_, b_) << ", hinge axis " << vector_text(a_.axis)
+      << (b_.body == kGround ? " / world " : " / ") << vector_text(b_.axis)
+      << ", k = " << parameters_.stiffness << " N/m, c = " << parameters_.damping
+      << " N·s/m, k_theta = " << parameters_.angular_stiffness
+      << " N·m/rad, c_theta = " << parameters_.angular_damping << " N·m·s/rad";
+  return out.str();
+}
+
+}  // namespace flexref::contact

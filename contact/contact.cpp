@@ -1,0 +1,213 @@
+#include "contact/contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace flexref::contact {
+namespace {
+
+void require(bool ok, const char* what) {
+  if (!ok) throw std::invalid_argument(what);
+}
+
+bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
+
+/// World position of the centre and the arm from Br of a body point (from Bo, body frame).
+Eigen::Vector3d centre_W(const core::BodyKinematics& k, const Eigen::Vector3d& p_BoC_B) {
+  return k.p_WP(p_BoC_B);
+}
+
+/// Velocity of body k's material point at the world point P: v_Br + ω × (P − p_WBr).
+Eigen::Vector3d material_velocity_W(const core::BodyKinematics& k, const Eigen::Vector3d& p_WP) {
+  return k.state->v_WBr + (k.R_WB * k.state->w_WB_B).cross(p_WP - k.state->p_WBr);
+}
+
+}  // namespace
+
+ContactPair ContactPair::sphere_plane(int body, const Eigen::Vector3d& p_BoC_B, double radius,
+                                      const Eigen::Vector3d& p_WQ, const Eigen::Vector3d& n_W) {
+  require(body >= 0, "contact sphere body index must be >= 0");
+  require(radius >= 0.0 && std::isfinite(radius), "contact sphere radius must be >= 0");
+  require(finite(p_BoC_B) && finite(p_WQ) && finite(n_W), "contact geometry must be finite");
+  const double norm = n_W.norm();
+  require(norm > 0.0 && std::isfinite(norm), "contact plane normal must be nonzero");
+  ContactPair p;
+  p.kind = Kind::kSpherePlane;
+  p.body_b = body;
+  p.p_BoCb_B = p_BoC_B;
+  p.radius_b = radius;
+  p.p_WQ = p_WQ;
+  p.n_W = n_W / norm;
+  return p;
+}
+
+ContactPair ContactPair::point_plane(int body, const Eigen::Vector3d& p_BoP_B,
+                                     const Eigen::Vector3d& p_WQ, const Eigen::Vector3d& n_W) {
+  return sphere_plane(body, p_BoP_B, 0.0, p_WQ, n_W);
+}
+
+ContactPair ContactPair::sphere_sphere(int body_a, const Eigen::Vector3d& p_BoCa_B, double radius_a,
+                                       int body_b, const Eigen::Vector3d& p_BoCb_B,
+                                       double radius_b) {
+  require(body_a >= 0 && body_b >= 0, "contact sphere body indices must be >= 0");
+  require(body_a != body_b, "sphere-sphere contact needs two different bodies");
+  require(radius_a >= 0.0 && radius_b >= 0.0 && std::isfinite(radius_a) && std::isfinite(radius_b),
+          "contact sphere radii must be >= 0");
+  require(finite(p_BoCa_B) && finite(p_BoCb_B), "contact geometry must be finite");
+  ContactPair p;
+  p.kind = Kind::kSphereSphere;
+  p.body_a = body_a;
+  p.p_BoCa_B = p_BoCa_B;
+  p.radius_a = radius_a;
+  p.body_b = body_b;
+  p.p_BoCb_B = p_BoCb_B;
+  p.radius_b = radius_b;
+  return p;
+}
+
+ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKinematics> bodies) {
+  ContactPoint c;
+  const Eigen::Vector3d p_WCb =
+      centre_W(bodies[static_cast<std::size_t>(pair.body_b)], pair.p_BoCb_B);
+  if (pair.kind == ContactPair::Kind::kSpherePlane) {
+    c.n_W = pair.n_W;
+    c.gap = pair.n_W.dot(p_WCb - pair.p_WQ) - pair.radius_b;
+    c.p_WP = p_WCb - pair.radius_b * pair.n_W;
+    return c;
+  }
+  const Eigen::Vector3d p_WCa =
+      centre_W(bodies[static_cast<std::size_t>(pair.body_a)], pair.p_BoCa_B);
+  const Eigen::Vector3d d = p_WCb - p_WCa;
+  const double distance = d.norm();
+  c.n_W = distance > 0.0 ? Eigen::Vector3d(d / distance) : Eigen::Vector3d::UnitZ();
+  c.gap = distance - pair.radius_a - pair.radius_b;
+  c.p_WP = p_WCa + (pair.radius_a + 0.5 * c.gap) * c.n_W;
+  return c;
+}
+
+double ContactEvaluation::dissipated_power() const {
+  // Normal: −(F_nc n)·v_rel = F_nc δ̇ ≥ 0 (F_nc = c δ̇ or α k δⁿ δ̇ has the sign of δ̇; when
+  // the clamp acts F_nc = −F_e < 0 and δ̇ < 0). Friction: −F_t·v_t = μ F_n tanh(|v_t|/v_reg)|v_t|.
+  return normal.dissipative() * delta_dot - f_friction_W.dot(v_t_W);
+}
+
+ContactElement::ContactElement(std::vector<ContactPair> pairs, NormalLaw normal,
+                               FrictionLaw friction, double effective_mass)
+    : pairs_(std::move(pairs)),
+      normal_(std::move(normal)),
+      friction_(friction),
+      effective_mass_(effective_mass) {
+  require(friction_.mu >= 0.0 && std::isfinite(friction_.mu), "friction coefficient must be >= 0");
+  require(friction_.v_reg > 0.0 && std::isfinite(friction_.v_reg),
+          "friction regularization speed must be > 0");
+  require(effective_mass_ >= 0.0 && std::isfinite(effective_mass_),
+          "contact effective mass must be >= 0");
+}
+
+ContactEvaluation ContactElement::evaluate(int pair_index,
+                                           std::span<const core::BodyKinematics> bodies) const {
+  const ContactPair& pair = pairs_[static_cast<std::size_t>(pair_index)];
+  ContactEvaluation e;
+  e.point = contact_point(pair, bodies);
+  if (e.point.gap >= 0.0) return e;  // separated (or touching): no force
+  const Eigen::Vector3d& n = e.point.n_W;
+  e.v_rel_W = material_velocity_W(bodies[static_cast<std::size_t>(pair.body_b)], e.point.p_WP);
+  if (pair.body_a >= 0) {
+    e.v_rel_W -= material_velocity_W(bodies[static_cast<std::size_t>(pair.body_a)], e.point.p_WP);
+  }
+  const double v_n = n.dot(e.v_rel_W);
+  e.delta_dot = -v_n;
+  e.v_t_W = e.v_rel_W - v_n * n;
+  e.normal = normal_.force(-e.point.gap, e.delta_dot);
+  if (friction_.mu > 0.0 && e.normal.total > 0.0) {
+    e.f_friction_W =
+        -(friction_.mu * e.normal.total * friction_.slip_factor(e.v_t_W.norm())) * e.v_t_W;
+  }
+  return e;
+}
+
+void ContactElement::add_wrenches(const core::LoadContext& /*context*/,
+                                  std::span<const core::BodyKinematics> bodies,
+                                  std::span<core::Wrench> wrenches) const {
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    const ContactEvaluation e = evaluate(static_cast<int>(i), bodies);
+    if (e.normal.total == 0.0) continue;
+    const ContactPair& pair = pairs_[i];
+    const Eigen::Vector3d f_W = e.force_on_b_W();
+    const auto b = static_cast<std::size_t>(pair.body_b);
+    wrenches[b].add_force_at(f_W, e.point.p_WP - bodies[b].state->p_WBr);
+    if (pair.body_a >= 0) {
+      const auto a = static_cast<std::size_t>(pair.body_a);
+      wrenches[a].add_force_at(-f_W, e.point.p_WP - bodies[a].state->p_WBr);
+    }
+  }
+}
+
+double ContactElement::potential_energy(const core::LoadContext& /*context*/,
+                                        std::span<const core::BodyKinematics> bodies) const {
+  double v = 0.0;
+  for (const ContactPair& pair : pairs_) v += normal_.potential(-contact_point(pair, bodies).gap);
+  return v;
+}
+
+double ContactElement::dissipated_power(const core::LoadContext& /*context*/,
+                                        std::span<const core::BodyKinematics> bodies) const {
+  double p = 0.0;
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    p += evaluate(static_cast<int>(i), bodies).dissipated_power();
+  }
+  return p;
+}
+
+void ContactElement::switching_functions(const core::LoadContext& /*context*/,
+                                         std::span<const core::BodyKinematics> bodies,
+                                         std::span<double> g) const {
+  for (std::size_t i = 0; i < pairs_.size(); ++i) g[i] = contact_point(pairs_[i], bodies).gap;
+}
+
+int ContactElement::max_body_index() const {
+  int m = -1;
+  for (const ContactPair& p : pairs_) m = std::max({m, p.body_a, p.body_b});
+  return m;
+}
+
+double ContactElement::effective_stiffness(double effective_mass) const {
+  if (normal_.kind() == NormalLaw::Kind::kLinear) return normal_.stiffness();
+  return normal_.linearized_stiffness(
+      normal_.impact_penetration(effective_mass, normal_.reference_speed()));
+}
+
+double ContactElement::frequency(double effective_mass) const {
+  return std::sqrt(effective_stiffness(effective_mass) / effective_mass);
+}
+
+double ContactElement::explicit_step_limit(double effective_mass) const {
+  return 2.0 / frequency(effective_mass);
+}
+
+std::string ContactElement::describe() const {
+  std::ostringstream out;
+  int planes = 0;
+  for (const ContactPair& p : pairs_) planes += p.kind == ContactPair::Kind::kSpherePlane;
+  out << "contact: " << planes << " sphere-plane and "
+      << pairs_.size() - static_cast<std::size_t>(planes) << " sphere-sphere pairs, "
+      << normal_.describe() << ", friction mu = " << friction_.mu << ", v_reg = " << friction_.v_reg
+      << " m/s";
+  if (effective_mass_ > 0.0) {
+    out << "; m_eff = " << effective_mass_
+        << " kg: k_eff = " << effective_stiffness(effective_mass_)
+        << " N/m, omega = " << frequency(effective_mass_)
+        << " rad/s, explicit step limit 2/omega = " << explicit_step_limit(effective_mass_) << " s";
+    if (normal_.kind() == NormalLaw::Kind::kLinear) {
+      out << " (zeta = "
+          << normal_.damping() / (2.0 * std::sqrt(normal_.stiffness() * effective_mass_)) << ")";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace flexref::contact

@@ -1,0 +1,122 @@
+#pragma once
+/// \file contact.hpp
+/// Penalty contacts between body-fixed spheres and ground planes or other spheres
+/// (docs/contact.md). Each pair has a signed gap g (> 0 separated, < 0 penetrating, m), a unit
+/// normal n_W from side a (the ground plane or sphere a) to side b (the sphere that the normal
+/// force pushes away), and a contact point P:
+///   sphere–plane   g = n·(p_WC − p_WQ) − r,            P = C − r n
+///   sphere–sphere  g = |C_b − C_a| − r_a − r_b,       n = (C_b − C_a)/|C_b − C_a|,
+///                  P = C_a + (r_a + g/2) n            (midway between the two surfaces)
+/// A point contact is a sphere of radius 0. With the penetration δ = −g and its rate
+/// δ̇ = −n·v_rel (v_rel: velocity of b's material point at P minus a's), the normal law gives
+/// F_n ≥ 0 (contact_laws.hpp) and friction F_t = −μ F_n tanh(|v_t|/v_reg) v_t/|v_t| on the
+/// tangential part v_t of v_rel. Body b receives F_n n + F_t at P, body a (if any) the
+/// opposite. The normal force lies on the line through the sphere centres, so its torque is
+/// the same at any point of that line and the force is exactly −∇V of V = Σ V_law(δ).
+/// Spheres are attached to a body's rigid part (a flexible body's hub: Φ = 0 at the sphere).
+#include <vector>
+
+#include "contact/contact_laws.hpp"
+#include "core/force_element.hpp"
+
+namespace flexref::contact {
+
+/// One contact pair. Build it with the named constructors.
+struct ContactPair {
+  enum class Kind { kSpherePlane, kSphereSphere };
+  Kind kind = Kind::kSpherePlane;
+  int body_a = -1;  ///< sphere a's body; −1 for the ground plane
+  Eigen::Vector3d p_BoCa_B = Eigen::Vector3d::Zero();
+  double radius_a = 0.0;
+  int body_b = 0;  ///< the sphere body pushed along +n
+  Eigen::Vector3d p_BoCb_B = Eigen::Vector3d::Zero();
+  double radius_b = 0.0;
+  Eigen::Vector3d p_WQ = Eigen::Vector3d::Zero();  ///< a point of the plane (sphere–plane)
+  Eigen::Vector3d n_W = Eigen::Vector3d::UnitZ();  ///< unit plane normal, toward the free side
+
+  /// Sphere of radius r ≥ 0 at body point C (from Bo, body frame) on the ground plane through
+  /// Q with normal n (normalized here; must be nonzero).
+  static ContactPair sphere_plane(int body, const Eigen::Vector3d& p_BoC_B, double radius,
+                                  const Eigen::Vector3d& p_WQ, const Eigen::Vector3d& n_W);
+  /// A body point on the ground plane: a sphere of radius 0.
+  static ContactPair point_plane(int body, const Eigen::Vector3d& p_BoP_B,
+                                 const Eigen::Vector3d& p_WQ, const Eigen::Vector3d& n_W);
+  /// Sphere a on body a against sphere b on another body b.
+  static ContactPair sphere_sphere(int body_a, const Eigen::Vector3d& p_BoCa_B, double radius_a,
+                                   int body_b, const Eigen::Vector3d& p_BoCb_B, double radius_b);
+};
+
+/// Gap, normal and contact point of a pair at a configuration.
+struct ContactPoint {
+  double gap = 0.0;                                ///< m
+  Eigen::Vector3d n_W = Eigen::Vector3d::UnitZ();  ///< unit normal, a → b
+  Eigen::Vector3d p_WP = Eigen::Vector3d::Zero();  ///< contact point, world
+};
+
+/// Geometry of one pair. Coincident sphere centres (no direction) give n = e_z and
+/// g = −r_a − r_b.
+ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKinematics> bodies);
+
+/// Everything one pair contributes at a state.
+struct ContactEvaluation {
+  ContactPoint point;
+  Eigen::Vector3d v_rel_W = Eigen::Vector3d::Zero();  ///< b's point at P minus a's, m/s
+  double delta_dot = 0.0;                             ///< −n·v_rel, m/s
+  Eigen::Vector3d v_t_W = Eigen::Vector3d::Zero();    ///< tangential slip velocity, m/s
+  NormalForce normal;
+  Eigen::Vector3d f_friction_W = Eigen::Vector3d::Zero();  ///< friction force on b, N
+  /// Total force on b (on a: its opposite), N.
+  Eigen::Vector3d force_on_b_W() const { return normal.total * point.n_W + f_friction_W; }
+  /// Power dissipated by damping (F_nc δ̇) and friction (−F_t·v_t), W; ≥ 0.
+  double dissipated_power() const;
+};
+
+/// A set of contact pairs sharing one normal law and one friction law.
+class ContactElement final : public core::ForceElement {
+ public:
+  /// effective_mass (kg, > 0 or 0 for unknown) is used only for describe()'s frequency and
+  /// explicit step limit.
+  ContactElement(std::vector<ContactPair> pairs, NormalLaw normal, FrictionLaw friction,
+                 double effective_mass = 0.0);
+
+  void add_wrenches(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
+                    std::span<core::Wrench> wrenches) const override;
+  /// Elastic energy of the penalty springs, Σ V_law(δ).
+  double potential_energy(const core::LoadContext& context,
+                          std::span<const core::BodyKinematics> bodies) const override;
+  double dissipated_power(const core::LoadContext& context,
+                          std::span<const core::BodyKinematics> bodies) const override;
+  int switching_function_count() const override { return static_cast<int>(pairs_.size()); }
+  /// The gap of each pair, in order.
+  void switching_functions(const core::LoadContext& context,
+                           std::span<const core::BodyKinematics> bodies,
+                           std::span<double> g) const override;
+  bool depends_on_velocity() const override { return true; }
+  int max_body_index() const override;
+  std::string describe() const override;
+
+  /// One pair's contribution at a state.
+  ContactEvaluation evaluate(int pair, std::span<const core::BodyKinematics> bodies) const;
+
+  /// Stiffness the explicit step sees with a mass m_eff (N/m): k for the linear law; for
+  /// Hunt–Crossley the linearized n k δⁿ⁻¹ at the largest penetration of an undamped impact
+  /// at v_ref, δ_max = ((n + 1) m v_ref²/(2k))^{1/(n+1)}.
+  double effective_stiffness(double effective_mass) const;
+  /// √(k_eff/m_eff), rad/s.
+  double frequency(double effective_mass) const;
+  /// Central-difference stability limit 2/ω of the undamped contact, s (damping lowers it by
+  /// √(1 + ζ²) − ζ; docs/contact.md).
+  double explicit_step_limit(double effective_mass) const;
+
+  const std::vector<ContactPair>& pairs() const { return pairs_; }
+  const NormalLaw& normal_law() const { return normal_; }
+  const FrictionLaw& friction_law() const { return friction_; }
+
+ private:
+  std::vector<ContactPair> pairs_;
+  NormalLaw normal_;
+  FrictionLaw friction_;
+  double effective_mass_;
+};
+
+}  // namespace flexref::contact

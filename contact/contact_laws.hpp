@@ -1,0 +1,99 @@
+#pragma once
+/// \file contact_laws.hpp
+/// Penalty laws of a contact (docs/contact.md): the normal force as a function of the
+/// penetration δ = −gap ≥ 0 and its rate δ̇, and regularized Coulomb friction.
+///
+/// Normal laws (the contact never pulls: the total force is clamped at ≥ 0):
+///   linear spring–dashpot  F = max(0, k δ + c δ̇),               V = ½ k δ²
+///   Hunt–Crossley          F = max(0, k δⁿ (1 + α δ̇)),          V = k δⁿ⁺¹/(n + 1)
+/// Friction (smooth regularized Coulomb):
+///   F_t = −μ F_n tanh(|v_t|/v_reg) v_t/|v_t|
+/// Units: k in N/m (linear) or N/mⁿ (Hunt–Crossley), c in N·s/m, α in s/m, speeds in m/s.
+#include <string>
+
+namespace flexref::contact {
+
+/// Normal force split into its elastic part (derivative of the potential) and the total.
+struct NormalForce {
+  double total = 0.0;    ///< F ≥ 0, N
+  double elastic = 0.0;  ///< F_e = dV/dδ, N
+  /// Non-conservative part F − F_e (damping, and the clamp when it is active), N.
+  double dissipative() const { return total - elastic; }
+};
+
+/// The normal law of a contact. Immutable; built by the named constructors below.
+class NormalLaw {
+ public:
+  enum class Kind { kLinear, kHuntCrossley };
+
+  /// Linear spring–dashpot with stiffness k (N/m) and damping c (N·s/m).
+  static NormalLaw linear(double stiffness, double damping);
+  /// Linear spring–dashpot whose damping gives the restitution e ∈ (0, 1] to a mass m_eff
+  /// (kg) without the clamp: ζ = −ln e / √(π² + ln² e), c = 2 ζ √(k m_eff).
+  static NormalLaw linear_from_restitution(double stiffness, double restitution,
+                                           double effective_mass);
+  /// Hunt–Crossley F = k δⁿ (1 + α δ̇) with α chosen so that an impact at v_ref (m/s)
+  /// rebounds with exactly e ∈ (0, 1] (hunt_crossley_alpha_times_speed).
+  static NormalLaw hunt_crossley(double stiffness, double exponent, double restitution,
+                                 double reference_speed);
+
+  Kind kind() const { return kind_; }
+  double stiffness() const { return k_; }
+  double exponent() const { return n_; }
+  /// Linear law: c (N·s/m); Hunt–Crossley: 0 (see alpha()).
+  double damping() const { return c_; }
+  /// Hunt–Crossley α (s/m); 0 for the linear law.
+  double alpha() const { return alpha_; }
+  /// The restitution the law was built for (NaN for linear(k, c)).
+  double restitution() const { return e_; }
+  /// Hunt–Crossley v_ref (m/s); NaN for the linear law.
+  double reference_speed() const { return v_ref_; }
+
+  /// Force at penetration δ (< 0 gives zero: separated) and rate δ̇ (m/s).
+  NormalForce force(double delta, double delta_dot) const;
+  /// Elastic energy stored at penetration δ (0 when δ ≤ 0), J.
+  double potential(double delta) const;
+  /// dF_e/dδ at δ (N/m): k for the linear law, n k δⁿ⁻¹ for Hunt–Crossley.
+  double linearized_stiffness(double delta) const;
+  /// dF/dδ̇ at δ (N·s/m): c, or α k δⁿ for Hunt–Crossley.
+  double linearized_damping(double delta) const;
+  /// Largest penetration of an undamped impact of a mass m_eff at speed v:
+  /// ½ m v² = V(δ_max).
+  double impact_penetration(double effective_mass, double speed) const;
+  /// One line: the law and its parameters with units.
+  std::string describe() const;
+
+ private:
+  Kind kind_ = Kind::kLinear;
+  double k_ = 0.0;
+  double n_ = 1.0;
+  double c_ = 0.0;
+  double alpha_ = 0.0;
+  double e_ = 0.0;
+  double v_ref_ = 0.0;
+};
+
+/// Regularized Coulomb friction μ F_n tanh(|v_t|/v_reg), opposing the slip velocity v_t.
+/// A load below the friction limit lets the contact creep at
+/// |v_t| = v_reg atanh(F_t/(μ F_n)) instead of sticking (docs/contact.md).
+struct FrictionLaw {
+  double mu = 0.0;      ///< friction coefficient (–)
+  double v_reg = 1e-3;  ///< regularization speed, m/s
+
+  /// The factor s of F_t = −μ F_n s v_t: s = tanh(|v_t|/v_reg)/|v_t| (1/v_reg at v_t = 0,
+  /// by its series below 1e-4 v_reg), in s/m.
+  double slip_factor(double slip_speed) const;
+};
+
+/// The exact Hunt–Crossley relation between restitution and damping (docs/contact.md):
+/// with a = α v⁻ and φ(x) = x − ln(1 + x), an impact at v⁻ rebounds with v⁺ = e v⁻ where
+/// φ(a) = φ(−a e). Solves it for a given e ∈ (0, 1] (a = 0 for e = 1).
+double hunt_crossley_alpha_times_speed(double restitution);
+/// Restitution of the clamped linear spring–dashpot (no other force) with damping ratio
+/// ζ < 1/√2: the clamp releases at ω_d t* = π − 2 asin ζ, so e = exp(−ζ(π − 2 asin ζ)/√(1 − ζ²)),
+/// above the unclamped exp(−ζπ/√(1 − ζ²)).
+double linear_restitution_with_clamp(double zeta);
+/// The inverse: the restitution of an impact with a = α v⁻ ≥ 0.
+double hunt_crossley_restitution(double alpha_times_speed);
+
+}  // namespace flexref::contact

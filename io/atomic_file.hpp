@@ -1,0 +1,14 @@
+#pragma once
+/// \file atomic_file.hpp
+/// Writing result files so that an interrupted run never leaves a half-written one: the text
+/// goes to a temporary file in the same directory, which is then renamed onto the target
+/// (rename is atomic within a file system, POSIX rename(2)).
+#include <string>
+
+namespace flexref::io {
+
+/// Writes text to path atomically (temporary file + rename); throws std::runtime_error naming
+/// the path when the directory is missing or the write fails.
+void write_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace flexref::io

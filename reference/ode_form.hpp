@@ -1,0 +1,71 @@
+#pragma once
+/// \file ode_form.hpp
+/// The quasi-velocity ODE form y' = f(t, y) of docs/design/model.md, on a flat array for ODE
+/// solvers (CVODE, Boost.Odeint). Per body:
+///   free  [p_WBr(3) θ(4) v_WBr(3) ω̄(3)]   ṗ = v,  θ̇ = ½ θ ⊗ (0, ω̄),  v̇ = a,  ω̄̇ = α̅
+///   pivot [θ(4) ω̄(3)]
+///   prescribed []                         (the angle law gives θ, ω̄ at the time of evaluation)
+/// followed, for a flexible body, by [q_f(n) q̇_f(n)] with q̇_f' = q̈_f; and last, when the
+/// model dissipates, the dissipated work W_d with W_d' = Model::dissipated_power (the energy
+/// balance E(t) − E(0) + W_d(t) = work of applied loads is then an output).
+/// The Euler parameters drift off the unit sphere under a generic solver; solvers project
+/// them back (normalize_euler_parameters), which is the projection CVODE is given.
+#include <vector>
+
+#include "core/model.hpp"
+
+namespace flexref::reference {
+
+class OdeForm {
+ public:
+  explicit OdeForm(const core::Model& model);
+
+  /// Scratch space of one evaluation (one per thread).
+  struct Scratch {
+    core::State state;
+    core::Workspace workspace;
+    core::Accelerations accelerations;
+  };
+
+  int size() const { return size_; }
+  const core::Model& model() const { return *model_; }
+  Scratch make_scratch() const;
+
+  void pack(const core::State& state, double* y) const;
+  /// Unpacks the state at time t into a state sized for the model (pivot positions are the
+  /// fixed pivots; prescribed bodies follow their law at t). θ is
+  /// normalized, so loads always see an orthogonal A(θ); θ̇ = ½ θ̂ ⊗ (0, ω̄) is still tangent
+  /// to the sphere through the unnormalized y, so |θ| is conserved by the exact flow.
+  void unpack(double t, const double* y, core::State& state) const;
+  /// ydot = f(t, y); must not allocate.
+  void rhs(const core::LoadContext& context, const double* y, double* ydot, Scratch& scratch) const;
+  /// Scales every body's θ to unit norm.
+  void normalize_euler_parameters(double* y) const;
+  /// Index of W_d in y, or −1 when not tracked.
+  int work_index() const { return work_index_; }
+  double dissipated_work(const double* y) const { return work_index_ < 0 ? 0.0 : y[work_index_]; }
+  void set_dissipated_work(double* y, double work) const {
+    if (work_index_ >= 0) y[work_index_] = work;
+  }
+
+  /// Offsets of the θ blocks in y (bodies that integrate an attitude; for projections).
+  const std::vector<int>& theta_offsets() const { return theta_offsets_; }
+
+  /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
+  struct Block {
+    int p = -1, theta = -1, v = -1, w = -1, q = -1, qd = -1, n = 0, end = 0;
+  };
+  const std::vector<Block>& blocks() const { return blocks_; }
+
+ private:
+  static Block block_of(const core::Body& b, int offset);
+
+  const core::Model* model_;
+  core::State fixed_;  ///< pivot positions
+  std::vector<Block> blocks_;
+  std::vector<int> theta_offsets_;
+  int size_ = 0;
+  int work_index_ = -1;
+};
+
+}  // namespace flexref::reference

@@ -1,0 +1,473 @@
+/// \file flexible_scene_test.cpp
+/// Flexible bodies in scene files: [body.beam], modal = "file.toml", q0/qd0, node points,
+/// motion = "prescribed"; the bundled flexible scenes against the models built in code
+/// (tests/support/flexible_models.hpp); every error class naming file, line and key; and the
+/// trajectory CSV columns of flexible and prescribed bodies (write → read round trip).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "core/error.hpp"
+#include "flexible/beam_model.hpp"
+#include "scene/modal_data_reader.hpp"
+#include "scene/scene_reader.hpp"
+#include "studies/trajectory_table.hpp"
+#include "tests/support/flexible_models.hpp"
+
+namespace flexref::app {
+namespace {
+
+using Catch::Matchers::Contains;
+
+void require_error(const std::string& text, int line, const std::string& key,
+                   const std::string& fragment = "") {
+  INFO("scene text:\n" << text);
+  try {
+    (void)scene::parse_scene(text, "bad.toml");
+  } catch (const core::InputError& e) {
+    const std::string what = e.what();
+    INFO("what(): " << what);
+    CHECK(e.file() == "bad.toml");
+    CHECK(e.line() == line);
+    CHECK(e.key() == key);
+    CHECK_THAT(what, Contains("bad.toml:" + std::to_string(line) + ": "));
+    if (!key.empty()) CHECK_THAT(what, Contains("key '" + key + "'"));
+    if (!fragment.empty()) CHECK_THAT(what, Contains(fragment));
+    return;
+  }
+  FAIL("parse_scene accepted the scene");
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
+// Lines 1-4.
+const std::string kScene =
+    "[scene]\n"
+    "name = \"t\"\n"
+    "end_time = 1.0\n"
+    "output_step = 0.1\n";
+// Lines 5-8: a free hub; body-level additions go between it and the beam table.
+const std::string kHub =
+    "[[body]]\n"
+    "name = \"f\"\n"
+    "mass = 10.0\n"
+    "inertia = [0.5, 0.5, 1.0]\n";
+// Header on the line after the additions; with none: [body.beam] 9, length 10, elements 11,
+// EA 12, EI 13, rho_A 14, modes 15, additions from 16.
+const std::string kBeam =
+    "[body.beam]\n"
+    "length = 1.0\n"
+    "elements = 4\n"
+    "EA = 1e5\n"
+    "EI = 3.2\n"
+    "rho_A = 1.0\n"
+    "modes = 2\n";
+
+std::string flexible(const std::string& body_extra = "", const std::string& beam_extra = "") {
+  return kScene + kHub + body_extra + kBeam + beam_extra;
+}
+
+// Accelerations at the initial state.
+core::Accelerations initial_accelerations(const core::Model& model) {
+  core::Workspace ws = model.make_workspace();
+  core::Accelerations acc = model.make_accelerations();
+  model.compute_accelerations(core::LoadContext{0.0, 0.0}, model.initial_state(), ws, acc);
+  return acc;
+}
+
+// The same body, as far as the integrators see it: mass, inertia, modes and accelerations.
+void check_same_model(const core::Model& read, const core::Model& built) {
+  REQUIRE(read.num_bodies() == built.num_bodies());
+  CHECK(read.formulation() == built.formulation());
+  for (int i = 0; i < read.num_bodies(); ++i) {
+    const core::Body& a = read.body(i);
+    const core::Body& b = built.body(i);
+    CHECK(a.motion() == b.motion());
+    CHECK(a.mass() == Approx(b.mass()).epsilon(1e-14));
+    CHECK((a.I_Br_B() - b.I_Br_B()).norm() <= 1e-13 * b.I_Br_B().norm());
+    REQUIRE(a.mode_count() == b.mode_count());
+    CHECK((a.natural_frequencies() - b.natural_frequencies()).norm() <=
+          1e-13 * b.natural_frequencies().norm());
+    const auto& pa = a.description().points;
+    const auto& pb = b.description().points;
+    REQUIRE(pa.size() >= 1);
+    CHECK(pa[0].name == "tip");
+    CHECK(pa[0].node == pb[0].node);
+    CHECK(pa[0].p_BoP_B == pb[0].p_BoP_B);
+  }
+  const core::State sa = read.initial_state();
+  const core::State sb = built.initial_state();
+  const core::Accelerations aa = initial_accelerations(read);
+  const core::Accelerations ab = initial_accelerations(built);
+  for (std::size_t i = 0; i < sa.size(); ++i) {
+    CHECK((sa[i].q_f - sb[i].q_f).norm() == 0.0);
+    CHECK((sa[i].w_WB_B - sb[i].w_WB_B).norm() == 0.0);
+    CHECK((aa[i].qdd_f - ab[i].qdd_f).norm() <= 1e-10 * (1.0 + ab[i].qdd_f.norm()));
+    CHECK((aa[i].alpha_WB_B - ab[i].alpha_WB_B).norm() <= 1e-10 * (1.0 + ab[i].alpha_WB_B.norm()));
+  }
+}
+
+std::filesystem::path temp_dir() {
+  std::random_device rd;
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("flexref_flexible_scene_" + std::to_string(rd() % 1000000u));
+  std::filesystem::create_directories(dir / "sub");
+  return dir;
+}
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+}  // namespace
+
+TEST_CASE("bundled flexible scenes equal the models built in code", "[app][scene][flexible]") {
+  using core::FlexibleFormulation;
+  SECTION("flexible_spinner") {
+    for (const FlexibleFormulation f : {FlexibleFormulation::kCoupled, FlexibleFormulation::kLte}) {
+      const scene::Scene s = scene::read_scene("scenes/flexible_spinner.toml", f);
+      CHECK(s.end_time == 10.0);
+      CHECK(s.output_step == 0.01);
+      check_same_model(*s.model, testing::flexible_spinner_model(f));
+      const auto& points = s.model->body(0).description().points;
+      REQUIRE(points.size() == 2);
+      CHECK(points[1].name == "hub_rim");
+      CHECK(points[1].node == -1);
+      CHECK(points[1].p_BoP_B == Eigen::Vector3d(0.0, 0.1, 0.0));
+      CHECK(s.model->discontinuities() == std::vector<double>{0.0, 0.5});
+    }
+  }
+  SECTION("rotating_cantilever") {
+    const scene::Scene s = scene::read_scene("scenes/rotating_cantilever.toml");
+    const Eigen::Vector4d q0(0.01, 0.01, 0.0, 0.0);
+    check_same_model(*s.model, testing::rotating_cantilever_model(
+                                   core::FlexibleFormulation::kCoupled, 3.0, 4, 10, q0));
+    CHECK(s.model->body(0).description().prescribed.law.kind ==
+          core::AngleLaw::Kind::kConstantRate);
+  }
+  SECTION("spin_up_beam and its variants") {
+    for (const auto& [name, rate] : {std::pair<std::string, double>{"spin_up_beam", 2.0},
+                                     {"spin_up_beam_4", 4.0},
+                                     {"spin_up_beam_6", 6.0}}) {
+      INFO(name);
+      const scene::Scene s = scene::read_scene("scenes/" + name + ".toml");
+      CHECK(s.end_time == 30.0);
+      check_same_model(*s.model,
+                       testing::spin_up_beam_model(core::FlexibleFormulation::kCoupled, rate));
+      const core::PrescribedRotation& p = s.model->body(0).description().prescribed;
+      CHECK(p.law.kind == core::AngleLaw::Kind::kSpinUp);
+      CHECK(p.law.rate == rate);
+      CHECK(p.law.spin_up_time == 15.0);
+      CHECK(p.axis_W == Eigen::Vector3d::UnitZ());
+    }
+  }
+}
+
+TEST_CASE("flexible body keys", "[app][scene][flexible]") {
+  SECTION("beam defaults: all three families, clamped-free, no damping, zero q0") {
+    const scene::Scene s = scene::parse_scene(flexible(), "f.toml");
+    const core::Body& b = s.model->body(0);
+    REQUIRE(b.is_flexible());
+    CHECK(b.mode_count() == 2);
+    const flexible::ModalData& m = b.description().flexible->modal;
+    CHECK(m.node_count() == 17);  // 4 elements × 4 Gauss–Lobatto points + 1
+    CHECK(m.damping_ratio.isZero(0.0));
+    CHECK(m.mode_names[0] == "bending-xy-1");
+    CHECK(s.model->initial_state()[0].q_f.isZero(0.0));
+  }
+  SECTION("EI_y, EI_z, GJ, origin, free-free, families, damping (scalar and array)") {
+    const std::string beam_extra =
+        "origin = [0.2, 0.0, 0.0]\nboundary = \"free-free\"\nfamilies = [\"axial\", "
+        "\"bending-xz\"]\nGJ = 2.0\n";
+    const std::string text =
+        replace(flexible("", beam_extra), "EI = 3.2\n", "EI_y = 3.2\nEI_z = 6.4\n");
+    const scene::Scene s = scene::parse_scene(text + "damping_ratio = 0.02\n", "f.toml");
+    const flexible::ModalData& m = s.model->body(0).description().flexible->modal;
+    for (const std::string& name : m.mode_names) CHECK_FALSE(name.starts_with("bending-xy"));
+    CHECK(m.p_BoNode_B.row(0).minCoeff() == Approx(0.2));
+    CHECK(m.damping_ratio.isConstant(0.02));
+    flexible::BeamParameters p;
+    p.origin = Eigen::Vector3d(0.2, 0.0, 0.0);
+    p.length = 1.0;
+    p.elements = 4;
+    p.EA = 1e5;
+    p.EI_y = 3.2;
+    p.EI_z = 6.4;
+    p.GJ = 2.0;
+    p.rho_A = 1.0;
+    p.boundary = flexible::BeamBoundary::kFreeFree;
+    const flexible::ModalData expected =
+        flexible::make_beam_modal_data(p, 2, flexible::BeamModeFilter{true, false, true});
+    CHECK(m.stiffness == expected.stiffness);
+    const scene::Scene s2 = scene::parse_scene(text + "damping_ratio = [0.01, 0.03]\n", "f.toml");
+    CHECK(s2.model->body(0).description().flexible->modal.damping_ratio ==
+          Eigen::Vector2d(0.01, 0.03));
+  }
+  SECTION("q0, qd0 and node points") {
+    const scene::Scene s =
+        scene::parse_scene(flexible("q0 = [0.01, -0.02]\nqd0 = [0.5, 0]\npoints = [{ name = "
+                                    "\"tip\", node = \"node4\" }, { name = \"rim\", at = "
+                                    "[0, 0.1, 0] }]\n"),
+                           "f.toml");
+    const core::BodyState s0 = s.model->initial_state()[0];
+    CHECK(s0.q_f == Eigen::Vector2d(0.01, -0.02));
+    CHECK(s0.qd_f == Eigen::Vector2d(0.5, 0.0));
+    const auto& points = s.model->body(0).description().points;
+    CHECK(points[0].node == 16);
+    CHECK(points[0].p_BoP_B == Eigen::Vector3d(1.0, 0.0, 0.0));
+    CHECK(points[1].node == -1);
+    // The node point is deformed: it moves by Φ_tip q0.
+    const Eigen::Vector3d deformed = s.model->p_WP(0, s0, points[0]);
+    const Eigen::Vector3d undeformed = s.model->p_WP(0, s0, points[0].p_BoP_B);
+    CHECK((deformed - undeformed).norm() > 1e-3);
+  }
+  SECTION("prescribed motion: no hub, axis renormalized within 1e-6, spin-up law") {
+    const std::string text = kScene +
+                             "[[body]]\nname = \"f\"\nmotion = \"prescribed\"\n"
+                             "prescribed = { axis = [0, 0, 1.0000001], law = \"spin-up\", rate = "
+                             "2, spin_up_time = 15 }\n" +
+                             kBeam;
+    const scene::Scene s = scene::parse_scene(text, "f.toml");
+    const core::Body& b = s.model->body(0);
+    CHECK(b.is_prescribed());
+    CHECK(b.description().mass == 0.0);
+    CHECK(b.description().prescribed.axis_W.norm() == Approx(1.0).epsilon(1e-15));
+    CHECK(b.description().prescribed.law.kind == core::AngleLaw::Kind::kSpinUp);
+    CHECK(b.description().prescribed.law.spin_up_time == 15.0);
+  }
+  SECTION("the formulation is the caller's choice") {
+    CHECK(scene::parse_scene(flexible(), "f.toml").model->formulation() ==
+          core::FlexibleFormulation::kCoupled);
+    CHECK(scene::parse_scene(flexible(), "f.toml", core::FlexibleFormulation::kLte)
+              .model->formulation() == core::FlexibleFormulation::kLte);
+  }
+}
+
+TEST_CASE("modal = \"file.toml\" is read relative to the scene", "[app][scene][flexible]") {
+  const std::filesystem::path dir = temp_dir();
+  flexible::BeamParameters p;
+  p.origin = Eigen::Vector3d(0.1, 0.0, 0.0);
+  p.length = 1.0;
+  p.elements = 4;
+  p.EA = 1e5;
+  p.EI_y = p.EI_z = 3.2;
+  const flexible::ModalData data = flexible::make_beam_modal_data(p, 3);
+  scene::write_modal_data(data, (dir / "sub" / "m.toml").string());
+  const std::string body = kScene + kHub + "points = [{ name = \"tip\", node = \"node4\" }]\n";
+
+  SECTION("a good file") {
+    write_text(dir / "scene.toml", body + "modal = \"sub/m.toml\"\n");
+    const scene::Scene s = scene::read_scene((dir / "scene.toml").string());
+    CHECK(s.model->body(0).mode_count() == 3);
+    CHECK(s.model->body(0).description().points[0].node == 16);
+  }
+  SECTION("a missing file is reported at the scene key") {
+    write_text(dir / "scene.toml", body + "modal = \"sub/none.toml\"\n");
+    try {
+      (void)scene::read_scene((dir / "scene.toml").string());
+      FAIL("accepted");
+    } catch (const core::InputError& e) {
+      CHECK(e.file() == (dir / "scene.toml").string());
+      CHECK(e.line() == 10);
+      CHECK(e.key() == "body[1].modal");
+      CHECK_THAT(e.what(), Contains("cannot open the modal-data file"));
+    }
+  }
+  SECTION("errors inside the file name that file, its line and key, and the scene key") {
+    write_text(dir / "sub" / "bad.toml",
+               "format = \"flexref-modal-data\"\nversion = 1\nnodes = [{ mass = -1.0, position "
+               "= [0, 0, 0] }]\n");
+    write_text(dir / "scene.toml", body + "modal = \"sub/bad.toml\"\n");
+    try {
+      (void)scene::read_scene((dir / "scene.toml").string());
+      FAIL("accepted");
+    } catch (const core::InputError& e) {
+      CHECK(e.file() == (dir / "sub" / "bad.toml").string());
+      CHECK(e.line() == 3);
+      CHECK(e.key() == "nodes[1].mass");
+      CHECK_THAT(e.what(), Contains("bad.toml:3: key 'nodes[1].mass'"));
+      CHECK_THAT(e.what(), Contains("modal data of body[1].modal"));
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("bad flexible input is an InputError naming file, line and key",
+          "[app][scene][flexible]") {
+  SECTION("missing key") {
+    require_error(replace(flexible(), "length = 1.0\n", ""), 9, "body[1].beam.length",
+                  "required key is missing");
+    require_error(replace(flexible(), "EI = 3.2\n", ""), 9, "body[1].beam.EI", "or EI_y and EI_z");
+    require_error(replace(flexible(), "EI = 3.2\n", "EI_y = 3.2\n"), 9, "body[1].beam.EI_z",
+                  "required key is missing");
+    require_error(flexible("motion = \"prescribed\"\n"), 5, "body[1].prescribed",
+                  "required table is missing");
+    require_error(flexible("motion = \"prescribed\"\n"
+                           "prescribed = { law = \"constant-rate\", rate = 1 }\n"),
+                  10, "body[1].prescribed.axis", "required key is missing");
+    require_error(flexible("motion = \"prescribed\"\n"
+                           "prescribed = { axis = [0, 0, 1], law = \"spin-up\", rate = 1 }\n"),
+                  10, "body[1].prescribed.spin_up_time", "positive spin-up time");
+  }
+  SECTION("wrong type") {
+    require_error(replace(flexible(), "elements = 4\n", "elements = 1.5\n"), 11,
+                  "body[1].beam.elements", "got 1.5 (a number)");
+    require_error(replace(flexible(), "modes = 2\n", "modes = \"2\"\n"), 15, "body[1].beam.modes",
+                  "positive integer mode count");
+    require_error(flexible("", "families = \"axial\"\n"), 16, "body[1].beam.families",
+                  "got \"axial\" (a string)");
+    require_error(kScene + kHub + "beam = 1.0\n", 9, "body[1].beam", "got 1.0 (a number)");
+    require_error(kScene + kHub + "modal = 1\n", 9, "body[1].modal", "path of a modal-data file");
+    require_error(flexible("q0 = [0.1, \"x\"]\n"), 9, "body[1].q0", "got \"x\" (a string)");
+  }
+  SECTION("bad values") {
+    require_error(flexible("", "families = [\"bending-xy\", \"twist\"]\n"), 16,
+                  "body[1].beam.families", "got \"twist\" (a string)");
+    require_error(flexible("", "families = [\"torsion\"]\n"), 16, "body[1].beam.families",
+                  "torsion modes do not move the beam axis");
+    require_error(flexible("", "families = [\"axial\", \"axial\"]\n"), 16, "body[1].beam.families",
+                  "listed twice");
+    require_error(flexible("", "boundary = \"pinned\"\n"), 16, "body[1].beam.boundary",
+                  "\"clamped-free\", \"free-free\"");
+    require_error(replace(flexible(), "elements = 4\n", "elements = 0\n"), 11,
+                  "body[1].beam.elements", "1 to 500");
+    require_error(replace(flexible(), "EA = 1e5\n", "EA = -1\n"), 12, "body[1].beam.EA",
+                  "positive axial stiffness");
+    require_error(replace(flexible(), "modes = 2\n", "modes = 100\n"), 15, "body[1].beam.modes",
+                  "cannot make the beam's modal data");
+    require_error(flexible("", "EI_y = 1.0\n"), 16, "body[1].beam.EI_y", "either EI or EI_y");
+    require_error(flexible("", "damping_ratio = -0.1\n"), 16, "body[1].beam.damping_ratio",
+                  "damping ratio >= 0");
+    require_error(flexible("", "damping_ratio = [0.1]\n"), 16, "body[1].beam.damping_ratio",
+                  "an array of 2");
+    require_error(flexible("", "colour = 1\n"), 16, "body[1].beam.colour", "unknown key");
+  }
+  SECTION("unknown node names and node points on rigid bodies") {
+    require_error(flexible("points = [{ name = \"tip\", node = \"node9\" }]\n"), 9,
+                  "body[1].points[1].node", "no node named \"node9\"");
+    require_error(flexible("points = [{ name = \"tip\", node = \"node4\", at = [1, 0, 0] }]\n"), 9,
+                  "body[1].points[1].at", "either at or node");
+    require_error(kScene + kHub + "points = [{ name = \"p\", node = \"node1\" }]\n", 9,
+                  "body[1].points[1].node", "applies only to flexible bodies");
+  }
+  SECTION("initial modal coordinates") {
+    require_error(flexible("q0 = [0.1]\n"), 9, "body[1].q0", "an array of 2");
+    require_error(flexible("qd0 = [0.1, 0.2, 0.3]\n"), 9, "body[1].qd0", "an array of 2");
+    require_error(kScene + kHub + "q0 = [0.1]\n", 9, "body[1].q0",
+                  "applies only to flexible bodies");
+  }
+  SECTION("hub mass and inertia") {
+    require_error(kScene + "[[body]]\nname = \"b\"\nmass = 0\ninertia = [1, 1, 1]\n", 7,
+                  "body[1].mass", "allowed only for the hub of a flexible body");
+    require_error(kScene + "[[body]]\nname = \"f\"\nmass = 0.0\ninertia = [1, 1, 1]\n" + kBeam, 8,
+                  "body[1].inertia", "no inertia with mass = 0");
+    require_error(kScene + "[[body]]\nname = \"f\"\nmass = -1.0\n" + kBeam, 7, "body[1].mass",
+                  "hub mass >= 0");
+    // A free beam without hub has no inertia about its own axis.
+    require_error(kScene + "[[body]]\nname = \"f\"\n" + kBeam, 5, "body[1].mass", "add a hub");
+  }
+  SECTION("prescribed motion") {
+    require_error(kScene +
+                      "[[body]]\nname = \"b\"\nmass = 1\ninertia = [1, 1, 1]\n"
+                      "motion = \"prescribed\"\n",
+                  9, "body[1].motion", "applies only to flexible bodies");
+    const std::string law = "prescribed = { axis = [0, 0, 1], law = \"constant-rate\", rate = 3";
+    require_error(flexible("motion = \"prescribed\"\n" + law + ", spin_up_time = 1 }\n"), 10,
+                  "body[1].prescribed.spin_up_time", "applies only to law = \"spin-up\"");
+    require_error(flexible("motion = \"prescribed\"\nprescribed = { axis = [0, 0, 2], law = "
+                           "\"constant-rate\", rate = 3 }\n"),
+                  10, "body[1].prescribed.axis", "got norm 2");
+    require_error(flexible("motion = \"prescribed\"\nprescribed = { axis = [0, 0, 1], law = "
+                           "\"spin\", rate = 3 }\n"),
+                  10, "body[1].prescribed.law", "\"constant-rate\", \"spin-up\"");
+    require_error(flexible(law + " }\n"), 9, "body[1].prescribed",
+                  "applies only to motion = \"prescribed\"");
+    require_error(
+        flexible("motion = \"prescribed\"\n" + law + " }\nangular_velocity = [0, 0, 1]\n"), 11,
+        "body[1].angular_velocity", "follows from its law");
+    require_error(flexible("motion = \"prescribed\"\n" + law + " }\nvelocity = [1, 0, 0]\n"), 11,
+                  "body[1].velocity", "frame origin is fixed");
+  }
+  SECTION("beam and modal together") {
+    require_error(flexible("modal = \"m.toml\"\n"), 9, "body[1].modal", "not both");
+  }
+}
+
+TEST_CASE("gravity on a flexible body loads its modes", "[app][scene][flexible]") {
+  // A free hub with a beam along x under gravity along −z: the rigid body falls with g, and
+  // the modal forces Sᵀ Aᵀ g load the out-of-plane (xz) bending modes, not the in-plane ones.
+  // The falling frame carries the same uniform field, so the free body's modes see only the
+  // difference between the nodes' g and the frame's acceleration: zero for translation. The
+  // rotation rows see the torque of gravity about the undeformed centre of mass: zero. So the
+  // modal accelerations vanish to round-off, while the frame falls with g.
+  const scene::Scene s = scene::parse_scene(
+      replace(kScene, "output_step = 0.1\n", "output_step = 0.1\ngravity = [0, 0, -9.81]\n") +
+          kHub + kBeam + "families = [\"bending-xz\"]\n",
+      "g.toml");
+  const core::Accelerations acc = initial_accelerations(*s.model);
+  CHECK(acc[0].a_WBr.isApprox(Eigen::Vector3d(0.0, 0.0, -9.81), 1e-12));
+  // Round-off: terms of size g·μ with unit modal masses, ~1e-15·10.
+  CHECK(acc[0].qdd_f.cwiseAbs().maxCoeff() < 1e-12);
+  CHECK(acc[0].alpha_WB_B.norm() < 1e-12);
+}
+
+TEST_CASE("trajectory CSV of flexible and prescribed bodies: columns and round trip",
+          "[app][scene][flexible][csv]") {
+  const scene::Scene s = scene::read_scene("scenes/rotating_cantilever.toml");
+  const core::Model& model = *s.model;
+  core::Trajectory trajectory;
+  for (int k = 0; k < 3; ++k) {
+    const double t = 0.1 * k;
+    core::State state = model.initial_state();
+    model.apply_prescribed_motion(t, state);
+    state[0].q_f = Eigen::Vector4d(0.01, -0.02, 0.003, 0.0) * (k + 1);
+    state[0].qd_f = Eigen::Vector4d(0.1, 0.2, -0.3, 0.4) * (k + 1);
+    trajectory.times.push_back(t);
+    trajectory.states.push_back(state);
+  }
+  const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
+  const std::vector<std::string> expected_tail = {
+      "beam.W3",  "beam.tip.x", "beam.tip.y",        "beam.tip.z", "beam.q1",
+      "beam.q2",  "beam.q3",    "beam.q4",           "beam.qd1",   "beam.qd2",
+      "beam.qd3", "beam.qd4",   "beam.drive_torque", "energy"};
+  REQUIRE(table.columns.size() == 1 + 13 + expected_tail.size() - 1);
+  CHECK(std::vector<std::string>(table.columns.end() - static_cast<long>(expected_tail.size()),
+                                 table.columns.end()) == expected_tail);
+  const std::size_t row = 2;
+  const core::BodyState& st = trajectory.states[row][0];
+  CHECK(table.rows[row][static_cast<std::size_t>(table.column("beam.q3"))] == st.q_f(2));
+  CHECK(table.rows[row][static_cast<std::size_t>(table.column("beam.qd4"))] == st.qd_f(3));
+  // The tip is deformed (node point), and the energy includes the elastic energy.
+  const core::TrackedPoint& tip = model.body(0).description().points[0];
+  const Eigen::Vector3d p = model.p_WP(0, st, tip);
+  CHECK(table.rows[row][static_cast<std::size_t>(table.column("beam.tip.y"))] == p.y());
+  core::Workspace ws = model.make_workspace();
+  const double t = trajectory.times[row];
+  CHECK(table.rows[row][static_cast<std::size_t>(table.column("energy"))] ==
+        Approx(model.kinetic_energy(trajectory.states[row]) +
+               model.potential_energy({t, t}, trajectory.states[row], ws)));
+  CHECK(model.elastic_energy(trajectory.states[row]) > 0.0);
+  // The drive torque: Model::driving_torque at the accelerations of the state.
+  core::Accelerations acc = model.make_accelerations();
+  model.compute_accelerations({t, t}, trajectory.states[row], ws, acc);
+  const double torque = model.driving_torque(0, st, acc[0], ws);
+  CHECK(torque != 0.0);
+  CHECK(table.rows[row][static_cast<std::size_t>(table.column("beam.drive_torque"))] == torque);
+
+  const auto path = std::filesystem::temp_directory_path() / "flexref_flexible_round_trip.csv";
+  studies::write_csv(table, path.string());
+  const studies::TrajectoryTable back = studies::read_csv(path.string());
+  std::filesystem::remove(path);
+  CHECK(back.columns == table.columns);
+  CHECK(back.rows == table.rows);
+}
+
+}  // namespace flexref::app
