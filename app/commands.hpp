@@ -7,6 +7,7 @@
 
 #include "core/model.hpp"
 #include "scene/scene.hpp"
+#include "studies/study_record.hpp"
 
 namespace flexref::app {
 
@@ -74,12 +75,9 @@ struct ConvergeOptions {
 };
 int converge_command(const ConvergeOptions& options);
 
-/// TOML arrays for result metadata: ["a", "b"] and [1e-3, 1e-4] (17 digits).
-std::string toml_string_array(const std::vector<std::string>& items);
-std::string toml_number_array(const std::vector<double>& items);
-
-/// The [scene] table of result metadata: the scene file, its name, the creation time and the
-/// model formulation (`model = "coupled"` or `"lte"`, the --model option).
-std::string scene_metadata(const std::string& scene_file, const scene::Scene& scene);
+/// A result record (studies/study_record.hpp) that starts with the [scene] table: the scene
+/// file, its name, the creation time and the model formulation (`model = "coupled"` or
+/// `"lte"`, the --model option).
+studies::StudyRecord scene_record(const std::string& scene_file, const scene::Scene& scene);
 
 }  // namespace flexref::app

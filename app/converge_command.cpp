@@ -1,16 +1,14 @@
-#include <filesystem>
 #include <iostream>
-#include <sstream>
+#include <utility>
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
-#include "io/atomic_file.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/convergence.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/study_output.hpp"
 #include "studies/trajectory_table.hpp"
-#include "studies/versions.hpp"
 
 namespace flexref::app {
 
@@ -29,28 +27,30 @@ int converge_command(const ConvergeOptions& options) {
   study.reference_rtol = options.reference_rtol;
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
   study.progress = true;
+  studies::StudyOutput out(options.out_dir);
   const studies::ConvergenceResult result = studies::run_convergence(model, times, study);
 
-  std::filesystem::create_directories(options.out_dir);
-  const std::filesystem::path dir(options.out_dir);
   const std::string table = format_convergence_table(result);
-  std::ostringstream settings;
-  settings.precision(17);
-  settings << scene_metadata(options.scene, scene) << "\n[study]\nkind = \"converge\"\n"
-           << "schemes = " << toml_string_array(options.schemes) << "\ndt = " << options.dt
-           << "\nlevels = " << options.levels << "\nmetric = \"" << options.metric
-           << "\"\njobs = " << study.jobs << "\n\n"
-           << studies::reference_toml(result.reference) << "\n"
-           << studies::versions_toml();
+  studies::StudyRecord record = scene_record(options.scene, scene);
+  record.table("study")
+      .set("kind", "converge")
+      .set("schemes", options.schemes)
+      .set("dt", options.dt)
+      .set("levels", options.levels)
+      .set("metric", options.metric)
+      .set("jobs", study.jobs);
+  studies::add_reference(record, result.reference);
+  studies::add_versions(record);
 
-  const std::string csv_path = (dir / "convergence.csv").string();
-  io::write_file_atomically(csv_path, studies::convergence_csv(result));
-  io::write_file_atomically((dir / "convergence.txt").string(), table);
-  io::write_file_atomically((dir / "study.toml").string(), settings.str());
-  studies::write_csv(result.reference.table, (dir / "reference.csv").string());
-  const std::string png = (dir / "convergence.png").string();
-  const studies::PlotOutcome plot = studies::run_plot_script(
-      "plot_convergence.py", {csv_path, png, "convergence: " + scene.name}, png);
+  out.write("convergence.csv", studies::convergence_csv(result));
+  out.write("convergence.txt", table);
+  studies::write_csv(result.reference.table, out.staged("reference.csv"));
+  out.add("reference.csv");
+  const studies::PlotOutcome plot = out.plot(
+      "plot_convergence.py", "convergence.png",
+      {out.staged("convergence.csv"), out.staged("convergence.png"), "convergence: " + scene.name});
+  const std::string csv_path = out.final_path("convergence.csv");
+  out.commit(std::move(record));
 
   std::cout << "converge " << scene.name << "\n" << table;
   std::cout << "wrote " << csv_path << ", convergence.txt, study.toml, reference.csv";

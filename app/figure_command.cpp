@@ -11,15 +11,14 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
-#include "io/atomic_file.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "scene/scene_toml.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/study_output.hpp"
 #include "studies/trajectory_figure.hpp"
 #include "studies/trajectory_table.hpp"
-#include "studies/versions.hpp"
 
 namespace flexref::app {
 
@@ -113,32 +112,31 @@ int figure_command(const FigureCommandOptions& options) {
   }
   settings.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
 
+  studies::StudyOutput out(options.out_dir);
   std::cerr << "figure: reference (" << settings.solver << ") and "
             << settings.schemes.size() * settings.steps.size() << " scheme runs on "
             << settings.jobs << " threads ...\n";
   const std::vector<double> times = core::output_times(end_time, scene.output_step);
   const studies::FigureResult result = studies::run_trajectory_figure(model, times, settings);
 
-  std::filesystem::create_directories(options.out_dir);
-  const std::filesystem::path dir(options.out_dir);
   const std::string table = studies::figure_table(result);
-  std::ostringstream meta;
-  meta.precision(17);
-  meta << scene_metadata(scene_path.string(), scene) << "\n[study]\nkind = \"figure\"\nfile = \""
-       << options.study << "\"\ntitle = \"" << title
-       << "\"\nschemes = " << toml_string_array(settings.schemes)
-       << "\nsteps = " << toml_number_array(settings.steps) << "\npoint = \""
-       << points[static_cast<std::size_t>(settings.point)].name << "\"\nend_time = " << end_time
-       << "\n\n[reference]\nsolver = \"" << settings.solver << "\"\nrtol = " << settings.rtol
-       << "\n\n"
-       << studies::versions_toml();
-  const std::string csv = (dir / "figure.csv").string();
-  io::write_file_atomically(csv, studies::figure_csv(result));
-  io::write_file_atomically((dir / "figure.txt").string(), table);
-  io::write_file_atomically((dir / "study.toml").string(), meta.str());
-  const std::string png = (dir / "figure.png").string();
-  const studies::PlotOutcome plot = studies::run_plot_script(
-      "plot_trajectory_figure.py", {csv, png, title.empty() ? scene.name : title}, png);
+  studies::StudyRecord record = scene_record(scene_path.string(), scene);
+  record.table("study")
+      .set("kind", "figure")
+      .set("file", options.study)
+      .set("title", title)
+      .set("schemes", settings.schemes)
+      .set("steps", settings.steps)
+      .set("point", points[static_cast<std::size_t>(settings.point)].name)
+      .set("end_time", end_time);
+  record.table("reference").set("solver", settings.solver).set("rtol", settings.rtol);
+  studies::add_versions(record);
+  out.write("figure.csv", studies::figure_csv(result));
+  out.write("figure.txt", table);
+  const studies::PlotOutcome plot = out.plot(
+      "plot_trajectory_figure.py", "figure.png",
+      {out.staged("figure.csv"), out.staged("figure.png"), title.empty() ? scene.name : title});
+  out.commit(std::move(record));
 
   std::cout << (title.empty() ? scene.name : title) << "\n"
             << table << "wrote figure.csv, figure.txt, study.toml" << (plot.ok ? ", " : "\n")

@@ -10,14 +10,13 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
 #include "scene/scene_reader.hpp"
 #include "scene/scene_toml.hpp"
 #include "studies/lte_map.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/study_output.hpp"
 #include "studies/trajectory_table.hpp"
-#include "studies/versions.hpp"
 
 namespace flexref::app {
 namespace {
@@ -139,46 +138,49 @@ int lte_map_command(const LteMapCommandOptions& options) {
   study.body = scene.model->body_index(base.body);
   const SceneFactory factory(options.scene, study.body);
 
+  studies::StudyOutput out(options.out_dir);
   std::cerr << "lte-map: " << study.spin_ratios.size() * study.inertia_ratios.size()
             << " grid points x 4 reference runs (" << study.solver << ", rtol " << study.rtol
             << ", " << study.end_time << " s) on " << study.jobs << " threads ...\n";
   const studies::LteMapResult result = studies::run_lte_map(factory, study);
 
-  std::filesystem::create_directories(options.out_dir);
-  const std::filesystem::path dir(options.out_dir);
   const std::string table = studies::format_lte_map_table(result);
-  std::ostringstream settings;
-  settings.precision(17);
-  settings << scene_metadata(options.scene, scene) << "\n[study]\nkind = \"lte-map\""
-           << "\nbody = \"" << base.body << "\"\npoint = \"" << base.point << "\""
-           << "\nspin_ratios = " << toml_number_array(study.spin_ratios)
-           << "\ninertia_ratios = " << toml_number_array(study.inertia_ratios)
-           << "\nomega1 = " << base.omega1 << "  # rad/s, first clamped frequency"
-           << "\nscene_spin = " << base.spin << "  # rad/s"
-           << "\nscene_spin_ratio = " << base.spin_ratio
-           << "\nscene_inertia_ratio = " << base.inertia_ratio << "\nspin_axis_B = ["
-           << base.axis_B(0) << ", " << base.axis_B(1) << ", " << base.axis_B(2) << "]"
-           << "\nscale = \"hub mass and inertia by hub_scale; initial spin to x*omega1"
-           << (study.scale_loads ? "; [[load]] values by load_scale" : "") << "\""
-           << "\nscale_loads = " << (study.scale_loads ? "true" : "false")
-           << "\nmetric = \"max_t |d_LTE - d_coupled| / max_t |d_coupled|, d = elastic "
-              "deflection of the point, body frame\""
-           << "\nsolver = \"" << study.solver << "\"\nrtol = " << study.rtol
-           << "\nestimate_rtol = " << study.estimate_factor * study.rtol
-           << "\nend_time = " << study.end_time << "\noutput_step = " << study.output_step
-           << "\njobs = " << study.jobs << "\n\n"
-           << studies::versions_toml();
+  studies::StudyRecord record = scene_record(options.scene, scene);
+  record.table("study")
+      .set("kind", "lte-map")
+      .set("body", base.body)
+      .set("point", base.point)
+      .set("spin_ratios", study.spin_ratios)
+      .set("inertia_ratios", study.inertia_ratios)
+      .set("omega1", base.omega1)
+      .set("omega1_meaning", "rad/s, first clamped frequency")
+      .set("scene_spin", base.spin)
+      .set("scene_spin_ratio", base.spin_ratio)
+      .set("scene_inertia_ratio", base.inertia_ratio)
+      .set("spin_axis_B", std::vector<double>{base.axis_B(0), base.axis_B(1), base.axis_B(2)})
+      .set("scale", std::string("hub mass and inertia by hub_scale; initial spin to x*omega1") +
+                        (study.scale_loads ? "; [[load]] values by load_scale" : ""))
+      .set("scale_loads", study.scale_loads)
+      .set("metric",
+           "max_t |d_LTE - d_coupled| / max_t |d_coupled|, d = elastic deflection of the point, "
+           "body frame")
+      .set("solver", study.solver)
+      .set("rtol", study.rtol)
+      .set("estimate_rtol", study.estimate_factor * study.rtol)
+      .set("end_time", study.end_time)
+      .set("output_step", study.output_step)
+      .set("jobs", study.jobs);
+  studies::add_versions(record);
 
-  const std::string csv_path = (dir / "lte_map.csv").string();
-  io::write_file_atomically(csv_path, studies::lte_map_csv(result));
-  io::write_file_atomically((dir / "lte_map.txt").string(), table);
-  io::write_file_atomically((dir / "study.toml").string(), settings.str());
-  const std::string png = (dir / "lte_map.png").string();
-  const studies::PlotOutcome plot = studies::run_plot_script(
-      "plot_lte_map.py",
-      {csv_path, png, "LTE error on " + scene.name + " (" + number(study.end_time) + " s)",
-       number(base.spin_ratio), number(base.inertia_ratio)},
-      png);
+  out.write("lte_map.csv", studies::lte_map_csv(result));
+  out.write("lte_map.txt", table);
+  const studies::PlotOutcome plot =
+      out.plot("plot_lte_map.py", "lte_map.png",
+               {out.staged("lte_map.csv"), out.staged("lte_map.png"),
+                "LTE error on " + scene.name + " (" + number(study.end_time) + " s)",
+                number(base.spin_ratio), number(base.inertia_ratio)});
+  const std::string csv_path = out.final_path("lte_map.csv");
+  out.commit(std::move(record));
 
   std::cout << "lte-map\n" << table << "wrote " << csv_path << ", lte_map.txt, study.toml";
   if (plot.ok) std::cout << ", " << plot.message;

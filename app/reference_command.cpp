@@ -3,12 +3,10 @@
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
-#include "io/atomic_file.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/trajectory_table.hpp"
-#include "studies/versions.hpp"
 
 namespace flexref::app {
 
@@ -31,26 +29,34 @@ int reference_command(const ReferenceOptions& options) {
   studies::write_csv(ref.table, options.output);
 
   const auto& st = ref.run.stats;
-  std::ostringstream meta;
-  meta.precision(17);
-  meta << scene_metadata(options.scene, scene) << "\n[integrator]\nkind = \"reference\"\n"
-       << "solver = \"" << ref.run.solver << "\"\nrtol = " << options.rtol
-       << "\natol = " << solver_options.absolute_tolerance() << "\nsteps = " << st.steps
-       << "\nrhs_evaluations = " << st.rhs_evaluations
-       << "\njacobian_evaluations = " << st.jacobian_evaluations
-       << "\nerror_test_failures = " << st.error_test_failures
-       << "\nnonlinear_failures = " << st.nonlinear_failures << "\ncpu_seconds = " << st.cpu_seconds
-       << "\nevents = " << ref.run.event_times.size()
-       << "\nevent_times = " << toml_number_array(ref.run.event_times) << "\n";
+  studies::StudyRecord record = scene_record(options.scene, scene);
+  record.table("integrator")
+      .set("kind", "reference")
+      .set("solver", ref.run.solver)
+      .set("rtol", options.rtol)
+      .set("atol", solver_options.absolute_tolerance())
+      .set("steps", st.steps)
+      .set("rhs_evaluations", st.rhs_evaluations)
+      .set("jacobian_evaluations", st.jacobian_evaluations)
+      .set("error_test_failures", st.error_test_failures)
+      .set("nonlinear_failures", st.nonlinear_failures)
+      .set("cpu_seconds", st.cpu_seconds)
+      .set("events", ref.run.event_times.size())
+      .set("event_times", ref.run.event_times);
   if (options.estimate) {
     const auto& e = ref.estimate;
-    meta << "\n[error_estimate]\nmetric = \"" << e.metric << "\"\nestimate = " << e.estimate()
-         << "\nvs_tighter = " << e.vs_tighter << "\ntighter_solver = \"" << e.tighter_solver
-         << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_other_solver = " << e.vs_other_solver
-         << "\nother_rtol = " << e.other_rtol << "\nother_solver = \"" << e.other_solver << "\"\n";
+    record.table("error_estimate")
+        .set("metric", e.metric)
+        .set("estimate", e.estimate())
+        .set("vs_tighter", e.vs_tighter)
+        .set("tighter_solver", e.tighter_solver)
+        .set("tighter_rtol", e.tighter_rtol)
+        .set("vs_other_solver", e.vs_other_solver)
+        .set("other_rtol", e.other_rtol)
+        .set("other_solver", e.other_solver);
   }
-  meta << "\n" << studies::versions_toml();
-  io::write_file_atomically(options.output + ".meta.toml", meta.str());
+  studies::add_versions(record);
+  record.write(options.output + ".meta.toml");
 
   std::cout << "reference " << scene.name << " with " << ref.run.solver;
   if (model.has_flexible_bodies()) {

@@ -5,13 +5,11 @@
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
-#include "io/atomic_file.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/trajectory_table.hpp"
-#include "studies/versions.hpp"
 
 namespace flexref::app {
 
@@ -52,14 +50,15 @@ int run_command(const RunOptions& options) {
   const int energy = table.column("energy");
   const double e_first = table.rows.front()[static_cast<std::size_t>(energy)];
   const double e_last = table.rows.back()[static_cast<std::size_t>(energy)];
-  std::ostringstream meta;
-  meta.precision(17);
-  meta << scene_metadata(options.scene, scene) << "\n[integrator]\nkind = \"scheme\"\n"
-       << "scheme = \"" << options.scheme << "\"\ndt = " << options.dt
-       << "\nsteps = " << std::lround((times.back() - times.front()) / options.dt)
-       << "\ncpu_seconds = " << cpu << "\n\n"
-       << studies::versions_toml();
-  io::write_file_atomically(options.output + ".meta.toml", meta.str());
+  studies::StudyRecord record = scene_record(options.scene, scene);
+  record.table("integrator")
+      .set("kind", "scheme")
+      .set("scheme", options.scheme)
+      .set("dt", options.dt)
+      .set("steps", std::lround((times.back() - times.front()) / options.dt))
+      .set("cpu_seconds", cpu);
+  studies::add_versions(record);
+  record.write(options.output + ".meta.toml");
 
   std::cout << "run " << scene.name << " with " << options.scheme
             << (model.has_flexible_bodies()

@@ -1,29 +1,11 @@
 #include <chrono>
 #include <ctime>
 #include <filesystem>
-#include <sstream>
 #include <stdexcept>
 
 #include "app/commands.hpp"
 
 namespace flexref::app {
-
-std::string toml_string_array(const std::vector<std::string>& items) {
-  std::ostringstream out;
-  out << '[';
-  for (std::size_t i = 0; i < items.size(); ++i) out << (i ? ", " : "") << '"' << items[i] << '"';
-  out << ']';
-  return out.str();
-}
-
-std::string toml_number_array(const std::vector<double>& items) {
-  std::ostringstream out;
-  out.precision(17);
-  out << '[';
-  for (std::size_t i = 0; i < items.size(); ++i) out << (i ? ", " : "") << items[i];
-  out << ']';
-  return out.str();
-}
 
 core::FlexibleFormulation parse_formulation(const std::string& model) {
   if (model == "coupled") return core::FlexibleFormulation::kCoupled;
@@ -42,8 +24,7 @@ std::string reference_solver_for(const core::Model& model, const std::string& so
   return solver == "auto" ? "cvode" : solver;
 }
 
-std::string scene_metadata(const std::string& scene_file, const scene::Scene& scene) {
-  std::ostringstream out;
+studies::StudyRecord scene_record(const std::string& scene_file, const scene::Scene& scene) {
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(scene_file, ec);
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
@@ -51,13 +32,14 @@ std::string scene_metadata(const std::string& scene_file, const scene::Scene& sc
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   int flexible_bodies = 0;
   for (const core::Body& b : scene.model->bodies()) flexible_bodies += b.is_flexible() ? 1 : 0;
-  out << "[scene]\n"
-      << "file = \"" << (ec ? scene_file : absolute.string()) << "\"\n"
-      << "name = \"" << scene.name << "\"\n"
-      << "created = \"" << stamp << "\"\n"
-      << "model = \"" << core::to_string(scene.model->formulation()) << "\"\n"
-      << "flexible_bodies = " << flexible_bodies << "\n";
-  return out.str();
+  studies::StudyRecord record;
+  record.table("scene")
+      .set("file", ec ? scene_file : absolute.string())
+      .set("name", scene.name)
+      .set("created", std::string(stamp))
+      .set("model", core::to_string(scene.model->formulation()))
+      .set("flexible_bodies", flexible_bodies);
+  return record;
 }
 
 }  // namespace flexref::app

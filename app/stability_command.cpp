@@ -5,16 +5,16 @@
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "app/commands.hpp"
-#include "io/atomic_file.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
 #include "studies/stability.hpp"
 #include "studies/stability_sweeps.hpp"
+#include "studies/study_output.hpp"
 #include "studies/trajectory_table.hpp"
-#include "studies/versions.hpp"
 
 namespace flexref::app {
 namespace {
@@ -55,10 +55,9 @@ int linear_stability_command(const StabilityCommandOptions& options) {
   }
   std::cerr << "stability: " << study.values.size() * study.schemes.size() << " bisections ("
             << options.parameter << ") on " << study.jobs << " threads ...\n";
+  studies::StudyOutput out(options.out_dir);
   const std::vector<studies::LinearSweepPoint> points = studies::run_linear_sweep(study);
 
-  std::filesystem::create_directories(options.out_dir);
-  const std::filesystem::path dir(options.out_dir);
   const std::string model =
       modal ? "flexible_spinner's hub and beam (LTE, torque-free, spin 1 rad/s, modes deflected), "
               "EI scaled to put omega_max at the swept value"
@@ -66,22 +65,26 @@ int linear_stability_command(const StabilityCommandOptions& options) {
               "about its static penetration";
   const std::string table =
       "model: " + model + "\n" + studies::format_linear_sweep_table(options.parameter, points);
-  std::ostringstream settings;
-  settings.precision(17);
-  settings << "[study]\nkind = \"stability\"\nparameter = \"" << options.parameter
-           << "\"\nmodel = \"" << model << "\"\nvalues = " << toml_number_array(study.values)
-           << "\nschemes = " << toml_string_array(study.schemes)
-           << "\nsteps_per_run = " << study.steps << "\ngrowth_factor = " << study.growth_factor
-           << "\nrelative_tolerance = " << study.relative_tolerance << "\njobs = " << study.jobs
-           << "\n\n"
-           << studies::versions_toml();
-  const std::string csv_path = (dir / "stability.csv").string();
-  io::write_file_atomically(csv_path, studies::linear_sweep_csv(options.parameter, points));
-  io::write_file_atomically((dir / "stability.txt").string(), table);
-  io::write_file_atomically((dir / "study.toml").string(), settings.str());
-  const std::string png = (dir / "stability.png").string();
-  const studies::PlotOutcome plot = studies::run_plot_script(
-      "plot_stability.py", {"linear", csv_path, png, "stability: " + options.parameter}, png);
+  studies::StudyRecord record;
+  record.table("study")
+      .set("kind", "stability")
+      .set("parameter", options.parameter)
+      .set("model", model)
+      .set("values", study.values)
+      .set("schemes", study.schemes)
+      .set("steps_per_run", study.steps)
+      .set("growth_factor", study.growth_factor)
+      .set("relative_tolerance", study.relative_tolerance)
+      .set("jobs", study.jobs);
+  studies::add_versions(record);
+  out.write("stability.csv", studies::linear_sweep_csv(options.parameter, points));
+  out.write("stability.txt", table);
+  const studies::PlotOutcome plot =
+      out.plot("plot_stability.py", "stability.png",
+               {"linear", out.staged("stability.csv"), out.staged("stability.png"),
+                "stability: " + options.parameter});
+  const std::string csv_path = out.final_path("stability.csv");
+  out.commit(std::move(record));
   std::cout << "stability\n"
             << table << "wrote " << csv_path << ", stability.txt, study.toml"
             << (plot.ok ? ", " : "\n") << plot.message << "\n";
@@ -98,7 +101,8 @@ int stability_command(const StabilityCommandOptions& options) {
   study.parameter = options.parameter;
   study.schemes = options.schemes;
   std::string body_source = "built-in free_spin body, J = diag(3, 4, 5), W0 = (0.2, 0.3, 2.0)";
-  std::string metadata = "[scene]\nfile = \"\"\nname = \"built-in free_spin body\"\n";
+  studies::StudyRecord record;
+  record.table("scene").set("file", "").set("name", "built-in free_spin body");
   if (!options.scene.empty()) {
     const scene::Scene scene = scene::read_scene(options.scene);
     int free_body = -1;
@@ -118,7 +122,7 @@ int stability_command(const StabilityCommandOptions& options) {
     study.w_direction_B = body.initial.w_WB_B;
     body_source = "inertia and W0 of body '" + body.name + "' of " + options.scene +
                   " (torque-free: the scene's loads are not used)";
-    metadata = scene_metadata(options.scene, scene) + "\n";
+    record = scene_record(options.scene, scene);
   }
   const bool spin_sweep = options.parameter == "spin";
   if (!options.values.empty()) {
@@ -145,54 +149,48 @@ int stability_command(const StabilityCommandOptions& options) {
                     ? " + long runs of " + std::to_string(study.long_run_steps) + " steps"
                     : "")
             << " on " << study.jobs << " threads ...\n";
+  studies::StudyOutput out(options.out_dir);
   const studies::StabilityResult result = studies::run_stability(study);
 
-  std::filesystem::create_directories(options.out_dir);
-  const std::filesystem::path dir(options.out_dir);
   const std::string table = "body: " + body_source + "\n" + studies::format_stability_table(result);
-  std::ostringstream settings;
-  settings.precision(17);
-  settings << metadata << "\n[study]\nkind = \"stability\"\nparameter = \"" << study.parameter
-           << "\"\nvalues = [";
-  for (std::size_t i = 0; i < study.values.size(); ++i) {
-    settings << (i ? ", " : "") << study.values[i];
-  }
-  settings << "]\nschemes = [";
-  for (std::size_t i = 0; i < study.schemes.size(); ++i) {
-    settings << (i ? ", " : "") << '"' << study.schemes[i] << '"';
-  }
-  settings << "]\ninertia_B = [" << study.I_Bcm_B(0, 0) << ", " << study.I_Bcm_B(1, 1) << ", "
-           << study.I_Bcm_B(2, 2) << "]  # diagonal of the swept body's inertia (spin sweep)\n"
-           << "w_direction_B = [" << study.w_direction_B(0) << ", " << study.w_direction_B(1)
-           << ", " << study.w_direction_B(2) << "]\nspin = " << study.spin
-           << "\nsteps_per_run = " << study.criterion.steps
-           << "\nenergy_factor = " << study.criterion.energy_factor
-           << "\nmomentum_factor = " << study.criterion.momentum_factor
-           << "\nrelative_tolerance = " << study.relative_tolerance
-           << "\ndegenerate = " << (study.degenerate ? "true" : "false")
-           << "\nlong_run_steps = " << study.long_run_steps
-           << "\nlong_run_dt = " << study.long_run_h << "\njobs = " << study.jobs << "\n\n"
-           << studies::versions_toml();
+  record.table("study")
+      .set("kind", "stability")
+      .set("parameter", study.parameter)
+      .set("values", study.values)
+      .set("schemes", study.schemes)
+      .set("inertia_B",
+           std::vector<double>{study.I_Bcm_B(0, 0), study.I_Bcm_B(1, 1), study.I_Bcm_B(2, 2)})
+      .set("w_direction_B", std::vector<double>{study.w_direction_B(0), study.w_direction_B(1),
+                                                study.w_direction_B(2)})
+      .set("spin", study.spin)
+      .set("steps_per_run", study.criterion.steps)
+      .set("energy_factor", study.criterion.energy_factor)
+      .set("momentum_factor", study.criterion.momentum_factor)
+      .set("relative_tolerance", study.relative_tolerance)
+      .set("degenerate", study.degenerate)
+      .set("long_run_steps", study.long_run_steps)
+      .set("long_run_dt", study.long_run_h)
+      .set("jobs", study.jobs);
+  studies::add_versions(record);
 
-  const std::string csv_path = (dir / "stability.csv").string();
-  io::write_file_atomically(csv_path, studies::stability_csv(result));
-  io::write_file_atomically((dir / "stability.txt").string(), table);
-  io::write_file_atomically((dir / "study.toml").string(), settings.str());
-  const std::string png = (dir / "stability.png").string();
-  const studies::PlotOutcome plot = studies::run_plot_script(
-      "plot_stability.py", {"sweep", csv_path, png, "stability: " + study.parameter}, png);
-  std::vector<std::string> written{csv_path, "stability.txt", "study.toml"};
+  out.write("stability.csv", studies::stability_csv(result));
+  out.write("stability.txt", table);
+  const studies::PlotOutcome plot =
+      out.plot("plot_stability.py", "stability.png",
+               {"sweep", out.staged("stability.csv"), out.staged("stability.png"),
+                "stability: " + study.parameter});
+  std::vector<std::string> written{out.final_path("stability.csv"), "stability.txt", "study.toml"};
   std::vector<std::string> plot_problems;
   (plot.ok ? written : plot_problems).push_back(plot.message);
   if (!result.long_run.empty()) {
-    const std::string long_csv = (dir / "long_run.csv").string();
-    io::write_file_atomically(long_csv, studies::long_run_csv(result));
+    out.write("long_run.csv", studies::long_run_csv(result));
     written.push_back("long_run.csv");
-    const std::string long_png = (dir / "long_run.png").string();
-    const studies::PlotOutcome long_plot = studies::run_plot_script(
-        "plot_stability.py", {"long_run", long_csv, long_png, "long run"}, long_png);
+    const studies::PlotOutcome long_plot =
+        out.plot("plot_stability.py", "long_run.png",
+                 {"long_run", out.staged("long_run.csv"), out.staged("long_run.png"), "long run"});
     (long_plot.ok ? written : plot_problems).push_back(long_plot.message);
   }
+  out.commit(std::move(record));
 
   std::cout << "stability\n" << table << "wrote ";
   for (std::size_t i = 0; i < written.size(); ++i) std::cout << (i ? ", " : "") << written[i];

@@ -6,12 +6,11 @@
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
-#include "io/atomic_file.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/study_output.hpp"
 #include "studies/trajectory_table.hpp"
-#include "studies/versions.hpp"
 #include "studies/work_precision.hpp"
 
 namespace flexref::app {
@@ -34,34 +33,36 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   study.reference_rtol = app_options.reference_rtol;
   study.jobs = app_options.jobs > 0 ? app_options.jobs : studies::default_jobs();
   study.progress = true;
+  studies::StudyOutput out(app_options.out_dir);
   const studies::WorkPrecisionResult result = studies::run_work_precision(model, times, study);
 
-  std::filesystem::create_directories(app_options.out_dir);
-  const std::filesystem::path dir(app_options.out_dir);
   const std::string table = format_work_precision_table(result);
-  std::ostringstream settings;
-  settings.precision(17);
-  settings << scene_metadata(app_options.scene, scene)
-           << "\n[study]\nkind = \"work-precision\"\nschemes = " << toml_string_array(study.schemes)
-           << "\ndt = " << study.h0 << "\nlevels = " << study.levels
-           << "\nsolvers = " << toml_string_array(study.solvers)
-           << "\ntolerances = " << toml_number_array(study.tolerances)
-           << "\nrepeats = " << study.repeats << "\nmetric = \"" << study.metric
-           << "\"\njobs = " << study.jobs
-           << "\ncpu_time = \"thread CPU time of the integration only, minimum over repeats\""
-           << "\ntarget_errors = " << toml_number_array(studies::default_target_errors()) << "\n\n"
-           << studies::reference_toml(result.reference) << "\n"
-           << studies::versions_toml();
+  studies::StudyRecord record = scene_record(app_options.scene, scene);
+  record.table("study")
+      .set("kind", "work-precision")
+      .set("schemes", study.schemes)
+      .set("dt", study.h0)
+      .set("levels", study.levels)
+      .set("solvers", study.solvers)
+      .set("tolerances", study.tolerances)
+      .set("repeats", study.repeats)
+      .set("metric", study.metric)
+      .set("jobs", study.jobs)
+      .set("cpu_time", "thread CPU time of the integration only, minimum over repeats")
+      .set("target_errors", studies::default_target_errors());
+  studies::add_reference(record, result.reference);
+  studies::add_versions(record);
 
-  const std::string csv_path = (dir / "work_precision.csv").string();
-  io::write_file_atomically(csv_path, studies::work_precision_csv(result));
-  io::write_file_atomically((dir / "work_precision.txt").string(), table);
-  io::write_file_atomically((dir / "study.toml").string(), settings.str());
-  studies::write_csv(result.reference.table, (dir / "reference.csv").string());
-  const std::string png = (dir / "work_precision.png").string();
+  out.write("work_precision.csv", studies::work_precision_csv(result));
+  out.write("work_precision.txt", table);
+  studies::write_csv(result.reference.table, out.staged("reference.csv"));
+  out.add("reference.csv");
   const studies::PlotOutcome plot =
-      studies::run_plot_script("plot_work_precision.py",
-                               {csv_path, png, "work-precision: " + scene.name, study.metric}, png);
+      out.plot("plot_work_precision.py", "work_precision.png",
+               {out.staged("work_precision.csv"), out.staged("work_precision.png"),
+                "work-precision: " + scene.name, study.metric});
+  const std::string csv_path = out.final_path("work_precision.csv");
+  out.commit(std::move(record));
 
   std::cout << "work-precision " << scene.name << "\n" << table;
   std::cout << "wrote " << csv_path << ", work_precision.txt, study.toml, reference.csv";

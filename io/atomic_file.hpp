@@ -3,12 +3,20 @@
 /// Writing result files so that an interrupted run never leaves a half-written one: the text
 /// goes to a temporary file in the same directory, which is then renamed onto the target
 /// (rename is atomic within a file system, POSIX rename(2)).
+#include <stdexcept>
 #include <string>
 
 namespace flexref::io {
 
-/// Writes text to path atomically (temporary file + rename); throws std::runtime_error naming
-/// the path when the directory is missing or the write fails.
+/// A result file or folder that cannot be written (missing or read-only directory, full disk,
+/// a path that names a file where a folder is needed). Says which path and why.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Writes text to path atomically (temporary file + rename); throws OutputError naming the
+/// path when the directory is missing or the write fails.
 void write_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace flexref::io

@@ -21,17 +21,19 @@ std::string resolve_reference_solver(const std::string& solver, const core::Mode
   return reference::classify_exact_solution(model).kind.empty() ? "cvode" : "exact";
 }
 
-std::string reference_toml(const CertifiedReference& reference) {
+void add_reference(StudyRecord& record, const CertifiedReference& reference) {
   const ReferenceEstimate& e = reference.estimate;
-  std::ostringstream out;
-  out.precision(17);
-  out << "[reference]\nsolver = \"" << reference.run.solver
-      << "\"\nrtol = " << reference.run.options.rtol << "\nestimated_error = " << e.estimate()
-      << "\nmetric = \"" << e.metric << "\"\ntighter_solver = \"" << e.tighter_solver
-      << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_tighter = " << e.vs_tighter
-      << "\nother_solver = \"" << e.other_solver << "\"\nother_rtol = " << e.other_rtol
-      << "\nvs_other_solver = " << e.vs_other_solver << "\n";
-  return out.str();
+  record.table("reference")
+      .set("solver", reference.run.solver)
+      .set("rtol", reference.run.options.rtol)
+      .set("estimated_error", e.estimate())
+      .set("metric", e.metric)
+      .set("tighter_solver", e.tighter_solver)
+      .set("tighter_rtol", e.tighter_rtol)
+      .set("vs_tighter", e.vs_tighter)
+      .set("other_solver", e.other_solver)
+      .set("other_rtol", e.other_rtol)
+      .set("vs_other_solver", e.vs_other_solver);
 }
 
 CertifiedReference certified_reference(const core::Model& model,

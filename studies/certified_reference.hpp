@@ -13,6 +13,7 @@
 
 #include "core/model.hpp"
 #include "reference/reference_solver.hpp"
+#include "studies/study_record.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
@@ -46,7 +47,7 @@ std::string resolve_reference_solver(const std::string& solver, const core::Mode
 
 /// The `[reference]` section a study records next to its results: solver, tolerance and the
 /// error estimate with both of its checks.
-std::string reference_toml(const CertifiedReference& reference);
+void add_reference(StudyRecord& record, const CertifiedReference& reference);
 
 /// Runs the reference and its two checks; throws like the solvers do.
 CertifiedReference certified_reference(const core::Model& model,

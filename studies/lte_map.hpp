@@ -1,8 +1,8 @@
 #pragma once
 /// \file lte_map.hpp
-/// The `lte-map` study (docs/design/studies.md, "LTE breakdown"; docs/design/model.md, "The LTE model"):
-/// where the linear theory of elastodynamics stops describing a spinning flexible body. On a
-/// scene with one free flexible body, a grid of
+/// The `lte-map` study (docs/design/studies.md, "LTE breakdown"; docs/design/model.md, "The LTE
+/// model"): where the linear theory of elastodynamics stops describing a spinning flexible body. On
+/// a scene with one free flexible body, a grid of
 ///   - spin ratio x = Ω0/ω1: the initial spin rate over the first clamped elastic frequency
 ///     (Body::natural_frequencies()(0), the frame held fixed), and
 ///   - inertia ratio y = I_flex/I_rigid about the spin axis through the undeformed centre of

@@ -1,0 +1,143 @@
+#include "studies/study_output.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <random>
+#include <system_error>
+#include <utility>
+
+#include "io/atomic_file.hpp"
+
+namespace flexref::studies {
+namespace fs = std::filesystem;
+namespace {
+
+std::string random_suffix() {
+  std::random_device rd;
+  return std::to_string(rd() % 1000000000u);
+}
+
+[[noreturn]] void fail(const fs::path& path, const std::string& why) {
+  throw io::OutputError("cannot write the output folder " + path.string() + ": " + why);
+}
+
+/// The folder is replaced as a whole by commit(): accept only an empty folder or a previous
+/// study's (a study.toml and nothing but regular .csv, .txt, .toml and .png files), so that a
+/// mistyped --out (".", a home folder, a source tree) can never be swept away.
+void check_replaceable(const fs::path& dir) {
+  std::error_code ec;
+  bool has_record = false;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+    const fs::path name = entry.path().filename();
+    const std::string ext = name.extension().string();
+    if (!entry.is_regular_file(ec) ||
+        (ext != ".csv" && ext != ".txt" && ext != ".toml" && ext != ".png")) {
+      fail(dir, "it holds " + name.string() +
+                    ", which is not a file of a flexref study; choose a new or empty folder");
+    }
+    has_record = has_record || name == "study.toml";
+  }
+  if (ec) fail(dir, ec.message());
+  if (!fs::is_empty(dir, ec) && !has_record) {
+    fail(dir,
+         "it is not empty and holds no study.toml (not a flexref study's folder); choose a "
+         "new or empty folder");
+  }
+}
+
+}  // namespace
+
+StudyOutput::StudyOutput(fs::path dir) : dir_(std::move(dir)) {
+  if (dir_.empty()) fail(dir_, "the path is empty");
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(dir_, ec);
+  if (ec) fail(dir_, ec.message());
+  const fs::file_status status = fs::status(absolute, ec);
+  if (fs::exists(status) && !fs::is_directory(status)) {
+    fail(dir_, "it exists and is not a directory");
+  }
+  if (fs::is_directory(status)) check_replaceable(absolute);
+  // The nearest existing ancestor must be a directory we may write into.
+  fs::path ancestor = absolute.parent_path();
+  while (!ancestor.empty() && !fs::exists(ancestor, ec)) ancestor = ancestor.parent_path();
+  if (ancestor.empty() || !fs::is_directory(ancestor, ec)) {
+    fail(dir_, (ancestor.empty() ? std::string("no existing parent directory")
+                                 : ancestor.string() + " is not a directory"));
+  }
+  if (::access(ancestor.c_str(), W_OK | X_OK) != 0) {
+    fail(dir_, ancestor.string() + " is not writable");
+  }
+  fs::create_directories(absolute.parent_path(), ec);
+  if (ec) fail(dir_, "cannot create " + absolute.parent_path().string() + ": " + ec.message());
+  staging_ =
+      absolute.parent_path() / ("." + absolute.filename().string() + ".staging-" + random_suffix());
+  fs::create_directory(staging_, ec);
+  if (ec) fail(dir_, "cannot create " + staging_.string() + ": " + ec.message());
+  dir_ = absolute;
+}
+
+StudyOutput::~StudyOutput() {
+  if (committed_) return;
+  std::error_code ignore;
+  fs::remove_all(staging_, ignore);
+}
+
+std::string StudyOutput::staged(const std::string& file) const {
+  return (staging_ / file).string();
+}
+
+std::string StudyOutput::final_path(const std::string& file) const {
+  return (dir_ / file).string();
+}
+
+void StudyOutput::write(const std::string& file, const std::string& text) {
+  io::write_file_atomically(staged(file), text);
+  add(file);
+}
+
+void StudyOutput::add(const std::string& file) {
+  if (std::find(files_.begin(), files_.end(), file) == files_.end()) files_.push_back(file);
+}
+
+PlotOutcome StudyOutput::plot(const std::string& script, const std::string& png,
+                              std::vector<std::string> arguments) {
+  PlotOutcome outcome = run_plot_script(script, std::move(arguments), staged(png));
+  if (outcome.ok) {
+    add(png);
+    outcome.message = final_path(png);
+  }
+  plots_.emplace_back(png, outcome.ok ? std::string("written") : outcome.message);
+  return outcome;
+}
+
+void StudyOutput::commit(StudyRecord record) {
+  std::vector<std::string> listed = files_;
+  listed.push_back("study.toml");
+  record.table("files").set("folder", dir_.string()).set("written", listed);
+  for (const auto& [png, status] : plots_)
+    record.table("plot").set(fs::path(png).stem().string(), status);
+  io::write_file_atomically(staged("study.toml"), record.to_toml());
+  add("study.toml");
+  // Move the previous folder aside, the new one into place, then drop the previous one: the
+  // folder holds either the old study or the new one at every instant but between the two
+  // renames.
+  std::error_code ec;
+  fs::path previous;
+  if (fs::exists(dir_, ec)) {
+    previous =
+        dir_.parent_path() / ("." + dir_.filename().string() + ".previous-" + random_suffix());
+    fs::rename(dir_, previous, ec);
+    if (ec) fail(dir_, "cannot move the previous results aside: " + ec.message());
+  }
+  fs::rename(staging_, dir_, ec);
+  if (ec) {
+    std::error_code ignore;
+    if (!previous.empty()) fs::rename(previous, dir_, ignore);
+    fail(dir_, "cannot move the new results into place: " + ec.message());
+  }
+  committed_ = true;
+  if (!previous.empty()) fs::remove_all(previous, ec);
+}
+
+}  // namespace flexref::studies

@@ -1,0 +1,58 @@
+#pragma once
+/// \file study_output.hpp
+/// The output folder of a study, staged. The folder is validated before any work (so a study
+/// never computes for minutes and then fails on its --out path); files are written into a
+/// hidden staging folder beside it and moved into place by commit(), so an interrupted study
+/// leaves either the previous folder untouched or the complete new one — never new CSVs beside
+/// old plots.
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "studies/plot.hpp"
+#include "studies/study_record.hpp"
+
+namespace flexref::studies {
+
+class StudyOutput {
+ public:
+  /// Checks that `dir` is absent, empty or a previous study's folder (study.toml and only .csv,
+  /// .txt, .toml and .png files) and that its parent can be created and written, and creates
+  /// the staging folder. Throws io::OutputError naming the path and the reason.
+  explicit StudyOutput(std::filesystem::path dir);
+  /// Removes the staging folder when commit() was not reached (an exception unwound the study).
+  ~StudyOutput();
+  StudyOutput(const StudyOutput&) = delete;
+  StudyOutput& operator=(const StudyOutput&) = delete;
+
+  /// Where `file` is staged (for writers that take a path, such as plot scripts).
+  std::string staged(const std::string& file) const;
+  /// Where `file` will be after commit().
+  std::string final_path(const std::string& file) const;
+  /// Writes a text file into the staging folder (atomically) and lists it in the record.
+  void write(const std::string& file, const std::string& text);
+  /// Notes a file that a writer put at staged(file) itself.
+  void add(const std::string& file);
+  /// Runs a bundled plot script (studies/plot.hpp) that writes `png` (a file name in the
+  /// folder); `arguments` name files by staged(). On success the PNG is listed and the outcome's
+  /// message is its final path; either way the outcome goes into the record's [plot] table.
+  PlotOutcome plot(const std::string& script, const std::string& png,
+                   std::vector<std::string> arguments);
+  /// The files written so far, in order.
+  const std::vector<std::string>& files() const { return files_; }
+
+  /// Writes `record` as study.toml, with a [files] table listing every file of the study and a
+  /// [plot] table with each plot's outcome, then replaces the output folder by the staging
+  /// folder. Throws io::OutputError.
+  void commit(StudyRecord record);
+
+ private:
+  std::filesystem::path dir_;
+  std::filesystem::path staging_;
+  std::vector<std::string> files_;
+  std::vector<std::pair<std::string, std::string>> plots_;  ///< (png, final path or why not)
+  bool committed_ = false;
+};
+
+}  // namespace flexref::studies
