@@ -8,6 +8,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "core/step_limit.hpp"
 #include "reference/exact_solution.hpp"
 #include "scene/scene_reader.hpp"
 
@@ -25,7 +26,6 @@ int check_command(const CheckOptions& options) {
     dofs += (b.is_free() ? 6 : b.is_prescribed() ? 0 : 3) + b.mode_count();
   }
   std::cout << "  " << model.num_bodies() << " bodies, " << dofs << " degrees of freedom\n";
-  double step_limit = std::numeric_limits<double>::infinity();
   for (const core::Body& b : model.bodies()) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(b.I_Br_B());
     const char* motion = b.is_free() ? "free" : b.is_prescribed() ? "prescribed" : "pivot";
@@ -56,31 +56,22 @@ int check_command(const CheckOptions& options) {
     }
     std::fflush(stdout);
     if (w.size() > 0 && w.maxCoeff() > 0.0) {
-      const double limit = 2.0 / w.maxCoeff();
-      step_limit = std::min(step_limit, limit);
-      std::cout << "    explicit step limit (central differences) 2/omega_max = " << limit
-                << " s\n";
+      std::cout << "    explicit step limit (central differences) 2/omega_max = "
+                << 2.0 / w.maxCoeff() << " s\n";
     }
   }
   for (const auto& e : model.elements()) std::cout << "  " << e->describe() << "\n";
   // Penalty elements: each contact's and joint's stiffest mode (docs/contact.md,
   // docs/joints.md) and the explicit step it allows.
-  double penalty_limit = std::numeric_limits<double>::infinity();
-  std::string penalty_label;
-  for (const scene::PenaltyMode& m : scene.penalty_modes) {
+  for (const core::PenaltyMode& m : core::penalty_modes(model)) {
     const bool angular = m.label.ends_with(" angular");
     std::cout << "  " << m.label << ": omega = sqrt(k/" << (angular ? "I_eff" : "m_eff")
               << ") = sqrt(" << m.stiffness << (angular ? " N·m/rad / " : " N/m / ") << m.inertia
               << (angular ? " kg·m²" : " kg") << ") = " << m.frequency
               << " rad/s, explicit step limit 2/omega = " << m.step_limit << " s"
               << (m.kind == "joint" ? " (damping, if any, included)" : "") << "\n";
-    if (m.step_limit < penalty_limit) {
-      penalty_limit = m.step_limit;
-      penalty_label = m.label;
-    }
   }
-  const double flexible_limit = step_limit;
-  step_limit = std::min(step_limit, penalty_limit);
+  const core::StepLimit limit = core::explicit_step_limit(model);
   if (!model.discontinuities().empty()) {
     std::cout << "  load switches at t =";
     for (double t : model.discontinuities()) std::cout << ' ' << t;
@@ -92,11 +83,11 @@ int check_command(const CheckOptions& options) {
   const Eigen::Vector3d h0 = model.angular_momentum_W(s0);
   std::cout << "  initial energy " << e0 << " J, angular momentum about the origin ["
             << h0.transpose() << "] N·m·s\n";
-  if (std::isfinite(step_limit)) {
-    std::cout << "  explicit step limit: " << step_limit << " s ("
-              << (penalty_limit < flexible_limit
-                      ? "of " + penalty_label + ", the stiffest penalty element"
-                      : std::string("2/omega_max of the stiffest flexible body"))
+  if (limit.bounded()) {
+    std::cout << "  explicit step limit: " << limit.h << " s ("
+              << (limit.what.starts_with("flexible body")
+                      ? std::string("2/omega_max of the stiffest flexible body")
+                      : "of " + limit.what + ", the stiffest penalty element")
               << "; `run` warns above it)\n";
   } else {
     std::cout << "  explicit step limit: none from elastic modes or penalty elements (rigid "

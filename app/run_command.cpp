@@ -5,6 +5,7 @@
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
+#include "core/step_limit.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
@@ -17,28 +18,19 @@ int run_command(const RunOptions& options) {
   const scene::Scene scene = scene::read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
-  // Central differences are stable for h ω_max ≤ 2: warn when the step exceeds it for the
-  // stiffest mode of a flexible body (implicit schemes stay stable but do not resolve it).
-  for (const core::Body& b : model.bodies()) {
-    if (!b.is_flexible() || b.natural_frequencies().size() == 0) continue;
-    const double omega_max = b.natural_frequencies().maxCoeff();
-    if (omega_max > 0.0 && options.dt > 2.0 / omega_max) {
-      std::cerr << "flexref: warning: step " << options.dt
-                << " s exceeds 2/omega_max = " << 2.0 / omega_max << " s of flexible body "
-                << b.name() << " (omega_max = " << omega_max
-                << " rad/s): explicit central differences would be unstable and the highest "
-                   "modes are not resolved\n";
-    }
-  }
-  // The same for the stiffest mode of every contact and joint (penalty elements).
-  for (const scene::PenaltyMode& m : scene.penalty_modes) {
-    if (options.dt > m.step_limit) {
-      std::cerr << "flexref: warning: step " << options.dt
-                << " s exceeds 2/omega = " << m.step_limit << " s of " << m.label
-                << " (omega = " << m.frequency
-                << " rad/s): explicit central differences would be unstable and the " << m.kind
-                << " is not resolved\n";
-    }
+  // Central differences are stable for h ω ≤ 2 on every elastic mode and penalty element
+  // (core/step_limit.hpp): warn when the step exceeds one (implicit schemes stay stable but do
+  // not resolve the mode).
+  for (const core::PenaltyMode& m : core::stiff_modes(model)) {
+    if (options.dt <= m.step_limit) continue;
+    const bool flexible = m.kind == "flexible body";
+    std::cerr << "flexref: warning: step " << options.dt << " s exceeds 2/omega"
+              << (flexible ? "_max" : "") << " = " << m.step_limit << " s of "
+              << (flexible ? "flexible body " : "") << m.label << " (omega"
+              << (flexible ? "_max" : "") << " = " << m.frequency
+              << " rad/s): explicit central differences would be unstable and "
+              << (flexible ? "the highest modes are" : "the " + m.kind + " is")
+              << " not resolved\n";
   }
   auto stepper = lie::make_stepper(options.scheme, model);
   const double start = studies::thread_cpu_seconds();

@@ -6,6 +6,11 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
+
+#include "contact/compliance.hpp"
+#include "core/body.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::contact {
 namespace {
@@ -227,6 +232,55 @@ std::string RevoluteBushing::describe() const {
       << " N·s/m, k_theta = " << parameters_.angular_stiffness
       << " N·m/rad, c_theta = " << parameters_.angular_damping << " N·m·s/rad";
   return out.str();
+}
+
+namespace {
+
+/// The two ends' compliances added (the ground adds none).
+Compliance joint_compliance(std::span<const core::Body> bodies, const BushingEnd& a,
+                            const BushingEnd& b) {
+  Compliance c = body_compliance(bodies[static_cast<std::size_t>(a.body)], a.point);
+  if (b.body != kGround) {
+    const Compliance cb = body_compliance(bodies[static_cast<std::size_t>(b.body)], b.point);
+    c.translational += cb.translational;
+    c.angular += cb.angular;
+  }
+  return c;
+}
+
+core::PenaltyMode joint_mode(std::string label, double stiffness, double damping, double inertia) {
+  core::PenaltyMode mode;
+  mode.label = std::move(label);
+  mode.kind = "joint";
+  mode.stiffness = stiffness;
+  mode.inertia = inertia;
+  mode.frequency = bushing_frequency(stiffness, inertia);
+  mode.step_limit = bushing_stable_step(stiffness, damping, inertia);
+  return mode;
+}
+
+}  // namespace
+
+void SphericalBushing::append_penalty_modes(std::span<const core::Body> bodies,
+                                            std::vector<core::PenaltyMode>& modes) const {
+  const Compliance c = joint_compliance(bodies, a_, b_);
+  modes.push_back(joint_mode("", parameters_.stiffness, parameters_.damping,
+                             smallest_effective(c.translational)));
+}
+
+void RevoluteBushing::append_penalty_modes(std::span<const core::Body> bodies,
+                                           std::vector<core::PenaltyMode>& modes) const {
+  const Compliance c = joint_compliance(bodies, a_, b_);
+  modes.push_back(joint_mode(" translational", parameters_.stiffness, parameters_.damping,
+                             smallest_effective(c.translational)));
+  // The angular spring acts on rotations about directions perpendicular to the hinge (axis of
+  // end a at the initial attitude).
+  const core::Body& body_a = bodies[static_cast<std::size_t>(a_.body)];
+  const Eigen::Vector3d axis_W =
+      rotation::rotation_matrix(body_a.description().initial.theta_WB) * a_.axis;
+  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - axis_W * axis_W.transpose();
+  modes.push_back(joint_mode(" angular", parameters_.angular_stiffness, parameters_.angular_damping,
+                             smallest_effective(P * c.angular * P)));
 }
 
 }  // namespace flexref::contact

@@ -87,6 +87,10 @@ class SphericalBushing final : public core::ForceElement {
   bool depends_on_velocity() const override { return parameters_.damping > 0.0; }
   int max_body_index() const override;
   std::string describe() const override;
+  /// "joint" translational: the spring over the
+  /// smallest effective mass (inertia) of the two ends' added compliances (contact/compliance.hpp).
+  void append_penalty_modes(std::span<const core::Body> bodies,
+                            std::vector<core::PenaltyMode>& modes) const override;
 
   const BushingEnd& end_a() const { return a_; }
   const BushingEnd& end_b() const { return b_; }
@@ -119,6 +123,10 @@ class RevoluteBushing final : public core::ForceElement {
   }
   int max_body_index() const override;
   std::string describe() const override;
+  /// "joint" translational and angular (rotations perpendicular to the hinge): the spring over the
+  /// smallest effective mass (inertia) of the two ends' added compliances (contact/compliance.hpp).
+  void append_penalty_modes(std::span<const core::Body> bodies,
+                            std::vector<core::PenaltyMode>& modes) const override;
 
   const BushingEnd& end_a() const { return a_; }
   const BushingEnd& end_b() const { return b_; }

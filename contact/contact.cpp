@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/body.hpp"
+
 namespace flexref::contact {
 namespace {
 
@@ -187,6 +189,28 @@ double ContactElement::frequency(double effective_mass) const {
 
 double ContactElement::explicit_step_limit(double effective_mass) const {
   return 2.0 / frequency(effective_mass);
+}
+
+void ContactElement::append_penalty_modes(std::span<const core::Body> bodies,
+                                          std::vector<core::PenaltyMode>& modes) const {
+  double m_eff = effective_mass_;
+  if (!(m_eff > 0.0)) {
+    // body_b is the sphere body pushed along +n; body_a is −1 for the ground plane.
+    const ContactPair& p = pairs_.front();
+    double m = bodies[static_cast<std::size_t>(p.body_b)].mass();
+    if (p.body_a >= 0) {
+      const double m_a = bodies[static_cast<std::size_t>(p.body_a)].mass();
+      m = m * m_a / (m + m_a);
+    }
+    m_eff = m / static_cast<double>(pairs_.size());
+  }
+  core::PenaltyMode mode;
+  mode.kind = "contact";
+  mode.inertia = m_eff;
+  mode.stiffness = effective_stiffness(m_eff);
+  mode.frequency = frequency(m_eff);
+  mode.step_limit = explicit_step_limit(m_eff);
+  modes.push_back(mode);
 }
 
 std::string ContactElement::describe() const {

@@ -94,6 +94,11 @@ class ContactElement final : public core::ForceElement {
   bool depends_on_velocity() const override { return true; }
   int max_body_index() const override;
   std::string describe() const override;
+  /// One mode "contact": the effective stiffness at the effective mass (the constructor's, or
+  /// when 0 the first pair's body mass shared by the pairs, reduced with body_b's for
+  /// sphere-sphere pairs).
+  void append_penalty_modes(std::span<const core::Body> bodies,
+                            std::vector<core::PenaltyMode>& modes) const override;
 
   /// One pair's contribution at a state.
   ContactEvaluation evaluate(int pair, std::span<const core::BodyKinematics> bodies) const;

@@ -75,6 +75,21 @@ struct Wrench {
   }
 };
 
+class Body;
+
+/// The stiffest mode of a penalty element (a contact's normal law, a joint's spring), as an
+/// explicit central-difference scheme sees it: ω = √(k/m_eff) and the largest stable step it
+/// allows, 2/ω (a damped mode's (2/ω)(√(1 + ζ²) − ζ)). docs/contact.md and docs/joints.md
+/// derive the effective stiffnesses and masses.
+struct PenaltyMode {
+  std::string label;        ///< "contact[1]", "joint[2] translational", "joint[2] angular"
+  std::string kind;         ///< "contact", "joint"
+  double stiffness = 0.0;   ///< effective k (N/m) or k_θ (N·m/rad)
+  double inertia = 0.0;     ///< effective mass (kg) or inertia (kg·m²) the mode sees
+  double frequency = 0.0;   ///< rad/s
+  double step_limit = 0.0;  ///< s
+};
+
 class ForceElement {
  public:
   virtual ~ForceElement() = default;
@@ -117,6 +132,14 @@ class ForceElement {
   virtual int max_body_index() const = 0;
   /// One line for `flexref check`.
   virtual std::string describe() const = 0;
+  /// Appends the element's stiff modes at the bodies' initial state (core/step_limit.hpp),
+  /// labelled "" or by a suffix (" translational", " angular"); the model prefixes the
+  /// element's kind and number. Elements without stiffness add nothing.
+  virtual void append_penalty_modes(std::span<const Body> bodies,
+                                    std::vector<PenaltyMode>& modes) const {
+    (void)bodies;
+    (void)modes;
+  }
 };
 
 }  // namespace flexref::core

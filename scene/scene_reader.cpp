@@ -696,8 +696,7 @@ void reject_keys(const Table& t, std::initializer_list<std::string_view> keys,
 }
 
 std::unique_ptr<const core::ForceElement> read_contact(const Table& t, const BodyNames& names,
-                                                       const std::vector<core::Body>& bodies,
-                                                       PenaltyMode& mode) {
+                                                       const std::vector<core::Body>& bodies) {
   t.check_keys({"kind",
                 "body",
                 "center",
@@ -823,14 +822,7 @@ std::unique_ptr<const core::ForceElement> read_contact(const Table& t, const Bod
   friction.v_reg = t.number_or("regularization_speed", 1e-3, Sign::kPositive,
                                "a positive regularization speed in m/s");
   try {
-    auto element =
-        std::make_unique<contact::ContactElement>(std::move(pairs), *law, friction, m_eff);
-    mode.kind = "contact";
-    mode.inertia = m_eff;
-    mode.stiffness = element->effective_stiffness(m_eff);
-    mode.frequency = element->frequency(m_eff);
-    mode.step_limit = element->explicit_step_limit(m_eff);
-    return element;
+    return std::make_unique<contact::ContactElement>(std::move(pairs), *law, friction, m_eff);
   } catch (const std::invalid_argument& e) {
     t.fail_table(e.what());
   }
@@ -838,43 +830,7 @@ std::unique_ptr<const core::ForceElement> read_contact(const Table& t, const Bod
 
 // --- [[joint]] -----------------------------------------------------------------------------
 
-/// Translational and angular compliance (inverse effective mass and inertia matrices, world
-/// frame, at the initial state) of a body at its point p_BoP_B (docs/joints.md): a free body
-/// 1/m + r̃ᵀ J⁻¹ r̃ (r from the centre of mass), a pivot body r̃ᵀ J_O⁻¹ r̃ (r from the pivot), a
-/// prescribed body none.
-struct Compliance {
-  Eigen::Matrix3d translational = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d angular = Eigen::Matrix3d::Zero();
-};
-
-Compliance body_compliance(const core::Body& b, const Eigen::Vector3d& p_BoP_B) {
-  Compliance c;
-  if (b.is_prescribed()) return c;
-  const Eigen::Matrix3d& J_inv = b.I_Br_B_inverse();
-  const Eigen::Vector3d r = b.p_BrP_B(p_BoP_B);
-  Eigen::Matrix3d r_tilde;
-  r_tilde << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  Eigen::Matrix3d t = r_tilde.transpose() * J_inv * r_tilde;
-  if (b.is_free()) t += Eigen::Matrix3d::Identity() / b.mass();
-  const Eigen::Matrix3d A = rotation::rotation_matrix(b.description().initial.theta_WB);
-  c.translational = A * t * A.transpose();
-  c.angular = A * J_inv * A.transpose();
-  return c;
-}
-
-/// 1/λ_max of a compliance matrix: the smallest effective mass or inertia over directions
-/// (+∞ when nothing moves).
-double smallest_effective(const Eigen::Matrix3d& compliance) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 *
-                                                           (compliance + compliance.transpose()));
-  const double lambda = eig.eigenvalues().maxCoeff();
-  return lambda > 0.0 ? 1.0 / lambda : std::numeric_limits<double>::infinity();
-}
-
-std::unique_ptr<const core::ForceElement> read_joint(const Table& t, const BodyNames& names,
-                                                     const std::vector<core::Body>& bodies,
-                                                     std::vector<PenaltyMode>& modes,
-                                                     const std::string& label) {
+std::unique_ptr<const core::ForceElement> read_joint(const Table& t, const BodyNames& names) {
   t.check_keys({"kind", "body_a", "body_b", "point_a", "point_b", "axis_a", "axis_b", "stiffness",
                 "damping", "angular_stiffness", "angular_damping"});
   const bool revolute = t.choice("kind", {"spherical", "revolute"}, -1) == 1;
@@ -916,39 +872,6 @@ std::unique_ptr<const core::ForceElement> read_joint(const Table& t, const BodyN
                 "applies only to kind = \"revolute\"");
   }
 
-  // The joint modes: compliances of both ends add (the ground adds none).
-  Compliance c = body_compliance(bodies[static_cast<std::size_t>(a.body)], a.point);
-  Eigen::Vector3d axis_W =
-      rotation::rotation_matrix(
-          bodies[static_cast<std::size_t>(a.body)].description().initial.theta_WB) *
-      a.axis;
-  if (!ground) {
-    const Compliance cb = body_compliance(bodies[static_cast<std::size_t>(b.body)], b.point);
-    c.translational += cb.translational;
-    c.angular += cb.angular;
-  }
-  PenaltyMode translational;
-  translational.label = label + (revolute ? " translational" : "");
-  translational.kind = "joint";
-  translational.stiffness = p.stiffness;
-  translational.inertia = smallest_effective(c.translational);
-  translational.frequency = contact::bushing_frequency(p.stiffness, translational.inertia);
-  translational.step_limit =
-      contact::bushing_stable_step(p.stiffness, p.damping, translational.inertia);
-  modes.push_back(translational);
-  if (revolute) {
-    // The angular spring acts on rotations about directions perpendicular to the hinge.
-    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - axis_W * axis_W.transpose();
-    PenaltyMode angular;
-    angular.label = label + " angular";
-    angular.kind = "joint";
-    angular.stiffness = p.angular_stiffness;
-    angular.inertia = smallest_effective(P * c.angular * P);
-    angular.frequency = contact::bushing_frequency(p.angular_stiffness, angular.inertia);
-    angular.step_limit =
-        contact::bushing_stable_step(p.angular_stiffness, p.angular_damping, angular.inertia);
-    modes.push_back(angular);
-  }
   try {
     if (revolute) return std::make_unique<contact::RevoluteBushing>(a, b, p);
     return std::make_unique<contact::SphericalBushing>(a, b, p);
@@ -1012,18 +935,11 @@ Scene read_document(const toml::value& document, const std::string& file,
   for (const Table& t : root.tables("potential", "[[potential]] tables")) {
     elements.push_back(read_potential(t, names, bodies));
   }
-  std::vector<PenaltyMode> penalty_modes;
-  int index = 0;
   for (const Table& t : root.tables("contact", "[[contact]] tables")) {
-    PenaltyMode mode;
-    mode.label = "contact[" + std::to_string(++index) + "]";
-    elements.push_back(read_contact(t, names, bodies, mode));
-    penalty_modes.push_back(std::move(mode));
+    elements.push_back(read_contact(t, names, bodies));
   }
-  index = 0;
   for (const Table& t : root.tables("joint", "[[joint]] tables")) {
-    elements.push_back(
-        read_joint(t, names, bodies, penalty_modes, "joint[" + std::to_string(++index) + "]"));
+    elements.push_back(read_joint(t, names));
   }
 
   Scene scene;
@@ -1033,7 +949,6 @@ Scene read_document(const toml::value& document, const std::string& file,
   scene.end_time = settings.end_time;
   scene.output_step = settings.output_step;
   scene.model = std::make_unique<core::Model>(std::move(bodies), std::move(elements), formulation);
-  scene.penalty_modes = std::move(penalty_modes);
   check_initial_evaluation(*scene.model, root, body_tables);
   return scene;
 }

@@ -10,6 +10,7 @@
 
 #include "contact/contact.hpp"
 #include "core/gravity.hpp"
+#include "core/step_limit.hpp"
 #include "flexible/beam_model.hpp"
 #include "lie/stepper.hpp"
 #include "studies/parallel.hpp"
@@ -79,14 +80,15 @@ core::Model make_linear_sweep_model(const std::string& parameter, double value, 
   }
   if (parameter == "modal_frequency") {
     // ω ∝ √EI: scale EI from the spinner's 3.2 N·m² to put ω_max at the swept value.
-    const double omega_base = spinner(3.2).body(0).natural_frequencies().maxCoeff();
+    const double omega_base = core::explicit_step_limit(spinner(3.2)).frequency;
     core::Model model = spinner(3.2 * (value / omega_base) * (value / omega_base));
-    omega = model.body(0).natural_frequencies().maxCoeff();
+    omega = core::explicit_step_limit(model).frequency;
     return model;
   }
   if (parameter == "contact_stiffness") {
-    omega = std::sqrt(value / kBallMass);
-    return ball(value);
+    core::Model model = ball(value);
+    omega = core::explicit_step_limit(model).frequency;
+    return model;
   }
   throw std::invalid_argument("stability: unknown linear parameter '" + parameter +
                               "'; expected modal_frequency or contact_stiffness");

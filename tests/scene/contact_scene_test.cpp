@@ -8,6 +8,7 @@
 #include "contact/bushing.hpp"
 #include "contact/contact.hpp"
 #include "core/error.hpp"
+#include "core/step_limit.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/trajectory_table.hpp"
@@ -91,11 +92,12 @@ TEST_CASE("a sphere-plane contact with defaults follows docs/contact.md", "[app]
   CHECK(c.friction_law().mu == 0.0);
   CHECK(c.friction_law().v_reg == 1e-3);
   // m_eff = body mass / pairs = 2 kg.
-  REQUIRE(s.penalty_modes.size() == 1);
-  CHECK(s.penalty_modes[0].label == "contact[1]");
-  CHECK(s.penalty_modes[0].inertia == 2.0);
-  CHECK(s.penalty_modes[0].frequency == Approx(c.frequency(2.0)).epsilon(1e-15));
-  CHECK(s.penalty_modes[0].step_limit == Approx(c.explicit_step_limit(2.0)).epsilon(1e-15));
+  REQUIRE(core::penalty_modes(*s.model).size() == 1);
+  CHECK(core::penalty_modes(*s.model)[0].label == "contact[1]");
+  CHECK(core::penalty_modes(*s.model)[0].inertia == 2.0);
+  CHECK(core::penalty_modes(*s.model)[0].frequency == Approx(c.frequency(2.0)).epsilon(1e-15));
+  CHECK(core::penalty_modes(*s.model)[0].step_limit ==
+        Approx(c.explicit_step_limit(2.0)).epsilon(1e-15));
   CHECK(s.model->dissipates());
   CHECK(s.model->switching_function_count() == 1);
 }
@@ -133,7 +135,7 @@ TEST_CASE("every contact key is read", "[app][scene][contact]") {
     CHECK(c.normal_law().reference_speed() == 3.0);
     CHECK(c.friction_law().mu == 0.4);
     CHECK(c.friction_law().v_reg == 1e-2);
-    CHECK(s.penalty_modes[0].inertia == 0.25);
+    CHECK(core::penalty_modes(*s.model)[0].inertia == 0.25);
   }
   SECTION("point-plane, linear law with damping; default m_eff = mass / pairs") {
     const scene::Scene s = scene::parse_scene(kHead +
@@ -153,9 +155,9 @@ TEST_CASE("every contact key is read", "[app][scene][contact]") {
     CHECK(c.normal_law().kind() == contact::NormalLaw::Kind::kLinear);
     CHECK(c.normal_law().stiffness() == 4e5);
     CHECK(c.normal_law().damping() == 30.0);
-    CHECK(s.penalty_modes[0].inertia == 0.5);
-    CHECK(s.penalty_modes[0].frequency == Approx(std::sqrt(4e5 / 0.5)));
-    CHECK(s.penalty_modes[0].step_limit == Approx(2.0 / std::sqrt(4e5 / 0.5)));
+    CHECK(core::penalty_modes(*s.model)[0].inertia == 0.5);
+    CHECK(core::penalty_modes(*s.model)[0].frequency == Approx(std::sqrt(4e5 / 0.5)));
+    CHECK(core::penalty_modes(*s.model)[0].step_limit == Approx(2.0 / std::sqrt(4e5 / 0.5)));
   }
   SECTION("point-plane, linear law from restitution with m_eff") {
     const scene::Scene s = scene::parse_scene(kHead +
@@ -190,7 +192,7 @@ TEST_CASE("every contact key is read", "[app][scene][contact]") {
     CHECK(p.radius_b == 0.25);
     CHECK(p.p_BoCa_B == Eigen::Vector3d(0, 0, 0.1));
     CHECK(p.p_BoCb_B == Eigen::Vector3d(0, 0, -0.1));
-    CHECK(s.penalty_modes[0].inertia == Approx(2.0 / 3.0));
+    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(2.0 / 3.0));
   }
   SECTION("a plane normal within 1e-6 of unit is renormalized") {
     const scene::Scene s =
@@ -316,17 +318,17 @@ TEST_CASE("every joint key is read", "[app][scene][joint]") {
     CHECK(j.translational_damping() == 0.0);
     CHECK(j.angular_stiffness() == 1e4);
     CHECK(j.angular_damping() == 0.0);
-    REQUIRE(s.penalty_modes.size() == 2);
-    CHECK(s.penalty_modes[0].label == "joint[1] translational");
-    CHECK(s.penalty_modes[1].label == "joint[1] angular");
+    REQUIRE(core::penalty_modes(*s.model).size() == 2);
+    CHECK(core::penalty_modes(*s.model)[0].label == "joint[1] translational");
+    CHECK(core::penalty_modes(*s.model)[1].label == "joint[1] angular");
     // Free bodies at their centres of mass... translational: arms of 1 m.
     // Along x: 1/m_a + 1/m_b + r²/J_a + r²/J_b = 0.5 + 1 + 1 + 2 = 4.5.
-    CHECK(s.penalty_modes[0].inertia == Approx(1.0 / 4.5));
-    CHECK(s.penalty_modes[0].frequency == Approx(std::sqrt(1e6 * 4.5)));
-    CHECK(s.penalty_modes[0].step_limit == Approx(2.0 / std::sqrt(1e6 * 4.5)));
+    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(1.0 / 4.5));
+    CHECK(core::penalty_modes(*s.model)[0].frequency == Approx(std::sqrt(1e6 * 4.5)));
+    CHECK(core::penalty_modes(*s.model)[0].step_limit == Approx(2.0 / std::sqrt(1e6 * 4.5)));
     // Angular, about x or z (perpendicular to the hinge): 1/J_a + 1/J_b = 3.
-    CHECK(s.penalty_modes[1].inertia == Approx(1.0 / 3.0));
-    CHECK(s.penalty_modes[1].frequency == Approx(std::sqrt(1e4 * 3.0)));
+    CHECK(core::penalty_modes(*s.model)[1].inertia == Approx(1.0 / 3.0));
+    CHECK(core::penalty_modes(*s.model)[1].frequency == Approx(std::sqrt(1e4 * 3.0)));
   }
   SECTION("every key; damping lowers the step limit") {
     const scene::Scene s =
@@ -339,9 +341,9 @@ TEST_CASE("every joint key is read", "[app][scene][joint]") {
     CHECK(j.translational_damping() == 30.0);
     CHECK(j.angular_stiffness() == 1e3);
     CHECK(j.angular_damping() == 2.0);
-    CHECK(s.penalty_modes[0].step_limit ==
+    CHECK(core::penalty_modes(*s.model)[0].step_limit ==
           Approx(contact::bushing_stable_step(1e5, 30.0, 1.0 / 4.5)));
-    CHECK(s.penalty_modes[0].step_limit < 2.0 / std::sqrt(1e5 * 4.5));
+    CHECK(core::penalty_modes(*s.model)[0].step_limit < 2.0 / std::sqrt(1e5 * 4.5));
   }
   SECTION("spherical to the ground") {
     const scene::Scene s =
@@ -354,10 +356,10 @@ TEST_CASE("every joint key is read", "[app][scene][joint]") {
     CHECK(j.end_b().body == contact::kGround);
     CHECK(j.end_b().point == Eigen::Vector3d(1, 0, 1));
     CHECK(j.translational_stiffness() == 1e4);
-    REQUIRE(s.penalty_modes.size() == 1);
-    CHECK(s.penalty_modes[0].label == "joint[1]");
+    REQUIRE(core::penalty_modes(*s.model).size() == 1);
+    CHECK(core::penalty_modes(*s.model)[0].label == "joint[1]");
     // Along y or z at arm 1 m along x: 1/2 + 1/1 = 1.5.
-    CHECK(s.penalty_modes[0].inertia == Approx(1.0 / 1.5));
+    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(1.0 / 1.5));
   }
 }
 
@@ -410,7 +412,7 @@ TEST_CASE("bundled contact scenes read into the expected elements", "[app][scene
     CHECK(c.pairs().size() == 4);
     CHECK(c.normal_law().kind() == contact::NormalLaw::Kind::kLinear);
     CHECK(c.friction_law().mu == 0.5);
-    CHECK(s.penalty_modes[0].inertia == 0.25);
+    CHECK(core::penalty_modes(*s.model)[0].inertia == 0.25);
   }
   SECTION("top_on_plane") {
     const scene::Scene s = scene::read_scene("scenes/top_on_plane.toml");
