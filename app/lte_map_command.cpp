@@ -2,16 +2,12 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
-#include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "app/commands.hpp"
-#include "core/error.hpp"
 #include "scene/scene_reader.hpp"
-#include "scene/scene_toml.hpp"
 #include "studies/lte_map.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
@@ -20,75 +16,6 @@
 
 namespace flexref::app {
 namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (!in && !in.eof()) throw core::InputError(path, 0, "", "cannot read the scene file");
-  return std::move(buffer).str();
-}
-
-toml::array toml_vector(const Eigen::Vector3d& v) { return toml::array{v(0), v(1), v(2)}; }
-
-bool close(double a, double b) { return std::abs(a - b) <= 1e-14 * std::max(std::abs(b), 1.0); }
-
-/// Builds the scene's model with a grid point's changes, by editing the parsed TOML document
-/// (body[i].mass, .inertia, .angular_velocity; every [[load]] value) and reading it again, so
-/// the force elements are built exactly as for the scene itself. Each call parses afresh: safe
-/// from several threads.
-class SceneFactory {
- public:
-  SceneFactory(std::string path, int body_index)
-      : path_(std::move(path)), text_(read_text(path_)), body_index_(body_index) {}
-
-  core::Model operator()(core::FlexibleFormulation formulation,
-                         const std::optional<studies::LteMapScaling>& scaling) const {
-    if (!scaling) return std::move(*scene::parse_scene(text_, path_, formulation).model);
-    const core::Model scene_model = std::move(*scene::parse_scene(text_, path_, formulation).model);
-    const core::RigidBodyDescription& d = scene_model.body(body_index_).description();
-    const double mass = scaling->hub_scale * d.mass;
-    const Eigen::Matrix3d inertia = scaling->hub_scale * d.I_Bcm_B;
-
-    toml::value document = scene::scene_toml::parse(text_, path_);
-    toml::table& body = document.as_table()
-                            .at("body")
-                            .as_array()
-                            .at(static_cast<std::size_t>(body_index_))
-                            .as_table();
-    body["mass"] = mass;
-    body["inertia"] = toml::array{toml_vector(inertia.row(0).transpose()),
-                                  toml_vector(inertia.row(1).transpose()),
-                                  toml_vector(inertia.row(2).transpose())};
-    body["angular_velocity"] = toml_vector(scaling->w0_WB_B);
-    if (document.as_table().count("load") != 0) {
-      for (toml::value& load : document.as_table().at("load").as_array()) {
-        toml::table& t = load.as_table();
-        if (t.count("value") == 0) continue;
-        Eigen::Vector3d value;
-        for (int k = 0; k < 3; ++k) {
-          const toml::value& x = t.at("value").as_array().at(static_cast<std::size_t>(k));
-          value(k) = x.is_integer() ? static_cast<double>(x.as_integer()) : x.as_floating();
-        }
-        t["value"] = toml_vector(scaling->load_scale * value);
-      }
-    }
-    // toml11 writes floats with max_digits10 digits: the values read back are the ones set.
-    core::Model model =
-        std::move(*scene::parse_scene(toml::format(document), path_, formulation).model);
-    const core::RigidBodyDescription& e = model.body(body_index_).description();
-    if (!close(e.mass, mass) || !close(e.I_Bcm_B(2, 2), inertia(2, 2)) ||
-        !close(e.initial.w_WB_B.norm(), scaling->w0_WB_B.norm())) {
-      throw std::logic_error("lte-map: the edited scene did not keep the grid point's values");
-    }
-    return model;
-  }
-
- private:
-  std::string path_;
-  std::string text_;
-  int body_index_;
-};
 
 std::string number(double x) {
   std::ostringstream s;
@@ -136,7 +63,7 @@ int lte_map_command(const LteMapCommandOptions& options) {
   // Validate the scene (and find the body) before starting the grid.
   const studies::LteMapBase base = studies::lte_map_base(*scene.model, study);
   study.body = scene.model->body_index(base.body);
-  const SceneFactory factory(options.scene, study.body);
+  const studies::LteModelFactory factory = studies::lte_map_factory(scene.spec, study.body);
 
   studies::StudyOutput out(options.out_dir);
   std::cerr << "lte-map: " << study.spin_ratios.size() * study.inertia_ratios.size()

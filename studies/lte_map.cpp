@@ -17,6 +17,7 @@
 #include "core/output_times.hpp"
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
+#include "scene/build_model.hpp"
 #include "studies/parallel.hpp"
 
 namespace flexref::studies {
@@ -239,6 +240,23 @@ LteMapScaling lte_map_scaling(const LteMapBase& base, double spin_ratio, double 
   scaling.load_scale =
       scale_loads ? (spin_ratio * base.omega1 / base.spin) * (total / total_scene) : 1.0;
   return scaling;
+}
+
+LteModelFactory lte_map_factory(scene::SceneSpec spec, int body) {
+  if (body < 0 || static_cast<std::size_t>(body) >= spec.bodies.size()) {
+    throw std::invalid_argument("lte-map: no body " + std::to_string(body) + " in the scene");
+  }
+  return [spec = std::move(spec), body](core::FlexibleFormulation formulation,
+                                        const std::optional<LteMapScaling>& scaling) {
+    if (!scaling) return scene::build_model(spec, formulation);
+    scene::SceneSpec edited = spec;
+    core::RigidBodyDescription& d = edited.bodies[static_cast<std::size_t>(body)].description;
+    d.mass *= scaling->hub_scale;
+    d.I_Bcm_B *= scaling->hub_scale;
+    d.initial.w_WB_B = scaling->w0_WB_B;
+    for (scene::LoadSpec& load : edited.loads) load.value *= scaling->load_scale;
+    return scene::build_model(edited, formulation);
+  };
 }
 
 LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& options) {

@@ -41,6 +41,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "scene/scene_spec.hpp"
 
 namespace flexref::studies {
 
@@ -56,6 +57,10 @@ struct LteMapScaling {
 /// state).
 using LteModelFactory =
     std::function<core::Model(core::FlexibleFormulation, const std::optional<LteMapScaling>&)>;
+
+/// The factory of a scene: copies the spec, applies the scaling to body `body` (hub mass and
+/// inertia, initial angular velocity) and to every [[load]] value, and builds the model.
+LteModelFactory lte_map_factory(scene::SceneSpec spec, int body);
 
 struct LteMapOptions {
   std::vector<double> spin_ratios;     ///< x = Ω0/ω1, > 0

@@ -9,10 +9,10 @@
 #include <stdexcept>
 
 #include "contact/contact.hpp"
-#include "core/gravity.hpp"
 #include "core/step_limit.hpp"
 #include "flexible/beam_model.hpp"
 #include "lie/stepper.hpp"
+#include "scene/build_model.hpp"
 #include "studies/parallel.hpp"
 #include "studies/stability.hpp"
 
@@ -25,51 +25,58 @@ constexpr double kBallMass = 1.0;        // kg
 constexpr double kBallRadius = 0.1;      // m
 constexpr double kBallOvershoot = 0.05;  // initial penetration (1 + this) δ_s
 
-/// The flexible spinner's beam and hub (tests/support/flexible_models.hpp, docs/design/scenes.md)
+/// The flexible spinner's beam and hub (scenes/flexible_spinner.toml, docs/design/scenes.md)
 /// with bending stiffness EI, torque-free, spinning at 1 rad/s with deflected modes (LTE).
-core::Model spinner(double EI) {
-  flexible::BeamParameters p;
-  p.origin = Eigen::Vector3d(0.1, 0.0, 0.0);
-  p.length = 1.0;
-  p.elements = 10;
-  p.EA = 1e5;
-  p.EI_y = EI;
-  p.EI_z = EI;
-  p.rho_A = 1.0;
-  flexible::BeamModeFilter filter;
-  filter.axial = false;
-  core::RigidBodyDescription d;
+scene::SceneSpec spinner(double EI) {
+  scene::BeamSpec beam;
+  beam.parameters.origin = Eigen::Vector3d(0.1, 0.0, 0.0);
+  beam.parameters.length = 1.0;
+  beam.parameters.elements = 10;
+  beam.parameters.EA = 1e5;
+  beam.parameters.EI_y = EI;
+  beam.parameters.EI_z = EI;
+  beam.parameters.rho_A = 1.0;
+  beam.modes = 4;
+  beam.filter.axial = false;
+  scene::BodySpec body;
+  core::RigidBodyDescription& d = body.description;
   d.name = "spinner";
   d.mass = 10.0;
   d.I_Bcm_B = Eigen::Vector3d(0.5, 0.5, 1.0).asDiagonal();
   d.initial.w_WB_B = Eigen::Vector3d(0.0, 0.0, 1.0);
-  Eigen::VectorXd q0(4);
-  q0 << 0.02, 0.01, 0.005, 0.0;
-  d.flexible = core::FlexiblePart{flexible::make_beam_modal_data(p, 4, filter), q0, {}};
-  std::vector<core::Body> bodies;
-  bodies.emplace_back(std::move(d));
-  return core::Model(std::move(bodies), {}, core::FlexibleFormulation::kLte);
+  body.beam = beam;
+  scene::regenerate_beam_modes(body);
+  d.flexible->q0 = Eigen::Vector4d(0.02, 0.01, 0.005, 0.0);
+  scene::SceneSpec spec;
+  spec.name = "spinner";
+  spec.bodies.push_back(std::move(body));
+  return spec;
 }
 
-core::Model ball(double k) {
-  core::RigidBodyDescription d;
+/// A ball on a linear, undamped penalty floor under gravity, resting (1 + overshoot) times its
+/// static penetration deep.
+scene::SceneSpec ball(double k) {
+  scene::BodySpec body;
+  core::RigidBodyDescription& d = body.description;
   d.name = "ball";
   d.mass = kBallMass;
   d.I_Bcm_B = 0.4 * kBallMass * kBallRadius * kBallRadius * Eigen::Matrix3d::Identity();
   const double delta_static = kBallMass * kGravity / k;
   d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, kBallRadius - (1.0 + kBallOvershoot) * delta_static);
-  std::vector<core::Body> bodies;
-  bodies.emplace_back(std::move(d));
-  std::vector<std::unique_ptr<const core::ForceElement>> elements;
-  elements.push_back(std::make_unique<core::UniformGravity>(
-      Eigen::Vector3d(0.0, 0.0, -kGravity),
-      std::vector<core::UniformGravity::BodyMass>{{0, kBallMass, Eigen::Vector3d::Zero()}}));
-  elements.push_back(std::make_unique<contact::ContactElement>(
-      std::vector<contact::ContactPair>{
-          contact::ContactPair::sphere_plane(0, Eigen::Vector3d::Zero(), kBallRadius,
-                                             Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ())},
-      contact::NormalLaw::linear(k, 0.0), contact::FrictionLaw{0.0, 1e-3}, kBallMass));
-  return core::Model(std::move(bodies), std::move(elements));
+  scene::ContactSpec floor;
+  floor.pairs.push_back(contact::ContactPair::sphere_plane(
+      0, Eigen::Vector3d::Zero(), kBallRadius, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()));
+  floor.law.linear = true;
+  floor.law.stiffness = k;
+  floor.law.damping = 0.0;
+  floor.friction = contact::FrictionLaw{0.0, 1e-3};
+  floor.effective_mass = kBallMass;
+  scene::SceneSpec spec;
+  spec.name = "ball";
+  spec.g_W = Eigen::Vector3d(0.0, 0.0, -kGravity);
+  spec.bodies.push_back(std::move(body));
+  spec.contacts.push_back(std::move(floor));
+  return spec;
 }
 
 }  // namespace
@@ -80,13 +87,17 @@ core::Model make_linear_sweep_model(const std::string& parameter, double value, 
   }
   if (parameter == "modal_frequency") {
     // ω ∝ √EI: scale EI from the spinner's 3.2 N·m² to put ω_max at the swept value.
-    const double omega_base = core::explicit_step_limit(spinner(3.2)).frequency;
-    core::Model model = spinner(3.2 * (value / omega_base) * (value / omega_base));
+    const double omega_base =
+        core::explicit_step_limit(scene::build_model(spinner(3.2), core::FlexibleFormulation::kLte))
+            .frequency;
+    core::Model model =
+        scene::build_model(spinner(3.2 * (value / omega_base) * (value / omega_base)),
+                           core::FlexibleFormulation::kLte);
     omega = core::explicit_step_limit(model).frequency;
     return model;
   }
   if (parameter == "contact_stiffness") {
-    core::Model model = ball(value);
+    core::Model model = scene::build_model(ball(value));
     omega = core::explicit_step_limit(model).frequency;
     return model;
   }

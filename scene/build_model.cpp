@@ -1,0 +1,141 @@
+#include "scene/build_model.hpp"
+
+#include <memory>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "core/gravity.hpp"
+
+namespace flexref::scene {
+namespace {
+
+core::Body build_body(const BodySpec& spec) {
+  const core::RigidBodyDescription& d = spec.description;
+  try {
+    return core::Body(d);
+  } catch (const core::InertiaRangeError&) {
+    // The reference-point data core::Body derives (the parallel-axis shift to the pivot and the
+    // inverse) can overflow for extreme but finite input: report it at the inertia.
+    throw SpecError(spec.source, "inertia",
+                    std::string("the inertia about the ") +
+                        (d.motion == core::MotionKind::kPivot ? "pivot" : "centre of mass") +
+                        " or its inverse is not finite (values too large or too small)");
+  } catch (const std::exception& e) {
+    // Flexible bodies: everything but the undeformed inertia of a free or pivot body (a beam
+    // without hub has none about its axis) is checked by the reader; a hub with mass has an
+    // inertia key, a hub without mass has none.
+    if (d.flexible) throw SpecError(spec.source, d.mass > 0.0 ? "inertia" : "mass", e.what());
+    throw SpecError(spec.source, "", e.what());
+  }
+}
+
+/// m_eff of a contact without one: the mass of the pairs' body shared by the pairs, reduced
+/// with the other body's for a sphere–sphere pair (docs/contact.md).
+double default_effective_mass(const ContactSpec& spec, const std::vector<core::Body>& bodies) {
+  const contact::ContactPair& p = spec.pairs.front();
+  double mass = bodies[static_cast<std::size_t>(p.body_b)].mass();
+  if (p.body_a >= 0) {
+    const double m_a = bodies[static_cast<std::size_t>(p.body_a)].mass();
+    mass = mass * m_a / (mass + m_a);
+  }
+  return mass / static_cast<double>(spec.pairs.size());
+}
+
+}  // namespace
+
+void regenerate_beam_modes(BodySpec& body) {
+  if (!body.beam) throw std::invalid_argument("body " + body.description.name + " has no beam");
+  const BeamSpec& beam = *body.beam;
+  flexible::ModalData data =
+      flexible::make_beam_modal_data(beam.parameters, beam.modes, beam.filter);
+  if (beam.damping_ratio.size() == 1) {
+    data.damping_ratio.setConstant(data.mode_count(), beam.damping_ratio(0));
+  } else if (beam.damping_ratio.size() == data.mode_count()) {
+    data.damping_ratio = beam.damping_ratio;
+  } else if (beam.damping_ratio.size() != 0) {
+    throw std::invalid_argument("body " + body.description.name + ": " +
+                                std::to_string(beam.damping_ratio.size()) + " damping ratios for " +
+                                std::to_string(data.mode_count()) + " modes");
+  }
+  std::optional<core::FlexiblePart>& part = body.description.flexible;
+  if (!part) part.emplace();
+  const Eigen::Index n = data.mode_count();
+  if (part->q0.size() != n) part->q0.resize(0);
+  if (part->qd0.size() != n) part->qd0.resize(0);
+  part->modal = std::move(data);
+}
+
+std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
+                                                        const std::vector<core::Body>& bodies) {
+  const double m_eff =
+      spec.effective_mass > 0.0 ? spec.effective_mass : default_effective_mass(spec, bodies);
+  const ContactLawSpec& l = spec.law;
+  std::optional<contact::NormalLaw> law;
+  try {
+    if (l.linear) {
+      law = l.damping ? contact::NormalLaw::linear(l.stiffness, *l.damping)
+                      : contact::NormalLaw::linear_from_restitution(
+                            l.stiffness, l.restitution.value_or(0.5), m_eff);
+    } else {
+      law = contact::NormalLaw::hunt_crossley(l.stiffness, l.exponent, l.restitution.value_or(0.5),
+                                              l.reference_speed);
+    }
+  } catch (const std::exception& e) {
+    // Every parameter is checked by the reader; what remains are extreme values (a restitution
+    // of 1e-320) for which the law's damping cannot be computed.
+    throw SpecError(spec.source, l.restitution ? "restitution" : "stiffness",
+                    std::string("cannot build the contact law: ") + e.what() +
+                        "; expected less extreme law parameters");
+  }
+  try {
+    return std::make_unique<contact::ContactElement>(spec.pairs, *law, spec.friction, m_eff);
+  } catch (const std::invalid_argument& e) {
+    throw SpecError(spec.source, "", e.what());
+  }
+}
+
+core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formulation) {
+  std::vector<core::Body> bodies;
+  bodies.reserve(spec.bodies.size());
+  for (const BodySpec& b : spec.bodies) bodies.push_back(build_body(b));
+
+  std::vector<std::unique_ptr<const core::ForceElement>> elements;
+  if (!spec.g_W.isZero(0.0)) {
+    // Flexible bodies take their gravity loads from the inertia invariants (m g, s̃_t Aᵀ g,
+    // Sᵀ Aᵀ g; core/gravity.cpp); the mass and centre given here are used for rigid bodies.
+    std::vector<core::UniformGravity::BodyMass> masses;
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      masses.push_back({static_cast<int>(i), bodies[i].mass(), bodies[i].description().p_BoBcm_B});
+    }
+    elements.push_back(std::make_unique<core::UniformGravity>(spec.g_W, std::move(masses)));
+  }
+  for (const LoadSpec& l : spec.loads) {
+    if (l.torque) {
+      elements.push_back(
+          std::make_unique<core::AppliedTorque>(l.body, l.value, l.frame, l.profile));
+    } else {
+      elements.push_back(
+          std::make_unique<core::AppliedForce>(l.body, l.value, l.frame, l.p_BoP_B, l.profile));
+    }
+  }
+  for (const PotentialSpec& p : spec.potentials) {
+    elements.push_back(
+        std::make_unique<core::PointChargePotential>(p.alpha, p.beta, p.p_WM, p.charges));
+  }
+  for (const ContactSpec& c : spec.contacts) elements.push_back(build_contact(c, bodies));
+  for (const JointSpec& j : spec.joints) {
+    try {
+      if (j.revolute) {
+        elements.push_back(std::make_unique<contact::RevoluteBushing>(j.a, j.b, j.parameters));
+      } else {
+        elements.push_back(std::make_unique<contact::SphericalBushing>(j.a, j.b, j.parameters));
+      }
+    } catch (const std::invalid_argument& e) {
+      throw SpecError(j.source, "", e.what());
+    }
+  }
+  return core::Model(std::move(bodies), std::move(elements), formulation);
+}
+
+}  // namespace flexref::scene

@@ -1,0 +1,37 @@
+#pragma once
+/// \file build_model.hpp
+/// SceneSpec → core::Model: the one place where a scene's bodies and force elements are made
+/// (gravity, loads, potentials, contacts, joints, in that order), for scenes read from files
+/// and for scenes built or varied in code.
+#include <stdexcept>
+#include <string>
+
+#include "core/model.hpp"
+#include "scene/scene_spec.hpp"
+
+namespace flexref::scene {
+
+/// A part of a spec that cannot be built: which part (its source), the key at fault ("" for the
+/// whole table) and why. The scene reader turns it into a core::InputError at that key.
+class SpecError : public std::invalid_argument {
+ public:
+  SpecError(SpecSource source, std::string key, const std::string& what)
+      : std::invalid_argument(what), source_(std::move(source)), key_(std::move(key)) {}
+  const SpecSource& source() const { return source_; }
+  const std::string& key() const { return key_; }
+
+ private:
+  SpecSource source_;
+  std::string key_;
+};
+
+/// Builds the bodies and force elements of the spec. Throws SpecError.
+core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formulation =
+                                                   core::FlexibleFormulation::kCoupled);
+
+/// The contact element of one [[contact]] spec, given the bodies it acts on (for the default
+/// effective mass). Throws SpecError.
+std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& contact,
+                                                        const std::vector<core::Body>& bodies);
+
+}  // namespace flexref::scene

@@ -1,0 +1,122 @@
+#pragma once
+/// \file scene_spec.hpp
+/// A scene as plain data: what a scene file says, validated, before any Model is built
+/// (docs/design/README.md, "scene file → SceneSpec → Model"). Studies that vary a scene (the
+/// LTE map's hub and spin, a stability sweep's stiffness, a modal-truncation study's mode
+/// count) copy and edit a SceneSpec and call build_model; none of them edits scene text.
+///
+/// Every part keeps where it came from (SpecSource) so that a problem found while building
+/// the model is reported at the file, line and key of the table that caused it.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "contact/bushing.hpp"
+#include "contact/contact.hpp"
+#include "contact/contact_laws.hpp"
+#include "core/applied_load.hpp"
+#include "core/body.hpp"
+#include "core/point_charge_potential.hpp"
+#include "core/time_profile.hpp"
+#include "flexible/beam_model.hpp"
+
+namespace flexref::scene {
+
+/// The table a part of the scene came from; empty (line 0) for parts built in code.
+struct SpecSource {
+  std::string file;
+  int line = 0;
+  std::string path;  ///< "body[2]", "contact[1]": tables count from 1 as in the file
+};
+
+/// [body.beam]: the built-in beam finite-element model that generated a body's modes.
+struct BeamSpec {
+  flexible::BeamParameters parameters;
+  int modes = 0;
+  flexible::BeamModeFilter filter;
+  /// Modal damping ratios: empty (none), one value for every mode, or one per mode.
+  Eigen::VectorXd damping_ratio;
+};
+
+struct BodySpec {
+  /// The body (its flexible part, when present, holds the resolved modal data and q0, qd0).
+  core::RigidBodyDescription description;
+  /// Where the modes came from: the beam model (regenerate_beam_modes() after editing it) or a
+  /// modal-data file (resolved path); neither for a rigid body.
+  std::optional<BeamSpec> beam;
+  std::string modal_file;
+  SpecSource source;
+};
+
+/// [[load]]: a force at a body point or a torque, with its time profile.
+struct LoadSpec {
+  bool torque = false;
+  int body = 0;
+  Eigen::Vector3d value = Eigen::Vector3d::Zero();  ///< N or N·m, in `frame`
+  core::LoadFrame frame = core::LoadFrame::kWorld;
+  Eigen::Vector3d p_BoP_B = Eigen::Vector3d::Zero();  ///< point of application (forces)
+  core::TimeProfile profile = core::TimeProfile::constant();
+  SpecSource source;
+};
+
+/// [[potential]] kind = "point_charge" (core/point_charge_potential.hpp).
+struct PotentialSpec {
+  double alpha = 0.0;
+  double beta = 0.0;
+  Eigen::Vector3d p_WM = Eigen::Vector3d::Zero();
+  std::vector<core::PointChargePotential::Charge> charges;
+  SpecSource source;
+};
+
+/// The normal law of a [[contact]] table, as given (docs/contact.md).
+struct ContactLawSpec {
+  bool linear = false;     ///< law = "linear", else Hunt–Crossley
+  double stiffness = 1e6;  ///< N/m (linear) or N/m^n
+  double exponent = 1.5;   ///< Hunt–Crossley n
+  /// Coefficient of restitution; absent: 0.5 for Hunt–Crossley, and for the linear law the
+  /// damping below is used.
+  std::optional<double> restitution;
+  double reference_speed = 1.0;   ///< m/s, Hunt–Crossley
+  std::optional<double> damping;  ///< N·s/m, linear law given by its damping
+};
+
+struct ContactSpec {
+  std::vector<contact::ContactPair> pairs;
+  ContactLawSpec law;
+  contact::FrictionLaw friction;
+  /// kg; 0: the mass of the pairs' body shared by the pairs (reduced with the other body's for
+  /// sphere–sphere pairs), which build_model computes from the built bodies.
+  double effective_mass = 0.0;
+  SpecSource source;
+};
+
+/// [[joint]]: a spherical or revolute bushing.
+struct JointSpec {
+  bool revolute = false;
+  contact::BushingEnd a;
+  contact::BushingEnd b;
+  contact::BushingParameters parameters;
+  SpecSource source;
+};
+
+struct SceneSpec {
+  std::string name;
+  std::string file;          ///< path or name as given to the reader ("" when built in code)
+  std::string description;   ///< optional free text
+  double end_time = 0.0;     ///< s, > 0
+  double output_step = 0.0;  ///< s, in (0, end_time]
+  Eigen::Vector3d g_W = Eigen::Vector3d::Zero();  ///< gravity, m/s², world frame
+  std::vector<BodySpec> bodies;
+  std::vector<LoadSpec> loads;
+  std::vector<PotentialSpec> potentials;
+  std::vector<ContactSpec> contacts;
+  std::vector<JointSpec> joints;
+};
+
+/// Recomputes a beam body's modal data from its BeamSpec (after a study edits the beam), keeping
+/// q0 and qd0 when their size still matches and dropping them otherwise. Throws
+/// std::invalid_argument when the body has no beam or the beam model cannot be solved.
+void regenerate_beam_modes(BodySpec& body);
+
+}  // namespace flexref::scene
