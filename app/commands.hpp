@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/stepper.hpp"
 #include "scene/scene.hpp"
 #include "studies/study_record.hpp"
 
@@ -64,7 +65,7 @@ int compare_command(const CompareOptions& options);
 struct ConvergeOptions {
   std::string scene;
   std::string model = "coupled";
-  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  std::vector<std::string> schemes = lie::scheme_names();
   double dt = 1e-2;
   int levels = 6;
   std::string metric = "rotation+points";

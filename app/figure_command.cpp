@@ -1,5 +1,6 @@
 #include "app/figure_command.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -11,6 +12,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
+#include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "scene/scene_toml.hpp"
@@ -78,9 +80,13 @@ int figure_command(const FigureCommandOptions& options) {
 
   studies::FigureSettings settings;
   if (f.has("schemes")) settings.schemes = string_array(f, "schemes");
+  const std::vector<std::string> known = lie::scheme_names();
   for (const std::string& s : settings.schemes) {
-    if (s != "c1" && s != "c2" && s != "nmb")
-      f.fail("schemes", "unknown scheme \"" + s + "\"; expected c1, c2, nmb");
+    if (std::find(known.begin(), known.end(), s) == known.end()) {
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      f.fail("schemes", "unknown scheme \"" + s + "\"; expected " + list);
+    }
   }
   settings.steps = number_array(f, "steps");
   if (const auto body = f.optional_string("body", "a body name")) {

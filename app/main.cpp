@@ -12,6 +12,7 @@
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
+#include "lie/stepper.hpp"
 
 int main(int argc, char** argv) {
   using namespace flexref::app;
@@ -29,7 +30,7 @@ int main(int argc, char** argv) {
   auto* run_cmd = app.add_subcommand("run", "integrate a scene with a Lie-group scheme");
   run_cmd->add_option("scene", run.scene, "scene file (TOML)")->required();
   run_cmd->add_option("--scheme", run.scheme, "c1 | c2 | nmb")
-      ->check(CLI::IsMember({"c1", "c2", "nmb"}))
+      ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
   run_cmd->add_option("--dt", run.dt, "step [s]")
       ->check(CLI::PositiveNumber)
@@ -68,7 +69,7 @@ int main(int argc, char** argv) {
   conv_cmd->add_option("scene", conv.scene, "scene file (TOML)")->required();
   conv_cmd->add_option("--schemes", conv.schemes, "comma-separated list")
       ->delimiter(',')
-      ->check(CLI::IsMember({"c1", "c2", "nmb"}))
+      ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
   conv_cmd->add_option("--dt", conv.dt, "coarsest step [s]")
       ->check(CLI::PositiveNumber)
@@ -97,7 +98,7 @@ int main(int argc, char** argv) {
   wp_cmd->add_option("scene", wp.scene, "scene file (TOML)")->required();
   wp_cmd->add_option("--schemes", wp.schemes, "comma-separated list")
       ->delimiter(',')
-      ->check(CLI::IsMember({"c1", "c2", "nmb"}))
+      ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
   wp_cmd->add_option("--dt", wp.dt, "coarsest step [s]")
       ->check(CLI::PositiveNumber)
@@ -157,7 +158,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   stab_cmd->add_option("--schemes", stab.schemes, "comma-separated list")
       ->delimiter(',')
-      ->check(CLI::IsMember({"c1", "c2", "nmb"}))
+      ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
   stab_cmd
       ->add_option("--spin", stab.spin,

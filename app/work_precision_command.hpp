@@ -6,12 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "lie/stepper.hpp"
+
 namespace flexref::app {
 
 struct WorkPrecisionOptions {
   std::string scene;
   std::string model = "coupled";  ///< --model coupled|lte (flexible bodies)
-  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  std::vector<std::string> schemes = lie::scheme_names();
   double dt = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< number of steps dt, dt/2, …
   std::vector<std::string> solvers{"ida", "cvode", "odeint"};

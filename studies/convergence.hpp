@@ -9,12 +9,13 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/stepper.hpp"
 #include "studies/certified_reference.hpp"
 
 namespace flexref::studies {
 
 struct ConvergenceOptions {
-  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  std::vector<std::string> schemes = lie::scheme_names();
   double h0 = 1e-2;
   int levels = 6;
   std::string metric = "rotation+points";

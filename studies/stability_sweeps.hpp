@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/stepper.hpp"
 
 namespace flexref::studies {
 
@@ -34,7 +35,7 @@ struct LinearSweepOptions {
   std::string parameter = "modal_frequency";  ///< or "contact_stiffness"
   /// ω_max (rad/s) for modal_frequency, k (N/m) for contact_stiffness.
   std::vector<double> values;
-  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  std::vector<std::string> schemes = lie::scheme_names();
   long steps = 2000;
   double growth_factor = 10.0;
   double relative_tolerance = 1e-3;

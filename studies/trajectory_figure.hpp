@@ -12,11 +12,12 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/stepper.hpp"
 
 namespace flexref::studies {
 
 struct FigureSettings {
-  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  std::vector<std::string> schemes = lie::scheme_names();
   std::vector<double> steps;  ///< s
   int body = 0;
   int point = 0;                 ///< index into the body's tracked points

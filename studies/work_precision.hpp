@@ -17,12 +17,13 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/stepper.hpp"
 #include "studies/certified_reference.hpp"
 
 namespace flexref::studies {
 
 struct WorkPrecisionOptions {
-  std::vector<std::string> schemes{"c1", "c2", "nmb"};
+  std::vector<std::string> schemes = lie::scheme_names();
   double h0 = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< steps h0, h0/2, …, h0/2^(levels−1)
   std::vector<std::string> solvers{"ida", "cvode", "odeint"};

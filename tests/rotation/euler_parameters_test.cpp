@@ -18,6 +18,7 @@
 
 #include "rotation/so3.hpp"
 #include "tests/support/finite_difference.hpp"
+#include "tests/support/rotation_samples.hpp"
 
 namespace flexref::core {
 namespace {
@@ -33,52 +34,13 @@ constexpr double kQuaternionBranchAngle = 2e-2;
 // the O(1) rates used here, round-off ε/h ≈ 4e-11; agreement to ~1e-10, and 1e-8 leaves 100×.
 constexpr double kFiniteDifferenceTolerance = 1e-8;
 
-struct RotationSample {
-  std::string name;
-  Eigen::Vector3d phi;
-};
-
-Eigen::Vector3d generic_axis() { return Eigen::Vector3d(1.0, -2.0, 3.0).normalized(); }
+using flexref::testing::generic_axis;
+using flexref::testing::RotationSample;
 
 /// Rotation vectors at 0, 1e-8, both sides of exp_quaternion's branch switch, generic (fixed
 /// seed) and near π.
 std::vector<RotationSample> rotation_vector_samples() {
-  std::vector<RotationSample> samples;
-  samples.push_back({"zero", Eigen::Vector3d::Zero()});
-  const std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
-                                             Eigen::Vector3d::UnitZ(), generic_axis(),
-                                             Eigen::Vector3d(-0.48, 0.6, -0.64)};
-  for (std::size_t i = 0; i < axes.size(); ++i) {
-    samples.push_back({"1e-8 axis " + std::to_string(i), 1e-8 * axes[i]});
-  }
-  // 1e-13 relative is far above the rounding of |φ| (ε), so the branch taken is certain.
-  for (const double angle : {1e-2, kQuaternionBranchAngle}) {
-    samples.push_back({"below " + std::to_string(angle), angle * (1.0 - 1e-13) * generic_axis()});
-    samples.push_back({"above " + std::to_string(angle), angle * (1.0 + 1e-13) * generic_axis()});
-  }
-  std::mt19937 rng(20240612);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> angle(0.1, 3.0);
-  for (int i = 0; i < 20; ++i) {
-    const Eigen::Vector3d axis =
-        Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
-    samples.push_back({"generic " + std::to_string(i), angle(rng) * axis});
-  }
-  const std::vector<std::pair<std::string, double>> near_pi = {
-      {"pi - 1e-6", kPi - 1e-6}, {"pi - 1e-10", kPi - 1e-10}, {"pi", kPi}};
-  for (const auto& [label, a] : near_pi) {
-    for (std::size_t i = 0; i < axes.size(); ++i) {
-      samples.push_back({label + " axis " + std::to_string(i), a * axes[i]});
-    }
-  }
-  // Exactly π about random axes: for about a third of them the rounded |φ| exceeds π, the
-  // case where sign conventions (e0 ≥ 0, |log| ≤ π) are decided by round-off.
-  for (int i = 0; i < 20; ++i) {
-    const Eigen::Vector3d axis =
-        Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
-    samples.push_back({"pi random axis " + std::to_string(i), kPi * axis});
-  }
-  return samples;
+  return flexref::testing::rotation_vector_samples({1e-2, kQuaternionBranchAngle}, 20240612u);
 }
 
 struct AttitudeSample {

@@ -1,6 +1,7 @@
 /// Property tests for core/so3: hat/vee, exp/log, and the left and right Jacobians (dexp,
 /// dexp⁻¹) on rotation vectors at 0, 1e-8, both sides of the small-angle branch switch,
-/// generic, and near π (docs/design/style.md "Tests"; conventions of docs/design/model.md "Kinematics").
+/// generic, and near π (docs/design/style.md "Tests"; conventions of docs/design/model.md
+/// "Kinematics").
 #include "rotation/so3.hpp"
 
 #include <Eigen/Geometry>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "tests/support/finite_difference.hpp"
+#include "tests/support/rotation_samples.hpp"
 
 namespace flexref::core {
 namespace {
@@ -27,51 +29,12 @@ constexpr double kPi = std::numbers::pi;
 // The branch switch in so3.cpp (kSmallAngle): Taylor series below, closed forms above.
 constexpr double kBranchAngle = 1e-2;
 
-struct Sample {
-  std::string name;
-  Eigen::Vector3d phi;
-};
-
-Eigen::Vector3d generic_axis() { return Eigen::Vector3d(1.0, -2.0, 3.0).normalized(); }
+using Sample = flexref::testing::RotationSample;
+using flexref::testing::generic_axis;
 
 /// Rotation vectors covering every branch of so3.cpp. Fixed seed.
 std::vector<Sample> rotation_vector_samples() {
-  std::vector<Sample> samples;
-  samples.push_back({"zero", Eigen::Vector3d::Zero()});
-  const std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
-                                             Eigen::Vector3d::UnitZ(), generic_axis(),
-                                             Eigen::Vector3d(-0.48, 0.6, -0.64)};
-  for (std::size_t i = 0; i < axes.size(); ++i) {
-    samples.push_back({"1e-8 axis " + std::to_string(i), 1e-8 * axes[i]});
-  }
-  // Just below and just above the branch switch; 1e-13 relative is far above the rounding of
-  // |φ| (ε) so the branch taken is certain, and far below any visible change of the functions.
-  samples.push_back({"below branch switch", kBranchAngle * (1.0 - 1e-13) * generic_axis()});
-  samples.push_back({"above branch switch", kBranchAngle * (1.0 + 1e-13) * generic_axis()});
-  samples.push_back({"exactly at branch switch", kBranchAngle * Eigen::Vector3d::UnitY()});
-  std::mt19937 rng(20240611);
-  std::normal_distribution<double> normal;
-  std::uniform_real_distribution<double> angle(0.1, 3.0);
-  for (int i = 0; i < 20; ++i) {
-    const Eigen::Vector3d axis =
-        Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
-    samples.push_back({"generic " + std::to_string(i), angle(rng) * axis});
-  }
-  const std::vector<std::pair<std::string, double>> near_pi = {
-      {"pi - 1e-6", kPi - 1e-6}, {"pi - 1e-10", kPi - 1e-10}, {"pi", kPi}};
-  for (const auto& [label, a] : near_pi) {
-    for (std::size_t i = 0; i < axes.size(); ++i) {
-      samples.push_back({label + " axis " + std::to_string(i), a * axes[i]});
-    }
-  }
-  // Exactly π about random axes: for about a third of them the rounded |φ| exceeds π, the
-  // case where sign conventions (e0 ≥ 0, |log| ≤ π) are decided by round-off.
-  for (int i = 0; i < 20; ++i) {
-    const Eigen::Vector3d axis =
-        Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
-    samples.push_back({"pi random axis " + std::to_string(i), kPi * axis});
-  }
-  return samples;
+  return flexref::testing::rotation_vector_samples({kBranchAngle}, 20240611u);
 }
 
 /// Checks max|actual − expected| ≤ tolerance · max(1, max|expected|) and prints both on failure.

@@ -12,6 +12,7 @@
 #include "rotation/euler_parameters.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/trajectory_table.hpp"
+#include "tests/support/input_error_checks.hpp"
 
 namespace flexref::app {
 namespace {
@@ -39,20 +40,9 @@ constexpr int kFirst = 16;  // line of the first added line
 
 void require_error(const std::string& text, int line, const std::string& key,
                    const std::string& fragment) {
-  INFO("scene text:\n" << text);
-  try {
-    (void)scene::parse_scene(text, "bad.toml");
-  } catch (const core::InputError& e) {
-    const std::string what = e.what();
-    INFO("what(): " << what);
-    CHECK(e.file() == "bad.toml");
-    CHECK(e.line() == line);
-    CHECK(e.key() == key);
-    CHECK_THAT(what, Contains("bad.toml:" + std::to_string(line) + ": "));
-    CHECK_THAT(what, Contains(fragment));
-    return;
-  }
-  FAIL("parse_scene accepted the scene");
+  flexref::testing::require_input_error(
+      [](const std::string& t, const std::string& file) { return scene::parse_scene(t, file); },
+      "parse_scene", text, line, key, fragment);
 }
 
 template <class T>

@@ -16,6 +16,7 @@
 #include "scene/scene_reader.hpp"
 #include "studies/trajectory_table.hpp"
 #include "tests/support/flexible_models.hpp"
+#include "tests/support/input_error_checks.hpp"
 
 namespace flexref::app {
 namespace {
@@ -24,21 +25,9 @@ using Catch::Matchers::Contains;
 
 void require_error(const std::string& text, int line, const std::string& key,
                    const std::string& fragment = "") {
-  INFO("scene text:\n" << text);
-  try {
-    (void)scene::parse_scene(text, "bad.toml");
-  } catch (const core::InputError& e) {
-    const std::string what = e.what();
-    INFO("what(): " << what);
-    CHECK(e.file() == "bad.toml");
-    CHECK(e.line() == line);
-    CHECK(e.key() == key);
-    CHECK_THAT(what, Contains("bad.toml:" + std::to_string(line) + ": "));
-    if (!key.empty()) CHECK_THAT(what, Contains("key '" + key + "'"));
-    if (!fragment.empty()) CHECK_THAT(what, Contains(fragment));
-    return;
-  }
-  FAIL("parse_scene accepted the scene");
+  flexref::testing::require_input_error(
+      [](const std::string& t, const std::string& file) { return scene::parse_scene(t, file); },
+      "parse_scene", text, line, key, fragment);
 }
 
 std::string replace(std::string text, const std::string& from, const std::string& to) {

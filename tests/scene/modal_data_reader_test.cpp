@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "flexible/beam_model.hpp"
+#include "tests/support/input_error_checks.hpp"
 
 namespace flexref::app {
 namespace {
@@ -75,21 +76,11 @@ std::string without(int first, int last) {
 // the file, line and key in what() and, when given, `fragment` too.
 void require_error(const std::string& text, int line, const std::string& key,
                    const std::string& fragment = "") {
-  INFO("file text:\n" << text);
-  try {
-    (void)scene::parse_modal_data(text, "bad.toml");
-  } catch (const core::InputError& e) {
-    const std::string what = e.what();
-    INFO("what(): " << what);
-    CHECK(e.file() == "bad.toml");
-    CHECK(e.line() == line);
-    CHECK(e.key() == key);
-    CHECK_THAT(what, Contains("bad.toml:" + std::to_string(line) + ": "));
-    if (!key.empty()) CHECK_THAT(what, Contains("key '" + key + "'"));
-    if (!fragment.empty()) CHECK_THAT(what, Contains(fragment));
-    return;
-  }
-  FAIL("parse_modal_data accepted the file");
+  flexref::testing::require_input_error(
+      [](const std::string& t, const std::string& file) {
+        return scene::parse_modal_data(t, file);
+      },
+      "parse_modal_data", text, line, key, fragment);
 }
 
 void require_equal(const flexible::ModalData& a, const flexible::ModalData& b) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "tests/support/input_error_checks.hpp"
 
 namespace flexref::app {
 namespace {
@@ -44,21 +45,9 @@ bool initial_accelerations_finite(const core::Model& model) {
 // with the file, line and key in what() and, when given, `fragment` too.
 void require_error(const std::string& text, int line, const std::string& key,
                    const std::string& fragment = "") {
-  INFO("scene text:\n" << text);
-  try {
-    (void)scene::parse_scene(text, "bad.toml");
-  } catch (const core::InputError& e) {
-    const std::string what = e.what();
-    INFO("what(): " << what);
-    CHECK(e.file() == "bad.toml");
-    CHECK(e.line() == line);
-    CHECK(e.key() == key);
-    CHECK_THAT(what, Contains("bad.toml:" + std::to_string(line) + ": "));
-    if (!key.empty()) CHECK_THAT(what, Contains("key '" + key + "'"));
-    if (!fragment.empty()) CHECK_THAT(what, Contains(fragment));
-    return;
-  }
-  FAIL("parse_scene accepted the scene");
+  flexref::testing::require_input_error(
+      [](const std::string& t, const std::string& file) { return scene::parse_scene(t, file); },
+      "parse_scene", text, line, key, fragment);
 }
 
 // A valid minimal scene: [scene] on lines 1-4, one [[body]] on lines 5-8; additions start at
