@@ -47,8 +47,8 @@ struct BodyInitialState {
   Eigen::Vector3d w_WB_B = Eigen::Vector3d::Zero();
 };
 
-/// The deformable part of a body (docs/design/model.md): modal data (nodes from the frame origin Bo)
-/// and the initial modal coordinates.
+/// The deformable part of a body (docs/design/model.md): modal data (nodes from the frame origin
+/// Bo) and the initial modal coordinates.
 struct FlexiblePart {
   flexible::ModalData modal;
   Eigen::VectorXd q0;   ///< initial q_f (empty: zero)
@@ -129,7 +129,9 @@ class Body {
   Eigen::VectorXd stiffness_;
   Eigen::VectorXd damping_;
   Eigen::VectorXd frequencies_;
-  Eigen::LLT<Eigen::MatrixXd> modal_mass_llt_;
+  /// Factored on an empty matrix for rigid bodies: an uncomputed Eigen::LLT holds an
+  /// indeterminate ComputationInfo that copying a Body would read.
+  Eigen::LLT<Eigen::MatrixXd> modal_mass_llt_{Eigen::MatrixXd()};
   Eigen::Vector3d p_BoBr_B_;
   Eigen::Vector3d p_BrBcm_B_;
   Eigen::Matrix3d I_Br_B_;

@@ -138,8 +138,10 @@ Workspace Model::make_workspace() const {
     fs.zero = Eigen::VectorXd::Zero(n);
     const Eigen::Index start = first_unknown_row(b);
     fs.sub_rhs = Eigen::VectorXd::Zero(6 + n - start);
-    fs.unknown_llt = Eigen::LLT<Eigen::MatrixXd>(6 + n - start);
-    fs.rigid_llt = Eigen::LLT<Eigen::MatrixXd>(6 - start);
+    // Sized (and ComputationInfo set) by factoring identities: an uncomputed LLT must not be
+    // copied (see FlexibleScratch).
+    fs.unknown_llt.compute(Eigen::MatrixXd::Identity(6 + n - start, 6 + n - start));
+    fs.rigid_llt.compute(Eigen::MatrixXd::Identity(6 - start, 6 - start));
   }
   return ws;
 }

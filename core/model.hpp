@@ -40,15 +40,18 @@ const char* to_string(FlexibleFormulation formulation);
 
 /// Scratch of one flexible body's evaluation (sized once; never reallocated).
 struct FlexibleScratch {
-  Eigen::MatrixXd M;                        ///< effective mass matrix (6+n)²
-  Eigen::VectorXd Qv;                       ///< quadratic-velocity vector (6+n)
-  Eigen::VectorXd rhs;                      ///< Qe + Qv − [0; 0; K q + D q̇]
-  Eigen::VectorXd x;                        ///< (a, α̅, q̈_f)
-  Eigen::VectorXd sub_rhs;                  ///< right-hand side of the unknown rows
-  Eigen::VectorXd residual;                 ///< dynamics_residual's rows (6+n), for outputs
-  Eigen::VectorXd zero;                     ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
-  Eigen::LLT<Eigen::MatrixXd> unknown_llt;  ///< coupled: Cholesky of the unknown rows
-  Eigen::LLT<Eigen::MatrixXd> rigid_llt;    ///< LTE: Cholesky of the unknown rigid rows
+  Eigen::MatrixXd M;         ///< effective mass matrix (6+n)²
+  Eigen::VectorXd Qv;        ///< quadratic-velocity vector (6+n)
+  Eigen::VectorXd rhs;       ///< Qe + Qv − [0; 0; K q + D q̇]
+  Eigen::VectorXd x;         ///< (a, α̅, q̈_f)
+  Eigen::VectorXd sub_rhs;   ///< right-hand side of the unknown rows
+  Eigen::VectorXd residual;  ///< dynamics_residual's rows (6+n), for outputs
+  Eigen::VectorXd zero;      ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
+  /// Coupled: Cholesky of the unknown rows. Factored on an empty matrix until sized: an
+  /// Eigen::LLT never computed holds an indeterminate ComputationInfo, and copying one (a
+  /// Workspace copy) reads it (UBSan: invalid enum load).
+  Eigen::LLT<Eigen::MatrixXd> unknown_llt{Eigen::MatrixXd()};
+  Eigen::LLT<Eigen::MatrixXd> rigid_llt{Eigen::MatrixXd()};  ///< LTE: the unknown rigid rows
 };
 
 /// Per-evaluation scratch space; make one per thread with Model::make_workspace().
