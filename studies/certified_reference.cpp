@@ -1,13 +1,27 @@
 #include "studies/certified_reference.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <sstream>
 
+#include "core/error.hpp"
 #include "reference/exact_solution.hpp"
 #include "reference/solve_reference.hpp"
 #include "studies/error_metrics.hpp"
+#include "studies/study_refused.hpp"
 
 namespace flexref::studies {
+namespace {
+
+std::string number(double x) {
+  std::ostringstream out;
+  out.precision(3);
+  out << x;
+  return out.str();
+}
+
+}  // namespace
 
 std::string cross_check_solver(const std::string& solver) {
   // CVODE and Odeint check each other: they share only the ODE form's right-hand side, and
@@ -34,6 +48,21 @@ void add_reference(StudyRecord& record, const CertifiedReference& reference) {
       .set("other_solver", e.other_solver)
       .set("other_rtol", e.other_rtol)
       .set("vs_other_solver", e.vs_other_solver);
+}
+
+double solution_scale(const TrajectoryTable& table, const std::string& metric) {
+  TrajectoryTable initial = table;
+  TrajectoryTable rest = table;
+  for (std::size_t k = 0; k < table.rows.size(); ++k) {
+    initial.rows[k] = table.rows.front();
+    initial.rows[k][0] = table.rows[k][0];
+    for (std::size_t c = 1; c < table.columns.size(); ++c) {
+      rest.rows[k][c] = table.columns[c].ends_with(".e0") ? 1.0 : 0.0;
+    }
+  }
+  ComparisonReport report = compare_trajectories(initial, rest);
+  report.max_rotation_linf = std::numbers::pi;
+  return metric_value(report, metric);
 }
 
 CertifiedReference certified_reference(const core::Model& model,
@@ -74,6 +103,27 @@ CertifiedReference certified_reference(const core::Model& model,
   result.estimate.other_rtol = other_options.rtol;
   result.estimate.vs_other_solver = metric_value(
       compare_trajectories(result.table, tabulate(model, other_run.trajectory)), metric);
+
+  const double estimate = result.estimate.estimate();
+  const double t_end = output_times.back();
+  if (!std::isfinite(estimate)) {
+    throw core::SolverError(result.run.solver, t_end, -1,
+                            "the error estimate is not finite (vs " + tight_solver + ": " +
+                                number(result.estimate.vs_tighter) + ", vs " + other + ": " +
+                                number(result.estimate.vs_other_solver) + ")");
+  }
+  const double scale = solution_scale(result.table, metric);
+  if (scale > 0.0 && estimate > scale) {
+    throw StudyRefused(
+        "the reference (" + result.run.solver + ") has the estimated error " + number(estimate) +
+        " (" + metric + "; vs " + tight_solver + " " + number(result.estimate.vs_tighter) +
+        ", vs " + other + " " + number(result.estimate.vs_other_solver) +
+        "), larger than the solution itself (" + number(scale) +
+        " in that metric: pi rad + the scene's extent at t0): it certifies nothing. The solvers "
+        "disagree "
+        "entirely, or the solution diverges (a model without geometric stiffening spun above "
+        "its first frequency grows exponentially: docs/design/model.md)");
+  }
   return result;
 }
 

@@ -1,13 +1,11 @@
 #include "studies/convergence.hpp"
 
-#include <unistd.h>
-
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "lie/run_scheme.hpp"
@@ -15,6 +13,8 @@
 #include "studies/error_metrics.hpp"
 #include "studies/observed_order.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -29,24 +29,49 @@ constexpr double kRoundOffFloor = 1e-11;
 
 }  // namespace
 
+void check_convergence_inputs(const core::Model& model, const std::vector<double>& output_times,
+                              const ConvergenceOptions& options) {
+  if (!(options.h0 > 0.0) || !std::isfinite(options.h0)) {
+    throw std::invalid_argument("--dt must be positive and finite");
+  }
+  if (options.levels < SchemeSummary::kMinFittedLevels) {
+    throw std::invalid_argument("--levels must be at least 3 (an order is fitted from three)");
+  }
+  for (const std::string& scheme : options.schemes) lie::make_stepper(scheme, model);
+  for (int level = 0; level < options.levels; ++level) {
+    const double h = options.h0 / std::ldexp(1.0, level);
+    try {
+      lie::validate_step_grid(model, h, output_times);
+    } catch (const std::invalid_argument& e) {
+      std::ostringstream out;
+      out << "--dt " << options.h0 << ", level " << level + 1 << " (h = " << h << "): " << e.what();
+      throw std::invalid_argument(out.str());
+    }
+  }
+}
+
 ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
                                   const ConvergenceOptions& options) {
-  if (!(options.h0 > 0.0)) throw std::invalid_argument("--dt must be positive");
-  if (options.levels < 2) throw std::invalid_argument("--levels must be at least 2");
+  check_convergence_inputs(model, output_times, options);
   ConvergenceResult result;
   result.options = options;
+  result.step_limit = core::explicit_step_limit(model);
 
   reference::SolverOptions ref_options;
   ref_options.rtol = options.reference_rtol;
   const std::string solver = resolve_reference_solver(options.reference_solver, model);
   if (options.progress) std::fprintf(stderr, "converge: reference (%s) ...\n", solver.c_str());
-  result.reference = certified_reference(model, output_times, solver, ref_options, options.metric);
+  {
+    const Progress progress("converge: reference (" + solver + ", 3 solves)", 0, "",
+                            options.progress);
+    result.reference =
+        certified_reference(model, output_times, solver, ref_options, options.metric);
+  }
 
   const int n_schemes = static_cast<int>(options.schemes.size());
   const int n_runs = n_schemes * options.levels;
   result.levels.resize(static_cast<std::size_t>(n_runs));
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
+  Progress progress("converge", n_runs, "runs", options.progress);
   parallel_for(n_runs, options.jobs, [&](int k) {
     const std::string& scheme = options.schemes[static_cast<std::size_t>(k / options.levels)];
     const int level = k % options.levels;
@@ -68,33 +93,59 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
       out.error = std::numeric_limits<double>::infinity();
       out.status = std::string("failed: ") + e.what();
     }
-    const int finished = ++done;
-    if (tty) std::fprintf(stderr, "\rconverge: %d/%d runs", finished, n_runs);
+    progress.advance();
   });
-  if (tty) std::fprintf(stderr, "\n");
 
+  std::vector<int> claimed;
+  for (const std::string& scheme : options.schemes) {
+    claimed.push_back(lie::make_stepper(scheme, model)->order());
+  }
+  summarize_convergence(result, claimed);
+  return result;
+}
+
+void summarize_convergence(ConvergenceResult& result, const std::vector<int>& claimed_orders) {
+  const ConvergenceOptions& options = result.options;
+  const int n_schemes = static_cast<int>(options.schemes.size());
   const double ref_estimate = result.reference.estimate.estimate();
+  const double h_limit = result.step_limit.h;
+  result.summaries.clear();
   for (int s = 0; s < n_schemes; ++s) {
     const auto first = static_cast<std::size_t>(s * options.levels);
+    const std::string& scheme = options.schemes[static_cast<std::size_t>(s)];
     std::vector<double> steps, errors;
     std::vector<bool> use;
     bool stopped = false;
+    double last_valid_error = std::numeric_limits<double>::infinity();
+    int above_limit = 0;
+    int not_decreasing = 0;
     for (int l = 0; l < options.levels; ++l) {
       ConvergenceLevel& lv = result.levels[first + static_cast<std::size_t>(l)];
       steps.push_back(lv.h);
       errors.push_back(lv.error);
-      if (stopped) {
+      if (lv.status != "ok") {
+        // failed: stays as it is
+      } else if (stopped) {
         lv.status = "round-off";
-      } else if (lv.status == "ok" && lv.error <= kRoundOffFloor) {
+      } else if (lv.h > h_limit) {
+        // Central differences on the limiting mode are unstable: the error measures that
+        // instability (or an implicit scheme's unresolved mode), not the scheme's order.
+        lv.status = "above step limit";
+        ++above_limit;
+      } else if (lv.error <= kRoundOffFloor) {
         lv.status = "round-off";
         stopped = true;
         std::ostringstream note;
-        note << lv.scheme << ": refinement stopped at h = " << lv.h << ": error " << lv.error
+        note << scheme << ": refinement stopped at h = " << lv.h << ": error " << lv.error
              << " is at round-off level (<= " << kRoundOffFloor << ")";
         result.notes.push_back(note.str());
-      } else if (lv.status == "ok" && lv.error < 100.0 * ref_estimate) {
+      } else if (lv.error >= last_valid_error) {
+        lv.status = "not decreasing";
+        ++not_decreasing;
+      } else if (lv.error < 100.0 * ref_estimate) {
         lv.status = "uncertified";
       }
+      if (lv.status == "ok") last_valid_error = lv.error;
       use.push_back(lv.status == "ok");
     }
     const std::vector<double> p = pairwise_orders(steps, errors);
@@ -103,10 +154,34 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
           l == 0 ? kNaN : p[static_cast<std::size_t>(l - 1)];
     }
     SchemeSummary summary;
-    summary.scheme = options.schemes[static_cast<std::size_t>(s)];
-    summary.claimed_order = lie::make_stepper(summary.scheme, model)->order();
-    summary.fitted_order = least_squares_order(steps, errors, use);
+    summary.scheme = scheme;
+    summary.claimed_order = claimed_orders[static_cast<std::size_t>(s)];
     for (bool u : use) summary.fitted_levels += u ? 1 : 0;
+    summary.fitted_order = summary.refused() ? kNaN : least_squares_order(steps, errors, use);
+    if (above_limit > 0) {
+      std::ostringstream note;
+      note << scheme << ": " << above_limit << " level" << (above_limit > 1 ? "s" : "")
+           << " above the explicit step limit " << std::setprecision(3) << h_limit << " s of "
+           << result.step_limit.what
+           << " (2/omega: central differences are unstable there) left out of the fit";
+      result.notes.push_back(note.str());
+    }
+    if (not_decreasing > 0) {
+      std::ostringstream note;
+      note << scheme << ": " << not_decreasing << " level" << (not_decreasing > 1 ? "s" : "")
+           << " whose error does not decrease from the previous valid level left out of the "
+              "fit (not in the asymptotic range)";
+      result.notes.push_back(note.str());
+    }
+    if (summary.refused()) {
+      std::ostringstream note;
+      note << scheme << ": refused to fit an order from " << summary.fitted_levels << " valid level"
+           << (summary.fitted_levels == 1 ? "" : "s") << " (at least "
+           << SchemeSummary::kMinFittedLevels
+           << " needed); change --dt or add --levels so that three levels lie below the step "
+              "limit and above the reference's error";
+      result.notes.push_back(note.str());
+    }
     // Asymptotic range: the last two pairwise orders of the fitted levels must agree to 0.3
     // (a second-order scheme with an O(h³) term still visible drifts by more than that).
     std::vector<double> fitted_orders;
@@ -115,7 +190,8 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
       if (use[k] && use[k - 1]) fitted_orders.push_back(p[k - 1]);
     }
     const std::size_t m = fitted_orders.size();
-    if (m >= 2 && std::abs(fitted_orders[m - 1] - fitted_orders[m - 2]) > 0.3) {
+    if (!summary.refused() && m >= 2 &&
+        std::abs(fitted_orders[m - 1] - fitted_orders[m - 2]) > 0.3) {
       std::ostringstream note;
       note << std::fixed << std::setprecision(2) << summary.scheme
            << ": the pairwise orders are still changing (" << fitted_orders[m - 2] << ", "
@@ -135,7 +211,13 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
          << ref_estimate << " (tighten --reference-rtol or use a larger --dt)";
     result.notes.push_back(note.str());
   }
-  return result;
+}
+
+bool ConvergenceResult::refused() const {
+  for (const SchemeSummary& s : summaries) {
+    if (s.refused()) return true;
+  }
+  return false;
 }
 
 std::string format_convergence_table(const ConvergenceResult& r) {
@@ -164,11 +246,17 @@ std::string format_convergence_table(const ConvergenceResult& r) {
     out << std::scientific << std::setprecision(2) << std::setw(11) << lv.cpu_seconds << "  "
         << lv.status << "\n";
   }
-  out << "\nobserved order (least squares over certified levels):\n";
+  if (r.step_limit.bounded()) {
+    out << "explicit step limit: " << std::scientific << std::setprecision(3) << r.step_limit.h
+        << " s (2/omega of " << r.step_limit.what << ")\n";
+  }
+  out << "\nobserved order (least squares over the valid levels, status ok):\n";
   for (const auto& s : r.summaries) {
     out << "  " << std::left << std::setw(5) << s.scheme << std::right << " claimed "
         << s.claimed_order << ", observed ";
-    if (std::isnan(s.fitted_order)) {
+    if (s.refused()) {
+      out << "refused";
+    } else if (std::isnan(s.fitted_order)) {
       out << "n/a";
     } else {
       out << std::fixed << std::setprecision(2) << s.fitted_order;
@@ -184,10 +272,7 @@ std::string convergence_csv(const ConvergenceResult& r) {
   out.precision(17);
   out << "scheme,h,steps,error,order,cpu_seconds,status\n";
   for (const auto& lv : r.levels) {
-    std::string status = lv.status;
-    for (char& c : status) {
-      if (c == ',' || c == '\n') c = ';';
-    }
+    const std::string status = csv_text(lv.status);
     out << lv.scheme << ',' << lv.h << ',' << lv.steps << ',' << lv.error << ',' << lv.order << ','
         << lv.cpu_seconds << ',' << status << '\n';
   }

@@ -136,6 +136,11 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
   return report;
 }
 
+std::vector<std::string> metric_names() {
+  return {"rotation+points", "rotation", "points",          "modes",
+          "position",        "velocity", "angular_velocity"};
+}
+
 double metric_value(const ComparisonReport& report, const std::string& metric) {
   if (metric == "rotation+points") return report.default_metric();
   if (metric == "rotation") return report.max_rotation_linf;

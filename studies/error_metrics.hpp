@@ -42,5 +42,7 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run, const Trajecto
 /// (L∞ over time of max_i |q_i − q_i,ref| over the flexible bodies' modal coordinates),
 /// "position", "velocity", "angular_velocity". Throws std::invalid_argument otherwise.
 double metric_value(const ComparisonReport& report, const std::string& metric);
+/// The names metric_value accepts, the default first.
+std::vector<std::string> metric_names();
 
 }  // namespace flexref::studies

@@ -1,9 +1,6 @@
 #include "studies/lte_map.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -19,6 +16,8 @@
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -285,8 +284,7 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   }
   const int n = static_cast<int>(scalings.size());
   result.points.resize(scalings.size());
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
+  Progress progress("lte-map", n, "grid points", options.progress);
   parallel_for(n, options.jobs, [&](int k) {
     const auto uk = static_cast<std::size_t>(k);
     LteMapPoint& out = result.points[uk];
@@ -318,15 +316,8 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
       out.attitude_error = kNaN;
       out.status = std::string("failed: ") + e.what();
     }
-    const int finished = ++done;
-    if (tty) {
-      std::fprintf(stderr, "\rlte-map: %d/%d grid points", finished, n);
-    } else if (options.progress && (finished * 10 / n != (finished - 1) * 10 / n)) {
-      // Not a terminal (a log file): a line per tenth of the grid.
-      std::fprintf(stderr, "lte-map: %d/%d grid points\n", finished, n);
-    }
+    progress.advance();
   });
-  if (tty) std::fprintf(stderr, "\n");
 
   int unresolved = 0;
   int failed = 0;
@@ -376,9 +367,7 @@ std::string lte_map_csv(const LteMapResult& result) {
   s << "spin_ratio,inertia_ratio,spin,omega1,hub_scale,load_scale,tip_error,"
        "attitude_error,max_deflection,coupled_estimate,lte_estimate,resolved,status\n";
   for (const LteMapPoint& p : result.points) {
-    std::string status = p.status;
-    std::replace(status.begin(), status.end(), ',', ';');
-    std::replace(status.begin(), status.end(), '\n', ' ');
+    const std::string status = csv_text(p.status);
     s << p.spin_ratio << ',' << p.inertia_ratio << ',' << p.spin << ',' << p.omega1 << ','
       << p.hub_scale << ',' << p.load_scale << ',' << p.tip_error << ',' << p.attitude_error << ','
       << p.max_deflection << ',' << p.coupled_estimate << ',' << p.lte_estimate << ','

@@ -1,9 +1,6 @@
 #include "studies/stability.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -16,6 +13,8 @@
 #include "core/force_element.hpp"
 #include "lie/stepper.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -52,17 +51,6 @@ std::string format_double(double x, int precision = 4) {
 }
 
 std::string csv_double(double x) { return format_double(x, 17); }
-
-/// Quotes a CSV field when it holds a comma or a quote.
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string quoted = "\"";
-  for (char c : s) {
-    if (c == '"') quoted += '"';
-    quoted += (c == '\n') ? ' ' : c;
-  }
-  return quoted + "\"";
-}
 
 /// One bisection on the free body (I, w0); classification of the unstable end.
 StabilityPoint bisect_point(const std::string& scheme, const Eigen::Matrix3d& I_Bcm_B,
@@ -282,12 +270,8 @@ StabilityResult run_stability(const StabilityOptions& options) {
       n_values * n_schemes +
       (options.degenerate ? static_cast<int>(degenerate_bodies().size()) : 0) * n_schemes +
       (options.long_run_steps > 0 ? n_schemes : 0);
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
-  const auto report = [&] {
-    const int finished = ++done;
-    if (tty) std::fprintf(stderr, "\rstability: %d/%d runs", finished, n_total);
-  };
+  Progress progress("stability", n_total, "runs", options.progress);
+  const auto report = [&] { progress.advance(); };
   result.sweep.resize(options.values.size() * options.schemes.size());
   parallel_for(n_values * n_schemes, options.jobs, [&](int task) {
     const double value = options.values[static_cast<std::size_t>(task / n_schemes)];
@@ -329,7 +313,6 @@ StabilityResult run_stability(const StabilityOptions& options) {
     });
     for (auto& run : runs) result.long_run.insert(result.long_run.end(), run.begin(), run.end());
   }
-  if (tty) std::fprintf(stderr, "\n");
   return result;
 }
 
@@ -338,9 +321,9 @@ std::string stability_csv(const StabilityResult& result) {
   out << "scheme,parameter,value,h_max,h_max_times_spin,classification\n";
   for (const auto* points : {&result.sweep, &result.degenerate}) {
     for (const StabilityPoint& p : *points) {
-      out << p.scheme << ',' << csv_field(p.parameter) << ',' << csv_double(p.value) << ','
+      out << p.scheme << ',' << csv_text(p.parameter) << ',' << csv_double(p.value) << ','
           << csv_double(p.h_max) << ',' << csv_double(p.h_max * p.spin) << ','
-          << csv_field(p.classification) << '\n';
+          << csv_text(p.classification) << '\n';
     }
   }
   return out.str();
@@ -352,7 +335,7 @@ std::string long_run_csv(const StabilityResult& result) {
   for (const LongRunSample& s : result.long_run) {
     out << s.scheme << ',' << s.step << ',' << csv_double(s.t) << ',' << csv_double(s.energy_drift)
         << ',' << csv_double(s.momentum_drift) << ',' << csv_double(s.quaternion_drift) << ','
-        << csv_field(s.status) << '\n';
+        << csv_text(s.status) << '\n';
   }
   return out.str();
 }

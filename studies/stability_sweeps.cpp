@@ -14,7 +14,9 @@
 #include "lie/stepper.hpp"
 #include "scene/build_model.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
 #include "studies/stability.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 
@@ -138,6 +140,7 @@ std::string classify_linear_run(const core::Model& model, const std::string& par
 std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options) {
   const std::size_t n_schemes = options.schemes.size();
   std::vector<LinearSweepPoint> points(options.values.size() * n_schemes);
+  Progress progress("stability", static_cast<long>(points.size()), "bisections", options.progress);
   parallel_for(static_cast<int>(points.size()), options.jobs, [&](int task) {
     const auto u = static_cast<std::size_t>(task);
     LinearSweepPoint& p = points[u];
@@ -156,6 +159,7 @@ std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options
         std::isfinite(b.h_unstable)
             ? classify_linear_run(model, options.parameter, p.scheme, b.h_unstable, options)
             : "stable to cap";
+    progress.advance();
   });
   return points;
 }
@@ -167,7 +171,7 @@ std::string linear_sweep_csv(const std::string& parameter,
   out << "scheme,parameter,value,omega,h_max,h_theory,h_max_times_omega,classification\n";
   for (const LinearSweepPoint& p : points) {
     out << p.scheme << ',' << parameter << ',' << p.value << ',' << p.omega << ',' << p.h_max << ','
-        << p.h_theory << ',' << p.h_max * p.omega << ",\"" << p.classification << "\"\n";
+        << p.h_theory << ',' << p.h_max * p.omega << ',' << csv_text(p.classification) << '\n';
   }
   return out.str();
 }

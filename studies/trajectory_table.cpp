@@ -48,6 +48,11 @@ std::vector<std::string> trajectory_columns(const core::Model& model) {
 }
 
 TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory) {
+  if (trajectory.states.size() != trajectory.times.size()) {
+    throw std::invalid_argument("tabulate: " + std::to_string(trajectory.states.size()) +
+                                " states for " + std::to_string(trajectory.times.size()) +
+                                " output times");
+  }
   TrajectoryTable table;
   table.columns = trajectory_columns(model);
   core::Workspace ws = model.make_workspace();
@@ -117,6 +122,15 @@ void write_csv(const TrajectoryTable& table, const std::string& path) {
     out << '\n';
   }
   io::write_file_atomically(path, out.str());
+}
+
+std::string csv_text(std::string text) {
+  for (char& c : text) {
+    if (c == ',') c = ';';
+    if (c == '"') c = '\'';
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return text;
 }
 
 TrajectoryTable read_csv(const std::string& path) {

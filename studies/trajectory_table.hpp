@@ -39,6 +39,10 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
 /// Writes the table as CSV (17 significant digits) atomically: to a temporary file in the
 /// same directory, then renamed, so an interrupted run never leaves a half-written file.
 void write_csv(const TrajectoryTable& table, const std::string& path);
+/// A free-text CSV field (a status, a classification) that every CSV reader splits alike,
+/// numpy.genfromtxt included: commas become semicolons, double quotes apostrophes, line breaks
+/// spaces; never quoted.
+std::string csv_text(std::string text);
 /// Reads a CSV written by write_csv; throws core::InputError naming file and line.
 TrajectoryTable read_csv(const std::string& path);
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/gravity.hpp"
@@ -108,6 +109,23 @@ TEST_CASE("read_csv reports file, line and column of bad data", "[studies]") {
     CHECK(std::string(e.what()).find(path) != std::string::npos);
   }
   std::filesystem::remove(path);
+}
+
+TEST_CASE("tabulate refuses a trajectory without one state per output time", "[studies]") {
+  // A driver that stopped early (an overflowed step count) used to be read past its end.
+  const core::Model model = pendulum_like_model();
+  core::Trajectory trajectory;
+  trajectory.times = {0.0, 0.1, 0.2};
+  trajectory.states = {model.initial_state()};
+  CHECK_THROWS_AS(tabulate(model, trajectory), std::invalid_argument);
+}
+
+TEST_CASE("csv_text keeps a free-text field in one unquoted CSV cell", "[studies]") {
+  // numpy.genfromtxt splits on every comma, quoted or not: no comma, quote or line break may
+  // reach a cell.
+  CHECK(csv_text("failed: c2 failed at t = 1, step 3: \"no\"\nconvergence") ==
+        "failed: c2 failed at t = 1; step 3: 'no' convergence");
+  CHECK(csv_text("ok") == "ok");
 }
 
 }  // namespace
