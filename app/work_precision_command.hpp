@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/work_limits.hpp"
 #include "lie/stepper.hpp"
 
 namespace flexref::app {
@@ -24,6 +25,7 @@ struct WorkPrecisionOptions {
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores (timings are cleanest with 1)
   std::string out_dir = "out/work_precision";
+  WorkLimits limits;
 };
 
 /// Runs the study on the scene and writes work_precision.csv, work_precision.txt, study.toml,
