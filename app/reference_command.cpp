@@ -63,6 +63,9 @@ int reference_command(const ReferenceOptions& options) {
         .set("other_rtol", e.other_rtol)
         .set("other_solver", e.other_solver);
   }
+  record.table("columns")
+      .set("names", ref.table.columns)
+      .set("units", studies::trajectory_units(model));
   studies::add_versions(record);
   record.write(options.output + ".meta.toml");
 

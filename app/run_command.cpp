@@ -57,6 +57,9 @@ int run_command(const RunOptions& options) {
       .set("dt", options.dt)
       .set("steps", steps)
       .set("cpu_seconds", cpu);
+  record.table("columns")
+      .set("names", table.columns)
+      .set("units", studies::trajectory_units(model));
   studies::add_versions(record);
   record.write(options.output + ".meta.toml");
 

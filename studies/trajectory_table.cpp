@@ -47,6 +47,23 @@ std::vector<std::string> trajectory_columns(const core::Model& model) {
   return names;
 }
 
+std::vector<std::string> trajectory_units(const core::Model& model) {
+  std::vector<std::string> units{"s"};
+  for (const core::Body& b : model.bodies()) {
+    for (const char* u :
+         {"m", "m", "m", "-", "-", "-", "-", "m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"}) {
+      units.emplace_back(u);
+    }
+    units.insert(units.end(), 3 * b.description().points.size(), "m");
+    units.insert(units.end(), static_cast<std::size_t>(b.mode_count()), "modal");
+    units.insert(units.end(), static_cast<std::size_t>(b.mode_count()), "modal/s");
+    if (b.is_prescribed()) units.emplace_back("N*m");
+  }
+  units.emplace_back("J");
+  if (model.dissipates()) units.insert(units.end(), 2, "J");
+  return units;
+}
+
 TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory) {
   if (trajectory.states.size() != trajectory.times.size()) {
     throw std::invalid_argument("tabulate: " + std::to_string(trajectory.states.size()) +

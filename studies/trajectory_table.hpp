@@ -33,6 +33,10 @@ struct TrajectoryTable {
 
 /// The column names for a model, in file order.
 std::vector<std::string> trajectory_columns(const core::Model& model);
+/// The unit of each column of trajectory_columns(model), in the same order (docs/output.md):
+/// "s", "m", "-" (Euler parameters), "m/s", "rad/s", "N*m", "J"; modal coordinates carry the
+/// unit their mode normalization gives them, written "modal" and "modal/s".
+std::vector<std::string> trajectory_units(const core::Model& model);
 /// Tabulates states at their times (energy evaluated with the load branch active at t).
 TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory);
 

@@ -32,6 +32,7 @@ code=$?
 "$flexref" reference scenes/book_toss.toml --solver cvode --rtol 1e-9 --no-estimate \
   -o "$tmp/ref.csv" >/dev/null || fail "reference failed"
 [[ -s $tmp/run.csv.meta.toml ]] || fail "no metadata next to run.csv"
+grep -q '^units = \["s", "m", "m", "m", "-"' "$tmp/run.csv.meta.toml" || fail "run.csv.meta.toml lacks the units"
 [[ $(head -1 "$tmp/run.csv") == $(head -1 "$tmp/ref.csv") ]] || fail "headers differ"
 out=$("$flexref" compare "$tmp/run.csv" "$tmp/ref.csv" 2>&1) || fail "compare failed: $out"
 [[ $out == *"book.rotation"* ]] || fail "compare output lacks book.rotation: $out"

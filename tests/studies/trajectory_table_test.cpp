@@ -128,5 +128,22 @@ TEST_CASE("csv_text keeps a free-text field in one unquoted CSV cell", "[studies
   CHECK(csv_text("ok") == "ok");
 }
 
+TEST_CASE("trajectory_units gives one unit per column", "[studies]") {
+  const core::Model model = pendulum_like_model();
+  const std::vector<std::string> names = trajectory_columns(model);
+  const std::vector<std::string> units = trajectory_units(model);
+  REQUIRE(units.size() == names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    INFO(names[i]);
+    const std::string& n = names[i];
+    if (n == "t") CHECK(units[i] == "s");
+    if (n.ends_with(".e0") || n.ends_with(".e3")) CHECK(units[i] == "-");
+    if (n.ends_with(".vx")) CHECK(units[i] == "m/s");
+    if (n.ends_with(".W2")) CHECK(units[i] == "rad/s");
+    if (n.ends_with(".tip.z") || n == "rod.x") CHECK(units[i] == "m");
+    if (n == "energy") CHECK(units[i] == "J");
+  }
+}
+
 }  // namespace
 }  // namespace flexref::studies
