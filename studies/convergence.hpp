@@ -5,14 +5,34 @@
 /// orders. Levels whose error is not at least 100× the reference's estimated error are
 /// "uncertified" and left out of the fit; levels at round-off stop the refinement; both are
 /// said in the table.
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
 #include "studies/certified_reference.hpp"
+#include "studies/trajectory_contract.hpp"
 
 namespace flexref::studies {
+
+/// One level of an integrator outside the method registry: its trajectory under the contract
+/// (docs/external.md) and the CPU time it took (NaN when unknown, e.g. a run made earlier).
+struct ExternalLevel {
+  RunData run;
+  double cpu_seconds = 0.0;
+};
+
+/// An integrator outside the method registry (another program, runs already made): studied
+/// like a registered scheme, its errors measured under the trajectory contract.
+struct ExternalMethod {
+  std::string label;      ///< its name in tables (letters, digits, '_', '-')
+  int claimed_order = 0;  ///< 0: no claim
+  /// The steps of its levels; empty: the study's h0, h0/2, … (`levels` of them).
+  std::vector<double> steps;
+  /// Produces the level with step h (level 0 is the coarsest); throws to fail that level only.
+  std::function<ExternalLevel(double h, int level)> run;
+};
 
 struct ConvergenceOptions {
   std::vector<std::string> schemes = lie::scheme_names();
@@ -22,7 +42,8 @@ struct ConvergenceOptions {
   std::string reference_solver = "auto";
   double reference_rtol = 1e-12;
   int jobs = 1;
-  bool progress = false;  ///< progress line on stderr
+  bool progress = false;                 ///< progress line on stderr
+  std::vector<ExternalMethod> external;  ///< studied after the schemes
 };
 
 struct ConvergenceLevel {
@@ -52,6 +73,15 @@ struct ConvergenceResult {
 
 ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
                                   const ConvergenceOptions& options);
+
+/// The analysis of one method's levels (coarsest first, error and status "ok" or "failed: …"
+/// set): a level whose error is at round-off stops the refinement, a level not
+/// kCertificationFactor× above the reference's estimated error is "uncertified"; pairwise orders
+/// are filled in and the least-squares order fitted over the "ok" levels. Notes (round-off,
+/// orders still changing) are appended to `notes`.
+SchemeSummary summarize_levels(const std::string& method, int claimed_order,
+                               std::vector<ConvergenceLevel>& levels, double reference_estimate,
+                               std::vector<std::string>& notes);
 
 /// The terminal table (errors, pairwise orders, fitted orders, notes).
 std::string format_convergence_table(const ConvergenceResult& result);

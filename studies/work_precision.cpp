@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -34,7 +35,7 @@ void validate(const WorkPrecisionOptions& options) {
   }
   if (options.levels < 1) throw std::invalid_argument("--levels must be at least 1");
   if (options.repeats < 1) throw std::invalid_argument("--repeats must be at least 1");
-  if (options.schemes.empty() && options.solvers.empty()) {
+  if (options.schemes.empty() && options.solvers.empty() && options.external.empty()) {
     throw std::invalid_argument("work-precision needs at least one scheme or solver");
   }
   const std::vector<std::string> schemes = lie::scheme_names();
@@ -121,7 +122,25 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 
   const int n_scheme_runs = static_cast<int>(options.schemes.size()) * options.levels;
   const int n_tolerances = static_cast<int>(options.tolerances.size());
-  const int n_runs = n_scheme_runs + static_cast<int>(options.solvers.size()) * n_tolerances;
+  const int n_solver_runs = static_cast<int>(options.solvers.size()) * n_tolerances;
+  // External methods: (method, step) after the solvers.
+  struct ExternalRun {
+    std::size_t method;
+    double h;
+    int level;
+  };
+  std::vector<ExternalRun> external_runs;
+  for (std::size_t e = 0; e < options.external.size(); ++e) {
+    std::vector<double> steps = options.external[e].steps;
+    if (steps.empty()) {
+      for (int l = 0; l < options.levels; ++l) steps.push_back(options.h0 / std::ldexp(1.0, l));
+    }
+    std::sort(steps.begin(), steps.end(), std::greater<>());
+    for (std::size_t l = 0; l < steps.size(); ++l) {
+      external_runs.push_back({e, steps[l], static_cast<int>(l)});
+    }
+  }
+  const int n_runs = n_scheme_runs + n_solver_runs + static_cast<int>(external_runs.size());
   result.runs.resize(static_cast<std::size_t>(n_runs));
   std::atomic<int> done{0};
   const bool tty = options.progress && isatty(STDERR_FILENO);
@@ -139,6 +158,21 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
           auto stepper = lie::make_stepper(out.method, model);
           return lie::run_scheme(model, *stepper, out.setting, output_times);
         });
+      } else if (k >= n_scheme_runs + n_solver_runs) {
+        const ExternalRun& x =
+            external_runs[static_cast<std::size_t>(k - n_scheme_runs - n_solver_runs)];
+        const ExternalMethod& method = options.external[x.method];
+        out.method = method.label;
+        out.kind = "external";
+        out.setting = x.h;
+        // The program's own CPU time (wait4), minimum over the repeats like the others.
+        ExternalLevel run;
+        out.cpu_seconds = kInf;
+        for (int r = 0; r < options.repeats; ++r) {
+          run = method.run(x.h, x.level);
+          out.cpu_seconds = std::min(out.cpu_seconds, run.cpu_seconds);
+        }
+        out.error = metric_value(compare_run(run.run, result.reference.table), options.metric);
       } else {
         const int j = k - n_scheme_runs;
         out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];
@@ -151,9 +185,11 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
               .trajectory;
         });
       }
-      out.error =
-          metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
-                       options.metric);
+      if (out.kind != "external") {
+        out.error =
+            metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
+                         options.metric);
+      }
       out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
     } catch (const std::exception& e) {
       out.error = kInf;
@@ -215,7 +251,7 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
       current = run.method + run.kind;
       out << "\n"
           << run.method << " (" << run.kind << ")\n"
-          << std::right << std::setw(12) << (run.kind == "scheme" ? "h [s]" : "rtol")
+          << std::right << std::setw(12) << (run.kind == "solver" ? "rtol" : "h [s]")
           << std::setw(12) << "error" << std::setw(11) << "cpu [s]"
           << "  status\n";
     }
@@ -241,7 +277,7 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
       continue;
     }
     std::ostringstream setting;
-    setting << (c.run.kind == "scheme" ? "h = " : "rtol = ") << std::scientific
+    setting << (c.run.kind == "solver" ? "rtol = " : "h = ") << std::scientific
             << std::setprecision(2) << c.run.setting;
     out << std::left << std::setw(8) << c.run.method << std::setw(18) << setting.str() << std::right
         << std::setprecision(2) << std::setw(11) << c.run.error << std::setw(11)
