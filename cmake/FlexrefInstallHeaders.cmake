@@ -1,0 +1,32 @@
+# Install-time script (cmake/FlexrefInstall.cmake): copies the public headers of each library
+# folder to <prefix>/<FLEXREF_INCLUDE_DESTINATION>/<folder>/ and rewrites their project
+# includes "core/model.hpp" to "flexref/core/model.hpp", so that only <prefix>/include is on a
+# user's include path. Internal headers (FLEXREF_INTERNAL_HEADERS) are left out.
+if(IS_ABSOLUTE "${FLEXREF_INCLUDE_DESTINATION}")
+  set(destination "$ENV{DESTDIR}${FLEXREF_INCLUDE_DESTINATION}")
+else()
+  set(destination "$ENV{DESTDIR}${CMAKE_INSTALL_PREFIX}/${FLEXREF_INCLUDE_DESTINATION}")
+endif()
+string(REPLACE ";" "|" folders_regex "${FLEXREF_HEADER_FOLDERS}")
+foreach(folder ${FLEXREF_HEADER_FOLDERS})
+  file(GLOB headers RELATIVE ${FLEXREF_SOURCE_DIR} ${FLEXREF_SOURCE_DIR}/${folder}/*.hpp)
+  foreach(header ${headers})
+    if(header IN_LIST FLEXREF_INTERNAL_HEADERS)
+      continue()
+    endif()
+    file(READ ${FLEXREF_SOURCE_DIR}/${header} text)
+    string(REGEX REPLACE "#include \"(${folders_regex})/" "#include \"flexref/\\1/" text "${text}")
+    set(target ${destination}/${header})
+    # Rewrite only when the content changed, so a reinstall keeps timestamps (and users' builds).
+    set(old "")
+    if(EXISTS ${target})
+      file(READ ${target} old)
+    endif()
+    if(NOT old STREQUAL text)
+      message(STATUS "Installing: ${target}")
+      file(WRITE ${target} "${text}")
+    else()
+      message(STATUS "Up-to-date: ${target}")
+    endif()
+  endforeach()
+endforeach()
