@@ -86,8 +86,9 @@ studies::RunData run_data(const py::handle& run, const std::string& source) {
     return studies::run_from_columns(source, t.table.columns, columns);
   }
   if (!py::isinstance<py::dict>(run)) {
-    throw py::type_error("a run is a dict of column name -> 1-D array (with 't'), or a "
-                         "flexref.Trajectory");
+    throw py::type_error(
+        "a run is a dict of column name -> 1-D array (with 't'), or a "
+        "flexref.Trajectory");
   }
   std::vector<std::string> names;
   std::vector<std::vector<double>> columns;
@@ -137,8 +138,9 @@ PyComparison compare(const studies::RunData& run, const PyTrajectory& reference,
 }  // namespace
 
 PYBIND11_MODULE(flexref, m) {
-  m.doc() = "flexref: trusted references for rigid and flexible bodies in large rotation, and "
-            "the verification of time integrators against them (docs/external.md)";
+  m.doc() =
+      "flexref: trusted references for rigid and flexible bodies in large rotation, and "
+      "the verification of time integrators against them (docs/external.md)";
   m.attr("__version__") = "0.1.0";
   static py::exception<core::InputError> input_error(m, "InputError", PyExc_ValueError);
   static py::exception<core::SolverError> solver_error(m, "SolverError", PyExc_RuntimeError);
@@ -157,12 +159,12 @@ PYBIND11_MODULE(flexref, m) {
       .def_property_readonly("file", [](const PyScene& s) { return s.scene->file; })
       .def_property_readonly("end_time", [](const PyScene& s) { return s.scene->end_time; })
       .def_property_readonly("output_step", [](const PyScene& s) { return s.scene->output_step; })
-      .def_property_readonly(
-          "output_times",
-          [](const PyScene& s) {
-            const auto t = s.times();
-            return py::array_t<double>(static_cast<py::ssize_t>(t.size()), t.data());
-          })
+      .def_property_readonly("output_times",
+                             [](const PyScene& s) {
+                               const auto t = s.times();
+                               return py::array_t<double>(static_cast<py::ssize_t>(t.size()),
+                                                          t.data());
+                             })
       .def_property_readonly("bodies",
                              [](const PyScene& s) {
                                std::vector<std::string> names;
@@ -191,8 +193,9 @@ PYBIND11_MODULE(flexref, m) {
              return d;
            })
       .def_property_readonly("integrator", [](const PyTrajectory& t) { return t.integrator; })
-      .def_property_readonly("setting", [](const PyTrajectory& t) { return t.setting; },
-                             "step (scheme) or relative tolerance (reference)")
+      .def_property_readonly(
+          "setting", [](const PyTrajectory& t) { return t.setting; },
+          "step (scheme) or relative tolerance (reference)")
       .def_property_readonly(
           "estimated_error",
           [](const PyTrajectory& t) -> py::object {
@@ -379,8 +382,9 @@ PYBIND11_MODULE(flexref, m) {
                 ? reference.reference.estimate.estimate()
                 : 0.0;
         if (!reference.has_estimate) {
-          result.notes.push_back("the reference has no error estimate: no level is checked "
-                                 "against it (use flexref.reference(..., estimate=True))");
+          result.notes.push_back(
+              "the reference has no error estimate: no level is checked "
+              "against it (use flexref.reference(..., estimate=True))");
         }
         result.summaries.push_back(
             studies::summarize_levels(label, claimed_order, levels, estimate, result.notes));

@@ -5,12 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <iostream>
-#include <string>
-
 #include <flexref/core/output_times.hpp>
 #include <flexref/scene/scene_reader.hpp>
 #include <flexref/studies/convergence.hpp>
+#include <iostream>
+#include <string>
 
 #include "lie_euler_stepper.hpp"
 
