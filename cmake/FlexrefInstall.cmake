@@ -57,7 +57,12 @@ install(FILES ${PROJECT_BINARY_DIR}/flexrefConfig.cmake
 file(GLOB flexref_plot_scripts ${PROJECT_SOURCE_DIR}/studies/*.py)
 install(FILES ${flexref_plot_scripts} DESTINATION ${CMAKE_INSTALL_DATADIR}/flexref/plots)
 
+# The stepper conformance suite and the test problems it uses, for users' own tests (Catch2 v2):
+# include/flexref/testing/.
+set(FLEXREF_TESTING_HEADERS tests/support/stepper_conformance.hpp tests/support/test_problems.hpp)
+
 install(CODE "
+  set(FLEXREF_TESTING_HEADERS \"${FLEXREF_TESTING_HEADERS}\")
   set(FLEXREF_SOURCE_DIR \"${PROJECT_SOURCE_DIR}\")
   set(FLEXREF_HEADER_FOLDERS \"${FLEXREF_LIBRARY_FOLDERS}\")
   set(FLEXREF_INTERNAL_HEADERS \"${FLEXREF_INTERNAL_HEADERS}\")

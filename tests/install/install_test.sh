@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The C++ package as a user gets it: `cmake --install` into a temporary prefix, then
 #   1. every installed header compiles with only <prefix>/include on the path (one TU);
-#   2. examples/cpp (a user's Lie-Euler stepper, registered and studied) configures, builds
-#      and runs against the installed package (find_package(flexref), flexref::flexref);
+#   2. examples/cpp (a user's Lie-Euler stepper, registered and studied, and its conformance
+#      suite in one line when Catch2 is there) configures, builds and runs against the
+#      installed package (find_package(flexref), flexref::flexref);
 #   3. the installed Python module imports from the prefix (when it was built).
 # Usage: install_test.sh BUILD_DIR (from the repository root).
 set -euo pipefail
@@ -36,6 +37,9 @@ cmake -S "$src/examples/cpp" -B "$tmp/example" -DCMAKE_PREFIX_PATH="$prefix" \
 cmake --build "$tmp/example" -j2 >"$tmp/example_build.log" 2>&1 ||
   { tail -30 "$tmp/example_build.log"; echo "FAIL: example build"; exit 1; }
 "$tmp/example/study_lie_euler" scenes/free_spin.toml || { echo "FAIL: example run"; exit 1; }
+if [[ -x $tmp/example/conformance_lie_euler ]]; then
+  "$tmp/example/conformance_lie_euler" | tail -2 || { echo "FAIL: conformance of the user's stepper"; exit 1; }
+fi
 
 module=$(find "$prefix" -name 'flexref*.so' | head -1)
 if [[ -n $module ]]; then
