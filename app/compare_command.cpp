@@ -45,7 +45,10 @@ std::string json_number(double x) {
 
 std::string json_strings(const std::vector<std::string>& v) {
   std::string out = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + json_string(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i > 0) out += ", ";
+    out += json_string(v[i]);
+  }
   return out + "]";
 }
 
