@@ -1,3 +1,4 @@
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -20,6 +21,7 @@ int reference_command(const ReferenceOptions& options) {
   reference::SolverOptions solver_options;
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
+  solver_options.cvode_method = reference::parse_cvode_method(options.method);
 
   studies::CertifiedReference ref;
   if (options.estimate) {
@@ -34,7 +36,8 @@ int reference_command(const ReferenceOptions& options) {
   std::ostringstream meta;
   meta.precision(17);
   meta << scene_metadata(options.scene, scene) << "\n[integrator]\nkind = \"reference\"\n"
-       << "solver = \"" << ref.run.solver << "\"\nrtol = " << options.rtol
+       << "solver = \"" << ref.run.solver << "\"\nmethod = \"" << ref.run.method
+       << "\"\nmethod_reason = \"" << ref.run.method_reason << "\"\nrtol = " << options.rtol
        << "\natol = " << solver_options.absolute_tolerance() << "\nsteps = " << st.steps
        << "\nrhs_evaluations = " << st.rhs_evaluations
        << "\njacobian_evaluations = " << st.jacobian_evaluations
@@ -44,15 +47,21 @@ int reference_command(const ReferenceOptions& options) {
        << "\nevent_times = " << toml_number_array(ref.run.event_times) << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
+    // estimate = inf: no check was a different, more accurate solution (see method).
     meta << "\n[error_estimate]\nmetric = \"" << e.metric << "\"\nestimate = " << e.estimate()
-         << "\nvs_tighter = " << e.vs_tighter << "\ntighter_solver = \"" << e.tighter_solver
-         << "\"\ntighter_rtol = " << e.tighter_rtol << "\nvs_other_solver = " << e.vs_other_solver
-         << "\nother_rtol = " << e.other_rtol << "\nother_solver = \"" << e.other_solver << "\"\n";
+         << "\nmethod = \"" << e.method << "\"\n";
+    for (const auto& c : e.checks) {
+      meta << "\n[[error_estimate.check]]\nrole = \"" << c.role << "\"\nsolver = \"" << c.solver
+           << "\"\nmethod = \"" << c.method << "\"\nrtol = " << c.rtol << "\nsteps = " << c.steps
+           << "\ndistance = " << c.distance << "\nused = " << (c.used ? "true" : "false")
+           << "\nnote = \"" << c.note << "\"\n";
+    }
   }
   meta << "\n" << studies::versions_toml();
   io::write_file_atomically(options.output + ".meta.toml", meta.str());
 
-  std::cout << "reference " << scene.name << " with " << ref.run.solver;
+  std::cout << "reference " << scene.name << " with " << ref.run.solver << " (" << ref.run.method
+            << ")";
   if (model.has_flexible_bodies()) {
     std::cout << " (" << core::to_string(model.formulation()) << " model)";
   }
@@ -66,14 +75,16 @@ int reference_command(const ReferenceOptions& options) {
     std::cout << ", " << ref.run.event_times.size() << " events located";
   }
   std::cout << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
+  if (ref.run.solver == "cvode") std::cout << "method: " << ref.run.method_reason << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
-    std::cout << "estimated error (" << e.metric << "): " << e.estimate() << "  [vs "
-              << e.tighter_solver << " at rtol " << e.tighter_rtol << ": " << e.vs_tighter
-              << "; vs " << e.other_solver << " at rtol " << e.other_rtol << ": "
-              << e.vs_other_solver << "]"
-              << (e.exact ? " (exact solution: the smaller difference bounds its error)" : "")
-              << "\n";
+    std::cout << "estimated error (" << e.metric << "): " << studies::describe_estimate(e) << "\n";
+    for (const auto& c : e.checks) {
+      std::cout << "  " << c.role << ": " << c.solver;
+      if (c.rtol > 0.0) std::cout << " rtol " << c.rtol;
+      std::cout << ", " << c.steps << " steps, distance " << c.distance
+                << (c.used ? "" : " (not used: " + c.note + ")") << "\n";
+    }
   }
   return kExitOk;
 }

@@ -25,7 +25,7 @@ struct WorkPrecisionOptions {
   std::vector<std::string> schemes{"c1", "c2", "nmb"};
   double h0 = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< steps h0, h0/2, …, h0/2^(levels−1)
-  std::vector<std::string> solvers{"ida", "cvode", "odeint"};
+  std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};
   std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   int repeats = 3;  ///< CPU time is the minimum over this many runs
   std::string metric = "rotation+points";
@@ -57,11 +57,15 @@ struct WorkPrecisionResult {
   CertifiedReference reference;
   std::vector<WorkPrecisionRun> runs;  ///< schemes × levels, then solvers × tolerances
   std::vector<CheapestMethod> cheapest;
+  /// The cheapest reference solver run per reference_target_errors() (solver runs only).
+  std::vector<CheapestMethod> cheapest_references;
   std::vector<std::string> notes;
 };
 
 /// The target errors of the summary table: 1e-2, 1e-4, 1e-6, 1e-8.
 std::vector<double> default_target_errors();
+/// The target errors of the reference solvers' summary: 1e-4, 1e-6, 1e-8, 1e-10, 1e-12.
+std::vector<double> reference_target_errors();
 
 /// For each target, the run with the smallest CPU time among the runs with status "ok" and
 /// error ≤ target (ties: the first in `runs` order).
@@ -75,7 +79,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
                                        const WorkPrecisionOptions& options);
 
 /// The terminal table: one block per method (setting, error, CPU time, status), then the
-/// cheapest method per target error, then the notes.
+/// cheapest method per target error, the cheapest reference solver per target error, then the
+/// notes.
 std::string format_work_precision_table(const WorkPrecisionResult& result);
 /// CSV: method,kind,setting,error,cpu_seconds,status.
 std::string work_precision_csv(const WorkPrecisionResult& result);
