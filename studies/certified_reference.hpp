@@ -54,7 +54,7 @@ struct CertifiedReference {
   ReferenceEstimate estimate;
 };
 
-/// The independent solver used to check `solver`: cvode → odeint; ida, arkode, odeint, exact →
+/// The independent solver used to check `solver`: cvode, arkode → odeint; ida, odeint, exact →
 /// cvode.
 std::string cross_check_solver(const std::string& solver);
 

@@ -10,6 +10,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "core/state.hpp"
 #include "lie/run_scheme.hpp"
@@ -149,8 +150,10 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         reference::SolverOptions solver_options;
         solver_options.rtol = out.setting;
         trajectory = timed_min(options.repeats, out.cpu_seconds, [&] {
-          return reference::solve_reference(out.method, model, output_times, solver_options)
-              .trajectory;
+          reference::ReferenceRun run =
+              reference::solve_reference(out.method, model, output_times, solver_options);
+          out.evaluations = run.stats.rhs_evaluations;
+          return std::move(run.trajectory);
         });
       }
       out.error =
@@ -266,10 +269,10 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
 std::string work_precision_csv(const WorkPrecisionResult& r) {
   std::ostringstream out;
   out.precision(17);
-  out << "method,kind,setting,error,cpu_seconds,status\n";
+  out << "method,kind,setting,error,cpu_seconds,status,evaluations\n";
   for (const auto& run : r.runs) {
     out << run.method << ',' << run.kind << ',' << run.setting << ',' << run.error << ','
-        << run.cpu_seconds << ',' << csv_safe(run.status) << '\n';
+        << run.cpu_seconds << ',' << csv_safe(run.status) << ',' << run.evaluations << '\n';
   }
   return out.str();
 }

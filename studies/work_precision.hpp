@@ -43,6 +43,9 @@ struct WorkPrecisionRun {
   double error = 0.0;        ///< metric against the reference (+inf when failed)
   double cpu_seconds = 0.0;  ///< minimum thread CPU time over the repeats (NaN when failed)
   std::string status;        ///< "ok", "uncertified", or "failed: why"
+  /// Right-hand-side (residual) evaluations of a solver run, the cost that does not depend on
+  /// the machine; 0 for a scheme.
+  long evaluations = 0;
 };
 
 /// The cheapest run reaching a target error (see cheapest_methods).
@@ -82,7 +85,7 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 /// cheapest method per target error, the cheapest reference solver per target error, then the
 /// notes.
 std::string format_work_precision_table(const WorkPrecisionResult& result);
-/// CSV: method,kind,setting,error,cpu_seconds,status.
+/// CSV: method,kind,setting,error,cpu_seconds,status,evaluations.
 std::string work_precision_csv(const WorkPrecisionResult& result);
 
 }  // namespace flexref::studies
