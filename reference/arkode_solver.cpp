@@ -120,7 +120,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
     restart(segment.start, segment.end);
   }
 
-  Advance advance(double tout) override {
+  Advance advance(double tout, double next) override {
     long steps_here = 0;
     while (!root_pending_ && t_ < tout - slack(tout)) {
       // One step from (t_, y_); keep its start for the continuous extension and retries.
@@ -163,7 +163,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
       output_ready_ = false;  // y_ is the state at the event
       return {t_, true};
     }
-    output_at(tout);
+    output_at(tout, next);
     return {tout, false};
   }
 
@@ -321,11 +321,17 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
   }
 
   /// y_end_ = the state at tout inside or at the end of the last step [step_start_, t_]: the
-  /// step's own end value there, else its continuous extension (fitted once per step).
-  void output_at(double tout) {
+  /// step's own end value there; inside, when tout is the step's only output (the next request
+  /// lies beyond the step's end), one Fehlberg step from the step's start onto it, else its
+  /// continuous extension (fitted once per step). Both are of the method's order.
+  void output_at(double tout, double next) {
     output_ready_ = true;
     if (tout >= t_ - slack(t_) || !(t_ > step_start_)) {
       N_VScale(1.0, y_.get(), y_end_.get());
+      return;
+    }
+    if (!fitted_ && next >= t_ - slack(t_)) {
+      fixed_step(step_start_, y_start_.get(), tout - step_start_, y_end_.get());
       return;
     }
     if (!fitted_) fit_extension();

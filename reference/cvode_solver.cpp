@@ -99,7 +99,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     }
   }
 
-  Advance advance(double tout) override {
+  Advance advance(double tout, double /*next*/) override {
     Advance reached;
     const int flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
     sun::check(flag, "CVode");

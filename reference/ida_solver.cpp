@@ -174,7 +174,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     sun::check(IDASetStopTime(ida, segment.end), "IDASetStopTime");
   }
 
-  Advance advance(double tout) override {
+  Advance advance(double tout, double /*next*/) override {
     Advance reached;
     const int flag = IDASolve(ida_.get(), tout, &reached.t, y_.get(), yp_.get(), IDA_NORMAL);
     sun::check(flag, "IDASolve");

@@ -11,7 +11,8 @@
 ///   load discontinuity (segment end, stepped onto exactly) or a located event puts them. Outputs
 ///   inside a step come from an order-8 continuous extension (reference/continuous_extension.hpp:
 ///   Hermite interpolation of degree 7 through the step's ends and two RKF7(8) steps of h/3 and
-///   2h/3 from its start); an output on a step end is that step's value.
+///   2h/3 from its start), or, for a step's only output, from one RKF7(8) step from the step's
+///   start onto it; an output on a step end is that step's value.
 /// - The Euler parameters are renormalized at every segment end (|θ| is a first integral of the
 ///   form in between, and the form is homogeneous in θ: its drift does not move the attitude).
 /// - Switching functions (contact gaps, core::Model::switching_functions) are evaluated after
@@ -225,15 +226,24 @@ class Integrator {
   }
 
   /// The state at an output time t in [start of the last step, time()]: the step's end value
-  /// at its end, else the continuous extension (fitted once per step, on first use).
-  void output(double t, core::State& state) {
+  /// at its end; inside, when it is the step's only output, an RKF7(8) step of length
+  /// t − start from the step's start (12 evaluations), else the continuous extension (fitted
+  /// once per step, 26 evaluations). Both are of the method's order; the first halves the cost
+  /// of dense-output scenes whose steps hold about one output each (flexible_spinner at rtol
+  /// 1e-12: 1022 steps for 1000 outputs).
+  void output(double t, core::State& state, bool only_output_inside) {
     steps_since_output_ = 0;
     if (t >= t_ - time_slack(t_)) {
       form_->unpack(t_, x_.data(), state);
       return;
     }
-    if (!extension_fitted_) fit_extension();
-    extension_.evaluate(t, x_output_.data());
+    if (only_output_inside) {
+      stepper_.stepper().do_step(SegmentRhs(*form_, scratch_, counters_, t_segment_), x_previous_,
+                                 dxdt_previous_, t_previous_, x_output_, t - t_previous_);
+    } else {
+      if (!extension_fitted_) fit_extension();
+      extension_.evaluate(t, x_output_.data());
+    }
     form_->unpack(t, x_output_.data(), state);
   }
   double output_dissipated_work(double t) const {
@@ -503,9 +513,13 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
         const double reached = integrator.time();
         // Outputs in the step just taken; those within a few ulp of the segment end at the end.
         const double last = reached == end ? end + time_slack(end) : reached;
+        std::size_t inside = 0;  // outputs strictly inside the step
+        for (std::size_t j = k; j < output_times.size() && output_times[j] <= last; ++j) {
+          if (std::min(output_times[j], reached) < reached - time_slack(reached)) ++inside;
+        }
         for (; k < output_times.size() && output_times[k] <= last; ++k) {
           const double t = std::min(output_times[k], reached);
-          integrator.output(t, state);
+          integrator.output(t, state, inside == 1);
           run.trajectory.states.push_back(state);
           if (track_work)
             run.trajectory.dissipated_work.push_back(integrator.output_dissipated_work(t));

@@ -12,9 +12,9 @@
 ///    inequality, e_run ≤ d + e_check ≤ d + e_run/2 whenever the check is at least twice as
 ///    accurate as the run, so 2 d is never optimistic then.
 ///
-/// An exact solution run as the reference itself is compared with two independent numerical
-/// solutions at tight tolerance (Odeint at 1e-14, CVODE at 1e-13); its estimate is the smaller
-/// distance, which bounds its own error plus the better numerical solution's.
+/// An exact solution run as the reference itself is compared with three independent numerical
+/// solutions at tight tolerance (ARKODE and Odeint at 1e-14, CVODE at 1e-13); its estimate is
+/// the smallest distance, which bounds its own error plus the best numerical solution's.
 ///
 /// No usable check leaves the estimate at +inf (unknown): studies then certify nothing.
 #include <string>
