@@ -177,8 +177,8 @@ TEST_CASE("every reference solver draws a real work-precision curve on free_spin
   // study's certified reference falls (the exact solution on free_spin; CVODE at rtol 1e-13
   // with its estimate on book_toss). Over the certified runs of each solver: from the loosest
   // to the tightest the error falls at least 100× and the cost at least doubles (measured:
-  // 3e3–4e8× and 2.5–11×); between neighbouring tolerances the error may grow at most 3× and the
-  // cost fall at most 5% (adaptive controllers are not monotone at loose tolerances: measured
+  // 1.7e3–1.8e8× and 2.4–11×); between neighbouring tolerances the error may grow at most 3× and
+  // the cost fall at most 5% (adaptive controllers are not monotone at loose tolerances: measured
   // −2% for CVODE and ARKODE, and up to 2× error growth on the chaotic book toss). The table
   // names the cheapest reference for each target error down to 1e-6 on both scenes. Short
   // spans keep it fast: free_spin 20 s, book_toss 3 s (the pulse and the first flip).
