@@ -15,9 +15,10 @@
 ///            m_ff q̈_f + D q̇_f + K q_f = Qe_f − Sᵀ Aᵀ a − Ī_θf0ᵀ α̅ − Σ m_k Φ_kᵀ ω̄̃ω̄̃ x_k,
 ///            with loads evaluated on the undeformed body (docs/design/model.md, "The LTE model").
 /// Rows of known accelerations (pivot: a = 0; prescribed: a = 0 and the law's α̅) are moved to
-/// the right-hand side; the remaining rows are solved by Cholesky (coupled) or block forward
-/// substitution (LTE).
-#include <Eigen/Cholesky>
+/// the right-hand side. A flexible body's remaining rows are solved in O(n²) through the
+/// constant factor of m_ff (flexible/mass_matrix_solve.hpp): coupled, by the Schur complement
+/// of the unknown rigid rows; LTE, by block forward substitution. Its inertia terms cost
+/// O(n²) (flexible/inertia_terms.hpp), independent of the number of nodes.
 #include <memory>
 #include <span>
 #include <string>
@@ -26,6 +27,8 @@
 #include "core/body.hpp"
 #include "core/force_element.hpp"
 #include "core/state.hpp"
+#include "flexible/inertia_terms.hpp"
+#include "flexible/mass_matrix_solve.hpp"
 
 namespace flexref::core {
 
@@ -40,15 +43,12 @@ const char* to_string(FlexibleFormulation formulation);
 
 /// Scratch of one flexible body's evaluation (sized once; never reallocated).
 struct FlexibleScratch {
-  Eigen::MatrixXd M;                        ///< effective mass matrix (6+n)²
-  Eigen::VectorXd Qv;                       ///< quadratic-velocity vector (6+n)
-  Eigen::VectorXd rhs;                      ///< Qe + Qv − [0; 0; K q + D q̇]
-  Eigen::VectorXd x;                        ///< (a, α̅, q̈_f)
-  Eigen::VectorXd sub_rhs;                  ///< right-hand side of the unknown rows
-  Eigen::VectorXd residual;                 ///< dynamics_residual's rows (6+n), for outputs
-  Eigen::VectorXd zero;                     ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
-  Eigen::LLT<Eigen::MatrixXd> unknown_llt;  ///< coupled: Cholesky of the unknown rows
-  Eigen::LLT<Eigen::MatrixXd> rigid_llt;    ///< LTE: Cholesky of the unknown rigid rows
+  flexible::InertiaTerms terms;      ///< M_rr, M_rf and Qv at the evaluated state
+  flexible::MassSolveScratch solve;  ///< the structured solve's scratch
+  Eigen::VectorXd rhs;               ///< Qe + Qv − [0; 0; K q + D q̇]
+  Eigen::VectorXd x;                 ///< (a, α̅, q̈_f)
+  Eigen::VectorXd residual;          ///< dynamics_residual's rows (6+n), for outputs
+  Eigen::VectorXd zero;              ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
 };
 
 /// Per-evaluation scratch space; make one per thread with Model::make_workspace().
@@ -145,8 +145,6 @@ class Model {
  private:
   /// Points ws.kinematics at the state (A(θ), and the q_f the loads see).
   void pose_bodies(const State& state, Workspace& ws) const;
-  /// fs.x's modal rows from its rigid rows (a, α̅) and fs.M, fs.rhs.
-  void solve_modal_rows(const Body& b, FlexibleScratch& fs) const;
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
 
