@@ -13,6 +13,11 @@
 ///   BM_DenseCholesky/n/e       for comparison, what the structured solve replaces: the
 ///                              Cholesky factorization and solve of the dense (6+n)² M
 ///   BM_MassAndQvByNodes/n/e    M and Qv as the O(N n²) direct nodal sums, for comparison
+///   BM_OdeJacobian/n/elements  OdeJacobian::evaluate (reference/ode_jacobian.hpp): the dense
+///                              ∂f/∂y of the ODE form, structured
+///   BM_DifferenceJacobian/n/e  for comparison, what CVODE's dense linear solver does without
+///                              a Jacobian function: one right-hand side per column of y
+///                              (forward differences, cvLsDenseDQJac)
 ///
 /// The invariants are computed once when the model is built, so nothing but the by-nodes sums
 /// should depend on the element count. Counter allocs_per_eval: heap allocations of one
@@ -21,6 +26,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "core/body.hpp"
@@ -29,6 +36,7 @@
 #include "flexible/inertia_terms.hpp"
 #include "flexible/mass_matrix_solve.hpp"
 #include "reference/ode_form.hpp"
+#include "reference/ode_jacobian.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "tests/support/allocation_counting.hpp"
 #include "tests/support/flexible_models.hpp"
@@ -176,9 +184,50 @@ void BM_MassAndQvByNodes(benchmark::State& state) {
   });
 }
 
+void BM_OdeJacobian(benchmark::State& state) {
+  const BodyAtState b(state);
+  const OdeForm form(b.model);
+  const reference::OdeJacobian jacobian(form);
+  reference::OdeJacobian::Scratch scratch = jacobian.make_scratch();
+  std::vector<double> y(static_cast<std::size_t>(form.size()));
+  form.pack(generic_state(b.model), y.data());
+  Eigen::MatrixXd J(form.size(), form.size());
+  const flexref::core::LoadContext context{0.25, 0.25};
+  time_evaluation(state, b.modes(), [&] {
+    jacobian.evaluate(context, y.data(), J, scratch);
+    benchmark::DoNotOptimize(J.data());
+  });
+}
+
+void BM_DifferenceJacobian(benchmark::State& state) {
+  const BodyAtState b(state);
+  const OdeForm form(b.model);
+  OdeForm::Scratch scratch = form.make_scratch();
+  std::vector<double> y(static_cast<std::size_t>(form.size()));
+  form.pack(generic_state(b.model), y.data());
+  std::vector<double> f0(y.size());
+  Eigen::MatrixXd J(form.size(), form.size());
+  const flexref::core::LoadContext context{0.25, 0.25};
+  time_evaluation(state, b.modes(), [&] {
+    form.rhs(context, y.data(), f0.data(), scratch);
+    for (int c = 0; c < form.size(); ++c) {
+      const double y_c = y[static_cast<std::size_t>(c)];
+      const double h = 1.5e-8 * std::max(1.0, std::abs(y_c));
+      y[static_cast<std::size_t>(c)] = y_c + h;
+      form.rhs(context, y.data(), J.col(c).data(), scratch);
+      y[static_cast<std::size_t>(c)] = y_c;
+      for (int r = 0; r < form.size(); ++r)
+        J(r, c) = (J(r, c) - f0[static_cast<std::size_t>(r)]) / h;
+    }
+    benchmark::DoNotOptimize(J.data());
+  });
+}
+
 BENCHMARK(BM_InertiaTerms)->Apply(ModeAndElementArgs);
 BENCHMARK(BM_StructuredSolve)->Apply(ModeAndElementArgs);
 BENCHMARK(BM_DenseCholesky)->Apply(ModeAndElementArgs);
 BENCHMARK(BM_MassAndQvByNodes)->Apply(ModeAndElementArgs);
+BENCHMARK(BM_OdeJacobian)->Apply(ModeAndElementArgs);
+BENCHMARK(BM_DifferenceJacobian)->Apply(ModeAndElementArgs);
 
 }  // namespace
