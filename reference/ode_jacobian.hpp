@@ -38,7 +38,8 @@
 ///             N_Vector, N_Vector) {
 ///       auto& d = *static_cast<CvodeData*>(user);
 ///       d.jacobian->evaluate(core::LoadContext{t, d.t_segment}, N_VGetArrayPointer(y),
-///                            SM_DATA_D(J), SM_LDIM_D(J), d.jacobian_scratch);
+///                            SM_DATA_D(J), static_cast<int>(SM_ROWS_D(J)),
+///                            d.jacobian_scratch);
 ///       return 0;
 ///     }
 ///     CVodeSetJacFn(cvode, jac);

@@ -21,6 +21,7 @@
 #include "reference/ode_form.hpp"
 #include "tests/support/allocation_counting.hpp"
 #include "tests/support/flexible_models.hpp"
+#include "tests/support/jacobian_models.hpp"
 #include "tests/support/test_models.hpp"
 #include "tests/support/test_problems.hpp"
 
@@ -28,77 +29,6 @@ namespace flexref::reference {
 namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-using Elements = std::vector<std::unique_ptr<const core::ForceElement>>;
-
-/// A linear spring–damper between a point of body a and a point of body b (both given from
-/// the frame origin): f_a = −k (p_a − p_b) − c (v_a − v_b), f_b = −f_a.
-class Tether final : public core::ForceElement {
- public:
-  Tether(int a, Eigen::Vector3d p_a, int b, Eigen::Vector3d p_b, double k, double c)
-      : a_(a), b_(b), p_a_(std::move(p_a)), p_b_(std::move(p_b)), k_(k), c_(c) {}
-  void add_wrenches(const core::LoadContext&, std::span<const core::BodyKinematics> bodies,
-                    std::span<core::Wrench> wrenches) const override {
-    const core::BodyKinematics& A = bodies[static_cast<std::size_t>(a_)];
-    const core::BodyKinematics& B = bodies[static_cast<std::size_t>(b_)];
-    const Eigen::Vector3d f =
-        -k_ * (A.p_WP(p_a_) - B.p_WP(p_b_)) - c_ * (A.v_WP(p_a_) - B.v_WP(p_b_));
-    wrenches[static_cast<std::size_t>(a_)].add_force_at(f, A.p_BrP_W(p_a_));
-    wrenches[static_cast<std::size_t>(b_)].add_force_at(-f, B.p_BrP_W(p_b_));
-  }
-  double dissipated_power(const core::LoadContext&,
-                          std::span<const core::BodyKinematics> bodies) const override {
-    const core::BodyKinematics& A = bodies[static_cast<std::size_t>(a_)];
-    const core::BodyKinematics& B = bodies[static_cast<std::size_t>(b_)];
-    return c_ * (A.v_WP(p_a_) - B.v_WP(p_b_)).squaredNorm();
-  }
-  bool depends_on_velocity() const override { return true; }
-  int max_body_index() const override { return std::max(a_, b_); }
-  std::string describe() const override { return "tether"; }
-
- private:
-  int a_, b_;
-  Eigen::Vector3d p_a_, p_b_;
-  double k_, c_;
-};
-
-/// flexible_spinner (8 modes, ζ = 0.02) tethered to a free rigid block, with gravity on both.
-core::Model spinner_and_block(core::FlexibleFormulation formulation) {
-  const core::Model base = testing::flexible_spinner_model(formulation, 8, 10);
-  core::RigidBodyDescription spinner = base.body(0).description();
-  spinner.flexible->modal.damping_ratio.setConstant(0.02);
-  core::RigidBodyDescription block;
-  block.name = "block";
-  block.mass = 2.0;
-  block.I_Bcm_B = Eigen::Vector3d(0.3, 0.4, 0.5).asDiagonal();
-  block.initial.p_WBo = Eigen::Vector3d(1.5, 0.2, 0.0);
-  std::vector<core::Body> bodies{core::Body(spinner), core::Body(block)};
-  Elements elements;
-  elements.push_back(std::make_unique<core::AppliedTorque>(
-      0, Eigen::Vector3d(0.0, 0.0, 5.0), core::LoadFrame::kWorld,
-      core::TimeProfile::sin2_pulse(0.0, 0.5)));
-  elements.push_back(std::make_unique<core::UniformGravity>(
-      Eigen::Vector3d(0.3, -0.2, -9.81),
-      std::vector<core::UniformGravity::BodyMass>{{0, bodies[0].mass(), spinner.p_BoBcm_B},
-                                                  {1, 2.0, Eigen::Vector3d::Zero()}}));
-  elements.push_back(std::make_unique<Tether>(0, Eigen::Vector3d(0.0, 0.1, 0.0), 1,
-                                              Eigen::Vector3d(0.1, 0.0, 0.05), 40.0, 3.0));
-  return core::Model(std::move(bodies), std::move(elements), formulation);
-}
-
-/// The spinner's body on a pivot at its hub's rim, under gravity (6 modes).
-core::Model pivot_spinner(core::FlexibleFormulation formulation) {
-  const core::Model base = testing::flexible_spinner_model(formulation, 6, 10);
-  core::RigidBodyDescription d = base.body(0).description();
-  d.motion = core::MotionKind::kPivot;
-  d.p_BoPivot_B = Eigen::Vector3d(-0.05, 0.02, 0.1);
-  d.initial.v_WBo.setZero();
-  std::vector<core::Body> bodies{core::Body(d)};
-  Elements elements;
-  elements.push_back(std::make_unique<core::UniformGravity>(
-      Eigen::Vector3d(0.0, 0.0, -9.81),
-      std::vector<core::UniformGravity::BodyMass>{{0, bodies[0].mass(), d.p_BoBcm_B}}));
-  return core::Model(std::move(bodies), std::move(elements), formulation);
-}
 
 /// A random y: positions and velocities O(1), θ random of norm 1.2, modal coordinates O(0.05),
 /// their rates O(0.3).
@@ -208,8 +138,8 @@ TEST_CASE("the ODE Jacobian of flexible bodies equals differences of the right-h
   for (const core::FlexibleFormulation formulation :
        {core::FlexibleFormulation::kCoupled, core::FlexibleFormulation::kLte}) {
     INFO(core::to_string(formulation));
-    CHECK(worst_ratio(spinner_and_block(formulation), 0.25, 11) <= 1.0);
-    CHECK(worst_ratio(pivot_spinner(formulation), 0.25, 12) <= 1.0);
+    CHECK(worst_ratio(testing::spinner_and_block(formulation), 0.25, 11) <= 1.0);
+    CHECK(worst_ratio(testing::pivot_spinner(formulation), 0.25, 12) <= 1.0);
     CHECK(worst_ratio(testing::rotating_cantilever_model(formulation, 3.0, 4), 0.7, 13) <= 1.0);
     CHECK(worst_ratio(testing::spin_up_beam_model(formulation, 2.0, 4), 3.0, 14) <= 1.0);
   }
@@ -217,7 +147,7 @@ TEST_CASE("the ODE Jacobian of flexible bodies equals differences of the right-h
 
 TEST_CASE("the ODE Jacobian check catches a wrong sign", "[reference][jacobian]") {
   // Columns: the spinner's θ (e1), ω̄ (y), a modal coordinate, a modal rate; the block's v.
-  const core::Model model = spinner_and_block(core::FlexibleFormulation::kCoupled);
+  const core::Model model = testing::spinner_and_block(core::FlexibleFormulation::kCoupled);
   const OdeForm form(model);
   const OdeForm::Block& s = form.blocks()[0];
   const OdeForm::Block& b = form.blocks()[1];
@@ -228,7 +158,7 @@ TEST_CASE("the ODE Jacobian check catches a wrong sign", "[reference][jacobian]"
 }
 
 TEST_CASE("the ODE Jacobian allocates nothing", "[reference][jacobian]") {
-  const core::Model model = spinner_and_block(core::FlexibleFormulation::kCoupled);
+  const core::Model model = testing::spinner_and_block(core::FlexibleFormulation::kCoupled);
   const OdeForm form(model);
   const OdeJacobian jacobian(form);
   OdeJacobian::Scratch scratch = jacobian.make_scratch();
