@@ -50,7 +50,9 @@ void compute_modal_products(const ModalInvariants& inv,
   // Each stored P_ab (a ≤ b) is read for P_ab q and, off the diagonal, P_abᵀ q = P_ba q;
   // each G_a once. Matrix–vector products into contiguous columns: no temporaries.
   for (int a = 0; a < 3; ++a) {
-    t.P_q.col(pair(a, a)).noalias() = inv.phi_phi[at(pair(a, a))] * q_f;
+    // P_aa is exactly symmetric (make_modal_invariants): its lower triangle suffices.
+    t.P_q.col(pair(a, a)).noalias() =
+        inv.phi_phi[at(pair(a, a))].selfadjointView<Eigen::Lower>() * q_f;
     for (int b = a + 1; b < 3; ++b) {
       const Eigen::MatrixXd& P = inv.phi_phi[at(pair(a, b))];
       t.P_q.col(pair(a, b)).noalias() = P * q_f;
