@@ -34,6 +34,7 @@
 #include <ctime>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <span>
 #include <sstream>
 #include <string>
@@ -43,6 +44,7 @@
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
 #include "reference/sundials_handle.hpp"
+#include "reference/sundials_segment_driver.hpp"
 
 namespace flexref::reference {
 namespace {
@@ -113,148 +115,128 @@ int project(sunrealtype /*t*/, N_Vector ycur, N_Vector corr, sunrealtype /*eps_p
   return 0;
 }
 
-/// Adds the counters of the current CVODE run (they restart at every CVodeReInit).
-void add_counters(void* cvode, SolverStats& stats) {
-  long steps = 0, rhs_evaluations = 0, jacobian_rhs = 0, jacobians = 0, error_fails = 0,
-       convergence_fails = 0;
-  sun::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
-  sun::check(CVodeGetNumRhsEvals(cvode, &rhs_evaluations), "CVodeGetNumRhsEvals");
-  sun::check(CVodeGetNumLinRhsEvals(cvode, &jacobian_rhs), "CVodeGetNumLinRhsEvals");
-  sun::check(CVodeGetNumJacEvals(cvode, &jacobians), "CVodeGetNumJacEvals");
-  sun::check(CVodeGetNumErrTestFails(cvode, &error_fails), "CVodeGetNumErrTestFails");
-  sun::check(CVodeGetNumNonlinSolvConvFails(cvode, &convergence_fails),
-             "CVodeGetNumNonlinSolvConvFails");
-  stats.steps += steps;
-  stats.rhs_evaluations += rhs_evaluations + jacobian_rhs;
-  stats.jacobian_evaluations += jacobians;
-  stats.error_test_failures += error_fails;
-  stats.nonlinear_failures += convergence_fails;
-}
+/// CVODE on the ODE form, driven segment by segment by integrate_segments.
+class CvodeSegmentSolver final : public sun::SegmentSolver {
+ public:
+  CvodeSegmentSolver(const core::Model& model, const SolverOptions& options)
+      : model_(&model),
+        options_(options),
+        form_(model),
+        context_(sun::make_context()),
+        y_(sun::make_vector(form_.size(), context_.get())),
+        jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
+        linear_solver_(sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())),
+        cvode_(sun::check_created(CVodeCreate(CV_BDF, context_.get()), "CVodeCreate")) {
+    data_.form = &form_;
+    data_.scratch = form_.make_scratch();
+  }
+
+  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+    data_.t_segment = segment.t_segment;
+    form_.pack(state, sun::data(y_.get()));
+    form_.set_dissipated_work(sun::data(y_.get()), work);
+    if (!initialized_) {
+      sun::check(CVodeInit(cvode_.get(), rhs, segment.start, y_.get()), "CVodeInit");
+      sun::check(CVodeSetUserData(cvode_.get(), &data_), "CVodeSetUserData");
+      sun::check(CVodeSetErrHandlerFn(cvode_.get(), sun::record_error, &data_.log),
+                 "CVodeSetErrHandlerFn");
+      sun::check(CVodeSStolerances(cvode_.get(), options_.rtol, options_.absolute_tolerance()),
+                 "CVodeSStolerances");
+      sun::check(CVodeSetLinearSolver(cvode_.get(), linear_solver_.get(), jacobian_.get()),
+                 "CVodeSetLinearSolver");
+      sun::check(CVodeSetProjFn(cvode_.get(), project), "CVodeSetProjFn");
+      sun::check(CVodeSetMaxNumSteps(cvode_.get(), options_.max_steps), "CVodeSetMaxNumSteps");
+      if (model_->switching_function_count() > 0) {
+        sun::check(CVodeRootInit(cvode_.get(), model_->switching_function_count(), switching),
+                   "CVodeRootInit");
+      }
+      initialized_ = true;
+    } else {
+      sun::check(CVodeReInit(cvode_.get(), segment.start, y_.get()), "CVodeReInit");
+    }
+    sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
+    // The first step is taken towards the segment end: CVODE sizes it from the distance to
+    // the first tout, which would let the output grid steer the steps (an output 1e-7 after
+    // a switch made the run take 360 steps instead of 200 and moved the state by 1e-8 at
+    // rtol 1e-10). After this, outputs are interpolated or stepped to as usual, and the
+    // solution does not depend on the output times.
+    // (Not with switching functions: a root in that step would be returned before the
+    // outputs that precede it.)
+    if (model_->switching_function_count() == 0) {
+      double t_internal = segment.start;
+      sun::check(CVode(cvode_.get(), segment.end, y_.get(), &t_internal, CV_ONE_STEP), "CVode");
+    }
+  }
+
+  Advance advance(double tout) override {
+    Advance reached;
+    const int flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
+    sun::check(flag, "CVode");
+    reached.root = flag == CV_ROOT_RETURN;
+    return reached;
+  }
+
+  void restart_at_root(double t, const sun::Segment& segment) override {
+    sun::check(CVodeReInit(cvode_.get(), t, y_.get()), "CVodeReInit");
+    sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
+  }
+
+  void unpack(double t, core::State& state) const override {
+    form_.unpack(t, sun::data(y_.get()), state);
+  }
+  double dissipated_work() const override { return form_.dissipated_work(sun::data(y_.get())); }
+
+  void add_counters(SolverStats& stats) const override {
+    void* cvode = cvode_.get();
+    long steps = 0, rhs_evaluations = 0, jacobian_rhs = 0, jacobians = 0, error_fails = 0,
+         convergence_fails = 0;
+    sun::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
+    sun::check(CVodeGetNumRhsEvals(cvode, &rhs_evaluations), "CVodeGetNumRhsEvals");
+    sun::check(CVodeGetNumLinRhsEvals(cvode, &jacobian_rhs), "CVodeGetNumLinRhsEvals");
+    sun::check(CVodeGetNumJacEvals(cvode, &jacobians), "CVodeGetNumJacEvals");
+    sun::check(CVodeGetNumErrTestFails(cvode, &error_fails), "CVodeGetNumErrTestFails");
+    sun::check(CVodeGetNumNonlinSolvConvFails(cvode, &convergence_fails),
+               "CVodeGetNumNonlinSolvConvFails");
+    stats.steps += steps;
+    stats.rhs_evaluations += rhs_evaluations + jacobian_rhs;
+    stats.jacobian_evaluations += jacobians;
+    stats.error_test_failures += error_fails;
+    stats.nonlinear_failures += convergence_fails;
+  }
+
+  double current_time(double fallback) const override {
+    double t = fallback;
+    return CVodeGetCurrentTime(cvode_.get(), &t) < 0 ? fallback : t;
+  }
+  long current_steps() const override {
+    long steps = 0;
+    return CVodeGetNumSteps(cvode_.get(), &steps) < 0 ? 0 : steps;
+  }
+  std::string failure_message(const std::string& what) const override {
+    return sun::failure_message(what, data_, "right-hand side");
+  }
+
+ private:
+  const core::Model* model_;
+  SolverOptions options_;
+  reference::OdeForm form_;
+  CvodeData data_;
+  bool initialized_ = false;
+  sun::Context context_;
+  sun::Vector y_;
+  sun::Matrix jacobian_;
+  sun::LinearSolver linear_solver_;
+  // Declared last so that it is freed first (as in SUNDIALS' examples).
+  sun::CvodeMemory cvode_;
+};
 
 }  // namespace
 
 ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& output_times,
                          const SolverOptions& options) {
-  sun::validate_tolerances(options.rtol, options.absolute_tolerance(), options.max_steps);
-  const sun::SegmentPlan plan = sun::plan_segments(model.discontinuities(), output_times);
-  const reference::OdeForm form(model);
-  const int n = form.size();
-
-  ReferenceRun run;
-  run.solver = "cvode";
-  run.options = options;
-  run.trajectory.times = output_times;
-  run.trajectory.states.reserve(output_times.size());
-  core::State state = model.initial_state();
-  const bool track_work = form.work_index() >= 0;
-  double work = 0.0;  // W_d carried across restarts
-  for (std::size_t k = 0; k < plan.initial_outputs; ++k) {
-    run.trajectory.states.push_back(state);
-    if (track_work) run.trajectory.dissipated_work.push_back(0.0);
-  }
-  if (plan.segments.empty()) return run;
-
-  CvodeData data;
-  data.form = &form;
-  data.scratch = form.make_scratch();
-
-  const sun::Context context = sun::make_context();
-  const sun::Vector y = sun::make_vector(n, context.get());
-  const sun::Matrix jacobian = sun::make_dense_matrix(n, context.get());
-  const sun::LinearSolver linear_solver =
-      sun::make_dense_linear_solver(y.get(), jacobian.get(), context.get());
-  // Declared last so that it is freed first (as in SUNDIALS' examples).
-  const sun::CvodeMemory cvode(
-      sun::check_created(CVodeCreate(CV_BDF, context.get()), "CVodeCreate"));
-
-  double t_reached = 0.0;
-  std::clock_t cpu = 0;
-  try {
-    bool initialized = false;
-    for (const sun::Segment& segment : plan.segments) {
-      const std::clock_t start = std::clock();
-      data.t_segment = segment.t_segment;
-      form.pack(state, sun::data(y.get()));
-      form.set_dissipated_work(sun::data(y.get()), work);
-      if (!initialized) {
-        sun::check(CVodeInit(cvode.get(), rhs, segment.start, y.get()), "CVodeInit");
-        sun::check(CVodeSetUserData(cvode.get(), &data), "CVodeSetUserData");
-        sun::check(CVodeSetErrHandlerFn(cvode.get(), sun::record_error, &data.log),
-                   "CVodeSetErrHandlerFn");
-        sun::check(CVodeSStolerances(cvode.get(), options.rtol, options.absolute_tolerance()),
-                   "CVodeSStolerances");
-        sun::check(CVodeSetLinearSolver(cvode.get(), linear_solver.get(), jacobian.get()),
-                   "CVodeSetLinearSolver");
-        sun::check(CVodeSetProjFn(cvode.get(), project), "CVodeSetProjFn");
-        sun::check(CVodeSetMaxNumSteps(cvode.get(), options.max_steps), "CVodeSetMaxNumSteps");
-        if (model.switching_function_count() > 0) {
-          sun::check(CVodeRootInit(cvode.get(), model.switching_function_count(), switching),
-                     "CVodeRootInit");
-        }
-        initialized = true;
-      } else {
-        sun::check(CVodeReInit(cvode.get(), segment.start, y.get()), "CVodeReInit");
-      }
-      sun::check(CVodeSetStopTime(cvode.get(), segment.end), "CVodeSetStopTime");
-      // The first step is taken towards the segment end: CVODE sizes it from the distance to
-      // the first tout, which would let the output grid steer the steps (an output 1e-7 after
-      // a switch made the run take 360 steps instead of 200 and moved the state by 1e-8 at
-      // rtol 1e-10). After this, outputs are interpolated or stepped to as usual, and the
-      // solution does not depend on the output times.
-      // (Not with switching functions: a root in that step would be returned before the
-      // outputs that precede it.)
-      if (model.switching_function_count() == 0) {
-        double t_internal = segment.start;
-        sun::check(CVode(cvode.get(), segment.end, y.get(), &t_internal, CV_ONE_STEP), "CVode");
-      }
-      t_reached = segment.start;
-      cpu += std::clock() - start;
-
-      const auto advance_to = [&](double tout) {
-        const std::clock_t solve_start = std::clock();
-        double t_returned = t_reached;
-        while (t_returned < tout) {
-          const int flag = CVode(cvode.get(), tout, y.get(), &t_returned, CV_NORMAL);
-          sun::check(flag, "CVode");
-          if (flag == CV_ROOT_RETURN) {
-            // A contact onset or release: restart there (new order-1 step sequence).
-            run.event_times.push_back(t_returned);
-            ++run.stats.events;
-            add_counters(cvode.get(), run.stats);
-            sun::check(CVodeReInit(cvode.get(), t_returned, y.get()), "CVodeReInit");
-            sun::check(CVodeSetStopTime(cvode.get(), segment.end), "CVodeSetStopTime");
-          } else {
-            t_returned = tout;
-          }
-        }
-        cpu += std::clock() - solve_start;
-        t_reached = tout;
-      };
-      for (std::size_t k = segment.first_output; k < segment.end_output; ++k) {
-        // Outputs within boundary_slack of the segment end are taken at the end.
-        const double tout = std::min(output_times[k], segment.end);
-        if (tout > t_reached) advance_to(tout);
-        form.unpack(tout, sun::data(y.get()), state);
-        run.trajectory.states.push_back(state);
-        if (track_work)
-          run.trajectory.dissipated_work.push_back(form.dissipated_work(sun::data(y.get())));
-      }
-      if (t_reached < segment.end) advance_to(segment.end);
-      // The state is continuous across a load switch; unpack normalizes θ.
-      form.unpack(t_reached, sun::data(y.get()), state);
-      work = form.dissipated_work(sun::data(y.get()));
-      add_counters(cvode.get(), run.stats);
-    }
-  } catch (const sun::SundialsError& e) {
-    double t_failed = t_reached;
-    long steps = 0;
-    if (CVodeGetCurrentTime(cvode.get(), &t_failed) < 0) t_failed = t_reached;
-    if (CVodeGetNumSteps(cvode.get(), &steps) < 0) steps = 0;
-    throw core::SolverError("cvode", t_failed, run.stats.steps + steps,
-                            sun::failure_message(e.what(), data, "right-hand side"));
-  }
-  run.stats.cpu_seconds = static_cast<double>(cpu) / CLOCKS_PER_SEC;
-  return run;
+  return sun::integrate_segments(model, output_times, options, "cvode", [&] {
+    return std::make_unique<CvodeSegmentSolver>(model, options);
+  });
 }
 
 }  // namespace flexref::reference

@@ -43,6 +43,7 @@
 #include <ctime>
 #include <exception>
 #include <limits>
+#include <memory>
 #include <span>
 #include <sstream>
 #include <string>
@@ -52,6 +53,7 @@
 #include "reference/dae_form.hpp"
 #include "reference/reference_solver.hpp"
 #include "reference/sundials_handle.hpp"
+#include "reference/sundials_segment_driver.hpp"
 
 namespace flexref::reference {
 namespace {
@@ -107,158 +109,139 @@ int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void* user_data
   return 0;
 }
 
-/// Adds the counters of the current IDA run (they restart at every IDAReInit).
-void add_counters(void* ida, SolverStats& stats) {
-  long steps = 0, residuals = 0, jacobian_residuals = 0, jacobians = 0, error_fails = 0,
-       convergence_fails = 0;
-  sun::check(IDAGetNumSteps(ida, &steps), "IDAGetNumSteps");
-  sun::check(IDAGetNumResEvals(ida, &residuals), "IDAGetNumResEvals");
-  sun::check(IDAGetNumLinResEvals(ida, &jacobian_residuals), "IDAGetNumLinResEvals");
-  sun::check(IDAGetNumJacEvals(ida, &jacobians), "IDAGetNumJacEvals");
-  sun::check(IDAGetNumErrTestFails(ida, &error_fails), "IDAGetNumErrTestFails");
-  sun::check(IDAGetNumNonlinSolvConvFails(ida, &convergence_fails), "IDAGetNumNonlinSolvConvFails");
-  stats.steps += steps;
-  stats.rhs_evaluations += residuals + jacobian_residuals;
-  stats.jacobian_evaluations += jacobians;
-  stats.error_test_failures += error_fails;
-  stats.nonlinear_failures += convergence_fails;
-}
+/// IDA on the DAE form, driven segment by segment by integrate_segments.
+class IdaSegmentSolver final : public sun::SegmentSolver {
+ public:
+  IdaSegmentSolver(const core::Model& model, const SolverOptions& options)
+      : model_(&model),
+        options_(options),
+        form_(model),
+        context_(sun::make_context()),
+        y_(sun::make_vector(form_.size(), context_.get())),
+        yp_(sun::make_vector(form_.size(), context_.get())),
+        ids_(sun::make_vector(form_.size(), context_.get())),
+        atol_(sun::make_vector(form_.size(), context_.get())),
+        jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
+        linear_solver_(sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())),
+        ida_(sun::check_created(IDACreate(context_.get()), "IDACreate")) {
+    data_.form = &form_;
+    data_.scratch = form_.make_scratch();
+    const std::vector<double> differential = form_.differential_ids();
+    for (int i = 0; i < form_.size(); ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      sun::data(ids_.get())[i] = differential[u];
+      sun::data(atol_.get())[i] =
+          differential[u] > 0.0 ? options.absolute_tolerance() : kMultiplierAbsoluteTolerance;
+    }
+  }
+
+  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+    data_.t_segment = segment.t_segment;
+    // Consistent (y, y') on the new load branch: λ = μ = 0, y' from the ODE form.
+    form_.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
+                         sun::data(y_.get()), sun::data(yp_.get()));
+    form_.set_dissipated_work(sun::data(y_.get()), work);
+    const int n = form_.size();
+    if (!sun::all_finite(sun::data(y_.get()), n) || !sun::all_finite(sun::data(yp_.get()), n)) {
+      throw sun::StartError("the loads are not finite at the initial state of the segment");
+    }
+    if (!initialized_) {
+      void* ida = ida_.get();
+      sun::check(IDAInit(ida, residual, segment.start, y_.get(), yp_.get()), "IDAInit");
+      sun::check(IDASetUserData(ida, &data_), "IDASetUserData");
+      sun::check(IDASetErrHandlerFn(ida, sun::record_error, &data_.log), "IDASetErrHandlerFn");
+      sun::check(IDASVtolerances(ida, options_.rtol, atol_.get()), "IDASVtolerances");
+      sun::check(IDASetLinearSolver(ida, linear_solver_.get(), jacobian_.get()),
+                 "IDASetLinearSolver");
+      sun::check(IDASetId(ida, ids_.get()), "IDASetId");
+      sun::check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg");
+      sun::check(IDASetMaxNumSteps(ida, options_.max_steps), "IDASetMaxNumSteps");
+      sun::check(IDASetDeltaCjLSetup(ida, 0.0), "IDASetDeltaCjLSetup");
+      if (model_->switching_function_count() > 0) {
+        sun::check(IDARootInit(ida, model_->switching_function_count(), switching), "IDARootInit");
+      }
+      initialized_ = true;
+    } else {
+      sun::check(IDAReInit(ida_.get(), segment.start, y_.get(), yp_.get()), "IDAReInit");
+    }
+    sun::check(IDASetStopTime(ida_.get(), segment.end), "IDASetStopTime");
+  }
+
+  Advance advance(double tout) override {
+    Advance reached;
+    const int flag = IDASolve(ida_.get(), tout, &reached.t, y_.get(), yp_.get(), IDA_NORMAL);
+    sun::check(flag, "IDASolve");
+    reached.root = flag == IDA_ROOT_RETURN;
+    return reached;
+  }
+
+  void restart_at_root(double t, const sun::Segment& segment) override {
+    // Restart from consistent values at the event.
+    form_.unpack(t, sun::data(y_.get()), data_.scratch.state);
+    const double work_at_event = form_.dissipated_work(sun::data(y_.get()));
+    form_.initial_values(core::LoadContext{t, segment.t_segment}, data_.scratch.state,
+                         sun::data(y_.get()), sun::data(yp_.get()));
+    form_.set_dissipated_work(sun::data(y_.get()), work_at_event);
+    sun::check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit");
+    sun::check(IDASetStopTime(ida_.get(), segment.end), "IDASetStopTime");
+  }
+
+  void unpack(double t, core::State& state) const override {
+    form_.unpack(t, sun::data(y_.get()), state);
+  }
+  double dissipated_work() const override { return form_.dissipated_work(sun::data(y_.get())); }
+
+  void add_counters(SolverStats& stats) const override {
+    void* ida = ida_.get();
+    long steps = 0, residuals = 0, jacobian_residuals = 0, jacobians = 0, error_fails = 0,
+         convergence_fails = 0;
+    sun::check(IDAGetNumSteps(ida, &steps), "IDAGetNumSteps");
+    sun::check(IDAGetNumResEvals(ida, &residuals), "IDAGetNumResEvals");
+    sun::check(IDAGetNumLinResEvals(ida, &jacobian_residuals), "IDAGetNumLinResEvals");
+    sun::check(IDAGetNumJacEvals(ida, &jacobians), "IDAGetNumJacEvals");
+    sun::check(IDAGetNumErrTestFails(ida, &error_fails), "IDAGetNumErrTestFails");
+    sun::check(IDAGetNumNonlinSolvConvFails(ida, &convergence_fails),
+               "IDAGetNumNonlinSolvConvFails");
+    stats.steps += steps;
+    stats.rhs_evaluations += residuals + jacobian_residuals;
+    stats.jacobian_evaluations += jacobians;
+    stats.error_test_failures += error_fails;
+    stats.nonlinear_failures += convergence_fails;
+  }
+
+  double current_time(double fallback) const override {
+    double t = fallback;
+    return IDAGetCurrentTime(ida_.get(), &t) < 0 ? fallback : t;
+  }
+  long current_steps() const override {
+    long steps = 0;
+    return IDAGetNumSteps(ida_.get(), &steps) < 0 ? 0 : steps;
+  }
+  std::string failure_message(const std::string& what) const override {
+    return sun::failure_message(what, data_, "residual");
+  }
+
+ private:
+  const core::Model* model_;
+  SolverOptions options_;
+  reference::DaeForm form_;
+  IdaData data_;
+  bool initialized_ = false;
+  sun::Context context_;
+  sun::Vector y_, yp_, ids_, atol_;
+  sun::Matrix jacobian_;
+  sun::LinearSolver linear_solver_;
+  // Declared last so that it is freed first (as in SUNDIALS' examples).
+  sun::IdaMemory ida_;
+};
 
 }  // namespace
 
 ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& output_times,
                        const SolverOptions& options) {
-  sun::validate_tolerances(options.rtol, options.absolute_tolerance(), options.max_steps);
-  const sun::SegmentPlan plan = sun::plan_segments(model.discontinuities(), output_times);
-  const reference::DaeForm form(model);
-  const int n = form.size();
-
-  ReferenceRun run;
-  run.solver = "ida";
-  run.options = options;
-  run.trajectory.times = output_times;
-  run.trajectory.states.reserve(output_times.size());
-  core::State state = model.initial_state();
-  const bool track_work = form.work_index() >= 0;
-  double work = 0.0;  // W_d carried across restarts
-  for (std::size_t k = 0; k < plan.initial_outputs; ++k) {
-    run.trajectory.states.push_back(state);
-    if (track_work) run.trajectory.dissipated_work.push_back(0.0);
-  }
-  if (plan.segments.empty()) return run;
-
-  IdaData data;
-  data.form = &form;
-  data.scratch = form.make_scratch();
-
-  const sun::Context context = sun::make_context();
-  const sun::Vector y = sun::make_vector(n, context.get());
-  const sun::Vector yp = sun::make_vector(n, context.get());
-  const sun::Vector ids = sun::make_vector(n, context.get());
-  const sun::Vector atol = sun::make_vector(n, context.get());
-  const std::vector<double> differential = form.differential_ids();
-  for (int i = 0; i < n; ++i) {
-    const auto u = static_cast<std::size_t>(i);
-    sun::data(ids.get())[i] = differential[u];
-    sun::data(atol.get())[i] =
-        differential[u] > 0.0 ? options.absolute_tolerance() : kMultiplierAbsoluteTolerance;
-  }
-  const sun::Matrix jacobian = sun::make_dense_matrix(n, context.get());
-  const sun::LinearSolver linear_solver =
-      sun::make_dense_linear_solver(y.get(), jacobian.get(), context.get());
-  // Declared last so that it is freed first (as in SUNDIALS' examples).
-  const sun::IdaMemory ida(sun::check_created(IDACreate(context.get()), "IDACreate"));
-
-  double t_reached = 0.0;
-  std::clock_t cpu = 0;
-  try {
-    bool initialized = false;
-    for (const sun::Segment& segment : plan.segments) {
-      const std::clock_t start = std::clock();
-      data.t_segment = segment.t_segment;
-      // Consistent (y, y') on the new load branch: λ = μ = 0, y' from the ODE form.
-      form.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
-                          sun::data(y.get()), sun::data(yp.get()));
-      form.set_dissipated_work(sun::data(y.get()), work);
-      if (!sun::all_finite(sun::data(y.get()), n) || !sun::all_finite(sun::data(yp.get()), n)) {
-        throw core::SolverError("ida", segment.start, run.stats.steps,
-                                "the loads are not finite at the initial state of the segment");
-      }
-      if (!initialized) {
-        sun::check(IDAInit(ida.get(), residual, segment.start, y.get(), yp.get()), "IDAInit");
-        sun::check(IDASetUserData(ida.get(), &data), "IDASetUserData");
-        sun::check(IDASetErrHandlerFn(ida.get(), sun::record_error, &data.log),
-                   "IDASetErrHandlerFn");
-        sun::check(IDASVtolerances(ida.get(), options.rtol, atol.get()), "IDASVtolerances");
-        sun::check(IDASetLinearSolver(ida.get(), linear_solver.get(), jacobian.get()),
-                   "IDASetLinearSolver");
-        sun::check(IDASetId(ida.get(), ids.get()), "IDASetId");
-        sun::check(IDASetSuppressAlg(ida.get(), SUNTRUE), "IDASetSuppressAlg");
-        sun::check(IDASetMaxNumSteps(ida.get(), options.max_steps), "IDASetMaxNumSteps");
-        sun::check(IDASetDeltaCjLSetup(ida.get(), 0.0), "IDASetDeltaCjLSetup");
-        if (model.switching_function_count() > 0) {
-          sun::check(IDARootInit(ida.get(), model.switching_function_count(), switching),
-                     "IDARootInit");
-        }
-        initialized = true;
-      } else {
-        sun::check(IDAReInit(ida.get(), segment.start, y.get(), yp.get()), "IDAReInit");
-      }
-      sun::check(IDASetStopTime(ida.get(), segment.end), "IDASetStopTime");
-      t_reached = segment.start;
-      cpu += std::clock() - start;
-
-      const auto advance_to = [&](double tout) {
-        const std::clock_t solve_start = std::clock();
-        double t_returned = t_reached;
-        while (t_returned < tout) {
-          const int flag = IDASolve(ida.get(), tout, &t_returned, y.get(), yp.get(), IDA_NORMAL);
-          sun::check(flag, "IDASolve");
-          if (flag == IDA_ROOT_RETURN) {
-            // A contact onset or release: restart there from consistent values.
-            run.event_times.push_back(t_returned);
-            ++run.stats.events;
-            add_counters(ida.get(), run.stats);
-            form.unpack(t_returned, sun::data(y.get()), state);
-            const double work_at_event = form.dissipated_work(sun::data(y.get()));
-            form.initial_values(core::LoadContext{t_returned, segment.t_segment}, state,
-                                sun::data(y.get()), sun::data(yp.get()));
-            form.set_dissipated_work(sun::data(y.get()), work_at_event);
-            sun::check(IDAReInit(ida.get(), t_returned, y.get(), yp.get()), "IDAReInit");
-            sun::check(IDASetStopTime(ida.get(), segment.end), "IDASetStopTime");
-          } else {
-            t_returned = tout;
-          }
-        }
-        cpu += std::clock() - solve_start;
-        t_reached = tout;
-      };
-      for (std::size_t k = segment.first_output; k < segment.end_output; ++k) {
-        // Outputs within boundary_slack of the segment end are taken at the end.
-        const double tout = std::min(output_times[k], segment.end);
-        if (tout > t_reached) advance_to(tout);
-        form.unpack(tout, sun::data(y.get()), state);
-        run.trajectory.states.push_back(state);
-        if (track_work)
-          run.trajectory.dissipated_work.push_back(form.dissipated_work(sun::data(y.get())));
-      }
-      if (t_reached < segment.end) advance_to(segment.end);
-      // The state is continuous across a load switch; unpacking normalizes θ, so the restart
-      // also projects the Euler parameters back onto the unit sphere.
-      form.unpack(t_reached, sun::data(y.get()), state);
-      work = form.dissipated_work(sun::data(y.get()));
-      add_counters(ida.get(), run.stats);
-    }
-  } catch (const sun::SundialsError& e) {
-    double t_failed = t_reached;
-    long steps = 0;
-    if (IDAGetCurrentTime(ida.get(), &t_failed) < 0) t_failed = t_reached;
-    if (IDAGetNumSteps(ida.get(), &steps) < 0) steps = 0;
-    throw core::SolverError("ida", t_failed, run.stats.steps + steps,
-                            sun::failure_message(e.what(), data, "residual"));
-  }
-  run.stats.cpu_seconds = static_cast<double>(cpu) / CLOCKS_PER_SEC;
-  return run;
+  return sun::integrate_segments(model, output_times, options, "ida", [&] {
+    return std::make_unique<IdaSegmentSolver>(model, options);
+  });
 }
 
 }  // namespace flexref::reference

@@ -8,11 +8,12 @@
 ///  - an error handler that records SUNDIALS' own message ("At t = 0.3, mxstep steps taken
 ///    before reaching tout.") instead of printing it, so the driver can put it into the
 ///    core::SolverError it throws;
-///  - the segment plan both SUNDIALS drivers integrate: [0, T] split at the model's known load
+///  - the segment plan the SUNDIALS drivers integrate: [0, T] split at the model's known load
 ///    discontinuities (docs/design/schemes.md, "Reference integrators": stop and restart at every
-///    switch), with the output times each segment owns.
+///    switch), with the output times each segment owns. The loop over it is
+///    sundials_segment_driver.hpp.
 /// Boost.Odeint (odeint_solver.cpp) plans its segments on its own: it is the independent code
-/// path of the three.
+/// path.
 #include <cvode/cvode.h>
 #include <ida/ida.h>
 #include <ida/ida_ls.h>

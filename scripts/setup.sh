@@ -1,8 +1,19 @@
 #!/usr/bin/env bash
 # Installs what flexref needs on Debian 12 (only what is missing) and builds it in build/.
-# Usage: scripts/setup.sh [extra cmake arguments]
+# Usage: scripts/setup.sh [--target NAME]... [extra cmake arguments]
+#   --target NAME   build only this target (repeatable; default: everything: the library, the
+#                   command line, the tests and the benchmarks)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+targets=()
+cmake_args=()
+while (($#)); do
+  case $1 in
+    --target) targets+=(--target "$2"); shift 2 ;;
+    *) cmake_args+=("$1"); shift ;;
+  esac
+done
 
 packages=(build-essential cmake libsundials-dev libeigen3-dev libboost-dev libcli11-dev catch2
           libtoml11-dev libbenchmark-dev python3-matplotlib)
@@ -18,5 +29,7 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
 
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
-cmake --build build -j"$(nproc)"
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "${cmake_args[@]}" >/dev/null
+cmake --build build -j"$(nproc)" "${targets[@]}"
