@@ -21,9 +21,19 @@
 /// Rows and columns are those of y. The accelerations depend on θ only through θ̂ = θ/|θ|
 /// (OdeForm::unpack normalizes), so their θ columns are taken in a body-frame rotation π̄
 /// (θ̂ → θ̂ ⊗ exp_quaternion(π̄), A → A exp(π̄̃)) and mapped by ∂π̄/∂θ = 2 Ḡ(θ̂)/|θ| (Ḡ θ̂ = 0
-/// removes the radial direction, which θ̂ does not see). Total cost O(n³) for the dense result (2n +
-/// 13 columns of n² solves; at n = 64 about a tenth of the 2n + 14 right-hand sides a
-/// difference-quotient Jacobian takes, bench/flexible_model_benchmark.cpp).
+/// removes the radial direction, which θ̂ does not see). Total cost O(n³) for the dense result
+/// (2n + 13 columns of n² solves): 0.42 ms at n = 64 against 2.0 ms for the 2n + 14
+/// right-hand sides of a difference-quotient Jacobian (bench/flexible_model_benchmark.cpp).
+///
+/// Exceptions from callbacks: a SUNDIALS callback must catch what evaluate() throws (as the
+/// drivers' rhs callbacks do) and return −1.
+///
+/// For IDA (reference/dae_form.hpp) the same pieces apply: the DAE's dynamics rows are
+/// Model::dynamics_residual (θ rows premultiplied by 2Ḡᵀ, ω̄ = 2Ḡ v_θ, α̅ = 2Ḡ v̇_θ), whose
+/// derivatives with respect to the state at fixed accelerations are BodyScratch::dR (tangent
+/// columns, tangent_columns()) after evaluate(), and with respect to the accelerations are M
+/// (flexible/inertia_terms.hpp: M_rr, M_rf, m_ff); the chain rule through Ḡ(θ) v_θ is the
+/// driver's to add.
 ///
 /// Accuracy: exact to rounding but for the loads' share, which has the central-difference error
 /// h²/6 |ℓ'''| + ε |ℓ| / h per column with h = ε^{1/3} max(1, |y_j|) (≈ 6e-6: ~1e-11
