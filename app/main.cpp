@@ -9,6 +9,7 @@
 #include "app/commands.hpp"
 #include "app/figure_command.hpp"
 #include "app/lte_map_command.hpp"
+#include "app/modal_truncation_command.hpp"
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
@@ -286,6 +287,37 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   lte_cmd->add_option("--out", lte.out_dir, "output directory")->capture_default_str();
 
+  ModalTruncationCommandOptions modes;
+  auto* modes_cmd = app.add_subcommand(
+      "modes", "reference tip deflection and attitude vs the number of retained modes");
+  modes_cmd->add_option("scene", modes.scene, "scene file with a flexible body (TOML)")->required();
+  modes_cmd
+      ->add_option("--modes", modes.modes, "mode counts (comma-separated; largest = reference)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  modes_cmd->add_option("--body", modes.body, "flexible body (default: the first)");
+  modes_cmd->add_option("--point", modes.point, "tracked node point (default: farthest node)");
+  modes_cmd->add_option("--solver", modes.solver, "reference solver: odeint | cvode | ida")
+      ->check(CLI::IsMember({"odeint", "cvode", "ida"}))
+      ->capture_default_str();
+  modes_cmd->add_option("--rtol", modes.rtol, "reference tolerance")
+      ->check(CLI::Range(1e-14, 1e-4))
+      ->capture_default_str();
+  modes_cmd
+      ->add_option("--estimate-factor", modes.estimate_factor,
+                   "accuracy check: rerun at rtol divided by this factor")
+      ->check(CLI::Range(2.0, 1e6))
+      ->capture_default_str();
+  modes_cmd->add_option("--end-time", modes.end_time, "s (default: the scene's)")
+      ->check(CLI::PositiveNumber);
+  modes_cmd->add_option("--model", modes.model, "flexible bodies' equations: coupled | lte")
+      ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
+  modes_cmd->add_option("--jobs", modes.jobs, "parallel runs (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  modes_cmd->add_option("--out", modes.out_dir, "output directory")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -301,6 +333,7 @@ int main(int argc, char** argv) {
     if (*stab_cmd) return stability_command(stab);
     if (*lte_cmd) return lte_map_command(lte);
     if (*fig_cmd) return figure_command(fig);
+    if (*modes_cmd) return modal_truncation_command(modes);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;

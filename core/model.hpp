@@ -15,9 +15,10 @@
 ///            m_ff q̈_f + D q̇_f + K q_f = Qe_f − Sᵀ Aᵀ a − Ī_θf0ᵀ α̅ − Σ m_k Φ_kᵀ ω̄̃ω̄̃ x_k,
 ///            with loads evaluated on the undeformed body (docs/design/model.md, "The LTE model").
 /// Rows of known accelerations (pivot: a = 0; prescribed: a = 0 and the law's α̅) are moved to
-/// the right-hand side; the remaining rows are solved by Cholesky (coupled) or block forward
-/// substitution (LTE).
-#include <Eigen/Cholesky>
+/// the right-hand side. A flexible body's remaining rows are solved in O(n²) through the
+/// constant factor of m_ff (flexible/mass_matrix_solve.hpp): coupled, by the Schur complement
+/// of the unknown rigid rows; LTE, by block forward substitution. Its inertia terms cost
+/// O(n²) (flexible/inertia_terms.hpp), independent of the number of nodes.
 #include <memory>
 #include <span>
 #include <string>
@@ -26,6 +27,8 @@
 #include "core/body.hpp"
 #include "core/force_element.hpp"
 #include "core/state.hpp"
+#include "flexible/inertia_terms.hpp"
+#include "flexible/mass_matrix_solve.hpp"
 
 namespace flexref::core {
 
@@ -40,15 +43,12 @@ const char* to_string(FlexibleFormulation formulation);
 
 /// Scratch of one flexible body's evaluation (sized once; never reallocated).
 struct FlexibleScratch {
-  Eigen::MatrixXd M;                        ///< effective mass matrix (6+n)²
-  Eigen::VectorXd Qv;                       ///< quadratic-velocity vector (6+n)
-  Eigen::VectorXd rhs;                      ///< Qe + Qv − [0; 0; K q + D q̇]
-  Eigen::VectorXd x;                        ///< (a, α̅, q̈_f)
-  Eigen::VectorXd sub_rhs;                  ///< right-hand side of the unknown rows
-  Eigen::VectorXd residual;                 ///< dynamics_residual's rows (6+n), for outputs
-  Eigen::VectorXd zero;                     ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
-  Eigen::LLT<Eigen::MatrixXd> unknown_llt;  ///< coupled: Cholesky of the unknown rows
-  Eigen::LLT<Eigen::MatrixXd> rigid_llt;    ///< LTE: Cholesky of the unknown rigid rows
+  flexible::InertiaTerms terms;      ///< M_rr, M_rf and Qv at the evaluated state
+  flexible::MassSolveScratch solve;  ///< the structured solve's scratch
+  Eigen::VectorXd rhs;               ///< Qe + Qv − [0; 0; K q + D q̇]
+  Eigen::VectorXd x;                 ///< (a, α̅, q̈_f)
+  Eigen::VectorXd residual;          ///< dynamics_residual's rows (6+n), for outputs
+  Eigen::VectorXd zero;              ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
 };
 
 /// Per-evaluation scratch space; make one per thread with Model::make_workspace().
@@ -104,6 +104,10 @@ class Model {
   /// pivot or prescribed body does not integrate are the reactions its constraint supplies.
   void dynamics_residual(int i, const BodyState& state, const BodyAcceleration& acc, Workspace& ws,
                          Eigen::Ref<Eigen::VectorXd> out) const;
+  /// ∂(dynamics_residual)/∂(a_WBr, α̅, q̈_f) of flexible body i, (6+n)², from the terms of the
+  /// last dynamics_residual call on ws: [M_rr M_rf; M_rfᵀ m_ff] (LTE: no M_rf in the rigid
+  /// rows, so not symmetric). Allocates nothing when `out` is sized.
+  void residual_mass_matrix(int i, const Workspace& ws, Eigen::Ref<Eigen::MatrixXd> out) const;
   /// The modal rows of a flexible body solved for q̈_f with the rigid accelerations given
   /// (a_WBr, α̅; a prescribed body uses a = 0 and its law's α̅ at ws.time), the loads already
   /// in ws (compute_wrenches) and the state's q_f, q̇_f, ω̄. Under LTE this is the modal
@@ -145,8 +149,6 @@ class Model {
  private:
   /// Points ws.kinematics at the state (A(θ), and the q_f the loads see).
   void pose_bodies(const State& state, Workspace& ws) const;
-  /// fs.x's modal rows from its rigid rows (a, α̅) and fs.M, fs.rhs.
-  void solve_modal_rows(const Body& b, FlexibleScratch& fs) const;
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
 

@@ -56,6 +56,10 @@ DaeForm::Scratch DaeForm::make_scratch() const {
   s.accelerations = model_->make_accelerations();
   s.residual = Eigen::VectorXd::Zero(max_rows_);
   s.generalized_rows.reserve(static_cast<std::size_t>(max_rows_));
+  for (const core::Body& b : model_->bodies()) {
+    const Eigen::Index m = b.is_flexible() ? 6 + b.mode_count() : 0;
+    s.body_mass.push_back(Eigen::MatrixXd::Zero(m, m));
+  }
   return s;
 }
 
@@ -137,7 +141,8 @@ void DaeForm::mass_rows(const core::LoadContext& context, const double* y,
       acc[i].alpha_WB_B.setZero();
       acc[i].qdd_f.setZero();
       model_->dynamics_residual(static_cast<int>(i), state[i], acc[i], scratch.workspace, r);
-      const Eigen::MatrixXd& m = scratch.workspace.flexible[i].M;
+      Eigen::MatrixXd& m = scratch.body_mass[i];
+      model_->residual_mass_matrix(static_cast<int>(i), scratch.workspace, m);
       for (int row = 0; row < 6 + k.n; ++row) {
         if (at[static_cast<std::size_t>(row)] < 0) continue;
         for (int col = 0; col < 6 + k.n; ++col) {

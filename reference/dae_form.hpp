@@ -40,6 +40,7 @@ class DaeForm {
     core::Accelerations accelerations;
     Eigen::VectorXd residual;
     std::vector<int> generalized_rows;  ///< mass_rows: a body's rows in y
+    std::vector<Eigen::MatrixXd> body_mass;  ///< mass_rows: a flexible body's (6+n)² matrix
   };
 
   int size() const { return size_; }

@@ -154,6 +154,17 @@ out=$("$flexref" figure "$tmp/fig_bad.toml" --out "$tmp/fig_bad" 2>&1)
 [[ $? -eq 1 ]] || fail "lte-map accepted a negative inertia ratio"
 "$flexref" lte-map scenes/free_spin.toml --out "$tmp/lte_bad" >/dev/null 2>&1
 [[ $? -eq 1 ]] || fail "lte-map accepted a scene without a flexible body"
+# modes on two small bases; one count or a rigid scene is refused; the 64-mode scene reads.
+"$flexref" modes scenes/flexible_spinner.toml --modes 2,4 --end-time 0.5 --jobs 2 \
+  --out "$tmp/modes" >/dev/null 2>&1 || fail "modes failed"
+[[ $(wc -l <"$tmp/modes/modes.csv") -eq 3 && -s "$tmp/modes/study.toml" ]] ||
+  fail "modes: expected 2 rows and study.toml"
+"$flexref" modes scenes/flexible_spinner.toml --modes 4 --out "$tmp/modes_bad" >/dev/null 2>&1
+[[ $? -eq 1 ]] || fail "modes accepted a single mode count"
+"$flexref" modes scenes/free_spin.toml --out "$tmp/modes_bad" >/dev/null 2>&1
+[[ $? -eq 1 ]] || fail "modes accepted a scene without a flexible body"
+out=$("$flexref" check scenes/flexible_spinner_64.toml 2>&1) || fail "check flexible_spinner_64: $out"
+[[ $out == *"bending-xz-32"* ]] || fail "flexible_spinner_64 lacks its 64th mode: $out"
 # stability against modal frequency: the limit 2/omega.
 out=$("$flexref" stability --parameter modal_frequency --values 50 --schemes c2 \
   --out "$tmp/stab_modal" 2>&1) || fail "stability modal_frequency failed: $out"
