@@ -72,6 +72,10 @@ Certification certify(const studies::ReferenceSidecar& sidecar, const std::strin
   } else if (sidecar.metric != metric) {
     out << "the reference's estimated error " << sidecar.estimate << " is in metric "
         << sidecar.metric << ", not " << metric << ": not checked";
+  } else if (std::isinf(sidecar.estimate)) {
+    c.comparable = true;
+    out << "the reference's own error is unknown (" << sidecar.estimate_method
+        << "): NOT CERTIFIED (make a reference whose estimate has a usable check)";
   } else {
     c.comparable = true;
     c.certified = studies::is_certified(value, sidecar.estimate);
@@ -134,6 +138,7 @@ int compare_command(const CompareOptions& options) {
     if (sidecar.has_estimate) {
       out << "{\"metric\": " << json_string(sidecar.metric)
           << ", \"value\": " << json_number(sidecar.estimate)
+          << ", \"method\": " << json_string(sidecar.estimate_method)
           << ", \"solver\": " << json_string(sidecar.solver) << "}";
     } else {
       out << "null";

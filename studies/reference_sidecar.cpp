@@ -44,14 +44,18 @@ ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
   }
   out.estimate = est->second.is_floating() ? est->second.as_floating()
                                            : static_cast<double>(est->second.as_integer());
-  if (!std::isfinite(out.estimate) || out.estimate < 0.0) {
+  // +inf is what `flexref reference` writes when no check was usable (the error is unknown).
+  if (std::isnan(out.estimate) || out.estimate < 0.0) {
     throw core::InputError(out.path, 0, "error_estimate.estimate",
-                           "expected a finite, non-negative error estimate");
+                           "expected a non-negative error estimate (inf: unknown)");
   }
   if (metric == e.end() || !metric->second.is_string()) {
     throw core::InputError(out.path, 0, "error_estimate.metric", "expected the metric's name");
   }
   out.metric = metric->second.as_string().str;
+  if (const auto m = e.find("method"); m != e.end() && m->second.is_string()) {
+    out.estimate_method = m->second.as_string().str;
+  }
   out.has_estimate = true;
   return out;
 }

@@ -16,18 +16,22 @@ struct ReferenceSidecar {
   bool found = false;         ///< the file exists
   bool has_estimate = false;  ///< it has [error_estimate] (not --no-estimate)
   std::string metric;         ///< [error_estimate] metric
-  double estimate = 0.0;      ///< [error_estimate] estimate
+  /// [error_estimate] estimate; +inf when the reference found no usable check (its error is
+  /// unknown, studies/certified_reference.hpp) — then nothing is certified against it.
+  double estimate = 0.0;
+  std::string estimate_method;  ///< [error_estimate] method: how it was made, "" when absent
   std::string solver;         ///< [integrator] solver, "" when absent
   double rtol = 0.0;          ///< [integrator] rtol, 0 when absent
 };
 
 /// Reads `csv_path + ".meta.toml"`. A missing file is not an error (found = false); a file that
-/// is not TOML, or whose [error_estimate] lacks a finite, non-negative `estimate` or a `metric`
-/// string, is a core::InputError naming the file and key.
+/// is not TOML, or whose [error_estimate] lacks a non-negative `estimate` (+inf allowed: unknown;
+/// NaN refused) or a `metric` string, is a core::InputError naming the file and key.
 ReferenceSidecar read_reference_sidecar(const std::string& csv_path);
 
-/// "certified" when error ≥ kCertificationFactor × estimate, else "NOT certified". Only
-/// meaningful when the sidecar has an estimate in the same metric.
+/// "certified" when error ≥ kCertificationFactor × estimate, else "NOT certified" (always for
+/// an unknown, +inf estimate). Only meaningful when the sidecar has an estimate in the same
+/// metric.
 bool is_certified(double error, double estimate);
 
 }  // namespace flexref::studies

@@ -83,6 +83,12 @@ out=$("$flexref" compare "$tmp/c1/run_euler_0.csv" "$tmp/ref.csv" 2>&1)
 "$flexref" reference "$tmp/fs10.toml" --solver cvode --rtol 1e-3 -o "$tmp/loose.csv" >/dev/null
 out=$("$flexref" compare "$tmp/c2/run_midpoint_3.csv" "$tmp/loose.csv" 2>&1)
 [[ $out == *"NOT CERTIFIED"* ]] && ok || fail "an unmeasurable error is not marked: $out"
+# A reference whose estimate found no usable check (estimate = inf): nothing is certified.
+cp "$tmp/ref.csv" "$tmp/unknown.csv"
+sed 's/^estimate = .*/estimate = inf/' "$tmp/ref.csv.meta.toml" >"$tmp/unknown.csv.meta.toml"
+out=$("$flexref" compare --json "$tmp/c1/run_euler_0.csv" "$tmp/unknown.csv" 2>&1)
+[[ $? -eq 0 && $out == *'"certified": false'* && $out == *"own error is unknown"* ]] && ok ||
+  fail "an unknown (inf) reference estimate: $out"
 # All-zero Euler parameters score no error of 0: refused with file, row and column.
 awk -F, 'BEGIN { OFS = "," } /^#/ { print; next } NR > 2 { $6 = 0; $7 = 0; $8 = 0; $9 = 0 } { print }' \
   "$tmp/c1/run_euler_0.csv" >"$tmp/zero.csv"
