@@ -8,6 +8,7 @@
 
 #include "app/commands.hpp"
 #include "app/figure_command.hpp"
+#include "app/import_modes_command.hpp"
 #include "app/lte_map_command.hpp"
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
@@ -249,6 +250,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   lte_cmd->add_option("--out", lte.out_dir, "output directory")->capture_default_str();
 
+  ImportModesOptions import_modes;
+  auto* import_cmd = add_import_modes_command(app, import_modes);
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -261,6 +265,7 @@ int main(int argc, char** argv) {
     if (*stab_cmd) return stability_command(stab);
     if (*lte_cmd) return lte_map_command(lte);
     if (*fig_cmd) return figure_command(fig);
+    if (*import_cmd) return import_modes_command(import_modes);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;
