@@ -76,10 +76,12 @@ int import_modes_command(const ImportModesOptions& options) {
   scene::CalculixImportOptions import;
   import.frequency_step = options.step;
   if (!options.modes.empty()) import.modes = scene::parse_index_list(options.modes, "--modes");
-  if (!options.nodes.empty()) import.nodes = scene::parse_index_list(options.nodes, "--nodes");
+  if (!options.nodes.empty()) import.nodes = scene::parse_ranges(options.nodes, "--nodes");
   if (!options.node_set.empty()) {
-    import.nodes = scene::read_calculix_node_set(options.inp.empty() ? job + ".inp" : options.inp,
-                                                 options.node_set);
+    for (const int id : scene::read_calculix_node_set(
+             options.inp.empty() ? job + ".inp" : options.inp, options.node_set)) {
+      import.nodes.emplace_back(id, id);
+    }
   }
   if (options.tolerance > 0.0) import.frequency_tolerance = options.tolerance;
   const scene::CalculixImport result =

@@ -14,8 +14,11 @@
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
 #include "lie/stepper.hpp"
+#include "studies/distribution.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_command_line(int argc, char** argv) {
   using namespace flexref::app;
   CLI::App app{
       "flexref: trusted reference solutions for rigid bodies in large rotation, and the "
@@ -280,4 +283,12 @@ int main(int argc, char** argv) {
     return kExitSolverError;
   }
   return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // One process, or a rank of an MPI job (studies/distribution.hpp, docs/mpi.md).
+  flexref::studies::ProcessSession session(argc, argv);
+  return session.finish(run_command_line(argc, argv));
 }

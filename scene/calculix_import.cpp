@@ -134,8 +134,8 @@ std::string number(double x, int precision = 6) {
 
 }  // namespace
 
-std::vector<int> parse_index_list(const std::string& text, const std::string& option) {
-  std::vector<int> out;
+std::vector<std::pair<int, int>> parse_ranges(const std::string& text, const std::string& option) {
+  std::vector<std::pair<int, int>> out;
   std::size_t begin = 0;
   const auto fail = [&](const std::string& part) {
     throw std::invalid_argument(
@@ -146,23 +146,34 @@ std::vector<int> parse_index_list(const std::string& text, const std::string& op
     if (end == std::string::npos) end = text.size();
     const std::string part = text.substr(begin, end - begin);
     const std::size_t dash = part.find('-');
-    int lo = 0;
-    int hi = 0;
-    const auto parse = [&](const std::string& s, int& v) {
+    const auto parse = [&](const std::string& s) {
+      int v = 0;
       const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
       if (s.empty() || ec != std::errc() || p != s.data() + s.size() || v < 1) fail(part);
+      return v;
     };
     if (dash == std::string::npos) {
-      parse(part, lo);
-      hi = lo;
+      const int v = parse(part);
+      out.emplace_back(v, v);
     } else {
-      parse(part.substr(0, dash), lo);
-      parse(part.substr(dash + 1), hi);
+      const int lo = parse(part.substr(0, dash));
+      const int hi = parse(part.substr(dash + 1));
       if (hi < lo) fail(part);
-      if (hi - lo > 10000000) fail(part);
+      out.emplace_back(lo, hi);
+    }
+    begin = end + 1;
+  }
+  return out;
+}
+
+std::vector<int> parse_index_list(const std::string& text, const std::string& option) {
+  std::vector<int> out;
+  for (const auto& [lo, hi] : parse_ranges(text, option)) {
+    if (hi - lo > 10000000) {
+      throw std::invalid_argument(option + ": the range " + std::to_string(lo) + "-" +
+                                  std::to_string(hi) + " is too long");
     }
     for (int v = lo; v <= hi; ++v) out.push_back(v);
-    begin = end + 1;
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -304,15 +315,20 @@ CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMat
     for (int k = 0; k < n_nodes; ++k) kept_nodes.push_back(k);
   } else {
     std::map<int, int> node_index;
-    for (int k = 0; k < n_nodes; ++k)
+    for (int k = 0; k < n_nodes; ++k) {
       node_index.emplace(frd.node_ids[static_cast<std::size_t>(k)], k);
-    for (const int id : options.nodes) {
-      const auto it = node_index.find(id);
-      if (it == node_index.end()) {
+    }
+    for (const auto& [lo, hi] : options.nodes) {
+      const auto first = node_index.lower_bound(lo);
+      const auto last = node_index.upper_bound(hi);
+      if (first == last) {
         throw core::InputError(frd.file, 0, "",
-                               "selected node " + std::to_string(id) + " is not in the mesh");
+                               lo == hi
+                                   ? "selected node " + std::to_string(lo) + " is not in the mesh"
+                                   : "the selected range " + std::to_string(lo) + "-" +
+                                         std::to_string(hi) + " holds no node of the mesh");
       }
-      kept_nodes.push_back(it->second);
+      for (auto it = first; it != last; ++it) kept_nodes.push_back(it->second);
     }
     std::sort(kept_nodes.begin(), kept_nodes.end());
     kept_nodes.erase(std::unique(kept_nodes.begin(), kept_nodes.end()), kept_nodes.end());

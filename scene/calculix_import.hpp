@@ -27,6 +27,7 @@
 ///     model; self_check_passed says whether all are within `frequency_tolerance` (the
 ///     command line refuses to write the file otherwise, unless --accept).
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "flexible/modal_data.hpp"
@@ -57,7 +58,9 @@ inline constexpr double kAnisotropyTolerance = 1e-10;
 struct CalculixImportOptions {
   int frequency_step = 1;  ///< which *FREQUENCY step of the .frd (1: the first)
   std::vector<int> modes;  ///< 1-based indices among the elastic modes; empty: all
-  std::vector<int> nodes;  ///< ccx node numbers to keep; empty: all nodes
+  /// Ranges [first, last] of ccx node numbers to keep (empty: all nodes). A range keeps the
+  /// mesh nodes it contains and must contain one; a single number must be a mesh node.
+  std::vector<std::pair<int, int>> nodes;
   double frequency_tolerance = kDefaultFrequencyTolerance;
   double rigid_tolerance = kDefaultRigidTolerance;
 };
@@ -113,8 +116,11 @@ CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMat
 /// file: sources, mass properties (solid vs nodes), removed rigid modes, the frequency table.
 std::string format_calculix_import_report(const CalculixImport& result);
 
-/// Parses a selection "1-4,7,9" (positive integers and inclusive ranges) into a sorted list
-/// without repeats; throws std::invalid_argument naming `option`.
+/// Parses a selection "1-4,7,9" (positive integers and inclusive ranges) into its ranges
+/// ([7, 7] for a single number), in the order given; throws std::invalid_argument naming
+/// `option`.
+std::vector<std::pair<int, int>> parse_ranges(const std::string& text, const std::string& option);
+/// The numbers of parse_ranges, sorted, without repeats.
 std::vector<int> parse_index_list(const std::string& text, const std::string& option);
 
 }  // namespace flexref::scene

@@ -300,10 +300,29 @@ Eigen::VectorXd moment_matched_masses(const Eigen::VectorXd& initial, const Eige
   Eigen::Vector3d c;
   double l = 0.0;
   frame_of(initial, x, c, l);
-  return matched(
-      initial, 10,
-      [&](Eigen::Index k, Eigen::Ref<Eigen::VectorXd> a) { moment_row((x.col(k) - c) / l, a); },
-      moment_target(target, c, l), x);
+  // Nodes on a plane or a line have no second moment across it: no masses can match a solid's.
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+  for (Eigen::Index k = 0; k < x.cols(); ++k) {
+    const Eigen::Vector3d y = (x.col(k) - c) / l;
+    spread += initial(k) * y * y.transpose();
+  }
+  if (!(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(spread).eigenvalues()(0) >
+        1e-12 * initial.sum())) {
+    throw std::invalid_argument(
+        "the kept nodes lie on one plane (or line): they cannot carry the solid's second "
+        "moments; keep nodes off that plane");
+  }
+  try {
+    return matched(
+        initial, 10,
+        [&](Eigen::Index k, Eigen::Ref<Eigen::VectorXd> a) { moment_row((x.col(k) - c) / l, a); },
+        moment_target(target, c, l), x);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(
+        std::string("the kept nodes cannot carry the solid's mass, first and second moments "
+                    "with positive masses (") +
+        e.what() + "); keep more nodes, spread through the solid");
+  }
 }
 
 std::string InvariantSelection::describe() const {
