@@ -296,6 +296,14 @@ CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMat
     check.omega_ccx = std::sqrt(std::max(lambda[ui], 0.0));
     check.consistent_modal_mass = consistent[ui];
     check.rayleigh_difference = phi.col(i).dot(Kphi.col(i)) / (consistent[ui] * lambda[ui]) - 1.0;
+    if (!(std::abs(consistent[ui] - 1.0) <= kModalMassTolerance)) {
+      throw core::InputError(frd.file, mode.line, "",
+                             "mode " + std::to_string(mode.number) + " has the modal mass " +
+                                 number(consistent[ui], 9) + " with the mass matrix " +
+                                 matrices.mass_file +
+                                 "; ccx scales its modes to 1 with its own mass matrix: the "
+                                 "matrices and the modes come from different models");
+    }
     if (!(lambda[ui] > 0.0) || !(std::abs(check.rayleigh_difference) <= kRayleighTolerance)) {
       throw core::InputError(
           frd.file, mode.line, "",
