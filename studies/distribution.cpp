@@ -23,6 +23,26 @@ class SerialDistribution final : public Distribution {
            const Progress& progress) override {
     std::mutex mutex;
     int done = 0;
+    try {
+      run_tasks(n, jobs, task, progress, mutex, done);
+    } catch (...) {
+      set_failure_is_collective();
+      throw;
+    }
+  }
+
+  void on_root(const std::function<void()>& action) override {
+    try {
+      action();
+    } catch (...) {
+      set_failure_is_collective();
+      throw;
+    }
+  }
+
+ private:
+  static void run_tasks(int n, int jobs, const std::function<void(int)>& task,
+                        const Progress& progress, std::mutex& mutex, int& done) {
     parallel_for(n, jobs, [&](int i) {
       // The progress call follows the task even when it throws (parallel_for keeps the
       // exception and rethrows the first by index after all tasks).
@@ -40,8 +60,6 @@ class SerialDistribution final : public Distribution {
       task(i);
     });
   }
-
-  void on_root(const std::function<void()>& action) override { action(); }
 };
 
 SerialDistribution& serial() {

@@ -329,7 +329,7 @@ void MpiDistribution::run(int n, int jobs, const std::function<void(int)>& task,
       }
     }
   }
-  if (progress && reported < n) progress(n, n);
+  if (rank_ == 0 && progress && reported < n) progress(n, n);
   if (first_failure < n) {
     set_failure_is_collective();
     for (const Outcome& o : outcomes) {
