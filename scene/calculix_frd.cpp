@@ -158,6 +158,7 @@ void read_parameter(const LineReader& r, Parameters& p) {
     if (t.size() < 3) r.fail("malformed 1PSTEP record: expected three numbers");
     p.step = integer_token(r, t[2], "step number");
     p.has_eigenvalue = false;
+    p.mode = 0;
   } else if (starts_with(line, "    1PGK")) {
     if (line.size() <= 8) r.fail("malformed 1PGK record: expected the eigenvalue");
     p.eigenvalue = field<double>(r, 8, line.size() - 8, "eigenvalue (1PGK)");
@@ -177,7 +178,6 @@ void read_result_block(LineReader& r, const Parameters& p, CalculixModes& out) {
       header.size() >= 73 && trim(std::string_view(header).substr(63, 10)) == "MODAL";
   const double value = field<double>(r, 12, 12, "result value of the 100C record");
   const int count = field<int>(r, 24, 12, "node count of the 100C record");
-  const int number = modal ? field<int>(r, 58, 5, "mode number of the 100C record") : 0;
   const std::size_t width =
       node_width(r, header.size() >= 75 ? field<int>(r, 73, 2, "block format") : 1);
   if (!r.next()) r.fail("the file ends after a 100C record (truncated)");
@@ -188,14 +188,18 @@ void read_result_block(LineReader& r, const Parameters& p, CalculixModes& out) {
     return;
   }
   if (out.node_ids.empty()) r.fail("a displacement block before the node block (2C)");
+  // The mode number is 1PMODE's: the 100C record's step field counts the result sets of the
+  // whole run (it is 8 for the first mode of a second frequency step after 7 results).
+  if (!p.has_eigenvalue || p.mode < 1) {
+    r.fail(
+        "a modal displacement block without the eigenvalue (1PGK) and mode number (1PMODE) "
+        "records of its 1PSTEP");
+  }
+  const int number = p.mode;
   if (count != static_cast<int>(out.node_ids.size())) {
     r.fail("mode " + std::to_string(number) + " has displacements at " + std::to_string(count) +
            " nodes; the mesh has " + std::to_string(out.node_ids.size()) +
            " (results on a node subset are not read: request *NODE FILE for all nodes)");
-  }
-  if (!p.has_eigenvalue || p.mode != number) {
-    r.fail("mode " + std::to_string(number) +
-           " has no eigenvalue (1PGK) and mode (1PMODE) record before its 100C record");
   }
   CalculixMode mode;
   mode.number = number;

@@ -312,7 +312,9 @@ CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMat
               " gives omega^2 = " + number(phi.col(i).dot(Kphi.col(i)) / consistent[ui]) +
               ", ccx's eigenvalue is " + number(lambda[ui]) + " (relative difference " +
               number(check.rayleigh_difference) + " > " + number(kRayleighTolerance) +
-              "): the matrices and the modes come from different models");
+              "): the matrices and the modes come from different models (or the modes are "
+              "those of a prestressed step, whose stiffness includes a geometric stiffness the "
+              "stored matrices lack: docs/calculix.md)");
     }
     result.modes.push_back(check);
   }
