@@ -48,6 +48,7 @@ struct ReferenceOptions {
   std::string scene;
   std::string model = "coupled";
   std::string solver = "cvode";
+  std::string method = "auto";  ///< CVODE's method: auto | adams | bdf
   double rtol = 1e-10;
   double atol = -1.0;
   bool estimate = true;

@@ -47,8 +47,13 @@ int run_command_line(int argc, char** argv) {
   ReferenceOptions ref;
   auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
   ref_cmd->add_option("scene", ref.scene, "scene file (TOML)")->required();
-  ref_cmd->add_option("--solver", ref.solver, "ida | cvode | odeint | exact")
-      ->check(CLI::IsMember({"ida", "cvode", "odeint", "exact"}))
+  ref_cmd->add_option("--solver", ref.solver, "ida | cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"ida", "cvode", "arkode", "odeint", "exact"}))
+      ->capture_default_str();
+  ref_cmd
+      ->add_option("--method", ref.method,
+                   "CVODE's method: auto (from the scene's stiff elements) | adams | bdf")
+      ->check(CLI::IsMember({"auto", "adams", "bdf"}))
       ->capture_default_str();
   ref_cmd->add_option("--rtol", ref.rtol, "relative tolerance")
       ->check(CLI::Range(1e-15, 1e-1))
@@ -84,8 +89,8 @@ int run_command_line(int argc, char** argv) {
   conv_cmd->add_option("--metric", conv.metric, "error metric")->capture_default_str();
   conv_cmd
       ->add_option("--reference-solver", conv.reference_solver,
-                   "auto | ida | cvode | odeint | exact")
-      ->check(CLI::IsMember({"auto", "ida", "cvode", "odeint", "exact"}))
+                   "auto | ida | cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   conv_cmd->add_option("--reference-rtol", conv.reference_rtol, "reference tolerance")
       ->check(CLI::Range(1e-14, 1e-4))
@@ -112,7 +117,7 @@ int run_command_line(int argc, char** argv) {
       ->capture_default_str();
   wp_cmd->add_option("--solvers", wp.solvers, "comma-separated list")
       ->delimiter(',')
-      ->check(CLI::IsMember({"ida", "cvode", "odeint"}))
+      ->check(CLI::IsMember({"ida", "cvode", "arkode", "odeint"}))
       ->capture_default_str();
   wp_cmd->add_option("--tolerances", wp.tolerances, "comma-separated relative tolerances")
       ->delimiter(',')
@@ -123,8 +128,9 @@ int run_command_line(int argc, char** argv) {
       ->capture_default_str();
   wp_cmd->add_option("--metric", wp.metric, "error metric")->capture_default_str();
   wp_cmd
-      ->add_option("--reference-solver", wp.reference_solver, "auto | ida | cvode | odeint | exact")
-      ->check(CLI::IsMember({"auto", "ida", "cvode", "odeint", "exact"}))
+      ->add_option("--reference-solver", wp.reference_solver,
+                   "auto | ida | cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   wp_cmd->add_option("--reference-rtol", wp.reference_rtol, "reference tolerance")
       ->check(CLI::Range(1e-14, 1e-4))

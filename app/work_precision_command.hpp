@@ -16,7 +16,7 @@ struct WorkPrecisionOptions {
   std::vector<std::string> schemes = lie::scheme_names();
   double dt = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< number of steps dt, dt/2, …
-  std::vector<std::string> solvers{"ida", "cvode", "odeint"};
+  std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};
   std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   int repeats = 3;  ///< CPU time: minimum over this many runs
   std::string metric = "rotation+points";

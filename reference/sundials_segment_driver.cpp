@@ -3,10 +3,15 @@
 #include <algorithm>
 #include <cstddef>
 #include <ctime>
+#include <limits>
 
 #include "core/error.hpp"
 
 namespace flexref::reference::sundials {
+
+namespace {
+constexpr double kNever = std::numeric_limits<double>::infinity();
+}  // namespace
 
 ReferenceRun integrate_segments(const core::Model& model, const std::vector<double>& output_times,
                                 const SolverOptions& options, const std::string& solver_name,
@@ -42,11 +47,13 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
       t_reached = segment.start;
       cpu += std::clock() - start;
 
-      const auto advance_to = [&](double tout) {
+      // `next`: the time the driver asks for after tout (the next output or the segment end),
+      // so that a solver can tell whether tout is the only output inside its current step.
+      const auto advance_to = [&](double tout, double next) {
         const std::clock_t solve_start = std::clock();
         double t_returned = t_reached;
         while (t_returned < tout) {
-          const SegmentSolver::Advance reached = solver->advance(tout);
+          const SegmentSolver::Advance reached = solver->advance(tout, next);
           if (reached.root) {
             // A contact onset or release: restart there (new order-1 step sequence).
             t_returned = reached.t;
@@ -64,12 +71,15 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
       for (std::size_t k = segment.first_output; k < segment.end_output; ++k) {
         // Outputs within boundary_slack of the segment end are taken at the end.
         const double tout = std::min(output_times[k], segment.end);
-        if (tout > t_reached) advance_to(tout);
+        const double next = k + 1 < segment.end_output
+                                ? std::min(output_times[k + 1], segment.end)
+                                : (tout < segment.end ? segment.end : kNever);
+        if (tout > t_reached) advance_to(tout, next);
         solver->unpack(tout, state);
         run.trajectory.states.push_back(state);
         if (track_work) run.trajectory.dissipated_work.push_back(solver->dissipated_work());
       }
-      if (t_reached < segment.end) advance_to(segment.end);
+      if (t_reached < segment.end) advance_to(segment.end, kNever);
       // The state is continuous across a load switch; unpacking normalizes θ, so the restart
       // also projects the Euler parameters back onto the unit sphere.
       solver->unpack(t_reached, state);

@@ -47,8 +47,10 @@ class SegmentSolver {
     double t = 0.0;     ///< time reached (tout, or a root before it)
     bool root = false;  ///< stopped at a zero of a switching function
   };
-  /// One call in the solver's NORMAL mode towards tout (≤ the stop time).
-  virtual Advance advance(double tout) = 0;
+  /// One call in the solver's NORMAL mode towards tout (≤ the stop time). `next` is the time
+  /// the driver will ask for after tout (the next output, the segment end, or +inf): a solver
+  /// that computes outputs itself can tell whether tout is the only one inside its step.
+  virtual Advance advance(double tout, double next) = 0;
 
   /// Restarts at the root t just returned by advance (same segment, same stop time).
   virtual void restart_at_root(double t, const Segment& segment) = 0;

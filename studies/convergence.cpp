@@ -152,10 +152,7 @@ std::string format_convergence_table(const ConvergenceResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
   out << "reference: " << r.reference.run.solver << " rtol " << r.reference.run.options.rtol
-      << ", estimated error " << std::scientific << std::setprecision(2) << est.estimate()
-      << " (vs " << est.tighter_solver << " at rtol " << est.tighter_rtol << ": " << est.vs_tighter
-      << "; vs " << est.other_solver << " at rtol " << est.other_rtol << ": " << est.vs_other_solver
-      << (est.exact ? "; the smaller bounds an exact solution" : "") << ")\n";
+      << ", estimated error " << describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n\n";
   out << std::left << std::setw(7) << "scheme" << std::right << std::setw(12) << "h"
       << std::setw(10) << "steps" << std::setw(12) << "error" << std::setw(8) << "order"

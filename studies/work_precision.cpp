@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "core/state.hpp"
 #include "lie/run_scheme.hpp"
@@ -95,6 +96,8 @@ SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs) {
 
 std::vector<double> default_target_errors() { return {1e-2, 1e-4, 1e-6, 1e-8}; }
 
+std::vector<double> reference_target_errors() { return {1e-4, 1e-6, 1e-8, 1e-10, 1e-12}; }
+
 std::vector<CheapestMethod> cheapest_methods(const std::vector<WorkPrecisionRun>& runs,
                                              const std::vector<double>& targets) {
   std::vector<CheapestMethod> out;
@@ -158,8 +161,10 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         reference::SolverOptions solver_options;
         solver_options.rtol = out.setting;
         trajectory = timed_min(options.repeats, out.cpu_seconds, [&] {
-          return reference::solve_reference(out.method, model, output_times, solver_options)
-              .trajectory;
+          reference::ReferenceRun run =
+              reference::solve_reference(out.method, model, output_times, solver_options);
+          out.evaluations = run.stats.rhs_evaluations;
+          return std::move(run.trajectory);
         });
       }
       out.error =
@@ -184,6 +189,11 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
     }
   }
   result.cheapest = cheapest_methods(result.runs, default_target_errors());
+  std::vector<WorkPrecisionRun> solver_runs;
+  for (const auto& run : result.runs) {
+    if (run.kind == "solver") solver_runs.push_back(run);
+  }
+  result.cheapest_references = cheapest_methods(solver_runs, reference_target_errors());
 
   if (any_uncertified) {
     std::ostringstream note;
@@ -213,10 +223,7 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
   out << "reference: " << r.reference.run.solver << " rtol " << r.reference.run.options.rtol
-      << ", estimated error " << std::scientific << std::setprecision(2) << est.estimate()
-      << " (vs " << est.tighter_solver << " at rtol " << est.tighter_rtol << ": " << est.vs_tighter
-      << "; vs " << est.other_solver << " at rtol " << est.other_rtol << ": " << est.vs_other_solver
-      << (est.exact ? "; the smaller bounds an exact solution" : "") << ")\n";
+      << ", estimated error " << describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n";
 
   std::string current;
@@ -239,23 +246,31 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
     out << "  " << run.status << "\n";
   }
 
-  out << "\ncheapest method per target error (certified runs only):\n"
-      << std::right << std::setw(8) << "target"
-      << "  " << std::left << std::setw(8) << "method" << std::setw(18) << "setting" << std::right
-      << std::setw(11) << "error" << std::setw(11) << "cpu [s]\n";
-  for (const auto& c : r.cheapest) {
-    out << std::right << std::scientific << std::setprecision(0) << std::setw(8) << c.target
-        << "  ";
-    if (!c.found) {
-      out << "none reaches it\n";
-      continue;
+  const auto cheapest_table = [&out](const std::vector<CheapestMethod>& cheapest,
+                                     const char* title) {
+    out << "\n"
+        << title << " (certified runs only):\n"
+        << std::right << std::setw(8) << "target"
+        << "  " << std::left << std::setw(8) << "method" << std::setw(18) << "setting" << std::right
+        << std::setw(11) << "error" << std::setw(11) << "cpu [s]\n";
+    for (const auto& c : cheapest) {
+      out << std::right << std::scientific << std::setprecision(0) << std::setw(8) << c.target
+          << "  ";
+      if (!c.found) {
+        out << "none reaches it\n";
+        continue;
+      }
+      std::ostringstream setting;
+      setting << (c.run.kind == "scheme" ? "h = " : "rtol = ") << std::scientific
+              << std::setprecision(2) << c.run.setting;
+      out << std::left << std::setw(8) << c.run.method << std::setw(18) << setting.str()
+          << std::right << std::setprecision(2) << std::setw(11) << c.run.error << std::setw(11)
+          << c.run.cpu_seconds << "\n";
     }
-    std::ostringstream setting;
-    setting << (c.run.kind == "scheme" ? "h = " : "rtol = ") << std::scientific
-            << std::setprecision(2) << c.run.setting;
-    out << std::left << std::setw(8) << c.run.method << std::setw(18) << setting.str() << std::right
-        << std::setprecision(2) << std::setw(11) << c.run.error << std::setw(11)
-        << c.run.cpu_seconds << "\n";
+  };
+  cheapest_table(r.cheapest, "cheapest method per target error");
+  if (!r.cheapest_references.empty()) {
+    cheapest_table(r.cheapest_references, "cheapest reference solver per target error");
   }
   for (const auto& n : r.notes) out << "note: " << n << "\n";
   return out.str();
@@ -264,10 +279,10 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
 std::string work_precision_csv(const WorkPrecisionResult& r) {
   std::ostringstream out;
   out.precision(17);
-  out << "method,kind,setting,error,cpu_seconds,status\n";
+  out << "method,kind,setting,error,cpu_seconds,status,evaluations\n";
   for (const auto& run : r.runs) {
     out << run.method << ',' << run.kind << ',' << run.setting << ',' << run.error << ','
-        << run.cpu_seconds << ',' << csv_safe(run.status) << '\n';
+        << run.cpu_seconds << ',' << csv_safe(run.status) << ',' << run.evaluations << '\n';
   }
   return out.str();
 }

@@ -158,6 +158,28 @@ out=$("$flexref" figure "$tmp/fig_bad.toml" --out "$tmp/fig_bad" 2>&1)
 out=$("$flexref" stability --parameter modal_frequency --values 50 --schemes c2 \
   --out "$tmp/stab_modal" 2>&1) || fail "stability modal_frequency failed: $out"
 [[ $out == *"1.999"* ]] || fail "stability modal_frequency: h*omega not 1.999: $out"
+# reference: the method and why (CVODE chooses Adams on a scene without a stiff element; BDF on
+# request), ARKODE, and an estimate that says how it was made.
+"$flexref" reference scenes/free_spin.toml --solver cvode --rtol 1e-8 -o "$tmp/fs.csv" >/dev/null ||
+  fail "reference free_spin failed"
+meta=$(cat "$tmp/fs.csv.meta.toml")
+[[ $meta == *'method = "adams"'*'method_reason = "non-stiff'* ]] ||
+  fail "reference: no automatic method in the metadata: $meta"
+[[ $meta == *"[error_estimate]"*'method = "distance to the exact solution'*"[[error_estimate.check]]"*'role = "exact"'* ]] ||
+  fail "reference: the estimate does not say how it was made: $meta"
+"$flexref" reference scenes/book_toss.toml --solver cvode --method bdf --rtol 1e-8 -o "$tmp/bt.csv" \
+  >/dev/null || fail "reference --method bdf failed"
+meta=$(cat "$tmp/bt.csv.meta.toml")
+[[ $meta == *'method = "bdf"'*'method_reason = "chosen with --method"'* ]] ||
+  fail "reference --method bdf not recorded: $meta"
+[[ $meta == *'role = "tighter"'*'used = true'*'role = "other"'*'solver = "odeint"'* ]] ||
+  fail "reference: the numerical estimate's checks are not recorded: $meta"
+out=$("$flexref" reference scenes/book_toss.toml --solver arkode --rtol 1e-8 --no-estimate \
+  -o "$tmp/ark.csv" 2>&1) || fail "reference --solver arkode failed: $out"
+[[ $out == *"arkode (erk-fehlberg-13-7-8)"* ]] || fail "reference arkode: $out"
+"$flexref" reference scenes/book_toss.toml --solver cvode --method rk4 -o "$tmp/z.csv" \
+  >/dev/null 2>&1 && fail "unknown --method accepted"
+[[ ! -e $tmp/z.csv ]] || fail "unknown --method: an output file was written"
 
 if ((failures)); then
   echo "$failures CLI checks failed"
