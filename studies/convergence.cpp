@@ -26,6 +26,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kRoundOffFloor = 1e-11;
 
 SlotCodec level_codec(std::vector<ConvergenceLevel>& levels) {
+  require_codec_size<ConvergenceLevel, 104>();
   const auto fields = [](auto& io, auto& l) {
     io(l.scheme, l.h, l.steps, l.error, l.order, l.cpu_seconds, l.status);
   };

@@ -14,6 +14,7 @@
 /// Failures: a task that throws is recorded with its exception's kind and message; after all
 /// tasks have run, every process rethrows the exception of the failing task with the smallest
 /// index (as a serial loop would have met first), so no process waits for one that stopped.
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -113,6 +114,19 @@ template <typename T>
 SlotCodec vector_codec(std::vector<T>& slots) {
   return {[&slots](int i, SlotWriter& w) { write_slot(w, slots[static_cast<std::size_t>(i)]); },
           [&slots](int i, SlotReader& r) { read_slot(r, slots[static_cast<std::size_t>(i)]); }};
+}
+
+/// A tripwire for slot codecs: does not compile when T's size changes on the platform the
+/// codecs are checked on (libstdc++, x86-64), so that a field added to a result slot is added to
+/// its codec too (a field left out would be default on every rank but the one that ran the
+/// task). Call it in the codec with the size the codec was written for.
+template <typename T, std::size_t kSize>
+constexpr void require_codec_size() {
+#if defined(__GLIBCXX__) && defined(__x86_64__)
+  static_assert(sizeof(T) == kSize,
+                "a field was added to or removed from a result slot: update its codec (every "
+                "field), then this size");
+#endif
 }
 
 /// The progress line of a study on stderr: "\r<label>: k/n <unit>" on a terminal, a line per

@@ -138,6 +138,7 @@ double max_angle(const Response& a, const Response& b) {
 
 /// Every field of a grid point, for distributed_for.
 SlotCodec point_codec(std::vector<LteMapPoint>& points) {
+  require_codec_size<LteMapPoint, 128>();
   const auto fields = [](auto& io, auto& p) {
     io(p.spin_ratio, p.inertia_ratio, p.spin, p.omega1, p.hub_scale, p.load_scale, p.tip_error,
        p.attitude_error, p.max_deflection, p.coupled_estimate, p.lte_estimate, p.resolved,

@@ -84,6 +84,7 @@ StabilityPoint bisect_point(const std::string& scheme, const Eigen::Matrix3d& I_
 /// Long run of one scheme: samples hold the maximum drifts over the steps since the previous
 /// sample, so oscillating errors are not aliased away.
 SlotCodec point_codec(std::vector<StabilityPoint>& points) {
+  require_codec_size<StabilityPoint, 160>();
   const auto fields = [](auto& io, auto& p) {
     io(p.scheme, p.parameter, p.value, p.spin, p.h_max, p.h_unstable, p.classification, p.near_pi);
   };
@@ -98,6 +99,7 @@ SlotCodec point_codec(std::vector<StabilityPoint>& points) {
 }
 
 SlotCodec long_run_codec(std::vector<std::vector<LongRunSample>>& runs) {
+  require_codec_size<LongRunSample, 104>();
   const auto fields = [](auto& io, auto& s) {
     io(s.scheme, s.step, s.t, s.energy_drift, s.momentum_drift, s.quaternion_drift, s.status);
   };

@@ -139,6 +139,7 @@ std::string classify_linear_run(const core::Model& model, const std::string& par
 std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options) {
   const std::size_t n_schemes = options.schemes.size();
   std::vector<LinearSweepPoint> points(options.values.size() * n_schemes);
+  require_codec_size<LinearSweepPoint, 96>();
   const auto fields = [](auto& io, auto& p) {
     io(p.scheme, p.value, p.omega, p.h_max, p.h_theory, p.classification);
   };

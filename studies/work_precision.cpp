@@ -79,8 +79,9 @@ std::string csv_safe(std::string s) {
 }
 
 SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs) {
+  require_codec_size<WorkPrecisionRun, 128>();
   const auto fields = [](auto& io, auto& r) {
-    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status);
+    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
   };
   return {[&runs, fields](int i, SlotWriter& w) {
             auto put = [&w](const auto&... x) { (w.put(x), ...); };
