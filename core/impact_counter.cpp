@@ -1,5 +1,6 @@
 #include "core/impact_counter.hpp"
 
+#include <cmath>
 #include <cstddef>
 
 namespace flexref::core {
@@ -16,17 +17,33 @@ void ImpactCounter::start(const LoadContext& context, const State& state, Worksp
   for (double& c : counts_) c = 0.0;
 }
 
+void ImpactCounter::count(std::size_t k, bool separated) {
+  const int channel = model_->switching_channels()[k];
+  if (separated_[k] && !separated && channel >= 0)
+    counts_[static_cast<std::size_t>(channel)] += 1.0;
+  separated_[k] = separated;
+}
+
 void ImpactCounter::update(const LoadContext& context, const State& state, Workspace& ws) {
   if (gaps_.empty()) return;
   model_->switching_functions(context, state, ws, gaps_);
-  const std::vector<int>& channels = model_->switching_channels();
+  for (std::size_t k = 0; k < gaps_.size(); ++k) count(k, gaps_[k] > 0.0);
+}
+
+void ImpactCounter::update_at_root(const LoadContext& context, const State& state, Workspace& ws) {
+  if (gaps_.empty()) return;
+  model_->switching_functions(context, state, ws, gaps_);
+  bool changed = false;
+  std::size_t nearest = 0;
   for (std::size_t k = 0; k < gaps_.size(); ++k) {
-    const bool separated = gaps_[k] > 0.0;
-    if (separated_[k] && !separated && channels[k] >= 0) {
-      counts_[static_cast<std::size_t>(channels[k])] += 1.0;
-    }
-    separated_[k] = separated;
+    changed = changed || (gaps_[k] > 0.0) != separated_[k];
+    if (std::abs(gaps_[k]) < std::abs(gaps_[nearest])) nearest = k;
   }
+  if (!changed) {
+    count(nearest, !separated_[nearest]);
+    return;
+  }
+  for (std::size_t k = 0; k < gaps_.size(); ++k) count(k, gaps_[k] > 0.0);
 }
 
 }  // namespace flexref::core

@@ -19,6 +19,11 @@ class ImpactCounter {
   void start(const LoadContext& context, const State& state, Workspace& ws);
   /// Counts the onsets since the last call. Allocates nothing.
   void update(const LoadContext& context, const State& state, Workspace& ws);
+  /// The same at a root a solver located: some switching function crossed zero. When the
+  /// returned state shows no sign change (the root finder may return the state on either side
+  /// of the crossing, within its time tolerance), the function nearest zero is the one that
+  /// crossed and its side flips.
+  void update_at_root(const LoadContext& context, const State& state, Workspace& ws);
   /// Impacts so far, one per wear channel.
   const std::vector<double>& counts() const { return counts_; }
 
@@ -27,6 +32,8 @@ class ImpactCounter {
   std::vector<double> gaps_;
   std::vector<bool> separated_;
   std::vector<double> counts_;
+
+  void count(std::size_t k, bool separated);
 };
 
 }  // namespace flexref::core

@@ -81,7 +81,7 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
               // The root finder returns the state just past the sign change: an onset is seen
               // here, however short the contact.
               solver->unpack(t_returned, state);
-              impacts.update(core::LoadContext{t_returned, segment.t_segment}, state, ws);
+              impacts.update_at_root(core::LoadContext{t_returned, segment.t_segment}, state, ws);
             }
             solver->add_counters(run.stats);
             solver->restart_at_root(t_returned, segment);

@@ -1,0 +1,123 @@
+/// scenes/tube_support_impact.toml (issue 13): the tube hits and rubs its support at a deforming
+/// node. Checked on its first 0.3 s (24 forcing periods, the tube reaches the support within the
+/// first periods):
+///  - the energy balance E − E₀ + W_d − W_a (W_a the harmonic forces' work, integrated with the
+///    state like W_d) ≤ 1e-6 of the energy scale in every reference;
+///  - the wear outputs: columns, impacts counted, wear work positive and equal across references
+///    to their tolerance;
+///  - the LTE and coupled models agree (the frame is fixed: the same equations).
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "reference/reference_solver.hpp"
+#include "scene/build_model.hpp"
+#include "scene/scene_reader.hpp"
+#include "studies/trajectory_table.hpp"
+
+namespace flexref {
+namespace {
+
+const std::string kScene = "scenes/tube_support_impact.toml";
+
+std::vector<double> grid(double end, double step) {
+  std::vector<double> t;
+  for (int k = 0; k * step <= end + 1e-12; ++k) t.push_back(k * step);
+  return t;
+}
+
+struct Columns {
+  std::vector<double> balance, scale, wear, impacts, mid_y;
+};
+
+Columns columns(const core::Model& model, const reference::ReferenceRun& run) {
+  const studies::TrajectoryTable table = studies::tabulate(model, run.trajectory);
+  Columns c;
+  const int e = table.column("energy"), wd = table.column("dissipated_work"),
+            wa = table.column("applied_work"), b = table.column("energy_balance"),
+            w = table.column("support.wear_work"), i = table.column("support.impacts"),
+            y = table.column("tube.mid.y");
+  REQUIRE(e >= 0);
+  REQUIRE(wd >= 0);
+  REQUIRE(wa >= 0);
+  REQUIRE(b >= 0);
+  REQUIRE(w >= 0);
+  REQUIRE(i >= 0);
+  REQUIRE(table.column("support.fn") >= 0);
+  REQUIRE(table.column("support.slip_speed") >= 0);
+  for (const auto& row : table.rows) {
+    c.balance.push_back(row[static_cast<std::size_t>(b)]);
+    c.scale.push_back(std::abs(row[static_cast<std::size_t>(e)]) +
+                      std::abs(row[static_cast<std::size_t>(wd)]) +
+                      std::abs(row[static_cast<std::size_t>(wa)]));
+    c.wear.push_back(row[static_cast<std::size_t>(w)]);
+    c.impacts.push_back(row[static_cast<std::size_t>(i)]);
+    c.mid_y.push_back(row[static_cast<std::size_t>(y)]);
+  }
+  return c;
+}
+
+TEST_CASE("tube_support_impact: energy balance, wear outputs and impacts in every reference") {
+  scene::Scene scene = scene::read_scene(kScene);
+  scene::SceneSpec spec = scene.spec;
+  spec.end_time = 0.3;
+  const core::Model model = scene::build_model(spec);
+  REQUIRE(model.wear_channel_names() == std::vector<std::string>{"support"});
+  REQUIRE(model.tracks_applied_work());
+  reference::SolverOptions o;
+  o.rtol = 1e-10;
+  const std::vector<double> t = grid(0.3, 0.005);
+  using Solve = reference::ReferenceRun (*)(const core::Model&, const std::vector<double>&,
+                                            const reference::SolverOptions&);
+  std::vector<Columns> all;
+  for (const Solve solve : {&reference::solve_cvode, &reference::solve_ida,
+                            &reference::solve_arkode, &reference::solve_odeint}) {
+    const reference::ReferenceRun run = solve(model, t, o);
+    INFO(run.solver);
+    const Columns c = columns(model, run);
+    double worst = 0.0, scale = 0.0;
+    for (std::size_t k = 0; k < c.balance.size(); ++k) {
+      worst = std::max(worst, std::abs(c.balance[k]));
+      scale = std::max(scale, c.scale[k]);
+    }
+    // The issue's target: 1e-6 relative. Each integral is a solution component under rtol 1e-10
+    // (the energy is evaluated from the state, whose error is ~ rtol over the run's ~1e3 steps
+    // between outputs), so the balance closes to ~1e-9 of the scale.
+    CHECK(worst <= 1e-6 * scale);
+    CHECK(scale > 0.1);  // the forces do work: the balance is not vacuous
+    // The tube reaches the support and rubs it.
+    CHECK(c.impacts.back() >= 5.0);
+    CHECK(c.wear.back() > 0.0);
+    for (std::size_t k = 1; k < c.wear.size(); ++k) CHECK(c.wear[k] >= c.wear[k - 1]);
+    all.push_back(c);
+  }
+  // The four references agree on the wear work and the impact count: each integrates W_wear'
+  // = |F_t·v_t| as a component to rtol 1e-10; their distance is ≤ ~1e-8 of the value over
+  // dozens of impacts (located to ~1e-12 s each), bounded here by 1e-6.
+  for (std::size_t r = 1; r < all.size(); ++r) {
+    CHECK(all[r].wear.back() == Approx(all[0].wear.back()).epsilon(1e-6));
+    CHECK(all[r].impacts.back() == all[0].impacts.back());
+  }
+}
+
+TEST_CASE("tube_support_impact: LTE and coupled models agree with the frame fixed") {
+  scene::Scene scene = scene::read_scene(kScene);
+  scene::SceneSpec spec = scene.spec;
+  spec.end_time = 0.1;
+  const core::Model coupled = scene::build_model(spec, core::FlexibleFormulation::kCoupled);
+  const core::Model lte = scene::build_model(spec, core::FlexibleFormulation::kLte);
+  reference::SolverOptions o;
+  o.rtol = 1e-10;
+  const std::vector<double> t = grid(0.1, 0.005);
+  const Columns a = columns(coupled, reference::solve_cvode(coupled, t, o));
+  const Columns b = columns(lte, reference::solve_cvode(lte, t, o));
+  // With ω̄ = 0 and α̅ = 0 the coupled model's modal rows are m_ff q̈ + D q̇ + K q = Q_f, the
+  // LTE model's too, and node contacts see the deformed node in both (docs/decisions.md): the
+  // solutions differ only by the solver's errors, ~1e-10 of the 1e-3 m motion.
+  for (std::size_t k = 0; k < t.size(); ++k) CHECK(std::abs(a.mid_y[k] - b.mid_y[k]) < 1e-10);
+  CHECK(b.wear.back() == Approx(a.wear.back()).epsilon(1e-6));
+}
+
+}  // namespace
+}  // namespace flexref
