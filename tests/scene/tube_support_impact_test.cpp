@@ -8,9 +8,12 @@
 ///  - the LTE and coupled models agree (the frame is fixed: the same equations).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "lie/run_scheme.hpp"
+#include "lie/stepper.hpp"
 #include "reference/reference_solver.hpp"
 #include "scene/build_model.hpp"
 #include "scene/scene_reader.hpp"
@@ -82,8 +85,9 @@ TEST_CASE("tube_support_impact: energy balance, wear outputs and impacts in ever
       scale = std::max(scale, c.scale[k]);
     }
     // The issue's target: 1e-6 relative. Each integral is a solution component under rtol 1e-10
-    // (the energy is evaluated from the state, whose error is ~ rtol over the run's ~1e3 steps
-    // between outputs), so the balance closes to ~1e-9 of the scale.
+    // (the energy is evaluated from the state; atol = rtol = 1e-10 on modal coordinates of
+    // ~1e-3 allows ~1e-7 relative errors per component): measured 3.2e-7 (CVODE), 1.6e-7 (IDA),
+    // 6.6e-8 (ARKODE), 1e-9 (Odeint) of the ~1 J scale at 0.3 s.
     CHECK(worst <= 1e-6 * scale);
     CHECK(scale > 0.1);  // the forces do work: the balance is not vacuous
     // The tube reaches the support and rubs it.
@@ -117,6 +121,39 @@ TEST_CASE("tube_support_impact: LTE and coupled models agree with the frame fixe
   // solutions differ only by the solver's errors, ~1e-10 of the 1e-3 m motion.
   for (std::size_t k = 0; k < t.size(); ++k) CHECK(std::abs(a.mid_y[k] - b.mid_y[k]) < 1e-10);
   CHECK(b.wear.back() == Approx(a.wear.back()).epsilon(1e-6));
+}
+
+TEST_CASE("tube_support_impact: the schemes' wear work converges at second order") {
+  scene::Scene scene = scene::read_scene(kScene);
+  scene::SceneSpec spec = scene.spec;
+  spec.end_time = 0.3;
+  const core::Model model = scene::build_model(spec, core::FlexibleFormulation::kLte);
+  reference::SolverOptions o;
+  o.rtol = 1e-11;
+  const std::vector<double> t = grid(0.3, 0.005);
+  const double reference_wear = columns(model, reference::solve_cvode(model, t, o)).wear.back();
+  for (const std::string& name : lie::scheme_names()) {
+    INFO(name);
+    std::vector<double> errors;
+    for (const double h : {2.5e-5, 1.25e-5, 6.25e-6}) {
+      const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(name, model);
+      const core::Trajectory run = lie::run_scheme(model, *stepper, h, t);
+      const studies::TrajectoryTable table = studies::tabulate(model, run);
+      const double wear =
+          table.rows.back()[static_cast<std::size_t>(table.column("support.wear_work"))];
+      errors.push_back(std::abs(wear - reference_wear) / reference_wear);
+    }
+    // The reference's own error is ~1e-8 (rtol 1e-11; the four references agree to that), far
+    XX
+        // docs/contact_results.md: the rate reaches 2 below h = 2.5e-5, where the steps resolve the
+        // ~0.3 ms impacts and the friction's 5 mm/s regularization); a first-order or
+        // non-converging wear integration (a rectangle rule, a sampled output) gives ≤ 1.
+        const double order_1 = std::log2(errors[0] / errors[1]);
+    const double order_2 = std::log2(errors[1] / errors[2]);
+    CHECK(order_1 > 1.6);
+    CHECK(order_2 > 1.6);
+    CHECK(errors[2] < 1e-3);
+  }
 }
 
 }  // namespace
