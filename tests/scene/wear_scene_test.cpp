@@ -83,7 +83,7 @@ TEST_CASE("gap supports, node forces and harmonic profiles are read") {
   CHECK(switches.empty());
 }
 
-TEST_CASE("a clamped-clamped beam has no displacement at either end; clamped-pinned free slope") {
+TEST_CASE("clamped-clamped and clamped-pinned beams: no displacement at the ends") {
   for (const char* boundary : {"clamped-clamped", "clamped-pinned"}) {
     std::string text = kHead;
     text += "boundary = \"" + std::string(boundary) + "\"\n";
