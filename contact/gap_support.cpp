@@ -152,6 +152,24 @@ void GapSupport::append_penalty_modes(std::span<const core::Body> bodies,
   mode.frequency = std::sqrt(mode.stiffness / m_eff);
   mode.step_limit = 2.0 / mode.frequency;
   modes.push_back(mode);
+  if (!(friction_.mu > 0.0)) return;
+  // Regularized friction below v_reg is a viscous damper c_t = μ F_n/v_reg (docs/contact.md); at
+  // the normal force F_n of an impact at the law's reference speed (Hunt–Crossley) or at
+  // k·(clearance) (linear) it bounds central differences by 2 m_eff/c_t (a first-order decay
+  // with rate c_t/m_eff). On tube_support_impact: 9.5e-5 s; C2 runs at 1e-4 and diverges at 2e-4.
+  const double delta = normal_.kind() == NormalLaw::Kind::kLinear
+                           ? geometry_.clearance
+                           : normal_.impact_penetration(m_eff, normal_.reference_speed());
+  const double f_n = normal_.force(delta, 0.0).elastic;
+  core::PenaltyMode f;
+  f.label = " friction";
+  f.kind = "contact";
+  f.inertia = m_eff;
+  f.stiffness = 0.0;
+  const double c_t = friction_.mu * f_n / friction_.v_reg;
+  f.frequency = c_t / m_eff;  // the decay rate, 1/s
+  f.step_limit = 2.0 * m_eff / c_t;
+  modes.push_back(f);
 }
 
 }  // namespace flexref::contact
