@@ -147,9 +147,9 @@ TEST_CASE("rigid limit and friction work: a block sliding down an incline on its
     for (const reference::ReferenceRun* r : {&a, &b}) {
       const double wear = r->trajectory.extra_work[j];
       // Measured ≤ 1.7e-9 of W for both (rtol 1e-10 on a component that grows to 5.7 J, and the
-      // stiff node's shear transient F_t/K ~ 1e-9 m); 1e-8 leaves room. A work from the sampled
-      // outputs, a missing |·| or a wrong friction force is off by far more (the node's own slip
-      // velocity is checked by node_attachment_test.cpp).
+      // stiff node's shear transient F_t/K ~ 1e-9 m); 1e-8 leaves room. A wrong friction
+      // coefficient, normal force or slip speed is off by O(1) (the node's own slip velocity is
+      // checked by node_attachment_test.cpp).
       CHECK(std::abs(wear - expected) <= 1e-8 * std::max(1.0, expected));
     }
   }
