@@ -83,6 +83,31 @@ TEST_CASE("gap supports, node forces and harmonic profiles are read") {
   CHECK(switches.empty());
 }
 
+TEST_CASE("sphere-plane and sphere-sphere contacts at nodes are read with the node's Φ") {
+  const scene::Scene s = scene::parse_scene(
+      kHead +
+          "[[contact]]\nkind = \"sphere-sphere\"\nbody = \"tube\"\nnode = \"node2\"\n"
+          "radius = 0.01\nbody_b = \"ball\"\ncenter_b = [0, 0, 0]\nradius_b = 0.1\n"
+          "[[contact]]\nkind = \"point-plane\"\nbody = \"tube\"\nnode = \"node3\"\n"
+          "plane_point = [0, 0, -0.01]\n",
+      "ok.toml");
+  const auto* ss = dynamic_cast<const contact::ContactElement*>(s.model->elements()[0].get());
+  const auto* pp = dynamic_cast<const contact::ContactElement*>(s.model->elements()[1].get());
+  REQUIRE(ss != nullptr);
+  REQUIRE(pp != nullptr);
+  const flexible::ModalData& modal = s.model->body(1).description().flexible->modal;
+  const contact::ContactPair& a = ss->pairs().front();
+  CHECK(a.node_a.deforms());
+  CHECK(!a.node_b.deforms());
+  CHECK(a.node_a.phi_B == modal.mode_rows(a.node_a.node));
+  CHECK(a.p_BoCa_B == modal.p_BoNode_B.col(a.node_a.node));
+  CHECK(modal.node_names[static_cast<std::size_t>(a.node_a.node)] == "node2");
+  const contact::ContactPair& p = pp->pairs().front();
+  CHECK(modal.node_names[static_cast<std::size_t>(p.node_b.node)] == "node3");
+  CHECK(p.node_b.phi_B == modal.mode_rows(p.node_b.node));
+  CHECK(s.model->wear_channel_count() == 0);  // unnamed contacts: no wear columns
+}
+
 TEST_CASE("clamped-clamped and clamped-pinned beams: no displacement at the ends") {
   for (const char* boundary : {"clamped-clamped", "clamped-pinned"}) {
     std::string text = kHead;
