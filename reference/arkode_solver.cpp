@@ -35,6 +35,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -113,10 +114,11 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
     restep_ = make_fehlberg(y_.get(), context_.get(), data_);
   }
 
-  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     form_.pack(state, sun::data(y_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work);
+    form_.set_integrals(sun::data(y_.get()), integrals);
     restart(segment.start, segment.end);
   }
 
@@ -175,8 +177,8 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(output_ready_ ? y_end_.get() : y_.get()), state);
   }
-  double dissipated_work() const override {
-    return form_.dissipated_work(sun::data(output_ready_ ? y_end_.get() : y_.get()));
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(output_ready_ ? y_end_.get() : y_.get()), out);
   }
 
   void add_counters(SolverStats& stats) const override {

@@ -21,6 +21,7 @@
 #include <cvode/cvode_proj.h>
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -56,10 +57,11 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     data_.jacobian = options.jacobian;
   }
 
-  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     form_.pack(state, sun::data(y_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work);
+    form_.set_integrals(sun::data(y_.get()), integrals);
     void* cvode = cvode_.get();
     if (!initialized_) {
       sun::check(CVodeInit(cvode, sun::ode_rhs, segment.start, y_.get()), "CVodeInit");
@@ -118,7 +120,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  double dissipated_work() const override { return form_.dissipated_work(sun::data(y_.get())); }
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(y_.get()), out);
+  }
 
   void add_counters(SolverStats& stats) const override {
     void* cvode = cvode_.get();

@@ -142,12 +142,13 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     }
   }
 
-  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     // Consistent (y, y') on the new load branch: y' from the quasi-velocity accelerations.
     form_.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
                          sun::data(y_.get()), sun::data(yp_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work);
+    form_.set_integrals(sun::data(y_.get()), integrals);
     const int n = form_.size();
     if (!sun::all_finite(sun::data(y_.get()), n) || !sun::all_finite(sun::data(yp_.get()), n)) {
       throw sun::StartError("the loads are not finite at the initial state of the segment");
@@ -185,10 +186,10 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   void restart_at_root(double t, const sun::Segment& segment) override {
     // Restart from consistent values at the event, θ back on the unit sphere.
     form_.unpack(t, sun::data(y_.get()), data_.scratch.state);
-    const double work_at_event = form_.dissipated_work(sun::data(y_.get()));
+    form_.integrals(sun::data(y_.get()), integrals_at_event_);
     form_.initial_values(core::LoadContext{t, segment.t_segment}, data_.scratch.state,
                          sun::data(y_.get()), sun::data(yp_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work_at_event);
+    form_.set_integrals(sun::data(y_.get()), integrals_at_event_);
     sun::check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit");
     sun::check(IDASetStopTime(ida_.get(), segment.end), "IDASetStopTime");
   }
@@ -196,7 +197,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  double dissipated_work() const override { return form_.dissipated_work(sun::data(y_.get())); }
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(y_.get()), out);
+  }
 
   void add_counters(SolverStats& stats) const override {
     void* ida = ida_.get();
@@ -233,6 +236,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   SolverOptions options_;
   DaeForm form_;
   OdeForm ode_;
+  /// W_d and the extra integrals carried across a restart at an event (sized once).
+  std::vector<double> integrals_at_event_ =
+      std::vector<double>(static_cast<std::size_t>(form_.integral_count()));
   IdaData data_;
   bool initialized_ = false;
   sun::Context context_;

@@ -192,6 +192,21 @@ out=$("$flexref" reference scenes/book_toss.toml --solver arkode --rtol 1e-8 --n
   >/dev/null 2>&1 && fail "unknown --method accepted"
 [[ ! -e $tmp/z.csv ]] || fail "unknown --method: an output file was written"
 
+# Wear outputs (issue 13): the tube's run and reference have the wear columns, compare reports
+# the wear metric; a scene without a named contact refuses it.
+sed 's/^end_time = 10.0 /end_time = 0.05 /' scenes/tube_support_impact.toml >"$tmp/tube.toml"
+"$flexref" run "$tmp/tube.toml" --scheme c2 --dt 1e-5 --model lte -o "$tmp/tube_run.csv" \
+  >/dev/null || fail "tube run failed"
+"$flexref" reference "$tmp/tube.toml" --solver cvode --rtol 1e-9 --no-estimate \
+  -o "$tmp/tube_ref.csv" >/dev/null || fail "tube reference failed"
+[[ $(head -1 "$tmp/tube_ref.csv") == *"support.fn,support.slip_speed,support.wear_work,support.impacts" ]] ||
+  fail "tube reference lacks the wear columns: $(head -1 "$tmp/tube_ref.csv")"
+out=$("$flexref" compare "$tmp/tube_run.csv" "$tmp/tube_ref.csv" --metric wear 2>&1) ||
+  fail "compare --metric wear failed: $out"
+[[ $out == *"metric wear"* ]] || fail "compare --metric wear: $out"
+"$flexref" compare "$tmp/run.csv" "$tmp/ref.csv" --metric wear >/dev/null 2>&1 &&
+  fail "compare --metric wear accepted a scene without a named contact"
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1
