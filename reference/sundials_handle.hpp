@@ -15,6 +15,7 @@
 ///    sundials_segment_driver.hpp.
 /// Boost.Odeint (odeint_solver.cpp) plans its segments on its own: it is the independent code
 /// path.
+#include <arkode/arkode_arkstep.h>
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
 #include <ida/ida.h>
@@ -73,6 +74,10 @@ using LinearSolver = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, Lin
 using IdaMemory = std::unique_ptr<void, IdaMemoryDeleter>;
 using CvodeMemory = std::unique_ptr<void, CvodeMemoryDeleter>;
 using ErkStepMemory = std::unique_ptr<void, ErkStepMemoryDeleter>;
+struct ArkStepMemoryDeleter {
+  void operator()(void* memory) const noexcept { ARKStepFree(&memory); }
+};
+using ArkStepMemory = std::unique_ptr<void, ArkStepMemoryDeleter>;
 
 // ---------------------------------------------------------------------------------------------
 // Errors
