@@ -54,7 +54,7 @@ bool StiffnessSummary::stiff() const {
 }
 
 bool StiffnessSummary::stiff_oscillatory() const {
-  return fastest_oscillation > kStiffnessRatio * accuracy_rate;
+  return switching_functions == 0 && fastest_oscillation > kStiffnessRatio * accuracy_rate;
 }
 
 double mean_output_spacing(const std::vector<double>& output_times) {
