@@ -190,6 +190,8 @@ void add_reference(StudyRecord& record, const CertifiedReference& reference) {
   record.table("reference")
       .set("solver", reference.run.solver)
       .set("method", reference.run.method)
+      .set("method_reason", reference.run.method_reason)
+      .set("jacobian", reference.run.jacobian)
       .set("rtol", reference.run.options.rtol)
       .set("estimated_error", e.value)
       .set("metric", e.metric)
