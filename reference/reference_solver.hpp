@@ -44,8 +44,9 @@ struct SolverOptions {
   /// kAuto chooses from the model (reference/method_choice.hpp).
   CvodeMethod cvode_method = CvodeMethod::kAuto;
   ArkodeMethod arkode_method = ArkodeMethod::kAuto;
-  /// CVODE and IDA: ∂f/∂y of the ODE form instead of difference quotients (ode_jacobian.hpp);
-  /// not owned, must outlive the solve.
+  /// CVODE, IDA and ARKODE's ESDIRK: ∂f/∂y of the ODE form instead of the structured Jacobian
+  /// (flexible models) or difference quotients (rigid ones) (ode_jacobian.hpp); not owned, must
+  /// outlive the solve.
   const OdeJacobian* jacobian = nullptr;
   double absolute_tolerance() const { return atol < 0.0 ? rtol : atol; }
 };
