@@ -11,8 +11,9 @@
 ///   solutions at past steps only, ARKODE's recommendation for stiff problems — the Hermite one
 ///   uses f(y), in which the stiff modes' derivatives are large) with tout = each output time.
 /// - The segment loop (stops at load switches, restarts at contact events) is
-///   sundials_segment_driver.hpp; θ is renormalized at every restart (no projection in ARKStep;
-///   |θ| is a first integral and the form is homogeneous in θ).
+///   sundials_segment_driver.hpp; each segment's first step is sized towards its end, so the
+///   output grid does not steer the steps; θ is renormalized at every restart (no projection in
+///   ARKStep; |θ| is a first integral and the form is homogeneous in θ).
 #include "reference/arkode_esdirk_solver.hpp"
 
 #include <arkode/arkode.h>
@@ -101,6 +102,15 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
                  "ARKStepReInit");
     }
     sun::check(ARKStepSetStopTime(ark_.get(), segment.end), "ARKStepSetStopTime");
+    // The first step is taken towards the segment end, as in the CVODE driver: ARKODE sizes it
+    // from the distance to the first tout, which would let the output grid steer the steps.
+    // (Not with switching functions: a root in that step would be returned before the outputs
+    // that precede it.)
+    if (model_->switching_function_count() == 0) {
+      double t_internal = segment.start;
+      sun::check(ARKStepEvolve(ark_.get(), segment.end, y_.get(), &t_internal, ARK_ONE_STEP),
+                 "ARKStepEvolve");
+    }
   }
 
   Advance advance(double tout, double /*next*/) override {

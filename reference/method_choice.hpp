@@ -83,8 +83,8 @@ ArkodeMethodChoice choose_arkode_method(const core::Model& model, double output_
 
 /// The default reference solver (`flexref reference` without --solver; "auto" in the studies for
 /// a model without an exact solution): "arkode" (which then runs its ESDIRK) for a stiff
-/// oscillatory model — measured on flexible_spinner_64, ESDIRK5(4)7L[2]SA reaches 2.7e-7 in
-/// 0.42 s where CVODE's BDF2 needs 2.3 s for 8e-6 (docs/references.md) — else "cvode".
+/// oscillatory model — measured on flexible_spinner_64, ESDIRK5(4)7L[2]SA reaches 3.4e-7 in
+/// 0.38 s where CVODE's BDF2 needs 2.3 s for 6.4e-6 (docs/references.md) — else "cvode".
 struct ReferenceSolverChoice {
   std::string solver;
   std::string reason;

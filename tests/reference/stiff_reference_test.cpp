@@ -168,8 +168,8 @@ TEST_CASE("flexible_spinner_64: the implicit references follow the accuracy and 
 
   // The steps follow the accuracy: the same method on the 4-mode scene (ω_max 39 rad/s instead
   // of 1.8e4) takes about as many. Measured over 10 s: CVODE BDF2 52 330 against 56 326 steps
-  // (rtol 1e-10), ESDIRK 820 against 697 (rtol 1e-8); here 780 against 1086 (CVODE) and 86
-  // against 57 (ESDIRK: on [0, 0.6] its few steps are mostly the pulse's start). BDF of orders
+  // (rtol 1e-10), ESDIRK 780 against 699 (rtol 1e-8); here 780 against 1086 (CVODE) and 83
+  // against 60 (ESDIRK: on [0, 0.6] its few steps are mostly the pulse's start). BDF of orders
   // ≤ 5 took ~30× the 4-mode count once the high modes went unstable (docs/references.md).
   // Bound 2×: room for the step controller's path, far below the unstable ~30×.
   SolverOptions bdf2 = options;
@@ -200,12 +200,12 @@ TEST_CASE("flexible_spinner_64: the implicit references follow the accuracy and 
   const double esdirk_error = distance(esdirk, odeint);
   CAPTURE(cvode_error, ida_error, esdirk_error);
   // Measured 3.0e-6 (CVODE), 2.4e-6 (IDA): BDF2's global error is ~300 rtol here (2e4 rtol
-  // over the 10 s). ESDIRK (order 5) measured 6.6e-9. The bounds are 3–5× the measurements
+  // over the 10 s). ESDIRK (order 5) measured 1.2e-8. The bounds are 3–5× the measurements
   // (the step sequences differ with the platform's rounding); an unstable run (BDF ≤ 5 reached
   // 1e-5 in the modal rates by t = 0.45 s) or a wrong solution exceeds them.
   CHECK(cvode_error <= 1e-5);
   CHECK(ida_error <= 1e-5);
-  CHECK(esdirk_error <= 3e-8);
+  CHECK(esdirk_error <= 5e-8);
   // Never the same solution: the check is genuine.
   CHECK(esdirk_error > 0.0);
 }
