@@ -44,13 +44,17 @@ int main(int argc, char** argv) {
   ReferenceOptions ref;
   auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
   ref_cmd->add_option("scene", ref.scene, "scene file (TOML)")->required();
-  ref_cmd->add_option("--solver", ref.solver, "ida | cvode | arkode | odeint | exact")
-      ->check(CLI::IsMember({"ida", "cvode", "arkode", "odeint", "exact"}))
+  ref_cmd
+      ->add_option("--solver", ref.solver,
+                   "auto (arkode's ESDIRK on a stiff oscillatory scene, else cvode) | ida | "
+                   "cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   ref_cmd
       ->add_option("--method", ref.method,
-                   "CVODE's method: auto (from the scene's stiff elements) | adams | bdf")
-      ->check(CLI::IsMember({"auto", "adams", "bdf"}))
+                   "cvode: auto (from the scene's stiff elements) | adams | bdf | bdf2 (BDF "
+                   "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk")
+      ->check(CLI::IsMember({"auto", "adams", "bdf", "bdf2", "erk", "esdirk"}))
       ->capture_default_str();
   ref_cmd->add_option("--rtol", ref.rtol, "relative tolerance")
       ->check(CLI::Range(1e-15, 1e-1))

@@ -39,7 +39,9 @@
 #include <string>
 #include <vector>
 
+#include "reference/arkode_esdirk_solver.hpp"
 #include "reference/continuous_extension.hpp"
+#include "reference/method_choice.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
 #include "reference/sundials_handle.hpp"
@@ -408,11 +410,20 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
 
 ReferenceRun solve_arkode(const core::Model& model, const std::vector<double>& output_times,
                           const SolverOptions& options) {
+  ArkodeMethodChoice choice{options.arkode_method, "chosen with --method"};
+  if (options.arkode_method == ArkodeMethod::kAuto) {
+    choice = choose_arkode_method(model, mean_output_spacing(output_times));
+  }
+  if (choice.method == ArkodeMethod::kEsdirk) {
+    ReferenceRun run = solve_arkode_esdirk(model, output_times, options);
+    run.method_reason = choice.reason;
+    return run;
+  }
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "arkode", [&] {
     return std::make_unique<ArkodeSegmentSolver>(model, options);
   });
   run.method = "erk-fehlberg-13-7-8";
-  run.method_reason = "ARKODE ERKStep, ARKODE_FEHLBERG_13_7_8, order-8 continuous extension";
+  run.method_reason = choice.reason;
   return run;
 }
 
