@@ -10,6 +10,7 @@
 #include "app/figure_command.hpp"
 #include "app/import_modes_command.hpp"
 #include "app/lte_map_command.hpp"
+#include "app/modal_truncation_command.hpp"
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
@@ -47,13 +48,17 @@ int run_command_line(int argc, char** argv) {
   ReferenceOptions ref;
   auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
   ref_cmd->add_option("scene", ref.scene, "scene file (TOML)")->required();
-  ref_cmd->add_option("--solver", ref.solver, "ida | cvode | arkode | odeint | exact")
-      ->check(CLI::IsMember({"ida", "cvode", "arkode", "odeint", "exact"}))
+  ref_cmd
+      ->add_option("--solver", ref.solver,
+                   "auto (arkode's ESDIRK on a stiff oscillatory scene, else cvode) | ida | "
+                   "cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   ref_cmd
       ->add_option("--method", ref.method,
-                   "CVODE's method: auto (from the scene's stiff elements) | adams | bdf")
-      ->check(CLI::IsMember({"auto", "adams", "bdf"}))
+                   "cvode: auto (from the scene's stiff elements) | adams | bdf | bdf2 (BDF "
+                   "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk")
+      ->check(CLI::IsMember({"auto", "adams", "bdf", "bdf2", "erk", "esdirk"}))
       ->capture_default_str();
   ref_cmd->add_option("--rtol", ref.rtol, "relative tolerance")
       ->check(CLI::Range(1e-15, 1e-1))
@@ -262,6 +267,37 @@ int run_command_line(int argc, char** argv) {
   ImportModesOptions import_modes;
   auto* import_cmd = add_import_modes_command(app, import_modes);
 
+  ModalTruncationCommandOptions modes;
+  auto* modes_cmd = app.add_subcommand(
+      "modes", "reference tip deflection and attitude vs the number of retained modes");
+  modes_cmd->add_option("scene", modes.scene, "scene file with a flexible body (TOML)")->required();
+  modes_cmd
+      ->add_option("--modes", modes.modes, "mode counts (comma-separated; largest = reference)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  modes_cmd->add_option("--body", modes.body, "flexible body (default: the first)");
+  modes_cmd->add_option("--point", modes.point, "tracked node point (default: farthest node)");
+  modes_cmd->add_option("--solver", modes.solver, "reference solver: odeint | cvode | ida")
+      ->check(CLI::IsMember({"odeint", "cvode", "ida"}))
+      ->capture_default_str();
+  modes_cmd->add_option("--rtol", modes.rtol, "reference tolerance")
+      ->check(CLI::Range(1e-14, 1e-4))
+      ->capture_default_str();
+  modes_cmd
+      ->add_option("--estimate-factor", modes.estimate_factor,
+                   "accuracy check: rerun at rtol divided by this factor")
+      ->check(CLI::Range(2.0, 1e6))
+      ->capture_default_str();
+  modes_cmd->add_option("--end-time", modes.end_time, "s (default: the scene's)")
+      ->check(CLI::PositiveNumber);
+  modes_cmd->add_option("--model", modes.model, "flexible bodies' equations: coupled | lte")
+      ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
+  modes_cmd->add_option("--jobs", modes.jobs, "parallel runs (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  modes_cmd->add_option("--out", modes.out_dir, "output directory")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -275,6 +311,7 @@ int run_command_line(int argc, char** argv) {
     if (*lte_cmd) return lte_map_command(lte);
     if (*fig_cmd) return figure_command(fig);
     if (*import_cmd) return import_modes_command(import_modes);
+    if (*modes_cmd) return modal_truncation_command(modes);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;

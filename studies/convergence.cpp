@@ -51,7 +51,8 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
 
   reference::SolverOptions ref_options;
   ref_options.rtol = options.reference_rtol;
-  const std::string solver = resolve_reference_solver(options.reference_solver, model);
+  const std::string solver =
+      resolve_reference_solver(options.reference_solver, model, output_times);
   if (options.progress) std::fprintf(stderr, "converge: reference (%s) ...\n", solver.c_str());
   result.reference = certified_reference(model, output_times, solver, ref_options, options.metric);
 

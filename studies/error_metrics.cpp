@@ -133,6 +133,18 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
       report.max_modal_linf = std::max(report.max_modal_linf, norms.linf);
     report.quantities.push_back({item.name, item.unit, norms});
   }
+  // Wear work of named contacts: the relative error of the final value (the cumulative work is
+  // what a wear model consumes; its history is monotone).
+  for (std::size_t c = 1; c < cols.size() && run.size() > 0; ++c) {
+    if (!cols[c].ends_with(".wear_work")) continue;
+    const double a = run.rows.back()[c];
+    const double b = reference.rows.back()[c];
+    const double e = b != 0.0 ? std::abs(a - b) / std::abs(b) : std::abs(a);
+    report.max_wear_relative = std::isnan(e) ? e : std::max(report.max_wear_relative, e);
+    ErrorNorms norms;
+    norms.linf = norms.rms = norms.final = e;
+    report.quantities.push_back({cols[c], "-", norms});
+  }
   return report;
 }
 
@@ -148,9 +160,16 @@ double metric_value(const ComparisonReport& report, const std::string& metric) {
     }
     return value;
   }
+  if (metric == "wear") {
+    if (report.max_wear_relative < 0.0) {
+      throw std::invalid_argument(
+          "metric 'wear' needs a named contact (a C.wear_work column, docs/output.md)");
+    }
+    return report.max_wear_relative;
+  }
   throw std::invalid_argument("unknown metric '" + metric +
                               "' (rotation+points, rotation, points, modes, position, "
-                              "velocity, angular_velocity)");
+                              "velocity, angular_velocity, wear)");
 }
 
 }  // namespace flexref::studies

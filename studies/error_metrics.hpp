@@ -29,6 +29,9 @@ struct ComparisonReport {
   double max_rotation_linf = 0.0;  ///< max over bodies, rad
   double max_point_linf = 0.0;     ///< max over tracked points, m
   double max_modal_linf = 0.0;     ///< max over flexible bodies of max_i |q_i − q_i,ref|
+  /// Named contacts' final wear work: max over contacts of |W − W_ref|/|W_ref| at the last
+  /// output (|W| when W_ref = 0); −1 when the tables have no `C.wear_work` column.
+  double max_wear_relative = -1.0;
   /// Default study metric: L∞ geodesic rotation angle + L∞ tracked-point position (max over
   /// bodies and points). Named "rotation+points".
   double default_metric() const { return max_rotation_linf + max_point_linf; }
@@ -40,7 +43,8 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run, const Trajecto
 
 /// The metrics a study may name: "rotation+points" (default), "rotation", "points", "modes"
 /// (L∞ over time of max_i |q_i − q_i,ref| over the flexible bodies' modal coordinates),
-/// "position", "velocity", "angular_velocity". Throws std::invalid_argument otherwise.
+/// "position", "velocity", "angular_velocity", "wear" (max_wear_relative; the scene must have a
+/// named contact, docs/output.md "Wear outputs"). Throws std::invalid_argument otherwise.
 double metric_value(const ComparisonReport& report, const std::string& metric);
 
 }  // namespace flexref::studies

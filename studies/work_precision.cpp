@@ -129,7 +129,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 
   reference::SolverOptions ref_options;
   ref_options.rtol = options.reference_rtol;
-  const std::string solver = resolve_reference_solver(options.reference_solver, model);
+  const std::string solver =
+      resolve_reference_solver(options.reference_solver, model, output_times);
   if (options.progress) {
     std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
   }

@@ -41,6 +41,12 @@ same converge "" converge scenes/free_spin.toml --levels 3 --dt 0.02 --jobs 1
 cut -d, -f1-5,7 "$tmp/converge.serial/convergence.csv" >"$tmp/a.csv"
 cut -d, -f1-5,7 "$tmp/converge.mpi/convergence.csv" >"$tmp/b.csv"
 cmp -s "$tmp/a.csv" "$tmp/b.csv" || fail "converge: errors differ serial vs 2 ranks"
+# modes: the runs' responses travel between ranks (the comparisons read them on every rank);
+# the cpu_seconds column (11) differs from run to run.
+same modes "" modes scenes/flexible_spinner.toml --modes 2,4 --end-time 0.5 --jobs 1
+cut -d, -f1-10,12 "$tmp/modes.serial/modes.csv" >"$tmp/a.csv"
+cut -d, -f1-10,12 "$tmp/modes.mpi/modes.csv" >"$tmp/b.csv"
+cmp -s "$tmp/a.csv" "$tmp/b.csv" || fail "modes: rows differ serial vs 2 ranks"
 
 # Bad input on every rank: one message, exit code 1, no hang.
 "${mpi[@]}" "$flexref" lte-map scenes/no_such_scene.toml --out "$tmp/x" >"$tmp/bad.log" 2>&1
