@@ -16,7 +16,7 @@ namespace {
 
 /// The deck keyword that writes the matrix files, for messages.
 constexpr const char* kHowToWrite =
-    "add a step '*STEP / *BOUNDARY, OP=NEW / *FREQUENCY, SOLVER=MATRIXSTORAGE / 1 / *END STEP' "
+    "add a step '*STEP / *BOUNDARY, OP=NEW / *FREQUENCY, SOLVER=MATRIXSTORAGE / *END STEP' "
     "after the frequency step (docs/calculix.md)";
 
 std::ifstream open(const std::string& path, const std::string& what) {

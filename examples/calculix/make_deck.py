@@ -96,7 +96,7 @@ def write_deck(a, out):
         out.write("*BOUNDARY, OP=NEW\n")
     if a.spin > 0.0:
         out.write("*DLOAD, OP=NEW\n")
-    out.write("*FREQUENCY, SOLVER=MATRIXSTORAGE\n1\n*END STEP\n")
+    out.write("*FREQUENCY, SOLVER=MATRIXSTORAGE\n*END STEP\n")
 
 
 def main():
