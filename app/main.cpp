@@ -8,14 +8,18 @@
 
 #include "app/commands.hpp"
 #include "app/figure_command.hpp"
+#include "app/import_modes_command.hpp"
 #include "app/lte_map_command.hpp"
 #include "app/modal_truncation_command.hpp"
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
 #include "lie/stepper.hpp"
+#include "studies/distribution.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_command_line(int argc, char** argv) {
   using namespace flexref::app;
   CLI::App app{
       "flexref: trusted reference solutions for rigid bodies in large rotation, and the "
@@ -260,6 +264,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   lte_cmd->add_option("--out", lte.out_dir, "output directory")->capture_default_str();
 
+  ImportModesOptions import_modes;
+  auto* import_cmd = add_import_modes_command(app, import_modes);
+
   ModalTruncationCommandOptions modes;
   auto* modes_cmd = app.add_subcommand(
       "modes", "reference tip deflection and attitude vs the number of retained modes");
@@ -303,6 +310,7 @@ int main(int argc, char** argv) {
     if (*stab_cmd) return stability_command(stab);
     if (*lte_cmd) return lte_map_command(lte);
     if (*fig_cmd) return figure_command(fig);
+    if (*import_cmd) return import_modes_command(import_modes);
     if (*modes_cmd) return modal_truncation_command(modes);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
@@ -318,4 +326,12 @@ int main(int argc, char** argv) {
     return kExitSolverError;
   }
   return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // One process, or a rank of an MPI job (studies/distribution.hpp, docs/mpi.md).
+  flexref::studies::ProcessSession session(argc, argv);
+  return session.finish(run_command_line(argc, argv));
 }

@@ -1,8 +1,5 @@
 #include "studies/convergence.hpp"
 
-#include <unistd.h>
-
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -12,6 +9,7 @@
 #include "core/error.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
+#include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/observed_order.hpp"
 #include "studies/parallel.hpp"
@@ -26,6 +24,21 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // error propagation of unstable motions such as the book toss on top); refining further
 // measures round-off, not the scheme.
 constexpr double kRoundOffFloor = 1e-11;
+
+SlotCodec level_codec(std::vector<ConvergenceLevel>& levels) {
+  require_codec_size<ConvergenceLevel, 104>();
+  const auto fields = [](auto& io, auto& l) {
+    io(l.scheme, l.h, l.steps, l.error, l.order, l.cpu_seconds, l.status);
+  };
+  return {[&levels, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            fields(put, levels[static_cast<std::size_t>(i)]);
+          },
+          [&levels, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            fields(get, levels[static_cast<std::size_t>(i)]);
+          }};
+}
 
 }  // namespace
 
@@ -46,9 +59,8 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
   const int n_schemes = static_cast<int>(options.schemes.size());
   const int n_runs = n_schemes * options.levels;
   result.levels.resize(static_cast<std::size_t>(n_runs));
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
-  parallel_for(n_runs, options.jobs, [&](int k) {
+  ProgressLine progress("converge", "runs", options.progress);
+  const auto task = [&](int k) {
     const std::string& scheme = options.schemes[static_cast<std::size_t>(k / options.levels)];
     const int level = k % options.levels;
     ConvergenceLevel& out = result.levels[static_cast<std::size_t>(k)];
@@ -69,10 +81,9 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
       out.error = std::numeric_limits<double>::infinity();
       out.status = std::string("failed: ") + e.what();
     }
-    const int finished = ++done;
-    if (tty) std::fprintf(stderr, "\rconverge: %d/%d runs", finished, n_runs);
-  });
-  if (tty) std::fprintf(stderr, "\n");
+  };
+  distributed_for(n_runs, options.jobs, task, level_codec(result.levels), progress.callback());
+  progress.finish();
 
   const double ref_estimate = result.reference.estimate.estimate();
   for (int s = 0; s < n_schemes; ++s) {

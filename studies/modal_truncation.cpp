@@ -2,12 +2,8 @@
 /// See modal_truncation.hpp.
 #include "studies/modal_truncation.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -18,7 +14,7 @@
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
-#include "studies/parallel.hpp"
+#include "studies/distribution.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -102,6 +98,43 @@ Response integrate(const core::Model& model, int body_index, const core::Tracked
   r.steps = run.stats.steps;
   r.cpu_seconds = run.stats.cpu_seconds;
   return r;
+}
+
+/// A run's response and failure message, for distributed_for (every field: the comparisons
+/// after the runs read them on every process).
+SlotCodec run_codec(std::vector<Response>& responses, std::vector<std::string>& failures) {
+  require_codec_size<Response, 64>();
+  return {[&responses, &failures](int i, SlotWriter& w) {
+            const auto r = static_cast<std::size_t>(i);
+            const Response& out = responses[r];
+            w.put(failures[r]);
+            w.put(out.steps);
+            w.put(out.cpu_seconds);
+            w.put(static_cast<long>(out.deflection.size()));
+            for (const Eigen::Vector3d& d : out.deflection) {
+              for (int c = 0; c < 3; ++c) w.put(d[c]);
+            }
+            w.put(static_cast<long>(out.attitude.size()));
+            for (const rotation::EulerParameters& e : out.attitude) {
+              for (int c = 0; c < 4; ++c) w.put(e[c]);
+            }
+          },
+          [&responses, &failures](int i, SlotReader& reader) {
+            const auto r = static_cast<std::size_t>(i);
+            Response& out = responses[r];
+            reader.get(failures[r]);
+            reader.get(out.steps);
+            reader.get(out.cpu_seconds);
+            out.deflection.assign(static_cast<std::size_t>(reader.get_int()), Eigen::Vector3d());
+            for (Eigen::Vector3d& d : out.deflection) {
+              for (int c = 0; c < 3; ++c) d[c] = reader.get_double();
+            }
+            out.attitude.assign(static_cast<std::size_t>(reader.get_int()),
+                                rotation::EulerParameters());
+            for (rotation::EulerParameters& e : out.attitude) {
+              for (int c = 0; c < 4; ++c) e[c] = reader.get_double();
+            }
+          }};
 }
 
 /// The output times with their midpoints inserted: times[i] = fine[2i], bitwise.
@@ -232,9 +265,8 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
   const int runs = 2 * static_cast<int>(counts.size());
   std::vector<Response> responses(static_cast<std::size_t>(runs));
   std::vector<std::string> failures(static_cast<std::size_t>(runs));
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
-  parallel_for(runs, options.jobs, [&](int r) {
+  ProgressLine progress("modes", "runs", options.progress);
+  const auto task = [&](int r) {
     const auto k = static_cast<std::size_t>(r / 2);
     const bool check = r % 2 == 1;
     try {
@@ -244,14 +276,9 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
     } catch (const std::exception& e) {
       failures[static_cast<std::size_t>(r)] = e.what();
     }
-    const int finished = ++done;
-    if (tty) {
-      std::fprintf(stderr, "\rmodes: %d/%d runs", finished, runs);
-    } else if (options.progress) {
-      std::fprintf(stderr, "modes: %d/%d runs\n", finished, runs);
-    }
-  });
-  if (tty) std::fprintf(stderr, "\n");
+  };
+  distributed_for(runs, options.jobs, task, run_codec(responses, failures), progress.callback());
+  progress.finish();
 
   const std::size_t last = counts.size() - 1;
   const bool reference_ok = failures[2 * last].empty() && failures[2 * last + 1].empty();

@@ -1,9 +1,6 @@
 #include "studies/work_precision.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -16,6 +13,7 @@
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
+#include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/parallel.hpp"
 
@@ -80,6 +78,21 @@ std::string csv_safe(std::string s) {
   return s;
 }
 
+SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs) {
+  require_codec_size<WorkPrecisionRun, 128>();
+  const auto fields = [](auto& io, auto& r) {
+    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
+  };
+  return {[&runs, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            fields(put, runs[static_cast<std::size_t>(i)]);
+          },
+          [&runs, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            fields(get, runs[static_cast<std::size_t>(i)]);
+          }};
+}
+
 }  // namespace
 
 std::vector<double> default_target_errors() { return {1e-2, 1e-4, 1e-6, 1e-8}; }
@@ -127,9 +140,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
   const int n_tolerances = static_cast<int>(options.tolerances.size());
   const int n_runs = n_scheme_runs + static_cast<int>(options.solvers.size()) * n_tolerances;
   result.runs.resize(static_cast<std::size_t>(n_runs));
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
-  parallel_for(n_runs, options.jobs, [&](int k) {
+  ProgressLine progress("work-precision", "runs", options.progress);
+  const auto task = [&](int k) {
     WorkPrecisionRun& out = result.runs[static_cast<std::size_t>(k)];
     try {
       core::Trajectory trajectory;
@@ -166,10 +178,9 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
       out.cpu_seconds = kNaN;
       out.status = std::string("failed: ") + e.what();
     }
-    const int finished = ++done;
-    if (tty) std::fprintf(stderr, "\rwork-precision: %d/%d runs", finished, n_runs);
-  });
-  if (tty) std::fprintf(stderr, "\n");
+  };
+  distributed_for(n_runs, options.jobs, task, run_codec(result.runs), progress.callback());
+  progress.finish();
 
   const double ref_estimate = result.reference.estimate.estimate();
   bool any_uncertified = false;
