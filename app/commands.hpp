@@ -32,8 +32,8 @@ core::FlexibleFormulation parse_formulation(const std::string& model);
 
 /// The reference solver to use for a scene: `solver` itself, except that a model with flexible
 /// bodies has no analytic solution — "exact" is refused (std::invalid_argument naming
-/// `option`) and "auto" becomes "cvode". (reference::classify_exact_solution does not look at
-/// flexibility and would call a free flexible body torque-free.)
+/// `option`). "auto" stays "auto" (studies::resolve_reference_solver resolves it: never exact
+/// for a flexible model).
 std::string reference_solver_for(const core::Model& model, const std::string& solver,
                                  const std::string& option);
 
@@ -49,8 +49,11 @@ int run_command(const RunOptions& options);
 struct ReferenceOptions {
   std::string scene;
   std::string model = "coupled";
-  std::string solver = "cvode";
-  std::string method = "auto";  ///< CVODE's method: auto | adams | bdf
+  /// "auto": reference::choose_reference_solver (arkode's ESDIRK on a stiff oscillatory scene,
+  /// else cvode; never the exact solution, which --solver exact asks for).
+  std::string solver = "auto";
+  std::string method =
+      "auto";  ///< cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
   double rtol = 1e-10;
   double atol = -1.0;
   bool estimate = true;

@@ -38,9 +38,11 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
     // Checks the template once, before any work.
     (void)studies::substitute_command(command.command, command.scene, 1.0, "x.csv");
     const std::string label = method.label;
-    method.run = [command, label, &out](double h, int level) {
-      return studies::run_external_level(
-          command, h, out.staged("run_" + label + "_" + std::to_string(level) + ".csv"));
+    method.kept_file = [label, &out](int level) {
+      return out.staged("run_" + label + "_" + std::to_string(level) + ".csv");
+    };
+    method.run = [command, kept = method.kept_file](double h, int level) {
+      return studies::run_external_level(command, h, kept(level));
     };
   } else {
     auto files = std::make_shared<std::map<double, std::string>>();

@@ -8,14 +8,18 @@
 
 #include "app/commands.hpp"
 #include "app/figure_command.hpp"
+#include "app/import_modes_command.hpp"
 #include "app/lte_map_command.hpp"
 #include "app/modal_truncation_command.hpp"
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
 #include "lie/stepper.hpp"
+#include "studies/distribution.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_command_line(int argc, char** argv) {
   using namespace flexref::app;
   CLI::App app{
       "flexref: trusted reference solutions for rigid bodies in large rotation, and the "
@@ -44,13 +48,17 @@ int main(int argc, char** argv) {
   ReferenceOptions ref;
   auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
   ref_cmd->add_option("scene", ref.scene, "scene file (TOML)")->required();
-  ref_cmd->add_option("--solver", ref.solver, "ida | cvode | arkode | odeint | exact")
-      ->check(CLI::IsMember({"ida", "cvode", "arkode", "odeint", "exact"}))
+  ref_cmd
+      ->add_option("--solver", ref.solver,
+                   "auto (arkode's ESDIRK on a stiff oscillatory scene, else cvode) | ida | "
+                   "cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   ref_cmd
       ->add_option("--method", ref.method,
-                   "CVODE's method: auto (from the scene's stiff elements) | adams | bdf")
-      ->check(CLI::IsMember({"auto", "adams", "bdf"}))
+                   "cvode: auto (from the scene's stiff elements) | adams | bdf | bdf2 (BDF "
+                   "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk")
+      ->check(CLI::IsMember({"auto", "adams", "bdf", "bdf2", "erk", "esdirk"}))
       ->capture_default_str();
   ref_cmd->add_option("--rtol", ref.rtol, "relative tolerance")
       ->check(CLI::Range(1e-15, 1e-1))
@@ -287,6 +295,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   lte_cmd->add_option("--out", lte.out_dir, "output directory")->capture_default_str();
 
+  ImportModesOptions import_modes;
+  auto* import_cmd = add_import_modes_command(app, import_modes);
+
   ModalTruncationCommandOptions modes;
   auto* modes_cmd = app.add_subcommand(
       "modes", "reference tip deflection and attitude vs the number of retained modes");
@@ -333,6 +344,7 @@ int main(int argc, char** argv) {
     if (*stab_cmd) return stability_command(stab);
     if (*lte_cmd) return lte_map_command(lte);
     if (*fig_cmd) return figure_command(fig);
+    if (*import_cmd) return import_modes_command(import_modes);
     if (*modes_cmd) return modal_truncation_command(modes);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
@@ -348,4 +360,12 @@ int main(int argc, char** argv) {
     return kExitSolverError;
   }
   return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // One process, or a rank of an MPI job (studies/distribution.hpp, docs/mpi.md).
+  flexref::studies::ProcessSession session(argc, argv);
+  return session.finish(run_command_line(argc, argv));
 }

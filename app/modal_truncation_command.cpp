@@ -59,7 +59,7 @@ int modal_truncation_command(const ModalTruncationCommandOptions& options) {
       .set("solver", study.solver)
       .set("rtol", study.rtol)
       .set("estimate_rtol", study.rtol / study.estimate_factor)
-      .set("estimate", "difference to a run at estimate_rtol with half the output step")
+      .set("estimate", "difference to a run at estimate_rtol (same output times)")
       .set("end_time", study.end_time)
       .set("output_step", study.output_step)
       .set("jobs", study.jobs);

@@ -1,25 +1,61 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
+#include "reference/method_choice.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::app {
+namespace {
+
+/// --method for the solver: CVODE's (auto, adams, bdf, bdf2), IDA's order cap (auto, bdf,
+/// bdf2), ARKODE's (auto, erk, esdirk); another solver takes only auto. Throws
+/// std::invalid_argument naming the option.
+void set_method(const std::string& solver, const std::string& method,
+                reference::SolverOptions& options) {
+  const auto refuse = [&](const std::string& accepted) {
+    throw std::invalid_argument("--method " + method + ": " + solver + " takes " + accepted);
+  };
+  if (solver == "cvode") {
+    if (method != "auto" && method != "adams" && method != "bdf" && method != "bdf2") {
+      refuse("auto, adams, bdf or bdf2");
+    }
+    options.cvode_method = reference::parse_cvode_method(method);
+  } else if (solver == "ida") {
+    if (method != "auto" && method != "bdf" && method != "bdf2") refuse("auto, bdf or bdf2");
+    options.cvode_method = reference::parse_cvode_method(method);
+  } else if (solver == "arkode") {
+    if (method != "auto" && method != "erk" && method != "esdirk") refuse("auto, erk or esdirk");
+    options.arkode_method = reference::parse_arkode_method(method);
+  } else if (method != "auto") {
+    refuse("no --method");
+  }
+}
+
+}  // namespace
 
 int reference_command(const ReferenceOptions& options) {
   const scene::Scene scene = scene::read_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
-  const std::string solver = reference_solver_for(model, options.solver, "--solver");
+  std::string solver = reference_solver_for(model, options.solver, "--solver");
+  std::string solver_reason = "chosen with --solver";
+  if (solver == "auto") {
+    const reference::ReferenceSolverChoice choice =
+        reference::choose_reference_solver(model, reference::mean_output_spacing(times));
+    solver = choice.solver;
+    solver_reason = choice.reason;
+  }
   reference::SolverOptions solver_options;
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
-  solver_options.cvode_method = reference::parse_cvode_method(options.method);
+  set_method(solver, options.method, solver_options);
 
   studies::CertifiedReference ref;
   if (options.estimate) {
@@ -35,8 +71,10 @@ int reference_command(const ReferenceOptions& options) {
   record.table("integrator")
       .set("kind", "reference")
       .set("solver", ref.run.solver)
+      .set("solver_reason", solver_reason)
       .set("method", ref.run.method)
       .set("method_reason", ref.run.method_reason)
+      .set("jacobian", ref.run.jacobian)
       .set("rtol", options.rtol)
       .set("atol", solver_options.absolute_tolerance())
       .set("steps", st.steps)
@@ -74,7 +112,11 @@ int reference_command(const ReferenceOptions& options) {
     std::cout << ", " << ref.run.event_times.size() << " events located";
   }
   std::cout << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
-  if (ref.run.solver == "cvode") std::cout << "method: " << ref.run.method_reason << "\n";
+  if (options.solver == "auto") std::cout << "solver: " << solver_reason << "\n";
+  if (ref.run.solver == "cvode" || ref.run.solver == "ida" || ref.run.solver == "arkode") {
+    std::cout << "method: " << ref.run.method_reason << "\n";
+  }
+  if (!ref.run.jacobian.empty()) std::cout << "newton systems: " << ref.run.jacobian << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
     std::cout << "estimated error (" << e.metric << "): " << studies::describe_estimate(e) << "\n";

@@ -56,6 +56,26 @@ Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceEl
   for (const Body& b : bodies_) {
     dissipates_ = dissipates_ || (b.is_flexible() && b.modal_damping().cwiseAbs().maxCoeff() > 0.0);
   }
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const ForceElement& element = *elements_[e];
+    const int channel =
+        element.wear_channel_count() > 0 ? static_cast<int>(wear_names_.size()) : -1;
+    if (channel >= 0) {
+      wear_names_.push_back(element.wear_channel_name());
+      wear_elements_.push_back(static_cast<int>(e));
+    }
+    switching_channels_.insert(switching_channels_.end(),
+                               static_cast<std::size_t>(element.switching_function_count()),
+                               channel);
+    applied_work_ = applied_work_ || element.tracks_applied_work();
+  }
+  for (std::size_t i = 0; i < wear_names_.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (wear_names_[i] == wear_names_[j]) {
+        throw std::invalid_argument("duplicate contact name '" + wear_names_[i] + "'");
+      }
+    }
+  }
   std::sort(discontinuities_.begin(), discontinuities_.end());
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());
@@ -121,6 +141,7 @@ Workspace Model::make_workspace() const {
   ws.kinematics.resize(bodies_.size());
   ws.wrenches.resize(bodies_.size());
   ws.flexible.resize(bodies_.size());
+  ws.wear.resize(wear_names_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     ws.kinematics[i].p_BoBr_B = b.p_BoBr_B();

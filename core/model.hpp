@@ -56,6 +56,7 @@ struct Workspace {
   std::vector<BodyKinematics> kinematics;
   std::vector<Wrench> wrenches;
   std::vector<FlexibleScratch> flexible;  ///< one per body (empty matrices for rigid bodies)
+  std::vector<WearSample> wear;           ///< one per wear channel (Model::wear_samples)
   double time = 0.0;                      ///< t of the last compute_wrenches (prescribed α̅)
 };
 
@@ -131,6 +132,25 @@ class Model {
                            std::span<double> g) const;
   /// Power dissipated by the force elements and the modal damping (q̇_fᵀ D q̇_f), W.
   double dissipated_power(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// Wear channels (one per contact element, core/model_integrals.cpp): their count, names
+  /// (the contacts' names) and, for each switching function, its channel (−1: none).
+  int wear_channel_count() const { return static_cast<int>(wear_names_.size()); }
+  const std::vector<std::string>& wear_channel_names() const { return wear_names_; }
+  const std::vector<int>& switching_channels() const { return switching_channels_; }
+  /// Normal force, slip speed and friction power of every channel at a state (into ws.wear).
+  void wear_samples(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// True when a dissipating model also integrates the work of loads that keep doing work
+  /// (ForceElement::tracks_applied_work: harmonic forces).
+  bool tracks_applied_work() const { return applied_work_; }
+  /// Integrals every integrator tracks after W_d when the model dissipates (0 otherwise):
+  /// [applied work W_a (when tracked), wear work of each channel].
+  int extra_integral_count() const {
+    return dissipates_ ? (applied_work_ ? 1 : 0) + wear_channel_count() : 0;
+  }
+  /// Rates of [W_d, extra integrals] at a state (1 + extra_integral_count() entries): the
+  /// dissipated power, the applied power, each channel's |F_t·v_t|. Allocates nothing.
+  void integral_rates(const LoadContext& context, const State& state, Workspace& ws,
+                      std::span<double> rates) const;
   /// ½ Σ q_fᵀ K q_f over the flexible bodies.
   double elastic_energy(const State& state) const;
   /// Total linear momentum, world.
@@ -160,6 +180,10 @@ class Model {
   bool flexible_ = false;
   int switching_count_ = 0;
   bool dissipates_ = false;
+  std::vector<std::string> wear_names_;
+  std::vector<int> wear_elements_;  ///< element index of each channel
+  std::vector<int> switching_channels_;
+  bool applied_work_ = false;
 };
 
 }  // namespace flexref::core

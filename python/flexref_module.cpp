@@ -210,13 +210,22 @@ PYBIND11_MODULE(flexref, m) {
                                py::dict d;
                                d["metric"] = e.metric;
                                d["estimate"] = e.estimate();
-                               d["tighter_solver"] = e.tighter_solver;
-                               d["tighter_rtol"] = e.tighter_rtol;
-                               d["vs_tighter"] = e.vs_tighter;
-                               d["other_solver"] = e.other_solver;
-                               d["other_rtol"] = e.other_rtol;
-                               d["vs_other_solver"] = e.vs_other_solver;
+                               d["method"] = e.method;
                                d["exact"] = e.exact;
+                               py::list checks;
+                               for (const studies::EstimateCheck& c : e.checks) {
+                                 py::dict check;
+                                 check["role"] = c.role;
+                                 check["solver"] = c.solver;
+                                 check["method"] = c.method;
+                                 check["rtol"] = c.rtol;
+                                 check["steps"] = c.steps;
+                                 check["distance"] = c.distance;
+                                 check["used"] = c.used;
+                                 check["note"] = c.note;
+                                 checks.append(check);
+                               }
+                               d["checks"] = checks;
                                return d;
                              })
       .def("__repr__", [](const PyTrajectory& t) {
@@ -269,17 +278,14 @@ PYBIND11_MODULE(flexref, m) {
                                       "' is not available yet: only 'double'");
         }
         const core::Model& model = *s.scene->model;
-        if (model.has_flexible_bodies()) {
-          if (solver == "exact") {
-            throw std::invalid_argument("a model with flexible bodies has no exact solution");
-          }
-          if (solver == "auto") solver = "cvode";
+        if (model.has_flexible_bodies() && solver == "exact") {
+          throw std::invalid_argument("a model with flexible bodies has no exact solution");
         }
-        solver = studies::resolve_reference_solver(solver, model);
+        const std::vector<double> times = s.times();
+        solver = studies::resolve_reference_solver(solver, model, times);
         reference::SolverOptions options;
         options.rtol = rtol;
         if (!atol.is_none()) options.atol = atol.cast<double>();
-        const std::vector<double> times = s.times();
         PyTrajectory out;
         out.is_reference = true;
         out.integrator = solver;

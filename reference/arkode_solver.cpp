@@ -35,10 +35,13 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "reference/arkode_esdirk_solver.hpp"
 #include "reference/continuous_extension.hpp"
+#include "reference/method_choice.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
 #include "reference/sundials_handle.hpp"
@@ -113,10 +116,11 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
     restep_ = make_fehlberg(y_.get(), context_.get(), data_);
   }
 
-  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     form_.pack(state, sun::data(y_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work);
+    form_.set_integrals(sun::data(y_.get()), integrals);
     restart(segment.start, segment.end);
   }
 
@@ -175,8 +179,8 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(output_ready_ ? y_end_.get() : y_.get()), state);
   }
-  double dissipated_work() const override {
-    return form_.dissipated_work(sun::data(output_ready_ ? y_end_.get() : y_.get()));
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(output_ready_ ? y_end_.get() : y_.get()), out);
   }
 
   void add_counters(SolverStats& stats) const override {
@@ -406,11 +410,20 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
 
 ReferenceRun solve_arkode(const core::Model& model, const std::vector<double>& output_times,
                           const SolverOptions& options) {
+  ArkodeMethodChoice choice{options.arkode_method, "chosen with --method"};
+  if (options.arkode_method == ArkodeMethod::kAuto) {
+    choice = choose_arkode_method(model, mean_output_spacing(output_times));
+  }
+  if (choice.method == ArkodeMethod::kEsdirk) {
+    ReferenceRun run = solve_arkode_esdirk(model, output_times, options);
+    run.method_reason = choice.reason;
+    return run;
+  }
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "arkode", [&] {
     return std::make_unique<ArkodeSegmentSolver>(model, options);
   });
   run.method = "erk-fehlberg-13-7-8";
-  run.method_reason = "ARKODE ERKStep, ARKODE_FEHLBERG_13_7_8, order-8 continuous extension";
+  run.method_reason = choice.reason;
   return run;
 }
 

@@ -10,8 +10,12 @@
 /// - **BDF** (orders 1–5) with Newton iteration and a projection (CVodeSetProjFn) that puts the
 ///   Euler parameters back on the unit sphere after every step, where contacts, joints or stiff
 ///   modes make the model stiff (reference/method_choice.hpp picks; --method overrides).
-/// Both use Newton iteration with a dense direct linear solver: CVODE's difference-quotient
-/// Jacobian, or SolverOptions::jacobian (reference/ode_jacobian.hpp).
+/// - **BDF orders 1–2** (CVodeSetMaxOrd(2), A-stable; with the projection) where undamped modes
+///   oscillate far above every rate the outputs show (reference/method_choice.hpp).
+/// All use Newton iteration. The Newton systems (choose_newton_jacobian): a flexible model's
+/// StructuredJacobian (reference/structured_jacobian.hpp) with the structured Newton solve
+/// (reference/newton_linear_solver.hpp); SolverOptions::jacobian (reference/ode_jacobian.hpp)
+/// with a dense LU; or CVODE's difference-quotient Jacobian with a dense LU (rigid models).
 ///
 /// The segment loop (stops at load switches, restarts at contact events, outputs from CVODE's
 /// own interpolation with tout = each output time) is sundials_segment_driver.hpp.
@@ -21,12 +25,16 @@
 #include <cvode/cvode_proj.h>
 
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "reference/method_choice.hpp"
+#include "reference/newton_linear_solver.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
 #include "reference/sundials_ode_callbacks.hpp"
 #include "reference/sundials_segment_driver.hpp"
@@ -39,27 +47,38 @@ namespace sun = sundials;
 /// CVODE on the ODE form, driven segment by segment by integrate_segments.
 class CvodeSegmentSolver final : public sun::SegmentSolver {
  public:
-  CvodeSegmentSolver(const core::Model& model, const SolverOptions& options, CvodeMethod method)
+  CvodeSegmentSolver(const core::Model& model, const SolverOptions& options, CvodeMethod method,
+                     NewtonJacobian newton)
       : model_(&model),
         options_(options),
         method_(method),
+        newton_(newton),
         form_(model),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
-        linear_solver_(sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())),
+        linear_solver_(
+            newton == NewtonJacobian::kStructured
+                ? sun::LinearSolver(make_newton_linear_solver(form_, context_.get()))
+                : sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())),
         cvode_(sun::check_created(
             CVodeCreate(method == CvodeMethod::kAdams ? CV_ADAMS : CV_BDF, context_.get()),
             "CVodeCreate")) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
     data_.jacobian = options.jacobian;
+    if (newton == NewtonJacobian::kStructured) {
+      structured_.emplace(form_);
+      data_.structured = &*structured_;
+      data_.structured_scratch = structured_->make_scratch();
+    }
   }
 
-  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     form_.pack(state, sun::data(y_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work);
+    form_.set_integrals(sun::data(y_.get()), integrals);
     void* cvode = cvode_.get();
     if (!initialized_) {
       sun::check(CVodeInit(cvode, sun::ode_rhs, segment.start, y_.get()), "CVodeInit");
@@ -70,12 +89,15 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
                  "CVodeSStolerances");
       sun::check(CVodeSetLinearSolver(cvode, linear_solver_.get(), jacobian_.get()),
                  "CVodeSetLinearSolver");
-      if (options_.jacobian != nullptr) {
+      if (newton_ == NewtonJacobian::kUser) {
         sun::check(CVodeSetJacFn(cvode, sun::ode_jacobian), "CVodeSetJacFn");
+      } else if (newton_ == NewtonJacobian::kStructured) {
+        sun::check(CVodeSetJacFn(cvode, sun::structured_ode_jacobian), "CVodeSetJacFn");
       }
-      if (method_ == CvodeMethod::kBdf) {
+      if (method_ != CvodeMethod::kAdams) {
         sun::check(CVodeSetProjFn(cvode, sun::project_euler_parameters), "CVodeSetProjFn");
       }
+      if (method_ == CvodeMethod::kBdf2) sun::check(CVodeSetMaxOrd(cvode, 2), "CVodeSetMaxOrd");
       sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
       if (model_->switching_function_count() > 0) {
         sun::check(CVodeRootInit(cvode, model_->switching_function_count(), sun::ode_switching),
@@ -118,7 +140,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  double dissipated_work() const override { return form_.dissipated_work(sun::data(y_.get())); }
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(y_.get()), out);
+  }
 
   void add_counters(SolverStats& stats) const override {
     void* cvode = cvode_.get();
@@ -154,7 +178,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   const core::Model* model_;
   SolverOptions options_;
   CvodeMethod method_;
+  NewtonJacobian newton_;
   OdeForm form_;
+  std::optional<StructuredJacobian> structured_;
   sun::OdeCallbackData data_;
   bool initialized_ = false;
   sun::Context context_;
@@ -170,12 +196,16 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
 ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& output_times,
                          const SolverOptions& options) {
   CvodeMethodChoice choice{options.cvode_method, "chosen with --method"};
-  if (options.cvode_method == CvodeMethod::kAuto) choice = choose_cvode_method(model);
+  if (options.cvode_method == CvodeMethod::kAuto) {
+    choice = choose_cvode_method(model, mean_output_spacing(output_times));
+  }
+  const NewtonJacobian newton = choose_newton_jacobian(model, options);
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "cvode", [&] {
-    return std::make_unique<CvodeSegmentSolver>(model, options, choice.method);
+    return std::make_unique<CvodeSegmentSolver>(model, options, choice.method, newton);
   });
   run.method = to_string(choice.method);
   run.method_reason = choice.reason;
+  run.jacobian = to_string(newton);
   return run;
 }
 

@@ -46,7 +46,11 @@ DaeForm::DaeForm(const core::Model& model) : model_(&model), fixed_(model.initia
     size_ = k.end;
     max_rows_ = std::max(max_rows_, 6 + k.n);
   }
-  if (model.dissipates()) work_index_ = size_++;
+  if (model.dissipates()) {
+    work_index_ = size_;
+    integral_count_ = 1 + model.extra_integral_count();
+    size_ += integral_count_;
+  }
 }
 
 DaeForm::Scratch DaeForm::make_scratch() const {
@@ -89,8 +93,10 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
     MapX(yp + k.v_q, k.n) = acc[i].qdd_f;
   }
   if (work_index_ >= 0) {
-    y[work_index_] = 0.0;
-    yp[work_index_] = model_->dissipated_power(context, state, ws);
+    for (int j = 0; j < integral_count_; ++j) y[work_index_ + j] = 0.0;
+    model_->integral_rates(
+        context, state, ws,
+        std::span<double>(yp + work_index_, static_cast<std::size_t>(integral_count_)));
   }
 }
 
@@ -198,9 +204,13 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
     MapX(res + k.v_q, k.n) = r.tail(k.n);                                         // modal rows
   }
   if (work_index_ >= 0) {
-    // W_d' − P = 0
-    res[work_index_] =
-        yp[work_index_] - model_->dissipated_power(context, state, scratch.workspace);
+    // W_d' − P = 0, and each extra integral's W' − rate = 0 (rates into res, then subtracted)
+    model_->integral_rates(
+        context, state, scratch.workspace,
+        std::span<double>(res + work_index_, static_cast<std::size_t>(integral_count_)));
+    for (int j = 0; j < integral_count_; ++j) {
+      res[work_index_ + j] = yp[work_index_ + j] - res[work_index_ + j];
+    }
   }
 }
 

@@ -24,6 +24,8 @@
 /// velocities v_θ = θ̇ carry even in a steady spin, where ω̄ is constant; and a GGL multiplier
 /// on |θ| = 1 puts the predictor's normal displacement into IDA's local error estimate (CVODE's
 /// projection removes it, IDA has no such hook), which costs 2–3× the steps.
+#include <cstddef>
+#include <span>
 #include <vector>
 
 #include "core/model.hpp"
@@ -39,7 +41,7 @@ class DaeForm {
     core::Workspace workspace;
     core::Accelerations accelerations;
     Eigen::VectorXd residual;
-    std::vector<int> generalized_rows;  ///< mass_rows: a body's rows in y
+    std::vector<int> generalized_rows;       ///< mass_rows: a body's rows in y
     std::vector<Eigen::MatrixXd> body_mass;  ///< mass_rows: a flexible body's (6+n)² matrix
   };
 
@@ -68,6 +70,17 @@ class DaeForm {
   void set_dissipated_work(double* y, double work) const {
     if (work_index_ >= 0) y[work_index_] = work;
   }
+  /// The integrals tracked with the state (Model::integral_rates): W_d then the model's extra
+  /// integrals (applied work, wear work per contact), from work_index(); 0 when not tracked.
+  int integral_count() const { return integral_count_; }
+  /// Copies them out of y (integral_count() values) / into y.
+  void integrals(const double* y, std::span<double> out) const {
+    for (int j = 0; j < integral_count_; ++j) out[static_cast<std::size_t>(j)] = y[work_index_ + j];
+  }
+  void set_integrals(double* y, std::span<const double> values) const {
+    for (int j = 0; j < integral_count_; ++j)
+      y[work_index_ + j] = values[static_cast<std::size_t>(j)];
+  }
 
   /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
   struct Block {
@@ -85,6 +98,7 @@ class DaeForm {
   int size_ = 0;
   int max_rows_ = 6;
   int work_index_ = -1;
+  int integral_count_ = 0;
 };
 
 }  // namespace flexref::reference

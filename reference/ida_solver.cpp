@@ -5,8 +5,12 @@
 /// CVODE, ARKODE and Odeint integrate its accelerations (docs/references.md, "IDA").
 ///
 /// - Every component is differential and in the error test; scalar tolerances as for CVODE.
-/// - Newton iteration with a dense direct linear solver: IDA's difference-quotient Jacobian, or
-///   SolverOptions::jacobian through P (c_j I − J) (reference/ode_jacobian.hpp).
+/// - BDF orders 1–5, or 1–2 (A-stable) where undamped modes oscillate far above every rate the
+///   outputs show (choose_ida_method, reference/method_choice.hpp; --method bdf|bdf2 overrides).
+/// - Newton iteration (choose_newton_jacobian): a flexible model's StructuredJacobian through
+///   the structured Newton system (reference/ida_newton_solver.hpp); SolverOptions::jacobian
+///   through P (c_j I − J) (reference/ode_jacobian.hpp) with a dense LU; or IDA's
+///   difference-quotient Jacobian with a dense LU (rigid models).
 /// - The iteration matrix is rebuilt whenever c_j = α/h changes (IDASetDeltaCjLSetup(0)),
 ///   measured on free_spin: with IDA's default reuse (until c_j changes by 25 %) the stale matrix
 ///   moved the step sequence and the error by up to 15× at the same rtol (1.7e-9 instead of
@@ -24,14 +28,19 @@
 #include <Eigen/Core>
 #include <exception>
 #include <memory>
+#include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "reference/dae_form.hpp"
+#include "reference/ida_newton_solver.hpp"
+#include "reference/method_choice.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/ode_jacobian.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
 #include "reference/sundials_segment_driver.hpp"
 
@@ -51,6 +60,10 @@ struct IdaData : sun::CallbackRecord {
   Eigen::MatrixXd ode_jacobian;
   Eigen::MatrixXd mass;
   Eigen::VectorXd f;
+  /// For NewtonJacobian::kStructured: the structured Jacobian and Newton system.
+  const StructuredJacobian* structured = nullptr;
+  StructuredJacobian::Scratch structured_scratch;
+  IdaNewtonSystem* newton = nullptr;
 };
 
 /// The model's switching functions at (t, y); allocates nothing.
@@ -115,23 +128,58 @@ int jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*yp*/, N_Vect
   return 0;
 }
 
+/// IDALsJacFn of the structured path: J from the StructuredJacobian, then A = I − J/c_j and the
+/// factored mass rows (ida_newton_solver.hpp); allocates nothing.
+int structured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*yp*/, N_Vector /*r*/,
+                        SUNMatrix matrix, void* user_data, N_Vector /*tmp1*/, N_Vector /*tmp2*/,
+                        N_Vector /*tmp3*/) {
+  auto& d = *static_cast<IdaData*>(user_data);
+  const int n = d.form->size();
+  try {
+    const core::LoadContext context{t, d.t_segment};
+    d.structured->evaluate(context, sun::data(y), SUNDenseMatrix_Data(matrix), n,
+                           d.structured_scratch);
+    if (!d.newton->setup_matrix(context, sun::data(y), c_j, SUNDenseMatrix_Data(matrix),
+                                d.scratch)) {
+      d.last_nonfinite_time = t;
+      return 1;
+    }
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  if (!sun::all_finite(SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n)) {
+    d.last_nonfinite_time = t;
+    return 1;  // recoverable: IDA retries with a smaller step
+  }
+  return 0;
+}
+
 /// IDA on the DAE form, driven segment by segment by integrate_segments.
 class IdaSegmentSolver final : public sun::SegmentSolver {
  public:
-  IdaSegmentSolver(const core::Model& model, const SolverOptions& options)
+  IdaSegmentSolver(const core::Model& model, const SolverOptions& options, int max_order,
+                   NewtonJacobian newton)
       : model_(&model),
         options_(options),
+        max_order_(max_order),
+        newton_kind_(newton),
         form_(model),
         ode_(model),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         yp_(sun::make_vector(form_.size(), context_.get())),
         jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
-        linear_solver_(sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())),
+        linear_solver_(make_linear_solver()),
         ida_(sun::check_created(IDACreate(context_.get()), "IDACreate")) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
-    if (options.jacobian != nullptr) {
+    if (newton == NewtonJacobian::kStructured) {
+      data_.structured = &*structured_;
+      data_.structured_scratch = structured_->make_scratch();
+      data_.newton = &*newton_;
+    }
+    if (newton == NewtonJacobian::kUser) {
       const int n = form_.size();
       data_.jacobian = options.jacobian;
       data_.ode = &ode_;
@@ -142,12 +190,13 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     }
   }
 
-  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     // Consistent (y, y') on the new load branch: y' from the quasi-velocity accelerations.
     form_.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
                          sun::data(y_.get()), sun::data(yp_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work);
+    form_.set_integrals(sun::data(y_.get()), integrals);
     const int n = form_.size();
     if (!sun::all_finite(sun::data(y_.get()), n) || !sun::all_finite(sun::data(yp_.get()), n)) {
       throw sun::StartError("the loads are not finite at the initial state of the segment");
@@ -161,7 +210,12 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
                  "IDASStolerances");
       sun::check(IDASetLinearSolver(ida, linear_solver_.get(), jacobian_.get()),
                  "IDASetLinearSolver");
-      if (options_.jacobian != nullptr) sun::check(IDASetJacFn(ida, jacobian), "IDASetJacFn");
+      if (newton_kind_ == NewtonJacobian::kUser) {
+        sun::check(IDASetJacFn(ida, jacobian), "IDASetJacFn");
+      } else if (newton_kind_ == NewtonJacobian::kStructured) {
+        sun::check(IDASetJacFn(ida, structured_jacobian), "IDASetJacFn");
+      }
+      sun::check(IDASetMaxOrd(ida, max_order_), "IDASetMaxOrd");
       sun::check(IDASetMaxNumSteps(ida, options_.max_steps), "IDASetMaxNumSteps");
       sun::check(IDASetDeltaCjLSetup(ida, 0.0), "IDASetDeltaCjLSetup");
       if (model_->switching_function_count() > 0) {
@@ -185,10 +239,10 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   void restart_at_root(double t, const sun::Segment& segment) override {
     // Restart from consistent values at the event, θ back on the unit sphere.
     form_.unpack(t, sun::data(y_.get()), data_.scratch.state);
-    const double work_at_event = form_.dissipated_work(sun::data(y_.get()));
+    form_.integrals(sun::data(y_.get()), integrals_at_event_);
     form_.initial_values(core::LoadContext{t, segment.t_segment}, data_.scratch.state,
                          sun::data(y_.get()), sun::data(yp_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work_at_event);
+    form_.set_integrals(sun::data(y_.get()), integrals_at_event_);
     sun::check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit");
     sun::check(IDASetStopTime(ida_.get(), segment.end), "IDASetStopTime");
   }
@@ -196,7 +250,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  double dissipated_work() const override { return form_.dissipated_work(sun::data(y_.get())); }
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(y_.get()), out);
+  }
 
   void add_counters(SolverStats& stats) const override {
     void* ida = ida_.get();
@@ -229,10 +285,28 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   }
 
  private:
+  /// The structured Newton system (constructed here, before linear_solver_ refers to it) or a
+  /// dense LU.
+  sun::LinearSolver make_linear_solver() {
+    if (newton_kind_ != NewtonJacobian::kStructured) {
+      return sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get());
+    }
+    structured_.emplace(ode_);
+    newton_.emplace(form_, ode_);
+    return sun::LinearSolver(make_ida_newton_linear_solver(*newton_, context_.get()));
+  }
+
   const core::Model* model_;
   SolverOptions options_;
+  int max_order_;
+  NewtonJacobian newton_kind_;
   DaeForm form_;
   OdeForm ode_;
+  /// W_d and the extra integrals carried across a restart at an event (sized once).
+  std::vector<double> integrals_at_event_ =
+      std::vector<double>(static_cast<std::size_t>(form_.integral_count()));
+  std::optional<StructuredJacobian> structured_;
+  std::optional<IdaNewtonSystem> newton_;
   IdaData data_;
   bool initialized_ = false;
   sun::Context context_;
@@ -247,11 +321,21 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
 
 ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& output_times,
                        const SolverOptions& options) {
+  if (options.cvode_method == CvodeMethod::kAdams) {
+    throw std::invalid_argument("IDA has no Adams method (--method bdf or bdf2)");
+  }
+  CvodeMethodChoice choice{options.cvode_method, "chosen with --method"};
+  if (options.cvode_method == CvodeMethod::kAuto) {
+    choice = choose_ida_method(model, mean_output_spacing(output_times));
+  }
+  const int max_order = choice.method == CvodeMethod::kBdf2 ? 2 : 5;
+  const NewtonJacobian newton = choose_newton_jacobian(model, options);
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "ida", [&] {
-    return std::make_unique<IdaSegmentSolver>(model, options);
+    return std::make_unique<IdaSegmentSolver>(model, options, max_order, newton);
   });
-  run.method = "bdf";
-  run.method_reason = "IDA's BDF on the implicit quasi-velocity form";
+  run.method = to_string(choice.method);
+  run.method_reason = choice.reason;
+  run.jacobian = to_string(newton);
   return run;
 }
 

@@ -6,6 +6,7 @@
 #include <complex>
 #include <cstddef>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -52,12 +53,28 @@ bool StiffnessSummary::stiff() const {
   return switching_functions > 0 || fastest_decay > kStiffnessRatio * resolved_rate;
 }
 
-StiffnessSummary summarize_stiffness(const core::Model& model) {
+bool StiffnessSummary::stiff_oscillatory() const {
+  return switching_functions == 0 && fastest_oscillation > kStiffnessRatio * accuracy_rate;
+}
+
+double mean_output_spacing(const std::vector<double>& output_times) {
+  if (output_times.empty()) return 0.0;
+  if (output_times.size() == 1) return output_times.front();
+  return (output_times.back() - output_times.front()) /
+         static_cast<double>(output_times.size() - 1);
+}
+
+StiffnessSummary summarize_stiffness(const core::Model& model, double output_spacing) {
   StiffnessSummary summary;
   summary.switching_functions = model.switching_function_count();
+  double angular_speed = 0.0;
   for (const core::BodyState& s : model.initial_state()) {
-    summary.resolved_rate = std::max(summary.resolved_rate, s.w_WB_B.norm());
+    angular_speed = std::max(angular_speed, s.w_WB_B.norm());
   }
+  summary.resolved_rate = angular_speed;
+  summary.accuracy_rate = output_spacing > 0.0
+                              ? std::max(std::numbers::pi / output_spacing, angular_speed)
+                              : std::numeric_limits<double>::infinity();
   const Eigen::MatrixXd jacobian = initial_jacobian(model);
   if (jacobian.size() == 0) return summary;
   if (!jacobian.allFinite()) {
@@ -74,15 +91,36 @@ StiffnessSummary summarize_stiffness(const core::Model& model) {
       summary.fastest_decay = std::max(summary.fastest_decay, -lambda.real());
     if (std::abs(lambda.real()) <= std::abs(lambda.imag())) {
       summary.resolved_rate = std::max(summary.resolved_rate, magnitude);
+      summary.fastest_oscillation = std::max(summary.fastest_oscillation, magnitude);
     }
   }
   return summary;
 }
 
-CvodeMethodChoice choose_cvode_method(const core::Model& model) {
-  const StiffnessSummary s = summarize_stiffness(model);
+namespace {
+
+/// "stiff oscillatory: ..." and what follows for the method (`then`).
+std::string stiff_oscillatory_reason(const StiffnessSummary& s, const std::string& then) {
   std::ostringstream why;
   why.precision(3);
+  why << "stiff oscillatory: a lightly damped mode at " << s.fastest_oscillation
+      << " rad/s, more than " << kStiffnessRatio << "x the accuracy rate " << s.accuracy_rate
+      << " rad/s (output Nyquist rate, angular speeds); " << then;
+  return why.str();
+}
+
+constexpr const char* kBdf2Reason =
+    "BDF orders 3-5 are unstable near the imaginary axis, so BDF max order 2 (A-stable)";
+
+}  // namespace
+
+CvodeMethodChoice choose_cvode_method(const core::Model& model, double output_spacing) {
+  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  std::ostringstream why;
+  why.precision(3);
+  if (s.stiff_oscillatory()) {
+    return {CvodeMethod::kBdf2, stiff_oscillatory_reason(s, kBdf2Reason)};
+  }
   if (s.switching_functions > 0) {
     why << "stiff: contact (" << s.switching_functions << " switching functions)";
     return {CvodeMethod::kBdf, why.str()};
@@ -98,6 +136,55 @@ CvodeMethodChoice choose_cvode_method(const core::Model& model) {
   return {CvodeMethod::kAdams, why.str()};
 }
 
+CvodeMethodChoice choose_ida_method(const core::Model& model, double output_spacing) {
+  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  if (s.stiff_oscillatory()) {
+    return {CvodeMethod::kBdf2, stiff_oscillatory_reason(s, kBdf2Reason)};
+  }
+  return {CvodeMethod::kBdf, "IDA's BDF on the implicit quasi-velocity form"};
+}
+
+ArkodeMethodChoice choose_arkode_method(const core::Model& model, double output_spacing) {
+  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  if (s.stiff_oscillatory()) {
+    return {ArkodeMethod::kEsdirk,
+            stiff_oscillatory_reason(s,
+                                     "the explicit method's step would be held by the stability "
+                                     "limit, so ARKStep ESDIRK5(4)7L[2]SA (L-stable, order 5)")};
+  }
+  return {ArkodeMethod::kErk,
+          "ARKODE ERKStep, ARKODE_FEHLBERG_13_7_8, order-8 continuous extension"};
+}
+
+ReferenceSolverChoice choose_reference_solver(const core::Model& model, double output_spacing) {
+  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  if (s.stiff_oscillatory()) {
+    return {"arkode", stiff_oscillatory_reason(
+                          s,
+                          "arkode (ESDIRK, L-stable, order 5): the high modes damped, the steps "
+                          "set by the accuracy; BDF of order > 2 is unstable there")};
+  }
+  return {"cvode", "the default reference (no stiff oscillatory mode)"};
+}
+
+NewtonJacobian choose_newton_jacobian(const core::Model& model, const SolverOptions& options) {
+  if (options.jacobian != nullptr) return NewtonJacobian::kUser;
+  if (model.has_flexible_bodies()) return NewtonJacobian::kStructured;
+  return NewtonJacobian::kDifferenceQuotients;
+}
+
+const char* to_string(NewtonJacobian jacobian) {
+  switch (jacobian) {
+    case NewtonJacobian::kDifferenceQuotients:
+      return "difference quotients, dense LU";
+    case NewtonJacobian::kStructured:
+      return "structured, structured Newton solve";
+    case NewtonJacobian::kUser:
+      return "user, dense LU";
+  }
+  return "difference quotients, dense LU";
+}
+
 const char* to_string(CvodeMethod method) {
   switch (method) {
     case CvodeMethod::kAuto:
@@ -106,15 +193,37 @@ const char* to_string(CvodeMethod method) {
       return "adams";
     case CvodeMethod::kBdf:
       return "bdf";
+    case CvodeMethod::kBdf2:
+      return "bdf2";
   }
   return "auto";
+}
+
+const char* to_string(ArkodeMethod method) {
+  switch (method) {
+    case ArkodeMethod::kAuto:
+      return "auto";
+    case ArkodeMethod::kErk:
+      return "erk";
+    case ArkodeMethod::kEsdirk:
+      return "esdirk";
+  }
+  return "auto";
+}
+
+ArkodeMethod parse_arkode_method(const std::string& name) {
+  if (name == "auto") return ArkodeMethod::kAuto;
+  if (name == "erk") return ArkodeMethod::kErk;
+  if (name == "esdirk") return ArkodeMethod::kEsdirk;
+  throw std::invalid_argument("unknown ARKODE method '" + name + "' (auto, erk, esdirk)");
 }
 
 CvodeMethod parse_cvode_method(const std::string& name) {
   if (name == "auto") return CvodeMethod::kAuto;
   if (name == "adams") return CvodeMethod::kAdams;
   if (name == "bdf") return CvodeMethod::kBdf;
-  throw std::invalid_argument("unknown CVODE method '" + name + "' (auto, adams, bdf)");
+  if (name == "bdf2") return CvodeMethod::kBdf2;
+  throw std::invalid_argument("unknown CVODE method '" + name + "' (auto, adams, bdf, bdf2)");
 }
 
 }  // namespace flexref::reference

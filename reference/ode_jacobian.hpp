@@ -2,11 +2,14 @@
 /// \file ode_jacobian.hpp
 /// The hook for a user-supplied Jacobian J = ∂f/∂y of the ODE form's right-hand side
 /// (reference/ode_form.hpp), for models whose difference-quotient Jacobian is too costly (many
-/// modes) or too inexact. Without one (SolverOptions::jacobian == nullptr) CVODE and IDA form
-/// their iteration matrices by their own difference quotients.
+/// modes) or too inexact. Without one (SolverOptions::jacobian == nullptr) the implicit
+/// references use the StructuredJacobian (reference/structured_jacobian.hpp) with the structured
+/// Newton solve for models with flexible bodies, and their own difference quotients with a dense
+/// LU for rigid ones (choose_newton_jacobian, reference/method_choice.hpp).
 ///
-/// With one, both implicit SUNDIALS references use it:
-///  - CVODE (BDF, or Adams with Newton iteration): CVodeSetJacFn, SUNDIALS forms I − γJ;
+/// With one, the implicit SUNDIALS references use it with a dense LU:
+///  - CVODE (BDF, or Adams with Newton iteration): CVodeSetJacFn, SUNDIALS forms I − γJ; ARKODE's
+///    ESDIRK likewise (ARKStepSetJacFn);
 ///  - IDA on the DAE form (reference/dae_form.hpp, same layout of y): the iteration matrix
 ///      ∂F/∂y + c_j ∂F/∂y' = P (c_j I − J),   P = ∂F/∂y' = blockdiag(I, M(θ̂, q))
 ///    (DaeForm::mass_rows), exact in the kinematic rows and, in the dynamics rows

@@ -32,12 +32,14 @@
 #include <ctime>
 #include <exception>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/impact_counter.hpp"
 #include "reference/continuous_extension.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
@@ -126,7 +128,8 @@ class Integrator {
         extension_(form.size()),
         g_(static_cast<std::size_t>(form.model().switching_function_count())),
         g_new_(g_.size()),
-        g_mid_(g_.size()) {}
+        g_mid_(g_.size()),
+        carried_(static_cast<std::size_t>(form.integral_count())) {}
 
   /// Where located event times are appended.
   void record_events_in(std::vector<double>* events) { events_ = events; }
@@ -136,9 +139,9 @@ class Integrator {
   /// Starts a segment at the current time: the loads switch to the branch at t_segment.
   void begin_segment(const core::State& state, double t_segment) {
     t_segment_ = t_segment;
-    const double work = form_->dissipated_work(x_.data());  // carried across segments
+    form_->integrals(x_.data(), carried_);  // W_d and the extra integrals, across segments
     form_->pack(state, x_.data());
-    form_->set_dissipated_work(x_.data(), work);
+    form_->set_integrals(x_.data(), carried_);
     evaluate_derivative();
     evaluate_switching(x_, t_, g_);
     t_previous_ = t_;
@@ -246,9 +249,13 @@ class Integrator {
     }
     form_->unpack(t, x_output_.data(), state);
   }
-  double output_dissipated_work(double t) const {
-    if (t >= t_ - time_slack(t_)) return form_->dissipated_work(x_.data());
-    return form_->dissipated_work(x_output_.data());  // the value output(t) just interpolated
+  /// W_d and the extra integrals at the output t just computed by output().
+  void output_integrals(double t, std::span<double> out) const {
+    if (t >= t_ - time_slack(t_)) {
+      form_->integrals(x_.data(), out);
+    } else {
+      form_->integrals(x_output_.data(), out);  // the values output(t) just interpolated
+    }
   }
 
   /// Projects θ onto the unit sphere (at segment ends).
@@ -259,7 +266,6 @@ class Integrator {
   }
 
   void unpack(core::State& state) const { form_->unpack(time(), x_.data(), state); }
-  double dissipated_work() const { return form_->dissipated_work(x_.data()); }
   long rhs_evaluations() const { return counters_.rhs_evaluations; }
 
  private:
@@ -441,6 +447,7 @@ class Integrator {
   double t_previous_ = 0.0;
   long steps_since_output_ = 0;
   std::vector<double> g_, g_new_, g_mid_;  ///< switching functions at x_, x_new_, x_mid_
+  std::vector<double> carried_;            ///< integrals carried across a segment start
   std::vector<double>* events_ = nullptr;
   double t_ = 0.0;
   double dt_ = 0.0;  ///< proposal for the next step; 0 before the first segment
@@ -492,10 +499,25 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
 
   std::size_t k = 0;
   const bool track_work = form.work_index() >= 0;
-  for (; k < output_times.size() && output_times[k] <= time_slack(0.0); ++k) {
+  std::vector<double> integrals(static_cast<std::size_t>(form.integral_count()), 0.0);
+  const bool count_impacts = model.wear_channel_count() > 0;
+  core::Workspace ws = model.make_workspace();
+  core::ImpactCounter impacts(model);
+  impacts.start(core::LoadContext{0.0, 0.0}, state, ws);
+  core::State step_end = state;
+  const auto record = [&]() {
     run.trajectory.states.push_back(state);
-    if (track_work) run.trajectory.dissipated_work.push_back(0.0);
-  }
+    if (track_work) {
+      run.trajectory.dissipated_work.push_back(integrals[0]);
+      run.trajectory.extra_work.insert(run.trajectory.extra_work.end(), integrals.begin() + 1,
+                                       integrals.end());
+    }
+    if (count_impacts) {
+      run.trajectory.impacts.insert(run.trajectory.impacts.end(), impacts.counts().begin(),
+                                    impacts.counts().end());
+    }
+  };
+  for (; k < output_times.size() && output_times[k] <= time_slack(0.0); ++k) record();
   if (k == output_times.size()) return run;
 
   Integrator integrator(form, options, run.stats);
@@ -520,9 +542,14 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
         for (; k < output_times.size() && output_times[k] <= last; ++k) {
           const double t = std::min(output_times[k], reached);
           integrator.output(t, state, inside == 1);
-          run.trajectory.states.push_back(state);
-          if (track_work)
-            run.trajectory.dissipated_work.push_back(integrator.output_dissipated_work(t));
+          if (track_work) integrator.output_integrals(t, integrals);
+          record();
+        }
+        if (count_impacts) {
+          // Steps end just past a located event: an onset is seen at the step's end (after the
+          // outputs inside the step, which precede it).
+          integrator.unpack(step_end);
+          impacts.update(core::LoadContext{reached, 0.5 * (start + end)}, step_end, ws);
         }
         cpu += std::clock() - tic;
       }

@@ -22,6 +22,16 @@ enum class CvodeMethod {
   kAuto,   ///< chosen from the model (choose_cvode_method, reference/method_choice.hpp)
   kAdams,  ///< Adams–Moulton orders 1–12, no projection: |θ| is a first integral
   kBdf,    ///< BDF orders 1–5 with the projection of θ onto the unit sphere
+  /// BDF orders 1–2 with the projection: A-stable, for undamped modes far above every rate the
+  /// solution must resolve (BDF3–5 are unstable on part of the imaginary axis); also IDA's cap.
+  kBdf2,
+};
+
+/// ARKODE's method (docs/references.md, "ARKODE", "Stiff oscillatory scenes").
+enum class ArkodeMethod {
+  kAuto,    ///< chosen from the model and output grid (choose_arkode_method, method_choice.hpp)
+  kErk,     ///< ERKStep, Fehlberg 13-7-8 (explicit, order 8)
+  kEsdirk,  ///< ARKStep, ESDIRK5(4)7L[2]SA (implicit, L-stable, order 5)
 };
 
 struct SolverOptions {
@@ -30,10 +40,13 @@ struct SolverOptions {
   double atol = -1.0;
   /// Most internal steps between two consecutive output times (SUNDIALS' mxstep meaning).
   long max_steps = 50'000'000;
-  /// CVODE only.
+  /// CVODE's method; for IDA, kBdf and kBdf2 cap its order at 5 and 2 (kAdams is refused),
+  /// kAuto chooses from the model (reference/method_choice.hpp).
   CvodeMethod cvode_method = CvodeMethod::kAuto;
-  /// CVODE and IDA: ∂f/∂y of the ODE form instead of difference quotients (ode_jacobian.hpp);
-  /// not owned, must outlive the solve.
+  ArkodeMethod arkode_method = ArkodeMethod::kAuto;
+  /// CVODE, IDA and ARKODE's ESDIRK: ∂f/∂y of the ODE form instead of the structured Jacobian
+  /// (flexible models) or difference quotients (rigid ones) (ode_jacobian.hpp); not owned, must
+  /// outlive the solve.
   const OdeJacobian* jacobian = nullptr;
   double absolute_tolerance() const { return atol < 0.0 ? rtol : atol; }
 };
@@ -50,11 +63,17 @@ struct SolverStats {
 
 struct ReferenceRun {
   std::string solver;  ///< "ida", "cvode", "arkode", "odeint", "exact"
-  /// The method within the solver: "bdf" (ida), "adams" or "bdf" (cvode),
-  /// "erk-fehlberg-13-7-8" (arkode), "rkf78" (odeint), "analytic" (exact).
+  /// The method within the solver: "bdf" or "bdf2" (ida), "adams", "bdf" or "bdf2" (cvode),
+  /// "erk-fehlberg-13-7-8" or "esdirk547l2sa-7-4-5" (arkode), "rkf78" (odeint), "analytic"
+  /// (exact).
   std::string method;
-  /// Why this method (CVODE's automatic choice names the model's stiff element, if any).
+  /// Why this method (CVODE's and IDA's automatic choice names the model's stiff element, if
+  /// any).
   std::string method_reason;
+  /// The implicit solvers' Newton systems: "structured" (reference/structured_jacobian.hpp
+  /// with the structured Newton solve), "difference quotients" (the solver's own, dense LU),
+  /// "user" (SolverOptions::jacobian, dense LU); empty for the explicit ones.
+  std::string jacobian;
   SolverOptions options;
   core::Trajectory trajectory;
   SolverStats stats;
@@ -73,8 +92,11 @@ ReferenceRun solve_arkode(const core::Model& model, const std::vector<double>& o
 ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& output_times,
                           const SolverOptions& options);
 
-/// "auto", "adams", "bdf"; and back (std::invalid_argument for another name).
+/// "auto", "adams", "bdf", "bdf2"; and back (std::invalid_argument for another name).
 const char* to_string(CvodeMethod method);
 CvodeMethod parse_cvode_method(const std::string& name);
+/// "auto", "erk", "esdirk"; and back (std::invalid_argument for another name).
+const char* to_string(ArkodeMethod method);
+ArkodeMethod parse_arkode_method(const std::string& name);
 
 }  // namespace flexref::reference

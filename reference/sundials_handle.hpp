@@ -5,7 +5,7 @@
 ///    matrices, linear solvers, IDA, CVODE and ARKODE ERKStep memory);
 ///  - one `check(flag, "Function")` that turns a negative return into a SundialsError naming
 ///    the function and the flag (IDAGetReturnFlagName / CVodeGetReturnFlagName /
-///    ERKStepGetReturnFlagName);
+///    ERKStepGetReturnFlagName / ARKStepGetReturnFlagName);
 ///  - an error handler that records SUNDIALS' own message ("At t = 0.3, mxstep steps taken
 ///    before reaching tout.") instead of printing it, so the driver can put it into the
 ///    core::SolverError it throws;
@@ -15,6 +15,7 @@
 ///    sundials_segment_driver.hpp.
 /// Boost.Odeint (odeint_solver.cpp) plans its segments on its own: it is the independent code
 /// path.
+#include <arkode/arkode_arkstep.h>
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
 #include <ida/ida.h>
@@ -73,6 +74,10 @@ using LinearSolver = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, Lin
 using IdaMemory = std::unique_ptr<void, IdaMemoryDeleter>;
 using CvodeMemory = std::unique_ptr<void, CvodeMemoryDeleter>;
 using ErkStepMemory = std::unique_ptr<void, ErkStepMemoryDeleter>;
+struct ArkStepMemoryDeleter {
+  void operator()(void* memory) const noexcept { ARKStepFree(&memory); }
+};
+using ArkStepMemory = std::unique_ptr<void, ArkStepMemoryDeleter>;
 
 // ---------------------------------------------------------------------------------------------
 // Errors
@@ -104,6 +109,9 @@ inline std::string flag_name(int flag, std::string_view function) {
     name = linear_solver_interface ? CVodeGetLinReturnFlagName(flag) : CVodeGetReturnFlagName(flag);
   } else if (function.starts_with("ERKStep")) {
     name = ERKStepGetReturnFlagName(flag);
+  } else if (function.starts_with("ARKStep")) {
+    name = linear_solver_interface ? ARKStepGetLinReturnFlagName(flag)
+                                   : ARKStepGetReturnFlagName(flag);
   }
   std::string text = name != nullptr ? std::string(name) : "flag " + std::to_string(flag);
   std::free(name);  // NOLINT(cppcoreguidelines-no-malloc): SUNDIALS allocates with malloc

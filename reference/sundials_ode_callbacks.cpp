@@ -62,6 +62,26 @@ int ode_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jacobian, voi
   return 0;
 }
 
+int structured_ode_jacobian(sunrealtype t, N_Vector y, N_Vector /*fy*/, SUNMatrix jacobian,
+                            void* user_data, N_Vector /*tmp1*/, N_Vector /*tmp2*/,
+                            N_Vector /*tmp3*/) {
+  auto& d = *static_cast<OdeCallbackData*>(user_data);
+  const int n = d.form->size();
+  try {
+    d.structured->evaluate(core::LoadContext{t, d.t_segment}, data(y),
+                           SUNDenseMatrix_Data(jacobian),
+                           static_cast<int>(SUNDenseMatrix_Rows(jacobian)), d.structured_scratch);
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  if (!all_finite(SUNDenseMatrix_Data(jacobian), static_cast<long>(n) * n)) {
+    d.last_nonfinite_time = t;
+    return 1;  // recoverable: the solver retries with a smaller step
+  }
+  return 0;
+}
+
 int project_euler_parameters(sunrealtype /*t*/, N_Vector ycur, N_Vector corr,
                              sunrealtype /*eps_proj*/, N_Vector err, void* user_data) {
   const auto& d = *static_cast<const OdeCallbackData*>(user_data);

@@ -10,6 +10,7 @@
 
 #include "reference/ode_form.hpp"
 #include "reference/ode_jacobian.hpp"
+#include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
 
 namespace flexref::reference::sundials {
@@ -20,6 +21,9 @@ struct OdeCallbackData : CallbackRecord {
   OdeForm::Scratch scratch;
   double t_segment = 0.0;  ///< selects the load branch of the current segment
   const OdeJacobian* jacobian = nullptr;
+  /// For structured_ode_jacobian: the form's structured Jacobian and its per-run scratch.
+  const StructuredJacobian* structured = nullptr;
+  StructuredJacobian::Scratch structured_scratch;
   long evaluations = 0;  ///< calls of ode_rhs (ARKODE counts its main and auxiliary steps by it)
 };
 
@@ -33,6 +37,11 @@ int ode_switching(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data);
 /// CVLsJacFn: J = ∂f/∂y from OdeCallbackData::jacobian.
 int ode_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jacobian, void* user_data,
                  N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+
+/// CVLsJacFn and ARKLsJacFn: J = ∂f/∂y from OdeCallbackData::structured (every entry written;
+/// allocates nothing). Returns 1 (recoverable) when J is not finite.
+int structured_ode_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jacobian,
+                            void* user_data, N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
 
 /// CVProjFn: orthogonal projection onto |θ| = 1 per body, corr = θ/|θ| − θ (zero elsewhere);
 /// the error estimate loses its component normal to the sphere, e_θ ← e_θ − (θ̂·e_θ) θ̂ (the

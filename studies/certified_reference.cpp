@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "reference/exact_solution.hpp"
+#include "reference/method_choice.hpp"
 #include "reference/solve_reference.hpp"
 #include "studies/error_metrics.hpp"
 
@@ -69,9 +70,16 @@ std::string cross_check_solver(const std::string& solver) {
   return "cvode";
 }
 
-std::string resolve_reference_solver(const std::string& solver, const core::Model& model) {
+std::string resolve_reference_solver(const std::string& solver, const core::Model& model,
+                                     const std::vector<double>& output_times) {
   if (solver != "auto") return solver;
-  return reference::classify_exact_solution(model).kind.empty() ? "cvode" : "exact";
+  // classify_exact_solution does not look at flexibility (a free flexible body would pass as
+  // torque-free): flexible models have no exact solution.
+  if (!model.has_flexible_bodies() && !reference::classify_exact_solution(model).kind.empty()) {
+    return "exact";
+  }
+  return reference::choose_reference_solver(model, reference::mean_output_spacing(output_times))
+      .solver;
 }
 
 ReferenceEstimate estimate_error(const core::Model& model, const std::vector<double>& output_times,
@@ -182,6 +190,8 @@ void add_reference(StudyRecord& record, const CertifiedReference& reference) {
   record.table("reference")
       .set("solver", reference.run.solver)
       .set("method", reference.run.method)
+      .set("method_reason", reference.run.method_reason)
+      .set("jacobian", reference.run.jacobian)
       .set("rtol", reference.run.options.rtol)
       .set("estimated_error", e.value)
       .set("metric", e.metric)

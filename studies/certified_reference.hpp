@@ -59,11 +59,15 @@ struct CertifiedReference {
 /// cvode.
 std::string cross_check_solver(const std::string& solver);
 
-/// "auto" picks "exact" when the model has an exact solution, else "cvode".
-std::string resolve_reference_solver(const std::string& solver, const core::Model& model);
+/// "auto" picks "exact" when the model has an exact solution, else
+/// reference::choose_reference_solver on the output grid ("arkode" for a stiff oscillatory
+/// model, else "cvode").
+std::string resolve_reference_solver(const std::string& solver, const core::Model& model,
+                                     const std::vector<double>& output_times);
 
-/// The `[reference]` table a study records next to its results: solver, method, tolerance, the
-/// estimate and how it was made, and one `[[reference.check]]` per comparison solution.
+/// The `[reference]` table a study records next to its results: solver, method and why, the
+/// Newton systems (implicit solvers), tolerance, the estimate and how it was made, and one
+/// `[[reference.check]]` per comparison solution.
 void add_reference(StudyRecord& record, const CertifiedReference& reference);
 
 /// One `[[<array>]]` table per check of an estimate (role, solver, method, rtol, steps,

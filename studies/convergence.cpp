@@ -1,19 +1,19 @@
 #include "studies/convergence.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
+#include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/observed_order.hpp"
 #include "studies/parallel.hpp"
@@ -30,7 +30,53 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // measures round-off, not the scheme.
 constexpr double kRoundOffFloor = 1e-11;
 
+/// External levels: the quantities the metric measured and the run's columns it ignored.
+struct Measured {
+  std::vector<std::string> used, ignored;
+  std::string kept_bytes;  ///< the level's output file, from a rank other than 0
+};
+
+SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measured>& measured) {
+  require_codec_size<ConvergenceLevel, 104>();
+  const auto fields = [](auto& io, auto& l) {
+    io(l.scheme, l.h, l.steps, l.error, l.order, l.cpu_seconds, l.status);
+  };
+  return {[&levels, &measured, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            const auto k = static_cast<std::size_t>(i);
+            fields(put, levels[k]);
+            for (const auto* names : {&measured[k].used, &measured[k].ignored}) {
+              w.put(static_cast<long>(names->size()));
+              for (const std::string& name : *names) w.put(name);
+            }
+            w.put(measured[k].kept_bytes);
+          },
+          [&levels, &measured, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            const auto k = static_cast<std::size_t>(i);
+            fields(get, levels[k]);
+            for (auto* names : {&measured[k].used, &measured[k].ignored}) {
+              names->resize(static_cast<std::size_t>(r.get_int()));
+              for (std::string& name : *names) name = r.get_string();
+            }
+            measured[k].kept_bytes = r.get_string();
+          }};
+}
+
 }  // namespace
+
+std::string kept_file_bytes(const ExternalMethod& method, int level) {
+  if (distribution().is_root() || !method.kept_file) return {};
+  std::ifstream in(method.kept_file(level), std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+void restore_kept_file(const ExternalMethod& method, int level, const std::string& bytes) {
+  if (bytes.empty() || !distribution().is_root() || !method.kept_file) return;
+  io::write_file_atomically(method.kept_file(level), bytes);
+}
 
 SchemeSummary summarize_levels(const std::string& method, int claimed_order,
                                std::vector<ConvergenceLevel>& levels, double reference_estimate,
@@ -130,20 +176,16 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
 
   reference::SolverOptions ref_options;
   ref_options.rtol = options.reference_rtol;
-  const std::string solver = resolve_reference_solver(options.reference_solver, model);
+  const std::string solver =
+      resolve_reference_solver(options.reference_solver, model, output_times);
   if (options.progress) std::fprintf(stderr, "converge: reference (%s) ...\n", solver.c_str());
   result.reference = certified_reference(model, output_times, solver, ref_options, options.metric);
 
   const int n_runs = static_cast<int>(tasks.size());
   result.levels.resize(tasks.size());
-  // External levels: the quantities the metric measured and the columns it ignored.
-  struct Measured {
-    std::vector<std::string> used, ignored;
-  };
   std::vector<Measured> measured(tasks.size());
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
-  parallel_for(n_runs, options.jobs, [&](int k) {
+  ProgressLine progress("converge", "runs", options.progress);
+  const auto task = [&](int k) {
     const Block& block = blocks[tasks[static_cast<std::size_t>(k)].block];
     const int level = tasks[static_cast<std::size_t>(k)].level;
     ConvergenceLevel& out = result.levels[static_cast<std::size_t>(k)];
@@ -160,12 +202,14 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         out.cpu_seconds = thread_cpu_seconds() - start;
         report = compare_trajectories(tabulate(model, trajectory), result.reference.table);
       } else {
-        const ExternalLevel run =
-            options.external[static_cast<std::size_t>(block.external)].run(out.h, level);
+        const ExternalMethod& method = options.external[static_cast<std::size_t>(block.external)];
+        Measured& m = measured[static_cast<std::size_t>(k)];
+        const ExternalLevel run = method.run(out.h, level);
+        m.kept_bytes = kept_file_bytes(method, level);
         out.cpu_seconds = run.cpu_seconds;
         report = compare_run(run.run, result.reference.table);
-        measured[static_cast<std::size_t>(k)] = {metric_quantities(report, options.metric),
-                                                 report.ignored_columns};
+        m.used = metric_quantities(report, options.metric);
+        m.ignored = report.ignored_columns;
       }
       out.error = metric_value(report, options.metric);
       out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
@@ -173,10 +217,16 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
       out.error = std::numeric_limits<double>::infinity();
       out.status = std::string("failed: ") + e.what();
     }
-    const int finished = ++done;
-    if (tty) std::fprintf(stderr, "\rconverge: %d/%d runs", finished, n_runs);
-  });
-  if (tty) std::fprintf(stderr, "\n");
+  };
+  distributed_for(n_runs, options.jobs, task, level_codec(result.levels, measured),
+                  progress.callback());
+  progress.finish();
+  for (std::size_t k = 0; k < tasks.size(); ++k) {
+    const Block& block = blocks[tasks[k].block];
+    if (block.external < 0) continue;
+    restore_kept_file(options.external[static_cast<std::size_t>(block.external)], tasks[k].level,
+                      measured[k].kept_bytes);
+  }
 
   const double ref_estimate = result.reference.estimate.estimate();
   for (const Block& block : blocks) {

@@ -32,7 +32,18 @@ struct ExternalMethod {
   std::vector<double> steps;
   /// Produces the level with step h (level 0 is the coarsest); throws to fail that level only.
   std::function<ExternalLevel(double h, int level)> run;
+  /// Where the run of level `level` keeps its output file (empty: nothing kept, as for runs
+  /// made earlier). A level run on another MPI rank sends the file's bytes to rank 0, which
+  /// writes them here, so the study folder is the same for any number of ranks (docs/mpi.md).
+  std::function<std::string(int level)> kept_file;
 };
+
+/// On a rank other than 0: the bytes of `method`'s kept file of `level`, to send to rank 0;
+/// empty on rank 0 or when the method keeps nothing.
+std::string kept_file_bytes(const ExternalMethod& method, int level);
+/// On rank 0: writes `bytes` received from another rank to method.kept_file(level) (nothing
+/// when `bytes` is empty). Throws io::OutputError when the file cannot be written.
+void restore_kept_file(const ExternalMethod& method, int level, const std::string& bytes);
 
 struct ConvergenceOptions {
   std::vector<std::string> schemes = lie::scheme_names();

@@ -183,12 +183,25 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
     }
     report.quantities.push_back(std::move(item.quantity));
   }
+  // Wear work of named contacts: the relative error of the final value (the cumulative work is
+  // what a wear model consumes; its history is monotone).
+  const std::vector<std::string>& cols = run.columns;
+  for (std::size_t c = 1; c < cols.size() && run.size() > 0; ++c) {
+    if (!cols[c].ends_with(".wear_work")) continue;
+    const double a = run.rows.back()[c];
+    const double b = reference.rows.back()[c];
+    const double e = b != 0.0 ? std::abs(a - b) / std::abs(b) : std::abs(a);
+    report.max_wear_relative = std::isnan(e) ? e : std::max(report.max_wear_relative, e);
+    QuantityError wear{cols[c], "-", "wear", {}, run.time(run.size() - 1), {cols[c]}};
+    wear.norms.linf = wear.norms.rms = wear.norms.final = e;
+    report.quantities.push_back(std::move(wear));
+  }
   return report;
 }
 
 std::vector<std::string> metric_names() {
-  return {"rotation+points", "rotation", "points",          "modes",
-          "position",        "velocity", "angular_velocity"};
+  return {"rotation+points", "rotation", "points",           "modes",
+          "position",        "velocity", "angular_velocity", "wear"};
 }
 
 std::vector<std::string> metric_quantities(const ComparisonReport& report,
@@ -197,7 +210,7 @@ std::vector<std::string> metric_quantities(const ComparisonReport& report,
   if (std::find(names.begin(), names.end(), metric) == names.end()) {
     throw std::invalid_argument("unknown metric '" + metric +
                                 "' (rotation+points, rotation, points, modes, position, "
-                                "velocity, angular_velocity)");
+                                "velocity, angular_velocity, wear)");
   }
   std::vector<std::string> used;
   for (const QuantityError& q : report.quantities) {
@@ -213,7 +226,8 @@ std::vector<std::string> metric_quantities(const ComparisonReport& report,
                         : metric == "modes"         ? "modal-coordinate columns B.q1.."
                         : metric == "position"      ? "position columns B.x..B.z"
                         : metric == "velocity"      ? "velocity columns B.vx..B.vz"
-                                                    : "angular-velocity columns B.W1..B.W3";
+                        : metric == "wear" ? "wear-work columns C.wear_work of a named contact"
+                                           : "angular-velocity columns B.W1..B.W3";
     throw std::invalid_argument("metric '" + metric + "' has nothing to measure: no " + needs +
                                 " were compared");
   }
@@ -226,6 +240,7 @@ double metric_value(const ComparisonReport& report, const std::string& metric) {
   if (metric == "rotation") return report.max_rotation_linf;
   if (metric == "points") return report.max_point_linf;
   if (metric == "modes") return report.max_modal_linf;
+  if (metric == "wear") return report.max_wear_relative;
   double value = 0.0;
   for (const QuantityError& q : report.quantities) {
     if (q.kind == metric) value = std::max(value, q.norms.linf);

@@ -47,6 +47,9 @@ struct ComparisonReport {
   /// as `energy`), and the largest |t_run − t_ref| accepted when matching rows.
   std::vector<std::string> ignored_columns;
   double max_time_offset = 0.0;
+  /// Named contacts' final wear work: max over contacts of |W − W_ref|/|W_ref| at the last
+  /// output (|W| when W_ref = 0); −1 when the tables have no `C.wear_work` column.
+  double max_wear_relative = -1.0;
   /// Default study metric: L∞ geodesic rotation angle + L∞ tracked-point position (max over
   /// bodies and points). Named "rotation+points".
   double default_metric() const { return max_rotation_linf + max_point_linf; }
@@ -59,9 +62,11 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run, const Trajecto
 
 /// The metrics a study may name: "rotation+points" (default), "rotation", "points", "modes"
 /// (L∞ over time of max_i |q_i − q_i,ref| over the flexible bodies' modal coordinates),
-/// "position", "velocity", "angular_velocity". Throws std::invalid_argument for any other
+/// "position", "velocity", "angular_velocity", "wear" (max_wear_relative: the final wear work of
+/// the named contacts, docs/output.md "Wear outputs"). Throws std::invalid_argument for any other
 /// name, and when the report has no quantity the metric measures (e.g. "rotation" without
-/// Euler-parameter columns, "modes" on a rigid scene): an absent quantity is not an error of 0.
+/// Euler-parameter columns, "modes" on a rigid scene, "wear" without a named contact): an absent
+/// quantity is not an error of 0.
 double metric_value(const ComparisonReport& report, const std::string& metric);
 
 /// The names of the quantities metric_value(report, metric) takes its value from, e.g.

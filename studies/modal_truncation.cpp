@@ -2,12 +2,8 @@
 /// See modal_truncation.hpp.
 #include "studies/modal_truncation.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -18,7 +14,7 @@
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
-#include "studies/parallel.hpp"
+#include "studies/distribution.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -104,27 +100,44 @@ Response integrate(const core::Model& model, int body_index, const core::Tracked
   return r;
 }
 
+/// A run's response and failure message, for distributed_for (every field: the comparisons
+/// after the runs read them on every process).
+SlotCodec run_codec(std::vector<Response>& responses, std::vector<std::string>& failures) {
+  require_codec_size<Response, 64>();
+  return {[&responses, &failures](int i, SlotWriter& w) {
+            const auto r = static_cast<std::size_t>(i);
+            const Response& out = responses[r];
+            w.put(failures[r]);
+            w.put(out.steps);
+            w.put(out.cpu_seconds);
+            w.put(static_cast<long>(out.deflection.size()));
+            for (const Eigen::Vector3d& d : out.deflection) {
+              for (int c = 0; c < 3; ++c) w.put(d[c]);
+            }
+            w.put(static_cast<long>(out.attitude.size()));
+            for (const rotation::EulerParameters& e : out.attitude) {
+              for (int c = 0; c < 4; ++c) w.put(e[c]);
+            }
+          },
+          [&responses, &failures](int i, SlotReader& reader) {
+            const auto r = static_cast<std::size_t>(i);
+            Response& out = responses[r];
+            reader.get(failures[r]);
+            reader.get(out.steps);
+            reader.get(out.cpu_seconds);
+            out.deflection.assign(static_cast<std::size_t>(reader.get_int()), Eigen::Vector3d());
+            for (Eigen::Vector3d& d : out.deflection) {
+              for (int c = 0; c < 3; ++c) d[c] = reader.get_double();
+            }
+            out.attitude.assign(static_cast<std::size_t>(reader.get_int()),
+                                rotation::EulerParameters());
+            for (rotation::EulerParameters& e : out.attitude) {
+              for (int c = 0; c < 4; ++c) e[c] = reader.get_double();
+            }
+          }};
+}
+
 /// The output times with their midpoints inserted: times[i] = fine[2i], bitwise.
-std::vector<double> with_midpoints(const std::vector<double>& times) {
-  std::vector<double> fine;
-  for (std::size_t i = 0; i < times.size(); ++i) {
-    if (i > 0) fine.push_back(0.5 * (times[i - 1] + times[i]));
-    fine.push_back(times[i]);
-  }
-  return fine;
-}
-
-/// The samples at the even indices (the coarse grid of with_midpoints).
-void keep_even_samples(Response& r) {
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < r.deflection.size(); i += 2, ++k) {
-    r.deflection[k] = r.deflection[i];
-    r.attitude[k] = r.attitude[i];
-  }
-  r.deflection.resize(k);
-  r.attitude.resize(k);
-}
-
 double max_deflection_difference(const Response& a, const Response& b) {
   double m = 0.0;
   for (std::size_t i = 0; i < a.deflection.size(); ++i) {
@@ -139,6 +152,19 @@ double max_angle(const Response& a, const Response& b) {
     m = std::max(m, rotation::geodesic_angle(a.attitude[i], b.attitude[i]));
   }
   return m;
+}
+
+/// The integration-error estimates of `run` from its check at a tighter rtol on the same output
+/// times: the differences, or +∞ when the check took the run's own number of steps (the same
+/// step sequence, not a different solution; docs/references.md "Error estimates"). Both solvers'
+/// steps are independent of the output grid (Odeint since issue 9, the SUNDIALS solvers always).
+double tip_estimate(const Response& check, const Response& run) {
+  if (check.steps == run.steps) return std::numeric_limits<double>::infinity();
+  return max_deflection_difference(check, run);
+}
+double attitude_estimate(const Response& check, const Response& run) {
+  if (check.steps == run.steps) return std::numeric_limits<double>::infinity();
+  return max_angle(check, run);
 }
 
 std::string scientific(double x, int digits = 2) {
@@ -234,33 +260,25 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
   result.point = point.name;
   result.reference_modes = counts.back();
   const std::vector<double> times = core::output_times(options.end_time, options.output_step);
-  const std::vector<double> fine = with_midpoints(times);
 
   // Runs 2k (the study's) and 2k + 1 (its accuracy check) of count k.
   const int runs = 2 * static_cast<int>(counts.size());
   std::vector<Response> responses(static_cast<std::size_t>(runs));
   std::vector<std::string> failures(static_cast<std::size_t>(runs));
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
-  parallel_for(runs, options.jobs, [&](int r) {
+  ProgressLine progress("modes", "runs", options.progress);
+  const auto task = [&](int r) {
     const auto k = static_cast<std::size_t>(r / 2);
     const bool check = r % 2 == 1;
     try {
       Response& out = responses[static_cast<std::size_t>(r)];
-      out = integrate(models[k], body_index, point, check ? fine : times, options.solver,
+      out = integrate(models[k], body_index, point, times, options.solver,
                       check ? options.rtol / options.estimate_factor : options.rtol);
-      if (check) keep_even_samples(out);
     } catch (const std::exception& e) {
       failures[static_cast<std::size_t>(r)] = e.what();
     }
-    const int finished = ++done;
-    if (tty) {
-      std::fprintf(stderr, "\rmodes: %d/%d runs", finished, runs);
-    } else if (options.progress) {
-      std::fprintf(stderr, "modes: %d/%d runs\n", finished, runs);
-    }
-  });
-  if (tty) std::fprintf(stderr, "\n");
+  };
+  distributed_for(runs, options.jobs, task, run_codec(responses, failures), progress.callback());
+  progress.finish();
 
   const std::size_t last = counts.size() - 1;
   const bool reference_ok = failures[2 * last].empty() && failures[2 * last + 1].empty();
@@ -272,10 +290,9 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
     fail("the tracked point '" + point.name + "' does not deflect in the reference run");
   }
   const double ref_tip_estimate =
-      reference_ok ? max_deflection_difference(responses[2 * last + 1], ref) / ref_deflection
-                   : kNaN;
+      reference_ok ? tip_estimate(responses[2 * last + 1], ref) / ref_deflection : kNaN;
   const double ref_attitude_estimate =
-      reference_ok ? max_angle(responses[2 * last + 1], ref) : kNaN;
+      reference_ok ? attitude_estimate(responses[2 * last + 1], ref) : kNaN;
 
   int unresolved = 0;
   for (std::size_t k = 0; k < counts.size(); ++k) {
@@ -298,8 +315,8 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
     row.tip_error_m = max_deflection_difference(tight, ref);
     row.tip_error = row.tip_error_m / ref_deflection;
     row.attitude_error = max_angle(tight, ref);
-    row.tip_estimate = max_deflection_difference(check, tight) / ref_deflection;
-    row.attitude_estimate = max_angle(check, tight);
+    row.tip_estimate = tip_estimate(check, tight) / ref_deflection;
+    row.attitude_estimate = attitude_estimate(check, tight);
     row.steps = tight.steps;
     row.cpu_seconds = tight.cpu_seconds;
     if (k == last) {
@@ -348,7 +365,7 @@ std::string format_modal_truncation_table(const ModalTruncationResult& result) {
   std::ostringstream s;
   s << "body '" << result.body << "', point '" << result.point << "'; reference "
     << result.reference_modes << " modes; " << o.solver << " rtol " << o.rtol
-    << " (estimate: against rtol " << o.rtol / o.estimate_factor << ", half the output step), "
+    << " (estimate: against rtol " << o.rtol / o.estimate_factor << "), "
     << core::to_string(o.formulation) << " model, " << o.end_time << " s\n";
   s << "errors against the reference, max over the outputs (* = below 10x the integration error "
        "estimate)\n";

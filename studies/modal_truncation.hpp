@@ -13,10 +13,11 @@
 ///   - attitude_error: max_t of the geodesic angle between the body's attitudes (rad).
 ///
 /// **Reference accuracy** (docs/design/studies.md): every run is repeated at rtol/estimate_factor
-/// with the output step halved, and the difference at the common output times estimates the
-/// run's integration error (as a certified reference's 'vs tighter' check). Halving the output
-/// step matters for Odeint, whose steps the output grid caps: at rtol and 10× tighter it can
-/// take the very same steps, and the difference would be zero by construction. A row is
+/// on the same output times, and the difference estimates the run's integration error (as a
+/// certified reference's 'vs tighter' check); a check that took the run's own number of steps is
+/// not a different solution, and its estimate is +∞ (the row is then unresolved). No solver's
+/// steps depend on the output grid (Odeint's since issue 9), and the grid enters the automatic
+/// method choice (reference/method_choice.hpp): the check runs the same method. A row is
 /// `resolved` when its errors are at least 10× the larger estimate of the two runs compared
 /// (its own and the reference's): below that the truncation error is not separated from the
 /// integration error and the value is an upper bound.

@@ -111,6 +111,9 @@ ColumnName classify(const std::string& name) {
     c.standard = c.measured = true;
   if (rest.size() > 2 && rest.starts_with("qd") && is_digits(rest.substr(2))) c.standard = true;
   if (rest == "drive_torque") c.standard = true;
+  // Named contacts' outputs (docs/output.md "Wear outputs"): the wear work is measured.
+  if (rest == "fn" || rest == "slip_speed" || rest == "impacts") c.standard = true;
+  if (rest == "wear_work") c.standard = c.measured = true;
   return c;
 }
 
@@ -191,7 +194,7 @@ std::vector<Group> measured_groups(const RunData& data) {
       groups.push_back(std::move(g));
       continue;
     }
-    if (c.suffix[0] == 'q') {
+    if (c.suffix[0] == 'q' || c.suffix == "wear_work") {
       groups.push_back({{i}, false});
       continue;
     }

@@ -1,9 +1,6 @@
 #include "studies/work_precision.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -17,6 +14,7 @@
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
+#include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/parallel.hpp"
 
@@ -81,6 +79,24 @@ std::string csv_safe(std::string s) {
   return s;
 }
 
+/// Every field of a run, and an external run's output file from a rank other than 0.
+SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes) {
+  require_codec_size<WorkPrecisionRun, 128>();
+  const auto fields = [](auto& io, auto& r) {
+    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
+  };
+  return {[&runs, &kept_bytes, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            fields(put, runs[static_cast<std::size_t>(i)]);
+            w.put(kept_bytes[static_cast<std::size_t>(i)]);
+          },
+          [&runs, &kept_bytes, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            fields(get, runs[static_cast<std::size_t>(i)]);
+            kept_bytes[static_cast<std::size_t>(i)] = r.get_string();
+          }};
+}
+
 }  // namespace
 
 std::vector<double> default_target_errors() { return {1e-2, 1e-4, 1e-6, 1e-8}; }
@@ -117,7 +133,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 
   reference::SolverOptions ref_options;
   ref_options.rtol = options.reference_rtol;
-  const std::string solver = resolve_reference_solver(options.reference_solver, model);
+  const std::string solver =
+      resolve_reference_solver(options.reference_solver, model, output_times);
   if (options.progress) {
     std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
   }
@@ -145,9 +162,9 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
   }
   const int n_runs = n_scheme_runs + n_solver_runs + static_cast<int>(external_runs.size());
   result.runs.resize(static_cast<std::size_t>(n_runs));
-  std::atomic<int> done{0};
-  const bool tty = options.progress && isatty(STDERR_FILENO);
-  parallel_for(n_runs, options.jobs, [&](int k) {
+  std::vector<std::string> kept_bytes(static_cast<std::size_t>(n_runs));
+  ProgressLine progress("work-precision", "runs", options.progress);
+  const auto task = [&](int k) {
     WorkPrecisionRun& out = result.runs[static_cast<std::size_t>(k)];
     try {
       core::Trajectory trajectory;
@@ -175,6 +192,7 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
           run = method.run(x.h, x.level);
           out.cpu_seconds = std::min(out.cpu_seconds, run.cpu_seconds);
         }
+        kept_bytes[static_cast<std::size_t>(k)] = kept_file_bytes(method, x.level);
         out.error = metric_value(compare_run(run.run, result.reference.table), options.metric);
       } else {
         const int j = k - n_scheme_runs;
@@ -201,10 +219,15 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
       out.cpu_seconds = kNaN;
       out.status = std::string("failed: ") + e.what();
     }
-    const int finished = ++done;
-    if (tty) std::fprintf(stderr, "\rwork-precision: %d/%d runs", finished, n_runs);
-  });
-  if (tty) std::fprintf(stderr, "\n");
+  };
+  distributed_for(n_runs, options.jobs, task, run_codec(result.runs, kept_bytes),
+                  progress.callback());
+  progress.finish();
+  for (std::size_t x = 0; x < external_runs.size(); ++x) {
+    const auto k = static_cast<std::size_t>(n_scheme_runs + n_solver_runs) + x;
+    restore_kept_file(options.external[external_runs[x].method], external_runs[x].level,
+                      kept_bytes[k]);
+  }
 
   const double ref_estimate = result.reference.estimate.estimate();
   bool any_uncertified = false;

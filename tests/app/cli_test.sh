@@ -191,6 +191,41 @@ out=$("$flexref" reference scenes/book_toss.toml --solver arkode --rtol 1e-8 --n
 "$flexref" reference scenes/book_toss.toml --solver cvode --method rk4 -o "$tmp/z.csv" \
   >/dev/null 2>&1 && fail "unknown --method accepted"
 [[ ! -e $tmp/z.csv ]] || fail "unknown --method: an output file was written"
+"$flexref" reference scenes/book_toss.toml --solver ida --method adams -o "$tmp/z.csv" \
+  >/dev/null 2>&1 && fail "ida --method adams accepted"
+[[ ! -e $tmp/z.csv ]] || fail "ida --method adams: an output file was written"
+
+# A stiff oscillatory scene (undamped modes 57x the output Nyquist rate): the default reference
+# is ARKODE's ESDIRK with the structured Newton systems, the choice recorded and printed;
+# --solver cvode gets BDF capped at order 2.
+out=$("$flexref" reference scenes/flexible_spinner_64.toml --rtol 1e-6 --no-estimate \
+  -o "$tmp/s64.csv" 2>&1) || fail "reference on flexible_spinner_64 failed: $out"
+[[ $out == *"arkode (esdirk547l2sa-7-4-5)"*"solver: stiff oscillatory"* ]] ||
+  fail "reference flexible_spinner_64: not routed to the ESDIRK: $out"
+meta=$(cat "$tmp/s64.csv.meta.toml")
+[[ $meta == *'solver = "arkode"'*'solver_reason = "stiff oscillatory'*'method = "esdirk547l2sa-7-4-5"'*'jacobian = "structured'* ]] ||
+  fail "reference flexible_spinner_64: the choice is not recorded: $meta"
+out=$("$flexref" reference scenes/flexible_spinner_64.toml --solver cvode --rtol 1e-6 \
+  --no-estimate -o "$tmp/s64c.csv" 2>&1) || fail "reference cvode on flexible_spinner_64: $out"
+[[ $out == *"cvode (bdf2)"* ]] || fail "reference cvode on flexible_spinner_64: $out"
+meta=$(cat "$tmp/s64c.csv.meta.toml")
+[[ $meta == *'solver_reason = "chosen with --solver"'* ]] ||
+  fail "reference --solver cvode: not recorded as the user's choice: $meta"
+
+# Wear outputs (issue 13): the tube's run and reference have the wear columns, compare reports
+# the wear metric; a scene without a named contact refuses it.
+sed 's/^end_time = 10.0 /end_time = 0.05 /' scenes/tube_support_impact.toml >"$tmp/tube.toml"
+"$flexref" run "$tmp/tube.toml" --scheme c2 --dt 1e-5 --model lte -o "$tmp/tube_run.csv" \
+  >/dev/null || fail "tube run failed"
+"$flexref" reference "$tmp/tube.toml" --solver cvode --rtol 1e-9 --no-estimate \
+  -o "$tmp/tube_ref.csv" >/dev/null || fail "tube reference failed"
+[[ $(head -1 "$tmp/tube_ref.csv") == *"support.fn,support.slip_speed,support.wear_work,support.impacts" ]] ||
+  fail "tube reference lacks the wear columns: $(head -1 "$tmp/tube_ref.csv")"
+out=$("$flexref" compare "$tmp/tube_run.csv" "$tmp/tube_ref.csv" --metric wear 2>&1) ||
+  fail "compare --metric wear failed: $out"
+[[ $out == *"metric wear"* ]] || fail "compare --metric wear: $out"
+"$flexref" compare "$tmp/run.csv" "$tmp/ref.csv" --metric wear >/dev/null 2>&1 &&
+  fail "compare --metric wear accepted a scene without a named contact"
 
 if ((failures)); then
   echo "$failures CLI checks failed"

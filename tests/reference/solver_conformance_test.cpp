@@ -1,8 +1,8 @@
 /// \file solver_conformance_test.cpp
-/// The conformance suite every reference solver joins (IDA on the DAE form, CVODE and ARKODE on
-/// the ODE form, Boost.Odeint RKF7(8) on the ODE form): conservation on a torque-free
-/// body, exactly the requested output times with unit Euler parameters, the start at t = 0,
-/// input validation, and the failure path (too much work, singular loads) naming the time.
+/// The conformance suite every reference solver joins (IDA on the DAE form, CVODE and ARKODE's
+/// ERK and ESDIRK on the ODE form, Boost.Odeint RKF7(8) on the ODE form): conservation on a
+/// torque-free body, exactly the requested output times with unit Euler parameters, the start at t
+/// = 0, input validation, and the failure path (too much work, singular loads) naming the time.
 /// Solver-specific checks stay in <solver>_solver_test.cpp.
 #include <Eigen/Core>
 #include <catch2/catch.hpp>
@@ -18,6 +18,7 @@
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "core/point_charge_potential.hpp"
+#include "reference/arkode_esdirk_solver.hpp"
 #include "reference/reference_solver.hpp"
 #include "tests/support/test_problems.hpp"
 
@@ -33,6 +34,7 @@ struct Solver {
 const Solver kSolvers[] = {{"ida", solve_ida, "IDA_TOO_MUCH_WORK"},
                            {"cvode", solve_cvode, "CV_TOO_MUCH_WORK"},
                            {"arkode", solve_arkode, "ARK_TOO_MUCH_WORK"},
+                           {"arkode", solve_arkode_esdirk, "ARK_TOO_MUCH_WORK"},
                            {"odeint", solve_odeint, "too much work"}};
 
 /// coulomb_wall (tests/support/test_problems.hpp) started with both charges on the wall z = 0,
