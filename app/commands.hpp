@@ -8,6 +8,8 @@
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene.hpp"
+#include "studies/convergence.hpp"
+#include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
 
 namespace flexref::app {
@@ -63,6 +65,9 @@ struct CompareOptions {
   std::string run;
   std::string reference;
   std::string metric = "rotation+points";
+  bool json = false;              ///< machine-readable output
+  double time_tolerance = 1e-6;   ///< studies::ContractOptions
+  double euler_tolerance = 1e-6;  ///< studies::ContractOptions
 };
 int compare_command(const CompareOptions& options);
 
@@ -77,8 +82,29 @@ struct ConvergeOptions {
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores
   std::string out_dir = "out/converge";
+  bool schemes_given = false;     ///< --schemes was given (else none run beside --external/--runs)
+  std::string external;           ///< --external command template (docs/external.md)
+  std::vector<std::string> runs;  ///< --runs DT=FILE ...
+  std::string label;              ///< --label of the external method
+  int claimed_order = 0;          ///< --order: the external method's claimed order
+  double timeout = 3600.0;        ///< --timeout per external run [s], 0: none
 };
 int converge_command(const ConvergeOptions& options);
+
+/// The external methods of `converge` and `work-precision` (docs/external.md): `external`, a
+/// command template run once per level, writing its files as `run_<label>_<level>.csv` into
+/// the study's staging folder `out`; or `runs`, "DT=FILE" pairs of runs already made. Throws
+/// std::invalid_argument for a malformed pair or label.
+struct ExternalOptions {
+  std::string scene;
+  std::string external;
+  std::vector<std::string> runs;
+  std::string label;
+  int claimed_order = 0;
+  double timeout = 3600.0;
+};
+std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& options,
+                                                      const studies::StudyOutput& out);
 
 /// A result record (studies/study_record.hpp) that starts with the [scene] table: the scene
 /// file, its name, the creation time and the model formulation (`model = "coupled"` or

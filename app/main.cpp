@@ -77,6 +77,17 @@ int run_command_line(int argc, char** argv) {
   cmp_cmd->add_option("run", cmp.run, "CSV of the run")->required();
   cmp_cmd->add_option("reference", cmp.reference, "CSV of the reference")->required();
   cmp_cmd->add_option("--metric", cmp.metric, "metric for the summary line")->capture_default_str();
+  cmp_cmd->add_flag("--json", cmp.json, "print the comparison as JSON");
+  cmp_cmd
+      ->add_option("--time-tolerance", cmp.time_tolerance,
+                   "row times match output times within this x the output step")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
+  cmp_cmd
+      ->add_option("--euler-tolerance", cmp.euler_tolerance,
+                   "largest accepted | |theta| - 1 | of Euler parameters")
+      ->check(CLI::Range(0.0, 0.1))
+      ->capture_default_str();
 
   ConvergeOptions conv;
   auto* conv_cmd = app.add_subcommand("converge", "observed orders of convergence");
@@ -105,6 +116,19 @@ int run_command_line(int argc, char** argv) {
   conv_cmd->add_option("--out", conv.out_dir, "output directory")->capture_default_str();
   conv_cmd->add_option("--model", conv.model, "flexible bodies' equations: coupled | lte")
       ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
+  auto* conv_external =
+      conv_cmd->add_option("--external", conv.external,
+                           "another code's integrator: a command with {scene}, {dt}, {output}, "
+                           "run once per level (docs/external.md)");
+  conv_cmd
+      ->add_option("--runs", conv.runs, "runs already made, as DT=FILE pairs (docs/external.md)")
+      ->excludes(conv_external);
+  conv_cmd->add_option("--label", conv.label, "name of the external method in the table");
+  conv_cmd->add_option("--order", conv.claimed_order, "the external method's claimed order")
+      ->check(CLI::Range(1, 20));
+  conv_cmd->add_option("--timeout", conv.timeout, "seconds per external run (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
 
   WorkPrecisionOptions wp;
@@ -146,6 +170,13 @@ int run_command_line(int argc, char** argv) {
                    "with --jobs 1")
       ->check(CLI::NonNegativeNumber);
   wp_cmd->add_option("--out", wp.out_dir, "output directory")->capture_default_str();
+  wp_cmd->add_option("--external", wp.external,
+                     "another code's integrator: a command with {scene}, {dt}, {output}, run "
+                     "per step; its CPU time is the program's own (docs/external.md)");
+  wp_cmd->add_option("--label", wp.label, "name of the external method in the table");
+  wp_cmd->add_option("--timeout", wp.timeout, "seconds per external run (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   wp_cmd->add_option("--model", wp.model, "flexible bodies' equations: coupled | lte")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
@@ -305,7 +336,10 @@ int run_command_line(int argc, char** argv) {
     if (*run_cmd) return run_command(run);
     if (*ref_cmd) return reference_command(ref);
     if (*cmp_cmd) return compare_command(cmp);
-    if (*conv_cmd) return converge_command(conv);
+    if (*conv_cmd) {
+      conv.schemes_given = conv_cmd->count("--schemes") > 0;
+      return converge_command(conv);
+    }
     if (*wp_cmd) return work_precision_command(wp);
     if (*stab_cmd) return stability_command(stab);
     if (*lte_cmd) return lte_map_command(lte);

@@ -24,6 +24,9 @@ struct WorkPrecisionOptions {
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores (timings are cleanest with 1)
   std::string out_dir = "out/work_precision";
+  std::string external;     ///< --external command template (docs/external.md)
+  std::string label;        ///< --label of the external method
+  double timeout = 3600.0;  ///< --timeout per external run [s], 0: none
 };
 
 /// Runs the study on the scene and writes work_precision.csv, work_precision.txt, study.toml,

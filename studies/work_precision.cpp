@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -33,7 +34,7 @@ void validate(const WorkPrecisionOptions& options) {
   }
   if (options.levels < 1) throw std::invalid_argument("--levels must be at least 1");
   if (options.repeats < 1) throw std::invalid_argument("--repeats must be at least 1");
-  if (options.schemes.empty() && options.solvers.empty()) {
+  if (options.schemes.empty() && options.solvers.empty() && options.external.empty()) {
     throw std::invalid_argument("work-precision needs at least one scheme or solver");
   }
   const std::vector<std::string> schemes = lie::scheme_names();
@@ -78,18 +79,21 @@ std::string csv_safe(std::string s) {
   return s;
 }
 
-SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs) {
+/// Every field of a run, and an external run's output file from a rank other than 0.
+SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes) {
   require_codec_size<WorkPrecisionRun, 128>();
   const auto fields = [](auto& io, auto& r) {
     io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
   };
-  return {[&runs, fields](int i, SlotWriter& w) {
+  return {[&runs, &kept_bytes, fields](int i, SlotWriter& w) {
             auto put = [&w](const auto&... x) { (w.put(x), ...); };
             fields(put, runs[static_cast<std::size_t>(i)]);
+            w.put(kept_bytes[static_cast<std::size_t>(i)]);
           },
-          [&runs, fields](int i, SlotReader& r) {
+          [&runs, &kept_bytes, fields](int i, SlotReader& r) {
             auto get = [&r](auto&... x) { (r.get(x), ...); };
             fields(get, runs[static_cast<std::size_t>(i)]);
+            kept_bytes[static_cast<std::size_t>(i)] = r.get_string();
           }};
 }
 
@@ -138,8 +142,27 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 
   const int n_scheme_runs = static_cast<int>(options.schemes.size()) * options.levels;
   const int n_tolerances = static_cast<int>(options.tolerances.size());
-  const int n_runs = n_scheme_runs + static_cast<int>(options.solvers.size()) * n_tolerances;
+  const int n_solver_runs = static_cast<int>(options.solvers.size()) * n_tolerances;
+  // External methods: (method, step) after the solvers.
+  struct ExternalRun {
+    std::size_t method;
+    double h;
+    int level;
+  };
+  std::vector<ExternalRun> external_runs;
+  for (std::size_t e = 0; e < options.external.size(); ++e) {
+    std::vector<double> steps = options.external[e].steps;
+    if (steps.empty()) {
+      for (int l = 0; l < options.levels; ++l) steps.push_back(options.h0 / std::ldexp(1.0, l));
+    }
+    std::sort(steps.begin(), steps.end(), std::greater<>());
+    for (std::size_t l = 0; l < steps.size(); ++l) {
+      external_runs.push_back({e, steps[l], static_cast<int>(l)});
+    }
+  }
+  const int n_runs = n_scheme_runs + n_solver_runs + static_cast<int>(external_runs.size());
   result.runs.resize(static_cast<std::size_t>(n_runs));
+  std::vector<std::string> kept_bytes(static_cast<std::size_t>(n_runs));
   ProgressLine progress("work-precision", "runs", options.progress);
   const auto task = [&](int k) {
     WorkPrecisionRun& out = result.runs[static_cast<std::size_t>(k)];
@@ -155,6 +178,22 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
           auto stepper = lie::make_stepper(out.method, model);
           return lie::run_scheme(model, *stepper, out.setting, output_times);
         });
+      } else if (k >= n_scheme_runs + n_solver_runs) {
+        const ExternalRun& x =
+            external_runs[static_cast<std::size_t>(k - n_scheme_runs - n_solver_runs)];
+        const ExternalMethod& method = options.external[x.method];
+        out.method = method.label;
+        out.kind = "external";
+        out.setting = x.h;
+        // The program's own CPU time (wait4), minimum over the repeats like the others.
+        ExternalLevel run;
+        out.cpu_seconds = kInf;
+        for (int r = 0; r < options.repeats; ++r) {
+          run = method.run(x.h, x.level);
+          out.cpu_seconds = std::min(out.cpu_seconds, run.cpu_seconds);
+        }
+        kept_bytes[static_cast<std::size_t>(k)] = kept_file_bytes(method, x.level);
+        out.error = metric_value(compare_run(run.run, result.reference.table), options.metric);
       } else {
         const int j = k - n_scheme_runs;
         out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];
@@ -169,9 +208,11 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
           return std::move(run.trajectory);
         });
       }
-      out.error =
-          metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
-                       options.metric);
+      if (out.kind != "external") {
+        out.error =
+            metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
+                         options.metric);
+      }
       out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
     } catch (const std::exception& e) {
       out.error = kInf;
@@ -179,8 +220,14 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
       out.status = std::string("failed: ") + e.what();
     }
   };
-  distributed_for(n_runs, options.jobs, task, run_codec(result.runs), progress.callback());
+  distributed_for(n_runs, options.jobs, task, run_codec(result.runs, kept_bytes),
+                  progress.callback());
   progress.finish();
+  for (std::size_t x = 0; x < external_runs.size(); ++x) {
+    const auto k = static_cast<std::size_t>(n_scheme_runs + n_solver_runs) + x;
+    restore_kept_file(options.external[external_runs[x].method], external_runs[x].level,
+                      kept_bytes[k]);
+  }
 
   const double ref_estimate = result.reference.estimate.estimate();
   bool any_uncertified = false;
@@ -234,7 +281,7 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
       current = run.method + run.kind;
       out << "\n"
           << run.method << " (" << run.kind << ")\n"
-          << std::right << std::setw(12) << (run.kind == "scheme" ? "h [s]" : "rtol")
+          << std::right << std::setw(12) << (run.kind == "solver" ? "rtol" : "h [s]")
           << std::setw(12) << "error" << std::setw(11) << "cpu [s]"
           << "  status\n";
     }
@@ -263,7 +310,7 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
         continue;
       }
       std::ostringstream setting;
-      setting << (c.run.kind == "scheme" ? "h = " : "rtol = ") << std::scientific
+      setting << (c.run.kind == "solver" ? "rtol = " : "h = ") << std::scientific
               << std::setprecision(2) << c.run.setting;
       out << std::left << std::setw(8) << c.run.method << std::setw(18) << setting.str()
           << std::right << std::setprecision(2) << std::setw(11) << c.run.error << std::setw(11)

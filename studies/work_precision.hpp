@@ -19,6 +19,7 @@
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
 #include "studies/certified_reference.hpp"
+#include "studies/convergence.hpp"
 
 namespace flexref::studies {
 
@@ -34,12 +35,15 @@ struct WorkPrecisionOptions {
   double reference_rtol = 1e-12;
   int jobs = 1;
   bool progress = false;  ///< progress line on stderr
+  /// Other codes' integrators (studies/convergence.hpp), after the solvers; their CPU time is
+  /// the one ExternalLevel reports (a program's own, from wait4), minimum over the repeats.
+  std::vector<ExternalMethod> external;
 };
 
 /// One point of the work-precision diagram.
 struct WorkPrecisionRun {
-  std::string method;        ///< scheme ("c1", "c2", "nmb") or solver ("ida", "cvode", …)
-  std::string kind;          ///< "scheme" or "solver"
+  std::string method;        ///< scheme ("c1", "c2", "nmb"), solver ("ida", …) or label
+  std::string kind;          ///< "scheme", "solver" or "external"
   double setting = 0.0;      ///< step h [s] for a scheme, relative tolerance for a solver
   double error = 0.0;        ///< metric against the reference (+inf when failed)
   double cpu_seconds = 0.0;  ///< minimum thread CPU time over the repeats (NaN when failed)
@@ -59,7 +63,8 @@ struct CheapestMethod {
 struct WorkPrecisionResult {
   WorkPrecisionOptions options;
   CertifiedReference reference;
-  std::vector<WorkPrecisionRun> runs;  ///< schemes × levels, then solvers × tolerances
+  /// schemes × levels, then solvers × tolerances, then external methods × levels
+  std::vector<WorkPrecisionRun> runs;
   std::vector<CheapestMethod> cheapest;
   /// The cheapest reference solver run per reference_target_errors() (solver runs only).
   std::vector<CheapestMethod> cheapest_references;

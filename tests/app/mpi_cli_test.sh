@@ -41,6 +41,14 @@ same converge "" converge scenes/free_spin.toml --levels 3 --dt 0.02 --jobs 1
 cut -d, -f1-5,7 "$tmp/converge.serial/convergence.csv" >"$tmp/a.csv"
 cut -d, -f1-5,7 "$tmp/converge.mpi/convergence.csv" >"$tmp/b.csv"
 cmp -s "$tmp/a.csv" "$tmp/b.csv" || fail "converge: errors differ serial vs 2 ranks"
+# converge --external: every level's file is kept in the study folder, whichever rank ran it.
+sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/free_spin.toml >"$tmp/fs2.toml"
+same external "run_euler_0.csv run_euler_1.csv run_euler_2.csv" converge "$tmp/fs2.toml" \
+  --external "/usr/bin/python3 examples/external/lie_euler.py {scene} {dt} {output}" \
+  --label euler --order 1 --dt 0.02 --levels 3 --jobs 1
+cut -d, -f1-5,7 "$tmp/external.serial/convergence.csv" >"$tmp/a.csv"
+cut -d, -f1-5,7 "$tmp/external.mpi/convergence.csv" >"$tmp/b.csv"
+cmp -s "$tmp/a.csv" "$tmp/b.csv" || fail "converge --external: errors differ serial vs 2 ranks"
 # modes: the runs' responses travel between ranks (the comparisons read them on every rank);
 # the cpu_seconds column (11) differs from run to run.
 same modes "" modes scenes/flexible_spinner.toml --modes 2,4 --end-time 0.5 --jobs 1
