@@ -64,6 +64,12 @@ int check_command(const CheckOptions& options) {
   // Penalty elements: each contact's and joint's stiffest mode (docs/contact.md,
   // docs/joints.md) and the explicit step it allows.
   for (const core::PenaltyMode& m : core::penalty_modes(model)) {
+    if (m.label.ends_with(" friction")) {  // contact/gap_support.cpp: a damper, not a spring
+      std::cout << "  " << m.label
+                << ": regularized friction c_t = mu F_n / v_reg, rate c_t/m_eff = " << m.frequency
+                << " 1/s, explicit step limit 2 m_eff/c_t = " << m.step_limit << " s\n";
+      continue;
+    }
     const bool angular = m.label.ends_with(" angular");
     std::cout << "  " << m.label << ": omega = sqrt(k/" << (angular ? "I_eff" : "m_eff")
               << ") = sqrt(" << m.stiffness << (angular ? " N·m/rad / " : " N/m / ") << m.inertia

@@ -9,6 +9,8 @@
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene.hpp"
+#include "studies/convergence.hpp"
+#include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
 
 namespace flexref::app {
@@ -58,8 +60,8 @@ core::FlexibleFormulation parse_formulation(const std::string& model);
 
 /// The reference solver to use for a scene: `solver` itself, except that a model with flexible
 /// bodies has no analytic solution — "exact" is refused (std::invalid_argument naming
-/// `option`) and "auto" becomes "cvode". (reference::classify_exact_solution does not look at
-/// flexibility and would call a free flexible body torque-free.)
+/// `option`). "auto" stays "auto" (studies::resolve_reference_solver resolves it: never exact
+/// for a flexible model).
 std::string reference_solver_for(const core::Model& model, const std::string& solver,
                                  const std::string& option);
 
@@ -77,7 +79,11 @@ int run_command(const RunOptions& options);
 struct ReferenceOptions {
   std::string scene;
   std::string model = "coupled";
-  std::string solver = "cvode";
+  /// "auto": reference::choose_reference_solver (arkode's ESDIRK on a stiff oscillatory scene,
+  /// else cvode; never the exact solution, which --solver exact asks for).
+  std::string solver = "auto";
+  std::string method =
+      "auto";  ///< cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
   double rtol = 1e-10;
   double atol = -1.0;
   bool estimate = true;
@@ -90,6 +96,9 @@ struct CompareOptions {
   std::string run;
   std::string reference;
   std::string metric = "rotation+points";
+  bool json = false;              ///< machine-readable output
+  double time_tolerance = 1e-6;   ///< studies::ContractOptions
+  double euler_tolerance = 1e-6;  ///< studies::ContractOptions
 };
 int compare_command(const CompareOptions& options);
 
@@ -105,8 +114,29 @@ struct ConvergeOptions {
   int jobs = 0;  ///< 0: all cores
   std::string out_dir = "out/converge";
   WorkLimits limits;
+  bool schemes_given = false;     ///< --schemes was given (else none run beside --external/--runs)
+  std::string external;           ///< --external command template (docs/external.md)
+  std::vector<std::string> runs;  ///< --runs DT=FILE ...
+  std::string label;              ///< --label of the external method
+  int claimed_order = 0;          ///< --order: the external method's claimed order
+  double timeout = 3600.0;        ///< --timeout per external run [s], 0: none
 };
 int converge_command(const ConvergeOptions& options);
+
+/// The external methods of `converge` and `work-precision` (docs/external.md): `external`, a
+/// command template run once per level, writing its files as `run_<label>_<level>.csv` into
+/// the study's staging folder `out`; or `runs`, "DT=FILE" pairs of runs already made. Throws
+/// std::invalid_argument for a malformed pair or label.
+struct ExternalOptions {
+  std::string scene;
+  std::string external;
+  std::vector<std::string> runs;
+  std::string label;
+  int claimed_order = 0;
+  double timeout = 3600.0;
+};
+std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& options,
+                                                      const studies::StudyOutput& out);
 
 /// A result record (studies/study_record.hpp) that starts with the [scene] table: the scene
 /// file, its name, the creation time and the model formulation (`model = "coupled"` or

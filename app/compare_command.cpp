@@ -1,35 +1,180 @@
+/// \file compare_command.cpp
+/// `flexref compare RUN REF`: a run of any code against a reference under the trajectory
+/// contract (docs/external.md), the measured error beside the reference's own estimated error
+/// (its sidecar REF.meta.toml), as a table or as JSON for scripts.
+#include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "studies/error_metrics.hpp"
+#include "studies/reference_sidecar.hpp"
+#include "studies/trajectory_contract.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::app {
+namespace {
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string json_number(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+std::string json_strings(const std::vector<std::string>& v) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i > 0) out += ", ";
+    out += json_string(v[i]);
+  }
+  return out + "]";
+}
+
+/// What the reference's estimate says about the measured value.
+struct Certification {
+  bool comparable = false;  ///< the sidecar has an estimate in the compared metric
+  bool certified = false;
+  std::string text;
+};
+
+Certification certify(const studies::ReferenceSidecar& sidecar, const std::string& metric,
+                      double value) {
+  Certification c;
+  std::ostringstream out;
+  out << std::scientific << std::setprecision(2);
+  if (!sidecar.found) {
+    out << "no sidecar " << sidecar.path << ": the reference's own error is unknown";
+  } else if (!sidecar.has_estimate) {
+    out << "the reference has no error estimate (made with --no-estimate): its own error is "
+           "unknown";
+  } else if (sidecar.metric != metric) {
+    out << "the reference's estimated error " << sidecar.estimate << " is in metric "
+        << sidecar.metric << ", not " << metric << ": not checked";
+  } else if (std::isinf(sidecar.estimate)) {
+    c.comparable = true;
+    out << "the reference's own error is unknown (" << sidecar.estimate_method
+        << "): NOT CERTIFIED (make a reference whose estimate has a usable check)";
+  } else {
+    c.comparable = true;
+    c.certified = studies::is_certified(value, sidecar.estimate);
+    out << "reference estimated error " << sidecar.estimate << "; measured " << value;
+    if (c.certified) {
+      out << " is " << (sidecar.estimate > 0.0 ? value / sidecar.estimate : INFINITY)
+          << "x above it: certified";
+    } else {
+      out << " is NOT " << studies::kCertificationFactor
+          << "x above it: NOT CERTIFIED (the reference is not accurate enough to measure this "
+             "error; use a tighter reference)";
+    }
+  }
+  c.text = out.str();
+  return c;
+}
+
+}  // namespace
 
 int compare_command(const CompareOptions& options) {
-  const studies::TrajectoryTable run = studies::read_csv(options.run);
-  const studies::TrajectoryTable ref = studies::read_csv(options.reference);
-  studies::ComparisonReport report;
+  studies::ContractOptions contract;
+  contract.time_tolerance = options.time_tolerance;
+  contract.euler_norm_tolerance = options.euler_tolerance;
+  const studies::RunData run = studies::read_run_csv(options.run);
+  const studies::TrajectoryTable ref =
+      studies::checked_reference(studies::read_run_csv(options.reference), contract);
+  const studies::ComparisonReport report = studies::compare_run(run, ref, contract);
+  double value = 0.0;
+  std::vector<std::string> used;
   try {
-    report = studies::compare_trajectories(run, ref);
+    used = studies::metric_quantities(report, options.metric);
+    value = studies::metric_value(report, options.metric);
   } catch (const std::invalid_argument& e) {
-    throw core::InputError(
-        options.run, 0, "",
-        std::string("cannot compare with ") + options.reference + ": " + e.what());
+    throw core::InputError(options.run, 0, "", e.what());
   }
+  const studies::ReferenceSidecar sidecar = studies::read_reference_sidecar(options.reference);
+  const Certification cert = certify(sidecar, options.metric, value);
+
+  if (options.json) {
+    std::ostringstream out;
+    out << "{\n  \"run\": " << json_string(options.run)
+        << ",\n  \"reference\": " << json_string(options.reference)
+        << ",\n  \"rows_compared\": " << report.rows << ",\n  \"reference_rows\": " << ref.size()
+        << ",\n  \"max_time_offset\": " << json_number(report.max_time_offset)
+        << ",\n  \"ignored_columns\": " << json_strings(report.ignored_columns)
+        << ",\n  \"quantities\": [";
+    for (std::size_t i = 0; i < report.quantities.size(); ++i) {
+      const auto& q = report.quantities[i];
+      out << (i ? "," : "") << "\n    {\"name\": " << json_string(q.name)
+          << ", \"kind\": " << json_string(q.kind) << ", \"unit\": " << json_string(q.unit)
+          << ", \"columns\": " << json_strings(q.columns)
+          << ", \"linf\": " << json_number(q.norms.linf)
+          << ", \"rms\": " << json_number(q.norms.rms)
+          << ", \"final\": " << json_number(q.norms.final)
+          << ", \"linf_time\": " << json_number(q.linf_time) << "}";
+    }
+    out << "\n  ],\n  \"metric\": {\"name\": " << json_string(options.metric)
+        << ", \"value\": " << json_number(value) << ", \"quantities\": " << json_strings(used)
+        << "},\n  \"reference_estimate\": ";
+    if (sidecar.has_estimate) {
+      out << "{\"metric\": " << json_string(sidecar.metric)
+          << ", \"value\": " << json_number(sidecar.estimate)
+          << ", \"method\": " << json_string(sidecar.estimate_method)
+          << ", \"solver\": " << json_string(sidecar.solver) << "}";
+    } else {
+      out << "null";
+    }
+    out << ",\n  \"certified\": "
+        << (cert.comparable ? (cert.certified ? "true" : "false") : "null")
+        << ",\n  \"note\": " << json_string(cert.text) << "\n}\n";
+    std::cout << out.str();
+    return kExitOk;
+  }
+
+  std::cout << "compared " << report.rows << " of " << ref.size() << " output times";
+  if (report.max_time_offset > 0.0) {
+    std::cout << " (largest time offset " << std::scientific << std::setprecision(2)
+              << report.max_time_offset << " s)";
+  }
+  std::cout << "\n";
   std::cout << std::left << std::setw(28) << "quantity" << std::setw(7) << "unit" << std::right
             << std::setw(13) << "L-inf" << std::setw(13) << "RMS" << std::setw(13) << "final"
+            << std::setw(13) << "t(L-inf)"
             << "\n";
   for (const auto& q : report.quantities) {
     std::cout << std::left << std::setw(28) << q.name << std::setw(7) << q.unit << std::right
               << std::scientific << std::setprecision(4) << std::setw(13) << q.norms.linf
-              << std::setw(13) << q.norms.rms << std::setw(13) << q.norms.final << "\n";
+              << std::setw(13) << q.norms.rms << std::setw(13) << q.norms.final << std::defaultfloat
+              << std::setprecision(6) << std::setw(13) << q.linf_time << "\n";
+  }
+  if (!report.ignored_columns.empty()) {
+    std::cout << "ignored columns (not measured):";
+    for (const auto& c : report.ignored_columns) std::cout << " " << c;
+    std::cout << "\n";
   }
   std::cout << "metric " << options.metric << ": " << std::scientific << std::setprecision(6)
-            << studies::metric_value(report, options.metric) << "\n";
+            << value << "  (";
+  for (std::size_t i = 0; i < used.size(); ++i) std::cout << (i ? ", " : "") << used[i];
+  std::cout << ")\n" << cert.text << "\n";
   return kExitOk;
 }
 

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <utility>
@@ -21,7 +22,9 @@ int converge_command(const ConvergeOptions& options) {
       limited_output_times(scene.end_time, scene.output_step, options.limits);
 
   studies::ConvergenceOptions study;
-  study.schemes = options.schemes;
+  const bool external = !options.external.empty() || !options.runs.empty();
+  // Beside an external method the built-in schemes run only when asked for.
+  study.schemes = external && !options.schemes_given ? std::vector<std::string>{} : options.schemes;
   study.h0 = options.dt;
   study.levels = options.levels;
   study.metric = options.metric;
@@ -36,19 +39,32 @@ int converge_command(const ConvergeOptions& options) {
   check_scheme_run(model, study.h0 / std::ldexp(1.0, study.levels - 1), times, options.limits,
                    "--dt/2^(levels-1) =");
   studies::StudyOutput out(options.out_dir);
+  study.external = external_methods({options.scene, options.external, options.runs, options.label,
+                                     options.claimed_order, options.timeout},
+                                    out);
   const studies::ConvergenceResult result = studies::run_convergence(model, times, study);
+  for (const auto& method : study.external) {
+    if (options.external.empty()) break;
+    for (std::size_t level = 0; level < result.levels.size(); ++level) {
+      const std::string file = "run_" + method.label + "_" + std::to_string(level) + ".csv";
+      if (std::filesystem::exists(out.staged(file))) out.add(file);
+    }
+  }
 
   const std::string table = format_convergence_table(result);
   studies::StudyRecord record = scene_record(options.scene, scene);
   record.table("study")
       .set("kind", "converge")
-      .set("schemes", options.schemes)
+      .set("schemes", study.schemes)
       .set("dt", options.dt)
       .set("levels", options.levels)
       .set("metric", options.metric)
       .set("jobs", study.jobs)
       .set("explicit_step_limit", result.step_limit.h)
       .set("explicit_step_limit_of", result.step_limit.what);
+  if (!options.external.empty()) record.table("study").set("external", options.external);
+  if (!options.runs.empty()) record.table("study").set("runs", options.runs);
+  if (external) record.table("study").set("label", study.external.front().label);
   studies::add_reference(record, result.reference);
   studies::add_versions(record);
 

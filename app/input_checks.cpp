@@ -36,8 +36,11 @@ void check_scene_extremes(const scene::Scene& scene, double end_time) {
     const bool flexible = m.kind == "flexible body";
     const std::string key =
         flexible ? "body[" + std::to_string(model.body_index(m.label) + 1) + "]" : m.label;
-    if (!(m.frequency > 0.0) || !std::isfinite(m.frequency) || !(m.stiffness > 0.0) ||
-        !std::isfinite(m.stiffness)) {
+    // A friction mode is a damper (stiffness 0, rate c/m: contact/gap_support.cpp); every
+    // other mode is a spring and needs a positive stiffness.
+    const bool damper = m.label.ends_with(" friction");
+    if (!(m.frequency > 0.0) || !std::isfinite(m.frequency) || !std::isfinite(m.stiffness) ||
+        !(damper ? m.stiffness >= 0.0 : m.stiffness > 0.0)) {
       refuse(key, "its stiffness " + text(m.stiffness) + " and inertia " + text(m.inertia) +
                       " give the frequency " + text(m.frequency) +
                       " rad/s: a value of the scene under- or overflows double precision");

@@ -12,12 +12,15 @@
 #include "app/cli_validators.hpp"
 #include "app/commands.hpp"
 #include "app/figure_command.hpp"
+#include "app/import_modes_command.hpp"
 #include "app/lte_map_command.hpp"
+#include "app/modal_truncation_command.hpp"
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
 #include "lie/stepper.hpp"
+#include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/study_refused.hpp"
 
@@ -49,7 +52,9 @@ std::string metric_help(const std::string& what) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_command_line(int argc, char** argv) {
   using namespace flexref::app;
   CLI::App app{
       "flexref: trusted reference solutions for rigid and flexible bodies in large rotation "
@@ -80,8 +85,17 @@ int main(int argc, char** argv) {
   ReferenceOptions ref;
   auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
   ref_cmd->add_option("scene", ref.scene, "scene file (TOML)")->required();
-  ref_cmd->add_option("--solver", ref.solver, "ida | cvode | odeint | exact")
-      ->check(CLI::IsMember({"ida", "cvode", "odeint", "exact"}))
+  ref_cmd
+      ->add_option("--solver", ref.solver,
+                   "auto (arkode's ESDIRK on a stiff oscillatory scene, else cvode) | ida | "
+                   "cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
+      ->capture_default_str();
+  ref_cmd
+      ->add_option("--method", ref.method,
+                   "cvode: auto (from the scene's stiff elements) | adams | bdf | bdf2 (BDF "
+                   "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk")
+      ->check(CLI::IsMember({"auto", "adams", "bdf", "bdf2", "erk", "esdirk"}))
       ->capture_default_str();
   ref_cmd->add_option("--rtol", ref.rtol, "relative tolerance")
       ->check(number_in(1e-15, 1e-1))
@@ -102,6 +116,17 @@ int main(int argc, char** argv) {
   cmp_cmd->add_option("reference", cmp.reference, "CSV of the reference")->required();
   cmp_cmd->add_option("--metric", cmp.metric, metric_help("metric for the summary line"))
       ->check(CLI::IsMember(flexref::studies::metric_names()))
+      ->capture_default_str();
+  cmp_cmd->add_flag("--json", cmp.json, "print the comparison as JSON");
+  cmp_cmd
+      ->add_option("--time-tolerance", cmp.time_tolerance,
+                   "row times match output times within this x the output step")
+      ->check(number_in(0.0, 0.5))
+      ->capture_default_str();
+  cmp_cmd
+      ->add_option("--euler-tolerance", cmp.euler_tolerance,
+                   "largest accepted | |theta| - 1 | of Euler parameters")
+      ->check(number_in(0.0, 0.1))
       ->capture_default_str();
 
   ConvergeOptions conv;
@@ -125,8 +150,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   conv_cmd
       ->add_option("--reference-solver", conv.reference_solver,
-                   "auto | ida | cvode | odeint | exact")
-      ->check(CLI::IsMember({"auto", "ida", "cvode", "odeint", "exact"}))
+                   "auto | ida | cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   conv_cmd->add_option("--reference-rtol", conv.reference_rtol, "reference tolerance")
       ->check(number_in(1e-14, 1e-4))
@@ -140,6 +165,19 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
   add_limits(conv_cmd, conv.limits, true);
+  auto* conv_external =
+      conv_cmd->add_option("--external", conv.external,
+                           "another code's integrator: a command with {scene}, {dt}, {output}, "
+                           "run once per level (docs/external.md)");
+  conv_cmd
+      ->add_option("--runs", conv.runs, "runs already made, as DT=FILE pairs (docs/external.md)")
+      ->excludes(conv_external);
+  conv_cmd->add_option("--label", conv.label, "name of the external method in the table");
+  conv_cmd->add_option("--order", conv.claimed_order, "the external method's claimed order")
+      ->check(integer_in(1, 20));
+  conv_cmd->add_option("--timeout", conv.timeout, "seconds per external run (0: no limit)")
+      ->check(non_negative_number())
+      ->capture_default_str();
 
   WorkPrecisionOptions wp;
   auto* wp_cmd = app.add_subcommand("work-precision", "error against CPU time, cheapest method");
@@ -156,7 +194,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   wp_cmd->add_option("--solvers", wp.solvers, "comma-separated list")
       ->delimiter(',')
-      ->check(CLI::IsMember({"ida", "cvode", "odeint"}))
+      ->check(CLI::IsMember({"ida", "cvode", "arkode", "odeint"}))
       ->capture_default_str();
   wp_cmd->add_option("--tolerances", wp.tolerances, "comma-separated relative tolerances")
       ->delimiter(',')
@@ -169,8 +207,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(flexref::studies::metric_names()))
       ->capture_default_str();
   wp_cmd
-      ->add_option("--reference-solver", wp.reference_solver, "auto | ida | cvode | odeint | exact")
-      ->check(CLI::IsMember({"auto", "ida", "cvode", "odeint", "exact"}))
+      ->add_option("--reference-solver", wp.reference_solver,
+                   "auto | ida | cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   wp_cmd->add_option("--reference-rtol", wp.reference_rtol, "reference tolerance")
       ->check(number_in(1e-14, 1e-4))
@@ -181,6 +220,13 @@ int main(int argc, char** argv) {
                    "with --jobs 1")
       ->check(integer_in(0, 1024));
   wp_cmd->add_option("--out", wp.out_dir, "output directory")->capture_default_str();
+  wp_cmd->add_option("--external", wp.external,
+                     "another code's integrator: a command with {scene}, {dt}, {output}, run "
+                     "per step; its CPU time is the program's own (docs/external.md)");
+  wp_cmd->add_option("--label", wp.label, "name of the external method in the table");
+  wp_cmd->add_option("--timeout", wp.timeout, "seconds per external run (0: no limit)")
+      ->check(non_negative_number())
+      ->capture_default_str();
   wp_cmd
       ->add_option("--model", wp.model,
                    "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
@@ -324,6 +370,40 @@ int main(int argc, char** argv) {
   lte_cmd->add_option("--out", lte.out_dir, "output directory")->capture_default_str();
   add_limits(lte_cmd, lte.limits, false);
 
+  ImportModesOptions import_modes;
+  auto* import_cmd = add_import_modes_command(app, import_modes);
+
+  ModalTruncationCommandOptions modes;
+  auto* modes_cmd = app.add_subcommand(
+      "modes", "reference tip deflection and attitude vs the number of retained modes");
+  modes_cmd->add_option("scene", modes.scene, "scene file with a flexible body (TOML)")->required();
+  modes_cmd
+      ->add_option("--modes", modes.modes, "mode counts (comma-separated; largest = reference)")
+      ->delimiter(',')
+      ->check(integer_in(1, 100000))
+      ->capture_default_str();
+  modes_cmd->add_option("--body", modes.body, "flexible body (default: the first)");
+  modes_cmd->add_option("--point", modes.point, "tracked node point (default: farthest node)");
+  modes_cmd->add_option("--solver", modes.solver, "reference solver: odeint | cvode | ida")
+      ->check(CLI::IsMember({"odeint", "cvode", "ida"}))
+      ->capture_default_str();
+  modes_cmd->add_option("--rtol", modes.rtol, "reference tolerance")
+      ->check(number_in(1e-14, 1e-4))
+      ->capture_default_str();
+  modes_cmd
+      ->add_option("--estimate-factor", modes.estimate_factor,
+                   "accuracy check: rerun at rtol divided by this factor")
+      ->check(number_in(2.0, 1e6))
+      ->capture_default_str();
+  modes_cmd->add_option("--end-time", modes.end_time, "s (default: the scene's)")
+      ->check(positive_number());
+  modes_cmd->add_option("--model", modes.model, "flexible bodies' equations: coupled | lte")
+      ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
+  modes_cmd->add_option("--jobs", modes.jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  modes_cmd->add_option("--out", modes.out_dir, "output directory")->capture_default_str();
+
   // An unknown command is a usage error that names it (CLI11 would say "A subcommand is
   // required").
   if (argc > 1 && argv[1][0] != '-') {
@@ -352,11 +432,16 @@ int main(int argc, char** argv) {
     if (*run_cmd) return run_command(run);
     if (*ref_cmd) return reference_command(ref);
     if (*cmp_cmd) return compare_command(cmp);
-    if (*conv_cmd) return converge_command(conv);
+    if (*conv_cmd) {
+      conv.schemes_given = conv_cmd->count("--schemes") > 0;
+      return converge_command(conv);
+    }
     if (*wp_cmd) return work_precision_command(wp);
     if (*stab_cmd) return stability_command(stab);
     if (*lte_cmd) return lte_map_command(lte);
     if (*fig_cmd) return figure_command(fig);
+    if (*import_cmd) return import_modes_command(import_modes);
+    if (*modes_cmd) return modal_truncation_command(modes);
   } catch (const flexref::core::InputError& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;
@@ -381,4 +466,12 @@ int main(int argc, char** argv) {
     return kExitSolverError;
   }
   return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // One process, or a rank of an MPI job (studies/distribution.hpp, docs/mpi.md).
+  flexref::studies::ProcessSession session(argc, argv);
+  return session.finish(run_command_line(argc, argv));
 }

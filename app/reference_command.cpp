@@ -1,8 +1,11 @@
+#include <cmath>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
+#include "reference/method_choice.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/certified_reference.hpp"
@@ -10,17 +13,52 @@
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::app {
+namespace {
+
+/// --method for the solver: CVODE's (auto, adams, bdf, bdf2), IDA's order cap (auto, bdf,
+/// bdf2), ARKODE's (auto, erk, esdirk); another solver takes only auto. Throws
+/// std::invalid_argument naming the option.
+void set_method(const std::string& solver, const std::string& method,
+                reference::SolverOptions& options) {
+  const auto refuse = [&](const std::string& accepted) {
+    throw std::invalid_argument("--method " + method + ": " + solver + " takes " + accepted);
+  };
+  if (solver == "cvode") {
+    if (method != "auto" && method != "adams" && method != "bdf" && method != "bdf2") {
+      refuse("auto, adams, bdf or bdf2");
+    }
+    options.cvode_method = reference::parse_cvode_method(method);
+  } else if (solver == "ida") {
+    if (method != "auto" && method != "bdf" && method != "bdf2") refuse("auto, bdf or bdf2");
+    options.cvode_method = reference::parse_cvode_method(method);
+  } else if (solver == "arkode") {
+    if (method != "auto" && method != "erk" && method != "esdirk") refuse("auto, erk or esdirk");
+    options.arkode_method = reference::parse_arkode_method(method);
+  } else if (method != "auto") {
+    refuse("no --method");
+  }
+}
+
+}  // namespace
 
 int reference_command(const ReferenceOptions& options) {
   const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);
-  const std::string solver = reference_solver_for(model, options.solver, "--solver");
+  std::string solver = reference_solver_for(model, options.solver, "--solver");
+  std::string solver_reason = "chosen with --solver";
+  if (solver == "auto") {
+    const reference::ReferenceSolverChoice choice =
+        reference::choose_reference_solver(model, reference::mean_output_spacing(times));
+    solver = choice.solver;
+    solver_reason = choice.reason;
+  }
   check_output_files({options.output, options.output + ".meta.toml"});
   reference::SolverOptions solver_options;
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
+  set_method(solver, options.method, solver_options);
 
   studies::CertifiedReference ref;
   {
@@ -41,6 +79,10 @@ int reference_command(const ReferenceOptions& options) {
   record.table("integrator")
       .set("kind", "reference")
       .set("solver", ref.run.solver)
+      .set("solver_reason", solver_reason)
+      .set("method", ref.run.method)
+      .set("method_reason", ref.run.method_reason)
+      .set("jacobian", ref.run.jacobian)
       .set("rtol", options.rtol)
       .set("atol", solver_options.absolute_tolerance())
       .set("steps", st.steps)
@@ -53,15 +95,12 @@ int reference_command(const ReferenceOptions& options) {
       .set("event_times", ref.run.event_times);
   if (options.estimate) {
     const auto& e = ref.estimate;
+    // estimate = inf: no check was a different, more accurate solution (see method).
     record.table("error_estimate")
         .set("metric", e.metric)
         .set("estimate", e.estimate())
-        .set("vs_tighter", e.vs_tighter)
-        .set("tighter_solver", e.tighter_solver)
-        .set("tighter_rtol", e.tighter_rtol)
-        .set("vs_other_solver", e.vs_other_solver)
-        .set("other_rtol", e.other_rtol)
-        .set("other_solver", e.other_solver);
+        .set("method", e.method);
+    studies::add_estimate_checks(record, "error_estimate.check", e);
   }
   record.table("columns")
       .set("names", ref.table.columns)
@@ -69,7 +108,8 @@ int reference_command(const ReferenceOptions& options) {
   studies::add_versions(record);
   record.write(options.output + ".meta.toml");
 
-  std::cout << "reference " << scene.name << " with " << ref.run.solver;
+  std::cout << "reference " << scene.name << " with " << ref.run.solver << " (" << ref.run.method
+            << ")";
   if (model.has_flexible_bodies()) {
     std::cout << " (" << core::to_string(model.formulation()) << " model)";
   }
@@ -83,14 +123,20 @@ int reference_command(const ReferenceOptions& options) {
     std::cout << ", " << ref.run.event_times.size() << " events located";
   }
   std::cout << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
+  if (options.solver == "auto") std::cout << "solver: " << solver_reason << "\n";
+  if (ref.run.solver == "cvode" || ref.run.solver == "ida" || ref.run.solver == "arkode") {
+    std::cout << "method: " << ref.run.method_reason << "\n";
+  }
+  if (!ref.run.jacobian.empty()) std::cout << "newton systems: " << ref.run.jacobian << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
-    std::cout << "estimated error (" << e.metric << "): " << e.estimate() << "  [vs "
-              << e.tighter_solver << " at rtol " << e.tighter_rtol << ": " << e.vs_tighter
-              << "; vs " << e.other_solver << " at rtol " << e.other_rtol << ": "
-              << e.vs_other_solver << "]"
-              << (e.exact ? " (exact solution: the smaller difference bounds its error)" : "")
-              << "\n";
+    std::cout << "estimated error (" << e.metric << "): " << studies::describe_estimate(e) << "\n";
+    for (const auto& c : e.checks) {
+      std::cout << "  " << c.role << ": " << c.solver;
+      if (c.rtol > 0.0) std::cout << " rtol " << c.rtol;
+      std::cout << ", " << c.steps << " steps, distance " << c.distance
+                << (c.used ? "" : " (not used: " + c.note + ")") << "\n";
+    }
   }
   return kExitOk;
 }

@@ -21,7 +21,7 @@ std::string reference_solver_for(const core::Model& model, const std::string& so
                                 " exact: the scene has flexible bodies, which have no analytic "
                                 "solution; use cvode, ida or odeint");
   }
-  return solver == "auto" ? "cvode" : solver;
+  return solver;
 }
 
 studies::StudyRecord scene_record(const std::string& scene_file, const scene::Scene& scene) {

@@ -39,6 +39,9 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
                      "--dt/2^(levels-1) =");
   }
   studies::StudyOutput out(app_options.out_dir);
+  study.external = external_methods(
+      {app_options.scene, app_options.external, {}, app_options.label, 0, app_options.timeout},
+      out);
   const studies::WorkPrecisionResult result = studies::run_work_precision(model, times, study);
 
   const std::string table = format_work_precision_table(result);
@@ -55,6 +58,18 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
       .set("jobs", study.jobs)
       .set("cpu_time", "thread CPU time of the integration only, minimum over repeats")
       .set("target_errors", studies::default_target_errors());
+  if (!app_options.external.empty()) {
+    record.table("study")
+        .set("external", app_options.external)
+        .set("label", study.external.front().label)
+        .set("external_cpu_time",
+             "the program's user + system CPU time (wait4), children included");
+    for (std::size_t level = 0; level < static_cast<std::size_t>(study.levels); ++level) {
+      const std::string file =
+          "run_" + study.external.front().label + "_" + std::to_string(level) + ".csv";
+      if (std::filesystem::exists(out.staged(file))) out.add(file);
+    }
+  }
   studies::add_reference(record, result.reference);
   studies::add_versions(record);
 

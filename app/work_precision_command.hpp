@@ -17,7 +17,7 @@ struct WorkPrecisionOptions {
   std::vector<std::string> schemes = lie::scheme_names();
   double dt = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< number of steps dt, dt/2, …
-  std::vector<std::string> solvers{"ida", "cvode", "odeint"};
+  std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};
   std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   int repeats = 3;  ///< CPU time: minimum over this many runs
   std::string metric = "rotation+points";
@@ -26,6 +26,9 @@ struct WorkPrecisionOptions {
   int jobs = 0;  ///< 0: all cores (timings are cleanest with 1)
   std::string out_dir = "out/work_precision";
   WorkLimits limits;
+  std::string external;     ///< --external command template (docs/external.md)
+  std::string label;        ///< --label of the external method
+  double timeout = 3600.0;  ///< --timeout per external run [s], 0: none
 };
 
 /// Runs the study on the scene and writes work_precision.csv, work_precision.txt, study.toml,

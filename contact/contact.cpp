@@ -18,14 +18,17 @@ void require(bool ok, const char* what) {
 
 bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
-/// World position of the centre and the arm from Br of a body point (from Bo, body frame).
-Eigen::Vector3d centre_W(const core::BodyKinematics& k, const Eigen::Vector3d& p_BoC_B) {
-  return k.p_WP(p_BoC_B);
+/// World position of a sphere centre (from Bo, body frame; deformed when at a node).
+Eigen::Vector3d centre_W(const core::BodyKinematics& k, const Eigen::Vector3d& p_BoC_B,
+                         const core::NodeAttachment& node) {
+  return core::attached_position_W(k, p_BoC_B, node);
 }
 
-/// Velocity of body k's material point at the world point P: v_Br + ω × (P − p_WBr).
-Eigen::Vector3d material_velocity_W(const core::BodyKinematics& k, const Eigen::Vector3d& p_WP) {
-  return k.state->v_WBr + (k.R_WB * k.state->w_WB_B).cross(p_WP - k.state->p_WBr);
+/// Velocity of the sphere's material point at the world point P:
+/// v_Br + ω × (P − p_WBr) (+ A Φ_k q̇_f at a node).
+Eigen::Vector3d material_velocity_W(const core::BodyKinematics& k, const Eigen::Vector3d& p_WP,
+                                    const core::NodeAttachment& node) {
+  return core::attached_velocity_W(k, p_WP, node);
 }
 
 }  // namespace
@@ -74,7 +77,7 @@ ContactPair ContactPair::sphere_sphere(int body_a, const Eigen::Vector3d& p_BoCa
 ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKinematics> bodies) {
   ContactPoint c;
   const Eigen::Vector3d p_WCb =
-      centre_W(bodies[static_cast<std::size_t>(pair.body_b)], pair.p_BoCb_B);
+      centre_W(bodies[static_cast<std::size_t>(pair.body_b)], pair.p_BoCb_B, pair.node_b);
   if (pair.kind == ContactPair::Kind::kSpherePlane) {
     c.n_W = pair.n_W;
     c.gap = pair.n_W.dot(p_WCb - pair.p_WQ) - pair.radius_b;
@@ -82,7 +85,7 @@ ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKi
     return c;
   }
   const Eigen::Vector3d p_WCa =
-      centre_W(bodies[static_cast<std::size_t>(pair.body_a)], pair.p_BoCa_B);
+      centre_W(bodies[static_cast<std::size_t>(pair.body_a)], pair.p_BoCa_B, pair.node_a);
   const Eigen::Vector3d d = p_WCb - p_WCa;
   const double distance = d.norm();
   c.n_W = distance > 0.0 ? Eigen::Vector3d(d / distance) : Eigen::Vector3d::UnitZ();
@@ -98,11 +101,12 @@ double ContactEvaluation::dissipated_power() const {
 }
 
 ContactElement::ContactElement(std::vector<ContactPair> pairs, NormalLaw normal,
-                               FrictionLaw friction, double effective_mass)
+                               FrictionLaw friction, double effective_mass, std::string name)
     : pairs_(std::move(pairs)),
       normal_(std::move(normal)),
       friction_(friction),
-      effective_mass_(effective_mass) {
+      effective_mass_(effective_mass),
+      name_(std::move(name)) {
   require(friction_.mu >= 0.0 && std::isfinite(friction_.mu), "friction coefficient must be >= 0");
   require(friction_.v_reg > 0.0 && std::isfinite(friction_.v_reg),
           "friction regularization speed must be > 0");
@@ -117,9 +121,11 @@ ContactEvaluation ContactElement::evaluate(int pair_index,
   e.point = contact_point(pair, bodies);
   if (e.point.gap >= 0.0) return e;  // separated (or touching): no force
   const Eigen::Vector3d& n = e.point.n_W;
-  e.v_rel_W = material_velocity_W(bodies[static_cast<std::size_t>(pair.body_b)], e.point.p_WP);
+  e.v_rel_W =
+      material_velocity_W(bodies[static_cast<std::size_t>(pair.body_b)], e.point.p_WP, pair.node_b);
   if (pair.body_a >= 0) {
-    e.v_rel_W -= material_velocity_W(bodies[static_cast<std::size_t>(pair.body_a)], e.point.p_WP);
+    e.v_rel_W -= material_velocity_W(bodies[static_cast<std::size_t>(pair.body_a)], e.point.p_WP,
+                                     pair.node_a);
   }
   const double v_n = n.dot(e.v_rel_W);
   e.delta_dot = -v_n;
@@ -141,10 +147,10 @@ void ContactElement::add_wrenches(const core::LoadContext& /*context*/,
     const ContactPair& pair = pairs_[i];
     const Eigen::Vector3d f_W = e.force_on_b_W();
     const auto b = static_cast<std::size_t>(pair.body_b);
-    wrenches[b].add_force_at(f_W, e.point.p_WP - bodies[b].state->p_WBr);
+    core::add_attached_force(bodies[b], pair.node_b, f_W, e.point.p_WP, wrenches[b]);
     if (pair.body_a >= 0) {
       const auto a = static_cast<std::size_t>(pair.body_a);
-      wrenches[a].add_force_at(-f_W, e.point.p_WP - bodies[a].state->p_WBr);
+      core::add_attached_force(bodies[a], pair.node_a, -f_W, e.point.p_WP, wrenches[a]);
     }
   }
 }
@@ -163,6 +169,24 @@ double ContactElement::dissipated_power(const core::LoadContext& /*context*/,
     p += evaluate(static_cast<int>(i), bodies).dissipated_power();
   }
   return p;
+}
+
+void ContactElement::wear_samples(const core::LoadContext& /*context*/,
+                                  std::span<const core::BodyKinematics> bodies,
+                                  std::span<core::WearSample> samples) const {
+  core::WearSample& w = samples[0];
+  w = core::WearSample{};
+  double largest = 0.0;
+  for (std::size_t i = 0; i < pairs_.size(); ++i) {
+    const ContactEvaluation e = evaluate(static_cast<int>(i), bodies);
+    if (e.normal.total == 0.0) continue;
+    w.normal_force += e.normal.total;
+    w.wear_power += std::abs(e.f_friction_W.dot(e.v_t_W));  // |F_t·v_t|
+    if (e.normal.total > largest) {
+      largest = e.normal.total;
+      w.slip_speed = e.v_t_W.norm();
+    }
+  }
 }
 
 void ContactElement::switching_functions(const core::LoadContext& /*context*/,
@@ -216,11 +240,15 @@ void ContactElement::append_penalty_modes(std::span<const core::Body> bodies,
 std::string ContactElement::describe() const {
   std::ostringstream out;
   int planes = 0;
+  int nodes = 0;
+  for (const ContactPair& p : pairs_) nodes += p.node_a.deforms() + p.node_b.deforms();
   for (const ContactPair& p : pairs_) planes += p.kind == ContactPair::Kind::kSpherePlane;
   out << "contact: " << planes << " sphere-plane and "
       << pairs_.size() - static_cast<std::size_t>(planes) << " sphere-sphere pairs, "
       << normal_.describe() << ", friction mu = " << friction_.mu << ", v_reg = " << friction_.v_reg
       << " m/s";
+  if (nodes > 0) out << ", " << nodes << " sphere(s) at deforming nodes";
+  if (!name_.empty()) out << ", wear outputs '" << name_ << "'";
   if (effective_mass_ > 0.0) {
     out << "; m_eff = " << effective_mass_
         << " kg: k_eff = " << effective_stiffness(effective_mass_)

@@ -13,11 +13,16 @@
 /// tangential part v_t of v_rel. Body b receives F_n n + F_t at P, body a (if any) the
 /// opposite. The normal force lies on the line through the sphere centres, so its torque is
 /// the same at any point of that line and the force is exactly −∇V of V = Σ V_law(δ).
-/// Spheres are attached to a body's rigid part (a flexible body's hub: Φ = 0 at the sphere).
+/// A sphere is attached to a body's rigid part (a flexible body's hub: Φ = 0 at the sphere)
+/// or to a node of a flexible body (core/node_attachment.hpp): its centre is then the deformed
+/// node x_k + Φ_k q_f, the velocity of its material point at P gains A Φ_k q̇_f, and the force
+/// adds Φ_kᵀ Aᵀ f to the modal rows. A named contact has a wear channel (docs/output.md).
+#include <string>
 #include <vector>
 
 #include "contact/contact_laws.hpp"
 #include "core/force_element.hpp"
+#include "core/node_attachment.hpp"
 
 namespace flexref::contact {
 
@@ -33,6 +38,8 @@ struct ContactPair {
   double radius_b = 0.0;
   Eigen::Vector3d p_WQ = Eigen::Vector3d::Zero();  ///< a point of the plane (sphere–plane)
   Eigen::Vector3d n_W = Eigen::Vector3d::UnitZ();  ///< unit plane normal, toward the free side
+  core::NodeAttachment node_a;  ///< sphere a at a node (p_BoCa_B is then the node's x_k)
+  core::NodeAttachment node_b;  ///< sphere b at a node
 
   /// Sphere of radius r ≥ 0 at body point C (from Bo, body frame) on the ground plane through
   /// Q with normal n (normalized here; must be nonzero).
@@ -76,8 +83,9 @@ class ContactElement final : public core::ForceElement {
  public:
   /// effective_mass (kg, > 0 or 0 for unknown) is used only for describe()'s frequency and
   /// explicit step limit.
+  /// A non-empty name gives the element a wear channel with that name.
   ContactElement(std::vector<ContactPair> pairs, NormalLaw normal, FrictionLaw friction,
-                 double effective_mass = 0.0);
+                 double effective_mass = 0.0, std::string name = {});
 
   void add_wrenches(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
                     std::span<core::Wrench> wrenches) const override;
@@ -92,6 +100,11 @@ class ContactElement final : public core::ForceElement {
                            std::span<const core::BodyKinematics> bodies,
                            std::span<double> g) const override;
   bool depends_on_velocity() const override { return true; }
+  int wear_channel_count() const override { return name_.empty() ? 0 : 1; }
+  std::string wear_channel_name() const override { return name_; }
+  /// Σ F_n, the slip speed of the pair carrying the largest normal force, Σ |F_t·v_t|.
+  void wear_samples(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
+                    std::span<core::WearSample> samples) const override;
   int max_body_index() const override;
   std::string describe() const override;
   /// One mode "contact": the effective stiffness at the effective mass (the constructor's, or
@@ -122,6 +135,7 @@ class ContactElement final : public core::ForceElement {
   NormalLaw normal_;
   FrictionLaw friction_;
   double effective_mass_;
+  std::string name_;
 };
 
 }  // namespace flexref::contact

@@ -186,7 +186,7 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
     stiffness_ = d.flexible->modal.stiffness;
     damping_ = flexible::modal_damping(d.flexible->modal);
     frequencies_ = flexible::natural_frequencies(d.flexible->modal);
-    modal_mass_llt_.compute(invariants_.m_ff);
+    modal_mass_ = flexible::ModalMassFactor(invariants_);
     if (d.motion != MotionKind::kPrescribed) {
       if (const std::string problem = inertia_problem(I_Br_B_); !problem.empty()) {
         throw std::invalid_argument("body '" + d.name + "': the undeformed inertia about the " +

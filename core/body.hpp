@@ -9,7 +9,6 @@
 /// (modal coordinates q_f) keeps these reference points, taken on the UNDEFORMED body (Br is the
 /// undeformed centre of mass of a free flexible body, hub included), and a prescribed body has
 /// Br = Bo on the rotation axis. Flexible bodies carry their inertia invariants about Br.
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <optional>
 #include <stdexcept>
@@ -17,6 +16,7 @@
 #include <vector>
 
 #include "core/prescribed_motion.hpp"
+#include "flexible/mass_matrix_solve.hpp"
 #include "flexible/modal_data.hpp"
 #include "rotation/euler_parameters.hpp"
 
@@ -118,8 +118,9 @@ class Body {
   const Eigen::VectorXd& modal_stiffness() const { return stiffness_; }
   const Eigen::VectorXd& modal_damping() const { return damping_; }
   const Eigen::VectorXd& natural_frequencies() const { return frequencies_; }
-  /// Cholesky factor of the constant modal mass matrix m_ff (the LTE modal equations).
-  const Eigen::LLT<Eigen::MatrixXd>& modal_mass_llt() const { return modal_mass_llt_; }
+  /// The constant modal mass matrix m_ff factored once (Cholesky, and L⁻¹ Sᵀ) for the
+  /// structured solves of flexible/mass_matrix_solve.hpp.
+  const flexible::ModalMassFactor& modal_mass() const { return modal_mass_; }
 
  private:
   RigidBodyDescription description_;
@@ -129,9 +130,7 @@ class Body {
   Eigen::VectorXd stiffness_;
   Eigen::VectorXd damping_;
   Eigen::VectorXd frequencies_;
-  /// Factored on an empty matrix for rigid bodies: an uncomputed Eigen::LLT holds an
-  /// indeterminate ComputationInfo that copying a Body would read.
-  Eigen::LLT<Eigen::MatrixXd> modal_mass_llt_{Eigen::MatrixXd()};
+  flexible::ModalMassFactor modal_mass_;
   Eigen::Vector3d p_BoBr_B_;
   Eigen::Vector3d p_BrBcm_B_;
   Eigen::Matrix3d I_Br_B_;

@@ -77,6 +77,15 @@ struct Wrench {
 
 class Body;
 
+/// What a wear model consumes from one contact at a state (docs/output.md, "Wear outputs"):
+/// the normal force, the slip speed |v_t| of the contact point and the friction power
+/// |F_t·v_t| whose time integral is Archard's wear work.
+struct WearSample {
+  double normal_force = 0.0;  ///< N, ≥ 0 (summed over a contact's pairs)
+  double slip_speed = 0.0;    ///< m/s (of the pair carrying the largest normal force)
+  double wear_power = 0.0;    ///< |F_t·v_t|, W (summed over the pairs)
+};
+
 /// The stiffest mode of a penalty element (a contact's normal law, a joint's spring), as an
 /// explicit central-difference scheme sees it: ω = √(k/m_eff) and the largest stable step it
 /// allows, 2/ω (a damped mode's (2/ω)(√(1 + ζ²) − ζ)). docs/contact.md and docs/joints.md
@@ -123,6 +132,29 @@ class ForceElement {
     (void)context;
     (void)bodies;
     (void)g;
+  }
+  /// Number of wear channels (contacts: one; other elements: none). Each channel's switching
+  /// functions are all of the element's (an impact of the channel is an onset of any of them).
+  virtual int wear_channel_count() const { return 0; }
+  /// The channel's name, the prefix of its CSV columns (C.fn, C.slip_speed, C.wear_work,
+  /// C.impacts).
+  virtual std::string wear_channel_name() const { return {}; }
+  /// The channel's sample at this configuration (wear_channel_count() entries).
+  virtual void wear_samples(const LoadContext& context, std::span<const BodyKinematics> bodies,
+                            std::span<WearSample> samples) const {
+    (void)context;
+    (void)bodies;
+    (void)samples;
+  }
+  /// True when the element's work is tracked as an integral (applied_work): loads that keep
+  /// doing work, such as a harmonic force.
+  virtual bool tracks_applied_work() const { return false; }
+  /// Power the element's loads put into the bodies, W (tracked elements only).
+  virtual double applied_power(const LoadContext& context,
+                               std::span<const BodyKinematics> bodies) const {
+    (void)context;
+    (void)bodies;
+    return 0.0;
   }
   /// Known times where the element's loads jump (both sides must be integrated separately).
   virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }

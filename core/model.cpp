@@ -56,6 +56,26 @@ Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceEl
   for (const Body& b : bodies_) {
     dissipates_ = dissipates_ || (b.is_flexible() && b.modal_damping().cwiseAbs().maxCoeff() > 0.0);
   }
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const ForceElement& element = *elements_[e];
+    const int channel =
+        element.wear_channel_count() > 0 ? static_cast<int>(wear_names_.size()) : -1;
+    if (channel >= 0) {
+      wear_names_.push_back(element.wear_channel_name());
+      wear_elements_.push_back(static_cast<int>(e));
+    }
+    switching_channels_.insert(switching_channels_.end(),
+                               static_cast<std::size_t>(element.switching_function_count()),
+                               channel);
+    applied_work_ = applied_work_ || element.tracks_applied_work();
+  }
+  for (std::size_t i = 0; i < wear_names_.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (wear_names_[i] == wear_names_[j]) {
+        throw std::invalid_argument("duplicate contact name '" + wear_names_[i] + "'");
+      }
+    }
+  }
   std::sort(discontinuities_.begin(), discontinuities_.end());
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());
@@ -121,6 +141,7 @@ Workspace Model::make_workspace() const {
   ws.kinematics.resize(bodies_.size());
   ws.wrenches.resize(bodies_.size());
   ws.flexible.resize(bodies_.size());
+  ws.wear.resize(wear_names_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     ws.kinematics[i].p_BoBr_B = b.p_BoBr_B();
@@ -131,17 +152,11 @@ Workspace Model::make_workspace() const {
     if (!b.is_flexible()) continue;
     ws.kinematics[i].invariants = &b.invariants();
     FlexibleScratch& fs = ws.flexible[i];
-    fs.M = Eigen::MatrixXd::Zero(6 + n, 6 + n);
-    fs.Qv = Eigen::VectorXd::Zero(6 + n);
+    fs.terms = flexible::make_inertia_terms(static_cast<int>(n));
+    fs.solve = flexible::make_mass_solve_scratch(static_cast<int>(n));
     fs.rhs = Eigen::VectorXd::Zero(6 + n);
     fs.x = Eigen::VectorXd::Zero(6 + n);
     fs.zero = Eigen::VectorXd::Zero(n);
-    const Eigen::Index start = first_unknown_row(b);
-    fs.sub_rhs = Eigen::VectorXd::Zero(6 + n - start);
-    // Sized (and ComputationInfo set) by factoring identities: an uncomputed LLT must not be
-    // copied (see FlexibleScratch).
-    fs.unknown_llt.compute(Eigen::MatrixXd::Identity(6 + n - start, 6 + n - start));
-    fs.rigid_llt.compute(Eigen::MatrixXd::Identity(6 - start, 6 - start));
   }
   return ws;
 }
@@ -154,15 +169,6 @@ void Model::pose_bodies(const State& state, Workspace& ws) const {
     ws.kinematics[i].R_WB = rotation::rotation_matrix(state[i].theta_WB);
     ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
   }
-}
-
-void Model::solve_modal_rows(const Body& b, FlexibleScratch& fs) const {
-  // M_ff q̈ = rhs_f − M_fR a − M_fθ α̅, with M_ff = m_ff in both formulations (the modal block
-  // does not depend on the state): the constant Cholesky factor.
-  const Eigen::Index n = b.mode_count();
-  fs.sub_rhs.tail(n) = fs.rhs.tail(n);
-  fs.sub_rhs.tail(n).noalias() -= fs.M.bottomLeftCorner(n, 6) * fs.x.head<6>();
-  fs.x.tail(n) = b.modal_mass_llt().solve(fs.sub_rhs.tail(n));
 }
 
 void Model::compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const {
@@ -179,17 +185,17 @@ void Model::flexible_system(int i, const BodyState& s, Workspace& ws) const {
   const Eigen::Matrix3d& R_WB = ws.kinematics[k].R_WB;
   const Wrench& w = ws.wrenches[k];
   const Eigen::Index n = b.mode_count();
-  const bool lte = formulation_ == FlexibleFormulation::kLte;
-  const Eigen::VectorXd& q_inertia = lte ? fs.zero : s.q_f;
-  const Eigen::VectorXd& qd_inertia = lte ? fs.zero : s.qd_f;
-  flexible::flexible_mass_matrix(b.invariants(), R_WB, q_inertia, fs.M);
-  // LTE: no feedback of the elastic motion on the rigid one.
-  if (lte) fs.M.topRightCorner(6, n).setZero();
-  flexible::flexible_quadratic_velocity(b.invariants(), R_WB, q_inertia, s.w_WB_B, qd_inertia,
-                                        fs.Qv);
-  fs.rhs.head<3>() = w.f_W + fs.Qv.head<3>();
-  fs.rhs.segment<3>(3) = R_WB.transpose() * w.tau_Br_W + fs.Qv.segment<3>(3);
-  fs.rhs.tail(n) = w.Q_f + fs.Qv.tail(n) - b.modal_stiffness().cwiseProduct(s.q_f) -
+  if (formulation_ == FlexibleFormulation::kLte) {
+    // The inertia terms of the undeformed body (q_f = 0, q̇_f = 0).
+    flexible::set_undeformed_products(fs.terms);
+    flexible::assemble_inertia_terms(b.invariants(), R_WB, fs.zero, s.w_WB_B, fs.zero, fs.terms);
+  } else {
+    flexible::evaluate_inertia_terms(b.invariants(), R_WB, s.q_f, s.w_WB_B, s.qd_f, fs.terms);
+  }
+  const Eigen::VectorXd& Qv = fs.terms.Qv;
+  fs.rhs.head<3>() = w.f_W + Qv.head<3>();
+  fs.rhs.segment<3>(3) = R_WB.transpose() * w.tau_Br_W + Qv.segment<3>(3);
+  fs.rhs.tail(n) = w.Q_f + Qv.tail(n) - b.modal_stiffness().cwiseProduct(s.q_f) -
                    b.modal_damping().cwiseProduct(s.qd_f);
 }
 
@@ -200,7 +206,7 @@ void Model::flexible_accelerations(int i, const BodyState& s, Workspace& ws,
   FlexibleScratch& fs = ws.flexible[k];
   flexible_system(i, s, ws);
   const Eigen::Index n = b.mode_count();
-  const Eigen::Index start = first_unknown_row(b);
+  const auto known = static_cast<int>(first_unknown_row(b));
   // Known rows: a = 0 (pivot, prescribed), α̅ of the law (prescribed).
   fs.x.head<6>().setZero();
   if (b.is_prescribed()) {
@@ -208,20 +214,9 @@ void Model::flexible_accelerations(int i, const BodyState& s, Workspace& ws,
     fs.x.segment<3>(3) = prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
   }
   if (formulation_ == FlexibleFormulation::kCoupled) {
-    const Eigen::Index m = 6 + n - start;
-    fs.sub_rhs = fs.rhs.tail(m);
-    fs.sub_rhs.noalias() -= fs.M.bottomLeftCorner(m, start) * fs.x.head(start);
-    fs.unknown_llt.compute(fs.M.bottomRightCorner(m, m));
-    fs.x.tail(m) = fs.unknown_llt.solve(fs.sub_rhs);
+    flexible::solve_coupled(b.modal_mass(), fs.terms, known, fs.rhs, fs.solve, fs.x);
   } else {
-    const Eigen::Index r = 6 - start;
-    if (r > 0) {
-      fs.sub_rhs.head(r) = fs.rhs.segment(start, r);
-      fs.sub_rhs.head(r).noalias() -= fs.M.block(start, 0, r, start) * fs.x.head(start);
-      fs.rigid_llt.compute(fs.M.block(start, start, r, r));
-      fs.x.segment(start, r) = fs.rigid_llt.solve(fs.sub_rhs.head(r));
-    }
-    solve_modal_rows(b, fs);
+    flexible::solve_lte(b.modal_mass(), fs.terms, known, fs.rhs, fs.solve, fs.x);
   }
   a.a_WBr = fs.x.head<3>();
   a.alpha_WB_B = fs.x.segment<3>(3);
@@ -276,11 +271,37 @@ void Model::dynamics_residual(int i, const BodyState& s, const BodyAcceleration&
   FlexibleScratch& fs = ws.flexible[k];
   flexible_system(i, s, ws);
   const Eigen::Index n = b.mode_count();
+  const flexible::InertiaTerms& t = fs.terms;
+  // M x − rhs by blocks: [M_rr x_r + M_rf x_f; M_rfᵀ x_r + m_ff x_f] (LTE: no M_rf x_f in the
+  // rigid rows).
   fs.x.head<3>() = acc.a_WBr;
   fs.x.segment<3>(3) = acc.alpha_WB_B;
   fs.x.tail(n) = acc.qdd_f;
   out = -fs.rhs;
-  out.noalias() += fs.M * fs.x;
+  out.head<6>().noalias() += t.M_rr * fs.x.head<6>();
+  if (n == 0) return;
+  if (formulation_ == FlexibleFormulation::kCoupled) {
+    out.head<6>().noalias() += t.M_rf * fs.x.tail(n);
+  }
+  out.tail(n).noalias() += t.M_rf.transpose() * fs.x.head<6>();
+  out.tail(n).noalias() += b.invariants().m_ff * fs.x.tail(n);
+}
+
+void Model::residual_mass_matrix(int i, const Workspace& ws,
+                                 Eigen::Ref<Eigen::MatrixXd> out) const {
+  const auto k = static_cast<std::size_t>(i);
+  const Body& b = bodies_[k];
+  const flexible::InertiaTerms& t = ws.flexible[k].terms;
+  const Eigen::Index n = b.mode_count();
+  out.topLeftCorner<6, 6>() = t.M_rr;
+  if (n == 0) return;
+  if (formulation_ == FlexibleFormulation::kCoupled) {
+    out.topRightCorner(6, n) = t.M_rf;
+  } else {
+    out.topRightCorner(6, n).setZero();
+  }
+  out.bottomLeftCorner(n, 6) = t.M_rf.transpose();
+  out.bottomRightCorner(n, n) = b.invariants().m_ff;
 }
 
 void Model::modal_accelerations(int i, const BodyState& s, const Eigen::Vector3d& a_WBr,
@@ -299,7 +320,7 @@ void Model::modal_accelerations(int i, const BodyState& s, const Eigen::Vector3d
     fs.x.head<3>() = a_WBr;
     fs.x.segment<3>(3) = alpha_WB_B;
   }
-  solve_modal_rows(b, fs);
+  flexible::solve_modal_rows(b.modal_mass(), fs.terms, fs.rhs, fs.solve, fs.x);
   qdd_f = fs.x.tail(n);
 }
 

@@ -15,9 +15,10 @@
 ///            m_ff q̈_f + D q̇_f + K q_f = Qe_f − Sᵀ Aᵀ a − Ī_θf0ᵀ α̅ − Σ m_k Φ_kᵀ ω̄̃ω̄̃ x_k,
 ///            with loads evaluated on the undeformed body (docs/design/model.md, "The LTE model").
 /// Rows of known accelerations (pivot: a = 0; prescribed: a = 0 and the law's α̅) are moved to
-/// the right-hand side; the remaining rows are solved by Cholesky (coupled) or block forward
-/// substitution (LTE).
-#include <Eigen/Cholesky>
+/// the right-hand side. A flexible body's remaining rows are solved in O(n²) through the
+/// constant factor of m_ff (flexible/mass_matrix_solve.hpp): coupled, by the Schur complement
+/// of the unknown rigid rows; LTE, by block forward substitution. Its inertia terms cost
+/// O(n²) (flexible/inertia_terms.hpp), independent of the number of nodes.
 #include <memory>
 #include <span>
 #include <string>
@@ -26,6 +27,8 @@
 #include "core/body.hpp"
 #include "core/force_element.hpp"
 #include "core/state.hpp"
+#include "flexible/inertia_terms.hpp"
+#include "flexible/mass_matrix_solve.hpp"
 
 namespace flexref::core {
 
@@ -40,18 +43,12 @@ const char* to_string(FlexibleFormulation formulation);
 
 /// Scratch of one flexible body's evaluation (sized once; never reallocated).
 struct FlexibleScratch {
-  Eigen::MatrixXd M;         ///< effective mass matrix (6+n)²
-  Eigen::VectorXd Qv;        ///< quadratic-velocity vector (6+n)
-  Eigen::VectorXd rhs;       ///< Qe + Qv − [0; 0; K q + D q̇]
-  Eigen::VectorXd x;         ///< (a, α̅, q̈_f)
-  Eigen::VectorXd sub_rhs;   ///< right-hand side of the unknown rows
-  Eigen::VectorXd residual;  ///< dynamics_residual's rows (6+n), for outputs
-  Eigen::VectorXd zero;      ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
-  /// Coupled: Cholesky of the unknown rows. Factored on an empty matrix until sized: an
-  /// Eigen::LLT never computed holds an indeterminate ComputationInfo, and copying one (a
-  /// Workspace copy) reads it (UBSan: invalid enum load).
-  Eigen::LLT<Eigen::MatrixXd> unknown_llt{Eigen::MatrixXd()};
-  Eigen::LLT<Eigen::MatrixXd> rigid_llt{Eigen::MatrixXd()};  ///< LTE: the unknown rigid rows
+  flexible::InertiaTerms terms;      ///< M_rr, M_rf and Qv at the evaluated state
+  flexible::MassSolveScratch solve;  ///< the structured solve's scratch
+  Eigen::VectorXd rhs;               ///< Qe + Qv − [0; 0; K q + D q̇]
+  Eigen::VectorXd x;                 ///< (a, α̅, q̈_f)
+  Eigen::VectorXd residual;          ///< dynamics_residual's rows (6+n), for outputs
+  Eigen::VectorXd zero;              ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
 };
 
 /// Per-evaluation scratch space; make one per thread with Model::make_workspace().
@@ -59,6 +56,7 @@ struct Workspace {
   std::vector<BodyKinematics> kinematics;
   std::vector<Wrench> wrenches;
   std::vector<FlexibleScratch> flexible;  ///< one per body (empty matrices for rigid bodies)
+  std::vector<WearSample> wear;           ///< one per wear channel (Model::wear_samples)
   double time = 0.0;                      ///< t of the last compute_wrenches (prescribed α̅)
 };
 
@@ -107,6 +105,10 @@ class Model {
   /// pivot or prescribed body does not integrate are the reactions its constraint supplies.
   void dynamics_residual(int i, const BodyState& state, const BodyAcceleration& acc, Workspace& ws,
                          Eigen::Ref<Eigen::VectorXd> out) const;
+  /// ∂(dynamics_residual)/∂(a_WBr, α̅, q̈_f) of flexible body i, (6+n)², from the terms of the
+  /// last dynamics_residual call on ws: [M_rr M_rf; M_rfᵀ m_ff] (LTE: no M_rf in the rigid
+  /// rows, so not symmetric). Allocates nothing when `out` is sized.
+  void residual_mass_matrix(int i, const Workspace& ws, Eigen::Ref<Eigen::MatrixXd> out) const;
   /// The modal rows of a flexible body solved for q̈_f with the rigid accelerations given
   /// (a_WBr, α̅; a prescribed body uses a = 0 and its law's α̅ at ws.time), the loads already
   /// in ws (compute_wrenches) and the state's q_f, q̇_f, ω̄. Under LTE this is the modal
@@ -130,6 +132,25 @@ class Model {
                            std::span<double> g) const;
   /// Power dissipated by the force elements and the modal damping (q̇_fᵀ D q̇_f), W.
   double dissipated_power(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// Wear channels (one per contact element, core/model_integrals.cpp): their count, names
+  /// (the contacts' names) and, for each switching function, its channel (−1: none).
+  int wear_channel_count() const { return static_cast<int>(wear_names_.size()); }
+  const std::vector<std::string>& wear_channel_names() const { return wear_names_; }
+  const std::vector<int>& switching_channels() const { return switching_channels_; }
+  /// Normal force, slip speed and friction power of every channel at a state (into ws.wear).
+  void wear_samples(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// True when a dissipating model also integrates the work of loads that keep doing work
+  /// (ForceElement::tracks_applied_work: harmonic forces).
+  bool tracks_applied_work() const { return applied_work_; }
+  /// Integrals every integrator tracks after W_d when the model dissipates (0 otherwise):
+  /// [applied work W_a (when tracked), wear work of each channel].
+  int extra_integral_count() const {
+    return dissipates_ ? (applied_work_ ? 1 : 0) + wear_channel_count() : 0;
+  }
+  /// Rates of [W_d, extra integrals] at a state (1 + extra_integral_count() entries): the
+  /// dissipated power, the applied power, each channel's |F_t·v_t|. Allocates nothing.
+  void integral_rates(const LoadContext& context, const State& state, Workspace& ws,
+                      std::span<double> rates) const;
   /// ½ Σ q_fᵀ K q_f over the flexible bodies.
   double elastic_energy(const State& state) const;
   /// Total linear momentum, world.
@@ -148,8 +169,6 @@ class Model {
  private:
   /// Points ws.kinematics at the state (A(θ), and the q_f the loads see).
   void pose_bodies(const State& state, Workspace& ws) const;
-  /// fs.x's modal rows from its rigid rows (a, α̅) and fs.M, fs.rhs.
-  void solve_modal_rows(const Body& b, FlexibleScratch& fs) const;
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
 
@@ -161,6 +180,10 @@ class Model {
   bool flexible_ = false;
   int switching_count_ = 0;
   bool dissipates_ = false;
+  std::vector<std::string> wear_names_;
+  std::vector<int> wear_elements_;  ///< element index of each channel
+  std::vector<int> switching_channels_;
+  bool applied_work_ = false;
 };
 
 }  // namespace flexref::core

@@ -40,6 +40,12 @@ struct Trajectory {
   /// W_d(t): work dissipated since t0 by dampers, friction and modal damping (J), at the output
   /// times; empty when the integrator does not track it (a model that dissipates nothing).
   std::vector<double> dissipated_work;
+  /// Model::extra_integral_count() values per output time, row after row (applied work, then
+  /// each contact's wear work, J), tracked with W_d; empty when not tracked.
+  std::vector<double> extra_work;
+  /// Impacts so far per wear channel (core/impact_counter.hpp), row after row per output time;
+  /// empty when not counted.
+  std::vector<double> impacts;
 };
 
 }  // namespace flexref::core

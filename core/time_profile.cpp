@@ -8,7 +8,8 @@ namespace flexref::core {
 
 TimeProfile::TimeProfile(Shape shape, double start, double duration)
     : shape_(shape), start_(start), duration_(duration) {
-  if (shape != Shape::kConstant && !(duration > 0.0 && std::isfinite(duration))) {
+  if (shape != Shape::kConstant && shape != Shape::kHarmonic &&
+      !(duration > 0.0 && std::isfinite(duration))) {
     throw std::invalid_argument("pulse duration must be positive and finite");
   }
   if (!std::isfinite(start)) throw std::invalid_argument("pulse start must be finite");
@@ -22,6 +23,17 @@ TimeProfile TimeProfile::sin2_pulse(double start, double duration) {
 
 TimeProfile TimeProfile::rectangular_pulse(double start, double duration) {
   return TimeProfile(Shape::kRectangularPulse, start, duration);
+}
+
+TimeProfile TimeProfile::harmonic(double frequency, double phase) {
+  if (!(frequency > 0.0 && std::isfinite(frequency))) {
+    throw std::invalid_argument("harmonic frequency must be positive and finite");
+  }
+  if (!std::isfinite(phase)) throw std::invalid_argument("harmonic phase must be finite");
+  TimeProfile p(Shape::kHarmonic, 0.0, 0.0);
+  p.frequency_ = frequency;
+  p.phase_ = phase;
+  return p;
 }
 
 bool TimeProfile::active(double t_segment) const {
@@ -39,12 +51,14 @@ double TimeProfile::value(double t, double t_segment) const {
     }
     case Shape::kRectangularPulse:
       return active(t_segment) ? 1.0 : 0.0;
+    case Shape::kHarmonic:
+      return std::sin(2.0 * std::numbers::pi * frequency_ * t + phase_);
   }
   return 0.0;
 }
 
 void TimeProfile::append_discontinuities(std::vector<double>& times) const {
-  if (shape_ == Shape::kConstant) return;
+  if (shape_ == Shape::kConstant || shape_ == Shape::kHarmonic) return;
   // sin² is C¹ at its ends (its second derivative jumps by 2π²/duration²); the rectangular
   // pulse jumps. Both ends are switches every integrator must step on.
   times.push_back(start_);

@@ -1,6 +1,6 @@
 #pragma once
 /// \file time_profile.hpp
-/// Scalar time laws that multiply a load: constant, sin² pulse, rectangular pulse.
+/// Scalar time laws that multiply a load: constant, sin² pulse, rectangular pulse, harmonic.
 ///
 /// Piecewise laws are evaluated with two times: t, where the smooth branch is evaluated, and
 /// t_segment, a time strictly inside the integration step or solver interval that decides
@@ -14,7 +14,7 @@ namespace flexref::core {
 
 class TimeProfile {
  public:
-  enum class Shape { kConstant, kSin2Pulse, kRectangularPulse };
+  enum class Shape { kConstant, kSin2Pulse, kRectangularPulse, kHarmonic };
 
   /// f(t) = 1.
   static TimeProfile constant();
@@ -22,6 +22,10 @@ class TimeProfile {
   static TimeProfile sin2_pulse(double start, double duration);
   /// f(t) = 1 for start ≤ t < start + duration, else 0 (jumps at both ends).
   static TimeProfile rectangular_pulse(double start, double duration);
+
+  /// f(t) = sin(2π frequency t + phase), frequency > 0 in Hz, phase in rad: smooth, no switch
+  /// (the stand-in for flow-induced excitation of docs/contact.md, "Gap support").
+  static TimeProfile harmonic(double frequency, double phase);
 
   /// Value at t on the branch active at t_segment.
   double value(double t, double t_segment) const;
@@ -31,6 +35,8 @@ class TimeProfile {
   Shape shape() const { return shape_; }
   double start() const { return start_; }
   double duration() const { return duration_; }
+  double frequency() const { return frequency_; }
+  double phase() const { return phase_; }
 
  private:
   TimeProfile(Shape shape, double start, double duration);
@@ -39,6 +45,8 @@ class TimeProfile {
   Shape shape_;
   double start_;
   double duration_;
+  double frequency_ = 0.0;
+  double phase_ = 0.0;
 };
 
 }  // namespace flexref::core

@@ -218,11 +218,21 @@ std::vector<BeamMode> solve_beam_family(const BeamParameters& p, BeamModeFamily 
   const double h = p.length / E;
   const FamilyMatrices full = assemble(f, E, h);
   const int dofs_per_node = f.bending ? 2 : 1;
-  // Clamped root: drop node 0's DOFs (u, or v and v'; all 6 DOF of the node are fixed).
-  const int first = p.boundary == BeamBoundary::kClampedFree ? dofs_per_node : 0;
-  const auto n = static_cast<Eigen::Index>(full.K.rows() - first);
-  const Eigen::MatrixXd K = full.K.bottomRightCorner(n, n);
-  const Eigen::MatrixXd M = full.M.bottomRightCorner(n, n);
+  // Clamped root: drop node 0's DOFs (u, or v and v'; all 6 DOF of the node are fixed). A
+  // pinned tip drops the tip's value (u, v or θx), a clamped tip its slope too.
+  const auto total = static_cast<int>(full.K.rows());
+  const bool clamped_root = p.boundary != BeamBoundary::kFreeFree;
+  const int tip_fixed = p.boundary == BeamBoundary::kClampedClamped  ? dofs_per_node
+                        : p.boundary == BeamBoundary::kClampedPinned ? 1
+                                                                     : 0;
+  std::vector<Eigen::Index> kept;
+  for (int d = clamped_root ? dofs_per_node : 0; d < total; ++d) {
+    if (d >= total - dofs_per_node && d - (total - dofs_per_node) < tip_fixed) continue;
+    kept.push_back(d);
+  }
+  const auto n = static_cast<Eigen::Index>(kept.size());
+  const Eigen::MatrixXd K = full.K(kept, kept);
+  const Eigen::MatrixXd M = full.M(kept, kept);
   // K φ = λ M φ with φᵀ M φ = 1 (Eigen's ABx_lx normalization); λ ascending.
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(K, M);
   if (solver.info() != Eigen::Success) {
@@ -245,7 +255,7 @@ std::vector<BeamMode> solve_beam_family(const BeamParameters& p, BeamModeFamily 
     mode.family = family;
     mode.order = static_cast<int>(i - skip + 1);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(full.K.rows());
-    x.tail(n) = solver.eigenvectors().col(i);
+    x(kept) = solver.eigenvectors().col(i);
     // The solver's elastic eigenvectors are M-orthogonal to the rigid modes only to about
     // ε·λ_max/λ_1 (1e-8 at 200 elements); project the exact rigid modes out, so that the
     // free-free modes have zero linear and angular momentum to rounding.

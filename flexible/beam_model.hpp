@@ -30,6 +30,10 @@ namespace flexref::flexible {
 enum class BeamBoundary {
   kClampedFree,  ///< all 6 DOF fixed at the root x = origin, tip free
   kFreeFree,     ///< both ends free; the 6 rigid-body modes are excluded
+  /// Root clamped, tip pinned: the tip node's displacements (u, v, w, θx) fixed, its slopes free
+  /// (a tube between a clamped end and a simple support).
+  kClampedPinned,
+  kClampedClamped,  ///< both ends clamped (all 6 DOF of both end nodes fixed)
 };
 
 enum class BeamModeFamily {

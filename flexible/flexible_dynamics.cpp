@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "flexible/inertia_terms.hpp"
 #include "rotation/so3.hpp"
 
 namespace flexref::flexible {
@@ -47,23 +48,11 @@ double bilinear(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, const Eigen:
   return sum;
 }
 
-// out += alpha P x by column axpys (no temporary).
-template <typename Out>
-void add_matvec(double alpha, const Eigen::MatrixXd& P, const Eigen::VectorXd& x, Out&& out) {
-  for (Eigen::Index j = 0; j < P.cols(); ++j) out += (alpha * x(j)) * P.col(j);
-}
-
 // Σ_j x_j B.col(j) for a 3×n B (column axpys; Eigen's dynamic-inner-size GEMV may allocate).
 Eigen::Vector3d times3(const Eigen::Matrix3Xd& B, const Eigen::VectorXd& x) {
   Eigen::Vector3d out = Eigen::Vector3d::Zero();
   for (Eigen::Index j = 0; j < B.cols(); ++j) out += x(j) * B.col(j);
   return out;
-}
-
-// Ī_θθ symmetrized (its two triangles are evaluated by different roundings).
-Eigen::Matrix3d symmetric_inertia(const ModalInvariants& inv, const Eigen::VectorXd& q_f) {
-  const Eigen::Matrix3d I = inertia_theta_theta(inv, q_f);
-  return 0.5 * (I + I.transpose());
 }
 
 }  // namespace
@@ -72,18 +61,12 @@ void flexible_mass_matrix(const ModalInvariants& inv, const Eigen::Matrix3d& R_W
                           const Eigen::VectorXd& q_f, Eigen::MatrixXd& M) {
   const Eigen::Index n = inv.mode_count;
   check_matrix("flexible_mass_matrix", n, q_f, M);
-  const Eigen::Vector3d s_t = first_moment(inv, q_f);
-  M.topLeftCorner<3, 3>() = inv.mass * Eigen::Matrix3d::Identity();
-  M.block<3, 3>(0, 3).noalias() = -R_WB * rotation::hat(s_t);
-  M.block<3, 3>(3, 0) = M.block<3, 3>(0, 3).transpose();
-  M.block<3, 3>(3, 3) = symmetric_inertia(inv, q_f);
-  if (n == 0) return;
-  for (Eigen::Index j = 0; j < n; ++j) M.block<3, 1>(0, 6 + j).noalias() = R_WB * inv.S.col(j);
-  M.block(6, 0, n, 3) = M.block(0, 6, 3, n).transpose();
-  inertia_theta_f(inv, q_f, M.block(3, 6, 3, n));
-  M.block(6, 3, n, 3) = M.block(3, 6, 3, n).transpose();
-  // m_ff is symmetric only to rounding (two triangles of a product): symmetrize.
-  M.bottomRightCorner(n, n) = 0.5 * (inv.m_ff + inv.m_ff.transpose());
+  InertiaTerms terms = make_inertia_terms(static_cast<int>(n));
+  evaluate_inertia_terms(inv, R_WB, q_f, Eigen::Vector3d::Zero(), Eigen::VectorXd::Zero(n), terms);
+  M.topLeftCorner<6, 6>() = terms.M_rr;
+  M.topRightCorner(6, n) = terms.M_rf;
+  M.bottomLeftCorner(n, 6) = terms.M_rf.transpose();
+  M.bottomRightCorner(n, n) = inv.m_ff;
 }
 
 void flexible_quadratic_velocity(const ModalInvariants& inv, const Eigen::Matrix3d& R_WB,
@@ -91,33 +74,9 @@ void flexible_quadratic_velocity(const ModalInvariants& inv, const Eigen::Matrix
                                  const Eigen::VectorXd& qd_f, Eigen::VectorXd& Qv) {
   const Eigen::Index n = inv.mode_count;
   check_sizes("flexible_quadratic_velocity", n, q_f, &qd_f, Qv.size());
-  const Eigen::Matrix3d W = rotation::hat(w_B);
-  const Eigen::Matrix3d W2 = W * W;
-  const Eigen::Vector3d s_t = first_moment(inv, q_f);
-  const Eigen::Vector3d S_qd = times3(inv.S, qd_f);
-  Qv.head<3>().noalias() = -R_WB * (W2 * s_t + 2.0 * W * S_qd);
-
-  // C_ab = Σ m (Φ q̇)_a ū_b = X_ba q̇ + qᵀ P_ba q̇;  Σ m ũ ω̄̃ Φ q̇ = tr(C) ω̄ − C ω̄.
-  Eigen::Matrix3d C;
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      C(a, b) =
-          inv.x_phi.row(3 * b + a).dot(qd_f) + bilinear(q_f, inv.phi_phi[idx(3 * b + a)], qd_f);
-    }
-  }
-  const Eigen::Matrix3d I_tt = symmetric_inertia(inv, q_f);
-  Qv.segment<3>(3) = -W * (I_tt * w_B) - 2.0 * (C.trace() * w_B - C * w_B);
-
-  // Qv_f = −Σ_ab (W²)_ab (X_baᵀ + P_ab q) + 2 Σ_a ω̄_a G_a q̇.
-  auto Qf = Qv.tail(n);
-  Qf.setZero();
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      Qf -= W2(a, b) * inv.x_phi.row(3 * b + a).transpose();
-      add_matvec(-W2(a, b), inv.phi_phi[idx(3 * a + b)], q_f, Qf);
-    }
-    add_matvec(2.0 * w_B(a), inv.phi_cross_phi[idx(a)], qd_f, Qf);
-  }
+  InertiaTerms terms = make_inertia_terms(static_cast<int>(n));
+  evaluate_inertia_terms(inv, R_WB, q_f, w_B, qd_f, terms);
+  Qv = terms.Qv;
 }
 
 double flexible_kinetic_energy(const ModalInvariants& inv, const Eigen::Matrix3d& R_WB,

@@ -17,15 +17,20 @@
 /// Qv = −Σ m_k L_kᵀ A [ω̄̃ω̄̃ ū_k + 2 ω̄̃ Φ_k q̇_f]. The signs above were checked against these
 /// nodal definitions (tests/flexible/flexible_dynamics_test.cpp); none was found wrong.
 ///
-/// The invariant-based evaluations cost O(n²) and allocate nothing; the `_by_nodes`
-/// versions are the O(N n²) direct nodal sums they are tested against. The Σ terms reduce to
-/// the invariants of flexible/modal_data.hpp (W = ω̄̃, X_ab = x_phi row 3a+b, P_ab = phi_phi[3a+b],
+/// The invariant-based evaluations cost O(n²); the `_by_nodes` versions are the O(N n²) direct
+/// nodal sums they are tested against. The Σ terms reduce to the invariants of
+/// flexible/modal_data.hpp (W = ω̄̃, X_ab = x_phi row 3a+b, P_ab = phi_phi[3a+b],
 /// G_a = phi_cross_phi[a]):
 ///
 ///     Σ m Φᵀ ω̄̃ Φ       = −Σ_a ω̄_a G_a
 ///     Σ m Φᵀ ω̄̃ω̄̃ ū     = Σ_ab (W²)_ab (X_baᵀ + P_ab q_f)
 ///     Σ m ũ ω̄̃ Φ q̇_f    = tr(C) ω̄ − C ω̄,   C_ab = Σ m (Φ_k q̇_f)_a ū_k,b = X_ba q̇_f + q_fᵀ P_ba q̇_f
 ///     Σ m ũ ω̄̃ω̄̃ ū      = ω̄̃ Ī_θθ ω̄
+///
+/// flexible_mass_matrix and flexible_quadratic_velocity are the whole-matrix views of the
+/// evaluation in flexible/inertia_terms.hpp (which the Model uses, allocation-free, with the
+/// structured solve of flexible/mass_matrix_solve.hpp); they allocate that scratch per call
+/// and are meant for tests and one-off evaluations.
 #include <Eigen/Core>
 
 #include "flexible/modal_data.hpp"
@@ -39,12 +44,11 @@ namespace flexref::flexible {
 ///
 /// Writes the (6+n)×(6+n) mass matrix into M, which must already have that size (throws
 /// std::invalid_argument otherwise, and on a q_f of the wrong size). Exactly symmetric.
-/// Allocates nothing.
 void flexible_mass_matrix(const ModalInvariants& invariants, const Eigen::Matrix3d& R_WB,
                           const Eigen::VectorXd& q_f, Eigen::MatrixXd& M);
 
 /// Writes Qv (6+n) into Qv, which must already have that size. w_B = ω̄ (body frame),
-/// qd_f = q̇_f. Allocates nothing.
+/// qd_f = q̇_f.
 void flexible_quadratic_velocity(const ModalInvariants& invariants, const Eigen::Matrix3d& R_WB,
                                  const Eigen::VectorXd& q_f, const Eigen::Vector3d& w_B,
                                  const Eigen::VectorXd& qd_f, Eigen::VectorXd& Qv);

@@ -201,6 +201,10 @@ ModalInvariants make_modal_invariants(const ModalData& data) {
     }
   }
   for (int a = 0; a < 3; ++a) {
+    // P_aa is symmetric by definition; its summed triangles differ by rounding (m_k Φ_k,a is
+    // rounded before the outer product). Symmetrized, m_ff = Σ_a P_aa is exactly symmetric.
+    Eigen::MatrixXd& P_aa = inv.phi_phi[pair(a, a)];
+    P_aa = (0.5 * (P_aa + P_aa.transpose())).eval();
     for (int b = 0; b < a; ++b) {
       inv.phi_phi[pair(a, b)] = inv.phi_phi[pair(b, a)].transpose();
     }

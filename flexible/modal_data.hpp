@@ -1,8 +1,8 @@
 #pragma once
 /// \file modal_data.hpp
-/// Modal data of a flexible body (docs/design/model.md, "Bodies and inertia invariants"), independent
-/// of where it came from (the built-in beam model, flexible/beam_model.hpp, or a user's file,
-/// scene/modal_data_reader.hpp), and the inertia invariants computed once from it.
+/// Modal data of a flexible body (docs/design/model.md, "Bodies and inertia invariants"),
+/// independent of where it came from (the built-in beam model, flexible/beam_model.hpp, or a user's
+/// file, scene/modal_data_reader.hpp), and the inertia invariants computed once from it.
 ///
 /// The body is a set of lumped material points ("nodes") k = 1..N with mass m_k > 0 and
 /// undeformed position x_k (body frame, from the frame origin Bo); the displacement of node k is
@@ -77,15 +77,16 @@ Eigen::VectorXd modal_damping(const ModalData& data);
 /// ū_k = x_k + Φ_k q_f is the deformed position of node k (body frame, from Bo).
 struct ModalInvariants {
   int mode_count = 0;
-  double mass = 0.0;                               ///< m = Σ m_k
-  Eigen::Vector3d s0 = Eigen::Vector3d::Zero();    ///< s0 = Σ m_k x_k
-  Eigen::Matrix3d J0 = Eigen::Matrix3d::Zero();    ///< J0 = Σ m_k x_k x_kᵀ
-  Eigen::Matrix3d I0 = Eigen::Matrix3d::Zero();    ///< I0 = Σ m_k x̃_kᵀ x̃_k = tr(J0) I − J0
-  Eigen::Matrix3Xd S;                              ///< S = Σ m_k Φ_k (3×n)
-  Eigen::MatrixXd m_ff;                            ///< m_ff = Σ m_k Φ_kᵀ Φ_k (n×n)
+  double mass = 0.0;                             ///< m = Σ m_k
+  Eigen::Vector3d s0 = Eigen::Vector3d::Zero();  ///< s0 = Σ m_k x_k
+  Eigen::Matrix3d J0 = Eigen::Matrix3d::Zero();  ///< J0 = Σ m_k x_k x_kᵀ
+  Eigen::Matrix3d I0 = Eigen::Matrix3d::Zero();  ///< I0 = Σ m_k x̃_kᵀ x̃_k = tr(J0) I − J0
+  Eigen::Matrix3Xd S;                            ///< S = Σ m_k Φ_k (3×n)
+  Eigen::MatrixXd m_ff;  ///< m_ff = Σ m_k Φ_kᵀ Φ_k (n×n), exactly symmetric
   Eigen::Matrix<double, 9, Eigen::Dynamic> x_phi;  ///< row 3a+b: Σ m_k x_k,a Φ_k,b (9×n)
-  std::array<Eigen::MatrixXd, 9> phi_phi;          ///< [3a+b]: Σ m_k Φ_k,aᵀ Φ_k,b (n×n)
-  Eigen::Matrix3Xd I_theta_f0;                     ///< Σ m_k x̃_k Φ_k (3×n)
+  std::array<Eigen::MatrixXd, 9>
+      phi_phi;  ///< [3a+b]: Σ m_k Φ_k,aᵀ Φ_k,b (n×n); [3a+a] exactly symmetric
+  Eigen::Matrix3Xd I_theta_f0;  ///< Σ m_k x̃_k Φ_k (3×n)
   /// [a] = phi_phi[3b+c] − phi_phi[3c+b] for (a, b, c) a cyclic permutation of (0, 1, 2):
   /// skew-symmetric, and row a of Σ m_k (Φ_k q)~ Φ_k is qᵀ phi_cross_phi[a].
   std::array<Eigen::MatrixXd, 3> phi_cross_phi;

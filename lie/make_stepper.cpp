@@ -1,22 +1,104 @@
+/// \file make_stepper.cpp
+/// The method registry (lie/method_registry.hpp) with the built-in schemes, and make_stepper /
+/// scheme_names on top of it.
+#include <algorithm>
+#include <deque>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
 #include "lie/c1.hpp"
 #include "lie/c2.hpp"
+#include "lie/method_registry.hpp"
 #include "lie/nmb.hpp"
 #include "lie/stepper.hpp"
 
 namespace flexref::lie {
+namespace {
 
-std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model) {
-  if (name == "c1") return std::make_unique<C1Stepper>(model);
-  if (name == "c2") return std::make_unique<C2Stepper>(model);
-  if (name == "nmb") return std::make_unique<NmbStepper>(model);
-  throw std::invalid_argument("unknown scheme '" + std::string(name) +
-                              "' (expected one of c1, c2, nmb)");
+// Entries are only ever appended, and a std::deque keeps the address of every element on
+// push_back, so the pointer find_method returns stays valid while others register.
+struct Registry {
+  std::mutex mutex;
+  std::deque<MethodInfo> methods;
+};
+
+Registry& registry() {
+  static Registry* r = [] {
+    auto* reg = new Registry;  // never destroyed: steppers may be built during static teardown
+    reg->methods.push_back({"c1", 2, "Simo-Wong C1 (implicit, energy-momentum)",
+                            [](const core::Model& m) { return std::make_unique<C1Stepper>(m); }});
+    reg->methods.push_back({"c2", 2, "Simo-Wong C2 (explicit, momentum-conserving)",
+                            [](const core::Model& m) { return std::make_unique<C2Stepper>(m); }});
+    reg->methods.push_back({"nmb", 2, "Krysl-Endres NMB (explicit Newmark on the Lie group)",
+                            [](const core::Model& m) { return std::make_unique<NmbStepper>(m); }});
+    return reg;
+  }();
+  return *r;
 }
 
-std::vector<std::string> scheme_names() { return {"c1", "c2", "nmb"}; }
+bool valid_name(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-';
+  });
+}
+
+}  // namespace
+
+void register_method(MethodInfo method) {
+  if (!valid_name(method.name)) {
+    throw std::invalid_argument("register_method: name '" + method.name +
+                                "' must be letters, digits, '_' and '-'");
+  }
+  if (method.claimed_order < 1) {
+    throw std::invalid_argument("register_method: " + method.name +
+                                ": the claimed order must be at least 1");
+  }
+  if (!method.factory) {
+    throw std::invalid_argument("register_method: " + method.name + ": no factory");
+  }
+  Registry& r = registry();
+  std::lock_guard lock(r.mutex);
+  for (const MethodInfo& m : r.methods) {
+    if (m.name == method.name) {
+      throw std::invalid_argument("register_method: '" + method.name + "' is already registered");
+    }
+  }
+  r.methods.push_back(std::move(method));
+}
+
+const MethodInfo* find_method(std::string_view name) {
+  Registry& r = registry();
+  std::lock_guard lock(r.mutex);
+  for (const MethodInfo& m : r.methods) {
+    if (m.name == name) return &m;
+  }
+  return nullptr;
+}
+
+std::vector<MethodInfo> registered_methods() {
+  Registry& r = registry();
+  std::lock_guard lock(r.mutex);
+  return {r.methods.begin(), r.methods.end()};
+}
+
+std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model) {
+  const MethodInfo* method = find_method(name);
+  if (method == nullptr) {
+    std::string known;
+    for (const std::string& n : scheme_names()) known += (known.empty() ? "" : ", ") + n;
+    throw std::invalid_argument("unknown scheme '" + std::string(name) + "' (expected one of " +
+                                known + ")");
+  }
+  return method->factory(model);
+}
+
+std::vector<std::string> scheme_names() {
+  std::vector<std::string> names;
+  for (const MethodInfo& m : registered_methods()) names.push_back(m.name);
+  return names;
+}
 
 }  // namespace flexref::lie

@@ -7,8 +7,11 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.hpp"
+#include "core/impact_counter.hpp"
 #include "core/output_times.hpp"
 #include "lie/scheme_support.hpp"
 
@@ -86,17 +89,32 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
   trajectory.times = output_times;
   trajectory.states.reserve(output_times.size());
   stepper.initialize(t0, model.initial_state());
-  trajectory.states.push_back(stepper.state());
-  // Dissipated work by the trapezoidal rule on the step's end powers (second order, like the
-  // schemes); one extra evaluation of the dissipative loads per step, only when they exist.
+  // Dissipated work, applied work and wear work by the trapezoidal rule on the step's end
+  // rates (second order, like the schemes); one extra evaluation of the dissipative loads per
+  // step, only when they exist. Impacts are counted from the gaps after every step.
   const bool track_work = model.dissipates();
   core::Workspace ws = model.make_workspace();
-  double work = 0.0;
-  double power = 0.0;
-  if (track_work) {
-    trajectory.dissipated_work.push_back(0.0);
-    power = model.dissipated_power(core::LoadContext{t0, t0}, stepper.state(), ws);
-  }
+  const auto count = static_cast<std::size_t>(track_work ? 1 + model.extra_integral_count() : 0);
+  std::vector<double> work(count, 0.0);
+  std::vector<double> rate(count, 0.0);
+  std::vector<double> rate_next(count, 0.0);
+  const bool count_impacts = model.wear_channel_count() > 0;
+  core::ImpactCounter impacts(model);
+  impacts.start(core::LoadContext{t0, t0}, stepper.state(), ws);
+  const auto record = [&]() {
+    trajectory.states.push_back(stepper.state());
+    if (track_work) {
+      trajectory.dissipated_work.push_back(work[0]);
+      trajectory.extra_work.insert(trajectory.extra_work.end(), work.begin() + 1, work.end());
+    }
+    if (count_impacts) {
+      trajectory.impacts.insert(trajectory.impacts.end(), impacts.counts().begin(),
+                                impacts.counts().end());
+    }
+  };
+  if (track_work) model.integral_rates(core::LoadContext{t0, t0}, stepper.state(), ws, rate);
+  trajectory.states.clear();
+  record();
 
   check_energy(model, stepper, t0, 0, trajectory.states.back(), ws);
   std::size_t next_output = 1;
@@ -110,23 +128,28 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
                               "the step left a non-finite state (inf or NaN): the motion "
                               "diverged or overflowed double precision");
     }
+    const double t_np1 = stepper.time();
+    const core::LoadContext end_context{t_np1, 0.5 * (t_n + t_np1)};
     if (track_work) {
-      const double t_np1 = stepper.time();
-      const double power_next = model.dissipated_power(
-          core::LoadContext{t_np1, 0.5 * (t_n + t_np1)}, stepper.state(), ws);
-      work += 0.5 * (t_np1 - t_n) * (power + power_next);
-      power = power_next;
+      model.integral_rates(end_context, stepper.state(), ws, rate_next);
+      for (std::size_t j = 0; j < count; ++j) {
+        work[j] += 0.5 * (t_np1 - t_n) * (rate[j] + rate_next[j]);
+      }
+      std::swap(rate, rate_next);
     }
+    if (count_impacts) impacts.update(end_context, stepper.state(), ws);
     if (steps_done != nullptr) steps_done->store(n + 1, std::memory_order_relaxed);
     while (next_output < output_times.size() &&
            step_index(output_times[next_output], t0, dt) == n + 1) {
       check_energy(model, stepper, output_times[next_output], n, stepper.state(), ws);
-      if (track_work && !std::isfinite(work)) {
-        throw core::SolverError(std::string(stepper.name()), output_times[next_output], n,
-                                "the dissipated work is not finite");
+      for (std::size_t j = 0; j < count; ++j) {
+        if (!std::isfinite(work[j])) {
+          throw core::SolverError(std::string(stepper.name()), output_times[next_output], n,
+                                  j == 0 ? "the dissipated work is not finite"
+                                         : "an accumulated work (applied or wear) is not finite");
+        }
       }
-      trajectory.states.push_back(stepper.state());
-      if (track_work) trajectory.dissipated_work.push_back(work);
+      record();
       ++next_output;
     }
   }

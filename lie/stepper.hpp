@@ -24,7 +24,7 @@ class Stepper {
   Stepper(const Stepper&) = delete;
   Stepper& operator=(const Stepper&) = delete;
 
-  /// "c1", "c2", "nmb".
+  /// "c1", "c2", "nmb", or a user method's registered name.
   virtual std::string_view name() const = 0;
   /// The order the scheme's authors claim (measured by the tests and `converge`).
   virtual int order() const = 0;
@@ -44,11 +44,12 @@ class Stepper {
   Stepper() = default;
 };
 
-/// "c1", "c2" or "nmb"; throws std::invalid_argument for anything else. The model must
+/// A stepper of a registered method (lie/method_registry.hpp: "c1", "c2", "nmb" and whatever
+/// the program registered); throws std::invalid_argument for any other name. The model must
 /// outlive the stepper.
 std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model);
 
-/// The names make_stepper accepts: {"c1", "c2", "nmb"}.
+/// The names make_stepper accepts, in registration order: {"c1", "c2", "nmb", ...}.
 std::vector<std::string> scheme_names();
 
 }  // namespace flexref::lie

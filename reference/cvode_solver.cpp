@@ -1,49 +1,42 @@
 /// \file cvode_solver.cpp
-/// CVODE on the quasi-velocity ODE form of docs/design/model.md (reference/ode_form.hpp), with a
-/// projection (CVodeSetProjFn) that puts the Euler parameters back on the unit sphere after
-/// every step.
+/// CVODE on the quasi-velocity ODE form of docs/design/model.md (reference/ode_form.hpp), Adams
+/// or BDF (docs/references.md, "CVODE: Adams or BDF"):
 ///
-/// Method: BDF (orders 1–5) with Newton iteration and a dense direct linear solver
-/// (difference-quotient Jacobian). The design asks for Adams on non-stiff scenes, but CVODE
-/// 6.4 supports projection only with BDF: CVodeSetProjFn returns CV_ILL_INPUT for CV_ADAMS
-/// ("Projection is only supported with BDF methods", cvode_proj.c; confirmed with 6.4.1).
-/// Measured on book_toss (10 s, outputs every 0.01 s, CPU time min of 5 runs):
-///   rtol 1e-10: BDF + projection 2143 steps 7.1 ms;  Adams (Newton, no projection) 1128 steps
-///               4.8 ms;  Adams (fixed point) 1578 steps 4.2 ms
-///   rtol 1e-12: BDF + projection 3948 steps 12.6 ms; Adams (Newton) 1766 steps 7.1 ms;
-///               Adams (fixed point) 2638 steps 6.6 ms, but 2e-6 rad error against 4e-8
-/// Adams would be ~1.8× faster; the projection is what the design asks of this driver, so BDF
-/// it is (without it θ drifts off the sphere by the local errors, and since OdeForm's
-/// θ̇ = ½ θ̂ ⊗ (0, ω̄) uses the normalized θ̂, a θ of norm s turns the attitude at ω̄/s).
-/// RKF7(8) (odeint) covers the fast non-stiff cross-check.
+/// - **Adams** (Adams–Moulton, orders 1–12) where the model has no stiff element. No projection:
+///   CVODE 6.4 supports one only with BDF (CVodeSetProjFn returns CV_ILL_INPUT for CV_ADAMS,
+///   "Projection is only supported with BDF methods", cvode_proj.c), and none is needed: |θ| is
+///   a first integral of θ̇ = ½ θ ⊗ (0, ω̄) and the form is homogeneous in θ, so a drift of |θ|
+///   by the local errors leaves the attitude θ̂ alone (the driver renormalizes at restarts).
+/// - **BDF** (orders 1–5) with Newton iteration and a projection (CVodeSetProjFn) that puts the
+///   Euler parameters back on the unit sphere after every step, where contacts, joints or stiff
+///   modes make the model stiff (reference/method_choice.hpp picks; --method overrides).
+/// - **BDF orders 1–2** (CVodeSetMaxOrd(2), A-stable; with the projection) where undamped modes
+///   oscillate far above every rate the outputs show (reference/method_choice.hpp).
+/// All use Newton iteration. The Newton systems (choose_newton_jacobian): a flexible model's
+/// StructuredJacobian (reference/structured_jacobian.hpp) with the structured Newton solve
+/// (reference/newton_linear_solver.hpp); SolverOptions::jacobian (reference/ode_jacobian.hpp)
+/// with a dense LU; or CVODE's difference-quotient Jacobian with a dense LU (rigid models).
 ///
-/// - [0, T] is integrated segment by segment between the model's known load discontinuities:
-///   CVodeSetStopTime at each segment end, CVodeReInit from the (normalized) state there. Every
-///   right-hand-side call passes t_segment = the segment's midpoint.
-/// - Outputs: CVode in CV_NORMAL mode with tout = each requested time (CVODE's own
-///   interpolation), never beyond the stop time.
-/// - Switching functions (contact gaps, core::Model::switching_functions): CVodeRootInit
-///   locates their zeros; CVODE returns at each one (CV_ROOT_RETURN), the time is recorded and
-///   the solver is re-initialized there, so no step straddles a contact onset or release.
-/// - SolverOptions::max_steps is CVODE's mxstep: the most steps taken to reach one output time.
+/// The segment loop (stops at load switches, restarts at contact events, outputs from CVODE's
+/// own interpolation with tout = each output time) is sundials_segment_driver.hpp.
+/// SolverOptions::max_steps is CVODE's mxstep: the most steps taken to reach one output time.
+#include <cvode/cvode.h>
 #include <cvode/cvode_ls.h>
 #include <cvode/cvode_proj.h>
 
-#include <Eigen/Core>
-#include <cmath>
-#include <ctime>
-#include <exception>
-#include <limits>
 #include <memory>
+#include <optional>
 #include <span>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
+#include "reference/method_choice.hpp"
+#include "reference/newton_linear_solver.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
+#include "reference/sundials_ode_callbacks.hpp"
 #include "reference/sundials_segment_driver.hpp"
 
 namespace flexref::reference {
@@ -51,110 +44,70 @@ namespace {
 
 namespace sun = sundials;
 
-struct CvodeData : sun::CallbackRecord {
-  const reference::OdeForm* form = nullptr;
-  reference::OdeForm::Scratch scratch;
-  double t_segment = 0.0;
-};
-
-/// The model's switching functions at (t, y); allocates nothing.
-int switching(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data) {
-  auto& d = *static_cast<CvodeData*>(user_data);
-  try {
-    d.form->unpack(t, sun::data(y), d.scratch.state);
-    const core::Model& model = d.form->model();
-    model.switching_functions(
-        core::LoadContext{t, d.t_segment}, d.scratch.state, d.scratch.workspace,
-        std::span<double>(g, static_cast<std::size_t>(model.switching_function_count())));
-  } catch (...) {
-    d.callback_error = std::current_exception();
-    return -1;
-  }
-  return 0;
-}
-
-/// y' = f(t, y) of the ODE form; allocates nothing.
-int rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
-  auto& d = *static_cast<CvodeData*>(user_data);
-  try {
-    d.form->rhs(core::LoadContext{t, d.t_segment}, sun::data(y), sun::data(ydot), d.scratch);
-  } catch (...) {
-    d.callback_error = std::current_exception();
-    return -1;  // unrecoverable; the driver rethrows the message
-  }
-  if (!sun::all_finite(sun::data(ydot), d.form->size())) {
-    // Recoverable: a trial step may have reached a singular load (a charge on the wall); CVODE
-    // retries with a smaller step and gives up with its own message if that does not help.
-    d.last_nonfinite_time = t;
-    return 1;
-  }
-  return 0;
-}
-
-/// Orthogonal projection onto |θ| = 1 per body: corr = θ/|θ| − θ (zero elsewhere), and the
-/// error estimate loses its component normal to the sphere, e_θ ← e_θ − (θ̂·e_θ) θ̂ (the
-/// projection's Jacobian at the projected point; cf. cvParticle_dns.c in SUNDIALS).
-int project(sunrealtype /*t*/, N_Vector ycur, N_Vector corr, sunrealtype /*eps_proj*/, N_Vector err,
-            void* user_data) {
-  const auto& d = *static_cast<const CvodeData*>(user_data);
-  N_VConst(0.0, corr);
-  const double* y = sun::data(ycur);
-  double* c = sun::data(corr);
-  double* e = err != nullptr ? sun::data(err) : nullptr;
-  for (int offset : d.form->theta_offsets()) {
-    const Eigen::Map<const Eigen::Vector4d> theta(y + offset);
-    const double norm = theta.norm();
-    if (!(norm > 0.0) || !std::isfinite(norm)) return 1;  // recoverable: retry a smaller step
-    const Eigen::Vector4d unit = theta / norm;
-    Eigen::Map<Eigen::Vector4d>(c + offset) = unit - theta;
-    if (e != nullptr) {
-      Eigen::Map<Eigen::Vector4d> error(e + offset);
-      error -= unit.dot(error) * unit;
-    }
-  }
-  return 0;
-}
-
 /// CVODE on the ODE form, driven segment by segment by integrate_segments.
 class CvodeSegmentSolver final : public sun::SegmentSolver {
  public:
-  CvodeSegmentSolver(const core::Model& model, const SolverOptions& options)
+  CvodeSegmentSolver(const core::Model& model, const SolverOptions& options, CvodeMethod method,
+                     NewtonJacobian newton)
       : model_(&model),
         options_(options),
+        method_(method),
+        newton_(newton),
         form_(model),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
-        linear_solver_(sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())),
-        cvode_(sun::check_created(CVodeCreate(CV_BDF, context_.get()), "CVodeCreate")) {
+        linear_solver_(
+            newton == NewtonJacobian::kStructured
+                ? sun::LinearSolver(make_newton_linear_solver(form_, context_.get()))
+                : sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())),
+        cvode_(sun::check_created(
+            CVodeCreate(method == CvodeMethod::kAdams ? CV_ADAMS : CV_BDF, context_.get()),
+            "CVodeCreate")) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
+    data_.jacobian = options.jacobian;
+    if (newton == NewtonJacobian::kStructured) {
+      structured_.emplace(form_);
+      data_.structured = &*structured_;
+      data_.structured_scratch = structured_->make_scratch();
+    }
   }
 
-  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     form_.pack(state, sun::data(y_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work);
+    form_.set_integrals(sun::data(y_.get()), integrals);
+    void* cvode = cvode_.get();
     if (!initialized_) {
-      sun::check(CVodeInit(cvode_.get(), rhs, segment.start, y_.get()), "CVodeInit");
-      sun::check(CVodeSetUserData(cvode_.get(), &data_), "CVodeSetUserData");
-      sun::check(CVodeSetErrHandlerFn(cvode_.get(), sun::record_error, &data_.log),
+      sun::check(CVodeInit(cvode, sun::ode_rhs, segment.start, y_.get()), "CVodeInit");
+      sun::check(CVodeSetUserData(cvode, &data_), "CVodeSetUserData");
+      sun::check(CVodeSetErrHandlerFn(cvode, sun::record_error, &data_.log),
                  "CVodeSetErrHandlerFn");
-      sun::check(CVodeSStolerances(cvode_.get(), options_.rtol, options_.absolute_tolerance()),
+      sun::check(CVodeSStolerances(cvode, options_.rtol, options_.absolute_tolerance()),
                  "CVodeSStolerances");
-      sun::check(CVodeSetLinearSolver(cvode_.get(), linear_solver_.get(), jacobian_.get()),
+      sun::check(CVodeSetLinearSolver(cvode, linear_solver_.get(), jacobian_.get()),
                  "CVodeSetLinearSolver");
-      sun::check(CVodeSetProjFn(cvode_.get(), project), "CVodeSetProjFn");
-      sun::check(CVodeSetMaxNumSteps(cvode_.get(), options_.max_steps), "CVodeSetMaxNumSteps");
+      if (newton_ == NewtonJacobian::kUser) {
+        sun::check(CVodeSetJacFn(cvode, sun::ode_jacobian), "CVodeSetJacFn");
+      } else if (newton_ == NewtonJacobian::kStructured) {
+        sun::check(CVodeSetJacFn(cvode, sun::structured_ode_jacobian), "CVodeSetJacFn");
+      }
+      if (method_ != CvodeMethod::kAdams) {
+        sun::check(CVodeSetProjFn(cvode, sun::project_euler_parameters), "CVodeSetProjFn");
+      }
+      if (method_ == CvodeMethod::kBdf2) sun::check(CVodeSetMaxOrd(cvode, 2), "CVodeSetMaxOrd");
+      sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
       if (model_->switching_function_count() > 0) {
-        sun::check(CVodeRootInit(cvode_.get(), model_->switching_function_count(), switching),
+        sun::check(CVodeRootInit(cvode, model_->switching_function_count(), sun::ode_switching),
                    "CVodeRootInit");
       }
       initialized_ = true;
     } else {
-      sun::check(CVodeReInit(cvode_.get(), segment.start, y_.get()), "CVodeReInit");
+      sun::check(CVodeReInit(cvode, segment.start, y_.get()), "CVodeReInit");
     }
-    sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
+    sun::check(CVodeSetStopTime(cvode, segment.end), "CVodeSetStopTime");
     // The first step is taken towards the segment end: CVODE sizes it from the distance to
     // the first tout, which would let the output grid steer the steps (an output 1e-7 after
     // a switch made the run take 360 steps instead of 200 and moved the state by 1e-8 at
@@ -164,11 +117,11 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     // outputs that precede it.)
     if (model_->switching_function_count() == 0) {
       double t_internal = segment.start;
-      sun::check(CVode(cvode_.get(), segment.end, y_.get(), &t_internal, CV_ONE_STEP), "CVode");
+      sun::check(CVode(cvode, segment.end, y_.get(), &t_internal, CV_ONE_STEP), "CVode");
     }
   }
 
-  Advance advance(double tout) override {
+  Advance advance(double tout, double /*next*/) override {
     Advance reached;
     const int flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
     sun::check(flag, "CVode");
@@ -177,6 +130,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   }
 
   void restart_at_root(double t, const sun::Segment& segment) override {
+    // A new order-1 step sequence from the solution at the event; θ back on the sphere (BDF's
+    // projection keeps it there already).
+    if (method_ == CvodeMethod::kAdams) form_.normalize_euler_parameters(sun::data(y_.get()));
     sun::check(CVodeReInit(cvode_.get(), t, y_.get()), "CVodeReInit");
     sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
   }
@@ -184,7 +140,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  double dissipated_work() const override { return form_.dissipated_work(sun::data(y_.get())); }
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(y_.get()), out);
+  }
 
   void add_counters(SolverStats& stats) const override {
     void* cvode = cvode_.get();
@@ -219,8 +177,11 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
  private:
   const core::Model* model_;
   SolverOptions options_;
-  reference::OdeForm form_;
-  CvodeData data_;
+  CvodeMethod method_;
+  NewtonJacobian newton_;
+  OdeForm form_;
+  std::optional<StructuredJacobian> structured_;
+  sun::OdeCallbackData data_;
   bool initialized_ = false;
   sun::Context context_;
   sun::Vector y_;
@@ -234,9 +195,18 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
 
 ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& output_times,
                          const SolverOptions& options) {
-  return sun::integrate_segments(model, output_times, options, "cvode", [&] {
-    return std::make_unique<CvodeSegmentSolver>(model, options);
+  CvodeMethodChoice choice{options.cvode_method, "chosen with --method"};
+  if (options.cvode_method == CvodeMethod::kAuto) {
+    choice = choose_cvode_method(model, mean_output_spacing(output_times));
+  }
+  const NewtonJacobian newton = choose_newton_jacobian(model, options);
+  ReferenceRun run = sun::integrate_segments(model, output_times, options, "cvode", [&] {
+    return std::make_unique<CvodeSegmentSolver>(model, options, choice.method, newton);
   });
+  run.method = to_string(choice.method);
+  run.method_reason = choice.reason;
+  run.jacobian = to_string(newton);
+  return run;
 }
 
 }  // namespace flexref::reference

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "rotation/euler_parameters.hpp"
+
 namespace flexref::reference {
 
 namespace {
@@ -17,6 +19,7 @@ using MapX = Eigen::Map<Eigen::VectorXd>;
 }  // namespace
 
 DaeForm::Block DaeForm::block_of(const core::Body& b, int offset) {
+  // The ODE form's layout (ode_form.hpp).
   Block k;
   const int n = b.mode_count();
   int next = offset;
@@ -28,13 +31,9 @@ DaeForm::Block DaeForm::block_of(const core::Body& b, int offset) {
   if (b.is_free()) k.p = take(3);
   if (!b.is_prescribed()) k.theta = take(4);
   if (b.is_free()) k.v = take(3);
-  if (!b.is_prescribed()) k.v_theta = take(4);
+  if (!b.is_prescribed()) k.w = take(3);
   k.q = take(n);
   k.v_q = take(n);
-  if (!b.is_prescribed()) {
-    k.lambda = take(1);
-    k.mu = take(1);
-  }
   k.n = n;
   k.end = next;
   return k;
@@ -47,7 +46,11 @@ DaeForm::DaeForm(const core::Model& model) : model_(&model), fixed_(model.initia
     size_ = k.end;
     max_rows_ = std::max(max_rows_, 6 + k.n);
   }
-  if (model.dissipates()) work_index_ = size_++;
+  if (model.dissipates()) {
+    work_index_ = size_;
+    integral_count_ = 1 + model.extra_integral_count();
+    size_ += integral_count_;
+  }
 }
 
 DaeForm::Scratch DaeForm::make_scratch() const {
@@ -56,16 +59,12 @@ DaeForm::Scratch DaeForm::make_scratch() const {
   s.workspace = model_->make_workspace();
   s.accelerations = model_->make_accelerations();
   s.residual = Eigen::VectorXd::Zero(max_rows_);
-  return s;
-}
-
-std::vector<double> DaeForm::differential_ids() const {
-  std::vector<double> ids(static_cast<std::size_t>(size_), 1.0);
-  for (const Block& k : blocks_) {
-    if (k.lambda >= 0) ids[static_cast<std::size_t>(k.lambda)] = 0.0;
-    if (k.mu >= 0) ids[static_cast<std::size_t>(k.mu)] = 0.0;
+  s.generalized_rows.reserve(static_cast<std::size_t>(max_rows_));
+  for (const core::Body& b : model_->bodies()) {
+    const Eigen::Index m = b.is_flexible() ? 6 + b.mode_count() : 0;
+    s.body_mass.push_back(Eigen::MatrixXd::Zero(m, m));
   }
-  return ids;
+  return s;
 }
 
 void DaeForm::initial_values(const core::LoadContext& context, const core::State& state, double* y,
@@ -83,18 +82,10 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
       Map3(yp + k.v) = acc[i].a_WBr;
     }
     if (k.theta >= 0) {
-      const rotation::EulerParameters theta_dot =
-          rotation::euler_parameter_rate(s.theta_WB, s.w_WB_B);
-      // θ̈ = −¼|ω̄|² θ + ½ θ ⊗ (0, α̅)
-      const rotation::EulerParameters theta_ddot =
-          -0.25 * s.w_WB_B.squaredNorm() * s.theta_WB +
-          rotation::euler_parameter_rate(s.theta_WB, acc[i].alpha_WB_B);
       Map4(y + k.theta) = s.theta_WB;
-      Map4(y + k.v_theta) = theta_dot;
-      Map4(yp + k.theta) = theta_dot;
-      Map4(yp + k.v_theta) = theta_ddot;
-      y[k.lambda] = y[k.mu] = 0.0;
-      yp[k.lambda] = yp[k.mu] = 0.0;
+      Map3(y + k.w) = s.w_WB_B;
+      Map4(yp + k.theta) = rotation::euler_parameter_rate(s.theta_WB, s.w_WB_B);
+      Map3(yp + k.w) = acc[i].alpha_WB_B;
     }
     MapX(y + k.q, k.n) = s.q_f;
     MapX(y + k.v_q, k.n) = s.qd_f;
@@ -102,8 +93,10 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
     MapX(yp + k.v_q, k.n) = acc[i].qdd_f;
   }
   if (work_index_ >= 0) {
-    y[work_index_] = 0.0;
-    yp[work_index_] = model_->dissipated_power(context, state, ws);
+    for (int j = 0; j < integral_count_; ++j) y[work_index_ + j] = 0.0;
+    model_->integral_rates(
+        context, state, ws,
+        std::span<double>(yp + work_index_, static_cast<std::size_t>(integral_count_)));
   }
 }
 
@@ -112,11 +105,8 @@ void DaeForm::unpack(double t, const double* y, core::State& state) const {
     const Block& k = blocks_[i];
     core::BodyState& s = state[i];
     if (k.theta >= 0) {
-      const rotation::EulerParameters theta = ConstMap4(y + k.theta);
-      s.theta_WB = theta.normalized();
-      // For θ = s θ̂ off the sphere, Ḡ(θ) θ̇ = s² Ḡ(θ̂) θ̂̇: divide by |θ|² so ω̄ is exact.
-      s.w_WB_B =
-          2.0 * rotation::g_bar_matrix(theta) * ConstMap4(y + k.v_theta) / theta.squaredNorm();
+      s.theta_WB = ConstMap4(y + k.theta).normalized();
+      s.w_WB_B = ConstMap3(y + k.w);
     }
     if (k.p >= 0) {
       s.p_WBr = ConstMap3(y + k.p);
@@ -131,67 +121,96 @@ void DaeForm::unpack(double t, const double* y, core::State& state) const {
   model_->apply_prescribed_motion(t, state);
 }
 
-void DaeForm::residual(const core::LoadContext& context, const double* y, const double* yp,
-                       double* res, Scratch& scratch) const {
-  // Loads at the current iterate. θ enters A(θ) unnormalized here: the residual is that of
-  // eq. 19 exactly as written, and the constraint row keeps θ on the sphere.
+void DaeForm::mass_rows(const core::LoadContext& context, const double* y,
+                        Eigen::Ref<Eigen::MatrixXd> mass, Scratch& scratch) const {
+  mass.setIdentity();
   core::State& state = scratch.state;
   core::Accelerations& acc = scratch.accelerations;
-  for (std::size_t i = 0; i < state.size(); ++i) {
-    const Block& k = blocks_[i];
-    core::BodyState& s = state[i];
-    if (k.theta >= 0) {
-      s.theta_WB = ConstMap4(y + k.theta);
-      s.w_WB_B = 2.0 * rotation::g_bar_matrix(s.theta_WB) * ConstMap4(y + k.v_theta);
-      acc[i].alpha_WB_B =
-          2.0 * rotation::g_bar_matrix(s.theta_WB) * ConstMap4(yp + k.v_theta);  // α̅ = 2Ḡ v̇_θ
-    }
-    if (k.p >= 0) {
-      s.p_WBr = ConstMap3(y + k.p);
-      s.v_WBr = ConstMap3(y + k.v);
-      acc[i].a_WBr = ConstMap3(yp + k.v);
-    }
-    s.q_f = ConstMapX(y + k.q, k.n);
-    s.qd_f = ConstMapX(y + k.v_q, k.n);
-    acc[i].qdd_f = ConstMapX(yp + k.v_q, k.n);
-  }
-  model_->apply_prescribed_motion(context.t, state);
-  model_->compute_wrenches(context, state, scratch.workspace);
+  unpack(context.t, y, state);
+  if (model_->has_flexible_bodies()) model_->compute_wrenches(context, state, scratch.workspace);
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Block& k = blocks_[i];
     const core::Body& b = model_->body(static_cast<int>(i));
-    auto r = scratch.residual.head(6 + k.n);
+    // Rows and columns of the body's generalized accelerations (translation, rotation, modes)
+    // in y: −1 for the ones the body does not integrate.
+    std::vector<int>& at = scratch.generalized_rows;
+    at.assign(static_cast<std::size_t>(6 + k.n), -1);
+    for (int j = 0; j < 3; ++j) {
+      at[static_cast<std::size_t>(j)] = k.v >= 0 ? k.v + j : -1;
+      at[static_cast<std::size_t>(3 + j)] = k.w >= 0 ? k.w + j : -1;
+    }
+    for (int j = 0; j < k.n; ++j) at[static_cast<std::size_t>(6 + j)] = k.v_q + j;
+    if (b.is_flexible()) {
+      // The effective mass matrix the residual multiplies (dynamics_residual fills it).
+      auto r = scratch.residual.head(6 + k.n);
+      acc[i].a_WBr.setZero();
+      acc[i].alpha_WB_B.setZero();
+      acc[i].qdd_f.setZero();
+      model_->dynamics_residual(static_cast<int>(i), state[i], acc[i], scratch.workspace, r);
+      Eigen::MatrixXd& m = scratch.body_mass[i];
+      model_->residual_mass_matrix(static_cast<int>(i), scratch.workspace, m);
+      for (int row = 0; row < 6 + k.n; ++row) {
+        if (at[static_cast<std::size_t>(row)] < 0) continue;
+        for (int col = 0; col < 6 + k.n; ++col) {
+          if (at[static_cast<std::size_t>(col)] < 0) continue;
+          mass(at[static_cast<std::size_t>(row)], at[static_cast<std::size_t>(col)]) = m(row, col);
+        }
+      }
+      continue;
+    }
+    if (k.v >= 0) mass.block<3, 3>(k.v, k.v) = b.mass() * Eigen::Matrix3d::Identity();
+    if (k.w >= 0) mass.block<3, 3>(k.w, k.w) = b.I_Br_B();
+  }
+}
+
+void DaeForm::residual(const core::LoadContext& context, const double* y, const double* yp,
+                       double* res, Scratch& scratch) const {
+  // Loads and inertia at the current iterate, with θ̂ = θ/|θ| (A orthogonal, as in the ODE form).
+  core::State& state = scratch.state;
+  core::Accelerations& acc = scratch.accelerations;
+  unpack(context.t, y, state);
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    const Block& k = blocks_[i];
+    const core::Body& b = model_->body(static_cast<int>(i));
     if (b.is_prescribed()) {
       // Known rigid accelerations of the law (the rigid rows are the drive's reactions).
       acc[i].a_WBr.setZero();
       const core::RigidBodyDescription& d = b.description();
       acc[i].alpha_WB_B =
           prescribed_attitude(d.prescribed, d.initial.theta_WB, context.t).alpha_WB_B;
-    } else if (k.p < 0) {
-      acc[i].a_WBr.setZero();  // pivot
+    } else {
+      acc[i].a_WBr = k.v >= 0 ? Eigen::Vector3d(ConstMap3(yp + k.v)) : Eigen::Vector3d::Zero();
+      acc[i].alpha_WB_B = ConstMap3(yp + k.w);  // α̅ = ω̄̇
     }
+    acc[i].qdd_f = ConstMapX(yp + k.v_q, k.n);
+  }
+  model_->compute_wrenches(context, state, scratch.workspace);
+  for (std::size_t i = 0; i < state.size(); ++i) {
+    const Block& k = blocks_[i];
+    auto r = scratch.residual.head(6 + k.n);
     model_->dynamics_residual(static_cast<int>(i), state[i], acc[i], scratch.workspace, r);
     if (k.p >= 0) {
-      Map3(res + k.p) = ConstMap3(yp + k.p) - state[i].v_WBr;  // ṗ − v
-      Map3(res + k.v) = r.head<3>();                           // m v̇ − f (+ coupling)
+      Map3(res + k.p) = ConstMap3(yp + k.p) - ConstMap3(y + k.v);  // ṗ − v
+      Map3(res + k.v) = r.head<3>();                               // m v̇ − f (+ coupling)
     }
     if (k.theta >= 0) {
-      const rotation::EulerParameters theta = ConstMap4(y + k.theta);
-      const rotation::EulerParameters v_theta = ConstMap4(y + k.v_theta);
-      Map4(res + k.theta) = ConstMap4(yp + k.theta) - v_theta + 2.0 * y[k.mu] * theta;  // GGL
-      // θ rows: 2Ḡᵀ (rotation rows) + 2θ λ   (eq. 19)
-      Map4(res + k.v_theta) = 2.0 * rotation::g_bar_matrix(theta).transpose() * r.segment<3>(3) +
-                              2.0 * y[k.lambda] * theta;
-      res[k.lambda] = theta.dot(v_theta);             // velocity constraint
-      res[k.mu] = 0.5 * (theta.squaredNorm() - 1.0);  // position constraint
+      // θ̇ − ½ θ ⊗ (0, ω̄), with the θ of y (tangent to its sphere) as in the ODE form
+      Map4(res + k.theta) =
+          ConstMap4(yp + k.theta) -
+          rotation::euler_parameter_rate(ConstMap4(y + k.theta), ConstMap3(y + k.w));
+      Map3(res + k.w) = r.segment<3>(3);  // I α̅ + ω̄ × I ω̄ − Aᵀ τ (+ coupling)
     }
     MapX(res + k.q, k.n) = ConstMapX(yp + k.q, k.n) - ConstMapX(y + k.v_q, k.n);  // q̇ − v_q
     MapX(res + k.v_q, k.n) = r.tail(k.n);                                         // modal rows
   }
   if (work_index_ >= 0) {
-    // W_d' − P = 0
-    res[work_index_] =
-        yp[work_index_] - model_->dissipated_power(context, state, scratch.workspace);
+    // W_d' − P = 0, and each extra integral's W' − rate = 0 (rates into res, then subtracted)
+    model_->integral_rates(
+        context, state, scratch.workspace,
+        std::span<double>(res + work_index_, static_cast<std::size_t>(integral_count_)));
+    for (int j = 0; j < integral_count_; ++j) {
+      res[work_index_ + j] = yp[work_index_ + j] - res[work_index_ + j];
+    }
   }
 }
 

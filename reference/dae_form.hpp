@@ -1,20 +1,31 @@
 #pragma once
 /// \file dae_form.hpp
-/// The Euler-parameter DAE form F(t, y, y') = 0 of docs/design/model.md (paper eq. 19–20), in the
-/// stabilized index-2 form of Gear, Gupta and Leimkuhler (1985), for IDA. Per body:
-///   free  y = [p(3) θ(4) v(3) v_θ(4) q(n) v_q(n) λ μ],  pivot y = [θ(4) v_θ(4) q v_q λ μ],
+/// The DAE form F(t, y, y') = 0 that IDA integrates (docs/references.md, "IDA"): the
+/// quasi-velocity equations of docs/design/model.md in residual form, with the mass matrix
+/// multiplying the accelerations instead of being factorized. Per body
+///   free  y = [p(3) θ(4) v(3) ω̄(3) q(n) v_q(n)],  pivot y = [θ(4) ω̄(3) q(n) v_q(n)],
 ///   prescribed y = [q(n) v_q(n)]   (q, v_q only for a flexible body)
 ///   ṗ − v = 0
-///   θ̇ − v_θ + 2θ μ = 0                         (GGL: C_qᵀ μ with C_q = 2θᵀ)
+///   θ̇ − ½ θ ⊗ (0, ω̄) = 0
 ///   q̇ − v_q = 0
-///   m v̇ − f = 0                                 (a flexible body: the rows of Model::
-///   2Ḡᵀ [ I α̅ + ω̄ × I ω̄ − Aᵀ τ ] + 2θ λ = 0      dynamics_residual, M v − Q, translation,
-///   (modal rows)                                 2Ḡᵀ·rotation, modes; ω̄ = 2Ḡ v_θ, α̅ = 2Ḡ v̇_θ)
-///   θᵀ v_θ = 0                                   (velocity constraint, for λ)
-///   ½ (θᵀθ − 1) = 0                              (position constraint, for μ)
-/// The θ rows are the quasi-velocity rows premultiplied by 2Ḡᵀ (m_θθ = 4ḠᵀIḠ is singular along
-/// θ; the constraint row makes the system regular). On a solution λ = μ = 0 exactly (premultiply
-/// the θ rows by θᵀ and use Ḡθ = 0): they measure only the discretization's drift.
+///   M(θ̂, q) (v̇, ω̄̇, v̇_q) − (Qe + Qv − [0; 0; K q + D v_q]) = 0
+///                        (Model::dynamics_residual: translation, rotation in the body frame,
+///                         modal rows; θ̂ = θ/|θ| in every load and in A)
+/// and, last, when the model dissipates, Ẇ_d − P = 0 (the dissipated work). The layout of y is
+/// the ODE form's (reference/ode_form.hpp): a Jacobian of the ODE right-hand side serves IDA
+/// too (reference/ode_jacobian.hpp).
+///
+/// ∂F/∂y' = blockdiag(I, M) is regular: an implicit ODE (index 0), every component
+/// differential. |θ| is a first integral of the kinematic equation (θᵀ (θ ⊗ (0, ω̄)) = 0), and
+/// the equations are homogeneous in θ, so a drift of |θ| by the local errors does not move the
+/// attitude θ̂; the driver renormalizes θ at every restart. *Decision* (measured against the
+/// paper's Euler-parameter form and a GGL-constrained variant, docs/references.md): no
+/// constraint and no multiplier. BDF damps and dephases the oscillation the Euler-parameter
+/// velocities v_θ = θ̇ carry even in a steady spin, where ω̄ is constant; and a GGL multiplier
+/// on |θ| = 1 puts the predictor's normal displacement into IDA's local error estimate (CVODE's
+/// projection removes it, IDA has no such hook), which costs 2–3× the steps.
+#include <cstddef>
+#include <span>
 #include <vector>
 
 #include "core/model.hpp"
@@ -30,20 +41,26 @@ class DaeForm {
     core::Workspace workspace;
     core::Accelerations accelerations;
     Eigen::VectorXd residual;
+    std::vector<int> generalized_rows;       ///< mass_rows: a body's rows in y
+    std::vector<Eigen::MatrixXd> body_mass;  ///< mass_rows: a flexible body's (6+n)² matrix
   };
 
   int size() const { return size_; }
   const core::Model& model() const { return *model_; }
   Scratch make_scratch() const;
 
-  /// Consistent initial values y, y' from a state (λ = μ = 0, y' from the ODE form).
+  /// Consistent initial values y, y' from a state (y' from the quasi-velocity form's
+  /// accelerations). θ is taken as given (the drivers pass unit Euler parameters).
   void initial_values(const core::LoadContext& context, const core::State& state, double* y,
                       double* yp) const;
-  /// 1 for differential components, 0 for λ and μ (IDASetId).
-  std::vector<double> differential_ids() const;
   void residual(const core::LoadContext& context, const double* y, const double* yp, double* res,
                 Scratch& scratch) const;
-  /// State at time t and y (θ normalized, ω̄ = 2Ḡ v_θ; prescribed bodies follow their law).
+  /// P = ∂F/∂y' at (context, y) into `mass` (size() square): the identity in the kinematic rows
+  /// (p, θ, q, W_d) and each body's mass matrix M(θ̂, q) in its dynamics rows (v, ω̄, v_q),
+  /// restricted to the rows and columns the body integrates. F is linear in y', so P is exact.
+  void mass_rows(const core::LoadContext& context, const double* y,
+                 Eigen::Ref<Eigen::MatrixXd> mass, Scratch& scratch) const;
+  /// State at time t and y (θ normalized; prescribed bodies follow their law).
   void unpack(double t, const double* y, core::State& state) const;
 
   /// Index of the dissipated work W_d in y (differential, W_d' = dissipated power), or −1.
@@ -53,10 +70,21 @@ class DaeForm {
   void set_dissipated_work(double* y, double work) const {
     if (work_index_ >= 0) y[work_index_] = work;
   }
+  /// The integrals tracked with the state (Model::integral_rates): W_d then the model's extra
+  /// integrals (applied work, wear work per contact), from work_index(); 0 when not tracked.
+  int integral_count() const { return integral_count_; }
+  /// Copies them out of y (integral_count() values) / into y.
+  void integrals(const double* y, std::span<double> out) const {
+    for (int j = 0; j < integral_count_; ++j) out[static_cast<std::size_t>(j)] = y[work_index_ + j];
+  }
+  void set_integrals(double* y, std::span<const double> values) const {
+    for (int j = 0; j < integral_count_; ++j)
+      y[work_index_ + j] = values[static_cast<std::size_t>(j)];
+  }
 
   /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
   struct Block {
-    int p = -1, theta = -1, v = -1, v_theta = -1, q = -1, v_q = -1, lambda = -1, mu = -1;
+    int p = -1, theta = -1, v = -1, w = -1, q = -1, v_q = -1;
     int n = 0, end = 0;
   };
   const std::vector<Block>& blocks() const { return blocks_; }
@@ -70,6 +98,7 @@ class DaeForm {
   int size_ = 0;
   int max_rows_ = 6;
   int work_index_ = -1;
+  int integral_count_ = 0;
 };
 
 }  // namespace flexref::reference

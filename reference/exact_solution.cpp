@@ -89,6 +89,8 @@ ReferenceRun solve_exact(const core::Model& model, const std::vector<double>& ou
   const core::BodyState s0 = model.initial_state()[0];
   ReferenceRun run;
   run.solver = "exact";
+  run.method = "analytic";
+  run.method_reason = "closed form (" + kind.kind + ")";
   const std::clock_t start = std::clock();
   auto record = [&](double t, const rotation::EulerParameters& theta, const Eigen::Vector3d& w_B) {
     core::BodyState s = s0;

@@ -1,57 +1,46 @@
 /// \file ida_solver.cpp
-/// IDA (variable-order BDF for DAEs) on the Euler-parameter DAE form of docs/design/model.md
-/// (reference/dae_form.hpp: Gear–Gupta–Leimkuhler stabilized index 2, multipliers λ, μ).
+/// IDA (variable-order BDF for DAEs, fixed-leading-coefficient form) on the implicit
+/// quasi-velocity form of reference/dae_form.hpp: M(θ̂, q) times the accelerations minus the
+/// loads, never factorized — the residual path of the model (Model::dynamics_residual), where
+/// CVODE, ARKODE and Odeint integrate its accelerations (docs/references.md, "IDA").
 ///
-/// - Dense direct linear solver with IDA's difference-quotient Jacobian (the systems are
-///   10–16 unknowns per body; an analytic Jacobian would save little and is one more thing to
-///   get wrong).
-/// - λ and μ are marked algebraic (IDASetId) and left out of the local error test
-///   (IDASetSuppressAlg): the index-2 multipliers cannot be controlled like the states, and on
-///   a solution they are zero anyway (they only measure the discretization's drift).
-/// - [0, T] is integrated segment by segment between the model's known load discontinuities:
-///   IDASetStopTime at each segment end, then IDAReInit from the state there with consistent
-///   (y, y') from DaeForm::initial_values on the new load branch. Every residual call passes
-///   t_segment = the segment's midpoint.
-/// - Outputs: IDASolve in IDA_NORMAL mode with tout = each requested time, which IDA fills from
-///   its own interpolating polynomial (the solver's dense output), never beyond the stop time.
-/// - One setting away from IDA's defaults, measured on free_spin, book_toss and coulomb_wall:
-///   the iteration matrix is rebuilt whenever cj = α/h changes (IDASetDeltaCjLSetup(0)).
-///   In Euler-parameter coordinates the dominant block cj·4ḠᵀIḠ turns with the body, so the
-///   default reuse (until cj changes by 25 % or Newton fails) iterates with a stale matrix:
-///   free_spin at rtol 1e-10 took ~560 convergence failures per 100 s, and the accepted,
-///   half-converged iterates biased the energy (drift 3.7e-6 against 3e-8 for CVODE). With the
-///   rebuild there are no convergence failures, and the error at rtol 1e-12 drops ~50× (5e-9
-///   instead of 2.6e-7 rad over 100 s) at the same CPU time (15 % fewer steps pay for the
-///   ~4× more Jacobians).
-/// - Switching functions (contact gaps, core::Model::switching_functions): IDARootInit
-///   locates their zeros; at each (IDA_ROOT_RETURN) the time is recorded and IDA restarts
-///   there from consistent values, so no step straddles a contact onset or release.
+/// - Every component is differential and in the error test; scalar tolerances as for CVODE.
+/// - BDF orders 1–5, or 1–2 (A-stable) where undamped modes oscillate far above every rate the
+///   outputs show (choose_ida_method, reference/method_choice.hpp; --method bdf|bdf2 overrides).
+/// - Newton iteration (choose_newton_jacobian): a flexible model's StructuredJacobian through
+///   the structured Newton system (reference/ida_newton_solver.hpp); SolverOptions::jacobian
+///   through P (c_j I − J) (reference/ode_jacobian.hpp) with a dense LU; or IDA's
+///   difference-quotient Jacobian with a dense LU (rigid models).
+/// - The iteration matrix is rebuilt whenever c_j = α/h changes (IDASetDeltaCjLSetup(0)),
+///   measured on free_spin: with IDA's default reuse (until c_j changes by 25 %) the stale matrix
+///   moved the step sequence and the error by up to 15× at the same rtol (1.7e-9 instead of
+///   1.1e-10 rad at rtol 1e-12) for 1.3× the CPU time saved by fewer Jacobians.
+/// - θ is renormalized at every restart (load switch, contact event): between restarts |θ| is a
+///   first integral and its drift by the local errors does not move the attitude θ̂.
+/// - The segment loop (stops at load switches, restarts from consistent values at contact
+///   events, outputs from IDA's own interpolating polynomial with tout = each output time) is
+///   sundials_segment_driver.hpp.
 /// - SolverOptions::max_steps is IDA's mxstep: the most steps taken to reach one output time.
-///
-/// Accuracy per rtol is lower than CVODE's on the same model. In the DAE form a steady spin
-/// is carried by v_θ, which oscillates at |ω̄|/2, and BDF damps oscillations by a one-signed
-/// amplitude error each step: |ω̄| = 2|v_θ| and the energy drift systematically (in the ODE
-/// form ω̄ is constant in a steady spin and only θ oscillates, and θ is projected). Measured:
-/// free_spin energy drift ~20× CVODE's at rtol 1e-10; on book_toss the pulse leaves an energy
-/// error of 4e-11 relative at rtol 1e-12 (CVODE < 1e-14), which the near-separatrix motion
-/// amplifies to a maximum attitude error of 7e-5 rad over 10 s (CVODE 4e-8); even at
-/// rtol 1e-14 IDA stays at ~5e-6 there. Use IDA as the independent DAE cross-check, with
-/// bounds derived for it, not as the tightest reference on sensitive scenes.
-#include <algorithm>
-#include <cmath>
-#include <cstddef>
-#include <ctime>
+#include <ida/ida.h>
+#include <ida/ida_ls.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <Eigen/Core>
 #include <exception>
-#include <limits>
 #include <memory>
+#include <optional>
 #include <span>
-#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "core/error.hpp"
 #include "reference/dae_form.hpp"
+#include "reference/ida_newton_solver.hpp"
+#include "reference/method_choice.hpp"
+#include "reference/ode_form.hpp"
+#include "reference/ode_jacobian.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
 #include "reference/sundials_segment_driver.hpp"
 
@@ -60,18 +49,21 @@ namespace {
 
 namespace sun = sundials;
 
-/// Absolute tolerance of λ and μ. They are out of the error test, but IDA's Newton iteration
-/// still weighs their corrections with 1/(rtol |y| + atol) in its convergence test. Since
-/// λ = μ = 0 on the solution, the states' tolerance would ask for multipliers converged far
-/// below the size of their residual rows' round-off: with atol = 1e-12 for them IDA crawled
-/// (free_spin at rtol 1e-10 did not finish in minutes). Any value from 1e-6 to 1e3 gave the
-/// same solutions (errors within 10 %); 1, in the units of λ and μ, is the round middle.
-constexpr double kMultiplierAbsoluteTolerance = 1.0;
-
 struct IdaData : sun::CallbackRecord {
-  const reference::DaeForm* form = nullptr;
-  reference::DaeForm::Scratch scratch;
+  const DaeForm* form = nullptr;
+  DaeForm::Scratch scratch;
   double t_segment = 0.0;
+  /// For SolverOptions::jacobian: the ODE form (same layout), its scratch and J, P.
+  const OdeJacobian* jacobian = nullptr;
+  const OdeForm* ode = nullptr;
+  OdeForm::Scratch ode_scratch;
+  Eigen::MatrixXd ode_jacobian;
+  Eigen::MatrixXd mass;
+  Eigen::VectorXd f;
+  /// For NewtonJacobian::kStructured: the structured Jacobian and Newton system.
+  const StructuredJacobian* structured = nullptr;
+  StructuredJacobian::Scratch structured_scratch;
+  IdaNewtonSystem* newton = nullptr;
 };
 
 /// The model's switching functions at (t, y); allocates nothing.
@@ -109,52 +101,121 @@ int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void* user_data
   return 0;
 }
 
+/// IDALsJacFn from the user's ODE Jacobian: ∂F/∂y + c_j ∂F/∂y' ≈ P (c_j I − J)
+/// (ode_jacobian.hpp); allocates nothing.
+int jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*yp*/, N_Vector /*r*/,
+             SUNMatrix matrix, void* user_data, N_Vector /*tmp1*/, N_Vector /*tmp2*/,
+             N_Vector /*tmp3*/) {
+  auto& d = *static_cast<IdaData*>(user_data);
+  const int n = d.form->size();
+  try {
+    const core::LoadContext context{t, d.t_segment};
+    d.ode->rhs(context, sun::data(y), d.f.data(), d.ode_scratch);
+    d.jacobian->evaluate(*d.ode, context, sun::data(y), d.f.data(), d.ode_jacobian, d.ode_scratch);
+    d.form->mass_rows(context, sun::data(y), d.mass, d.scratch);
+    d.ode_jacobian *= -1.0;
+    d.ode_jacobian.diagonal().array() += c_j;
+    Eigen::Map<Eigen::MatrixXd>(SUNDenseMatrix_Data(matrix), n, n).noalias() =
+        d.mass * d.ode_jacobian;
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  if (!sun::all_finite(SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n)) {
+    d.last_nonfinite_time = t;
+    return 1;  // recoverable: IDA retries with a smaller step
+  }
+  return 0;
+}
+
+/// IDALsJacFn of the structured path: J from the StructuredJacobian, then A = I − J/c_j and the
+/// factored mass rows (ida_newton_solver.hpp); allocates nothing.
+int structured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*yp*/, N_Vector /*r*/,
+                        SUNMatrix matrix, void* user_data, N_Vector /*tmp1*/, N_Vector /*tmp2*/,
+                        N_Vector /*tmp3*/) {
+  auto& d = *static_cast<IdaData*>(user_data);
+  const int n = d.form->size();
+  try {
+    const core::LoadContext context{t, d.t_segment};
+    d.structured->evaluate(context, sun::data(y), SUNDenseMatrix_Data(matrix), n,
+                           d.structured_scratch);
+    if (!d.newton->setup_matrix(context, sun::data(y), c_j, SUNDenseMatrix_Data(matrix),
+                                d.scratch)) {
+      d.last_nonfinite_time = t;
+      return 1;
+    }
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  if (!sun::all_finite(SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n)) {
+    d.last_nonfinite_time = t;
+    return 1;  // recoverable: IDA retries with a smaller step
+  }
+  return 0;
+}
+
 /// IDA on the DAE form, driven segment by segment by integrate_segments.
 class IdaSegmentSolver final : public sun::SegmentSolver {
  public:
-  IdaSegmentSolver(const core::Model& model, const SolverOptions& options)
+  IdaSegmentSolver(const core::Model& model, const SolverOptions& options, int max_order,
+                   NewtonJacobian newton)
       : model_(&model),
         options_(options),
+        max_order_(max_order),
+        newton_kind_(newton),
         form_(model),
+        ode_(model),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         yp_(sun::make_vector(form_.size(), context_.get())),
-        ids_(sun::make_vector(form_.size(), context_.get())),
-        atol_(sun::make_vector(form_.size(), context_.get())),
         jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
-        linear_solver_(sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())),
+        linear_solver_(make_linear_solver()),
         ida_(sun::check_created(IDACreate(context_.get()), "IDACreate")) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
-    const std::vector<double> differential = form_.differential_ids();
-    for (int i = 0; i < form_.size(); ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      sun::data(ids_.get())[i] = differential[u];
-      sun::data(atol_.get())[i] =
-          differential[u] > 0.0 ? options.absolute_tolerance() : kMultiplierAbsoluteTolerance;
+    if (newton == NewtonJacobian::kStructured) {
+      data_.structured = &*structured_;
+      data_.structured_scratch = structured_->make_scratch();
+      data_.newton = &*newton_;
+    }
+    if (newton == NewtonJacobian::kUser) {
+      const int n = form_.size();
+      data_.jacobian = options.jacobian;
+      data_.ode = &ode_;
+      data_.ode_scratch = ode_.make_scratch();
+      data_.ode_jacobian = Eigen::MatrixXd::Zero(n, n);
+      data_.mass = Eigen::MatrixXd::Zero(n, n);
+      data_.f = Eigen::VectorXd::Zero(n);
     }
   }
 
-  void start_segment(const sun::Segment& segment, const core::State& state, double work) override {
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
-    // Consistent (y, y') on the new load branch: λ = μ = 0, y' from the ODE form.
+    // Consistent (y, y') on the new load branch: y' from the quasi-velocity accelerations.
     form_.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
                          sun::data(y_.get()), sun::data(yp_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work);
+    form_.set_integrals(sun::data(y_.get()), integrals);
     const int n = form_.size();
     if (!sun::all_finite(sun::data(y_.get()), n) || !sun::all_finite(sun::data(yp_.get()), n)) {
       throw sun::StartError("the loads are not finite at the initial state of the segment");
     }
+    void* ida = ida_.get();
     if (!initialized_) {
-      void* ida = ida_.get();
       sun::check(IDAInit(ida, residual, segment.start, y_.get(), yp_.get()), "IDAInit");
       sun::check(IDASetUserData(ida, &data_), "IDASetUserData");
       sun::check(IDASetErrHandlerFn(ida, sun::record_error, &data_.log), "IDASetErrHandlerFn");
-      sun::check(IDASVtolerances(ida, options_.rtol, atol_.get()), "IDASVtolerances");
+      sun::check(IDASStolerances(ida, options_.rtol, options_.absolute_tolerance()),
+                 "IDASStolerances");
       sun::check(IDASetLinearSolver(ida, linear_solver_.get(), jacobian_.get()),
                  "IDASetLinearSolver");
-      sun::check(IDASetId(ida, ids_.get()), "IDASetId");
-      sun::check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg");
+      if (newton_kind_ == NewtonJacobian::kUser) {
+        sun::check(IDASetJacFn(ida, jacobian), "IDASetJacFn");
+      } else if (newton_kind_ == NewtonJacobian::kStructured) {
+        sun::check(IDASetJacFn(ida, structured_jacobian), "IDASetJacFn");
+      }
+      sun::check(IDASetMaxOrd(ida, max_order_), "IDASetMaxOrd");
       sun::check(IDASetMaxNumSteps(ida, options_.max_steps), "IDASetMaxNumSteps");
       sun::check(IDASetDeltaCjLSetup(ida, 0.0), "IDASetDeltaCjLSetup");
       if (model_->switching_function_count() > 0) {
@@ -162,12 +223,12 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       }
       initialized_ = true;
     } else {
-      sun::check(IDAReInit(ida_.get(), segment.start, y_.get(), yp_.get()), "IDAReInit");
+      sun::check(IDAReInit(ida, segment.start, y_.get(), yp_.get()), "IDAReInit");
     }
-    sun::check(IDASetStopTime(ida_.get(), segment.end), "IDASetStopTime");
+    sun::check(IDASetStopTime(ida, segment.end), "IDASetStopTime");
   }
 
-  Advance advance(double tout) override {
+  Advance advance(double tout, double /*next*/) override {
     Advance reached;
     const int flag = IDASolve(ida_.get(), tout, &reached.t, y_.get(), yp_.get(), IDA_NORMAL);
     sun::check(flag, "IDASolve");
@@ -176,12 +237,12 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   }
 
   void restart_at_root(double t, const sun::Segment& segment) override {
-    // Restart from consistent values at the event.
+    // Restart from consistent values at the event, θ back on the unit sphere.
     form_.unpack(t, sun::data(y_.get()), data_.scratch.state);
-    const double work_at_event = form_.dissipated_work(sun::data(y_.get()));
+    form_.integrals(sun::data(y_.get()), integrals_at_event_);
     form_.initial_values(core::LoadContext{t, segment.t_segment}, data_.scratch.state,
                          sun::data(y_.get()), sun::data(yp_.get()));
-    form_.set_dissipated_work(sun::data(y_.get()), work_at_event);
+    form_.set_integrals(sun::data(y_.get()), integrals_at_event_);
     sun::check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit");
     sun::check(IDASetStopTime(ida_.get(), segment.end), "IDASetStopTime");
   }
@@ -189,7 +250,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  double dissipated_work() const override { return form_.dissipated_work(sun::data(y_.get())); }
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(y_.get()), out);
+  }
 
   void add_counters(SolverStats& stats) const override {
     void* ida = ida_.get();
@@ -222,13 +285,32 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   }
 
  private:
+  /// The structured Newton system (constructed here, before linear_solver_ refers to it) or a
+  /// dense LU.
+  sun::LinearSolver make_linear_solver() {
+    if (newton_kind_ != NewtonJacobian::kStructured) {
+      return sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get());
+    }
+    structured_.emplace(ode_);
+    newton_.emplace(form_, ode_);
+    return sun::LinearSolver(make_ida_newton_linear_solver(*newton_, context_.get()));
+  }
+
   const core::Model* model_;
   SolverOptions options_;
-  reference::DaeForm form_;
+  int max_order_;
+  NewtonJacobian newton_kind_;
+  DaeForm form_;
+  OdeForm ode_;
+  /// W_d and the extra integrals carried across a restart at an event (sized once).
+  std::vector<double> integrals_at_event_ =
+      std::vector<double>(static_cast<std::size_t>(form_.integral_count()));
+  std::optional<StructuredJacobian> structured_;
+  std::optional<IdaNewtonSystem> newton_;
   IdaData data_;
   bool initialized_ = false;
   sun::Context context_;
-  sun::Vector y_, yp_, ids_, atol_;
+  sun::Vector y_, yp_;
   sun::Matrix jacobian_;
   sun::LinearSolver linear_solver_;
   // Declared last so that it is freed first (as in SUNDIALS' examples).
@@ -239,9 +321,22 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
 
 ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& output_times,
                        const SolverOptions& options) {
-  return sun::integrate_segments(model, output_times, options, "ida", [&] {
-    return std::make_unique<IdaSegmentSolver>(model, options);
+  if (options.cvode_method == CvodeMethod::kAdams) {
+    throw std::invalid_argument("IDA has no Adams method (--method bdf or bdf2)");
+  }
+  CvodeMethodChoice choice{options.cvode_method, "chosen with --method"};
+  if (options.cvode_method == CvodeMethod::kAuto) {
+    choice = choose_ida_method(model, mean_output_spacing(output_times));
+  }
+  const int max_order = choice.method == CvodeMethod::kBdf2 ? 2 : 5;
+  const NewtonJacobian newton = choose_newton_jacobian(model, options);
+  ReferenceRun run = sun::integrate_segments(model, output_times, options, "ida", [&] {
+    return std::make_unique<IdaSegmentSolver>(model, options, max_order, newton);
   });
+  run.method = to_string(choice.method);
+  run.method_reason = choice.reason;
+  run.jacobian = to_string(newton);
+  return run;
 }
 
 }  // namespace flexref::reference

@@ -49,7 +49,11 @@ OdeForm::OdeForm(const core::Model& model) : model_(&model), fixed_(model.initia
     if (k.theta >= 0) theta_offsets_.push_back(k.theta);
     size_ = k.end;
   }
-  if (model.dissipates()) work_index_ = size_++;
+  if (model.dissipates()) {
+    work_index_ = size_;
+    integral_count_ = 1 + model.extra_integral_count();
+    size_ += integral_count_;
+  }
 }
 
 OdeForm::Scratch OdeForm::make_scratch() const {
@@ -71,7 +75,7 @@ void OdeForm::pack(const core::State& state, double* y) const {
     MapX(y + k.q, k.n) = s.q_f;
     MapX(y + k.qd, k.n) = s.qd_f;
   }
-  if (work_index_ >= 0) y[work_index_] = 0.0;
+  for (int j = 0; j < integral_count_; ++j) y[work_index_ + j] = 0.0;
 }
 
 void OdeForm::unpack(double t, const double* y, core::State& state) const {
@@ -116,8 +120,10 @@ void OdeForm::rhs(const core::LoadContext& context, const double* y, double* ydo
     MapX(ydot + k.qd, k.n) = a.qdd_f;  // q̈_f
   }
   if (work_index_ >= 0) {
-    // W_d' = dissipated power at the same state
-    ydot[work_index_] = model_->dissipated_power(context, scratch.state, scratch.workspace);
+    // W_d' = dissipated power at the same state, and the extra integrals' rates
+    model_->integral_rates(
+        context, scratch.state, scratch.workspace,
+        std::span<double>(ydot + work_index_, static_cast<std::size_t>(integral_count_)));
   }
 }
 

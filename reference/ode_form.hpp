@@ -10,6 +10,8 @@
 /// balance E(t) − E(0) + W_d(t) = work of applied loads is then an output).
 /// The Euler parameters drift off the unit sphere under a generic solver; solvers project
 /// them back (normalize_euler_parameters), which is the projection CVODE is given.
+#include <cstddef>
+#include <span>
 #include <vector>
 
 #include "core/model.hpp"
@@ -47,6 +49,17 @@ class OdeForm {
   void set_dissipated_work(double* y, double work) const {
     if (work_index_ >= 0) y[work_index_] = work;
   }
+  /// The integrals tracked with the state (Model::integral_rates): W_d then the model's extra
+  /// integrals (applied work, wear work per contact), from work_index(); 0 when not tracked.
+  int integral_count() const { return integral_count_; }
+  /// Copies them out of y (integral_count() values) / into y.
+  void integrals(const double* y, std::span<double> out) const {
+    for (int j = 0; j < integral_count_; ++j) out[static_cast<std::size_t>(j)] = y[work_index_ + j];
+  }
+  void set_integrals(double* y, std::span<const double> values) const {
+    for (int j = 0; j < integral_count_; ++j)
+      y[work_index_ + j] = values[static_cast<std::size_t>(j)];
+  }
 
   /// Offsets of the θ blocks in y (bodies that integrate an attitude; for projections).
   const std::vector<int>& theta_offsets() const { return theta_offsets_; }
@@ -66,6 +79,7 @@ class OdeForm {
   std::vector<int> theta_offsets_;
   int size_ = 0;
   int work_index_ = -1;
+  int integral_count_ = 0;
 };
 
 }  // namespace flexref::reference

@@ -1,26 +1,29 @@
 /// \file odeint_solver.cpp
 /// Boost.Odeint's controlled Runge–Kutta–Fehlberg 7(8) on the quasi-velocity ODE form
-/// (reference/ode_form.hpp): the independent cross-check of the two SUNDIALS drivers
-/// (docs/design/schemes.md, "Reference integrators"). It shares nothing with them but the model and the
-/// ODE form: its own segment plan, stepping loop, output and failure handling.
+/// (reference/ode_form.hpp): the independent cross-check of the SUNDIALS drivers
+/// (docs/design/schemes.md, "Reference integrators"; docs/references.md). It shares nothing with
+/// them but the model and the ODE form: its own segment plan, stepping loop, dense output, event
+/// location and failure handling.
 ///
 /// - Error control: odeint's default checker, err_i / (atol + rtol (|x_i| + h |x'_i|)) ≤ 1 in
 ///   the max norm, step-size adjustment by odeint (make_controlled(atol, rtol, ...)).
-/// - No interpolation: the loop truncates the step to land exactly on every output time and
-///   on every known load discontinuity; each segment between discontinuities evaluates its
-///   loads with t_segment = the segment's midpoint.
-/// - The Euler parameters are renormalized at every output and segment end (a one-step method
-///   carries no history, so this projection costs only the derivative at the projected state).
+/// - The step sequence is the tolerance's: steps end only where the error control, a known
+///   load discontinuity (segment end, stepped onto exactly) or a located event puts them. Outputs
+///   inside a step come from an order-8 continuous extension (reference/continuous_extension.hpp:
+///   Hermite interpolation of degree 7 through the step's ends and two RKF7(8) steps of h/3 and
+///   2h/3 from its start), or, for a step's only output, from one RKF7(8) step from the step's
+///   start onto it; an output on a step end is that step's value.
+/// - The Euler parameters are renormalized at every segment end (|θ| is a first integral of the
+///   form in between, and the form is homogeneous in θ: its drift does not move the attitude).
 /// - Switching functions (contact gaps, core::Model::switching_functions) are evaluated after
 ///   every accepted step; when one changes sign, the step is bisected on its length, re-taking
-///   the RKF7(8) step from the accepted start each time (no interpolation: the step's own
-///   solution, as accurate as the accepted step), down to a few ulp of t, and the step ends
-///   just past the zero. The event time is recorded; no step straddles a contact onset or
-///   release. (The design allows bisection on dense output; RKF7(8) has none, and re-stepping
-///   is exact to the step's accuracy.)
+///   the RKF7(8) step from the accepted start each time (the step's own solution, as accurate as
+///   the accepted step), down to a few ulp of t, and the step ends just past the zero. The event
+///   time is recorded; no step straddles a contact onset or release.
 /// - SolverOptions::max_steps bounds the steps between two consecutive output times, as it
-///   does for IDA and CVODE (mxstep).
+///   does for the SUNDIALS drivers (mxstep).
 #include <algorithm>
+#include <array>
 #include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
 #include <boost/numeric/odeint/stepper/generation.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_fehlberg78.hpp>
@@ -29,14 +32,18 @@
 #include <ctime>
 #include <exception>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/impact_counter.hpp"
+#include "reference/continuous_extension.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/switching_predictor.hpp"
 
 namespace flexref::reference {
 namespace {
@@ -109,9 +116,20 @@ class Integrator {
         x_new_(x_.size()),
         x_mid_(x_.size()),
         dxdt_(x_.size()),
+        dxdt_mid_(x_.size()),
+        predictor_(form),
+        x_previous_(x_.size()),
+        dxdt_previous_(x_.size()),
+        x_node1_(x_.size()),
+        dxdt_node1_(x_.size()),
+        x_node2_(x_.size()),
+        dxdt_node2_(x_.size()),
+        x_output_(x_.size()),
+        extension_(form.size()),
         g_(static_cast<std::size_t>(form.model().switching_function_count())),
         g_new_(g_.size()),
-        g_mid_(g_.size()) {}
+        g_mid_(g_.size()),
+        carried_(static_cast<std::size_t>(form.integral_count())) {}
 
   /// Where located event times are appended.
   void record_events_in(std::vector<double>* events) { events_ = events; }
@@ -121,25 +139,25 @@ class Integrator {
   /// Starts a segment at the current time: the loads switch to the branch at t_segment.
   void begin_segment(const core::State& state, double t_segment) {
     t_segment_ = t_segment;
-    const double work = form_->dissipated_work(x_.data());  // carried across segments
+    form_->integrals(x_.data(), carried_);  // W_d and the extra integrals, across segments
     form_->pack(state, x_.data());
-    form_->set_dissipated_work(x_.data(), work);
+    form_->set_integrals(x_.data(), carried_);
     evaluate_derivative();
     evaluate_switching(x_, t_, g_);
+    t_previous_ = t_;
+    extension_fitted_ = false;
     if (dt_ <= 0.0) dt_ = initial_step(x_, dxdt_, options_.rtol, options_.absolute_tolerance());
   }
 
-  /// Steps to exactly `target`, truncating the last step to land on it.
-  void advance_to(double target) {
-    long steps_here = 0;
-    while (t_ < target) {
-      const double remaining = target - t_;
-      // Land when the proposal reaches the target or would leave a sliver of a few ulp.
-      // Never step far past a switch: the trial is capped at twice the time to the nearest
-      // zero of a switching function at its current rate, so a step that reaches a contact
-      // ends on its other side (where the sign test sees it) instead of passing through.
+  /// One accepted step from the current time, truncated to land exactly on `end` (the segment
+  /// end) and ended just past a located event. Keeps the step's start for output().
+  void step(double end) {
+    for (;;) {
+      const double remaining = end - t_;
+      // Land when the proposal reaches the end or would leave a sliver of a few ulp. Never
+      // step far past a switch (switching_step_cap).
       const double proposal = std::min(dt_, switching_step_cap(dt_));
-      const bool lands = proposal >= remaining - time_slack(target);
+      const bool lands = proposal >= remaining - time_slack(end);
       const double h = lands ? remaining : proposal;
       double t_trial = t_;
       double h_next = h;
@@ -155,17 +173,19 @@ class Integrator {
         reject(h_next, "the step size fell below round-off (error test failures)");
         continue;
       }
-      double t_new = lands ? target : t_trial;
+      if (in_contact() && !halves_agree(h, h_next)) {
+        reject(h_next, "the step size fell below round-off (contact step-doubling test)");
+        continue;
+      }
+      double t_new = lands ? end : t_trial;
       if (!g_.empty()) {
         evaluate_switching(x_new_, t_new, g_new_);
         bool crossed = sign_changed(g_, g_new_);
         if (!crossed) {
           // Both ends on the same side: a gap can still dip through zero and back within the
-          // step (a short contact inside a long flight step). Check the quadratic through g
-          // and ġ at the start and g at the end; if its extremum is on the other side, step
-          // to it and look there.
-          const double s_candidate = double_crossing_candidate(t_new - t_);
-          if (s_candidate > 0.0) {
+          // step. Step to where it may have (double_crossing_candidates) and look there.
+          for (const double s_candidate : double_crossing_candidates(t_new - t_)) {
+            if (s_candidate <= 0.0) continue;
             const double h_candidate = s_candidate * (t_new - t_);
             stepper_.stepper().do_step(SegmentRhs(*form_, scratch_, counters_, t_segment_), x_,
                                        dxdt_, t_, x_mid_, h_candidate);
@@ -175,6 +195,7 @@ class Integrator {
               std::swap(g_new_, g_mid_);
               t_new = t_ + h_candidate;
               crossed = true;
+              break;
             }
           }
         }
@@ -186,22 +207,58 @@ class Integrator {
         }
         std::swap(g_, g_new_);
       }
+      // The accepted step [t_previous_, t_]: keep its start for the continuous extension.
+      std::swap(x_previous_, x_);
+      std::swap(dxdt_previous_, dxdt_);
       std::swap(x_, x_new_);
-      const bool landed = t_new == target;
+      t_previous_ = t_;
       t_ = t_new;
+      extension_fitted_ = false;
+      const bool landed = t_new == end;
       // A truncated landing step does not shrink the next proposal.
       dt_ = landed && h < dt_ ? std::max(dt_, h_next) : h_next;
       ++stats_->steps;
-      if (++steps_here > options_.max_steps) {
+      if (++steps_since_output_ > options_.max_steps) {
         throw core::SolverError("odeint", t_, stats_->steps,
                                 "more than max_steps = " + std::to_string(options_.max_steps) +
                                     " steps between output times (too much work)");
       }
       evaluate_derivative();
+      return;
     }
   }
 
-  /// Projects θ onto the unit sphere (at outputs and segment ends).
+  /// The state at an output time t in [start of the last step, time()]: the step's end value
+  /// at its end; inside, when it is the step's only output, an RKF7(8) step of length
+  /// t − start from the step's start (12 evaluations), else the continuous extension (fitted
+  /// once per step, 26 evaluations). Both are of the method's order; the first halves the cost
+  /// of dense-output scenes whose steps hold about one output each (flexible_spinner at rtol
+  /// 1e-12: 1022 steps for 1000 outputs).
+  void output(double t, core::State& state, bool only_output_inside) {
+    steps_since_output_ = 0;
+    if (t >= t_ - time_slack(t_)) {
+      form_->unpack(t_, x_.data(), state);
+      return;
+    }
+    if (only_output_inside) {
+      stepper_.stepper().do_step(SegmentRhs(*form_, scratch_, counters_, t_segment_), x_previous_,
+                                 dxdt_previous_, t_previous_, x_output_, t - t_previous_);
+    } else {
+      if (!extension_fitted_) fit_extension();
+      extension_.evaluate(t, x_output_.data());
+    }
+    form_->unpack(t, x_output_.data(), state);
+  }
+  /// W_d and the extra integrals at the output t just computed by output().
+  void output_integrals(double t, std::span<double> out) const {
+    if (t >= t_ - time_slack(t_)) {
+      form_->integrals(x_.data(), out);
+    } else {
+      form_->integrals(x_output_.data(), out);  // the values output(t) just interpolated
+    }
+  }
+
+  /// Projects θ onto the unit sphere (at segment ends).
   void normalize() {
     form_->normalize_euler_parameters(x_.data());
     evaluate_derivative();
@@ -209,7 +266,6 @@ class Integrator {
   }
 
   void unpack(core::State& state) const { form_->unpack(time(), x_.data(), state); }
-  double dissipated_work() const { return form_->dissipated_work(x_.data()); }
   long rhs_evaluations() const { return counters_.rhs_evaluations; }
 
  private:
@@ -238,43 +294,91 @@ class Integrator {
     return false;
   }
 
-  /// 2 min_k |g_k| / |ġ_k| over the functions moving towards zero (ġ by a forward difference
-  /// along dxdt_), or `h` when none is.
+  /// Some switching function is not positive at the step's start: a contact is engaged.
+  bool in_contact() const {
+    return std::any_of(g_.begin(), g_.end(), [](double g) { return !(g > 0.0); });
+  }
+
+  /// The step-doubling test of a step taken in contact (x_new_ after h from x_): RKF7(8)'s own
+  /// error estimate, 41/840 (k1 + k11 − k12 − k13) h, compares only the stages at the step's ends
+  /// and accepts a step across a whole stiff contact phase (measured on bouncing_ball: a 0.011 s
+  /// step from an impact's onset through its compression, in error by millimetres, passed it).
+  /// Two steps of h/2 must agree with the step in odeint's own error norm,
+  /// max_i |Δ_i| / (atol + rtol (|x_i| + h |ẋ_i|)) ≤ 1; the difference estimates the step's
+  /// local error (1 − 2⁻⁸ of it). On failure h_next is the order-8 controller's proposal.
+  bool halves_agree(double h, double& h_next) {
+    SegmentRhs rhs(*form_, scratch_, counters_, t_segment_);
+    stepper_.stepper().do_step(rhs, x_, dxdt_, t_, x_mid_, 0.5 * h);
+    rhs(x_mid_, dxdt_mid_, t_ + 0.5 * h);
+    stepper_.stepper().do_step(rhs, x_mid_, dxdt_mid_, t_ + 0.5 * h, x_output_, 0.5 * h);
+    const double rtol = options_.rtol;
+    const double atol = options_.absolute_tolerance();
+    double error = 0.0;
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+      const double scale = atol + rtol * (std::abs(x_[i]) + h * std::abs(dxdt_[i]));
+      error = std::max(error, std::abs(x_output_[i] - x_new_[i]) / scale);
+    }
+    if (!(error <= 1.0)) {
+      // h (0.9 / error)^(1/8), at least a fifth of h (odeint's controller's bounds).
+      h_next =
+          std::isfinite(error) ? h * std::max(0.2, 0.9 * std::pow(error, -1.0 / 8.0)) : 0.2 * h;
+      return false;
+    }
+    return true;
+  }
+
+  /// SwitchingPredictor's cap on a step of length h from the current state.
   double switching_step_cap(double h) {
     if (g_.empty()) return h;
-    const double delta = 1e-7 * h;
-    for (std::size_t i = 0; i < x_.size(); ++i) x_mid_[i] = x_[i] + delta * dxdt_[i];
-    evaluate_switching(x_mid_, t_ + delta, g_mid_);
-    double cap = h;
-    for (std::size_t k = 0; k < g_.size(); ++k) {
-      const double rate = (g_mid_[k] - g_[k]) / delta;
-      if (g_[k] != 0.0 && rate != 0.0 && (g_[k] > 0.0) != (rate > 0.0)) {
-        cap = std::min(cap, 2.0 * std::abs(g_[k] / rate));
-      }
-    }
-    return cap;
+    return predictor_.cap(
+        t_, x_.data(), dxdt_.data(), g_, h, t_segment_,
+        [this](double t, const double* x, double* xdot) {
+          const std::size_t n = x_.size();
+          std::copy(x, x + n, x_mid_.begin());
+          counters_.nonfinite = false;
+          SegmentRhs(*form_, scratch_, counters_, t_segment_)(x_mid_, dxdt_mid_, t);
+          std::copy(dxdt_mid_.begin(), dxdt_mid_.end(), xdot);
+          return !counters_.nonfinite;
+        },
+        scratch_);
   }
 
   /// For a step of length h from (t_, x_) whose switching functions end on the side they
-  /// started (g_ → g_new_): the fraction s ∈ (0, 1) of the step where the quadratic through
-  /// g(0), ġ(0) and g(h) reaches its extremum on the other side of zero (the smallest over the
-  /// functions), or 0 when no quadratic does. ġ(0) = ∇g · ẋ by a forward difference along
-  /// dxdt_ (one extra switching evaluation, no right-hand side).
-  double double_crossing_candidate(double h) {
+  /// started (g_ → g_new_): where in the step a function may have dipped through zero and back,
+  /// as fractions s ∈ (0, 1), ascending (0 where there is no candidate):
+  ///  - the extremum of the quadratic through g(0), ġ(0) and g(h), when it lies on the other side
+  ///    of zero (a short contact inside a long flight step);
+  ///  - the zero of the linear model g(0) + ġ(0) t, when it lies inside the step: a stiff
+  ///    contact can throw the body back out within one step, and RKF7(8)'s error estimate,
+  ///    41/840 (k1 + k11 − k12 − k13) h, need not see the stages that were inside it (measured
+  ///    on bouncing_ball with tolerance-sized steps of 0.06 s: the first impact was stepped over
+  ///    and the ball gained 2 m of height); the end value, already thrown back, hides it from the
+  ///    quadratic.
+  /// The smallest over the functions of each. ġ(0) = ∇g · ẋ by a forward difference along dxdt_
+  /// (one extra switching evaluation, no right-hand side).
+  std::array<double, 2> double_crossing_candidates(double h) {
     const double delta = 1e-7 * h;
     for (std::size_t i = 0; i < x_.size(); ++i) x_mid_[i] = x_[i] + delta * dxdt_[i];
     evaluate_switching(x_mid_, t_ + delta, g_mid_);
-    double best = 0.0;
+    double quadratic = 0.0;
+    double linear = 0.0;
     for (std::size_t k = 0; k < g_.size(); ++k) {
       const double slope = (g_mid_[k] - g_[k]) / delta * h;  // dg/ds
-      const double curvature = g_new_[k] - g_[k] - slope;    // q(s) = g0 + slope s + c s²
+      if (slope != 0.0 && g_[k] != 0.0 && (slope > 0.0) != (g_[k] > 0.0)) {
+        const double s_zero = -g_[k] / slope;
+        if (s_zero < 1.0 && (linear == 0.0 || s_zero < linear)) linear = s_zero;
+      }
+      const double curvature = g_new_[k] - g_[k] - slope;  // q(s) = g0 + slope s + c s²
       if (curvature == 0.0) continue;
       const double s_star = -slope / (2.0 * curvature);
       if (!(s_star > 0.0 && s_star < 1.0)) continue;
       const double extremum = g_[k] - slope * slope / (4.0 * curvature);
-      if ((extremum > 0.0) != (g_[k] > 0.0) && (best == 0.0 || s_star < best)) best = s_star;
+      if ((extremum > 0.0) != (g_[k] > 0.0) && (quadratic == 0.0 || s_star < quadratic)) {
+        quadratic = s_star;
+      }
     }
-    return best;
+    if (quadratic == 0.0 || (linear != 0.0 && linear < quadratic)) return {linear, quadratic};
+    return {quadratic, linear};
   }
 
   /// Smallest step length (to a few ulp of t) from (t_, x_) after which a switching function
@@ -300,6 +404,25 @@ class Integrator {
     return hi;
   }
 
+  /// The order-8 continuous extension of the last accepted step [t_previous_, t_]: RKF7(8)
+  /// steps of h/3 and 2h/3 from its start give the interior nodes (continuous_extension.hpp).
+  void fit_extension() {
+    const double h = t_ - t_previous_;
+    SegmentRhs rhs(*form_, scratch_, counters_, t_segment_);
+    for (int j = 1; j <= 2; ++j) {
+      StateVector& node = j == 1 ? x_node1_ : x_node2_;
+      StateVector& rate = j == 1 ? dxdt_node1_ : dxdt_node2_;
+      const double t_node = t_previous_ + ContinuousExtension::node_fraction(j) * h;
+      stepper_.stepper().do_step(rhs, x_previous_, dxdt_previous_, t_previous_, node,
+                                 ContinuousExtension::node_fraction(j) * h);
+      rhs(node, rate, t_node);
+    }
+    extension_.fit(t_previous_, h,
+                   {x_previous_.data(), x_node1_.data(), x_node2_.data(), x_.data()},
+                   {dxdt_previous_.data(), dxdt_node1_.data(), dxdt_node2_.data(), dxdt_.data()});
+    extension_fitted_ = true;
+  }
+
   void reject(double dt, const char* why) {
     ++stats_->error_test_failures;
     dt_ = dt;
@@ -314,8 +437,17 @@ class Integrator {
   reference::OdeForm::Scratch scratch_;
   Counters counters_;
   ControlledStepper stepper_;
-  StateVector x_, x_new_, x_mid_, dxdt_;
+  StateVector x_, x_new_, x_mid_, dxdt_, dxdt_mid_;
+  SwitchingPredictor predictor_;
+  /// The last accepted step's start, and the interior nodes of its continuous extension.
+  StateVector x_previous_, dxdt_previous_, x_node1_, dxdt_node1_, x_node2_, dxdt_node2_;
+  StateVector x_output_;  ///< the last interpolated output
+  ContinuousExtension extension_;
+  bool extension_fitted_ = false;
+  double t_previous_ = 0.0;
+  long steps_since_output_ = 0;
   std::vector<double> g_, g_new_, g_mid_;  ///< switching functions at x_, x_new_, x_mid_
+  std::vector<double> carried_;            ///< integrals carried across a segment start
   std::vector<double>* events_ = nullptr;
   double t_ = 0.0;
   double dt_ = 0.0;  ///< proposal for the next step; 0 before the first segment
@@ -349,6 +481,8 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
 
   ReferenceRun run;
   run.solver = "odeint";
+  run.method = "rkf78";
+  run.method_reason = "Boost.Odeint runge_kutta_fehlberg78, order-8 continuous extension";
   run.options = options;
   run.trajectory.times = output_times;
   run.trajectory.states.reserve(output_times.size());
@@ -365,10 +499,25 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
 
   std::size_t k = 0;
   const bool track_work = form.work_index() >= 0;
-  for (; k < output_times.size() && output_times[k] <= time_slack(0.0); ++k) {
+  std::vector<double> integrals(static_cast<std::size_t>(form.integral_count()), 0.0);
+  const bool count_impacts = model.wear_channel_count() > 0;
+  core::Workspace ws = model.make_workspace();
+  core::ImpactCounter impacts(model);
+  impacts.start(core::LoadContext{0.0, 0.0}, state, ws);
+  core::State step_end = state;
+  const auto record = [&]() {
     run.trajectory.states.push_back(state);
-    if (track_work) run.trajectory.dissipated_work.push_back(0.0);
-  }
+    if (track_work) {
+      run.trajectory.dissipated_work.push_back(integrals[0]);
+      run.trajectory.extra_work.insert(run.trajectory.extra_work.end(), integrals.begin() + 1,
+                                       integrals.end());
+    }
+    if (count_impacts) {
+      run.trajectory.impacts.insert(run.trajectory.impacts.end(), impacts.counts().begin(),
+                                    impacts.counts().end());
+    }
+  };
+  for (; k < output_times.size() && output_times[k] <= time_slack(0.0); ++k) record();
   if (k == output_times.size()) return run;
 
   Integrator integrator(form, options, run.stats);
@@ -380,22 +529,34 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
       std::clock_t tic = std::clock();
       integrator.begin_segment(state, 0.5 * (start + end));
       cpu += std::clock() - tic;
-      for (; k < output_times.size() && output_times[k] <= end + time_slack(end); ++k) {
+      while (integrator.time() < end) {
         tic = std::clock();
-        integrator.advance_to(std::min(output_times[k], end));
-        integrator.normalize();
+        integrator.step(end);
+        const double reached = integrator.time();
+        // Outputs in the step just taken; those within a few ulp of the segment end at the end.
+        const double last = reached == end ? end + time_slack(end) : reached;
+        std::size_t inside = 0;  // outputs strictly inside the step
+        for (std::size_t j = k; j < output_times.size() && output_times[j] <= last; ++j) {
+          if (std::min(output_times[j], reached) < reached - time_slack(reached)) ++inside;
+        }
+        for (; k < output_times.size() && output_times[k] <= last; ++k) {
+          const double t = std::min(output_times[k], reached);
+          integrator.output(t, state, inside == 1);
+          if (track_work) integrator.output_integrals(t, integrals);
+          record();
+        }
+        if (count_impacts) {
+          // Steps end just past a located event: an onset is seen at the step's end (after the
+          // outputs inside the step, which precede it).
+          integrator.unpack(step_end);
+          impacts.update(core::LoadContext{reached, 0.5 * (start + end)}, step_end, ws);
+        }
         cpu += std::clock() - tic;
-        integrator.unpack(state);
-        run.trajectory.states.push_back(state);
-        if (track_work) run.trajectory.dissipated_work.push_back(integrator.dissipated_work());
       }
-      if (integrator.time() < end) {
-        tic = std::clock();
-        integrator.advance_to(end);
-        integrator.normalize();
-        cpu += std::clock() - tic;
-        integrator.unpack(state);
-      }
+      tic = std::clock();
+      integrator.normalize();
+      cpu += std::clock() - tic;
+      integrator.unpack(state);
       start = end;
     }
   } catch (const core::SolverError&) {

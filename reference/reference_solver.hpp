@@ -1,10 +1,12 @@
 #pragma once
 /// \file reference_solver.hpp
-/// The reference integrators (docs/design/schemes.md, "Reference integrators"): IDA on the DAE
-/// form, CVODE on the ODE form with projection, Boost.Odeint RKF7(8) on the ODE form. Each
-/// stops and restarts at every known load discontinuity and writes the state at the requested
-/// output times (by the solver's own dense output or by stepping exactly onto them, never by
-/// interpolating a coarse output).
+/// The reference integrators (docs/design/schemes.md, "Reference integrators";
+/// docs/references.md): IDA on the DAE form, CVODE (Adams or BDF with projection) and ARKODE's
+/// explicit Fehlberg 13-7-8 on the ODE form, Boost.Odeint RKF7(8) with an order-8 continuous
+/// extension on the ODE form. Each stops and restarts at every known load discontinuity and at
+/// every located contact event, and writes the state at the requested output times from its
+/// own dense output or by stopping exactly on them, never by interpolating a coarse output;
+/// the output grid never sets the step sequence (except ARKODE's exact stops).
 #include <string>
 #include <vector>
 
@@ -13,12 +15,39 @@
 
 namespace flexref::reference {
 
+class OdeJacobian;
+
+/// CVODE's linear multistep family (docs/references.md, "CVODE: Adams or BDF").
+enum class CvodeMethod {
+  kAuto,   ///< chosen from the model (choose_cvode_method, reference/method_choice.hpp)
+  kAdams,  ///< Adams–Moulton orders 1–12, no projection: |θ| is a first integral
+  kBdf,    ///< BDF orders 1–5 with the projection of θ onto the unit sphere
+  /// BDF orders 1–2 with the projection: A-stable, for undamped modes far above every rate the
+  /// solution must resolve (BDF3–5 are unstable on part of the imaginary axis); also IDA's cap.
+  kBdf2,
+};
+
+/// ARKODE's method (docs/references.md, "ARKODE", "Stiff oscillatory scenes").
+enum class ArkodeMethod {
+  kAuto,    ///< chosen from the model and output grid (choose_arkode_method, method_choice.hpp)
+  kErk,     ///< ERKStep, Fehlberg 13-7-8 (explicit, order 8)
+  kEsdirk,  ///< ARKStep, ESDIRK5(4)7L[2]SA (implicit, L-stable, order 5)
+};
+
 struct SolverOptions {
   double rtol = 1e-10;
   /// Absolute tolerance; a negative value means atol = rtol (the states are O(1) in SI).
   double atol = -1.0;
   /// Most internal steps between two consecutive output times (SUNDIALS' mxstep meaning).
   long max_steps = 50'000'000;
+  /// CVODE's method; for IDA, kBdf and kBdf2 cap its order at 5 and 2 (kAdams is refused),
+  /// kAuto chooses from the model (reference/method_choice.hpp).
+  CvodeMethod cvode_method = CvodeMethod::kAuto;
+  ArkodeMethod arkode_method = ArkodeMethod::kAuto;
+  /// CVODE, IDA and ARKODE's ESDIRK: ∂f/∂y of the ODE form instead of the structured Jacobian
+  /// (flexible models) or difference quotients (rigid ones) (ode_jacobian.hpp); not owned, must
+  /// outlive the solve.
+  const OdeJacobian* jacobian = nullptr;
   double absolute_tolerance() const { return atol < 0.0 ? rtol : atol; }
 };
 
@@ -33,7 +62,18 @@ struct SolverStats {
 };
 
 struct ReferenceRun {
-  std::string solver;  ///< "ida", "cvode", "odeint", "exact"
+  std::string solver;  ///< "ida", "cvode", "arkode", "odeint", "exact"
+  /// The method within the solver: "bdf" or "bdf2" (ida), "adams", "bdf" or "bdf2" (cvode),
+  /// "erk-fehlberg-13-7-8" or "esdirk547l2sa-7-4-5" (arkode), "rkf78" (odeint), "analytic"
+  /// (exact).
+  std::string method;
+  /// Why this method (CVODE's and IDA's automatic choice names the model's stiff element, if
+  /// any).
+  std::string method_reason;
+  /// The implicit solvers' Newton systems: "structured" (reference/structured_jacobian.hpp
+  /// with the structured Newton solve), "difference quotients" (the solver's own, dense LU),
+  /// "user" (SolverOptions::jacobian, dense LU); empty for the explicit ones.
+  std::string jacobian;
   SolverOptions options;
   core::Trajectory trajectory;
   SolverStats stats;
@@ -47,7 +87,16 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
                        const SolverOptions& options);
 ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& output_times,
                          const SolverOptions& options);
+ReferenceRun solve_arkode(const core::Model& model, const std::vector<double>& output_times,
+                          const SolverOptions& options);
 ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& output_times,
                           const SolverOptions& options);
+
+/// "auto", "adams", "bdf", "bdf2"; and back (std::invalid_argument for another name).
+const char* to_string(CvodeMethod method);
+CvodeMethod parse_cvode_method(const std::string& name);
+/// "auto", "erk", "esdirk"; and back (std::invalid_argument for another name).
+const char* to_string(ArkodeMethod method);
+ArkodeMethod parse_arkode_method(const std::string& name);
 
 }  // namespace flexref::reference

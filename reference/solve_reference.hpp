@@ -1,6 +1,6 @@
 #pragma once
 /// \file solve_reference.hpp
-/// Dispatch by solver name: "ida", "cvode", "odeint", "exact".
+/// Dispatch by solver name: "ida", "cvode", "arkode", "odeint", "exact".
 #include <string>
 #include <vector>
 

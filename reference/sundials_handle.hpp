@@ -2,9 +2,10 @@
 /// \file sundials_handle.hpp
 /// The SUNDIALS boundary (docs/design/style.md, after SUNDIALS' own C++ `sundials::Context`):
 ///  - RAII owners with custom deleters for every handle SUNDIALS hands out (context, vectors,
-///    matrices, linear solvers, IDA and CVODE memory);
+///    matrices, linear solvers, IDA, CVODE and ARKODE ERKStep memory);
 ///  - one `check(flag, "Function")` that turns a negative return into a SundialsError naming
-///    the function and the flag (IDAGetReturnFlagName / CVodeGetReturnFlagName);
+///    the function and the flag (IDAGetReturnFlagName / CVodeGetReturnFlagName /
+///    ERKStepGetReturnFlagName / ARKStepGetReturnFlagName);
 ///  - an error handler that records SUNDIALS' own message ("At t = 0.3, mxstep steps taken
 ///    before reaching tout.") instead of printing it, so the driver can put it into the
 ///    core::SolverError it throws;
@@ -14,6 +15,8 @@
 ///    sundials_segment_driver.hpp.
 /// Boost.Odeint (odeint_solver.cpp) plans its segments on its own: it is the independent code
 /// path.
+#include <arkode/arkode_arkstep.h>
+#include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
 #include <ida/ida.h>
 #include <ida/ida_ls.h>
@@ -60,6 +63,9 @@ struct IdaMemoryDeleter {
 struct CvodeMemoryDeleter {
   void operator()(void* memory) const noexcept { CVodeFree(&memory); }
 };
+struct ErkStepMemoryDeleter {
+  void operator()(void* memory) const noexcept { ERKStepFree(&memory); }
+};
 
 using Context = std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextDeleter>;
 using Vector = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorDeleter>;
@@ -67,6 +73,11 @@ using Matrix = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixDeleter>;
 using LinearSolver = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, LinearSolverDeleter>;
 using IdaMemory = std::unique_ptr<void, IdaMemoryDeleter>;
 using CvodeMemory = std::unique_ptr<void, CvodeMemoryDeleter>;
+using ErkStepMemory = std::unique_ptr<void, ErkStepMemoryDeleter>;
+struct ArkStepMemoryDeleter {
+  void operator()(void* memory) const noexcept { ARKStepFree(&memory); }
+};
+using ArkStepMemory = std::unique_ptr<void, ArkStepMemoryDeleter>;
 
 // ---------------------------------------------------------------------------------------------
 // Errors
@@ -86,8 +97,8 @@ class SundialsError : public std::runtime_error {
   int flag_;
 };
 
-/// The symbolic name of a flag returned by `function`: IDA and CVODE reuse the same numbers
-/// for different meanings, and their linear-solver interfaces have a third table.
+/// The symbolic name of a flag returned by `function`: IDA, CVODE and ARKODE reuse the same
+/// numbers for different meanings, and their linear-solver interfaces have a third table.
 inline std::string flag_name(int flag, std::string_view function) {
   const bool linear_solver_interface = function.find("LinearSolver") != std::string_view::npos ||
                                        function.find("JacFn") != std::string_view::npos;
@@ -96,6 +107,11 @@ inline std::string flag_name(int flag, std::string_view function) {
     name = linear_solver_interface ? IDAGetLinReturnFlagName(flag) : IDAGetReturnFlagName(flag);
   } else if (function.starts_with("CVode")) {
     name = linear_solver_interface ? CVodeGetLinReturnFlagName(flag) : CVodeGetReturnFlagName(flag);
+  } else if (function.starts_with("ERKStep")) {
+    name = ERKStepGetReturnFlagName(flag);
+  } else if (function.starts_with("ARKStep")) {
+    name = linear_solver_interface ? ARKStepGetLinReturnFlagName(flag)
+                                   : ARKStepGetReturnFlagName(flag);
   }
   std::string text = name != nullptr ? std::string(name) : "flag " + std::to_string(flag);
   std::free(name);  // NOLINT(cppcoreguidelines-no-malloc): SUNDIALS allocates with malloc
@@ -152,7 +168,8 @@ inline std::string failure_message(const std::string& what, const CallbackRecord
   return out.str();
 }
 
-/// Error handler for IDASetErrHandlerFn / CVodeSetErrHandlerFn (same signature): keeps the
+/// Error handler for IDASetErrHandlerFn / CVodeSetErrHandlerFn / ERKStepSetErrHandlerFn (same
+/// signature): keeps the
 /// message of the last error and drops warnings (such as "t + h = t"), which either resolve
 /// themselves or end in an error whose message is kept.
 inline void record_error(int error_code, const char* module, const char* function, char* message,

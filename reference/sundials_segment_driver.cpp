@@ -3,10 +3,17 @@
 #include <algorithm>
 #include <cstddef>
 #include <ctime>
+#include <limits>
+#include <vector>
 
 #include "core/error.hpp"
+#include "core/impact_counter.hpp"
 
 namespace flexref::reference::sundials {
+
+namespace {
+constexpr double kNever = std::numeric_limits<double>::infinity();
+}  // namespace
 
 ReferenceRun integrate_segments(const core::Model& model, const std::vector<double>& output_times,
                                 const SolverOptions& options, const std::string& solver_name,
@@ -21,11 +28,27 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
   run.trajectory.states.reserve(output_times.size());
   core::State state = model.initial_state();
   const bool track_work = model.dissipates();
-  double work = 0.0;  // W_d carried across restarts
-  for (std::size_t k = 0; k < plan.initial_outputs; ++k) {
+  // W_d and the extra integrals (applied work, wear work), carried across restarts.
+  std::vector<double> integrals(
+      track_work ? static_cast<std::size_t>(1 + model.extra_integral_count()) : 0, 0.0);
+  core::Workspace ws = model.make_workspace();
+  core::ImpactCounter impacts(model);
+  impacts.start(core::LoadContext{0.0, 0.0}, state, ws);
+  const bool count_impacts = model.wear_channel_count() > 0;
+  const auto record = [&](double t) {
     run.trajectory.states.push_back(state);
-    if (track_work) run.trajectory.dissipated_work.push_back(0.0);
-  }
+    if (track_work) {
+      run.trajectory.dissipated_work.push_back(integrals[0]);
+      run.trajectory.extra_work.insert(run.trajectory.extra_work.end(), integrals.begin() + 1,
+                                       integrals.end());
+    }
+    if (count_impacts) {
+      impacts.update(core::LoadContext{t, t}, state, ws);
+      run.trajectory.impacts.insert(run.trajectory.impacts.end(), impacts.counts().begin(),
+                                    impacts.counts().end());
+    }
+  };
+  for (std::size_t k = 0; k < plan.initial_outputs; ++k) record(output_times[k]);
   if (plan.segments.empty()) return run;
 
   const std::unique_ptr<SegmentSolver> solver = make_solver();
@@ -35,23 +58,31 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
     for (const Segment& segment : plan.segments) {
       const std::clock_t start = std::clock();
       try {
-        solver->start_segment(segment, state, work);
+        solver->start_segment(segment, state, integrals);
       } catch (const StartError& e) {
         throw core::SolverError(solver_name, segment.start, run.stats.steps, e.what());
       }
       t_reached = segment.start;
       cpu += std::clock() - start;
 
-      const auto advance_to = [&](double tout) {
+      // `next`: the time the driver asks for after tout (the next output or the segment end),
+      // so that a solver can tell whether tout is the only output inside its current step.
+      const auto advance_to = [&](double tout, double next) {
         const std::clock_t solve_start = std::clock();
         double t_returned = t_reached;
         while (t_returned < tout) {
-          const SegmentSolver::Advance reached = solver->advance(tout);
+          const SegmentSolver::Advance reached = solver->advance(tout, next);
           if (reached.root) {
             // A contact onset or release: restart there (new order-1 step sequence).
             t_returned = reached.t;
             run.event_times.push_back(t_returned);
             ++run.stats.events;
+            if (count_impacts) {
+              // The root finder returns the state just past the sign change: an onset is seen
+              // here, however short the contact.
+              solver->unpack(t_returned, state);
+              impacts.update_at_root(core::LoadContext{t_returned, segment.t_segment}, state, ws);
+            }
             solver->add_counters(run.stats);
             solver->restart_at_root(t_returned, segment);
           } else {
@@ -64,16 +95,19 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
       for (std::size_t k = segment.first_output; k < segment.end_output; ++k) {
         // Outputs within boundary_slack of the segment end are taken at the end.
         const double tout = std::min(output_times[k], segment.end);
-        if (tout > t_reached) advance_to(tout);
+        const double next = k + 1 < segment.end_output
+                                ? std::min(output_times[k + 1], segment.end)
+                                : (tout < segment.end ? segment.end : kNever);
+        if (tout > t_reached) advance_to(tout, next);
         solver->unpack(tout, state);
-        run.trajectory.states.push_back(state);
-        if (track_work) run.trajectory.dissipated_work.push_back(solver->dissipated_work());
+        if (track_work) solver->integrals(integrals);
+        record(tout);
       }
-      if (t_reached < segment.end) advance_to(segment.end);
+      if (t_reached < segment.end) advance_to(segment.end, kNever);
       // The state is continuous across a load switch; unpacking normalizes θ, so the restart
       // also projects the Euler parameters back onto the unit sphere.
       solver->unpack(t_reached, state);
-      work = solver->dissipated_work();
+      if (track_work) solver->integrals(integrals);
       solver->add_counters(run.stats);
     }
   } catch (const SundialsError& e) {

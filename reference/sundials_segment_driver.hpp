@@ -13,6 +13,7 @@
 /// (odeint_solver.cpp) keeps its own loop: it is the independent code path.
 #include <functional>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -37,26 +38,31 @@ class SegmentSolver {
  public:
   virtual ~SegmentSolver() = default;
 
-  /// Starts `segment` at segment.start from `state` with dissipated work `work`: the first call
+  /// Starts `segment` at segment.start from `state` with the integrals tracked with the state
+  /// (W_d and the model's extra integrals, OdeForm::integral_count() values): the first call
   /// initializes the solver, later ones re-initialize it; sets the stop time to segment.end and
   /// makes every callback evaluate the loads with t_segment = segment.t_segment.
-  virtual void start_segment(const Segment& segment, const core::State& state, double work) = 0;
+  virtual void start_segment(const Segment& segment, const core::State& state,
+                             std::span<const double> integrals) = 0;
 
   /// Where one call of the solver towards an output time ended.
   struct Advance {
     double t = 0.0;     ///< time reached (tout, or a root before it)
     bool root = false;  ///< stopped at a zero of a switching function
   };
-  /// One call in the solver's NORMAL mode towards tout (≤ the stop time).
-  virtual Advance advance(double tout) = 0;
+  /// One call in the solver's NORMAL mode towards tout (≤ the stop time). `next` is the time
+  /// the driver will ask for after tout (the next output, the segment end, or +inf): a solver
+  /// that computes outputs itself can tell whether tout is the only one inside its step.
+  virtual Advance advance(double tout, double next) = 0;
 
   /// Restarts at the root t just returned by advance (same segment, same stop time).
   virtual void restart_at_root(double t, const Segment& segment) = 0;
 
   /// The state at time t of the solution last returned by advance (θ normalized).
   virtual void unpack(double t, core::State& state) const = 0;
-  /// The dissipated work W_d of that solution (0 when the model does not dissipate).
-  virtual double dissipated_work() const = 0;
+  /// The integrals of that solution: W_d, then the model's extra integrals (none when the model
+  /// does not dissipate).
+  virtual void integrals(std::span<double> out) const = 0;
 
   /// Adds the counters of the current run (the solvers reset them at every re-initialization).
   virtual void add_counters(SolverStats& stats) const = 0;

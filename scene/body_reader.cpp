@@ -4,6 +4,7 @@
 /// file (docs/modal_data.md), into a BodySpec.
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -101,9 +102,11 @@ flexible::ModalData read_beam(const Table& body, BeamSpec& spec) {
     p.GJ = b->number("GJ", Sign::kPositive, "a positive torsional stiffness GJ in N*m^2");
   }
   p.rho_A = b->number("rho_A", Sign::kPositive, "a positive mass per length rho_A in kg/m");
-  p.boundary = b->choice("boundary", {"clamped-free", "free-free"}, 0) == 0
-                   ? flexible::BeamBoundary::kClampedFree
-                   : flexible::BeamBoundary::kFreeFree;
+  constexpr std::array<flexible::BeamBoundary, 4> boundaries = {
+      flexible::BeamBoundary::kClampedFree, flexible::BeamBoundary::kFreeFree,
+      flexible::BeamBoundary::kClampedPinned, flexible::BeamBoundary::kClampedClamped};
+  p.boundary = boundaries[static_cast<std::size_t>(b->choice(
+      "boundary", {"clamped-free", "free-free", "clamped-pinned", "clamped-clamped"}, 0))];
   const int modes = read_count(*b, "modes", kMaxModes, "a positive integer mode count");
   flexible::BeamModeFilter filter;
   if (const toml::value* f = b->find("families")) {

@@ -42,6 +42,20 @@ double default_effective_mass(const ContactSpec& spec, const std::vector<core::B
   return mass / static_cast<double>(spec.pairs.size());
 }
 
+/// The node attachment of a body point: Φ_k of the built body's modal data for a node, none
+/// for a point of the rigid part (node = −1).
+core::NodeAttachment attachment(const std::vector<core::Body>& bodies, int body, int node,
+                                const SpecSource& source, const char* key) {
+  if (node < 0) return {};
+  const core::Body& b = bodies[static_cast<std::size_t>(body)];
+  if (!b.is_flexible()) throw SpecError(source, key, "the body is not flexible");
+  try {
+    return core::NodeAttachment::of_node(b.description().flexible->modal, node);
+  } catch (const std::invalid_argument& e) {
+    throw SpecError(source, key, e.what());
+  }
+}
+
 }  // namespace
 
 void regenerate_beam_modes(BodySpec& body) {
@@ -68,8 +82,10 @@ void regenerate_beam_modes(BodySpec& body) {
 
 std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
                                                         const std::vector<core::Body>& bodies) {
-  const double m_eff =
-      spec.effective_mass > 0.0 ? spec.effective_mass : default_effective_mass(spec, bodies);
+  const double m_eff = spec.effective_mass > 0.0
+                           ? spec.effective_mass
+                           : (spec.gap ? bodies[static_cast<std::size_t>(spec.gap->body)].mass()
+                                       : default_effective_mass(spec, bodies));
   const ContactLawSpec& l = spec.law;
   std::optional<contact::NormalLaw> law;
   try {
@@ -89,7 +105,20 @@ std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
                         "; expected less extreme law parameters");
   }
   try {
-    return std::make_unique<contact::ContactElement>(spec.pairs, *law, spec.friction, m_eff);
+    if (spec.gap) {
+      const GapSupportSpec& g = *spec.gap;
+      return std::make_unique<contact::GapSupport>(
+          g.body, g.p_BoN_B, attachment(bodies, g.body, g.node, spec.source, "node"), g.geometry,
+          *law, spec.friction, m_eff, spec.name);
+    }
+    std::vector<contact::ContactPair> pairs = spec.pairs;
+    for (contact::ContactPair& p : pairs) {
+      p.node_a = attachment(bodies, p.body_a, p.node_a.node, spec.source, "node");
+      p.node_b = attachment(bodies, p.body_b, p.node_b.node, spec.source,
+                            p.body_a >= 0 ? "node_b" : "node");
+    }
+    return std::make_unique<contact::ContactElement>(std::move(pairs), *law, spec.friction, m_eff,
+                                                     spec.name);
   } catch (const std::invalid_argument& e) {
     throw SpecError(spec.source, "", e.what());
   }
@@ -115,8 +144,9 @@ core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formula
       elements.push_back(
           std::make_unique<core::AppliedTorque>(l.body, l.value, l.frame, l.profile));
     } else {
-      elements.push_back(
-          std::make_unique<core::AppliedForce>(l.body, l.value, l.frame, l.p_BoP_B, l.profile));
+      elements.push_back(std::make_unique<core::AppliedForce>(
+          l.body, l.value, l.frame, l.p_BoP_B, l.profile,
+          attachment(bodies, l.body, l.node, l.source, "node")));
     }
   }
   for (const PotentialSpec& p : spec.potentials) {

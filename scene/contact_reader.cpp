@@ -2,6 +2,7 @@
 /// [[contact]] and [[joint]] tables (scenes/README.md, docs/contact.md, docs/joints.md) into
 /// ContactSpec and JointSpec.
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -9,34 +10,80 @@
 
 namespace flexref::scene::detail {
 
-ContactSpec read_contact(const Table& t, const BodyNames& names) {
-  t.check_keys({"kind",
-                "body",
-                "center",
-                "centers",
-                "radius",
-                "point",
-                "points",
-                "body_b",
-                "center_b",
-                "radius_b",
-                "plane_point",
-                "plane_normal",
-                "law",
-                "stiffness",
-                "exponent",
-                "restitution",
-                "reference_speed",
-                "damping",
-                "friction",
-                "regularization_speed",
+namespace {
+
+/// [[contact]] kind = "gap-support" (contact/gap_support.hpp).
+GapSupportSpec read_gap_support(const Table& t, int body, const std::vector<BodySpec>& bodies) {
+  reject_keys(t,
+              {"center", "centers", "radius", "points", "body_b", "center_b", "radius_b", "node_b",
+               "plane_point"},
+              "does not apply to a gap support (node or point, axis_point, axis, clearance)");
+  GapSupportSpec gap;
+  gap.body = body;
+  const BodySpec& b = bodies[static_cast<std::size_t>(body)];
+  if (t.has("node") && t.has("point")) {
+    t.fail("point", "a gap support acts at a node or at a point; expected one of them, not both");
+  }
+  if (t.has("node")) {
+    gap.node = read_node(t, "node", b);
+    gap.p_BoN_B = b.description.flexible->modal.p_BoNode_B.col(gap.node);
+  } else {
+    gap.p_BoN_B = t.vector3("point", "the supported point [x, y, z] in m, body frame (or node)");
+  }
+  contact::GapSupportGeometry& g = gap.geometry;
+  g.kind = t.choice("shape", {"circular", "planar"}, 0) == 0
+               ? contact::GapSupportGeometry::Kind::kCircular
+               : contact::GapSupportGeometry::Kind::kPlanar;
+  g.p_WS = t.vector3("axis_point", "a point [x, y, z] of the support axis in m, world frame");
+  g.a_W = read_unit(t, "axis", nullptr, "the support axis [x, y, z], a unit vector, world frame");
+  g.clearance = t.number("clearance", Sign::kPositive, "a positive radial clearance in m");
+  if (g.kind == contact::GapSupportGeometry::Kind::kPlanar) {
+    g.m_W = read_unit(t, "plane_normal", nullptr,
+                      "the unit normal [x, y, z] of the two support planes, world frame");
+    if (std::abs(g.m_W.dot(g.a_W)) > 1.0 - 1e-6) {
+      t.fail("plane_normal",
+             "the planes' normal is parallel to the axis; expected a normal "
+             "across the axis");
+    }
+  } else {
+    reject_keys(t, {"plane_normal"}, "applies only to shape = \"planar\"");
+  }
+  return gap;
+}
+
+}  // namespace
+
+ContactSpec read_contact(const Table& t, const BodyNames& names,
+                         const std::vector<BodySpec>& bodies) {
+  t.check_keys({"kind",          "name",        "node",
+                "node_b",        "axis_point",  "axis",
+                "clearance",     "shape",       "body",
+                "center",        "centers",     "radius",
+                "point",         "points",      "body_b",
+                "center_b",      "radius_b",    "plane_point",
+                "plane_normal",  "law",         "stiffness",
+                "exponent",      "restitution", "reference_speed",
+                "damping",       "friction",    "regularization_speed",
                 "effective_mass"});
-  const int kind = t.choice("kind", {"sphere-plane", "point-plane", "sphere-sphere"}, -1);
+  const int kind =
+      t.choice("kind", {"sphere-plane", "point-plane", "sphere-sphere", "gap-support"}, -1);
   const int body = names.resolve(t, "body");
   ContactSpec spec;
   spec.source = source_of(t);
+  if (t.has("name")) spec.name = t.name("name", "a contact name (the prefix of its wear columns)");
   std::vector<contact::ContactPair>& pairs = spec.pairs;
-  if (kind == 2) {
+  if (kind != 3) {
+    reject_keys(t, {"axis_point", "axis", "clearance", "shape"},
+                "applies only to kind = \"gap-support\"");
+  }
+  // A sphere (or point) at a node of a flexible body: the node's position is its centre.
+  const BodySpec& body_spec = bodies[static_cast<std::size_t>(body)];
+  const auto node_position = [&](int node) {
+    return Eigen::Vector3d(body_spec.description.flexible->modal.p_BoNode_B.col(node));
+  };
+  if (kind == 3) {
+    spec.gap = read_gap_support(t, body, bodies);
+  } else if (kind == 2) {
     reject_keys(t, {"centers", "point", "points", "plane_point", "plane_normal"},
                 "applies only to sphere-plane and point-plane contacts");
     const int body_b = names.resolve(t, "body_b");
@@ -45,15 +92,32 @@ ContactSpec read_contact(const Table& t, const BodyNames& names) {
              "a sphere-sphere contact joins two different bodies; expected a body "
              "other than body");
     }
+    if (t.has("node") && t.has("center")) {
+      t.fail("center", "a node sphere is centred at its node; expected either center or node");
+    }
+    if (t.has("node_b") && t.has("center_b")) {
+      t.fail("center_b",
+             "a node sphere is centred at its node; expected either center_b or node_b");
+    }
+    const int node_a = t.has("node") ? read_node(t, "node", body_spec) : -1;
+    const int node_b =
+        t.has("node_b") ? read_node(t, "node_b", bodies[static_cast<std::size_t>(body_b)]) : -1;
     const Eigen::Vector3d c_a =
-        t.vector3("center", "the centre [x, y, z] of body's sphere in m, body frame");
+        node_a >= 0 ? node_position(node_a)
+                    : t.vector3("center", "the centre [x, y, z] of body's sphere in m, body frame");
     const double r_a = t.number("radius", Sign::kNonNegative, "a sphere radius >= 0 in m");
     const Eigen::Vector3d c_b =
-        t.vector3("center_b", "the centre [x, y, z] of body_b's sphere in m, body_b's frame");
+        node_b >= 0
+            ? Eigen::Vector3d(bodies[static_cast<std::size_t>(body_b)]
+                                  .description.flexible->modal.p_BoNode_B.col(node_b))
+            : t.vector3("center_b", "the centre [x, y, z] of body_b's sphere in m, body_b's frame");
     const double r_b = t.number("radius_b", Sign::kNonNegative, "a sphere radius >= 0 in m");
     pairs.push_back(contact::ContactPair::sphere_sphere(body, c_a, r_a, body_b, c_b, r_b));
+    pairs.back().node_a.node = node_a;
+    pairs.back().node_b.node = node_b;
   } else {
-    reject_keys(t, {"body_b", "center_b", "radius_b"}, "applies only to sphere-sphere contacts");
+    reject_keys(t, {"body_b", "center_b", "radius_b", "node_b"},
+                "applies only to sphere-sphere contacts");
     const Eigen::Vector3d p_WQ = t.vector3_or("plane_point", Eigen::Vector3d::Zero(),
                                               "a point [x, y, z] of the plane in m, world frame");
     const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
@@ -62,19 +126,30 @@ ContactSpec read_contact(const Table& t, const BodyNames& names) {
                   "the plane's unit normal [x, y, z] toward the free side, world frame");
     if (kind == 0) {
       reject_keys(t, {"point", "points"},
-                  "a sphere-plane contact is given by center(s) and radius");
+                  "a sphere-plane contact is given by center(s) (or node) and radius");
+      if (t.has("node")) reject_keys(t, {"center", "centers"}, "a node sphere is at its node");
+      const int node = t.has("node") ? read_node(t, "node", body_spec) : -1;
       const std::vector<Eigen::Vector3d> centers =
-          read_vector_list(t, "center", "centers", "the sphere centre [x, y, z] in m, body frame");
+          node >= 0 ? std::vector<Eigen::Vector3d>{node_position(node)}
+                    : read_vector_list(t, "center", "centers",
+                                       "the sphere centre [x, y, z] in m, body frame");
       const double r = t.number("radius", Sign::kNonNegative, "a sphere radius >= 0 in m");
       for (const Eigen::Vector3d& c : centers) {
         pairs.push_back(contact::ContactPair::sphere_plane(body, c, r, p_WQ, n_W));
+        pairs.back().node_b.node = node;
       }
     } else {
-      reject_keys(t, {"center", "centers", "radius"}, "a point-plane contact is given by point(s)");
+      reject_keys(t, {"center", "centers", "radius"},
+                  "a point-plane contact is given by point(s) or node");
+      if (t.has("node")) reject_keys(t, {"point", "points"}, "a node point is at its node");
+      const int node = t.has("node") ? read_node(t, "node", body_spec) : -1;
       const std::vector<Eigen::Vector3d> points =
-          read_vector_list(t, "point", "points", "the contact point [x, y, z] in m, body frame");
+          node >= 0 ? std::vector<Eigen::Vector3d>{node_position(node)}
+                    : read_vector_list(t, "point", "points",
+                                       "the contact point [x, y, z] in m, body frame");
       for (const Eigen::Vector3d& p : points) {
         pairs.push_back(contact::ContactPair::point_plane(body, p, p_WQ, n_W));
+        pairs.back().node_b.node = node;
       }
     }
   }

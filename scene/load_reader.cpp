@@ -17,11 +17,19 @@ namespace {
 core::TimeProfile read_profile(const Table& load) {
   const std::optional<Table> p =
       load.table("profile",
-                 "a profile { shape = \"constant\" | \"sin2_pulse\" | \"rectangular_pulse\", "
-                 "start, duration }");
+                 "a profile { shape = \"constant\" | \"sin2_pulse\" | \"rectangular_pulse\" | "
+                 "\"harmonic\", start, duration | frequency, phase }");
   if (!p) return core::TimeProfile::constant();
-  p->check_keys({"shape", "start", "duration"});
-  const int shape = p->choice("shape", {"constant", "sin2_pulse", "rectangular_pulse"}, -1);
+  p->check_keys({"shape", "start", "duration", "frequency", "phase"});
+  const int shape =
+      p->choice("shape", {"constant", "sin2_pulse", "rectangular_pulse", "harmonic"}, -1);
+  if (shape == 3) {
+    reject_keys(*p, {"start", "duration"}, "applies only to pulses");
+    const double frequency = p->number("frequency", Sign::kPositive, "a positive frequency in Hz");
+    const double phase = p->number_or("phase", 0.0, Sign::kAny, "a phase in rad");
+    return core::TimeProfile::harmonic(frequency, phase);
+  }
+  reject_keys(*p, {"frequency", "phase"}, "applies only to shape = \"harmonic\"");
   if (shape == 0) {
     for (const std::string_view key : {"start", "duration"}) {
       if (p->has(key)) {
@@ -47,8 +55,8 @@ core::TimeProfile read_profile(const Table& load) {
 
 }  // namespace
 
-LoadSpec read_load(const Table& t, const BodyNames& names) {
-  t.check_keys({"kind", "body", "value", "frame", "at", "profile"});
+LoadSpec read_load(const Table& t, const BodyNames& names, const std::vector<BodySpec>& bodies) {
+  t.check_keys({"kind", "body", "value", "frame", "at", "node", "profile"});
   const bool torque = t.choice("kind", {"torque", "force"}, -1) == 0;
   const int body = names.resolve(t, "body");
   const Eigen::Vector3d value =
@@ -59,9 +67,24 @@ LoadSpec read_load(const Table& t, const BodyNames& names) {
   if (torque && t.has("at")) {
     t.fail("at", "applies only to forces (a torque is a couple); expected no at for a torque");
   }
-  const Eigen::Vector3d at = t.vector3_or("at", Eigen::Vector3d::Zero(),
-                                          "the point of application [x, y, z] in m, body frame");
+  if (torque && t.has("node")) {
+    t.fail("node", "applies only to forces (a torque is a couple); expected no node for a torque");
+  }
+  if (t.has("node") && t.has("at")) {
+    t.fail("at", "a node force acts at its node; expected either at or node, not both");
+  }
+  int node = -1;
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();
+  if (t.has("node")) {
+    const BodySpec& b = bodies[static_cast<std::size_t>(body)];
+    node = read_node(t, "node", b);
+    at = b.description.flexible->modal.p_BoNode_B.col(node);
+  } else {
+    at = t.vector3_or("at", Eigen::Vector3d::Zero(),
+                      "the point of application [x, y, z] in m, body frame");
+  }
   LoadSpec spec;
+  spec.node = node;
   spec.torque = torque;
   spec.body = body;
   spec.value = value;

@@ -78,12 +78,17 @@ void reject_keys(const Table& t, std::initializer_list<std::string_view> keys,
 /// The table's file, line and path, for specs.
 SpecSource source_of(const Table& t);
 
+/// The node of `body`'s modal data that `key` names (a node name), failing at the key when the
+/// body is rigid or has no such node.
+int read_node(const Table& t, std::string_view key, const BodySpec& body);
+
 BodySpec read_body(const Table& t, BodyNames& names);
-LoadSpec read_load(const Table& t, const BodyNames& names);
+LoadSpec read_load(const Table& t, const BodyNames& names, const std::vector<BodySpec>& bodies);
 /// Checks the charges' initial positions against the bodies' initial states.
 PotentialSpec read_potential(const Table& t, const BodyNames& names,
                              const std::vector<BodySpec>& bodies);
-ContactSpec read_contact(const Table& t, const BodyNames& names);
+ContactSpec read_contact(const Table& t, const BodyNames& names,
+                         const std::vector<BodySpec>& bodies);
 JointSpec read_joint(const Table& t, const BodyNames& names);
 
 }  // namespace flexref::scene::detail

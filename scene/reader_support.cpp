@@ -1,6 +1,7 @@
 /// \file reader_support.cpp
 /// Checked readers shared by the parts of the scene reader (reader_parts.hpp).
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -114,5 +115,24 @@ void reject_keys(const Table& t, std::initializer_list<std::string_view> keys,
 }
 
 SpecSource source_of(const Table& t) { return SpecSource{t.file(), t.line(), t.path()}; }
+
+int read_node(const Table& t, std::string_view key, const BodySpec& body) {
+  const std::optional<core::FlexiblePart>& part = body.description.flexible;
+  if (!part) {
+    t.fail(key, "applies only to flexible bodies (beam or modal); body \"" + body.description.name +
+                    "\" is rigid");
+  }
+  const std::string node = t.string(key, "the name of a node of the body's modal data");
+  const std::vector<std::string>& names = part->modal.node_names;
+  const auto it = std::find(names.begin(), names.end(), node);
+  if (it == names.end()) {
+    const std::string known = names.empty() ? std::string(" (the modal data has no node names)")
+                                            : "; expected a node name such as \"" + names.front() +
+                                                  "\" … \"" + names.back() + "\"";
+    t.fail(key, "no node named \"" + node + "\" in the modal data of body \"" +
+                    body.description.name + "\"" + known);
+  }
+  return static_cast<int>(it - names.begin());
+}
 
 }  // namespace flexref::scene::detail

@@ -129,13 +129,19 @@ SceneSpec read_spec(const toml::value& document, const std::string& file) {
   BodyNames names;
   for (const Table& t : body_tables) spec.bodies.push_back(read_body(t, names));
   for (const Table& t : root.tables("load", "[[load]] tables")) {
-    spec.loads.push_back(read_load(t, names));
+    spec.loads.push_back(read_load(t, names, spec.bodies));
   }
   for (const Table& t : root.tables("potential", "[[potential]] tables")) {
     spec.potentials.push_back(read_potential(t, names, spec.bodies));
   }
   for (const Table& t : root.tables("contact", "[[contact]] tables")) {
-    spec.contacts.push_back(read_contact(t, names));
+    spec.contacts.push_back(read_contact(t, names, spec.bodies));
+    const std::string& name = spec.contacts.back().name;
+    for (std::size_t c = 0; c + 1 < spec.contacts.size() && !name.empty(); ++c) {
+      if (spec.contacts[c].name == name) {
+        t.fail("name", "duplicate contact name \"" + name + "\"; expected a unique name");
+      }
+    }
   }
   for (const Table& t : root.tables("joint", "[[joint]] tables")) {
     spec.joints.push_back(read_joint(t, names));

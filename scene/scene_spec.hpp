@@ -15,6 +15,7 @@
 #include "contact/bushing.hpp"
 #include "contact/contact.hpp"
 #include "contact/contact_laws.hpp"
+#include "contact/gap_support.hpp"
 #include "core/applied_load.hpp"
 #include "core/body.hpp"
 #include "core/point_charge_potential.hpp"
@@ -56,6 +57,9 @@ struct LoadSpec {
   Eigen::Vector3d value = Eigen::Vector3d::Zero();  ///< N or N·m, in `frame`
   core::LoadFrame frame = core::LoadFrame::kWorld;
   Eigen::Vector3d p_BoP_B = Eigen::Vector3d::Zero();  ///< point of application (forces)
+  /// The node of a flexible body the force acts at (−1: the body point p_BoP_B of the rigid
+  /// part); build_model takes Φ_k from the built body.
+  int node = -1;
   core::TimeProfile profile = core::TimeProfile::constant();
   SpecSource source;
 };
@@ -81,8 +85,23 @@ struct ContactLawSpec {
   std::optional<double> damping;  ///< N·s/m, linear law given by its damping
 };
 
+/// [[contact]] kind = "gap-support" (contact/gap_support.hpp): the support point's body and
+/// node (−1: the body point p_BoN_B of the rigid part) and the support geometry.
+struct GapSupportSpec {
+  int body = 0;
+  int node = -1;
+  Eigen::Vector3d p_BoN_B = Eigen::Vector3d::Zero();
+  contact::GapSupportGeometry geometry;
+};
+
 struct ContactSpec {
+  /// Sphere pairs; a pair's node_a/node_b carry the node index only (−1: rigid part), and
+  /// build_model fills Φ_k from the built bodies (a study may change the mode count).
   std::vector<contact::ContactPair> pairs;
+  /// A gap support instead of pairs.
+  std::optional<GapSupportSpec> gap;
+  /// Non-empty: the contact's wear outputs are written under this name (docs/output.md).
+  std::string name;
   ContactLawSpec law;
   contact::FrictionLaw friction;
   /// kg; 0: the mass of the pairs' body shared by the pairs (reduced with the other body's for

@@ -1,13 +1,22 @@
 #pragma once
 /// \file certified_reference.hpp
-/// A reference run with its error estimate (docs/design/schemes.md): the difference, in a named
-/// metric, to a second run at 100× tighter tolerance and to a second, independent solver at
-/// the same tolerance. The estimate is the larger of the two.
+/// A reference run with an estimate of its own error (docs/references.md, "Error estimates"),
+/// in a named metric, from solutions that are genuinely more accurate and genuinely different:
 ///
-/// An exact solution has no tolerance: it is compared with two independent numerical solutions
-/// at tight tolerance (Odeint RKF7(8) at rtol 1e-13 and CVODE at 1e-12), and its estimate is the
-/// smaller difference — a bound on the exact solution's own error (elliptic functions, ~1e-13)
-/// plus that of the better numerical solution.
+///  - when the model has an exact solution (reference/exact_solution.hpp): the distance to it —
+///    the run's true error, up to the exact solution's own (≲ 1e-13, exact_*_test.cpp);
+///  - otherwise two checks, each at 100× tighter tolerance (clamped at 1e-14): the same solver
+///    (a check that took the run's own number of steps is not a different solution and is not
+///    used) and an independent solver (cross_check_solver). A check whose distance is exactly 0
+///    is not used either. The estimate is twice the larger used distance: by the triangle
+///    inequality, e_run ≤ d + e_check ≤ d + e_run/2 whenever the check is at least twice as
+///    accurate as the run, so 2 d is never optimistic then.
+///
+/// An exact solution run as the reference itself is compared with three independent numerical
+/// solutions at tight tolerance (ARKODE and Odeint at 1e-14, CVODE at 1e-13); its estimate is
+/// the smallest distance, which bounds its own error plus the best numerical solution's.
+///
+/// No usable check leaves the estimate at +inf (unknown): studies then certify nothing.
 #include <string>
 #include <vector>
 
@@ -18,19 +27,26 @@
 
 namespace flexref::studies {
 
+/// One comparison solution behind an estimate.
+struct EstimateCheck {
+  std::string role;  ///< "exact", "tighter" (same solver) or "other" (another solver)
+  std::string solver;
+  std::string method;  ///< the solver's method (reference::ReferenceRun::method)
+  double rtol = 0.0;   ///< 0 for the exact solution
+  long steps = 0;
+  double distance = 0.0;  ///< metric(run, this solution)
+  bool used = false;      ///< part of the estimate
+  std::string note;       ///< why it is not used, when it is not
+};
+
 struct ReferenceEstimate {
   std::string metric;
-  std::string tighter_solver;  ///< "" when not run
-  double tighter_rtol = 0.0;
-  double vs_tighter = 0.0;  ///< metric(run, tighter run)
-  std::string other_solver;
-  double other_rtol = 0.0;
-  double vs_other_solver = 0.0;  ///< metric(run, other solver)
-  bool exact = false;            ///< the run is an exact solution (see above)
-  double estimate() const {
-    if (exact) return vs_tighter < vs_other_solver ? vs_tighter : vs_other_solver;
-    return vs_tighter > vs_other_solver ? vs_tighter : vs_other_solver;
-  }
+  /// How the estimate was made, one line (for tables and metadata).
+  std::string method;
+  std::vector<EstimateCheck> checks;
+  double value = 0.0;  ///< the estimated error; +inf when no check is usable
+  bool exact = false;  ///< the run is an exact solution (see above)
+  double estimate() const { return value; }
 };
 
 struct CertifiedReference {
@@ -39,15 +55,34 @@ struct CertifiedReference {
   ReferenceEstimate estimate;
 };
 
-/// The solver used to cross-check `solver`: cvode → odeint; ida, odeint, exact → cvode.
+/// The independent solver used to check `solver`: cvode, arkode → odeint; ida, odeint, exact →
+/// cvode.
 std::string cross_check_solver(const std::string& solver);
 
-/// "auto" picks "exact" when the model has an exact solution, else "cvode".
-std::string resolve_reference_solver(const std::string& solver, const core::Model& model);
+/// "auto" picks "exact" when the model has an exact solution, else
+/// reference::choose_reference_solver on the output grid ("arkode" for a stiff oscillatory
+/// model, else "cvode").
+std::string resolve_reference_solver(const std::string& solver, const core::Model& model,
+                                     const std::vector<double>& output_times);
 
-/// The `[reference]` section a study records next to its results: solver, tolerance and the
-/// error estimate with both of its checks.
+/// The `[reference]` table a study records next to its results: solver, method and why, the
+/// Newton systems (implicit solvers), tolerance, the estimate and how it was made, and one
+/// `[[reference.check]]` per comparison solution.
 void add_reference(StudyRecord& record, const CertifiedReference& reference);
+
+/// One `[[<array>]]` table per check of an estimate (role, solver, method, rtol, steps,
+/// distance, used, note).
+void add_estimate_checks(StudyRecord& record, const std::string& array,
+                         const ReferenceEstimate& estimate);
+
+/// "2.1e-10 (2 x distance to cvode rtol 1e-14, ...)": the estimate and its method, one line.
+std::string describe_estimate(const ReferenceEstimate& estimate);
+
+struct EstimateOptions {
+  /// Use the model's exact solution when it has one (tests of the numerical estimate turn it
+  /// off).
+  bool use_exact_solution = true;
+};
 
 /// The size of a solution in `metric`, the yardstick of its error estimate: the metric of the
 /// table's first row (held over every time) against a body at rest at the world origin with the
@@ -55,8 +90,8 @@ void add_reference(StudyRecord& record, const CertifiedReference& reference);
 /// "rotation+points": π + the largest distance of a tracked point from the origin at t0.
 double solution_scale(const TrajectoryTable& table, const std::string& metric);
 
-/// Runs the reference and its two checks; throws like the solvers do (core::SolverError, also
-/// when an estimate is not finite), and StudyRefused when the estimate exceeds
+/// Runs the reference and its checks; throws like the solvers do (core::SolverError, also when
+/// the estimate is NaN), and StudyRefused when a finite estimate exceeds
 /// solution_scale(table, metric): an error larger than the scene itself certifies nothing
 /// (e.g. a solution that diverges exponentially, spin_up_beam_6 under the coupled model,
 /// where the solvers disagree by 1e34 m on a 10 m beam).
@@ -64,6 +99,14 @@ CertifiedReference certified_reference(const core::Model& model,
                                        const std::vector<double>& output_times,
                                        const std::string& solver,
                                        const reference::SolverOptions& options,
-                                       const std::string& metric);
+                                       const std::string& metric,
+                                       const EstimateOptions& estimate_options = {});
+
+/// The estimate of an existing run (its table) against the model and output times it was
+/// computed on.
+ReferenceEstimate estimate_error(const core::Model& model, const std::vector<double>& output_times,
+                                 const reference::ReferenceRun& run, const TrajectoryTable& table,
+                                 const std::string& metric,
+                                 const EstimateOptions& estimate_options = {});
 
 }  // namespace flexref::studies

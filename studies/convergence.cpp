@@ -1,19 +1,25 @@
 #include "studies/convergence.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
+#include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/observed_order.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
+#include "studies/reference_sidecar.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
@@ -27,7 +33,140 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // measures round-off, not the scheme.
 constexpr double kRoundOffFloor = 1e-11;
 
+/// External levels: the quantities the metric measured and the run's columns it ignored.
+struct Measured {
+  std::vector<std::string> used, ignored;
+  std::string kept_bytes;  ///< the level's output file, from a rank other than 0
+};
+
+SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measured>& measured) {
+  require_codec_size<ConvergenceLevel, 104>();
+  const auto fields = [](auto& io, auto& l) {
+    io(l.scheme, l.h, l.steps, l.error, l.order, l.cpu_seconds, l.status);
+  };
+  return {[&levels, &measured, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            const auto k = static_cast<std::size_t>(i);
+            fields(put, levels[k]);
+            for (const auto* names : {&measured[k].used, &measured[k].ignored}) {
+              w.put(static_cast<long>(names->size()));
+              for (const std::string& name : *names) w.put(name);
+            }
+            w.put(measured[k].kept_bytes);
+          },
+          [&levels, &measured, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            const auto k = static_cast<std::size_t>(i);
+            fields(get, levels[k]);
+            for (auto* names : {&measured[k].used, &measured[k].ignored}) {
+              names->resize(static_cast<std::size_t>(r.get_int()));
+              for (std::string& name : *names) name = r.get_string();
+            }
+            measured[k].kept_bytes = r.get_string();
+          }};
+}
+
 }  // namespace
+
+std::string kept_file_bytes(const ExternalMethod& method, int level) {
+  if (distribution().is_root() || !method.kept_file) return {};
+  std::ifstream in(method.kept_file(level), std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+void restore_kept_file(const ExternalMethod& method, int level, const std::string& bytes) {
+  if (bytes.empty() || !distribution().is_root() || !method.kept_file) return;
+  io::write_file_atomically(method.kept_file(level), bytes);
+}
+
+SchemeSummary summarize_levels(const std::string& method, int claimed_order,
+                               std::vector<ConvergenceLevel>& levels, double reference_estimate,
+                               const core::StepLimit& step_limit, std::vector<std::string>& notes) {
+  std::vector<double> steps, errors;
+  std::vector<bool> use;
+  bool stopped = false;
+  double last_valid_error = std::numeric_limits<double>::infinity();
+  int above_limit = 0;
+  int not_decreasing = 0;
+  for (ConvergenceLevel& lv : levels) {
+    steps.push_back(lv.h);
+    errors.push_back(lv.error);
+    if (lv.status != "ok") {
+      // failed: stays as it is
+    } else if (stopped) {
+      lv.status = "round-off";
+    } else if (lv.h > step_limit.h) {
+      // Central differences on the limiting mode are unstable: the error measures that
+      // instability (or an implicit scheme's unresolved mode), not the scheme's order.
+      lv.status = "above step limit";
+      ++above_limit;
+    } else if (lv.error <= kRoundOffFloor) {
+      lv.status = "round-off";
+      stopped = true;
+      std::ostringstream note;
+      note << lv.scheme << ": refinement stopped at h = " << lv.h << ": error " << lv.error
+           << " is at round-off level (<= " << kRoundOffFloor << ")";
+      notes.push_back(note.str());
+    } else if (lv.error >= last_valid_error) {
+      lv.status = "not decreasing";
+      ++not_decreasing;
+    } else if (lv.error < kCertificationFactor * reference_estimate) {
+      lv.status = "uncertified";
+    }
+    if (lv.status == "ok") last_valid_error = lv.error;
+    use.push_back(lv.status == "ok");
+  }
+  const std::vector<double> p = pairwise_orders(steps, errors);
+  for (std::size_t l = 0; l < levels.size(); ++l) levels[l].order = l == 0 ? kNaN : p[l - 1];
+  SchemeSummary summary;
+  summary.scheme = method;
+  summary.claimed_order = claimed_order;
+  for (bool u : use) summary.fitted_levels += u ? 1 : 0;
+  summary.fitted_order = summary.refused() ? kNaN : least_squares_order(steps, errors, use);
+  if (above_limit > 0) {
+    std::ostringstream note;
+    note << method << ": " << above_limit << " level" << (above_limit > 1 ? "s" : "")
+         << " above the explicit step limit " << std::setprecision(3) << step_limit.h << " s of "
+         << step_limit.what
+         << " (2/omega: central differences are unstable there) left out of the fit";
+    notes.push_back(note.str());
+  }
+  if (not_decreasing > 0) {
+    std::ostringstream note;
+    note << method << ": " << not_decreasing << " level" << (not_decreasing > 1 ? "s" : "")
+         << " whose error does not decrease from the previous valid level left out of the "
+            "fit (not in the asymptotic range)";
+    notes.push_back(note.str());
+  }
+  if (summary.refused()) {
+    std::ostringstream note;
+    note << method << ": refused to fit an order from " << summary.fitted_levels << " valid level"
+         << (summary.fitted_levels == 1 ? "" : "s") << " (at least "
+         << SchemeSummary::kMinFittedLevels
+         << " needed); change --dt or add --levels so that three levels lie below the step "
+            "limit and above the reference's error";
+    notes.push_back(note.str());
+  }
+  // Asymptotic range: the last two pairwise orders of the fitted levels must agree to 0.3
+  // (a second-order scheme with an O(h³) term still visible drifts by more than that).
+  std::vector<double> fitted_orders;
+  for (std::size_t k = 1; k < levels.size(); ++k) {
+    if (use[k] && use[k - 1]) fitted_orders.push_back(p[k - 1]);
+  }
+  const std::size_t m = fitted_orders.size();
+  if (!summary.refused() && m >= 2 && std::abs(fitted_orders[m - 1] - fitted_orders[m - 2]) > 0.3) {
+    std::ostringstream note;
+    note << std::fixed << std::setprecision(2) << summary.scheme
+         << ": the pairwise orders are still changing (" << fitted_orders[m - 2] << ", "
+         << fitted_orders[m - 1]
+         << "): the finest levels are not yet in the asymptotic range; refine further "
+            "(more --levels) before trusting the fitted order";
+    notes.push_back(note.str());
+  }
+  return summary;
+}
 
 void check_convergence_inputs(const core::Model& model, const std::vector<double>& output_times,
                               const ConvergenceOptions& options) {
@@ -37,7 +176,21 @@ void check_convergence_inputs(const core::Model& model, const std::vector<double
   if (options.levels < SchemeSummary::kMinFittedLevels) {
     throw std::invalid_argument("--levels must be at least 3 (an order is fitted from three)");
   }
+  for (const ExternalMethod& e : options.external) {
+    if (!e.run) throw std::invalid_argument("external method '" + e.label + "' has no runner");
+    if (!e.steps.empty() &&
+        e.steps.size() < static_cast<std::size_t>(SchemeSummary::kMinFittedLevels)) {
+      throw std::invalid_argument("external method '" + e.label +
+                                  "' needs at least three steps (an order is fitted from three)");
+    }
+    for (double h : e.steps) {
+      if (!(h > 0.0) || !std::isfinite(h)) {
+        throw std::invalid_argument("external method '" + e.label + "': steps must be positive");
+      }
+    }
+  }
   for (const std::string& scheme : options.schemes) lie::make_stepper(scheme, model);
+  if (options.schemes.empty()) return;
   for (int level = 0; level < options.levels; ++level) {
     const double h = options.h0 / std::ldexp(1.0, level);
     try {
@@ -57,150 +210,121 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
   result.options = options;
   result.step_limit = core::explicit_step_limit(model);
 
+  // Methods as blocks of levels: the registered schemes, then the external methods.
+  struct Block {
+    std::string name;
+    int external = -1;  ///< index into options.external, −1 for a scheme
+    std::vector<double> steps;
+    std::size_t first = 0;  ///< index of its first level in result.levels
+  };
+  std::vector<Block> blocks;
+  std::vector<double> halvings;
+  for (int l = 0; l < options.levels; ++l) halvings.push_back(options.h0 / std::ldexp(1.0, l));
+  for (const std::string& scheme : options.schemes) blocks.push_back({scheme, -1, halvings, 0});
+  for (std::size_t e = 0; e < options.external.size(); ++e) {
+    std::vector<double> steps =
+        options.external[e].steps.empty() ? halvings : options.external[e].steps;
+    std::sort(steps.begin(), steps.end(), std::greater<>());
+    blocks.push_back({options.external[e].label, static_cast<int>(e), steps, 0});
+  }
+  struct Task {
+    std::size_t block;
+    int level;
+  };
+  std::vector<Task> tasks;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    blocks[b].first = tasks.size();
+    for (std::size_t l = 0; l < blocks[b].steps.size(); ++l) {
+      tasks.push_back({b, static_cast<int>(l)});
+    }
+  }
+
   reference::SolverOptions ref_options;
   ref_options.rtol = options.reference_rtol;
-  const std::string solver = resolve_reference_solver(options.reference_solver, model);
+  const std::string solver =
+      resolve_reference_solver(options.reference_solver, model, output_times);
   if (options.progress) std::fprintf(stderr, "converge: reference (%s) ...\n", solver.c_str());
   {
-    const Progress progress("converge: reference (" + solver + ", 3 solves)", 0, "",
+    const Progress progress("converge: reference (" + solver + ", with its error estimate)", 0, "",
                             options.progress);
     result.reference =
         certified_reference(model, output_times, solver, ref_options, options.metric);
   }
 
-  const int n_schemes = static_cast<int>(options.schemes.size());
-  const int n_runs = n_schemes * options.levels;
-  result.levels.resize(static_cast<std::size_t>(n_runs));
-  Progress progress("converge", n_runs, "runs", options.progress);
-  parallel_for(n_runs, options.jobs, [&](int k) {
-    const std::string& scheme = options.schemes[static_cast<std::size_t>(k / options.levels)];
-    const int level = k % options.levels;
+  const int n_runs = static_cast<int>(tasks.size());
+  result.levels.resize(tasks.size());
+  std::vector<Measured> measured(tasks.size());
+  ProgressLine progress("converge", "runs", options.progress);
+  const auto task = [&](int k) {
+    const Block& block = blocks[tasks[static_cast<std::size_t>(k)].block];
+    const int level = tasks[static_cast<std::size_t>(k)].level;
     ConvergenceLevel& out = result.levels[static_cast<std::size_t>(k)];
-    out.scheme = scheme;
-    out.h = options.h0 / std::ldexp(1.0, level);
+    out.scheme = block.name;
+    out.h = block.steps[static_cast<std::size_t>(level)];
     const double t_span = output_times.back() - output_times.front();
     out.steps = std::lround(t_span / out.h);
     try {
-      auto stepper = lie::make_stepper(scheme, model);
-      const double start = thread_cpu_seconds();
-      const core::Trajectory trajectory = lie::run_scheme(model, *stepper, out.h, output_times);
-      out.cpu_seconds = thread_cpu_seconds() - start;
-      out.error =
-          metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
-                       options.metric);
+      ComparisonReport report;
+      if (block.external < 0) {
+        auto stepper = lie::make_stepper(block.name, model);
+        const double start = thread_cpu_seconds();
+        const core::Trajectory trajectory = lie::run_scheme(model, *stepper, out.h, output_times);
+        out.cpu_seconds = thread_cpu_seconds() - start;
+        report = compare_trajectories(tabulate(model, trajectory), result.reference.table);
+      } else {
+        const ExternalMethod& method = options.external[static_cast<std::size_t>(block.external)];
+        Measured& m = measured[static_cast<std::size_t>(k)];
+        const ExternalLevel run = method.run(out.h, level);
+        m.kept_bytes = kept_file_bytes(method, level);
+        out.cpu_seconds = run.cpu_seconds;
+        report = compare_run(run.run, result.reference.table);
+        m.used = metric_quantities(report, options.metric);
+        m.ignored = report.ignored_columns;
+      }
+      out.error = metric_value(report, options.metric);
       out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
     } catch (const std::exception& e) {
       out.error = std::numeric_limits<double>::infinity();
       out.status = std::string("failed: ") + e.what();
     }
-    progress.advance();
-  });
-
-  std::vector<int> claimed;
-  for (const std::string& scheme : options.schemes) {
-    claimed.push_back(lie::make_stepper(scheme, model)->order());
+  };
+  distributed_for(n_runs, options.jobs, task, level_codec(result.levels, measured),
+                  progress.callback());
+  progress.finish();
+  for (std::size_t k = 0; k < tasks.size(); ++k) {
+    const Block& block = blocks[tasks[k].block];
+    if (block.external < 0) continue;
+    restore_kept_file(options.external[static_cast<std::size_t>(block.external)], tasks[k].level,
+                      measured[k].kept_bytes);
   }
-  summarize_convergence(result, claimed);
-  return result;
-}
 
-void summarize_convergence(ConvergenceResult& result, const std::vector<int>& claimed_orders) {
-  const ConvergenceOptions& options = result.options;
-  const int n_schemes = static_cast<int>(options.schemes.size());
   const double ref_estimate = result.reference.estimate.estimate();
-  const double h_limit = result.step_limit.h;
-  result.summaries.clear();
-  for (int s = 0; s < n_schemes; ++s) {
-    const auto first = static_cast<std::size_t>(s * options.levels);
-    const std::string& scheme = options.schemes[static_cast<std::size_t>(s)];
-    std::vector<double> steps, errors;
-    std::vector<bool> use;
-    bool stopped = false;
-    double last_valid_error = std::numeric_limits<double>::infinity();
-    int above_limit = 0;
-    int not_decreasing = 0;
-    for (int l = 0; l < options.levels; ++l) {
-      ConvergenceLevel& lv = result.levels[first + static_cast<std::size_t>(l)];
-      steps.push_back(lv.h);
-      errors.push_back(lv.error);
-      if (lv.status != "ok") {
-        // failed: stays as it is
-      } else if (stopped) {
-        lv.status = "round-off";
-      } else if (lv.h > h_limit) {
-        // Central differences on the limiting mode are unstable: the error measures that
-        // instability (or an implicit scheme's unresolved mode), not the scheme's order.
-        lv.status = "above step limit";
-        ++above_limit;
-      } else if (lv.error <= kRoundOffFloor) {
-        lv.status = "round-off";
-        stopped = true;
-        std::ostringstream note;
-        note << scheme << ": refinement stopped at h = " << lv.h << ": error " << lv.error
-             << " is at round-off level (<= " << kRoundOffFloor << ")";
-        result.notes.push_back(note.str());
-      } else if (lv.error >= last_valid_error) {
-        lv.status = "not decreasing";
-        ++not_decreasing;
-      } else if (lv.error < 100.0 * ref_estimate) {
-        lv.status = "uncertified";
+  for (const Block& block : blocks) {
+    const auto first = static_cast<std::ptrdiff_t>(block.first);
+    const auto count = static_cast<std::ptrdiff_t>(block.steps.size());
+    std::vector<ConvergenceLevel> levels(result.levels.begin() + first,
+                                         result.levels.begin() + first + count);
+    int claimed = 0;
+    if (block.external < 0) {
+      claimed = lie::make_stepper(block.name, model)->order();
+    } else {
+      claimed = options.external[static_cast<std::size_t>(block.external)].claimed_order;
+      // What the metric measured in this method's files (the first level that was read).
+      for (std::ptrdiff_t l = 0; l < count; ++l) {
+        const Measured& m = measured[static_cast<std::size_t>(first + l)];
+        if (m.used.empty()) continue;
+        std::string used, ignored;
+        for (const std::string& x : m.used) used += (used.empty() ? "" : ", ") + x;
+        for (const std::string& x : m.ignored) ignored += (ignored.empty() ? "" : ", ") + x;
+        result.notes.push_back(block.name + ": metric " + options.metric + " over " + used +
+                               (ignored.empty() ? "" : "; ignored columns: " + ignored));
+        break;
       }
-      if (lv.status == "ok") last_valid_error = lv.error;
-      use.push_back(lv.status == "ok");
     }
-    const std::vector<double> p = pairwise_orders(steps, errors);
-    for (int l = 0; l < options.levels; ++l) {
-      result.levels[first + static_cast<std::size_t>(l)].order =
-          l == 0 ? kNaN : p[static_cast<std::size_t>(l - 1)];
-    }
-    SchemeSummary summary;
-    summary.scheme = scheme;
-    summary.claimed_order = claimed_orders[static_cast<std::size_t>(s)];
-    for (bool u : use) summary.fitted_levels += u ? 1 : 0;
-    summary.fitted_order = summary.refused() ? kNaN : least_squares_order(steps, errors, use);
-    if (above_limit > 0) {
-      std::ostringstream note;
-      note << scheme << ": " << above_limit << " level" << (above_limit > 1 ? "s" : "")
-           << " above the explicit step limit " << std::setprecision(3) << h_limit << " s of "
-           << result.step_limit.what
-           << " (2/omega: central differences are unstable there) left out of the fit";
-      result.notes.push_back(note.str());
-    }
-    if (not_decreasing > 0) {
-      std::ostringstream note;
-      note << scheme << ": " << not_decreasing << " level" << (not_decreasing > 1 ? "s" : "")
-           << " whose error does not decrease from the previous valid level left out of the "
-              "fit (not in the asymptotic range)";
-      result.notes.push_back(note.str());
-    }
-    if (summary.refused()) {
-      std::ostringstream note;
-      note << scheme << ": refused to fit an order from " << summary.fitted_levels << " valid level"
-           << (summary.fitted_levels == 1 ? "" : "s") << " (at least "
-           << SchemeSummary::kMinFittedLevels
-           << " needed); change --dt or add --levels so that three levels lie below the step "
-              "limit and above the reference's error";
-      result.notes.push_back(note.str());
-    }
-    // Asymptotic range: the last two pairwise orders of the fitted levels must agree to 0.3
-    // (a second-order scheme with an O(h³) term still visible drifts by more than that).
-    std::vector<double> fitted_orders;
-    for (int l = 1; l < options.levels; ++l) {
-      const auto k = static_cast<std::size_t>(l);
-      if (use[k] && use[k - 1]) fitted_orders.push_back(p[k - 1]);
-    }
-    const std::size_t m = fitted_orders.size();
-    if (!summary.refused() && m >= 2 &&
-        std::abs(fitted_orders[m - 1] - fitted_orders[m - 2]) > 0.3) {
-      std::ostringstream note;
-      note << std::fixed << std::setprecision(2) << summary.scheme
-           << ": the pairwise orders are still changing (" << fitted_orders[m - 2] << ", "
-           << fitted_orders[m - 1]
-           << "): the finest levels are not yet in the asymptotic range; refine further "
-              "(more --levels) before trusting the fitted order";
-      result.notes.push_back(note.str());
-    }
-    result.summaries.push_back(summary);
+    result.summaries.push_back(
+        summarize_levels(block.name, claimed, levels, ref_estimate,
+                         block.external < 0 ? result.step_limit : core::StepLimit{}, result.notes));
+    std::copy(levels.begin(), levels.end(), result.levels.begin() + first);
   }
   bool any_uncertified = false;
   for (const auto& lv : result.levels) any_uncertified |= lv.status == "uncertified";
@@ -211,6 +335,7 @@ void summarize_convergence(ConvergenceResult& result, const std::vector<int>& cl
          << ref_estimate << " (tighten --reference-rtol or use a larger --dt)";
     result.notes.push_back(note.str());
   }
+  return result;
 }
 
 bool ConvergenceResult::refused() const {
@@ -224,10 +349,7 @@ std::string format_convergence_table(const ConvergenceResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
   out << "reference: " << r.reference.run.solver << " rtol " << r.reference.run.options.rtol
-      << ", estimated error " << std::scientific << std::setprecision(2) << est.estimate()
-      << " (vs " << est.tighter_solver << " at rtol " << est.tighter_rtol << ": " << est.vs_tighter
-      << "; vs " << est.other_solver << " at rtol " << est.other_rtol << ": " << est.vs_other_solver
-      << (est.exact ? "; the smaller bounds an exact solution" : "") << ")\n";
+      << ", estimated error " << describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n\n";
   out << std::left << std::setw(7) << "scheme" << std::right << std::setw(12) << "h"
       << std::setw(10) << "steps" << std::setw(12) << "error" << std::setw(8) << "order"
@@ -252,8 +374,13 @@ std::string format_convergence_table(const ConvergenceResult& r) {
   }
   out << "\nobserved order (least squares over the valid levels, status ok):\n";
   for (const auto& s : r.summaries) {
-    out << "  " << std::left << std::setw(5) << s.scheme << std::right << " claimed "
-        << s.claimed_order << ", observed ";
+    out << "  " << std::left << std::setw(5) << s.scheme << std::right << " claimed ";
+    if (s.claimed_order > 0) {
+      out << s.claimed_order;
+    } else {
+      out << "-";
+    }
+    out << ", observed ";
     if (s.refused()) {
       out << "refused";
     } else if (std::isnan(s.fitted_order)) {

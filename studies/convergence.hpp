@@ -9,6 +9,7 @@
 /// least 100× the reference's estimated error ("uncertified"), or an error at round-off
 /// (which also stops the refinement). No order is fitted from fewer than three valid levels
 /// (two points always lie on a line: their "order" verifies nothing).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,38 @@
 #include "core/step_limit.hpp"
 #include "lie/stepper.hpp"
 #include "studies/certified_reference.hpp"
+#include "studies/trajectory_contract.hpp"
 
 namespace flexref::studies {
+
+/// One level of an integrator outside the method registry: its trajectory under the contract
+/// (docs/external.md) and the CPU time it took (NaN when unknown, e.g. a run made earlier).
+struct ExternalLevel {
+  RunData run;
+  double cpu_seconds = 0.0;
+};
+
+/// An integrator outside the method registry (another program, runs already made): studied
+/// like a registered scheme, its errors measured under the trajectory contract.
+struct ExternalMethod {
+  std::string label;      ///< its name in tables (letters, digits, '_', '-')
+  int claimed_order = 0;  ///< 0: no claim
+  /// The steps of its levels; empty: the study's h0, h0/2, … (`levels` of them).
+  std::vector<double> steps;
+  /// Produces the level with step h (level 0 is the coarsest); throws to fail that level only.
+  std::function<ExternalLevel(double h, int level)> run;
+  /// Where the run of level `level` keeps its output file (empty: nothing kept, as for runs
+  /// made earlier). A level run on another MPI rank sends the file's bytes to rank 0, which
+  /// writes them here, so the study folder is the same for any number of ranks (docs/mpi.md).
+  std::function<std::string(int level)> kept_file;
+};
+
+/// On a rank other than 0: the bytes of `method`'s kept file of `level`, to send to rank 0;
+/// empty on rank 0 or when the method keeps nothing.
+std::string kept_file_bytes(const ExternalMethod& method, int level);
+/// On rank 0: writes `bytes` received from another rank to method.kept_file(level) (nothing
+/// when `bytes` is empty). Throws io::OutputError when the file cannot be written.
+void restore_kept_file(const ExternalMethod& method, int level, const std::string& bytes);
 
 struct ConvergenceOptions {
   std::vector<std::string> schemes = lie::scheme_names();
@@ -27,7 +58,8 @@ struct ConvergenceOptions {
   std::string reference_solver = "auto";
   double reference_rtol = 1e-12;
   int jobs = 1;
-  bool progress = false;  ///< progress line on stderr
+  bool progress = false;                 ///< progress line on stderr
+  std::vector<ExternalMethod> external;  ///< studied after the schemes
 };
 
 struct ConvergenceLevel {
@@ -64,18 +96,26 @@ struct ConvergenceResult {
 };
 
 /// Throws std::invalid_argument, before any work, when a scheme refuses the model (e.g. the
-/// coupled model of a flexible body) or a level's step does not fit the output grid
-/// (lie::validate_step_grid). run_convergence calls it before the reference.
+/// coupled model of a flexible body), a level's step does not fit the output grid
+/// (lie::validate_step_grid), fewer than three levels are asked for, or an external method
+/// has no runner or fewer than three steps. run_convergence calls it before the reference.
 void check_convergence_inputs(const core::Model& model, const std::vector<double>& output_times,
                               const ConvergenceOptions& options);
 
-/// Classifies the levels of result (errors, steps and "ok"/"failed: …" statuses filled in,
-/// schemes × options.levels in order) against result.step_limit and the reference's estimate,
-/// computes the pairwise orders, the fitted orders and the notes.
-void summarize_convergence(ConvergenceResult& result, const std::vector<int>& claimed_orders);
-
 ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
                                   const ConvergenceOptions& options);
+
+/// The analysis of one method's levels (coarsest first, error and status "ok" or "failed: …"
+/// set). Only levels that measure the method's asymptotic error stay "ok": a step above
+/// `step_limit` (the model's explicit step limit for the built-in schemes; unbounded for an
+/// external method) is "above step limit", an error that does not decrease from the previous
+/// valid level "not decreasing", an error at round-off "round-off" (and stops the refinement),
+/// an error not kCertificationFactor× above the reference's estimated error "uncertified".
+/// Pairwise orders are filled in; the least-squares order is fitted over the "ok" levels, and
+/// refused (NaN) from fewer than three. Notes say what was left out and why.
+SchemeSummary summarize_levels(const std::string& method, int claimed_order,
+                               std::vector<ConvergenceLevel>& levels, double reference_estimate,
+                               const core::StepLimit& step_limit, std::vector<std::string>& notes);
 
 /// The terminal table (errors, pairwise orders, fitted orders, notes).
 std::string format_convergence_table(const ConvergenceResult& result);

@@ -5,6 +5,11 @@
 /// rotation angle |log(A_refᵀ A)|, the velocity and angular-velocity errors; per tracked point
 /// its position error; per flexible body the modal-coordinate error max_i |q_i − q_i,ref|. Each
 /// is reduced over time to L∞ (max), RMS and final value.
+///
+/// Quantities are found by column name, not position: a body B is measured in position when
+/// the table has `B.x, B.y, B.z`, in rotation when it has `B.e0 … B.e3`, and so on; a table
+/// with a subset of the standard columns (docs/external.md) is measured in what it has. A
+/// metric that finds nothing to measure is an error, never 0.
 #include <string>
 #include <vector>
 
@@ -21,7 +26,11 @@ struct ErrorNorms {
 struct QuantityError {
   std::string name;  ///< e.g. "book.rotation", "book.velocity", "book.corner" (a point)
   std::string unit;  ///< "m", "rad", "m/s", "rad/s"
+  /// "position", "rotation", "velocity", "angular_velocity", "point" or "modes"
+  std::string kind;
   ErrorNorms norms;
+  double linf_time = 0.0;            ///< an output time where the L∞ value is reached
+  std::vector<std::string> columns;  ///< the columns this quantity measures
 };
 
 struct ComparisonReport {
@@ -29,20 +38,45 @@ struct ComparisonReport {
   double max_rotation_linf = 0.0;  ///< max over bodies, rad
   double max_point_linf = 0.0;     ///< max over tracked points, m
   double max_modal_linf = 0.0;     ///< max over flexible bodies of max_i |q_i − q_i,ref|
+  int rotation_count = 0;          ///< bodies measured in rotation
+  int point_count = 0;             ///< tracked points measured
+  int modal_count = 0;             ///< flexible bodies measured in their modal coordinates
+  std::size_t rows = 0;            ///< output times compared
+  /// Set by the trajectory contract (studies/trajectory_contract.hpp) for files of other codes:
+  /// run columns that no quantity measures (unknown to flexref, or not an error quantity such
+  /// as `energy`), and the largest |t_run − t_ref| accepted when matching rows.
+  std::vector<std::string> ignored_columns;
+  double max_time_offset = 0.0;
+  /// Named contacts' final wear work: max over contacts of |W − W_ref|/|W_ref| at the last
+  /// output (|W| when W_ref = 0); −1 when the tables have no `C.wear_work` column.
+  double max_wear_relative = -1.0;
   /// Default study metric: L∞ geodesic rotation angle + L∞ tracked-point position (max over
   /// bodies and points). Named "rotation+points".
   double default_metric() const { return max_rotation_linf + max_point_linf; }
 };
 
 /// Compares two tables with the same columns on the same times (to 1e-9 relative); throws
-/// std::invalid_argument naming the first mismatch.
+/// std::invalid_argument naming the first mismatch. Non-finite differences make the norms
+/// infinite (a diverged run is never silently small).
 ComparisonReport compare_trajectories(const TrajectoryTable& run, const TrajectoryTable& reference);
 
 /// The metrics a study may name: "rotation+points" (default), "rotation", "points", "modes"
 /// (L∞ over time of max_i |q_i − q_i,ref| over the flexible bodies' modal coordinates),
-/// "position", "velocity", "angular_velocity". Throws std::invalid_argument otherwise.
+/// "position", "velocity", "angular_velocity", "wear" (max_wear_relative: the final wear work of
+/// the named contacts, docs/output.md "Wear outputs"). Throws std::invalid_argument for any other
+/// name, and when the report has no quantity the metric measures (e.g. "rotation" without
+/// Euler-parameter columns, "modes" on a rigid scene, "wear" without a named contact): an absent
+/// quantity is not an error of 0.
 double metric_value(const ComparisonReport& report, const std::string& metric);
 /// The names metric_value accepts, the default first.
+std::vector<std::string> metric_names();
+
+/// The names of the quantities metric_value(report, metric) takes its value from, e.g.
+/// {"book.rotation", "book.corner"}; throws like metric_value.
+std::vector<std::string> metric_quantities(const ComparisonReport& report,
+                                           const std::string& metric);
+
+/// The metric names metric_value accepts.
 std::vector<std::string> metric_names();
 
 }  // namespace flexref::studies

@@ -15,8 +15,7 @@
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
-#include "studies/parallel.hpp"
-#include "studies/progress.hpp"
+#include "studies/distribution.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
@@ -136,6 +135,24 @@ double max_angle(const Response& a, const Response& b) {
     m = std::max(m, rotation::geodesic_angle(a.attitude[i], b.attitude[i]));
   }
   return m;
+}
+
+/// Every field of a grid point, for distributed_for.
+SlotCodec point_codec(std::vector<LteMapPoint>& points) {
+  require_codec_size<LteMapPoint, 128>();
+  const auto fields = [](auto& io, auto& p) {
+    io(p.spin_ratio, p.inertia_ratio, p.spin, p.omega1, p.hub_scale, p.load_scale, p.tip_error,
+       p.attitude_error, p.max_deflection, p.coupled_estimate, p.lte_estimate, p.resolved,
+       p.status);
+  };
+  return {[&points, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            fields(put, points[static_cast<std::size_t>(i)]);
+          },
+          [&points, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            fields(get, points[static_cast<std::size_t>(i)]);
+          }};
 }
 
 std::string percent(double x) {
@@ -284,8 +301,8 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   }
   const int n = static_cast<int>(scalings.size());
   result.points.resize(scalings.size());
-  Progress progress("lte-map", n, "grid points", options.progress);
-  parallel_for(n, options.jobs, [&](int k) {
+  ProgressLine progress("lte-map", "grid points", options.progress);
+  const auto task = [&](int k) {
     const auto uk = static_cast<std::size_t>(k);
     LteMapPoint& out = result.points[uk];
     out.spin_ratio = options.spin_ratios[uk % nx];
@@ -316,8 +333,9 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
       out.attitude_error = kNaN;
       out.status = std::string("failed: ") + e.what();
     }
-    progress.advance();
-  });
+  };
+  distributed_for(n, options.jobs, task, point_codec(result.points), progress.callback());
+  progress.finish();
 
   int unresolved = 0;
   int failed = 0;

@@ -1,5 +1,6 @@
 #include "studies/parallel.hpp"
 
+#include <sched.h>
 #include <time.h>
 
 #include <algorithm>
@@ -8,9 +9,21 @@
 #include <thread>
 #include <vector>
 
+#include "studies/distribution.hpp"
+
 namespace flexref::studies {
 
-int default_jobs() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+int default_jobs() {
+  // The cores this process may run on (an MPI launcher may bind it to one), and the machine's
+  // cores shared by the processes of the run on this machine.
+  int cores = static_cast<int>(std::thread::hardware_concurrency());
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) cores = std::min(cores, CPU_COUNT(&set));
+  const int shared =
+      static_cast<int>(std::thread::hardware_concurrency()) / distribution().processes_on_node();
+  return std::max(1, std::min(cores, shared));
+}
 
 void parallel_for(int n, int jobs, const std::function<void(int)>& task) {
   if (n <= 0) return;

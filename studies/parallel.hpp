@@ -6,7 +6,8 @@
 
 namespace flexref::studies {
 
-/// Hardware concurrency, at least 1.
+/// Threads for a process: its cores (affinity), and the machine's cores divided among the
+/// processes of an MPI run on this machine (studies/distribution.hpp); at least 1.
 int default_jobs();
 
 /// Runs task(i) for i in [0, n) on min(jobs, n) threads; rethrows the first exception (by task

@@ -51,9 +51,9 @@ def main(argv):
                 pts.append((cpu, err, r["status"]))
         if not pts:
             continue
-        label = method.upper() if kind == "scheme" else f"{method} (rtol sweep)"
+        label = method.upper() if kind != "solver" else f"{method} (rtol sweep)"
         ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=markers[k % len(markers)],
-                  linestyle="-" if kind == "scheme" else "--", label=label)
+                  linestyle="-" if kind != "solver" else "--", label=label)
         bad = [p for p in pts if p[2] != "ok"]
         if bad:
             ax.loglog([b[0] for b in bad], [b[1] for b in bad], linestyle="none", marker="x",

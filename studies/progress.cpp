@@ -37,7 +37,9 @@ Progress::Progress(std::string label, long total, std::string unit, bool enabled
   printer_ = std::thread([this] { run(); });
 }
 
-Progress::~Progress() {
+Progress::~Progress() { finish(); }
+
+void Progress::finish() {
   if (!printer_.joinable()) return;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -61,9 +63,10 @@ void Progress::print(bool final_line) {
   const double elapsed =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const long done = done_.load(std::memory_order_relaxed);
+  const long total = total_.load(std::memory_order_relaxed);
   std::string line = label_ + ": ";
-  if (total_ > 0) {
-    line += std::to_string(done) + "/" + std::to_string(total_) + " " + unit_ + ", ";
+  if (total > 0) {
+    line += std::to_string(done) + "/" + std::to_string(total) + " " + unit_ + ", ";
   } else if (done > 0) {
     line += std::to_string(done) + " " + unit_ + ", ";
   }

@@ -47,13 +47,17 @@ class Progress {
   void advance() noexcept { done_.fetch_add(1, std::memory_order_relaxed); }
   /// The counter itself, for a loop that stores its own count (lie::run_scheme's steps).
   std::atomic<long>& counter() noexcept { return done_; }
+  /// The count to do, when it is known only once the work runs (a distributed study).
+  void set_total(long total) noexcept { total_.store(total, std::memory_order_relaxed); }
+  /// Stops the printer now; when a line was printed, finishes it (the destructor does this too).
+  void finish();
 
  private:
   void run();
   void print(bool final_line);
 
   std::string label_;
-  long total_;
+  std::atomic<long> total_;
   std::string unit_;
   ProgressSettings settings_;
   bool terminal_ = false;

@@ -12,8 +12,7 @@
 #include "core/body.hpp"
 #include "core/force_element.hpp"
 #include "lie/stepper.hpp"
-#include "studies/parallel.hpp"
-#include "studies/progress.hpp"
+#include "studies/distribution.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
@@ -74,6 +73,40 @@ StabilityPoint bisect_point(const std::string& scheme, const Eigen::Matrix3d& I_
 
 /// Long run of one scheme: samples hold the maximum drifts over the steps since the previous
 /// sample, so oscillating errors are not aliased away.
+SlotCodec point_codec(std::vector<StabilityPoint>& points) {
+  require_codec_size<StabilityPoint, 160>();
+  const auto fields = [](auto& io, auto& p) {
+    io(p.scheme, p.parameter, p.value, p.spin, p.h_max, p.h_unstable, p.classification, p.near_pi);
+  };
+  return {[&points, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            fields(put, points[static_cast<std::size_t>(i)]);
+          },
+          [&points, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            fields(get, points[static_cast<std::size_t>(i)]);
+          }};
+}
+
+SlotCodec long_run_codec(std::vector<std::vector<LongRunSample>>& runs) {
+  require_codec_size<LongRunSample, 104>();
+  const auto fields = [](auto& io, auto& s) {
+    io(s.scheme, s.step, s.t, s.energy_drift, s.momentum_drift, s.quaternion_drift, s.status);
+  };
+  return {[&runs, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            const auto& run = runs[static_cast<std::size_t>(i)];
+            w.put_int(static_cast<std::int64_t>(run.size()));
+            for (const LongRunSample& s : run) fields(put, s);
+          },
+          [&runs, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            auto& run = runs[static_cast<std::size_t>(i)];
+            run.resize(static_cast<std::size_t>(r.get_int()));
+            for (LongRunSample& s : run) fields(get, s);
+          }};
+}
+
 std::vector<LongRunSample> long_run(const std::string& scheme, const StabilityOptions& options) {
   const core::Model model = make_free_body_model(options.I_Bcm_B, options.w_direction_B);
   const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(scheme, model);
@@ -270,49 +303,56 @@ StabilityResult run_stability(const StabilityOptions& options) {
       n_values * n_schemes +
       (options.degenerate ? static_cast<int>(degenerate_bodies().size()) : 0) * n_schemes +
       (options.long_run_steps > 0 ? n_schemes : 0);
-  Progress progress("stability", n_total, "runs", options.progress);
-  const auto report = [&] { progress.advance(); };
+  ProgressLine progress("stability", "runs", options.progress);
+  int offset = 0;
   result.sweep.resize(options.values.size() * options.schemes.size());
-  parallel_for(n_values * n_schemes, options.jobs, [&](int task) {
-    const double value = options.values[static_cast<std::size_t>(task / n_schemes)];
-    StabilityPoint point =
-        options.parameter == "spin"
-            ? bisect_point(scheme_of(task), options.I_Bcm_B, value * direction, options.criterion,
-                           options.relative_tolerance)
-            : bisect_point(scheme_of(task), rod_inertia(value), options.spin * direction,
-                           options.criterion, options.relative_tolerance);
-    point.parameter = options.parameter;
-    point.value = value;
-    result.sweep[static_cast<std::size_t>(task)] = std::move(point);
-    report();
-  });
+  distributed_for(
+      n_values * n_schemes, options.jobs,
+      [&](int task) {
+        const double value = options.values[static_cast<std::size_t>(task / n_schemes)];
+        StabilityPoint point =
+            options.parameter == "spin"
+                ? bisect_point(scheme_of(task), options.I_Bcm_B, value * direction,
+                               options.criterion, options.relative_tolerance)
+                : bisect_point(scheme_of(task), rod_inertia(value), options.spin * direction,
+                               options.criterion, options.relative_tolerance);
+        point.parameter = options.parameter;
+        point.value = value;
+        result.sweep[static_cast<std::size_t>(task)] = std::move(point);
+      },
+      point_codec(result.sweep), progress.callback(offset, n_total));
+  offset += n_values * n_schemes;
 
   if (options.degenerate) {
     const auto bodies = degenerate_bodies();
     const auto n_bodies = static_cast<int>(bodies.size());
     result.degenerate.resize(bodies.size() * options.schemes.size());
-    parallel_for(n_bodies * n_schemes, options.jobs, [&](int task) {
-      const auto& [name, inertia] = bodies[static_cast<std::size_t>(task / n_schemes)];
-      const Eigen::Vector3d w = options.spin * direction;
-      StabilityPoint point =
-          bisect_point(scheme_of(task), inertia, w, options.criterion, options.relative_tolerance);
-      point.parameter = name;
-      point.value = inertia(2, 2) / inertia(0, 0);
-      point.near_pi = classify_run(make_free_body_model(inertia, w), scheme_of(task),
-                                   kNearPiStepTimesSpin / options.spin, options.criterion);
-      result.degenerate[static_cast<std::size_t>(task)] = std::move(point);
-      report();
-    });
+    distributed_for(
+        n_bodies * n_schemes, options.jobs,
+        [&](int task) {
+          const auto& [name, inertia] = bodies[static_cast<std::size_t>(task / n_schemes)];
+          const Eigen::Vector3d w = options.spin * direction;
+          StabilityPoint point = bisect_point(scheme_of(task), inertia, w, options.criterion,
+                                              options.relative_tolerance);
+          point.parameter = name;
+          point.value = inertia(2, 2) / inertia(0, 0);
+          point.near_pi = classify_run(make_free_body_model(inertia, w), scheme_of(task),
+                                       kNearPiStepTimesSpin / options.spin, options.criterion);
+          result.degenerate[static_cast<std::size_t>(task)] = std::move(point);
+        },
+        point_codec(result.degenerate), progress.callback(offset, n_total));
+    offset += n_bodies * n_schemes;
   }
 
   if (options.long_run_steps > 0) {
     std::vector<std::vector<LongRunSample>> runs(options.schemes.size());
-    parallel_for(n_schemes, options.jobs, [&](int i) {
-      runs[static_cast<std::size_t>(i)] = long_run(scheme_of(i), options);
-      report();
-    });
+    distributed_for(
+        n_schemes, options.jobs,
+        [&](int i) { runs[static_cast<std::size_t>(i)] = long_run(scheme_of(i), options); },
+        long_run_codec(runs), progress.callback(offset, n_total));
     for (auto& run : runs) result.long_run.insert(result.long_run.end(), run.begin(), run.end());
   }
+  progress.finish();
   return result;
 }
 

@@ -13,6 +13,7 @@
 #include "flexible/beam_model.hpp"
 #include "lie/stepper.hpp"
 #include "scene/build_model.hpp"
+#include "studies/distribution.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
 #include "studies/stability.hpp"
@@ -140,27 +141,41 @@ std::string classify_linear_run(const core::Model& model, const std::string& par
 std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options) {
   const std::size_t n_schemes = options.schemes.size();
   std::vector<LinearSweepPoint> points(options.values.size() * n_schemes);
-  Progress progress("stability", static_cast<long>(points.size()), "bisections", options.progress);
-  parallel_for(static_cast<int>(points.size()), options.jobs, [&](int task) {
-    const auto u = static_cast<std::size_t>(task);
-    LinearSweepPoint& p = points[u];
-    p.scheme = options.schemes[u % n_schemes];
-    p.value = options.values[u / n_schemes];
-    const core::Model model = make_linear_sweep_model(options.parameter, p.value, p.omega);
-    p.h_theory = 2.0 / p.omega;
-    const auto stable = [&](double h) {
-      return classify_linear_run(model, options.parameter, p.scheme, h, options) == "stable";
-    };
-    // Start a decade under the theoretical limit; cap a decade above it.
-    const StableStepBracket b = bisect_largest_stable(stable, 0.1 * p.h_theory, 10.0 * p.h_theory,
-                                                      options.relative_tolerance);
-    p.h_max = b.h_stable;
-    p.classification =
-        std::isfinite(b.h_unstable)
-            ? classify_linear_run(model, options.parameter, p.scheme, b.h_unstable, options)
-            : "stable to cap";
-    progress.advance();
-  });
+  require_codec_size<LinearSweepPoint, 96>();
+  const auto fields = [](auto& io, auto& p) {
+    io(p.scheme, p.value, p.omega, p.h_max, p.h_theory, p.classification);
+  };
+  const SlotCodec codec{[&points, fields](int i, SlotWriter& w) {
+                          auto put = [&w](const auto&... x) { (w.put(x), ...); };
+                          fields(put, points[static_cast<std::size_t>(i)]);
+                        },
+                        [&points, fields](int i, SlotReader& r) {
+                          auto get = [&r](auto&... x) { (r.get(x), ...); };
+                          fields(get, points[static_cast<std::size_t>(i)]);
+                        }};
+  ProgressLine progress("stability", "bisections", options.progress);
+  distributed_for(
+      static_cast<int>(points.size()), options.jobs,
+      [&](int task) {
+        const auto u = static_cast<std::size_t>(task);
+        LinearSweepPoint& p = points[u];
+        p.scheme = options.schemes[u % n_schemes];
+        p.value = options.values[u / n_schemes];
+        const core::Model model = make_linear_sweep_model(options.parameter, p.value, p.omega);
+        p.h_theory = 2.0 / p.omega;
+        const auto stable = [&](double h) {
+          return classify_linear_run(model, options.parameter, p.scheme, h, options) == "stable";
+        };
+        // Start a decade under the theoretical limit; cap a decade above it.
+        const StableStepBracket b = bisect_largest_stable(
+            stable, 0.1 * p.h_theory, 10.0 * p.h_theory, options.relative_tolerance);
+        p.h_max = b.h_stable;
+        p.classification =
+            std::isfinite(b.h_unstable)
+                ? classify_linear_run(model, options.parameter, p.scheme, b.h_unstable, options)
+                : "stable to cap";
+      },
+      codec);
   return points;
 }
 

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "io/atomic_file.hpp"
+#include "studies/distribution.hpp"
 #include "studies/progress.hpp"
 
 namespace flexref::studies {
@@ -50,6 +51,28 @@ void check_replaceable(const fs::path& dir) {
 }  // namespace
 
 StudyOutput::StudyOutput(fs::path dir) : dir_(std::move(dir)) {
+  // Only the root process of a distributed study writes (studies/distribution.hpp); its checks
+  // are every process's outcome, and the other processes stage into a private temporary folder
+  // that they drop.
+  writer_ = distribution().is_root();
+  if (!writer_) {
+    std::error_code ec;
+    staging_ = fs::temp_directory_path(ec) /
+               ("flexref-rank-" + std::to_string(distribution().rank()) + "-" + random_suffix());
+    fs::create_directories(staging_, ec);
+  }
+  try {
+    distribution().on_root([this] { prepare(); });
+  } catch (...) {
+    if (!writer_) {
+      std::error_code ignore;
+      fs::remove_all(staging_, ignore);
+    }
+    throw;
+  }
+}
+
+void StudyOutput::prepare() {
   if (dir_.empty()) fail(dir_, "the path is empty");
   std::error_code ec;
   const fs::path absolute = fs::absolute(dir_, ec);
@@ -79,7 +102,7 @@ StudyOutput::StudyOutput(fs::path dir) : dir_(std::move(dir)) {
 }
 
 StudyOutput::~StudyOutput() {
-  if (committed_) return;
+  if (committed_ && writer_) return;
   std::error_code ignore;
   fs::remove_all(staging_, ignore);
 }
@@ -103,6 +126,7 @@ void StudyOutput::add(const std::string& file) {
 
 PlotOutcome StudyOutput::plot(const std::string& script, const std::string& png,
                               std::vector<std::string> arguments) {
+  if (!writer_) return {false, "plots are drawn by rank 0"};
   PlotOutcome outcome;
   {
     const Progress progress("plot " + png, 0, "");
@@ -117,6 +141,14 @@ PlotOutcome StudyOutput::plot(const std::string& script, const std::string& png,
 }
 
 void StudyOutput::commit(StudyRecord record) {
+  if (distribution().size() > 1) {
+    record.table("run").set("processes", distribution().size());
+  }
+  distribution().on_root([&] { commit_files(std::move(record)); });
+  committed_ = true;
+}
+
+void StudyOutput::commit_files(StudyRecord record) {
   std::vector<std::string> listed = files_;
   listed.push_back("study.toml");
   record.table("files").set("folder", dir_.string()).set("written", listed);
@@ -141,7 +173,6 @@ void StudyOutput::commit(StudyRecord record) {
     if (!previous.empty()) fs::rename(previous, dir_, ignore);
     fail(dir_, "cannot move the new results into place: " + ec.message());
   }
-  committed_ = true;
   if (!previous.empty()) fs::remove_all(previous, ec);
 }
 

@@ -4,7 +4,9 @@
 /// never computes for minutes and then fails on its --out path); files are written into a
 /// hidden staging folder beside it and moved into place by commit(), so an interrupted study
 /// leaves either the previous folder untouched or the complete new one — never new CSVs beside
-/// old plots.
+/// old plots. In a study distributed over processes (studies/distribution.hpp) only the root
+/// writes: the others stage into a private temporary folder, draw no plot, and share the root's
+/// outcome of the checks and of commit().
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -19,7 +21,8 @@ class StudyOutput {
  public:
   /// Checks that `dir` is absent, empty or a previous study's folder (study.toml and only .csv,
   /// .txt, .toml and .png files) and that its parent can be created and written, and creates
-  /// the staging folder. Throws io::OutputError naming the path and the reason.
+  /// the staging folder. Throws io::OutputError naming the path and the reason (on every
+  /// process of a distributed study).
   explicit StudyOutput(std::filesystem::path dir);
   /// Removes the staging folder when commit() was not reached (an exception unwound the study).
   ~StudyOutput();
@@ -48,6 +51,10 @@ class StudyOutput {
   void commit(StudyRecord record);
 
  private:
+  void prepare();
+  void commit_files(StudyRecord record);
+
+  bool writer_ = true;  ///< the root process: the one that writes the folder
   std::filesystem::path dir_;
   std::filesystem::path staging_;
   std::vector<std::string> files_;

@@ -8,6 +8,7 @@
 #include <boost/version.hpp>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <toml.hpp>
@@ -25,7 +26,12 @@ bool is_bare_key(const std::string& key) {
   });
 }
 
-std::string toml_string(const std::string& s) { return toml::format(toml::value(s)); }
+// Unlimited width: toml11 writes a one-line basic string with quotes, backslashes and control
+// characters escaped (a finite width folds long strings and those with newlines or quotes into
+// multi-line strings).
+std::string toml_string(const std::string& s) {
+  return toml::format(toml::value(s), std::numeric_limits<std::size_t>::max());
+}
 
 struct ValueFormatter {
   std::string operator()(double x) const { return toml_float(x); }
@@ -79,9 +85,30 @@ StudyRecord::Table& StudyRecord::Table::put(const std::string& key, Value value)
   return *this;
 }
 
+namespace {
+
+bool is_dotted_key(const std::string& key) {
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = key.find('.', start);
+    if (!is_bare_key(key.substr(start, dot == std::string::npos ? dot : dot - start))) return false;
+    if (dot == std::string::npos) return true;
+    start = dot + 1;
+  }
+}
+
+}  // namespace
+
+StudyRecord::Table& StudyRecord::append(const std::string& name) {
+  if (!is_dotted_key(name)) {
+    throw std::invalid_argument("record array \"" + name + "\" is not a dotted bare TOML key");
+  }
+  return tables_.emplace_back(name, true);
+}
+
 StudyRecord::Table& StudyRecord::table(const std::string& name) {
   for (Table& t : tables_) {
-    if (t.name() == name) return t;
+    if (t.name() == name && !t.is_array_element()) return t;
   }
   if (!is_bare_key(name)) {
     throw std::invalid_argument("record table \"" + name + "\" is not a bare TOML key");
@@ -100,7 +127,7 @@ std::string StudyRecord::to_toml() const {
   std::string out;
   for (const Table& t : tables_) {
     if (!out.empty()) out += '\n';
-    out += '[' + t.name() + "]\n";
+    out += t.is_array_element() ? "[[" + t.name() + "]]\n" : '[' + t.name() + "]\n";
     for (const auto& [key, value] : t.entries()) {
       out += key + " = " + std::visit(ValueFormatter{}, value) + '\n';
     }

@@ -21,8 +21,10 @@ class StudyRecord {
   /// One TOML table: keys in insertion order; setting a key twice replaces its value.
   class Table {
    public:
-    explicit Table(std::string name) : name_(std::move(name)) {}
+    explicit Table(std::string name, bool array = false) : name_(std::move(name)), array_(array) {}
     const std::string& name() const { return name_; }
+    /// An element of an array of tables ([[name]]).
+    bool is_array_element() const { return array_; }
     /// Keys are bare TOML keys (ASCII letters, digits, '_', '-'); throws std::invalid_argument
     /// otherwise.
     Table& set(const std::string& key, double value) { return put(key, value); }
@@ -52,11 +54,15 @@ class StudyRecord {
    private:
     Table& put(const std::string& key, Value value);
     std::string name_;
+    bool array_ = false;
     std::vector<std::pair<std::string, Value>> entries_;
   };
 
   /// Table [name], created at its first use; tables keep the order of their first use.
   Table& table(const std::string& name);
+  /// A new element of the array of tables [[name]]; `name` may be a dotted key of bare keys
+  /// ("reference.check") to nest the array in a table.
+  Table& append(const std::string& name);
   const Table* find(const std::string& name) const;
   const std::vector<Table>& tables() const { return tables_; }
 

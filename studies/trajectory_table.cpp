@@ -42,7 +42,12 @@ std::vector<std::string> trajectory_columns(const core::Model& model) {
   names.emplace_back("energy");
   if (model.dissipates()) {
     names.emplace_back("dissipated_work");
+    if (model.tracks_applied_work()) names.emplace_back("applied_work");
     names.emplace_back("energy_balance");
+  }
+  // Wear outputs per named contact (docs/output.md).
+  for (const std::string& c : model.wear_channel_names()) {
+    for (const char* q : {".fn", ".slip_speed", ".wear_work", ".impacts"}) names.push_back(c + q);
   }
   return names;
 }
@@ -60,7 +65,15 @@ std::vector<std::string> trajectory_units(const core::Model& model) {
     if (b.is_prescribed()) units.emplace_back("N*m");
   }
   units.emplace_back("J");
-  if (model.dissipates()) units.insert(units.end(), 2, "J");
+  if (model.dissipates()) {
+    units.emplace_back("J");
+    if (model.tracks_applied_work()) units.emplace_back("J");
+    units.emplace_back("J");
+  }
+  // Per named contact: normal force, slip speed, wear work, impacts (docs/output.md).
+  for (std::size_t c = 0; c < model.wear_channel_names().size(); ++c) {
+    for (const char* u : {"N", "m/s", "J", "-"}) units.emplace_back(u);
+  }
   return units;
 }
 
@@ -120,7 +133,33 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
                               : std::numeric_limits<double>::quiet_NaN();
       if (k == 0) energy0 = energy;
       row.push_back(work);
-      row.push_back(energy - energy0 + work);
+      // E(t) − E(0) + W_d(t) − W_a(t) with the applied work W_a of harmonic loads.
+      const auto extra = static_cast<std::size_t>(model.extra_integral_count());
+      const bool tracked = trajectory.extra_work.size() == extra * trajectory.times.size();
+      double applied = 0.0;
+      if (model.tracks_applied_work()) {
+        applied =
+            tracked ? trajectory.extra_work[k * extra] : std::numeric_limits<double>::quiet_NaN();
+        row.push_back(applied);
+      }
+      row.push_back(energy - energy0 + work - applied);
+    }
+    const auto channels = static_cast<std::size_t>(model.wear_channel_count());
+    if (channels > 0) {
+      model.wear_samples(context, state, ws);
+      const auto extra = static_cast<std::size_t>(model.extra_integral_count());
+      const std::size_t first_wear = model.tracks_applied_work() ? 1 : 0;
+      const bool tracked =
+          extra > 0 && trajectory.extra_work.size() == extra * trajectory.times.size();
+      const bool counted = trajectory.impacts.size() == channels * trajectory.times.size();
+      for (std::size_t c = 0; c < channels; ++c) {
+        row.push_back(ws.wear[c].normal_force);
+        row.push_back(ws.wear[c].slip_speed);
+        row.push_back(tracked ? trajectory.extra_work[k * extra + first_wear + c]
+                              : std::numeric_limits<double>::quiet_NaN());
+        row.push_back(counted ? trajectory.impacts[k * channels + c]
+                              : std::numeric_limits<double>::quiet_NaN());
+      }
     }
     table.rows.push_back(std::move(row));
   }

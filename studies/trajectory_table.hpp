@@ -11,8 +11,10 @@
 /// body `B.drive_torque` (N·m, about the axis); then `energy` (J): kinetic + potential of
 /// conservative elements (contact and joint springs included) + elastic energy ½ q_fᵀ K q_f;
 /// when the model dissipates (Model::dissipates()), `dissipated_work` (W_d(t), J, from
-/// Trajectory::dissipated_work; NaN when the integrator did not track it) and `energy_balance`
-/// (E(t) − E(0) + W_d(t), J).
+/// Trajectory::dissipated_work; NaN when the integrator did not track it), `applied_work` (W_a of
+/// harmonic loads, Trajectory::extra_work, when tracked) and `energy_balance`
+/// (E(t) − E(0) + W_d(t) − W_a(t), J); last, per named contact C, `C.fn`, `C.slip_speed` (from
+/// the state), `C.wear_work` (Trajectory::extra_work) and `C.impacts` (Trajectory::impacts).
 #include <string>
 #include <vector>
 

@@ -3,15 +3,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "core/state.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
+#include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
@@ -34,7 +37,7 @@ void validate(const core::Model& model, const std::vector<double>& output_times,
   }
   if (options.levels < 1) throw std::invalid_argument("--levels must be at least 1");
   if (options.repeats < 1) throw std::invalid_argument("--repeats must be at least 1");
-  if (options.schemes.empty() && options.solvers.empty()) {
+  if (options.schemes.empty() && options.solvers.empty() && options.external.empty()) {
     throw std::invalid_argument("work-precision needs at least one scheme or solver");
   }
   const std::vector<std::string> schemes = lie::scheme_names();
@@ -86,9 +89,29 @@ core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integra
   return trajectory;
 }
 
+/// Every field of a run, and an external run's output file from a rank other than 0.
+SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes) {
+  require_codec_size<WorkPrecisionRun, 128>();
+  const auto fields = [](auto& io, auto& r) {
+    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
+  };
+  return {[&runs, &kept_bytes, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            fields(put, runs[static_cast<std::size_t>(i)]);
+            w.put(kept_bytes[static_cast<std::size_t>(i)]);
+          },
+          [&runs, &kept_bytes, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            fields(get, runs[static_cast<std::size_t>(i)]);
+            kept_bytes[static_cast<std::size_t>(i)] = r.get_string();
+          }};
+}
+
 }  // namespace
 
 std::vector<double> default_target_errors() { return {1e-2, 1e-4, 1e-6, 1e-8}; }
+
+std::vector<double> reference_target_errors() { return {1e-4, 1e-6, 1e-8, 1e-10, 1e-12}; }
 
 std::vector<CheapestMethod> cheapest_methods(const std::vector<WorkPrecisionRun>& runs,
                                              const std::vector<double>& targets) {
@@ -120,7 +143,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 
   reference::SolverOptions ref_options;
   ref_options.rtol = options.reference_rtol;
-  const std::string solver = resolve_reference_solver(options.reference_solver, model);
+  const std::string solver =
+      resolve_reference_solver(options.reference_solver, model, output_times);
   if (options.progress) {
     std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
   }
@@ -133,10 +157,29 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 
   const int n_scheme_runs = static_cast<int>(options.schemes.size()) * options.levels;
   const int n_tolerances = static_cast<int>(options.tolerances.size());
-  const int n_runs = n_scheme_runs + static_cast<int>(options.solvers.size()) * n_tolerances;
+  const int n_solver_runs = static_cast<int>(options.solvers.size()) * n_tolerances;
+  // External methods: (method, step) after the solvers.
+  struct ExternalRun {
+    std::size_t method;
+    double h;
+    int level;
+  };
+  std::vector<ExternalRun> external_runs;
+  for (std::size_t e = 0; e < options.external.size(); ++e) {
+    std::vector<double> steps = options.external[e].steps;
+    if (steps.empty()) {
+      for (int l = 0; l < options.levels; ++l) steps.push_back(options.h0 / std::ldexp(1.0, l));
+    }
+    std::sort(steps.begin(), steps.end(), std::greater<>());
+    for (std::size_t l = 0; l < steps.size(); ++l) {
+      external_runs.push_back({e, steps[l], static_cast<int>(l)});
+    }
+  }
+  const int n_runs = n_scheme_runs + n_solver_runs + static_cast<int>(external_runs.size());
   result.runs.resize(static_cast<std::size_t>(n_runs));
-  Progress progress("work-precision", n_runs, "runs", options.progress);
-  parallel_for(n_runs, options.jobs, [&](int k) {
+  std::vector<std::string> kept_bytes(static_cast<std::size_t>(n_runs));
+  ProgressLine progress("work-precision", "runs", options.progress);
+  const auto task = [&](int k) {
     WorkPrecisionRun& out = result.runs[static_cast<std::size_t>(k)];
     try {
       core::Trajectory trajectory;
@@ -150,6 +193,22 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
           auto stepper = lie::make_stepper(out.method, model);
           return lie::run_scheme(model, *stepper, out.setting, output_times);
         });
+      } else if (k >= n_scheme_runs + n_solver_runs) {
+        const ExternalRun& x =
+            external_runs[static_cast<std::size_t>(k - n_scheme_runs - n_solver_runs)];
+        const ExternalMethod& method = options.external[x.method];
+        out.method = method.label;
+        out.kind = "external";
+        out.setting = x.h;
+        // The program's own CPU time (wait4), minimum over the repeats like the others.
+        ExternalLevel run;
+        out.cpu_seconds = kInf;
+        for (int r = 0; r < options.repeats; ++r) {
+          run = method.run(x.h, x.level);
+          out.cpu_seconds = std::min(out.cpu_seconds, run.cpu_seconds);
+        }
+        kept_bytes[static_cast<std::size_t>(k)] = kept_file_bytes(method, x.level);
+        out.error = metric_value(compare_run(run.run, result.reference.table), options.metric);
       } else {
         const int j = k - n_scheme_runs;
         out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];
@@ -158,21 +217,32 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         reference::SolverOptions solver_options;
         solver_options.rtol = out.setting;
         trajectory = timed_min(options.repeats, out.cpu_seconds, [&] {
-          return reference::solve_reference(out.method, model, output_times, solver_options)
-              .trajectory;
+          reference::ReferenceRun run =
+              reference::solve_reference(out.method, model, output_times, solver_options);
+          out.evaluations = run.stats.rhs_evaluations;
+          return std::move(run.trajectory);
         });
       }
-      out.error =
-          metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
-                       options.metric);
+      if (out.kind != "external") {
+        out.error =
+            metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
+                         options.metric);
+      }
       out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
     } catch (const std::exception& e) {
       out.error = kInf;
       out.cpu_seconds = kNaN;
       out.status = std::string("failed: ") + e.what();
     }
-    progress.advance();
-  });
+  };
+  distributed_for(n_runs, options.jobs, task, run_codec(result.runs, kept_bytes),
+                  progress.callback());
+  progress.finish();
+  for (std::size_t x = 0; x < external_runs.size(); ++x) {
+    const auto k = static_cast<std::size_t>(n_scheme_runs + n_solver_runs) + x;
+    restore_kept_file(options.external[external_runs[x].method], external_runs[x].level,
+                      kept_bytes[k]);
+  }
 
   const double ref_estimate = result.reference.estimate.estimate();
   bool any_uncertified = false;
@@ -183,6 +253,11 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
     }
   }
   result.cheapest = cheapest_methods(result.runs, default_target_errors());
+  std::vector<WorkPrecisionRun> solver_runs;
+  for (const auto& run : result.runs) {
+    if (run.kind == "solver") solver_runs.push_back(run);
+  }
+  result.cheapest_references = cheapest_methods(solver_runs, reference_target_errors());
 
   if (any_uncertified) {
     std::ostringstream note;
@@ -212,10 +287,7 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
   out << "reference: " << r.reference.run.solver << " rtol " << r.reference.run.options.rtol
-      << ", estimated error " << std::scientific << std::setprecision(2) << est.estimate()
-      << " (vs " << est.tighter_solver << " at rtol " << est.tighter_rtol << ": " << est.vs_tighter
-      << "; vs " << est.other_solver << " at rtol " << est.other_rtol << ": " << est.vs_other_solver
-      << (est.exact ? "; the smaller bounds an exact solution" : "") << ")\n";
+      << ", estimated error " << describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n";
 
   std::string current;
@@ -224,7 +296,7 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
       current = run.method + run.kind;
       out << "\n"
           << run.method << " (" << run.kind << ")\n"
-          << std::right << std::setw(12) << (run.kind == "scheme" ? "h [s]" : "rtol")
+          << std::right << std::setw(12) << (run.kind == "solver" ? "rtol" : "h [s]")
           << std::setw(12) << "error" << std::setw(11) << "cpu [s]"
           << "  status\n";
     }
@@ -238,23 +310,31 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
     out << "  " << run.status << "\n";
   }
 
-  out << "\ncheapest method per target error (certified runs only):\n"
-      << std::right << std::setw(8) << "target"
-      << "  " << std::left << std::setw(8) << "method" << std::setw(18) << "setting" << std::right
-      << std::setw(11) << "error" << std::setw(11) << "cpu [s]\n";
-  for (const auto& c : r.cheapest) {
-    out << std::right << std::scientific << std::setprecision(0) << std::setw(8) << c.target
-        << "  ";
-    if (!c.found) {
-      out << "none reaches it\n";
-      continue;
+  const auto cheapest_table = [&out](const std::vector<CheapestMethod>& cheapest,
+                                     const char* title) {
+    out << "\n"
+        << title << " (certified runs only):\n"
+        << std::right << std::setw(8) << "target"
+        << "  " << std::left << std::setw(8) << "method" << std::setw(18) << "setting" << std::right
+        << std::setw(11) << "error" << std::setw(11) << "cpu [s]\n";
+    for (const auto& c : cheapest) {
+      out << std::right << std::scientific << std::setprecision(0) << std::setw(8) << c.target
+          << "  ";
+      if (!c.found) {
+        out << "none reaches it\n";
+        continue;
+      }
+      std::ostringstream setting;
+      setting << (c.run.kind == "solver" ? "rtol = " : "h = ") << std::scientific
+              << std::setprecision(2) << c.run.setting;
+      out << std::left << std::setw(8) << c.run.method << std::setw(18) << setting.str()
+          << std::right << std::setprecision(2) << std::setw(11) << c.run.error << std::setw(11)
+          << c.run.cpu_seconds << "\n";
     }
-    std::ostringstream setting;
-    setting << (c.run.kind == "scheme" ? "h = " : "rtol = ") << std::scientific
-            << std::setprecision(2) << c.run.setting;
-    out << std::left << std::setw(8) << c.run.method << std::setw(18) << setting.str() << std::right
-        << std::setprecision(2) << std::setw(11) << c.run.error << std::setw(11)
-        << c.run.cpu_seconds << "\n";
+  };
+  cheapest_table(r.cheapest, "cheapest method per target error");
+  if (!r.cheapest_references.empty()) {
+    cheapest_table(r.cheapest_references, "cheapest reference solver per target error");
   }
   for (const auto& n : r.notes) out << "note: " << n << "\n";
   return out.str();
@@ -263,10 +343,10 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
 std::string work_precision_csv(const WorkPrecisionResult& r) {
   std::ostringstream out;
   out.precision(17);
-  out << "method,kind,setting,error,cpu_seconds,status\n";
+  out << "method,kind,setting,error,cpu_seconds,status,evaluations\n";
   for (const auto& run : r.runs) {
     out << run.method << ',' << run.kind << ',' << run.setting << ',' << run.error << ','
-        << run.cpu_seconds << ',' << csv_text(run.status) << '\n';
+        << run.cpu_seconds << ',' << csv_text(run.status) << ',' << run.evaluations << '\n';
   }
   return out.str();
 }

@@ -19,6 +19,7 @@
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
 #include "studies/certified_reference.hpp"
+#include "studies/convergence.hpp"
 
 namespace flexref::studies {
 
@@ -26,7 +27,7 @@ struct WorkPrecisionOptions {
   std::vector<std::string> schemes = lie::scheme_names();
   double h0 = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< steps h0, h0/2, …, h0/2^(levels−1)
-  std::vector<std::string> solvers{"ida", "cvode", "odeint"};
+  std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};
   std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   int repeats = 3;  ///< CPU time is the minimum over this many runs
   std::string metric = "rotation+points";
@@ -34,16 +35,22 @@ struct WorkPrecisionOptions {
   double reference_rtol = 1e-12;
   int jobs = 1;
   bool progress = false;  ///< progress line on stderr
+  /// Other codes' integrators (studies/convergence.hpp), after the solvers; their CPU time is
+  /// the one ExternalLevel reports (a program's own, from wait4), minimum over the repeats.
+  std::vector<ExternalMethod> external;
 };
 
 /// One point of the work-precision diagram.
 struct WorkPrecisionRun {
-  std::string method;        ///< scheme ("c1", "c2", "nmb") or solver ("ida", "cvode", …)
-  std::string kind;          ///< "scheme" or "solver"
+  std::string method;        ///< scheme ("c1", "c2", "nmb"), solver ("ida", …) or label
+  std::string kind;          ///< "scheme", "solver" or "external"
   double setting = 0.0;      ///< step h [s] for a scheme, relative tolerance for a solver
   double error = 0.0;        ///< metric against the reference (+inf when failed)
   double cpu_seconds = 0.0;  ///< minimum thread CPU time over the repeats (NaN when failed)
   std::string status;        ///< "ok", "uncertified", or "failed: why"
+  /// Right-hand-side (residual) evaluations of a solver run, the cost that does not depend on
+  /// the machine; 0 for a scheme.
+  long evaluations = 0;
 };
 
 /// The cheapest run reaching a target error (see cheapest_methods).
@@ -56,13 +63,18 @@ struct CheapestMethod {
 struct WorkPrecisionResult {
   WorkPrecisionOptions options;
   CertifiedReference reference;
-  std::vector<WorkPrecisionRun> runs;  ///< schemes × levels, then solvers × tolerances
+  /// schemes × levels, then solvers × tolerances, then external methods × levels
+  std::vector<WorkPrecisionRun> runs;
   std::vector<CheapestMethod> cheapest;
+  /// The cheapest reference solver run per reference_target_errors() (solver runs only).
+  std::vector<CheapestMethod> cheapest_references;
   std::vector<std::string> notes;
 };
 
 /// The target errors of the summary table: 1e-2, 1e-4, 1e-6, 1e-8.
 std::vector<double> default_target_errors();
+/// The target errors of the reference solvers' summary: 1e-4, 1e-6, 1e-8, 1e-10, 1e-12.
+std::vector<double> reference_target_errors();
 
 /// For each target, the run with the smallest CPU time among the runs with status "ok" and
 /// error ≤ target (ties: the first in `runs` order).
@@ -76,9 +88,10 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
                                        const WorkPrecisionOptions& options);
 
 /// The terminal table: one block per method (setting, error, CPU time, status), then the
-/// cheapest method per target error, then the notes.
+/// cheapest method per target error, the cheapest reference solver per target error, then the
+/// notes.
 std::string format_work_precision_table(const WorkPrecisionResult& result);
-/// CSV: method,kind,setting,error,cpu_seconds,status.
+/// CSV: method,kind,setting,error,cpu_seconds,status,evaluations.
 std::string work_precision_csv(const WorkPrecisionResult& result);
 
 }  // namespace flexref::studies

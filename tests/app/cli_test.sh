@@ -156,10 +156,78 @@ out=$("$flexref" figure "$tmp/fig_bad.toml" --out "$tmp/fig_bad" 2>&1)
 [[ $? -eq 2 ]] || fail "lte-map accepted a negative inertia ratio (a usage error, exit 2)"
 "$flexref" lte-map scenes/free_spin.toml --out "$tmp/lte_bad" >/dev/null 2>&1
 [[ $? -eq 1 ]] || fail "lte-map accepted a scene without a flexible body"
+# modes on two small bases; one count or a rigid scene is refused; the 64-mode scene reads.
+"$flexref" modes scenes/flexible_spinner.toml --modes 2,4 --end-time 0.5 --jobs 2 \
+  --out "$tmp/modes" >/dev/null 2>&1 || fail "modes failed"
+[[ $(wc -l <"$tmp/modes/modes.csv") -eq 3 && -s "$tmp/modes/study.toml" ]] ||
+  fail "modes: expected 2 rows and study.toml"
+"$flexref" modes scenes/flexible_spinner.toml --modes 4 --out "$tmp/modes_bad" >/dev/null 2>&1
+[[ $? -eq 1 ]] || fail "modes accepted a single mode count"
+"$flexref" modes scenes/free_spin.toml --out "$tmp/modes_bad" >/dev/null 2>&1
+[[ $? -eq 1 ]] || fail "modes accepted a scene without a flexible body"
+out=$("$flexref" check scenes/flexible_spinner_64.toml 2>&1) || fail "check flexible_spinner_64: $out"
+[[ $out == *"bending-xz-32"* ]] || fail "flexible_spinner_64 lacks its 64th mode: $out"
 # stability against modal frequency: the limit 2/omega.
 out=$("$flexref" stability --parameter modal_frequency --values 50 --schemes c2 \
   --out "$tmp/stab_modal" 2>&1) || fail "stability modal_frequency failed: $out"
 [[ $out == *"1.999"* ]] || fail "stability modal_frequency: h*omega not 1.999: $out"
+# reference: the method and why (CVODE chooses Adams on a scene without a stiff element; BDF on
+# request), ARKODE, and an estimate that says how it was made.
+"$flexref" reference scenes/free_spin.toml --solver cvode --rtol 1e-8 -o "$tmp/fs.csv" >/dev/null ||
+  fail "reference free_spin failed"
+meta=$(cat "$tmp/fs.csv.meta.toml")
+[[ $meta == *'method = "adams"'*'method_reason = "non-stiff'* ]] ||
+  fail "reference: no automatic method in the metadata: $meta"
+[[ $meta == *"[error_estimate]"*'method = "distance to the exact solution'*"[[error_estimate.check]]"*'role = "exact"'* ]] ||
+  fail "reference: the estimate does not say how it was made: $meta"
+"$flexref" reference scenes/book_toss.toml --solver cvode --method bdf --rtol 1e-8 -o "$tmp/bt.csv" \
+  >/dev/null || fail "reference --method bdf failed"
+meta=$(cat "$tmp/bt.csv.meta.toml")
+[[ $meta == *'method = "bdf"'*'method_reason = "chosen with --method"'* ]] ||
+  fail "reference --method bdf not recorded: $meta"
+[[ $meta == *'role = "tighter"'*'used = true'*'role = "other"'*'solver = "odeint"'* ]] ||
+  fail "reference: the numerical estimate's checks are not recorded: $meta"
+out=$("$flexref" reference scenes/book_toss.toml --solver arkode --rtol 1e-8 --no-estimate \
+  -o "$tmp/ark.csv" 2>&1) || fail "reference --solver arkode failed: $out"
+[[ $out == *"arkode (erk-fehlberg-13-7-8)"* ]] || fail "reference arkode: $out"
+"$flexref" reference scenes/book_toss.toml --solver cvode --method rk4 -o "$tmp/z.csv" \
+  >/dev/null 2>&1 && fail "unknown --method accepted"
+[[ ! -e $tmp/z.csv ]] || fail "unknown --method: an output file was written"
+"$flexref" reference scenes/book_toss.toml --solver ida --method adams -o "$tmp/z.csv" \
+  >/dev/null 2>&1 && fail "ida --method adams accepted"
+[[ ! -e $tmp/z.csv ]] || fail "ida --method adams: an output file was written"
+
+# A stiff oscillatory scene (undamped modes 57x the output Nyquist rate): the default reference
+# is ARKODE's ESDIRK with the structured Newton systems, the choice recorded and printed;
+# --solver cvode gets BDF capped at order 2.
+out=$("$flexref" reference scenes/flexible_spinner_64.toml --rtol 1e-6 --no-estimate \
+  -o "$tmp/s64.csv" 2>&1) || fail "reference on flexible_spinner_64 failed: $out"
+[[ $out == *"arkode (esdirk547l2sa-7-4-5)"*"solver: stiff oscillatory"* ]] ||
+  fail "reference flexible_spinner_64: not routed to the ESDIRK: $out"
+meta=$(cat "$tmp/s64.csv.meta.toml")
+[[ $meta == *'solver = "arkode"'*'solver_reason = "stiff oscillatory'*'method = "esdirk547l2sa-7-4-5"'*'jacobian = "structured'* ]] ||
+  fail "reference flexible_spinner_64: the choice is not recorded: $meta"
+out=$("$flexref" reference scenes/flexible_spinner_64.toml --solver cvode --rtol 1e-6 \
+  --no-estimate -o "$tmp/s64c.csv" 2>&1) || fail "reference cvode on flexible_spinner_64: $out"
+[[ $out == *"cvode (bdf2)"* ]] || fail "reference cvode on flexible_spinner_64: $out"
+meta=$(cat "$tmp/s64c.csv.meta.toml")
+[[ $meta == *'solver_reason = "chosen with --solver"'* ]] ||
+  fail "reference --solver cvode: not recorded as the user's choice: $meta"
+
+# Wear outputs (issue 13): the tube's run and reference have the wear columns, compare reports
+# the wear metric; a scene without a named contact refuses it.
+sed 's/^end_time = 10.0 /end_time = 0.05 /' scenes/tube_support_impact.toml >"$tmp/tube.toml"
+"$flexref" run "$tmp/tube.toml" --scheme c2 --dt 1e-5 --model lte -o "$tmp/tube_run.csv" \
+  >/dev/null || fail "tube run failed"
+"$flexref" reference "$tmp/tube.toml" --solver cvode --rtol 1e-9 --no-estimate \
+  -o "$tmp/tube_ref.csv" >/dev/null || fail "tube reference failed"
+[[ $(head -1 "$tmp/tube_ref.csv") == *"support.fn,support.slip_speed,support.wear_work,support.impacts" ]] ||
+  fail "tube reference lacks the wear columns: $(head -1 "$tmp/tube_ref.csv")"
+out=$("$flexref" compare "$tmp/tube_run.csv" "$tmp/tube_ref.csv" --metric wear 2>&1) ||
+  fail "compare --metric wear failed: $out"
+[[ $out == *"metric wear"* ]] || fail "compare --metric wear: $out"
+"$flexref" compare "$tmp/run.csv" "$tmp/ref.csv" --metric wear >/dev/null 2>&1 &&
+  fail "compare --metric wear accepted a scene without a named contact"
 
 # Exit codes (issue 17): one table, in --help, used by every command.
 expect() { # expect CODE "description" FRAGMENT command...: exit code and a fragment of the output

@@ -3,11 +3,17 @@
 /// counts allocations (tests/support/allocation_counting.hpp).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <memory>
 #include <vector>
 
+#include "contact/contact.hpp"
+#include "contact/gap_support.hpp"
+#include "core/applied_load.hpp"
+#include "core/impact_counter.hpp"
 #include "reference/dae_form.hpp"
 #include "reference/ode_form.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/node_contact_models.hpp"
 #include "tests/support/test_models.hpp"
 
 namespace flexref::core {
@@ -41,6 +47,66 @@ TEST_CASE("model evaluations allocate nothing", "[core][allocation]") {
     INFO("model with body " << model->body(0).name());
     CHECK(n == 0);
   }
+}
+
+TEST_CASE("node contacts, gap supports, wear channels and impact counts allocate nothing",
+          "[core][allocation]") {
+  // The stiff particle in contact with a plane at its node (named: a wear channel), a gap
+  // support on the same node, a harmonic force there (applied work tracked).
+  RigidBodyDescription d = testing::stiff_particle_body("p", 1.0, 0.01, 1.0, 1e6);
+  d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, 0.05);
+  d.initial.v_WBo = Eigen::Vector3d(0.3, 0.1, -0.5);
+  const NodeAttachment node = testing::node_of(d, 0);
+  contact::ContactPair pair = contact::ContactPair::sphere_plane(
+      0, Eigen::Vector3d::Zero(), 0.1, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ());
+  pair.node_b = node;
+  contact::FrictionLaw friction;
+  friction.mu = 0.3;
+  contact::GapSupportGeometry gap;
+  gap.clearance = 0.01;
+  gap.p_WS = Eigen::Vector3d(0.0, 0.02, 0.0);
+  std::vector<std::unique_ptr<const ForceElement>> elements;
+  elements.push_back(std::make_unique<contact::ContactElement>(
+      std::vector<contact::ContactPair>{pair},
+      contact::NormalLaw::hunt_crossley(1e6, 1.5, 0.5, 1.0), friction, 1.0, "floor"));
+  elements.push_back(std::make_unique<contact::GapSupport>(
+      0, Eigen::Vector3d::Zero(), node, gap, contact::NormalLaw::hunt_crossley(1e6, 1.5, 0.5, 1.0),
+      friction, 1.0, "support"));
+  elements.push_back(std::make_unique<AppliedForce>(0, Eigen::Vector3d(0.0, 1.0, 0.0),
+                                                    LoadFrame::kWorld, Eigen::Vector3d::Zero(),
+                                                    TimeProfile::harmonic(3.0, 0.0), node));
+  std::vector<Body> bodies;
+  bodies.emplace_back(d);
+  const Model model(std::move(bodies), std::move(elements));
+  REQUIRE(model.extra_integral_count() == 3);  // applied work, two wear works
+  const reference::OdeForm ode(model);
+  reference::OdeForm::Scratch ode_scratch = ode.make_scratch();
+  const reference::DaeForm dae(model);
+  reference::DaeForm::Scratch dae_scratch = dae.make_scratch();
+  std::vector<double> y(static_cast<std::size_t>(ode.size())), f(y.size());
+  std::vector<double> z(static_cast<std::size_t>(dae.size())), zp(z.size()), r(z.size());
+  State s = model.initial_state();
+  s[0].q_f = Eigen::Vector3d(0.001, 0.002, -0.003);
+  s[0].qd_f = Eigen::Vector3d(0.1, -0.2, 0.3);
+  ode.pack(s, y.data());
+  const LoadContext ctx{0.05, 0.05};
+  dae.initial_values(ctx, s, z.data(), zp.data());
+  Workspace ws = model.make_workspace();
+  ImpactCounter impacts(model);
+  impacts.start(ctx, s, ws);
+  std::vector<double> rates(4);
+  const long n = testing::count_allocations([&] {
+    ode.rhs(ctx, y.data(), f.data(), ode_scratch);
+    dae.residual(ctx, z.data(), zp.data(), r.data(), dae_scratch);
+    model.wear_samples(ctx, s, ws);
+    model.integral_rates(ctx, s, ws, rates);
+    impacts.update(ctx, s, ws);
+    impacts.update_at_root(ctx, s, ws);
+  });
+  CHECK(n == 0);
+  // Both contacts are engaged: friction does wear work in both channels.
+  CHECK(rates[2] > 0.0);
+  CHECK(rates[3] > 0.0);
 }
 
 TEST_CASE("the allocation counter counts", "[core][allocation]") {

@@ -1,8 +1,8 @@
-/// Location of switching events (contact onset and release) by the three references: CVODE
-/// and IDA root finding, Odeint bisection of the step. The test problem is a ball (a free
-/// rigid body) falling under gravity onto a linear penalty floor, written here as its own
-/// ForceElement so that the test depends only on the switching-function interface: gap
-/// g = z − r, contact force k δ upward for δ = −g > 0. Closed form: first contact at
+/// Location of switching events (contact onset and release) by the four references: CVODE,
+/// IDA and ARKODE root finding (ARKODE refined on its own steps), Odeint bisection of the step. The
+/// test problem is a ball (a free rigid body) falling under gravity onto a linear penalty floor,
+/// written here as its own ForceElement so that the test depends only on the switching-function
+/// interface: gap g = z − r, contact force k δ upward for δ = −g > 0. Closed form: first contact at
 /// t1 = √(2 (z0 − r)/g0); in contact δ'' = g0 − ω² δ, δ(0) = 0, δ'(0) = v (ω² = k/m,
 /// v = g0 t1), so δ = (g0/ω²)(1 − cos ωt) + (v/ω) sin ωt returns to 0 after
 /// t_c = (2/ω)(π − atan(v ω/g0)); the flight is then symmetric (elastic contact).
@@ -88,8 +88,9 @@ TEST_CASE("every reference locates contact onset and release at the closed-form 
   const std::vector<double> times = core::output_times(end, 0.05);
   SolverOptions options;
   options.rtol = 1e-10;
-  for (auto [name, solve] : {std::pair{"cvode", &solve_cvode}, std::pair{"ida", &solve_ida},
-                             std::pair{"odeint", &solve_odeint}}) {
+  for (auto [name, solve] :
+       {std::pair{"cvode", &solve_cvode}, std::pair{"ida", &solve_ida},
+        std::pair{"arkode", &solve_arkode}, std::pair{"odeint", &solve_odeint}}) {
     DYNAMIC_SECTION(name) {
       const ReferenceRun run = solve(model, times, options);
       REQUIRE(run.event_times.size() == expected.size());

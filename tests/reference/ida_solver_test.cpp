@@ -20,11 +20,12 @@ SolverOptions with_rtol(double rtol) {
 }  // namespace
 
 TEST_CASE("ida restarts at a load switch at tight tolerance", "[ida]") {
-  // Regression: in a trial configuration (a tighter Newton test, IDA's default Jacobian reuse)
-  // IDA stalled at rtol 1e-13 right after the restart at t = 0.1, with h ~ 1e-18 until
-  // mxstep: its first step after a restart is ∝ rtol, where the index-2 iteration matrix
-  // (condition ~ 1/h²) is hardest to converge. The driver's settings must get through with no
-  // convergence failure; 1e5 steps per output interval is ample (the run takes ~2e3).
+  // Regression: with the former index-2 DAE form, in a trial configuration (a tighter Newton
+  // test, IDA's default Jacobian reuse) IDA stalled at rtol 1e-13 right after the restart at
+  // t = 0.1, with h ~ 1e-18 until mxstep: its first step after a restart is ∝ rtol, where that
+  // iteration matrix (condition ~ 1/h²) was hardest to converge. The implicit form's matrix is
+  // c_j blockdiag(I, M) − ∂f/∂y, well conditioned; the restart must still get through with no
+  // convergence failure; 1e5 steps per output interval is ample (the run takes ~1e3).
   const core::Model model = testing::book_toss();
   SolverOptions options = with_rtol(1e-13);
   options.max_steps = 100'000;

@@ -1,8 +1,8 @@
 /// \file solver_conformance_test.cpp
-/// The conformance suite every reference solver joins (IDA on the DAE form, CVODE on the ODE
-/// form with projection, Boost.Odeint RKF7(8) on the ODE form): conservation on a torque-free
-/// body, exactly the requested output times with unit Euler parameters, the start at t = 0,
-/// input validation, and the failure path (too much work, singular loads) naming the time.
+/// The conformance suite every reference solver joins (IDA on the DAE form, CVODE and ARKODE's
+/// ERK and ESDIRK on the ODE form, Boost.Odeint RKF7(8) on the ODE form): conservation on a
+/// torque-free body, exactly the requested output times with unit Euler parameters, the start at t
+/// = 0, input validation, and the failure path (too much work, singular loads) naming the time.
 /// Solver-specific checks stay in <solver>_solver_test.cpp.
 #include <Eigen/Core>
 #include <catch2/catch.hpp>
@@ -18,6 +18,7 @@
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "core/point_charge_potential.hpp"
+#include "reference/arkode_esdirk_solver.hpp"
 #include "reference/reference_solver.hpp"
 #include "tests/support/test_problems.hpp"
 
@@ -28,14 +29,13 @@ struct Solver {
   const char* name;
   ReferenceRun (*solve)(const core::Model&, const std::vector<double>&, const SolverOptions&);
   const char* too_much_work;  ///< how the solver's message says it
-  /// Whether the solver interpolates outputs from its own dense output (CVODE, IDA: steps do
-  /// not depend on the output grid) or lands on every output (Odeint: they do).
-  bool grid_independent_steps;
 };
 
-const Solver kSolvers[] = {{"ida", solve_ida, "IDA_TOO_MUCH_WORK", true},
-                           {"cvode", solve_cvode, "CV_TOO_MUCH_WORK", true},
-                           {"odeint", solve_odeint, "too much work", false}};
+const Solver kSolvers[] = {{"ida", solve_ida, "IDA_TOO_MUCH_WORK"},
+                           {"cvode", solve_cvode, "CV_TOO_MUCH_WORK"},
+                           {"arkode", solve_arkode, "ARK_TOO_MUCH_WORK"},
+                           {"arkode", solve_arkode_esdirk, "ARK_TOO_MUCH_WORK"},
+                           {"odeint", solve_odeint, "too much work"}};
 
 /// coulomb_wall (tests/support/test_problems.hpp) started with both charges on the wall z = 0,
 /// where the wall force β/z² is infinite.
@@ -76,8 +76,7 @@ TEST_CASE("reference solvers conserve energy and angular momentum of a torque-fr
     const Eigen::Vector3d momentum0 = model.angular_momentum_W(run.trajectory.states.front());
     // Each accepted step commits a local error of at most ~rtol relative (the solver's error
     // test), so after N steps an invariant can have drifted by at most ~N·rtol relative if every
-    // error had the same sign. Measured (energy, momentum, N·rtol): IDA 6.5e-8, 3.1e-8, 1.4e-6;
-    // CVODE 3.1e-9, 9.2e-9, 3.8e-7; Odeint 1.6e-12, 1.7e-11, 4e-8.
+    // error had the same sign.
     const double bound = static_cast<double>(run.stats.steps) * rtol;
     for (const core::State& state : run.trajectory.states) {
       const double energy_error = std::abs(model.kinetic_energy(state) - energy0) / energy0;
@@ -111,18 +110,17 @@ TEST_CASE(
     CHECK(run.stats.rhs_evaluations > run.stats.steps);
     CHECK(run.stats.cpu_seconds >= 0.0);
 
-    // The value at 0.37 on another output grid. CVODE and IDA step past each tout and fill it
-    // from their own interpolant, and the drivers size each segment's first step towards the
-    // segment end rather than the first output, so their steps are the same for any grid with
-    // the same segments: agreement to round-off (measured bit for bit; 1e-12 leaves room for
-    // 0.37 and 37 × 0.01 differing in the last bit). Odeint lands on every output, so another
-    // grid means other steps (23 here, 101 with outputs every 0.01 s) and the values differ by
-    // about a global error: at most N·rtol·|ω̄| = 101 × 1e-10 × 10 ≈ 1e-7 (measured 6e-12).
+    // The value at 0.37 on another output grid. Every solver fills outputs from its own dense
+    // output (CVODE, IDA) or continuous extension (ARKODE, Odeint) and never lets the grid
+    // shorten a step; the CVODE driver sizes each segment's first step towards the segment
+    // end rather than the first output. So the steps are the same for any grid with the same
+    // segments: agreement to round-off (measured bit for bit; 1e-12 leaves room for 0.37 and
+    // 37 × 0.01 differing in the last bit).
     const ReferenceRun fine = solver.solve(model, core::output_times(1.0, 0.01), with_rtol(1e-10));
     const double difference =
         (fine.trajectory.states[37][0].w_WB_B - run.trajectory.states[6][0].w_WB_B).norm();
     CAPTURE(difference);
-    CHECK(difference <= (solver.grid_independent_steps ? 1e-12 : 1e-7));
+    CHECK(difference <= 1e-12);
   }
 }
 

@@ -1,17 +1,133 @@
+/// \file certified_reference_test.cpp
+/// The error estimate of a reference (studies/certified_reference.hpp): never zero, never from
+/// the run's own steps, never optimistic and at most 100× pessimistic (the numerical estimate
+/// against the exact error on short scenes here; on every exact scene, solver and tolerance in
+/// estimate_quality_study_test.cpp), and recorded with how it was made.
 #include "studies/certified_reference.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
+#include "core/model.hpp"
 #include "core/output_times.hpp"
+#include "reference/exact_solution.hpp"
+#include "reference/reference_solver.hpp"
 #include "scene/scene_reader.hpp"
+#include "studies/error_metrics.hpp"
 #include "studies/study_refused.hpp"
+#include "tests/support/exact_scenes.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::studies {
 namespace {
+
+constexpr const char* kMetric = "rotation+points";
+
+/// The run's true error in the metric, against the exact solution.
+double true_error(const core::Model& model, const std::vector<double>& times,
+                  const CertifiedReference& r) {
+  const reference::ReferenceRun exact = reference::solve_exact(model, times);
+  return metric_value(compare_trajectories(r.table, tabulate(model, exact.trajectory)), kMetric);
+}
+
+}  // namespace
+
+TEST_CASE("the numerical estimate is from different, more accurate solutions", "[estimate]") {
+  // Odeint on free_spin at rtol 1e-8: before, its 100× tighter rerun landed on the same output
+  // grid with the same 1001 steps (distance 0) and the estimate came from CVODE at the same
+  // rtol, 5.6e-6 against a true error of 2.6e-12.
+  const core::Model model = testing::free_spin();
+  const std::vector<double> times = core::output_times(100.0, 0.1);
+  reference::SolverOptions options;
+  options.rtol = 1e-8;
+  const CertifiedReference r =
+      certified_reference(model, times, "odeint", options, kMetric, {.use_exact_solution = false});
+  REQUIRE(r.estimate.checks.size() == 2);
+  for (const EstimateCheck& c : r.estimate.checks) {
+    CAPTURE(c.role, c.solver, c.steps, c.distance, c.note);
+    CHECK(c.used);
+    CHECK(c.distance > 0.0);
+    CHECK(c.rtol == 1e-10);
+  }
+  CHECK(r.estimate.checks[0].role == "tighter");
+  CHECK(r.estimate.checks[0].steps != r.run.stats.steps);
+  CHECK(r.estimate.checks[1].solver == "cvode");
+  // Never optimistic, at most 100× pessimistic (the estimator's contract).
+  const double truth = true_error(model, times, r);
+  CAPTURE(r.estimate.value, truth, r.estimate.method);
+  CHECK(r.estimate.value >= truth);
+  CHECK(r.estimate.value <= 100.0 * truth);
+  CHECK(r.estimate.method.find("2 x the larger distance") == 0);
+}
+
+TEST_CASE("a check that repeats the run or agrees exactly is not an estimate", "[estimate]") {
+  // A body at rest without loads: f = 0, the error estimates are 0, every solver's steps grow
+  // at their maximum rate whatever the tolerance, and every solution is the initial state. No
+  // check is a different solution: the estimate is unknown (+inf), and says why.
+  core::RigidBodyDescription d =
+      testing::rigid_body("still", 1.0, {1.0, 2.0, 3.0}, Eigen::Vector3d::Zero());
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(std::move(d));
+  const core::Model model(std::move(bodies), testing::Elements{});
+  const std::vector<double> times = core::output_times(1.0, 0.1);
+  reference::SolverOptions options;
+  options.rtol = 1e-8;
+  const CertifiedReference r =
+      certified_reference(model, times, "odeint", options, kMetric, {.use_exact_solution = false});
+  for (const EstimateCheck& c : r.estimate.checks) {
+    CAPTURE(c.role, c.solver, c.steps, c.distance, c.note);
+    CHECK_FALSE(c.used);
+    CHECK_FALSE(c.note.empty());
+  }
+  CHECK(std::isinf(r.estimate.value));
+  CHECK(r.estimate.method.find("none") == 0);
+  StudyRecord record;
+  add_reference(record, r);
+  CHECK(record.to_toml().find("estimated_error = inf") != std::string::npos);
+}
+
+TEST_CASE("with an exact solution the estimate is the distance to it", "[estimate]") {
+  const core::Model model = testing::free_spin();
+  const std::vector<double> times = core::output_times(10.0, 0.1);
+  reference::SolverOptions options;
+  options.rtol = 1e-9;
+  const CertifiedReference r = certified_reference(model, times, "cvode", options, kMetric);
+  REQUIRE(r.estimate.checks.size() == 1);
+  CHECK(r.estimate.checks[0].role == "exact");
+  CHECK(r.estimate.value == r.estimate.checks[0].distance);
+  CHECK(r.estimate.value == true_error(model, times, r));
+  StudyRecord record;
+  add_reference(record, r);
+  const std::string toml = record.to_toml();
+  CHECK(toml.find("[[reference.check]]\nrole = \"exact\"") != std::string::npos);
+  CHECK(toml.find("estimate_method = \"distance to the exact solution") != std::string::npos);
+}
+
+TEST_CASE("the numerical estimate brackets the true error on short exact scenes", "[estimate]") {
+  // The near-separatrix body (3 s, errors amplified ~200 per flip) and the heavy top (2 s, spin
+  // 150 rad/s) for every solver at two tolerances; all tolerances 1e-6…1e-12 on every exact
+  // scene are in estimate_quality_study_test.cpp. Contract: 1 ≤ estimate / true ≤ 100.
+  for (const testing::ExactScene& scene : testing::exact_scenes()) {
+    if (scene.end_time > 5.0) continue;
+    const core::Model model = scene.model();
+    const std::vector<double> times = core::output_times(scene.end_time, 0.01);
+    for (const char* solver : {"cvode", "ida", "arkode", "odeint"}) {
+      for (double rtol : {1e-7, 1e-10}) {
+        reference::SolverOptions options;
+        options.rtol = rtol;
+        const CertifiedReference r = certified_reference(model, times, solver, options, kMetric,
+                                                         {.use_exact_solution = false});
+        const double truth = true_error(model, times, r);
+        CAPTURE(scene.name, solver, rtol, r.estimate.value, truth, r.estimate.value / truth);
+        CHECK(r.estimate.value >= truth);
+        CHECK(r.estimate.value <= 100.0 * truth);
+      }
+    }
+  }
+}
 
 TEST_CASE("solution_scale is pi plus the scene's extent at t0", "[studies][reference]") {
   // free_spin: its tracked point (1, 0, 0) on a body at the origin, so rotation+points gives
@@ -50,5 +166,4 @@ TEST_CASE("a reference whose error estimate exceeds the solution itself is refus
   CHECK(ok.estimate.estimate() < 1e-3 * solution_scale(ok.table, "rotation+points"));
 }
 
-}  // namespace
 }  // namespace flexref::studies

@@ -36,9 +36,12 @@ TEST_CASE("the modes metric is the L-infinity modal-coordinate error", "[studies
   CHECK_THROWS_AS(metric_value(report, "modal"), std::invalid_argument);
 }
 
-TEST_CASE("rigid scenes have no modes metric contribution", "[studies][metrics]") {
+TEST_CASE("a metric with nothing to measure is an error, never 0", "[studies][metrics]") {
+  // A rigid scene has no modal coordinates: "modes" would otherwise report a perfect 0.
   const ComparisonReport empty;
-  CHECK(metric_value(empty, "modes") == 0.0);
+  CHECK_THROWS_WITH(metric_value(empty, "modes"), Catch::Matchers::Contains("nothing to measure"));
+  CHECK_THROWS_WITH(metric_value(empty, "rotation+points"),
+                    Catch::Matchers::Contains("nothing to measure"));
 }
 
 }  // namespace

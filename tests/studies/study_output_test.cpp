@@ -22,8 +22,8 @@ using flexref::studies::StudyRecord;
 struct TempDir {
   TempDir() {
     std::mt19937 rng(20261123u);
-    path = fs::temp_directory_path() / ("flexref_study_output_" + std::to_string(::getpid()) +
-                                        "_" + std::to_string(rng()));
+    path = fs::temp_directory_path() /
+           ("flexref_study_output_" + std::to_string(::getpid()) + "_" + std::to_string(rng()));
     fs::remove_all(path);
     fs::create_directories(path);
   }

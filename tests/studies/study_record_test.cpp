@@ -73,6 +73,29 @@ TEST_CASE("tables and keys keep their insertion order; a key set twice is replac
         "[scene]\nname = \"a\"\nmodel = \"lte\"\n\n[study]\nkind = \"converge\"\ndt = 0.25\n");
 }
 
+TEST_CASE("arrays of tables nest under their table and read back in order", "[study_record]") {
+  StudyRecord record;
+  record.table("reference").set("solver", "cvode");
+  record.append("reference.check").set("solver", "odeint").set("distance", 1e-9);
+  record.append("reference.check").set("solver", "arkode").set("distance", 2e-9);
+  record.table("versions").set("flexref", "0.1.0");
+  const toml::value v = parse(record.to_toml());
+  const auto& checks = toml::find(v, "reference", "check").as_array();
+  REQUIRE(checks.size() == 2);
+  CHECK(toml::find<std::string>(checks[1], "solver") == "arkode");
+  CHECK(toml::find<double>(checks[0], "distance") == 1e-9);
+  CHECK(toml::find<std::string>(v, "reference", "solver") == "cvode");
+  CHECK_THROWS_AS(record.append("a..b"), std::invalid_argument);
+}
+
+TEST_CASE("long strings stay on one line", "[study_record]") {
+  StudyRecord record;
+  const std::string text(300, 'x');
+  record.table("t").set("long", text + "\n" + text);
+  const std::string toml = record.to_toml();
+  CHECK(toml == "[t]\nlong = \"" + text + "\\n" + text + "\"\n");
+}
+
 TEST_CASE("non-finite numbers are written as TOML spells them", "[study_record]") {
   CHECK(toml_float(std::numeric_limits<double>::infinity()) == "inf");
   CHECK(toml_float(-std::numeric_limits<double>::infinity()) == "-inf");

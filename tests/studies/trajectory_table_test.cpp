@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/gravity.hpp"
+#include "scene/scene_reader.hpp"
 #include "studies/error_metrics.hpp"
 
 namespace flexref::studies {
@@ -142,6 +143,22 @@ TEST_CASE("trajectory_units gives one unit per column", "[studies]") {
     if (n.ends_with(".W2")) CHECK(units[i] == "rad/s");
     if (n.ends_with(".tip.z") || n == "rod.x") CHECK(units[i] == "m");
     if (n == "energy") CHECK(units[i] == "J");
+  }
+}
+
+TEST_CASE("trajectory_units covers work and wear columns", "[studies]") {
+  // tube_support_impact: a dissipating model with applied work and a named contact, whose
+  // columns end with energy, dissipated/applied work, balance and four wear outputs.
+  const scene::Scene scene = scene::read_scene("scenes/tube_support_impact.toml");
+  const std::vector<std::string> names = trajectory_columns(*scene.model);
+  const std::vector<std::string> units = trajectory_units(*scene.model);
+  REQUIRE(units.size() == names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    INFO(names[i]);
+    if (names[i].ends_with("_work") || names[i] == "energy_balance") CHECK(units[i] == "J");
+    if (names[i].ends_with(".fn")) CHECK(units[i] == "N");
+    if (names[i].ends_with(".slip_speed")) CHECK(units[i] == "m/s");
+    if (names[i].ends_with(".impacts")) CHECK(units[i] == "-");
   }
 }
 

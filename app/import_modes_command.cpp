@@ -1,0 +1,122 @@
+#include "app/import_modes_command.hpp"
+
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "app/cli_validators.hpp"
+#include "app/commands.hpp"
+#include "core/error.hpp"
+#include "io/atomic_file.hpp"
+#include "scene/calculix_frd.hpp"
+#include "scene/calculix_import.hpp"
+#include "scene/calculix_input_deck.hpp"
+#include "scene/calculix_matrices.hpp"
+#include "scene/modal_data_reader.hpp"
+
+namespace flexref::app {
+namespace {
+
+/// JOB for JOB.frd (the path without the extension).
+std::string job_of(const std::string& frd) {
+  std::filesystem::path p(frd);
+  if (p.extension() == ".frd") p.replace_extension();
+  return p.string();
+}
+
+std::string commented(const std::string& text) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string line; std::getline(in, line);) out += "# " + line + "\n";
+  return out;
+}
+
+}  // namespace
+
+CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options) {
+  auto* cmd = app.add_subcommand(
+      "import-modes", "modal-data file of a flexible body from a CalculiX frequency step");
+  cmd->add_option("frd", options.frd, "CalculiX result file JOB.frd (ASCII)")->required();
+  cmd->add_option("-o,--output", options.output, "modal-data file to write (TOML)")->required();
+  cmd->add_option("--matrices", options.matrices,
+                  "base name of the .mas/.sti/.dof of the free solid (default: JOB)");
+  cmd->add_option("--dat", options.dat,
+                  "ccx .dat whose eigenvalue tables are checked (default: JOB.dat if present)");
+  cmd->add_option("--step", options.step, "frequency step of the .frd (1: the first)")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--modes", options.modes,
+                  "elastic modes to keep, 1-based after rigid-body modes: e.g. 1-4,7 "
+                  "(default: all)");
+  auto* nodes = cmd->add_option("--nodes", options.nodes,
+                                "ccx node numbers to keep, e.g. 1-20,31 (default: all)");
+  cmd->add_option("--node-set", options.node_set, "a *NSET of the deck: the nodes to keep")
+      ->excludes(nodes);
+  cmd->add_option("--inp", options.inp, "input deck for --node-set (default: JOB.inp)");
+  cmd->add_option("--tolerance", options.tolerance,
+                  "frequency self-check, relative (default: " +
+                      std::to_string(scene::kDefaultFrequencyTolerance) + ")")
+      ->check(positive_number());
+  cmd->add_flag("--accept", options.accept,
+                "write the file even when the frequency self-check fails");
+  cmd->add_option("--description", options.description, "description in the modal-data file");
+  return cmd;
+}
+
+int import_modes_command(const ImportModesOptions& options) {
+  const std::string job = job_of(options.frd);
+  const scene::CalculixModes frd = scene::read_calculix_frd(options.frd);
+  const scene::CalculixMatrices matrices =
+      scene::read_calculix_matrices(options.matrices.empty() ? job : options.matrices);
+  std::string dat_file = options.dat;
+  if (dat_file.empty() && std::filesystem::is_regular_file(job + ".dat")) dat_file = job + ".dat";
+  std::vector<scene::CalculixEigenvalueTable> dat;
+  if (!dat_file.empty()) dat = scene::read_calculix_dat_eigenvalues(dat_file);
+
+  scene::CalculixImportOptions import;
+  import.frequency_step = options.step;
+  if (!options.modes.empty()) import.modes = scene::parse_index_list(options.modes, "--modes");
+  if (!options.nodes.empty()) import.nodes = scene::parse_ranges(options.nodes, "--nodes");
+  if (!options.node_set.empty()) {
+    for (const int id : scene::read_calculix_node_set(
+             options.inp.empty() ? job + ".inp" : options.inp, options.node_set)) {
+      import.nodes.emplace_back(id, id);
+    }
+  }
+  if (options.tolerance > 0.0) import.frequency_tolerance = options.tolerance;
+  const scene::CalculixImport result =
+      scene::import_calculix_modes(frd, matrices, dat_file.empty() ? nullptr : &dat, import);
+
+  std::ostringstream sources;
+  sources << "import-modes: " << options.frd << " (modes), " << matrices.mass_file << ", "
+          << matrices.stiffness_file << ", " << matrices.dof_file << " (matrices)"
+          << (dat_file.empty() ? std::string(", no .dat checked") : ", " + dat_file + " (checked)")
+          << "\n";
+  std::string report = sources.str() + scene::format_calculix_import_report(result);
+  std::cout << report;
+  if (!result.self_check_passed) {
+    if (!options.accept) {
+      throw core::InputError(
+          options.frd, 0, "",
+          "frequency self-check failed: the body's frequencies differ from CalculiX's by up to " +
+              std::to_string(result.max_difference) + " (> " +
+              std::to_string(result.frequency_tolerance) +
+              "); refine the mesh, keep more nodes, or pass --accept; nothing written");
+    }
+    report += "self-check failure ACCEPTED (--accept)\n";
+    std::cout << "self-check failure accepted (--accept)\n";
+  }
+  const std::string description = options.description.empty()
+                                      ? "CalculiX modes of " +
+                                            std::filesystem::path(options.frd).filename().string() +
+                                            " (step " + std::to_string(result.frequency_step) + ")"
+                                      : options.description;
+  const std::string text = commented(report) + scene::format_modal_data(result.data, description);
+  io::write_file_atomically(options.output, text);
+  std::cout << "wrote " << options.output << " (" << result.data.node_count() << " nodes, "
+            << result.data.mode_count() << " modes)\n";
+  return kExitOk;
+}
+
+}  // namespace flexref::app

@@ -1,0 +1,45 @@
+#pragma once
+/// \file method_registry.hpp
+/// The methods the studies can run, by name (after SUNDIALS' ARKODE Butcher-table registry and
+/// Drake's integrator factory): each entry has a name, the order its authors claim and a
+/// factory that builds a lie::Stepper for a model. C1, C2 and NMB are registered at start-up;
+/// a user registers their own stepper once and then runs it through every study
+/// (studies::run_convergence, run_work_precision, the stability and figure studies), which
+/// build their steppers with make_stepper.
+///
+///     flexref::lie::register_method({"lie_euler", 1, "explicit Lie-Euler",
+///         [](const flexref::core::Model& m) { return std::make_unique<LieEuler>(m); }});
+///
+/// Registration is thread-safe; register before a study starts.
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/model.hpp"
+#include "lie/stepper.hpp"
+
+namespace flexref::lie {
+
+using StepperFactory = std::function<std::unique_ptr<Stepper>(const core::Model&)>;
+
+struct MethodInfo {
+  std::string name;         ///< letters, digits, '_' and '-'; unique
+  int claimed_order = 0;    ///< the order the authors claim (≥ 1), checked by `converge`
+  std::string description;  ///< one line for listings
+  StepperFactory factory;   ///< builds a stepper for a model (the model outlives it)
+};
+
+/// Adds a method. Throws std::invalid_argument when the name is empty, has other characters
+/// than letters, digits, '_' and '-', is already registered, the claimed order is < 1 or the
+/// factory is empty.
+void register_method(MethodInfo method);
+
+/// The registered method of that name, or nullptr.
+const MethodInfo* find_method(std::string_view name);
+
+/// All registered methods, in registration order (c1, c2, nmb first).
+std::vector<MethodInfo> registered_methods();
+
+}  // namespace flexref::lie

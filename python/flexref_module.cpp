@@ -1,0 +1,425 @@
+/// \file flexref_module.cpp
+/// The Python module `flexref` (pybind11): verify an integrator written in Python against
+/// flexref's references (docs/external.md, "Python").
+///
+///     scene = flexref.load_scene("scenes/free_spin.toml")
+///     ref = flexref.reference(scene, solver="auto", rtol=1e-10)     # with its estimated error
+///     ref["body.e0"], ref.times, ref.estimated_error                 # numpy arrays, floats
+///     flexref.compare({"t": t, "body.e0": e0, ...}, ref).value        # the contract's metric
+///     flexref.convergence(ref, [(h, run), ...]).observed_order        # runs: dicts of arrays
+///     flexref.run_scheme(scene, "c2", 1e-3)                          # any registered scheme
+///
+/// flexref's errors become Python exceptions with flexref's messages: flexref.InputError (a
+/// ValueError: bad scene, bad arrays — naming the file or "run", row and column) and
+/// flexref.SolverError (a RuntimeError: where and why an integrator failed).
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/output_times.hpp"
+#include "lie/method_registry.hpp"
+#include "lie/run_scheme.hpp"
+#include "lie/stepper.hpp"
+#include "reference/solve_reference.hpp"
+#include "scene/scene_reader.hpp"
+#include "studies/certified_reference.hpp"
+#include "studies/convergence.hpp"
+#include "studies/error_metrics.hpp"
+#include "studies/reference_sidecar.hpp"
+#include "studies/trajectory_contract.hpp"
+#include "studies/trajectory_table.hpp"
+
+namespace py = pybind11;
+using namespace flexref;
+
+namespace {
+
+struct PyScene {
+  std::shared_ptr<scene::Scene> scene;
+  std::vector<double> times() const {
+    return core::output_times(scene->end_time, scene->output_step);
+  }
+};
+
+/// A trajectory as columns; a reference also carries its error estimate.
+struct PyTrajectory {
+  studies::TrajectoryTable table;
+  std::string integrator;  ///< scheme or solver
+  double setting = 0.0;    ///< step or rtol
+  bool has_estimate = false;
+  studies::CertifiedReference reference;  ///< valid when has_estimate (and for references)
+  bool is_reference = false;
+
+  py::array_t<double> column(const std::string& name) const {
+    const int c = table.column(name);
+    if (c < 0) throw py::key_error("no column '" + name + "'");
+    py::array_t<double> out(static_cast<py::ssize_t>(table.size()));
+    auto v = out.mutable_unchecked<1>();
+    for (std::size_t r = 0; r < table.size(); ++r) {
+      v(static_cast<py::ssize_t>(r)) = table.rows[r][static_cast<std::size_t>(c)];
+    }
+    return out;
+  }
+};
+
+core::FlexibleFormulation formulation(const std::string& model) {
+  if (model == "coupled") return core::FlexibleFormulation::kCoupled;
+  if (model == "lte") return core::FlexibleFormulation::kLte;
+  throw std::invalid_argument("model must be 'coupled' or 'lte', not '" + model + "'");
+}
+
+/// The run as the contract reads it: a PyTrajectory, or a mapping of column name to 1-D array.
+studies::RunData run_data(const py::handle& run, const std::string& source) {
+  if (py::isinstance<PyTrajectory>(run)) {
+    const auto& t = run.cast<const PyTrajectory&>();
+    std::vector<std::vector<double>> columns(t.table.columns.size());
+    for (const auto& row : t.table.rows) {
+      for (std::size_t c = 0; c < row.size(); ++c) columns[c].push_back(row[c]);
+    }
+    return studies::run_from_columns(source, t.table.columns, columns);
+  }
+  if (!py::isinstance<py::dict>(run)) {
+    throw py::type_error(
+        "a run is a dict of column name -> 1-D array (with 't'), or a "
+        "flexref.Trajectory");
+  }
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns;
+  for (const auto& [key, value] : run.cast<py::dict>()) {
+    names.push_back(py::str(key));
+    const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+    if (!a || a.ndim() != 1) {
+      throw core::InputError(source, 0, names.back(), "expected a 1-D array of numbers");
+    }
+    columns.emplace_back(a.data(), a.data() + a.size());
+  }
+  return studies::run_from_columns(source, std::move(names), columns);
+}
+
+const PyTrajectory& as_reference(const PyTrajectory& ref) {
+  if (!ref.is_reference) {
+    throw std::invalid_argument("the second argument must be a reference (flexref.reference)");
+  }
+  return ref;
+}
+
+struct PyComparison {
+  studies::ComparisonReport report;
+  std::string metric;
+  double value = 0.0;
+  std::vector<std::string> measured;
+  py::object estimated_error = py::none();
+  py::object certified = py::none();
+};
+
+PyComparison compare(const studies::RunData& run, const PyTrajectory& reference,
+                     const std::string& metric) {
+  const PyTrajectory& ref = as_reference(reference);
+  PyComparison out;
+  out.report = studies::compare_run(run, ref.table);
+  out.metric = metric;
+  out.measured = studies::metric_quantities(out.report, metric);
+  out.value = studies::metric_value(out.report, metric);
+  if (ref.has_estimate && ref.reference.estimate.metric == metric) {
+    const double e = ref.reference.estimate.estimate();
+    out.estimated_error = py::float_(e);
+    out.certified = py::bool_(studies::is_certified(out.value, e));
+  }
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(flexref, m) {
+  m.doc() =
+      "flexref: trusted references for rigid and flexible bodies in large rotation, and "
+      "the verification of time integrators against them (docs/external.md)";
+  m.attr("__version__") = "0.1.0";
+  static py::exception<core::InputError> input_error(m, "InputError", PyExc_ValueError);
+  static py::exception<core::SolverError> solver_error(m, "SolverError", PyExc_RuntimeError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const core::InputError& e) {
+      input_error(e.what());
+    } catch (const core::SolverError& e) {
+      solver_error(e.what());
+    }
+  });
+
+  py::class_<PyScene>(m, "Scene", "a scene read from its TOML file")
+      .def_property_readonly("name", [](const PyScene& s) { return s.scene->name; })
+      .def_property_readonly("file", [](const PyScene& s) { return s.scene->file; })
+      .def_property_readonly("end_time", [](const PyScene& s) { return s.scene->end_time; })
+      .def_property_readonly("output_step", [](const PyScene& s) { return s.scene->output_step; })
+      .def_property_readonly("output_times",
+                             [](const PyScene& s) {
+                               const auto t = s.times();
+                               return py::array_t<double>(static_cast<py::ssize_t>(t.size()),
+                                                          t.data());
+                             })
+      .def_property_readonly("bodies",
+                             [](const PyScene& s) {
+                               std::vector<std::string> names;
+                               for (const auto& b : s.scene->model->bodies()) {
+                                 names.push_back(b.name());
+                               }
+                               return names;
+                             })
+      .def_property_readonly(
+          "columns", [](const PyScene& s) { return studies::trajectory_columns(*s.scene->model); })
+      .def("__repr__", [](const PyScene& s) { return "<flexref.Scene '" + s.scene->name + "'>"; });
+
+  py::class_<PyTrajectory>(m, "Trajectory",
+                           "a trajectory as columns (docs/output.md); t['body.e0'] is a numpy "
+                           "array")
+      .def_property_readonly("columns", [](const PyTrajectory& t) { return t.table.columns; })
+      .def_property_readonly("times", [](const PyTrajectory& t) { return t.column("t"); })
+      .def("__getitem__", &PyTrajectory::column)
+      .def("__contains__",
+           [](const PyTrajectory& t, const std::string& c) { return t.table.column(c) >= 0; })
+      .def("__len__", [](const PyTrajectory& t) { return t.table.size(); })
+      .def("to_dict",
+           [](const PyTrajectory& t) {
+             py::dict d;
+             for (const auto& c : t.table.columns) d[py::str(c)] = t.column(c);
+             return d;
+           })
+      .def_property_readonly("integrator", [](const PyTrajectory& t) { return t.integrator; })
+      .def_property_readonly(
+          "setting", [](const PyTrajectory& t) { return t.setting; },
+          "step (scheme) or relative tolerance (reference)")
+      .def_property_readonly(
+          "estimated_error",
+          [](const PyTrajectory& t) -> py::object {
+            if (!t.has_estimate) return py::none();
+            return py::float_(t.reference.estimate.estimate());
+          },
+          "a reference's estimated error in estimate['metric'] (None without an estimate)")
+      .def_property_readonly("estimate",
+                             [](const PyTrajectory& t) -> py::object {
+                               if (!t.has_estimate) return py::none();
+                               const auto& e = t.reference.estimate;
+                               py::dict d;
+                               d["metric"] = e.metric;
+                               d["estimate"] = e.estimate();
+                               d["method"] = e.method;
+                               d["exact"] = e.exact;
+                               py::list checks;
+                               for (const studies::EstimateCheck& c : e.checks) {
+                                 py::dict check;
+                                 check["role"] = c.role;
+                                 check["solver"] = c.solver;
+                                 check["method"] = c.method;
+                                 check["rtol"] = c.rtol;
+                                 check["steps"] = c.steps;
+                                 check["distance"] = c.distance;
+                                 check["used"] = c.used;
+                                 check["note"] = c.note;
+                                 checks.append(check);
+                               }
+                               d["checks"] = checks;
+                               return d;
+                             })
+      .def("__repr__", [](const PyTrajectory& t) {
+        return "<flexref.Trajectory " + t.integrator + ", " + std::to_string(t.table.size()) +
+               " rows>";
+      });
+
+  py::class_<PyComparison>(m, "Comparison", "a run measured against a reference")
+      .def_readonly("metric", &PyComparison::metric)
+      .def_readonly("value", &PyComparison::value, "the metric's value")
+      .def_readonly("measured", &PyComparison::measured, "the quantities the metric used")
+      .def_readonly("estimated_error", &PyComparison::estimated_error,
+                    "the reference's estimated error in this metric (None if unknown)")
+      .def_readonly("certified", &PyComparison::certified,
+                    "value >= 100 x estimated_error (None if unknown)")
+      .def_property_readonly("rows", [](const PyComparison& c) { return c.report.rows; })
+      .def_property_readonly("ignored_columns",
+                             [](const PyComparison& c) { return c.report.ignored_columns; })
+      .def_property_readonly("quantities", [](const PyComparison& c) {
+        py::list out;
+        for (const auto& q : c.report.quantities) {
+          py::dict d;
+          d["name"] = q.name;
+          d["kind"] = q.kind;
+          d["unit"] = q.unit;
+          d["linf"] = q.norms.linf;
+          d["rms"] = q.norms.rms;
+          d["final"] = q.norms.final;
+          d["linf_time"] = q.linf_time;
+          out.append(d);
+        }
+        return out;
+      });
+
+  m.def(
+      "load_scene",
+      [](const std::string& path, const std::string& model) {
+        return PyScene{std::make_shared<scene::Scene>(scene::read_scene(path, formulation(model)))};
+      },
+      py::arg("path"), py::arg("model") = "coupled",
+      "Reads a scene file (scenes/README.md); model: flexible bodies' equations, 'coupled' or "
+      "'lte'. Raises flexref.InputError naming the file, line and key.");
+
+  m.def(
+      "reference",
+      [](const PyScene& s, std::string solver, double rtol, py::object atol,
+         const std::string& precision, bool estimate, const std::string& metric) {
+        if (precision != "double") {
+          throw std::invalid_argument("precision '" + precision +
+                                      "' is not available yet: only 'double'");
+        }
+        const core::Model& model = *s.scene->model;
+        if (model.has_flexible_bodies() && solver == "exact") {
+          throw std::invalid_argument("a model with flexible bodies has no exact solution");
+        }
+        const std::vector<double> times = s.times();
+        solver = studies::resolve_reference_solver(solver, model, times);
+        reference::SolverOptions options;
+        options.rtol = rtol;
+        if (!atol.is_none()) options.atol = atol.cast<double>();
+        PyTrajectory out;
+        out.is_reference = true;
+        out.integrator = solver;
+        out.setting = rtol;
+        {
+          py::gil_scoped_release release;
+          if (estimate) {
+            out.reference = studies::certified_reference(model, times, solver, options, metric);
+            out.has_estimate = true;
+          } else {
+            out.reference.run = reference::solve_reference(solver, model, times, options);
+            out.reference.table = studies::tabulate(model, out.reference.run.trajectory);
+          }
+        }
+        out.table = out.reference.table;
+        return out;
+      },
+      py::arg("scene"), py::arg("solver") = "auto", py::arg("rtol") = 1e-10,
+      py::arg("atol") = py::none(), py::arg("precision") = "double", py::arg("estimate") = true,
+      py::arg("metric") = "rotation+points",
+      "Computes a reference: solver 'auto' (exact when the scene has an exact solution, else "
+      "cvode), 'ida', 'cvode', 'odeint' or 'exact'; with estimate=True its error is estimated "
+      "in `metric` (a 100x tighter run and a second solver). precision: only 'double' for now.");
+
+  m.def(
+      "run_scheme",
+      [](const PyScene& s, const std::string& scheme, double dt) {
+        const core::Model& model = *s.scene->model;
+        PyTrajectory out;
+        out.integrator = scheme;
+        out.setting = dt;
+        const std::vector<double> times = s.times();
+        py::gil_scoped_release release;
+        const auto stepper = lie::make_stepper(scheme, model);
+        out.table = studies::tabulate(model, lie::run_scheme(model, *stepper, dt, times));
+        return out;
+      },
+      py::arg("scene"), py::arg("scheme"), py::arg("dt"),
+      "Integrates the scene with a registered scheme (flexref.schemes()) at the fixed step dt.");
+
+  m.def(
+      "schemes",
+      [] {
+        std::vector<std::tuple<std::string, int, std::string>> out;
+        for (const auto& method : lie::registered_methods()) {
+          out.emplace_back(method.name, method.claimed_order, method.description);
+        }
+        return out;
+      },
+      "The registered schemes as (name, claimed order, description).");
+
+  m.def(
+      "compare",
+      [](const py::handle& run, const PyTrajectory& ref, const std::string& metric) {
+        return compare(run_data(run, "run"), ref, metric);
+      },
+      py::arg("run"), py::arg("reference"), py::arg("metric") = "rotation+points",
+      "Measures a run (a dict of column name -> 1-D array with 't', any subset of the standard "
+      "columns, rows at any subset of the output times; or a flexref.Trajectory) against a "
+      "reference under the trajectory contract (docs/external.md).");
+
+  m.def(
+      "convergence",
+      [](const PyTrajectory& ref, const py::list& runs, const std::string& metric,
+         const std::string& label, int claimed_order) {
+        const PyTrajectory& reference = as_reference(ref);
+        studies::ConvergenceResult result;
+        result.options.metric = metric;
+        result.options.schemes = {};
+        result.reference = reference.reference;
+        std::vector<studies::ConvergenceLevel> levels;
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+          const auto pair = runs[i].cast<py::tuple>();
+          if (pair.size() != 2) throw py::type_error("runs must be (h, run) pairs");
+          studies::ConvergenceLevel level;
+          level.scheme = label;
+          level.h = pair[0].cast<double>();
+          if (!(level.h > 0.0)) throw std::invalid_argument("a step h must be positive");
+          level.cpu_seconds = std::nan("");
+          const studies::RunData data =
+              run_data(pair[1], "run at h = " + py::repr(pair[0]).cast<std::string>());
+          const PyComparison c = compare(data, reference, metric);
+          // Steps over the run's own time span (it may cover part of the scene's).
+          const int t = data.table.column("t");
+          double t_min = INFINITY, t_max = -INFINITY;
+          for (const auto& row : data.table.rows) {
+            t_min = std::min(t_min, row[static_cast<std::size_t>(t)]);
+            t_max = std::max(t_max, row[static_cast<std::size_t>(t)]);
+          }
+          level.steps = std::lround((t_max - t_min) / level.h);
+          level.error = c.value;
+          level.status = std::isfinite(level.error) ? "ok" : "failed: non-finite error";
+          levels.push_back(level);
+        }
+        std::sort(levels.begin(), levels.end(),
+                  [](const auto& a, const auto& b) { return a.h > b.h; });
+        if (levels.size() < 3) {
+          throw std::invalid_argument(
+              "convergence needs at least three runs (an order is fitted "
+              "from three)");
+        }
+        const double estimate =
+            reference.has_estimate && reference.reference.estimate.metric == metric
+                ? reference.reference.estimate.estimate()
+                : 0.0;
+        if (!reference.has_estimate) {
+          result.notes.push_back(
+              "the reference has no error estimate: no level is checked "
+              "against it (use flexref.reference(..., estimate=True))");
+        }
+        result.summaries.push_back(studies::summarize_levels(label, claimed_order, levels, estimate,
+                                                             core::StepLimit{}, result.notes));
+        result.levels = levels;
+        py::dict out;
+        py::list rows;
+        for (const auto& lv : result.levels) {
+          py::dict d;
+          d["h"] = lv.h;
+          d["error"] = lv.error;
+          d["order"] = lv.order;
+          d["status"] = lv.status;
+          rows.append(d);
+        }
+        out["levels"] = rows;
+        out["observed_order"] = result.summaries.front().fitted_order;
+        out["fitted_levels"] = result.summaries.front().fitted_levels;
+        out["notes"] = result.notes;
+        out["table"] = studies::format_convergence_table(result);
+        return out;
+      },
+      py::arg("reference"), py::arg("runs"), py::arg("metric") = "rotation+points",
+      py::arg("label") = "mine", py::arg("claimed_order") = 0,
+      "Observed order from (h, run) pairs: each run measured against the reference, levels not "
+      "100x above its estimated error marked 'uncertified', pairwise orders and the "
+      "least-squares order over the certified levels (the `converge` study's analysis). "
+      "Returns a dict: levels, observed_order, fitted_levels, notes, table.");
+}

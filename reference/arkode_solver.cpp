@@ -1,0 +1,430 @@
+/// \file arkode_solver.cpp
+/// ARKODE's ERKStep with the Fehlberg 13-7-8 table (ARKODE_FEHLBERG_13_7_8: 13 stages, order 8
+/// with an embedded order-7 error estimate) on the quasi-velocity ODE form
+/// (reference/ode_form.hpp): the third SUNDIALS reference, explicit and of high order, for
+/// smooth non-stiff scenes (docs/references.md, "ARKODE").
+///
+/// - Error control and step-size adaptivity are ARKODE's (its default PID controller, the step
+///   adapted after every step: ERKStepSetFixedStepBounds(1, 1), see the constructor).
+/// - The segment loop is sundials_segment_driver.hpp: an exact stop (tstop) at every known load
+///   discontinuity, root finding (ERKStepRootInit) for contact onset and release with a restart
+///   at each.
+/// - ARKODE is stepped one step at a time (ARK_ONE_STEP), so that outputs and event states come
+///   at the method's order: ARKODE's own dense output is a Hermite polynomial of degree ≤ 5
+///   (ARK_INTERP_MAX_DEGREE), below the method's order 8. An output inside a step comes from
+///   the order-8 continuous extension of the step (reference/continuous_extension.hpp), the
+///   state at a located root from one Fehlberg step of exactly the right length from the step's
+///   start; both by a second ERKStep instance with fixed steps. The output grid never shortens
+///   the steps: the step sequence is the tolerance's (a tstop at every output would make it the
+///   grid's, and the work-precision curve flat).
+/// - In contact (a switching function not positive at a step's start) every step is checked
+///   against two steps of half its length: the Fehlberg 13-7-8 error estimate compares only the
+///   stages at the step's ends (b − b̃ is zero but for stages 1, 11, 12, 13) and accepts a step
+///   across a whole stiff contact phase. A step whose halves disagree (ARKODE's WRMS error norm
+///   > 1) is discarded and retried from its start with the order-8 controller's smaller step.
+/// - No projection (ERKStep has none): |θ| is a first integral of the form, which is
+///   homogeneous in θ; θ is renormalized at every restart.
+/// - SolverOptions::max_steps bounds the steps between two consecutive output times (ARKODE's
+///   mxstep meaning), reported as ARK_TOO_MUCH_WORK.
+#include <arkode/arkode.h>
+#include <arkode/arkode_erkstep.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "reference/arkode_esdirk_solver.hpp"
+#include "reference/continuous_extension.hpp"
+#include "reference/method_choice.hpp"
+#include "reference/ode_form.hpp"
+#include "reference/reference_solver.hpp"
+#include "reference/sundials_handle.hpp"
+#include "reference/sundials_ode_callbacks.hpp"
+#include "reference/sundials_segment_driver.hpp"
+#include "reference/switching_predictor.hpp"
+
+namespace flexref::reference {
+namespace {
+
+namespace sun = sundials;
+
+/// ARKODE's factor on the step the stability hook returns (its default; it refuses 1).
+constexpr double kCflFraction = 0.5;
+
+/// ARKODE's bound on the growth of the step from one step to the next (its default).
+constexpr double kMaxGrowth = 20.0;
+
+/// ERKStep with the Fehlberg 13-7-8 table on the ODE form.
+sun::ErkStepMemory make_fehlberg(N_Vector y, SUNContext context, sun::OdeCallbackData& data) {
+  sun::ErkStepMemory memory(
+      sun::check_created(ERKStepCreate(sun::ode_rhs, 0.0, y, context), "ERKStepCreate"));
+  sun::check(ERKStepSetTableNum(memory.get(), ARKODE_FEHLBERG_13_7_8), "ERKStepSetTableNum");
+  sun::check(ERKStepSetUserData(memory.get(), &data), "ERKStepSetUserData");
+  sun::check(ERKStepSetErrHandlerFn(memory.get(), sun::record_error, &data.log),
+             "ERKStepSetErrHandlerFn");
+  return memory;
+}
+
+/// ARKODE ERKStep on the ODE form, driven segment by segment by integrate_segments.
+class ArkodeSegmentSolver final : public sun::SegmentSolver {
+ public:
+  ArkodeSegmentSolver(const core::Model& model, const SolverOptions& options)
+      : options_(options),
+        form_(model),
+        context_(sun::make_context()),
+        y_(make()),
+        y_start_(make()),
+        y_end_(make()),
+        y_node1_(make()),
+        y_node2_(make()),
+        f_start_(make()),
+        f_end_(make()),
+        f_node1_(make()),
+        f_node2_(make()),
+        weights_(make()),
+        y_probe_(make()),
+        f_probe_(make()),
+        predictor_(form_),
+        g_(static_cast<std::size_t>(model.switching_function_count())),
+        g_start_(g_.size()),
+        extension_(form_.size()) {
+    data_.form = &form_;
+    data_.scratch = form_.make_scratch();
+    erk_ = make_fehlberg(y_.get(), context_.get(), data_);
+    sun::check(ERKStepSStolerances(erk_.get(), options.rtol, options.absolute_tolerance()),
+               "ERKStepSStolerances");
+    // Adapt the step after every step: with ARKODE's default hysteresis (keep h while the
+    // controller's growth factor is in [1, 1.5]) the error on free_spin stalled at ~1e-11 rad
+    // from rtol 1e-10 to 1e-13 with 1.4× the steps; without it the error falls monotonically
+    // to 5.5e-13 at rtol 1e-13 (docs/references.md).
+    sun::check(ERKStepSetFixedStepBounds(erk_.get(), 1.0, 1.0), "ERKStepSetFixedStepBounds");
+    sun::check(ERKStepSetMaxGrowth(erk_.get(), kMaxGrowth), "ERKStepSetMaxGrowth");
+    if (!g_.empty()) {
+      sun::check(ERKStepRootInit(erk_.get(), model.switching_function_count(), sun::ode_switching),
+                 "ERKStepRootInit");
+      // The switching cap through ARKODE's explicit-stability hook, h ≤ cfl · h_stab.
+      sun::check(ERKStepSetStabilityFn(erk_.get(), switching_cap, this), "ERKStepSetStabilityFn");
+      sun::check(ERKStepSetCFLFraction(erk_.get(), kCflFraction), "ERKStepSetCFLFraction");
+    }
+    // The same method with fixed steps, for the states inside a step.
+    restep_ = make_fehlberg(y_.get(), context_.get(), data_);
+  }
+
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
+    data_.t_segment = segment.t_segment;
+    form_.pack(state, sun::data(y_.get()));
+    form_.set_integrals(sun::data(y_.get()), integrals);
+    restart(segment.start, segment.end);
+  }
+
+  Advance advance(double tout, double next) override {
+    long steps_here = 0;
+    while (!root_pending_ && t_ < tout - slack(tout)) {
+      // One step from (t_, y_); keep its start for the continuous extension and retries.
+      N_VScale(1.0, y_.get(), y_start_.get());
+      const double t_start = t_;
+      const bool in_contact = contact_engaged(t_start, y_start_.get());
+      double t_reached = t_start;
+      const int flag = ERKStepEvolve(erk_.get(), stop_, y_.get(), &t_reached, ARK_ONE_STEP);
+      sun::check(flag, "ERKStepEvolve");
+      ++accepted_steps_;
+      if (flag == ARK_ROOT_RETURN) {
+        // A sign change inside the step just taken, located by ARKODE on its interpolant:
+        // locate it on the method's own solution and end the step there. It is returned once
+        // the outputs before it are written.
+        t_ = locate_event(t_start, t_reached);
+        root_pending_ = true;
+        break;
+      }
+      if (in_contact && !halves_agree(t_start, t_reached)) {
+        // Discard the step and retry from its start with a smaller one.
+        --accepted_steps_;
+        ++rejected_steps_;
+        N_VScale(1.0, y_start_.get(), y_.get());
+        sun::check(ERKStepSetInitStep(erk_.get(), retry_step_), "ERKStepSetInitStep");
+        sun::check(ERKStepReset(erk_.get(), t_start, y_.get()), "ERKStepReset");
+        continue;
+      }
+      step_start_ = t_start;
+      t_ = t_reached;
+      fitted_ = false;
+      if (++steps_here > options_.max_steps) {
+        data_.log.message = "ARKODE: more than max_steps = " + std::to_string(options_.max_steps) +
+                            " steps before reaching tout (too much work)";
+        throw sun::SundialsError("ERKStepEvolve", ARK_TOO_MUCH_WORK,
+                                 sun::flag_name(ARK_TOO_MUCH_WORK, "ERKStepEvolve"));
+      }
+    }
+    if (root_pending_ && t_ <= tout + slack(tout)) {
+      root_pending_ = false;
+      output_ready_ = false;  // y_ is the state at the event
+      return {t_, true};
+    }
+    output_at(tout, next);
+    return {tout, false};
+  }
+
+  void restart_at_root(double t, const sun::Segment& segment) override {
+    form_.normalize_euler_parameters(sun::data(y_.get()));
+    restart(t, segment.end);
+  }
+
+  void unpack(double t, core::State& state) const override {
+    form_.unpack(t, sun::data(output_ready_ ? y_end_.get() : y_.get()), state);
+  }
+  void integrals(std::span<double> out) const override {
+    form_.integrals(sun::data(output_ready_ ? y_end_.get() : y_.get()), out);
+  }
+
+  void add_counters(SolverStats& stats) const override {
+    long error_fails = 0;
+    sun::check(ERKStepGetNumErrTestFails(erk_.get(), &error_fails), "ERKStepGetNumErrTestFails");
+    // ARKODE's counters survive ERKStepReset: add what accrued since the last call.
+    stats.steps += accepted_steps_ - counted_.steps;
+    stats.error_test_failures += error_fails + rejected_steps_ - counted_.error_test_failures;
+    stats.rhs_evaluations += data_.evaluations - counted_.rhs_evaluations;
+    counted_.steps = accepted_steps_;
+    counted_.error_test_failures = error_fails + rejected_steps_;
+    counted_.rhs_evaluations = data_.evaluations;
+  }
+
+  double current_time(double fallback) const override { return std::isnan(t_) ? fallback : t_; }
+  long current_steps() const override { return accepted_steps_ - counted_.steps; }
+  std::string failure_message(const std::string& what) const override {
+    return sun::failure_message(what, data_, "right-hand side");
+  }
+
+ private:
+  sun::Vector make() { return sun::make_vector(form_.size(), context_.get()); }
+
+  /// ARKExpStabFn: SwitchingPredictor's cap on a step from (t, y) over the longest step ARKODE
+  /// may try next, kMaxGrowth times its current one (0: no cap). ARKODE calls it before every
+  /// step attempt.
+  static int switching_cap(N_Vector y, sunrealtype t, sunrealtype* h_stab, void* user_data) {
+    auto& self = *static_cast<ArkodeSegmentSolver*>(user_data);
+    *h_stab = 0.0;
+    try {
+      double h = 0.0;
+      if (ERKStepGetCurrentStep(self.erk_.get(), &h) < 0 || !(h > 0.0)) return 0;
+      h *= kMaxGrowth;
+      sun::OdeCallbackData& d = self.data_;
+      if (sun::ode_rhs(t, y, self.f_probe_.get(), &d) != 0) return 0;
+      if (sun::ode_switching(t, y, self.g_.data(), &d) != 0) return -1;
+      const double cap = self.predictor_.cap(
+          t, sun::data(y), sun::data(self.f_probe_.get()), self.g_, h, d.t_segment,
+          [&self, &d](double tau, const double* x, double* xdot) {
+            N_Vector probe = self.y_probe_.get();
+            std::copy(x, x + self.form_.size(), sun::data(probe));
+            return sun::ode_rhs(tau, probe, self.f_end_.get(), &d) == 0 &&
+                   (std::copy(sun::data(self.f_end_.get()),
+                              sun::data(self.f_end_.get()) + self.form_.size(), xdot),
+                    true);
+          },
+          d.scratch);
+      if (cap < h) *h_stab = cap / kCflFraction;
+    } catch (...) {
+      self.data_.callback_error = std::current_exception();
+      return -1;
+    }
+    return 0;
+  }
+
+  static double slack(double t) {
+    return 8.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
+  }
+
+  /// A new step sequence from y_ at t0 up to the stop time `stop`.
+  void restart(double t0, double stop) {
+    sun::check(ERKStepSetInitStep(erk_.get(), 0.0), "ERKStepSetInitStep");  // ARKODE's estimate
+    sun::check(ERKStepReset(erk_.get(), t0, y_.get()), "ERKStepReset");
+    sun::check(ERKStepSetStopTime(erk_.get(), stop), "ERKStepSetStopTime");
+    t_ = t0;
+    step_start_ = t0;
+    stop_ = stop;
+    fitted_ = false;
+    output_ready_ = false;
+    root_pending_ = false;
+  }
+
+  /// Some switching function is not positive at (t, y), a step's start; keeps them in g_start_.
+  bool contact_engaged(double t, N_Vector y) {
+    if (g_start_.empty()) return false;
+    sun::check(sun::ode_switching(t, y, g_start_.data(), &data_), "ERKStepRootFn");
+    return std::any_of(g_start_.begin(), g_start_.end(), [](double g) { return !(g > 0.0); });
+  }
+
+  /// The event time, to a few ulp, inside the step from (t0, y_start_) whose switching
+  /// functions changed side: bisection on the length of one Fehlberg step from its start (the
+  /// step's own solution, as accurate as the step), bracketed by ARKODE's estimate t_root (from
+  /// its degree-5 interpolant, which placed roots up to 2e-5 s off on bouncing_ball, so that
+  /// the restart found the same contact again) and the step's end. Leaves y_ just past the zero,
+  /// on the new side, and returns its time.
+  double locate_event(double t0, double t_root) {
+    // g at the start: contact_engaged(t0, y_start_) filled g_start_ before the step.
+    double t_end = t0;
+    sun::check(ERKStepGetCurrentTime(erk_.get(), &t_end), "ERKStepGetCurrentTime");
+    const auto changed_at = [&](double t, N_Vector out) {
+      fixed_step(t0, y_start_.get(), t - t0, out);
+      sun::check(sun::ode_switching(t, out, g_.data(), &data_), "ERKStepRootFn");
+      for (std::size_t k = 0; k < g_.size(); ++k) {
+        if ((g_start_[k] > 0.0) != (g_[k] > 0.0)) return true;
+      }
+      return false;
+    };
+    double lo = t0;
+    double hi = t_end;
+    if (t_root > t0 && t_root < t_end) {
+      if (changed_at(t_root, y_end_.get())) {
+        hi = t_root;
+        N_VScale(1.0, y_end_.get(), y_.get());
+      } else {
+        lo = t_root;
+      }
+    }
+    if (hi == t_end) {
+      // The step's end: ARKODE's state there (a node of its interpolant, exact).
+      sun::check(ERKStepGetDky(erk_.get(), t_end, 0, y_.get()), "ERKStepGetDky");
+    }
+    const double resolution =
+        4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t0));
+    for (int k = 0; k < 200 && hi - lo > resolution; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      if (changed_at(mid, y_end_.get())) {
+        hi = mid;
+        N_VScale(1.0, y_end_.get(), y_.get());
+      } else {
+        lo = mid;
+      }
+    }
+    step_start_ = t0;
+    fitted_ = false;
+    return hi;
+  }
+
+  /// The step-doubling test of the step (t0, y_start_) → (t1, y_): two Fehlberg steps of half
+  /// its length agree with it in ARKODE's WRMS error norm. On failure retry_step_ is the
+  /// order-8 controller's proposal, h (0.9 / error)^(1/8) within [h/5, h/2].
+  bool halves_agree(double t0, double t1) {
+    const double h = t1 - t0;
+    fixed_step(t0, y_start_.get(), 0.5 * h, y_node1_.get());
+    fixed_step(t0 + 0.5 * h, y_node1_.get(), 0.5 * h, y_node2_.get());
+    sun::check(ERKStepGetErrWeights(erk_.get(), weights_.get()), "ERKStepGetErrWeights");
+    N_VLinearSum(1.0, y_node2_.get(), -1.0, y_.get(), y_node1_.get());
+    const double error = N_VWrmsNorm(y_node1_.get(), weights_.get());
+    if (error <= 1.0) return true;
+    retry_step_ = std::isfinite(error) ? h * std::clamp(0.9 * std::pow(error, -1.0 / 8.0), 0.2, 0.5)
+                                       : 0.2 * h;
+    return false;
+  }
+
+  /// y_end_ = the state at tout inside or at the end of the last step [step_start_, t_]: the
+  /// step's own end value there; inside, when tout is the step's only output (the next request
+  /// lies beyond the step's end), one Fehlberg step from the step's start onto it, else its
+  /// continuous extension (fitted once per step). Both are of the method's order.
+  void output_at(double tout, double next) {
+    output_ready_ = true;
+    if (tout >= t_ - slack(t_) || !(t_ > step_start_)) {
+      N_VScale(1.0, y_.get(), y_end_.get());
+      return;
+    }
+    if (!fitted_ && next >= t_ - slack(t_)) {
+      fixed_step(step_start_, y_start_.get(), tout - step_start_, y_end_.get());
+      return;
+    }
+    if (!fitted_) fit_extension();
+    extension_.evaluate(tout, sun::data(y_end_.get()));
+  }
+
+  /// The order-8 continuous extension of [step_start_, t_]: the ends, two interior nodes by
+  /// fixed steps of h/3 and 2h/3 from the start, and the derivative at each node.
+  void fit_extension() {
+    const double h = t_ - step_start_;
+    fixed_step(step_start_, y_start_.get(), ContinuousExtension::node_fraction(1) * h,
+               y_node1_.get());
+    fixed_step(step_start_, y_start_.get(), ContinuousExtension::node_fraction(2) * h,
+               y_node2_.get());
+    const std::array<N_Vector, 4> nodes{y_start_.get(), y_node1_.get(), y_node2_.get(), y_.get()};
+    const std::array<N_Vector, 4> rates{f_start_.get(), f_node1_.get(), f_node2_.get(),
+                                        f_end_.get()};
+    for (std::size_t j = 0; j < nodes.size(); ++j) {
+      const double t_node =
+          step_start_ + ContinuousExtension::node_fraction(static_cast<int>(j)) * h;
+      if (sun::ode_rhs(t_node, nodes[j], rates[j], &data_) != 0) {
+        throw sun::SundialsError("ERKStepRhs", ARK_RHSFUNC_FAIL,
+                                 sun::flag_name(ARK_RHSFUNC_FAIL, "ERKStepEvolve"));
+      }
+    }
+    extension_.fit(step_start_, h,
+                   {sun::data(y_start_.get()), sun::data(y_node1_.get()), sun::data(y_node2_.get()),
+                    sun::data(y_.get())},
+                   {sun::data(f_start_.get()), sun::data(f_node1_.get()), sun::data(f_node2_.get()),
+                    sun::data(f_end_.get())});
+    fitted_ = true;
+  }
+
+  /// out = one Fehlberg 13-7-8 step of length h from (t0, y0) (out may not alias y0).
+  void fixed_step(double t0, N_Vector y0, double h, N_Vector out) {
+    sun::check(ERKStepSetFixedStep(restep_.get(), h), "ERKStepSetFixedStep");
+    sun::check(ERKStepReset(restep_.get(), t0, y0), "ERKStepReset");
+    double t_reached = t0;
+    sun::check(ERKStepEvolve(restep_.get(), t0 + h, out, &t_reached, ARK_ONE_STEP),
+               "ERKStepEvolve");
+  }
+
+  SolverOptions options_;
+  OdeForm form_;
+  sun::OdeCallbackData data_;
+  sun::Context context_;
+  sun::Vector y_;                                    ///< the solution at t_
+  sun::Vector y_start_, y_end_, y_node1_, y_node2_;  ///< step start, output, interior nodes
+  sun::Vector f_start_, f_end_, f_node1_, f_node2_;
+  sun::Vector weights_;
+  sun::Vector y_probe_, f_probe_;  ///< the switching cap's evaluations
+  SwitchingPredictor predictor_;
+  /// Switching functions: scratch (locate_event, switching_cap) and at a step's start.
+  std::vector<double> g_, g_start_;
+  ContinuousExtension extension_;
+  double t_ = 0.0;           ///< time of y_
+  double step_start_ = 0.0;  ///< start of the last accepted step
+  double stop_ = 0.0;        ///< the segment's end (tstop)
+  double retry_step_ = 0.0;
+  bool fitted_ = false;        ///< extension_ fits [step_start_, t_]
+  bool output_ready_ = false;  ///< y_end_ holds the last output (else y_ is the state)
+  bool root_pending_ = false;  ///< y_, t_ are a located event not yet returned
+  long accepted_steps_ = 0;
+  long rejected_steps_ = 0;      ///< steps discarded by the contact step-doubling test
+  mutable SolverStats counted_;  ///< counters already added to the run
+  // Declared last so that they are freed first (as in SUNDIALS' examples).
+  sun::ErkStepMemory erk_;
+  sun::ErkStepMemory restep_;
+};
+
+}  // namespace
+
+ReferenceRun solve_arkode(const core::Model& model, const std::vector<double>& output_times,
+                          const SolverOptions& options) {
+  ArkodeMethodChoice choice{options.arkode_method, "chosen with --method"};
+  if (options.arkode_method == ArkodeMethod::kAuto) {
+    choice = choose_arkode_method(model, mean_output_spacing(output_times));
+  }
+  if (choice.method == ArkodeMethod::kEsdirk) {
+    ReferenceRun run = solve_arkode_esdirk(model, output_times, options);
+    run.method_reason = choice.reason;
+    return run;
+  }
+  ReferenceRun run = sun::integrate_segments(model, output_times, options, "arkode", [&] {
+    return std::make_unique<ArkodeSegmentSolver>(model, options);
+  });
+  run.method = "erk-fehlberg-13-7-8";
+  run.method_reason = choice.reason;
+  return run;
+}
+
+}  // namespace flexref::reference

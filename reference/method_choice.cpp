@@ -1,0 +1,229 @@
+#include "reference/method_choice.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstddef>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "reference/ode_form.hpp"
+
+namespace flexref::reference {
+
+namespace {
+
+/// J = ∂f/∂y of the ODE form at the initial state by forward differences (step
+/// √u · max(1, |y_j|), the optimum for a forward difference), on the first segment's loads.
+Eigen::MatrixXd initial_jacobian(const core::Model& model) {
+  const OdeForm form(model);
+  const int n = form.size();
+  OdeForm::Scratch scratch = form.make_scratch();
+  std::vector<double> y(static_cast<std::size_t>(n)), f0(y.size()), f1(y.size());
+  form.pack(model.initial_state(), y.data());
+  const std::vector<double>& switches = model.discontinuities();
+  const double t_segment = switches.empty() ? 0.0 : 0.5 * switches.front();
+  const core::LoadContext context{0.0, t_segment};
+  form.rhs(context, y.data(), f0.data(), scratch);
+  Eigen::MatrixXd jacobian(n, n);
+  for (int j = 0; j < n; ++j) {
+    const auto u = static_cast<std::size_t>(j);
+    const double saved = y[u];
+    const double step =
+        std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(saved));
+    y[u] = saved + step;
+    form.rhs(context, y.data(), f1.data(), scratch);
+    y[u] = saved;
+    for (int i = 0; i < n; ++i) {
+      const auto v = static_cast<std::size_t>(i);
+      jacobian(i, j) = (f1[v] - f0[v]) / step;
+    }
+  }
+  return jacobian;
+}
+
+}  // namespace
+
+bool StiffnessSummary::stiff() const {
+  return switching_functions > 0 || fastest_decay > kStiffnessRatio * resolved_rate;
+}
+
+bool StiffnessSummary::stiff_oscillatory() const {
+  return switching_functions == 0 && fastest_oscillation > kStiffnessRatio * accuracy_rate;
+}
+
+double mean_output_spacing(const std::vector<double>& output_times) {
+  if (output_times.empty()) return 0.0;
+  if (output_times.size() == 1) return output_times.front();
+  return (output_times.back() - output_times.front()) /
+         static_cast<double>(output_times.size() - 1);
+}
+
+StiffnessSummary summarize_stiffness(const core::Model& model, double output_spacing) {
+  StiffnessSummary summary;
+  summary.switching_functions = model.switching_function_count();
+  double angular_speed = 0.0;
+  for (const core::BodyState& s : model.initial_state()) {
+    angular_speed = std::max(angular_speed, s.w_WB_B.norm());
+  }
+  summary.resolved_rate = angular_speed;
+  summary.accuracy_rate = output_spacing > 0.0
+                              ? std::max(std::numbers::pi / output_spacing, angular_speed)
+                              : std::numeric_limits<double>::infinity();
+  const Eigen::MatrixXd jacobian = initial_jacobian(model);
+  if (jacobian.size() == 0) return summary;
+  if (!jacobian.allFinite()) {
+    // Singular loads at the initial state: the solvers report it; no stiffness to infer.
+    return summary;
+  }
+  // Eigenvalues below the difference quotients' noise, ~1e-6 of the largest entry, are zero.
+  const double noise = 1e-6 * jacobian.cwiseAbs().maxCoeff();
+  const Eigen::VectorXcd eigenvalues = jacobian.eigenvalues();
+  for (const std::complex<double>& lambda : eigenvalues) {
+    const double magnitude = std::abs(lambda);
+    summary.fastest_rate = std::max(summary.fastest_rate, magnitude);
+    if (-lambda.real() > noise)
+      summary.fastest_decay = std::max(summary.fastest_decay, -lambda.real());
+    if (std::abs(lambda.real()) <= std::abs(lambda.imag())) {
+      summary.resolved_rate = std::max(summary.resolved_rate, magnitude);
+      summary.fastest_oscillation = std::max(summary.fastest_oscillation, magnitude);
+    }
+  }
+  return summary;
+}
+
+namespace {
+
+/// "stiff oscillatory: ..." and what follows for the method (`then`).
+std::string stiff_oscillatory_reason(const StiffnessSummary& s, const std::string& then) {
+  std::ostringstream why;
+  why.precision(3);
+  why << "stiff oscillatory: a lightly damped mode at " << s.fastest_oscillation
+      << " rad/s, more than " << kStiffnessRatio << "x the accuracy rate " << s.accuracy_rate
+      << " rad/s (output Nyquist rate, angular speeds); " << then;
+  return why.str();
+}
+
+constexpr const char* kBdf2Reason =
+    "BDF orders 3-5 are unstable near the imaginary axis, so BDF max order 2 (A-stable)";
+
+}  // namespace
+
+CvodeMethodChoice choose_cvode_method(const core::Model& model, double output_spacing) {
+  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  std::ostringstream why;
+  why.precision(3);
+  if (s.stiff_oscillatory()) {
+    return {CvodeMethod::kBdf2, stiff_oscillatory_reason(s, kBdf2Reason)};
+  }
+  if (s.switching_functions > 0) {
+    why << "stiff: contact (" << s.switching_functions << " switching functions)";
+    return {CvodeMethod::kBdf, why.str()};
+  }
+  if (s.stiff()) {
+    why << "stiff: a mode decays at " << s.fastest_decay << "/s, more than " << kStiffnessRatio
+        << "x the fastest resolved rate " << s.resolved_rate << "/s";
+    return {CvodeMethod::kBdf, why.str()};
+  }
+  why << "non-stiff: fastest rate " << s.fastest_rate << "/s, fastest decay " << s.fastest_decay
+      << "/s (not above " << kStiffnessRatio << "x the resolved rate " << s.resolved_rate
+      << "/s), no contact";
+  return {CvodeMethod::kAdams, why.str()};
+}
+
+CvodeMethodChoice choose_ida_method(const core::Model& model, double output_spacing) {
+  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  if (s.stiff_oscillatory()) {
+    return {CvodeMethod::kBdf2, stiff_oscillatory_reason(s, kBdf2Reason)};
+  }
+  return {CvodeMethod::kBdf, "IDA's BDF on the implicit quasi-velocity form"};
+}
+
+ArkodeMethodChoice choose_arkode_method(const core::Model& model, double output_spacing) {
+  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  if (s.stiff_oscillatory()) {
+    return {ArkodeMethod::kEsdirk,
+            stiff_oscillatory_reason(s,
+                                     "the explicit method's step would be held by the stability "
+                                     "limit, so ARKStep ESDIRK5(4)7L[2]SA (L-stable, order 5)")};
+  }
+  return {ArkodeMethod::kErk,
+          "ARKODE ERKStep, ARKODE_FEHLBERG_13_7_8, order-8 continuous extension"};
+}
+
+ReferenceSolverChoice choose_reference_solver(const core::Model& model, double output_spacing) {
+  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  if (s.stiff_oscillatory()) {
+    return {"arkode", stiff_oscillatory_reason(
+                          s,
+                          "arkode (ESDIRK, L-stable, order 5): the high modes damped, the steps "
+                          "set by the accuracy; BDF of order > 2 is unstable there")};
+  }
+  return {"cvode", "the default reference (no stiff oscillatory mode)"};
+}
+
+NewtonJacobian choose_newton_jacobian(const core::Model& model, const SolverOptions& options) {
+  if (options.jacobian != nullptr) return NewtonJacobian::kUser;
+  if (model.has_flexible_bodies()) return NewtonJacobian::kStructured;
+  return NewtonJacobian::kDifferenceQuotients;
+}
+
+const char* to_string(NewtonJacobian jacobian) {
+  switch (jacobian) {
+    case NewtonJacobian::kDifferenceQuotients:
+      return "difference quotients, dense LU";
+    case NewtonJacobian::kStructured:
+      return "structured, structured Newton solve";
+    case NewtonJacobian::kUser:
+      return "user, dense LU";
+  }
+  return "difference quotients, dense LU";
+}
+
+const char* to_string(CvodeMethod method) {
+  switch (method) {
+    case CvodeMethod::kAuto:
+      return "auto";
+    case CvodeMethod::kAdams:
+      return "adams";
+    case CvodeMethod::kBdf:
+      return "bdf";
+    case CvodeMethod::kBdf2:
+      return "bdf2";
+  }
+  return "auto";
+}
+
+const char* to_string(ArkodeMethod method) {
+  switch (method) {
+    case ArkodeMethod::kAuto:
+      return "auto";
+    case ArkodeMethod::kErk:
+      return "erk";
+    case ArkodeMethod::kEsdirk:
+      return "esdirk";
+  }
+  return "auto";
+}
+
+ArkodeMethod parse_arkode_method(const std::string& name) {
+  if (name == "auto") return ArkodeMethod::kAuto;
+  if (name == "erk") return ArkodeMethod::kErk;
+  if (name == "esdirk") return ArkodeMethod::kEsdirk;
+  throw std::invalid_argument("unknown ARKODE method '" + name + "' (auto, erk, esdirk)");
+}
+
+CvodeMethod parse_cvode_method(const std::string& name) {
+  if (name == "auto") return CvodeMethod::kAuto;
+  if (name == "adams") return CvodeMethod::kAdams;
+  if (name == "bdf") return CvodeMethod::kBdf;
+  if (name == "bdf2") return CvodeMethod::kBdf2;
+  throw std::invalid_argument("unknown CVODE method '" + name + "' (auto, adams, bdf, bdf2)");
+}
+
+}  // namespace flexref::reference

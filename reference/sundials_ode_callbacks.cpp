@@ -1,0 +1,106 @@
+#include "reference/sundials_ode_callbacks.hpp"
+
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <cstddef>
+#include <exception>
+#include <span>
+
+namespace flexref::reference::sundials {
+
+int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
+  auto& d = *static_cast<OdeCallbackData*>(user_data);
+  ++d.evaluations;
+  try {
+    d.form->rhs(core::LoadContext{t, d.t_segment}, data(y), data(ydot), d.scratch);
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;  // unrecoverable; the driver rethrows the message
+  }
+  if (!all_finite(data(ydot), d.form->size())) {
+    // Recoverable: a trial step may have reached a singular load (a charge on the wall); the
+    // solver retries with a smaller step and gives up with its own message if that does not help.
+    d.last_nonfinite_time = t;
+    return 1;
+  }
+  return 0;
+}
+
+int ode_switching(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data) {
+  auto& d = *static_cast<OdeCallbackData*>(user_data);
+  try {
+    d.form->unpack(t, data(y), d.scratch.state);
+    const core::Model& model = d.form->model();
+    model.switching_functions(
+        core::LoadContext{t, d.t_segment}, d.scratch.state, d.scratch.workspace,
+        std::span<double>(g, static_cast<std::size_t>(model.switching_function_count())));
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  return 0;
+}
+
+int ode_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jacobian, void* user_data,
+                 N_Vector /*tmp1*/, N_Vector /*tmp2*/, N_Vector /*tmp3*/) {
+  auto& d = *static_cast<OdeCallbackData*>(user_data);
+  const int n = d.form->size();
+  try {
+    Eigen::Map<Eigen::MatrixXd> j(SUNDenseMatrix_Data(jacobian), n, n);
+    d.jacobian->evaluate(*d.form, core::LoadContext{t, d.t_segment}, data(y), data(fy), j,
+                         d.scratch);
+    if (!all_finite(j.data(), static_cast<long>(n) * n)) {
+      d.last_nonfinite_time = t;
+      return 1;  // recoverable: the solver retries with a smaller step
+    }
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  return 0;
+}
+
+int structured_ode_jacobian(sunrealtype t, N_Vector y, N_Vector /*fy*/, SUNMatrix jacobian,
+                            void* user_data, N_Vector /*tmp1*/, N_Vector /*tmp2*/,
+                            N_Vector /*tmp3*/) {
+  auto& d = *static_cast<OdeCallbackData*>(user_data);
+  const int n = d.form->size();
+  try {
+    d.structured->evaluate(core::LoadContext{t, d.t_segment}, data(y),
+                           SUNDenseMatrix_Data(jacobian),
+                           static_cast<int>(SUNDenseMatrix_Rows(jacobian)), d.structured_scratch);
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  if (!all_finite(SUNDenseMatrix_Data(jacobian), static_cast<long>(n) * n)) {
+    d.last_nonfinite_time = t;
+    return 1;  // recoverable: the solver retries with a smaller step
+  }
+  return 0;
+}
+
+int project_euler_parameters(sunrealtype /*t*/, N_Vector ycur, N_Vector corr,
+                             sunrealtype /*eps_proj*/, N_Vector err, void* user_data) {
+  const auto& d = *static_cast<const OdeCallbackData*>(user_data);
+  N_VConst(0.0, corr);
+  const double* y = data(ycur);
+  double* c = data(corr);
+  double* e = err != nullptr ? data(err) : nullptr;
+  for (int offset : d.form->theta_offsets()) {
+    const Eigen::Map<const Eigen::Vector4d> theta(y + offset);
+    const double norm = theta.norm();
+    if (!(norm > 0.0) || !std::isfinite(norm)) return 1;  // recoverable: retry a smaller step
+    const Eigen::Vector4d unit = theta / norm;
+    Eigen::Map<Eigen::Vector4d>(c + offset) = unit - theta;
+    if (e != nullptr) {
+      Eigen::Map<Eigen::Vector4d> error(e + offset);
+      error -= unit.dot(error) * unit;
+    }
+  }
+  return 0;
+}
+
+}  // namespace flexref::reference::sundials

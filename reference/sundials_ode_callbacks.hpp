@@ -1,0 +1,52 @@
+#pragma once
+/// \file sundials_ode_callbacks.hpp
+/// The callbacks CVODE and ARKODE call on the ODE form (reference/ode_form.hpp): the
+/// right-hand side, the switching functions (contact gaps) for root finding, the user Jacobian
+/// (reference/ode_jacobian.hpp) and the projection of θ onto the unit sphere. CVRhsFn and
+/// ARKRhsFn, CVRootFn and ARKRootFn have the same signatures. None allocates; none throws
+/// through C: an exception is recorded in the CallbackRecord and the callback returns −1.
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_matrix.h>
+
+#include "reference/ode_form.hpp"
+#include "reference/ode_jacobian.hpp"
+#include "reference/structured_jacobian.hpp"
+#include "reference/sundials_handle.hpp"
+
+namespace flexref::reference::sundials {
+
+/// user_data of the ODE callbacks.
+struct OdeCallbackData : CallbackRecord {
+  const OdeForm* form = nullptr;
+  OdeForm::Scratch scratch;
+  double t_segment = 0.0;  ///< selects the load branch of the current segment
+  const OdeJacobian* jacobian = nullptr;
+  /// For structured_ode_jacobian: the form's structured Jacobian and its per-run scratch.
+  const StructuredJacobian* structured = nullptr;
+  StructuredJacobian::Scratch structured_scratch;
+  long evaluations = 0;  ///< calls of ode_rhs (ARKODE counts its main and auxiliary steps by it)
+};
+
+/// y' = f(t, y). Returns 1 (recoverable: the solver retries a smaller step) when f is not
+/// finite, e.g. a trial step that reached a singular load.
+int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data);
+
+/// The model's switching functions at (t, y).
+int ode_switching(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data);
+
+/// CVLsJacFn: J = ∂f/∂y from OdeCallbackData::jacobian.
+int ode_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jacobian, void* user_data,
+                 N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+
+/// CVLsJacFn and ARKLsJacFn: J = ∂f/∂y from OdeCallbackData::structured (every entry written;
+/// allocates nothing). Returns 1 (recoverable) when J is not finite.
+int structured_ode_jacobian(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix jacobian,
+                            void* user_data, N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+
+/// CVProjFn: orthogonal projection onto |θ| = 1 per body, corr = θ/|θ| − θ (zero elsewhere);
+/// the error estimate loses its component normal to the sphere, e_θ ← e_θ − (θ̂·e_θ) θ̂ (the
+/// projection's Jacobian at the projected point; cf. cvParticle_dns.c in SUNDIALS).
+int project_euler_parameters(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj,
+                             N_Vector err, void* user_data);
+
+}  // namespace flexref::reference::sundials

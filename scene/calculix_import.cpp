@@ -1,0 +1,518 @@
+#include "scene/calculix_import.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include "core/error.hpp"
+
+namespace flexref::scene {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+/// .dat eigenvalues and .frd 1PGK values both carry 7 significant digits (rounding ≤ 5e-7
+/// relative each).
+constexpr double kDatTolerance = 1e-6;
+
+/// The mass and stiffness matrices reordered so that row 3k + a is direction a of .frd node k.
+struct NodeOrderedMatrices {
+  Eigen::SparseMatrix<double> M;
+  Eigen::SparseMatrix<double> K;
+};
+
+NodeOrderedMatrices reorder(const CalculixModes& frd, const CalculixMatrices& matrices) {
+  const auto n = static_cast<int>(frd.node_ids.size());
+  std::map<int, int> node_index;
+  for (int k = 0; k < n; ++k) node_index.emplace(frd.node_ids[static_cast<std::size_t>(k)], k);
+  const auto rows = static_cast<int>(matrices.dof_node.size());
+  std::vector<int> target(static_cast<std::size_t>(rows));
+  std::vector<int> count(static_cast<std::size_t>(n), 0);
+  for (int r = 0; r < rows; ++r) {
+    const auto it = node_index.find(matrices.dof_node[static_cast<std::size_t>(r)]);
+    if (it == node_index.end()) {
+      throw core::InputError(matrices.dof_file, r + 1, "",
+                             "node " +
+                                 std::to_string(matrices.dof_node[static_cast<std::size_t>(r)]) +
+                                 " is not a node of " + frd.file +
+                                 " (the matrices and the modes come from different meshes)");
+    }
+    target[static_cast<std::size_t>(r)] =
+        3 * it->second + matrices.dof_direction[static_cast<std::size_t>(r)];
+    ++count[static_cast<std::size_t>(it->second)];
+  }
+  for (int k = 0; k < n; ++k) {
+    if (count[static_cast<std::size_t>(k)] != 3) {
+      throw core::InputError(
+          matrices.dof_file, 0, "",
+          "node " + std::to_string(frd.node_ids[static_cast<std::size_t>(k)]) + " of " + frd.file +
+              " has " + std::to_string(count[static_cast<std::size_t>(k)]) +
+              " of its 3 degrees of freedom in the matrices: they must be those of the free "
+              "solid (no boundary conditions in the matrix step: *BOUNDARY, OP=NEW)");
+    }
+  }
+  const auto permute = [&](const Eigen::SparseMatrix<double>& A) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(static_cast<std::size_t>(A.nonZeros()));
+    for (int c = 0; c < A.outerSize(); ++c) {
+      for (Eigen::SparseMatrix<double>::InnerIterator it(A, c); it; ++it) {
+        entries.emplace_back(target[static_cast<std::size_t>(it.row())],
+                             target[static_cast<std::size_t>(it.col())], it.value());
+      }
+    }
+    Eigen::SparseMatrix<double> out(3 * n, 3 * n);
+    out.setFromTriplets(entries.begin(), entries.end());
+    return out;
+  };
+  return {permute(matrices.mass), permute(matrices.stiffness)};
+}
+
+Eigen::VectorXd flatten(const Eigen::Matrix3Xd& shape) {
+  return Eigen::Map<const Eigen::VectorXd>(shape.data(), shape.size());
+}
+
+/// R (3N×6): translations e_a and linearized rotations e_b × x at every node.
+Eigen::MatrixXd rigid_fields(const Eigen::Matrix3Xd& x) {
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(3 * x.cols(), 6);
+  for (Eigen::Index k = 0; k < x.cols(); ++k) {
+    R.block<3, 3>(3 * k, 0).setIdentity();
+    for (int b = 0; b < 3; ++b) {
+      R.block<3, 1>(3 * k, 3 + b) = Eigen::Vector3d::Unit(b).cross(x.col(k));
+    }
+  }
+  return R;
+}
+
+void check_dat(const CalculixModes& frd, const std::vector<CalculixEigenvalueTable>& dat,
+               std::size_t step_index) {
+  const CalculixFrequencyStep& step = frd.steps[step_index];
+  if (dat.size() != frd.steps.size()) {
+    throw core::InputError(frd.file, 0, "",
+                           "the .dat file lists " + std::to_string(dat.size()) +
+                               " eigenvalue table(s), the .frd holds the modes of " +
+                               std::to_string(frd.steps.size()) +
+                               " frequency step(s): not the same run (or *NODE FILE missing "
+                               "in a step)");
+  }
+  const CalculixEigenvalueTable& table = dat[step_index];
+  if (table.eigenvalues.size() != step.modes.size()) {
+    throw core::InputError(frd.file, step.modes.back().line, "",
+                           "wrong mode count: the .dat's eigenvalue table (line " +
+                               std::to_string(table.line) + ") lists " +
+                               std::to_string(table.eigenvalues.size()) +
+                               " modes, the .frd holds " + std::to_string(step.modes.size()) +
+                               " mode shapes of step " + std::to_string(step.step));
+  }
+  double scale = 0.0;
+  for (const CalculixMode& m : step.modes) scale = std::max(scale, std::abs(m.eigenvalue));
+  for (std::size_t i = 0; i < step.modes.size(); ++i) {
+    const double a = table.eigenvalues[i];
+    const double b = step.modes[i].eigenvalue;
+    // Rigid-body eigenvalues are rounding noise of order 1e-12 λ_max (ccx writes 0 to the .frd
+    // for a negative one): compared in absolute terms below 1e-9 λ_max.
+    if (std::abs(a - b) > kDatTolerance * std::max(std::abs(a), std::abs(b)) + 1e-9 * scale) {
+      std::ostringstream msg;
+      msg << "mode " << step.modes[i].number << ": eigenvalue " << b << " in the .frd, " << a
+          << " in the .dat (line " << table.line << "'s table): not the same run";
+      throw core::InputError(frd.file, step.modes[i].line, "", msg.str());
+    }
+  }
+}
+
+std::string number(double x, int precision = 6) {
+  std::ostringstream s;
+  s.precision(precision);
+  s << x;
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> parse_ranges(const std::string& text, const std::string& option) {
+  std::vector<std::pair<int, int>> out;
+  std::size_t begin = 0;
+  const auto fail = [&](const std::string& part) {
+    throw std::invalid_argument(
+        option + ": expected positive integers and ranges such as 1-4,7, got \"" + part + "\"");
+  };
+  while (begin <= text.size()) {
+    std::size_t end = text.find(',', begin);
+    if (end == std::string::npos) end = text.size();
+    const std::string part = text.substr(begin, end - begin);
+    const std::size_t dash = part.find('-');
+    const auto parse = [&](const std::string& s) {
+      int v = 0;
+      const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+      if (s.empty() || ec != std::errc() || p != s.data() + s.size() || v < 1) fail(part);
+      return v;
+    };
+    if (dash == std::string::npos) {
+      const int v = parse(part);
+      out.emplace_back(v, v);
+    } else {
+      const int lo = parse(part.substr(0, dash));
+      const int hi = parse(part.substr(dash + 1));
+      if (hi < lo) fail(part);
+      out.emplace_back(lo, hi);
+    }
+    begin = end + 1;
+  }
+  return out;
+}
+
+std::vector<int> parse_index_list(const std::string& text, const std::string& option) {
+  std::vector<int> out;
+  for (const auto& [lo, hi] : parse_ranges(text, option)) {
+    if (hi - lo > 10000000) {
+      throw std::invalid_argument(option + ": the range " + std::to_string(lo) + "-" +
+                                  std::to_string(hi) + " is too long");
+    }
+    for (int v = lo; v <= hi; ++v) out.push_back(v);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMatrices& matrices,
+                                     const std::vector<CalculixEigenvalueTable>* dat,
+                                     const CalculixImportOptions& options) {
+  if (options.frequency_step < 1 || options.frequency_step > static_cast<int>(frd.steps.size())) {
+    throw core::InputError(frd.file, 0, "",
+                           "frequency step " + std::to_string(options.frequency_step) +
+                               " requested; the file holds " + std::to_string(frd.steps.size()) +
+                               " frequency step(s)");
+  }
+  if (!(options.frequency_tolerance > 0.0) || !(options.rigid_tolerance > 0.0)) {
+    throw std::invalid_argument("import-modes: tolerances must be positive");
+  }
+  const auto step_index = static_cast<std::size_t>(options.frequency_step - 1);
+  if (dat != nullptr) check_dat(frd, *dat, step_index);
+  const CalculixFrequencyStep& step = frd.steps[step_index];
+  const Eigen::Matrix3Xd& x = frd.positions;
+  const auto n_nodes = static_cast<int>(x.cols());
+
+  CalculixImport result;
+  result.frequency_step = step.step;
+  result.total_nodes = n_nodes;
+  result.frequency_tolerance = options.frequency_tolerance;
+
+  // 1–2: matrices in node order; the scalar mass matrix.
+  const NodeOrderedMatrices fe = reorder(frd, matrices);
+  const Eigen::SparseMatrix<double> M0 = scalar_mass_matrix(fe.M, result.anisotropy);
+  if (!(result.anisotropy <= kAnisotropyTolerance)) {
+    throw core::InputError(matrices.mass_file, 0, "",
+                           "the mass matrix is not the same in the three directions (defect " +
+                               number(result.anisotropy) +
+                               "): only solid elements (C3D...) are read");
+  }
+
+  // 3: rigid-body modes.
+  const Eigen::MatrixXd R = rigid_fields(x);
+  const Eigen::MatrixXd MR = fe.M * R;
+  const Eigen::LDLT<Eigen::MatrixXd> rigid_mass(R.transpose() * MR);
+  std::vector<const CalculixMode*> elastic;
+  Eigen::MatrixXd rigid_span(3 * n_nodes, 0);  // exact rigid motions nearest the rigid modes
+  for (const CalculixMode& mode : step.modes) {
+    const Eigen::VectorXd phi = flatten(mode.shape);
+    const double norm2 = phi.dot(fe.M * phi);
+    if (!(norm2 > 0.0)) {
+      throw core::InputError(frd.file, mode.line, "",
+                             "mode " + std::to_string(mode.number) +
+                                 " has no kinetic energy with the mass matrix (zero shape)");
+    }
+    const Eigen::VectorXd c = rigid_mass.solve(MR.transpose() * phi);
+    const double rigid_part = c.dot(MR.transpose() * phi);
+    const double distance = std::sqrt(std::max(0.0, 1.0 - rigid_part / norm2));
+    if (distance < options.rigid_tolerance) {
+      result.rigid_modes.push_back({mode.number, mode.eigenvalue, distance});
+      rigid_span.conservativeResize(Eigen::NoChange, rigid_span.cols() + 1);
+      rigid_span.col(rigid_span.cols() - 1) = R * c;
+    } else {
+      elastic.push_back(&mode);
+    }
+  }
+  if (elastic.empty()) {
+    throw core::InputError(frd.file, step.modes.back().line, "",
+                           "step " + std::to_string(step.step) +
+                               " has no elastic mode (all are rigid-body modes): request more "
+                               "modes in *FREQUENCY");
+  }
+
+  // Mode selection (1-based among the elastic modes).
+  std::vector<const CalculixMode*> kept;
+  if (options.modes.empty()) {
+    kept = elastic;
+  } else {
+    for (const int i : options.modes) {
+      if (i < 1 || i > static_cast<int>(elastic.size())) {
+        throw core::InputError(
+            frd.file, step.modes.back().line, "",
+            "wrong mode count: elastic mode " + std::to_string(i) + " selected, but step " +
+                std::to_string(step.step) + " has " + std::to_string(elastic.size()) +
+                " elastic modes (ccx modes " + std::to_string(elastic.front()->number) + "-" +
+                std::to_string(elastic.back()->number) + ", after " +
+                std::to_string(result.rigid_modes.size()) + " rigid-body modes)");
+      }
+      kept.push_back(elastic[static_cast<std::size_t>(i - 1)]);
+    }
+  }
+  const auto n_modes = static_cast<int>(kept.size());
+
+  // Exact M-orthogonality to the rigid motions spanned by the rigid modes.
+  Eigen::MatrixXd phi(3 * n_nodes, n_modes);
+  for (int i = 0; i < n_modes; ++i) phi.col(i) = flatten(kept[static_cast<std::size_t>(i)]->shape);
+  if (rigid_span.cols() > 0) {
+    const Eigen::MatrixXd MS = fe.M * rigid_span;
+    const Eigen::MatrixXd correction =
+        rigid_span * (rigid_span.transpose() * MS).ldlt().solve(MS.transpose() * phi);
+    for (int i = 0; i < n_modes; ++i) {
+      const double size = std::sqrt(phi.col(i).dot(fe.M * phi.col(i)));
+      const double change = std::sqrt(correction.col(i).dot(fe.M * correction.col(i)));
+      result.rigid_orthogonalization = std::max(result.rigid_orthogonalization, change / size);
+    }
+    phi -= correction;
+  }
+
+  // 4: Rayleigh quotients against ccx's eigenvalues.
+  const Eigen::MatrixXd Mphi = fe.M * phi;
+  const Eigen::MatrixXd Kphi = fe.K * phi;
+  std::vector<double> lambda(static_cast<std::size_t>(n_modes));
+  std::vector<double> consistent(static_cast<std::size_t>(n_modes));
+  for (int i = 0; i < n_modes; ++i) {
+    const CalculixMode& mode = *kept[static_cast<std::size_t>(i)];
+    const auto ui = static_cast<std::size_t>(i);
+    lambda[ui] =
+        mode.frequency_hz > 0.0 ? std::pow(kTwoPi * mode.frequency_hz, 2) : mode.eigenvalue;
+    consistent[ui] = phi.col(i).dot(Mphi.col(i));
+    CalculixModeCheck check;
+    check.ccx_mode = mode.number;
+    check.omega_ccx = std::sqrt(std::max(lambda[ui], 0.0));
+    check.consistent_modal_mass = consistent[ui];
+    check.rayleigh_difference = phi.col(i).dot(Kphi.col(i)) / (consistent[ui] * lambda[ui]) - 1.0;
+    if (!(std::abs(consistent[ui] - 1.0) <= kModalMassTolerance)) {
+      throw core::InputError(frd.file, mode.line, "",
+                             "mode " + std::to_string(mode.number) + " has the modal mass " +
+                                 number(consistent[ui], 9) + " with the mass matrix " +
+                                 matrices.mass_file +
+                                 "; ccx scales its modes to 1 with its own mass matrix: the "
+                                 "matrices and the modes come from different models");
+    }
+    if (!(lambda[ui] > 0.0) || !(std::abs(check.rayleigh_difference) <= kRayleighTolerance)) {
+      throw core::InputError(
+          frd.file, mode.line, "",
+          "mode " + std::to_string(mode.number) + ": its strain energy with the stiffness matrix " +
+              matrices.stiffness_file +
+              " gives omega^2 = " + number(phi.col(i).dot(Kphi.col(i)) / consistent[ui]) +
+              ", ccx's eigenvalue is " + number(lambda[ui]) + " (relative difference " +
+              number(check.rayleigh_difference) + " > " + number(kRayleighTolerance) +
+              "): the matrices and the modes come from different models (or the modes are "
+              "those of a prestressed step, whose stiffness includes a geometric stiffness the "
+              "stored matrices lack: docs/calculix.md)");
+    }
+    result.modes.push_back(check);
+  }
+
+  // 5: nodal masses on the kept nodes.
+  std::vector<int> kept_nodes;
+  if (options.nodes.empty()) {
+    for (int k = 0; k < n_nodes; ++k) kept_nodes.push_back(k);
+  } else {
+    std::map<int, int> node_index;
+    for (int k = 0; k < n_nodes; ++k) {
+      node_index.emplace(frd.node_ids[static_cast<std::size_t>(k)], k);
+    }
+    for (const auto& [lo, hi] : options.nodes) {
+      const auto first = node_index.lower_bound(lo);
+      const auto last = node_index.upper_bound(hi);
+      if (first == last) {
+        throw core::InputError(frd.file, 0, "",
+                               lo == hi
+                                   ? "selected node " + std::to_string(lo) + " is not in the mesh"
+                                   : "the selected range " + std::to_string(lo) + "-" +
+                                         std::to_string(hi) + " holds no node of the mesh");
+      }
+      for (auto it = first; it != last; ++it) kept_nodes.push_back(it->second);
+    }
+    std::sort(kept_nodes.begin(), kept_nodes.end());
+    kept_nodes.erase(std::unique(kept_nodes.begin(), kept_nodes.end()), kept_nodes.end());
+  }
+  const auto n_kept = static_cast<int>(kept_nodes.size());
+  Eigen::Matrix3Xd x_kept(3, n_kept);
+  Eigen::MatrixXd phi_kept(3 * n_kept, n_modes);
+  for (int j = 0; j < n_kept; ++j) {
+    const int k = kept_nodes[static_cast<std::size_t>(j)];
+    x_kept.col(j) = x.col(k);
+    phi_kept.middleRows<3>(3 * j) = phi.middleRows<3>(3 * k);
+  }
+  const LinearInvariants solid = consistent_invariants(M0, x, phi);
+  result.solid = solid.rigid;
+  Eigen::VectorXd masses;
+  try {
+    const Eigen::VectorXd hrz = diagonal_scaled_masses(M0, result.solid.mass);
+    const Eigen::VectorXd initial =
+        options.nodes.empty() ? hrz : masses_on_nearest(hrz, x, kept_nodes);
+    std::string why;
+    for (const InvariantSelection& selection : invariant_selections()) {
+      try {
+        masses = selection.modal_masses
+                     ? invariant_matched_masses(initial, x_kept, phi_kept, solid, selection)
+                     : moment_matched_masses(initial, x_kept, result.solid);
+        result.mass_model = selection.describe();
+        break;
+      } catch (const std::invalid_argument& e) {
+        if (!selection.modal_masses) throw;
+        if (why.empty()) why = e.what();
+      }
+    }
+    if (result.mass_model != invariant_selections().front().describe()) {
+      result.notes.push_back("the nodal masses match " + result.mass_model + ", not all of " +
+                             invariant_selections().front().describe() + " (" + why + ")");
+    }
+  } catch (const std::invalid_argument& e) {
+    throw core::InputError(matrices.mass_file, 0, "",
+                           std::string("cannot lump the mass on the ") + std::to_string(n_kept) +
+                               " kept nodes: " + e.what());
+  }
+  result.body = nodal_mass_properties(masses, x_kept);
+  result.invariant_difference =
+      relative_difference(solid, nodal_invariants(masses, x_kept, phi_kept));
+  result.mass_difference = result.invariant_difference.rigid;
+  if (!(result.mass_difference.max() <= kMassPropertyTolerance)) {
+    throw core::InputError(matrices.mass_file, 0, "",
+                           "the nodal masses reproduce the solid's mass properties only to " +
+                               number(result.mass_difference.max()) + " (> " +
+                               number(kMassPropertyTolerance) + ")");
+  }
+
+  // 6: the modal data.
+  flexible::ModalData& data = result.data;
+  data.mass = masses;
+  data.p_BoNode_B = x_kept;
+  data.phi.resize(3 * n_kept, n_modes);
+  data.stiffness.resize(n_modes);
+  data.damping_ratio = Eigen::VectorXd::Zero(n_modes);
+  for (int i = 0; i < n_modes; ++i) {
+    data.phi.col(i) = phi_kept.col(i);
+    double mu = 0.0;
+    for (int j = 0; j < n_kept; ++j) mu += masses(j) * data.phi.block<3, 1>(3 * j, i).squaredNorm();
+    if (!(mu > 0.0)) {
+      throw core::InputError(frd.file, kept[static_cast<std::size_t>(i)]->line, "",
+                             "mode " + std::to_string(kept[static_cast<std::size_t>(i)]->number) +
+                                 " does not move any kept node");
+    }
+    data.phi.col(i) /= std::sqrt(mu);
+    // Strain energy of the scaled shape: λ φᵀMφ/μ.
+    data.stiffness(i) =
+        lambda[static_cast<std::size_t>(i)] * consistent[static_cast<std::size_t>(i)] / mu;
+    data.mode_names.push_back("ccx-mode-" +
+                              std::to_string(kept[static_cast<std::size_t>(i)]->number));
+  }
+  for (const int k : kept_nodes) {
+    data.node_names.push_back("n" + std::to_string(frd.node_ids[static_cast<std::size_t>(k)]));
+  }
+  try {
+    data.validate();
+  } catch (const std::invalid_argument& e) {
+    throw core::InputError(frd.file, 0, "",
+                           std::string("the imported modal data is not usable: ") + e.what() +
+                               " (select fewer modes or keep more nodes)");
+  }
+
+  // 7: self-check.
+  const Eigen::VectorXd omega_body = flexible::natural_frequencies(data);
+  std::vector<double> omega_ccx;
+  for (const CalculixModeCheck& m : result.modes) omega_ccx.push_back(m.omega_ccx);
+  std::sort(omega_ccx.begin(), omega_ccx.end());
+  for (int i = 0; i < n_modes; ++i) {
+    CalculixModeCheck& m = result.modes[static_cast<std::size_t>(i)];
+    m.omega_body = omega_body(i);
+    m.difference = omega_body(i) / omega_ccx[static_cast<std::size_t>(i)] - 1.0;
+    result.max_difference = std::max(result.max_difference, std::abs(m.difference));
+  }
+  result.self_check_passed = result.max_difference <= options.frequency_tolerance;
+  if (!options.nodes.empty()) {
+    result.notes.push_back("the body keeps " + std::to_string(n_kept) + " of the mesh's " +
+                           std::to_string(n_nodes) +
+                           " nodes: their masses carry the whole solid's inertia");
+  }
+  return result;
+}
+
+std::string format_calculix_import_report(const CalculixImport& r) {
+  std::ostringstream out;
+  char line[256];
+  out << "frequency step " << r.frequency_step << ": " << r.modes.size() << " elastic mode(s), "
+      << r.data.node_count() << " of " << r.total_nodes << " nodes\n";
+  if (r.rigid_modes.empty()) {
+    out << "rigid-body modes: none (the solid is held by its boundary conditions)\n";
+  } else {
+    out << "rigid-body modes removed:";
+    for (const CalculixRigidMode& m : r.rigid_modes) {
+      std::snprintf(line, sizeof line, " %d (lambda %.3g, distance %.1e)", m.ccx_mode, m.eigenvalue,
+                    m.distance);
+      out << line;
+    }
+    std::snprintf(line, sizeof line,
+                  "\n  elastic modes made M-orthogonal to them (largest change %.1e)\n",
+                  r.rigid_orthogonalization);
+    out << line;
+  }
+  const Eigen::Vector3d c_solid = r.solid.centre();
+  const Eigen::Vector3d c_body = r.body.centre();
+  const Eigen::Matrix3d I_solid = r.solid.I0();
+  const Eigen::Matrix3d I_body = r.body.I0();
+  out << "mass properties about the frame origin (solid: mass matrix; body: nodal masses)\n";
+  std::snprintf(line, sizeof line, "  %-18s %-48s %-48s\n", "", "solid", "body");
+  out << line;
+  std::snprintf(line, sizeof line, "  %-18s %-48.12g %-48.12g\n", "mass [kg]", r.solid.mass,
+                r.body.mass);
+  out << line;
+  std::snprintf(line, sizeof line, "  %-18s %-15.9g %-15.9g %-15.9g  %-15.9g %-15.9g %-15.9g\n",
+                "centre [m]", c_solid(0), c_solid(1), c_solid(2), c_body(0), c_body(1), c_body(2));
+  out << line;
+  const int pairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+  const char* names[6] = {"I_xx [kg m^2]", "I_yy", "I_zz", "I_xy", "I_xz", "I_yz"};
+  for (int p = 0; p < 6; ++p) {
+    std::snprintf(line, sizeof line, "  %-18s %-48.12g %-48.12g\n", names[p],
+                  I_solid(pairs[p][0], pairs[p][1]), I_body(pairs[p][0], pairs[p][1]));
+    out << line;
+  }
+  std::snprintf(line, sizeof line,
+                "  relative difference: mass %.1e, first moment %.1e, inertia %.1e (required "
+                "<= %.0e)\n",
+                r.mass_difference.mass, r.mass_difference.first_moment, r.mass_difference.inertia,
+                kMassPropertyTolerance);
+  out << line;
+  const InvariantDifference& d = r.invariant_difference;
+  std::snprintf(line, sizeof line,
+                "modal invariants of the nodal masses vs the mass matrix (matched: %s): S %.1e, "
+                "X %.1e, m_ff %.1e; P_ab (quadratic in q_f, lumped) %.1e\n",
+                r.mass_model.c_str(), d.S, d.X, d.m_ff, d.P);
+  out << line;
+  out << "frequency self-check: the body's frequencies eig(K, m_ff) with the nodal masses vs "
+         "CalculiX\n";
+  std::snprintf(line, sizeof line, "  %-6s %-9s %-16s %-16s %-12s %-12s %-10s\n", "mode",
+                "ccx mode", "ccx [Hz]", "body [Hz]", "difference", "Rayleigh", "phi'Mphi");
+  out << line;
+  for (std::size_t i = 0; i < r.modes.size(); ++i) {
+    const CalculixModeCheck& m = r.modes[i];
+    std::snprintf(line, sizeof line, "  %-6zu %-9d %-16.10g %-16.10g %-+12.3e %-+12.1e %-10.7f\n",
+                  i + 1, m.ccx_mode, m.omega_ccx / kTwoPi, m.omega_body / kTwoPi, m.difference,
+                  m.rayleigh_difference, m.consistent_modal_mass);
+    out << line;
+  }
+  std::snprintf(line, sizeof line, "  largest |difference| %.3e, tolerance %.3g: %s\n",
+                r.max_difference, r.frequency_tolerance, r.self_check_passed ? "passed" : "FAILED");
+  out << line;
+  for (const std::string& note : r.notes) out << "note: " << note << "\n";
+  return out.str();
+}
+
+}  // namespace flexref::scene

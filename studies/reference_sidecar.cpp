@@ -1,0 +1,67 @@
+#include "studies/reference_sidecar.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <toml.hpp>
+
+#include "core/error.hpp"
+
+namespace flexref::studies {
+
+ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
+  ReferenceSidecar out;
+  out.path = csv_path + ".meta.toml";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(out.path, ec)) return out;
+  out.found = true;
+  toml::value doc;
+  try {
+    doc = toml::parse(out.path);
+  } catch (const std::exception& e) {
+    throw core::InputError(out.path, 0, "", std::string("not a readable TOML file: ") + e.what());
+  }
+  if (!doc.is_table()) return out;
+  const auto& root = doc.as_table();
+  if (const auto it = root.find("integrator"); it != root.end() && it->second.is_table()) {
+    const auto& t = it->second.as_table();
+    if (const auto s = t.find("solver"); s != t.end() && s->second.is_string()) {
+      out.solver = s->second.as_string().str;
+    }
+    if (const auto r = t.find("rtol"); r != t.end() && r->second.is_floating()) {
+      out.rtol = r->second.as_floating();
+    }
+  }
+  const auto it = root.find("error_estimate");
+  if (it == root.end()) return out;
+  if (!it->second.is_table()) {
+    throw core::InputError(out.path, 0, "error_estimate", "expected a table");
+  }
+  const auto& e = it->second.as_table();
+  const auto est = e.find("estimate");
+  const auto metric = e.find("metric");
+  if (est == e.end() || !(est->second.is_floating() || est->second.is_integer())) {
+    throw core::InputError(out.path, 0, "error_estimate.estimate", "expected a number");
+  }
+  out.estimate = est->second.is_floating() ? est->second.as_floating()
+                                           : static_cast<double>(est->second.as_integer());
+  // +inf is what `flexref reference` writes when no check was usable (the error is unknown).
+  if (std::isnan(out.estimate) || out.estimate < 0.0) {
+    throw core::InputError(out.path, 0, "error_estimate.estimate",
+                           "expected a non-negative error estimate (inf: unknown)");
+  }
+  if (metric == e.end() || !metric->second.is_string()) {
+    throw core::InputError(out.path, 0, "error_estimate.metric", "expected the metric's name");
+  }
+  out.metric = metric->second.as_string().str;
+  if (const auto m = e.find("method"); m != e.end() && m->second.is_string()) {
+    out.estimate_method = m->second.as_string().str;
+  }
+  out.has_estimate = true;
+  return out;
+}
+
+bool is_certified(double error, double estimate) {
+  return error >= kCertificationFactor * estimate;
+}
+
+}  // namespace flexref::studies

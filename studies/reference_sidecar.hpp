@@ -1,0 +1,37 @@
+#pragma once
+/// \file reference_sidecar.hpp
+/// What a reference says about itself: the `FILE.meta.toml` written next to `FILE` by
+/// `flexref reference` (StudyRecord; its [error_estimate] table when the estimate was made),
+/// read back so that a comparison can set the measured error beside the reference's own.
+#include <string>
+
+namespace flexref::studies {
+
+/// A measured error is certified when it is at least this many times the reference's
+/// estimated error (docs/design/schemes.md: the reference then contributes at most 1 %).
+inline constexpr double kCertificationFactor = 100.0;
+
+struct ReferenceSidecar {
+  std::string path;           ///< the sidecar file looked for
+  bool found = false;         ///< the file exists
+  bool has_estimate = false;  ///< it has [error_estimate] (not --no-estimate)
+  std::string metric;         ///< [error_estimate] metric
+  /// [error_estimate] estimate; +inf when the reference found no usable check (its error is
+  /// unknown, studies/certified_reference.hpp) — then nothing is certified against it.
+  double estimate = 0.0;
+  std::string estimate_method;  ///< [error_estimate] method: how it was made, "" when absent
+  std::string solver;           ///< [integrator] solver, "" when absent
+  double rtol = 0.0;            ///< [integrator] rtol, 0 when absent
+};
+
+/// Reads `csv_path + ".meta.toml"`. A missing file is not an error (found = false); a file that
+/// is not TOML, or whose [error_estimate] lacks a non-negative `estimate` (+inf allowed: unknown;
+/// NaN refused) or a `metric` string, is a core::InputError naming the file and key.
+ReferenceSidecar read_reference_sidecar(const std::string& csv_path);
+
+/// "certified" when error ≥ kCertificationFactor × estimate, else "NOT certified" (always for
+/// an unknown, +inf estimate). Only meaningful when the sidecar has an estimate in the same
+/// metric.
+bool is_certified(double error, double estimate);
+
+}  // namespace flexref::studies

@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Integrators outside flexref (docs/external.md), end to end through the command line:
+#   converge --external on examples/external/lie_euler.py: order 1 ± 0.1 (Lie-Euler) and
+#   2 ± 0.1 (--order 2, the group midpoint rule); converge --runs on the files the first study
+#   kept gives the same errors and orders; a failing program is reported with its exit status
+#   and output, the study goes on; compare --json; compare refuses what could fool it.
+# Usage: external_test.sh /path/to/flexref (from the repository root).
+set -uo pipefail
+flexref=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+passed=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { passed=$((passed + 1)); }
+program="/usr/bin/python3 examples/external/lie_euler.py {scene} {dt} {output}"
+# free_spin on [0, 10]: h|W| <= 0.04, the asymptotic range of both programs.
+sed 's/^end_time = 100.0 /end_time = 10.0 /' scenes/free_spin.toml >"$tmp/fs10.toml"
+
+# fitted order of a label in convergence.txt
+order_of() { awk -v l="$2" '$1 == l && $2 == "claimed" {print $5}' "$1/convergence.txt" | tr -d ,; }
+within() { awk -v x="$1" -v c="$2" 'BEGIN { exit !(x != "" && x >= c - 0.1 && x <= c + 0.1) }'; }
+
+out=$("$flexref" converge "$tmp/fs10.toml" --external "$program" --label euler --order 1 \
+  --dt 0.02 --levels 4 --jobs 2 --out "$tmp/c1" 2>&1) || fail "converge --external (order 1): $out"
+p=$(order_of "$tmp/c1" euler)
+within "$p" 1 && ok || fail "order-1 program: observed '$p', expected 1 +- 0.1: $out"
+[[ $out == *"ignored columns: step_count"* ]] && ok || fail "the program's own column is not listed as ignored: $out"
+[[ $(ls "$tmp"/c1/run_euler_*.csv | wc -l) -eq 4 ]] && ok || fail "the level files are not kept"
+
+out=$("$flexref" converge "$tmp/fs10.toml" --external "$program --order 2" --label midpoint \
+  --dt 0.02 --levels 4 --jobs 2 --out "$tmp/c2" 2>&1) || fail "converge --external (order 2): $out"
+p=$(order_of "$tmp/c2" midpoint)
+within "$p" 2 && ok || fail "order-2 program: observed '$p', expected 2 +- 0.1: $out"
+
+runs=()
+for k in 0 1 2 3; do runs+=("$(awk -v k=$k 'BEGIN { printf "%.17g", 0.02 / 2^k }')=$tmp/c1/run_euler_$k.csv"); done
+out=$("$flexref" converge "$tmp/fs10.toml" --runs "${runs[@]}" --label euler --order 1 \
+  --out "$tmp/r1" 2>&1) || fail "converge --runs: $out"
+# scheme,h,steps,error,order are identical (cpu_seconds is unknown for runs made earlier)
+if diff <(cut -d, -f1-5,7 "$tmp/c1/convergence.csv") <(cut -d, -f1-5,7 "$tmp/r1/convergence.csv"); then
+  ok
+else
+  fail "--runs and --external differ on the same files"
+fi
+
+# A program that fails: the level is 'failed' with its exit status and output (the study then
+# has no valid level and refuses an order: exit 4).
+out=$("$flexref" converge "$tmp/fs10.toml" \
+  --external "/usr/bin/python3 -c 'import sys; sys.exit(\"diverged at \" + sys.argv[1])' {dt} {output}" \
+  --dt 0.02 --levels 3 --out "$tmp/bad" 2>&1)
+[[ $out == *"exited with status 1"*"diverged at 0.02"* ]] && ok ||
+  fail "a failing program is not reported with status and output: $out"
+out=$("$flexref" converge "$tmp/fs10.toml" --external "sleep 10; : {dt} {output}" --timeout 0.3 \
+  --dt 0.02 --levels 3 --out "$tmp/slow" 2>&1)
+[[ $out == *"timed out after 0.3 s"* ]] && ok || fail "timeout not reported: $out"
+out=$("$flexref" converge "$tmp/fs10.toml" --external "true {scene}" --out "$tmp/x" 2>&1)
+[[ $? -ne 0 && $out == *"must contain {dt} and {output}"* ]] && ok || fail "bad template accepted: $out"
+
+# work-precision --external: the program's own CPU time, beside the built-in schemes.
+out=$("$flexref" work-precision "$tmp/fs10.toml" --external "$program" --label euler \
+  --schemes c2 --solvers cvode --tolerances 1e-6 --dt 0.02 --levels 2 --repeats 1 --jobs 1 \
+  --out "$tmp/wp" 2>&1) || fail "work-precision --external: $out"
+grep -q '^euler,external,0.02,' "$tmp/wp/work_precision.csv" && ok ||
+  fail "work-precision CSV lacks the external runs: $(cat "$tmp/wp/work_precision.csv")"
+cpu=$(awk -F, '$1 == "euler" && $2 == "external" {print $5; exit}' "$tmp/wp/work_precision.csv")
+awk -v c="$cpu" 'BEGIN { exit !(c > 0 && c < 60) }' && ok || fail "external CPU time '$cpu'"
+
+# compare: the contract's file, JSON, the reference's estimate beside the error.
+"$flexref" reference "$tmp/fs10.toml" --solver cvode --rtol 1e-10 -o "$tmp/ref.csv" >/dev/null ||
+  fail "reference"
+out=$("$flexref" compare --json "$tmp/c1/run_euler_0.csv" "$tmp/ref.csv" 2>&1) || fail "compare --json: $out"
+echo "$out" | /usr/bin/python3 -c '
+import json, sys
+d = json.load(sys.stdin)
+assert d["metric"]["quantities"] == ["body.rotation"], d
+assert d["ignored_columns"] == ["step_count"], d
+assert d["certified"] is True and d["reference_estimate"]["value"] > 0, d
+assert abs(d["metric"]["value"] - 1.669e-2) < 1e-4, d["metric"]
+' && ok || fail "compare --json: $out"
+out=$("$flexref" compare "$tmp/c1/run_euler_0.csv" "$tmp/ref.csv" 2>&1)
+[[ $out == *"reference estimated error"*"certified"* ]] && ok || fail "compare text lacks the estimate: $out"
+# A reference whose estimate is not 100x below the error: marked NOT CERTIFIED.
+"$flexref" reference "$tmp/fs10.toml" --solver cvode --rtol 1e-3 -o "$tmp/loose.csv" >/dev/null
+out=$("$flexref" compare "$tmp/c2/run_midpoint_3.csv" "$tmp/loose.csv" 2>&1)
+[[ $out == *"NOT CERTIFIED"* ]] && ok || fail "an unmeasurable error is not marked: $out"
+# A reference whose estimate found no usable check (estimate = inf): nothing is certified.
+cp "$tmp/ref.csv" "$tmp/unknown.csv"
+sed 's/^estimate = .*/estimate = inf/' "$tmp/ref.csv.meta.toml" >"$tmp/unknown.csv.meta.toml"
+out=$("$flexref" compare --json "$tmp/c1/run_euler_0.csv" "$tmp/unknown.csv" 2>&1)
+[[ $? -eq 0 && $out == *'"certified": false'* && $out == *"own error is unknown"* ]] && ok ||
+  fail "an unknown (inf) reference estimate: $out"
+# All-zero Euler parameters score no error of 0: refused with file, row and column.
+awk -F, 'BEGIN { OFS = "," } /^#/ { print; next } NR > 2 { $6 = 0; $7 = 0; $8 = 0; $9 = 0 } { print }' \
+  "$tmp/c1/run_euler_0.csv" >"$tmp/zero.csv"
+out=$("$flexref" compare "$tmp/zero.csv" "$tmp/ref.csv" 2>&1)
+[[ $? -eq 1 && $out == *"zero.csv:3: key 'body.e0': row 1: Euler parameters have norm 0"* ]] && ok ||
+  fail "all-zero Euler parameters: $out"
+
+echo "external: $passed passed, $failures failed"
+((failures == 0))
