@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "app/work_limits.hpp"
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene.hpp"
@@ -14,11 +15,38 @@
 
 namespace flexref::app {
 
-/// Exit codes.
+/// Exit codes: the one table of docs/decisions.md ("Command line") and `flexref --help`.
 inline constexpr int kExitOk = 0;
-inline constexpr int kExitInputError = 1;   ///< bad scene, CSV or option value
-inline constexpr int kExitSolverError = 3;  ///< an integrator failed
-inline constexpr int kExitRefused = 4;      ///< a study refused (e.g. uncertified reference)
+inline constexpr int kExitInputError = 1;   ///< bad scene, CSV, study file or option value
+inline constexpr int kExitUsage = 2;        ///< command-line syntax (CLI11 parse errors)
+inline constexpr int kExitSolverError = 3;  ///< an integrator failed (time, step, why)
+inline constexpr int kExitRefused = 4;      ///< a study refused to report (uncertified, < 3 levels)
+inline constexpr int kExitOutputError = 5;  ///< an output file or folder cannot be written
+
+/// The exit-code table as `--help` prints it.
+inline constexpr const char* kExitCodeTable =
+    "Exit codes: 0 success, 1 bad input (scene, CSV, study file, option value), 2 usage "
+    "(command-line syntax), 3 solver failure, 4 a study refused to report (e.g. an uncertified "
+    "reference, fewer than three valid levels), 5 an output file or folder cannot be written.";
+
+/// Refuses (core::InputError naming the scene file and the key) a scene whose physics double
+/// precision cannot carry over [0, end_time]: a stiff mode (flexible body, contact, joint) or
+/// an initial spin whose period is below core::smallest_resolved_step(end_time), a stiffness
+/// or frequency that under- or overflows, an initial energy beyond 1e100 J.
+void check_scene_extremes(const scene::Scene& scene, double end_time);
+/// scene::read_scene followed by check_scene_extremes(scene, scene.end_time).
+scene::Scene load_scene(const std::string& path, core::FlexibleFormulation formulation =
+                                                     core::FlexibleFormulation::kCoupled);
+/// core::output_times, refused (std::invalid_argument) beyond limits.max_rows rows before the
+/// grid is built.
+std::vector<double> limited_output_times(double end_time, double output_step,
+                                         const WorkLimits& limits);
+/// lie::validate_step_grid plus the step-count limit; `what` names the option ("--dt") in the
+/// message. Returns the number of steps.
+long check_scheme_run(const core::Model& model, double dt, const std::vector<double>& times,
+                      const WorkLimits& limits, const std::string& what);
+/// io::check_writable_file for each path (io::OutputError), before any work.
+void check_output_files(const std::vector<std::string>& paths);
 
 struct CheckOptions {
   std::string scene;
@@ -39,10 +67,12 @@ std::string reference_solver_for(const core::Model& model, const std::string& so
 
 struct RunOptions {
   std::string scene;
-  std::string model = "coupled";
+  /// The schemes integrate the LTE model (docs/decisions.md, "Schemes"): their default.
+  std::string model = "lte";
   std::string scheme = "c2";
   double dt = 1e-3;
   std::string output;
+  WorkLimits limits;
 };
 int run_command(const RunOptions& options);
 
@@ -58,6 +88,7 @@ struct ReferenceOptions {
   double atol = -1.0;
   bool estimate = true;
   std::string output;
+  WorkLimits limits;
 };
 int reference_command(const ReferenceOptions& options);
 
@@ -73,7 +104,7 @@ int compare_command(const CompareOptions& options);
 
 struct ConvergeOptions {
   std::string scene;
-  std::string model = "coupled";
+  std::string model = "lte";  ///< the schemes' model (see RunOptions::model)
   std::vector<std::string> schemes = lie::scheme_names();
   double dt = 1e-2;
   int levels = 6;
@@ -82,6 +113,7 @@ struct ConvergeOptions {
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores
   std::string out_dir = "out/converge";
+  WorkLimits limits;
   bool schemes_given = false;     ///< --schemes was given (else none run beside --external/--runs)
   std::string external;           ///< --external command template (docs/external.md)
   std::vector<std::string> runs;  ///< --runs DT=FILE ...

@@ -1,5 +1,7 @@
+#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <utility>
 
 #include "app/commands.hpp"
@@ -14,9 +16,10 @@
 namespace flexref::app {
 
 int converge_command(const ConvergeOptions& options) {
-  const scene::Scene scene = scene::read_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
-  const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
+  const std::vector<double> times =
+      limited_output_times(scene.end_time, scene.output_step, options.limits);
 
   studies::ConvergenceOptions study;
   const bool external = !options.external.empty() || !options.runs.empty();
@@ -30,6 +33,11 @@ int converge_command(const ConvergeOptions& options) {
   study.reference_rtol = options.reference_rtol;
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
   study.progress = true;
+  // Every refusal before any work: the schemes on this model, each level's grid, the finest
+  // level's step count, the output folder.
+  studies::check_convergence_inputs(model, times, study);
+  check_scheme_run(model, study.h0 / std::ldexp(1.0, study.levels - 1), times, options.limits,
+                   "--dt/2^(levels-1) =");
   studies::StudyOutput out(options.out_dir);
   study.external = external_methods({options.scene, options.external, options.runs, options.label,
                                      options.claimed_order, options.timeout},
@@ -51,7 +59,9 @@ int converge_command(const ConvergeOptions& options) {
       .set("dt", options.dt)
       .set("levels", options.levels)
       .set("metric", options.metric)
-      .set("jobs", study.jobs);
+      .set("jobs", study.jobs)
+      .set("explicit_step_limit", result.step_limit.h)
+      .set("explicit_step_limit_of", result.step_limit.what);
   if (!options.external.empty()) record.table("study").set("external", options.external);
   if (!options.runs.empty()) record.table("study").set("runs", options.runs);
   if (external) record.table("study").set("label", study.external.front().label);
@@ -62,9 +72,13 @@ int converge_command(const ConvergeOptions& options) {
   out.write("convergence.txt", table);
   studies::write_csv(result.reference.table, out.staged("reference.csv"));
   out.add("reference.csv");
-  const studies::PlotOutcome plot = out.plot(
-      "plot_convergence.py", "convergence.png",
-      {out.staged("convergence.csv"), out.staged("convergence.png"), "convergence: " + scene.name});
+  std::ostringstream limit;
+  limit.precision(17);
+  limit << result.step_limit.h;
+  const studies::PlotOutcome plot =
+      out.plot("plot_convergence.py", "convergence.png",
+               {out.staged("convergence.csv"), out.staged("convergence.png"),
+                "convergence: " + scene.name, limit.str(), result.step_limit.what});
   const std::string csv_path = out.final_path("convergence.csv");
   out.commit(std::move(record));
 
@@ -72,6 +86,12 @@ int converge_command(const ConvergeOptions& options) {
   std::cout << "wrote " << csv_path << ", convergence.txt, study.toml, reference.csv";
   std::cout << (plot.ok ? ", " + plot.message : "") << "\n";
   if (!plot.ok) std::cout << plot.message << "\n";
+  if (result.refused()) {
+    std::cerr << "flexref: converge refused: a scheme has fewer than "
+              << studies::SchemeSummary::kMinFittedLevels
+              << " valid levels, so no order is reported for it (see the notes above)\n";
+    return kExitRefused;
+  }
   return kExitOk;
 }
 

@@ -75,7 +75,7 @@ int figure_command(const FigureCommandOptions& options) {
   // The scene path is relative to the study file.
   const std::filesystem::path scene_path =
       std::filesystem::path(options.study).parent_path() / f.string("scene", "a scene file");
-  const scene::Scene scene = scene::read_scene(scene_path.string());
+  const scene::Scene scene = load_scene(scene_path.string());
   const core::Model& model = *scene.model;
 
   studies::FigureSettings settings;
@@ -115,14 +115,21 @@ int figure_command(const FigureCommandOptions& options) {
     if (!core::is_multiple_of(end_time, h)) {
       f.fail("steps", "a step must divide the end time");
     }
+    try {
+      check_scheme_run(model, h, {0.0, end_time}, options.limits, "step");
+    } catch (const std::invalid_argument& e) {
+      f.fail("steps", e.what());
+    }
   }
+  const std::vector<double> times =
+      limited_output_times(end_time, scene.output_step, options.limits);
   settings.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
+  settings.progress = true;
 
   studies::StudyOutput out(options.out_dir);
   std::cerr << "figure: reference (" << settings.solver << ") and "
             << settings.schemes.size() * settings.steps.size() << " scheme runs on "
             << settings.jobs << " threads ...\n";
-  const std::vector<double> times = core::output_times(end_time, scene.output_step);
   const studies::FigureResult result = studies::run_trajectory_figure(model, times, settings);
 
   const std::string table = studies::figure_table(result);

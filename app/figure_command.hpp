@@ -2,9 +2,12 @@
 
 /// \file figure_command.hpp
 /// `flexref figure STUDY.toml --out DIR`: the paper's trajectory figures (studies/
-/// trajectory_figure.hpp) from a study file (docs/figures.md; studies/paper/*.toml).
+/// trajectory_figure.hpp) from a study file (docs/design/studies.md, "Reproducing the paper's
+/// figures"; studies/paper/*.toml).
 
 #include <string>
+
+#include "app/work_limits.hpp"
 
 namespace flexref::app {
 
@@ -12,6 +15,7 @@ struct FigureCommandOptions {
   std::string study;  ///< the study file (TOML)
   std::string out_dir = "out/figure";
   int jobs = 0;  ///< 0: all cores
+  WorkLimits limits;
 };
 
 int figure_command(const FigureCommandOptions& options);

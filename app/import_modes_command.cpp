@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_validators.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
@@ -43,7 +44,7 @@ CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options) {
   cmd->add_option("--dat", options.dat,
                   "ccx .dat whose eigenvalue tables are checked (default: JOB.dat if present)");
   cmd->add_option("--step", options.step, "frequency step of the .frd (1: the first)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->add_option("--modes", options.modes,
                   "elastic modes to keep, 1-based after rigid-body modes: e.g. 1-4,7 "
@@ -56,7 +57,7 @@ CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options) {
   cmd->add_option("--tolerance", options.tolerance,
                   "frequency self-check, relative (default: " +
                       std::to_string(scene::kDefaultFrequencyTolerance) + ")")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd->add_flag("--accept", options.accept,
                 "write the file even when the frequency self-check fails");
   cmd->add_option("--description", options.description, "description in the modal-data file");

@@ -45,7 +45,7 @@ std::vector<double> ratios(const std::vector<double>& given, double lo, double h
 }  // namespace
 
 int lte_map_command(const LteMapCommandOptions& options) {
-  const scene::Scene scene = scene::read_scene(options.scene);
+  const scene::Scene scene = load_scene(options.scene);
   studies::LteMapOptions study;
   study.spin_ratios =
       ratios(options.spin_ratios, options.spin_min, options.spin_max, options.spin_count, "spin");
@@ -53,6 +53,8 @@ int lte_map_command(const LteMapCommandOptions& options) {
                                 options.inertia_count, "inertia");
   study.end_time = options.end_time > 0.0 ? options.end_time : scene.end_time;
   study.output_step = std::min(scene.output_step, study.end_time);
+  limited_output_times(study.end_time, study.output_step, options.limits);
+  check_scene_extremes(scene, study.end_time);
   study.solver = reference_solver_for(*scene.model, options.solver, "--solver");
   study.rtol = options.rtol;
   study.estimate_factor = options.estimate_factor;
@@ -113,6 +115,12 @@ int lte_map_command(const LteMapCommandOptions& options) {
   if (plot.ok) std::cout << ", " << plot.message;
   std::cout << "\n";
   if (!plot.ok) std::cout << plot.message << "\n";
+  bool any_ok = false;
+  for (const studies::LteMapPoint& p : result.points) any_ok = any_ok || p.status == "ok";
+  if (!any_ok) {
+    std::cerr << "flexref: lte-map refused: every grid point failed (see the status column)\n";
+    return kExitRefused;
+  }
   return kExitOk;
 }
 

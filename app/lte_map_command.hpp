@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "app/work_limits.hpp"
+
 namespace flexref::app {
 
 struct LteMapCommandOptions {
@@ -30,6 +32,7 @@ struct LteMapCommandOptions {
   double end_time = 0.0;  ///< s (0: the scene's)
   int jobs = 0;           ///< 0: all cores
   std::string out_dir = "out/lte_map";
+  WorkLimits limits;  ///< --max-rows
 };
 
 int lte_map_command(const LteMapCommandOptions& options);

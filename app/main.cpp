@@ -1,11 +1,15 @@
 /// \file main.cpp
-/// The `flexref` command line (CLI11). Exit codes: 0 success, 1 bad input, 2 usage error
-/// (CLI11), 3 solver failure, 4 a study refused its inputs.
+/// The `flexref` command line (CLI11). Exit codes (one table: app/commands.hpp,
+/// docs/decisions.md "Command line", the --help epilogue): 0 success, 1 bad input, 2 usage,
+/// 3 solver failure, 4 a study refused to report, 5 an output cannot be written.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <string>
 
+#include "app/cli_validators.hpp"
 #include "app/commands.hpp"
 #include "app/figure_command.hpp"
 #include "app/import_modes_command.hpp"
@@ -14,17 +18,49 @@
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
+#include "io/atomic_file.hpp"
 #include "lie/stepper.hpp"
 #include "studies/distribution.hpp"
+#include "studies/error_metrics.hpp"
+#include "studies/study_refused.hpp"
+
+namespace {
+
+/// --max-steps and --max-rows (app::WorkLimits).
+void add_limits(CLI::App* command, flexref::app::WorkLimits& limits, bool steps) {
+  using flexref::app::positive_number;
+  if (steps) {
+    command
+        ->add_option("--max-steps", limits.max_steps,
+                     "refuse a scheme run of more steps (raise it to allow longer runs)")
+        ->check(positive_number())
+        ->capture_default_str();
+  }
+  command
+      ->add_option("--max-rows", limits.max_rows,
+                   "refuse a trajectory of more output rows (raise it to allow larger files)")
+      ->check(positive_number())
+      ->capture_default_str();
+}
+
+std::string metric_help(const std::string& what) {
+  std::string list;
+  for (const std::string& m : flexref::studies::metric_names())
+    list += (list.empty() ? "" : " | ") + m;
+  return what + ": " + list;
+}
+
+}  // namespace
 
 namespace {
 
 int run_command_line(int argc, char** argv) {
   using namespace flexref::app;
   CLI::App app{
-      "flexref: trusted reference solutions for rigid bodies in large rotation, and the "
-      "verification of time integrators against them"};
+      "flexref: trusted reference solutions for rigid and flexible bodies in large rotation "
+      "(with contact and joints), and the verification of time integrators against them"};
   app.require_subcommand(1);
+  app.footer(kExitCodeTable);
   app.set_version_flag("--version", "flexref 0.1.0");
 
   CheckOptions check;
@@ -37,13 +73,14 @@ int run_command_line(int argc, char** argv) {
   run_cmd->add_option("--scheme", run.scheme, "c1 | c2 | nmb")
       ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
-  run_cmd->add_option("--dt", run.dt, "step [s]")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  run_cmd->add_option("--dt", run.dt, "step [s]")->check(positive_number())->capture_default_str();
   run_cmd->add_option("-o,--output", run.output, "CSV file to write")->required();
-  run_cmd->add_option("--model", run.model, "flexible bodies' equations: coupled | lte")
+  run_cmd
+      ->add_option("--model", run.model,
+                   "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
+  add_limits(run_cmd, run.limits, true);
 
   ReferenceOptions ref;
   auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
@@ -61,32 +98,35 @@ int run_command_line(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "adams", "bdf", "bdf2", "erk", "esdirk"}))
       ->capture_default_str();
   ref_cmd->add_option("--rtol", ref.rtol, "relative tolerance")
-      ->check(CLI::Range(1e-15, 1e-1))
+      ->check(number_in(1e-15, 1e-1))
       ->capture_default_str();
   ref_cmd->add_option("--atol", ref.atol, "absolute tolerance (default: = rtol)")
-      ->check(CLI::Range(1e-16, 1.0));
+      ->check(number_in(1e-16, 1.0));
   ref_cmd->add_flag("!--no-estimate", ref.estimate,
                     "skip the error estimate (rerun 100x tighter and a second solver)");
   ref_cmd->add_option("-o,--output", ref.output, "CSV file to write")->required();
   ref_cmd->add_option("--model", ref.model, "flexible bodies' equations: coupled | lte")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
+  add_limits(ref_cmd, ref.limits, false);
 
   CompareOptions cmp;
   auto* cmp_cmd = app.add_subcommand("compare", "error norms of a run against a reference");
   cmp_cmd->add_option("run", cmp.run, "CSV of the run")->required();
   cmp_cmd->add_option("reference", cmp.reference, "CSV of the reference")->required();
-  cmp_cmd->add_option("--metric", cmp.metric, "metric for the summary line")->capture_default_str();
+  cmp_cmd->add_option("--metric", cmp.metric, metric_help("metric for the summary line"))
+      ->check(CLI::IsMember(flexref::studies::metric_names()))
+      ->capture_default_str();
   cmp_cmd->add_flag("--json", cmp.json, "print the comparison as JSON");
   cmp_cmd
       ->add_option("--time-tolerance", cmp.time_tolerance,
                    "row times match output times within this x the output step")
-      ->check(CLI::Range(0.0, 0.5))
+      ->check(number_in(0.0, 0.5))
       ->capture_default_str();
   cmp_cmd
       ->add_option("--euler-tolerance", cmp.euler_tolerance,
                    "largest accepted | |theta| - 1 | of Euler parameters")
-      ->check(CLI::Range(0.0, 0.1))
+      ->check(number_in(0.0, 0.1))
       ->capture_default_str();
 
   ConvergeOptions conv;
@@ -97,26 +137,34 @@ int run_command_line(int argc, char** argv) {
       ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
   conv_cmd->add_option("--dt", conv.dt, "coarsest step [s]")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
-  conv_cmd->add_option("--levels", conv.levels, "number of halvings")
-      ->check(CLI::Range(2, 16))
+  conv_cmd
+      ->add_option("--levels", conv.levels,
+                   "number of levels: steps dt, dt/2, ..., dt/2^(levels-1); an order is fitted "
+                   "from at least 3 valid levels")
+      ->check(integer_in(3, 16))
       ->capture_default_str();
-  conv_cmd->add_option("--metric", conv.metric, "error metric")->capture_default_str();
+  conv_cmd->add_option("--metric", conv.metric, metric_help("error metric"))
+      ->check(CLI::IsMember(flexref::studies::metric_names()))
+      ->capture_default_str();
   conv_cmd
       ->add_option("--reference-solver", conv.reference_solver,
                    "auto | ida | cvode | arkode | odeint | exact")
       ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   conv_cmd->add_option("--reference-rtol", conv.reference_rtol, "reference tolerance")
-      ->check(CLI::Range(1e-14, 1e-4))
+      ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();
   conv_cmd->add_option("--jobs", conv.jobs, "parallel runs (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1024));
   conv_cmd->add_option("--out", conv.out_dir, "output directory")->capture_default_str();
-  conv_cmd->add_option("--model", conv.model, "flexible bodies' equations: coupled | lte")
+  conv_cmd
+      ->add_option("--model", conv.model,
+                   "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
+  add_limits(conv_cmd, conv.limits, true);
   auto* conv_external =
       conv_cmd->add_option("--external", conv.external,
                            "another code's integrator: a command with {scene}, {dt}, {output}, "
@@ -126,9 +174,9 @@ int run_command_line(int argc, char** argv) {
       ->excludes(conv_external);
   conv_cmd->add_option("--label", conv.label, "name of the external method in the table");
   conv_cmd->add_option("--order", conv.claimed_order, "the external method's claimed order")
-      ->check(CLI::Range(1, 20));
+      ->check(integer_in(1, 20));
   conv_cmd->add_option("--timeout", conv.timeout, "seconds per external run (0: no limit)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number())
       ->capture_default_str();
 
   WorkPrecisionOptions wp;
@@ -139,10 +187,10 @@ int run_command_line(int argc, char** argv) {
       ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
   wp_cmd->add_option("--dt", wp.dt, "coarsest step [s]")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
-  wp_cmd->add_option("--levels", wp.levels, "number of steps dt, dt/2, ...")
-      ->check(CLI::Range(1, 16))
+  wp_cmd->add_option("--levels", wp.levels, "number of steps: dt, dt/2, ..., dt/2^(levels-1)")
+      ->check(integer_in(1, 16))
       ->capture_default_str();
   wp_cmd->add_option("--solvers", wp.solvers, "comma-separated list")
       ->delimiter(',')
@@ -150,36 +198,41 @@ int run_command_line(int argc, char** argv) {
       ->capture_default_str();
   wp_cmd->add_option("--tolerances", wp.tolerances, "comma-separated relative tolerances")
       ->delimiter(',')
-      ->check(CLI::Range(1e-14, 1e-1))
+      ->check(number_in(1e-14, 1e-1))
       ->capture_default_str();
   wp_cmd->add_option("--repeats", wp.repeats, "CPU time: minimum over this many runs")
-      ->check(CLI::Range(1, 100))
+      ->check(integer_in(1, 100))
       ->capture_default_str();
-  wp_cmd->add_option("--metric", wp.metric, "error metric")->capture_default_str();
+  wp_cmd->add_option("--metric", wp.metric, metric_help("error metric"))
+      ->check(CLI::IsMember(flexref::studies::metric_names()))
+      ->capture_default_str();
   wp_cmd
       ->add_option("--reference-solver", wp.reference_solver,
                    "auto | ida | cvode | arkode | odeint | exact")
       ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
       ->capture_default_str();
   wp_cmd->add_option("--reference-rtol", wp.reference_rtol, "reference tolerance")
-      ->check(CLI::Range(1e-14, 1e-4))
+      ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();
   wp_cmd
       ->add_option("--jobs", wp.jobs,
                    "parallel runs (0: all cores); timings are per-thread CPU time, cleanest "
                    "with --jobs 1")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1024));
   wp_cmd->add_option("--out", wp.out_dir, "output directory")->capture_default_str();
   wp_cmd->add_option("--external", wp.external,
                      "another code's integrator: a command with {scene}, {dt}, {output}, run "
                      "per step; its CPU time is the program's own (docs/external.md)");
   wp_cmd->add_option("--label", wp.label, "name of the external method in the table");
   wp_cmd->add_option("--timeout", wp.timeout, "seconds per external run (0: no limit)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative_number())
       ->capture_default_str();
-  wp_cmd->add_option("--model", wp.model, "flexible bodies' equations: coupled | lte")
+  wp_cmd
+      ->add_option("--model", wp.model,
+                   "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
+  add_limits(wp_cmd, wp.limits, true);
 
   StabilityCommandOptions stab;
   auto* stab_cmd =
@@ -193,14 +246,27 @@ int run_command_line(int argc, char** argv) {
                    "spin | inertia_ratio | modal_frequency | contact_stiffness")
       ->check(CLI::IsMember({"spin", "inertia_ratio", "modal_frequency", "contact_stiffness"}))
       ->capture_default_str();
-  auto* values_opt = stab_cmd->add_option("--values", stab.values, "swept values (comma-separated)")
-                         ->delimiter(',');
-  stab_cmd->add_option("--min", stab.min, "log-spaced range start (default: spin 0.1, ratio 1)")
+  auto* values_opt =
+      stab_cmd
+          ->add_option("--values", stab.values,
+                       "swept values (comma-separated): spin rad/s > 0, inertia_ratio J3/J1 >= 1, "
+                       "modal_frequency rad/s > 0, contact_stiffness N/m > 0")
+          ->delimiter(',')
+          ->check(positive_number());
+  stab_cmd
+      ->add_option("--min", stab.min,
+                   "log-spaced range start (default: spin 0.1, inertia_ratio 1, modal_frequency "
+                   "10, contact_stiffness 1e3)")
+      ->check(positive_number())
       ->excludes(values_opt);
-  stab_cmd->add_option("--max", stab.max, "log-spaced range end (default: spin 1000, ratio 1e6)")
+  stab_cmd
+      ->add_option("--max", stab.max,
+                   "log-spaced range end (default: spin 1000, inertia_ratio 1e6, "
+                   "modal_frequency 1e4, contact_stiffness 1e9)")
+      ->check(positive_number())
       ->excludes(values_opt);
   stab_cmd->add_option("--count", stab.count, "number of values")
-      ->check(CLI::Range(1, 200))
+      ->check(integer_in(1, 200))
       ->capture_default_str();
   stab_cmd->add_option("--schemes", stab.schemes, "comma-separated list")
       ->delimiter(',')
@@ -209,29 +275,30 @@ int run_command_line(int argc, char** argv) {
   stab_cmd
       ->add_option("--spin", stab.spin,
                    "|W0| for the ratio sweep and degenerate set (0: the body's) [rad/s]")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_number());
   stab_cmd->add_option("--steps", stab.steps, "steps per stability run")
-      ->check(CLI::Range(10L, 100000000L))
+      ->check(integer_in(10L, 100000000L))
       ->capture_default_str();
   stab_cmd
       ->add_option("--energy-factor", stab.energy_factor,
                    "unstable when |dE| > f|E0| (and |dpi| > f|pi0|)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   stab_cmd->add_option("--rtol", stab.rtol, "bisection relative tolerance")
-      ->check(CLI::Range(1e-8, 0.5))
+      ->check(number_in(1e-8, 0.5))
       ->capture_default_str();
   stab_cmd->add_flag("--degenerate,!--no-degenerate", stab.degenerate,
                      "run the degenerate-body set");
   stab_cmd->add_option("--long-run-steps", stab.long_run_steps, "0: no long run")
-      ->check(CLI::NonNegativeNumber)
+      ->check(integer_in(0, 1000000000000L))
       ->capture_default_str();
   stab_cmd->add_option("--long-run-dt", stab.long_run_dt, "long-run step [s]")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   stab_cmd->add_option("--jobs", stab.jobs, "parallel runs (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1024));
   stab_cmd->add_option("--out", stab.out_dir, "output directory")->capture_default_str();
+  add_limits(stab_cmd, stab.limits, true);
 
   FigureCommandOptions fig;
   auto* fig_cmd = app.add_subcommand(
@@ -239,8 +306,9 @@ int run_command_line(int argc, char** argv) {
   fig_cmd->add_option("study", fig.study, "study file (TOML), e.g. studies/paper/*.toml")
       ->required();
   fig_cmd->add_option("--jobs", fig.jobs, "parallel runs (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1024));
   fig_cmd->add_option("--out", fig.out_dir, "output directory")->capture_default_str();
+  add_limits(fig_cmd, fig.limits, true);
 
   LteMapCommandOptions lte;
   auto* lte_cmd = app.add_subcommand(
@@ -250,50 +318,57 @@ int run_command_line(int argc, char** argv) {
   auto* lte_spins =
       lte_cmd
           ->add_option("--spin-ratios", lte.spin_ratios, "Omega0/omega1 values (comma-separated)")
-          ->delimiter(',');
+          ->delimiter(',')
+          ->check(positive_number());
   lte_cmd->add_option("--spin-min", lte.spin_min, "log-spaced spin ratios: first")
+      ->check(positive_number())
       ->excludes(lte_spins)
       ->capture_default_str();
   lte_cmd->add_option("--spin-max", lte.spin_max, "log-spaced spin ratios: last")
+      ->check(positive_number())
       ->excludes(lte_spins)
       ->capture_default_str();
   lte_cmd->add_option("--spin-count", lte.spin_count, "log-spaced spin ratios: count")
       ->excludes(lte_spins)
-      ->check(CLI::Range(1, 200))
+      ->check(integer_in(1, 200))
       ->capture_default_str();
   auto* lte_inertias = lte_cmd
                            ->add_option("--inertia-ratios", lte.inertia_ratios,
                                         "I_flex/I_rigid values (comma-separated)")
-                           ->delimiter(',');
+                           ->delimiter(',')
+                           ->check(positive_number());
   lte_cmd->add_option("--inertia-min", lte.inertia_min, "log-spaced inertia ratios: first")
+      ->check(positive_number())
       ->excludes(lte_inertias)
       ->capture_default_str();
   lte_cmd->add_option("--inertia-max", lte.inertia_max, "log-spaced inertia ratios: last")
+      ->check(positive_number())
       ->excludes(lte_inertias)
       ->capture_default_str();
   lte_cmd->add_option("--inertia-count", lte.inertia_count, "log-spaced inertia ratios: count")
       ->excludes(lte_inertias)
-      ->check(CLI::Range(1, 200))
+      ->check(integer_in(1, 200))
       ->capture_default_str();
   lte_cmd->add_option("--solver", lte.solver, "reference solver: cvode | ida | odeint")
       ->check(CLI::IsMember({"cvode", "ida", "odeint"}))
       ->capture_default_str();
   lte_cmd->add_option("--rtol", lte.rtol, "reference tolerance (both models)")
-      ->check(CLI::Range(1e-14, 1e-4))
+      ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();
   lte_cmd
       ->add_option("--estimate-factor", lte.estimate_factor,
                    "accuracy check: rerun at this factor times rtol")
-      ->check(CLI::Range(2.0, 1e6))
+      ->check(number_in(2.0, 1e6))
       ->capture_default_str();
   lte_cmd->add_flag("!--no-scale-loads", lte.scale_loads,
                     "keep the loads (default: scale them with spin and inertia)");
   lte_cmd->add_option("--point", lte.point, "tracked node point (default: farthest node)");
   lte_cmd->add_option("--end-time", lte.end_time, "s (default: the scene's)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   lte_cmd->add_option("--jobs", lte.jobs, "parallel runs (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1024));
   lte_cmd->add_option("--out", lte.out_dir, "output directory")->capture_default_str();
+  add_limits(lte_cmd, lte.limits, false);
 
   ImportModesOptions import_modes;
   auto* import_cmd = add_import_modes_command(app, import_modes);
@@ -305,7 +380,7 @@ int run_command_line(int argc, char** argv) {
   modes_cmd
       ->add_option("--modes", modes.modes, "mode counts (comma-separated; largest = reference)")
       ->delimiter(',')
-      ->check(CLI::PositiveNumber)
+      ->check(integer_in(1, 100000))
       ->capture_default_str();
   modes_cmd->add_option("--body", modes.body, "flexible body (default: the first)");
   modes_cmd->add_option("--point", modes.point, "tracked node point (default: farthest node)");
@@ -313,23 +388,44 @@ int run_command_line(int argc, char** argv) {
       ->check(CLI::IsMember({"odeint", "cvode", "ida"}))
       ->capture_default_str();
   modes_cmd->add_option("--rtol", modes.rtol, "reference tolerance")
-      ->check(CLI::Range(1e-14, 1e-4))
+      ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();
   modes_cmd
       ->add_option("--estimate-factor", modes.estimate_factor,
                    "accuracy check: rerun at rtol divided by this factor")
-      ->check(CLI::Range(2.0, 1e6))
+      ->check(number_in(2.0, 1e6))
       ->capture_default_str();
   modes_cmd->add_option("--end-time", modes.end_time, "s (default: the scene's)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   modes_cmd->add_option("--model", modes.model, "flexible bodies' equations: coupled | lte")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
   modes_cmd->add_option("--jobs", modes.jobs, "parallel runs (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(integer_in(0, 1024));
   modes_cmd->add_option("--out", modes.out_dir, "output directory")->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  // An unknown command is a usage error that names it (CLI11 would say "A subcommand is
+  // required").
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    std::string names;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      known = known || sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::fprintf(stderr, "flexref: unknown command '%s'; the commands are %s (flexref --help)\n",
+                   argv[1], names.c_str());
+      return kExitUsage;
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; every parse error is a usage error (CLI11's own codes,
+    // 105, 106 …, are not part of the table).
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;
+  }
 
   try {
     if (*check_cmd) return check_command(check);
@@ -352,11 +448,21 @@ int run_command_line(int argc, char** argv) {
   } catch (const flexref::core::SolverError& e) {
     std::fprintf(stderr, "flexref: solver error: %s\n", e.what());
     return kExitSolverError;
+  } catch (const flexref::studies::StudyRefused& e) {
+    std::fprintf(stderr, "flexref: refused: %s\n", e.what());
+    return kExitRefused;
+  } catch (const flexref::io::OutputError& e) {
+    std::fprintf(stderr, "flexref: output error: %s\n", e.what());
+    return kExitOutputError;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "flexref: output error: %s\n", e.what());
+    return kExitOutputError;
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "flexref: error: %s\n", e.what());
     return kExitInputError;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "flexref: error: %s\n", e.what());
+    // Anything else happened while computing (no input or output error type reached here).
+    std::fprintf(stderr, "flexref: failure: %s\n", e.what());
     return kExitSolverError;
   }
   return kExitOk;

@@ -9,6 +9,7 @@
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/certified_reference.hpp"
+#include "studies/progress.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::app {
@@ -41,9 +42,10 @@ void set_method(const std::string& solver, const std::string& method,
 }  // namespace
 
 int reference_command(const ReferenceOptions& options) {
-  const scene::Scene scene = scene::read_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
-  const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
+  const std::vector<double> times =
+      limited_output_times(scene.end_time, scene.output_step, options.limits);
   std::string solver = reference_solver_for(model, options.solver, "--solver");
   std::string solver_reason = "chosen with --solver";
   if (solver == "auto") {
@@ -52,17 +54,23 @@ int reference_command(const ReferenceOptions& options) {
     solver = choice.solver;
     solver_reason = choice.reason;
   }
+  check_output_files({options.output, options.output + ".meta.toml"});
   reference::SolverOptions solver_options;
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
   set_method(solver, options.method, solver_options);
 
   studies::CertifiedReference ref;
-  if (options.estimate) {
-    ref = studies::certified_reference(model, times, solver, solver_options, "rotation+points");
-  } else {
-    ref.run = reference::solve_reference(solver, model, times, solver_options);
-    ref.table = studies::tabulate(model, ref.run.trajectory);
+  {
+    const studies::Progress progress(
+        "reference: " + solver + (options.estimate ? " and its error estimate (3 solves)" : ""), 0,
+        "");
+    if (options.estimate) {
+      ref = studies::certified_reference(model, times, solver, solver_options, "rotation+points");
+    } else {
+      ref.run = reference::solve_reference(solver, model, times, solver_options);
+      ref.table = studies::tabulate(model, ref.run.trajectory);
+    }
   }
   studies::write_csv(ref.table, options.output);
 
@@ -94,6 +102,9 @@ int reference_command(const ReferenceOptions& options) {
         .set("method", e.method);
     studies::add_estimate_checks(record, "error_estimate.check", e);
   }
+  record.table("columns")
+      .set("names", ref.table.columns)
+      .set("units", studies::trajectory_units(model));
   studies::add_versions(record);
   record.write(options.output + ".meta.toml");
 

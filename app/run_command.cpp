@@ -10,14 +10,19 @@
 #include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::app {
 
 int run_command(const RunOptions& options) {
-  const scene::Scene scene = scene::read_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
-  const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
+  const std::vector<double> times =
+      limited_output_times(scene.end_time, scene.output_step, options.limits);
+  const long steps = check_scheme_run(model, options.dt, times, options.limits, "--dt");
+  check_output_files({options.output, options.output + ".meta.toml"});
+  auto stepper = lie::make_stepper(options.scheme, model);
   // Central differences are stable for h ω ≤ 2 on every elastic mode and penalty element
   // (core/step_limit.hpp): warn when the step exceeds one (implicit schemes stay stable but do
   // not resolve the mode).
@@ -32,9 +37,12 @@ int run_command(const RunOptions& options) {
               << (flexible ? "the highest modes are" : "the " + m.kind + " is")
               << " not resolved\n";
   }
-  auto stepper = lie::make_stepper(options.scheme, model);
   const double start = studies::thread_cpu_seconds();
-  const core::Trajectory trajectory = lie::run_scheme(model, *stepper, options.dt, times);
+  core::Trajectory trajectory;
+  {
+    studies::Progress progress("run: " + options.scheme, steps, "steps");
+    trajectory = lie::run_scheme(model, *stepper, options.dt, times, &progress.counter());
+  }
   const double cpu = studies::thread_cpu_seconds() - start;
   const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
   studies::write_csv(table, options.output);
@@ -47,8 +55,11 @@ int run_command(const RunOptions& options) {
       .set("kind", "scheme")
       .set("scheme", options.scheme)
       .set("dt", options.dt)
-      .set("steps", std::lround((times.back() - times.front()) / options.dt))
+      .set("steps", steps)
       .set("cpu_seconds", cpu);
+  record.table("columns")
+      .set("names", table.columns)
+      .set("units", studies::trajectory_units(model));
   studies::add_versions(record);
   record.write(options.output + ".meta.toml");
 
@@ -56,10 +67,8 @@ int run_command(const RunOptions& options) {
             << (model.has_flexible_bodies()
                     ? std::string(" (") + core::to_string(model.formulation()) + " model)"
                     : std::string())
-            << ", dt " << options.dt
-            << " s: " << std::lround((times.back() - times.front()) / options.dt) << " steps, "
-            << cpu << " s CPU; energy " << e_first << " -> " << e_last << " J; wrote "
-            << options.output << "\n";
+            << ", dt " << options.dt << " s: " << steps << " steps, " << cpu << " s CPU; energy "
+            << e_first << " -> " << e_last << " J; wrote " << options.output << "\n";
   return kExitOk;
 }
 

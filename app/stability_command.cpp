@@ -32,6 +32,35 @@ std::vector<double> log_spaced(double lo, double hi, int count) {
   return values;
 }
 
+/// Refuses, before any work, a swept value the sweep cannot use, naming the parameter's domain
+/// (the studies' own checks would fail later with an internal message).
+void check_values(const std::string& parameter, const std::vector<double>& values) {
+  for (const double v : values) {
+    std::ostringstream value;
+    value << v;
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw std::invalid_argument("stability: --parameter " + parameter + ": the value " +
+                                  value.str() + " must be positive and finite");
+    }
+    if (parameter == "inertia_ratio" && v < 1.0) {
+      throw std::invalid_argument(
+          "stability: --parameter inertia_ratio: the value " + value.str() +
+          " is below 1; the ratio J3/J1 of the slender rod diag(J1, J1, J3) is at least 1 "
+          "(J3 is the largest principal inertia)");
+    }
+  }
+}
+
+/// Refuses step counts beyond --max-steps.
+void check_steps(const char* option, long steps, const WorkLimits& limits) {
+  if (static_cast<double>(steps) > limits.max_steps) {
+    std::ostringstream out;
+    out << "stability: " << option << " " << steps << " is beyond the limit of " << limits.max_steps
+        << " steps per run: lower it or raise --max-steps";
+    throw std::invalid_argument(out.str());
+  }
+}
+
 /// The modal-frequency and contact-stiffness sweeps (studies/stability_sweeps.hpp).
 int linear_stability_command(const StabilityCommandOptions& options) {
   if (!options.scene.empty()) {
@@ -53,9 +82,12 @@ int linear_stability_command(const StabilityCommandOptions& options) {
     const double hi = options.max > 0.0 ? options.max : (modal ? 1e4 : 1e9);
     study.values = log_spaced(lo, hi, options.count);
   }
+  check_values(options.parameter, study.values);
+  check_steps("--steps", options.steps, options.limits);
+  study.progress = true;
+  studies::StudyOutput out(options.out_dir);
   std::cerr << "stability: " << study.values.size() * study.schemes.size() << " bisections ("
             << options.parameter << ") on " << study.jobs << " threads ...\n";
-  studies::StudyOutput out(options.out_dir);
   const std::vector<studies::LinearSweepPoint> points = studies::run_linear_sweep(study);
 
   const std::string model =
@@ -104,7 +136,7 @@ int stability_command(const StabilityCommandOptions& options) {
   studies::StudyRecord record;
   record.table("scene").set("file", "").set("name", "built-in free_spin body");
   if (!options.scene.empty()) {
-    const scene::Scene scene = scene::read_scene(options.scene);
+    const scene::Scene scene = load_scene(options.scene);
     int free_body = -1;
     for (int i = 0; i < scene.model->num_bodies() && free_body < 0; ++i) {
       if (scene.model->body(i).is_free() && !scene.model->body(i).is_flexible()) free_body = i;
@@ -132,6 +164,9 @@ int stability_command(const StabilityCommandOptions& options) {
     const double hi = options.max > 0.0 ? options.max : (spin_sweep ? 1000.0 : 1e6);
     study.values = log_spaced(lo, hi, options.count);
   }
+  check_values(options.parameter, study.values);
+  check_steps("--steps", options.steps, options.limits);
+  check_steps("--long-run-steps", options.long_run_steps, options.limits);
   study.spin = options.spin > 0.0 ? options.spin : study.w_direction_B.norm();
   study.criterion.steps = options.steps;
   study.criterion.energy_factor = options.energy_factor;
@@ -143,13 +178,13 @@ int stability_command(const StabilityCommandOptions& options) {
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
   study.progress = true;
 
+  studies::StudyOutput out(options.out_dir);
   std::cerr << "stability: " << study.values.size() * study.schemes.size() << " bisections"
             << (study.degenerate ? " + degenerate set" : "")
             << (study.long_run_steps > 0
                     ? " + long runs of " + std::to_string(study.long_run_steps) + " steps"
                     : "")
             << " on " << study.jobs << " threads ...\n";
-  studies::StudyOutput out(options.out_dir);
   const studies::StabilityResult result = studies::run_stability(study);
 
   const std::string table = "body: " + body_source + "\n" + studies::format_stability_table(result);

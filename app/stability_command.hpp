@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "app/work_limits.hpp"
 #include "lie/stepper.hpp"
 
 namespace flexref::app {
@@ -32,6 +33,7 @@ struct StabilityCommandOptions {
   double long_run_dt = 0.01;  ///< s
   int jobs = 0;               ///< 0: all cores
   std::string out_dir = "out/stability";
+  WorkLimits limits;  ///< --max-steps bounds --long-run-steps and --steps
 };
 
 int stability_command(const StabilityCommandOptions& options);

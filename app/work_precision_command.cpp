@@ -1,5 +1,6 @@
 #include "app/work_precision_command.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -15,10 +16,10 @@
 
 namespace flexref::app {
 int work_precision_command(const WorkPrecisionOptions& app_options) {
-  const scene::Scene scene =
-      scene::read_scene(app_options.scene, parse_formulation(app_options.model));
+  const scene::Scene scene = load_scene(app_options.scene, parse_formulation(app_options.model));
   const core::Model& model = *scene.model;
-  const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
+  const std::vector<double> times =
+      limited_output_times(scene.end_time, scene.output_step, app_options.limits);
 
   studies::WorkPrecisionOptions study;
   study.schemes = app_options.schemes;
@@ -33,6 +34,10 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   study.reference_rtol = app_options.reference_rtol;
   study.jobs = app_options.jobs > 0 ? app_options.jobs : studies::default_jobs();
   study.progress = true;
+  if (!study.schemes.empty()) {
+    check_scheme_run(model, study.h0 / std::ldexp(1.0, study.levels - 1), times, app_options.limits,
+                     "--dt/2^(levels-1) =");
+  }
   studies::StudyOutput out(app_options.out_dir);
   study.external = external_methods(
       {app_options.scene, app_options.external, {}, app_options.label, 0, app_options.timeout},
@@ -83,6 +88,13 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   std::cout << "wrote " << csv_path << ", work_precision.txt, study.toml, reference.csv";
   std::cout << (plot.ok ? ", " + plot.message : "") << "\n";
   if (!plot.ok) std::cout << plot.message << "\n";
+  bool any_ok = false;
+  for (const studies::WorkPrecisionRun& run : result.runs) any_ok = any_ok || run.status == "ok";
+  if (!any_ok) {
+    std::cerr << "flexref: work-precision refused: no run has a certified error (see the status "
+                 "column and the notes)\n";
+    return kExitRefused;
+  }
   return kExitOk;
 }
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/work_limits.hpp"
 #include "lie/stepper.hpp"
 
 namespace flexref::app {
@@ -24,6 +25,7 @@ struct WorkPrecisionOptions {
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores (timings are cleanest with 1)
   std::string out_dir = "out/work_precision";
+  WorkLimits limits;
   std::string external;     ///< --external command template (docs/external.md)
   std::string label;        ///< --label of the external method
   double timeout = 3600.0;  ///< --timeout per external run [s], 0: none

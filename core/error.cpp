@@ -21,7 +21,9 @@ std::string solver_message(const std::string& solver, double time, long step,
                            const std::string& why) {
   std::ostringstream out;
   out.precision(17);
-  out << solver << " failed at t = " << time << " (step " << step << "): " << why;
+  out << solver << " failed at t = " << time;
+  if (step >= 0) out << " (step " << step << ")";
+  out << ": " << why;
   return out.str();
 }
 

@@ -20,7 +20,8 @@ class InputError : public std::runtime_error {
   std::string key_;
 };
 
-/// An integrator that cannot continue: says at which time and step, and why.
+/// An integrator that cannot continue: says at which time and step, and why (a negative step:
+/// the step is not known, e.g. a failure found in a solver's output).
 class SolverError : public std::runtime_error {
  public:
   SolverError(std::string solver, double time, long step, const std::string& why);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace flexref::core {
@@ -27,6 +28,10 @@ std::vector<double> output_times(double end_time, double output_step) {
     times.back() = end_time;
   }
   return times;
+}
+
+double smallest_resolved_step(double t) {
+  return 1e6 * std::numeric_limits<double>::epsilon() * std::abs(t);
 }
 
 bool is_multiple_of(double t, double h) {

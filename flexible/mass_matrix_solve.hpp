@@ -54,7 +54,10 @@ class ModalMassFactor {
   void solve_in_place(Eigen::Ref<Eigen::VectorXd> v) const;
 
  private:
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  /// Factored on an empty matrix until built: an Eigen::LLT never computed holds an
+  /// indeterminate ComputationInfo, and copying one (a rigid Body's factor) reads it (UBSan:
+  /// invalid enum load; issue 17).
+  Eigen::LLT<Eigen::MatrixXd> llt_{Eigen::MatrixXd()};
   Eigen::Matrix<double, Eigen::Dynamic, 3> Linv_St_;
 };
 
@@ -63,7 +66,9 @@ struct MassSolveScratch {
   Eigen::Matrix<double, Eigen::Dynamic, 6> Bhat_T;  ///< column u: L⁻¹ (row u of M_rf)ᵀ (n×6)
   Eigen::VectorXd b_f;                              ///< the modal right-hand side, then b̂, x_f
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> schur;
-  Eigen::LLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> schur_llt;
+  /// Factored on an empty matrix until used (see ModalMassFactor::llt_).
+  Eigen::LLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> schur_llt{
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>()};
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> b_u;
   int known = 0;          ///< known rows of the last factorization
   bool factored = false;  ///< false: Σ (or M_uu) was not positive definite

@@ -1,5 +1,7 @@
 #include "io/atomic_file.hpp"
 
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -9,6 +11,28 @@
 #include <system_error>
 
 namespace flexref::io {
+
+void check_writable_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (path.empty()) throw OutputError("cannot write an output file: the path is empty");
+  const fs::path target(path);
+  std::error_code ec;
+  if (fs::is_directory(target, ec)) {
+    throw OutputError("cannot write " + path + ": it is a directory; give a file name");
+  }
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const fs::file_status status = fs::status(dir, ec);
+  if (!fs::exists(status)) {
+    throw OutputError("cannot write " + path + ": directory " + dir.string() + " does not exist");
+  }
+  if (!fs::is_directory(status)) {
+    throw OutputError("cannot write " + path + ": " + dir.string() + " is not a directory");
+  }
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) {
+    throw OutputError("cannot write " + path + ": directory " + dir.string() +
+                      " is not writable (" + std::strerror(errno) + ")");
+  }
+}
 
 void write_file_atomically(const std::string& path, const std::string& text) {
   namespace fs = std::filesystem;

@@ -15,6 +15,11 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Checks, before any work, that write_file_atomically(path, …) can succeed as far as the file
+/// system can tell: the path is not empty, does not name a directory, and its directory exists
+/// and is writable. Throws OutputError naming the path and the reason.
+void check_writable_file(const std::string& path);
+
 /// Writes text to path atomically (temporary file + rename); throws OutputError naming the
 /// path when the directory is missing or the write fails.
 void write_file_atomically(const std::string& path, const std::string& text);

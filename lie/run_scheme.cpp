@@ -1,5 +1,6 @@
 #include "lie/run_scheme.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -28,12 +29,25 @@ void require_on_grid(const char* what, double t, double t0, double dt) {
 
 long step_index(double t, double t0, double dt) { return std::lround((t - t0) / dt); }
 
+/// The energy at an output time must be finite: a finite state can still carry an energy that
+/// overflows (|W| ~ 1e160), and a CSV must never hold an inf.
+void check_energy(const core::Model& model, const Stepper& stepper, double t, long n,
+                  const core::State& state, core::Workspace& ws) {
+  const double kinetic = model.kinetic_energy(state);
+  const double potential = model.potential_energy(core::LoadContext{t, t}, state, ws);
+  if (std::isfinite(kinetic) && std::isfinite(potential)) return;
+  std::ostringstream why;
+  why << "the energy is not finite (kinetic " << kinetic << " J, potential " << potential
+      << " J): the motion overflows double precision";
+  throw core::SolverError(std::string(stepper.name()), t, n, why.str());
+}
+
 }  // namespace
 
-core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double dt,
-                            const std::vector<double>& output_times) {
+long validate_step_grid(const core::Model& model, double dt,
+                        const std::vector<double>& output_times) {
   if (!(dt > 0.0) || !std::isfinite(dt)) {
-    throw std::invalid_argument("run_scheme: the step dt must be positive and finite");
+    throw std::invalid_argument("the step dt must be positive and finite");
   }
   if (output_times.empty()) throw std::invalid_argument("run_scheme: no output times");
   for (std::size_t k = 0; k < output_times.size(); ++k) {
@@ -44,12 +58,32 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
   }
   const double t0 = output_times.front();
   const double t_end = output_times.back();
+  // Resolution first: it also bounds (t_end − t0)/dt, so step_index cannot overflow below.
+  const double t_max = std::max(std::abs(t0), std::abs(t_end));
+  const double h_min = core::smallest_resolved_step(t_max);
+  if (dt < h_min) {
+    std::ostringstream out;
+    out.precision(3);
+    out << "the step dt = " << dt << " s is below what double precision resolves at t = " << t_max
+        << " s: the times t0 + n·dt are rounded to "
+        << std::numeric_limits<double>::epsilon() * t_max << " s there, so a step must be at least "
+        << h_min << " s (1e6 roundings) to be taken as given; use a larger step";
+    throw std::invalid_argument(out.str());
+  }
   for (std::size_t k = 1; k < output_times.size(); ++k) {
     require_on_grid("output time", output_times[k], t0, dt);
   }
   for (double d : model.discontinuities()) {
     if (d > t0 && d <= t_end) require_on_grid("load discontinuity", d, t0, dt);
   }
+  return step_index(t_end, t0, dt);
+}
+
+core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double dt,
+                            const std::vector<double>& output_times,
+                            std::atomic<long>* steps_done) {
+  const long n_end = validate_step_grid(model, dt, output_times);
+  const double t0 = output_times.front();
 
   core::Trajectory trajectory;
   trajectory.times = output_times;
@@ -82,7 +116,7 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
   trajectory.states.clear();
   record();
 
-  const long n_end = step_index(t_end, t0, dt);
+  check_energy(model, stepper, t0, 0, trajectory.states.back(), ws);
   std::size_t next_output = 1;
   for (long n = 0; n < n_end; ++n) {
     const double t_n = stepper.time();
@@ -91,7 +125,8 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
     if (!status.ok) throw core::SolverError(std::string(stepper.name()), t_n, n, status.message);
     if (!detail::all_finite(stepper.state())) {
       throw core::SolverError(std::string(stepper.name()), t_n, n,
-                              "the step left a non-finite state");
+                              "the step left a non-finite state (inf or NaN): the motion "
+                              "diverged or overflowed double precision");
     }
     const double t_np1 = stepper.time();
     const core::LoadContext end_context{t_np1, 0.5 * (t_n + t_np1)};
@@ -103,8 +138,17 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
       std::swap(rate, rate_next);
     }
     if (count_impacts) impacts.update(end_context, stepper.state(), ws);
+    if (steps_done != nullptr) steps_done->store(n + 1, std::memory_order_relaxed);
     while (next_output < output_times.size() &&
            step_index(output_times[next_output], t0, dt) == n + 1) {
+      check_energy(model, stepper, output_times[next_output], n, stepper.state(), ws);
+      for (std::size_t j = 0; j < count; ++j) {
+        if (!std::isfinite(work[j])) {
+          throw core::SolverError(std::string(stepper.name()), output_times[next_output], n,
+                                  j == 0 ? "the dissipated work is not finite"
+                                         : "an accumulated work (applied or wear) is not finite");
+        }
+      }
       record();
       ++next_output;
     }

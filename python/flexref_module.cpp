@@ -382,7 +382,11 @@ PYBIND11_MODULE(flexref, m) {
         }
         std::sort(levels.begin(), levels.end(),
                   [](const auto& a, const auto& b) { return a.h > b.h; });
-        if (levels.size() < 2) throw std::invalid_argument("convergence needs at least two runs");
+        if (levels.size() < 3) {
+          throw std::invalid_argument(
+              "convergence needs at least three runs (an order is fitted "
+              "from three)");
+        }
         const double estimate =
             reference.has_estimate && reference.reference.estimate.metric == metric
                 ? reference.reference.estimate.estimate()
@@ -392,8 +396,8 @@ PYBIND11_MODULE(flexref, m) {
               "the reference has no error estimate: no level is checked "
               "against it (use flexref.reference(..., estimate=True))");
         }
-        result.summaries.push_back(
-            studies::summarize_levels(label, claimed_order, levels, estimate, result.notes));
+        result.summaries.push_back(studies::summarize_levels(label, claimed_order, levels, estimate,
+                                                             core::StepLimit{}, result.notes));
         result.levels = levels;
         py::dict out;
         py::list rows;

@@ -1,7 +1,10 @@
 #include "reference/solve_reference.hpp"
 
+#include <cmath>
+#include <sstream>
 #include <stdexcept>
 
+#include "core/error.hpp"
 #include "reference/exact_solution.hpp"
 
 namespace flexref::reference {
@@ -10,9 +13,20 @@ std::vector<std::string> reference_solver_names() {
   return {"ida", "cvode", "arkode", "odeint", "exact"};
 }
 
-ReferenceRun solve_reference(const std::string& solver, const core::Model& model,
-                             const std::vector<double>& output_times,
-                             const SolverOptions& options) {
+namespace {
+
+bool finite(const core::State& state) {
+  for (const core::BodyState& b : state) {
+    if (!b.p_WBr.allFinite() || !b.theta_WB.allFinite() || !b.v_WBr.allFinite() ||
+        !b.w_WB_B.allFinite() || !b.q_f.allFinite() || !b.qd_f.allFinite()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+ReferenceRun dispatch(const std::string& solver, const core::Model& model,
+                      const std::vector<double>& output_times, const SolverOptions& options) {
   if (solver == "ida") return solve_ida(model, output_times, options);
   if (solver == "cvode") return solve_cvode(model, output_times, options);
   if (solver == "arkode") return solve_arkode(model, output_times, options);
@@ -20,6 +34,51 @@ ReferenceRun solve_reference(const std::string& solver, const core::Model& model
   if (solver == "exact") return solve_exact(model, output_times);
   throw std::invalid_argument("unknown reference solver '" + solver +
                               "' (ida, cvode, arkode, odeint, exact)");
+}
+
+}  // namespace
+
+void check_finite(const ReferenceRun& run, const core::Model& model) {
+  const core::Trajectory& trajectory = run.trajectory;
+  if (trajectory.states.size() != trajectory.times.size()) {
+    throw core::SolverError(
+        run.solver, trajectory.times.empty() ? 0.0 : trajectory.times.back(), -1,
+        "returned " + std::to_string(trajectory.states.size()) + " states for " +
+            std::to_string(trajectory.times.size()) + " output times");
+  }
+  core::Workspace ws = model.make_workspace();
+  for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
+    const double t = trajectory.times[k];
+    const core::State& state = trajectory.states[k];
+    std::string why;
+    if (!finite(state)) {
+      why = "the state at this output time is not finite (inf or NaN)";
+    } else {
+      const double kinetic = model.kinetic_energy(state);
+      const double potential = model.potential_energy(core::LoadContext{t, t}, state, ws);
+      if (!std::isfinite(kinetic) || !std::isfinite(potential)) {
+        std::ostringstream out;
+        out << "the energy at this output time is not finite (kinetic " << kinetic
+            << " J, potential " << potential << " J)";
+        why = out.str();
+      } else if (k < trajectory.dissipated_work.size() &&
+                 !std::isfinite(trajectory.dissipated_work[k])) {
+        why = "the dissipated work at this output time is not finite";
+      }
+    }
+    if (!why.empty()) {
+      throw core::SolverError(run.solver, t, -1,
+                              why + ": the solution overflowed double precision or diverged");
+    }
+  }
+}
+
+ReferenceRun solve_reference(const std::string& solver, const core::Model& model,
+                             const std::vector<double>& output_times,
+                             const SolverOptions& options) {
+  ReferenceRun run = dispatch(solver, model, output_times, options);
+  check_finite(run, model);
+  return run;
 }
 
 }  // namespace flexref::reference

@@ -11,7 +11,13 @@ namespace flexref::reference {
 /// The solver names `flexref reference --solver` accepts.
 std::vector<std::string> reference_solver_names();
 
-/// Runs the named solver; throws std::invalid_argument for an unknown name.
+/// Throws core::SolverError(solver, t, −1, why) at the first output time t whose state, energy
+/// (kinetic + potential) or dissipated work is not finite, or when the trajectory has not one
+/// state per output time: no reference with an inf or a NaN reaches a file or a study.
+void check_finite(const ReferenceRun& run, const core::Model& model);
+
+/// Runs the named solver and check_finite on its result; throws std::invalid_argument for an
+/// unknown name, core::SolverError when the solver fails or its result is not finite.
 ReferenceRun solve_reference(const std::string& solver, const core::Model& model,
                              const std::vector<double>& output_times, const SolverOptions& options);
 

@@ -3,15 +3,17 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
+#include "core/error.hpp"
 #include "reference/exact_solution.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/solve_reference.hpp"
 #include "studies/error_metrics.hpp"
+#include "studies/study_refused.hpp"
 
 namespace flexref::studies {
-
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -149,6 +151,21 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
   return e;
 }
 
+double solution_scale(const TrajectoryTable& table, const std::string& metric) {
+  TrajectoryTable initial = table;
+  TrajectoryTable rest = table;
+  for (std::size_t k = 0; k < table.rows.size(); ++k) {
+    initial.rows[k] = table.rows.front();
+    initial.rows[k][0] = table.rows[k][0];
+    for (std::size_t c = 1; c < table.columns.size(); ++c) {
+      rest.rows[k][c] = table.columns[c].ends_with(".e0") ? 1.0 : 0.0;
+    }
+  }
+  ComparisonReport report = compare_trajectories(initial, rest);
+  report.max_rotation_linf = std::numbers::pi;
+  return metric_value(report, metric);
+}
+
 CertifiedReference certified_reference(const core::Model& model,
                                        const std::vector<double>& output_times,
                                        const std::string& solver,
@@ -160,6 +177,24 @@ CertifiedReference certified_reference(const core::Model& model,
   result.table = tabulate(model, result.run.trajectory);
   result.estimate =
       estimate_error(model, output_times, result.run, result.table, metric, estimate_options);
+  const double estimate = result.estimate.estimate();
+  if (std::isnan(estimate)) {
+    throw core::SolverError(
+        result.run.solver, output_times.back(), -1,
+        "the error estimate is not a number (" + describe_estimate(result.estimate) + ")");
+  }
+  // +inf means no usable check (certifies nothing; the studies refuse it). A finite estimate
+  // larger than the solution itself is refused here.
+  const double scale = solution_scale(result.table, metric);
+  if (std::isfinite(estimate) && scale > 0.0 && estimate > scale) {
+    throw StudyRefused(
+        "the reference (" + result.run.solver + ") has the estimated error " +
+        describe_estimate(result.estimate) + " in " + metric +
+        ", larger than the solution itself (" + number(scale) +
+        " in that metric: pi rad + the scene's extent at t0): it certifies nothing. The solvers "
+        "disagree entirely, or the solution diverges (a model without geometric stiffening spun "
+        "above its first frequency grows exponentially: docs/design/model.md)");
+  }
   return result;
 }
 

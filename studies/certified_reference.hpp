@@ -84,7 +84,17 @@ struct EstimateOptions {
   bool use_exact_solution = true;
 };
 
-/// Runs the reference and its checks; throws like the solvers do.
+/// The size of a solution in `metric`, the yardstick of its error estimate: the metric of the
+/// table's first row (held over every time) against a body at rest at the world origin with the
+/// identity rotation, with the rotation part taken as π (the largest geodesic angle). For
+/// "rotation+points": π + the largest distance of a tracked point from the origin at t0.
+double solution_scale(const TrajectoryTable& table, const std::string& metric);
+
+/// Runs the reference and its checks; throws like the solvers do (core::SolverError, also when
+/// the estimate is NaN), and StudyRefused when a finite estimate exceeds
+/// solution_scale(table, metric): an error larger than the scene itself certifies nothing
+/// (e.g. a solution that diverges exponentially, spin_up_beam_6 under the coupled model,
+/// where the solvers disagree by 1e34 m on a 10 m beam).
 CertifiedReference certified_reference(const core::Model& model,
                                        const std::vector<double>& output_times,
                                        const std::string& solver,

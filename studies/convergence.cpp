@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "io/atomic_file.hpp"
@@ -17,7 +18,9 @@
 #include "studies/error_metrics.hpp"
 #include "studies/observed_order.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
 #include "studies/reference_sidecar.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -80,25 +83,39 @@ void restore_kept_file(const ExternalMethod& method, int level, const std::strin
 
 SchemeSummary summarize_levels(const std::string& method, int claimed_order,
                                std::vector<ConvergenceLevel>& levels, double reference_estimate,
-                               std::vector<std::string>& notes) {
+                               const core::StepLimit& step_limit, std::vector<std::string>& notes) {
   std::vector<double> steps, errors;
   std::vector<bool> use;
   bool stopped = false;
+  double last_valid_error = std::numeric_limits<double>::infinity();
+  int above_limit = 0;
+  int not_decreasing = 0;
   for (ConvergenceLevel& lv : levels) {
     steps.push_back(lv.h);
     errors.push_back(lv.error);
-    if (stopped) {
+    if (lv.status != "ok") {
+      // failed: stays as it is
+    } else if (stopped) {
       lv.status = "round-off";
-    } else if (lv.status == "ok" && lv.error <= kRoundOffFloor) {
+    } else if (lv.h > step_limit.h) {
+      // Central differences on the limiting mode are unstable: the error measures that
+      // instability (or an implicit scheme's unresolved mode), not the scheme's order.
+      lv.status = "above step limit";
+      ++above_limit;
+    } else if (lv.error <= kRoundOffFloor) {
       lv.status = "round-off";
       stopped = true;
       std::ostringstream note;
       note << lv.scheme << ": refinement stopped at h = " << lv.h << ": error " << lv.error
            << " is at round-off level (<= " << kRoundOffFloor << ")";
       notes.push_back(note.str());
-    } else if (lv.status == "ok" && lv.error < kCertificationFactor * reference_estimate) {
+    } else if (lv.error >= last_valid_error) {
+      lv.status = "not decreasing";
+      ++not_decreasing;
+    } else if (lv.error < kCertificationFactor * reference_estimate) {
       lv.status = "uncertified";
     }
+    if (lv.status == "ok") last_valid_error = lv.error;
     use.push_back(lv.status == "ok");
   }
   const std::vector<double> p = pairwise_orders(steps, errors);
@@ -106,8 +123,32 @@ SchemeSummary summarize_levels(const std::string& method, int claimed_order,
   SchemeSummary summary;
   summary.scheme = method;
   summary.claimed_order = claimed_order;
-  summary.fitted_order = least_squares_order(steps, errors, use);
   for (bool u : use) summary.fitted_levels += u ? 1 : 0;
+  summary.fitted_order = summary.refused() ? kNaN : least_squares_order(steps, errors, use);
+  if (above_limit > 0) {
+    std::ostringstream note;
+    note << method << ": " << above_limit << " level" << (above_limit > 1 ? "s" : "")
+         << " above the explicit step limit " << std::setprecision(3) << step_limit.h << " s of "
+         << step_limit.what
+         << " (2/omega: central differences are unstable there) left out of the fit";
+    notes.push_back(note.str());
+  }
+  if (not_decreasing > 0) {
+    std::ostringstream note;
+    note << method << ": " << not_decreasing << " level" << (not_decreasing > 1 ? "s" : "")
+         << " whose error does not decrease from the previous valid level left out of the "
+            "fit (not in the asymptotic range)";
+    notes.push_back(note.str());
+  }
+  if (summary.refused()) {
+    std::ostringstream note;
+    note << method << ": refused to fit an order from " << summary.fitted_levels << " valid level"
+         << (summary.fitted_levels == 1 ? "" : "s") << " (at least "
+         << SchemeSummary::kMinFittedLevels
+         << " needed); change --dt or add --levels so that three levels lie below the step "
+            "limit and above the reference's error";
+    notes.push_back(note.str());
+  }
   // Asymptotic range: the last two pairwise orders of the fitted levels must agree to 0.3
   // (a second-order scheme with an O(h³) term still visible drifts by more than that).
   std::vector<double> fitted_orders;
@@ -115,7 +156,7 @@ SchemeSummary summarize_levels(const std::string& method, int claimed_order,
     if (use[k] && use[k - 1]) fitted_orders.push_back(p[k - 1]);
   }
   const std::size_t m = fitted_orders.size();
-  if (m >= 2 && std::abs(fitted_orders[m - 1] - fitted_orders[m - 2]) > 0.3) {
+  if (!summary.refused() && m >= 2 && std::abs(fitted_orders[m - 1] - fitted_orders[m - 2]) > 0.3) {
     std::ostringstream note;
     note << std::fixed << std::setprecision(2) << summary.scheme
          << ": the pairwise orders are still changing (" << fitted_orders[m - 2] << ", "
@@ -127,14 +168,20 @@ SchemeSummary summarize_levels(const std::string& method, int claimed_order,
   return summary;
 }
 
-ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
-                                  const ConvergenceOptions& options) {
-  if (!(options.h0 > 0.0)) throw std::invalid_argument("--dt must be positive");
-  if (options.levels < 2) throw std::invalid_argument("--levels must be at least 2");
+void check_convergence_inputs(const core::Model& model, const std::vector<double>& output_times,
+                              const ConvergenceOptions& options) {
+  if (!(options.h0 > 0.0) || !std::isfinite(options.h0)) {
+    throw std::invalid_argument("--dt must be positive and finite");
+  }
+  if (options.levels < SchemeSummary::kMinFittedLevels) {
+    throw std::invalid_argument("--levels must be at least 3 (an order is fitted from three)");
+  }
   for (const ExternalMethod& e : options.external) {
     if (!e.run) throw std::invalid_argument("external method '" + e.label + "' has no runner");
-    if (!e.steps.empty() && e.steps.size() < 2) {
-      throw std::invalid_argument("external method '" + e.label + "' needs at least two steps");
+    if (!e.steps.empty() &&
+        e.steps.size() < static_cast<std::size_t>(SchemeSummary::kMinFittedLevels)) {
+      throw std::invalid_argument("external method '" + e.label +
+                                  "' needs at least three steps (an order is fitted from three)");
     }
     for (double h : e.steps) {
       if (!(h > 0.0) || !std::isfinite(h)) {
@@ -142,8 +189,26 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
       }
     }
   }
+  for (const std::string& scheme : options.schemes) lie::make_stepper(scheme, model);
+  if (options.schemes.empty()) return;
+  for (int level = 0; level < options.levels; ++level) {
+    const double h = options.h0 / std::ldexp(1.0, level);
+    try {
+      lie::validate_step_grid(model, h, output_times);
+    } catch (const std::invalid_argument& e) {
+      std::ostringstream out;
+      out << "--dt " << options.h0 << ", level " << level + 1 << " (h = " << h << "): " << e.what();
+      throw std::invalid_argument(out.str());
+    }
+  }
+}
+
+ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
+                                  const ConvergenceOptions& options) {
+  check_convergence_inputs(model, output_times, options);
   ConvergenceResult result;
   result.options = options;
+  result.step_limit = core::explicit_step_limit(model);
 
   // Methods as blocks of levels: the registered schemes, then the external methods.
   struct Block {
@@ -179,7 +244,12 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
   const std::string solver =
       resolve_reference_solver(options.reference_solver, model, output_times);
   if (options.progress) std::fprintf(stderr, "converge: reference (%s) ...\n", solver.c_str());
-  result.reference = certified_reference(model, output_times, solver, ref_options, options.metric);
+  {
+    const Progress progress("converge: reference (" + solver + ", with its error estimate)", 0, "",
+                            options.progress);
+    result.reference =
+        certified_reference(model, output_times, solver, ref_options, options.metric);
+  }
 
   const int n_runs = static_cast<int>(tasks.size());
   result.levels.resize(tasks.size());
@@ -252,7 +322,8 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
       }
     }
     result.summaries.push_back(
-        summarize_levels(block.name, claimed, levels, ref_estimate, result.notes));
+        summarize_levels(block.name, claimed, levels, ref_estimate,
+                         block.external < 0 ? result.step_limit : core::StepLimit{}, result.notes));
     std::copy(levels.begin(), levels.end(), result.levels.begin() + first);
   }
   bool any_uncertified = false;
@@ -265,6 +336,13 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
     result.notes.push_back(note.str());
   }
   return result;
+}
+
+bool ConvergenceResult::refused() const {
+  for (const SchemeSummary& s : summaries) {
+    if (s.refused()) return true;
+  }
+  return false;
 }
 
 std::string format_convergence_table(const ConvergenceResult& r) {
@@ -290,7 +368,11 @@ std::string format_convergence_table(const ConvergenceResult& r) {
     out << std::scientific << std::setprecision(2) << std::setw(11) << lv.cpu_seconds << "  "
         << lv.status << "\n";
   }
-  out << "\nobserved order (least squares over certified levels):\n";
+  if (r.step_limit.bounded()) {
+    out << "explicit step limit: " << std::scientific << std::setprecision(3) << r.step_limit.h
+        << " s (2/omega of " << r.step_limit.what << ")\n";
+  }
+  out << "\nobserved order (least squares over the valid levels, status ok):\n";
   for (const auto& s : r.summaries) {
     out << "  " << std::left << std::setw(5) << s.scheme << std::right << " claimed ";
     if (s.claimed_order > 0) {
@@ -299,7 +381,9 @@ std::string format_convergence_table(const ConvergenceResult& r) {
       out << "-";
     }
     out << ", observed ";
-    if (std::isnan(s.fitted_order)) {
+    if (s.refused()) {
+      out << "refused";
+    } else if (std::isnan(s.fitted_order)) {
       out << "n/a";
     } else {
       out << std::fixed << std::setprecision(2) << s.fitted_order;
@@ -315,10 +399,7 @@ std::string convergence_csv(const ConvergenceResult& r) {
   out.precision(17);
   out << "scheme,h,steps,error,order,cpu_seconds,status\n";
   for (const auto& lv : r.levels) {
-    std::string status = lv.status;
-    for (char& c : status) {
-      if (c == ',' || c == '\n') c = ';';
-    }
+    const std::string status = csv_text(lv.status);
     out << lv.scheme << ',' << lv.h << ',' << lv.steps << ',' << lv.error << ',' << lv.order << ','
         << lv.cpu_seconds << ',' << status << '\n';
   }

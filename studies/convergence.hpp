@@ -2,14 +2,19 @@
 /// \file convergence.hpp
 /// The `converge` study (docs/design/studies.md): each scheme at steps h0, h0/2, …, its error
 /// against a certified reference in a named metric, pairwise and least-squares observed
-/// orders. Levels whose error is not at least 100× the reference's estimated error are
-/// "uncertified" and left out of the fit; levels at round-off stop the refinement; both are
-/// said in the table.
+/// orders. Only levels that measure the scheme's asymptotic error enter the fit; the others are
+/// marked and the table says why: a step above the scene's explicit step limit
+/// (core::explicit_step_limit: central differences on a mode or penalty element are unstable
+/// there), an error that does not decrease from the previous valid level, an error not at
+/// least 100× the reference's estimated error ("uncertified"), or an error at round-off
+/// (which also stops the refinement). No order is fitted from fewer than three valid levels
+/// (two points always lie on a line: their "order" verifies nothing).
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "core/model.hpp"
+#include "core/step_limit.hpp"
 #include "lie/stepper.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/trajectory_contract.hpp"
@@ -64,35 +69,53 @@ struct ConvergenceLevel {
   double error = 0.0;
   double order = 0.0;  ///< pairwise order against the previous level (NaN for the first)
   double cpu_seconds = 0.0;
-  std::string status;  ///< "ok", "uncertified", "round-off", or "failed: why"
+  /// "ok", "above step limit", "not decreasing", "uncertified", "round-off", or "failed: why".
+  std::string status;
 };
 
 struct SchemeSummary {
   std::string scheme;
   int claimed_order = 0;
-  double fitted_order = 0.0;  ///< least squares over the "ok" levels (NaN if < 2)
-  int fitted_levels = 0;
+  double fitted_order = 0.0;  ///< least squares over the "ok" levels (NaN if < 3)
+  int fitted_levels = 0;      ///< the "ok" levels
+  bool refused() const { return fitted_levels < kMinFittedLevels; }
+  /// The fewest valid levels an order is fitted from.
+  static constexpr int kMinFittedLevels = 3;
 };
 
 struct ConvergenceResult {
   ConvergenceOptions options;
   CertifiedReference reference;
+  core::StepLimit step_limit;  ///< the model's explicit step limit (unbounded: rigid only)
   std::vector<ConvergenceLevel> levels;
   std::vector<SchemeSummary> summaries;
   std::vector<std::string> notes;
+  /// True when a scheme has no fitted order (fewer than three valid levels): the study
+  /// refuses to report an order for it (exit code 4).
+  bool refused() const;
 };
+
+/// Throws std::invalid_argument, before any work, when a scheme refuses the model (e.g. the
+/// coupled model of a flexible body), a level's step does not fit the output grid
+/// (lie::validate_step_grid), fewer than three levels are asked for, or an external method
+/// has no runner or fewer than three steps. run_convergence calls it before the reference.
+void check_convergence_inputs(const core::Model& model, const std::vector<double>& output_times,
+                              const ConvergenceOptions& options);
 
 ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
                                   const ConvergenceOptions& options);
 
 /// The analysis of one method's levels (coarsest first, error and status "ok" or "failed: …"
-/// set): a level whose error is at round-off stops the refinement, a level not
-/// kCertificationFactor× above the reference's estimated error is "uncertified"; pairwise orders
-/// are filled in and the least-squares order fitted over the "ok" levels. Notes (round-off,
-/// orders still changing) are appended to `notes`.
+/// set). Only levels that measure the method's asymptotic error stay "ok": a step above
+/// `step_limit` (the model's explicit step limit for the built-in schemes; unbounded for an
+/// external method) is "above step limit", an error that does not decrease from the previous
+/// valid level "not decreasing", an error at round-off "round-off" (and stops the refinement),
+/// an error not kCertificationFactor× above the reference's estimated error "uncertified".
+/// Pairwise orders are filled in; the least-squares order is fitted over the "ok" levels, and
+/// refused (NaN) from fewer than three. Notes say what was left out and why.
 SchemeSummary summarize_levels(const std::string& method, int claimed_order,
                                std::vector<ConvergenceLevel>& levels, double reference_estimate,
-                               std::vector<std::string>& notes);
+                               const core::StepLimit& step_limit, std::vector<std::string>& notes);
 
 /// The terminal table (errors, pairwise orders, fitted orders, notes).
 std::string format_convergence_table(const ConvergenceResult& result);

@@ -20,7 +20,7 @@ class SerialDistribution final : public Distribution {
   int processes_on_node() const override { return 1; }
 
   void run(int n, int jobs, const std::function<void(int)>& task, const SlotCodec& /*codec*/,
-           const Progress& progress) override {
+           const ProgressCallback& progress) override {
     std::mutex mutex;
     int done = 0;
     try {
@@ -42,7 +42,7 @@ class SerialDistribution final : public Distribution {
 
  private:
   static void run_tasks(int n, int jobs, const std::function<void(int)>& task,
-                        const Progress& progress, std::mutex& mutex, int& done) {
+                        const ProgressCallback& progress, std::mutex& mutex, int& done) {
     parallel_for(n, jobs, [&](int i) {
       // The progress call follows the task even when it throws (parallel_for keeps the
       // exception and rethrows the first by index after all tasks).
@@ -50,7 +50,7 @@ class SerialDistribution final : public Distribution {
         std::mutex& mutex;
         int& done;
         int n;
-        const Progress& progress;
+        const ProgressCallback& progress;
         ~Report() {
           if (!progress) return;
           const std::lock_guard<std::mutex> lock(mutex);
@@ -124,33 +124,18 @@ Distribution& distribution() { return installed != nullptr ? *installed : serial
 void install_distribution(Distribution* d) { installed = d; }
 
 void distributed_for(int n, int jobs, const std::function<void(int)>& task, const SlotCodec& codec,
-                     const Progress& progress) {
+                     const ProgressCallback& progress) {
   distribution().run(n, jobs, task, codec, progress);
 }
 
 ProgressLine::ProgressLine(std::string label, std::string unit, bool enabled)
-    : label_(std::move(label)),
-      unit_(std::move(unit)),
-      enabled_(enabled && distribution().is_root()),
-      tty_(isatty(STDERR_FILENO) != 0) {}
+    : progress_(std::move(label), 0, std::move(unit), enabled && distribution().is_root()) {}
 
-Progress ProgressLine::callback(int offset, int study_total) {
-  if (!enabled_) return {};
+ProgressCallback ProgressLine::callback(int offset, int study_total) {
   return [this, offset, study_total](int done_here, int total_here) {
-    const int done = offset + done_here;
-    const int total = study_total > 0 ? study_total : total_here;
-    if (tty_) {
-      std::fprintf(stderr, "\r%s: %d/%d %s", label_.c_str(), done, total, unit_.c_str());
-      printed_ = true;
-    } else if (done * 10 / total != (done - 1) * 10 / total) {
-      std::fprintf(stderr, "%s: %d/%d %s\n", label_.c_str(), done, total, unit_.c_str());
-    }
+    progress_.set_total(study_total > 0 ? study_total : total_here);
+    progress_.counter().store(offset + done_here, std::memory_order_relaxed);
   };
-}
-
-void ProgressLine::finish() {
-  if (printed_) std::fprintf(stderr, "\n");
-  printed_ = false;
 }
 
 }  // namespace flexref::studies

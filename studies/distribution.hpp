@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "studies/progress.hpp"
+
 namespace flexref::studies {
 
 /// Bytes of one result slot.
@@ -71,7 +73,7 @@ struct SlotCodec {
 
 /// Called on the root only, one call at a time: `done` of `total` tasks finished (all
 /// processes).
-using Progress = std::function<void(int done, int total)>;
+using ProgressCallback = std::function<void(int done, int total)>;
 
 /// The processes of a run.
 class Distribution {
@@ -86,7 +88,7 @@ class Distribution {
   /// Runs task(i) for every i in [0, n) once over all processes, on `jobs` threads in each;
   /// see the file comment. `progress` may be empty.
   virtual void run(int n, int jobs, const std::function<void(int)>& task, const SlotCodec& codec,
-                   const Progress& progress) = 0;
+                   const ProgressCallback& progress) = 0;
   /// Runs `action` on the root only; its exception, if any, is rethrown on every process.
   virtual void on_root(const std::function<void()>& action) = 0;
 
@@ -106,7 +108,7 @@ Distribution& distribution();
 
 /// distribution().run(n, jobs, task, codec, progress).
 void distributed_for(int n, int jobs, const std::function<void(int)>& task, const SlotCodec& codec,
-                     const Progress& progress = {});
+                     const ProgressCallback& progress = {});
 
 /// The codec of a vector of slots `slots[i]` with free functions write_slot(SlotWriter&, const
 /// T&) and read_slot(SlotReader&, T&) found by argument-dependent lookup.
@@ -129,22 +131,19 @@ constexpr void require_codec_size() {
 #endif
 }
 
-/// The progress line of a study on stderr: "\r<label>: k/n <unit>" on a terminal, a line per
-/// tenth of the tasks otherwise (a log file); finish() ends the terminal line.
+/// The progress line of a distributed study: studies/progress.hpp's Progress (quiet under 2 s, a
+/// redrawn line on a terminal, a line every 5 s otherwise), fed with the task counts of every
+/// process, printed by the root only. finish() ends the line ("done").
 class ProgressLine {
  public:
   ProgressLine(std::string label, std::string unit, bool enabled);
   /// The callback for distributed_for; a study of several distributed_for calls passes the
   /// tasks before this one (`offset`) and the study's total.
-  Progress callback(int offset = 0, int total = 0);
-  void finish();
+  ProgressCallback callback(int offset = 0, int total = 0);
+  void finish() { progress_.finish(); }
 
  private:
-  std::string label_;
-  std::string unit_;
-  bool enabled_;
-  bool tty_;
-  bool printed_ = false;
+  Progress progress_;
 };
 
 /// The process's part in an MPI job, started once at the top of main(). In a build with MPI, and

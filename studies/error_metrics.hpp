@@ -68,6 +68,8 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run, const Trajecto
 /// Euler-parameter columns, "modes" on a rigid scene, "wear" without a named contact): an absent
 /// quantity is not an error of 0.
 double metric_value(const ComparisonReport& report, const std::string& metric);
+/// The names metric_value accepts, the default first.
+std::vector<std::string> metric_names();
 
 /// The names of the quantities metric_value(report, metric) takes its value from, e.g.
 /// {"book.rotation", "book.corner"}; throws like metric_value.

@@ -16,6 +16,7 @@
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
 #include "studies/distribution.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -384,9 +385,7 @@ std::string lte_map_csv(const LteMapResult& result) {
   s << "spin_ratio,inertia_ratio,spin,omega1,hub_scale,load_scale,tip_error,"
        "attitude_error,max_deflection,coupled_estimate,lte_estimate,resolved,status\n";
   for (const LteMapPoint& p : result.points) {
-    std::string status = p.status;
-    std::replace(status.begin(), status.end(), ',', ';');
-    std::replace(status.begin(), status.end(), '\n', ' ');
+    const std::string status = csv_text(p.status);
     s << p.spin_ratio << ',' << p.inertia_ratio << ',' << p.spin << ',' << p.omega1 << ','
       << p.hub_scale << ',' << p.load_scale << ',' << p.tip_error << ',' << p.attitude_error << ','
       << p.max_deflection << ',' << p.coupled_estimate << ',' << p.lte_estimate << ','

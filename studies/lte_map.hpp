@@ -74,7 +74,7 @@ struct LteMapOptions {
   int body = -1;      ///< the flexible body (−1: the first free flexible body)
   std::string point;  ///< the tracked node point (empty: the node point farthest from Br)
   int jobs = 1;
-  bool progress = false;  ///< "lte-map: k/n grid points" on stderr
+  bool progress = false;  ///< "lte-map: k/n grid points" on stderr (studies/progress.hpp)
 };
 
 /// The scene's own values the grid is built from.

@@ -18,7 +18,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib import colors  # noqa: E402
+from matplotlib import ticker  # noqa: E402
 
 
 def main(argv):
@@ -44,16 +44,22 @@ def main(argv):
     finite = [v for row in z for v in row if math.isfinite(v)]
     lo = min(min(finite), 1e-3)
     hi = max(max(finite), 1.0)
-    levels = [10.0 ** (k / 4.0) for k in range(math.floor(4 * math.log10(lo)),
-                                                math.ceil(4 * math.log10(hi)) + 1)]
-    filled = ax.contourf(xs, ys, z, levels=levels, norm=colors.LogNorm(vmin=levels[0],
-                                                                        vmax=levels[-1]),
-                         cmap="viridis")
-    bar = fig.colorbar(filled, ax=ax)
+    # Contours are interpolated in log10 of x, y and the error, as the table's crossings are
+    # (studies/lte_map.cpp, lte_map_crossings): interpolating the raw values on log axes put the
+    # 5 % line of a 2x2 map at 0.027 where the table says 0.081.
+    lx = [math.log10(x) for x in xs]
+    ly = [math.log10(y) for y in ys]
+    lz = [[math.log10(v) if math.isfinite(v) else float("nan") for v in row] for row in z]
+    levels = [k / 4.0 for k in range(math.floor(4 * math.log10(lo)),
+                                     math.ceil(4 * math.log10(hi)) + 1)]
+    filled = ax.contourf(lx, ly, lz, levels=levels, cmap="viridis")
+    power = ticker.FuncFormatter(lambda v, _: f"{10.0 ** v:.3g}")
+    bar = fig.colorbar(filled, ax=ax, format=power)
     bar.set_label("LTE tip-deflection error / max coupled deflection")
-    lines = ax.contour(xs, ys, z, levels=[0.01, 0.05, 0.20], colors=["white", "orange", "red"],
+    marks = [math.log10(0.01), math.log10(0.05), math.log10(0.20)]
+    lines = ax.contour(lx, ly, lz, levels=marks, colors=["white", "orange", "red"],
                        linewidths=[1.2, 2.0, 1.2])
-    ax.clabel(lines, fmt={0.01: "1 %", 0.05: "5 %", 0.20: "20 %"}, fontsize=9)
+    ax.clabel(lines, fmt={marks[0]: "1 %", marks[1]: "5 %", marks[2]: "20 %"}, fontsize=9)
     # clabel drops labels on short segments: the legend names the lines too.
     for color, width, text in (("white", 1.2, "1 % line"), ("orange", 2.0, "5 % line"),
                                ("red", 1.2, "20 % line")):
@@ -63,19 +69,21 @@ def main(argv):
     failed = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows
               if r["status"] != "ok"]
     grid = [(x, y) for x in xs for y in ys]
-    ax.plot([p[0] for p in grid], [p[1] for p in grid], ".", color="black", markersize=2,
+    log = math.log10
+    ax.plot([log(p[0]) for p in grid], [log(p[1]) for p in grid], ".", color="black", markersize=2,
             label="grid point")
     if unresolved:
-        ax.plot([p[0] for p in unresolved], [p[1] for p in unresolved], "+", color="white",
-                label="< 100x reference error (upper bound)")
+        ax.plot([log(p[0]) for p in unresolved], [log(p[1]) for p in unresolved], "+",
+                color="white", label="< 100x reference error (upper bound)")
     if failed:
-        ax.plot([p[0] for p in failed], [p[1] for p in failed], "x", color="red",
+        ax.plot([log(p[0]) for p in failed], [log(p[1]) for p in failed], "x", color="red",
                 label="failed")
     if len(argv) == 6:
-        ax.plot([float(argv[4])], [float(argv[5])], "*", color="magenta", markersize=12,
+        ax.plot([log(float(argv[4]))], [log(float(argv[5]))], "*", color="magenta", markersize=12,
                 markeredgecolor="black", label="the scene itself")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
+    # The axes hold log10 values; label them with the ratios themselves.
+    ax.xaxis.set_major_formatter(power)
+    ax.yaxis.set_major_formatter(power)
     ax.set_xlabel("spin ratio Ω0/ω1 (initial spin / first clamped frequency) [-]")
     ax.set_ylabel("inertia ratio I_flex/I_rigid about the spin axis [-]")
     ax.set_title(argv[3])

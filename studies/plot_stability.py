@@ -84,9 +84,17 @@ def plot_long_run(rows, png, title):
         for ax, (key, _) in zip(axes, columns):
             # Exact zeros (an invariant kept to the last bit) are drawn at 1e-17.
             ax.semilogy(t, [max(float(r[key]), 1e-17) for r in mine], label=s.upper())
+    # A drift at round-off flips between ε/2 and ε from sample to sample: on an axis spanning
+    # only that factor 2 it is a block of noise. Span at least 1e-17 … 1e-12 and mark ε.
+    eps = 2.220446049250313e-16
     for ax, (_, label) in zip(axes, columns):
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)
+        low, high = ax.get_ylim()
+        ax.set_ylim(min(low, 1e-17), max(high, 1e-12))
+        ax.axhline(eps, color="gray", linestyle=":", linewidth=1.0)
+    axes[-1].text(0.01, eps * 1.5, "ε = 2.2e-16 (round-off)", color="gray", fontsize=8,
+                  transform=axes[-1].get_yaxis_transform())
     axes[0].set_title(title)
     axes[0].legend()
     axes[-1].set_xlabel("time t [s]")

@@ -20,8 +20,8 @@ struct ReferenceSidecar {
   /// unknown, studies/certified_reference.hpp) — then nothing is certified against it.
   double estimate = 0.0;
   std::string estimate_method;  ///< [error_estimate] method: how it was made, "" when absent
-  std::string solver;         ///< [integrator] solver, "" when absent
-  double rtol = 0.0;          ///< [integrator] rtol, 0 when absent
+  std::string solver;           ///< [integrator] solver, "" when absent
+  double rtol = 0.0;            ///< [integrator] rtol, 0 when absent
 };
 
 /// Reads `csv_path + ".meta.toml"`. A missing file is not an error (found = false); a file that

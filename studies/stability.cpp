@@ -13,6 +13,7 @@
 #include "core/force_element.hpp"
 #include "lie/stepper.hpp"
 #include "studies/distribution.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -49,17 +50,6 @@ std::string format_double(double x, int precision = 4) {
 }
 
 std::string csv_double(double x) { return format_double(x, 17); }
-
-/// Quotes a CSV field when it holds a comma or a quote.
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string quoted = "\"";
-  for (char c : s) {
-    if (c == '"') quoted += '"';
-    quoted += (c == '\n') ? ' ' : c;
-  }
-  return quoted + "\"";
-}
 
 /// One bisection on the free body (I, w0); classification of the unstable end.
 StabilityPoint bisect_point(const std::string& scheme, const Eigen::Matrix3d& I_Bcm_B,
@@ -371,9 +361,9 @@ std::string stability_csv(const StabilityResult& result) {
   out << "scheme,parameter,value,h_max,h_max_times_spin,classification\n";
   for (const auto* points : {&result.sweep, &result.degenerate}) {
     for (const StabilityPoint& p : *points) {
-      out << p.scheme << ',' << csv_field(p.parameter) << ',' << csv_double(p.value) << ','
+      out << p.scheme << ',' << csv_text(p.parameter) << ',' << csv_double(p.value) << ','
           << csv_double(p.h_max) << ',' << csv_double(p.h_max * p.spin) << ','
-          << csv_field(p.classification) << '\n';
+          << csv_text(p.classification) << '\n';
     }
   }
   return out.str();
@@ -385,7 +375,7 @@ std::string long_run_csv(const StabilityResult& result) {
   for (const LongRunSample& s : result.long_run) {
     out << s.scheme << ',' << s.step << ',' << csv_double(s.t) << ',' << csv_double(s.energy_drift)
         << ',' << csv_double(s.momentum_drift) << ',' << csv_double(s.quaternion_drift) << ','
-        << csv_field(s.status) << '\n';
+        << csv_text(s.status) << '\n';
   }
   return out.str();
 }

@@ -96,7 +96,7 @@ struct StabilityOptions {
   double long_run_h = 0.01;          ///< s, on the base body at its |W0| = |w_direction_B|
   int long_run_samples = 1000;       ///< rows per scheme in long_run.csv
   int jobs = 1;
-  bool progress = false;  ///< "stability: k/N runs" on stderr when it is a terminal
+  bool progress = false;  ///< "stability: k/N runs" on stderr (studies/progress.hpp)
 };
 
 /// One (scheme, body) bisection.

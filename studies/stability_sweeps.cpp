@@ -15,7 +15,9 @@
 #include "scene/build_model.hpp"
 #include "studies/distribution.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
 #include "studies/stability.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 
@@ -151,6 +153,7 @@ std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options
                           auto get = [&r](auto&... x) { (r.get(x), ...); };
                           fields(get, points[static_cast<std::size_t>(i)]);
                         }};
+  ProgressLine progress("stability", "bisections", options.progress);
   distributed_for(
       static_cast<int>(points.size()), options.jobs,
       [&](int task) {
@@ -183,7 +186,7 @@ std::string linear_sweep_csv(const std::string& parameter,
   out << "scheme,parameter,value,omega,h_max,h_theory,h_max_times_omega,classification\n";
   for (const LinearSweepPoint& p : points) {
     out << p.scheme << ',' << parameter << ',' << p.value << ',' << p.omega << ',' << p.h_max << ','
-        << p.h_theory << ',' << p.h_max * p.omega << ",\"" << p.classification << "\"\n";
+        << p.h_theory << ',' << p.h_max * p.omega << ',' << csv_text(p.classification) << '\n';
   }
   return out.str();
 }

@@ -40,6 +40,7 @@ struct LinearSweepOptions {
   double growth_factor = 10.0;
   double relative_tolerance = 1e-3;
   int jobs = 1;
+  bool progress = false;  ///< "stability: k/N bisections" on stderr (studies/progress.hpp)
 };
 
 struct LinearSweepPoint {

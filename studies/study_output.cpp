@@ -9,6 +9,7 @@
 
 #include "io/atomic_file.hpp"
 #include "studies/distribution.hpp"
+#include "studies/progress.hpp"
 
 namespace flexref::studies {
 namespace fs = std::filesystem;
@@ -126,7 +127,11 @@ void StudyOutput::add(const std::string& file) {
 PlotOutcome StudyOutput::plot(const std::string& script, const std::string& png,
                               std::vector<std::string> arguments) {
   if (!writer_) return {false, "plots are drawn by rank 0"};
-  PlotOutcome outcome = run_plot_script(script, std::move(arguments), staged(png));
+  PlotOutcome outcome;
+  {
+    const Progress progress("plot " + png, 0, "");
+    outcome = run_plot_script(script, std::move(arguments), staged(png));
+  }
   if (outcome.ok) {
     add(png);
     outcome.message = final_path(png);

@@ -9,9 +9,11 @@
 #include <stdexcept>
 
 #include "core/output_times.hpp"
+#include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
 
 namespace flexref::studies {
 
@@ -30,6 +32,8 @@ FigureCurve run_scheme_curve(const core::Model& model, const std::string& scheme
   curve.scheme = scheme;
   curve.step = h;
   curve.label = scheme + " h=" + step_text(h);
+  // Refuses a step that double precision cannot resolve (also bounds n_steps below).
+  lie::validate_step_grid(model, h, {t0, t_end});
   const auto stepper = lie::make_stepper(scheme, model);
   stepper->initialize(t0, model.initial_state());
   const core::TrackedPoint& point =
@@ -106,8 +110,12 @@ FigureResult run_trajectory_figure(const core::Model& model,
   FigureResult result;
   reference::SolverOptions options;
   options.rtol = settings.rtol;
-  const reference::ReferenceRun run =
-      reference::solve_reference(settings.solver, model, output_times, options);
+  reference::ReferenceRun run;
+  {
+    const Progress progress("figure: reference (" + settings.solver + ")", 0, "",
+                            settings.progress);
+    run = reference::solve_reference(settings.solver, model, output_times, options);
+  }
   result.reference.label = "reference (" + settings.solver + ")";
   result.reference.times = run.trajectory.times;
   const core::TrackedPoint& point = points[static_cast<std::size_t>(settings.point)];
@@ -118,12 +126,14 @@ FigureResult run_trajectory_figure(const core::Model& model,
 
   const std::size_t n_steps = settings.steps.size();
   result.curves.resize(settings.schemes.size() * n_steps);
+  Progress progress("figure", static_cast<long>(result.curves.size()), "runs", settings.progress);
   parallel_for(static_cast<int>(result.curves.size()), settings.jobs, [&](int k) {
     const auto u = static_cast<std::size_t>(k);
     FigureCurve& curve = result.curves[u];
     curve = run_scheme_curve(model, settings.schemes[u / n_steps], settings.steps[u % n_steps], t0,
                              t_end, output_step, settings);
     curve.max_error = max_distance(curve, result.reference, t0, output_step);
+    progress.advance();
   });
   return result;
 }

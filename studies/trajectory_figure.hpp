@@ -24,6 +24,7 @@ struct FigureSettings {
   std::string solver = "cvode";  ///< reference solver
   double rtol = 1e-10;
   int jobs = 1;
+  bool progress = false;  ///< "figure: k/N runs" on stderr (studies/progress.hpp)
 };
 
 struct FigureCurve {

@@ -52,7 +52,37 @@ std::vector<std::string> trajectory_columns(const core::Model& model) {
   return names;
 }
 
+std::vector<std::string> trajectory_units(const core::Model& model) {
+  std::vector<std::string> units{"s"};
+  for (const core::Body& b : model.bodies()) {
+    for (const char* u :
+         {"m", "m", "m", "-", "-", "-", "-", "m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"}) {
+      units.emplace_back(u);
+    }
+    units.insert(units.end(), 3 * b.description().points.size(), "m");
+    units.insert(units.end(), static_cast<std::size_t>(b.mode_count()), "modal");
+    units.insert(units.end(), static_cast<std::size_t>(b.mode_count()), "modal/s");
+    if (b.is_prescribed()) units.emplace_back("N*m");
+  }
+  units.emplace_back("J");
+  if (model.dissipates()) {
+    units.emplace_back("J");
+    if (model.tracks_applied_work()) units.emplace_back("J");
+    units.emplace_back("J");
+  }
+  // Per named contact: normal force, slip speed, wear work, impacts (docs/output.md).
+  for (std::size_t c = 0; c < model.wear_channel_names().size(); ++c) {
+    for (const char* u : {"N", "m/s", "J", "-"}) units.emplace_back(u);
+  }
+  return units;
+}
+
 TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory) {
+  if (trajectory.states.size() != trajectory.times.size()) {
+    throw std::invalid_argument("tabulate: " + std::to_string(trajectory.states.size()) +
+                                " states for " + std::to_string(trajectory.times.size()) +
+                                " output times");
+  }
   TrajectoryTable table;
   table.columns = trajectory_columns(model);
   core::Workspace ws = model.make_workspace();
@@ -148,6 +178,15 @@ void write_csv(const TrajectoryTable& table, const std::string& path) {
     out << '\n';
   }
   io::write_file_atomically(path, out.str());
+}
+
+std::string csv_text(std::string text) {
+  for (char& c : text) {
+    if (c == ',') c = ';';
+    if (c == '"') c = '\'';
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return text;
 }
 
 TrajectoryTable read_csv(const std::string& path) {

@@ -35,12 +35,20 @@ struct TrajectoryTable {
 
 /// The column names for a model, in file order.
 std::vector<std::string> trajectory_columns(const core::Model& model);
+/// The unit of each column of trajectory_columns(model), in the same order (docs/output.md):
+/// "s", "m", "-" (Euler parameters), "m/s", "rad/s", "N*m", "J"; modal coordinates carry the
+/// unit their mode normalization gives them, written "modal" and "modal/s".
+std::vector<std::string> trajectory_units(const core::Model& model);
 /// Tabulates states at their times (energy evaluated with the load branch active at t).
 TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory);
 
 /// Writes the table as CSV (17 significant digits) atomically: to a temporary file in the
 /// same directory, then renamed, so an interrupted run never leaves a half-written file.
 void write_csv(const TrajectoryTable& table, const std::string& path);
+/// A free-text CSV field (a status, a classification) that every CSV reader splits alike,
+/// numpy.genfromtxt included: commas become semicolons, double quotes apostrophes, line breaks
+/// spaces; never quoted.
+std::string csv_text(std::string text);
 /// Reads a CSV written by write_csv; throws core::InputError naming file and line.
 TrajectoryTable read_csv(const std::string& path);
 

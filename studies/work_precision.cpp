@@ -17,6 +17,8 @@
 #include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/parallel.hpp"
+#include "studies/progress.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -28,7 +30,8 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-void validate(const WorkPrecisionOptions& options) {
+void validate(const core::Model& model, const std::vector<double>& output_times,
+              const WorkPrecisionOptions& options) {
   if (!(options.h0 > 0.0) || !std::isfinite(options.h0)) {
     throw std::invalid_argument("--dt must be positive");
   }
@@ -56,6 +59,20 @@ void validate(const WorkPrecisionOptions& options) {
       throw std::invalid_argument("--tolerances must be positive");
     }
   }
+  // Refusals before the reference: a scheme that refuses the model (the coupled model of a
+  // flexible body), a level whose step does not fit the output grid.
+  for (const auto& s : options.schemes) lie::make_stepper(s, model);
+  if (options.schemes.empty()) return;
+  for (int level = 0; level < options.levels; ++level) {
+    const double h = options.h0 / std::ldexp(1.0, level);
+    try {
+      lie::validate_step_grid(model, h, output_times);
+    } catch (const std::invalid_argument& e) {
+      std::ostringstream out;
+      out << "--dt " << options.h0 << ", level " << level + 1 << " (h = " << h << "): " << e.what();
+      throw std::invalid_argument(out.str());
+    }
+  }
 }
 
 /// Integrates `repeats` times and returns the last trajectory; `cpu_seconds` is the minimum
@@ -70,13 +87,6 @@ core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integra
     cpu_seconds = std::min(cpu_seconds, thread_cpu_seconds() - start);
   }
   return trajectory;
-}
-
-std::string csv_safe(std::string s) {
-  for (char& c : s) {
-    if (c == ',' || c == '\n') c = ';';
-  }
-  return s;
 }
 
 /// Every field of a run, and an external run's output file from a rank other than 0.
@@ -127,7 +137,7 @@ std::vector<CheapestMethod> cheapest_methods(const std::vector<WorkPrecisionRun>
 WorkPrecisionResult run_work_precision(const core::Model& model,
                                        const std::vector<double>& output_times,
                                        const WorkPrecisionOptions& options) {
-  validate(options);
+  validate(model, output_times, options);
   WorkPrecisionResult result;
   result.options = options;
 
@@ -138,7 +148,12 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
   if (options.progress) {
     std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
   }
-  result.reference = certified_reference(model, output_times, solver, ref_options, options.metric);
+  {
+    const Progress progress("work-precision: reference (" + solver + ", 3 solves)", 0, "",
+                            options.progress);
+    result.reference =
+        certified_reference(model, output_times, solver, ref_options, options.metric);
+  }
 
   const int n_scheme_runs = static_cast<int>(options.schemes.size()) * options.levels;
   const int n_tolerances = static_cast<int>(options.tolerances.size());
@@ -331,7 +346,7 @@ std::string work_precision_csv(const WorkPrecisionResult& r) {
   out << "method,kind,setting,error,cpu_seconds,status,evaluations\n";
   for (const auto& run : r.runs) {
     out << run.method << ',' << run.kind << ',' << run.setting << ',' << run.error << ','
-        << run.cpu_seconds << ',' << csv_safe(run.status) << ',' << run.evaluations << '\n';
+        << run.cpu_seconds << ',' << csv_text(run.status) << ',' << run.evaluations << '\n';
   }
   return out.str();
 }

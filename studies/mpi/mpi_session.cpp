@@ -166,7 +166,7 @@ class MpiDistribution final : public Distribution {
   int processes_on_node() const override { return node_size_; }
 
   void run(int n, int jobs, const std::function<void(int)>& task, const SlotCodec& codec,
-           const Progress& progress) override;
+           const ProgressCallback& progress) override;
   void on_root(const std::function<void()>& action) override;
 
  private:
@@ -186,7 +186,7 @@ struct Outcome {
 };
 
 void MpiDistribution::run(int n, int jobs, const std::function<void(int)>& task,
-                          const SlotCodec& codec, const Progress& progress) {
+                          const SlotCodec& codec, const ProgressCallback& progress) {
   if (n <= 0) return;
   const int threads = std::clamp(jobs, 1, n);
   std::mutex mutex;

@@ -32,6 +32,7 @@ code=$?
 "$flexref" reference scenes/book_toss.toml --solver cvode --rtol 1e-9 --no-estimate \
   -o "$tmp/ref.csv" >/dev/null || fail "reference failed"
 [[ -s $tmp/run.csv.meta.toml ]] || fail "no metadata next to run.csv"
+grep -q '^units = \["s", "m", "m", "m", "-"' "$tmp/run.csv.meta.toml" || fail "run.csv.meta.toml lacks the units"
 [[ $(head -1 "$tmp/run.csv") == $(head -1 "$tmp/ref.csv") ]] || fail "headers differ"
 out=$("$flexref" compare "$tmp/run.csv" "$tmp/ref.csv" 2>&1) || fail "compare failed: $out"
 [[ $out == *"book.rotation"* ]] || fail "compare output lacks book.rotation: $out"
@@ -44,9 +45,10 @@ code=$?
 [[ $code -eq 1 ]] || fail "corrupt CSV: exit code $code"
 [[ $out == *"corrupt.csv:5"* ]] || fail "corrupt CSV: message lacks file:line: $out"
 
-# 6. Unknown option value: CLI11 usage error (exit 2... or 105/106 by CLI11 convention).
-"$flexref" run scenes/book_toss.toml --scheme rk4 --dt 1e-3 -o "$tmp/y.csv" >/dev/null 2>&1 &&
-  fail "unknown scheme accepted"
+# 6. Unknown option value: a usage error, exit 2 (CLI11's own codes 105, 106 are mapped).
+"$flexref" run scenes/book_toss.toml --scheme rk4 --dt 1e-3 -o "$tmp/y.csv" >/dev/null 2>&1
+code=$?
+[[ $code -eq 2 ]] || fail "unknown scheme: exit code $code, expected 2"
 [[ ! -e $tmp/y.csv ]] || fail "unknown scheme: an output file was written"
 
 # 7. Flexible scenes: check prints the modal frequencies and the explicit step limit.
@@ -97,8 +99,8 @@ code=$?
 [[ $code -eq 1 ]] || fail "reference --solver exact on a flexible scene: exit $code: $out"
 [[ ! -e $tmp/ex.csv ]] || fail "reference --solver exact on a flexible scene wrote a file"
 # Unknown --model value: CLI11 usage error.
-"$flexref" run scenes/spin_up_beam.toml --model rigid -o "$tmp/z.csv" >/dev/null 2>&1 &&
-  fail "unknown --model accepted"
+"$flexref" run scenes/spin_up_beam.toml --model rigid -o "$tmp/z.csv" >/dev/null 2>&1
+[[ $? -eq 2 ]] || fail "unknown --model: not a usage error (exit 2)"
 
 # Contact and joint scenes: check prints each penalty element's frequency and step limit;
 # reference writes the dissipated work and the energy balance, and counts the events.
@@ -151,7 +153,7 @@ out=$("$flexref" figure "$tmp/fig_bad.toml" --out "$tmp/fig_bad" 2>&1)
   fail "lte-map: expected 4 grid rows and study.toml"
 "$flexref" lte-map scenes/flexible_spinner.toml --inertia-ratios 0.1,-1 --out "$tmp/lte_bad" \
   >/dev/null 2>&1
-[[ $? -eq 1 ]] || fail "lte-map accepted a negative inertia ratio"
+[[ $? -eq 2 ]] || fail "lte-map accepted a negative inertia ratio (a usage error, exit 2)"
 "$flexref" lte-map scenes/free_spin.toml --out "$tmp/lte_bad" >/dev/null 2>&1
 [[ $? -eq 1 ]] || fail "lte-map accepted a scene without a flexible body"
 # modes on two small bases; one count or a rigid scene is refused; the 64-mode scene reads.
@@ -226,6 +228,156 @@ out=$("$flexref" compare "$tmp/tube_run.csv" "$tmp/tube_ref.csv" --metric wear 2
 [[ $out == *"metric wear"* ]] || fail "compare --metric wear: $out"
 "$flexref" compare "$tmp/run.csv" "$tmp/ref.csv" --metric wear >/dev/null 2>&1 &&
   fail "compare --metric wear accepted a scene without a named contact"
+
+# Exit codes (issue 17): one table, in --help, used by every command.
+expect() { # expect CODE "description" FRAGMENT command...: exit code and a fragment of the output
+  local want=$1 what=$2 fragment=$3
+  shift 3
+  local out code
+  out=$("$@" 2>&1)
+  code=$?
+  [[ $code -eq $want ]] || fail "$what: exit code $code, expected $want: $out"
+  [[ -z $fragment || $out == *"$fragment"* ]] || fail "$what: output lacks '$fragment': $out"
+}
+expect 0 "--help epilogue" "Exit codes: 0 success, 1 bad input" "$flexref" --help
+expect 0 "top-level help names flexible bodies" "rigid and flexible bodies" "$flexref" --help
+expect 0 "subcommand help epilogue" "5 an output file or folder" "$flexref" converge --help
+expect 0 "--version" "flexref" "$flexref" --version
+expect 2 "unknown command" "unknown command 'frobnicate'" "$flexref" frobnicate
+expect 2 "--dt 0" "--dt: must be a positive number, got 0" \
+  "$flexref" run scenes/free_spin.toml --dt 0 -o "$tmp/e.csv"
+expect 2 "--dt abc" "'abc' is not a number" "$flexref" run scenes/free_spin.toml --dt abc -o "$tmp/e.csv"
+expect 2 "missing argument" "" "$flexref" run scenes/free_spin.toml
+expect 2 "--levels 2" "--levels: must be an integer in [3, 16], got 2" \
+  "$flexref" converge scenes/book_toss.toml --levels 2 --out "$tmp/conv_bad"
+expect 2 "converge --metric foo" "--metric: foo not in" \
+  "$flexref" converge scenes/book_toss.toml --metric foo --out "$tmp/conv_bad"
+expect 2 "compare --metric foo before the table" "--metric: foo not in" \
+  "$flexref" compare "$tmp/run.csv" "$tmp/ref.csv" --metric foo
+out=$("$flexref" converge --help 2>&1)
+[[ $out == *"rotation+points | rotation | points"* ]] || fail "--metric help lists no choices"
+[[ $out == *"number of levels"* ]] || fail "--levels help: $out"
+expect 2 "stability --min 0" "--min: must be a positive number" "$flexref" stability --min 0
+expect 2 "stability --values -5" "--values: must be a positive number, got -5" \
+  "$flexref" stability --values -5
+expect 2 "stability --values 0" "got 0" "$flexref" stability --values 0
+expect 1 "stability inertia_ratio 0.5" "is below 1" \
+  "$flexref" stability --parameter inertia_ratio --values 0.5 --out "$tmp/stab_bad"
+[[ ! -e $tmp/stab_bad ]] || fail "refused stability study created its folder"
+
+# Tiny and huge steps and outputs: refused up front with a reason, never a crash (the first
+# segfaulted, the second ran for ever, the third wrote 1e7 rows without a word).
+expect 1 "run --dt 1e-19" "below what double precision resolves" \
+  "$flexref" run scenes/free_spin.toml --dt 1e-19 -o "$tmp/e.csv"
+expect 1 "run --dt 1e-9" "below what double precision resolves" \
+  "$flexref" run scenes/free_spin.toml --dt 1e-9 -o "$tmp/e.csv"
+expect 1 "run --dt 1e-6: too many steps" "--max-steps" \
+  "$flexref" run scenes/free_spin.toml --dt 1e-6 -o "$tmp/e.csv"
+sed 's/^end_time = .*/end_time = 1e6/' scenes/free_spin.toml >"$tmp/long.toml"
+expect 1 "end_time 1e6: too many rows" "--max-rows" "$flexref" run "$tmp/long.toml" --dt 1e-2 -o "$tmp/e.csv"
+expect 1 "converge --dt 1e-20" "below what double precision resolves" \
+  "$flexref" converge scenes/free_spin.toml --dt 1e-20 --out "$tmp/conv_bad"
+expect 1 "work-precision --dt 1e-300" "below what double precision resolves" \
+  "$flexref" work-precision scenes/free_spin.toml --dt 1e-300 --out "$tmp/wp_bad"
+printf '[figure]\nscene = "%s/scenes/free_spin.toml"\nsteps = [1e-300]\n' "$PWD" >"$tmp/fig_tiny.toml"
+expect 1 "figure steps = [1e-300]" "figure.steps" "$flexref" figure "$tmp/fig_tiny.toml" --out "$tmp/fig_tiny"
+[[ ! -e $tmp/e.csv && ! -e $tmp/conv_bad && ! -e $tmp/wp_bad ]] || fail "a refused run wrote output"
+# converge --dt 0.003 (off the output grid): refused before the reference, not exit 0 with an
+# empty plot.
+out=$("$flexref" converge scenes/book_toss.toml --dt 0.003 --out "$tmp/conv_bad" 2>&1)
+code=$?
+[[ $code -eq 1 && $out == *"not on the step grid"* && $out != *"reference ("* ]] ||
+  fail "converge --dt 0.003: exit $code: $out"
+
+# Extreme scene values: refused up front (they used to write inf or NaN with exit 0).
+sed 's/^angular_velocity = .*/angular_velocity = [1e150, 1.0, 0.0]/' scenes/free_spin.toml >"$tmp/w.toml"
+expect 1 "angular_velocity 1e150" "body[1].angular_velocity" "$flexref" run "$tmp/w.toml" -o "$tmp/e.csv"
+sed 's/^stiffness = 1e6 /stiffness = 1e300 /' scenes/bouncing_ball.toml >"$tmp/k.toml"
+expect 1 "stiffness 1e300" "contact[1]" "$flexref" reference "$tmp/k.toml" -o "$tmp/e.csv"
+sed 's/^reference_speed = .*/reference_speed = 1e-300/' scenes/bouncing_ball.toml >"$tmp/v.toml"
+expect 1 "reference_speed 1e-300" "contact[1]" "$flexref" check "$tmp/v.toml"
+# A diverging reference (coupled model above its first frequency) is refused, not certified.
+expect 4 "reference spin_up_beam_6" "certifies nothing" \
+  "$flexref" reference scenes/spin_up_beam_6.toml -o "$tmp/sub6.csv"
+[[ ! -e $tmp/sub6.csv ]] || fail "refused reference wrote its CSV"
+
+# Output files and folders: checked before any work, exit 5.
+touch "$tmp/base.toml"
+for cmd in "run scenes/free_spin.toml -o $tmp/base.toml/x.csv" \
+  "reference scenes/free_spin.toml -o $tmp/nodir/x.csv" \
+  "run scenes/free_spin.toml -o $tmp" \
+  "stability --out $tmp/base.toml/sub" \
+  "converge scenes/book_toss.toml --out $tmp/base.toml/sub" \
+  "work-precision scenes/book_toss.toml --out $tmp/base.toml/sub" \
+  "figure $tmp/fig1.toml --out $tmp/base.toml/sub"; do
+  # shellcheck disable=SC2086
+  out=$("$flexref" $cmd 2>&1)
+  code=$?
+  [[ $code -eq 5 && $out == *"output error"* ]] || fail "$cmd: exit $code, expected 5: $out"
+  [[ $out != *"reference ("* && $out != *"bisections"* ]] || fail "$cmd: computed first: $out"
+done
+out=$("$flexref" lte-map scenes/flexible_spinner.toml --out "$tmp/base.toml/sub" 2>&1)
+[[ $? -eq 5 && $out != *"grid points"* ]] || fail "lte-map --out under a file: $out"
+# A study folder that is not a study's is never replaced.
+mkdir -p "$tmp/precious" && touch "$tmp/precious/notes.md"
+expect 5 "converge into a non-study folder" "not a file of a flexref study" \
+  "$flexref" converge scenes/book_toss.toml --out "$tmp/precious"
+[[ -e $tmp/precious/notes.md ]] || fail "a foreign folder was touched"
+
+# converge: levels above the explicit step limit are marked and left out of the fit; fewer
+# than three valid levels is a refusal (exit 4), with the table and files still written.
+out=$("$flexref" converge scenes/bouncing_ball.toml --levels 5 --schemes nmb --jobs 2 \
+  --out "$tmp/bb" 2>&1) || fail "converge bouncing_ball: $out"
+[[ $out == *"above step limit"* && $out == *"observed 1.78 over 3 levels"* ]] ||
+  fail "converge bouncing_ball: levels above the limit not excluded: $out"
+grep -q '^explicit_step_limit = 0.0047' "$tmp/bb/study.toml" || fail "study.toml lacks the step limit"
+out=$("$flexref" converge scenes/bouncing_ball.toml --levels 4 --schemes nmb --jobs 2 \
+  --out "$tmp/bb4" 2>&1)
+code=$?
+[[ $code -eq 4 && $out == *"refused to fit an order from 2 valid levels"* ]] ||
+  fail "converge with 2 valid levels: exit $code: $out"
+[[ -s $tmp/bb4/convergence.csv ]] || fail "refused converge wrote no table"
+
+# Flexible scenes: the schemes' default model is LTE; a coupled request is refused before any
+# reference is computed.
+out=$("$flexref" run scenes/spin_up_beam.toml --dt 0.01 -o "$tmp/sub_run.csv" 2>&1) ||
+  fail "run spin_up_beam with the default model: $out"
+grep -q '^model = "lte"' "$tmp/sub_run.csv.meta.toml" || fail "run's default model is not lte"
+out=$("$flexref" converge scenes/spin_up_beam.toml --model coupled --out "$tmp/sub_conv" 2>&1)
+code=$?
+[[ $code -eq 1 && $out == *"LTE"* && $out != *"reference ("* ]] ||
+  fail "converge --model coupled on a flexible scene: exit $code: $out"
+
+# An interrupted study never leaves new files beside old ones: the folder holds the previous
+# study or the complete new one. (Interrupted at several moments: during the reference, the
+# runs, the plot.)
+sed 's/^end_time = .*/end_time = 4.0/' scenes/book_toss.toml >"$tmp/short.toml"
+"$flexref" converge "$tmp/short.toml" --schemes c1 --levels 3 --out "$tmp/intr" >/dev/null 2>&1 ||
+  fail "converge for the interrupt test"
+old_sum=$(cd "$tmp/intr" && md5sum -- * | sort)
+for delay in 0.2 0.6 1.2; do
+  "$flexref" converge "$tmp/short.toml" --schemes c1,c2,nmb --levels 4 --out "$tmp/intr" \
+    >/dev/null 2>&1 &
+  pid=$!
+  sleep "$delay"
+  kill -TERM "$pid" 2>/dev/null
+  wait "$pid"
+  new_sum=$(cd "$tmp/intr" && md5sum -- * | sort)
+  if [[ $new_sum != "$old_sum" ]]; then
+    # Complete new study: its table lists every scheme it was asked for.
+    grep -q '^nmb,' "$tmp/intr/convergence.csv" && grep -q 'c1.*c2.*nmb' "$tmp/intr/study.toml" ||
+      fail "interrupted converge (after $delay s) left a mix of files: $(ls "$tmp/intr")"
+    old_sum=$new_sum
+  fi
+done
+
+# Progress: a line on standard error, also without a terminal (FLEXREF_PROGRESS=delay,interval
+# shortens the 2 s / 5 s defaults for this test).
+FLEXREF_PROGRESS=0,0.05 "$flexref" run scenes/free_spin.toml --dt 1e-4 -o "$tmp/p.csv" \
+  >/dev/null 2>"$tmp/progress.txt" || fail "run for the progress line failed"
+grep -q '^run: c2: [0-9]*/1000000 steps, [0-9]* s' "$tmp/progress.txt" ||
+  fail "no progress line: $(head -c 300 "$tmp/progress.txt")"
+grep -q $'\r' "$tmp/progress.txt" && fail "progress redraws (\\r) into a file"
 
 if ((failures)); then
   echo "$failures CLI checks failed"

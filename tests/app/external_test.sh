@@ -44,14 +44,15 @@ else
   fail "--runs and --external differ on the same files"
 fi
 
-# A program that fails: the level is 'failed' with its exit status and output; exit 0 study.
+# A program that fails: the level is 'failed' with its exit status and output (the study then
+# has no valid level and refuses an order: exit 4).
 out=$("$flexref" converge "$tmp/fs10.toml" \
   --external "/usr/bin/python3 -c 'import sys; sys.exit(\"diverged at \" + sys.argv[1])' {dt} {output}" \
-  --dt 0.02 --levels 2 --out "$tmp/bad" 2>&1)
+  --dt 0.02 --levels 3 --out "$tmp/bad" 2>&1)
 [[ $out == *"exited with status 1"*"diverged at 0.02"* ]] && ok ||
   fail "a failing program is not reported with status and output: $out"
 out=$("$flexref" converge "$tmp/fs10.toml" --external "sleep 10; : {dt} {output}" --timeout 0.3 \
-  --dt 0.02 --levels 2 --out "$tmp/slow" 2>&1)
+  --dt 0.02 --levels 3 --out "$tmp/slow" 2>&1)
 [[ $out == *"timed out after 0.3 s"* ]] && ok || fail "timeout not reported: $out"
 out=$("$flexref" converge "$tmp/fs10.toml" --external "true {scene}" --out "$tmp/x" 2>&1)
 [[ $? -ne 0 && $out == *"must contain {dt} and {output}"* ]] && ok || fail "bad template accepted: $out"

@@ -1,5 +1,6 @@
 #include "lie/run_scheme.hpp"
 
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -7,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/output_times.hpp"
 #include "lie/scheme_support.hpp"
 #include "tests/support/test_problems.hpp"
@@ -89,6 +91,54 @@ TEST_CASE("a step starts on a discontinuity within 1e-9 of the step", "[lie][run
   CHECK_FALSE(detail::starts_on_discontinuity(switches, 0.09, 0.01));
   CHECK_FALSE(detail::starts_on_discontinuity(switches, 0.26, 0.01));
   CHECK_FALSE(detail::starts_on_discontinuity({}, 0.1, 0.01));
+}
+
+}  // namespace
+}  // namespace flexref::lie
+
+namespace flexref::lie {
+namespace {
+
+TEST_CASE("validate_step_grid refuses a step double precision cannot resolve",
+          "[lie][run_scheme]") {
+  const core::Model model = testing::free_spin();
+  const std::vector<double> grid = core::output_times(10.0, 0.1);
+  // At t = 10 s times are rounded to ε·10 = 2.2e-15 s; a step must span 1e6 of them:
+  // 2.2e-9 s (core::smallest_resolved_step). 1e-19 s used to overflow the step count (a
+  // segfault in `flexref run --dt 1e-19`), 1e-12 s to start 1e13 silent steps.
+  for (const double dt : {1e-300, 1e-19, 1e-12, 2e-9}) {
+    INFO("dt = " << dt);
+    const std::string message = invalid_argument_message(model, dt, grid);
+    CHECK(message.find("below what double precision resolves at t = 10") != std::string::npos);
+  }
+  // Just above the bound the grid is accepted and the step count returned (10 / 2.5e-9).
+  CHECK(validate_step_grid(model, 2.5e-9, grid) == 4'000'000'000L);
+  CHECK(validate_step_grid(model, 0.01, grid) == 1000);
+}
+
+TEST_CASE("run_scheme stops with a SolverError when the energy is not finite",
+          "[lie][run_scheme]") {
+  // W = 1e160 rad/s: every state component is finite but ½ Wᵀ J W = 2e320 J overflows. The
+  // driver must refuse at t0 instead of returning a trajectory whose table holds inf.
+  std::vector<core::Body> bodies;
+  bodies.emplace_back(testing::rigid_body("spinner", 1.0, {3.0, 4.0, 5.0}, {1e160, 0.0, 0.0}));
+  const core::Model model(std::move(bodies), testing::Elements{});
+  const auto stepper = make_stepper("c2", model);
+  try {
+    run_scheme(model, *stepper, 1e-3, {0.0, 1e-2});
+    FAIL("no exception");
+  } catch (const core::SolverError& e) {
+    CHECK(e.time() == 0.0);
+    CHECK(std::string(e.what()).find("energy is not finite") != std::string::npos);
+  }
+}
+
+TEST_CASE("run_scheme reports its step count for a progress line", "[lie][run_scheme]") {
+  const core::Model model = testing::free_spin();
+  const auto stepper = make_stepper("c1", model);
+  std::atomic<long> steps{0};
+  run_scheme(model, *stepper, 0.01, core::output_times(1.0, 0.1), &steps);
+  CHECK(steps.load() == 100);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 
 namespace flexref::studies {
 namespace {
@@ -44,6 +45,16 @@ TEST_CASE("stability sweep: unknown parameter and bad values are refused", "[stu
   double omega = 0.0;
   CHECK_THROWS_AS(make_linear_sweep_model("spin_rate", 1.0, omega), std::invalid_argument);
   CHECK_THROWS_AS(make_linear_sweep_model("contact_stiffness", -1.0, omega), std::invalid_argument);
+}
+
+TEST_CASE("linear_sweep_csv keeps the classification in one unquoted cell",
+          "[studies][stability]") {
+  LinearSweepPoint p;
+  p.scheme = "c1";
+  p.classification = "amplitude growth, x10";
+  const std::string csv = linear_sweep_csv("modal_frequency", {p});
+  CHECK(csv.find('"') == std::string::npos);
+  CHECK(csv.find(",amplitude growth; x10\n") != std::string::npos);
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 #include "studies/stability.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <sstream>
+#include <string>
 #include <vector>
 
 namespace flexref::studies {
@@ -113,6 +116,35 @@ TEST_CASE("parallel and serial sweeps give identical numbers", "[stability]") {
   CHECK(stability_csv(serial) == stability_csv(parallel));
   CHECK(long_run_csv(serial) == long_run_csv(parallel));
   CHECK(serial.long_run.size() == 20);
+}
+
+/// Every line of a CSV has as many commas as its header (numpy.genfromtxt ignores quotes).
+void require_plain_csv(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  const auto commas = std::count(line.begin(), line.end(), ',');
+  while (std::getline(in, line)) {
+    INFO(line);
+    CHECK(std::count(line.begin(), line.end(), ',') == commas);
+    CHECK(line.find('"') == std::string::npos);
+  }
+}
+
+TEST_CASE("stability CSVs keep free text in one unquoted cell", "[studies][stability]") {
+  StabilityResult result;
+  StabilityPoint p;
+  p.scheme = "c2";
+  p.parameter = "rod, slender";
+  p.classification = "energy growth, |dE|/E0 = 0.6";
+  result.sweep.push_back(p);
+  LongRunSample sample;
+  sample.scheme = "nmb";
+  sample.status = "failed: at t = 1, step 3";
+  result.long_run.push_back(sample);
+  require_plain_csv(stability_csv(result));
+  require_plain_csv(long_run_csv(result));
+  CHECK(stability_csv(result).find("energy growth; |dE|/E0 = 0.6") != std::string::npos);
 }
 
 }  // namespace

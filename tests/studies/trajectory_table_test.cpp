@@ -6,9 +6,11 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/gravity.hpp"
+#include "scene/scene_reader.hpp"
 #include "studies/error_metrics.hpp"
 
 namespace flexref::studies {
@@ -108,6 +110,56 @@ TEST_CASE("read_csv reports file, line and column of bad data", "[studies]") {
     CHECK(std::string(e.what()).find(path) != std::string::npos);
   }
   std::filesystem::remove(path);
+}
+
+TEST_CASE("tabulate refuses a trajectory without one state per output time", "[studies]") {
+  // A driver that stopped early (an overflowed step count) used to be read past its end.
+  const core::Model model = pendulum_like_model();
+  core::Trajectory trajectory;
+  trajectory.times = {0.0, 0.1, 0.2};
+  trajectory.states = {model.initial_state()};
+  CHECK_THROWS_AS(tabulate(model, trajectory), std::invalid_argument);
+}
+
+TEST_CASE("csv_text keeps a free-text field in one unquoted CSV cell", "[studies]") {
+  // numpy.genfromtxt splits on every comma, quoted or not: no comma, quote or line break may
+  // reach a cell.
+  CHECK(csv_text("failed: c2 failed at t = 1, step 3: \"no\"\nconvergence") ==
+        "failed: c2 failed at t = 1; step 3: 'no' convergence");
+  CHECK(csv_text("ok") == "ok");
+}
+
+TEST_CASE("trajectory_units gives one unit per column", "[studies]") {
+  const core::Model model = pendulum_like_model();
+  const std::vector<std::string> names = trajectory_columns(model);
+  const std::vector<std::string> units = trajectory_units(model);
+  REQUIRE(units.size() == names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    INFO(names[i]);
+    const std::string& n = names[i];
+    if (n == "t") CHECK(units[i] == "s");
+    if (n.ends_with(".e0") || n.ends_with(".e3")) CHECK(units[i] == "-");
+    if (n.ends_with(".vx")) CHECK(units[i] == "m/s");
+    if (n.ends_with(".W2")) CHECK(units[i] == "rad/s");
+    if (n.ends_with(".tip.z") || n == "rod.x") CHECK(units[i] == "m");
+    if (n == "energy") CHECK(units[i] == "J");
+  }
+}
+
+TEST_CASE("trajectory_units covers work and wear columns", "[studies]") {
+  // tube_support_impact: a dissipating model with applied work and a named contact, whose
+  // columns end with energy, dissipated/applied work, balance and four wear outputs.
+  const scene::Scene scene = scene::read_scene("scenes/tube_support_impact.toml");
+  const std::vector<std::string> names = trajectory_columns(*scene.model);
+  const std::vector<std::string> units = trajectory_units(*scene.model);
+  REQUIRE(units.size() == names.size());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    INFO(names[i]);
+    if (names[i].ends_with("_work") || names[i] == "energy_balance") CHECK(units[i] == "J");
+    if (names[i].ends_with(".fn")) CHECK(units[i] == "N");
+    if (names[i].ends_with(".slip_speed")) CHECK(units[i] == "m/s");
+    if (names[i].ends_with(".impacts")) CHECK(units[i] == "-");
+  }
 }
 
 }  // namespace

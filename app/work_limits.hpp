@@ -1,0 +1,16 @@
+#pragma once
+/// \file work_limits.hpp
+/// The command line's work limits (issue 17).
+
+namespace flexref::app {
+
+/// Work limits (docs/decisions.md, "Command line"): one scheme run of more steps, or a
+/// trajectory of more output rows, is refused before any work unless the limit is raised
+/// explicitly (--max-steps, --max-rows). 1e7 steps is ~10 s to minutes of CPU for the bundled
+/// scenes; 1e6 rows of ~30 columns is ~0.5 GB of CSV.
+struct WorkLimits {
+  double max_steps = 1e7;
+  double max_rows = 1e6;
+};
+
+}  // namespace flexref::app

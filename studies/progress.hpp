@@ -1,0 +1,74 @@
+#pragma once
+/// \file progress.hpp
+/// The progress line of long work on standard error (issue 17), one mechanism for every
+/// command and study: nothing while the work is shorter than `delay` (2 s); then, on a
+/// terminal, one line redrawn in place ("\r") every `redraw` (0.5 s), and without a terminal (a
+/// log file, CI) a new line every `interval` (5 s), so that a log shows the work advancing
+/// without filling up. Workers count with an atomic increment (no lock, no output from worker
+/// threads); a background thread prints.
+///
+/// The environment variable FLEXREF_PROGRESS overrides the defaults: "off" prints nothing,
+/// "D,I" waits D seconds and then prints every I seconds (terminal or not), e.g. "0,1" in a
+/// CI log that should show every second.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <mutex>
+#include <string>
+#include <thread>
+
+namespace flexref::studies {
+
+struct ProgressSettings {
+  std::chrono::duration<double> delay{2.0};     ///< print nothing for work shorter than this
+  std::chrono::duration<double> redraw{0.5};    ///< terminal: redraw period
+  std::chrono::duration<double> interval{5.0};  ///< not a terminal: one line per interval
+  std::FILE* stream = stderr;
+  /// -1: ask isatty() of the stream; 0: lines; 1: a redrawn line.
+  int terminal = -1;
+  bool from_environment = true;  ///< apply FLEXREF_PROGRESS (see above)
+};
+
+class Progress {
+ public:
+  /// `label` starts the line ("converge: 12/36 runs, 7 s"); `total` the count of `unit`s to do
+  /// (0: unknown — the line then shows the elapsed time only, as for a reference solve).
+  /// Disabled (enabled = false) it prints nothing and starts no thread.
+  Progress(std::string label, long total, std::string unit, bool enabled = true,
+           ProgressSettings settings = {});
+  /// Stops the printer; when a line was printed, finishes it with the final count and "done"
+  /// (or "stopped" when an exception unwinds the work).
+  ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  /// One more unit done (any thread).
+  void advance() noexcept { done_.fetch_add(1, std::memory_order_relaxed); }
+  /// The counter itself, for a loop that stores its own count (lie::run_scheme's steps).
+  std::atomic<long>& counter() noexcept { return done_; }
+  /// The count to do, when it is known only once the work runs (a distributed study).
+  void set_total(long total) noexcept { total_.store(total, std::memory_order_relaxed); }
+  /// Stops the printer now; when a line was printed, finishes it (the destructor does this too).
+  void finish();
+
+ private:
+  void run();
+  void print(bool final_line);
+
+  std::string label_;
+  std::atomic<long> total_;
+  std::string unit_;
+  ProgressSettings settings_;
+  bool terminal_ = false;
+  bool printed_ = false;
+  int uncaught_ = 0;  ///< std::uncaught_exceptions() at construction
+  std::atomic<long> done_{0};
+  std::chrono::steady_clock::time_point start_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread printer_;
+};
+
+}  // namespace flexref::studies
