@@ -124,6 +124,9 @@ struct ConvergeOptions {
   std::string label;              ///< --label of the external method
   int claimed_order = 0;          ///< --order: the external method's claimed order
   double timeout = 3600.0;        ///< --timeout per external run [s], 0: none
+  /// auto | double | extended | quad (docs/precision.md): auto repeats the study with a quad
+  /// reference when the double one cannot certify every level and the scene allows it.
+  std::string reference_precision = "auto";
 };
 int converge_command(const ConvergeOptions& options);
 

@@ -173,6 +173,12 @@ int run_command_line(int argc, char** argv) {
                    "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
+  conv_cmd
+      ->add_option("--reference-precision", conv.reference_precision,
+                   "auto (double; quad when double cannot certify every level and the scene "
+                   "allows it) | double | extended | quad (docs/precision.md)")
+      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
+      ->capture_default_str();
   add_limits(conv_cmd, conv.limits, true);
   auto* conv_external =
       conv_cmd->add_option("--external", conv.external,
