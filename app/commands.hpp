@@ -85,12 +85,16 @@ struct ReferenceOptions {
   std::string method =
       "auto";  ///< cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
   double rtol = 1e-10;
+  bool rtol_given = false;  ///< else extended and quad use precision::default_rtol
   double atol = -1.0;
   bool estimate = true;
   std::string output;
   WorkLimits limits;
+  std::string precision = "double";  ///< double | extended | quad (docs/precision.md)
 };
 int reference_command(const ReferenceOptions& options);
+/// `reference --precision extended|quad` (app/high_precision_command.cpp).
+int high_precision_reference_command(const ReferenceOptions& options);
 
 struct CompareOptions {
   std::string run;
@@ -120,6 +124,9 @@ struct ConvergeOptions {
   std::string label;              ///< --label of the external method
   int claimed_order = 0;          ///< --order: the external method's claimed order
   double timeout = 3600.0;        ///< --timeout per external run [s], 0: none
+  /// auto | double | extended | quad (docs/precision.md): auto repeats the study with a quad
+  /// reference when the double one cannot certify every level and the scene allows it.
+  std::string reference_precision = "auto";
 };
 int converge_command(const ConvergeOptions& options);
 

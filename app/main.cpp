@@ -97,8 +97,10 @@ int run_command_line(int argc, char** argv) {
                    "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk")
       ->check(CLI::IsMember({"auto", "adams", "bdf", "bdf2", "erk", "esdirk"}))
       ->capture_default_str();
-  ref_cmd->add_option("--rtol", ref.rtol, "relative tolerance")
-      ->check(number_in(1e-15, 1e-1))
+  ref_cmd
+      ->add_option("--rtol", ref.rtol,
+                   "relative tolerance (double >= 1e-15; default for extended 1e-16, quad 1e-28)")
+      ->check(number_in(1e-32, 1e-1))
       ->capture_default_str();
   ref_cmd->add_option("--atol", ref.atol, "absolute tolerance (default: = rtol)")
       ->check(number_in(1e-16, 1.0));
@@ -107,6 +109,13 @@ int run_command_line(int argc, char** argv) {
   ref_cmd->add_option("-o,--output", ref.output, "CSV file to write")->required();
   ref_cmd->add_option("--model", ref.model, "flexible bodies' equations: coupled | lte")
       ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
+  ref_cmd
+      ->add_option("--precision", ref.precision,
+                   "double | extended (80-bit long double) | quad (binary128): the arithmetic of "
+                   "the reference (docs/precision.md; extended and quad: rigid scenes without "
+                   "contact)")
+      ->check(CLI::IsMember({"double", "extended", "quad"}))
       ->capture_default_str();
   add_limits(ref_cmd, ref.limits, false);
 
@@ -163,6 +172,12 @@ int run_command_line(int argc, char** argv) {
       ->add_option("--model", conv.model,
                    "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
       ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
+  conv_cmd
+      ->add_option("--reference-precision", conv.reference_precision,
+                   "auto (double; quad when double cannot certify every level and the scene "
+                   "allows it) | double | extended | quad (docs/precision.md)")
+      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
       ->capture_default_str();
   add_limits(conv_cmd, conv.limits, true);
   auto* conv_external =
@@ -430,7 +445,10 @@ int run_command_line(int argc, char** argv) {
   try {
     if (*check_cmd) return check_command(check);
     if (*run_cmd) return run_command(run);
-    if (*ref_cmd) return reference_command(ref);
+    if (*ref_cmd) {
+      ref.rtol_given = ref_cmd->count("--rtol") > 0;
+      return reference_command(ref);
+    }
     if (*cmp_cmd) return compare_command(cmp);
     if (*conv_cmd) {
       conv.schemes_given = conv_cmd->count("--schemes") > 0;

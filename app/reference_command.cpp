@@ -42,6 +42,12 @@ void set_method(const std::string& solver, const std::string& method,
 }  // namespace
 
 int reference_command(const ReferenceOptions& options) {
+  if (options.precision != "double") return high_precision_reference_command(options);
+  if (options.rtol < 1e-15) {
+    throw std::invalid_argument("--rtol " + std::to_string(options.rtol) +
+                                ": double precision takes rtol >= 1e-15 (--precision extended or "
+                                "quad for tighter references)");
+  }
   const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
   const core::Model& model = *scene.model;
   const std::vector<double> times =

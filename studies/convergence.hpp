@@ -10,6 +10,7 @@
 /// (which also stops the refinement). No order is fitted from fewer than three valid levels
 /// (two points always lie on a line: their "order" verifies nothing).
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,10 @@ struct ConvergenceOptions {
   int jobs = 1;
   bool progress = false;                 ///< progress line on stderr
   std::vector<ExternalMethod> external;  ///< studied after the schemes
+  /// A reference computed by the caller (e.g. in extended or quad precision,
+  /// precision/high_precision_reference.hpp) instead of reference_solver's; its estimate must
+  /// be in `metric`.
+  std::shared_ptr<const CertifiedReference> given_reference;
 };
 
 struct ConvergenceLevel {

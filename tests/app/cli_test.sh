@@ -379,6 +379,26 @@ grep -q '^run: c2: [0-9]*/1000000 steps, [0-9]* s' "$tmp/progress.txt" ||
   fail "no progress line: $(head -c 300 "$tmp/progress.txt")"
 grep -q $'\r' "$tmp/progress.txt" && fail "progress redraws (\\r) into a file"
 
+# References beyond double precision (docs/precision.md): 36 significant digits, the precision
+# in the metadata, a refusal naming what the quad model lacks, and converge's automatic switch
+# to a quad reference when the double one cannot certify its finest levels.
+sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/free_spin.toml >"$tmp/fs2.toml"
+"$flexref" reference "$tmp/fs2.toml" --precision quad -o "$tmp/q.csv" >/dev/null ||
+  fail "reference --precision quad failed"
+awk -F, 'NR == 3 { split($5, m, "e"); gsub(/[-.]/, "", m[1]); exit !(length(m[1]) >= 33) }' \
+  "$tmp/q.csv" || fail "quad CSV values lack their digits: $(sed -n 3p "$tmp/q.csv" | cut -c1-120)"
+grep -q '^precision = "quad"' "$tmp/q.csv.meta.toml" || fail "no precision in the quad metadata"
+out=$("$flexref" reference scenes/bouncing_ball.toml --precision quad -o "$tmp/bq.csv" 2>&1)
+[[ $? == 1 && $out == *"contact[1]: a contact is not in the extended/quad model"* ]] ||
+  fail "quad reference of a contact scene not refused clearly: $out"
+[[ -e $tmp/bq.csv ]] && fail "a refused quad reference wrote its CSV"
+out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 2 \
+  --out "$tmp/cauto" 2>/dev/null) || fail "converge with the automatic quad reference failed"
+[[ $out == *"repeated with a quad-precision reference"* ]] &&
+  grep -q '^reference_precision = "quad"' "$tmp/cauto/study.toml" ||
+  fail "converge did not switch to a quad reference: $out"
+[[ $out == *uncertified* ]] && fail "a level is still uncertified with the quad reference: $out"
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1

@@ -1,0 +1,85 @@
+/// \file high_precision_command.cpp
+/// `flexref reference SCENE --precision extended|quad` (docs/precision.md).
+#include <iostream>
+#include <stdexcept>
+
+#include "app/commands.hpp"
+#include "io/atomic_file.hpp"
+#include "precision/high_precision_reference.hpp"
+#include "studies/progress.hpp"
+#include "studies/study_record.hpp"
+
+namespace flexref::app {
+
+int high_precision_reference_command(const ReferenceOptions& options) {
+  const precision::Precision p = precision::parse_precision(options.precision);
+  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  precision::check_supported(scene.spec);
+  if (options.solver != "auto" && options.solver != "odeint") {
+    throw std::invalid_argument("--solver " + options.solver + ": " + options.precision +
+                                " precision references are Odeint's (Bulirsch-Stoer); omit "
+                                "--solver or give odeint");
+  }
+  if (options.method != "auto") {
+    throw std::invalid_argument("--method: " + options.precision +
+                                " precision references take no --method");
+  }
+  if (options.atol >= 0.0 && options.atol != options.rtol) {
+    throw std::invalid_argument("--atol: " + options.precision +
+                                " precision references use atol = rtol");
+  }
+  const double rtol = options.rtol_given ? options.rtol : precision::default_rtol(p);
+  const std::vector<double> times =
+      limited_output_times(scene.end_time, scene.output_step, options.limits);
+  check_output_files({options.output, options.output + ".meta.toml"});
+
+  precision::HighPrecisionRun run;
+  studies::CertifiedReference ref;
+  {
+    const studies::Progress progress(
+        std::string("reference: odeint in ") + precision::to_string(p) + " precision" +
+            (options.estimate ? " and its error estimate (2 solves)" : ""),
+        0, "");
+    if (options.estimate) {
+      ref = precision::certified_high_precision_reference(scene.spec, times, p, rtol,
+                                                          "rotation+points", &run);
+    } else {
+      run = precision::solve_high_precision(scene.spec, times, p, rtol);
+    }
+  }
+  io::write_file_atomically(options.output, precision::high_precision_csv(run));
+
+  studies::StudyRecord record = scene_record(options.scene, scene);
+  record.table("integrator")
+      .set("kind", "reference")
+      .set("solver", "odeint")
+      .set("method", run.method)
+      .set("precision", precision::to_string(p))
+      .set("significant_digits", precision::significant_digits(p))
+      .set("rtol", rtol)
+      .set("atol", rtol)
+      .set("steps", run.steps)
+      .set("rhs_evaluations", run.evaluations)
+      .set("cpu_seconds", run.cpu_seconds);
+  if (options.estimate) {
+    const auto& e = ref.estimate;
+    record.table("error_estimate")
+        .set("metric", e.metric)
+        .set("estimate", e.estimate())
+        .set("method", e.method);
+    studies::add_estimate_checks(record, "error_estimate.check", e);
+  }
+  record.table("columns").set("names", run.columns);
+  studies::add_versions(record);
+  record.write(options.output + ".meta.toml");
+
+  std::cout << "reference " << scene.name << " with odeint (" << run.method << ", rtol " << rtol
+            << "): " << run.steps << " steps, " << run.evaluations << " evaluations, "
+            << run.cpu_seconds << " s; wrote " << options.output << "\n";
+  if (options.estimate) {
+    std::cout << "estimated error " << studies::describe_estimate(ref.estimate) << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace flexref::app

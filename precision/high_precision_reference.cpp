@@ -1,0 +1,343 @@
+#include "precision/high_precision_reference.hpp"
+
+#include <algorithm>
+#include <boost/multiprecision/float128.hpp>
+#include <boost/numeric/odeint/integrate/integrate_times.hpp>
+#include <boost/numeric/odeint/stepper/bulirsch_stoer.hpp>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "precision/rigid_model_tpl.hpp"
+
+// Boost 1.74's odeint cannot deduce the value type of a multiprecision number for its
+// controlled steppers; this is the specialisation its documentation gives for such types.
+namespace boost::numeric::odeint::detail {
+template <>
+struct extract_value_type<boost::multiprecision::float128, void> {
+  typedef boost::multiprecision::float128 type;
+};
+}  // namespace boost::numeric::odeint::detail
+
+namespace flexref::precision {
+namespace {
+
+using Quad = boost::multiprecision::float128;
+
+template <typename S>
+std::string print(const S& x, int digits) {
+  std::ostringstream out;
+  out << std::setprecision(digits) << x;
+  return out.str();
+}
+
+template <typename S>
+S parse(const std::string& text) {
+  if constexpr (std::is_same_v<S, long double>) {
+    return std::strtold(text.c_str(), nullptr);
+  } else if constexpr (std::is_same_v<S, double>) {
+    return std::strtod(text.c_str(), nullptr);
+  } else {
+    return S(text);
+  }
+}
+
+template <typename S>
+bool finite(const S& x) {
+  using boost::multiprecision::isfinite;
+  using std::isfinite;
+  return static_cast<bool>(isfinite(x));
+}
+
+std::vector<std::string> column_names(const scene::SceneSpec& spec) {
+  std::vector<std::string> names{"t"};
+  for (const scene::BodySpec& b : spec.bodies) {
+    const std::string& n = b.description.name;
+    for (const char* c :
+         {".x", ".y", ".z", ".e0", ".e1", ".e2", ".e3", ".vx", ".vy", ".vz", ".W1", ".W2", ".W3"}) {
+      names.push_back(n + c);
+    }
+    for (const core::TrackedPoint& p : b.description.points) {
+      for (const char* c : {".x", ".y", ".z"}) names.push_back(n + "." + p.name + c);
+    }
+  }
+  names.emplace_back("energy");
+  return names;
+}
+
+template <typename S>
+HighPrecisionRun integrate(const scene::SceneSpec& spec, const std::vector<double>& output_times,
+                           Precision precision, double rtol, const char* type_name) {
+  namespace odeint = boost::numeric::odeint;
+  using State = std::vector<S>;
+  const RigidModelTpl<S> model(spec);
+  HighPrecisionRun run;
+  run.precision = precision;
+  run.rtol = rtol;
+  run.method = std::string("bulirsch-stoer (odeint), ") + type_name;
+  run.columns = column_names(spec);
+  run.table.columns = run.columns;
+  const int digits = significant_digits(precision);
+  const auto start = std::chrono::steady_clock::now();
+
+  State y = model.initial_state();
+  const auto record = [&](double t, const State& x) {
+    const std::vector<S> row = model.output_row(x);
+    std::vector<std::string> text;
+    std::vector<double> values{t};
+    for (const S& v : row) {
+      if (!finite(v)) {
+        throw core::SolverError(
+            "odeint-" + std::string(to_string(precision)), t, -1,
+            "a non-finite value in the " + std::string(to_string(precision)) + "-precision state");
+      }
+      text.push_back(print(v, digits));
+      values.push_back(static_cast<double>(v));
+    }
+    run.text.push_back(std::move(text));
+    run.table.rows.push_back(std::move(values));
+  };
+  record(output_times.front(), y);
+
+  // Segments between load switches: no step straddles one, and the branch of every
+  // evaluation inside a segment is that segment's (t_segment = its midpoint).
+  std::vector<double> bounds{output_times.front()};
+  for (double d : model.discontinuities()) {
+    if (d > output_times.front() && d < output_times.back()) bounds.push_back(d);
+  }
+  bounds.push_back(output_times.back());
+  std::size_t next_output = 1;
+  const S tol(rtol);
+  const double first_step = output_times.size() > 1 ? output_times[1] - output_times[0]
+                                                    : output_times.back() - output_times.front();
+  for (std::size_t s = 0; s + 1 < bounds.size(); ++s) {
+    const double a = bounds[s];
+    const double b = bounds[s + 1];
+    if (!(b > a)) continue;
+    std::vector<S> times{S(a)};
+    std::vector<bool> is_output{false};
+    while (next_output < output_times.size() && output_times[next_output] < b) {
+      times.emplace_back(output_times[next_output]);
+      is_output.push_back(true);
+      ++next_output;
+    }
+    const bool b_is_output = next_output < output_times.size() && output_times[next_output] == b;
+    times.emplace_back(b);
+    is_output.push_back(b_is_output);
+    if (b_is_output) ++next_output;
+    const double t_segment = 0.5 * (a + b);
+    odeint::bulirsch_stoer<State, S> stepper(tol, tol);
+    std::size_t k = 0;
+    const auto system = [&](const State& x, State& dxdt, const S t) {
+      ++run.evaluations;
+      model.derivative(x, dxdt, t, t_segment);
+    };
+    const auto observer = [&](const State& x, const S& /*t*/) {
+      if (is_output[k]) record(static_cast<double>(times[k]), x);
+      ++k;
+    };
+    try {
+      run.steps +=
+          static_cast<long>(odeint::integrate_times(stepper, system, y, times.begin(), times.end(),
+                                                    S(std::min(first_step, b - a)), observer));
+    } catch (const odeint::step_adjustment_error& e) {
+      throw core::SolverError(
+          "odeint-" + std::string(to_string(precision)), a, run.steps,
+          std::string("Bulirsch-Stoer cannot reach rtol ") + print(rtol, 3) + ": " + e.what());
+    }
+  }
+  run.cpu_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return run;
+}
+
+/// Bodies and tracked points of a run's columns: Euler-parameter columns and point triples.
+struct Layout {
+  std::vector<std::size_t> rotations;  ///< column of B.e0 (index into text rows, t excluded)
+  std::vector<std::size_t> points;     ///< column of B.P.x
+};
+
+Layout layout(const std::vector<std::string>& columns) {
+  Layout l;
+  for (std::size_t c = 1; c < columns.size(); ++c) {
+    const std::string& n = columns[c];
+    if (n.ends_with(".e0")) l.rotations.push_back(c - 1);
+    const auto dots = std::count(n.begin(), n.end(), '.');
+    if (dots == 2 && n.ends_with(".x")) l.points.push_back(c - 1);
+  }
+  return l;
+}
+
+template <typename S>
+double distance_in(const HighPrecisionRun& a, const HighPrecisionRun& b,
+                   const std::string& metric) {
+  using std::sqrt;
+  const Layout l = layout(a.columns);
+  S rotation(0), point(0);
+  for (std::size_t r = 0; r < a.text.size(); ++r) {
+    const auto& x = a.text[r];
+    const auto& y = b.text[r];
+    for (std::size_t c : l.rotations) {
+      const Quat<S> qa{parse<S>(x[c]), parse<S>(x[c + 1]), parse<S>(x[c + 2]), parse<S>(x[c + 3])};
+      const Quat<S> qb{parse<S>(y[c]), parse<S>(y[c + 1]), parse<S>(y[c + 2]), parse<S>(y[c + 3])};
+      rotation = std::max(rotation, geodesic_angle(qa, qb));
+    }
+    for (std::size_t c : l.points) {
+      S d2(0);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const S d = parse<S>(x[c + k]) - parse<S>(y[c + k]);
+        d2 += d * d;
+      }
+      point = std::max(point, S(sqrt(d2)));
+    }
+  }
+  if (metric == "rotation") return static_cast<double>(rotation);
+  if (metric == "points") return static_cast<double>(point);
+  return static_cast<double>(rotation + point);
+}
+
+}  // namespace
+
+double default_rtol(Precision precision) {
+  switch (precision) {
+    case Precision::kDouble:
+      return 1e-12;
+    case Precision::kExtended:
+      return 1e-16;
+    case Precision::kQuad:
+      return 1e-28;
+  }
+  return 1e-12;
+}
+
+double smallest_rtol(Precision precision) {
+  switch (precision) {
+    case Precision::kDouble:
+      return 1e-13;
+    case Precision::kExtended:
+      return 1e-18;
+    case Precision::kQuad:
+      return 1e-30;
+  }
+  return 1e-13;
+}
+
+void check_supported(const scene::SceneSpec& spec) { (void)RigidModelTpl<double>(spec); }
+
+HighPrecisionRun solve_high_precision(const scene::SceneSpec& spec,
+                                      const std::vector<double>& output_times, Precision precision,
+                                      double rtol) {
+  if (output_times.empty()) throw std::invalid_argument("solve_high_precision: no output times");
+  if (!(rtol >= smallest_rtol(precision)) || !(rtol < 1.0)) {
+    std::ostringstream out;
+    out << "--rtol " << rtol << ": " << to_string(precision) << " precision takes rtol in ["
+        << smallest_rtol(precision) << ", 1)";
+    throw std::invalid_argument(out.str());
+  }
+  switch (precision) {
+    case Precision::kDouble:
+      return integrate<double>(spec, output_times, precision, rtol, "double");
+    case Precision::kExtended:
+      return integrate<long double>(spec, output_times, precision, rtol,
+                                    "long double (x87 80-bit)");
+    case Precision::kQuad:
+      return integrate<Quad>(spec, output_times, precision, rtol,
+                             "float128 (IEEE binary128, libquadmath)");
+  }
+  throw std::invalid_argument("solve_high_precision: unknown precision");
+}
+
+double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std::string& metric) {
+  if (a.columns != b.columns || a.text.size() != b.text.size()) {
+    throw std::invalid_argument("distance: runs of different scenes or output times");
+  }
+  if (metric != "rotation+points" && metric != "rotation" && metric != "points") {
+    throw std::invalid_argument("metric '" + metric +
+                                "' is not available for extended/quad references (rotation+points, "
+                                "rotation, points)");
+  }
+  const Precision p = std::max(a.precision, b.precision);
+  switch (p) {
+    case Precision::kDouble:
+      return distance_in<double>(a, b, metric);
+    case Precision::kExtended:
+      return distance_in<long double>(a, b, metric);
+    case Precision::kQuad:
+      return distance_in<Quad>(a, b, metric);
+  }
+  return distance_in<Quad>(a, b, metric);
+}
+
+studies::CertifiedReference certified_high_precision_reference(
+    const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
+    double rtol, const std::string& metric, HighPrecisionRun* run_out) {
+  HighPrecisionRun run = solve_high_precision(spec, output_times, precision, rtol);
+  const double tight_rtol = std::max(rtol / 100.0, smallest_rtol(precision));
+  studies::CertifiedReference result;
+  result.table = run.table;
+  result.run.solver = "odeint";
+  result.run.method = run.method;
+  result.run.method_reason = std::string(to_string(precision)) + " precision";
+  result.run.options.rtol = rtol;
+  result.run.options.atol = rtol;
+  result.run.stats.steps = run.steps;
+  result.run.stats.rhs_evaluations = run.evaluations;
+  result.run.stats.cpu_seconds = run.cpu_seconds;
+  result.run.trajectory.times = output_times;
+  studies::ReferenceEstimate& e = result.estimate;
+  e.metric = metric;
+  studies::EstimateCheck check;
+  check.role = "tighter";
+  check.solver = "odeint";
+  check.rtol = tight_rtol;
+  if (tight_rtol < rtol) {
+    const HighPrecisionRun tight = solve_high_precision(spec, output_times, precision, tight_rtol);
+    check.method = tight.method;
+    check.steps = tight.steps;
+    check.distance = distance(run, tight, metric);
+    // Extrapolation raises its order, not only its step count, for a tighter tolerance: a
+    // check with the run's steps but other evaluations is a different discretization.
+    check.used =
+        check.distance > 0.0 && (tight.steps != run.steps || tight.evaluations != run.evaluations);
+    if (!check.used) {
+      check.note =
+          check.distance > 0.0 ? "the run's own steps and evaluations" : "distance exactly 0";
+    }
+  } else {
+    check.note = "no tighter tolerance in this precision";
+  }
+  e.checks.push_back(check);
+  // The check shares the precision's round-off, which a tighter tolerance cannot expose: add a
+  // bound on it that assumes no cancellation, u per evaluation and output value, scaled by the
+  // solution's size (measured: extended on book_toss_step's first 2 s is 3.5e-16 from quad
+  // while 2 x its distance to the tighter run is 1.2e-16; the bound adds 7e-15 there).
+  const double roundoff = unit_roundoff(precision) * static_cast<double>(run.evaluations) *
+                          studies::solution_scale(run.table, metric);
+  e.value = check.used ? 2.0 * check.distance + roundoff : std::numeric_limits<double>::infinity();
+  std::ostringstream method;
+  method << "2 x the distance, computed in " << to_string(precision)
+         << " precision, to the same integrator at rtol " << std::setprecision(3) << tight_rtol
+         << " (a different step sequence, 100x tighter), + the round-off bound u x evaluations x "
+            "solution size = "
+         << roundoff;
+  e.method = check.used ? method.str() : "none: no usable check";
+  if (run_out != nullptr) *run_out = std::move(run);
+  return result;
+}
+
+std::string high_precision_csv(const HighPrecisionRun& run) {
+  std::ostringstream out;
+  for (std::size_t c = 0; c < run.columns.size(); ++c) out << (c ? "," : "") << run.columns[c];
+  out << '\n';
+  for (std::size_t r = 0; r < run.text.size(); ++r) {
+    out << print(run.table.rows[r][0], 17);
+    for (const std::string& v : run.text[r]) out << ',' << v;
+    out << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace flexref::precision

@@ -1,0 +1,63 @@
+#pragma once
+/// \file high_precision_reference.hpp
+/// References beyond double precision (docs/precision.md): the rigid-body model of
+/// precision/rigid_model_tpl.hpp integrated in extended or quad precision by Boost.Odeint's
+/// Bulirsch–Stoer extrapolation (controlled, stepping exactly onto every output time and load
+/// switch), with its error estimated in the same precision.
+#include <string>
+#include <vector>
+
+#include "precision/precision.hpp"
+#include "scene/scene_spec.hpp"
+#include "studies/certified_reference.hpp"
+#include "studies/trajectory_table.hpp"
+
+namespace flexref::precision {
+
+/// The default relative tolerance of a precision: 1e-12 (double), 1e-16 (extended), 1e-28
+/// (quad): a hundred times above the tightest the estimate's check can reach (rtol/100 must
+/// stay ≥ ~100 ε of the precision, where extrapolation still converges).
+double default_rtol(Precision precision);
+/// The smallest rtol accepted for a precision (1e-13, 1e-17, 1e-30); throws nothing.
+double smallest_rtol(Precision precision);
+
+struct HighPrecisionRun {
+  Precision precision = Precision::kQuad;
+  double rtol = 0.0;
+  std::string method;                ///< "bulirsch-stoer (odeint), long double" …
+  std::vector<std::string> columns;  ///< trajectory_columns order ("t" first)
+  /// Per output time: every value after `t`, printed with significant_digits(precision)
+  /// digits (they round-trip: distances are computed from them in the run's precision).
+  std::vector<std::vector<std::string>> text;
+  studies::TrajectoryTable table;  ///< the same values rounded to double
+  long steps = 0;
+  long evaluations = 0;
+  double cpu_seconds = 0.0;
+};
+
+/// Throws std::invalid_argument naming what the scene has that the extended/quad model does
+/// not carry (docs/precision.md); returns normally for a supported scene.
+void check_supported(const scene::SceneSpec& spec);
+
+/// Solves the scene at output_times in `precision` (kExtended or kQuad) with rtol (= atol).
+/// Throws std::invalid_argument for an unsupported scene or rtol, core::SolverError when the
+/// integration fails or leaves a non-finite value.
+HighPrecisionRun solve_high_precision(const scene::SceneSpec& spec,
+                                      const std::vector<double>& output_times, Precision precision,
+                                      double rtol);
+
+/// metric(a, b) computed in the runs' precision (both of the same precision and columns):
+/// "rotation+points" (L∞ geodesic angle + L∞ tracked-point distance, max over bodies and
+/// points), "rotation" or "points".
+double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std::string& metric);
+
+/// The run and its error estimate as a studies::CertifiedReference: 2 × the distance to a run
+/// of the same precision at rtol/100 (a different step sequence; the checks are recorded).
+studies::CertifiedReference certified_high_precision_reference(
+    const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
+    double rtol, const std::string& metric, HighPrecisionRun* run_out = nullptr);
+
+/// The CSV text of a run: header, then rows with `t` in 17 digits and the values as printed.
+std::string high_precision_csv(const HighPrecisionRun& run);
+
+}  // namespace flexref::precision

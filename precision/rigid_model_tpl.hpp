@@ -1,0 +1,134 @@
+#pragma once
+/// \file rigid_model_tpl.hpp
+/// The rigid-body model of docs/design/model.md written once for any scalar type S (double,
+/// long double, boost::multiprecision::float128): free and pivot bodies with Euler parameters,
+/// uniform gravity and the applied forces and torques of a scene with their time profiles.
+/// Internal to precision/: the templates are instantiated in rigid_model_tpl.cpp for the three
+/// precisions (compile time stays bounded; no other file sees float128).
+///
+/// State per body (13 values, docs/design/model.md "State"): p_WBr (3), θ_WB = (e0, e) (4),
+/// v_WBr (3), ω̄ = w_WB_B (3). Br is Bcm for a free body and the pivot for a pivot body.
+/// Equations (model.md eqs. (3)–(6) for a rigid body about Br):
+///   ṗ = v;  θ̇ = ½ θ ⊗ (0, ω̄);  m a_Bcm = F_W;  J_Br ω̄̇ + ω̄ × J_Br ω̄ = Γ_Br,B,
+/// with a pivot body's p and v fixed (v = 0) and J_Br its inertia about the pivot.
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "scene/scene_spec.hpp"
+
+namespace flexref::precision {
+
+template <typename S>
+using Vec3 = std::array<S, 3>;
+template <typename S>
+using Mat3 = std::array<std::array<S, 3>, 3>;
+template <typename S>
+using Quat = std::array<S, 4>;  ///< Euler parameters (e0, e1, e2, e3), scalar first
+
+/// Values per body in the state vector.
+inline constexpr int kBodyStateSize = 13;
+
+template <typename S>
+struct RigidBodyTpl {
+  std::string name;
+  bool pivot = false;
+  S mass = 0;
+  Vec3<S> p_BoBr_B{};  ///< Br from the frame origin
+  Vec3<S> c_B{};       ///< Bcm relative to Br (zero for a free body)
+  Mat3<S> J_Br_B{};    ///< inertia about Br, body frame
+  Mat3<S> J_Br_B_inv{};
+  std::vector<std::string> point_names;
+  std::vector<Vec3<S>> p_BrP_B;             ///< tracked points relative to Br
+  std::array<S, kBodyStateSize> initial{};  ///< the initial state (θ normalized in S)
+};
+
+template <typename S>
+struct AppliedLoadTpl {
+  bool torque = false;
+  int body = 0;
+  Vec3<S> value{};
+  bool world_frame = true;
+  Vec3<S> p_BrP_B{};  ///< point of application relative to Br (forces)
+  core::TimeProfile profile = core::TimeProfile::constant();
+};
+
+/// The model in precision S, built from a scene (the scene's double values are the data: the
+/// model solved is exactly the one the double references solve).
+template <typename S>
+class RigidModelTpl {
+ public:
+  /// Throws std::invalid_argument naming the first part of the scene this model does not
+  /// carry (flexible or prescribed bodies, potentials, contacts, joints).
+  explicit RigidModelTpl(const scene::SceneSpec& spec);
+
+  int num_bodies() const { return static_cast<int>(bodies_.size()); }
+  int state_size() const { return kBodyStateSize * num_bodies(); }
+  const std::vector<RigidBodyTpl<S>>& bodies() const { return bodies_; }
+  /// Times in (t0, t_end] where a load profile switches (integrators stop on them).
+  std::vector<double> discontinuities() const;
+
+  std::vector<S> initial_state() const;
+  /// ẏ = f(t, y) on the load branch active at t_segment (core/time_profile.hpp).
+  void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment) const;
+  /// Kinetic + gravitational potential energy (the `energy` column).
+  S energy(const std::vector<S>& y) const;
+  /// The trajectory_columns row at (t, y): per body p_WBo, θ, v_WBo, ω̄, tracked points, then
+  /// the energy.
+  std::vector<S> output_row(const std::vector<S>& y) const;
+
+ private:
+  std::vector<RigidBodyTpl<S>> bodies_;
+  std::vector<AppliedLoadTpl<S>> loads_;
+  Vec3<S> g_W_{};
+};
+
+// Small generic vector algebra (Eigen's fixed-size types are not needed for 3-vectors).
+template <typename S>
+Vec3<S> cross(const Vec3<S>& a, const Vec3<S>& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+template <typename S>
+S dot(const Vec3<S>& a, const Vec3<S>& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+template <typename S>
+Vec3<S> multiply(const Mat3<S>& m, const Vec3<S>& v) {
+  return {dot(m[0], v), dot(m[1], v), dot(m[2], v)};
+}
+template <typename S>
+Vec3<S> multiply_transposed(const Mat3<S>& m, const Vec3<S>& v) {
+  return {m[0][0] * v[0] + m[1][0] * v[1] + m[2][0] * v[2],
+          m[0][1] * v[0] + m[1][1] * v[1] + m[2][1] * v[2],
+          m[0][2] * v[0] + m[1][2] * v[1] + m[2][2] * v[2]};
+}
+/// A(θ) for Euler parameters of any norm: A(θ/|θ|) (model.md eq. (1)).
+template <typename S>
+Mat3<S> rotation_matrix(const Quat<S>& q) {
+  const S n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+  const S s = S(2) / n2;
+  const S e0 = q[0], e1 = q[1], e2 = q[2], e3 = q[3];
+  return {{{S(1) - s * (e2 * e2 + e3 * e3), s * (e1 * e2 - e0 * e3), s * (e1 * e3 + e0 * e2)},
+           {s * (e1 * e2 + e0 * e3), S(1) - s * (e1 * e1 + e3 * e3), s * (e2 * e3 - e0 * e1)},
+           {s * (e1 * e3 - e0 * e2), s * (e2 * e3 + e0 * e1), S(1) - s * (e1 * e1 + e2 * e2)}}};
+}
+template <typename S>
+Quat<S> quaternion_multiply(const Quat<S>& a, const Quat<S>& b) {
+  return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+          a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+          a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+          a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+}
+/// The geodesic angle between two attitudes, 2 atan2(|vec(a* ⊗ b)|, |scal(a* ⊗ b)|): accurate
+/// to the precision's ε also for tiny angles (no acos).
+template <typename S>
+S geodesic_angle(const Quat<S>& a, const Quat<S>& b) {
+  using std::abs;
+  using std::atan2;
+  using std::sqrt;
+  const Quat<S> d = quaternion_multiply(Quat<S>{a[0], -a[1], -a[2], -a[3]}, b);
+  return S(2) * atan2(sqrt(d[1] * d[1] + d[2] * d[2] + d[3] * d[3]), abs(d[0]));
+}
+
+}  // namespace flexref::precision

@@ -1,0 +1,224 @@
+/// \file high_precision_reference_test.cpp
+/// References in extended and quad precision (precision/, docs/precision.md): the generic model
+/// against core::Model (the double model written independently), an exact solution in closed
+/// form, conservation laws, the ordering double < extended < quad with honest estimates,
+/// load switches, and the scenes it refuses.
+#include "precision/high_precision_reference.hpp"
+
+#include <boost/multiprecision/float128.hpp>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "core/output_times.hpp"
+#include "precision/rigid_model_tpl.hpp"
+#include "reference/solve_reference.hpp"
+#include "scene/build_model.hpp"
+#include "scene/scene_reader.hpp"
+#include "studies/error_metrics.hpp"
+#include "tests/precision/precision_order.hpp"
+
+namespace flexref::precision {
+namespace {
+
+using Quad = boost::multiprecision::float128;
+
+/// A body that exercises every term: pivot off the centre of mass or free, gravity, a world
+/// torque with a sin² pulse, a body-frame force at a point with a rectangular pulse.
+scene::SceneSpec loaded_spec(bool pivot) {
+  scene::SceneSpec spec = spec_of("scenes/free_spin.toml");
+  spec.end_time = 1.0;
+  spec.output_step = 0.1;
+  spec.g_W = Eigen::Vector3d(0.3, -1.1, -9.81);
+  core::RigidBodyDescription& d = spec.bodies[0].description;
+  d.I_Bcm_B << 3.0, 0.2, -0.1, 0.2, 4.0, 0.3, -0.1, 0.3, 5.0;
+  d.p_BoBcm_B = Eigen::Vector3d(0.1, 0.4, -0.2);
+  d.initial.theta_WB = Eigen::Vector4d(0.9, 0.1, -0.3, 0.2).normalized();
+  d.initial.v_WBo = Eigen::Vector3d(0.5, -0.2, 1.0);
+  if (pivot) {
+    d.motion = core::MotionKind::kPivot;
+    d.p_BoPivot_B = Eigen::Vector3d(-0.3, 0.2, 0.5);
+    d.initial.v_WBo.setZero();
+  }
+  scene::LoadSpec torque;
+  torque.torque = true;
+  torque.value = Eigen::Vector3d(0.2, -0.4, 0.7);
+  torque.frame = core::LoadFrame::kWorld;
+  torque.profile = core::TimeProfile::sin2_pulse(0.0, 0.5);
+  scene::LoadSpec force;
+  force.value = Eigen::Vector3d(-1.0, 2.0, 0.5);
+  force.frame = core::LoadFrame::kBody;
+  force.p_BoP_B = Eigen::Vector3d(0.7, -0.2, 0.1);
+  force.profile = core::TimeProfile::rectangular_pulse(0.2, 0.5);
+  spec.loads = {torque, force};
+  return spec;
+}
+
+TEST_CASE("the generic model agrees with core::Model at random states", "[precision]") {
+  // core::Model and RigidModelTpl<double> are written independently (the Newton–Euler
+  // equations about Br against model.md's generalized form): a sign error in either shows up
+  // as an O(1) difference. Tolerance: both are a few dozen flops from the same inputs, 1e-12
+  // relative.
+  for (const bool pivot : {false, true}) {
+    const scene::SceneSpec spec = loaded_spec(pivot);
+    const core::Model model = scene::build_model(spec);
+    const RigidModelTpl<double> tpl(spec);
+    core::Workspace ws = model.make_workspace();
+    core::Accelerations acc = model.make_accelerations();
+    std::vector<double> y = tpl.initial_state();
+    std::vector<double> dydt(y.size());
+    for (const double t : {0.05, 0.3, 0.6}) {
+      // Perturb the state away from the initial one (unit θ, nonzero velocities).
+      y[10] += 0.3 * t;
+      y[11] -= 0.5;
+      y[12] += 0.2;
+      core::State state = model.initial_state();
+      state[0].p_WBr = Eigen::Vector3d(y[0], y[1], y[2]);
+      state[0].theta_WB = Eigen::Vector4d(y[3], y[4], y[5], y[6]);
+      state[0].v_WBr = Eigen::Vector3d(y[7], y[8], y[9]);
+      state[0].w_WB_B = Eigen::Vector3d(y[10], y[11], y[12]);
+      model.compute_accelerations(core::LoadContext{t, t}, state, ws, acc);
+      tpl.derivative(y, dydt, t, t);
+      CAPTURE(pivot, t);
+      for (int k = 0; k < 3; ++k) {
+        CHECK(dydt[static_cast<std::size_t>(10 + k)] ==
+              Approx(acc[0].alpha_WB_B(k)).epsilon(1e-12).margin(1e-12));
+        CHECK(dydt[static_cast<std::size_t>(7 + k)] ==
+              Approx(acc[0].a_WBr(k)).epsilon(1e-12).margin(1e-12));
+      }
+      // The output row (Bo, points, energy) is the double tabulation's.
+      core::Trajectory trajectory;
+      trajectory.times = {t};
+      trajectory.states = {state};
+      const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
+      const std::vector<double> row = tpl.output_row(y);
+      REQUIRE(row.size() + 1 == table.columns.size());
+      for (std::size_t c = 0; c < row.size(); ++c) {
+        CAPTURE(table.columns[c + 1]);
+        CHECK(row[c] == Approx(table.rows[0][c + 1]).epsilon(1e-12).margin(1e-12));
+      }
+    }
+  }
+}
+
+/// The axisymmetric torque-free body in closed form (J1 = J2): θ(t) = q_L(Ω_p t) ⊗ θ0 ⊗
+/// q_3(Ω_r t), a rotation at Ω_p = |L|/J1 about the fixed momentum direction composed with one
+/// at Ω_r = (J1 − J3) ω3/J1 about the symmetry axis (Landau–Lifshitz §33), ω̄(t) = A(t)ᵀ L/J1 +
+/// Ω_r e3. Only sin and cos: exact in any precision.
+template <typename S>
+std::vector<S> symmetric_top(const std::vector<S>& y0, S J1, S J3, S t) {
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const Quat<S> q0{y0[3], y0[4], y0[5], y0[6]};
+  const Vec3<S> w0{y0[10], y0[11], y0[12]};
+  const Mat3<S> A0 = rotation_matrix(q0);
+  const Vec3<S> L = multiply(A0, Vec3<S>{J1 * w0[0], J1 * w0[1], J3 * w0[2]});
+  const S norm = sqrt(dot(L, L));
+  const S wp = norm / J1;
+  const S wr = (J1 - J3) * w0[2] / J1;
+  const S hp = wp * t / S(2), hr = wr * t / S(2);
+  const Quat<S> qL{cos(hp), sin(hp) * L[0] / norm, sin(hp) * L[1] / norm, sin(hp) * L[2] / norm};
+  const Quat<S> q3{cos(hr), S(0), S(0), sin(hr)};
+  const Quat<S> q = quaternion_multiply(quaternion_multiply(qL, q0), q3);
+  const Vec3<S> Lb = multiply_transposed(rotation_matrix(q), L);
+  return {q[0], q[1], q[2], q[3], Lb[0] / J1, Lb[1] / J1, Lb[2] / J1 + wr};
+}
+
+template <typename S>
+S parse(const std::string& text) {
+  if constexpr (std::is_same_v<S, long double>) {
+    return std::strtold(text.c_str(), nullptr);
+  } else {
+    return S(text);
+  }
+}
+
+template <typename S>
+double worst_error(const HighPrecisionRun& run, const std::vector<double>& times, S J1, S J3,
+                   const std::vector<S>& y0) {
+  using std::abs;
+  S worst(0);
+  for (std::size_t r = 0; r < times.size(); ++r) {
+    const std::vector<S> exact = symmetric_top(y0, J1, J3, S(times[r]));
+    // Row layout: x y z e0..e3 vx vy vz W1 W2 W3 …: θ at 3..6, ω̄ at 10..12.
+    for (std::size_t k = 0; k < 4; ++k) {
+      worst = std::max(worst, S(abs(parse<S>(run.text[r][3 + k]) - exact[k])));
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+      worst = std::max(worst, S(abs(parse<S>(run.text[r][10 + k]) - exact[4 + k])) / S(2));
+    }
+  }
+  return static_cast<double>(worst);
+}
+
+TEST_CASE("quad and extended against the closed-form symmetric top", "[precision]") {
+  scene::SceneSpec spec = spec_of("scenes/free_spin.toml");
+  spec.end_time = 20.0;
+  spec.output_step = 0.1;
+  core::RigidBodyDescription& d = spec.bodies[0].description;
+  d.I_Bcm_B = Eigen::Vector3d(3.0, 3.0, 5.0).asDiagonal();
+  d.initial.theta_WB = Eigen::Vector4d(0.9, 0.1, -0.3, 0.2).normalized();
+  const std::vector<double> times = core::output_times(spec.end_time, spec.output_step);
+  // Errors of θ (unit) and ω̄/|ω̄| (|ω̄| = 2.03): relative to the solution's size. Quad: 1e-25
+  // is the bound (rtol 1e-28 leaves 1000× for the growth over 200 outputs); extended:
+  // 1e-15 (rtol 1e-16, ε 5.4e-20).
+  const HighPrecisionRun quad = solve_high_precision(spec, times, Precision::kQuad, 1e-28);
+  const RigidModelTpl<Quad> mq(spec);
+  CHECK(worst_error<Quad>(quad, times, Quad(3), Quad(5), mq.initial_state()) < 1e-25);
+  const HighPrecisionRun ext = solve_high_precision(spec, times, Precision::kExtended, 1e-16);
+  const RigidModelTpl<long double> me(spec);
+  CHECK(worst_error<long double>(ext, times, 3.0L, 5.0L, me.initial_state()) < 1e-15);
+}
+
+TEST_CASE("quad conserves energy and angular momentum on free_spin and the heavy top",
+          "[precision]") {
+  // Torque-free: E and the world momentum are invariants; heavy top: E and L_z (vertical, about
+  // the pivot) and L_3 (symmetry axis). Quad at rtol 1e-28: drift ≤ 1e-26 relative.
+  const scene::SceneSpec spec = spec_of("scenes/free_spin.toml");
+  const std::vector<double> times = core::output_times(spec.end_time, spec.output_step);
+  const HighPrecisionRun run = solve_high_precision(spec, times, Precision::kQuad, 1e-28);
+  const std::size_t energy = run.text.front().size() - 1;
+  const Quad e0(run.text.front()[energy]);
+  Quad worst(0);
+  for (const auto& row : run.text) worst = std::max(worst, Quad(abs(Quad(row[energy]) - e0) / e0));
+  CHECK(static_cast<double>(worst) < 1e-26);
+
+  const scene::SceneSpec top = spec_of("scenes/heavy_top.toml");
+  const std::vector<double> top_times = core::output_times(top.end_time, top.output_step);
+  const HighPrecisionRun top_run = solve_high_precision(top, top_times, Precision::kQuad, 1e-28);
+  const Quad top_e0(top_run.text.front()[top_run.text.front().size() - 1]);
+  Quad top_worst(0);
+  for (const auto& row : top_run.text) {
+    top_worst = std::max(top_worst, Quad(abs(Quad(row.back()) - top_e0) / abs(top_e0)));
+  }
+  CHECK(static_cast<double>(top_worst) < 1e-26);
+}
+
+TEST_CASE("double, extended and quad agree in that order with honest estimates", "[precision]") {
+  // Every bundled scene the extended/quad model carries, over its first 2 s (the whole
+  // horizons: tests/precision/precision_order_study_test.cpp, label study).
+  for (const char* file : kSupportedScenes) check_precision_order(file, 2.0);
+}
+
+TEST_CASE("scenes beyond the extended/quad model are refused naming the part", "[precision]") {
+  const auto message = [](const std::string& file) {
+    try {
+      check_supported(spec_of(file));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(message("scenes/bouncing_ball.toml").find("contact[1]: a contact") != std::string::npos);
+  CHECK(message("scenes/flexible_spinner.toml").find("a flexible body") != std::string::npos);
+  CHECK(message("scenes/free_spin.toml") == "accepted");
+  CHECK_THROWS_AS(
+      solve_high_precision(spec_of("scenes/free_spin.toml"), {0.0, 1.0}, Precision::kQuad, 1e-31),
+      std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace flexref::precision

@@ -1,0 +1,55 @@
+#pragma once
+/// \file precision_order.hpp
+/// The ordering check of references in three precisions, shared by the unit test (short
+/// horizons) and the study test (whole scenes).
+#include <catch2/catch.hpp>
+#include <string>
+#include <vector>
+
+#include "core/output_times.hpp"
+#include "precision/high_precision_reference.hpp"
+#include "scene/build_model.hpp"
+#include "scene/scene_reader.hpp"
+#include "studies/error_metrics.hpp"
+
+namespace flexref::precision {
+
+inline scene::SceneSpec spec_of(const std::string& file) { return scene::read_scene(file).spec; }
+
+/// The bundled scenes the extended/quad model carries (docs/precision.md).
+inline constexpr const char* kSupportedScenes[] = {"scenes/free_spin.toml", "scenes/book_toss.toml",
+                                                   "scenes/book_toss_step.toml",
+                                                   "scenes/heavy_top.toml", "scenes/pendulum.toml"};
+
+/// Quad, extended and double (CVODE rtol 1e-12) references of a scene up to `end_time` agree in
+/// that order: the extended reference is within its own estimate of quad, the double one within
+/// its estimate, and quad's estimate is below the extended reference's distance to it.
+inline void check_precision_order(const std::string& file, double end_time) {
+  CAPTURE(file);
+  scene::SceneSpec spec = spec_of(file);
+  spec.end_time = std::min(spec.end_time, end_time);
+  const std::vector<double> times = core::output_times(spec.end_time, spec.output_step);
+  HighPrecisionRun quad, ext;
+  const studies::CertifiedReference q = certified_high_precision_reference(
+      spec, times, Precision::kQuad, 1e-26, "rotation+points", &quad);
+  const studies::CertifiedReference e = certified_high_precision_reference(
+      spec, times, Precision::kExtended, 1e-16, "rotation+points", &ext);
+  const double ext_vs_quad = distance(ext, quad, "rotation+points");
+  INFO("quad estimate " << q.estimate.value << ", extended estimate " << e.estimate.value
+                        << ", extended vs quad " << ext_vs_quad);
+  CHECK(q.estimate.value < 1e-20);
+  CHECK(ext_vs_quad <= e.estimate.value);
+  CHECK(q.estimate.value < ext_vs_quad);
+  const core::Model model = scene::build_model(spec);
+  reference::SolverOptions o;
+  o.rtol = 1e-12;
+  const studies::CertifiedReference d = studies::certified_reference(
+      model, times, "cvode", o, "rotation+points", {.use_exact_solution = false});
+  const double double_vs_quad =
+      studies::metric_value(studies::compare_trajectories(d.table, q.table), "rotation+points");
+  INFO("double estimate " << d.estimate.value << ", double vs quad " << double_vs_quad);
+  CHECK(double_vs_quad <= d.estimate.value);
+  CHECK(ext_vs_quad < double_vs_quad);
+}
+
+}  // namespace flexref::precision
