@@ -2,6 +2,7 @@
 /// \file commands.hpp
 /// The `flexref` subcommands (docs/design/README.md). Each returns the process exit code; errors
 /// are thrown and mapped to exit codes in main.cpp.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,16 @@ struct ReferenceOptions {
 int reference_command(const ReferenceOptions& options);
 /// `reference --precision extended|quad` (app/high_precision_command.cpp).
 int high_precision_reference_command(const ReferenceOptions& options);
+/// A study's --reference-precision: nullptr for "double" and "auto", else the certified
+/// reference in that precision; throws std::invalid_argument when the scene, the metric or a
+/// --reference-solver rules it out.
+std::shared_ptr<const studies::CertifiedReference> high_precision_study_reference(
+    const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
+    const std::string& metric, const std::string& reference_solver, const std::string& study);
+/// Whether "auto" may switch a study to a quad reference (supported scene, metric, no
+/// --reference-solver).
+bool quad_reference_possible(const scene::Scene& scene, const std::string& metric,
+                             const std::string& reference_solver);
 
 struct CompareOptions {
   std::string run;

@@ -6,12 +6,10 @@
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
-#include "precision/high_precision_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/convergence.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
-#include "studies/progress.hpp"
 #include "studies/study_output.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -48,47 +46,22 @@ int converge_command(const ConvergeOptions& options) {
   // reference, and when it cannot certify every level and the scene is one the extended/quad
   // model carries, the study again with a quad reference.
   const std::string& wanted = options.reference_precision;
-  const bool metric_ok = options.metric == "rotation+points" || options.metric == "rotation" ||
-                         options.metric == "points";
-  const auto high_reference = [&](precision::Precision p) {
-    const studies::Progress progress(
-        std::string("converge: reference (odeint, ") + precision::to_string(p) + " precision)", 0,
-        "");
-    return std::make_shared<const studies::CertifiedReference>(
-        precision::certified_high_precision_reference(scene.spec, times, p,
-                                                      precision::default_rtol(p), options.metric));
-  };
-  if (wanted == "extended" || wanted == "quad") {
-    precision::check_supported(scene.spec);
-    if (!metric_ok) {
-      throw std::invalid_argument("--metric " + options.metric + ": " + wanted +
-                                  " precision references measure rotation+points, rotation or "
-                                  "points");
-    }
-    if (options.reference_solver != "auto") {
-      throw std::invalid_argument("--reference-solver: a " + wanted +
-                                  " precision reference is Odeint's; omit --reference-solver");
-    }
-    study.given_reference = high_reference(precision::parse_precision(wanted));
-  }
+  study.given_reference = high_precision_study_reference(scene, times, wanted, options.metric,
+                                                         options.reference_solver, "converge");
   studies::ConvergenceResult result = studies::run_convergence(model, times, study);
   std::string precision_used = wanted == "auto" ? "double" : wanted;
-  if (wanted == "auto" && metric_ok && options.reference_solver == "auto") {
+  if (wanted == "auto" &&
+      quad_reference_possible(scene, options.metric, options.reference_solver)) {
     int uncertified = 0;
     for (const auto& lv : result.levels) uncertified += lv.status == "uncertified" ? 1 : 0;
-    bool supported = true;
-    try {
-      precision::check_supported(scene.spec);
-    } catch (const std::invalid_argument&) {
-      supported = false;
-    }
-    if (uncertified > 0 && supported) {
+    if (uncertified > 0) {
       std::ostringstream note;
       note << "the double reference (estimated error " << result.reference.estimate.estimate()
            << ") could not certify " << uncertified
            << " level(s): the study was repeated with a quad-precision reference "
               "(docs/precision.md)";
-      study.given_reference = high_reference(precision::Precision::kQuad);
+      study.given_reference = high_precision_study_reference(scene, times, "quad", options.metric,
+                                                             options.reference_solver, "converge");
       result = studies::run_convergence(model, times, study);
       result.notes.insert(result.notes.begin(), note.str());
       precision_used = "quad";

@@ -1,6 +1,7 @@
 /// \file high_precision_command.cpp
 /// `flexref reference SCENE --precision extended|quad` (docs/precision.md).
 #include <iostream>
+#include <memory>
 #include <stdexcept>
 
 #include "app/commands.hpp"
@@ -80,6 +81,40 @@ int high_precision_reference_command(const ReferenceOptions& options) {
     std::cout << "estimated error " << studies::describe_estimate(ref.estimate) << "\n";
   }
   return kExitOk;
+}
+
+std::shared_ptr<const studies::CertifiedReference> high_precision_study_reference(
+    const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
+    const std::string& metric, const std::string& reference_solver, const std::string& study) {
+  if (precision == "double" || precision == "auto") return nullptr;
+  const precision::Precision p = precision::parse_precision(precision);
+  precision::check_supported(scene.spec);
+  if (metric != "rotation+points" && metric != "rotation" && metric != "points") {
+    throw std::invalid_argument("--metric " + metric + ": " + precision +
+                                " precision references measure rotation+points, rotation or "
+                                "points");
+  }
+  if (reference_solver != "auto") {
+    throw std::invalid_argument("--reference-solver: a " + precision +
+                                " precision reference is Odeint's; omit --reference-solver");
+  }
+  const studies::Progress progress(
+      study + ": reference (odeint, " + precision + " precision, with its error estimate)", 0, "");
+  return std::make_shared<const studies::CertifiedReference>(
+      precision::certified_high_precision_reference(scene.spec, times, p,
+                                                    precision::default_rtol(p), metric));
+}
+
+bool quad_reference_possible(const scene::Scene& scene, const std::string& metric,
+                             const std::string& reference_solver) {
+  if (reference_solver != "auto") return false;
+  if (metric != "rotation+points" && metric != "rotation" && metric != "points") return false;
+  try {
+    precision::check_supported(scene.spec);
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+  return true;
 }
 
 }  // namespace flexref::app

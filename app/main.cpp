@@ -247,6 +247,12 @@ int run_command_line(int argc, char** argv) {
                    "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
+  wp_cmd
+      ->add_option("--reference-precision", wp.reference_precision,
+                   "auto (double; quad when double cannot certify every run and the scene "
+                   "allows it) | double | extended | quad (docs/precision.md)")
+      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
+      ->capture_default_str();
   add_limits(wp_cmd, wp.limits, true);
 
   StabilityCommandOptions stab;

@@ -29,6 +29,8 @@ struct WorkPrecisionOptions {
   std::string external;     ///< --external command template (docs/external.md)
   std::string label;        ///< --label of the external method
   double timeout = 3600.0;  ///< --timeout per external run [s], 0: none
+  /// auto | double | extended | quad (docs/precision.md), as for converge.
+  std::string reference_precision = "auto";
 };
 
 /// Runs the study on the scene and writes work_precision.csv, work_precision.txt, study.toml,

@@ -141,14 +141,21 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
   WorkPrecisionResult result;
   result.options = options;
 
-  reference::SolverOptions ref_options;
-  ref_options.rtol = options.reference_rtol;
-  const std::string solver =
-      resolve_reference_solver(options.reference_solver, model, output_times);
-  if (options.progress) {
-    std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
-  }
-  {
+  if (options.given_reference) {
+    if (options.given_reference->estimate.metric != options.metric) {
+      throw std::invalid_argument("the given reference's estimate is in " +
+                                  options.given_reference->estimate.metric + ", not " +
+                                  options.metric);
+    }
+    result.reference = *options.given_reference;
+  } else {
+    reference::SolverOptions ref_options;
+    ref_options.rtol = options.reference_rtol;
+    const std::string solver =
+        resolve_reference_solver(options.reference_solver, model, output_times);
+    if (options.progress) {
+      std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
+    }
     const Progress progress("work-precision: reference (" + solver + ", 3 solves)", 0, "",
                             options.progress);
     result.reference =

@@ -13,6 +13,7 @@
 ///
 /// Errors below 100× the reference's estimated error cannot be measured: those runs are
 /// "uncertified" and take no part in the cheapest-method summary.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct WorkPrecisionOptions {
   /// Other codes' integrators (studies/convergence.hpp), after the solvers; their CPU time is
   /// the one ExternalLevel reports (a program's own, from wait4), minimum over the repeats.
   std::vector<ExternalMethod> external;
+  /// A reference computed by the caller (extended or quad precision,
+  /// precision/high_precision_reference.hpp) instead of reference_solver's.
+  std::shared_ptr<const CertifiedReference> given_reference;
 };
 
 /// One point of the work-precision diagram.

@@ -398,6 +398,14 @@ out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 
   grep -q '^reference_precision = "quad"' "$tmp/cauto/study.toml" ||
   fail "converge did not switch to a quad reference: $out"
 [[ $out == *uncertified* ]] && fail "a level is still uncertified with the quad reference: $out"
+"$flexref" work-precision "$tmp/fs2.toml" --schemes nmb --levels 2 --solvers cvode \
+  --tolerances 1e-6 --repeats 1 --reference-precision extended --out "$tmp/wpx" >/dev/null 2>&1 &&
+  grep -q '^reference_precision = "extended"' "$tmp/wpx/study.toml" ||
+  fail "work-precision --reference-precision extended did not record its reference"
+out=$("$flexref" work-precision scenes/bouncing_ball.toml --reference-precision quad \
+  --out "$tmp/wpb" 2>&1)
+[[ $? == 1 && $out == *"a contact is not in the extended/quad model"* ]] ||
+  fail "work-precision with a quad reference on a contact scene not refused: $out"
 
 if ((failures)); then
   echo "$failures CLI checks failed"
