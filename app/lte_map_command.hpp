@@ -28,6 +28,8 @@ struct LteMapCommandOptions {
   double rtol = 1e-10;
   double estimate_factor = 10.0;  ///< the accuracy check reruns at estimate_factor·rtol
   bool scale_loads = true;
+  /// The truth: "auto" (stiffened when the body can be), "stiffened" or "coupled".
+  std::string truth = "auto";
   std::string point;      ///< tracked node point (empty: the node farthest from Br)
   double end_time = 0.0;  ///< s (0: the scene's)
   int jobs = 0;           ///< 0: all cores

@@ -383,6 +383,12 @@ int run_command_line(int argc, char** argv) {
       ->capture_default_str();
   lte_cmd->add_flag("!--no-scale-loads", lte.scale_loads,
                     "keep the loads (default: scale them with spin and inertia)");
+  lte_cmd
+      ->add_option("--truth", lte.truth,
+                   "the truth: stiffened (coupled with geometric stiffening) | coupled (the "
+                   "classical coupled model) | auto (stiffened when the body can be)")
+      ->check(CLI::IsMember({"auto", "stiffened", "coupled"}))
+      ->capture_default_str();
   lte_cmd->add_option("--point", lte.point, "tracked node point (default: farthest node)");
   lte_cmd->add_option("--end-time", lte.end_time, "s (default: the scene's)")
       ->check(positive_number());

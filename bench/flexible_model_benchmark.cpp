@@ -67,10 +67,11 @@ flexref::core::State generic_state(const Model& model) {
   return s;
 }
 
-void BM_Rhs(benchmark::State& state, FlexibleFormulation formulation) {
+void BM_Rhs(benchmark::State& state, FlexibleFormulation formulation, bool stiffened = false) {
   const int modes = static_cast<int>(state.range(0));
   const int elements = static_cast<int>(state.range(1));
-  const Model model = flexref::testing::flexible_spinner_model(formulation, modes, elements);
+  const Model model =
+      flexref::testing::flexible_spinner_model(formulation, modes, elements, 5.0, stiffened);
   const reference::OdeForm form(model);
   reference::OdeForm::Scratch scratch = form.make_scratch();
   std::vector<double> y(static_cast<std::size_t>(form.size()));
@@ -93,6 +94,10 @@ void BM_Rhs(benchmark::State& state, FlexibleFormulation formulation) {
 
 void BM_CoupledRhs(benchmark::State& state) { BM_Rhs(state, FlexibleFormulation::kCoupled); }
 void BM_LteRhs(benchmark::State& state) { BM_Rhs(state, FlexibleFormulation::kLte); }
+/// The coupled model with geometric stiffening (docs/geometric_stiffening.md).
+void BM_StiffenedRhs(benchmark::State& state) {
+  BM_Rhs(state, FlexibleFormulation::kCoupled, true);
+}
 
 /// n = 4, 16, 64, 128 on 40 elements; 20 vs 200 elements at n = 8.
 void ModeAndElementArgs(benchmark::internal::Benchmark* b) {
@@ -102,6 +107,7 @@ void ModeAndElementArgs(benchmark::internal::Benchmark* b) {
 }
 BENCHMARK(BM_CoupledRhs)->Apply(ModeAndElementArgs);
 BENCHMARK(BM_LteRhs)->Apply(ModeAndElementArgs);
+BENCHMARK(BM_StiffenedRhs)->Apply(ModeAndElementArgs);
 
 /// The body, its state and attitude at the generic state of a spinner with n modes.
 struct BodyAtState {

@@ -179,6 +179,7 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
     // Then about Br: the nodes shifted by −p_BoBr (mode shapes are unchanged by the shift).
     flexible::ModalData shifted = d.flexible->modal;
     shifted.p_BoNode_B.colwise() -= p_BoBr_B_;
+    if (shifted.geometric) shifted.geometric = shifted.geometric->shifted(p_BoBr_B_);
     invariants_ = flexible::make_modal_invariants(shifted);
     add_rigid_part(invariants_, d.mass, d.p_BoBcm_B - p_BoBr_B_, I_sym);
     I_Br_B_ = invariants_.I0;

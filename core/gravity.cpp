@@ -28,6 +28,12 @@ void UniformGravity::add_wrenches(const LoadContext& /*context*/,
     wrenches[i].f_W += inv.mass * g_W_;
     wrenches[i].tau_Br_W += k.R_WB * s_t.cross(g_B);
     wrenches[i].Q_f.noalias() += inv.S.transpose() * g_B;
+    // Geometric stiffening: the foreshortening's work, ΔS(q_f)ᵀ Aᵀ g (so that a freely falling
+    // body carries no axial load: docs/geometric_stiffening.md).
+    if (inv.geometric) {
+      flexible::add_foreshortening_first_moment_transpose(*inv.geometric, *k.q_f, g_B,
+                                                          wrenches[i].Q_f);
+    }
   }
 }
 

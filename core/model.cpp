@@ -406,8 +406,8 @@ Eigen::Vector3d Model::linear_momentum_W(const State& state) const {
     if (b.is_flexible()) {
       // First row of M v: m Ṙ + A (ω̄ × s_t + S q̇_f)
       const flexible::ModalInvariants& inv = b.invariants();
-      p += inv.mass * s.v_WBr +
-           R_WB * (s.w_WB_B.cross(flexible::first_moment(inv, s.q_f)) + inv.S * s.qd_f);
+      p += inv.mass * s.v_WBr + R_WB * (s.w_WB_B.cross(flexible::first_moment(inv, s.q_f)) +
+                                        flexible::first_moment_rate(inv, s.q_f, s.qd_f));
       continue;
     }
     p += b.mass() * (s.v_WBr + R_WB * s.w_WB_B.cross(b.p_BrBcm_B()));
@@ -428,7 +428,8 @@ Eigen::Vector3d Model::angular_momentum_W(const State& state) const {
       const flexible::ModalInvariants& inv = b.invariants();
       const Eigen::Vector3d s_t = flexible::first_moment(inv, s.q_f);
       const Eigen::Vector3d p_W =
-          inv.mass * s.v_WBr + R_WB * (s.w_WB_B.cross(s_t) + inv.S * s.qd_f);
+          inv.mass * s.v_WBr +
+          R_WB * (s.w_WB_B.cross(s_t) + flexible::first_moment_rate(inv, s.q_f, s.qd_f));
       const Eigen::Vector3d h_B = s_t.cross(R_WB.transpose() * s.v_WBr) +
                                   flexible::inertia_theta_theta(inv, s.q_f) * s.w_WB_B +
                                   flexible::inertia_theta_f(inv, s.q_f) * s.qd_f;

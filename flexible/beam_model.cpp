@@ -178,6 +178,79 @@ double interpolate(const BeamMode& mode, int e, double xi, double h) {
          H(3) * h * mode.slope(a + 1);
 }
 
+// d/dx of a bending mode's field at position ξ ∈ [0, 1] of element e (Hermite cubic).
+double interpolate_slope(const BeamMode& mode, int e, double xi, double h) {
+  const auto a = static_cast<Eigen::Index>(e);
+  const double xi2 = xi * xi;
+  const Eigen::Vector4d dH = {6.0 * xi2 - 6.0 * xi, 1.0 - 4.0 * xi + 3.0 * xi2,
+                              6.0 * xi - 6.0 * xi2, 3.0 * xi2 - 2.0 * xi};
+  return (dH(0) * mode.value(a) + dH(1) * h * mode.slope(a) + dH(2) * mode.value(a + 1) +
+          dH(3) * h * mode.slope(a + 1)) /
+         h;
+}
+
+// The unit-load geometric stiffness of a clamped-free beam along x
+// (flexible/geometric_stiffness.hpp, docs/geometric_stiffening.md GS-13): with the material points
+// k in order from the root and G_k = ∫ φ'ᵀφ' ds over the stretch between points k and k+1
+// (transverse slopes, both planes), D_k = Σ_{j<k} G_j, so E_x = Σ_k m_k D_k = Σ_j (Σ_{k>j} m_k) G_j
+// and F_xb = Σ_j (Σ_{k>j} m_k x_k,b) G_j: the outboard mass and first moment are the axial force of
+// the unit fields. φ'ᵀφ' is a quartic on each stretch: 3-point Gauss–Legendre is exact.
+GeometricStiffness beam_geometric_stiffness(const BeamParameters& p,
+                                            const std::vector<BeamMode>& modes,
+                                            const std::vector<double>& scales,
+                                            const ModalData& data) {
+  const auto n = static_cast<Eigen::Index>(modes.size());
+  const int E = p.elements;
+  const double h = p.length / E;
+  const int N = data.node_count();
+  // Outboard sums over the points k > j.
+  std::vector<double> outboard_mass(static_cast<std::size_t>(N), 0.0);
+  std::vector<Eigen::Vector3d> outboard_moment(static_cast<std::size_t>(N),
+                                               Eigen::Vector3d::Zero());
+  for (int j = N - 2; j >= 0; --j) {
+    const auto u = static_cast<std::size_t>(j);
+    outboard_mass[u] = outboard_mass[u + 1] + data.mass(j + 1);
+    outboard_moment[u] = outboard_moment[u + 1] + data.mass(j + 1) * data.p_BoNode_B.col(j + 1);
+  }
+  GeometricStiffness g;
+  for (auto& M : g.E) M = Eigen::MatrixXd::Zero(n, n);
+  for (auto& M : g.F) M = Eigen::MatrixXd::Zero(n, n);
+  const std::array<double, 5> xi = {0.0, kInteriorAbscissa[0], kInteriorAbscissa[1],
+                                    kInteriorAbscissa[2], 1.0};
+  const double t3 = std::sqrt(0.6);
+  const std::array<double, 3> gauss_t = {-t3, 0.0, t3};
+  const std::array<double, 3> gauss_w = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  Eigen::MatrixXd G(n, n);
+  Eigen::VectorXd slope_y(n), slope_z(n);
+  for (int e = 0; e < E; ++e) {
+    for (int i = 0; i < 4; ++i) {
+      const auto ui = static_cast<std::size_t>(i);
+      const double mid = 0.5 * (xi[ui] + xi[ui + 1]);
+      const double half = 0.5 * (xi[ui + 1] - xi[ui]);
+      G.setZero();
+      for (std::size_t m = 0; m < 3; ++m) {
+        slope_y.setZero();
+        slope_z.setZero();
+        for (Eigen::Index k = 0; k < n; ++k) {
+          const BeamMode& mode = modes[static_cast<std::size_t>(k)];
+          if (mode.slope.size() == 0) continue;  // axial: no transverse slope
+          const double v = scales[static_cast<std::size_t>(k)] *
+                           interpolate_slope(mode, e, mid + half * gauss_t[m], h);
+          (mode.family == BeamModeFamily::kBendingXY ? slope_y : slope_z)(k) = v;
+        }
+        const double w = h * half * gauss_w[m];  // dx = h dξ
+        G.noalias() += w * (slope_y * slope_y.transpose() + slope_z * slope_z.transpose());
+      }
+      const auto j = static_cast<std::size_t>(4 * e + i);
+      g.E[0] += outboard_mass[j] * G;
+      for (int b = 0; b < 3; ++b) g.F[static_cast<std::size_t>(b)] += outboard_moment[j](b) * G;
+    }
+  }
+  for (auto& M : g.E) M = 0.5 * (M + M.transpose()).eval();
+  for (auto& M : g.F) M = 0.5 * (M + M.transpose()).eval();
+  return g;
+}
+
 }  // namespace
 
 std::string to_string(BeamModeFamily family) {
@@ -305,8 +378,13 @@ std::vector<BeamMode> solve_beam_modes(const BeamParameters& p) {
 }
 
 ModalData make_beam_modal_data(const BeamParameters& p, int n_modes, const BeamModeFilter& filter,
-                               BeamModeNormalization normalization) {
+                               BeamModeNormalization normalization, bool geometric_stiffness) {
   require_valid(p);
+  if (geometric_stiffness && p.boundary != BeamBoundary::kClampedFree) {
+    throw std::invalid_argument(
+        "beam model: geometric stiffening needs a clamped-free beam (the foreshortening is "
+        "measured from the clamped root; docs/geometric_stiffening.md)");
+  }
   std::vector<BeamMode> modes;
   const std::array<std::pair<BeamModeFamily, bool>, 3> families = {
       {{BeamModeFamily::kAxial, filter.axial},
@@ -354,11 +432,13 @@ ModalData make_beam_modal_data(const BeamParameters& p, int n_modes, const BeamM
   }
   data.stiffness.resize(n_modes);
   data.damping_ratio = Eigen::VectorXd::Zero(n_modes);
+  std::vector<double> scales(static_cast<std::size_t>(n_modes), 1.0);
   for (int i = 0; i < n_modes; ++i) {
     const BeamMode& mode = modes[static_cast<std::size_t>(i)];
     const int c = properties(p, mode.family).component;
     const double scale =
         normalization == BeamModeNormalization::kUnitTipDisplacement ? 1.0 / mode.value(E) : 1.0;
+    scales[static_cast<std::size_t>(i)] = scale;
     for (int j = 0; j <= E; ++j) data.phi(3 * (4 * j) + c, i) = scale * mode.value(j);
     for (int e = 0; e < E; ++e) {
       for (int q = 0; q < 3; ++q) {
@@ -374,6 +454,7 @@ ModalData make_beam_modal_data(const BeamParameters& p, int n_modes, const BeamM
     data.stiffness(i) = mode.omega * mode.omega * mu;
     data.mode_names.push_back(to_string(mode.family) + "-" + std::to_string(mode.order));
   }
+  if (geometric_stiffness) data.geometric = beam_geometric_stiffness(p, modes, scales, data);
   data.validate();
   return data;
 }

@@ -106,8 +106,13 @@ enum class BeamModeNormalization {
 /// tip, and "eJ_q1" … "eJ_q3" for the interior points of element J = 0 … E−1), stiffness
 /// K_i = ω_i² μ_i, zero damping ratios, mode names "<family>-<order>" ("bending-xy-1").
 /// Throws std::invalid_argument on bad parameters or when fewer than n_modes modes exist.
+///
+/// `geometric_stiffness`: also the unit-load geometric stiffness matrices E_c, F_ab of the
+/// foreshortening (flexible/geometric_stiffness.hpp), from the Hermite slopes of the modes and
+/// the axial force of the unit fields; clamped-free beams only (std::invalid_argument otherwise).
 ModalData make_beam_modal_data(
     const BeamParameters& parameters, int n_modes, const BeamModeFilter& filter = {},
-    BeamModeNormalization normalization = BeamModeNormalization::kUnitModalMass);
+    BeamModeNormalization normalization = BeamModeNormalization::kUnitModalMass,
+    bool geometric_stiffness = false);
 
 }  // namespace flexref::flexible

@@ -86,13 +86,14 @@ double flexible_kinetic_energy(const ModalInvariants& inv, const Eigen::Matrix3d
   check_sizes("flexible_kinetic_energy", n, q_f, &qd_f, 6 + n);
   const Eigen::Vector3d v_B = R_WB.transpose() * v_W;  // Aᵀ Ṙ
   const Eigen::Vector3d s_t = first_moment(inv, q_f);
-  const Eigen::Vector3d S_qd = times3(inv.S, qd_f);
+  const Eigen::Vector3d S_qd = first_moment_rate(inv, q_f, qd_f);
   const Eigen::Matrix3d I_tt = inertia_theta_theta(inv, q_f);
   // ω̄ᵀ Ī_θf q̇ = ω̄ᵀ I_θf0 q̇ + Σ_a ω̄_a qᵀ G_a q̇
   double w_Itf_qd = w_B.dot(times3(inv.I_theta_f0, qd_f));
   for (int a = 0; a < 3; ++a) {
     w_Itf_qd += w_B(a) * bilinear(q_f, inv.phi_cross_phi[idx(a)], qd_f);
   }
+  if (inv.geometric) w_Itf_qd += w_B.dot(foreshortening_theta_f(*inv.geometric, q_f, qd_f));
   // vᵀMv = m|Ṙ|² + 2 Ṙᵀ(−A s̃_t ω̄) + 2 Ṙᵀ A S q̇ + ω̄ᵀĪ_θθω̄ + 2 ω̄ᵀĪ_θf q̇ + q̇ᵀ m_ff q̇
   const double vMv = inv.mass * v_W.squaredNorm() - 2.0 * v_B.dot(s_t.cross(w_B)) +
                      2.0 * v_B.dot(S_qd) + w_B.dot(I_tt * w_B) + 2.0 * w_Itf_qd +

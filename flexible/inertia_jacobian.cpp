@@ -14,6 +14,86 @@ namespace {
 constexpr int pair(int a, int b) { return 3 * a + b; }
 constexpr std::size_t at(int k) { return static_cast<std::size_t>(k); }
 
+// 3×3 matrix from nine entries m(3a+b) (a row of an n×9 product block).
+Eigen::Matrix3d matrix_of(const Eigen::Matrix<double, 1, 9>& m) {
+  Eigen::Matrix3d out;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) out(a, b) = m(pair(a, b));
+  }
+  return out;
+}
+
+// tr(X) u − X u
+Eigen::Vector3d trace_minus(const Eigen::Matrix3d& X, const Eigen::Vector3d& u) {
+  return X.trace() * u - X * u;
+}
+
+// The geometric-stiffening blocks of the header (coupled model), added to `out`.
+void add_geometric_jacobian(const GeometricInvariants& g, const InertiaTerms& t,
+                            const Eigen::Ref<const Eigen::VectorXd>& qd_f,
+                            const Eigen::Vector3d& w_B, const Eigen::Vector3d& b,
+                            const Eigen::Vector3d& alpha,
+                            const Eigen::Ref<const Eigen::VectorXd>& qdd, InertiaJacobianScratch& s,
+                            Eigen::Ref<Eigen::MatrixXd> out) {
+  const Eigen::Index n = qd_f.size();
+  const GeometricProducts& p = t.geometric_products;
+  const ForeshorteningTerms& f = t.foreshortening;
+  const Eigen::Matrix3d& A = t.R_WB;
+  const Eigen::Matrix3d W = rotation::hat(w_B);
+  const Eigen::Matrix3d W2 =
+      w_B * w_B.transpose() - w_B.squaredNorm() * Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d b_hat = rotation::hat(b);
+  for (const int ab : g.F_nonzero) {
+    s.F_qd.col(ab).noalias() = g.F[at(ab)].selfadjointView<Eigen::Lower>() * qd_f;
+  }
+  for (const int c : g.E_nonzero) {
+    s.E_qdd.col(c).noalias() = g.E[at(c)].selfadjointView<Eigen::Lower>() * qdd;
+  }
+  for (const int c : g.Z_nonzero) {
+    s.Z_qdd.col(c).noalias() = g.Z[at(c)].selfadjointView<Eigen::Lower>() * qdd;
+  }
+  Eigen::Vector3d sigma_qdd;  // ΔS q̈_f
+  for (int c = 0; c < 3; ++c) sigma_qdd(c) = -qdd.dot(p.E_q.col(c));
+
+  // π̄ columns.
+  out.block<3, 3>(0, kJacobianRotation).noalias() -=
+      A * rotation::hat(2.0 * W * f.dS_qd + sigma_qdd + f.ds_vv);
+  out.block(6, kJacobianRotation, n, 3).noalias() -= p.E_q * b_hat;
+
+  // ω̄ columns.
+  out.block<3, 3>(0, kJacobianAngularVelocity).noalias() -= 2.0 * A * rotation::hat(f.dS_qd);
+  for (int c = 0; c < 3; ++c) {
+    auto col = out.block(6, kJacobianAngularVelocity + c, n, 1);
+    for (int k = 0; k < 3; ++k) {
+      col.noalias() -= w_B(k) * (p.F_q.col(pair(c, k)) + p.F_q.col(pair(k, c)));
+      col.noalias() += (2.0 * w_B(c)) * p.F_q.col(pair(k, k));
+    }
+  }
+
+  auto dq = out.middleCols(kJacobianModes, n);
+  auto dqd = out.middleCols(kJacobianModes + n, n);
+  const Eigen::Matrix3d alpha_W2 = rotation::hat(alpha) + W2;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::Vector3d EQ = p.E_q.row(j).transpose();
+    const Eigen::Vector3d EQd = p.E_qd.row(j).transpose();
+    const Eigen::Vector3d EQdd = s.E_qdd.row(j).transpose();
+    // Translation rows.
+    dq.col(j).head<3>().noalias() -= A * (alpha_W2 * EQ + EQdd + 2.0 * W * EQd);
+    dqd.col(j).head<3>().noalias() -= 2.0 * A * (W * EQ + EQd);
+    // Rotation rows.
+    const Eigen::Matrix3d F = matrix_of(p.F_q.row(j));
+    const Eigen::Matrix3d dJ = -(F + F.transpose());
+    const Eigen::Matrix3d dC = -matrix_of(s.F_qd.row(j));
+    dq.col(j).segment<3>(3) += b_hat * EQ + trace_minus(dJ, alpha) - W * (dJ * w_B) -
+                               s.Z_qdd.row(j).transpose() + 2.0 * trace_minus(dC, w_B);
+    dqd.col(j).segment<3>(3) += 2.0 * trace_minus(-F, w_B) - 2.0 * p.Z_qd.row(j).transpose();
+  }
+  // Modal rows.
+  for (const int c : g.E_nonzero) dq.bottomRows(n).noalias() -= b(c) * g.E[at(c)];
+  for (const int c : g.Z_nonzero) dq.bottomRows(n).noalias() -= alpha(c) * g.Z[at(c)];
+  for (const int ab : g.F_nonzero) dq.bottomRows(n).noalias() -= W2(ab / 3, ab % 3) * g.F[at(ab)];
+}
+
 }  // namespace
 
 InertiaJacobianScratch make_inertia_jacobian_scratch(int mode_count) {
@@ -23,6 +103,9 @@ InertiaJacobianScratch make_inertia_jacobian_scratch(int mode_count) {
   s.G_qdd = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
   s.dJ = Eigen::Matrix<double, Eigen::Dynamic, 9>::Zero(n, 9);
   s.dC = Eigen::Matrix<double, Eigen::Dynamic, 9>::Zero(n, 9);
+  s.F_qd = Eigen::Matrix<double, Eigen::Dynamic, 9>::Zero(n, 9);
+  s.E_qdd = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
+  s.Z_qdd = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
   return s;
 }
 
@@ -139,6 +222,7 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
   for (int p = 0; p < 3; ++p) {
     dqd.bottomRows(n).noalias() -= (2.0 * w_B(p)) * inv.phi_cross_phi[at(p)];
   }
+  if (inv.geometric) add_geometric_jacobian(*inv.geometric, t, qd_f, w_B, b, alpha, qdd, s, out);
 }
 
 }  // namespace flexref::flexible

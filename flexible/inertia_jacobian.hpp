@@ -30,6 +30,20 @@
 /// the rigid rows: the same blocks with P_ab q_f = 0, q̇_f = 0, no S q̈_f in z_R and no
 /// Ī_θf q̈_f in R_θ, and only K, D in the q_f, q̇_f columns.
 ///
+/// **Geometric stiffening** (flexible/geometric_stiffness.hpp; coupled model only): with
+/// s_t, Ī_θθ and C of `terms` already including Δs, ΔĪ, ΔC, the blocks gain (σ = ΔS q̇_f,
+/// σ'' = ΔS q̈_f, v = Σ m J̇_w q̇_f, z_c = q̇_f·Z_c q̇_f; EQ, EQ', EQ'' the 3×n matrices with rows
+/// (E_c q_f)ᵀ, (E_c q̇_f)ᵀ, (E_c q̈_f)ᵀ; dΔJ_ab = −(F_ab + F_ba) q_f, dΔC_ab = −F_ab q̇_f,
+/// dΔC'_ab = −F_ab q_f; docs/geometric_stiffening.md, GS-12):
+///
+///     ∂R_R/∂π̄ += −A (2 W σ + σ'' + v)~      ∂R_f/∂π̄ += −EQᵀ b̃
+///     ∂R_R/∂ω̄ += −2 A σ̃                      ∂R_f/∂ω̄_c += −Σ_k ω̄_k (F_ck + F_kc) q_f + 2 ω̄_c Σ_k
+///     F_kk q_f ∂R_R/∂q_f += −A [(α̅̃ + W²) EQ + EQ'' + 2 W EQ']       ∂R_R/∂q̇_f += −2 A [W EQ + EQ']
+///     ∂R_θ/∂q_f,j += b̃ EQ_j + tr(dΔJ_j) α̅ − dΔJ_j α̅ − W dΔJ_j ω̄ − [(Z_c q̈_f)_j]_c
+///                    + 2 (tr(dΔC_j) ω̄ − dΔC_j ω̄)
+///     ∂R_θ/∂q̇_f,j += 2 (tr(dΔC'_j) ω̄ − dΔC'_j ω̄) − 2 [(Z_c q̇_f)_j]_c
+///     ∂R_f/∂q_f += −Σ_c b_c E_c − Σ_c α̅_c Z_c − Σ_ab (W²)_ab F_ab
+///
 /// Cost: 12 extra n×n matrix–vector products (P_ab q̇_f, G_a q̈_f; none under LTE) and
 /// 12 n×n matrix additions for ∂R_f/∂q_f, i.e. O(n²). Allocates nothing.
 /// Tested against central differences of Model::dynamics_residual
@@ -51,6 +65,10 @@ struct InertiaJacobianScratch {
   Eigen::Matrix<double, Eigen::Dynamic, 3> G_qdd;  ///< column a: G_a q̈_f
   Eigen::Matrix<double, Eigen::Dynamic, 9> dJ;     ///< column 3a+b: dJ_ab (symmetric pairs)
   Eigen::Matrix<double, Eigen::Dynamic, 9> dC;     ///< column 3a+b: dC_ab or dC'_ab
+  // Geometric stiffening's extra products.
+  Eigen::Matrix<double, Eigen::Dynamic, 9> F_qd;   ///< column 3a+b: F_ab q̇_f
+  Eigen::Matrix<double, Eigen::Dynamic, 3> E_qdd;  ///< column c: E_c q̈_f
+  Eigen::Matrix<double, Eigen::Dynamic, 3> Z_qdd;  ///< column c: Z_c q̈_f
 };
 
 InertiaJacobianScratch make_inertia_jacobian_scratch(int mode_count);

@@ -39,6 +39,7 @@ InertiaTerms make_inertia_terms(int mode_count) {
   t.M_rr.setZero();
   t.M_rf = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, n);
   t.Qv = Eigen::VectorXd::Zero(6 + n);
+  t.geometric_products = make_geometric_products(mode_count);
   return t;
 }
 
@@ -64,6 +65,7 @@ void compute_modal_products(const ModalInvariants& inv,
   t.X_qd.noalias() = inv.x_phi * qd_f;
   t.S_q.noalias() = inv.S * q_f;
   t.S_qd.noalias() = inv.S * qd_f;
+  if (inv.geometric) compute_geometric_products(*inv.geometric, q_f, qd_f, t.geometric_products);
 }
 
 void set_undeformed_products(InertiaTerms& t) {
@@ -73,6 +75,7 @@ void set_undeformed_products(InertiaTerms& t) {
   t.X_qd.setZero();
   t.S_q.setZero();
   t.S_qd.setZero();
+  set_zero_geometric_products(t.geometric_products);
 }
 
 void assemble_inertia_terms(const ModalInvariants& inv, const Eigen::Matrix3d& R_WB,
@@ -83,6 +86,15 @@ void assemble_inertia_terms(const ModalInvariants& inv, const Eigen::Matrix3d& R
   const Eigen::Index n = inv.mode_count;
   t.R_WB = R_WB;
   t.s_t = inv.s0 + t.S_q;
+  // Geometric stiffening: Δs, ΔS q̇, ΔJ, ΔC enter every formula below through s_t, S q̇, J, C.
+  const bool geometric = inv.geometric.has_value();
+  t.constant_translation_coupling = !geometric;
+  ForeshorteningTerms& fs = t.foreshortening;
+  if (geometric) {
+    foreshortening_terms(q_f, qd_f, t.geometric_products, fs);
+    t.s_t += fs.ds;
+  }
+  const Eigen::Vector3d S_qd = geometric ? Eigen::Vector3d(t.S_qd + fs.dS_qd) : t.S_qd;
 
   // J = J0 + L + Lᵀ + Q (exactly symmetric: L_ab + L_ba and the symmetrized Q commute).
   Eigen::Matrix3d J;
@@ -92,7 +104,7 @@ void assemble_inertia_terms(const ModalInvariants& inv, const Eigen::Matrix3d& R
       const double Q =
           a == b ? q_f.dot(t.P_q.col(pair(a, a)))
                  : 0.5 * (q_f.dot(t.P_q.col(pair(a, b))) + q_f.dot(t.P_q.col(pair(b, a))));
-      J(a, b) = inv.J0(a, b) + L_sum + Q;
+      J(a, b) = inv.J0(a, b) + L_sum + Q + (geometric ? fs.dJ(a, b) : 0.0);
       J(b, a) = J(a, b);
     }
   }
@@ -111,6 +123,11 @@ void assemble_inertia_terms(const ModalInvariants& inv, const Eigen::Matrix3d& R
       t.M_rf.row(3 + a) =
           inv.I_theta_f0.row(a) + (t.P_q.col(pair(c, b)) - t.P_q.col(pair(b, c))).transpose();
     }
+    if (geometric) {
+      // [A ΔS; ΔĪ_θf] with rows −(E_c q)ᵀ and −(Z_c q)ᵀ (GS-5, GS-7).
+      t.M_rf.topRows<3>().noalias() -= R_WB * t.geometric_products.E_q.transpose();
+      t.M_rf.bottomRows<3>() -= t.geometric_products.Z_q.transpose();
+    }
   }
 
   // Qv (see the header).
@@ -118,11 +135,15 @@ void assemble_inertia_terms(const ModalInvariants& inv, const Eigen::Matrix3d& R
   // W² = ω̄ω̄ᵀ − |ω̄|² I, exactly symmetric.
   const Eigen::Matrix3d W2 =
       w_B * w_B.transpose() - w_B.squaredNorm() * Eigen::Matrix3d::Identity();
-  t.Qv.head<3>().noalias() = -R_WB * (W2 * t.s_t + 2.0 * W * t.S_qd);
+  Eigen::Vector3d z_R = W2 * t.s_t + 2.0 * W * S_qd;
+  if (geometric) z_R += fs.ds_vv;
+  t.Qv.head<3>().noalias() = -R_WB * z_R;
   for (int a = 0; a < 3; ++a) {
     for (int b = 0; b < 3; ++b) t.C(a, b) = t.X_qd(pair(b, a)) + qd_f.dot(t.P_q.col(pair(a, b)));
   }
+  if (geometric) t.C += fs.dC;
   t.Qv.segment<3>(3) = -W * (t.I_tt * w_B) - 2.0 * (t.C.trace() * w_B - t.C * w_B);
+  if (geometric) t.Qv.segment<3>(3) += fs.z_vv;
   if (n > 0) {
     // w9(3a+b) = (W²)_ab; Σ_ab (W²)_ab X_baᵀ = Xᵀ w9 since W² is symmetric.
     Eigen::Matrix<double, 9, 1> w9;
@@ -134,6 +155,8 @@ void assemble_inertia_terms(const ModalInvariants& inv, const Eigen::Matrix3d& R
     Qv_f.noalias() = inv.x_phi.transpose() * w9;
     Qv_f.noalias() += t.P_q * w9;
     Qv_f.noalias() += t.G_qd * (2.0 * w_B);
+    // Σ_ab (W²)_ab F_ab q_f (w9 holds −W² here).
+    if (geometric) Qv_f.noalias() -= t.geometric_products.F_q * w9;
   }
 }
 

@@ -26,8 +26,19 @@
 /// Qv_f by nine matrix–vector products of its own (36 n² multiply-adds); the products above
 /// serve all of them (12 n²). The assembly alone depends on R_WB and ω̄, so a derivative with
 /// respect to the rigid state reuses the products.
+///
+/// **Geometric stiffening** (flexible/geometric_stiffness.hpp, when the invariants carry it):
+/// stage 1 adds the products F_ab q_f, E_c q_f, E_c q̇_f, Z_c q_f, Z_c q̇_f; stage 2 replaces
+/// s_t, S q̇_f, J, C and Ī_θf by s_t + Δs, S q̇_f + ΔS q̇_f, J + ΔJ, C + ΔC, Ī_θf + ΔĪ_θf and adds
+/// (docs/geometric_stiffening.md, GS-9 … GS-11)
+///
+///        M_rf  += [A ΔS; ΔĪ_θf],   ΔS row c = −(E_c q_f)ᵀ,  ΔĪ_θf row c = −(Z_c q_f)ᵀ
+///        Qv_R  += −A Σ_k m_k J̇_w,k q̇_f           (GS-6; the rest through s_t and S q̇_f)
+///        Qv_θ  += z,  z_c = q̇_f·Z_c q̇_f         (GS-7; the rest through J and C)
+///        Qv_f  += Σ_ab (W²)_ab F_ab q_f          (the centrifugal geometric stiffness)
 #include <Eigen/Core>
 
+#include "flexible/geometric_stiffness.hpp"
 #include "flexible/modal_data.hpp"
 
 namespace flexref::flexible {
@@ -51,6 +62,13 @@ struct InertiaTerms {
   Eigen::Matrix<double, 6, 6> M_rr;                    ///< rigid block of M (exactly symmetric)
   Eigen::Matrix<double, 6, Eigen::Dynamic> M_rf;       ///< [A S; Ī_θf] (6×n)
   Eigen::VectorXd Qv;                                  ///< quadratic-velocity vector (6+n)
+
+  // Geometric stiffening (unused, sized n×…, when the body has none).
+  GeometricProducts geometric_products;  ///< stage 1
+  ForeshorteningTerms foreshortening;    ///< stage 2: Δs, ΔS q̇, ΔJ, ΔC, … (included above)
+  /// True when M_rf's translation rows are A S (no stiffening): the structured solve then uses
+  /// the constant L⁻¹ Sᵀ (flexible/mass_matrix_solve.hpp).
+  bool constant_translation_coupling = true;
 
   int mode_count() const { return static_cast<int>(P_q.rows()); }
 };

@@ -81,10 +81,10 @@ void factor_coupled(const ModalMassFactor& factor, const InertiaTerms& t, int kn
     s.factored = true;
     return;
   }
-  // B̂ᵀ column u = L⁻¹ (row u of M_rf)ᵀ: translation rows L⁻¹ Sᵀ A.row(u)ᵀ (constant L⁻¹ Sᵀ),
-  // rotation rows by forward substitution.
+  // B̂ᵀ column u = L⁻¹ (row u of M_rf)ᵀ: translation rows L⁻¹ Sᵀ A.row(u)ᵀ (constant L⁻¹ Sᵀ;
+  // with geometric stiffening they depend on q_f), the others by forward substitution.
   for (int u = known; u < 6; ++u) {
-    if (u < 3) {
+    if (u < 3 && t.constant_translation_coupling) {
       s.Bhat_T.col(u).noalias() = factor.Linv_St() * t.R_WB.row(u).transpose();
     } else {
       s.Bhat_T.col(u) = t.M_rf.row(u).transpose();

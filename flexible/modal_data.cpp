@@ -130,6 +130,7 @@ void ModalData::validate() const {
   check_sizes(*this);
   check_nodes(*this);
   check_modes(*this);
+  if (geometric) geometric->validate(mode_count());
 }
 
 Eigen::MatrixXd modal_mass_matrix(const ModalData& data) {
@@ -219,6 +220,8 @@ ModalInvariants make_modal_invariants(const ModalData& data) {
     inv.phi_cross_phi[static_cast<std::size_t>(a)] =
         inv.phi_phi[pair(b, c)] - inv.phi_phi[pair(c, b)];
   }
+  if (data.geometric)
+    inv.geometric = make_geometric_invariants(*data.geometric, static_cast<int>(n));
   return inv;
 }
 
@@ -245,6 +248,18 @@ Eigen::Vector3d first_moment(const ModalInvariants& inv,
   check_q(inv, q_f);
   Eigen::Vector3d s = inv.s0;
   for (Eigen::Index j = 0; j < q_f.size(); ++j) s += inv.S.col(j) * q_f(j);
+  if (inv.geometric) s += foreshortening_first_moment(*inv.geometric, q_f);
+  return s;
+}
+
+Eigen::Vector3d first_moment_rate(const ModalInvariants& inv,
+                                  const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                                  const Eigen::Ref<const Eigen::VectorXd>& qd_f) {
+  check_q(inv, q_f);
+  check_q(inv, qd_f);
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  for (Eigen::Index j = 0; j < qd_f.size(); ++j) s += inv.S.col(j) * qd_f(j);
+  if (inv.geometric) s += foreshortening_first_moment_rate(*inv.geometric, q_f, qd_f);
   return s;
 }
 
@@ -278,7 +293,9 @@ Eigen::Matrix3d inertia_theta_theta(const ModalInvariants& inv,
   }
   // J = Σ m ū ūᵀ, Ī_θθ = Σ m ũᵀũ = tr(J) I − J
   const Eigen::Matrix3d J = inv.J0 + L + L.transpose() + Q;
-  return J.trace() * Eigen::Matrix3d::Identity() - J;
+  Eigen::Matrix3d I = J.trace() * Eigen::Matrix3d::Identity() - J;
+  if (inv.geometric) I += foreshortening_inertia(*inv.geometric, q_f);
+  return I;
 }
 
 void inertia_theta_f(const ModalInvariants& inv, const Eigen::Ref<const Eigen::VectorXd>& q_f,
@@ -298,6 +315,12 @@ void inertia_theta_f(const ModalInvariants& inv, const Eigen::Ref<const Eigen::V
       for (Eigen::Index i = 0; i < n; ++i) sum += q_f(i) * G(i, j);
       out(a, j) = inv.I_theta_f0(a, j) + sum;
     }
+  }
+  if (!inv.geometric) return;
+  // ΔĪ_θf row c = −(Z_c q_f)ᵀ (flexible/geometric_stiffness.hpp).
+  for (const int c : inv.geometric->Z_nonzero) {
+    const Eigen::MatrixXd& Z = inv.geometric->Z[static_cast<std::size_t>(c)];
+    for (Eigen::Index j = 0; j < n; ++j) out(c, j) -= Z.col(j).dot(q_f);
   }
 }
 

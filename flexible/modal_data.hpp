@@ -11,8 +11,11 @@
 /// Every body integral ∫ρ(·)dV is the sum Σ_k m_k(·). See docs/modal_data.md.
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "flexible/geometric_stiffness.hpp"
 
 namespace flexref::flexible {
 
@@ -37,6 +40,9 @@ struct ModalData {
   std::vector<std::string> node_names;
   /// Empty, or one label per mode (e.g. "bending-xy-1").
   std::vector<std::string> mode_names;
+  /// Geometric stiffening (flexible/geometric_stiffness.hpp): the unit-load matrices about Bo,
+  /// or none (the linear floating frame, no stiffening).
+  std::optional<GeometricStiffness> geometric;
 
   int node_count() const { return static_cast<int>(mass.size()); }
   int mode_count() const { return static_cast<int>(phi.cols()); }
@@ -90,14 +96,23 @@ struct ModalInvariants {
   /// [a] = phi_phi[3b+c] − phi_phi[3c+b] for (a, b, c) a cyclic permutation of (0, 1, 2):
   /// skew-symmetric, and row a of Σ m_k (Φ_k q)~ Φ_k is qᵀ phi_cross_phi[a].
   std::array<Eigen::MatrixXd, 3> phi_cross_phi;
+  /// Geometric stiffening's matrices about the same origin, when the data carry them.
+  std::optional<GeometricInvariants> geometric;
 };
 
 /// Validates the data (ModalData::validate) and computes its invariants.
 ModalInvariants make_modal_invariants(const ModalData& data);
 
 /// \f[ s_t(q_f) = s_0 + S q_f = \textstyle\sum_k m_k \bar u_k \f]  (first moment about Bo).
+/// This and the two inertia functions below include the foreshortening terms Δs, ΔĪ_θθ, ΔĪ_θf
+/// when the invariants carry geometric stiffening (flexible/geometric_stiffness.hpp).
 Eigen::Vector3d first_moment(const ModalInvariants& invariants,
                              const Eigen::Ref<const Eigen::VectorXd>& q_f);
+
+/// d s_t/dt = S q̇_f (+ ΔS(q_f) q̇_f with geometric stiffening). O(n²), allocates nothing.
+Eigen::Vector3d first_moment_rate(const ModalInvariants& invariants,
+                                  const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                                  const Eigen::Ref<const Eigen::VectorXd>& qd_f);
 
 /// \f[ \bar I_{\theta\theta}(q_f) = \textstyle\sum_k m_k \tilde{\bar u}_k^T \tilde{\bar u}_k
 ///     = \mathrm{tr}(J)\, I - J,\quad J = J_0 + L + L^T + Q,\;

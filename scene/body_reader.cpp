@@ -69,7 +69,7 @@ flexible::ModalData read_beam(const Table& body, BeamSpec& spec) {
   const std::optional<Table> b =
       body.table("beam", "a table [body.beam] with length, elements, EA, EI, rho_A and modes");
   b->check_keys({"length", "elements", "EA", "EI", "EI_y", "EI_z", "GJ", "rho_A", "boundary",
-                 "origin", "modes", "families", "damping_ratio"});
+                 "origin", "modes", "families", "damping_ratio", "geometric_stiffening"});
   flexible::BeamParameters p;
   p.origin =
       b->vector3_or("origin", Eigen::Vector3d::Zero(),
@@ -137,9 +137,19 @@ flexible::ModalData read_beam(const Table& body, BeamSpec& spec) {
   if (const std::string problem = flexible::beam_parameters_problem(p); !problem.empty()) {
     b->fail_table(problem);
   }
+  spec.geometric_stiffening = b->boolean_or(
+      "geometric_stiffening", false,
+      "true or false (geometric stiffening by foreshortening; docs/geometric_stiffening.md)");
+  if (spec.geometric_stiffening && p.boundary != flexible::BeamBoundary::kClampedFree) {
+    b->fail("geometric_stiffening",
+            "geometric stiffening needs boundary = \"clamped-free\" (the foreshortening is "
+            "measured from the clamped root; docs/geometric_stiffening.md)");
+  }
   flexible::ModalData data;
   try {
-    data = flexible::make_beam_modal_data(p, modes, filter);
+    data = flexible::make_beam_modal_data(p, modes, filter,
+                                          flexible::BeamModeNormalization::kUnitModalMass,
+                                          spec.geometric_stiffening);
   } catch (const std::invalid_argument& e) {
     b->fail("modes", std::string("cannot make the beam's modal data: ") + e.what());
   } catch (const std::exception& e) {

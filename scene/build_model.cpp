@@ -61,8 +61,9 @@ core::NodeAttachment attachment(const std::vector<core::Body>& bodies, int body,
 void regenerate_beam_modes(BodySpec& body) {
   if (!body.beam) throw std::invalid_argument("body " + body.description.name + " has no beam");
   const BeamSpec& beam = *body.beam;
-  flexible::ModalData data =
-      flexible::make_beam_modal_data(beam.parameters, beam.modes, beam.filter);
+  flexible::ModalData data = flexible::make_beam_modal_data(
+      beam.parameters, beam.modes, beam.filter, flexible::BeamModeNormalization::kUnitModalMass,
+      beam.geometric_stiffening);
   if (beam.damping_ratio.size() == 1) {
     data.damping_ratio.setConstant(data.mode_count(), beam.damping_ratio(0));
   } else if (beam.damping_ratio.size() == data.mode_count()) {

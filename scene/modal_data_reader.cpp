@@ -210,9 +210,78 @@ void read_modes(const Table& root, double tolerance, flexible::ModalData& data) 
   }
 }
 
+// The twelve unit-load matrices of [geometric_stiffness] (flexible/geometric_stiffness.hpp):
+// keys E_x, E_y, E_z, then F_ab in the order 3a+b.
+constexpr std::array<std::string_view, 12> kGeometricKeys = {
+    "E_x", "E_y", "E_z", "F_xx", "F_xy", "F_xz", "F_yx", "F_yy", "F_yz", "F_zx", "F_zy", "F_zz"};
+
+Eigen::MatrixXd& geometric_matrix(flexible::GeometricStiffness& g, std::size_t key) {
+  return key < 3 ? g.E[key] : g.F[key - 3];
+}
+
+// [geometric_stiffness]: any subset of the twelve n×n matrices (absent ones are zero), each an
+// array of n rows of n numbers, symmetric.
+void read_geometric_stiffness(const Table& root, flexible::ModalData& data) {
+  const std::optional<Table> table = root.table(
+      "geometric_stiffness",
+      "a table [geometric_stiffness] of n×n matrices E_x … F_zz (docs/geometric_stiffening.md)");
+  if (!table) return;
+  const Table& g = *table;
+  g.check_keys({kGeometricKeys[0], kGeometricKeys[1], kGeometricKeys[2], kGeometricKeys[3],
+                kGeometricKeys[4], kGeometricKeys[5], kGeometricKeys[6], kGeometricKeys[7],
+                kGeometricKeys[8], kGeometricKeys[9], kGeometricKeys[10], kGeometricKeys[11]});
+  const Eigen::Index n = data.mode_count();
+  const std::string expected = "an array of " + std::to_string(n) + " rows of " +
+                               std::to_string(n) + " numbers (one row and column per mode)";
+  flexible::GeometricStiffness out;
+  for (std::size_t key = 0; key < kGeometricKeys.size(); ++key) {
+    geometric_matrix(out, key) = Eigen::MatrixXd::Zero(n, n);
+  }
+  bool any = false;
+  for (std::size_t key = 0; key < kGeometricKeys.size(); ++key) {
+    const std::string_view name = kGeometricKeys[key];
+    const toml::value* v = g.find(name);
+    if (v == nullptr) continue;
+    any = true;
+    if (!v->is_array() || static_cast<Eigen::Index>(v->as_array().size()) != n) {
+      g.fail(name, "expected " + expected + ", got " + scene_toml::describe(*v));
+    }
+    Eigen::MatrixXd& M = geometric_matrix(out, key);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const toml::value& row = v->as_array()[static_cast<std::size_t>(i)];
+      const std::string row_key = std::string(name) + "[" + std::to_string(i + 1) + "]";
+      if (!row.is_array() || static_cast<Eigen::Index>(row.as_array().size()) != n) {
+        g.fail_at(row, row_key,
+                  "expected a row of " + std::to_string(n) + " numbers, got " +
+                      scene_toml::describe(row));
+      }
+      for (Eigen::Index j = 0; j < n; ++j) {
+        M(i, j) = g.to_number(row.as_array()[static_cast<std::size_t>(j)], row_key, Sign::kAny,
+                              "a finite number");
+      }
+    }
+    // Symmetric to 1e-10 of the largest entry (the Lagrangian needs symmetric matrices; a file
+    // written with 17 digits from a symmetric matrix passes, a transposed block does not).
+    const double scale = M.cwiseAbs().maxCoeff();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index j = 0; j < i; ++j) {
+        if (std::abs(M(i, j) - M(j, i)) > 1e-10 * scale) {
+          g.fail(name, "the matrix is not symmetric: entry (" + std::to_string(i + 1) + ", " +
+                           std::to_string(j + 1) + ") is " + format_number(M(i, j)) + ", (" +
+                           std::to_string(j + 1) + ", " + std::to_string(i + 1) + ") is " +
+                           format_number(M(j, i)));
+        }
+      }
+    }
+  }
+  if (!any) g.fail_table("no matrix given; expected at least one of E_x, E_y, E_z, F_xx … F_zz");
+  data.geometric = std::move(out);
+}
+
 flexible::ModalData read_document(const toml::value& document, const std::string& file) {
   const Table root(document, file, "");
-  root.check_keys({"format", "version", "description", "modal_mass_tolerance", "nodes", "mode"});
+  root.check_keys({"format", "version", "description", "modal_mass_tolerance", "nodes", "mode",
+                   "geometric_stiffness"});
   const std::string format = root.string("format", "\"" + std::string(kModalDataFormat) + "\"");
   if (format != kModalDataFormat) {
     root.fail("format", "expected \"" + std::string(kModalDataFormat) + "\", got \"" + format +
@@ -229,6 +298,7 @@ flexible::ModalData read_document(const toml::value& document, const std::string
   flexible::ModalData data;
   read_nodes(root, data);
   read_modes(root, tolerance, data);
+  read_geometric_stiffness(root, data);
   try {
     data.validate();  // everything is checked above, with lines; kept as a safety net
   } catch (const std::invalid_argument& e) {
@@ -325,6 +395,24 @@ std::string format_modal_data(const flexible::ModalData& data, const std::string
           << format_number(u(2)) << "],\n";
     }
     out << "]\n";
+  }
+  if (data.geometric) {
+    out << "\n# Geometric stiffening: unit-load matrices about the frame origin "
+           "(docs/geometric_stiffening.md)\n[geometric_stiffness]\n";
+    flexible::GeometricStiffness g = *data.geometric;
+    for (std::size_t key = 0; key < kGeometricKeys.size(); ++key) {
+      const Eigen::MatrixXd& M = geometric_matrix(g, key);
+      if (M.cwiseAbs().maxCoeff() == 0.0) continue;
+      out << kGeometricKeys[key] << " = [\n";
+      for (Eigen::Index i = 0; i < M.rows(); ++i) {
+        out << "  [";
+        for (Eigen::Index j = 0; j < M.cols(); ++j) {
+          out << (j > 0 ? ", " : "") << format_number(M(i, j));
+        }
+        out << "],\n";
+      }
+      out << "]\n";
+    }
   }
   return out.str();
 }

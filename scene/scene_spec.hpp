@@ -38,6 +38,9 @@ struct BeamSpec {
   flexible::BeamModeFilter filter;
   /// Modal damping ratios: empty (none), one value for every mode, or one per mode.
   Eigen::VectorXd damping_ratio;
+  /// `geometric_stiffening = true`: the modal data carry the beam's unit-load geometric
+  /// stiffness (flexible/geometric_stiffness.hpp); clamped-free beams only.
+  bool geometric_stiffening = false;
 };
 
 struct BodySpec {

@@ -326,6 +326,13 @@ std::optional<std::string> Table::optional_string(std::string_view key,
   return v->as_string().str;
 }
 
+bool Table::boolean_or(std::string_view key, bool fallback, const std::string& expected) const {
+  const toml::value* v = find(key);
+  if (v == nullptr) return fallback;
+  if (!v->is_boolean()) fail(key, "expected " + expected + ", got " + describe(*v));
+  return v->as_boolean();
+}
+
 std::string Table::string(std::string_view key, const std::string& expected) const {
   std::optional<std::string> s = optional_string(key, expected);
   if (!s) fail(key, "required key is missing; expected " + expected);

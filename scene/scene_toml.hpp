@@ -58,6 +58,9 @@ class Table {
   double number_or(std::string_view key, double fallback, Sign sign,
                    const std::string& expected) const;
 
+  /// true or false; `fallback` when the key is absent.
+  bool boolean_or(std::string_view key, bool fallback, const std::string& expected) const;
+
   std::string string(std::string_view key, const std::string& expected) const;
   std::optional<std::string> optional_string(std::string_view key,
                                              const std::string& expected) const;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -137,12 +138,87 @@ double max_angle(const Response& a, const Response& b) {
   return m;
 }
 
+/// The deflection component that varies most in `truth` over the output indices [from, end).
+int dominant_component(const Response& truth, std::size_t from) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (std::size_t i = from; i < truth.deflection.size(); ++i) {
+    lo = lo.cwiseMin(truth.deflection[i]);
+    hi = hi.cwiseMax(truth.deflection[i]);
+  }
+  Eigen::Index c = 0;
+  (hi - lo).maxCoeff(&c);
+  return static_cast<int>(c);
+}
+
+/// Dominant angular frequency of component c over [from, end): π (crossings − 1) / (time from
+/// the first to the last crossing of the mean), crossings by linear interpolation; NaN with
+/// fewer than 3 crossings.
+double dominant_frequency(const Response& r, const std::vector<double>& times, std::size_t from,
+                          int c) {
+  double mean = 0.0;
+  for (std::size_t i = from; i < times.size(); ++i) mean += r.deflection[i](c);
+  mean /= static_cast<double>(times.size() - from);
+  std::vector<double> crossings;
+  for (std::size_t i = from + 1; i < times.size(); ++i) {
+    const double a = r.deflection[i - 1](c) - mean;
+    const double b = r.deflection[i](c) - mean;
+    if ((a < 0.0) != (b < 0.0)) {
+      crossings.push_back(times[i - 1] + (times[i] - times[i - 1]) * a / (a - b));
+    }
+  }
+  if (crossings.size() < 3) return kNaN;
+  return std::numbers::pi * static_cast<double>(crossings.size() - 1) /
+         (crossings.back() - crossings.front());
+}
+
+/// Tip, envelope and frequency metrics of model m against the truth.
+struct Metrics {
+  double tip = kNaN, envelope = kNaN, frequency = kNaN;
+};
+
+Metrics compare(const Response& m, const Response& truth, double truth_peak, double truth_frequency,
+                const std::vector<double>& times, std::size_t from, int component) {
+  Metrics out;
+  out.tip = max_difference(m, truth, truth_peak);
+  out.envelope = max_norm(m.deflection) / truth_peak - 1.0;
+  out.frequency = dominant_frequency(m, times, from, component) / truth_frequency - 1.0;
+  return out;
+}
+
+/// Sets a flexible body's geometric stiffening (see lte_map_factory).
+void set_geometric_stiffening(scene::BodySpec& body, bool on) {
+  if (body.beam) {
+    if (body.beam->geometric_stiffening == on) return;
+    if (on && body.beam->parameters.boundary != flexible::BeamBoundary::kClampedFree) {
+      throw std::invalid_argument("lte-map: body '" + body.description.name +
+                                  "': geometric stiffening needs a clamped-free beam (use "
+                                  "--truth coupled)");
+    }
+    body.beam->geometric_stiffening = on;
+    scene::regenerate_beam_modes(body);
+    return;
+  }
+  std::optional<core::FlexiblePart>& part = body.description.flexible;
+  if (!part) return;
+  if (!on) {
+    part->modal.geometric.reset();
+  } else if (!part->modal.geometric) {
+    throw std::invalid_argument("lte-map: body '" + body.description.name +
+                                "' has no geometric-stiffness data (its modal-data file has no "
+                                "[geometric_stiffness] section; docs/geometric_stiffening.md): "
+                                "use --truth coupled");
+  }
+}
+
 /// Every field of a grid point, for distributed_for.
 SlotCodec point_codec(std::vector<LteMapPoint>& points) {
-  require_codec_size<LteMapPoint, 128>();
+  require_codec_size<LteMapPoint, 184>();
   const auto fields = [](auto& io, auto& p) {
     io(p.spin_ratio, p.inertia_ratio, p.spin, p.omega1, p.hub_scale, p.load_scale, p.tip_error,
-       p.attitude_error, p.max_deflection, p.coupled_estimate, p.lte_estimate, p.resolved,
+       p.envelope_error, p.frequency_shift, p.attitude_error, p.classical_tip_error,
+       p.classical_envelope_error, p.classical_frequency_shift, p.max_deflection, p.truth_frequency,
+       p.truth_estimate, p.lte_estimate, p.classical_estimate, p.resolved, p.classical_resolved,
        p.status);
   };
   return {[&points, fields](int i, SlotWriter& w) {
@@ -262,10 +338,15 @@ LteModelFactory lte_map_factory(scene::SceneSpec spec, int body) {
   if (body < 0 || static_cast<std::size_t>(body) >= spec.bodies.size()) {
     throw std::invalid_argument("lte-map: no body " + std::to_string(body) + " in the scene");
   }
-  return [spec = std::move(spec), body](core::FlexibleFormulation formulation,
+  return [spec = std::move(spec), body](LteMapLevel level,
                                         const std::optional<LteMapScaling>& scaling) {
-    if (!scaling) return scene::build_model(spec, formulation);
+    const core::FlexibleFormulation formulation = level == LteMapLevel::kLte
+                                                      ? core::FlexibleFormulation::kLte
+                                                      : core::FlexibleFormulation::kCoupled;
     scene::SceneSpec edited = spec;
+    set_geometric_stiffening(edited.bodies[static_cast<std::size_t>(body)],
+                             level == LteMapLevel::kStiffened);
+    if (!scaling) return scene::build_model(edited, formulation);
     core::RigidBodyDescription& d = edited.bodies[static_cast<std::size_t>(body)].description;
     d.mass *= scaling->hub_scale;
     d.I_Bcm_B *= scaling->hub_scale;
@@ -273,6 +354,13 @@ LteModelFactory lte_map_factory(scene::SceneSpec spec, int body) {
     for (scene::LoadSpec& load : edited.loads) load.value *= scaling->load_scale;
     return scene::build_model(edited, formulation);
   };
+}
+
+bool lte_map_can_stiffen(const scene::SceneSpec& spec, int body) {
+  if (body < 0 || static_cast<std::size_t>(body) >= spec.bodies.size()) return false;
+  const scene::BodySpec& b = spec.bodies[static_cast<std::size_t>(body)];
+  if (b.beam) return b.beam->parameters.boundary == flexible::BeamBoundary::kClampedFree;
+  return b.description.flexible && b.description.flexible->modal.geometric.has_value();
 }
 
 LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& options) {
@@ -284,11 +372,19 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   }
   LteMapResult result;
   result.options = options;
-  const core::Model scene_model = factory(core::FlexibleFormulation::kCoupled, std::nullopt);
+  const LteMapLevel truth_level =
+      options.stiffened_truth ? LteMapLevel::kStiffened : LteMapLevel::kClassical;
+  const core::Model scene_model = factory(truth_level, std::nullopt);
   result.base = lte_map_base(scene_model, options);
   const int body_index = find_flexible_body(scene_model, options.body);
   const core::TrackedPoint point = find_point(scene_model.body(body_index), result.base.point);
   const std::vector<double> times = core::output_times(options.end_time, options.output_step);
+  // The frequency metric's window: the second half of the horizon.
+  const auto second_half = static_cast<std::size_t>(
+      std::lower_bound(times.begin(), times.end(), 0.5 * options.end_time) - times.begin());
+  const auto component_of = [&](const Response& truth) {
+    return dominant_component(truth, second_half);
+  };
 
   const std::size_t nx = options.spin_ratios.size();
   const std::size_t ny = options.inertia_ratios.size();
@@ -312,22 +408,44 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
     out.hub_scale = scalings[uk].hub_scale;
     out.load_scale = scalings[uk].load_scale;
     try {
-      const core::Model coupled = factory(core::FlexibleFormulation::kCoupled, scalings[uk]);
-      const core::Model lte = factory(core::FlexibleFormulation::kLte, scalings[uk]);
       const double loose = options.estimate_factor * options.rtol;
-      const Response c = integrate(coupled, body_index, point, times, options.solver, options.rtol);
-      const Response l = integrate(lte, body_index, point, times, options.solver, options.rtol);
-      const Response c_loose = integrate(coupled, body_index, point, times, options.solver, loose);
-      const Response l_loose = integrate(lte, body_index, point, times, options.solver, loose);
-      out.max_deflection = max_norm(c.deflection);
+      const auto run = [&](LteMapLevel level, double rtol) {
+        return integrate(factory(level, scalings[uk]), body_index, point, times, options.solver,
+                         rtol);
+      };
+      const Response t = run(truth_level, options.rtol);
+      const Response l = run(LteMapLevel::kLte, options.rtol);
+      out.max_deflection = max_norm(t.deflection);
       if (!(out.max_deflection > 0.0)) {
-        throw std::runtime_error("the coupled model's tracked point does not deflect");
+        throw std::runtime_error("the truth's tracked point does not deflect");
       }
-      out.tip_error = max_difference(l, c, out.max_deflection);
-      out.attitude_error = max_angle(l, c);
-      out.coupled_estimate = max_difference(c_loose, c, out.max_deflection);
-      out.lte_estimate = max_difference(l_loose, l, out.max_deflection);
-      out.resolved = out.tip_error >= 100.0 * std::max(out.coupled_estimate, out.lte_estimate);
+      const int c = component_of(t);
+      out.truth_frequency = dominant_frequency(t, times, second_half, c);
+      const Metrics lte =
+          compare(l, t, out.max_deflection, out.truth_frequency, times, second_half, c);
+      out.tip_error = lte.tip;
+      out.envelope_error = lte.envelope;
+      out.frequency_shift = lte.frequency;
+      out.attitude_error = max_angle(l, t);
+      out.truth_estimate = max_difference(run(truth_level, loose), t, out.max_deflection);
+      out.lte_estimate = max_difference(run(LteMapLevel::kLte, loose), l, out.max_deflection);
+      out.resolved = out.tip_error >= 100.0 * std::max(out.truth_estimate, out.lte_estimate);
+      out.classical_tip_error = kNaN;
+      out.classical_envelope_error = kNaN;
+      out.classical_frequency_shift = kNaN;
+      out.classical_estimate = kNaN;
+      if (options.stiffened_truth) {
+        const Response k = run(LteMapLevel::kClassical, options.rtol);
+        const Metrics classical =
+            compare(k, t, out.max_deflection, out.truth_frequency, times, second_half, c);
+        out.classical_tip_error = classical.tip;
+        out.classical_envelope_error = classical.envelope;
+        out.classical_frequency_shift = classical.frequency;
+        out.classical_estimate =
+            max_difference(run(LteMapLevel::kClassical, loose), k, out.max_deflection);
+        out.classical_resolved =
+            out.classical_tip_error >= 100.0 * std::max(out.truth_estimate, out.classical_estimate);
+      }
     } catch (const std::exception& e) {
       out.tip_error = kNaN;
       out.attitude_error = kNaN;
@@ -352,6 +470,23 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
                            "estimated error of a reference: the value is an upper bound, not a "
                            "measurement (tighten --rtol)");
   }
+  int classical_unresolved = 0;
+  for (const LteMapPoint& p : result.points) {
+    if (options.stiffened_truth && p.status == "ok" && !p.classical_resolved) {
+      ++classical_unresolved;
+    }
+  }
+  if (classical_unresolved > 0) {
+    result.notes.push_back(std::to_string(classical_unresolved) +
+                           " classical-model value(s) marked '*' are below 100x the estimated "
+                           "error of a reference (upper bounds)");
+  }
+  if (!options.stiffened_truth) {
+    result.notes.push_back(
+        "truth = the classical coupled model (--truth coupled): it has no geometric stiffening "
+        "and softens in the plane of rotation, so the map measures LTE against a model that is "
+        "itself wrong at large spin (docs/lte_map.md)");
+  }
   if (failed > 0) {
     result.notes.push_back(std::to_string(failed) +
                            " grid point(s) failed (status in lte_map.csv); shown as '-'");
@@ -359,20 +494,33 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   return result;
 }
 
-std::vector<double> lte_map_crossings(const LteMapResult& result, double level) {
+double lte_map_value(const LteMapPoint& p, bool classical, LteMapMetric metric) {
+  switch (metric) {
+    case LteMapMetric::kTip:
+      return std::abs(classical ? p.classical_tip_error : p.tip_error);
+    case LteMapMetric::kEnvelope:
+      return std::abs(classical ? p.classical_envelope_error : p.envelope_error);
+    case LteMapMetric::kFrequency:
+      return std::abs(classical ? p.classical_frequency_shift : p.frequency_shift);
+  }
+  return kNaN;
+}
+
+std::vector<double> lte_map_crossings(const LteMapResult& result, double level, bool classical,
+                                      LteMapMetric metric) {
   const std::size_t nx = result.options.spin_ratios.size();
   const std::size_t ny = result.options.inertia_ratios.size();
   std::vector<double> crossings(ny, kNaN);
   for (std::size_t j = 0; j < ny; ++j) {
     for (std::size_t i = 0; i + 1 < nx; ++i) {
-      const LteMapPoint& a = result.points[j * nx + i];
-      const LteMapPoint& b = result.points[j * nx + i + 1];
-      if (!(a.tip_error > 0.0) || !(b.tip_error > 0.0)) continue;
-      if ((a.tip_error - level) * (b.tip_error - level) > 0.0 || a.tip_error == b.tip_error) {
-        continue;
-      }
-      const double f = std::log(level / a.tip_error) / std::log(b.tip_error / a.tip_error);
-      crossings[j] = a.spin_ratio * std::pow(b.spin_ratio / a.spin_ratio, f);
+      const LteMapPoint& pa = result.points[j * nx + i];
+      const LteMapPoint& pb = result.points[j * nx + i + 1];
+      const double a = lte_map_value(pa, classical, metric);
+      const double b = lte_map_value(pb, classical, metric);
+      if (!(a > 0.0) || !(b > 0.0)) continue;
+      if ((a - level) * (b - level) > 0.0 || a == b) continue;
+      const double f = std::log(level / a) / std::log(b / a);
+      crossings[j] = pa.spin_ratio * std::pow(pb.spin_ratio / pa.spin_ratio, f);
       break;
     }
   }
@@ -382,29 +530,28 @@ std::vector<double> lte_map_crossings(const LteMapResult& result, double level) 
 std::string lte_map_csv(const LteMapResult& result) {
   std::ostringstream s;
   s.precision(17);
-  s << "spin_ratio,inertia_ratio,spin,omega1,hub_scale,load_scale,tip_error,"
-       "attitude_error,max_deflection,coupled_estimate,lte_estimate,resolved,status\n";
+  s << "spin_ratio,inertia_ratio,spin,omega1,hub_scale,load_scale,tip_error,envelope_error,"
+       "frequency_shift,attitude_error,classical_tip_error,classical_envelope_error,"
+       "classical_frequency_shift,max_deflection,truth_frequency,truth_estimate,lte_estimate,"
+       "classical_estimate,resolved,classical_resolved,status\n";
   for (const LteMapPoint& p : result.points) {
     const std::string status = csv_text(p.status);
     s << p.spin_ratio << ',' << p.inertia_ratio << ',' << p.spin << ',' << p.omega1 << ','
-      << p.hub_scale << ',' << p.load_scale << ',' << p.tip_error << ',' << p.attitude_error << ','
-      << p.max_deflection << ',' << p.coupled_estimate << ',' << p.lte_estimate << ','
-      << (p.resolved ? 1 : 0) << ',' << status << '\n';
+      << p.hub_scale << ',' << p.load_scale << ',' << p.tip_error << ',' << p.envelope_error << ','
+      << p.frequency_shift << ',' << p.attitude_error << ',' << p.classical_tip_error << ','
+      << p.classical_envelope_error << ',' << p.classical_frequency_shift << ',' << p.max_deflection
+      << ',' << p.truth_frequency << ',' << p.truth_estimate << ',' << p.lte_estimate << ','
+      << p.classical_estimate << ',' << (p.resolved ? 1 : 0) << ','
+      << (p.classical_resolved ? 1 : 0) << ',' << status << '\n';
   }
   return s.str();
 }
 
-std::string format_lte_map_table(const LteMapResult& result) {
-  const LteMapBase& b = result.base;
+namespace {
+
+void grid_table(std::ostringstream& s, const LteMapResult& result, bool classical) {
   const std::size_t nx = result.options.spin_ratios.size();
   const std::size_t ny = result.options.inertia_ratios.size();
-  std::ostringstream s;
-  s << std::setprecision(4);
-  s << "body '" << b.body << "', point '" << b.point << "': omega1 = " << b.omega1
-    << " rad/s, scene Omega0/omega1 = " << b.spin_ratio
-    << ", scene I_flex/I_rigid = " << b.inertia_ratio << "\n";
-  s << "LTE tip-deflection error relative to the coupled model, % (rows: I_flex/I_rigid, "
-       "columns: Omega0/omega1; * = below 100x the reference error estimate)\n";
   s << std::setw(10) << "y \\ x";
   for (std::size_t i = 0; i < nx; ++i) {
     std::ostringstream h;
@@ -418,25 +565,68 @@ std::string format_lte_map_table(const LteMapResult& result) {
     s << std::setw(10) << h.str();
     for (std::size_t i = 0; i < nx; ++i) {
       const LteMapPoint& p = result.points[j * nx + i];
-      s << std::setw(9) << (percent(p.tip_error) + (p.status == "ok" && !p.resolved ? "*" : ""));
+      const bool resolved = classical ? p.classical_resolved : p.resolved;
+      s << std::setw(9)
+        << (percent(classical ? p.classical_tip_error : p.tip_error) +
+            (p.status == "ok" && !resolved ? "*" : ""));
     }
     s << "\n";
   }
-  for (const double level : {0.01, 0.05, 0.20}) {
-    const std::vector<double> c = lte_map_crossings(result, level);
-    s << percent(level) << " % line at Omega0/omega1 =";
-    for (std::size_t j = 0; j < ny; ++j) {
-      std::ostringstream v;
-      v << std::setprecision(3);
-      if (std::isfinite(c[j])) {
-        v << c[j];
-      } else {
-        v << "-";
+}
+
+void crossing_lines(std::ostringstream& s, const LteMapResult& result, bool classical) {
+  const std::size_t ny = result.options.inertia_ratios.size();
+  const std::pair<LteMapMetric, const char*> metrics[] = {
+      {LteMapMetric::kTip, "L-inf tip error"},
+      {LteMapMetric::kEnvelope, "peak deflection"},
+      {LteMapMetric::kFrequency, "frequency shift"}};
+  for (const auto& [metric, name] : metrics) {
+    for (const double level : {0.01, 0.05, 0.20}) {
+      const std::vector<double> c = lte_map_crossings(result, level, classical, metric);
+      s << "  " << name << ", " << percent(level) << " % line at Omega0/omega1 =";
+      for (std::size_t j = 0; j < ny; ++j) {
+        std::ostringstream v;
+        v << std::setprecision(3);
+        if (std::isfinite(c[j])) {
+          v << c[j];
+        } else {
+          v << "-";
+        }
+        s << (j ? ", " : " ") << v.str() << " (y=" << std::setprecision(3)
+          << result.options.inertia_ratios[j] << std::setprecision(4) << ")";
       }
-      s << (j ? ", " : " ") << v.str() << " (y=" << std::setprecision(3)
-        << result.options.inertia_ratios[j] << std::setprecision(4) << ")";
+      s << "\n";
     }
-    s << "\n";
+  }
+}
+
+}  // namespace
+
+std::string format_lte_map_table(const LteMapResult& result) {
+  const LteMapBase& b = result.base;
+  const bool stiffened = result.options.stiffened_truth;
+  std::ostringstream s;
+  s << std::setprecision(4);
+  s << "body '" << b.body << "', point '" << b.point << "': omega1 = " << b.omega1
+    << " rad/s, scene Omega0/omega1 = " << b.spin_ratio
+    << ", scene I_flex/I_rigid = " << b.inertia_ratio << "\n";
+  const std::string truth =
+      stiffened ? "the coupled model with geometric stiffening" : "the classical coupled model";
+  s << "truth: " << truth << "; metrics over the horizon [0, " << result.options.end_time
+    << "] s (frequency: its second half)\n";
+  s << "LTE L-inf tip-deflection error relative to the truth, % (rows: I_flex/I_rigid, "
+       "columns: Omega0/omega1; * = below 100x the reference error estimate)\n";
+  grid_table(s, result, false);
+  if (stiffened) {
+    s << "classical coupled model (no stiffening): L-inf tip-deflection error relative to the "
+         "truth, %\n";
+    grid_table(s, result, true);
+  }
+  s << "where LTE holds:\n";
+  crossing_lines(s, result, false);
+  if (stiffened) {
+    s << "where the classical coupled model holds:\n";
+    crossing_lines(s, result, true);
   }
   for (const std::string& note : result.notes) s << "note: " << note << "\n";
   return s.str();

@@ -9,9 +9,14 @@
 ///     mass Br: I_flex of the flexible part (the nodes), I_rigid of the hub (its inertia about
 ///     its own centre plus the parallel-axis term m_hub d², d the distance of the hub's centre
 ///     from the axis),
-/// is integrated twice per point, with the coupled and with the LTE model, by the same
-/// reference solver at the same tight tolerance, and the LTE model's error against the coupled
-/// model is measured (both converged: a modelling error, not a discretization error).
+/// is integrated three times per point by the same reference solver at the same tight tolerance
+/// (docs/lte_map.md): with the LTE model, with the classical coupled model (the linear floating
+/// frame, no geometric stiffening) and with the coupled model with geometric stiffening
+/// (docs/geometric_stiffening.md), the **truth**: the classical coupled model softens in the
+/// plane of rotation (ω² − Ω²) where a real beam stiffens, so at Ω/ω1 ≈ 0.3 its own error
+/// exceeds the LTE model's. Both simplifications are measured against the truth (modelling
+/// errors, not discretization errors). `--truth coupled` reproduces the two-level map of
+/// earlier versions (LTE against the classical coupled model).
 ///
 /// **How a grid point is built** (LteMapScaling, applied by the caller's factory): the initial
 /// angular velocity is scaled so that |ω0| = x·ω1 (direction kept); the hub is scaled as a whole
@@ -24,16 +29,21 @@
 /// the spin axis, so that the spin history Ω(t)/Ω0 of the rigid motion is the scene's at every
 /// grid point (the load drives the same relative spin-up).
 ///
-/// **Metrics** (per point, over the output times of [0, end_time]):
-///   - tip_error (primary): max_t |δ_LTE(t) − δ_C(t)| / max_t |δ_C(t)|, δ the elastic
-///     deflection of the tracked point in the body frame, δ = p_BrP_B(P, q_f) − p_BrP_B(P, 0)
-///     = Φ_P q_f (relative: the metric does not depend on the excitation's amplitude while the
-///     response is linear);
-///   - attitude_error: max_t of the geodesic angle between the two models' attitudes (rad).
-/// **Reference accuracy** (the 100× rule of docs/design/studies.md): each of the two references is
-/// rerun at estimate_factor·rtol (looser); the difference of the deflections (same
-/// normalization) estimates the looser run's error, an upper bound of the tight run's. A point
-/// is `resolved` when tip_error ≥ 100 × the larger of the two estimates.
+/// **Metrics** of a simplified model m against the truth t, per point, over the output times of
+/// the stated horizon [0, end_time] (δ the elastic deflection of the tracked point in the body
+/// frame, δ = p_BrP_B(P, q_f) − p_BrP_B(P, 0) = Φ_P q_f; all relative, so they do not depend on
+/// the excitation's amplitude while the response is linear):
+///   - tip error (L∞): max_t |δ_m(t) − δ_t(t)| / max_t |δ_t(t)| — mixes amplitude and phase, and
+///     grows with the horizon as the phase drifts;
+///   - envelope error: max_t |δ_m| / max_t |δ_t| − 1 (peak deflection: amplitude only);
+///   - frequency shift: f_m / f_t − 1, f the dominant (first-mode) frequency of the deflection
+///     component that varies most in the truth, from its zero crossings about its mean over the
+///     second half of the horizon (after the spin-up transients; phase rate only);
+///   - attitude error (LTE): max_t of the geodesic angle between the LTE and truth attitudes.
+/// **Reference accuracy** (the 100× rule of docs/design/studies.md): each reference is rerun at
+/// estimate_factor·rtol (looser); the difference of the deflections (same normalization)
+/// estimates the looser run's error, an upper bound of the tight run's. A model's tip error is
+/// `resolved` when it is ≥ 100 × the larger of its and the truth's estimates.
 #include <Eigen/Core>
 #include <functional>
 #include <optional>
@@ -52,15 +62,30 @@ struct LteMapScaling {
   double load_scale = 1.0;  ///< every applied load's value ← load_scale·value
 };
 
-/// Builds the scene's model for a formulation with a grid point's changes applied (std::nullopt:
-/// the scene unchanged); called concurrently from several threads (must not share mutable
-/// state).
-using LteModelFactory =
-    std::function<core::Model(core::FlexibleFormulation, const std::optional<LteMapScaling>&)>;
+/// The three model levels of the map.
+enum class LteMapLevel {
+  kLte,        ///< linear theory of elastodynamics (inertia of the undeformed body)
+  kClassical,  ///< coupled floating frame, no geometric stiffening
+  kStiffened,  ///< coupled floating frame with geometric stiffening (the truth)
+};
 
-/// The factory of a scene: copies the spec, applies the scaling to body `body` (hub mass and
-/// inertia, initial angular velocity) and to every [[load]] value, and builds the model.
+/// Builds the scene's model at a level with a grid point's changes applied (std::nullopt: the
+/// scene unchanged but for the level); called concurrently from several threads (must not share
+/// mutable state).
+using LteModelFactory =
+    std::function<core::Model(LteMapLevel, const std::optional<LteMapScaling>&)>;
+
+/// The factory of a scene: copies the spec, sets the flexible body's geometric stiffening for the
+/// level (a [body.beam] is regenerated with or without it; a modal file's [geometric_stiffness]
+/// is dropped below the stiffened level), applies the scaling to body `body` (hub mass and
+/// inertia, initial angular velocity) and to every [[load]] value, and builds the model. The
+/// stiffened level throws std::invalid_argument when the body has no geometric-stiffness data
+/// (a modal file without the section, a beam that is not clamped-free).
 LteModelFactory lte_map_factory(scene::SceneSpec spec, int body);
+
+/// Whether body `body` of the scene can be stiffened (a clamped-free [body.beam], or modal data
+/// with geometric stiffness).
+bool lte_map_can_stiffen(const scene::SceneSpec& spec, int body);
 
 struct LteMapOptions {
   std::vector<double> spin_ratios;     ///< x = Ω0/ω1, > 0
@@ -71,6 +96,9 @@ struct LteMapOptions {
   double rtol = 1e-10;
   double estimate_factor = 10.0;  ///< the accuracy check reruns at estimate_factor·rtol
   bool scale_loads = true;
+  /// The truth: the coupled model with geometric stiffening (true) or the classical coupled
+  /// model (false: the two-level map, no classical-model metrics).
+  bool stiffened_truth = true;
   int body = -1;      ///< the flexible body (−1: the first free flexible body)
   std::string point;  ///< the tracked node point (empty: the node point farthest from Br)
   int jobs = 1;
@@ -103,13 +131,23 @@ struct LteMapPoint {
   double omega1 = 0.0;         ///< rad/s
   double hub_scale = 0.0;
   double load_scale = 0.0;
-  double tip_error = 0.0;         ///< primary metric (relative)
-  double attitude_error = 0.0;    ///< rad
-  double max_deflection = 0.0;    ///< max_t |δ_C|, m
-  double coupled_estimate = 0.0;  ///< estimated error of the coupled reference (tip metric units)
-  double lte_estimate = 0.0;      ///< same for the LTE reference
-  bool resolved = false;          ///< tip_error ≥ 100 × max(estimates)
-  std::string status = "ok";      ///< "ok" or "failed: …"
+  // LTE against the truth.
+  double tip_error = 0.0;        ///< L∞ tip error (relative): the map's primary metric
+  double envelope_error = 0.0;   ///< peak deflection ratio − 1
+  double frequency_shift = 0.0;  ///< dominant frequency ratio − 1 (NaN: too few crossings)
+  double attitude_error = 0.0;   ///< rad
+  // The classical coupled model against the truth (NaN when the truth is the classical model).
+  double classical_tip_error = 0.0;
+  double classical_envelope_error = 0.0;
+  double classical_frequency_shift = 0.0;
+  double max_deflection = 0.0;      ///< max_t |δ_truth|, m
+  double truth_frequency = 0.0;     ///< dominant frequency of the truth, rad/s
+  double truth_estimate = 0.0;      ///< estimated error of the truth (tip metric units)
+  double lte_estimate = 0.0;        ///< same for the LTE reference
+  double classical_estimate = 0.0;  ///< same for the classical reference
+  bool resolved = false;            ///< tip_error ≥ 100 × max(truth, LTE estimates)
+  bool classical_resolved = false;  ///< classical_tip_error ≥ 100 × max(truth, classical)
+  std::string status = "ok";        ///< "ok" or "failed: …"
 };
 
 struct LteMapResult {
@@ -135,19 +173,29 @@ LteMapScaling lte_map_scaling(const LteMapBase& base, double spin_ratio, double 
 /// Runs the grid (parallel over points; the numbers do not depend on jobs).
 LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& options);
 
-/// Where the tip error crosses `level` along each inertia ratio's row: the spin ratio by
-/// log-log interpolation between the bracketing grid points, NaN when the row does not cross.
-std::vector<double> lte_map_crossings(const LteMapResult& result, double level);
+/// A metric of the map: which simplification, which measure (absolute values).
+enum class LteMapMetric { kTip, kEnvelope, kFrequency };
+double lte_map_value(const LteMapPoint& point, bool classical, LteMapMetric metric);
+
+/// Where a metric (default: the LTE tip error) crosses `level` along each inertia ratio's row:
+/// the spin ratio by log-log interpolation between the bracketing grid points, NaN when the
+/// row does not cross.
+std::vector<double> lte_map_crossings(const LteMapResult& result, double level,
+                                      bool classical = false,
+                                      LteMapMetric metric = LteMapMetric::kTip);
 
 /// `count` values spaced logarithmically in [lo, hi] (just lo when count is 1); throws
 /// std::invalid_argument unless 0 < lo ≤ hi and count ≥ 1.
 std::vector<double> log_spaced_values(double lo, double hi, int count);
 
 /// CSV columns: spin_ratio,inertia_ratio,spin,omega1,hub_scale,load_scale,tip_error,
-/// attitude_error,max_deflection,coupled_estimate,lte_estimate,resolved,status.
+/// envelope_error,frequency_shift,attitude_error,classical_tip_error,classical_envelope_error,
+/// classical_frequency_shift,max_deflection,truth_frequency,truth_estimate,lte_estimate,
+/// classical_estimate,resolved,classical_resolved,status.
 std::string lte_map_csv(const LteMapResult& result);
-/// The terminal table: tip error (%) per inertia ratio (rows) and spin ratio (columns), the
-/// crossings of the 1 %, 5 % and 20 % lines, and the notes.
+/// The terminal table: the LTE tip error (%) per inertia ratio (rows) and spin ratio (columns),
+/// the classical coupled model's (stiffened truth), the crossings of the 1 %, 5 % and 20 % lines
+/// of every metric, and the notes.
 std::string format_lte_map_table(const LteMapResult& result);
 
 }  // namespace flexref::studies

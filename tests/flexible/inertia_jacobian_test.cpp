@@ -181,6 +181,99 @@ TEST_CASE("the Jacobian check catches a wrong sign in any column block", "[flexi
   }
 }
 
+/// R = M x − Qv + [0; 0; K q + D q̇] by the invariants (with geometric stiffening: the nodal
+/// sums do not know the foreshortening; the terms themselves are checked by the conservation
+/// laws of tests/core/geometric_stiffening_test.cpp).
+Eigen::VectorXd residual_by_invariants(const ModalData& data, const ModalInvariants& inv,
+                                       const Point& p, const Eigen::VectorXd& x) {
+  const int n = data.mode_count();
+  InertiaTerms t = make_inertia_terms(n);
+  evaluate_inertia_terms(inv, p.A, p.q, p.w, p.qd, t);
+  Eigen::VectorXd R = -t.Qv;
+  R.head<6>() += t.M_rr * x.head<6>() + t.M_rf * x.tail(n);
+  R.tail(n) += t.M_rf.transpose() * x.head<6>() + inv.m_ff * x.tail(n);
+  R.tail(n) += data.stiffness.cwiseProduct(p.q) + modal_damping(data).cwiseProduct(p.qd);
+  return R;
+}
+
+/// As worst_ratio, coupled, against differences of residual_by_invariants; the rounding bound
+/// uses the residual's magnitude times n² ε per entry (O(n²) products of the invariants).
+double worst_ratio_stiffened(const ModalData& data, unsigned seed, Eigen::Index wrong = -1) {
+  const ModalInvariants inv = make_modal_invariants(data);
+  const int n = data.mode_count();
+  std::mt19937 rng(seed);
+  Point p;
+  p.A = rotation::rotation_matrix(Eigen::Vector4d(random_vector(4, rng, 1.0)).normalized());
+  p.w = random_vector(3, rng, 1.5);
+  p.q = random_vector(n, rng, 0.2);
+  p.qd = random_vector(n, rng, 1.0);
+  const Eigen::VectorXd x = random_vector(6 + n, rng, 2.0);
+  InertiaTerms terms = make_inertia_terms(n);
+  evaluate_inertia_terms(inv, p.A, p.q, p.w, p.qd, terms);
+  InertiaJacobianScratch scratch = make_inertia_jacobian_scratch(n);
+  Eigen::MatrixXd J(6 + n, 6 + 2 * n);
+  inertia_residual_jacobian(inv, terms, true, p.q, p.w, p.qd, x, data.stiffness,
+                            modal_damping(data), scratch, J);
+  if (wrong >= 0) J.col(wrong) *= -1.0;
+  double S = 0.0;
+  residual_by_nodes(data, true, p, x, &S);
+  const double h = 1e-3;
+  const double eps_R = 10.0 * (data.node_count() + n * n) * kEps * S;
+  double worst = 0.0;
+  for (Eigen::Index c = 0; c < J.cols(); ++c) {
+    const auto D = [&](double step) {
+      return Eigen::VectorXd((residual_by_invariants(data, inv, perturbed(p, c, step), x) -
+                              residual_by_invariants(data, inv, perturbed(p, c, -step), x)) /
+                             (2.0 * step));
+    };
+    const Eigen::VectorXd D1 = D(h), D2 = D(h / 2.0);
+    const Eigen::VectorXd E = (4.0 * D2 - D1) / 3.0;
+    const double bound = (D1 - D2).cwiseAbs().maxCoeff() + 3.0 * eps_R / h;
+    CHECK(bound <= 1e-4 * (E.cwiseAbs().maxCoeff() + S));
+    worst = std::max(worst, (J.col(c) - E).cwiseAbs().maxCoeff() / bound);
+  }
+  return worst;
+}
+
+ModalData stiffened_random_data(int N, int n, unsigned seed) {
+  ModalData data = random_data(N, n, seed);
+  std::mt19937 rng(seed + 1000);
+  GeometricStiffness g;
+  const auto symmetric = [&] {
+    const Eigen::MatrixXd A = Eigen::MatrixXd(random_vector(n * n, rng, 1.0).reshaped(n, n));
+    return Eigen::MatrixXd(0.5 * (A + A.transpose()));
+  };
+  for (auto& M : g.E) M = symmetric();
+  for (auto& M : g.F) M = symmetric();
+  data.geometric = g;
+  return data;
+}
+
+ModalData stiffened_beam_data() {
+  BeamParameters p;
+  p.origin = Eigen::Vector3d(0.1, 0.05, -0.02);
+  p.elements = 8;
+  p.EA = 1e5;
+  p.EI_y = 4.0;
+  p.EI_z = 3.2;
+  ModalData data = make_beam_modal_data(p, 6, {}, BeamModeNormalization::kUnitModalMass, true);
+  data.damping_ratio = Eigen::VectorXd::Constant(6, 0.02);
+  return data;
+}
+
+TEST_CASE("with geometric stiffening the Jacobian equals differences of the residual",
+          "[flexible][jacobian][geometric]") {
+  CHECK(worst_ratio_stiffened(stiffened_random_data(7, 3, 1), 21) <= 1.0);
+  CHECK(worst_ratio_stiffened(stiffened_random_data(25, 6, 2), 22) <= 1.0);
+  CHECK(worst_ratio_stiffened(stiffened_beam_data(), 23) <= 1.0);
+  // A wrong sign in any column block is caught.
+  const ModalData data = stiffened_random_data(7, 3, 1);
+  for (const Eigen::Index column : {1, 4, 7, 10}) {
+    INFO("column " << column);
+    CHECK(worst_ratio_stiffened(data, 21, column) > 100.0);
+  }
+}
+
 TEST_CASE("the inertial residual's Jacobian allocates nothing and checks sizes",
           "[flexible][jacobian]") {
   const ModalData data = random_data(10, 4, 3);
@@ -196,6 +289,13 @@ TEST_CASE("the inertial residual's Jacobian allocates nothing and checks sizes",
   const Eigen::VectorXd K = data.stiffness, D = modal_damping(data);
   CHECK(testing::count_allocations([&] {
           inertia_residual_jacobian(inv, terms, true, q, w, qd, x, K, D, scratch, J);
+        }) == 0);
+  // With geometric stiffening: the terms and the Jacobian allocate nothing either.
+  const ModalData stiff = stiffened_random_data(10, 4, 3);
+  const ModalInvariants inv_stiff = make_modal_invariants(stiff);
+  CHECK(testing::count_allocations([&] {
+          evaluate_inertia_terms(inv_stiff, Eigen::Matrix3d::Identity(), q, w, qd, terms);
+          inertia_residual_jacobian(inv_stiff, terms, true, q, w, qd, x, K, D, scratch, J);
         }) == 0);
   CHECK(J.allFinite());
   Eigen::MatrixXd J_bad(10, 13);

@@ -3,6 +3,7 @@
 /// motion = "prescribed"; the bundled flexible scenes against the models built in code
 /// (tests/support/flexible_models.hpp); every error class naming file, line and key; and the
 /// trajectory CSV columns of flexible and prescribed bodies (write → read round trip).
+#include <Eigen/Cholesky>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -12,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "flexible/beam_model.hpp"
+#include "scene/build_model.hpp"
 #include "scene/modal_data_reader.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/trajectory_table.hpp"
@@ -240,6 +242,26 @@ TEST_CASE("flexible body keys", "[app][scene][flexible]") {
   }
 }
 
+TEST_CASE("geometric_stiffening = true attaches the beam's geometric stiffness",
+          "[app][scene][flexible]") {
+  const scene::Scene plain = scene::parse_scene(flexible(), "f.toml");
+  CHECK_FALSE(plain.model->body(0).invariants().geometric.has_value());
+  CHECK_FALSE(plain.spec.bodies[0].beam->geometric_stiffening);
+  const scene::Scene stiff =
+      scene::parse_scene(flexible("", "geometric_stiffening = true\n"), "f.toml");
+  REQUIRE(stiff.model->body(0).invariants().geometric.has_value());
+  CHECK(stiff.spec.bodies[0].beam->geometric_stiffening);
+  // A beam along x: E_x positive definite on the bending modes, E_y = E_z = 0.
+  const auto& g = *stiff.model->body(0).invariants().geometric;
+  CHECK(g.E[0].llt().info() == Eigen::Success);
+  CHECK(g.E[1].norm() == 0.0);
+  CHECK(g.E_nonzero == std::vector<int>{0});
+  // Regenerating the modes (a study editing the beam) keeps the option.
+  scene::BodySpec body = stiff.spec.bodies[0];
+  scene::regenerate_beam_modes(body);
+  CHECK(body.description.flexible->modal.geometric.has_value());
+}
+
 TEST_CASE("modal = \"file.toml\" is read relative to the scene", "[app][scene][flexible]") {
   const std::filesystem::path dir = temp_dir();
   flexible::BeamParameters p;
@@ -326,6 +348,10 @@ TEST_CASE("bad flexible input is an InputError naming file, line and key",
                   "listed twice");
     require_error(flexible("", "boundary = \"pinned\"\n"), 16, "body[1].beam.boundary",
                   "\"clamped-free\", \"free-free\"");
+    require_error(flexible("", "geometric_stiffening = \"yes\"\n"), 16,
+                  "body[1].beam.geometric_stiffening", "true or false");
+    require_error(flexible("", "boundary = \"free-free\"\ngeometric_stiffening = true\n"), 17,
+                  "body[1].beam.geometric_stiffening", "clamped-free");
     require_error(replace(flexible(), "elements = 4\n", "elements = 0\n"), 11,
                   "body[1].beam.elements", "1 to 500");
     require_error(replace(flexible(), "EA = 1e5\n", "EA = -1\n"), 12, "body[1].beam.EA",

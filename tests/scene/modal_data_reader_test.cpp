@@ -259,6 +259,51 @@ TEST_CASE("bad files: modes", "[app][modal]") {
                 "mode[2]", "linear combination");
 }
 
+// The example with a [geometric_stiffness] section (lines 28-): its lines appended.
+std::string with_geometric(const std::vector<std::string>& lines) {
+  std::vector<std::string> all = kExample;
+  all.push_back("");                       // 28
+  all.push_back("[geometric_stiffness]");  // 29
+  all.insert(all.end(), lines.begin(), lines.end());
+  return join(all);
+}
+
+TEST_CASE("geometric stiffness: round trip, the documented section, bad sections",
+          "[app][modal]") {
+  // A stiffened beam's data survive write → read exactly (only the non-zero matrices are
+  // written; the others read back as zero).
+  flexible::BeamParameters p;
+  p.origin = Eigen::Vector3d(0.1, 0.02, 0.0);
+  p.elements = 6;
+  flexible::ModalData data = flexible::make_beam_modal_data(
+      p, 4, {}, flexible::BeamModeNormalization::kUnitModalMass, true);
+  const flexible::ModalData back =
+      scene::parse_modal_data(scene::format_modal_data(data), "beam.toml");
+  require_equal(back, data);
+  REQUIRE(back.geometric.has_value());
+  for (std::size_t c = 0; c < 3; ++c) CHECK(back.geometric->E[c] == data.geometric->E[c]);
+  for (std::size_t ab = 0; ab < 9; ++ab) CHECK(back.geometric->F[ab] == data.geometric->F[ab]);
+
+  const flexible::ModalData read =
+      scene::parse_modal_data(with_geometric({"E_x = [[1.0, 0.5], [0.5, 2.0]]"}), "g.toml");
+  REQUIRE(read.geometric.has_value());
+  CHECK(read.geometric->E[0](0, 1) == 0.5);
+  CHECK(read.geometric->F[0].norm() == 0.0);
+  CHECK_FALSE(scene::parse_modal_data(join(kExample), "g.toml").geometric.has_value());
+
+  require_error(with_geometric({"E_x = [[1.0, 0.5], [0.4, 2.0]]"}), 30, "geometric_stiffness.E_x",
+                "not symmetric");
+  require_error(with_geometric({"F_xy = [[1.0, 0.5]]"}), 30, "geometric_stiffness.F_xy",
+                "2 rows of 2 numbers");
+  require_error(with_geometric({"F_zz = [[1.0], [0.5, 2.0]]"}), 30,
+                "geometric_stiffness.F_zz[1]", "a row of 2 numbers");
+  require_error(with_geometric({"E_y = [[1.0, nan], [0.5, 2.0]]"}), 30,
+                "geometric_stiffness.E_y[1]", "NaN");
+  require_error(with_geometric({"G_xx = [[1.0, 0.0], [0.0, 2.0]]"}), 30,
+                "geometric_stiffness.G_xx", "unknown key");
+  require_error(with_geometric({}), 29, "geometric_stiffness", "no matrix given");
+}
+
 TEST_CASE("unreadable files name the path", "[app][modal]") {
   const std::string path = "/nonexistent/flexref/modes.toml";
   try {

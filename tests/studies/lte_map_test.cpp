@@ -15,12 +15,15 @@ namespace {
 /// flexible_spinner (tests/support/flexible_models.hpp) with a grid point's changes: hub
 /// inertia diag(0.5, 0.5, 1)·s, initial spin w0, torque 5·load_scale N·m. 2 bending modes
 /// (one per plane) on 6 elements keep the test fast; the map's properties do not depend on it.
-core::Model spinner(core::FlexibleFormulation formulation,
-                    const std::optional<LteMapScaling>& scaling) {
+/// The level picks the formulation (LTE or coupled) and geometric stiffening (the truth).
+core::Model spinner(LteMapLevel level, const std::optional<LteMapScaling>& scaling) {
   const LteMapScaling k = scaling.value_or(LteMapScaling{1.0, Eigen::Vector3d(0.0, 0.0, 1.0), 1.0});
+  const core::FlexibleFormulation formulation = level == LteMapLevel::kLte
+                                                    ? core::FlexibleFormulation::kLte
+                                                    : core::FlexibleFormulation::kCoupled;
   core::RigidBodyDescription d = testing::flexible_body(
-      "spinner",
-      testing::beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0, 6, 2));
+      "spinner", testing::beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0, 6,
+                                             2, level == LteMapLevel::kStiffened));
   d.mass = 10.0 * k.hub_scale;
   d.I_Bcm_B = k.hub_scale * Eigen::Vector3d(0.5, 0.5, 1.0).asDiagonal();
   d.initial.w_WB_B = k.w0_WB_B;
@@ -44,6 +47,9 @@ LteMapOptions small_grid(int jobs) {
   options.inertia_ratios = {1e-4, 0.1};
   options.end_time = 3.0;
   options.jobs = jobs;
+  // These tests measure LTE against the classical coupled model (the two-level map); the
+  // three-level map has its own test below.
+  options.stiffened_truth = false;
   return options;
 }
 
@@ -53,7 +59,7 @@ const LteMapResult& small_grid_result() {
 }
 
 TEST_CASE("lte-map base values of flexible_spinner", "[lte_map]") {
-  const core::Model model = spinner(core::FlexibleFormulation::kCoupled, std::nullopt);
+  const core::Model model = spinner(LteMapLevel::kClassical, std::nullopt);
   const LteMapBase base = lte_map_base(model, LteMapOptions{});
   CHECK(base.body == "spinner");
   CHECK(base.point == "tip");
@@ -72,7 +78,7 @@ TEST_CASE("lte-map base values of flexible_spinner", "[lte_map]") {
 }
 
 TEST_CASE("lte-map scaling reaches the requested ratios", "[lte_map]") {
-  const core::Model model = spinner(core::FlexibleFormulation::kCoupled, std::nullopt);
+  const core::Model model = spinner(LteMapLevel::kClassical, std::nullopt);
   const LteMapBase base = lte_map_base(model, LteMapOptions{});
   for (const double y : {1e-4, 0.1, base.inertia_ratio, 10.0}) {
     const LteMapScaling k = lte_map_scaling(base, 0.3, y, true);
@@ -81,7 +87,7 @@ TEST_CASE("lte-map scaling reaches the requested ratios", "[lte_map]") {
     CHECK(k.w0_WB_B.norm() == Approx(0.3 * base.omega1));
     CHECK(k.w0_WB_B.normalized().isApprox(Eigen::Vector3d::UnitZ()));
     // The scaled model has the requested ratio, read back from its body.
-    const core::Model scaled = spinner(core::FlexibleFormulation::kCoupled, k);
+    const core::Model scaled = spinner(LteMapLevel::kClassical, k);
     CHECK(lte_map_base(scaled, LteMapOptions{}).inertia_ratio == Approx(y).epsilon(1e-10));
   }
   // The scene's own point: hub scale 1, and the load scale is the spin scale.
@@ -97,7 +103,7 @@ TEST_CASE("lte-map scaling reaches the requested ratios", "[lte_map]") {
 
 TEST_CASE("lte-map refuses scenes without a spinning free flexible body", "[lte_map]") {
   LteMapScaling still{1.0, Eigen::Vector3d::Zero(), 1.0};
-  const core::Model no_spin = spinner(core::FlexibleFormulation::kCoupled, still);
+  const core::Model no_spin = spinner(LteMapLevel::kClassical, still);
   CHECK_THROWS_AS(lte_map_base(no_spin, LteMapOptions{}), std::invalid_argument);
   core::RigidBodyDescription rigid;
   rigid.name = "brick";
@@ -108,9 +114,8 @@ TEST_CASE("lte-map refuses scenes without a spinning free flexible body", "[lte_
   CHECK_THROWS_AS(lte_map_base(rigid_model, LteMapOptions{}), std::invalid_argument);
   LteMapOptions bad_point;
   bad_point.point = "hub_rim";  // not a node: it does not deform
-  CHECK_THROWS_AS(
-      lte_map_base(spinner(core::FlexibleFormulation::kCoupled, std::nullopt), bad_point),
-      std::invalid_argument);
+  CHECK_THROWS_AS(lte_map_base(spinner(LteMapLevel::kClassical, std::nullopt), bad_point),
+                  std::invalid_argument);
 }
 
 // The LTE model's error against the coupled one has two sources (docs/lte_map.md):
@@ -173,28 +178,72 @@ TEST_CASE("lte-map CSV and table", "[lte_map]") {
   std::string line;
   std::getline(in, line);
   CHECK(line ==
-        "spin_ratio,inertia_ratio,spin,omega1,hub_scale,load_scale,tip_error,attitude_error,"
-        "max_deflection,coupled_estimate,lte_estimate,resolved,status");
+        "spin_ratio,inertia_ratio,spin,omega1,hub_scale,load_scale,tip_error,envelope_error,"
+        "frequency_shift,attitude_error,classical_tip_error,classical_envelope_error,"
+        "classical_frequency_shift,max_deflection,truth_frequency,truth_estimate,lte_estimate,"
+        "classical_estimate,resolved,classical_resolved,status");
   int rows = 0;
   while (std::getline(in, line)) {
     std::vector<std::string> fields;
     std::istringstream fs(line);
     std::string f;
     while (std::getline(fs, f, ',')) fields.push_back(f);
-    REQUIRE(fields.size() == 13);
+    REQUIRE(fields.size() == 21);
     const LteMapPoint& p = r.points[static_cast<std::size_t>(rows)];
     // 17 significant digits round-trip a double exactly.
     CHECK(std::stod(fields[0]) == p.spin_ratio);
     CHECK(std::stod(fields[1]) == p.inertia_ratio);
     CHECK(std::stod(fields[6]) == p.tip_error);
-    CHECK(std::stod(fields[7]) == p.attitude_error);
-    CHECK(fields[12] == "ok");
+    CHECK(std::stod(fields[7]) == p.envelope_error);
+    CHECK(std::stod(fields[9]) == p.attitude_error);
+    CHECK(fields[10] == "nan");  // two-level map: no classical-model metrics
+    CHECK(fields[20] == "ok");
     ++rows;
   }
   CHECK(rows == 6);
   const std::string table = format_lte_map_table(r);
-  CHECK(table.find("5 % line at Omega0/omega1") != std::string::npos);
+  CHECK(table.find("L-inf tip error, 5 % line at Omega0/omega1") != std::string::npos);
+  CHECK(table.find("truth: the classical coupled model") != std::string::npos);
   CHECK(table.find("body 'spinner', point 'tip'") != std::string::npos);
+}
+
+TEST_CASE("lte-map with the stiffened truth: the classical coupled model's own error",
+          "[lte_map]") {
+  // Heavy hub (y = 1e-4: the rigid motion is the prescribed spin), beam from r = 0.1 to 1.1.
+  // In-plane first mode: truth ω² = ω0² − Ω² + α Ω² (stiffening, α ≈ 1.19 + the hub-radius
+  // share), classical ω0² − Ω², LTE ω0². So the classical model's frequency is low by about
+  // α Ω²/(2 ω0²) and LTE's by (α − 1) Ω²/(2 ω0²): at x = Ω/ω1 = 0.3 the classical model's own
+  // error is the larger (≈ 6 % against ≈ 1.5 %), its shift negative, and both shifts grow like
+  // Ω² (x = 0.15 → 0.3: × 4, band [3, 5] for the O(Ω⁴) terms and the measurement over three
+  // periods of the 6 s horizon's second half).
+  LteMapOptions options;
+  options.spin_ratios = {0.15, 0.3};
+  options.inertia_ratios = {1e-4};
+  options.end_time = 6.0;
+  options.jobs = 2;
+  const LteMapResult r = run_lte_map(spinner, options);
+  REQUIRE(r.points.size() == 2);
+  for (const LteMapPoint& p : r.points) {
+    INFO("x = " << p.spin_ratio << ": " << p.status << "; LTE shift " << p.frequency_shift
+                << ", classical shift " << p.classical_frequency_shift << "; tip errors "
+                << p.tip_error << " / " << p.classical_tip_error << "; envelope "
+                << p.envelope_error << " / " << p.classical_envelope_error);
+    REQUIRE(p.status == "ok");
+    CHECK(p.classical_frequency_shift < 0.0);
+    CHECK(std::abs(p.classical_frequency_shift) > 2.0 * std::abs(p.frequency_shift));
+    CHECK(std::isfinite(p.envelope_error));
+    CHECK(std::isfinite(p.classical_envelope_error));
+    CHECK(p.classical_resolved);
+  }
+  const double growth =
+      r.points[1].classical_frequency_shift / r.points[0].classical_frequency_shift;
+  INFO("classical shift growth x 0.15 → 0.3: " << growth);
+  CHECK(growth > 3.0);
+  CHECK(growth < 5.0);
+  CHECK(std::abs(r.points[1].classical_frequency_shift) > 0.03);
+  const std::string table = format_lte_map_table(r);
+  CHECK(table.find("truth: the coupled model with geometric stiffening") != std::string::npos);
+  CHECK(table.find("where the classical coupled model holds") != std::string::npos);
 }
 
 TEST_CASE("lte-map crossings interpolate log-log", "[lte_map]") {

@@ -34,7 +34,7 @@ using FlexibleElements = std::vector<std::unique_ptr<const core::ForceElement>>;
 /// Bending-only modal data of a uniform clamped-free beam along x from `origin`.
 inline flexible::ModalData beam_bending_modes(const Eigen::Vector3d& origin, double length,
                                               double EI, double EA, double rho_A, int elements,
-                                              int modes) {
+                                              int modes, bool geometric_stiffening = false) {
   flexible::BeamParameters p;
   p.origin = origin;
   p.length = length;
@@ -45,7 +45,8 @@ inline flexible::ModalData beam_bending_modes(const Eigen::Vector3d& origin, dou
   p.rho_A = rho_A;
   flexible::BeamModeFilter filter;
   filter.axial = false;
-  return flexible::make_beam_modal_data(p, modes, filter);
+  return flexible::make_beam_modal_data(
+      p, modes, filter, flexible::BeamModeNormalization::kUnitModalMass, geometric_stiffening);
 }
 
 /// A flexible body from modal data, with the tip node tracked.
@@ -64,10 +65,11 @@ inline core::RigidBodyDescription flexible_body(std::string name, flexible::Moda
 
 /// flexible_spinner with n bending modes (n even: both planes alternate) on `elements`.
 inline core::Model flexible_spinner_model(core::FlexibleFormulation formulation, int modes = 4,
-                                          int elements = 10, double torque_z = 5.0) {
-  core::RigidBodyDescription d = flexible_body(
-      "spinner",
-      beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0, elements, modes));
+                                          int elements = 10, double torque_z = 5.0,
+                                          bool geometric_stiffening = false) {
+  core::RigidBodyDescription d =
+      flexible_body("spinner", beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5,
+                                                  1.0, elements, modes, geometric_stiffening));
   d.mass = 10.0;
   d.I_Bcm_B = Eigen::Vector3d(0.5, 0.5, 1.0).asDiagonal();
   d.initial.w_WB_B = Eigen::Vector3d(0.0, 0.0, 1.0);
@@ -99,11 +101,13 @@ inline core::Model rotating_cantilever_model(core::FlexibleFormulation formulati
 }
 
 /// Kane–Ryan–Banerjee spin-up beam (docs/design/scenes.md), n bending modes.
+/// `geometric_stiffening`: with the beam's geometric stiffness (flexible/geometric_stiffness.hpp).
 inline core::Model spin_up_beam_model(core::FlexibleFormulation formulation, double omega_s,
-                                      int modes = 4, int elements = 10) {
-  core::RigidBodyDescription d = flexible_body(
-      "beam",
-      beam_bending_modes(Eigen::Vector3d::Zero(), 10.0, 1.4e4, 2.8e7, 1.2, elements, modes));
+                                      int modes = 4, int elements = 10,
+                                      bool geometric_stiffening = false) {
+  core::RigidBodyDescription d =
+      flexible_body("beam", beam_bending_modes(Eigen::Vector3d::Zero(), 10.0, 1.4e4, 2.8e7, 1.2,
+                                               elements, modes, geometric_stiffening));
   d.motion = core::MotionKind::kPrescribed;
   d.prescribed.axis_W = Eigen::Vector3d::UnitZ();
   d.prescribed.law.kind = core::AngleLaw::Kind::kSpinUp;

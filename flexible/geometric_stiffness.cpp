@@ -1,0 +1,182 @@
+/// \file geometric_stiffness.cpp
+/// See geometric_stiffness.hpp and docs/geometric_stiffening.md for the formulas.
+#include "flexible/geometric_stiffness.hpp"
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+namespace flexref::flexible {
+namespace {
+
+constexpr std::size_t at(int k) { return static_cast<std::size_t>(k); }
+
+const char* const kAxis[3] = {"x", "y", "z"};
+
+std::string name_E(int c) { return std::string("E_") + kAxis[c]; }
+std::string name_F(int ab) { return std::string("F_") + kAxis[ab / 3] + kAxis[ab % 3]; }
+
+void check_matrix(const Eigen::MatrixXd& M, const std::string& name, int n) {
+  if (M.rows() != n || M.cols() != n) {
+    throw std::invalid_argument("geometric stiffness " + name + " is " + std::to_string(M.rows()) +
+                                "×" + std::to_string(M.cols()) + ", expected " + std::to_string(n) +
+                                "×" + std::to_string(n) + " (one per mode)");
+  }
+  if (!M.allFinite()) {
+    throw std::invalid_argument("geometric stiffness " + name + " has a non-finite entry");
+  }
+  // The Lagrangian needs symmetric matrices (GS-3); 1e-10 of the largest entry admits a file
+  // written with 17 significant digits from a symmetric matrix and refuses a transposition slip.
+  const double scale = M.cwiseAbs().maxCoeff();
+  if ((M - M.transpose()).cwiseAbs().maxCoeff() > 1e-10 * scale) {
+    throw std::invalid_argument("geometric stiffness " + name + " is not symmetric");
+  }
+}
+
+}  // namespace
+
+void GeometricStiffness::validate(int n) const {
+  for (int c = 0; c < 3; ++c) check_matrix(E[at(c)], name_E(c), n);
+  for (int ab = 0; ab < 9; ++ab) check_matrix(F[at(ab)], name_F(ab), n);
+}
+
+GeometricStiffness GeometricStiffness::shifted(const Eigen::Vector3d& p) const {
+  GeometricStiffness out = *this;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) out.F[at(3 * a + b)] -= p(b) * E[at(a)];
+  }
+  return out;
+}
+
+GeometricInvariants make_geometric_invariants(const GeometricStiffness& data, int n) {
+  data.validate(n);
+  GeometricInvariants g;
+  g.E = data.E;
+  g.F = data.F;
+  // Exactly symmetric (the products use the full matrices; symmetry makes the Lagrangian's
+  // derivatives q ↦ F q the gradients of ½ q·F q).
+  for (auto& M : g.E) M = 0.5 * (M + M.transpose()).eval();
+  for (auto& M : g.F) M = 0.5 * (M + M.transpose()).eval();
+  // Z_c = Σ_ab ε_cab F_ba: Z_x = F_zy − F_yz, Z_y = F_xz − F_zx, Z_z = F_yx − F_xy.
+  for (int c = 0; c < 3; ++c) {
+    const int a = (c + 1) % 3;
+    const int b = (c + 2) % 3;
+    g.Z[at(c)] = g.F[at(3 * b + a)] - g.F[at(3 * a + b)];
+  }
+  for (int c = 0; c < 3; ++c) {
+    if (g.E[at(c)].cwiseAbs().maxCoeff() > 0.0) g.E_nonzero.push_back(c);
+    if (g.Z[at(c)].cwiseAbs().maxCoeff() > 0.0) g.Z_nonzero.push_back(c);
+  }
+  for (int ab = 0; ab < 9; ++ab) {
+    if (g.F[at(ab)].cwiseAbs().maxCoeff() > 0.0) g.F_nonzero.push_back(ab);
+  }
+  return g;
+}
+
+GeometricProducts make_geometric_products(int mode_count) {
+  const Eigen::Index n = mode_count;
+  GeometricProducts p;
+  p.F_q = Eigen::Matrix<double, Eigen::Dynamic, 9>::Zero(n, 9);
+  p.E_q = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
+  p.E_qd = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
+  p.Z_q = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
+  p.Z_qd = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
+  return p;
+}
+
+void compute_geometric_products(const GeometricInvariants& g,
+                                const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                                const Eigen::Ref<const Eigen::VectorXd>& qd_f,
+                                GeometricProducts& p) {
+  // Zero matrices leave their columns at zero (make_geometric_products, never written).
+  for (const int ab : g.F_nonzero) {
+    p.F_q.col(ab).noalias() = g.F[at(ab)].selfadjointView<Eigen::Lower>() * q_f;
+  }
+  for (const int c : g.E_nonzero) {
+    p.E_q.col(c).noalias() = g.E[at(c)].selfadjointView<Eigen::Lower>() * q_f;
+    p.E_qd.col(c).noalias() = g.E[at(c)].selfadjointView<Eigen::Lower>() * qd_f;
+  }
+  for (const int c : g.Z_nonzero) {
+    p.Z_q.col(c).noalias() = g.Z[at(c)].selfadjointView<Eigen::Lower>() * q_f;
+    p.Z_qd.col(c).noalias() = g.Z[at(c)].selfadjointView<Eigen::Lower>() * qd_f;
+  }
+}
+
+void set_zero_geometric_products(GeometricProducts& p) {
+  p.F_q.setZero();
+  p.E_q.setZero();
+  p.E_qd.setZero();
+  p.Z_q.setZero();
+  p.Z_qd.setZero();
+}
+
+double bilinear_form(const Eigen::MatrixXd& M, const Eigen::Ref<const Eigen::VectorXd>& x,
+                     const Eigen::Ref<const Eigen::VectorXd>& y) {
+  double sum = 0.0;
+  for (Eigen::Index j = 0; j < M.cols(); ++j) sum += y(j) * M.col(j).dot(x);
+  return sum;
+}
+
+Eigen::Vector3d foreshortening_first_moment(const GeometricInvariants& g,
+                                            const Eigen::Ref<const Eigen::VectorXd>& q_f) {
+  Eigen::Vector3d ds = Eigen::Vector3d::Zero();
+  for (const int c : g.E_nonzero) ds(c) = -0.5 * bilinear_form(g.E[at(c)], q_f, q_f);
+  return ds;
+}
+
+Eigen::Vector3d foreshortening_first_moment_rate(const GeometricInvariants& g,
+                                                 const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                                                 const Eigen::Ref<const Eigen::VectorXd>& u) {
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  for (const int c : g.E_nonzero) out(c) = -bilinear_form(g.E[at(c)], q_f, u);
+  return out;
+}
+
+Eigen::Matrix3d foreshortening_inertia(const GeometricInvariants& g,
+                                       const Eigen::Ref<const Eigen::VectorXd>& q_f) {
+  Eigen::Matrix3d dJ = Eigen::Matrix3d::Zero();
+  for (const int ab : g.F_nonzero) {
+    const double v = -0.5 * bilinear_form(g.F[at(ab)], q_f, q_f);
+    dJ(ab / 3, ab % 3) += v;
+    dJ(ab % 3, ab / 3) += v;
+  }
+  return dJ.trace() * Eigen::Matrix3d::Identity() - dJ;
+}
+
+Eigen::Vector3d foreshortening_theta_f(const GeometricInvariants& g,
+                                       const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                                       const Eigen::Ref<const Eigen::VectorXd>& u) {
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  for (const int c : g.Z_nonzero) out(c) = -bilinear_form(g.Z[at(c)], q_f, u);
+  return out;
+}
+
+void add_foreshortening_first_moment_transpose(const GeometricInvariants& g,
+                                               const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                                               const Eigen::Vector3d& v,
+                                               Eigen::Ref<Eigen::VectorXd> out) {
+  for (const int c : g.E_nonzero) {
+    out.noalias() -= v(c) * (g.E[at(c)].selfadjointView<Eigen::Lower>() * q_f);
+  }
+}
+
+void foreshortening_terms(const Eigen::Ref<const Eigen::VectorXd>& q_f,
+                          const Eigen::Ref<const Eigen::VectorXd>& qd_f, const GeometricProducts& p,
+                          ForeshorteningTerms& f) {
+  for (int c = 0; c < 3; ++c) {
+    f.ds(c) = -0.5 * q_f.dot(p.E_q.col(c));  // GS-4
+    f.dS_qd(c) = -qd_f.dot(p.E_q.col(c));    // GS-5
+    f.ds_vv(c) = -qd_f.dot(p.E_qd.col(c));   // GS-6
+    f.z_vv(c) = qd_f.dot(p.Z_qd.col(c));     // GS-7
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      f.dC(a, b) = -qd_f.dot(p.F_q.col(3 * a + b));
+      if (b < a) continue;
+      f.dJ(a, b) = -0.5 * (q_f.dot(p.F_q.col(3 * a + b)) + q_f.dot(p.F_q.col(3 * b + a)));
+      f.dJ(b, a) = f.dJ(a, b);
+    }
+  }
+}
+
+}  // namespace flexref::flexible
