@@ -82,6 +82,8 @@ def panel(fig, ax, rows, xs, ys, key, title, resolved_key, scene):
     if scene:
         ax.plot([log(scene[0])], [log(scene[1])], "*", color="magenta", markersize=11,
                 markeredgecolor="black", label="the scene")
+    ax.xaxis.set_major_locator(ticker.MaxNLocator(5))
+    ax.yaxis.set_major_locator(ticker.MaxNLocator(6))
     ax.xaxis.set_major_formatter(power)
     ax.yaxis.set_major_formatter(power)
     ax.set_xlabel("spin ratio Ω0/ω1 [-]", fontsize=8)
