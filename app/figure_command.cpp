@@ -130,9 +130,33 @@ int figure_command(const FigureCommandOptions& options) {
   std::cerr << "figure: reference (" << settings.solver << ") and "
             << settings.schemes.size() * settings.steps.size() << " scheme runs on "
             << settings.jobs << " threads ...\n";
-  const studies::FigureResult result = studies::run_trajectory_figure(model, times, settings);
+  // --reference-precision (docs/precision.md), as in converge: a given precision replaces the
+  // reference; "auto" repeats the figure against a quad reference when the double one leaves a
+  // curve uncertified and the scene allows it.
+  const std::string& wanted = options.reference_precision;
+  // The study file's solver and rtol are the double reference's.
+  if (wanted == "extended" || wanted == "quad") {
+    settings.given_reference =
+        high_precision_study_reference(scene, times, wanted, "points", "auto", "figure");
+    settings.given_precision = wanted;
+  }
+  studies::FigureResult result = studies::run_trajectory_figure(model, times, settings);
+  std::string note;
+  if (wanted == "auto" && studies::figure_has_uncertified(result) &&
+      quad_reference_possible(scene, "points", "auto")) {
+    std::ostringstream why;
+    why << "the double reference (estimated error " << result.reference_estimate
+        << " m) could not certify every curve: the figure was repeated against a quad-precision "
+           "reference (docs/precision.md)";
+    note = why.str();
+    settings.given_reference =
+        high_precision_study_reference(scene, times, "quad", "points", "auto", "figure");
+    settings.given_precision = "quad";
+    result = studies::run_trajectory_figure(model, times, settings);
+  }
 
-  const std::string table = studies::figure_table(result);
+  const std::string table =
+      studies::figure_table(result) + (note.empty() ? "" : "note: " + note + "\n");
   studies::StudyRecord record = scene_record(scene_path.string(), scene);
   record.table("study")
       .set("kind", "figure")
@@ -142,7 +166,12 @@ int figure_command(const FigureCommandOptions& options) {
       .set("steps", settings.steps)
       .set("point", points[static_cast<std::size_t>(settings.point)].name)
       .set("end_time", end_time);
-  record.table("reference").set("solver", settings.solver).set("rtol", settings.rtol);
+  auto&& reference_table = record.table("reference");
+  reference_table.set("solver", settings.given_reference ? std::string("odeint") : settings.solver)
+      .set("precision", result.reference_precision)
+      .set("estimate", result.reference_estimate)
+      .set("estimate_method", result.reference_estimate_method);
+  if (!settings.given_reference) reference_table.set("rtol", settings.rtol);
   studies::add_versions(record);
   out.write("figure.csv", studies::figure_csv(result));
   out.write("figure.txt", table);

@@ -16,6 +16,9 @@ struct FigureCommandOptions {
   std::string out_dir = "out/figure";
   int jobs = 0;  ///< 0: all cores
   WorkLimits limits;
+  /// auto | double | extended | quad (docs/precision.md): "auto" repeats the figure against a quad
+  /// reference when the double one cannot certify a curve and the scene allows it.
+  std::string reference_precision = "auto";
 };
 
 int figure_command(const FigureCommandOptions& options);

@@ -328,6 +328,12 @@ int run_command_line(int argc, char** argv) {
       ->required();
   fig_cmd->add_option("--jobs", fig.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
+  fig_cmd
+      ->add_option("--reference-precision", fig.reference_precision,
+                   "auto (quad when the double reference cannot certify a curve and the scene "
+                   "allows it) | double | extended | quad (docs/precision.md)")
+      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
+      ->capture_default_str();
   fig_cmd->add_option("--out", fig.out_dir, "output directory")->capture_default_str();
   add_limits(fig_cmd, fig.limits, true);
 

@@ -14,6 +14,7 @@
 #include "reference/solve_reference.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
+#include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 
@@ -111,17 +112,49 @@ FigureResult run_trajectory_figure(const core::Model& model,
   reference::SolverOptions options;
   options.rtol = settings.rtol;
   reference::ReferenceRun run;
-  {
+  if (settings.given_reference) {
+    run = settings.given_reference->run;
+    result.reference_estimate = settings.given_reference->estimate.estimate();
+    result.reference_estimate_method = describe_estimate(settings.given_reference->estimate);
+    result.reference_precision = settings.given_precision;
+  } else {
     const Progress progress("figure: reference (" + settings.solver + ")", 0, "",
                             settings.progress);
     run = reference::solve_reference(settings.solver, model, output_times, options);
+    if (settings.estimate) {
+      const ReferenceEstimate estimate =
+          estimate_error(model, output_times, run, tabulate(model, run.trajectory), "points");
+      result.reference_estimate = estimate.estimate();
+      result.reference_estimate_method = describe_estimate(estimate);
+    }
   }
-  result.reference.label = "reference (" + settings.solver + ")";
+  result.reference.label =
+      "reference (" + run.solver +
+      (result.reference_precision == "double" ? std::string() : " " + result.reference_precision) +
+      ")";
   result.reference.times = run.trajectory.times;
   const core::TrackedPoint& point = points[static_cast<std::size_t>(settings.point)];
-  for (const core::State& s : run.trajectory.states) {
-    result.reference.p_W.push_back(
-        model.p_WP(settings.body, s[static_cast<std::size_t>(settings.body)], point));
+  if (settings.given_reference) {
+    // A high-precision reference carries its table (rounded to double), not double states.
+    const TrajectoryTable& table = settings.given_reference->table;
+    const std::string prefix = model.body(settings.body).name() + "." + point.name + ".";
+    const int x = table.column(prefix + "x");
+    if (x < 0 || table.size() != output_times.size()) {
+      throw std::invalid_argument("figure: the given reference has no column " + prefix +
+                                  "x on the output times");
+    }
+    result.reference.times.clear();
+    for (std::size_t r = 0; r < table.size(); ++r) {
+      const auto c = static_cast<std::size_t>(x);
+      result.reference.times.push_back(table.time(r));
+      result.reference.p_W.emplace_back(table.rows[r][c], table.rows[r][c + 1],
+                                        table.rows[r][c + 2]);
+    }
+  } else {
+    for (const core::State& s : run.trajectory.states) {
+      result.reference.p_W.push_back(
+          model.p_WP(settings.body, s[static_cast<std::size_t>(settings.body)], point));
+    }
   }
 
   const std::size_t n_steps = settings.steps.size();
@@ -133,6 +166,8 @@ FigureResult run_trajectory_figure(const core::Model& model,
     curve = run_scheme_curve(model, settings.schemes[u / n_steps], settings.steps[u % n_steps], t0,
                              t_end, output_step, settings);
     curve.max_error = max_distance(curve, result.reference, t0, output_step);
+    // NaN estimate (not estimated): nothing to certify against; +inf: certifies nothing.
+    curve.certified = !(curve.max_error < 100.0 * result.reference_estimate);
     progress.advance();
   });
   return result;
@@ -153,16 +188,32 @@ std::string figure_csv(const FigureResult& result) {
   return out.str();
 }
 
+bool figure_has_uncertified(const FigureResult& result) {
+  return std::any_of(result.curves.begin(), result.curves.end(),
+                     [](const FigureCurve& c) { return !c.certified; });
+}
+
 std::string figure_table(const FigureResult& result) {
   std::ostringstream out;
+  out << result.reference.label << " in " << result.reference_precision << " precision";
+  if (std::isnan(result.reference_estimate)) {
+    out << ", error not estimated\n";
+  } else {
+    out << ", estimated error " << result.reference_estimate_method << "\n";
+  }
   out << std::left << std::setw(8) << "scheme" << std::setw(12) << "step [s]" << std::setw(16)
-      << "max |dp| [m]"
+      << "max |dp| [m]" << std::setw(11) << "certified"
       << "status\n";
   for (const FigureCurve& c : result.curves) {
     std::ostringstream error;
     error << std::setprecision(3) << std::scientific << c.max_error;
     out << std::left << std::setw(8) << c.scheme << std::setw(12) << step_text(c.step)
-        << std::setw(16) << error.str() << (c.completed ? "completed" : c.failure) << "\n";
+        << std::setw(16) << error.str() << std::setw(11) << (c.certified ? "yes" : "NO")
+        << (c.completed ? "completed" : c.failure) << "\n";
+  }
+  if (figure_has_uncertified(result)) {
+    out << "note: NO = the error is below 100x the reference's estimated error: an upper bound, "
+           "not a measurement (--reference-precision quad; docs/precision.md)\n";
   }
   return out.str();
 }

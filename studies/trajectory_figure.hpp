@@ -8,11 +8,14 @@
 /// explicit schemes can be unstable, and the figure must show that rather than stop.
 
 #include <Eigen/Core>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
+#include "studies/certified_reference.hpp"
 
 namespace flexref::studies {
 
@@ -25,6 +28,13 @@ struct FigureSettings {
   double rtol = 1e-10;
   int jobs = 1;
   bool progress = false;  ///< "figure: k/N runs" on stderr (studies/progress.hpp)
+  /// A reference computed elsewhere (an extended or quad precision one: docs/precision.md),
+  /// used instead of solving with `solver`; its estimate (metric "points") certifies the curves.
+  std::shared_ptr<const CertifiedReference> given_reference;
+  std::string given_precision = "quad";  ///< the given reference's precision (for the table)
+  /// Estimate the double reference's own error (metric "points": two more reference runs) so
+  /// that each curve's error can be certified (≥ 100× the estimate).
+  bool estimate = true;
 };
 
 struct FigureCurve {
@@ -37,10 +47,16 @@ struct FigureCurve {
   std::string failure;  ///< where and why the run stopped, empty when completed
   /// L∞ over the curve's times of |p − p_ref| (m); NaN when no time is shared.
   double max_error = 0.0;
+  /// max_error ≥ 100 × the reference's estimated error (the 100× rule of docs/design/studies.md).
+  bool certified = true;
 };
 
 struct FigureResult {
   FigureCurve reference;
+  std::string reference_precision = "double";
+  /// The reference's estimated error in the "points" metric (m): NaN when not estimated.
+  double reference_estimate = std::numeric_limits<double>::quiet_NaN();
+  std::string reference_estimate_method;
   std::vector<FigureCurve> curves;  ///< schemes × steps, in settings order
 };
 
@@ -52,9 +68,13 @@ FigureResult run_trajectory_figure(const core::Model& model,
                                    const std::vector<double>& output_times,
                                    const FigureSettings& settings);
 
+/// Whether any scheme curve has an error below 100× the reference's estimated error.
+bool figure_has_uncertified(const FigureResult& result);
+
 /// Long-format CSV: curve,scheme,step,t,x,y,z (one row per recorded time and curve).
 std::string figure_csv(const FigureResult& result);
-/// Text table: scheme, step, L∞ error, status.
+/// Text table: the reference line (precision, estimated error), then scheme, step, L∞ error,
+/// certified, status.
 std::string figure_table(const FigureResult& result);
 
 }  // namespace flexref::studies

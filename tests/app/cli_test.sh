@@ -146,11 +146,33 @@ out=$("$flexref" figure "$tmp/fig1.toml" --jobs 2 --out "$tmp/fig1" 2>&1) ||
 printf '[figure]\nscene = "%s/scenes/free_spin.toml"\nsteps = [0.3]\n' "$PWD" >"$tmp/fig_bad.toml"
 out=$("$flexref" figure "$tmp/fig_bad.toml" --out "$tmp/fig_bad" 2>&1)
 [[ $? -eq 1 && $out == *"fig_bad.toml:"*"figure.steps"* ]] || fail "figure bad step: $out"
+# figure --reference-precision: auto switches to quad when the double reference cannot certify
+# a curve (NMB at 1e-4 s on book_toss: error 1.3e-7 m, double estimate 3.2e-9 m); quad given.
+printf '[figure]\nscene = "%s/scenes/book_toss.toml"\nschemes = ["nmb"]\nsteps = [0.0001]\npoint = "corner"\nrtol = 1e-12\nend_time = 3.0\n' \
+  "$PWD" >"$tmp/fig_bt.toml"
+out=$("$flexref" figure "$tmp/fig_bt.toml" --jobs 2 --out "$tmp/fig_bt" 2>&1) ||
+  fail "figure auto failed: $out"
+[[ $out == *"repeated against a quad-precision reference"* && $out == *"in quad precision"* &&
+   $(grep -c 'precision = "quad"' "$tmp/fig_bt/study.toml") -eq 1 ]] ||
+  fail "figure auto: no switch to quad: $out"
+out=$("$flexref" figure "$tmp/fig1.toml" --reference-precision quad --jobs 2 --out "$tmp/fig1q" 2>&1) ||
+  fail "figure quad failed: $out"
+[[ $out == *"reference (odeint quad) in quad precision"* ]] || fail "figure quad: $out"
+out=$("$flexref" figure "$tmp/fig_bt.toml" --reference-precision double --out "$tmp/fig_btd" 2>&1) ||
+  fail "figure double failed: $out"
+[[ $out == *"NO"* && $out != *"repeated against"* ]] || fail "figure double: $out"
 # lte-map on a tiny grid; bad ratios and a scene without a flexible body are refused.
 "$flexref" lte-map scenes/flexible_spinner.toml --spin-ratios 0.02,0.05 --inertia-ratios 1e-4,0.1 \
   --end-time 1 --jobs 2 --out "$tmp/lte" >/dev/null 2>&1 || fail "lte-map failed"
 [[ $(wc -l <"$tmp/lte/lte_map.csv") -eq 5 && -s "$tmp/lte/study.toml" ]] ||
   fail "lte-map: expected 4 grid rows and study.toml"
+grep -q 'truth = "coupled with geometric stiffening"' "$tmp/lte/study.toml" ||
+  fail "lte-map: the default truth on flexible_spinner is the stiffened model"
+"$flexref" lte-map scenes/flexible_spinner.toml --spin-ratios 0.02,0.05 --inertia-ratios 1e-4,0.1 \
+  --end-time 1 --truth coupled --out "$tmp/lte_c" >/dev/null 2>&1 || fail "lte-map --truth coupled"
+grep -q 'truth = "classical coupled' "$tmp/lte_c/study.toml" || fail "lte-map --truth coupled"
+"$flexref" lte-map scenes/flexible_spinner.toml --truth exact --out "$tmp/lte_bad" >/dev/null 2>&1
+[[ $? -eq 2 ]] || fail "lte-map accepted --truth exact"
 "$flexref" lte-map scenes/flexible_spinner.toml --inertia-ratios 0.1,-1 --out "$tmp/lte_bad" \
   >/dev/null 2>&1
 [[ $? -eq 2 ]] || fail "lte-map accepted a negative inertia ratio (a usage error, exit 2)"

@@ -63,6 +63,35 @@ TEST_CASE("trajectory figure: a failing run keeps its curve and says why", "[stu
   CHECK(figure_table(result).find("stopped at") != std::string::npos);
 }
 
+TEST_CASE("trajectory figure: curves below 100x the reference's error are not certified",
+          "[studies][figure]") {
+  // free_spin has an exact solution: the reference's estimate is its distance to it. At a
+  // loose tolerance (1e-6) the estimate is large (~1e-5 m), so the fine curves (errors ~1e-5 …
+  // 1e-4 m at h = 0.01) fall below 100× it and are marked; at 1e-12 every curve is certified.
+  const core::Model model = testing::free_spin();
+  const std::vector<double> times = core::output_times(5.0, 0.1);
+  FigureSettings settings;
+  settings.steps = {0.2, 0.01};
+  settings.rtol = 1e-6;
+  const FigureResult loose = run_trajectory_figure(model, times, settings);
+  INFO("reference estimate " << loose.reference_estimate);
+  REQUIRE(std::isfinite(loose.reference_estimate));
+  CHECK(loose.reference_estimate > 0.0);
+  bool any_uncertified = false;
+  for (const FigureCurve& c : loose.curves) {
+    INFO(c.label << ": " << c.max_error);
+    CHECK(c.certified == (c.max_error >= 100.0 * loose.reference_estimate));
+    any_uncertified = any_uncertified || !c.certified;
+  }
+  CHECK(any_uncertified);
+  CHECK(figure_has_uncertified(loose));
+  CHECK(figure_table(loose).find("NO") != std::string::npos);
+  settings.rtol = 1e-12;
+  const FigureResult tight = run_trajectory_figure(model, times, settings);
+  CHECK_FALSE(figure_has_uncertified(tight));
+  CHECK(figure_table(tight).find("in double precision, estimated error") != std::string::npos);
+}
+
 TEST_CASE("trajectory figure: bad settings are refused", "[studies][figure]") {
   const core::Model model = testing::free_spin();
   const std::vector<double> times = core::output_times(1.0, 0.1);
