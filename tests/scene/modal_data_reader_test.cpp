@@ -268,8 +268,7 @@ std::string with_geometric(const std::vector<std::string>& lines) {
   return join(all);
 }
 
-TEST_CASE("geometric stiffness: round trip, the documented section, bad sections",
-          "[app][modal]") {
+TEST_CASE("geometric stiffness: round trip, the documented section, bad sections", "[app][modal]") {
   // A stiffened beam's data survive write → read exactly (only the non-zero matrices are
   // written; the others read back as zero).
   flexible::BeamParameters p;
@@ -295,12 +294,12 @@ TEST_CASE("geometric stiffness: round trip, the documented section, bad sections
                 "not symmetric");
   require_error(with_geometric({"F_xy = [[1.0, 0.5]]"}), 30, "geometric_stiffness.F_xy",
                 "2 rows of 2 numbers");
-  require_error(with_geometric({"F_zz = [[1.0], [0.5, 2.0]]"}), 30,
-                "geometric_stiffness.F_zz[1]", "a row of 2 numbers");
+  require_error(with_geometric({"F_zz = [[1.0], [0.5, 2.0]]"}), 30, "geometric_stiffness.F_zz[1]",
+                "a row of 2 numbers");
   require_error(with_geometric({"E_y = [[1.0, nan], [0.5, 2.0]]"}), 30,
                 "geometric_stiffness.E_y[1]", "NaN");
-  require_error(with_geometric({"G_xx = [[1.0, 0.0], [0.0, 2.0]]"}), 30,
-                "geometric_stiffness.G_xx", "unknown key");
+  require_error(with_geometric({"G_xx = [[1.0, 0.0], [0.0, 2.0]]"}), 30, "geometric_stiffness.G_xx",
+                "unknown key");
   require_error(with_geometric({}), 29, "geometric_stiffness", "no matrix given");
 }
 
