@@ -44,8 +44,8 @@ struct GeometricStiffness {
   int mode_count() const { return static_cast<int>(E[0].rows()); }
 
   /// Throws std::invalid_argument naming the first problem: a matrix not n×n, a non-finite
-  /// entry, or one not symmetric to 1e-10 of its largest entry (then symmetrizes nothing: the
-  /// data are refused). `mode_count` is the body's n.
+  /// entry, or one not symmetric to 1e-10 of its largest entry (refused, not symmetrized).
+  /// `mode_count` is the body's n.
   void validate(int mode_count) const;
 
   /// The same data about the point p (positions x_k − p): F_ab − p_b E_a (GS-2).
