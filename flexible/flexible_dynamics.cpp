@@ -41,13 +41,6 @@ void check_matrix(const char* where, Eigen::Index n, const Eigen::VectorXd& q_f,
   }
 }
 
-// xᵀ P y by loops (no temporary).
-double bilinear(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, const Eigen::VectorXd& y) {
-  double sum = 0.0;
-  for (Eigen::Index j = 0; j < P.cols(); ++j) sum += y(j) * P.col(j).dot(x);
-  return sum;
-}
-
 // Σ_j x_j B.col(j) for a 3×n B (column axpys; Eigen's dynamic-inner-size GEMV may allocate).
 Eigen::Vector3d times3(const Eigen::Matrix3Xd& B, const Eigen::VectorXd& x) {
   Eigen::Vector3d out = Eigen::Vector3d::Zero();
@@ -91,13 +84,13 @@ double flexible_kinetic_energy(const ModalInvariants& inv, const Eigen::Matrix3d
   // ω̄ᵀ Ī_θf q̇ = ω̄ᵀ I_θf0 q̇ + Σ_a ω̄_a qᵀ G_a q̇
   double w_Itf_qd = w_B.dot(times3(inv.I_theta_f0, qd_f));
   for (int a = 0; a < 3; ++a) {
-    w_Itf_qd += w_B(a) * bilinear(q_f, inv.phi_cross_phi[idx(a)], qd_f);
+    w_Itf_qd += w_B(a) * bilinear_form(inv.phi_cross_phi[idx(a)], q_f, qd_f);
   }
   if (inv.geometric) w_Itf_qd += w_B.dot(foreshortening_theta_f(*inv.geometric, q_f, qd_f));
   // vᵀMv = m|Ṙ|² + 2 Ṙᵀ(−A s̃_t ω̄) + 2 Ṙᵀ A S q̇ + ω̄ᵀĪ_θθω̄ + 2 ω̄ᵀĪ_θf q̇ + q̇ᵀ m_ff q̇
   const double vMv = inv.mass * v_W.squaredNorm() - 2.0 * v_B.dot(s_t.cross(w_B)) +
                      2.0 * v_B.dot(S_qd) + w_B.dot(I_tt * w_B) + 2.0 * w_Itf_qd +
-                     bilinear(qd_f, inv.m_ff, qd_f);
+                     bilinear_form(inv.m_ff, qd_f, qd_f);
   return 0.5 * vMv;
 }
 

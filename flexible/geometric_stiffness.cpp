@@ -89,17 +89,11 @@ void compute_geometric_products(const GeometricInvariants& g,
                                 const Eigen::Ref<const Eigen::VectorXd>& qd_f,
                                 GeometricProducts& p) {
   // Zero matrices leave their columns at zero (make_geometric_products, never written).
-  for (const int ab : g.F_nonzero) {
-    p.F_q.col(ab).noalias() = g.F[at(ab)].selfadjointView<Eigen::Lower>() * q_f;
-  }
-  for (const int c : g.E_nonzero) {
-    p.E_q.col(c).noalias() = g.E[at(c)].selfadjointView<Eigen::Lower>() * q_f;
-    p.E_qd.col(c).noalias() = g.E[at(c)].selfadjointView<Eigen::Lower>() * qd_f;
-  }
-  for (const int c : g.Z_nonzero) {
-    p.Z_q.col(c).noalias() = g.Z[at(c)].selfadjointView<Eigen::Lower>() * q_f;
-    p.Z_qd.col(c).noalias() = g.Z[at(c)].selfadjointView<Eigen::Lower>() * qd_f;
-  }
+  multiply_nonzero(g.F, g.F_nonzero, q_f, p.F_q);
+  multiply_nonzero(g.E, g.E_nonzero, q_f, p.E_q);
+  multiply_nonzero(g.E, g.E_nonzero, qd_f, p.E_qd);
+  multiply_nonzero(g.Z, g.Z_nonzero, q_f, p.Z_q);
+  multiply_nonzero(g.Z, g.Z_nonzero, qd_f, p.Z_qd);
 }
 
 void set_zero_geometric_products(GeometricProducts& p) {
@@ -155,8 +149,10 @@ void add_foreshortening_first_moment_transpose(const GeometricInvariants& g,
                                                const Eigen::Ref<const Eigen::VectorXd>& q_f,
                                                const Eigen::Vector3d& v,
                                                Eigen::Ref<Eigen::VectorXd> out) {
+  // Column by column: no temporary (gravity calls this in every evaluation).
   for (const int c : g.E_nonzero) {
-    out.noalias() -= v(c) * (g.E[at(c)].selfadjointView<Eigen::Lower>() * q_f);
+    const Eigen::MatrixXd& E = g.E[at(c)];
+    for (Eigen::Index j = 0; j < E.cols(); ++j) out.noalias() -= (v(c) * q_f(j)) * E.col(j);
   }
 }
 

@@ -79,6 +79,18 @@ struct GeometricProducts {
 
 GeometricProducts make_geometric_products(int mode_count);
 
+/// out.col(k) = M[k] x for every k in `nonzero` (symmetric M: its lower triangle is read); the
+/// other columns are left as they are (zero when `out` was made zero). Allocates nothing.
+template <std::size_t kCount, int kColumns>
+void multiply_nonzero(const std::array<Eigen::MatrixXd, kCount>& M, const std::vector<int>& nonzero,
+                      const Eigen::Ref<const Eigen::VectorXd>& x,
+                      Eigen::Matrix<double, Eigen::Dynamic, kColumns>& out) {
+  for (const int k : nonzero) {
+    out.col(k).noalias() =
+        M[static_cast<std::size_t>(k)].template selfadjointView<Eigen::Lower>() * x;
+  }
+}
+
 /// O(n²), allocates nothing.
 void compute_geometric_products(const GeometricInvariants& g,
                                 const Eigen::Ref<const Eigen::VectorXd>& q_f,

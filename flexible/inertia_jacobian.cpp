@@ -29,29 +29,21 @@ Eigen::Vector3d trace_minus(const Eigen::Matrix3d& X, const Eigen::Vector3d& u) 
 }
 
 // The geometric-stiffening blocks of the header (coupled model), added to `out`.
+// W = ω̄̃, W2 = W², b = Aᵀ a and b̃ as the caller formed them.
 void add_geometric_jacobian(const GeometricInvariants& g, const InertiaTerms& t,
                             const Eigen::Ref<const Eigen::VectorXd>& qd_f,
-                            const Eigen::Vector3d& w_B, const Eigen::Vector3d& b,
-                            const Eigen::Vector3d& alpha,
+                            const Eigen::Vector3d& w_B, const Eigen::Matrix3d& W,
+                            const Eigen::Matrix3d& W2, const Eigen::Vector3d& b,
+                            const Eigen::Matrix3d& b_hat, const Eigen::Vector3d& alpha,
                             const Eigen::Ref<const Eigen::VectorXd>& qdd, InertiaJacobianScratch& s,
                             Eigen::Ref<Eigen::MatrixXd> out) {
   const Eigen::Index n = qd_f.size();
   const GeometricProducts& p = t.geometric_products;
   const ForeshorteningTerms& f = t.foreshortening;
   const Eigen::Matrix3d& A = t.R_WB;
-  const Eigen::Matrix3d W = rotation::hat(w_B);
-  const Eigen::Matrix3d W2 =
-      w_B * w_B.transpose() - w_B.squaredNorm() * Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d b_hat = rotation::hat(b);
-  for (const int ab : g.F_nonzero) {
-    s.F_qd.col(ab).noalias() = g.F[at(ab)].selfadjointView<Eigen::Lower>() * qd_f;
-  }
-  for (const int c : g.E_nonzero) {
-    s.E_qdd.col(c).noalias() = g.E[at(c)].selfadjointView<Eigen::Lower>() * qdd;
-  }
-  for (const int c : g.Z_nonzero) {
-    s.Z_qdd.col(c).noalias() = g.Z[at(c)].selfadjointView<Eigen::Lower>() * qdd;
-  }
+  multiply_nonzero(g.F, g.F_nonzero, qd_f, s.F_qd);
+  multiply_nonzero(g.E, g.E_nonzero, qdd, s.E_qdd);
+  multiply_nonzero(g.Z, g.Z_nonzero, qdd, s.Z_qdd);
   Eigen::Vector3d sigma_qdd;  // ΔS q̈_f
   for (int c = 0; c < 3; ++c) sigma_qdd(c) = -qdd.dot(p.E_q.col(c));
 
@@ -222,7 +214,9 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
   for (int p = 0; p < 3; ++p) {
     dqd.bottomRows(n).noalias() -= (2.0 * w_B(p)) * inv.phi_cross_phi[at(p)];
   }
-  if (inv.geometric) add_geometric_jacobian(*inv.geometric, t, qd_f, w_B, b, alpha, qdd, s, out);
+  if (inv.geometric) {
+    add_geometric_jacobian(*inv.geometric, t, qd_f, w_B, W, W2, b, b_hat, alpha, qdd, s, out);
+  }
 }
 
 }  // namespace flexref::flexible

@@ -382,9 +382,6 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   // The frequency metric's window: the second half of the horizon.
   const auto second_half = static_cast<std::size_t>(
       std::lower_bound(times.begin(), times.end(), 0.5 * options.end_time) - times.begin());
-  const auto component_of = [&](const Response& truth) {
-    return dominant_component(truth, second_half);
-  };
 
   const std::size_t nx = options.spin_ratios.size();
   const std::size_t ny = options.inertia_ratios.size();
@@ -419,7 +416,7 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
       if (!(out.max_deflection > 0.0)) {
         throw std::runtime_error("the truth's tracked point does not deflect");
       }
-      const int c = component_of(t);
+      const int c = dominant_component(t, second_half);
       out.truth_frequency = dominant_frequency(t, times, second_half, c);
       const Metrics lte =
           compare(l, t, out.max_deflection, out.truth_frequency, times, second_half, c);

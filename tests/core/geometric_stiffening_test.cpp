@@ -20,21 +20,12 @@
 #include "flexible/beam_model.hpp"
 #include "flexible/geometric_stiffness.hpp"
 #include "rotation/euler_parameters.hpp"
+#include "tests/support/random_geometric_stiffness.hpp"
 
 namespace flexref::core {
 namespace {
 
-Eigen::VectorXd random_vector(Eigen::Index n, std::mt19937& rng, double size) {
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd x(n);
-  for (Eigen::Index i = 0; i < n; ++i) x(i) = size * normal(rng);
-  return x;
-}
-
-Eigen::MatrixXd random_symmetric(Eigen::Index n, std::mt19937& rng, double size) {
-  const Eigen::MatrixXd A = Eigen::MatrixXd(random_vector(n * n, rng, size).reshaped(n, n));
-  return 0.5 * (A + A.transpose());
-}
+using testing::random_vector;
 
 /// Dense random modal data with all twelve geometric matrices non-zero (every term of the
 /// stiffening enters), or a clamped-free beam off the origin with its own geometric stiffness.
@@ -52,10 +43,7 @@ flexible::ModalData random_stiffened_data(int N, int n, unsigned seed) {
   data.phi = 0.3 * Eigen::MatrixXd(random_vector(3 * N * n, rng, 1.0).reshaped(3 * N, n));
   data.stiffness = random_vector(n, rng, 10.0).cwiseAbs();
   data.damping_ratio = Eigen::VectorXd::Zero(n);
-  flexible::GeometricStiffness g;
-  for (auto& M : g.E) M = random_symmetric(n, rng, 1.0);
-  for (auto& M : g.F) M = random_symmetric(n, rng, 1.0);
-  data.geometric = g;
+  data.geometric = testing::random_geometric_stiffness(n, rng);
   return data;
 }
 

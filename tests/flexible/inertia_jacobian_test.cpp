@@ -20,6 +20,7 @@
 #include "rotation/euler_parameters.hpp"
 #include "rotation/so3.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/random_geometric_stiffness.hpp"
 
 namespace flexref::flexible {
 namespace {
@@ -51,7 +52,8 @@ ModalData random_data(int N, int n, unsigned seed) {
   return data;
 }
 
-ModalData beam_data() {
+/// `geometric`: with the beam's geometric stiffness (flexible/geometric_stiffness.hpp).
+ModalData beam_data(bool geometric = false) {
   BeamParameters p;
   p.origin = Eigen::Vector3d(0.1, 0.05, -0.02);
   p.elements = 8;
@@ -59,7 +61,7 @@ ModalData beam_data() {
   p.EI_y = 4.0;
   p.EI_z = 3.2;
   p.boundary = BeamBoundary::kClampedFree;
-  ModalData data = make_beam_modal_data(p, 6);
+  ModalData data = make_beam_modal_data(p, 6, {}, BeamModeNormalization::kUnitModalMass, geometric);
   data.damping_ratio = Eigen::VectorXd::Constant(6, 0.02);
   return data;
 }
@@ -110,6 +112,21 @@ Eigen::VectorXd residual_by_nodes(const ModalData& data, bool coupled, const Poi
   return R;
 }
 
+/// R = M x − Qv + [0; 0; K q + D q̇] by the invariants (with geometric stiffening: the nodal
+/// sums do not know the foreshortening; the terms themselves are checked by the conservation
+/// laws of tests/core/geometric_stiffening_test.cpp).
+Eigen::VectorXd residual_by_invariants(const ModalData& data, const ModalInvariants& inv,
+                                       const Point& p, const Eigen::VectorXd& x) {
+  const int n = data.mode_count();
+  InertiaTerms t = make_inertia_terms(n);
+  evaluate_inertia_terms(inv, p.A, p.q, p.w, p.qd, t);
+  Eigen::VectorXd R = -t.Qv;
+  R.head<6>() += t.M_rr * x.head<6>() + t.M_rf * x.tail(n);
+  R.tail(n) += t.M_rf.transpose() * x.head<6>() + inv.m_ff * x.tail(n);
+  R.tail(n) += data.stiffness.cwiseProduct(p.q) + modal_damping(data).cwiseProduct(p.qd);
+  return R;
+}
+
 /// Checks every column of the analytic Jacobian against Richardson-extrapolated central
 /// differences E = (4 D(h/2) − D(h)) / 3 of the nodal residual. Per column, the bound is
 /// |D(h) − D(h/2)| (= ¾ c h² + O(h⁴): it bounds E's O(h⁴) truncation error while c h² ≫ h⁴,
@@ -117,6 +134,8 @@ Eigen::VectorXd residual_by_nodes(const ModalData& data, bool coupled, const Poi
 /// 3 ε_R / h, with ε_R = 10 N ε S the rounding of one nodal residual (N-term sums of
 /// magnitude S, Higham §4.2, times 10 for the flops per term). Returns the largest ratio of
 /// error to bound (≤ 1 passes); `wrong` flips the sign of the named column before comparing.
+/// Data with geometric stiffening (coupled only) are differenced by the invariants
+/// (residual_by_invariants), whose rounding adds n² ε per entry (O(n²) products).
 double worst_ratio(const ModalData& data, bool coupled, unsigned seed, Eigen::Index wrong = -1) {
   const ModalInvariants inv = make_modal_invariants(data);
   const int n = data.mode_count();
@@ -144,12 +163,16 @@ double worst_ratio(const ModalData& data, bool coupled, unsigned seed, Eigen::In
   double S = 0.0;
   residual_by_nodes(data, coupled, p, x, &S);
   const double h = 1e-3;
-  const double eps_R = 10.0 * data.node_count() * kEps * S;
+  const bool geometric = data.geometric.has_value();
+  const double eps_R = 10.0 * (data.node_count() + (geometric ? n * n : 0)) * kEps * S;
+  const auto residual = [&](const Point& at) {
+    return geometric ? residual_by_invariants(data, inv, at, x)
+                     : residual_by_nodes(data, coupled, at, x);
+  };
   double worst = 0.0;
   for (Eigen::Index c = 0; c < J.cols(); ++c) {
     const auto D = [&](double step) {
-      return Eigen::VectorXd((residual_by_nodes(data, coupled, perturbed(p, c, step), x) -
-                              residual_by_nodes(data, coupled, perturbed(p, c, -step), x)) /
+      return Eigen::VectorXd((residual(perturbed(p, c, step)) - residual(perturbed(p, c, -step))) /
                              (2.0 * step));
     };
     const Eigen::VectorXd D1 = D(h), D2 = D(h / 2.0);
@@ -181,96 +204,23 @@ TEST_CASE("the Jacobian check catches a wrong sign in any column block", "[flexi
   }
 }
 
-/// R = M x − Qv + [0; 0; K q + D q̇] by the invariants (with geometric stiffening: the nodal
-/// sums do not know the foreshortening; the terms themselves are checked by the conservation
-/// laws of tests/core/geometric_stiffening_test.cpp).
-Eigen::VectorXd residual_by_invariants(const ModalData& data, const ModalInvariants& inv,
-                                       const Point& p, const Eigen::VectorXd& x) {
-  const int n = data.mode_count();
-  InertiaTerms t = make_inertia_terms(n);
-  evaluate_inertia_terms(inv, p.A, p.q, p.w, p.qd, t);
-  Eigen::VectorXd R = -t.Qv;
-  R.head<6>() += t.M_rr * x.head<6>() + t.M_rf * x.tail(n);
-  R.tail(n) += t.M_rf.transpose() * x.head<6>() + inv.m_ff * x.tail(n);
-  R.tail(n) += data.stiffness.cwiseProduct(p.q) + modal_damping(data).cwiseProduct(p.qd);
-  return R;
-}
-
-/// As worst_ratio, coupled, against differences of residual_by_invariants; the rounding bound
-/// uses the residual's magnitude times n² ε per entry (O(n²) products of the invariants).
-double worst_ratio_stiffened(const ModalData& data, unsigned seed, Eigen::Index wrong = -1) {
-  const ModalInvariants inv = make_modal_invariants(data);
-  const int n = data.mode_count();
-  std::mt19937 rng(seed);
-  Point p;
-  p.A = rotation::rotation_matrix(Eigen::Vector4d(random_vector(4, rng, 1.0)).normalized());
-  p.w = random_vector(3, rng, 1.5);
-  p.q = random_vector(n, rng, 0.2);
-  p.qd = random_vector(n, rng, 1.0);
-  const Eigen::VectorXd x = random_vector(6 + n, rng, 2.0);
-  InertiaTerms terms = make_inertia_terms(n);
-  evaluate_inertia_terms(inv, p.A, p.q, p.w, p.qd, terms);
-  InertiaJacobianScratch scratch = make_inertia_jacobian_scratch(n);
-  Eigen::MatrixXd J(6 + n, 6 + 2 * n);
-  inertia_residual_jacobian(inv, terms, true, p.q, p.w, p.qd, x, data.stiffness,
-                            modal_damping(data), scratch, J);
-  if (wrong >= 0) J.col(wrong) *= -1.0;
-  double S = 0.0;
-  residual_by_nodes(data, true, p, x, &S);
-  const double h = 1e-3;
-  const double eps_R = 10.0 * (data.node_count() + n * n) * kEps * S;
-  double worst = 0.0;
-  for (Eigen::Index c = 0; c < J.cols(); ++c) {
-    const auto D = [&](double step) {
-      return Eigen::VectorXd((residual_by_invariants(data, inv, perturbed(p, c, step), x) -
-                              residual_by_invariants(data, inv, perturbed(p, c, -step), x)) /
-                             (2.0 * step));
-    };
-    const Eigen::VectorXd D1 = D(h), D2 = D(h / 2.0);
-    const Eigen::VectorXd E = (4.0 * D2 - D1) / 3.0;
-    const double bound = (D1 - D2).cwiseAbs().maxCoeff() + 3.0 * eps_R / h;
-    CHECK(bound <= 1e-4 * (E.cwiseAbs().maxCoeff() + S));
-    worst = std::max(worst, (J.col(c) - E).cwiseAbs().maxCoeff() / bound);
-  }
-  return worst;
-}
-
 ModalData stiffened_random_data(int N, int n, unsigned seed) {
   ModalData data = random_data(N, n, seed);
   std::mt19937 rng(seed + 1000);
-  GeometricStiffness g;
-  const auto symmetric = [&] {
-    const Eigen::MatrixXd A = Eigen::MatrixXd(random_vector(n * n, rng, 1.0).reshaped(n, n));
-    return Eigen::MatrixXd(0.5 * (A + A.transpose()));
-  };
-  for (auto& M : g.E) M = symmetric();
-  for (auto& M : g.F) M = symmetric();
-  data.geometric = g;
-  return data;
-}
-
-ModalData stiffened_beam_data() {
-  BeamParameters p;
-  p.origin = Eigen::Vector3d(0.1, 0.05, -0.02);
-  p.elements = 8;
-  p.EA = 1e5;
-  p.EI_y = 4.0;
-  p.EI_z = 3.2;
-  ModalData data = make_beam_modal_data(p, 6, {}, BeamModeNormalization::kUnitModalMass, true);
-  data.damping_ratio = Eigen::VectorXd::Constant(6, 0.02);
+  data.geometric = testing::random_geometric_stiffness(n, rng);
   return data;
 }
 
 TEST_CASE("with geometric stiffening the Jacobian equals differences of the residual",
           "[flexible][jacobian][geometric]") {
-  CHECK(worst_ratio_stiffened(stiffened_random_data(7, 3, 1), 21) <= 1.0);
-  CHECK(worst_ratio_stiffened(stiffened_random_data(25, 6, 2), 22) <= 1.0);
-  CHECK(worst_ratio_stiffened(stiffened_beam_data(), 23) <= 1.0);
+  CHECK(worst_ratio(stiffened_random_data(7, 3, 1), true, 21) <= 1.0);
+  CHECK(worst_ratio(stiffened_random_data(25, 6, 2), true, 22) <= 1.0);
+  CHECK(worst_ratio(beam_data(true), true, 23) <= 1.0);
   // A wrong sign in any column block is caught.
   const ModalData data = stiffened_random_data(7, 3, 1);
   for (const Eigen::Index column : {1, 4, 7, 10}) {
     INFO("column " << column);
-    CHECK(worst_ratio_stiffened(data, 21, column) > 100.0);
+    CHECK(worst_ratio(data, true, 21, column) > 100.0);
   }
 }
 

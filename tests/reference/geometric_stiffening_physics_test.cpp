@@ -13,6 +13,7 @@
 #include <numbers>
 #include <vector>
 
+#include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
 #include "tests/support/flexible_models.hpp"
 
@@ -20,13 +21,6 @@ namespace flexref {
 namespace {
 
 using core::FlexibleFormulation;
-
-std::vector<double> grid(double end, double dt) {
-  std::vector<double> t;
-  const int n = static_cast<int>(std::lround(end / dt));
-  for (int k = 0; k <= n; ++k) t.push_back(k * dt);
-  return t;
-}
 
 /// Uniform cantilever L = 1, EI = 1, ρA = 1 (so λ = Ω and ω̄ = ω) clamped at the spin axis,
 /// turning at constant Ω about z; one bending family (bending-xz: flapwise, out of the plane of
@@ -41,36 +35,36 @@ core::Model rotating_unit_cantilever(double omega, bool flapwise, int modes,
   p.EI_z = 1.0;
   p.rho_A = 1.0;
   flexible::BeamModeFilter filter{false, !flapwise, flapwise};
-  core::RigidBodyDescription d = testing::flexible_body(
-      "beam", flexible::make_beam_modal_data(
-                  p, modes, filter, flexible::BeamModeNormalization::kUnitModalMass, true));
-  d.motion = core::MotionKind::kPrescribed;
-  d.prescribed.axis_W = Eigen::Vector3d::UnitZ();
-  d.prescribed.law.kind = core::AngleLaw::Kind::kConstantRate;
-  d.prescribed.law.rate = omega;
-  d.flexible->q0 = q0;
-  std::vector<core::Body> bodies;
-  bodies.emplace_back(std::move(d));
-  return core::Model(std::move(bodies), {}, FlexibleFormulation::kCoupled);
+  return testing::constant_rate_model(
+      testing::flexible_body(
+          "beam", flexible::make_beam_modal_data(
+                      p, modes, filter, flexible::BeamModeNormalization::kUnitModalMass, true)),
+      FlexibleFormulation::kCoupled, omega, q0);
 }
 
-/// The r-th mode of the linearized rotating beam (the initial condition that excites it alone):
-/// generalized eigenvectors of K + Ω² F_xx (+ −Ω² m_ff in-plane) against m_ff.
-Eigen::VectorXd rotating_mode(const core::Model& model, double omega, bool flapwise, int r) {
+/// The r-th mode of the linearized rotating beam (the initial condition that excites it alone)
+/// and its predicted frequency: generalized eigenpair of K + Ω² F_xx (+ −Ω² m_ff in-plane)
+/// against m_ff.
+struct RotatingMode {
+  Eigen::VectorXd shape;
+  double omega = 0.0;  ///< rad/s, predicted (sets the run's time scale only)
+};
+
+RotatingMode rotating_mode(const core::Model& model, double omega, bool flapwise, int r) {
   const core::Body& b = model.body(0);
   const auto& inv = b.invariants();
   Eigen::MatrixXd K =
       Eigen::MatrixXd(b.modal_stiffness().asDiagonal()) + omega * omega * inv.geometric->F[0];
   if (!flapwise) K -= omega * omega * inv.m_ff;
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(K, inv.m_ff);
-  return solver.eigenvectors().col(r);
+  return {solver.eigenvectors().col(r), std::sqrt(solver.eigenvalues()(r))};
 }
 
 /// Angular frequency of the response projected on mode v (v·m_ff q(t)) from its zero crossings
 /// (linear interpolation between outputs): π (half periods) / (time between first and last).
 double measured_frequency(const core::Model& model, const Eigen::VectorXd& v, double end,
                           double dt) {
-  const auto times = grid(end, dt);
+  const auto times = core::output_times(end, dt);
   reference::SolverOptions o;
   o.rtol = 1e-11;
   const auto run = reference::solve_cvode(model, times, o);
@@ -89,16 +83,11 @@ double measured_frequency(const core::Model& model, const Eigen::VectorXd& v, do
 /// Frequency of mode r at spin λ, simulated over ~25 periods with ~60 outputs per period.
 double rotating_frequency(double lambda, bool flapwise, int modes, int r) {
   const core::Model probe = rotating_unit_cantilever(lambda, flapwise, modes, {});
-  const Eigen::VectorXd v = rotating_mode(probe, lambda, flapwise, r);
-  const core::Model model = rotating_unit_cantilever(lambda, flapwise, modes, 1e-3 * v);
-  // The eigenvalue fixes the time scale of the run (the measurement is the simulation's).
-  const Eigen::MatrixXd& m = probe.body(0).invariants().m_ff;
-  Eigen::MatrixXd K = Eigen::MatrixXd(probe.body(0).modal_stiffness().asDiagonal()) +
-                      lambda * lambda * probe.body(0).invariants().geometric->F[0];
-  if (!flapwise) K -= lambda * lambda * m;
-  const double w_guess = std::sqrt(v.dot(K * v) / v.dot(m * v));
-  const double period = 2.0 * std::numbers::pi / w_guess;
-  return measured_frequency(model, v, 25.0 * period, period / 60.0);
+  const RotatingMode mode = rotating_mode(probe, lambda, flapwise, r);
+  const core::Model model = rotating_unit_cantilever(lambda, flapwise, modes, 1e-3 * mode.shape);
+  // The predicted frequency fixes the time scale of the run (the measurement is the simulation's).
+  const double period = 2.0 * std::numbers::pi / mode.omega;
+  return measured_frequency(model, mode.shape, 25.0 * period, period / 60.0);
 }
 
 TEST_CASE("rotating cantilever, flapwise: the classical frequencies at λ = 12",
@@ -152,7 +141,7 @@ struct SpinUpPeak {
 SpinUpPeak spin_up_peak(double omega_s, bool stiffening) {
   const core::Model model =
       testing::spin_up_beam_model(FlexibleFormulation::kCoupled, omega_s, 4, 10, stiffening);
-  const auto times = grid(30.0, 0.05);
+  const auto times = core::output_times(30.0, 0.05);
   reference::SolverOptions o;
   o.rtol = 1e-8;
   const auto run = reference::solve_cvode(model, times, o);

@@ -83,13 +83,10 @@ inline core::Model flexible_spinner_model(core::FlexibleFormulation formulation,
   return core::Model(std::move(bodies), std::move(elements_list), formulation);
 }
 
-/// The spinner's beam on a hub turning at constant Ω about z (prescribed), n bending modes.
-inline core::Model rotating_cantilever_model(core::FlexibleFormulation formulation, double omega,
-                                             int modes = 2, int elements = 10,
-                                             const Eigen::VectorXd& q0 = {}) {
-  core::RigidBodyDescription d = flexible_body(
-      "beam",
-      beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0, elements, modes));
+/// A flexible body turning at constant Ω about the world z axis (prescribed), released from q0.
+inline core::Model constant_rate_model(core::RigidBodyDescription d,
+                                       core::FlexibleFormulation formulation, double omega,
+                                       const Eigen::VectorXd& q0 = {}) {
   d.motion = core::MotionKind::kPrescribed;
   d.prescribed.axis_W = Eigen::Vector3d::UnitZ();
   d.prescribed.law.kind = core::AngleLaw::Kind::kConstantRate;
@@ -98,6 +95,16 @@ inline core::Model rotating_cantilever_model(core::FlexibleFormulation formulati
   std::vector<core::Body> bodies;
   bodies.emplace_back(std::move(d));
   return core::Model(std::move(bodies), {}, formulation);
+}
+
+/// The spinner's beam on a hub turning at constant Ω about z (prescribed), n bending modes.
+inline core::Model rotating_cantilever_model(core::FlexibleFormulation formulation, double omega,
+                                             int modes = 2, int elements = 10,
+                                             const Eigen::VectorXd& q0 = {}) {
+  return constant_rate_model(
+      flexible_body("beam", beam_bending_modes(Eigen::Vector3d(0.1, 0.0, 0.0), 1.0, 3.2, 1e5, 1.0,
+                                               elements, modes)),
+      formulation, omega, q0);
 }
 
 /// Kane–Ryan–Banerjee spin-up beam (docs/design/scenes.md), n bending modes.
