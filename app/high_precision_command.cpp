@@ -61,7 +61,17 @@ int high_precision_reference_command(const ReferenceOptions& options) {
       .set("atol", rtol)
       .set("steps", run.steps)
       .set("rhs_evaluations", run.evaluations)
-      .set("cpu_seconds", run.cpu_seconds);
+      .set("cpu_seconds", run.cpu_seconds)
+      .set("events", run.events.size());
+  if (!run.events.empty()) {
+    // Located to the working precision: the times keep every digit (as the CSV's values).
+    std::vector<std::string> times, kinds;
+    for (const precision::HighPrecisionEvent& e : run.events) {
+      times.push_back(e.time);
+      kinds.push_back(e.kind + " " + std::to_string(e.pair + 1));
+    }
+    record.table("integrator").set("event_times", times).set("event_kinds", kinds);
+  }
   if (options.estimate) {
     const auto& e = ref.estimate;
     record.table("error_estimate")

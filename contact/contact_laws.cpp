@@ -126,24 +126,6 @@ NormalLaw NormalLaw::hunt_crossley(double stiffness, double exponent, double res
   return law;
 }
 
-NormalForce NormalLaw::force(double delta, double delta_dot) const {
-  if (!(delta > 0.0)) return {};
-  NormalForce f;
-  if (kind_ == Kind::kLinear) {
-    f.elastic = k_ * delta;
-    f.total = std::max(0.0, f.elastic + c_ * delta_dot);
-  } else {
-    f.elastic = k_ * std::pow(delta, n_);
-    f.total = std::max(0.0, f.elastic * (1.0 + alpha_ * delta_dot));
-  }
-  return f;
-}
-
-double NormalLaw::potential(double delta) const {
-  if (!(delta > 0.0)) return 0.0;
-  return k_ * std::pow(delta, n_ + 1.0) / (n_ + 1.0);
-}
-
 double NormalLaw::linearized_stiffness(double delta) const {
   if (kind_ == Kind::kLinear) return k_;
   return delta > 0.0 ? n_ * k_ * std::pow(delta, n_ - 1.0) : 0.0;
@@ -169,13 +151,6 @@ std::string NormalLaw::describe() const {
         << " at v_ref = " << v_ref_ << " m/s (alpha = " << alpha_ << " s/m)";
   }
   return out.str();
-}
-
-double FrictionLaw::slip_factor(double slip_speed) const {
-  const double x = slip_speed / v_reg;
-  // tanh(x)/x = 1 − x²/3 + 2x⁴/15 − …: below x = 1e-4 the x⁴ term is < 2e-17.
-  if (x < 1e-4) return (1.0 - x * x / 3.0) / v_reg;
-  return std::tanh(x) / slip_speed;
 }
 
 }  // namespace flexref::contact

@@ -9,17 +9,26 @@
 /// Friction (smooth regularized Coulomb):
 ///   F_t = −μ F_n tanh(|v_t|/v_reg) v_t/|v_t|
 /// Units: k in N/m (linear) or N/mⁿ (Hunt–Crossley), c in N·s/m, α in s/m, speeds in m/s.
+///
+/// The laws are written once, generic in the scalar type (force_in, potential_in,
+/// slip_factor_in): the double model calls them with double, the extended/quad references of
+/// precision/ with long double and float128 (docs/precision.md); the parameters stay the
+/// scene's doubles, so every precision solves the same model.
+#include <cmath>
 #include <string>
+#include <type_traits>
 
 namespace flexref::contact {
 
 /// Normal force split into its elastic part (derivative of the potential) and the total.
-struct NormalForce {
-  double total = 0.0;    ///< F ≥ 0, N
-  double elastic = 0.0;  ///< F_e = dV/dδ, N
+template <typename S>
+struct NormalForceTpl {
+  S total = S(0);    ///< F ≥ 0, N
+  S elastic = S(0);  ///< F_e = dV/dδ, N
   /// Non-conservative part F − F_e (damping, and the clamp when it is active), N.
-  double dissipative() const { return total - elastic; }
+  S dissipative() const { return total - elastic; }
 };
+using NormalForce = NormalForceTpl<double>;
 
 /// The normal law of a contact. Immutable; built by the named constructors below.
 class NormalLaw {
@@ -50,9 +59,19 @@ class NormalLaw {
   double reference_speed() const { return v_ref_; }
 
   /// Force at penetration δ (< 0 gives zero: separated) and rate δ̇ (m/s).
-  NormalForce force(double delta, double delta_dot) const;
+  NormalForce force(double delta, double delta_dot) const { return force_in(delta, delta_dot); }
   /// Elastic energy stored at penetration δ (0 when δ ≤ 0), J.
-  double potential(double delta) const;
+  double potential(double delta) const { return potential_in(delta); }
+  /// force() in any precision S.
+  template <typename S>
+  NormalForceTpl<S> force_in(const S& delta, const S& delta_dot) const;
+  /// potential() in any precision S.
+  template <typename S>
+  S potential_in(const S& delta) const;
+  /// The unclamped law's value, whose sign change is the clamp's switch inside a contact:
+  /// k δ + c δ̇ (linear), 1 + α δ̇ (Hunt–Crossley; the clamp acts where it is ≤ 0).
+  template <typename S>
+  S clamp_function(const S& delta, const S& delta_dot) const;
   /// dF_e/dδ at δ (N/m): k for the linear law, n k δⁿ⁻¹ for Hunt–Crossley.
   double linearized_stiffness(double delta) const;
   /// dF/dδ̇ at δ (N·s/m): c, or α k δⁿ for Hunt–Crossley.
@@ -82,8 +101,58 @@ struct FrictionLaw {
 
   /// The factor s of F_t = −μ F_n s v_t: s = tanh(|v_t|/v_reg)/|v_t| (1/v_reg at v_t = 0,
   /// by its series below 1e-4 v_reg), in s/m.
-  double slip_factor(double slip_speed) const;
+  double slip_factor(double slip_speed) const { return slip_factor_in(slip_speed); }
+  /// slip_factor() in any precision S.
+  template <typename S>
+  S slip_factor_in(const S& slip_speed) const;
 };
+
+template <typename S>
+NormalForceTpl<S> NormalLaw::force_in(const S& delta, const S& delta_dot) const {
+  using std::pow;
+  if (!(delta > S(0))) return {};
+  NormalForceTpl<S> f;
+  S unclamped;
+  if (kind_ == Kind::kLinear) {
+    f.elastic = k_ * delta;
+    unclamped = f.elastic + c_ * delta_dot;
+  } else {
+    f.elastic = k_ * pow(delta, S(n_));
+    unclamped = f.elastic * (S(1) + alpha_ * delta_dot);
+  }
+  f.total = unclamped > S(0) ? unclamped : S(0);  // the contact never pulls
+  return f;
+}
+
+template <typename S>
+S NormalLaw::potential_in(const S& delta) const {
+  using std::pow;
+  if (!(delta > S(0))) return S(0);
+  return k_ * pow(delta, S(n_ + 1.0)) / S(n_ + 1.0);
+}
+
+template <typename S>
+S NormalLaw::clamp_function(const S& delta, const S& delta_dot) const {
+  if (kind_ == Kind::kLinear) return k_ * delta + c_ * delta_dot;
+  return S(1) + alpha_ * delta_dot;
+}
+
+template <typename S>
+S FrictionLaw::slip_factor_in(const S& slip_speed) const {
+  using std::tanh;
+  const S x = slip_speed / v_reg;
+  // tanh(x)/x = 1 − x²/3 + 2x⁴/15 − …: below x = 1e-4 the x⁴ term is < 2e-17 relative, enough
+  // for double; in a longer precision the series keeps terms until they fall below its ε.
+  if (x < S(1e-4)) {
+    if constexpr (std::is_same_v<S, double>) return (1.0 - x * x / 3.0) / v_reg;
+    const S x2 = x * x;
+    // tanh(x)/x = Σ 2^{2k}(2^{2k} − 1) B_{2k} x^{2k−2}/(2k)!: 1 − x²/3 + 2x⁴/15 − 17x⁶/315 +
+    // 62x⁸/2835; at x < 1e-4 the next term is < 1e-41, below float128's ε = 1.9e-34.
+    return (S(1) - x2 * (S(1) / 3 - x2 * (S(2) / 15 - x2 * (S(17) / 315 - x2 * S(62) / 2835)))) /
+           S(v_reg);
+  }
+  return tanh(x) / slip_speed;
+}
 
 /// The exact Hunt–Crossley relation between restitution and damping (docs/contact.md):
 /// with a = α v⁻ and φ(x) = x − ln(1 + x), an impact at v⁻ rebounds with v⁺ = e v⁻ where

@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "precision/rigid_model_tpl.hpp"
+#include "precision/switched_integration.hpp"
 
 // Boost 1.74's odeint cannot deduce the value type of a multiprecision number for its
 // controlled steppers; this is the specialisation its documentation gives for such types.
@@ -53,22 +54,6 @@ bool finite(const S& x) {
   return static_cast<bool>(isfinite(x));
 }
 
-std::vector<std::string> column_names(const scene::SceneSpec& spec) {
-  std::vector<std::string> names{"t"};
-  for (const scene::BodySpec& b : spec.bodies) {
-    const std::string& n = b.description.name;
-    for (const char* c :
-         {".x", ".y", ".z", ".e0", ".e1", ".e2", ".e3", ".vx", ".vy", ".vz", ".W1", ".W2", ".W3"}) {
-      names.push_back(n + c);
-    }
-    for (const core::TrackedPoint& p : b.description.points) {
-      for (const char* c : {".x", ".y", ".z"}) names.push_back(n + "." + p.name + c);
-    }
-  }
-  names.emplace_back("energy");
-  return names;
-}
-
 template <typename S>
 HighPrecisionRun integrate(const scene::SceneSpec& spec, const std::vector<double>& output_times,
                            Precision precision, double rtol, const char* type_name) {
@@ -79,14 +64,19 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, const std::vector<doubl
   run.precision = precision;
   run.rtol = rtol;
   run.method = std::string("bulirsch-stoer (odeint), ") + type_name;
-  run.columns = column_names(spec);
+  run.columns = model.columns();
   run.table.columns = run.columns;
   const int digits = significant_digits(precision);
   const auto start = std::chrono::steady_clock::now();
 
   State y = model.initial_state();
+  std::vector<double> impacts(static_cast<std::size_t>(model.wear_channel_count()), 0.0);
   const auto record = [&](double t, const State& x) {
-    const std::vector<S> row = model.output_row(x);
+    const std::vector<S> row = model.output_row(x, impacts);
+    if (row.size() + 1 != run.columns.size()) {
+      throw std::logic_error("solve_high_precision: a row of " + std::to_string(row.size() + 1) +
+                             " values for " + std::to_string(run.columns.size()) + " columns");
+    }
     std::vector<std::string> text;
     std::vector<double> values{t};
     for (const S& v : row) {
@@ -130,6 +120,33 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, const std::vector<doubl
     is_output.push_back(b_is_output);
     if (b_is_output) ++next_output;
     const double t_segment = 0.5 * (a + b);
+    const S step0(std::min(first_step, b - a));
+    if (model.switching_function_count() > 0) {
+      // Contacts: no step straddles a switch (switched_integration.hpp).
+      detail::SwitchedCounters counters;
+      const std::vector<S> stops(times.begin() + 1, times.end());
+      detail::integrate_switched(
+          model, y, a, stops, t_segment, tol, step0, "odeint-" + std::string(to_string(precision)),
+          counters,
+          [&](std::size_t k, const State& x) {
+            if (is_output[k + 1]) record(static_cast<double>(times[k + 1]), x);
+          },
+          [&](const detail::SwitchEvent<S>& e, const State& x) {
+            HighPrecisionEvent event;
+            event.time = print(e.t, digits);
+            event.pair = e.function / 2;
+            event.kind = e.function % 2 == 0 ? (e.to_negative ? "onset" : "release")
+                                             : (e.to_negative ? "clamp" : "unclamp");
+            // An impact is an onset (core/impact_counter.hpp), counted at the event itself.
+            const int channel = model.wear_channel_of_pair(event.pair);
+            if (event.kind == "onset" && channel >= 0) ++impacts[static_cast<std::size_t>(channel)];
+            for (const S& v : model.output_row(x, impacts)) event.row.push_back(print(v, digits));
+            run.events.push_back(std::move(event));
+          });
+      run.steps += counters.steps;
+      run.evaluations += counters.evaluations + counters.located_evaluations;
+      continue;
+    }
     odeint::bulirsch_stoer<State, S> stepper(tol, tol);
     std::size_t k = 0;
     const auto system = [&](const State& x, State& dxdt, const S t) {
@@ -141,9 +158,8 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, const std::vector<doubl
       ++k;
     };
     try {
-      run.steps +=
-          static_cast<long>(odeint::integrate_times(stepper, system, y, times.begin(), times.end(),
-                                                    S(std::min(first_step, b - a)), observer));
+      run.steps += static_cast<long>(
+          odeint::integrate_times(stepper, system, y, times.begin(), times.end(), step0, observer));
     } catch (const odeint::step_adjustment_error& e) {
       throw core::SolverError(
           "odeint-" + std::string(to_string(precision)), a, run.steps,

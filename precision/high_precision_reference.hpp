@@ -3,7 +3,8 @@
 /// References beyond double precision (docs/precision.md): the rigid-body model of
 /// precision/rigid_model_tpl.hpp integrated in extended or quad precision by Boost.Odeint's
 /// Bulirsch–Stoer extrapolation (controlled, stepping exactly onto every output time and load
-/// switch), with its error estimated in the same precision.
+/// switch, and locating every contact switch to the working precision), with its error
+/// estimated in the same precision.
 #include <string>
 #include <vector>
 
@@ -21,6 +22,16 @@ double default_rtol(Precision precision);
 /// The smallest rtol accepted for a precision (1e-13, 1e-17, 1e-30); throws nothing.
 double smallest_rtol(Precision precision);
 
+/// A switch located by an extended/quad run (precision/switched_integration.hpp): a contact
+/// pair's onset (gap < 0 from then on) or release, or its penalty law's clamp starting or
+/// stopping to act.
+struct HighPrecisionEvent {
+  std::string time;  ///< printed with significant_digits(precision) digits
+  int pair = 0;      ///< contact pair, in the scene's order (over all [[contact]] tables)
+  std::string kind;  ///< "onset", "release", "clamp" or "unclamp"
+  std::vector<std::string> row;  ///< the columns after `t` at the event, as `text`
+};
+
 struct HighPrecisionRun {
   Precision precision = Precision::kQuad;
   double rtol = 0.0;
@@ -29,7 +40,8 @@ struct HighPrecisionRun {
   /// Per output time: every value after `t`, printed with significant_digits(precision)
   /// digits (they round-trip: distances are computed from them in the run's precision).
   std::vector<std::vector<std::string>> text;
-  studies::TrajectoryTable table;  ///< the same values rounded to double
+  studies::TrajectoryTable table;          ///< the same values rounded to double
+  std::vector<HighPrecisionEvent> events;  ///< every located switch, in time order
   long steps = 0;
   long evaluations = 0;
   double cpu_seconds = 0.0;

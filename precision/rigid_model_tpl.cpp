@@ -5,6 +5,10 @@
 #include <boost/multiprecision/float128.hpp>
 #include <stdexcept>
 
+#include "contact/contact.hpp"
+#include "scene/build_model.hpp"
+#include "studies/trajectory_table.hpp"
+
 namespace flexref::precision {
 namespace {
 
@@ -66,10 +70,12 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
     throw std::invalid_argument(
         (source.path.empty() ? spec.name : source.path) + ": " + what +
         " is not in the extended/quad model yet (docs/precision.md: rigid free and pivot "
-        "bodies, gravity, applied forces and torques); use --precision double");
+        "bodies, gravity, applied forces and torques, sphere contacts); use --precision double");
   };
   if (!spec.potentials.empty()) refuse(spec.potentials.front().source, "a potential");
-  if (!spec.contacts.empty()) refuse(spec.contacts.front().source, "a contact");
+  for (const scene::ContactSpec& c : spec.contacts) {
+    if (c.gap) refuse(c.source, "a gap support");
+  }
   if (!spec.joints.empty()) refuse(spec.joints.front().source, "a joint");
   for (const scene::BodySpec& b : spec.bodies) {
     const core::RigidBodyDescription& d = b.description;
@@ -136,7 +142,143 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
     const Vec3<S>& o = bodies_.at(static_cast<std::size_t>(l.body)).p_BoBr_B;
     load.p_BrP_B = {r[0] - o[0], r[1] - o[1], r[2] - o[2]};
     load.profile = l.profile;
+    load.tracks_work = !l.torque && l.profile.shape() == core::TimeProfile::Shape::kHarmonic;
     loads_.push_back(load);
+  }
+  // The double model of the same spec gives the outputs (columns, integrals) and the contact
+  // laws as it builds them (the default effective mass, the Hunt–Crossley α from the
+  // restitution): the same parameters, so every precision solves one model.
+  const core::Model built = scene::build_model(spec);
+  columns_ = studies::trajectory_columns(built);
+  dissipates_ = built.dissipates();
+  applied_work_ = dissipates_ && built.tracks_applied_work();
+  wear_channels_ = built.wear_channel_names();
+  integral_count_ = dissipates_ ? 1 + built.extra_integral_count() : 0;
+  {
+    for (const auto& element : built.elements()) {
+      const auto* e = dynamic_cast<const contact::ContactElement*>(element.get());
+      if (e == nullptr) continue;
+      int channel = -1;
+      if (e->wear_channel_count() > 0) {
+        channel = static_cast<int>(
+            std::find(wear_channels_.begin(), wear_channels_.end(), e->wear_channel_name()) -
+            wear_channels_.begin());
+      }
+      for (const contact::ContactPair& p : e->pairs()) {
+        pair_channel_.push_back(channel);
+        ContactPairTpl<S> c;
+        c.sphere_sphere = p.kind == contact::ContactPair::Kind::kSphereSphere;
+        c.body_a = p.body_a;
+        c.body_b = p.body_b;
+        c.radius_a = S(p.radius_a);
+        c.radius_b = S(p.radius_b);
+        const Vec3<S>& ob = bodies_.at(static_cast<std::size_t>(p.body_b)).p_BoBr_B;
+        const Vec3<S> cb = to_s<S>(p.p_BoCb_B);
+        c.p_BrCb_B = {cb[0] - ob[0], cb[1] - ob[1], cb[2] - ob[2]};
+        if (p.body_a >= 0) {
+          const Vec3<S>& oa = bodies_.at(static_cast<std::size_t>(p.body_a)).p_BoBr_B;
+          const Vec3<S> ca = to_s<S>(p.p_BoCa_B);
+          c.p_BrCa_B = {ca[0] - oa[0], ca[1] - oa[1], ca[2] - oa[2]};
+        }
+        c.p_WQ = to_s<S>(p.p_WQ);
+        c.n_W = to_s<S>(p.n_W);
+        c.normal = e->normal_law();
+        c.friction = e->friction_law();
+        contacts_.push_back(c);
+      }
+    }
+  }
+  energy0_ = energy(initial_state());
+}
+
+template <typename S>
+typename RigidModelTpl<S>::PairLoad RigidModelTpl<S>::pair_load(const ContactPairTpl<S>& c,
+                                                                const PairState& s) const {
+  // F_n n + F_t on b at P (contact.hpp), F_t = −μ F_n s(|v_t|) v_t; the powers of
+  // ContactEvaluation::dissipated_power and of the wear channel.
+  using std::abs;
+  using std::sqrt;
+  PairLoad load;
+  if (!(s.gap < S(0))) return load;
+  const S v_n = dot(s.n_W, s.v_rel_W);
+  const S delta_dot = -v_n;
+  const contact::NormalForceTpl<S> f_n = c.normal.force_in(S(-s.gap), delta_dot);
+  if (!(f_n.total > S(0))) return load;
+  load.normal = f_n.total;
+  const Vec3<S> v_t{s.v_rel_W[0] - v_n * s.n_W[0], s.v_rel_W[1] - v_n * s.n_W[1],
+                    s.v_rel_W[2] - v_n * s.n_W[2]};
+  load.slip_speed = sqrt(dot(v_t, v_t));
+  Vec3<S> f_t{};
+  if (c.friction.mu > 0.0) {
+    const S factor = c.friction.mu * f_n.total * c.friction.slip_factor_in(load.slip_speed);
+    for (std::size_t k = 0; k < 3; ++k) f_t[k] = -factor * v_t[k];
+  }
+  for (std::size_t k = 0; k < 3; ++k) load.f_W[k] = f_n.total * s.n_W[k] + f_t[k];
+  const S friction_power = dot(f_t, v_t);
+  load.dissipated_power = f_n.dissipative() * delta_dot - friction_power;
+  load.wear_power = abs(friction_power);
+  return load;
+}
+
+template <typename S>
+typename RigidModelTpl<S>::PairState RigidModelTpl<S>::pair_state(const ContactPairTpl<S>& c,
+                                                                  const std::vector<S>& y,
+                                                                  const Mat3<S>* A) const {
+  using std::sqrt;
+  // Centre, and velocity of the material point at P: v_Br + (A ω̄) × (P − p_WBr).
+  const auto centre = [&](int body, const Vec3<S>& p_BrC_B) {
+    const std::size_t o = kBodyStateSize * static_cast<std::size_t>(body);
+    const Vec3<S> r = multiply(A[body], p_BrC_B);
+    return Vec3<S>{y[o] + r[0], y[o + 1] + r[1], y[o + 2] + r[2]};
+  };
+  const auto velocity = [&](int body, const Vec3<S>& p_WP) {
+    const std::size_t o = kBodyStateSize * static_cast<std::size_t>(body);
+    const Vec3<S> w_W = multiply(A[body], Vec3<S>{y[o + 10], y[o + 11], y[o + 12]});
+    const Vec3<S> u = cross(w_W, Vec3<S>{p_WP[0] - y[o], p_WP[1] - y[o + 1], p_WP[2] - y[o + 2]});
+    return Vec3<S>{y[o + 7] + u[0], y[o + 8] + u[1], y[o + 9] + u[2]};
+  };
+  PairState s;
+  const Vec3<S> cb = centre(c.body_b, c.p_BrCb_B);
+  if (!c.sphere_sphere) {
+    // g = n·(p_WC − p_WQ) − r, P = C − r n (contact.hpp).
+    s.n_W = c.n_W;
+    s.gap =
+        dot(c.n_W, Vec3<S>{cb[0] - c.p_WQ[0], cb[1] - c.p_WQ[1], cb[2] - c.p_WQ[2]}) - c.radius_b;
+    for (std::size_t k = 0; k < 3; ++k) s.p_WP[k] = cb[k] - c.radius_b * c.n_W[k];
+    s.v_rel_W = velocity(c.body_b, s.p_WP);
+    return s;
+  }
+  // g = |C_b − C_a| − r_a − r_b, n = (C_b − C_a)/|C_b − C_a|, P = C_a + (r_a + g/2) n.
+  const Vec3<S> ca = centre(c.body_a, c.p_BrCa_B);
+  const Vec3<S> d{cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
+  const S distance = sqrt(dot(d, d));
+  s.n_W = distance > S(0) ? Vec3<S>{d[0] / distance, d[1] / distance, d[2] / distance}
+                          : Vec3<S>{S(0), S(0), S(1)};
+  s.gap = distance - c.radius_a - c.radius_b;
+  const S reach = c.radius_a + s.gap / 2;
+  for (std::size_t k = 0; k < 3; ++k) s.p_WP[k] = ca[k] + reach * s.n_W[k];
+  const Vec3<S> vb = velocity(c.body_b, s.p_WP);
+  const Vec3<S> va = velocity(c.body_a, s.p_WP);
+  s.v_rel_W = {vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]};
+  return s;
+}
+
+template <typename S>
+void RigidModelTpl<S>::switching_functions(const std::vector<S>& y, std::vector<S>& values) const {
+  std::array<Mat3<S>, 8> small_A{};
+  std::vector<Mat3<S>> big_A;
+  Mat3<S>* A = small_A.data();
+  if (bodies_.size() > small_A.size()) {
+    big_A.assign(bodies_.size(), Mat3<S>{});
+    A = big_A.data();
+  }
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    A[i] = rotation_matrix(quat_at(y, kBodyStateSize * i));
+  }
+  for (std::size_t p = 0; p < contacts_.size(); ++p) {
+    const PairState s = pair_state(contacts_[p], y, A);
+    values[2 * p] = s.gap;
+    values[2 * p + 1] = contacts_[p].normal.clamp_function(-s.gap, -dot(s.n_W, s.v_rel_W));
   }
 }
 
@@ -154,6 +296,7 @@ std::vector<S> RigidModelTpl<S>::initial_state() const {
   std::vector<S> y;
   y.reserve(static_cast<std::size_t>(state_size()));
   for (const RigidBodyTpl<S>& b : bodies_) y.insert(y.end(), b.initial.begin(), b.initial.end());
+  y.insert(y.end(), static_cast<std::size_t>(integral_count_), S(0));  // the integrals start at 0
   return y;
 }
 
@@ -205,6 +348,48 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt,
       }
     }
   }
+  // The integrals' rates: W_d, (W_a), wear work per channel.
+  const std::size_t integrals = kBodyStateSize * n;
+  for (int k = 0; k < integral_count_; ++k) dydt[integrals + static_cast<std::size_t>(k)] = S(0);
+  const std::size_t first_wear = integrals + (applied_work_ ? 2 : 1);
+  for (std::size_t p = 0; p < contacts_.size(); ++p) {
+    const ContactPairTpl<S>& c = contacts_[p];
+    const PairState s = pair_state(c, y, A);
+    const PairLoad load = pair_load(c, s);
+    if (!(load.normal > S(0))) continue;
+    const auto apply = [&](int body, S sign) {
+      const auto i = static_cast<std::size_t>(body);
+      const std::size_t o = kBodyStateSize * i;
+      const Vec3<S> f{sign * load.f_W[0], sign * load.f_W[1], sign * load.f_W[2]};
+      const Vec3<S> r{s.p_WP[0] - y[o], s.p_WP[1] - y[o + 1], s.p_WP[2] - y[o + 2]};
+      const Vec3<S> m_B = multiply_transposed(A[i], cross(r, f));
+      for (std::size_t k = 0; k < 3; ++k) {
+        force_W[i][k] += f[k];
+        torque_B[i][k] += m_B[k];
+      }
+    };
+    apply(c.body_b, S(1));
+    if (c.body_a >= 0) apply(c.body_a, S(-1));
+    if (dissipates_) dydt[integrals] += load.dissipated_power;
+    if (pair_channel_[p] >= 0) {
+      dydt[first_wear + static_cast<std::size_t>(pair_channel_[p])] += load.wear_power;
+    }
+  }
+  if (applied_work_) {
+    // W_a: f·v_P of the harmonic forces (core::AppliedForce::applied_power).
+    for (const AppliedLoadTpl<S>& l : loads_) {
+      if (!l.tracks_work) continue;
+      const auto i = static_cast<std::size_t>(l.body);
+      const std::size_t o = kBodyStateSize * i;
+      const S f = profile_value(l.profile, t, t_segment);
+      const Vec3<S> v{f * l.value[0], f * l.value[1], f * l.value[2]};
+      const Vec3<S> f_W = l.world_frame ? v : multiply(A[i], v);
+      const Vec3<S> w_W = multiply(A[i], Vec3<S>{y[o + 10], y[o + 11], y[o + 12]});
+      const Vec3<S> u = cross(w_W, multiply(A[i], l.p_BrP_B));
+      const Vec3<S> v_P{y[o + 7] + u[0], y[o + 8] + u[1], y[o + 9] + u[2]};
+      dydt[integrals + 1] += dot(f_W, v_P);
+    }
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const RigidBodyTpl<S>& b = bodies_[i];
     const std::size_t o = kBodyStateSize * i;
@@ -250,11 +435,21 @@ S RigidModelTpl<S>::energy(const std::vector<S>& y) const {
     const Vec3<S> p_cm{p[0] + c_W[0], p[1] + c_W[1], p[2] + c_W[2]};
     e -= b.mass * dot(g_W_, p_cm);
   }
+  if (!contacts_.empty()) {
+    std::vector<Mat3<S>> A(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      A[i] = rotation_matrix(quat_at(y, kBodyStateSize * i));
+    }
+    for (const ContactPairTpl<S>& c : contacts_) {
+      e += c.normal.potential_in(S(-pair_state(c, y, A.data()).gap));
+    }
+  }
   return e;
 }
 
 template <typename S>
-std::vector<S> RigidModelTpl<S>::output_row(const std::vector<S>& y) const {
+std::vector<S> RigidModelTpl<S>::output_row(const std::vector<S>& y,
+                                            const std::vector<double>& impacts) const {
   std::vector<S> row;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const RigidBodyTpl<S>& b = bodies_[i];
@@ -276,7 +471,42 @@ std::vector<S> RigidModelTpl<S>::output_row(const std::vector<S>& y) const {
       for (std::size_t k = 0; k < 3; ++k) row.push_back(y[o + k] + q[k]);
     }
   }
-  row.push_back(energy(y));
+  const S e = energy(y);
+  row.push_back(e);
+  const std::size_t integrals = kBodyStateSize * bodies_.size();
+  if (dissipates_) {
+    const S work = y[integrals];
+    const S applied = applied_work_ ? y[integrals + 1] : S(0);
+    row.push_back(work);
+    if (applied_work_) row.push_back(applied);
+    row.push_back(e - energy0_ + work - applied);  // E(t) − E(0) + W_d(t) − W_a(t)
+  }
+  if (!wear_channels_.empty()) {
+    std::vector<Mat3<S>> A(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      A[i] = rotation_matrix(quat_at(y, kBodyStateSize * i));
+    }
+    std::vector<S> normal(wear_channels_.size()), largest(wear_channels_.size()),
+        slip(wear_channels_.size());
+    for (std::size_t p = 0; p < contacts_.size(); ++p) {
+      if (pair_channel_[p] < 0) continue;
+      const auto c = static_cast<std::size_t>(pair_channel_[p]);
+      const PairLoad load = pair_load(contacts_[p], pair_state(contacts_[p], y, A.data()));
+      if (!(load.normal > S(0))) continue;
+      normal[c] += load.normal;
+      if (load.normal > largest[c]) {  // ContactElement::wear_samples' rule
+        largest[c] = load.normal;
+        slip[c] = load.slip_speed;
+      }
+    }
+    const std::size_t first_wear = integrals + (applied_work_ ? 2 : 1);
+    for (std::size_t c = 0; c < wear_channels_.size(); ++c) {
+      row.push_back(normal[c]);
+      row.push_back(slip[c]);
+      row.push_back(y[first_wear + c]);
+      row.push_back(c < impacts.size() ? S(impacts[c]) : S(0));
+    }
+  }
   return row;
 }
 

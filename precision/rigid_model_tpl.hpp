@@ -2,7 +2,9 @@
 /// \file rigid_model_tpl.hpp
 /// The rigid-body model of docs/design/model.md written once for any scalar type S (double,
 /// long double, boost::multiprecision::float128): free and pivot bodies with Euler parameters,
-/// uniform gravity and the applied forces and torques of a scene with their time profiles.
+/// uniform gravity, the applied forces and torques of a scene with their time profiles, and
+/// sphere–plane and sphere–sphere penalty contacts with friction (contact/contact.hpp; the
+/// laws are contact/contact_laws.hpp's, evaluated in S).
 /// Internal to precision/: the templates are instantiated in rigid_model_tpl.cpp for the three
 /// precisions (compile time stays bounded; no other file sees float128).
 ///
@@ -16,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/contact_laws.hpp"
 #include "scene/scene_spec.hpp"
 
 namespace flexref::precision {
@@ -52,6 +55,24 @@ struct AppliedLoadTpl {
   bool world_frame = true;
   Vec3<S> p_BrP_B{};  ///< point of application relative to Br (forces)
   core::TimeProfile profile = core::TimeProfile::constant();
+  bool tracks_work = false;  ///< a harmonic force (core::AppliedForce::tracks_applied_work)
+};
+
+/// A sphere–plane or sphere–sphere pair of contact/contact.hpp on rigid parts, the sphere
+/// centres relative to Br, with its element's laws (the double model's parameters).
+template <typename S>
+struct ContactPairTpl {
+  bool sphere_sphere = false;
+  int body_a = -1;  ///< sphere a's body; −1 for the ground plane
+  Vec3<S> p_BrCa_B{};
+  S radius_a = S(0);
+  int body_b = 0;  ///< the sphere pushed along +n
+  Vec3<S> p_BrCb_B{};
+  S radius_b = S(0);
+  Vec3<S> p_WQ{};  ///< a point of the plane
+  Vec3<S> n_W{};   ///< unit plane normal (normalized in double by ContactPair, as there)
+  contact::NormalLaw normal;
+  contact::FrictionLaw friction;
 };
 
 /// The model in precision S, built from a scene (the scene's double values are the data: the
@@ -60,11 +81,18 @@ template <typename S>
 class RigidModelTpl {
  public:
   /// Throws std::invalid_argument naming the first part of the scene this model does not
-  /// carry (flexible or prescribed bodies, potentials, contacts, joints).
+  /// carry (flexible or prescribed bodies, potentials, gap supports, joints).
   explicit RigidModelTpl(const scene::SceneSpec& spec);
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
-  int state_size() const { return kBodyStateSize * num_bodies(); }
+  /// 13 per body, then the integrals of the double model (core::Model::extra_integral_count)
+  /// when it dissipates: W_d, W_a of harmonic forces (when tracked), each wear channel's work.
+  int state_size() const { return kBodyStateSize * num_bodies() + integral_count_; }
+  /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
+  const std::vector<std::string>& columns() const { return columns_; }
+  int wear_channel_count() const { return static_cast<int>(wear_channels_.size()); }
+  /// The wear channel of a contact pair, −1 for a pair of an unnamed contact.
+  int wear_channel_of_pair(int pair) const { return pair_channel_[static_cast<std::size_t>(pair)]; }
   const std::vector<RigidBodyTpl<S>>& bodies() const { return bodies_; }
   /// Times in (t0, t_end] where a load profile switches (integrators stop on them).
   std::vector<double> discontinuities() const;
@@ -72,16 +100,49 @@ class RigidModelTpl {
   std::vector<S> initial_state() const;
   /// ẏ = f(t, y) on the load branch active at t_segment (core/time_profile.hpp).
   void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment) const;
-  /// Kinetic + gravitational potential energy (the `energy` column).
+  /// Kinetic + gravitational + contact potential energy (the `energy` column).
   S energy(const std::vector<S>& y) const;
-  /// The trajectory_columns row at (t, y): per body p_WBo, θ, v_WBo, ω̄, tracked points, then
-  /// the energy.
-  std::vector<S> output_row(const std::vector<S>& y) const;
+  /// Two per contact pair, in order: the gap g (the pair pushes while g < 0; its sign change is
+  /// an onset or a release) and the unclamped law's value (NormalLaw::clamp_function; its sign
+  /// change inside the contact is where the clamp F ≥ 0 starts or stops acting).
+  int switching_function_count() const { return 2 * static_cast<int>(contacts_.size()); }
+  void switching_functions(const std::vector<S>& y, std::vector<S>& values) const;
+  /// The trajectory_columns row at (t, y) after `t`: per body p_WBo, θ, v_WBo, ω̄, tracked
+  /// points; the energy; when the model dissipates W_d, (W_a), E − E(0) + W_d − W_a; per wear
+  /// channel Σ F_n, the slip speed of its most loaded pair, its wear work and `impacts` (the
+  /// caller's onset counts, one per channel; empty: none yet).
+  std::vector<S> output_row(const std::vector<S>& y, const std::vector<double>& impacts = {}) const;
 
  private:
   std::vector<RigidBodyTpl<S>> bodies_;
   std::vector<AppliedLoadTpl<S>> loads_;
+  std::vector<ContactPairTpl<S>> contacts_;
   Vec3<S> g_W_{};
+  std::vector<std::string> columns_;
+  bool dissipates_ = false;
+  bool applied_work_ = false;  ///< a harmonic force's work W_a is tracked (AppliedForce's rule)
+  int integral_count_ = 0;
+  std::vector<std::string> wear_channels_;
+  std::vector<int> pair_channel_;
+  S energy0_ = S(0);
+
+  /// Geometry and relative motion of a pair (contact/contact.hpp's formulas).
+  struct PairState {
+    S gap;
+    Vec3<S> n_W;
+    Vec3<S> p_WP;
+    Vec3<S> v_rel_W;  ///< b's material point at P minus a's
+  };
+  PairState pair_state(const ContactPairTpl<S>& c, const std::vector<S>& y, const Mat3<S>* A) const;
+  /// What a pair does at a state: its force on b at P and the powers it dissipates.
+  struct PairLoad {
+    S normal = S(0);  ///< F_n
+    S slip_speed = S(0);
+    Vec3<S> f_W{};              ///< F_n n + F_t on b
+    S dissipated_power = S(0);  ///< F_nc δ̇ − F_t·v_t ≥ 0
+    S wear_power = S(0);        ///< |F_t·v_t|
+  };
+  PairLoad pair_load(const ContactPairTpl<S>& c, const PairState& s) const;
 };
 
 // Small generic vector algebra (Eigen's fixed-size types are not needed for 3-vectors).

@@ -410,10 +410,19 @@ sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/free_spin.toml >"$tmp/fs2.tom
 awk -F, 'NR == 3 { split($5, m, "e"); gsub(/[-.]/, "", m[1]); exit !(length(m[1]) >= 33) }' \
   "$tmp/q.csv" || fail "quad CSV values lack their digits: $(sed -n 3p "$tmp/q.csv" | cut -c1-120)"
 grep -q '^precision = "quad"' "$tmp/q.csv.meta.toml" || fail "no precision in the quad metadata"
-out=$("$flexref" reference scenes/bouncing_ball.toml --precision quad -o "$tmp/bq.csv" 2>&1)
-[[ $? == 1 && $out == *"contact[1]: a contact is not in the extended/quad model"* ]] ||
-  fail "quad reference of a contact scene not refused clearly: $out"
+out=$("$flexref" reference scenes/tube_support_impact.toml --precision quad -o "$tmp/bq.csv" 2>&1)
+[[ $? == 1 && $out == *"contact[1]: a gap support is not in the extended/quad model"* ]] ||
+  fail "quad reference of a gap-support scene not refused clearly: $out"
 [[ -e $tmp/bq.csv ]] && fail "a refused quad reference wrote its CSV"
+# Contact in extended precision: the located events in the metadata, and the file compares
+# with a double reference of the same scene (same columns).
+"$flexref" reference scenes/bouncing_ball.toml --precision extended -o "$tmp/bx.csv" >/dev/null ||
+  fail "reference --precision extended of bouncing_ball failed"
+grep -q '^events = [1-9][0-9]*$' "$tmp/bx.csv.meta.toml" &&
+  grep -q '^event_kinds = \[ *"onset 1", *"release 1"' "$tmp/bx.csv.meta.toml" ||
+  fail "bouncing_ball extended: no events in the metadata"
+"$flexref" compare "$tmp/bouncing_ball.csv" "$tmp/bx.csv" >/dev/null 2>&1 ||
+  fail "compare of double and extended bouncing_ball references failed"
 out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 2 \
   --out "$tmp/cauto" 2>/dev/null) || fail "converge with the automatic quad reference failed"
 [[ $out == *"repeated with a quad-precision reference"* ]] &&
@@ -424,10 +433,10 @@ out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 
   --tolerances 1e-6 --repeats 1 --reference-precision extended --out "$tmp/wpx" >/dev/null 2>&1 &&
   grep -q '^reference_precision = "extended"' "$tmp/wpx/study.toml" ||
   fail "work-precision --reference-precision extended did not record its reference"
-out=$("$flexref" work-precision scenes/bouncing_ball.toml --reference-precision quad \
+out=$("$flexref" work-precision scenes/coulomb_wall.toml --reference-precision quad \
   --out "$tmp/wpb" 2>&1)
-[[ $? == 1 && $out == *"a contact is not in the extended/quad model"* ]] ||
-  fail "work-precision with a quad reference on a contact scene not refused: $out"
+[[ $? == 1 && $out == *"a potential is not in the extended/quad model"* ]] ||
+  fail "work-precision with a quad reference on a potential scene not refused: $out"
 
 if ((failures)); then
   echo "$failures CLI checks failed"
