@@ -11,6 +11,7 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "precision/precise_comparison.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/reference_sidecar.hpp"
 #include "studies/trajectory_contract.hpp"
@@ -102,7 +103,21 @@ int compare_command(const CompareOptions& options) {
   const studies::RunData run = studies::read_run_csv(options.run);
   const studies::TrajectoryTable ref =
       studies::checked_reference(studies::read_run_csv(options.reference), contract);
-  const studies::ComparisonReport report = studies::compare_run(run, ref, contract);
+  studies::ComparisonReport report = studies::compare_run(run, ref, contract);
+  // An extended or quad file on the same columns and times: the norms again, in its precision
+  // from the files' digits (docs/precision.md, "compare"); the contract's checks stand.
+  std::string compared_in = "double";
+  {
+    const precision::PreciseTable a = precision::read_precise_table(options.run);
+    const precision::PreciseTable b = precision::read_precise_table(options.reference);
+    if (precision::precisely_comparable(a, b)) {
+      studies::ComparisonReport precise = precision::compare_precisely(a, b);
+      precise.ignored_columns = report.ignored_columns;
+      precise.max_time_offset = report.max_time_offset;
+      report = std::move(precise);
+      compared_in = precision::to_string(std::max(a.precision, b.precision));
+    }
+  }
   double value = 0.0;
   std::vector<std::string> used;
   try {
@@ -118,6 +133,7 @@ int compare_command(const CompareOptions& options) {
     std::ostringstream out;
     out << "{\n  \"run\": " << json_string(options.run)
         << ",\n  \"reference\": " << json_string(options.reference)
+        << ",\n  \"precision\": " << json_string(compared_in)
         << ",\n  \"rows_compared\": " << report.rows << ",\n  \"reference_rows\": " << ref.size()
         << ",\n  \"max_time_offset\": " << json_number(report.max_time_offset)
         << ",\n  \"ignored_columns\": " << json_strings(report.ignored_columns)
@@ -154,6 +170,10 @@ int compare_command(const CompareOptions& options) {
   if (report.max_time_offset > 0.0) {
     std::cout << " (largest time offset " << std::scientific << std::setprecision(2)
               << report.max_time_offset << " s)";
+  }
+  if (compared_in != "double") {
+    std::cout << "; values compared in " << compared_in
+              << " precision (every digit of the files, no rounding to double)";
   }
   std::cout << "\n";
   std::cout << std::left << std::setw(28) << "quantity" << std::setw(7) << "unit" << std::right

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "precision/parse_text.hpp"
 #include "precision/rigid_model_tpl.hpp"
 #include "precision/switched_integration.hpp"
 
@@ -34,17 +35,6 @@ std::string print(const S& x, int digits) {
   std::ostringstream out;
   out << std::setprecision(digits) << x;
   return out.str();
-}
-
-template <typename S>
-S parse(const std::string& text) {
-  if constexpr (std::is_same_v<S, long double>) {
-    return std::strtold(text.c_str(), nullptr);
-  } else if constexpr (std::is_same_v<S, double>) {
-    return std::strtod(text.c_str(), nullptr);
-  } else {
-    return S(text);
-  }
 }
 
 template <typename S>
@@ -192,19 +182,22 @@ double distance_in(const HighPrecisionRun& a, const HighPrecisionRun& b,
                    const std::string& metric) {
   using std::sqrt;
   const Layout l = layout(a.columns);
+  // Each run's text in its own precision (parse_text.hpp), then compared in S.
+  const auto pa = [&](const std::string& t) { return detail::parse_in<S>(t, a.precision); };
+  const auto pb = [&](const std::string& t) { return detail::parse_in<S>(t, b.precision); };
   S rotation(0), point(0);
   for (std::size_t r = 0; r < a.text.size(); ++r) {
     const auto& x = a.text[r];
     const auto& y = b.text[r];
     for (std::size_t c : l.rotations) {
-      const Quat<S> qa{parse<S>(x[c]), parse<S>(x[c + 1]), parse<S>(x[c + 2]), parse<S>(x[c + 3])};
-      const Quat<S> qb{parse<S>(y[c]), parse<S>(y[c + 1]), parse<S>(y[c + 2]), parse<S>(y[c + 3])};
+      const Quat<S> qa{pa(x[c]), pa(x[c + 1]), pa(x[c + 2]), pa(x[c + 3])};
+      const Quat<S> qb{pb(y[c]), pb(y[c + 1]), pb(y[c + 2]), pb(y[c + 3])};
       rotation = std::max(rotation, geodesic_angle(qa, qb));
     }
     for (std::size_t c : l.points) {
       S d2(0);
       for (std::size_t k = 0; k < 3; ++k) {
-        const S d = parse<S>(x[c + k]) - parse<S>(y[c + k]);
+        const S d = pa(x[c + k]) - pb(y[c + k]);
         d2 += d * d;
       }
       point = std::max(point, S(sqrt(d2)));

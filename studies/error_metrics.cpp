@@ -7,50 +7,19 @@
 #include <stdexcept>
 
 #include "rotation/euler_parameters.hpp"
+#include "studies/error_metrics_tpl.hpp"
 
 namespace flexref::studies {
 namespace {
-
-class Accumulator {
- public:
-  void add(double t, double e) {
-    // A non-finite error (a diverged run) makes every norm infinite, never silently small.
-    if (!std::isfinite(e)) e = std::numeric_limits<double>::infinity();
-    if (count_ == 0 || e > norms_.linf) {
-      norms_.linf = e;
-      linf_time_ = t;
-    }
-    sum_sq_ += e * e;
-    norms_.final = e;
-    ++count_;
-  }
-  ErrorNorms norms() const {
-    ErrorNorms n = norms_;
-    n.rms = count_ ? std::sqrt(sum_sq_ / static_cast<double>(count_)) : 0.0;
-    return n;
-  }
-  double linf_time() const { return linf_time_; }
-
- private:
-  ErrorNorms norms_;
-  double linf_time_ = 0.0;
-  double sum_sq_ = 0.0;
-  long count_ = 0;
-};
-
-/// A measured quantity: its kind and the column indices (same in both tables).
-struct Item {
-  QuantityError quantity;
-  std::vector<std::size_t> columns;
-};
 
 bool is_digits(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-/// The quantities a table's columns measure, body by body in column order: position,
-/// rotation, velocity, angular velocity (each only when its whole group of columns is
-/// present), the tracked points, the modal coordinates.
+}  // namespace
+
+namespace detail {
+
 std::vector<Item> find_items(const TrajectoryTable& table) {
   const auto& cols = table.columns;
   auto index = [&](const std::string& name) { return table.column(name); };
@@ -112,7 +81,7 @@ std::vector<Item> find_items(const TrajectoryTable& table) {
   return items;
 }
 
-}  // namespace
+}  // namespace detail
 
 ComparisonReport compare_trajectories(const TrajectoryTable& run,
                                       const TrajectoryTable& reference) {
@@ -141,62 +110,9 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
     }
   }
 
-  ComparisonReport report;
-  report.rows = run.size();
-  for (Item& item : find_items(run)) {
-    Accumulator acc;
-    const std::string& kind = item.quantity.kind;
-    for (std::size_t k = 0; k < run.size(); ++k) {
-      const auto& a = run.rows[k];
-      const auto& b = reference.rows[k];
-      const auto& c = item.columns;
-      if (kind == "modes") {
-        // max_i |q_i − q_i,ref| at this time (NaN propagates through the sum to the norms)
-        double worst = 0.0;
-        for (std::size_t i : c) {
-          const double d = std::abs(a[i] - b[i]);
-          worst = std::isnan(d) ? d : std::max(worst, d);
-          if (std::isnan(worst)) break;
-        }
-        acc.add(run.time(k), worst);
-      } else if (kind == "rotation") {
-        const rotation::EulerParameters qa(a[c[0]], a[c[1]], a[c[2]], a[c[3]]);
-        const rotation::EulerParameters qb(b[c[0]], b[c[1]], b[c[2]], b[c[3]]);
-        acc.add(run.time(k), rotation::geodesic_angle(qa, qb));
-      } else {
-        const Eigen::Vector3d d(a[c[0]] - b[c[0]], a[c[1]] - b[c[1]], a[c[2]] - b[c[2]]);
-        acc.add(run.time(k), d.norm());
-      }
-    }
-    item.quantity.norms = acc.norms();
-    item.quantity.linf_time = acc.linf_time();
-    const double linf = item.quantity.norms.linf;
-    if (kind == "rotation") {
-      report.max_rotation_linf = std::max(report.max_rotation_linf, linf);
-      ++report.rotation_count;
-    } else if (kind == "point") {
-      report.max_point_linf = std::max(report.max_point_linf, linf);
-      ++report.point_count;
-    } else if (kind == "modes") {
-      report.max_modal_linf = std::max(report.max_modal_linf, linf);
-      ++report.modal_count;
-    }
-    report.quantities.push_back(std::move(item.quantity));
-  }
-  // Wear work of named contacts: the relative error of the final value (the cumulative work is
-  // what a wear model consumes; its history is monotone).
-  const std::vector<std::string>& cols = run.columns;
-  for (std::size_t c = 1; c < cols.size() && run.size() > 0; ++c) {
-    if (!cols[c].ends_with(".wear_work")) continue;
-    const double a = run.rows.back()[c];
-    const double b = reference.rows.back()[c];
-    const double e = b != 0.0 ? std::abs(a - b) / std::abs(b) : std::abs(a);
-    report.max_wear_relative = std::isnan(e) ? e : std::max(report.max_wear_relative, e);
-    QuantityError wear{cols[c], "-", "wear", {}, run.time(run.size() - 1), {cols[c]}};
-    wear.norms.linf = wear.norms.rms = wear.norms.final = e;
-    report.quantities.push_back(std::move(wear));
-  }
-  return report;
+  return detail::compare_cells<double>(run, [&](int table, std::size_t k, std::size_t i) {
+    return table == 0 ? run.rows[k][i] : reference.rows[k][i];
+  });
 }
 
 std::vector<std::string> metric_names() {

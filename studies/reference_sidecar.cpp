@@ -30,6 +30,14 @@ ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
     if (const auto r = t.find("rtol"); r != t.end() && r->second.is_floating()) {
       out.rtol = r->second.as_floating();
     }
+    if (const auto p = t.find("precision"); p != t.end()) {
+      const std::string name = p->second.is_string() ? p->second.as_string().str : "";
+      if (name != "double" && name != "extended" && name != "quad") {
+        throw core::InputError(out.path, 0, "integrator.precision",
+                               "expected \"double\", \"extended\" or \"quad\"");
+      }
+      out.precision = name;
+    }
   }
   const auto it = root.find("error_estimate");
   if (it == root.end()) return out;

@@ -22,6 +22,9 @@ struct ReferenceSidecar {
   std::string estimate_method;  ///< [error_estimate] method: how it was made, "" when absent
   std::string solver;           ///< [integrator] solver, "" when absent
   double rtol = 0.0;            ///< [integrator] rtol, 0 when absent
+  /// [integrator] precision ("double", "extended", "quad"; docs/precision.md), "double" when
+  /// absent (every file but an extended/quad reference's).
+  std::string precision = "double";
 };
 
 /// Reads `csv_path + ".meta.toml"`. A missing file is not an error (found = false); a file that

@@ -410,6 +410,14 @@ sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/free_spin.toml >"$tmp/fs2.tom
 awk -F, 'NR == 3 { split($5, m, "e"); gsub(/[-.]/, "", m[1]); exit !(length(m[1]) >= 33) }' \
   "$tmp/q.csv" || fail "quad CSV values lack their digits: $(sed -n 3p "$tmp/q.csv" | cut -c1-120)"
 grep -q '^precision = "quad"' "$tmp/q.csv.meta.toml" || fail "no precision in the quad metadata"
+# compare of an extended and a quad file: in quad, from the files' digits.
+"$flexref" reference "$tmp/fs2.toml" --precision extended -o "$tmp/x.csv" >/dev/null ||
+  fail "reference --precision extended failed"
+out=$("$flexref" compare "$tmp/x.csv" "$tmp/q.csv" 2>&1) &&
+  [[ $out == *"values compared in quad precision"* ]] ||
+  fail "compare of extended and quad files not in quad: $out"
+out=$("$flexref" compare "$tmp/x.csv" "$tmp/q.csv" --json 2>&1) &&
+  [[ $out == *'"precision": "quad"'* ]] || fail "compare --json lacks the precision: $out"
 out=$("$flexref" reference scenes/tube_support_impact.toml --precision quad -o "$tmp/bq.csv" 2>&1)
 [[ $? == 1 && $out == *"contact[1]: a gap support is not in the extended/quad model"* ]] ||
   fail "quad reference of a gap-support scene not refused clearly: $out"

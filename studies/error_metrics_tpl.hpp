@@ -1,0 +1,158 @@
+#pragma once
+/// \file error_metrics_tpl.hpp
+/// The error norms of studies/error_metrics.hpp written once for any scalar type S: the double
+/// comparison (compare_trajectories) instantiates it with double, and precision/ with long
+/// double or float128 to compare references beyond double without rounding their values to
+/// double before subtracting (docs/precision.md, "compare"). Only the reduced norms are
+/// returned as double.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "rotation/euler_parameters.hpp"
+#include "studies/error_metrics.hpp"
+
+namespace flexref::studies::detail {
+
+/// A measured quantity: its kind and the column indices (same in both tables).
+struct Item {
+  QuantityError quantity;
+  std::vector<std::size_t> columns;
+};
+
+/// The quantities a table's columns measure, body by body in column order: position,
+/// rotation, velocity, angular velocity (each only when its whole group of columns is
+/// present), the tracked points, the modal coordinates.
+std::vector<Item> find_items(const TrajectoryTable& table);
+
+/// L∞ (with the time it is reached), RMS and final value of an error history, accumulated in S.
+template <typename S>
+class Accumulator {
+ public:
+  void add(double t, S e) {
+    using std::isfinite;
+    // A non-finite error (a diverged run) makes every norm infinite, never silently small.
+    if (!static_cast<bool>(isfinite(e))) e = std::numeric_limits<S>::infinity();
+    if (count_ == 0 || e > linf_) {
+      linf_ = e;
+      linf_time_ = t;
+    }
+    sum_sq_ += e * e;
+    final_ = e;
+    ++count_;
+  }
+  ErrorNorms norms() const {
+    using std::sqrt;
+    ErrorNorms n;
+    n.linf = static_cast<double>(linf_);
+    n.final = static_cast<double>(final_);
+    n.rms = count_ ? static_cast<double>(S(sqrt(sum_sq_ / S(count_)))) : 0.0;
+    return n;
+  }
+  double linf_time() const { return linf_time_; }
+
+ private:
+  S linf_ = S(0);
+  S final_ = S(0);
+  S sum_sq_ = S(0);
+  double linf_time_ = 0.0;
+  long count_ = 0;
+};
+
+/// |log(A(a)ᵀ A(b))| = 2 atan2(|vec(a* ⊗ b)|, |scalar(a* ⊗ b)|) (rotation::geodesic_angle,
+/// which double calls).
+template <typename S>
+S geodesic_angle(const S (&a)[4], const S (&b)[4]) {
+  if constexpr (std::is_same_v<S, double>) {
+    return rotation::geodesic_angle(rotation::EulerParameters(a[0], a[1], a[2], a[3]),
+                                    rotation::EulerParameters(b[0], b[1], b[2], b[3]));
+  } else {
+    using std::abs;
+    using std::atan2;
+    using std::sqrt;
+    // a* ⊗ b, its vector part as differences of mirrored products, so that a = b gives exactly
+    // 0 (every difference is of two equal products).
+    const S d0 = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+    const S d1 = (a[0] * b[1] - a[1] * b[0]) + (a[3] * b[2] - a[2] * b[3]);
+    const S d2 = (a[0] * b[2] - a[2] * b[0]) + (a[1] * b[3] - a[3] * b[1]);
+    const S d3 = (a[0] * b[3] - a[3] * b[0]) + (a[2] * b[1] - a[1] * b[2]);
+    return S(2) * atan2(sqrt(d1 * d1 + d2 * d2 + d3 * d3), abs(d0));
+  }
+}
+
+/// compare_trajectories' norms in S. `shape` gives the columns and the times (the caller has
+/// checked that both tables have them); cell(table, k, i) is column i of row k of the run
+/// (table 0) or the reference (table 1) in S.
+template <typename S, typename Cell>
+ComparisonReport compare_cells(const TrajectoryTable& shape, Cell cell) {
+  using std::abs;
+  using std::isnan;
+  using std::sqrt;
+  ComparisonReport report;
+  report.rows = shape.size();
+  for (Item& item : find_items(shape)) {
+    Accumulator<S> acc;
+    const std::string& kind = item.quantity.kind;
+    const auto& c = item.columns;
+    for (std::size_t k = 0; k < shape.size(); ++k) {
+      const double t = shape.time(k);
+      if (kind == "modes") {
+        // max_i |q_i − q_i,ref| at this time (NaN propagates through the sum to the norms)
+        S worst(0);
+        for (std::size_t i : c) {
+          const S d = abs(S(cell(0, k, i) - cell(1, k, i)));
+          worst = static_cast<bool>(isnan(d)) ? d : (d > worst ? d : worst);
+          if (static_cast<bool>(isnan(worst))) break;
+        }
+        acc.add(t, worst);
+      } else if (kind == "rotation") {
+        const S qa[4] = {cell(0, k, c[0]), cell(0, k, c[1]), cell(0, k, c[2]), cell(0, k, c[3])};
+        const S qb[4] = {cell(1, k, c[0]), cell(1, k, c[1]), cell(1, k, c[2]), cell(1, k, c[3])};
+        acc.add(t, geodesic_angle(qa, qb));
+      } else {
+        const S dx = cell(0, k, c[0]) - cell(1, k, c[0]);
+        const S dy = cell(0, k, c[1]) - cell(1, k, c[1]);
+        const S dz = cell(0, k, c[2]) - cell(1, k, c[2]);
+        if constexpr (std::is_same_v<S, double>) {
+          acc.add(t, Eigen::Vector3d(dx, dy, dz).norm());
+        } else {
+          acc.add(t, S(sqrt(dx * dx + dy * dy + dz * dz)));
+        }
+      }
+    }
+    item.quantity.norms = acc.norms();
+    item.quantity.linf_time = acc.linf_time();
+    const double linf = item.quantity.norms.linf;
+    if (kind == "rotation") {
+      report.max_rotation_linf = std::max(report.max_rotation_linf, linf);
+      ++report.rotation_count;
+    } else if (kind == "point") {
+      report.max_point_linf = std::max(report.max_point_linf, linf);
+      ++report.point_count;
+    } else if (kind == "modes") {
+      report.max_modal_linf = std::max(report.max_modal_linf, linf);
+      ++report.modal_count;
+    }
+    report.quantities.push_back(std::move(item.quantity));
+  }
+  // Wear work of named contacts: the relative error of the final value (the cumulative work is
+  // what a wear model consumes; its history is monotone).
+  const std::vector<std::string>& cols = shape.columns;
+  for (std::size_t i = 1; i < cols.size() && shape.size() > 0; ++i) {
+    if (!cols[i].ends_with(".wear_work")) continue;
+    const std::size_t last = shape.size() - 1;
+    const S a = cell(0, last, i);
+    const S b = cell(1, last, i);
+    const double e = static_cast<double>(b != S(0) ? S(abs(S(a - b)) / abs(b)) : S(abs(a)));
+    report.max_wear_relative = std::isnan(e) ? e : std::max(report.max_wear_relative, e);
+    QuantityError wear{cols[i], "-", "wear", {}, shape.time(last), {cols[i]}};
+    wear.norms.linf = wear.norms.rms = wear.norms.final = e;
+    report.quantities.push_back(std::move(wear));
+  }
+  return report;
+}
+
+}  // namespace flexref::studies::detail
