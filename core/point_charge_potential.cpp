@@ -12,14 +12,19 @@ PointChargePotential::PointChargePotential(double alpha, double beta, const Eige
     : alpha_(alpha), beta_(beta), p_WM_(p_WM), charges_(std::move(charges)) {}
 
 Eigen::Vector3d PointChargePotential::unit_force_W(const Eigen::Vector3d& p_WP) const {
-  const Eigen::Vector3d d = p_WP - p_WM_;
-  const double r = d.norm();
-  const double z = p_WP.z();
-  return -alpha_ * d / (r * r * r) + Eigen::Vector3d(0.0, 0.0, beta_ / (z * z));
+  const double p[3] = {p_WP.x(), p_WP.y(), p_WP.z()};
+  double f[3];
+  double v = 0.0;
+  unit_field(p, f, v);
+  return {f[0], f[1], f[2]};
 }
 
 double PointChargePotential::unit_potential(const Eigen::Vector3d& p_WP) const {
-  return -alpha_ / (p_WP - p_WM_).norm() + beta_ / p_WP.z();
+  const double p[3] = {p_WP.x(), p_WP.y(), p_WP.z()};
+  double f[3];
+  double v = 0.0;
+  unit_field(p, f, v);
+  return v;
 }
 
 void PointChargePotential::add_wrenches(const LoadContext& /*context*/,

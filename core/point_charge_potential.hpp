@@ -5,6 +5,7 @@
 ///   V = Σ_i c_i ( −α/|r_i − M| + β/z_i ),
 ///   f_i = −∇V = −c_i α (r_i − M)/|r_i − M|³ + c_i β/z_i² e_z.
 /// Conservative: the energy output includes V.
+#include <cmath>
 #include <vector>
 
 #include "core/force_element.hpp"
@@ -32,6 +33,19 @@ class PointChargePotential final : public ForceElement {
   Eigen::Vector3d unit_force_W(const Eigen::Vector3d& p_WP) const;
   /// Potential of a unit-weight charge at r.
   double unit_potential(const Eigen::Vector3d& p_WP) const;
+  /// Both in any precision S, written once: the members above call it with double, the
+  /// extended/quad references (precision/) with long double and float128.
+  template <typename S>
+  void unit_field(const S (&p_WP)[3], S (&f_W)[3], S& potential) const {
+    using std::sqrt;
+    const S d[3] = {p_WP[0] - p_WM_.x(), p_WP[1] - p_WM_.y(), p_WP[2] - p_WM_.z()};
+    const S r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const S z = p_WP[2];
+    for (int i = 0; i < 3; ++i) f_W[i] = -alpha_ * d[i] / (r * r * r);
+    f_W[2] += beta_ / (z * z);
+    potential = -alpha_ / r + beta_ / z;
+  }
+  const std::vector<Charge>& charges() const { return charges_; }
 
  private:
   double alpha_;

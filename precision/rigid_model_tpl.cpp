@@ -70,9 +70,9 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
     throw std::invalid_argument(
         (source.path.empty() ? spec.name : source.path) + ": " + what +
         " is not in the extended/quad model yet (docs/precision.md: rigid free and pivot "
-        "bodies, gravity, applied forces and torques, sphere contacts); use --precision double");
+        "bodies, gravity, applied forces and torques, point-charge potentials, sphere "
+        "contacts); use --precision double");
   };
-  if (!spec.potentials.empty()) refuse(spec.potentials.front().source, "a potential");
   for (const scene::ContactSpec& c : spec.contacts) {
     if (c.gap) refuse(c.source, "a gap support");
   }
@@ -144,6 +144,16 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
     load.profile = l.profile;
     load.tracks_work = !l.torque && l.profile.shape() == core::TimeProfile::Shape::kHarmonic;
     loads_.push_back(load);
+  }
+  for (const scene::PotentialSpec& p : spec.potentials) {
+    potentials_.emplace_back(p.alpha, p.beta, p.p_WM, p.charges);
+    std::vector<Vec3<S>> points;
+    for (const core::PointChargePotential::Charge& c : p.charges) {
+      const Vec3<S> r = to_s<S>(c.p_BoP_B);
+      const Vec3<S>& o = bodies_.at(static_cast<std::size_t>(c.body)).p_BoBr_B;
+      points.push_back({r[0] - o[0], r[1] - o[1], r[2] - o[2]});
+    }
+    charge_points_.push_back(std::move(points));
   }
   // The double model of the same spec gives the outputs (columns, integrals) and the contact
   // laws as it builds them (the default effective mass, the Hunt–Crossley α from the
@@ -348,6 +358,26 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt,
       }
     }
   }
+  for (std::size_t p = 0; p < potentials_.size(); ++p) {
+    // f_i = c_i (unit field at P_i), at P_i (core/point_charge_potential.hpp).
+    const auto& charges = potentials_[p].charges();
+    for (std::size_t k = 0; k < charges.size(); ++k) {
+      const auto i = static_cast<std::size_t>(charges[k].body);
+      const std::size_t o = kBodyStateSize * i;
+      const Vec3<S> r = multiply(A[i], charge_points_[p][k]);
+      const S p_WP[3] = {y[o] + r[0], y[o + 1] + r[1], y[o + 2] + r[2]};
+      S field[3];
+      S v;
+      potentials_[p].unit_field(p_WP, field, v);
+      const Vec3<S> f{charges[k].weight * field[0], charges[k].weight * field[1],
+                      charges[k].weight * field[2]};
+      const Vec3<S> m_B = multiply_transposed(A[i], cross(r, f));
+      for (std::size_t j = 0; j < 3; ++j) {
+        force_W[i][j] += f[j];
+        torque_B[i][j] += m_B[j];
+      }
+    }
+  }
   // The integrals' rates: W_d, (W_a), wear work per channel.
   const std::size_t integrals = kBodyStateSize * n;
   for (int k = 0; k < integral_count_; ++k) dydt[integrals + static_cast<std::size_t>(k)] = S(0);
@@ -434,6 +464,18 @@ S RigidModelTpl<S>::energy(const std::vector<S>& y) const {
     const Vec3<S> c_W = multiply(A, b.c_B);
     const Vec3<S> p_cm{p[0] + c_W[0], p[1] + c_W[1], p[2] + c_W[2]};
     e -= b.mass * dot(g_W_, p_cm);
+  }
+  for (std::size_t p = 0; p < potentials_.size(); ++p) {
+    const auto& charges = potentials_[p].charges();
+    for (std::size_t k = 0; k < charges.size(); ++k) {
+      const std::size_t o = kBodyStateSize * static_cast<std::size_t>(charges[k].body);
+      const Vec3<S> r = multiply(rotation_matrix(quat_at(y, o)), charge_points_[p][k]);
+      const S p_WP[3] = {y[o] + r[0], y[o + 1] + r[1], y[o + 2] + r[2]};
+      S field[3];
+      S v;
+      potentials_[p].unit_field(p_WP, field, v);
+      e += charges[k].weight * v;
+    }
   }
   if (!contacts_.empty()) {
     std::vector<Mat3<S>> A(bodies_.size());

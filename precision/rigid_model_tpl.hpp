@@ -2,11 +2,11 @@
 /// \file rigid_model_tpl.hpp
 /// The rigid-body model of docs/design/model.md written once for any scalar type S (double,
 /// long double, boost::multiprecision::float128): free and pivot bodies with Euler parameters,
-/// uniform gravity, the applied forces and torques of a scene with their time profiles, and
-/// sphere–plane and sphere–sphere penalty contacts with friction (contact/contact.hpp; the
-/// laws are contact/contact_laws.hpp's, evaluated in S).
-/// Internal to precision/: the templates are instantiated in rigid_model_tpl.cpp for the three
-/// precisions (compile time stays bounded; no other file sees float128).
+/// uniform gravity, the applied forces and torques of a scene with their time profiles,
+/// point-charge potentials, and sphere–plane and sphere–sphere penalty contacts with friction
+/// (contact/contact.hpp; the laws are contact/contact_laws.hpp's, evaluated in S). Internal to
+/// precision/: the templates are instantiated in rigid_model_tpl.cpp for the three precisions
+/// (compile time stays bounded; no other file sees float128).
 ///
 /// State per body (13 values, docs/design/model.md "State"): p_WBr (3), θ_WB = (e0, e) (4),
 /// v_WBr (3), ω̄ = w_WB_B (3). Br is Bcm for a free body and the pivot for a pivot body.
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "contact/contact_laws.hpp"
+#include "core/point_charge_potential.hpp"
 #include "scene/scene_spec.hpp"
 
 namespace flexref::precision {
@@ -81,7 +82,7 @@ template <typename S>
 class RigidModelTpl {
  public:
   /// Throws std::invalid_argument naming the first part of the scene this model does not
-  /// carry (flexible or prescribed bodies, potentials, gap supports, joints).
+  /// carry (flexible or prescribed bodies, gap supports, joints).
   explicit RigidModelTpl(const scene::SceneSpec& spec);
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
@@ -100,7 +101,7 @@ class RigidModelTpl {
   std::vector<S> initial_state() const;
   /// ẏ = f(t, y) on the load branch active at t_segment (core/time_profile.hpp).
   void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment) const;
-  /// Kinetic + gravitational + contact potential energy (the `energy` column).
+  /// Kinetic + gravitational + potentials' + contact potential energy (the `energy` column).
   S energy(const std::vector<S>& y) const;
   /// Two per contact pair, in order: the gap g (the pair pushes while g < 0; its sign change is
   /// an onset or a release) and the unclamped law's value (NormalLaw::clamp_function; its sign
@@ -117,6 +118,10 @@ class RigidModelTpl {
   std::vector<RigidBodyTpl<S>> bodies_;
   std::vector<AppliedLoadTpl<S>> loads_;
   std::vector<ContactPairTpl<S>> contacts_;
+  /// Point-charge potentials (core/point_charge_potential.hpp), whose field the double
+  /// class's unit_field evaluates in S; each charge's point relative to its body's Br.
+  std::vector<core::PointChargePotential> potentials_;
+  std::vector<std::vector<Vec3<S>>> charge_points_;
   Vec3<S> g_W_{};
   std::vector<std::string> columns_;
   bool dissipates_ = false;

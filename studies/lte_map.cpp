@@ -432,14 +432,14 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
       out.classical_frequency_shift = kNaN;
       out.classical_estimate = kNaN;
       if (options.stiffened_truth) {
-        const Response k = run(LteMapLevel::kClassical, options.rtol);
+        const Response coupled = run(LteMapLevel::kClassical, options.rtol);
         const Metrics classical =
-            compare(k, t, out.max_deflection, out.truth_frequency, times, second_half, c);
+            compare(coupled, t, out.max_deflection, out.truth_frequency, times, second_half, c);
         out.classical_tip_error = classical.tip;
         out.classical_envelope_error = classical.envelope;
         out.classical_frequency_shift = classical.frequency;
         out.classical_estimate =
-            max_difference(run(LteMapLevel::kClassical, loose), k, out.max_deflection);
+            max_difference(run(LteMapLevel::kClassical, loose), coupled, out.max_deflection);
         out.classical_resolved =
             out.classical_tip_error >= 100.0 * std::max(out.truth_estimate, out.classical_estimate);
       }

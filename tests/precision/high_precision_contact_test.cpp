@@ -221,8 +221,8 @@ TEST_CASE("quad carries the double model's contact outputs: energy balance and w
   };
   for (const char* name : {"floor.fn", "floor.wear_work", "dissipated_work", "energy"}) {
     CAPTURE(name);
-    const auto [high, low] = at_end(name);
-    CHECK(std::abs(high - low) <= 1e-6 * std::abs(low));
+    const auto [precise, rounded] = at_end(name);
+    CHECK(std::abs(precise - rounded) <= 1e-6 * std::abs(rounded));
   }
   CHECK(at_end("floor.wear_work").first > 0.1);
 }

@@ -18,9 +18,9 @@ inline scene::SceneSpec spec_of(const std::string& file) { return scene::read_sc
 
 /// The bundled scenes the extended/quad model carries (docs/precision.md).
 inline constexpr const char* kSupportedScenes[] = {
-    "scenes/free_spin.toml",    "scenes/book_toss.toml", "scenes/book_toss_step.toml",
-    "scenes/heavy_top.toml",    "scenes/pendulum.toml",  "scenes/bouncing_ball.toml",
-    "scenes/sliding_block.toml"};
+    "scenes/free_spin.toml",     "scenes/book_toss.toml",   "scenes/book_toss_step.toml",
+    "scenes/heavy_top.toml",     "scenes/pendulum.toml",    "scenes/bouncing_ball.toml",
+    "scenes/sliding_block.toml", "scenes/coulomb_wall.toml"};
 
 /// Quad, extended and double (CVODE rtol 1e-12) references of a scene up to `end_time` agree in
 /// that order: the extended reference is within its own estimate of quad, the double one within
