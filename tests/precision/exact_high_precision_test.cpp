@@ -4,7 +4,10 @@
 /// against the double exact solution, and against a sign error.
 #include "precision/exact_high_precision.hpp"
 
+#include <boost/multiprecision/float128.hpp>
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -12,6 +15,7 @@
 #include "core/output_times.hpp"
 #include "precision/high_precision_reference.hpp"
 #include "reference/exact_solution.hpp"
+#include "reference/exact_torque_free.hpp"
 #include "scene/build_model.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/error_metrics.hpp"
@@ -42,6 +46,47 @@ scene::SceneSpec free_book(double end_time, double transverse) {
   spec.loads.clear();
   spec.bodies[0].description.initial.w_WB_B = Eigen::Vector3d(transverse, 10.0, transverse);
   return spec;
+}
+
+using Quad = boost::multiprecision::float128;
+
+TEST_CASE("the elliptic routines hold their identities in quad", "[precision][exact]") {
+  // The generic AGM and Carlson forms instantiated in float128 (ε = 1.9e-34), down to
+  // k' = 1e-20 (a separatrix distance double cannot represent next to k = 1). Identities
+  // sn² + cn² = 1 and dn² = cn² + k'² sn²: a few roundings, 16 ε. Inversion F(am(u)) = u: one
+  // AGM and one R_F, each a few ε relative, 64 ε·max(1, |u|)/dn (F is ill-conditioned in the
+  // amplitude where dn is small, near u = K as k' → 0). Derivative sn' = cn dn by
+  // central differences with h = 1e-11: truncation h² |sn⁽³⁾|/6 ≤ 1e-22 (|sn⁽³⁾| ≤ 5),
+  // round-off ε/h = 2e-23; bound 1e-21. Asymptote K = ln(4/k') + O(k'² ln(1/k')): below
+  // 1e-38 at k' = 1e-20, so the bound is the routine's own 16 ε.
+  namespace elliptic = reference::elliptic;
+  const Quad eps = std::numeric_limits<Quad>::epsilon();
+  for (const Quad& k_prime : {Quad(0.6), Quad(1e-3), Quad(1e-9), Quad(1e-20)}) {
+    CAPTURE(static_cast<double>(k_prime));
+    const Quad k = sqrt((Quad(1) - k_prime) * (Quad(1) + k_prime));
+    const Quad quarter = elliptic::complete_k<Quad>(k_prime);
+    if (k_prime < Quad(1e-15)) {
+      CHECK(static_cast<double>(abs(quarter - log(Quad(4) / k_prime))) <=
+            static_cast<double>(16 * eps * quarter));
+    }
+    for (const double fraction : {-0.9, -0.3, 0.05, 0.7, 0.99}) {
+      const Quad u = Quad(fraction) * quarter;
+      const elliptic::JacobiValuesTpl<Quad> f = elliptic::jacobi<Quad>(u, k, k_prime);
+      CHECK(static_cast<double>(abs(f.sn * f.sn + f.cn * f.cn - 1)) <=
+            static_cast<double>(16 * eps));
+      CHECK(static_cast<double>(abs(f.dn * f.dn - f.cn * f.cn - k_prime * k_prime * f.sn * f.sn)) <=
+            static_cast<double>(16 * eps));
+      const Quad back = elliptic::incomplete_f<Quad>(f.sn, f.cn, k_prime);
+      // In units of ε; the amplitude's rounding reaches u divided by dn (dF/dam = 1/dn).
+      CHECK(static_cast<double>(abs(back - u) * f.dn / eps) <=
+            64 * std::max(1.0, static_cast<double>(abs(u))));
+      const Quad h(1e-11);
+      const Quad slope = (elliptic::jacobi<Quad>(u + h, k, k_prime).sn -
+                          elliptic::jacobi<Quad>(u - h, k, k_prime).sn) /
+                         (2 * h);
+      CHECK(static_cast<double>(abs(slope - f.cn * f.dn)) <= 1e-21);
+    }
+  }
 }
 
 std::vector<double> times_of(const scene::SceneSpec& spec) {
