@@ -1,25 +1,60 @@
 /// \file high_precision_command.cpp
-/// `flexref reference SCENE --precision extended|quad` (docs/precision.md).
+/// `flexref reference SCENE --precision extended|quad [--solver odeint|exact]`
+/// (docs/precision.md).
 #include <iostream>
 #include <memory>
 #include <stdexcept>
 
 #include "app/commands.hpp"
 #include "io/atomic_file.hpp"
+#include "precision/exact_high_precision.hpp"
 #include "precision/high_precision_reference.hpp"
 #include "studies/progress.hpp"
 #include "studies/study_record.hpp"
 
 namespace flexref::app {
+namespace {
+
+/// `--solver exact`: the closed form (torque-free body, Lagrange top) evaluated in the
+/// precision, with no tolerance and no estimate (its error is a few hundred ulp of the
+/// precision, docs/precision.md).
+int exact_reference_command(const ReferenceOptions& options, precision::Precision p,
+                            const scene::Scene& scene) {
+  if (options.rtol_given || options.atol >= 0.0 || options.method != "auto") {
+    throw std::invalid_argument("--solver exact takes no --rtol, --atol or --method");
+  }
+  const std::vector<double> times =
+      limited_output_times(scene.end_time, scene.output_step, options.limits);
+  check_output_files({options.output, options.output + ".meta.toml"});
+  const precision::HighPrecisionRun run = precision::exact_high_precision(scene.spec, times, p);
+  io::write_file_atomically(options.output, precision::high_precision_csv(run));
+  studies::StudyRecord record = scene_record(options.scene, scene);
+  record.table("integrator")
+      .set("kind", "reference")
+      .set("solver", "exact")
+      .set("method", run.method)
+      .set("precision", precision::to_string(p))
+      .set("significant_digits", precision::significant_digits(p))
+      .set("cpu_seconds", run.cpu_seconds);
+  record.table("columns").set("names", run.columns);
+  studies::add_versions(record);
+  record.write(options.output + ".meta.toml");
+  std::cout << "reference " << scene.name << " with " << run.method << ": " << run.steps
+            << " output times, " << run.cpu_seconds << " s; wrote " << options.output << "\n";
+  return kExitOk;
+}
+
+}  // namespace
 
 int high_precision_reference_command(const ReferenceOptions& options) {
   const precision::Precision p = precision::parse_precision(options.precision);
   const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
   precision::check_supported(scene.spec);
+  if (options.solver == "exact") return exact_reference_command(options, p, scene);
   if (options.solver != "auto" && options.solver != "odeint") {
     throw std::invalid_argument("--solver " + options.solver + ": " + options.precision +
-                                " precision references are Odeint's (Bulirsch-Stoer); omit "
-                                "--solver or give odeint");
+                                " precision references are Odeint's (Bulirsch-Stoer) or the "
+                                "exact solution; omit --solver or give odeint or exact");
   }
   if (options.method != "auto") {
     throw std::invalid_argument("--method: " + options.precision +

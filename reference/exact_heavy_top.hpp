@@ -45,59 +45,68 @@ namespace flexref::reference {
 /// steps π at the passages (the jump in (φ ± ψ)/2 is multiplied by cos or sin of ϑ/2 = 0, so
 /// θ(t) stays continuous); at() is then undefined (0/0) only at the passage instants.
 ///
-/// Accuracy, measured against RKF78 in float128 at tolerance 1e-24 over the bundled scene
-/// (t ≤ 2): ω to 4e-15 relative, θ to 9e-14 rad (also with b + a = 0 exactly). at()
-/// allocates nothing: one AGM plus two R_F and two R_J evaluations (≈ 2.5 µs).
-class HeavyTopExact {
+/// Accuracy (S = double), measured against RKF78 in float128 at tolerance 1e-24 over the bundled
+/// scene (t ≤ 2): ω to 4e-15 relative, θ to 9e-14 rad (also with b + a = 0 exactly). at() allocates
+/// nothing: one AGM plus two R_F and two R_J evaluations (≈ 2.5 µs).
+///
+/// Written once for any scalar type S (as exact_torque_free.hpp): bodies in
+/// exact_heavy_top_impl.hpp, instantiated for double in exact_heavy_top.cpp and for long double
+/// and float128 in precision/exact_solution_instances.cpp; HeavyTopExact is the double one.
+template <typename S>
+class HeavyTopExactTpl {
  public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Quaternion = Eigen::Matrix<S, 4, 1>;  ///< Euler parameters (e0, e1, e2, e3)
+
   /// \throws std::invalid_argument for non-positive mass, distance or inertias, a symmetry
   /// axis or θ₀ not unit to 1e-6, zero or non-finite gravity, non-finite ω₀, or an initial
   /// symmetry axis exactly along the vertical with non-zero transverse ω (the Euler-angle
   /// chart is singular there; tilt it by any amount). A top spinning exactly upright or
   /// hanging exactly down about its axis is a permanent rotation and is accepted.
-  HeavyTopExact(double mass, double com_distance, const Eigen::Vector3d& axis_B, double j_perp,
-                double j_axial, const Eigen::Vector3d& g_W, const rotation::EulerParameters& theta0,
-                const Eigen::Vector3d& w0_B);
+  HeavyTopExactTpl(S mass, S com_distance, const Vector3& axis_B, S j_perp, S j_axial,
+                   const Vector3& g_W, const Quaternion& theta0, const Vector3& w0_B);
 
-  RigidAttitude at(double t) const;
+  RigidAttitudeTpl<S> at(S t) const;
 
   /// Period of u(t) = cos ϑ (2K/λ); +∞ for permanent rotation and steady precession.
-  double nutation_period() const;
+  S nutation_period() const;
   /// Turning points u₁ ≤ u₂ of u = up · (symmetry axis).
-  double u_min() const { return -1.0 + y1_; }
-  double u_max() const { return 1.0 - z2_; }
+  S u_min() const { return S(-1) + y1_; }
+  S u_max() const { return S(1) - z2_; }
 
  private:
   enum class Motion { kPermanentRotation, kSteadyPrecession, kNutation };
   Motion motion_ = Motion::kNutation;
-  rotation::EulerParameters theta0_;
-  Eigen::Vector3d w0_B_;
-  Eigen::Vector3d x_B_, y_B_, axis_B_;  ///< body frame E = (x, y, e) of the Euler angles
-  double a_ = 0.0;                      ///< J_a ω₃ / J⊥
-  double spin_ = 0.0;                   ///< ω₃ = J⊥ a / J_a
-  double p_ = 0.0;                      ///< b − a u₀ = ω⊥ · up
-  double delta_minus_ = 0.0;            ///< b + a
-  double delta_plus_ = 0.0;             ///< b − a
-  double u0_ = 0.0;
-  double v1_ = 0.0, v2_ = 0.0;  ///< u₁ − u₀, u₂ − u₀
-  double y1_ = 0.0, z2_ = 0.0;  ///< 1 + u₁, 1 − u₂
-  double one_minus_u1_ = 2.0;
-  double k_ = 0.0, k_prime_ = 1.0, lambda_ = 0.0, tau0_ = 0.0, quarter_period_ = 0.0;
-  double psi0_ = 0.0;
-  double north_coeff_ = 0.0, south_coeff_ = 0.0;  ///< (b ∓ a)/(2λ(1 ∓ u₁))
-  double north0_ = 0.0, south0_ = 0.0;            ///< the pole integrals at τ₀
-  std::optional<elliptic::CircularPi> north_;
-  std::optional<elliptic::ShiftedHyperbolicPi> south_;
-  rotation::EulerParameters q_up_;     ///< R_up
-  rotation::EulerParameters q_frame_;  ///< P: body → E
+  Quaternion theta0_;
+  Vector3 w0_B_;
+  Vector3 x_B_, y_B_, axis_B_;  ///< body frame E = (x, y, e) of the Euler angles
+  S a_ = S(0);                  ///< J_a ω₃ / J⊥
+  S spin_ = S(0);               ///< ω₃ = J⊥ a / J_a
+  S p_ = S(0);                  ///< b − a u₀ = ω⊥ · up
+  S delta_minus_ = S(0);        ///< b + a
+  S delta_plus_ = S(0);         ///< b − a
+  S u0_ = S(0);
+  S v1_ = S(0), v2_ = S(0);  ///< u₁ − u₀, u₂ − u₀
+  S y1_ = S(0), z2_ = S(0);  ///< 1 + u₁, 1 − u₂
+  S one_minus_u1_ = S(2);
+  S k_ = S(0), k_prime_ = S(1), lambda_ = S(0), tau0_ = S(0), quarter_period_ = S(0);
+  S psi0_ = S(0);
+  S north_coeff_ = S(0), south_coeff_ = S(0);  ///< (b ∓ a)/(2λ(1 ∓ u₁))
+  S north0_ = S(0), south0_ = S(0);            ///< the pole integrals at τ₀
+  std::optional<elliptic::CircularPiTpl<S>> north_;
+  std::optional<elliptic::ShiftedHyperbolicPiTpl<S>> south_;
+  Quaternion q_up_;     ///< R_up
+  Quaternion q_frame_;  ///< P: body → E
 
   struct PoleIntegrals {
-    double north;  ///< Φ₊ up to the constant
-    double south;  ///< Φ₋ up to the constant
+    S north;  ///< Φ₊ up to the constant
+    S south;  ///< Φ₋ up to the constant
   };
-  PoleIntegrals pole_integrals(double tau, const elliptic::JacobiValues& f,
-                               double one_minus_u) const;
-  rotation::EulerParameters euler_part(double t, Eigen::Vector3d& w_B) const;
+  PoleIntegrals pole_integrals(S tau, const elliptic::JacobiValuesTpl<S>& f, S one_minus_u) const;
+  Quaternion euler_part(S t, Vector3& w_B) const;
 };
+using HeavyTopExact = HeavyTopExactTpl<double>;
+
+extern template class HeavyTopExactTpl<double>;
 
 }  // namespace flexref::reference

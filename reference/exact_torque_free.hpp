@@ -8,6 +8,14 @@
 /// splitting methods", SIAM J. Sci. Comput. 30(4):2084–2112 (2008); B. C. Carlson, "Numerical
 /// computation of real or complex elliptic integrals", Numer. Algorithms 10 (1995);
 /// Abramowitz & Stegun §16.4 (arithmetic-geometric mean), §17.7 (Π).
+///
+/// Written once for any scalar type S (Pinocchio's ModelTpl pattern; docs/precision.md): the
+/// templates' bodies are in exact_torque_free_impl.hpp, instantiated for double in
+/// exact_torque_free.cpp and for long double and boost::multiprecision::float128 in
+/// precision/exact_solution_instances.cpp (only precision/ sees float128). Boost's Carlson
+/// integrals are generic, and every threshold that expresses rounding is a multiple of S's ε,
+/// so the solutions are exact to a few ε of S. The double names (TorqueFreeExact, RigidAttitude,
+/// elliptic::CircularPi, ...) are aliases of the double instantiations.
 #include <Eigen/Core>
 #include <optional>
 
@@ -16,10 +24,12 @@
 namespace flexref::reference {
 
 /// Attitude and angular velocity of a rigid body at one instant.
-struct RigidAttitude {
-  rotation::EulerParameters theta;  ///< Euler parameters, body → global
-  Eigen::Vector3d w_B;              ///< angular velocity of the body, body frame
+template <typename S>
+struct RigidAttitudeTpl {
+  Eigen::Matrix<S, 4, 1> theta;  ///< Euler parameters, body → global
+  Eigen::Matrix<S, 3, 1> w_B;    ///< angular velocity of the body, body frame
 };
+using RigidAttitude = RigidAttitudeTpl<double>;
 
 /// Euler parameters of the z-x-z Euler-angle rotation
 /// \f[ R = R_z(\varphi)\,R_x(\vartheta)\,R_z(\psi) \f]
@@ -29,14 +39,14 @@ struct RigidAttitude {
 /// \dot\varphi\sin\vartheta\cos\psi - \dot\vartheta\sin\psi,\; \dot\varphi\cos\vartheta +
 /// \dot\psi)\f$). The half-angle cosine and sine of ϑ are passed separately so that callers can
 /// form them from 1 ± cos ϑ without cancellation near ϑ = 0 or π.
-rotation::EulerParameters zxz_euler_parameters(double phi, double cos_half_theta,
-                                               double sin_half_theta, double psi);
+template <typename S>
+Eigen::Matrix<S, 4, 1> zxz_euler_parameters(S phi, S cos_half_theta, S sin_half_theta, S psi);
 
 namespace detail {
 /// θ/|θ| for the initial attitude of an exact solution; `who` names the caller in the error.
 /// \throws std::invalid_argument if θ is not finite or ||θ| − 1| > 1e-6 (scenes.md's rule).
-rotation::EulerParameters unit_euler_parameters(const rotation::EulerParameters& theta,
-                                                const char* who);
+template <typename S>
+Eigen::Matrix<S, 4, 1> unit_euler_parameters(const Eigen::Matrix<S, 4, 1>& theta, const char* who);
 }  // namespace detail
 
 /// Elliptic functions and integrals parametrised by the modulus k AND its complement
@@ -47,11 +57,13 @@ rotation::EulerParameters unit_euler_parameters(const rotation::EulerParameters&
 namespace elliptic {
 
 /// sn, cn, dn at one argument.
-struct JacobiValues {
-  double sn;
-  double cn;
-  double dn;
+template <typename S>
+struct JacobiValuesTpl {
+  S sn;
+  S cn;
+  S dn;
 };
+using JacobiValues = JacobiValuesTpl<double>;
 
 /// Jacobi elliptic functions sn, cn, dn(u, k) by the arithmetic-geometric mean
 /// (A&S 16.4.2–16.4.3, started from a₀ = 1, b₀ = k', c₀ = k, with c_{n+1} = c_n²/(4a_{n+1})
@@ -61,17 +73,22 @@ struct JacobiValues {
 /// which equals A&S's arcsin form but has no cancellation near k = 1). The argument is reduced
 /// modulo 2K first (sn, cn change sign, dn is 2K-periodic), so large u costs nothing extra.
 /// k' = 0 gives the separatrix limit (tanh, sech, sech).
-/// \throws std::invalid_argument unless k, k' ≥ 0 and |k² + k'² − 1| ≤ 1e-12.
-JacobiValues jacobi(double u, double k, double k_prime);
+/// \throws std::invalid_argument unless k, k' ≥ 0 and |k² + k'² − 1| ≤ 4096 ε (9e-13 in
+/// double; a few ε when k and k' come from well-conditioned formulas, so this only catches
+/// callers that pass unrelated numbers).
+template <typename S>
+JacobiValuesTpl<S> jacobi(S u, S k, S k_prime);
 
 /// Complete integral of the first kind \f$K(k) = R_F(0, k'^2, 1)\f$ (Carlson).
-double complete_k(double k_prime);
+template <typename S>
+S complete_k(S k_prime);
 
 /// Incomplete integral of the first kind \f$F(\mathrm{am}, k)\f$ for an amplitude given by its
 /// sine and cosine (need not be normalised), am ∈ (−π, π]:
 /// \f$F = s\,R_F(c^2, c^2 + k'^2 s^2, 1)\f$ for c ≥ 0, \f$\pm 2K - s\,R_F(\dots)\f$ otherwise.
 /// This is the inverse of jacobi: jacobi(F(am), k, k') = (sin am, cos am, ·).
-double incomplete_f(double sin_am, double cos_am, double k_prime);
+template <typename S>
+S incomplete_f(S sin_am, S cos_am, S k_prime);
 
 /// \f$\Pi_n(\tau) = \int_0^\tau \frac{d\tau'}{1 - n\,\mathrm{sn}^2(\tau', k)}\f$ for
 /// 0 ≤ n < 1 (the "circular" case, k² ≤ n, or 0 ≤ n < k²) through Carlson's forms
@@ -80,19 +97,21 @@ double incomplete_f(double sin_am, double cos_am, double k_prime);
 /// on |τ| ≤ K and quasi-periodicity \f$\Pi_n(\tau + 2K) = \Pi_n(\tau) + 2\Pi_n(K)\f$. Both
 /// terms are non-negative for s ≥ 0, so nothing cancels even as n → 1, provided the caller
 /// passes p = 1 − n sn²τ and 1 − n computed from quantities that do not cancel.
-class CircularPi {
+template <typename S>
+class CircularPiTpl {
  public:
-  CircularPi(double n, double one_minus_n, double k, double k_prime);
+  CircularPiTpl(S n, S one_minus_n, S k, S k_prime);
   /// Π_n(τ) given sn, cn, dn at τ (full, unreduced argument) and p = 1 − n sn²(τ).
-  double operator()(double tau, const JacobiValues& f, double p) const;
-  double complete() const { return complete_; }  ///< Π_n(K)
-  double quarter_period() const { return k_complete_; }
+  S operator()(S tau, const JacobiValuesTpl<S>& f, S p) const;
+  S complete() const { return complete_; }  ///< Π_n(K)
+  S quarter_period() const { return k_complete_; }
 
  private:
-  double n_;
-  double k_complete_;  ///< K(k)
-  double complete_;    ///< Π_n(K)
+  S n_;
+  S k_complete_;  ///< K(k)
+  S complete_;    ///< Π_n(K)
 };
+using CircularPi = CircularPiTpl<double>;
 
 /// \f$H_\nu(\tau) = \int_K^\tau \frac{d\tau'}{1 + \nu\,\mathrm{sn}^2(\tau', k)}\f$ for ν ≥ 0
 /// (a characteristic −ν ≤ 0, the "hyperbolic" case). Carlson's direct form cancels
@@ -105,20 +124,22 @@ class CircularPi {
 /// \f$\mathrm{dn}^2\sigma = k'^2/\mathrm{dn}^2\tau\f$ and
 /// \f$p = 1 - n'\mathrm{sn}^2\sigma = k'^2 (1 + \nu\,\mathrm{sn}^2\tau)/((1+\nu)\,
 /// \mathrm{dn}^2\tau)\f$ come from the values at τ (no second AGM).
-class ShiftedHyperbolicPi {
+template <typename S>
+class ShiftedHyperbolicPiTpl {
  public:
   /// \throws std::invalid_argument if ν < 0, or if ν = k = 0 (the integrand is 1; use τ).
-  ShiftedHyperbolicPi(double nu, double k, double k_prime);
+  ShiftedHyperbolicPiTpl(S nu, S k, S k_prime);
   /// H_ν(τ) given sn, cn, dn at τ (full, unreduced argument).
-  double operator()(double tau, const JacobiValues& f) const;
+  S operator()(S tau, const JacobiValuesTpl<S>& f) const;
 
  private:
-  double nu_;
-  double k2_;
-  double k_prime_;
-  double weight_;  ///< ν k'² / (1 + ν)
-  CircularPi pi_;
+  S nu_;
+  S k2_;
+  S k_prime_;
+  S weight_;  ///< ν k'² / (1 + ν)
+  CircularPiTpl<S> pi_;
 };
+using ShiftedHyperbolicPi = ShiftedHyperbolicPiTpl<double>;
 
 }  // namespace elliptic
 
@@ -163,50 +184,60 @@ enum class TorqueFreeRegime {
 /// φ(0) = 0 (so R_π e_z = π/M). ψ is unwrapped with the constant sign of m_c, so θ(t) is
 /// continuous in t (no quaternion sign flips).
 ///
-/// Accuracy: the phase τ and the secular part of φ are rounded to ~ε·λt and ~ε·Mt/I_a, which
-/// bounds the error growth; against RKF78 in float128 at tolerance 1e-24 over t ≤ 100:
+/// Accuracy (S = double): the phase τ and the secular part of φ are rounded to ~ε·λt and ~ε·Mt/I_a,
+/// which bounds the error growth; against RKF78 in float128 at tolerance 1e-24 over t ≤ 100:
 /// free_spin ω to 4e-15 relative, θ to 6e-14 rad; book toss 2.4e-6 off the separatrix
 /// (k'² = 7e-9) ω to 1.1e-13, θ to 4e-13 rad. at() allocates nothing and costs one AGM
 /// (≈ 10 levels) plus one R_F and one R_J (≈ 2 µs).
-class TorqueFreeExact {
+/// In extended and quad the same holds at their ε (docs/precision.md: quad against a quad
+/// Bulirsch–Stoer reference, tests/precision/exact_high_precision_test.cpp).
+template <typename S>
+class TorqueFreeExactTpl {
  public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Quaternion = Eigen::Matrix<S, 4, 1>;  ///< Euler parameters (e0, e1, e2, e3)
+
   /// \throws std::invalid_argument for non-finite or non-positive inertia, a non-unit θ₀
   /// (|θ₀| − 1 > 1e-6; smaller deviations are normalised away) or a non-finite ω₀.
-  TorqueFreeExact(const Eigen::Vector3d& inertia_B, const rotation::EulerParameters& theta0,
-                  const Eigen::Vector3d& w0_B);
+  TorqueFreeExactTpl(const Vector3& inertia_B, const Quaternion& theta0, const Vector3& w0_B);
 
-  RigidAttitude at(double t) const;
+  RigidAttitudeTpl<S> at(S t) const;
 
   TorqueFreeRegime regime() const { return regime_; }
   /// Elliptic modulus k (0 for steady rotation and symmetric bodies, 1 on the separatrix).
-  double modulus() const { return k_; }
+  S modulus() const { return k_; }
   /// Period of ω_B(t) (4K/λ; 2π/λ for symmetric bodies); +∞ on the separatrix and for steady
   /// rotation.
-  double period() const;
+  S period() const;
 
  private:
   TorqueFreeRegime regime_;
-  Eigen::Vector3d inertia_B_;
-  rotation::EulerParameters theta0_;
-  Eigen::Vector3d w0_B_;
-  double momentum_norm_ = 0.0;    ///< M = |π|
+  Vector3 inertia_B_;
+  Quaternion theta0_;
+  Vector3 w0_B_;
+  S momentum_norm_ = S(0);        ///< M = |π|
   int ia_ = 0, ib_ = 1, ic_ = 2;  ///< body indices of the axes a, b, c
   int ix_ = 1, iy_ = 2;           ///< body indices of the Euler x, y axes (cyclic after a)
-  double amp_a_ = 0.0, amp_b_ = 0.0, amp_c_ = 0.0;  ///< signed A_a, A_b, A_c divided by M
-  double sign_c_ = 1.0;                             ///< sign of m_c (constant)
-  double lambda_ = 0.0, tau0_ = 0.0;
-  double k_ = 0.0, k_prime_ = 1.0;
-  double nu_ = 0.0;                                            ///< A_a²/A_c²
-  double phi_rate_ = 0.0;                                      ///< M/I_a
-  double phi_coeff_ = 0.0;                                     ///< (I_c − I_a)/(I_c λ)
-  double h0_ = 0.0;                                            ///< H_ν(τ₀)
-  std::optional<elliptic::ShiftedHyperbolicPi> phi_integral_;  ///< H_ν (elliptic regimes)
-  rotation::EulerParameters q_pi_;                             ///< R_π
-  rotation::EulerParameters q_perm_;                           ///< P
+  S amp_a_ = S(0), amp_b_ = S(0), amp_c_ = S(0);  ///< signed A_a, A_b, A_c divided by M
+  S sign_c_ = S(1);                               ///< sign of m_c (constant)
+  S lambda_ = S(0), tau0_ = S(0);
+  S k_ = S(0), k_prime_ = S(1);
+  S nu_ = S(0);                                                      ///< A_a²/A_c²
+  S phi_rate_ = S(0);                                                ///< M/I_a
+  S phi_coeff_ = S(0);                                               ///< (I_c − I_a)/(I_c λ)
+  S h0_ = S(0);                                                      ///< H_ν(τ₀)
+  std::optional<elliptic::ShiftedHyperbolicPiTpl<S>> phi_integral_;  ///< H_ν (elliptic regimes)
+  Quaternion q_pi_;                                                  ///< R_π
+  Quaternion q_perm_;                                                ///< P
 
-  double separatrix_h(double tau) const;
+  S separatrix_h(S tau) const;
   /// R_z(φ)R_x(ϑ)R_z(ψ) at t, and ω_B(t) (non-steady regimes).
-  rotation::EulerParameters euler_part(double t, Eigen::Vector3d& w_B) const;
+  Quaternion euler_part(S t, Vector3& w_B) const;
 };
+using TorqueFreeExact = TorqueFreeExactTpl<double>;
+
+extern template class TorqueFreeExactTpl<double>;
+extern template class elliptic::CircularPiTpl<double>;
+extern template class elliptic::ShiftedHyperbolicPiTpl<double>;
 
 }  // namespace flexref::reference

@@ -446,6 +446,18 @@ out=$("$flexref" work-precision scenes/pendulum_on_sliding_support.toml --refere
 [[ $? == 1 && $out == *"a joint is not in the extended/quad model"* ]] ||
   fail "work-precision with a quad reference on a joint scene not refused: $out"
 
+# The exact solution in quad (torque-free free_spin): 36 digits, solver and precision recorded;
+# a scene without one is refused with the reason.
+"$flexref" reference "$tmp/fs2.toml" --solver exact --precision quad -o "$tmp/eq.csv" >/dev/null &&
+  grep -q '^solver = "exact"' "$tmp/eq.csv.meta.toml" &&
+  grep -q '^precision = "quad"' "$tmp/eq.csv.meta.toml" ||
+  fail "reference --solver exact --precision quad failed or did not record itself"
+awk -F, 'NR == 3 { split($5, m, "e"); gsub(/[-.]/, "", m[1]); exit !(length(m[1]) >= 33) }' \
+  "$tmp/eq.csv" || fail "exact quad CSV values lack their digits: $(sed -n 3p "$tmp/eq.csv" | cut -c1-120)"
+out=$("$flexref" reference scenes/book_toss.toml --solver exact --precision quad -o "$tmp/eb.csv" 2>&1)
+[[ $? == 1 && $out == *"the free body is loaded"* ]] ||
+  fail "exact quad reference of a loaded scene not refused clearly: $out"
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1
