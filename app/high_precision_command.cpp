@@ -100,12 +100,12 @@ int high_precision_reference_command(const ReferenceOptions& options) {
       .set("events", run.events.size());
   if (!run.events.empty()) {
     // Located to the working precision: the times keep every digit (as the CSV's values).
-    std::vector<std::string> times, kinds;
+    std::vector<std::string> event_times, kinds;
     for (const precision::HighPrecisionEvent& e : run.events) {
-      times.push_back(e.time);
+      event_times.push_back(e.time);
       kinds.push_back(e.kind + " " + std::to_string(e.pair + 1));
     }
-    record.table("integrator").set("event_times", times).set("event_kinds", kinds);
+    record.table("integrator").set("event_times", event_times).set("event_kinds", kinds);
   }
   if (options.estimate) {
     const auto& e = ref.estimate;
