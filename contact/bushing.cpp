@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "contact/bushing_tpl.hpp"
 #include "contact/compliance.hpp"
 #include "core/body.hpp"
 #include "rotation/euler_parameters.hpp"
@@ -15,20 +16,9 @@
 namespace flexref::contact {
 namespace {
 
-/// The pose and velocity of one end, world frame; the ground is at rest with R = I.
-struct EndMotion {
-  bool ground = true;
-  Eigen::Vector3d p_WP = Eigen::Vector3d::Zero();   ///< attachment point
-  Eigen::Vector3d p_WBr = Eigen::Vector3d::Zero();  ///< reference point Br
-  Eigen::Vector3d v_WBr = Eigen::Vector3d::Zero();
-  Eigen::Vector3d w_WB_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();
-
-  /// Velocity of the body's material point now at p_WM: v_Br + ω × (p_WM − p_WBr).
-  Eigen::Vector3d v_WM(const Eigen::Vector3d& p_WM) const {
-    return v_WBr + w_WB_W.cross(p_WM - p_WBr);
-  }
-};
+using EndMotion = bushing::EndMotion<double>;
+using bushing::separation;
+using Separation = bushing::Separation<double>;
 
 EndMotion end_motion(const BushingEnd& end, std::span<const core::BodyKinematics> bodies) {
   EndMotion m;
@@ -47,37 +37,16 @@ EndMotion end_motion(const BushingEnd& end, std::span<const core::BodyKinematics
   return m;
 }
 
-/// The spherical part: d = p_WQ − p_WP, midpoint M, u = v_B(M) − v_A(M).
-struct Separation {
-  Eigen::Vector3d d_W;
-  Eigen::Vector3d p_WM;
-  Eigen::Vector3d u_W;
-};
-
-Separation separation(const EndMotion& a, const EndMotion& b) {
-  Separation s;
-  s.d_W = b.p_WP - a.p_WP;
-  s.p_WM = a.p_WP + 0.5 * s.d_W;
-  s.u_W = b.v_WM(s.p_WM) - a.v_WM(s.p_WM);
-  return s;
-}
-
 /// f = k d + c u on A at M, −f on B at M.
 void add_spherical(const BushingEnd& a_end, const BushingEnd& b_end, const EndMotion& a,
                    const EndMotion& b, const BushingParameters& p,
                    std::span<core::Wrench> wrenches) {
   const Separation s = separation(a, b);
-  const Eigen::Vector3d f_W = p.stiffness * s.d_W + p.damping * s.u_W;
+  const Eigen::Vector3d f_W = bushing::spherical_force(s, p);
   wrenches[static_cast<std::size_t>(a_end.body)].add_force_at(f_W, s.p_WM - a.p_WBr);
   if (!b.ground) {
     wrenches[static_cast<std::size_t>(b_end.body)].add_force_at(-f_W, s.p_WM - b.p_WBr);
   }
-}
-
-/// P ω_rel with P = I − ½(a_A a_Aᵀ + a_B a_Bᵀ), without forming P.
-Eigen::Vector3d perpendicular_part(const EndMotion& a, const EndMotion& b,
-                                   const Eigen::Vector3d& w_W) {
-  return w_W - 0.5 * (a.axis_W * a.axis_W.dot(w_W) + b.axis_W * b.axis_W.dot(w_W));
 }
 
 void validate(const BushingEnd& a, const BushingEnd& b, const BushingParameters& p, bool revolute) {
@@ -154,15 +123,13 @@ void SphericalBushing::add_wrenches(const core::LoadContext& /*context*/,
 
 double SphericalBushing::potential_energy(const core::LoadContext& /*context*/,
                                           std::span<const core::BodyKinematics> bodies) const {
-  const Eigen::Vector3d d_W = end_motion(b_, bodies).p_WP - end_motion(a_, bodies).p_WP;
-  return 0.5 * parameters_.stiffness * d_W.squaredNorm();
+  return bushing::potential(end_motion(a_, bodies), end_motion(b_, bodies), parameters_, false);
 }
 
 double SphericalBushing::dissipated_power(const core::LoadContext& /*context*/,
                                           std::span<const core::BodyKinematics> bodies) const {
-  if (parameters_.damping == 0.0) return 0.0;
-  const Separation s = separation(end_motion(a_, bodies), end_motion(b_, bodies));
-  return parameters_.damping * s.u_W.squaredNorm();
+  return bushing::dissipated_power(end_motion(a_, bodies), end_motion(b_, bodies), parameters_,
+                                   false);
 }
 
 int SphericalBushing::max_body_index() const { return std::max(a_.body, b_.body); }
@@ -192,9 +159,7 @@ void RevoluteBushing::add_wrenches(const core::LoadContext& /*context*/,
   const EndMotion b = end_motion(b_, bodies);
   add_spherical(a_, b_, a, b, parameters_, wrenches);
   // τ_A = k_θ a_A × a_B + c_θ P (ω_B − ω_A), τ_B = −τ_A.
-  const Eigen::Vector3d tau_W =
-      parameters_.angular_stiffness * a.axis_W.cross(b.axis_W) +
-      parameters_.angular_damping * perpendicular_part(a, b, b.w_WB_W - a.w_WB_W);
+  const Eigen::Vector3d tau_W = bushing::revolute_torque(a, b, parameters_);
   wrenches[static_cast<std::size_t>(a_.body)].tau_Br_W += tau_W;
   wrenches[static_cast<std::size_t>(a_.body)].torque_magnitude += tau_W.norm();
   if (!b.ground) {
@@ -205,21 +170,13 @@ void RevoluteBushing::add_wrenches(const core::LoadContext& /*context*/,
 
 double RevoluteBushing::potential_energy(const core::LoadContext& /*context*/,
                                          std::span<const core::BodyKinematics> bodies) const {
-  const EndMotion a = end_motion(a_, bodies);
-  const EndMotion b = end_motion(b_, bodies);
-  // ½k|d|² + k_θ(1 − a_Aᵀa_B); 1 − cos α = ½|a_A − a_B|² for unit axes, without cancellation.
-  return 0.5 * parameters_.stiffness * (b.p_WP - a.p_WP).squaredNorm() +
-         0.5 * parameters_.angular_stiffness * (a.axis_W - b.axis_W).squaredNorm();
+  return bushing::potential(end_motion(a_, bodies), end_motion(b_, bodies), parameters_, true);
 }
 
 double RevoluteBushing::dissipated_power(const core::LoadContext& /*context*/,
                                          std::span<const core::BodyKinematics> bodies) const {
-  const EndMotion a = end_motion(a_, bodies);
-  const EndMotion b = end_motion(b_, bodies);
-  const Separation s = separation(a, b);
-  const Eigen::Vector3d w_rel_W = b.w_WB_W - a.w_WB_W;
-  return parameters_.damping * s.u_W.squaredNorm() +
-         parameters_.angular_damping * w_rel_W.dot(perpendicular_part(a, b, w_rel_W));
+  return bushing::dissipated_power(end_motion(a_, bodies), end_motion(b_, bodies), parameters_,
+                                   true);
 }
 
 int RevoluteBushing::max_body_index() const { return std::max(a_.body, b_.body); }

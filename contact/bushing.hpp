@@ -96,6 +96,7 @@ class SphericalBushing final : public core::ForceElement {
   const BushingEnd& end_b() const { return b_; }
   double translational_stiffness() const { return parameters_.stiffness; }
   double translational_damping() const { return parameters_.damping; }
+  const BushingParameters& parameters() const { return parameters_; }
   /// Spherical bushings have no angular spring: 0.
   double angular_stiffness() const { return 0.0; }
 
@@ -134,6 +135,7 @@ class RevoluteBushing final : public core::ForceElement {
   double translational_damping() const { return parameters_.damping; }
   double angular_stiffness() const { return parameters_.angular_stiffness; }
   double angular_damping() const { return parameters_.angular_damping; }
+  const BushingParameters& parameters() const { return parameters_; }
 
  private:
   BushingEnd a_;

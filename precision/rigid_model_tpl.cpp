@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <boost/math/constants/constants.hpp>
+#include <boost/multiprecision/eigen.hpp>
 #include <boost/multiprecision/float128.hpp>
 #include <stdexcept>
 
+#include "contact/bushing_tpl.hpp"
 #include "contact/contact.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
@@ -62,6 +64,39 @@ Quat<S> quat_at(const std::vector<S>& y, std::size_t o) {
   return {y[o + 3], y[o + 4], y[o + 5], y[o + 6]};
 }
 
+template <typename S>
+using EigenVector3 = Eigen::Matrix<S, 3, 1>;
+
+template <typename S>
+EigenVector3<S> eigen(const Vec3<S>& v) {
+  return EigenVector3<S>(v[0], v[1], v[2]);
+}
+
+/// A bushing end's pose and velocity in S (contact/bushing_tpl.hpp): a body's attachment point
+/// p_Br + A (P − Bo − p_BoBr), its Br, v_Br, ω = A ω̄ and axis A ā; the ground's as given.
+template <typename S>
+contact::bushing::EndMotion<S> end_motion(const contact::BushingEnd& end,
+                                          const RigidBodyTpl<S>* body, const std::vector<S>& y,
+                                          const Mat3<S>& A, std::size_t o) {
+  contact::bushing::EndMotion<S> m;
+  const Vec3<S> point = to_s<S>(end.point);
+  const Vec3<S> axis = to_s<S>(end.axis);
+  if (body == nullptr) {
+    m.p_WP = eigen(point);
+    m.axis_W = eigen(axis);
+    return m;
+  }
+  m.ground = false;
+  const Vec3<S> r = multiply(A, Vec3<S>{point[0] - body->p_BoBr_B[0], point[1] - body->p_BoBr_B[1],
+                                        point[2] - body->p_BoBr_B[2]});
+  m.p_WBr = EigenVector3<S>(y[o], y[o + 1], y[o + 2]);
+  m.p_WP = m.p_WBr + eigen(r);
+  m.v_WBr = EigenVector3<S>(y[o + 7], y[o + 8], y[o + 9]);
+  m.w_WB_W = eigen(multiply(A, Vec3<S>{y[o + 10], y[o + 11], y[o + 12]}));
+  m.axis_W = eigen(multiply(A, axis));
+  return m;
+}
+
 }  // namespace
 
 template <typename S>
@@ -70,13 +105,12 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
     throw std::invalid_argument(
         (source.path.empty() ? spec.name : source.path) + ": " + what +
         " is not in the extended/quad model yet (docs/precision.md: rigid free and pivot "
-        "bodies, gravity, applied forces and torques, point-charge potentials, sphere "
+        "bodies, gravity, applied forces and torques, point-charge potentials, bushings, sphere "
         "contacts); use --precision double");
   };
   for (const scene::ContactSpec& c : spec.contacts) {
     if (c.gap) refuse(c.source, "a gap support");
   }
-  if (!spec.joints.empty()) refuse(spec.joints.front().source, "a joint");
   for (const scene::BodySpec& b : spec.bodies) {
     const core::RigidBodyDescription& d = b.description;
     if (d.flexible) refuse(b.source, "a flexible body");
@@ -164,6 +198,13 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
   applied_work_ = dissipates_ && built.tracks_applied_work();
   wear_channels_ = built.wear_channel_names();
   integral_count_ = dissipates_ ? 1 + built.extra_integral_count() : 0;
+  for (const auto& element : built.elements()) {
+    if (const auto* j = dynamic_cast<const contact::SphericalBushing*>(element.get())) {
+      joints_.push_back({false, j->end_a(), j->end_b(), j->parameters()});
+    } else if (const auto* r = dynamic_cast<const contact::RevoluteBushing*>(element.get())) {
+      joints_.push_back({true, r->end_a(), r->end_b(), r->parameters()});
+    }
+  }
   {
     for (const auto& element : built.elements()) {
       const auto* e = dynamic_cast<const contact::ContactElement*>(element.get());
@@ -213,6 +254,9 @@ typename RigidModelTpl<S>::PairLoad RigidModelTpl<S>::pair_load(const ContactPai
   const S v_n = dot(s.n_W, s.v_rel_W);
   const S delta_dot = -v_n;
   const contact::NormalForceTpl<S> f_n = c.normal.force_in(S(-s.gap), delta_dot);
+  // While the clamp acts (F = 0 < F_e) the spring's energy V(δ) still changes: its rate
+  // F_e δ̇ is dissipated, F_nc δ̇ = (0 − F_e) δ̇ ≥ 0 (ContactEvaluation::dissipated_power).
+  load.dissipated_power = f_n.dissipative() * delta_dot;
   if (!(f_n.total > S(0))) return load;
   load.normal = f_n.total;
   const Vec3<S> v_t{s.v_rel_W[0] - v_n * s.n_W[0], s.v_rel_W[1] - v_n * s.n_W[1],
@@ -225,7 +269,7 @@ typename RigidModelTpl<S>::PairLoad RigidModelTpl<S>::pair_load(const ContactPai
   }
   for (std::size_t k = 0; k < 3; ++k) load.f_W[k] = f_n.total * s.n_W[k] + f_t[k];
   const S friction_power = dot(f_t, v_t);
-  load.dissipated_power = f_n.dissipative() * delta_dot - friction_power;
+  load.dissipated_power -= friction_power;
   load.wear_power = abs(friction_power);
   return load;
 }
@@ -381,11 +425,44 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt,
   // The integrals' rates: W_d, (W_a), wear work per channel.
   const std::size_t integrals = kBodyStateSize * n;
   for (int k = 0; k < integral_count_; ++k) dydt[integrals + static_cast<std::size_t>(k)] = S(0);
+  for (const JointTpl& j : joints_) {
+    // f = k d + c u on A at M, −f on B; τ_A, −τ_B for a revolute bushing (bushing.hpp).
+    namespace bushing = contact::bushing;
+    const auto end = [&](const contact::BushingEnd& side) {
+      if (side.body == contact::kGround) return end_motion<S>(side, nullptr, y, Mat3<S>{}, 0);
+      const auto i = static_cast<std::size_t>(side.body);
+      return end_motion<S>(side, &bodies_[i], y, A[i], kBodyStateSize * i);
+    };
+    const bushing::EndMotion<S> a = end(j.a);
+    const bushing::EndMotion<S> b = end(j.b);
+    const bushing::Separation<S> sep = bushing::separation(a, b);
+    const EigenVector3<S> f = bushing::spherical_force(sep, j.parameters);
+    EigenVector3<S> tau = EigenVector3<S>::Zero();
+    if (j.revolute) tau = bushing::revolute_torque(a, b, j.parameters);
+    const auto apply = [&](const contact::BushingEnd& side, const bushing::EndMotion<S>& m,
+                           S sign) {
+      if (side.body == contact::kGround) return;
+      const auto i = static_cast<std::size_t>(side.body);
+      const EigenVector3<S> moment = (sep.p_WM - m.p_WBr).cross(f) + tau;
+      const Vec3<S> m_B =
+          multiply_transposed(A[i], Vec3<S>{sign * moment[0], sign * moment[1], sign * moment[2]});
+      for (std::size_t k = 0; k < 3; ++k) {
+        force_W[i][k] += sign * f[static_cast<Eigen::Index>(k)];
+        torque_B[i][k] += m_B[k];
+      }
+    };
+    apply(j.a, a, S(1));
+    apply(j.b, b, S(-1));
+    if (dissipates_) {
+      dydt[integrals] += bushing::dissipated_power(a, b, j.parameters, j.revolute);
+    }
+  }
   const std::size_t first_wear = integrals + (applied_work_ ? 2 : 1);
   for (std::size_t p = 0; p < contacts_.size(); ++p) {
     const ContactPairTpl<S>& c = contacts_[p];
     const PairState s = pair_state(c, y, A);
     const PairLoad load = pair_load(c, s);
+    if (dissipates_) dydt[integrals] += load.dissipated_power;
     if (!(load.normal > S(0))) continue;
     const auto apply = [&](int body, S sign) {
       const auto i = static_cast<std::size_t>(body);
@@ -400,7 +477,6 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt,
     };
     apply(c.body_b, S(1));
     if (c.body_a >= 0) apply(c.body_a, S(-1));
-    if (dissipates_) dydt[integrals] += load.dissipated_power;
     if (pair_channel_[p] >= 0) {
       dydt[first_wear + static_cast<std::size_t>(pair_channel_[p])] += load.wear_power;
     }
@@ -477,10 +553,18 @@ S RigidModelTpl<S>::energy(const std::vector<S>& y) const {
       e += charges[k].weight * v;
     }
   }
-  if (!contacts_.empty()) {
+  if (!contacts_.empty() || !joints_.empty()) {
     std::vector<Mat3<S>> A(bodies_.size());
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
       A[i] = rotation_matrix(quat_at(y, kBodyStateSize * i));
+    }
+    for (const JointTpl& j : joints_) {
+      const auto end = [&](const contact::BushingEnd& side) {
+        if (side.body == contact::kGround) return end_motion<S>(side, nullptr, y, Mat3<S>{}, 0);
+        const auto i = static_cast<std::size_t>(side.body);
+        return end_motion<S>(side, &bodies_[i], y, A[i], kBodyStateSize * i);
+      };
+      e += contact::bushing::potential(end(j.a), end(j.b), j.parameters, j.revolute);
     }
     for (const ContactPairTpl<S>& c : contacts_) {
       e += c.normal.potential_in(S(-pair_state(c, y, A.data()).gap));

@@ -3,7 +3,8 @@
 /// The rigid-body model of docs/design/model.md written once for any scalar type S (double,
 /// long double, boost::multiprecision::float128): free and pivot bodies with Euler parameters,
 /// uniform gravity, the applied forces and torques of a scene with their time profiles,
-/// point-charge potentials, and sphere–plane and sphere–sphere penalty contacts with friction
+/// point-charge potentials, spherical and revolute bushings (joints), and sphere–plane and
+/// sphere–sphere penalty contacts with friction
 /// (contact/contact.hpp; the laws are contact/contact_laws.hpp's, evaluated in S). Internal to
 /// precision/: the templates are instantiated in rigid_model_tpl.cpp for the three precisions
 /// (compile time stays bounded; no other file sees float128).
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/bushing.hpp"
 #include "contact/contact_laws.hpp"
 #include "core/point_charge_potential.hpp"
 #include "scene/scene_spec.hpp"
@@ -82,7 +84,7 @@ template <typename S>
 class RigidModelTpl {
  public:
   /// Throws std::invalid_argument naming the first part of the scene this model does not
-  /// carry (flexible or prescribed bodies, gap supports, joints).
+  /// carry (flexible or prescribed bodies, gap supports).
   explicit RigidModelTpl(const scene::SceneSpec& spec);
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
@@ -122,6 +124,16 @@ class RigidModelTpl {
   /// class's unit_field evaluates in S; each charge's point relative to its body's Br.
   std::vector<core::PointChargePotential> potentials_;
   std::vector<std::vector<Vec3<S>>> charge_points_;
+  /// Spherical and revolute bushings (contact/bushing.hpp; their equations are
+  /// contact/bushing_tpl.hpp's, evaluated in S). Ends as the elements hold them: the point from
+  /// Bo (body) or in world (ground), the unit axis.
+  struct JointTpl {
+    bool revolute = false;
+    contact::BushingEnd a;
+    contact::BushingEnd b;
+    contact::BushingParameters parameters;
+  };
+  std::vector<JointTpl> joints_;
   Vec3<S> g_W_{};
   std::vector<std::string> columns_;
   bool dissipates_ = false;

@@ -441,10 +441,10 @@ out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 
   --tolerances 1e-6 --repeats 1 --reference-precision extended --out "$tmp/wpx" >/dev/null 2>&1 &&
   grep -q '^reference_precision = "extended"' "$tmp/wpx/study.toml" ||
   fail "work-precision --reference-precision extended did not record its reference"
-out=$("$flexref" work-precision scenes/pendulum_on_sliding_support.toml --reference-precision quad \
+out=$("$flexref" work-precision scenes/flexible_spinner.toml --reference-precision quad \
   --out "$tmp/wpb" 2>&1)
-[[ $? == 1 && $out == *"a joint is not in the extended/quad model"* ]] ||
-  fail "work-precision with a quad reference on a joint scene not refused: $out"
+[[ $? == 1 && $out == *"a flexible body is not in the extended/quad model"* ]] ||
+  fail "work-precision with a quad reference on a flexible scene not refused: $out"
 
 # The exact solution in quad (torque-free free_spin): 36 digits, solver and precision recorded;
 # a scene without one is refused with the reason.
