@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "precision/parse_text.hpp"
 #include "precision/rigid_model_tpl.hpp"
 #include "reference/exact_heavy_top.hpp"
 #include "reference/exact_rotation_tpl.hpp"
@@ -87,13 +88,6 @@ Principal<S> principal_axes(const Mat3<S>& inertia) {
 }
 
 template <typename S>
-std::string print(const S& x, int digits) {
-  std::ostringstream out;
-  out << std::setprecision(digits) << x;
-  return out.str();
-}
-
-template <typename S>
 HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
                           const std::vector<double>& output_times, Precision precision,
                           const char* type_name) {
@@ -128,7 +122,7 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
         throw std::invalid_argument("exact solution (" + kind +
                                     "): a non-finite value at t = " + std::to_string(t));
       }
-      text.push_back(print(v, digits));
+      text.push_back(detail::print(v, digits));
       values.push_back(static_cast<double>(v));
     }
     run.text.push_back(std::move(text));

@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "precision/parse_text.hpp"
+#include "precision/precise_comparison.hpp"
 #include "precision/rigid_model_tpl.hpp"
 #include "precision/switched_integration.hpp"
 
@@ -29,13 +30,6 @@ namespace flexref::precision {
 namespace {
 
 using Quad = boost::multiprecision::float128;
-
-template <typename S>
-std::string print(const S& x, int digits) {
-  std::ostringstream out;
-  out << std::setprecision(digits) << x;
-  return out.str();
-}
 
 template <typename S>
 bool finite(const S& x) {
@@ -75,7 +69,7 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, const std::vector<doubl
             "odeint-" + std::string(to_string(precision)), t, -1,
             "a non-finite value in the " + std::string(to_string(precision)) + "-precision state");
       }
-      text.push_back(print(v, digits));
+      text.push_back(detail::print(v, digits));
       values.push_back(static_cast<double>(v));
     }
     run.text.push_back(std::move(text));
@@ -123,14 +117,15 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, const std::vector<doubl
           },
           [&](const detail::SwitchEvent<S>& e, const State& x) {
             HighPrecisionEvent event;
-            event.time = print(e.t, digits);
+            event.time = detail::print(e.t, digits);
             event.pair = e.function / 2;
             event.kind = e.function % 2 == 0 ? (e.to_negative ? "onset" : "release")
                                              : (e.to_negative ? "clamp" : "unclamp");
             // An impact is an onset (core/impact_counter.hpp), counted at the event itself.
             const int channel = model.wear_channel_of_pair(event.pair);
             if (event.kind == "onset" && channel >= 0) ++impacts[static_cast<std::size_t>(channel)];
-            for (const S& v : model.output_row(x, impacts)) event.row.push_back(print(v, digits));
+            for (const S& v : model.output_row(x, impacts))
+              event.row.push_back(detail::print(v, digits));
             run.events.push_back(std::move(event));
           });
       run.steps += counters.steps;
@@ -151,61 +146,23 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, const std::vector<doubl
       run.steps += static_cast<long>(
           odeint::integrate_times(stepper, system, y, times.begin(), times.end(), step0, observer));
     } catch (const odeint::step_adjustment_error& e) {
-      throw core::SolverError(
-          "odeint-" + std::string(to_string(precision)), a, run.steps,
-          std::string("Bulirsch-Stoer cannot reach rtol ") + print(rtol, 3) + ": " + e.what());
+      throw core::SolverError("odeint-" + std::string(to_string(precision)), a, run.steps,
+                              std::string("Bulirsch-Stoer cannot reach rtol ") +
+                                  detail::print(rtol, 3) + ": " + e.what());
     }
   }
   run.cpu_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return run;
 }
 
-/// Bodies and tracked points of a run's columns: Euler-parameter columns and point triples.
-struct Layout {
-  std::vector<std::size_t> rotations;  ///< column of B.e0 (index into text rows, t excluded)
-  std::vector<std::size_t> points;     ///< column of B.P.x
-};
-
-Layout layout(const std::vector<std::string>& columns) {
-  Layout l;
-  for (std::size_t c = 1; c < columns.size(); ++c) {
-    const std::string& n = columns[c];
-    if (n.ends_with(".e0")) l.rotations.push_back(c - 1);
-    const auto dots = std::count(n.begin(), n.end(), '.');
-    if (dots == 2 && n.ends_with(".x")) l.points.push_back(c - 1);
-  }
-  return l;
-}
-
-template <typename S>
-double distance_in(const HighPrecisionRun& a, const HighPrecisionRun& b,
-                   const std::string& metric) {
-  using std::sqrt;
-  const Layout l = layout(a.columns);
-  // Each run's text in its own precision (parse_text.hpp), then compared in S.
-  const auto pa = [&](const std::string& t) { return detail::parse_in<S>(t, a.precision); };
-  const auto pb = [&](const std::string& t) { return detail::parse_in<S>(t, b.precision); };
-  S rotation(0), point(0);
-  for (std::size_t r = 0; r < a.text.size(); ++r) {
-    const auto& x = a.text[r];
-    const auto& y = b.text[r];
-    for (std::size_t c : l.rotations) {
-      const Quat<S> qa{pa(x[c]), pa(x[c + 1]), pa(x[c + 2]), pa(x[c + 3])};
-      const Quat<S> qb{pb(y[c]), pb(y[c + 1]), pb(y[c + 2]), pb(y[c + 3])};
-      rotation = std::max(rotation, geodesic_angle(qa, qb));
-    }
-    for (std::size_t c : l.points) {
-      S d2(0);
-      for (std::size_t k = 0; k < 3; ++k) {
-        const S d = pa(x[c + k]) - pb(y[c + k]);
-        d2 += d * d;
-      }
-      point = std::max(point, S(sqrt(d2)));
-    }
-  }
-  if (metric == "rotation") return static_cast<double>(rotation);
-  if (metric == "points") return static_cast<double>(point);
-  return static_cast<double>(rotation + point);
+/// A run as precise_comparison.hpp's table: its text in its own precision.
+PreciseTable precise_table(const HighPrecisionRun& run) {
+  PreciseTable t;
+  t.precision = run.precision;
+  t.columns = run.columns;
+  for (const auto& row : run.table.rows) t.times.push_back(row.front());
+  t.text = run.text;
+  return t;
 }
 
 }  // namespace
@@ -268,16 +225,11 @@ double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std:
                                 "' is not available for extended/quad references (rotation+points, "
                                 "rotation, points)");
   }
-  const Precision p = std::max(a.precision, b.precision);
-  switch (p) {
-    case Precision::kDouble:
-      return distance_in<double>(a, b, metric);
-    case Precision::kExtended:
-      return distance_in<long double>(a, b, metric);
-    case Precision::kQuad:
-      return distance_in<Quad>(a, b, metric);
-  }
-  return distance_in<Quad>(a, b, metric);
+  // compare's norms in the wider precision, each run parsed in its own (precise_comparison.hpp).
+  const studies::ComparisonReport report = compare_precisely(precise_table(a), precise_table(b));
+  if (metric == "rotation") return report.max_rotation_linf;
+  if (metric == "points") return report.max_point_linf;
+  return report.max_rotation_linf + report.max_point_linf;
 }
 
 studies::CertifiedReference certified_high_precision_reference(
@@ -342,7 +294,7 @@ std::string high_precision_csv(const HighPrecisionRun& run) {
   for (std::size_t c = 0; c < run.columns.size(); ++c) out << (c ? "," : "") << run.columns[c];
   out << '\n';
   for (std::size_t r = 0; r < run.text.size(); ++r) {
-    out << print(run.table.rows[r][0], 17);
+    out << detail::print(run.table.rows[r][0], 17);
     for (const std::string& v : run.text[r]) out << ',' << v;
     out << '\n';
   }

@@ -93,13 +93,13 @@ bool precisely_comparable(const PreciseTable& run, const PreciseTable& reference
 
 studies::ComparisonReport compare_precisely(const PreciseTable& run,
                                             const PreciseTable& reference) {
-  if (!precisely_comparable(run, reference)) {
+  if (run.columns != reference.columns || run.times != reference.times) {
     throw std::invalid_argument("compare_precisely: " + run.path + " and " + reference.path +
-                                " are not both on the same columns and times, or both double");
+                                " are not on the same columns and times");
   }
   switch (std::max(run.precision, reference.precision)) {
     case Precision::kDouble:
-      break;
+      return compare_in<double>(run, reference);
     case Precision::kExtended:
       return compare_in<long double>(run, reference);
     case Precision::kQuad:

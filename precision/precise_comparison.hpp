@@ -34,8 +34,8 @@ PreciseTable read_precise_table(const std::string& path);
 bool precisely_comparable(const PreciseTable& run, const PreciseTable& reference);
 
 /// studies::compare_trajectories of the two files in the higher of their precisions (a double
-/// file's values are its doubles, exactly representable there). Requires
-/// precisely_comparable(run, reference); throws std::invalid_argument otherwise.
+/// file's values are its doubles, exactly representable there). Requires the same columns and
+/// times; throws std::invalid_argument otherwise.
 studies::ComparisonReport compare_precisely(const PreciseTable& run, const PreciseTable& reference);
 
 }  // namespace flexref::precision
