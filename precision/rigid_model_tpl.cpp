@@ -356,7 +356,7 @@ std::vector<S> RigidModelTpl<S>::initial_state() const {
 
 template <typename S>
 void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, S t,
-                                  double t_segment) const {
+                                  double t_segment, std::vector<S>* switching) const {
   const std::size_t n = bodies_.size();
   // Loads on each body: world force through Bcm-independent points, body-frame torque about Br.
   std::array<Vec3<S>, 8> small_force{};
@@ -461,6 +461,10 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt,
   for (std::size_t p = 0; p < contacts_.size(); ++p) {
     const ContactPairTpl<S>& c = contacts_[p];
     const PairState s = pair_state(c, y, A);
+    if (switching != nullptr) {
+      (*switching)[2 * p] = s.gap;
+      (*switching)[2 * p + 1] = c.normal.clamp_function(-s.gap, -dot(s.n_W, s.v_rel_W));
+    }
     const PairLoad load = pair_load(c, s);
     if (dissipates_) dydt[integrals] += load.dissipated_power;
     if (!(load.normal > S(0))) continue;

@@ -101,8 +101,10 @@ class RigidModelTpl {
   std::vector<double> discontinuities() const;
 
   std::vector<S> initial_state() const;
-  /// ẏ = f(t, y) on the load branch active at t_segment (core/time_profile.hpp).
-  void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment) const;
+  /// ẏ = f(t, y) on the load branch active at t_segment (core/time_profile.hpp). With
+  /// `switching`, also switching_functions(y) from the same evaluation's contact geometry.
+  void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment,
+                  std::vector<S>* switching = nullptr) const;
   /// Kinetic + gravitational + potentials' + contact potential energy (the `energy` column).
   S energy(const std::vector<S>& y) const;
   /// Two per contact pair, in order: the gap g (the pair pushes while g < 0; its sign change is

@@ -54,9 +54,9 @@ bool changed(const std::vector<S>& a, const std::vector<S>& b, std::size_t j) {
 
 /// Integrates `y` from t = a through every stop time (sorted, in (a, b], the last = b),
 /// calling on_stop(index, y) there and on_event(event, y) at every located switch. `model`
-/// has derivative(y, dydt, t, t_segment), switching_function_count() and
-/// switching_functions(y, values). Throws core::SolverError when Bulirsch–Stoer cannot reach
-/// the tolerance or an event cannot be bracketed.
+/// has derivative(y, dydt, t, t_segment, switching*) (filling the switching values when given),
+/// switching_function_count() and switching_functions(y, values). Throws core::SolverError when
+/// Bulirsch–Stoer cannot reach the tolerance or an event cannot be bracketed.
 template <typename S, typename Model, typename OnStop, typename OnEvent>
 void integrate_switched(const Model& model, std::vector<S>& y, double a,
                         const std::vector<S>& stops, double t_segment, S tol, S first_step,
@@ -74,8 +74,7 @@ void integrate_switched(const Model& model, std::vector<S>& y, double a,
   std::vector<S> g_eval(m);
   const auto system = [&](const State& x, State& dxdt, const S t) {
     ++counters.evaluations;
-    model.derivative(x, dxdt, t, t_segment);
-    model.switching_functions(x, g_eval);
+    model.derivative(x, dxdt, t, t_segment, &g_eval);  // the switching values come along
     for (std::size_t j = 0; j < m; j += 2) graze = graze || ((g_eval[j] < S(0)) != (g0[j] < S(0)));
   };
   const auto smooth_system = [&](const State& x, State& dxdt, const S t) {
