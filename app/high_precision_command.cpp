@@ -48,8 +48,9 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
 
 int high_precision_reference_command(const ReferenceOptions& options) {
   const precision::Precision p = precision::parse_precision(options.precision);
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
-  precision::check_supported(scene.spec);
+  const core::FlexibleFormulation formulation = parse_formulation(options.model);
+  const scene::Scene scene = load_scene(options.scene, formulation);
+  precision::check_supported(scene.spec, formulation);
   if (options.solver == "exact") return exact_reference_command(options, p, scene);
   if (options.solver != "auto" && options.solver != "odeint") {
     throw std::invalid_argument("--solver " + options.solver + ": " + options.precision +
@@ -78,9 +79,9 @@ int high_precision_reference_command(const ReferenceOptions& options) {
         0, "");
     if (options.estimate) {
       ref = precision::certified_high_precision_reference(scene.spec, times, p, rtol,
-                                                          "rotation+points", &run);
+                                                          "rotation+points", &run, formulation);
     } else {
-      run = precision::solve_high_precision(scene.spec, times, p, rtol);
+      run = precision::solve_high_precision(scene.spec, times, p, rtol, formulation);
     }
   }
   io::write_file_atomically(options.output, precision::high_precision_csv(run));
@@ -133,7 +134,7 @@ std::shared_ptr<const studies::CertifiedReference> high_precision_study_referenc
     const std::string& metric, const std::string& reference_solver, const std::string& study) {
   if (precision == "double" || precision == "auto") return nullptr;
   const precision::Precision p = precision::parse_precision(precision);
-  precision::check_supported(scene.spec);
+  precision::check_supported(scene.spec, scene.model->formulation());
   if (metric != "rotation+points" && metric != "rotation" && metric != "points") {
     throw std::invalid_argument("--metric " + metric + ": " + precision +
                                 " precision references measure rotation+points, rotation or "
@@ -147,7 +148,8 @@ std::shared_ptr<const studies::CertifiedReference> high_precision_study_referenc
       study + ": reference (odeint, " + precision + " precision, with its error estimate)", 0, "");
   return std::make_shared<const studies::CertifiedReference>(
       precision::certified_high_precision_reference(scene.spec, times, p,
-                                                    precision::default_rtol(p), metric));
+                                                    precision::default_rtol(p), metric, nullptr,
+                                                    scene.model->formulation()));
 }
 
 bool quad_reference_possible(const scene::Scene& scene, const std::string& metric,
@@ -155,7 +157,7 @@ bool quad_reference_possible(const scene::Scene& scene, const std::string& metri
   if (reference_solver != "auto") return false;
   if (metric != "rotation+points" && metric != "rotation" && metric != "points") return false;
   try {
-    precision::check_supported(scene.spec);
+    precision::check_supported(scene.spec, scene.model->formulation());
   } catch (const std::invalid_argument&) {
     return false;
   }

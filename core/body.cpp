@@ -36,20 +36,12 @@ std::string inertia_problem(const Eigen::Matrix3d& inertia) {
 
 namespace {
 
-/// J = ½ tr(I) 1 − I: the second moment Σ m x xᵀ whose inertia tr(J) 1 − J is I.
-Eigen::Matrix3d second_moment_from_inertia(const Eigen::Matrix3d& inertia) {
-  return 0.5 * inertia.trace() * Eigen::Matrix3d::Identity() - inertia;
-}
-
 /// Adds a rigid part (mass m, centre of mass c from Br, inertia I_c about it) to invariants
 /// taken about Br: m, s0 = Σ m x and J0 = Σ m x xᵀ are the only invariants a rigid part
 /// changes (it has no mode shape).
 void add_rigid_part(flexible::ModalInvariants& inv, double mass, const Eigen::Vector3d& c,
                     const Eigen::Matrix3d& I_c) {
-  inv.mass += mass;
-  inv.s0 += mass * c;
-  inv.J0 += second_moment_from_inertia(I_c) + mass * c * c.transpose();
-  inv.I0 = inv.J0.trace() * Eigen::Matrix3d::Identity() - inv.J0;
+  flexible::add_rigid_part_tpl(inv, mass, c, I_c);
 }
 
 void check_flexible_part(const RigidBodyDescription& d) {

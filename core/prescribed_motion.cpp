@@ -1,38 +1,15 @@
 #include "core/prescribed_motion.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
 namespace flexref::core {
 
-namespace {
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-}  // namespace
+double AngleLaw::angle(double t) const { return angle_in<double>(t); }
 
-double AngleLaw::angle(double t) const {
-  if (kind == Kind::kConstantRate) return rate * t;
-  const double T = spin_up_time;
-  if (t >= T) return rate * (t - 0.5 * T);
-  const double c = T / kTwoPi;
-  return (rate / T) * (0.5 * t * t + c * c * (std::cos(kTwoPi * t / T) - 1.0));
-}
+double AngleLaw::angular_rate(double t) const { return angular_rate_in<double>(t); }
 
-double AngleLaw::angular_rate(double t) const {
-  if (kind == Kind::kConstantRate) return rate;
-  const double T = spin_up_time;
-  if (t >= T) return rate;
-  // φ̇ = (Ω_s/T_s)[t − (T_s/2π) sin(2πt/T_s)]
-  return (rate / T) * (t - (T / kTwoPi) * std::sin(kTwoPi * t / T));
-}
-
-double AngleLaw::angular_acceleration(double t) const {
-  if (kind == Kind::kConstantRate) return 0.0;
-  const double T = spin_up_time;
-  if (t >= T) return 0.0;
-  // φ̈ = (Ω_s/T_s)[1 − cos(2πt/T_s)]
-  return (rate / T) * (1.0 - std::cos(kTwoPi * t / T));
-}
+double AngleLaw::angular_acceleration(double t) const { return angular_acceleration_in<double>(t); }
 
 std::string AngleLaw::describe() const {
   std::ostringstream out;

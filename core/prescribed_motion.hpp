@@ -10,6 +10,8 @@
 /// the modal coordinates are integrated; the torque that drives the law is an output.
 
 #include <Eigen/Core>
+#include <boost/math/constants/constants.hpp>
+#include <cmath>
 #include <string>
 
 #include "rotation/euler_parameters.hpp"
@@ -31,9 +33,52 @@ struct AngleLaw {
   double angle(double t) const;
   double angular_rate(double t) const;
   double angular_acceleration(double t) const;
+  /// The same three in any floating-point type S (double, long double, float128: the
+  /// precision/ references evaluate the law in their precision); the double ones call these.
+  template <typename S>
+  S angle_in(S t) const;
+  template <typename S>
+  S angular_rate_in(S t) const;
+  template <typename S>
+  S angular_acceleration_in(S t) const;
   /// "constant rate 2 rad/s" / "spin-up to 2 rad/s over 15 s".
   std::string describe() const;
 };
+
+template <typename S>
+S AngleLaw::angle_in(S t) const {
+  using std::cos;
+  const S two_pi = boost::math::constants::two_pi<S>();
+  const S Omega(rate);
+  if (kind == Kind::kConstantRate) return Omega * t;
+  const S T(spin_up_time);
+  if (t >= T) return Omega * (t - S(0.5) * T);
+  const S c = T / two_pi;
+  return (Omega / T) * (S(0.5) * t * t + c * c * (cos(two_pi * t / T) - S(1)));
+}
+
+template <typename S>
+S AngleLaw::angular_rate_in(S t) const {
+  using std::sin;
+  const S two_pi = boost::math::constants::two_pi<S>();
+  const S Omega(rate);
+  if (kind == Kind::kConstantRate) return Omega;
+  const S T(spin_up_time);
+  if (t >= T) return Omega;
+  // φ̇ = (Ω_s/T_s)[t − (T_s/2π) sin(2πt/T_s)]
+  return (Omega / T) * (t - (T / two_pi) * sin(two_pi * t / T));
+}
+
+template <typename S>
+S AngleLaw::angular_acceleration_in(S t) const {
+  using std::cos;
+  const S two_pi = boost::math::constants::two_pi<S>();
+  if (kind == Kind::kConstantRate) return S(0);
+  const S T(spin_up_time);
+  if (t >= T) return S(0);
+  // φ̈ = (Ω_s/T_s)[1 − cos(2πt/T_s)]
+  return (S(rate) / T) * (S(1) - cos(two_pi * t / T));
+}
 
 /// A rotation about a fixed world axis through the fixed frame origin.
 struct PrescribedRotation {

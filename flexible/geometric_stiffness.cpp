@@ -50,59 +50,21 @@ GeometricStiffness GeometricStiffness::shifted(const Eigen::Vector3d& p) const {
 
 GeometricInvariants make_geometric_invariants(const GeometricStiffness& data, int n) {
   data.validate(n);
-  GeometricInvariants g;
-  g.E = data.E;
-  g.F = data.F;
-  // Exactly symmetric (the products use the full matrices; symmetry makes the Lagrangian's
-  // derivatives q ↦ F q the gradients of ½ q·F q).
-  for (auto& M : g.E) M = 0.5 * (M + M.transpose()).eval();
-  for (auto& M : g.F) M = 0.5 * (M + M.transpose()).eval();
-  // Z_c = Σ_ab ε_cab F_ba: Z_x = F_zy − F_yz, Z_y = F_xz − F_zx, Z_z = F_yx − F_xy.
-  for (int c = 0; c < 3; ++c) {
-    const int a = (c + 1) % 3;
-    const int b = (c + 2) % 3;
-    g.Z[at(c)] = g.F[at(3 * b + a)] - g.F[at(3 * a + b)];
-  }
-  for (int c = 0; c < 3; ++c) {
-    if (g.E[at(c)].cwiseAbs().maxCoeff() > 0.0) g.E_nonzero.push_back(c);
-    if (g.Z[at(c)].cwiseAbs().maxCoeff() > 0.0) g.Z_nonzero.push_back(c);
-  }
-  for (int ab = 0; ab < 9; ++ab) {
-    if (g.F[at(ab)].cwiseAbs().maxCoeff() > 0.0) g.F_nonzero.push_back(ab);
-  }
-  return g;
+  return geometric_invariants_tpl<double>(data.E, data.F);
 }
 
 GeometricProducts make_geometric_products(int mode_count) {
-  const Eigen::Index n = mode_count;
-  GeometricProducts p;
-  p.F_q = Eigen::Matrix<double, Eigen::Dynamic, 9>::Zero(n, 9);
-  p.E_q = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
-  p.E_qd = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
-  p.Z_q = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
-  p.Z_qd = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(n, 3);
-  return p;
+  return make_geometric_products_tpl<double>(mode_count);
 }
 
 void compute_geometric_products(const GeometricInvariants& g,
                                 const Eigen::Ref<const Eigen::VectorXd>& q_f,
                                 const Eigen::Ref<const Eigen::VectorXd>& qd_f,
                                 GeometricProducts& p) {
-  // Zero matrices leave their columns at zero (make_geometric_products, never written).
-  multiply_nonzero(g.F, g.F_nonzero, q_f, p.F_q);
-  multiply_nonzero(g.E, g.E_nonzero, q_f, p.E_q);
-  multiply_nonzero(g.E, g.E_nonzero, qd_f, p.E_qd);
-  multiply_nonzero(g.Z, g.Z_nonzero, q_f, p.Z_q);
-  multiply_nonzero(g.Z, g.Z_nonzero, qd_f, p.Z_qd);
+  compute_geometric_products_tpl<double>(g, q_f, qd_f, p);
 }
 
-void set_zero_geometric_products(GeometricProducts& p) {
-  p.F_q.setZero();
-  p.E_q.setZero();
-  p.E_qd.setZero();
-  p.Z_q.setZero();
-  p.Z_qd.setZero();
-}
+void set_zero_geometric_products(GeometricProducts& p) { set_zero_geometric_products_tpl(p); }
 
 double bilinear_form(const Eigen::MatrixXd& M, const Eigen::Ref<const Eigen::VectorXd>& x,
                      const Eigen::Ref<const Eigen::VectorXd>& y) {
@@ -159,20 +121,7 @@ void add_foreshortening_first_moment_transpose(const GeometricInvariants& g,
 void foreshortening_terms(const Eigen::Ref<const Eigen::VectorXd>& q_f,
                           const Eigen::Ref<const Eigen::VectorXd>& qd_f, const GeometricProducts& p,
                           ForeshorteningTerms& f) {
-  for (int c = 0; c < 3; ++c) {
-    f.ds(c) = -0.5 * q_f.dot(p.E_q.col(c));  // GS-4
-    f.dS_qd(c) = -qd_f.dot(p.E_q.col(c));    // GS-5
-    f.ds_vv(c) = -qd_f.dot(p.E_qd.col(c));   // GS-6
-    f.z_vv(c) = qd_f.dot(p.Z_qd.col(c));     // GS-7
-  }
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      f.dC(a, b) = -qd_f.dot(p.F_q.col(3 * a + b));
-      if (b < a) continue;
-      f.dJ(a, b) = -0.5 * (q_f.dot(p.F_q.col(3 * a + b)) + q_f.dot(p.F_q.col(3 * b + a)));
-      f.dJ(b, a) = f.dJ(a, b);
-    }
-  }
+  foreshortening_terms_tpl<double>(q_f, qd_f, p, f);
 }
 
 }  // namespace flexref::flexible

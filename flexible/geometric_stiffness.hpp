@@ -33,6 +33,8 @@
 #include <array>
 #include <vector>
 
+#include "flexible/geometric_stiffness_tpl.hpp"
+
 namespace flexref::flexible {
 
 /// The unit-load geometric stiffness matrices of one flexible body (plain data, about the frame
@@ -52,44 +54,16 @@ struct GeometricStiffness {
   GeometricStiffness shifted(const Eigen::Vector3d& p) const;
 };
 
-/// What the evaluations read: E_c, F_ab, Z_c = Σ_ab ε_cab F_ba (= Σ_k m_k (x_k × e_k)_c D_k),
-/// and which of them are not identically zero (a straight beam along x has E_x, F_xb, Z_y, Z_z
-/// only), so that a product with a zero matrix is skipped.
-struct GeometricInvariants {
-  std::array<Eigen::MatrixXd, 3> E;
-  std::array<Eigen::MatrixXd, 9> F;
-  std::array<Eigen::MatrixXd, 3> Z;
-  std::vector<int> E_nonzero;  ///< indices c with E_c ≠ 0
-  std::vector<int> F_nonzero;  ///< indices 3a+b with F_ab ≠ 0
-  std::vector<int> Z_nonzero;  ///< indices c with Z_c ≠ 0
-};
+/// What the evaluations read (GeometricInvariantsTpl, flexible/geometric_stiffness_tpl.hpp), in
+/// double.
+using GeometricInvariants = GeometricInvariantsTpl<double>;
 
 /// Validates `data` against n modes and builds the invariants.
 GeometricInvariants make_geometric_invariants(const GeometricStiffness& data, int mode_count);
 
-/// Products of the geometric matrices with the modal state, computed once per evaluation
-/// (the only O(n²) work of the stiffening terms; zero columns for zero matrices).
-struct GeometricProducts {
-  Eigen::Matrix<double, Eigen::Dynamic, 9> F_q;   ///< column 3a+b: F_ab q_f
-  Eigen::Matrix<double, Eigen::Dynamic, 3> E_q;   ///< column c: E_c q_f
-  Eigen::Matrix<double, Eigen::Dynamic, 3> E_qd;  ///< column c: E_c q̇_f
-  Eigen::Matrix<double, Eigen::Dynamic, 3> Z_q;   ///< column c: Z_c q_f
-  Eigen::Matrix<double, Eigen::Dynamic, 3> Z_qd;  ///< column c: Z_c q̇_f
-};
+using GeometricProducts = GeometricProductsTpl<double>;
 
 GeometricProducts make_geometric_products(int mode_count);
-
-/// out.col(k) = M[k] x for every k in `nonzero` (symmetric M: its lower triangle is read); the
-/// other columns are left as they are (zero when `out` was made zero). Allocates nothing.
-template <std::size_t kCount, int kColumns>
-void multiply_nonzero(const std::array<Eigen::MatrixXd, kCount>& M, const std::vector<int>& nonzero,
-                      const Eigen::Ref<const Eigen::VectorXd>& x,
-                      Eigen::Matrix<double, Eigen::Dynamic, kColumns>& out) {
-  for (const int k : nonzero) {
-    out.col(k).noalias() =
-        M[static_cast<std::size_t>(k)].template selfadjointView<Eigen::Lower>() * x;
-  }
-}
 
 /// O(n²), allocates nothing.
 void compute_geometric_products(const GeometricInvariants& g,
@@ -100,16 +74,7 @@ void compute_geometric_products(const GeometricInvariants& g,
 /// Zero products (the LTE model's inertia at q_f = q̇_f = 0: no stiffening).
 void set_zero_geometric_products(GeometricProducts& p);
 
-/// The second-order changes of the inertia quantities (body frame, about the invariants' origin;
-/// GS-4 … GS-7), from the products of the same (q_f, q̇_f). O(n), allocation-free.
-struct ForeshorteningTerms {
-  Eigen::Vector3d ds = Eigen::Vector3d::Zero();  ///< Δs = Σ m_k w_k,      Δs_c = −½ q·E_c q
-  Eigen::Vector3d dS_qd = Eigen::Vector3d::Zero();  ///< ΔS q̇ = d(Δs)/dt,     −q̇·E_c q
-  Eigen::Vector3d ds_vv = Eigen::Vector3d::Zero();  ///< Σ m_k J̇_w,k q̇_f,     −q̇·E_c q̇
-  Eigen::Matrix3d dJ = Eigen::Matrix3d::Zero();     ///< ΔJ_ab = −½ q·(F_ab + F_ba) q
-  Eigen::Matrix3d dC = Eigen::Matrix3d::Zero();     ///< ΔC_ab = −q̇·F_ab q
-  Eigen::Vector3d z_vv = Eigen::Vector3d::Zero();   ///< z_c = q̇·Z_c q̇
-};
+using ForeshorteningTerms = ForeshorteningTermsTpl<double>;
 
 /// x·M y by columns (no temporary).
 double bilinear_form(const Eigen::MatrixXd& M, const Eigen::Ref<const Eigen::VectorXd>& x,

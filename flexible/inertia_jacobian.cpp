@@ -41,9 +41,9 @@ void add_geometric_jacobian(const GeometricInvariants& g, const InertiaTerms& t,
   const GeometricProducts& p = t.geometric_products;
   const ForeshorteningTerms& f = t.foreshortening;
   const Eigen::Matrix3d& A = t.R_WB;
-  multiply_nonzero(g.F, g.F_nonzero, qd_f, s.F_qd);
-  multiply_nonzero(g.E, g.E_nonzero, qdd, s.E_qdd);
-  multiply_nonzero(g.Z, g.Z_nonzero, qdd, s.Z_qdd);
+  multiply_nonzero<double>(g.F, g.F_nonzero, qd_f, s.F_qd);
+  multiply_nonzero<double>(g.E, g.E_nonzero, qdd, s.E_qdd);
+  multiply_nonzero<double>(g.Z, g.Z_nonzero, qdd, s.Z_qdd);
   Eigen::Vector3d sigma_qdd;  // ΔS q̈_f
   for (int c = 0; c < 3; ++c) sigma_qdd(c) = -qdd.dot(p.E_q.col(c));
 

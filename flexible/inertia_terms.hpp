@@ -39,39 +39,15 @@
 #include <Eigen/Core>
 
 #include "flexible/geometric_stiffness.hpp"
+#include "flexible/inertia_terms_tpl.hpp"
 #include "flexible/modal_data.hpp"
 
 namespace flexref::flexible {
 
-/// Scratch and results of one flexible body's inertia terms, sized once for n modes
+/// Scratch and results of one flexible body's inertia terms in double (InertiaTermsTpl,
+/// flexible/inertia_terms_tpl.hpp, for any scalar), sized once for n modes
 /// (make_inertia_terms); neither stage reallocates.
-struct InertiaTerms {
-  // Stage 1: modal products.
-  Eigen::Matrix<double, Eigen::Dynamic, 9> P_q;   ///< column 3a+b: u_ab = P_ab q_f (n×9)
-  Eigen::Matrix<double, Eigen::Dynamic, 3> G_qd;  ///< column a: g_a = G_a q̇_f (n×3)
-  Eigen::Matrix<double, 9, 1> X_q = Eigen::Matrix<double, 9, 1>::Zero();   ///< X q_f
-  Eigen::Matrix<double, 9, 1> X_qd = Eigen::Matrix<double, 9, 1>::Zero();  ///< X q̇_f
-  Eigen::Vector3d S_q = Eigen::Vector3d::Zero();                           ///< S q_f
-  Eigen::Vector3d S_qd = Eigen::Vector3d::Zero();                          ///< S q̇_f
-
-  // Stage 2: assembled terms (body frame unless the name says otherwise).
-  Eigen::Matrix3d R_WB = Eigen::Matrix3d::Identity();  ///< the attitude they were assembled at
-  Eigen::Vector3d s_t = Eigen::Vector3d::Zero();       ///< first moment about Br
-  Eigen::Matrix3d I_tt = Eigen::Matrix3d::Zero();      ///< Ī_θθ, exactly symmetric
-  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();         ///< C_ab (Coriolis term of Qv_θ)
-  Eigen::Matrix<double, 6, 6> M_rr;                    ///< rigid block of M (exactly symmetric)
-  Eigen::Matrix<double, 6, Eigen::Dynamic> M_rf;       ///< [A S; Ī_θf] (6×n)
-  Eigen::VectorXd Qv;                                  ///< quadratic-velocity vector (6+n)
-
-  // Geometric stiffening (unused, sized n×…, when the body has none).
-  GeometricProducts geometric_products;  ///< stage 1
-  ForeshorteningTerms foreshortening;    ///< stage 2: Δs, ΔS q̇, ΔJ, ΔC, … (included above)
-  /// True when M_rf's translation rows are A S (no stiffening): the structured solve then uses
-  /// the constant L⁻¹ Sᵀ (flexible/mass_matrix_solve.hpp).
-  bool constant_translation_coupling = true;
-
-  int mode_count() const { return static_cast<int>(P_q.rows()); }
-};
+using InertiaTerms = InertiaTermsTpl<double>;
 
 /// Terms sized for n modes, all zero.
 InertiaTerms make_inertia_terms(int mode_count);

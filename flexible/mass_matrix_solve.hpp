@@ -30,49 +30,16 @@
 #include <Eigen/Core>
 
 #include "flexible/inertia_terms.hpp"
+#include "flexible/mass_matrix_solve_tpl.hpp"
 #include "flexible/modal_data.hpp"
 
 namespace flexref::flexible {
 
-/// The constant part: the Cholesky factor of m_ff and L⁻¹ Sᵀ (n×3). Built once per body.
-class ModalMassFactor {
- public:
-  ModalMassFactor() = default;
-  /// Throws std::invalid_argument when m_ff is not positive definite.
-  explicit ModalMassFactor(const ModalInvariants& invariants);
-
-  int mode_count() const { return static_cast<int>(Linv_St_.rows()); }
-  /// m_ff = L Lᵀ.
-  const Eigen::LLT<Eigen::MatrixXd>& llt() const { return llt_; }
-  /// L⁻¹ Sᵀ (n×3).
-  const Eigen::Matrix<double, Eigen::Dynamic, 3>& Linv_St() const { return Linv_St_; }
-  /// v ← L⁻¹ v (forward substitution), allocation-free.
-  void forward_in_place(Eigen::Ref<Eigen::VectorXd> v) const;
-  /// v ← L⁻ᵀ v (backward substitution), allocation-free.
-  void backward_in_place(Eigen::Ref<Eigen::VectorXd> v) const;
-  /// v ← m_ff⁻¹ v.
-  void solve_in_place(Eigen::Ref<Eigen::VectorXd> v) const;
-
- private:
-  /// Factored on an empty matrix until built: an Eigen::LLT never computed holds an
-  /// indeterminate ComputationInfo, and copying one (a rigid Body's factor) reads it (UBSan:
-  /// invalid enum load; issue 17).
-  Eigen::LLT<Eigen::MatrixXd> llt_{Eigen::MatrixXd()};
-  Eigen::Matrix<double, Eigen::Dynamic, 3> Linv_St_;
-};
-
-/// Scratch of the structured solves, sized once for n modes (make_mass_solve_scratch).
-struct MassSolveScratch {
-  Eigen::Matrix<double, Eigen::Dynamic, 6> Bhat_T;  ///< column u: L⁻¹ (row u of M_rf)ᵀ (n×6)
-  Eigen::VectorXd b_f;                              ///< the modal right-hand side, then b̂, x_f
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6> schur;
-  /// Factored on an empty matrix until used (see ModalMassFactor::llt_).
-  Eigen::LLT<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>> schur_llt{
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>()};
-  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1> b_u;
-  int known = 0;          ///< known rows of the last factorization
-  bool factored = false;  ///< false: Σ (or M_uu) was not positive definite
-};
+/// The constant part, the Cholesky factor of m_ff and L⁻¹ Sᵀ (n×3), built once per body, and
+/// the scratch of the structured solves, sized once for n modes (make_mass_solve_scratch): in
+/// double (flexible/mass_matrix_solve_tpl.hpp defines them, and the solves, for any scalar).
+using ModalMassFactor = ModalMassFactorTpl<double>;
+using MassSolveScratch = MassSolveScratchTpl<double>;
 
 MassSolveScratch make_mass_solve_scratch(int mode_count);
 

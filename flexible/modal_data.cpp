@@ -177,52 +177,8 @@ Eigen::VectorXd modal_damping(const ModalData& data) {
 
 ModalInvariants make_modal_invariants(const ModalData& data) {
   data.validate();
-  const int n = data.mode_count();
-  ModalInvariants inv;
-  inv.mode_count = n;
-  inv.S = Eigen::Matrix3Xd::Zero(3, n);
-  inv.x_phi = Eigen::Matrix<double, 9, Eigen::Dynamic>::Zero(9, n);
-  for (Eigen::MatrixXd& p : inv.phi_phi) p = Eigen::MatrixXd::Zero(n, n);
-  for (int k = 0; k < data.node_count(); ++k) {
-    const double m = data.mass(k);
-    const Eigen::Vector3d x = data.p_BoNode_B.col(k);
-    const auto phi_k = data.mode_rows(k);
-    inv.mass += m;
-    inv.s0 += m * x;
-    inv.J0 += m * x * x.transpose();
-    inv.S += m * phi_k;
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) {
-        inv.x_phi.row(pair_row(a, b)) += (m * x(a)) * phi_k.row(b);
-        // Only the upper triangle (a ≤ b) is summed; the lower one is its transpose.
-        if (b >= a) {
-          inv.phi_phi[pair(a, b)].noalias() += m * phi_k.row(a).transpose() * phi_k.row(b);
-        }
-      }
-    }
-  }
-  for (int a = 0; a < 3; ++a) {
-    // P_aa is symmetric by definition; its summed triangles differ by rounding (m_k Φ_k,a is
-    // rounded before the outer product). Symmetrized, m_ff = Σ_a P_aa is exactly symmetric.
-    Eigen::MatrixXd& P_aa = inv.phi_phi[pair(a, a)];
-    P_aa = (0.5 * (P_aa + P_aa.transpose())).eval();
-    for (int b = 0; b < a; ++b) {
-      inv.phi_phi[pair(a, b)] = inv.phi_phi[pair(b, a)].transpose();
-    }
-  }
-  inv.J0 = 0.5 * (inv.J0 + inv.J0.transpose());
-  inv.I0 = inv.J0.trace() * Eigen::Matrix3d::Identity() - inv.J0;
-  inv.m_ff = inv.phi_phi[0] + inv.phi_phi[4] + inv.phi_phi[8];
-  inv.I_theta_f0 = Eigen::Matrix3Xd::Zero(3, n);
-  for (const auto& [a, b, c] : kCyclic) {
-    // (x̃ Φ)_a = x_b Φ_c − x_c Φ_b
-    inv.I_theta_f0.row(a) = inv.x_phi.row(pair_row(b, c)) - inv.x_phi.row(pair_row(c, b));
-    inv.phi_cross_phi[static_cast<std::size_t>(a)] =
-        inv.phi_phi[pair(b, c)] - inv.phi_phi[pair(c, b)];
-  }
-  if (data.geometric)
-    inv.geometric = make_geometric_invariants(*data.geometric, static_cast<int>(n));
-  return inv;
+  return modal_invariants_tpl<double>(data.mass, data.p_BoNode_B, data.phi,
+                                      data.geometric ? &*data.geometric : nullptr);
 }
 
 namespace {

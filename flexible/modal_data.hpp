@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "flexible/geometric_stiffness.hpp"
+#include "flexible/modal_invariants_tpl.hpp"
 
 namespace flexref::flexible {
 
@@ -78,27 +79,9 @@ Eigen::VectorXd natural_frequencies(const ModalData& data);
 Eigen::VectorXd modal_damping(const ModalData& data);
 
 /// The inertia invariants of the nodes (Shabana's inertia shape integrals), computed once so
-/// that every state-dependent inertia quantity costs O(n²), independent of N. Sums over the
-/// nodes k; a, b, c are Cartesian indices 0..2 of the body frame; Φ_k,a is row a of Φ_k (1×n);
-/// ū_k = x_k + Φ_k q_f is the deformed position of node k (body frame, from Bo).
-struct ModalInvariants {
-  int mode_count = 0;
-  double mass = 0.0;                             ///< m = Σ m_k
-  Eigen::Vector3d s0 = Eigen::Vector3d::Zero();  ///< s0 = Σ m_k x_k
-  Eigen::Matrix3d J0 = Eigen::Matrix3d::Zero();  ///< J0 = Σ m_k x_k x_kᵀ
-  Eigen::Matrix3d I0 = Eigen::Matrix3d::Zero();  ///< I0 = Σ m_k x̃_kᵀ x̃_k = tr(J0) I − J0
-  Eigen::Matrix3Xd S;                            ///< S = Σ m_k Φ_k (3×n)
-  Eigen::MatrixXd m_ff;  ///< m_ff = Σ m_k Φ_kᵀ Φ_k (n×n), exactly symmetric
-  Eigen::Matrix<double, 9, Eigen::Dynamic> x_phi;  ///< row 3a+b: Σ m_k x_k,a Φ_k,b (9×n)
-  std::array<Eigen::MatrixXd, 9>
-      phi_phi;  ///< [3a+b]: Σ m_k Φ_k,aᵀ Φ_k,b (n×n); [3a+a] exactly symmetric
-  Eigen::Matrix3Xd I_theta_f0;  ///< Σ m_k x̃_k Φ_k (3×n)
-  /// [a] = phi_phi[3b+c] − phi_phi[3c+b] for (a, b, c) a cyclic permutation of (0, 1, 2):
-  /// skew-symmetric, and row a of Σ m_k (Φ_k q)~ Φ_k is qᵀ phi_cross_phi[a].
-  std::array<Eigen::MatrixXd, 3> phi_cross_phi;
-  /// Geometric stiffening's matrices about the same origin, when the data carry them.
-  std::optional<GeometricInvariants> geometric;
-};
+/// that every state-dependent inertia quantity costs O(n²), independent of N; in double
+/// (flexible/modal_invariants_tpl.hpp defines them for any scalar).
+using ModalInvariants = ModalInvariantsTpl<double>;
 
 /// Validates the data (ModalData::validate) and computes its invariants.
 ModalInvariants make_modal_invariants(const ModalData& data);

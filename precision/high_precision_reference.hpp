@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/model.hpp"
 #include "precision/precision.hpp"
 #include "scene/scene_spec.hpp"
 #include "studies/certified_reference.hpp"
@@ -49,14 +50,17 @@ struct HighPrecisionRun {
 
 /// Throws std::invalid_argument naming what the scene has that the extended/quad model does
 /// not carry (docs/precision.md); returns normally for a supported scene.
-void check_supported(const scene::SceneSpec& spec);
+void check_supported(const scene::SceneSpec& spec,
+                     core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
 
-/// Solves the scene at output_times in `precision` (kExtended or kQuad) with rtol (= atol).
+/// Solves the scene at output_times in `precision` (kExtended or kQuad) with rtol (= atol): a
+/// scene with a flexible body by precision/flexible_model_tpl.hpp (coupled or LTE, as
+/// `formulation` says), the others by precision/rigid_model_tpl.hpp.
 /// Throws std::invalid_argument for an unsupported scene or rtol, core::SolverError when the
 /// integration fails or leaves a non-finite value.
-HighPrecisionRun solve_high_precision(const scene::SceneSpec& spec,
-                                      const std::vector<double>& output_times, Precision precision,
-                                      double rtol);
+HighPrecisionRun solve_high_precision(
+    const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
+    double rtol, core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
 
 /// metric(a, b) computed in the runs' precision (both of the same precision and columns):
 /// "rotation+points" (L∞ geodesic angle + L∞ tracked-point distance, max over bodies and
@@ -67,7 +71,8 @@ double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std:
 /// of the same precision at rtol/100 (a different step sequence; the checks are recorded).
 studies::CertifiedReference certified_high_precision_reference(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
-    double rtol, const std::string& metric, HighPrecisionRun* run_out = nullptr);
+    double rtol, const std::string& metric, HighPrecisionRun* run_out = nullptr,
+    core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
 
 /// The CSV text of a run: header, then rows with `t` in 17 digits and the values as printed.
 std::string high_precision_csv(const HighPrecisionRun& run);

@@ -8,6 +8,7 @@
 
 #include "contact/bushing_tpl.hpp"
 #include "contact/contact.hpp"
+#include "precision/time_profile_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -34,29 +35,6 @@ Mat3<S> inverse(const Mat3<S>& m) {
             (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * r},
            {c02 * r, (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * r,
             (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * r}}};
-}
-
-/// core::TimeProfile::value in precision S (the same laws; the branch is chosen in double by
-/// t_segment, as there).
-template <typename S>
-S profile_value(const core::TimeProfile& p, S t, double t_segment) {
-  using std::sin;
-  const bool active = t_segment >= p.start() && t_segment < p.start() + p.duration();
-  const S pi = boost::math::constants::pi<S>();
-  switch (p.shape()) {
-    case core::TimeProfile::Shape::kConstant:
-      return S(1);
-    case core::TimeProfile::Shape::kSin2Pulse: {
-      if (!active) return S(0);
-      const S s = sin(pi * (t - S(p.start())) / S(p.duration()));
-      return s * s;
-    }
-    case core::TimeProfile::Shape::kRectangularPulse:
-      return active ? S(1) : S(0);
-    case core::TimeProfile::Shape::kHarmonic:
-      return sin(S(2) * pi * S(p.frequency()) * t + S(p.phase()));
-  }
-  return S(0);
 }
 
 template <typename S>
@@ -176,7 +154,9 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
     const Vec3<S>& o = bodies_.at(static_cast<std::size_t>(l.body)).p_BoBr_B;
     load.p_BrP_B = {r[0] - o[0], r[1] - o[1], r[2] - o[2]};
     load.profile = l.profile;
-    load.tracks_work = !l.torque && l.profile.shape() == core::TimeProfile::Shape::kHarmonic;
+    // W_a, once a harmonic force makes the model track it, is the work of every applied force
+    // (core::Model::integral_rates sums AppliedForce::applied_power over all of them).
+    load.tracks_work = !l.torque;
     loads_.push_back(load);
   }
   for (const scene::PotentialSpec& p : spec.potentials) {
@@ -486,7 +466,7 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt,
     }
   }
   if (applied_work_) {
-    // W_a: f·v_P of the harmonic forces (core::AppliedForce::applied_power).
+    // W_a: f·v_P of every applied force (core::AppliedForce::applied_power).
     for (const AppliedLoadTpl<S>& l : loads_) {
       if (!l.tracks_work) continue;
       const auto i = static_cast<std::size_t>(l.body);

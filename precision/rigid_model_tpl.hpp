@@ -58,7 +58,7 @@ struct AppliedLoadTpl {
   bool world_frame = true;
   Vec3<S> p_BrP_B{};  ///< point of application relative to Br (forces)
   core::TimeProfile profile = core::TimeProfile::constant();
-  bool tracks_work = false;  ///< a harmonic force (core::AppliedForce::tracks_applied_work)
+  bool tracks_work = false;  ///< a force: its power enters W_a when the model tracks W_a
 };
 
 /// A sphere–plane or sphere–sphere pair of contact/contact.hpp on rigid parts, the sphere
@@ -117,6 +117,12 @@ class RigidModelTpl {
   /// channel Σ F_n, the slip speed of its most loaded pair, its wear work and `impacts` (the
   /// caller's onset counts, one per channel; empty: none yet).
   std::vector<S> output_row(const std::vector<S>& y, const std::vector<double>& impacts = {}) const;
+  /// The same (no output of this model depends on t explicitly): the signature
+  /// FlexibleModelTpl's prescribed bodies need.
+  std::vector<S> output_row(S /*t*/, const std::vector<S>& y,
+                            const std::vector<double>& impacts = {}) const {
+    return output_row(y, impacts);
+  }
 
  private:
   std::vector<RigidBodyTpl<S>> bodies_;

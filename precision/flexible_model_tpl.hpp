@@ -1,0 +1,144 @@
+#pragma once
+/// \file flexible_model_tpl.hpp
+/// One flexible body of docs/design/model.md in precision S (double, long double,
+/// boost::multiprecision::float128): free, pivot or prescribed rigid motion, the coupled
+/// floating-frame model or the LTE model, modal stiffness and damping, geometric stiffening,
+/// uniform gravity and the applied forces (at hub points or nodes) and torques of a scene with
+/// their time profiles. The equations are core::Model's and the evaluation is the one of
+/// flexible/ (inertia_terms_tpl.hpp, mass_matrix_solve_tpl.hpp, modal_invariants_tpl.hpp), the
+/// same templates the double model runs, here instantiated in S. Internal to precision/:
+/// instantiated in flexible_model_tpl.cpp for the three precisions.
+///
+/// The data are the scene's double numbers (masses, node positions, mode shapes, modal
+/// stiffness and damping ratios, geometric stiffness matrices), exact in S; everything derived
+/// from them — the reference point Br (the undeformed centre of mass of a free body), the
+/// invariants about it, the modal damping 2ζ_i√(K_i μ_i), m_ff's Cholesky factor — is formed in
+/// S, so the model solved is the exact model of the data.
+///
+/// State (non-prescribed): p_WBr (3), θ_WB (4), v_WBr (3), ω̄ (3), q_f (n), q̇_f (n), then the
+/// integrals (W_d, W_a) when the model dissipates. A prescribed body integrates q_f and q̇_f
+/// only; its attitude, ω̄ and α̅ are its angle law's at t (core/prescribed_motion.hpp, in S).
+/// Equations (model.md, quasi-velocity form, about Br, v = (a_WBr, α̅, q̈_f)):
+///   coupled: M(θ, q_f) v = Qe + Qv − [0; 0; K q_f + D q̇_f],  θ̇ = ½ θ ⊗ (0, ω̄),
+///   LTE:     the same blocks at q_f = 0, q̇_f = 0, no M_rf in the rigid rows, loads on the
+///            undeformed body (attachments at nodes see the deformation: node_attachment.hpp),
+/// with the known rows (pivot: a = 0; prescribed: a = 0, α̅ of the law) moved to the right.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "core/prescribed_motion.hpp"
+#include "core/time_profile.hpp"
+#include "flexible/mass_matrix_solve_tpl.hpp"
+#include "scene/scene_spec.hpp"
+
+namespace flexref::precision {
+
+template <typename S>
+class FlexibleModelTpl {
+ public:
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Matrix3 = Eigen::Matrix<S, 3, 3>;
+  using Quaternion = Eigen::Matrix<S, 4, 1>;
+
+  /// Throws std::invalid_argument naming the first part of the scene this model does not carry
+  /// (more than one body, potentials, contacts, gap supports, joints).
+  FlexibleModelTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation);
+
+  /// True when the scene has a flexible body (this model's scenes).
+  static bool applies_to(const scene::SceneSpec& spec);
+
+  int state_size() const { return rigid_size() + 2 * n_ + integral_count_; }
+  /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
+  const std::vector<std::string>& columns() const { return columns_; }
+  int mode_count() const { return n_; }
+  /// No contact: no switching function, no wear channel.
+  int switching_function_count() const { return 0; }
+  void switching_functions(const std::vector<S>& /*y*/, std::vector<S>& values) const {
+    values.clear();
+  }
+  int wear_channel_count() const { return 0; }
+  int wear_channel_of_pair(int /*pair*/) const { return -1; }
+  /// Times where a load profile switches, and the end of a spin-up law (its φ⃛ jumps).
+  std::vector<double> discontinuities() const;
+
+  std::vector<S> initial_state() const;
+  /// ẏ = f(t, y) on the load branch active at t_segment. Uses the model's scratch: one
+  /// evaluation at a time (the integrators here are sequential).
+  void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment,
+                  std::vector<S>* switching = nullptr) const;
+  /// Kinetic + gravitational + elastic energy at (t, y) (the `energy` column).
+  S energy(S t, const std::vector<S>& y) const;
+  /// The trajectory_columns row at (t, y) after `t`: p_WBo, θ, v_WBo, ω̄, tracked points (nodes
+  /// deformed), q_f, q̇_f, the drive torque of a prescribed body, the energy, and when the model
+  /// dissipates W_d, (W_a), E − E(0) + W_d − W_a.
+  std::vector<S> output_row(S t, const std::vector<S>& y,
+                            const std::vector<double>& impacts = {}) const;
+
+ private:
+  struct Pose {
+    Vector3 p_WBr;
+    Quaternion theta_WB;
+    Matrix3 A;
+    Vector3 v_WBr;
+    Vector3 w_B;
+    Vector3 alpha_B;  ///< the law's α̅ (prescribed only)
+  };
+  struct Attachment {
+    Vector3 p_BrP_B;  ///< undeformed, from Br
+    int node = -1;
+    Eigen::Matrix<S, 3, Eigen::Dynamic> phi_B;  ///< Φ_k (3×n); empty for a hub point
+  };
+  struct Load {
+    bool torque = false;
+    Vector3 value;
+    bool world_frame = true;
+    Attachment at;
+    core::TimeProfile profile = core::TimeProfile::constant();
+    bool tracks_work = false;
+  };
+  struct Scratch {
+    flexible::InertiaTermsTpl<S> terms;
+    flexible::MassSolveScratchTpl<S> solve;
+    Vector q, qd, zero, Q_f, rhs, x;
+    Vector3 f_W, tau_W;
+    S applied_power;
+  };
+
+  int rigid_size() const { return prescribed() ? 0 : 13; }
+  bool prescribed() const { return motion_ == core::MotionKind::kPrescribed; }
+  Pose pose(S t, const std::vector<S>& y) const;
+  /// The loads, the inertia terms, the right-hand side and the solved accelerations x (6+n)
+  /// at (t, y) into scratch_.
+  void evaluate(S t, double t_segment, const Pose& p) const;
+  Vector3 attached_offset_W(const Attachment& a, const Pose& p) const;
+
+  std::string name_;
+  core::MotionKind motion_ = core::MotionKind::kFree;
+  core::FlexibleFormulation formulation_ = core::FlexibleFormulation::kCoupled;
+  int n_ = 0;
+  flexible::ModalInvariantsTpl<S> invariants_;  ///< about Br, hub included
+  flexible::ModalMassFactorTpl<S> factor_;
+  Vector stiffness_;
+  Vector damping_;
+  Vector3 p_BoBr_B_;
+  core::PrescribedRotation prescribed_;
+  Vector3 axis_W_;
+  Quaternion theta0_;  ///< the initial attitude, normalized in S
+  Vector3 p_WBo0_;     ///< the initial frame origin (a prescribed body's fixed Bo = Br)
+  std::vector<S> initial_;
+  std::vector<Attachment> points_;
+  std::vector<Load> loads_;
+  Vector3 g_W_;
+  std::vector<std::string> columns_;
+  std::vector<double> discontinuities_;
+  bool dissipates_ = false;
+  bool applied_work_ = false;
+  int integral_count_ = 0;
+  S energy0_ = S(0);
+  mutable Scratch scratch_;
+};
+
+}  // namespace flexref::precision
