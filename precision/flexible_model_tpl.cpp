@@ -50,7 +50,10 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
     : formulation_(formulation), g_W_(spec.g_W.cast<S>()) {
   const auto refuse = [&](const scene::SpecSource& source, const std::string& what) {
     throw std::invalid_argument(
-        (source.path.empty() ? spec.name : source.path) + ": " + what +
+        (source.file.empty()
+             ? spec.name
+             : source.file + ":" + std::to_string(source.line) + ": " + source.path) +
+        ": " + what +
         " is not in the extended/quad model of a flexible body yet (docs/precision.md: one "
         "flexible body, free, pivot or prescribed, with gravity and applied forces and "
         "torques); use --precision double");

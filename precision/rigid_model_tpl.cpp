@@ -81,7 +81,10 @@ template <typename S>
 RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spec.g_W)) {
   const auto refuse = [&](const scene::SpecSource& source, const std::string& what) {
     throw std::invalid_argument(
-        (source.path.empty() ? spec.name : source.path) + ": " + what +
+        (source.file.empty()
+             ? spec.name
+             : source.file + ":" + std::to_string(source.line) + ": " + source.path) +
+        ": " + what +
         " is not in the extended/quad model yet (docs/precision.md: rigid free and pivot "
         "bodies, gravity, applied forces and torques, point-charge potentials, bushings, sphere "
         "contacts); use --precision double");
