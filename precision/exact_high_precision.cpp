@@ -14,6 +14,7 @@
 #include "precision/parse_text.hpp"
 #include "precision/rigid_model_tpl.hpp"
 #include "reference/exact_heavy_top.hpp"
+#include "reference/exact_pendulum.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "reference/exact_solution.hpp"
 #include "reference/exact_torque_free.hpp"
@@ -142,6 +143,22 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
       record(t, reference::detail::quaternion_multiply<S>(a.theta, q_PB).normalized(),
              Vector3<S>(p.R_BP * a.w_B));
     }
+  } else if (kind == "pendulum") {
+    // Released from rest (classify_exact_solution checked it, and the planar axis, in double);
+    // the inertia about the pivot and c_B are the model's, formed in S.
+    Matrix3<S> J;
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        J(i, j) = body.J_Br_B[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+      }
+    }
+    const Vector3<S> c_B(body.c_B[0], body.c_B[1], body.c_B[2]);
+    const Vector3<S> g_W(S(spec.g_W.x()), S(spec.g_W.y()), S(spec.g_W.z()));
+    const reference::PendulumExactTpl<S> exact(body.mass, c_B, J, g_W, theta0);
+    for (double t : output_times) {
+      const reference::RigidAttitudeTpl<S> a = exact.at(S(t) - t0);
+      record(t, a.theta, a.w_B);
+    }
   } else {
     // Lagrange top: the two equal moments are J⊥, the third J_a (classify_exact_solution
     // checked the symmetry and that the centre of mass is on the axis, in double).
@@ -180,11 +197,6 @@ HighPrecisionRun exact_high_precision(const scene::SceneSpec& spec,
       reference::classify_exact_solution(scene::build_model(spec));
   if (kind.kind.empty()) {
     throw std::invalid_argument("no exact solution for this scene: " + kind.reason);
-  }
-  if (kind.kind != "torque_free" && kind.kind != "heavy_top") {
-    throw std::invalid_argument("the " + kind.kind +
-                                " exact solution is double only (extended/quad: torque_free, "
-                                "heavy_top); use --precision double");
   }
   switch (precision) {
     case Precision::kDouble:

@@ -1,12 +1,13 @@
-// The exact solutions of reference/ (exact_torque_free.hpp, exact_heavy_top.hpp, written once
-// for any scalar type) instantiated in extended (long double) and quad (float128) precision.
-// Only precision/ sees float128 (it links libquadmath); the double instantiations are in
-// reference/. <boost/multiprecision/eigen.hpp> gives Eigen the NumTraits of float128 and must
-// come before any Eigen use of it.
+// The exact solutions of reference/ (exact_torque_free.hpp, exact_heavy_top.hpp,
+// exact_pendulum.hpp, written once for any scalar type) instantiated in extended (long double) and
+// quad (float128) precision. Only precision/ sees float128 (it links libquadmath); the double
+// instantiations are in reference/. <boost/multiprecision/eigen.hpp> gives Eigen the NumTraits of
+// float128 and must come before any Eigen use of it.
 #include <boost/multiprecision/eigen.hpp>
 #include <boost/multiprecision/float128.hpp>
 
 #include "reference/exact_heavy_top_impl.hpp"
+#include "reference/exact_pendulum_impl.hpp"
 #include "reference/exact_torque_free_impl.hpp"
 
 namespace flexref::reference {
@@ -21,7 +22,8 @@ namespace flexref::reference {
   template class elliptic::CircularPiTpl<S>;                                                      \
   template class elliptic::ShiftedHyperbolicPiTpl<S>;                                             \
   template class TorqueFreeExactTpl<S>;                                                           \
-  template class HeavyTopExactTpl<S>;
+  template class HeavyTopExactTpl<S>;                                                             \
+  template class PendulumExactTpl<S>;
 
 FLEXREF_INSTANTIATE_EXACT(long double)
 FLEXREF_INSTANTIATE_EXACT(boost::multiprecision::float128)

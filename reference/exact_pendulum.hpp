@@ -30,33 +30,45 @@ namespace flexref::reference {
 /// 1e-14 rad. Note that above the horizontal the planar motion is unstable to out-of-plane
 /// perturbations, so a numerical solution drifts away from it (see the test); this is the
 /// exact planar solution. at() allocates nothing and costs one AGM (≈ 0.7 µs).
-class PendulumExact {
+///
+/// Written once for any scalar type S (docs/precision.md): the bodies are in
+/// exact_pendulum_impl.hpp, instantiated for double in exact_pendulum.cpp and for long double and
+/// float128 in precision/exact_solution_instances.cpp. PendulumExact is the double one.
+template <typename S>
+class PendulumExactTpl {
  public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Matrix3 = Eigen::Matrix<S, 3, 3>;
+  using Quaternion = Eigen::Matrix<S, 4, 1>;
+
   /// \throws std::invalid_argument for non-positive mass, non-finite input, a J_pivot that is
   /// not symmetric to 1e-12 relative, an axis n that is not principal to 1e-12·‖J‖ (a larger
   /// coupling would tilt the plane of motion by more than the accuracy claimed here), or
   /// n_Bᵀ J n_B ≤ 0.
-  PendulumExact(double mass, const Eigen::Vector3d& c_B, const Eigen::Matrix3d& j_pivot_B,
-                const Eigen::Vector3d& g_W, const rotation::EulerParameters& theta0);
+  PendulumExactTpl(S mass, const Vector3& c_B, const Matrix3& j_pivot_B, const Vector3& g_W,
+                   const Quaternion& theta0);
 
-  RigidAttitude at(double t) const;
+  RigidAttitudeTpl<S> at(S t) const;
   /// 4K(k)/ω₀; +∞ when the body stays at rest.
-  double period() const;
+  S period() const;
   /// ω₀ = √(m g l/J_n), the small-amplitude angular frequency; 0 when the body stays at rest.
-  double natural_frequency() const { return omega0_; }
+  S natural_frequency() const { return omega0_; }
   /// θ₀, the release angle from the downward vertical, in [0, π].
-  double amplitude() const { return amplitude_; }
+  S amplitude() const { return amplitude_; }
   /// The rotation axis n (global frame); zero when the body stays at rest.
-  const Eigen::Vector3d& axis_W() const { return axis_W_; }
+  const Vector3& axis_W() const { return axis_W_; }
 
  private:
-  rotation::EulerParameters theta0_;
+  Quaternion theta0_;
   bool at_rest_ = true;
-  Eigen::Vector3d axis_W_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d axis_B_ = Eigen::Vector3d::Zero();
-  double amplitude_ = 0.0;
-  double omega0_ = 0.0;
-  double k_ = 0.0, k_prime_ = 1.0, quarter_period_ = 0.0;
+  Vector3 axis_W_ = Vector3::Zero();
+  Vector3 axis_B_ = Vector3::Zero();
+  S amplitude_ = S(0);
+  S omega0_ = S(0);
+  S k_ = S(0), k_prime_ = S(1), quarter_period_ = S(0);
 };
+using PendulumExact = PendulumExactTpl<double>;
+
+extern template class PendulumExactTpl<double>;
 
 }  // namespace flexref::reference

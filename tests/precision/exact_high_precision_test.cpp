@@ -1,7 +1,7 @@
 /// \file exact_high_precision_test.cpp
-/// The exact solutions (torque-free body, Lagrange top) evaluated in quad and extended
-/// precision (precision/exact_high_precision.hpp) against the quad Bulirsch–Stoer reference,
-/// against the double exact solution, and against a sign error.
+/// The exact solutions (torque-free body, Lagrange top, compound pendulum) evaluated in quad and
+/// extended precision (precision/exact_high_precision.hpp) against the quad Bulirsch–Stoer
+/// reference, against the double exact solution, and against a sign error.
 #include "precision/exact_high_precision.hpp"
 
 #include <boost/multiprecision/float128.hpp>
@@ -108,8 +108,10 @@ TEST_CASE("quad exact solutions agree with the quad Bulirsch-Stoer reference",
           "[precision][exact]") {
   // Issue 10's bound: 1e-25 relative. Bulirsch–Stoer at rtol 1e-28 over 200 outputs leaves
   // 1000× for its global error growth; the exact solution's own error is ~ε_quad × the ~200
-  // ulp seen in extended, 2e-32, far below. Measured 4.4e-30 and 1.4e-28.
-  for (const char* file : {"scenes/free_spin.toml", "scenes/heavy_top.toml"}) {
+  // ulp seen in extended, 2e-32, far below. Measured 4.4e-30, 1.4e-28 and, for the compound
+  // pendulum released horizontal, 9.1e-28 absolute over 10 s (≈ 2e-28 relative).
+  for (const char* file :
+       {"scenes/free_spin.toml", "scenes/heavy_top.toml", "scenes/pendulum.toml"}) {
     CAPTURE(file);
     const scene::SceneSpec spec = shortened(file, 20.0);
     const std::vector<double> times = times_of(spec);
@@ -125,8 +127,10 @@ TEST_CASE("extended exact solutions agree with quad to 1e-15", "[precision][exac
   // measured ~200 u_ext from quad (1.2e-17 worst), and extended's Bulirsch–Stoer at its default
   // rtol 1e-16 is itself 1.4e-15 from quad on the heavy top, so the exact solution is the
   // better extended reference there. Against quad Bulirsch–Stoer (an independent quad answer,
-  // itself ≤ 1.4e-28 from the exact one).
-  for (const char* file : {"scenes/free_spin.toml", "scenes/heavy_top.toml"}) {
+  // itself ≤ 1.4e-28 from the exact one). Pendulum: 1.1e-17
+  // absolute (≈ 2.4e-18 relative).
+  for (const char* file :
+       {"scenes/free_spin.toml", "scenes/heavy_top.toml", "scenes/pendulum.toml"}) {
     CAPTURE(file);
     const scene::SceneSpec spec = shortened(file, 20.0);
     const std::vector<double> times = times_of(spec);
@@ -158,10 +162,11 @@ TEST_CASE("quad exact solutions agree with the double exact solution", "[precisi
   // studies::tabulate) against the quad run rounded to double. The double solution's accuracy
   // (exact_torque_free.hpp, exact_heavy_top.hpp): θ to 6e-14 and 9e-14 rad over the bundled
   // scenes, at most 3e-14 relative to a solution scale ≥ π; 1e-13 leaves a factor 3. Measured
-  // 5.9e-15 (free_spin), 2.1e-14 (heavy_top), 1.7e-14 (free book).
+  // 5.9e-15 (free_spin), 2.1e-14 (heavy_top), 1.7e-14 (free book), 2.5e-14 absolute (≈ 6e-15
+  // relative) for the pendulum.
   for (const scene::SceneSpec& spec :
        {shortened("scenes/free_spin.toml", 20.0), shortened("scenes/heavy_top.toml", 2.0),
-        free_book(10.0, 1e-2)}) {
+        free_book(10.0, 1e-2), shortened("scenes/pendulum.toml", 10.0)}) {
     CAPTURE(spec.name);
     const std::vector<double> times = times_of(spec);
     const HighPrecisionRun quad = exact_high_precision(spec, times, Precision::kQuad);
@@ -194,8 +199,7 @@ TEST_CASE("a sign error in the initial rate is caught", "[precision][exact]") {
   }
 }
 
-TEST_CASE("exact_high_precision refuses scenes without a torque-free or heavy-top solution",
-          "[precision][exact]") {
+TEST_CASE("exact_high_precision refuses scenes without an exact solution", "[precision][exact]") {
   const auto message = [](const std::string& file) {
     const scene::SceneSpec spec = shortened(file, 0.1);
     try {
@@ -206,7 +210,7 @@ TEST_CASE("exact_high_precision refuses scenes without a torque-free or heavy-to
     return std::string("no exception");
   };
   CHECK_THAT(message("scenes/book_toss.toml"), Catch::Contains("the free body is loaded"));
-  CHECK_THAT(message("scenes/pendulum.toml"), Catch::Contains("double only"));
+  CHECK(message("scenes/pendulum.toml") == "no exception");  // all three exact solutions
 }
 
 }  // namespace
