@@ -49,12 +49,6 @@ struct InertiaTermsTpl {
 
 namespace detail {
 
-/// (a, b, c) cyclic permutations of (0, 1, 2).
-inline constexpr std::array<std::array<int, 3>, 3> kCyclicTriples = {
-    {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}}};
-
-constexpr int pair_index(int a, int b) { return 3 * a + b; }
-
 template <typename S>
 Eigen::Matrix<S, 3, 3> hat_tpl(const Eigen::Matrix<S, 3, 1>& a) {
   Eigen::Matrix<S, 3, 3> m;

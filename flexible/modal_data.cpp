@@ -11,14 +11,11 @@
 namespace flexref::flexible {
 namespace {
 
-// (a, b, c) cyclic permutations of (0, 1, 2): ε_abc = +1.
-constexpr std::array<std::array<int, 3>, 3> kCyclic = {{{0, 1, 2}, {1, 2, 0}, {2, 0, 1}}};
-
 // Index 3a + b of the Cartesian pair (a, b) in ModalInvariants::phi_phi and x_phi.
 constexpr std::size_t pair(int a, int b) {
-  return 3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(b);
+  return static_cast<std::size_t>(detail::pair_index(a, b));
 }
-constexpr Eigen::Index pair_row(int a, int b) { return static_cast<Eigen::Index>(pair(a, b)); }
+constexpr Eigen::Index pair_row(int a, int b) { return Eigen::Index{detail::pair_index(a, b)}; }
 
 [[noreturn]] void fail(const std::string& what) {
   throw std::invalid_argument("modal data: " + what);

@@ -15,6 +15,17 @@
 
 namespace flexref::flexible {
 
+namespace detail {
+
+/// (a, b, c) cyclic permutations of (0, 1, 2).
+inline constexpr std::array<std::array<int, 3>, 3> kCyclicTriples = {
+    {{0, 1, 2}, {1, 2, 0}, {2, 0, 1}}};
+
+/// Index 3a + b of the Cartesian pair (a, b) in phi_phi, x_phi and the products.
+constexpr int pair_index(int a, int b) { return 3 * a + b; }
+
+}  // namespace detail
+
 /// Sums over the nodes k; a, b, c are Cartesian indices 0..2 of the body frame; Φ_k,a is row a of
 /// Φ_k (1×n); ū_k = x_k + Φ_k q_f is the deformed position of node k (body frame, from the
 /// origin the positions are measured from).
@@ -53,9 +64,8 @@ ModalInvariantsTpl<Scalar> modal_invariants_tpl(
   using Inv = ModalInvariantsTpl<Scalar>;
   using Vector3 = typename Inv::Vector3;
   using Matrix = typename Inv::Matrix;
-  constexpr std::array<std::array<int, 3>, 3> kCyclic = {{{0, 1, 2}, {1, 2, 0}, {2, 0, 1}}};
-  const auto pair = [](int a, int b) { return static_cast<std::size_t>(3 * a + b); };
-  const auto pair_row = [](int a, int b) { return static_cast<Eigen::Index>(3 * a + b); };
+  const auto pair = [](int a, int b) { return static_cast<std::size_t>(detail::pair_index(a, b)); };
+  const auto pair_row = [](int a, int b) { return Eigen::Index{detail::pair_index(a, b)}; };
   const auto n = static_cast<int>(phi.cols());
   Inv inv;
   inv.mode_count = n;
@@ -94,7 +104,7 @@ ModalInvariantsTpl<Scalar> modal_invariants_tpl(
   inv.I0 = inv.J0.trace() * Inv::Matrix3::Identity() - inv.J0;
   inv.m_ff = inv.phi_phi[0] + inv.phi_phi[4] + inv.phi_phi[8];
   inv.I_theta_f0 = Inv::Matrix3X::Zero(3, n);
-  for (const auto& [a, b, c] : kCyclic) {
+  for (const auto& [a, b, c] : detail::kCyclicTriples) {
     // (x̃ Φ)_a = x_b Φ_c − x_c Φ_b
     inv.I_theta_f0.row(a) = inv.x_phi.row(pair_row(b, c)) - inv.x_phi.row(pair_row(c, b));
     inv.phi_cross_phi[static_cast<std::size_t>(a)] =

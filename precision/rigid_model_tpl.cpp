@@ -8,6 +8,7 @@
 
 #include "contact/bushing_tpl.hpp"
 #include "contact/contact.hpp"
+#include "precision/refusal.hpp"
 #include "precision/time_profile_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
@@ -80,14 +81,9 @@ contact::bushing::EndMotion<S> end_motion(const contact::BushingEnd& end,
 template <typename S>
 RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spec.g_W)) {
   const auto refuse = [&](const scene::SpecSource& source, const std::string& what) {
-    throw std::invalid_argument(
-        (source.file.empty()
-             ? spec.name
-             : source.file + ":" + std::to_string(source.line) + ": " + source.path) +
-        ": " + what +
-        " is not in the extended/quad model yet (docs/precision.md: rigid free and pivot "
-        "bodies, gravity, applied forces and torques, point-charge potentials, bushings, sphere "
-        "contacts); use --precision double");
+    refuse_part(spec, source, what,
+                "yet (docs/precision.md: rigid free and pivot bodies, gravity, applied forces and "
+                "torques, point-charge potentials, bushings, sphere contacts)");
   };
   for (const scene::ContactSpec& c : spec.contacts) {
     if (c.gap) refuse(c.source, "a gap support");
