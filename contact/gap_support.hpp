@@ -82,6 +82,11 @@ class GapSupport final : public core::ForceElement {
                             std::vector<core::PenaltyMode>& modes) const override;
 
   const GapSupportGeometry& geometry() const { return geometry_; }
+  int body() const { return body_; }
+  const Eigen::Vector3d& p_BoN_B() const { return p_BoN_B_; }
+  const core::NodeAttachment& node() const { return node_; }
+  const NormalLaw& normal_law() const { return normal_; }
+  const FrictionLaw& friction_law() const { return friction_; }
 
  private:
   int body_;

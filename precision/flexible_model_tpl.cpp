@@ -7,7 +7,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "contact/gap_support.hpp"
+#include "precision/refusal.hpp"
 #include "precision/time_profile_tpl.hpp"
+#include "reference/exact_rotation_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -26,16 +29,6 @@ Eigen::Matrix<S, 3, 3> rotation_of(const Eigen::Matrix<S, 4, 1>& q) {
   return A;
 }
 
-template <typename S>
-Eigen::Matrix<S, 4, 1> product(const Eigen::Matrix<S, 4, 1>& a, const Eigen::Matrix<S, 4, 1>& b) {
-  Eigen::Matrix<S, 4, 1> q;
-  q << a(0) * b(0) - a(1) * b(1) - a(2) * b(2) - a(3) * b(3),
-      a(0) * b(1) + a(1) * b(0) + a(2) * b(3) - a(3) * b(2),
-      a(0) * b(2) - a(1) * b(3) + a(2) * b(0) + a(3) * b(1),
-      a(0) * b(3) + a(1) * b(2) - a(2) * b(1) + a(3) * b(0);
-  return q;
-}
-
 }  // namespace
 
 template <typename S>
@@ -49,21 +42,16 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
                                       core::FlexibleFormulation formulation)
     : formulation_(formulation), g_W_(spec.g_W.cast<S>()) {
   const auto refuse = [&](const scene::SpecSource& source, const std::string& what) {
-    throw std::invalid_argument(
-        (source.file.empty()
-             ? spec.name
-             : source.file + ":" + std::to_string(source.line) + ": " + source.path) +
-        ": " + what +
-        " is not in the extended/quad model of a flexible body yet (docs/precision.md: one "
-        "flexible body, free, pivot or prescribed, with gravity and applied forces and "
-        "torques); use --precision double");
+    refuse_part(spec, source, what,
+                "of a flexible body yet (docs/precision.md: one flexible body, free, pivot or "
+                "prescribed, with gravity, applied forces and torques, and gap supports)");
   };
   if (spec.bodies.size() != 1) {
     refuse(spec.bodies.at(1).source, "a flexible body with another body");
   }
   for (const scene::PotentialSpec& p : spec.potentials) refuse(p.source, "a potential");
   for (const scene::ContactSpec& c : spec.contacts) {
-    refuse(c.source, c.gap ? "a gap support" : "a contact");
+    if (!c.gap) refuse(c.source, "a sphere contact");
   }
   for (const scene::JointSpec& j : spec.joints) refuse(j.source, "a joint");
   const scene::BodySpec& body = spec.bodies.front();
@@ -174,6 +162,30 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
                          discontinuities_.end());
   for (int k = 0; k < integral_count_; ++k) initial_.push_back(S(0));
 
+  // The gap supports as the double model builds them (the laws' parameters, the normalized axis
+  // and plane normal, the node's undeformed position): every precision solves one model.
+  wear_channels_ = built.wear_channel_names();
+  for (const auto& element : built.elements()) {
+    const auto* g = dynamic_cast<const contact::GapSupport*>(element.get());
+    if (g == nullptr) continue;
+    Support c;
+    c.at = attachment(g->p_BoN_B(), g->node().deforms() ? g->node().node : -1);
+    const contact::GapSupportGeometry& geometry = g->geometry();
+    c.circular = geometry.kind == contact::GapSupportGeometry::Kind::kCircular;
+    c.p_WS = geometry.p_WS.cast<S>();
+    c.a_W = geometry.a_W.cast<S>();
+    c.m_W = geometry.m_W.cast<S>();
+    c.clearance = S(geometry.clearance);
+    c.normal = g->normal_law();
+    c.friction = g->friction_law();
+    if (g->wear_channel_count() > 0) {
+      c.channel = static_cast<int>(
+          std::find(wear_channels_.begin(), wear_channels_.end(), g->wear_channel_name()) -
+          wear_channels_.begin());
+    }
+    supports_.push_back(c);
+  }
+
   Scratch& s = scratch_;
   s.terms = flexible::make_inertia_terms_tpl<S>(n_);
   s.solve = flexible::make_mass_solve_scratch_tpl<S>(n_);
@@ -183,6 +195,8 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
   s.Q_f = Vector::Zero(n_);
   s.rhs = Vector::Zero(6 + n_);
   s.x = Vector::Zero(6 + n_);
+  s.wear_power.assign(wear_channels_.size(), S(0));
+  s.switching.assign(2 * supports_.size(), S(0));
   energy0_ = energy(S(0), initial_);
 }
 
@@ -207,7 +221,7 @@ typename FlexibleModelTpl<S>::Pose FlexibleModelTpl<S>::pose(S t, const std::vec
     const S phi = prescribed_.law.angle_in<S>(t);
     Quaternion q_axis;
     q_axis << cos(S(0.5) * phi), sin(S(0.5) * phi) * axis_W_;
-    p.theta_WB = product<S>(q_axis, theta0_);
+    p.theta_WB = reference::detail::quaternion_multiply<S>(q_axis, theta0_);
     p.A = rotation_of<S>(p.theta_WB);
     const Vector3 axis_B = p.A.transpose() * axis_W_;
     p.w_B = prescribed_.law.angular_rate_in<S>(t) * axis_B;
@@ -225,12 +239,100 @@ typename FlexibleModelTpl<S>::Pose FlexibleModelTpl<S>::pose(S t, const std::vec
 }
 
 template <typename S>
+void FlexibleModelTpl<S>::load_modes(const std::vector<S>& y) const {
+  const auto o = static_cast<std::size_t>(rigid_size());
+  for (Eigen::Index i = 0; i < n_; ++i) {
+    scratch_.q(i) = y[o + static_cast<std::size_t>(i)];
+    scratch_.qd(i) = y[o + static_cast<std::size_t>(n_ + i)];
+  }
+}
+
+template <typename S>
+typename FlexibleModelTpl<S>::Vector3 FlexibleModelTpl<S>::first_moment(const Vector& q) const {
+  // s_t = s0 + S q + Δs, Δs_c = −½ q·E_c q (GS-4), by columns (no temporary).
+  Vector3 s_t = invariants_.s0 + invariants_.S * q;
+  if (invariants_.geometric) {
+    for (const int c : invariants_.geometric->E_nonzero) {
+      const auto& E = invariants_.geometric->E[static_cast<std::size_t>(c)];
+      S quadratic(0);
+      for (Eigen::Index j = 0; j < n_; ++j) quadratic += q(j) * E.col(j).dot(q);
+      s_t(c) -= S(0.5) * quadratic;
+    }
+  }
+  return s_t;
+}
+
+template <typename S>
 typename FlexibleModelTpl<S>::Vector3 FlexibleModelTpl<S>::attached_offset_W(const Attachment& a,
                                                                              const Pose& p) const {
   // A (x_P − p_BoBr + Φ_k q_f): an attachment always sees the state's deformation
   // (core/node_attachment.hpp), under LTE too.
   if (a.node < 0) return p.A * a.p_BrP_B;
   return p.A * (a.p_BrP_B + a.phi_B * scratch_.q);
+}
+
+template <typename S>
+typename FlexibleModelTpl<S>::SupportLoad FlexibleModelTpl<S>::support_load(const Support& c,
+                                                                            const Pose& p) const {
+  // GapSupport::gap_point and ::evaluate (contact/gap_support.hpp) in S: the deformed node N,
+  //   circular  d = (I − a aᵀ)(p_WN − p_WS), g = c − |d|, n = −d/|d|;
+  //   planar    s = m·(p_WN − p_WS),        g = c − |s|, n = −sign(s) m;
+  // δ = −g, δ̇ = −n·v_N, F_n n + F_t at N, F_t = −μ F_n s(|v_t|) v_t.
+  using std::abs;
+  using std::sqrt;
+  SupportLoad load;
+  load.f_W.setZero();
+  load.r_W = attached_offset_W(c.at, p);
+  const Vector3 r = p.p_WBr + load.r_W - c.p_WS;
+  Vector3 n_W;
+  if (c.circular) {
+    const Vector3 d = r - c.a_W.dot(r) * c.a_W;
+    const S distance = sqrt(d.squaredNorm());
+    load.gap = c.clearance - distance;
+    // On the axis there is no direction, and no force (g = c > 0).
+    n_W = distance > S(0) ? Vector3(-d / distance) : c.m_W;
+  } else {
+    const S side = c.m_W.dot(r);
+    load.gap = c.clearance - abs(side);
+    n_W = side >= S(0) ? Vector3(-c.m_W) : c.m_W;
+  }
+  // v_N = v_WBr + ω × (p_WN − p_WBr) + A Φ_k q̇_f (core::attached_velocity_W).
+  Vector3 v = p.v_WBr + (p.A * p.w_B).cross(load.r_W);
+  if (c.at.node >= 0) v.noalias() += p.A * (c.at.phi_B * scratch_.qd);
+  const S v_n = n_W.dot(v);
+  const S delta_dot = -v_n;
+  load.clamp = c.normal.clamp_function(S(-load.gap), delta_dot);
+  if (!(load.gap < S(0))) return load;
+  const contact::NormalForceTpl<S> f_n = c.normal.force_in(S(-load.gap), delta_dot);
+  // While the clamp acts (F = 0 < F_e) the spring's energy still changes: F_e δ̇ is dissipated
+  // (GapSupport::Evaluation::dissipated_power).
+  load.dissipated_power = f_n.dissipative() * delta_dot;
+  if (!(f_n.total > S(0))) return load;
+  load.normal = f_n.total;
+  const Vector3 v_t = v - v_n * n_W;
+  load.slip_speed = sqrt(v_t.squaredNorm());
+  Vector3 f_t = Vector3::Zero();
+  if (c.friction.mu > 0.0) {
+    f_t = -(c.friction.mu * f_n.total * c.friction.slip_factor_in(load.slip_speed)) * v_t;
+  }
+  load.f_W = f_n.total * n_W + f_t;
+  const S friction_power = f_t.dot(v_t);
+  load.dissipated_power -= friction_power;
+  load.wear_power = abs(friction_power);
+  return load;
+}
+
+template <typename S>
+void FlexibleModelTpl<S>::switching_functions(S t, const std::vector<S>& y,
+                                              std::vector<S>& values) const {
+  load_modes(y);
+  const Pose p = pose(t, y);
+  values.resize(2 * supports_.size());
+  for (std::size_t k = 0; k < supports_.size(); ++k) {
+    const SupportLoad load = support_load(supports_[k], p);
+    values[2 * k] = load.gap;
+    values[2 * k + 1] = load.clamp;
+  }
 }
 
 template <typename S>
@@ -247,12 +349,11 @@ void FlexibleModelTpl<S>::evaluate(S t, double t_segment, const Pose& p) const {
     // Qe_R += m g, Qe_θ: τ_Br_W += A (s_t × Aᵀ g), Qe_f += Sᵀ Aᵀ g − Σ_c (Aᵀg)_c E_c q_f
     // (core/gravity.cpp; the last term is the foreshortening's, geometric stiffening only).
     const Vector3 g_B = p.A.transpose() * g_W_;
-    Vector3 s_t = invariants_.s0 + invariants_.S * q_load;
+    const Vector3 s_t = first_moment(q_load);
     if (invariants_.geometric) {
       for (const int c : invariants_.geometric->E_nonzero) {
         const auto& E = invariants_.geometric->E[static_cast<std::size_t>(c)];
-        s_t(c) -= S(0.5) * q_load.dot(E * q_load);
-        s.Q_f.noalias() -= g_B(c) * (E * q_load);
+        for (Eigen::Index j = 0; j < n_; ++j) s.Q_f.noalias() -= (g_B(c) * q_load(j)) * E.col(j);
       }
     }
     s.f_W += invariants_.mass * g_W_;
@@ -276,6 +377,22 @@ void FlexibleModelTpl<S>::evaluate(S t, double t_segment, const Pose& p) const {
       if (l.at.node >= 0) v_P += p.A * (l.at.phi_B * s.qd);
       s.applied_power += v.dot(v_P);
     }
+  }
+  s.contact_dissipation = S(0);
+  std::fill(s.wear_power.begin(), s.wear_power.end(), S(0));
+  for (std::size_t k = 0; k < supports_.size(); ++k) {
+    // At the deformed node under either model, as applied forces at nodes
+    // (core::add_attached_force): f, r × f and Φ_kᵀ Aᵀ f.
+    const Support& c = supports_[k];
+    const SupportLoad load = support_load(c, p);
+    s.switching[2 * k] = load.gap;
+    s.switching[2 * k + 1] = load.clamp;
+    s.contact_dissipation += load.dissipated_power;
+    if (!(load.normal > S(0))) continue;
+    s.f_W += load.f_W;
+    s.tau_W += load.r_W.cross(load.f_W);
+    if (c.at.node >= 0) s.Q_f.noalias() += c.at.phi_B.transpose() * (p.A.transpose() * load.f_W);
+    if (c.channel >= 0) s.wear_power[static_cast<std::size_t>(c.channel)] += load.wear_power;
   }
   if (lte) {
     // The inertia terms of the undeformed body (q_f = 0, q̇_f = 0).
@@ -307,16 +424,13 @@ void FlexibleModelTpl<S>::evaluate(S t, double t_segment, const Pose& p) const {
 template <typename S>
 void FlexibleModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, S t,
                                      double t_segment, std::vector<S>* switching) const {
-  if (switching != nullptr) switching->clear();
   Scratch& s = scratch_;
   const auto o = static_cast<std::size_t>(rigid_size());
   const auto n = static_cast<std::size_t>(n_);
-  for (std::size_t i = 0; i < n; ++i) {
-    s.q(static_cast<Eigen::Index>(i)) = y[o + i];
-    s.qd(static_cast<Eigen::Index>(i)) = y[o + n + i];
-  }
+  load_modes(y);
   const Pose p = pose(t, y);
   evaluate(t, t_segment, p);
+  if (switching != nullptr) *switching = s.switching;
   dydt.resize(y.size());
   if (!prescribed()) {
     // ṗ = v; θ̇ = ½ θ ⊗ (0, ω̄); v̇ = a; ω̄̇ = α̅.
@@ -338,23 +452,20 @@ void FlexibleModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dy
     dydt[o + n + i] = s.x(6 + static_cast<Eigen::Index>(i));
   }
   if (dissipates_) {
-    // Ẇ_d = q̇ᵀ D q̇ (modal damping, the only dissipation this model carries); Ẇ_a = f·v_P.
+    // Ẇ_d = q̇ᵀ D q̇ + the supports' dissipation; Ẇ_a = f·v_P; each wear channel's |F_t·v_t|.
     const std::size_t integrals = o + 2 * n;
-    dydt[integrals] = s.qd.dot(damping_.cwiseProduct(s.qd));
+    dydt[integrals] = s.qd.dot(damping_.cwiseProduct(s.qd)) + s.contact_dissipation;
     for (int k = 1; k < integral_count_; ++k) dydt[integrals + static_cast<std::size_t>(k)] = S(0);
     if (applied_work_) dydt[integrals + 1] = s.applied_power;
+    const std::size_t first_wear = integrals + (applied_work_ ? 2 : 1);
+    for (std::size_t c = 0; c < s.wear_power.size(); ++c) dydt[first_wear + c] = s.wear_power[c];
   }
 }
 
 template <typename S>
 S FlexibleModelTpl<S>::energy(S t, const std::vector<S>& y) const {
   Scratch& s = scratch_;
-  const auto o = static_cast<std::size_t>(rigid_size());
-  const auto n = static_cast<std::size_t>(n_);
-  for (std::size_t i = 0; i < n; ++i) {
-    s.q(static_cast<Eigen::Index>(i)) = y[o + i];
-    s.qd(static_cast<Eigen::Index>(i)) = y[o + n + i];
-  }
+  load_modes(y);
   const Pose p = pose(t, y);
   // T = ½ vᵀ M v, v = (v_WBr, ω̄, q̇_f), M at the state's q_f (core::Model::kinetic_energy, under
   // LTE too): ½ [v_rᵀ M_rr v_r + 2 v_rᵀ M_rf q̇ + q̇ᵀ m_ff q̇].
@@ -367,29 +478,23 @@ S FlexibleModelTpl<S>::energy(S t, const std::vector<S>& y) const {
   // V = −g·(m p_WBr + A s_t) on the loads' q_f (zero under LTE) + ½ q_fᵀ K q_f.
   const bool lte = formulation_ == core::FlexibleFormulation::kLte;
   const Vector& q_load = lte ? s.zero : s.q;
-  Vector3 s_t = invariants_.s0 + invariants_.S * q_load;
-  if (invariants_.geometric) {
-    for (const int c : invariants_.geometric->E_nonzero) {
-      s_t(c) -= S(0.5) * q_load.dot(invariants_.geometric->E[static_cast<std::size_t>(c)] * q_load);
-    }
-  }
-  const S V = -g_W_.dot(invariants_.mass * p.p_WBr + p.A * s_t) +
-              S(0.5) * s.q.dot(stiffness_.cwiseProduct(s.q));
+  const Vector3 s_t = first_moment(q_load);
+  S V = -g_W_.dot(invariants_.mass * p.p_WBr + p.A * s_t) +
+        S(0.5) * s.q.dot(stiffness_.cwiseProduct(s.q));
+  // The supports' V_law(δ) at the deformed node (GapSupport::potential_energy).
+  for (const Support& c : supports_) V += c.normal.potential_in(S(-support_load(c, p).gap));
   return S(0.5) * vMv + V;
 }
 
 template <typename S>
 std::vector<S> FlexibleModelTpl<S>::output_row(S t, const std::vector<S>& y,
-                                               const std::vector<double>& /*impacts*/) const {
+                                               const std::vector<double>& impacts) const {
   Scratch& s = scratch_;
   const auto o = static_cast<std::size_t>(rigid_size());
   const auto n = static_cast<std::size_t>(n_);
   std::vector<S> row;
   row.reserve(columns_.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    s.q(static_cast<Eigen::Index>(i)) = y[o + i];
-    s.qd(static_cast<Eigen::Index>(i)) = y[o + n + i];
-  }
+  load_modes(y);
   const Pose p = pose(t, y);
   // p_WBo = p_WBr − A p_BoBr; v_WBo = v_WBr − A (ω̄ × p_BoBr).
   const Vector3 p_WBo = p.p_WBr - p.A * p_BoBr_B_;
@@ -423,6 +528,31 @@ std::vector<S> FlexibleModelTpl<S>::output_row(S t, const std::vector<S>& y,
     row.push_back(work);
     if (applied_work_) row.push_back(applied);
     row.push_back(e - energy0_ + work - applied);
+  }
+  if (!wear_channels_.empty()) {
+    // Per channel Σ F_n, the slip speed of its most loaded support (GapSupport::wear_samples),
+    // the wear work and the impacts counted by the caller.
+    load_modes(y);
+    const std::size_t channels = wear_channels_.size();
+    std::vector<S> normal(channels, S(0)), largest(channels, S(0)), slip(channels, S(0));
+    for (const Support& c : supports_) {
+      if (c.channel < 0) continue;
+      const auto k = static_cast<std::size_t>(c.channel);
+      const SupportLoad load = support_load(c, p);
+      if (!(load.normal > S(0))) continue;
+      normal[k] += load.normal;
+      if (load.normal > largest[k]) {
+        largest[k] = load.normal;
+        slip[k] = load.slip_speed;
+      }
+    }
+    const std::size_t first_wear = o + 2 * n + (applied_work_ ? 2 : 1);
+    for (std::size_t k = 0; k < channels; ++k) {
+      row.push_back(normal[k]);
+      row.push_back(slip[k]);
+      row.push_back(y[first_wear + k]);
+      row.push_back(k < impacts.size() ? S(impacts[k]) : S(0));
+    }
   }
   return row;
 }

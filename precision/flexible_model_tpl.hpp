@@ -23,10 +23,14 @@
 ///   LTE:     the same blocks at q_f = 0, q̇_f = 0, no M_rf in the rigid rows, loads on the
 ///            undeformed body (attachments at nodes see the deformation: node_attachment.hpp),
 /// with the known rows (pivot: a = 0; prescribed: a = 0, α̅ of the law) moved to the right.
+/// Gap supports at nodes (contact/gap_support.hpp) push the deformed node back into its
+/// clearance with their normal and friction laws, evaluated in S; their dissipation enters W_d
+/// and their friction power each wear channel's work.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
+#include "contact/contact_laws.hpp"
 #include "core/model.hpp"
 #include "core/prescribed_motion.hpp"
 #include "core/time_profile.hpp"
@@ -44,7 +48,7 @@ class FlexibleModelTpl {
   using Quaternion = Eigen::Matrix<S, 4, 1>;
 
   /// Throws std::invalid_argument naming the first part of the scene this model does not carry
-  /// (more than one body, potentials, contacts, gap supports, joints).
+  /// (more than one body, potentials, sphere contacts, joints).
   FlexibleModelTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation);
 
   /// True when the scene has a flexible body (this model's scenes).
@@ -54,13 +58,15 @@ class FlexibleModelTpl {
   /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
   const std::vector<std::string>& columns() const { return columns_; }
   int mode_count() const { return n_; }
-  /// No contact: no switching function, no wear channel.
-  int switching_function_count() const { return 0; }
-  void switching_functions(const std::vector<S>& /*y*/, std::vector<S>& values) const {
-    values.clear();
+  /// Two per gap support, in order: the gap g (the support pushes while g < 0; its sign change
+  /// is an onset or a release) and the unclamped law's value (NormalLaw::clamp_function).
+  int switching_function_count() const { return 2 * static_cast<int>(supports_.size()); }
+  void switching_functions(S t, const std::vector<S>& y, std::vector<S>& values) const;
+  int wear_channel_count() const { return static_cast<int>(wear_channels_.size()); }
+  /// The wear channel of a gap support, −1 for an unnamed one.
+  int wear_channel_of_pair(int pair) const {
+    return supports_[static_cast<std::size_t>(pair)].channel;
   }
-  int wear_channel_count() const { return 0; }
-  int wear_channel_of_pair(int /*pair*/) const { return -1; }
   /// Times where a load profile switches, and the end of a spin-up law (its φ⃛ jumps).
   std::vector<double> discontinuities() const;
 
@@ -73,7 +79,8 @@ class FlexibleModelTpl {
   S energy(S t, const std::vector<S>& y) const;
   /// The trajectory_columns row at (t, y) after `t`: p_WBo, θ, v_WBo, ω̄, tracked points (nodes
   /// deformed), q_f, q̇_f, the drive torque of a prescribed body, the energy, and when the model
-  /// dissipates W_d, (W_a), E − E(0) + W_d − W_a.
+  /// dissipates W_d, (W_a), E − E(0) + W_d − W_a; per wear channel F_n, the slip speed, the wear
+  /// work and `impacts` (the caller's onset counts, one per channel; empty: none yet).
   std::vector<S> output_row(S t, const std::vector<S>& y,
                             const std::vector<double>& impacts = {}) const;
 
@@ -99,12 +106,36 @@ class FlexibleModelTpl {
     core::TimeProfile profile = core::TimeProfile::constant();
     bool tracks_work = false;
   };
+  /// A gap support at a node (contact/gap_support.hpp), its geometry in S.
+  struct Support {
+    Attachment at;
+    bool circular = true;
+    Vector3 p_WS, a_W, m_W;
+    S clearance;
+    contact::NormalLaw normal;
+    contact::FrictionLaw friction;
+    int channel = -1;
+  };
+  /// What a support applies at a state (GapSupport::Evaluation in S).
+  struct SupportLoad {
+    S gap = S(0);
+    S clamp = S(0);   ///< NormalLaw::clamp_function(δ, δ̇)
+    Vector3 r_W;      ///< the deformed node from p_WBr
+    Vector3 f_W;      ///< F_n n + F_t, zero when it does not push
+    S normal = S(0);  ///< F_n ≥ 0
+    S slip_speed = S(0);
+    S dissipated_power = S(0);
+    S wear_power = S(0);  ///< |F_t·v_t|
+  };
   struct Scratch {
     flexible::InertiaTermsTpl<S> terms;
     flexible::MassSolveScratchTpl<S> solve;
     Vector q, qd, zero, Q_f, rhs, x;
     Vector3 f_W, tau_W;
     S applied_power;
+    S contact_dissipation;
+    std::vector<S> wear_power;  ///< per wear channel
+    std::vector<S> switching;   ///< the supports' switching values of the last evaluation
   };
 
   int rigid_size() const { return prescribed() ? 0 : 13; }
@@ -114,6 +145,12 @@ class FlexibleModelTpl {
   /// at (t, y) into scratch_.
   void evaluate(S t, double t_segment, const Pose& p) const;
   Vector3 attached_offset_W(const Attachment& a, const Pose& p) const;
+  /// A support's gap, clamp function and load at the pose (q_f, q̇_f in the scratch).
+  SupportLoad support_load(const Support& support, const Pose& p) const;
+  /// q_f and q̇_f of y into the scratch.
+  void load_modes(const std::vector<S>& y) const;
+  /// s_t(q) = s0 + S q (+ Δs(q) with geometric stiffening), the first moment about Br.
+  Vector3 first_moment(const Vector& q) const;
 
   std::string name_;
   core::MotionKind motion_ = core::MotionKind::kFree;
@@ -131,6 +168,8 @@ class FlexibleModelTpl {
   std::vector<S> initial_;
   std::vector<Attachment> points_;
   std::vector<Load> loads_;
+  std::vector<Support> supports_;
+  std::vector<std::string> wear_channels_;
   Vector3 g_W_;
   std::vector<std::string> columns_;
   std::vector<double> discontinuities_;

@@ -112,6 +112,11 @@ class RigidModelTpl {
   /// change inside the contact is where the clamp F ≥ 0 starts or stops acting).
   int switching_function_count() const { return 2 * static_cast<int>(contacts_.size()); }
   void switching_functions(const std::vector<S>& y, std::vector<S>& values) const;
+  /// The same at time t (no gap of this model depends on t explicitly): the signature
+  /// FlexibleModelTpl's prescribed bodies need.
+  void switching_functions(S /*t*/, const std::vector<S>& y, std::vector<S>& values) const {
+    switching_functions(y, values);
+  }
   /// The trajectory_columns row at (t, y) after `t`: per body p_WBo, θ, v_WBo, ω̄, tracked
   /// points; the energy; when the model dissipates W_d, (W_a), E − E(0) + W_d − W_a; per wear
   /// channel Σ F_n, the slip speed of its most loaded pair, its wear work and `impacts` (the

@@ -55,7 +55,7 @@ bool changed(const std::vector<S>& a, const std::vector<S>& b, std::size_t j) {
 /// Integrates `y` from t = a through every stop time (sorted, in (a, b], the last = b),
 /// calling on_stop(index, y) there and on_event(event, y) at every located switch. `model`
 /// has derivative(y, dydt, t, t_segment, switching*) (filling the switching values when given),
-/// switching_function_count() and switching_functions(y, values). Throws core::SolverError when
+/// switching_function_count() and switching_functions(t, y, values). Throws core::SolverError when
 /// Bulirsch–Stoer cannot reach the tolerance or an event cannot be bracketed.
 template <typename S, typename Model, typename OnStop, typename OnEvent>
 void integrate_switched(const Model& model, std::vector<S>& y, double a,
@@ -68,7 +68,7 @@ void integrate_switched(const Model& model, std::vector<S>& y, double a,
   const auto m = static_cast<std::size_t>(model.switching_function_count());
   const S eps = std::numeric_limits<S>::epsilon();
   std::vector<S> g0(m), g1(m), gm(m);
-  model.switching_functions(y, g0);
+  model.switching_functions(S(a), y, g0);
 
   bool graze = false;
   std::vector<S> g_eval(m);
@@ -127,7 +127,7 @@ void integrate_switched(const Model& model, std::vector<S>& y, double a,
     rejected_in_a_row = 0;
     const S used = t1 - t;
     if (to_target && used >= target - t) t1 = target;  // land exactly on the stop
-    model.switching_functions(y1, g1);
+    model.switching_functions(t1, y1, g1);
     std::size_t first = m;
     for (std::size_t j = 0; j < m; ++j) {
       if (changed(g0, g1, j)) {
@@ -167,7 +167,7 @@ void integrate_switched(const Model& model, std::vector<S>& y, double a,
         if (!(mid > lo && mid < hi) || iteration % 4 == 3) mid = lo + (hi - lo) / 2;
         if (!(mid > lo && mid < hi)) break;
         const State ym = state_at(y, t, mid);
-        model.switching_functions(ym, gm);
+        model.switching_functions(mid, ym, gm);
         const bool far_side = (gm[j] < S(0)) == far_negative;
         if (far_side) {
           hi = mid;
@@ -193,7 +193,7 @@ void integrate_switched(const Model& model, std::vector<S>& y, double a,
     const bool to_negative = g1[best_j] < S(0);
     t = best_t;
     y.swap(best_y);
-    model.switching_functions(y, g0);
+    model.switching_functions(t, y, g0);
     stepper.reset();
     dt = std::max(S(t - t1 + used), S(64) * eps * (abs(t) + S(1)));
     on_event(SwitchEvent<S>{t, static_cast<int>(best_j), to_negative}, y);

@@ -430,10 +430,22 @@ grep -qi 'nan\|inf' "$tmp/rc.csv" && fail "a non-finite value in the flexible ex
 [[ $out == *"estimated error"* && $out != *"none"* ]] ||
   fail "the flexible extended reference has no estimate: $out"
 grep -q '^model = "lte"' "$tmp/rc.csv.meta.toml" || fail "the LTE model is not in the metadata"
-out=$("$flexref" reference scenes/tube_support_impact.toml --precision quad -o "$tmp/bq.csv" 2>&1)
-[[ $? == 1 && $out == *"contact[1]: a gap support is not in the extended/quad model"* ]] ||
-  fail "quad reference of a gap-support scene not refused clearly: $out"
+# A flexible body with a rigid one is not in the extended/quad model yet: refused at its table.
+{ cat scenes/flexible_spinner.toml; printf '\n[[body]]\nname = "ball"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n'; } >"$tmp/two.toml"
+out=$("$flexref" reference "$tmp/two.toml" --precision quad -o "$tmp/bq.csv" 2>&1)
+[[ $? == 1 && $out == *"two.toml:"*": body[2]: a flexible body with another body is not in the extended/quad model"* ]] ||
+  fail "quad reference of a flexible and a rigid body not refused clearly: $out"
 [[ -e $tmp/bq.csv ]] && fail "a refused quad reference wrote its CSV"
+# Gap supports in extended precision: the short tube scene's events, wear columns and impacts.
+out=$("$flexref" reference "$tmp/tube.toml" --precision extended -o "$tmp/tx.csv" 2>&1) ||
+  fail "extended reference of the gap-support scene failed: $out"
+grep -q '^events = [1-9][0-9]*$' "$tmp/tx.csv.meta.toml" ||
+  fail "tube extended: no located events in the metadata"
+head -1 "$tmp/tx.csv" | grep -q 'support.fn,support.slip_speed,support.wear_work,support.impacts' ||
+  fail "tube extended: no wear columns: $(head -1 "$tmp/tx.csv")"
+grep -qi 'nan\|inf' "$tmp/tx.csv" && fail "a non-finite value in the tube extended CSV"
+"$flexref" compare "$tmp/tx.csv" "$tmp/tube_ref.csv" >/dev/null 2>&1 ||
+  fail "compare of the double and extended tube references failed"
 # Contact in extended precision: the located events in the metadata, and the file compares
 # with a double reference of the same scene (same columns).
 "$flexref" reference scenes/bouncing_ball.toml --precision extended -o "$tmp/bx.csv" >/dev/null ||
@@ -453,10 +465,10 @@ out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 
   --tolerances 1e-6 --repeats 1 --reference-precision extended --out "$tmp/wpx" >/dev/null 2>&1 &&
   grep -q '^reference_precision = "extended"' "$tmp/wpx/study.toml" ||
   fail "work-precision --reference-precision extended did not record its reference"
-out=$("$flexref" work-precision scenes/tube_support_impact.toml --reference-precision quad \
-  --dt 1e-4 --levels 2 --out "$tmp/wpb" 2>&1)
-[[ $? == 1 && $out == *"tube_support_impact.toml:"*"contact[1]: a gap support is not in the extended/quad model"* ]] ||
-  fail "work-precision with a quad reference on a gap-support scene not refused: $out"
+out=$("$flexref" work-precision "$tmp/two.toml" --reference-precision quad \
+  --dt 1e-3 --levels 2 --out "$tmp/wpb" 2>&1)
+[[ $? == 1 && $out == *"two.toml:"*"body[2]: a flexible body with another body is not in the extended/quad model"* ]] ||
+  fail "work-precision with a quad reference on an unsupported scene not refused: $out"
 [[ -e "$tmp/wpb" ]] && fail "a refused work-precision left its output folder"
 
 # The exact solution in quad (torque-free free_spin): 36 digits, solver and precision recorded;

@@ -204,15 +204,27 @@ TEST_CASE("double, extended and quad agree in that order with honest estimates",
 }
 
 TEST_CASE("scenes beyond the extended/quad model are refused naming the part", "[precision]") {
-  const auto message = [](const std::string& file) {
+  const auto message = [](const auto& scene) {
     try {
-      check_supported(spec_of(file));
+      if constexpr (std::is_same_v<std::decay_t<decltype(scene)>, scene::SceneSpec>) {
+        check_supported(scene);
+      } else {
+        check_supported(spec_of(scene));
+      }
     } catch (const std::invalid_argument& e) {
       return std::string(e.what());
     }
     return std::string("accepted");
   };
-  CHECK(message("scenes/tube_support_impact.toml").find("a gap support") != std::string::npos);
+  scene::SceneSpec two = spec_of("scenes/flexible_spinner.toml");
+  two.bodies.push_back(spec_of("scenes/free_spin.toml").bodies.front());
+  CHECK(message(two).find("a flexible body with another body") != std::string::npos);
+  scene::SceneSpec sphere = spec_of("scenes/tube_support_impact.toml");
+  sphere.contacts.front().gap.reset();
+  sphere.contacts.front().pairs.push_back(
+      spec_of("scenes/bouncing_ball.toml").contacts.front().pairs.front());
+  CHECK(message(sphere).find("a sphere contact") != std::string::npos);
+  CHECK(message(spec_of("scenes/tube_support_impact.toml")) == "accepted");
   CHECK(message("scenes/coulomb_wall.toml") == "accepted");
   CHECK(message("scenes/double_pendulum_impacts.toml") == "accepted");
   CHECK(message("scenes/bouncing_ball.toml") == "accepted");

@@ -13,7 +13,19 @@ TEST_CASE("double, extended and quad agree in that order over whole scenes", "[p
 
 TEST_CASE("double, extended and quad agree in that order over whole flexible scenes",
           "[precision]") {
-  for (const char* file : kFlexibleScenes) check_precision_order(file, 1e9);
+  for (const std::string file : kFlexibleScenes) {
+    // spin_up_beam_4 and _6 spin the coupled model (no geometric stiffening) above its first
+    // bending frequency: their tip deflection grows exponentially, to 1e41 m at 30 s for _6
+    // (the scenes' header), so no absolute estimate certifies them and the double reference
+    // refuses to. Over the whole scene they are checked under LTE, which keeps the fixed-frame
+    // frequencies and stays bounded; the unit test checks them coupled over 0.5 s, before the
+    // growth.
+    const bool diverges_coupled =
+        file == "scenes/spin_up_beam_4.toml" || file == "scenes/spin_up_beam_6.toml";
+    check_precision_order(
+        file, 1e9,
+        diverges_coupled ? core::FlexibleFormulation::kLte : core::FlexibleFormulation::kCoupled);
+  }
 }
 
 }  // namespace
