@@ -134,6 +134,8 @@ int figure_command(const FigureCommandOptions& options) {
   // reference; "auto" repeats the figure against a quad reference when the double one leaves a
   // curve uncertified and the scene allows it.
   const std::string& wanted = options.reference_precision;
+  // The schemes against the model before a high-precision reference (quad: minutes).
+  for (const std::string& s : settings.schemes) (void)lie::make_stepper(s, model);
   // The study file's solver and rtol are the double reference's.
   if (wanted == "extended" || wanted == "quad") {
     settings.given_reference =

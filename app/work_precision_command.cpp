@@ -45,6 +45,8 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   // --reference-precision (docs/precision.md), as in converge: "auto" repeats the study with a
   // quad reference when the double one leaves runs uncertified and the scene allows it.
   const std::string& wanted = app_options.reference_precision;
+  // The schemes against the model before a high-precision reference (quad: minutes).
+  studies::check_work_precision_inputs(model, times, study);
   study.given_reference = high_precision_study_reference(
       scene, times, wanted, app_options.metric, app_options.reference_solver, "work-precision");
   studies::WorkPrecisionResult result = studies::run_work_precision(model, times, study);

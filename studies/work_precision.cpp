@@ -30,8 +30,42 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-void validate(const core::Model& model, const std::vector<double>& output_times,
-              const WorkPrecisionOptions& options) {
+/// Integrates `repeats` times and returns the last trajectory; `cpu_seconds` is the minimum
+/// thread CPU time of the `integrate` calls alone.
+template <typename Integrate>
+core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integrate) {
+  cpu_seconds = kInf;
+  core::Trajectory trajectory;
+  for (int r = 0; r < repeats; ++r) {
+    const double start = thread_cpu_seconds();
+    trajectory = integrate();
+    cpu_seconds = std::min(cpu_seconds, thread_cpu_seconds() - start);
+  }
+  return trajectory;
+}
+
+/// Every field of a run, and an external run's output file from a rank other than 0.
+SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes) {
+  require_codec_size<WorkPrecisionRun, 128>();
+  const auto fields = [](auto& io, auto& r) {
+    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
+  };
+  return {[&runs, &kept_bytes, fields](int i, SlotWriter& w) {
+            auto put = [&w](const auto&... x) { (w.put(x), ...); };
+            fields(put, runs[static_cast<std::size_t>(i)]);
+            w.put(kept_bytes[static_cast<std::size_t>(i)]);
+          },
+          [&runs, &kept_bytes, fields](int i, SlotReader& r) {
+            auto get = [&r](auto&... x) { (r.get(x), ...); };
+            fields(get, runs[static_cast<std::size_t>(i)]);
+            kept_bytes[static_cast<std::size_t>(i)] = r.get_string();
+          }};
+}
+
+}  // namespace
+
+void check_work_precision_inputs(const core::Model& model, const std::vector<double>& output_times,
+                                 const WorkPrecisionOptions& options) {
   if (!(options.h0 > 0.0) || !std::isfinite(options.h0)) {
     throw std::invalid_argument("--dt must be positive");
   }
@@ -75,40 +109,6 @@ void validate(const core::Model& model, const std::vector<double>& output_times,
   }
 }
 
-/// Integrates `repeats` times and returns the last trajectory; `cpu_seconds` is the minimum
-/// thread CPU time of the `integrate` calls alone.
-template <typename Integrate>
-core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integrate) {
-  cpu_seconds = kInf;
-  core::Trajectory trajectory;
-  for (int r = 0; r < repeats; ++r) {
-    const double start = thread_cpu_seconds();
-    trajectory = integrate();
-    cpu_seconds = std::min(cpu_seconds, thread_cpu_seconds() - start);
-  }
-  return trajectory;
-}
-
-/// Every field of a run, and an external run's output file from a rank other than 0.
-SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes) {
-  require_codec_size<WorkPrecisionRun, 128>();
-  const auto fields = [](auto& io, auto& r) {
-    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
-  };
-  return {[&runs, &kept_bytes, fields](int i, SlotWriter& w) {
-            auto put = [&w](const auto&... x) { (w.put(x), ...); };
-            fields(put, runs[static_cast<std::size_t>(i)]);
-            w.put(kept_bytes[static_cast<std::size_t>(i)]);
-          },
-          [&runs, &kept_bytes, fields](int i, SlotReader& r) {
-            auto get = [&r](auto&... x) { (r.get(x), ...); };
-            fields(get, runs[static_cast<std::size_t>(i)]);
-            kept_bytes[static_cast<std::size_t>(i)] = r.get_string();
-          }};
-}
-
-}  // namespace
-
 std::vector<double> default_target_errors() { return {1e-2, 1e-4, 1e-6, 1e-8}; }
 
 std::vector<double> reference_target_errors() { return {1e-4, 1e-6, 1e-8, 1e-10, 1e-12}; }
@@ -137,7 +137,7 @@ std::vector<CheapestMethod> cheapest_methods(const std::vector<WorkPrecisionRun>
 WorkPrecisionResult run_work_precision(const core::Model& model,
                                        const std::vector<double>& output_times,
                                        const WorkPrecisionOptions& options) {
-  validate(model, output_times, options);
+  check_work_precision_inputs(model, output_times, options);
   WorkPrecisionResult result;
   result.options = options;
 

@@ -85,6 +85,13 @@ std::vector<double> reference_target_errors();
 std::vector<CheapestMethod> cheapest_methods(const std::vector<WorkPrecisionRun>& runs,
                                              const std::vector<double>& targets);
 
+/// Throws std::invalid_argument, before any work, for bad options: an unknown scheme or solver, a
+/// scheme that refuses the model (the coupled model of a flexible body), a level whose step does
+/// not fit the output grid. run_work_precision calls it before its reference; a command that
+/// computes a reference itself (--reference-precision) calls it first.
+void check_work_precision_inputs(const core::Model& model, const std::vector<double>& output_times,
+                                 const WorkPrecisionOptions& options);
+
 /// Runs the study; throws std::invalid_argument for bad options and like the solvers when the
 /// reference fails. A failing scheme or solver run is recorded as "failed: why".
 WorkPrecisionResult run_work_precision(const core::Model& model,

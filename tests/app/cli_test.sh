@@ -465,11 +465,17 @@ out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 
   --tolerances 1e-6 --repeats 1 --reference-precision extended --out "$tmp/wpx" >/dev/null 2>&1 &&
   grep -q '^reference_precision = "extended"' "$tmp/wpx/study.toml" ||
   fail "work-precision --reference-precision extended did not record its reference"
-out=$("$flexref" work-precision "$tmp/two.toml" --reference-precision quad \
+out=$("$flexref" work-precision "$tmp/two.toml" --model lte --reference-precision quad \
   --dt 1e-3 --levels 2 --out "$tmp/wpb" 2>&1)
 [[ $? == 1 && $out == *"two.toml:"*"body[2]: a flexible body with another body is not in the extended/quad model"* ]] ||
   fail "work-precision with a quad reference on an unsupported scene not refused: $out"
 [[ -e "$tmp/wpb" ]] && fail "a refused work-precision left its output folder"
+# A scheme that refuses the model is refused before the quad reference (which takes a minute).
+out=$("$flexref" work-precision scenes/flexible_spinner.toml --schemes c1 --reference-precision quad \
+  --levels 1 --dt 1e-3 --out "$tmp/wpc" 2>&1)
+[[ $? == 1 && $out == *"c1: the hybrid schemes integrate the LTE model"* &&
+  $out != *"reference (odeint"* ]] ||
+  fail "work-precision computed the quad reference before refusing C1 on the coupled model: $out"
 
 # The exact solution in quad (torque-free free_spin): 36 digits, solver and precision recorded;
 # a scene without one is refused with the reason.
