@@ -118,7 +118,7 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
     for (Eigen::Index k = 0; k < 3; ++k) y[10 + static_cast<std::size_t>(k)] = w_B(k);
     std::vector<std::string> text;
     std::vector<double> values{t};
-    for (const S& v : model.output_row(y)) {
+    for (const S& v : model.output_row(S(t), y)) {
       if (!static_cast<bool>(isfinite(v))) {
         throw std::invalid_argument("exact solution (" + kind +
                                     "): a non-finite value at t = " + std::to_string(t));

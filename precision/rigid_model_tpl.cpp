@@ -82,8 +82,8 @@ template <typename S>
 RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spec.g_W)) {
   const auto refuse = [&](const scene::SpecSource& source, const std::string& what) {
     refuse_part(spec, source, what,
-                "yet (docs/precision.md: rigid free and pivot bodies, gravity, applied forces and "
-                "torques, point-charge potentials, bushings, sphere contacts)");
+                "yet (docs/precision.md: rigid free, pivot and prescribed bodies, gravity, applied "
+                "forces and torques, point-charge potentials, bushings, sphere contacts)");
   };
   for (const scene::ContactSpec& c : spec.contacts) {
     if (c.gap) refuse(c.source, "a gap support");
@@ -91,20 +91,23 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
   for (const scene::BodySpec& b : spec.bodies) {
     const core::RigidBodyDescription& d = b.description;
     if (d.flexible) refuse(b.source, "a flexible body");
-    if (d.motion == core::MotionKind::kPrescribed) refuse(b.source, "prescribed motion");
     RigidBodyTpl<S> body;
     body.name = d.name;
     body.pivot = d.motion == core::MotionKind::kPivot;
+    body.prescribed = d.motion == core::MotionKind::kPrescribed;
+    body.law = d.prescribed;
+    body.axis_W = to_s<S>(d.prescribed.axis_W);
     body.mass = S(d.mass);
     const Vec3<S> p_BoBcm_B = to_s<S>(d.p_BoBcm_B);
-    body.p_BoBr_B = body.pivot ? to_s<S>(d.p_BoPivot_B) : p_BoBcm_B;
+    // Br: Bcm (free), the pivot, or Bo, fixed on the axis (prescribed; core/body.cpp).
+    body.p_BoBr_B = body.pivot ? to_s<S>(d.p_BoPivot_B) : body.prescribed ? Vec3<S>{} : p_BoBcm_B;
     for (std::size_t i = 0; i < 3; ++i) body.c_B[i] = p_BoBcm_B[i] - body.p_BoBr_B[i];
     for (std::size_t i = 0; i < 3; ++i) {
       for (std::size_t j = 0; j < 3; ++j)
         body.J_Br_B[i][j] =
             S(d.I_Bcm_B(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)));
     }
-    if (body.pivot) {  // parallel axes: J_Br = J_Bcm + m (|c|² I − c cᵀ)
+    if (body.pivot || body.prescribed) {  // parallel axes: J_Br = J_Bcm + m (|c|² I − c cᵀ)
       const S c2 = dot(body.c_B, body.c_B);
       for (std::size_t i = 0; i < 3; ++i) {
         for (std::size_t j = 0; j < 3; ++j) {
@@ -112,13 +115,15 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
         }
       }
     }
-    body.J_Br_B_inv = inverse(body.J_Br_B);
+    // A prescribed body's J_Br is never inverted (its α̅ is the law's).
+    if (!body.prescribed) body.J_Br_B_inv = inverse(body.J_Br_B);
     {
       using std::sqrt;
       const core::BodyInitialState& init = d.initial;
       Quat<S> q{S(init.theta_WB(0)), S(init.theta_WB(1)), S(init.theta_WB(2)), S(init.theta_WB(3))};
       const S norm = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
       for (S& x : q) x /= norm;
+      body.theta0 = q;
       const Mat3<S> A = rotation_matrix(q);
       const Vec3<S> w = to_s<S>(init.w_WB_B);
       const Vec3<S> r_W = multiply(A, body.p_BoBr_B);
@@ -128,8 +133,9 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
       for (std::size_t k = 0; k < 3; ++k) {
         const std::size_t uk = k;
         body.initial[uk] = p0[k] + r_W[k];  // p_WBr = p_WBo + A p_BoBr
-        body.initial[7 + uk] =
-            body.pivot ? S(0) : v0[k] + u_W[k];  // v_WBr = v_WBo + A (ω̄ × p_BoBr)
+        body.initial[7 + uk] = body.pivot || body.prescribed
+                                   ? S(0)
+                                   : v0[k] + u_W[k];  // v_WBr = v_WBo + A (ω̄ × p_BoBr)
         body.initial[10 + uk] = w[k];
       }
       for (std::size_t k = 0; k < 4; ++k) body.initial[3 + k] = q[k];
@@ -218,7 +224,51 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
       }
     }
   }
+  for (const AppliedLoadTpl<S>& l : loads_) l.profile.append_discontinuities(discontinuities_);
+  for (RigidBodyTpl<S>& b : bodies_) {
+    if (!b.prescribed) continue;
+    has_prescribed_ = true;
+    prescribed_pose(b, S(0), b.initial.data());  // the law's pose and rate at t = 0
+    if (b.law.law.kind == core::AngleLaw::Kind::kSpinUp) {
+      discontinuities_.push_back(b.law.law.spin_up_time);
+    }
+  }
+  std::sort(discontinuities_.begin(), discontinuities_.end());
+  discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
+                         discontinuities_.end());
+  drive_torque_.assign(bodies_.size(), S(0));
   energy0_ = energy(initial_state());
+}
+
+template <typename S>
+void RigidModelTpl<S>::prescribed_pose(const RigidBodyTpl<S>& b, S t, S* slots) {
+  // core::Model::apply_prescribed_motion in S: p_WBr = p_WBo (Br = Bo), v = 0,
+  // θ = q(φ a_W) ⊗ θ0, ω̄ = φ̇ Aᵀ a_W (core/prescribed_motion.hpp).
+  using std::cos;
+  using std::sin;
+  const S phi = b.law.law.template angle_in<S>(t);
+  const S half_sin = sin(S(0.5) * phi);
+  const Quat<S> q_axis{cos(S(0.5) * phi), half_sin * b.axis_W[0], half_sin * b.axis_W[1],
+                       half_sin * b.axis_W[2]};
+  const Quat<S> theta = quaternion_multiply(q_axis, b.theta0);
+  const Vec3<S> axis_B = multiply_transposed(rotation_matrix(theta), b.axis_W);
+  const S rate = b.law.law.template angular_rate_in<S>(t);
+  for (std::size_t k = 0; k < 4; ++k) slots[3 + k] = theta[k];
+  for (std::size_t k = 0; k < 3; ++k) {
+    slots[k] = b.initial[k];  // p_WBr = p_WBo, fixed
+    slots[7 + k] = S(0);
+    slots[10 + k] = rate * axis_B[k];
+  }
+}
+
+template <typename S>
+const std::vector<S>& RigidModelTpl<S>::with_prescribed(S t, const std::vector<S>& y) const {
+  if (!has_prescribed_) return y;
+  if (&y != &y_prescribed_) y_prescribed_.assign(y.begin(), y.end());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (bodies_[i].prescribed) prescribed_pose(bodies_[i], t, &y_prescribed_[kBodyStateSize * i]);
+  }
+  return y_prescribed_;
 }
 
 template <typename S>
@@ -297,7 +347,13 @@ typename RigidModelTpl<S>::PairState RigidModelTpl<S>::pair_state(const ContactP
 }
 
 template <typename S>
-void RigidModelTpl<S>::switching_functions(const std::vector<S>& y, std::vector<S>& values) const {
+void RigidModelTpl<S>::switching_functions(S t, const std::vector<S>& y,
+                                           std::vector<S>& values) const {
+  switching_values(with_prescribed(t, y), values);
+}
+
+template <typename S>
+void RigidModelTpl<S>::switching_values(const std::vector<S>& y, std::vector<S>& values) const {
   std::array<Mat3<S>, 8> small_A{};
   std::vector<Mat3<S>> big_A;
   Mat3<S>* A = small_A.data();
@@ -317,11 +373,7 @@ void RigidModelTpl<S>::switching_functions(const std::vector<S>& y, std::vector<
 
 template <typename S>
 std::vector<double> RigidModelTpl<S>::discontinuities() const {
-  std::vector<double> times;
-  for (const AppliedLoadTpl<S>& l : loads_) l.profile.append_discontinuities(times);
-  std::sort(times.begin(), times.end());
-  times.erase(std::unique(times.begin(), times.end()), times.end());
-  return times;
+  return discontinuities_;
 }
 
 template <typename S>
@@ -334,8 +386,9 @@ std::vector<S> RigidModelTpl<S>::initial_state() const {
 }
 
 template <typename S>
-void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, S t,
+void RigidModelTpl<S>::derivative(const std::vector<S>& y_in, std::vector<S>& dydt, S t,
                                   double t_segment, std::vector<S>* switching) const {
+  const std::vector<S>& y = with_prescribed(t, y_in);
   const std::size_t n = bodies_.size();
   // Loads on each body: world force through Bcm-independent points, body-frame torque about Br.
   std::array<Vec3<S>, 8> small_force{};
@@ -483,6 +536,21 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt,
     const RigidBodyTpl<S>& b = bodies_[i];
     const std::size_t o = kBodyStateSize * i;
     const Vec3<S> w{y[o + 10], y[o + 11], y[o + 12]};
+    if (b.prescribed) {
+      // Its slots do not move; the drive supplies τ_d,B = J_Br α̅ + ω̄ × J_Br ω̄ − Γ_Br,B
+      // (core::Model::driving_torque), α̅ = φ̈ Aᵀ a_W the law's, along a_W in the world.
+      for (std::size_t k = 0; k < kBodyStateSize; ++k) dydt[o + k] = S(0);
+      const Vec3<S> axis_B = multiply_transposed(A[i], b.axis_W);
+      const S phi_dd = b.law.law.template angular_acceleration_in<S>(t);
+      const Vec3<S> J_alpha =
+          multiply(b.J_Br_B, Vec3<S>{phi_dd * axis_B[0], phi_dd * axis_B[1], phi_dd * axis_B[2]});
+      const Vec3<S> gyro = cross(w, multiply(b.J_Br_B, w));
+      const Vec3<S> tau_B{J_alpha[0] + gyro[0] - torque_B[i][0],
+                          J_alpha[1] + gyro[1] - torque_B[i][1],
+                          J_alpha[2] + gyro[2] - torque_B[i][2]};
+      drive_torque_[i] = dot(axis_B, tau_B);  // a_W · A τ = (Aᵀ a_W) · τ
+      continue;
+    }
     // θ̇ = ½ θ ⊗ (0, ω̄) (model.md eq. (2)).
     const S e0 = y[o + 3], e1 = y[o + 4], e2 = y[o + 5], e3 = y[o + 6];
     const S h(0.5);
@@ -557,8 +625,14 @@ S RigidModelTpl<S>::energy(const std::vector<S>& y) const {
 }
 
 template <typename S>
-std::vector<S> RigidModelTpl<S>::output_row(const std::vector<S>& y,
+std::vector<S> RigidModelTpl<S>::output_row(S t, const std::vector<S>& y_in,
                                             const std::vector<double>& impacts) const {
+  if (has_prescribed_) {
+    // The drive torques at (t, y) on the right-limit branch at t (core::Model::driving_torque).
+    std::vector<S> rates(y_in.size());
+    derivative(y_in, rates, t, static_cast<double>(t));
+  }
+  const std::vector<S>& y = with_prescribed(t, y_in);
   std::vector<S> row;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const RigidBodyTpl<S>& b = bodies_[i];
@@ -579,6 +653,7 @@ std::vector<S> RigidModelTpl<S>::output_row(const std::vector<S>& y,
       const Vec3<S> q = multiply(A, p);
       for (std::size_t k = 0; k < 3; ++k) row.push_back(y[o + k] + q[k]);
     }
+    if (b.prescribed) row.push_back(drive_torque_[i]);
   }
   const S e = energy(y);
   row.push_back(e);

@@ -13,7 +13,12 @@
 /// v_WBr (3), ω̄ = w_WB_B (3). Br is Bcm for a free body and the pivot for a pivot body.
 /// Equations (model.md eqs. (3)–(6) for a rigid body about Br):
 ///   ṗ = v;  θ̇ = ½ θ ⊗ (0, ω̄);  m a_Bcm = F_W;  J_Br ω̄̇ + ω̄ × J_Br ω̄ = Γ_Br,B,
-/// with a pivot body's p and v fixed (v = 0) and J_Br its inertia about the pivot.
+/// with a pivot body's p and v fixed (v = 0) and J_Br its inertia about the pivot. A prescribed
+/// body (core/prescribed_motion.hpp) keeps its 13 slots, which do not move (ẏ = 0): wherever
+/// the model reads them at a time t they are its angle law's pose (Br = Bo fixed on the axis,
+/// θ(t) = q(φ(t) a_W) ⊗ θ0, v = 0, ω̄ = φ̇ Aᵀ a_W), and its drive torque is
+/// a_W · A (J_Br α̅ + ω̄ × J_Br ω̄ − Γ_Br,B) with the law's α̅ = φ̈ Aᵀ a_W (core::Model::
+/// driving_torque).
 #include <array>
 #include <cmath>
 #include <string>
@@ -22,6 +27,7 @@
 #include "contact/bushing.hpp"
 #include "contact/contact_laws.hpp"
 #include "core/point_charge_potential.hpp"
+#include "core/prescribed_motion.hpp"
 #include "scene/scene_spec.hpp"
 
 namespace flexref::precision {
@@ -40,6 +46,10 @@ template <typename S>
 struct RigidBodyTpl {
   std::string name;
   bool pivot = false;
+  bool prescribed = false;
+  core::PrescribedRotation law;  ///< a prescribed body's axis and angle law (the double data)
+  Vec3<S> axis_W{};              ///< its unit axis in S
+  Quat<S> theta0{};              ///< its initial attitude, normalized in S
   S mass = 0;
   Vec3<S> p_BoBr_B{};  ///< Br from the frame origin
   Vec3<S> c_B{};       ///< Bcm relative to Br (zero for a free body)
@@ -97,37 +107,34 @@ class RigidModelTpl {
   /// The wear channel of a contact pair, −1 for a pair of an unnamed contact.
   int wear_channel_of_pair(int pair) const { return pair_channel_[static_cast<std::size_t>(pair)]; }
   const std::vector<RigidBodyTpl<S>>& bodies() const { return bodies_; }
-  /// Times in (t0, t_end] where a load profile switches (integrators stop on them).
+  /// Times in (t0, t_end] where a load profile switches, and the end of a spin-up law (its φ⃛
+  /// jumps): integrators stop on them.
   std::vector<double> discontinuities() const;
 
   std::vector<S> initial_state() const;
   /// ẏ = f(t, y) on the load branch active at t_segment (core/time_profile.hpp). With
-  /// `switching`, also switching_functions(y) from the same evaluation's contact geometry.
+  /// `switching`, also switching_functions(t, y) from the same evaluation's contact geometry.
+  /// Uses the model's scratch when it has prescribed bodies: one evaluation at a time.
   void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment,
                   std::vector<S>* switching = nullptr) const;
-  /// Kinetic + gravitational + potentials' + contact potential energy (the `energy` column).
+  /// Kinetic + gravitational + potentials' + contact potential energy (the `energy` column) at
+  /// a state whose prescribed bodies' slots hold their pose (with_prescribed).
   S energy(const std::vector<S>& y) const;
   /// Two per contact pair, in order: the gap g (the pair pushes while g < 0; its sign change is
   /// an onset or a release) and the unclamped law's value (NormalLaw::clamp_function; its sign
   /// change inside the contact is where the clamp F ≥ 0 starts or stops acting).
   int switching_function_count() const { return 2 * static_cast<int>(contacts_.size()); }
-  void switching_functions(const std::vector<S>& y, std::vector<S>& values) const;
-  /// The same at time t (no gap of this model depends on t explicitly): the signature
-  /// FlexibleModelTpl's prescribed bodies need.
-  void switching_functions(S /*t*/, const std::vector<S>& y, std::vector<S>& values) const {
-    switching_functions(y, values);
-  }
+  void switching_functions(S t, const std::vector<S>& y, std::vector<S>& values) const;
   /// The trajectory_columns row at (t, y) after `t`: per body p_WBo, θ, v_WBo, ω̄, tracked
-  /// points; the energy; when the model dissipates W_d, (W_a), E − E(0) + W_d − W_a; per wear
-  /// channel Σ F_n, the slip speed of its most loaded pair, its wear work and `impacts` (the
-  /// caller's onset counts, one per channel; empty: none yet).
-  std::vector<S> output_row(const std::vector<S>& y, const std::vector<double>& impacts = {}) const;
-  /// The same (no output of this model depends on t explicitly): the signature
-  /// FlexibleModelTpl's prescribed bodies need.
-  std::vector<S> output_row(S /*t*/, const std::vector<S>& y,
-                            const std::vector<double>& impacts = {}) const {
-    return output_row(y, impacts);
-  }
+  /// points (and a prescribed body's drive torque); the energy; when the model dissipates W_d,
+  /// (W_a), E − E(0) + W_d − W_a; per wear channel Σ F_n, the slip speed of its most loaded
+  /// pair, its wear work and `impacts` (the caller's onset counts, one per channel; empty: none
+  /// yet).
+  std::vector<S> output_row(S t, const std::vector<S>& y,
+                            const std::vector<double>& impacts = {}) const;
+  /// y with every prescribed body's slots set to its law's pose at t (y itself when there is
+  /// none; else the model's scratch, valid until the next call).
+  const std::vector<S>& with_prescribed(S t, const std::vector<S>& y) const;
 
  private:
   std::vector<RigidBodyTpl<S>> bodies_;
@@ -154,7 +161,14 @@ class RigidModelTpl {
   int integral_count_ = 0;
   std::vector<std::string> wear_channels_;
   std::vector<int> pair_channel_;
+  std::vector<double> discontinuities_;
+  bool has_prescribed_ = false;
+  mutable std::vector<S> y_prescribed_;  ///< with_prescribed's scratch
+  mutable std::vector<S> drive_torque_;  ///< per body, of the last derivative (prescribed only)
   S energy0_ = S(0);
+  void switching_values(const std::vector<S>& y, std::vector<S>& values) const;
+  /// Writes a prescribed body's 13 slots at t: p_WBr (its initial one), θ, v = 0, ω̄.
+  static void prescribed_pose(const RigidBodyTpl<S>& b, S t, S* slots);
 
   /// Geometry and relative motion of a pair (contact/contact.hpp's formulas).
   struct PairState {

@@ -5,6 +5,7 @@
 /// the output row. The laws are shared templates, but the assembly (kinematics of the ends and
 /// contact points, forces into Newton–Euler about Br) is written independently on each side,
 /// so a sign or lever-arm error in either shows up as an O(1) difference.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "core/output_times.hpp"
 #include "precision/rigid_model_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
@@ -19,6 +21,20 @@
 
 namespace flexref::precision {
 namespace {
+
+/// double_pendulum_impacts with its upper rod driven about the y axis through its centre (Bo) by
+/// a spin-up law to 3 rad/s over 0.2 s, instead of swinging on its pivot: a prescribed body at a
+/// joint's end, under gravity (its centre of mass off the axis would load the drive too).
+scene::SceneSpec driven_double_pendulum() {
+  scene::SceneSpec spec = spec_of("scenes/double_pendulum_impacts.toml");
+  core::RigidBodyDescription& d = spec.bodies.front().description;
+  d.motion = core::MotionKind::kPrescribed;
+  d.prescribed.axis_W = Eigen::Vector3d::UnitY();
+  d.prescribed.law.kind = core::AngleLaw::Kind::kSpinUp;
+  d.prescribed.law.rate = 3.0;          // rad/s
+  d.prescribed.law.spin_up_time = 0.2;  // s
+  return spec;
+}
 
 TEST_CASE("contacts, bushings and potentials of the generic model agree with core::Model",
           "[precision]") {
@@ -30,9 +46,10 @@ TEST_CASE("contacts, bushings and potentials of the generic model agree with cor
   for (const char* file :
        {"scenes/pendulum_on_sliding_support.toml", "scenes/double_pendulum_impacts.toml",
         "scenes/coulomb_wall.toml", "scenes/sliding_block.toml", "scenes/top_on_plane.toml",
-        "scenes/tippe_top.toml", "scenes/bouncing_ball.toml"}) {
+        "scenes/tippe_top.toml", "scenes/bouncing_ball.toml", "driven"}) {
     CAPTURE(file);
-    scene::SceneSpec spec = spec_of(file);
+    const std::string name = file;
+    scene::SceneSpec spec = name == "driven" ? driven_double_pendulum() : spec_of(file);
     for (std::size_t c = 0; c < spec.contacts.size(); ++c) {
       spec.contacts[c].name = "c" + std::to_string(c);  // wear channels on every contact
     }
@@ -64,11 +81,17 @@ TEST_CASE("contacts, bushings and potentials of the generic model agree with cor
         s.v_WBr = Eigen::Vector3d(y[o + 7], y[o + 8], y[o + 9]);
         s.w_WB_B = Eigen::Vector3d(y[o + 10], y[o + 11], y[o + 12]);
       }
+      // A prescribed body is where its law puts it (its slots of y are ignored).
+      model.apply_prescribed_motion(0.1, state);
       std::vector<double> dydt(y.size());
       model.compute_accelerations(core::LoadContext{0.1, 0.1}, state, ws, acc);
       tpl.derivative(y, dydt, 0.1, 0.1);
       for (int i = 0; i < n; ++i) {
         const auto o = static_cast<std::size_t>(kBodyStateSize * i);
+        if (model.body(i).is_prescribed()) {
+          for (std::size_t k = 0; k < 13; ++k) CHECK(dydt[o + k] == 0.0);
+          continue;
+        }
         const double scale = std::max({1.0, acc[static_cast<std::size_t>(i)].a_WBr.norm(),
                                        acc[static_cast<std::size_t>(i)].alpha_WB_B.norm()});
         for (int k = 0; k < 3; ++k) {
@@ -94,7 +117,7 @@ TEST_CASE("contacts, bushings and potentials of the generic model agree with cor
       trajectory.times = {0.1};
       trajectory.states = {state};
       const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
-      const std::vector<double> row = tpl.output_row(y);
+      const std::vector<double> row = tpl.output_row(0.1, y);
       REQUIRE(row.size() + 1 == table.columns.size());
       for (std::size_t c = 0; c < row.size(); ++c) {
         const double expected = table.rows[0][c + 1];
@@ -111,6 +134,33 @@ TEST_CASE("double, extended and quad agree in that order on a scene with joints 
   // double_pendulum_impacts over 0.1 s (its stiff bushings make quad extrapolation slow: about
   // 30 s of quad per simulated second on one core, docs/precision.md).
   check_precision_order("scenes/double_pendulum_impacts.toml", 0.1);
+}
+
+TEST_CASE("double, extended and quad agree in that order with a prescribed rigid body",
+          "[precision]") {
+  // The driven double pendulum over 0.3 s: the spin-up (its φ⃛ jumps at 0.2 s, a stop of the
+  // integrators) and after; the drive torque is among the compared columns' sources.
+  check_precision_order(driven_double_pendulum(), 0.3);
+  // The drive torque, from the joint's stiff force (k = 1e6 N/m): extended (rtol 1e-16) and
+  // quad agree to what extended's state errors (~1e-15 relative) give through the joint, some
+  // 1e-15 m × 1e6 N/m × 0.5 m ≈ 1e-9 N·m on torques of ~10 N·m; the bound 1e-8 relative.
+  scene::SceneSpec spec = driven_double_pendulum();
+  spec.end_time = 0.3;
+  const std::vector<double> times = core::output_times(spec.end_time, spec.output_step);
+  const HighPrecisionRun quad = solve_high_precision(spec, times, Precision::kQuad, 1e-26);
+  const HighPrecisionRun ext = solve_high_precision(spec, times, Precision::kExtended, 1e-16);
+  const auto column = static_cast<std::size_t>(
+      std::find(quad.columns.begin(), quad.columns.end(), "rod1.drive_torque") -
+      quad.columns.begin());
+  REQUIRE(column < quad.columns.size());
+  double largest = 0.0, worst = 0.0;
+  for (std::size_t r = 0; r < quad.table.rows.size(); ++r) {
+    largest = std::max(largest, std::abs(quad.table.rows[r][column]));
+    worst = std::max(worst, std::abs(quad.table.rows[r][column] - ext.table.rows[r][column]));
+  }
+  INFO("largest drive torque " << largest << " N m, extended vs quad " << worst);
+  CHECK(largest > 1.0);  // the drive works: the rods' weight and the spin-up load it
+  CHECK(worst <= 1e-8 * largest);
 }
 
 }  // namespace

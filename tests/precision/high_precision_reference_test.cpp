@@ -93,7 +93,7 @@ TEST_CASE("the generic model agrees with core::Model at random states", "[precis
       trajectory.times = {t};
       trajectory.states = {state};
       const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
-      const std::vector<double> row = tpl.output_row(y);
+      const std::vector<double> row = tpl.output_row(t, y);
       REQUIRE(row.size() + 1 == table.columns.size());
       for (std::size_t c = 0; c < row.size(); ++c) {
         CAPTURE(table.columns[c + 1]);

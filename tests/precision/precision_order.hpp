@@ -42,11 +42,10 @@ inline constexpr const char* kFlexibleScenes[] = {"scenes/flexible_spinner.toml"
 /// that order: the extended reference is within its own estimate of quad, the double one within
 /// its estimate, and quad's estimate is below the extended reference's distance to it.
 inline void check_precision_order(
-    const std::string& file, double end_time,
+    scene::SceneSpec spec, double end_time,
     core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled) {
-  CAPTURE(file);
+  CAPTURE(spec.name);
   CAPTURE(core::to_string(formulation));
-  scene::SceneSpec spec = spec_of(file);
   spec.end_time = std::min(spec.end_time, end_time);
   const std::vector<double> times = core::output_times(spec.end_time, spec.output_step);
   HighPrecisionRun quad, ext;
@@ -71,6 +70,14 @@ inline void check_precision_order(
   INFO("double estimate " << d.estimate.value << ", double vs quad " << double_vs_quad);
   CHECK(double_vs_quad <= d.estimate.value);
   CHECK(ext_vs_quad < double_vs_quad);
+}
+
+/// The same for a bundled scene file.
+inline void check_precision_order(
+    const std::string& file, double end_time,
+    core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled) {
+  CAPTURE(file);
+  check_precision_order(spec_of(file), end_time, formulation);
 }
 
 }  // namespace flexref::precision
