@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "contact/gap_support_tpl.hpp"
 #include "core/body.hpp"
 
 namespace flexref::contact {
@@ -48,23 +49,15 @@ GapSupport::GapSupport(int body, const Eigen::Vector3d& p_BoN_B, core::NodeAttac
           "friction regularization speed must be > 0");
   require(effective_mass_ >= 0.0 && std::isfinite(effective_mass_),
           "gap support effective mass must be >= 0");
+  geometry_in_s_ = geometry_in<double>();
 }
 
 GapPoint GapSupport::gap_point(std::span<const core::BodyKinematics> bodies) const {
   GapPoint c;
   c.p_WN = core::attached_position_W(bodies[static_cast<std::size_t>(body_)], p_BoN_B_, node_);
-  const Eigen::Vector3d r = c.p_WN - geometry_.p_WS;
-  if (geometry_.kind == GapSupportGeometry::Kind::kCircular) {
-    const Eigen::Vector3d d = r - geometry_.a_W.dot(r) * geometry_.a_W;  // (I − a aᵀ) r
-    const double distance = d.norm();
-    c.gap = geometry_.clearance - distance;
-    // On the axis there is no direction, and no force (g = c > 0).
-    c.n_W = distance > 0.0 ? Eigen::Vector3d(-d / distance) : geometry_.m_W;
-  } else {
-    const double s = geometry_.m_W.dot(r);
-    c.gap = geometry_.clearance - std::abs(s);
-    c.n_W = s >= 0.0 ? Eigen::Vector3d(-geometry_.m_W) : geometry_.m_W;
-  }
+  const GapPointTpl<double> g = gap_point_tpl<double>(geometry_in_s_, c.p_WN);
+  c.gap = g.gap;
+  c.n_W = g.n_W;
   return c;
 }
 
@@ -72,17 +65,14 @@ GapSupport::Evaluation GapSupport::evaluate(std::span<const core::BodyKinematics
   Evaluation e;
   e.point = gap_point(bodies);
   if (e.point.gap >= 0.0) return e;
-  const Eigen::Vector3d& n = e.point.n_W;
   const Eigen::Vector3d v =
       core::attached_velocity_W(bodies[static_cast<std::size_t>(body_)], e.point.p_WN, node_);
-  const double v_n = n.dot(v);
-  e.delta_dot = -v_n;
-  e.v_t_W = v - v_n * n;
-  e.normal = normal_.force(-e.point.gap, e.delta_dot);
-  if (friction_.mu > 0.0 && e.normal.total > 0.0) {
-    e.f_friction_W =
-        -(friction_.mu * e.normal.total * friction_.slip_factor(e.v_t_W.norm())) * e.v_t_W;
-  }
+  const GapLoadTpl<double> load =
+      gap_load_tpl<double>(normal_, friction_, GapPointTpl<double>{e.point.gap, e.point.n_W}, v);
+  e.delta_dot = load.delta_dot;
+  e.v_t_W = load.v_t_W;
+  e.normal = load.normal;
+  e.f_friction_W = load.f_friction_W;
   return e;
 }
 

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "contact/contact_laws.hpp"
+#include "contact/gap_support_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/node_attachment.hpp"
 
@@ -82,6 +83,17 @@ class GapSupport final : public core::ForceElement {
                             std::vector<core::PenaltyMode>& modes) const override;
 
   const GapSupportGeometry& geometry() const { return geometry_; }
+  /// The geometry in S (gap_support_tpl.hpp: the formulas above, written once).
+  template <typename S>
+  GapGeometryTpl<S> geometry_in() const {
+    GapGeometryTpl<S> g;
+    g.circular = geometry_.kind == GapSupportGeometry::Kind::kCircular;
+    g.p_WS = geometry_.p_WS.cast<S>();
+    g.a_W = geometry_.a_W.cast<S>();
+    g.m_W = geometry_.m_W.cast<S>();
+    g.clearance = S(geometry_.clearance);
+    return g;
+  }
   int body() const { return body_; }
   const Eigen::Vector3d& p_BoN_B() const { return p_BoN_B_; }
   const core::NodeAttachment& node() const { return node_; }
@@ -93,6 +105,7 @@ class GapSupport final : public core::ForceElement {
   Eigen::Vector3d p_BoN_B_;
   core::NodeAttachment node_;
   GapSupportGeometry geometry_;
+  GapGeometryTpl<double> geometry_in_s_;
   NormalLaw normal_;
   FrictionLaw friction_;
   double effective_mass_;

@@ -170,12 +170,7 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
     if (g == nullptr) continue;
     Support c;
     c.at = attachment(g->p_BoN_B(), g->node().deforms() ? g->node().node : -1);
-    const contact::GapSupportGeometry& geometry = g->geometry();
-    c.circular = geometry.kind == contact::GapSupportGeometry::Kind::kCircular;
-    c.p_WS = geometry.p_WS.cast<S>();
-    c.a_W = geometry.a_W.cast<S>();
-    c.m_W = geometry.m_W.cast<S>();
-    c.clearance = S(geometry.clearance);
+    c.geometry = g->template geometry_in<S>();
     c.normal = g->normal_law();
     c.friction = g->friction_law();
     if (g->wear_channel_count() > 0) {
@@ -274,51 +269,26 @@ typename FlexibleModelTpl<S>::Vector3 FlexibleModelTpl<S>::attached_offset_W(con
 template <typename S>
 typename FlexibleModelTpl<S>::SupportLoad FlexibleModelTpl<S>::support_load(const Support& c,
                                                                             const Pose& p) const {
-  // GapSupport::gap_point and ::evaluate (contact/gap_support.hpp) in S: the deformed node N,
-  //   circular  d = (I − a aᵀ)(p_WN − p_WS), g = c − |d|, n = −d/|d|;
-  //   planar    s = m·(p_WN − p_WS),        g = c − |s|, n = −sign(s) m;
-  // δ = −g, δ̇ = −n·v_N, F_n n + F_t at N, F_t = −μ F_n s(|v_t|) v_t.
+  // contact/gap_support_tpl.hpp in S at the deformed node N (GapSupport::evaluate's).
   using std::abs;
   using std::sqrt;
   SupportLoad load;
   load.f_W.setZero();
   load.r_W = attached_offset_W(c.at, p);
-  const Vector3 r = p.p_WBr + load.r_W - c.p_WS;
-  Vector3 n_W;
-  if (c.circular) {
-    const Vector3 d = r - c.a_W.dot(r) * c.a_W;
-    const S distance = sqrt(d.squaredNorm());
-    load.gap = c.clearance - distance;
-    // On the axis there is no direction, and no force (g = c > 0).
-    n_W = distance > S(0) ? Vector3(-d / distance) : c.m_W;
-  } else {
-    const S side = c.m_W.dot(r);
-    load.gap = c.clearance - abs(side);
-    n_W = side >= S(0) ? Vector3(-c.m_W) : c.m_W;
-  }
+  const contact::GapPointTpl<S> point =
+      contact::gap_point_tpl<S>(c.geometry, Vector3(p.p_WBr + load.r_W));
+  load.gap = point.gap;
   // v_N = v_WBr + ω × (p_WN − p_WBr) + A Φ_k q̇_f (core::attached_velocity_W).
   Vector3 v = p.v_WBr + (p.A * p.w_B).cross(load.r_W);
   if (c.at.node >= 0) v.noalias() += p.A * (c.at.phi_B * scratch_.qd);
-  const S v_n = n_W.dot(v);
-  const S delta_dot = -v_n;
-  load.clamp = c.normal.clamp_function(S(-load.gap), delta_dot);
-  if (!(load.gap < S(0))) return load;
-  const contact::NormalForceTpl<S> f_n = c.normal.force_in(S(-load.gap), delta_dot);
-  // While the clamp acts (F = 0 < F_e) the spring's energy still changes: F_e δ̇ is dissipated
-  // (GapSupport::Evaluation::dissipated_power).
-  load.dissipated_power = f_n.dissipative() * delta_dot;
-  if (!(f_n.total > S(0))) return load;
-  load.normal = f_n.total;
-  const Vector3 v_t = v - v_n * n_W;
-  load.slip_speed = sqrt(v_t.squaredNorm());
-  Vector3 f_t = Vector3::Zero();
-  if (c.friction.mu > 0.0) {
-    f_t = -(c.friction.mu * f_n.total * c.friction.slip_factor_in(load.slip_speed)) * v_t;
-  }
-  load.f_W = f_n.total * n_W + f_t;
-  const S friction_power = f_t.dot(v_t);
-  load.dissipated_power -= friction_power;
-  load.wear_power = abs(friction_power);
+  load.clamp = c.normal.clamp_function(S(-point.gap), S(-point.n_W.dot(v)));
+  const contact::GapLoadTpl<S> e = contact::gap_load_tpl<S>(c.normal, c.friction, point, v);
+  load.dissipated_power = e.dissipated_power();
+  if (!(e.normal.total > S(0))) return load;
+  load.normal = e.normal.total;
+  load.slip_speed = sqrt(e.v_t_W.squaredNorm());
+  load.f_W = e.normal.total * point.n_W + e.f_friction_W;
+  load.wear_power = abs(e.f_friction_W.dot(e.v_t_W));
   return load;
 }
 

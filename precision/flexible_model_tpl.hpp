@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "contact/contact_laws.hpp"
+#include "contact/gap_support_tpl.hpp"
 #include "core/model.hpp"
 #include "core/prescribed_motion.hpp"
 #include "core/time_profile.hpp"
@@ -109,9 +110,7 @@ class FlexibleModelTpl {
   /// A gap support at a node (contact/gap_support.hpp), its geometry in S.
   struct Support {
     Attachment at;
-    bool circular = true;
-    Vector3 p_WS, a_W, m_W;
-    S clearance;
+    contact::GapGeometryTpl<S> geometry;
     contact::NormalLaw normal;
     contact::FrictionLaw friction;
     int channel = -1;
