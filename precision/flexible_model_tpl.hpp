@@ -68,7 +68,8 @@ class FlexibleModelTpl {
   int wear_channel_of_pair(int pair) const {
     return supports_[static_cast<std::size_t>(pair)].channel;
   }
-  /// Times where a load profile switches, and the end of a spin-up law (its φ⃛ jumps).
+  /// Times where a load profile switches, and the end of a spin-up law (φ⁗ jumps there: φ̈ =
+  /// (Ω/T)(1 − cos 2πt/T) before, 0 after; extrapolation's high orders need the stop).
   std::vector<double> discontinuities() const;
 
   std::vector<S> initial_state() const;

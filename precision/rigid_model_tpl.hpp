@@ -107,8 +107,8 @@ class RigidModelTpl {
   /// The wear channel of a contact pair, −1 for a pair of an unnamed contact.
   int wear_channel_of_pair(int pair) const { return pair_channel_[static_cast<std::size_t>(pair)]; }
   const std::vector<RigidBodyTpl<S>>& bodies() const { return bodies_; }
-  /// Times in (t0, t_end] where a load profile switches, and the end of a spin-up law (its φ⃛
-  /// jumps): integrators stop on them.
+  /// Times in (t0, t_end] where a load profile switches, and the end of a spin-up law (φ⁗
+  /// jumps there: φ̈ = (Ω/T)(1 − cos 2πt/T) before, 0 after): integrators stop on them.
   std::vector<double> discontinuities() const;
 
   std::vector<S> initial_state() const;

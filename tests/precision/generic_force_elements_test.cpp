@@ -138,7 +138,7 @@ TEST_CASE("double, extended and quad agree in that order on a scene with joints 
 
 TEST_CASE("double, extended and quad agree in that order with a prescribed rigid body",
           "[precision]") {
-  // The driven double pendulum over 0.3 s: the spin-up (its φ⃛ jumps at 0.2 s, a stop of the
+  // The driven double pendulum over 0.3 s: the spin-up (φ⁗ jumps at 0.2 s, a stop of the
   // integrators) and after; the drive torque is among the compared columns' sources.
   check_precision_order(driven_double_pendulum(), 0.3);
   // The drive torque, from the joint's stiff force (k = 1e6 N/m): extended (rtol 1e-16) and
