@@ -452,7 +452,10 @@ S FlexibleModelTpl<S>::energy(S t, const std::vector<S>& y) const {
   S V = -g_W_.dot(invariants_.mass * p.p_WBr + p.A * s_t) +
         S(0.5) * s.q.dot(stiffness_.cwiseProduct(s.q));
   // The supports' V_law(δ) at the deformed node (GapSupport::potential_energy).
-  for (const Support& c : supports_) V += c.normal.potential_in(S(-support_load(c, p).gap));
+  for (const Support& c : supports_) {
+    const Vector3 p_WN = p.p_WBr + attached_offset_W(c.at, p);
+    V += c.normal.potential_in(S(-contact::gap_point_tpl<S>(c.geometry, p_WN).gap));
+  }
   return S(0.5) * vMv + V;
 }
 
