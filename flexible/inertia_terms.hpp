@@ -4,7 +4,8 @@
 /// flexible_dynamics.hpp (docs/design/model.md, "Equations of motion, quasi-velocity form") —
 /// evaluated in two stages so that every n×n invariant is read once per evaluation:
 ///
-/// 1. modal products (compute_modal_products, the only O(n²) work: 12 matrix–vector products)
+/// 1. modal products (compute_modal_products, the only O(n²) work: 12 matrix–vector products,
+///    each on its matrix's nonzero rows and columns — compressed_block_tpl.hpp)
 ///
 ///        u_ab = P_ab q_f   (nine n-vectors, column 3a+b of P_q; P_ba = P_abᵀ),
 ///        g_a  = G_a q̇_f    (three n-vectors, column a of G_qd),

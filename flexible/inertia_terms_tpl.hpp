@@ -4,6 +4,7 @@
 /// gives the formulas) written once for any scalar type S: double (InertiaTerms, which every
 /// integrator uses) and the extended and quad precisions of precision/.
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <stdexcept>
@@ -27,6 +28,8 @@ struct InertiaTermsTpl {
   Eigen::Matrix<S, 9, 1> X_qd = Eigen::Matrix<S, 9, 1>::Zero();  ///< X q̇_f
   Vector3 S_q = Vector3::Zero();                                 ///< S q_f
   Vector3 S_qd = Vector3::Zero();                                ///< S q̇_f
+  BlockProductScratchTpl<S> block_scratch;     ///< the compressed products' gather (n)
+  Eigen::Matrix<S, Eigen::Dynamic, 1> P_t_qd;  ///< P_bcᵀ q̇_f while forming g_a (n)
 
   // Stage 2: assembled terms (body frame unless the name says otherwise).
   Matrix3 R_WB = Matrix3::Identity();        ///< the attitude they were assembled at
@@ -76,6 +79,9 @@ InertiaTermsTpl<S> make_inertia_terms_tpl(int mode_count) {
   InertiaTermsTpl<S> t;
   t.P_q = Eigen::Matrix<S, Eigen::Dynamic, 9>::Zero(n, 9);
   t.G_qd = Eigen::Matrix<S, Eigen::Dynamic, 3>::Zero(n, 3);
+  t.block_scratch.gathered = Eigen::Matrix<S, Eigen::Dynamic, 1>::Zero(n);
+  t.block_scratch.product = Eigen::Matrix<S, Eigen::Dynamic, 1>::Zero(n);
+  t.P_t_qd = Eigen::Matrix<S, Eigen::Dynamic, 1>::Zero(n);
   t.M_rr.setZero();
   t.M_rf = Eigen::Matrix<S, 6, Eigen::Dynamic>::Zero(6, n);
   t.Qv = Eigen::Matrix<S, Eigen::Dynamic, 1>::Zero(6 + n);
@@ -91,18 +97,28 @@ void compute_modal_products_tpl(const ModalInvariantsTpl<S>& inv, const VectorRe
   const auto at = [](int k) { return static_cast<std::size_t>(k); };
   detail::check_inertia_terms("compute_modal_products", inv, q_f.size(), qd_f.size(), t);
   if (inv.mode_count == 0) return;
-  // Each stored P_ab (a ≤ b) is read for P_ab q and, off the diagonal, P_abᵀ q = P_ba q;
-  // each G_a once. Matrix–vector products into contiguous columns: no temporaries.
+  // Each stored P_ab (a ≤ b) is read, on its nonzero rows and columns, for P_ab q and, off the
+  // diagonal, P_abᵀ q = P_ba q, and for g_a = G_a q̇_f = (P_bc − P_cb) q̇_f = P_bc q̇_f − P_bcᵀ q̇_f
+  // ((a, b, c) cyclic; modal_invariants_tpl.hpp): no n×n product with a zero block.
+  const auto block = [&](int a, int b) -> const CompressedBlockTpl<S>& {
+    return inv.phi_phi_blocks[at(pair_index(a, b))];
+  };
   for (int a = 0; a < 3; ++a) {
     // P_aa is exactly symmetric (make_modal_invariants): its lower triangle suffices.
-    t.P_q.col(pair_index(a, a)).noalias() =
-        inv.phi_phi[at(pair_index(a, a))].template selfadjointView<Eigen::Lower>() * q_f;
+    multiply_block_tpl<S>(block(a, a), q_f, t.P_q.col(pair_index(a, a)), t.block_scratch, false,
+                          true);
     for (int b = a + 1; b < 3; ++b) {
-      const auto& P = inv.phi_phi[at(pair_index(a, b))];
-      t.P_q.col(pair_index(a, b)).noalias() = P * q_f;
-      t.P_q.col(pair_index(b, a)).noalias() = P.transpose() * q_f;
+      multiply_block_tpl<S>(block(a, b), q_f, t.P_q.col(pair_index(a, b)), t.block_scratch);
+      multiply_block_tpl<S>(block(a, b), q_f, t.P_q.col(pair_index(b, a)), t.block_scratch, true);
     }
-    t.G_qd.col(a).noalias() = inv.phi_cross_phi[at(a)] * qd_f;
+  }
+  for (const auto& [a, b, c] : detail::kCyclicTriples) {
+    // The stored pair of (b, c) is (min, max); P_cb q̇ = P_bcᵀ q̇.
+    const bool stored_bc = b < c;
+    const auto& P = block(std::min(b, c), std::max(b, c));
+    multiply_block_tpl<S>(P, qd_f, t.G_qd.col(a), t.block_scratch, !stored_bc);
+    multiply_block_tpl<S>(P, qd_f, t.P_t_qd, t.block_scratch, stored_bc);
+    t.G_qd.col(a) -= t.P_t_qd;
   }
   t.X_q.noalias() = inv.x_phi * q_f;
   t.X_qd.noalias() = inv.x_phi * qd_f;

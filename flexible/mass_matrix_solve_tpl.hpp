@@ -5,9 +5,11 @@
 /// every integrator uses) and the extended and quad precisions of precision/.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "flexible/inertia_terms_tpl.hpp"
 #include "flexible/modal_invariants_tpl.hpp"
@@ -15,6 +17,16 @@
 namespace flexref::flexible {
 
 /// The constant part: the Cholesky factor of m_ff and L⁻¹ Sᵀ (n×3). Built once per body.
+///
+/// Mode families that share no node direction (a beam's bending-xy and bending-xz modes) make
+/// m_ff block diagonal up to a permutation P of the modes. The factor then works in the
+/// permuted order, m_ff = Pᵀ L Lᵀ P with L block diagonal, one dense Cholesky factor per group
+/// of coupled modes: forward (v ← L⁻¹ P v) and backward (v ← Pᵀ L⁻ᵀ v) substitutions skip the
+/// zero blocks (half the work for two equal families; docs/precision.md, "Many modes"). The
+/// structured solves only use L-space vectors between a forward and a backward substitution
+/// (B̂ = L⁻¹ P M_fr, b̂), so Σ = M_uu − B̂ᵀB̂ and the solution are those of the unpermuted
+/// factor. With one group (every mode coupled to every other) P is the identity and the factor
+/// is m_ff's dense Cholesky factor.
 template <typename S>
 class ModalMassFactorTpl {
  public:
@@ -23,23 +35,49 @@ class ModalMassFactorTpl {
 
   ModalMassFactorTpl() = default;
   /// Throws std::invalid_argument when m_ff is not positive definite.
-  explicit ModalMassFactorTpl(const ModalInvariantsTpl<S>& inv) : llt_(inv.m_ff) {
-    if (llt_.info() != Eigen::Success) {
-      throw std::invalid_argument("the modal mass matrix m_ff is not positive definite");
+  explicit ModalMassFactorTpl(const ModalInvariantsTpl<S>& inv) {
+    const Matrix& m_ff = inv.m_ff;
+    group_modes(m_ff);
+    for (std::size_t k = 0; k + 1 < offsets_.size(); ++k) {
+      const Eigen::Index begin = offsets_[k], size = offsets_[k + 1] - offsets_[k];
+      Matrix block(size, size);
+      for (Eigen::Index i = 0; i < size; ++i) {
+        for (Eigen::Index j = 0; j < size; ++j) {
+          block(i, j) = m_ff(order_[static_cast<std::size_t>(begin + i)],
+                             order_[static_cast<std::size_t>(begin + j)]);
+        }
+      }
+      blocks_.emplace_back(block);
+      if (blocks_.back().info() != Eigen::Success) {
+        throw std::invalid_argument("the modal mass matrix m_ff is not positive definite");
+      }
     }
     Linv_St_ = inv.S.transpose();
-    llt_.matrixL().solveInPlace(Linv_St_);
+    for (int c = 0; c < 3; ++c) forward_in_place(Linv_St_.col(c));
   }
 
   int mode_count() const { return static_cast<int>(Linv_St_.rows()); }
-  /// m_ff = L Lᵀ.
-  const Eigen::LLT<Matrix>& llt() const { return llt_; }
-  /// L⁻¹ Sᵀ (n×3).
+  /// The groups of coupled modes (1 when every mode couples to every other).
+  int group_count() const { return static_cast<int>(blocks_.size()); }
+  /// L⁻¹ P Sᵀ (n×3).
   const Eigen::Matrix<S, Eigen::Dynamic, 3>& Linv_St() const { return Linv_St_; }
-  /// v ← L⁻¹ v (forward substitution), allocation-free.
-  void forward_in_place(Eigen::Ref<Vector> v) const { llt_.matrixL().solveInPlace(v); }
-  /// v ← L⁻ᵀ v (backward substitution), allocation-free.
-  void backward_in_place(Eigen::Ref<Vector> v) const { llt_.matrixU().solveInPlace(v); }
+  /// v ← L⁻¹ P v (permutation, then forward substitution per group), allocation-free.
+  void forward_in_place(Eigen::Ref<Vector> v) const {
+    permute_in_place(v, order_);
+    for (std::size_t k = 0; k < blocks_.size(); ++k) {
+      auto segment = v.segment(offsets_[k], offsets_[k + 1] - offsets_[k]);
+      blocks_[k].matrixL().solveInPlace(segment);
+    }
+  }
+  /// v ← Pᵀ L⁻ᵀ v (backward substitution per group, then the inverse permutation),
+  /// allocation-free.
+  void backward_in_place(Eigen::Ref<Vector> v) const {
+    for (std::size_t k = 0; k < blocks_.size(); ++k) {
+      auto segment = v.segment(offsets_[k], offsets_[k + 1] - offsets_[k]);
+      blocks_[k].matrixU().solveInPlace(segment);
+    }
+    permute_in_place(v, position_);
+  }
   /// v ← m_ff⁻¹ v.
   void solve_in_place(Eigen::Ref<Vector> v) const {
     forward_in_place(v);
@@ -47,10 +85,65 @@ class ModalMassFactorTpl {
   }
 
  private:
-  /// Factored on an empty matrix until built: an Eigen::LLT never computed holds an
-  /// indeterminate ComputationInfo, and copying one (a rigid Body's factor) reads it (UBSan:
-  /// invalid enum load; issue 17).
-  Eigen::LLT<Matrix> llt_{Matrix()};
+  /// Connected components of m_ff's nonzero pattern, each in ascending mode order, ordered by
+  /// their first mode: order_[k] is the mode at permuted position k, position_ its inverse.
+  void group_modes(const Matrix& m_ff) {
+    const auto n = static_cast<std::size_t>(m_ff.rows());
+    std::vector<int> group(n, -1);
+    offsets_.assign(1, 0);
+    order_.clear();
+    for (std::size_t seed = 0; seed < n; ++seed) {
+      if (group[seed] >= 0) continue;
+      const int g = static_cast<int>(offsets_.size()) - 1;
+      std::vector<std::size_t> members{seed};
+      group[seed] = g;
+      for (std::size_t i = 0; i < members.size(); ++i) {
+        for (std::size_t j = 0; j < n; ++j) {
+          const auto r = static_cast<Eigen::Index>(members[i]), c = static_cast<Eigen::Index>(j);
+          if (group[j] < 0 && m_ff(r, c) != S(0)) {
+            group[j] = g;
+            members.push_back(j);
+          }
+        }
+      }
+      std::sort(members.begin(), members.end());
+      for (std::size_t m : members) order_.push_back(static_cast<Eigen::Index>(m));
+      offsets_.push_back(static_cast<Eigen::Index>(order_.size()));
+    }
+    position_.assign(n, 0);
+    for (std::size_t k = 0; k < n; ++k)
+      position_[static_cast<std::size_t>(order_[k])] = static_cast<Eigen::Index>(k);
+    identity_ = std::is_sorted(order_.begin(), order_.end());
+    // The cycles of the permutation, each walked from its smallest member (permute_in_place).
+    cycle_starts_.clear();
+    std::vector<bool> seen(n, false);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (seen[k] || order_[k] == static_cast<Eigen::Index>(k)) continue;
+      cycle_starts_.push_back(static_cast<Eigen::Index>(k));
+      for (std::size_t j = k; !seen[j]; j = static_cast<std::size_t>(order_[j])) seen[j] = true;
+    }
+  }
+  /// v ← (v[from[0]], v[from[1]], …) in place along the permutation's cycles (order_ and
+  /// position_ have the same cycles, walked in opposite directions).
+  void permute_in_place(Eigen::Ref<Vector> v, const std::vector<Eigen::Index>& from) const {
+    if (identity_) return;
+    for (const Eigen::Index start : cycle_starts_) {
+      const S first = v(start);
+      Eigen::Index k = start;
+      while (from[static_cast<std::size_t>(k)] != start) {
+        v(k) = v(from[static_cast<std::size_t>(k)]);
+        k = from[static_cast<std::size_t>(k)];
+      }
+      v(k) = first;
+    }
+  }
+
+  std::vector<Eigen::LLT<Matrix>> blocks_;  ///< one Cholesky factor per group
+  std::vector<Eigen::Index> offsets_{0};    ///< group k is positions [offsets_[k], offsets_[k+1])
+  std::vector<Eigen::Index> order_;         ///< the mode at each permuted position
+  std::vector<Eigen::Index> position_;      ///< the permuted position of each mode
+  std::vector<Eigen::Index> cycle_starts_;
+  bool identity_ = true;
   Eigen::Matrix<S, Eigen::Dynamic, 3> Linv_St_;
 };
 
@@ -61,7 +154,8 @@ struct MassSolveScratchTpl {
   Eigen::Matrix<S, Eigen::Dynamic, 6> Bhat_T;  ///< column u: L⁻¹ (row u of M_rf)ᵀ (n×6)
   Eigen::Matrix<S, Eigen::Dynamic, 1> b_f;     ///< the modal right-hand side, then b̂, x_f
   Small schur;
-  /// Factored on an empty matrix until used (see ModalMassFactorTpl::llt_).
+  /// Factored on an empty matrix until used: an Eigen::LLT never computed holds an
+  /// indeterminate ComputationInfo, and copying one reads it (UBSan: invalid enum load; issue 17).
   Eigen::LLT<Small> schur_llt{Small()};
   Eigen::Matrix<S, Eigen::Dynamic, 1, 0, 6, 1> b_u;
   int known = 0;          ///< known rows of the last factorization

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <optional>
 
+#include "flexible/compressed_block_tpl.hpp"
 #include "flexible/geometric_stiffness.hpp"
 #include "flexible/geometric_stiffness_tpl.hpp"
 
@@ -49,6 +50,9 @@ struct ModalInvariantsTpl {
   /// [a] = phi_phi[3b+c] − phi_phi[3c+b] for (a, b, c) a cyclic permutation of (0, 1, 2):
   /// skew-symmetric, and row a of Σ m_k (Φ_k q)~ Φ_k is qᵀ phi_cross_phi[a].
   std::array<Matrix, 3> phi_cross_phi;
+  /// [3a+b], a ≤ b: phi_phi[3a+b] on its nonzero rows and columns (compressed_block_tpl.hpp),
+  /// what the modal products multiply with; empty for a > b (P_ba = P_abᵀ).
+  std::array<CompressedBlockTpl<Scalar>, 9> phi_phi_blocks;
   /// Geometric stiffening's matrices about the same origin, when the data carry them.
   std::optional<GeometricInvariantsTpl<Scalar>> geometric;
 };
@@ -109,6 +113,11 @@ ModalInvariantsTpl<Scalar> modal_invariants_tpl(
     inv.I_theta_f0.row(a) = inv.x_phi.row(pair_row(b, c)) - inv.x_phi.row(pair_row(c, b));
     inv.phi_cross_phi[static_cast<std::size_t>(a)] =
         inv.phi_phi[pair(b, c)] - inv.phi_phi[pair(c, b)];
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a; b < 3; ++b) {
+      inv.phi_phi_blocks[pair(a, b)] = compress_block_tpl<Scalar>(inv.phi_phi[pair(a, b)]);
+    }
   }
   if (geometric != nullptr)
     inv.geometric = geometric_invariants_tpl<Scalar>(geometric->E, geometric->F, p);

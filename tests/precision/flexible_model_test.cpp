@@ -197,9 +197,10 @@ TEST_CASE("the flexible body in extended/quad agrees with core::Model at random 
   for (const auto formulation :
        {core::FlexibleFormulation::kCoupled, core::FlexibleFormulation::kLte}) {
     CAPTURE(core::to_string(formulation));
-    for (const char* file : {"scenes/flexible_spinner.toml", "scenes/rotating_cantilever.toml",
-                             "scenes/rotating_cantilever_stiff.toml",
-                             "scenes/spin_up_beam_stiff_2.toml", "scenes/spin_up_beam.toml"}) {
+    for (const char* file :
+         {"scenes/flexible_spinner.toml", "scenes/rotating_cantilever.toml",
+          "scenes/rotating_cantilever_stiff.toml", "scenes/spin_up_beam_stiff_2.toml",
+          "scenes/spin_up_beam.toml", "scenes/flexible_spinner_64.toml"}) {
       CAPTURE(file);
       // t = 0.2 inside the spinner's torque pulse and the beams' spin-up; t = 20 s after it.
       check_against_core_model(spec_of(file), formulation, 0.2);
