@@ -24,8 +24,8 @@ inline constexpr const char* kSupportedScenes[] = {
     "scenes/sliding_block.toml", "scenes/coulomb_wall.toml"};
 
 /// The bundled scenes with a flexible body the extended/quad model carries over their whole
-/// horizon in minutes (all but flexible_spinner_64, whose 64 modes up to ~1e5 rad/s make
-/// explicit extrapolation in quad take hours, and tube_support_impact, checked over shorter
+/// horizon in minutes (all but flexible_spinner_64, whose top mode at 1.8e4 rad/s must be
+/// resolved in quad for hours, checked over 20 ms, and tube_support_impact, checked over shorter
 /// horizons for its 1625 impacts: docs/precision.md).
 inline constexpr const char* kFlexibleScenes[] = {"scenes/flexible_spinner.toml",
                                                   "scenes/rotating_cantilever.toml",

@@ -34,9 +34,9 @@ TEST_CASE("double, extended and quad agree in that order over whole flexible sce
 TEST_CASE("double, extended and quad agree in that order on the 64-mode spinner over 20 ms",
           "[precision]") {
   // flexible_spinner_64: 64 undamped modes up to 1.8e4 rad/s. Quad resolves the top mode's
-  // oscillation (its amplitude, ~1e-15 m at the tip from the torque's kink at t = 0, is far
-  // above quad's tolerance): ~5e4 steps per simulated second, so the whole 10 s takes hours in
-  // quad (docs/precision.md, "Many stiff modes"); 20 ms cover some 57 periods of the top mode.
+  // oscillation (excited by the jump of the torque's second derivative at t = 0, far above
+  // quad's tolerance): ~5e4 steps per simulated second, so the whole 10 s takes hours in quad
+  // (docs/precision.md, "Many modes"); 20 ms cover some 57 periods of the top mode.
   check_precision_order("scenes/flexible_spinner_64.toml", 0.02);
 }
 
