@@ -22,6 +22,7 @@ struct CompressedBlockTpl {
   std::vector<Eigen::Index> cols;  ///< the columns with a nonzero entry, ascending
   Matrix block;                    ///< P(rows, cols)
   bool full = false;               ///< rows and cols are all of 0..n−1: block = P
+  Eigen::Index dimension = -1;     ///< n, the compressed matrix's order (−1: never built)
 
   Eigen::Index size() const { return block.size(); }
 };
@@ -31,6 +32,7 @@ template <typename S>
 CompressedBlockTpl<S> compress_block_tpl(
     const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& P) {
   CompressedBlockTpl<S> c;
+  c.dimension = P.rows();
   for (Eigen::Index i = 0; i < P.rows(); ++i) {
     if ((P.row(i).array() != S(0)).any()) c.rows.push_back(i);
   }
@@ -63,14 +65,20 @@ template <typename S, typename In, typename Out>
 void multiply_block_tpl(const CompressedBlockTpl<S>& P, const In& x, Out&& u,
                         BlockProductScratchTpl<S>& scratch, bool transpose = false,
                         bool symmetric = false) {
-  if (P.full) {
+  // Symmetric: P is, so its pattern is too (rows = cols) and the block is square and symmetric.
+  eigen_assert(!symmetric || P.rows == P.cols);
+  // The one product of the block (plain, transposed or symmetric) on gathered or whole vectors.
+  const auto product = [&](const auto& from, auto&& to) {
     if (symmetric) {
-      u.noalias() = P.block.template selfadjointView<Eigen::Lower>() * x;
+      to.noalias() = P.block.template selfadjointView<Eigen::Lower>() * from;
     } else if (transpose) {
-      u.noalias() = P.block.transpose() * x;
+      to.noalias() = P.block.transpose() * from;
     } else {
-      u.noalias() = P.block * x;
+      to.noalias() = P.block * from;
     }
+  };
+  if (P.full) {
+    product(x, u);
     return;
   }
   const std::vector<Eigen::Index>& in = transpose ? P.rows : P.cols;
@@ -82,13 +90,7 @@ void multiply_block_tpl(const CompressedBlockTpl<S>& P, const In& x, Out&& u,
   for (Eigen::Index j = 0; j < n_in; ++j) scratch.gathered(j) = x(in[static_cast<std::size_t>(j)]);
   auto xg = scratch.gathered.head(n_in);
   auto ug = scratch.product.head(n_out);
-  if (symmetric) {
-    ug.noalias() = P.block.template selfadjointView<Eigen::Lower>() * xg;
-  } else if (transpose) {
-    ug.noalias() = P.block.transpose() * xg;
-  } else {
-    ug.noalias() = P.block * xg;
-  }
+  product(xg, ug);
   for (Eigen::Index i = 0; i < n_out; ++i) u(out[static_cast<std::size_t>(i)]) = ug(i);
 }
 

@@ -63,6 +63,14 @@ template <typename S>
 void check_inertia_terms(const char* where, const ModalInvariantsTpl<S>& inv, Eigen::Index q_size,
                          Eigen::Index qd_size, const InertiaTermsTpl<S>& terms) {
   const Eigen::Index n = inv.mode_count;
+  // The products read the compressed pair matrices, which modal_invariants_tpl builds with
+  // phi_phi: invariants assembled by hand without them would give zero products.
+  if (n > 0 && inv.phi_phi_blocks[0].dimension != n) {
+    throw std::invalid_argument(std::string(where) +
+                                ": the invariants' compressed pair matrices (phi_phi_blocks) "
+                                "were not built for their " +
+                                std::to_string(n) + " modes (modal_invariants_tpl builds them)");
+  }
   if (q_size != n || qd_size != n || terms.P_q.rows() != n || terms.Qv.size() != 6 + n) {
     throw std::invalid_argument(std::string(where) + ": q_f (" + std::to_string(q_size) +
                                 "), q̇_f (" + std::to_string(qd_size) + ") and the terms (" +

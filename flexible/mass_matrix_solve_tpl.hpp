@@ -59,6 +59,8 @@ class ModalMassFactorTpl {
   int mode_count() const { return static_cast<int>(Linv_St_.rows()); }
   /// The groups of coupled modes (1 when every mode couples to every other).
   int group_count() const { return static_cast<int>(blocks_.size()); }
+  /// The mode at each permuted position (P v = (v[order[0]], v[order[1]], …)).
+  const std::vector<Eigen::Index>& order() const { return order_; }
   /// L⁻¹ P Sᵀ (n×3).
   const Eigen::Matrix<S, Eigen::Dynamic, 3>& Linv_St() const { return Linv_St_; }
   /// v ← L⁻¹ P v (permutation, then forward substitution per group), allocation-free.
@@ -113,7 +115,6 @@ class ModalMassFactorTpl {
     position_.assign(n, 0);
     for (std::size_t k = 0; k < n; ++k)
       position_[static_cast<std::size_t>(order_[k])] = static_cast<Eigen::Index>(k);
-    identity_ = std::is_sorted(order_.begin(), order_.end());
     // The cycles of the permutation, each walked from its smallest member (permute_in_place).
     cycle_starts_.clear();
     std::vector<bool> seen(n, false);
@@ -126,7 +127,6 @@ class ModalMassFactorTpl {
   /// v ← (v[from[0]], v[from[1]], …) in place along the permutation's cycles (order_ and
   /// position_ have the same cycles, walked in opposite directions).
   void permute_in_place(Eigen::Ref<Vector> v, const std::vector<Eigen::Index>& from) const {
-    if (identity_) return;
     for (const Eigen::Index start : cycle_starts_) {
       const S first = v(start);
       Eigen::Index k = start;
@@ -143,7 +143,6 @@ class ModalMassFactorTpl {
   std::vector<Eigen::Index> order_;         ///< the mode at each permuted position
   std::vector<Eigen::Index> position_;      ///< the permuted position of each mode
   std::vector<Eigen::Index> cycle_starts_;
-  bool identity_ = true;
   Eigen::Matrix<S, Eigen::Dynamic, 3> Linv_St_;
 };
 
