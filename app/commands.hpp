@@ -102,6 +102,13 @@ int high_precision_reference_command(const ReferenceOptions& options);
 std::shared_ptr<const studies::CertifiedReference> high_precision_study_reference(
     const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
     const std::string& metric, const std::string& reference_solver, const std::string& study);
+/// "auto"'s quad reference for a study whose double reference left something uncertified
+/// (docs/precision.md, "Cost guard"): the certified quad reference, or nullptr with `refused`
+/// saying why when its projected wall time exceeds budget_seconds (0: no bound); the study then
+/// keeps its double reference. Call after quad_reference_possible.
+std::shared_ptr<const studies::CertifiedReference> automatic_quad_reference(
+    const scene::Scene& scene, const std::vector<double>& times, const std::string& metric,
+    const std::string& study, double budget_seconds, std::string& refused);
 /// Whether "auto" may switch a study to a quad reference (supported scene, metric, no
 /// --reference-solver).
 bool quad_reference_possible(const scene::Scene& scene, const std::string& metric,
@@ -138,6 +145,8 @@ struct ConvergeOptions {
   /// auto | double | extended | quad (docs/precision.md): auto repeats the study with a quad
   /// reference when the double one cannot certify every level and the scene allows it.
   std::string reference_precision = "auto";
+  /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
+  double reference_budget = kDefaultReferenceBudget;
 };
 int converge_command(const ConvergeOptions& options);
 

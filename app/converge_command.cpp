@@ -57,14 +57,18 @@ int converge_command(const ConvergeOptions& options) {
     if (uncertified > 0) {
       std::ostringstream note;
       note << "the double reference (estimated error " << result.reference.estimate.estimate()
-           << ") could not certify " << uncertified
-           << " level(s): the study was repeated with a quad-precision reference "
-              "(docs/precision.md)";
-      study.given_reference = high_precision_study_reference(scene, times, "quad", options.metric,
-                                                             options.reference_solver, "converge");
-      result = studies::run_convergence(model, times, study);
+           << ") could not certify " << uncertified << " level(s)";
+      std::string refused;
+      study.given_reference = automatic_quad_reference(scene, times, options.metric, "converge",
+                                                       options.reference_budget, refused);
+      if (study.given_reference) {
+        note << ": the study was repeated with a quad-precision reference (docs/precision.md)";
+        result = studies::run_convergence(model, times, study);
+        precision_used = "quad";
+      } else {
+        note << "; " << refused;
+      }
       result.notes.insert(result.notes.begin(), note.str());
-      precision_used = "quad";
     }
   }
   for (const auto& method : study.external) {

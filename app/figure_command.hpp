@@ -19,6 +19,8 @@ struct FigureCommandOptions {
   /// auto | double | extended | quad (docs/precision.md): "auto" repeats the figure against a quad
   /// reference when the double one cannot certify a curve and the scene allows it.
   std::string reference_precision = "auto";
+  /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
+  double reference_budget = kDefaultReferenceBudget;
 };
 
 int figure_command(const FigureCommandOptions& options);

@@ -152,6 +152,26 @@ std::shared_ptr<const studies::CertifiedReference> high_precision_study_referenc
                                                     scene.model->formulation()));
 }
 
+std::shared_ptr<const studies::CertifiedReference> automatic_quad_reference(
+    const scene::Scene& scene, const std::vector<double>& times, const std::string& metric,
+    const std::string& study, double budget_seconds, std::string& refused) {
+  const precision::Precision quad = precision::Precision::kQuad;
+  try {
+    const studies::Progress progress(
+        study + ": reference (odeint, quad precision, with its error estimate)", 0, "");
+    return std::make_shared<const studies::CertifiedReference>(
+        precision::certified_high_precision_reference(
+            scene.spec, times, quad, precision::default_rtol(quad), metric, nullptr,
+            scene.model->formulation(), budget_seconds));
+  } catch (const precision::BudgetExceeded& e) {
+    refused = std::string(e.what()) +
+              " (--reference-budget): the study keeps the double reference; give "
+              "--reference-precision quad to compute it anyway, a larger --reference-budget or a "
+              "shorter end_time";
+    return nullptr;
+  }
+}
+
 bool quad_reference_possible(const scene::Scene& scene, const std::string& metric,
                              const std::string& reference_solver) {
   if (reference_solver != "auto") return false;

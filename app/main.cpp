@@ -179,6 +179,12 @@ int run_command_line(int argc, char** argv) {
                    "allows it) | double | extended | quad (docs/precision.md)")
       ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
       ->capture_default_str();
+  conv_cmd
+      ->add_option("--reference-budget", conv.reference_budget,
+                   "seconds of wall time auto may spend on a quad reference; over it (projected "
+                   "early), the study keeps the double one (0: no bound; docs/precision.md)")
+      ->check(non_negative_number())
+      ->capture_default_str();
   add_limits(conv_cmd, conv.limits, true);
   auto* conv_external =
       conv_cmd->add_option("--external", conv.external,
@@ -252,6 +258,12 @@ int run_command_line(int argc, char** argv) {
                    "auto (double; quad when double cannot certify every run and the scene "
                    "allows it) | double | extended | quad (docs/precision.md)")
       ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
+      ->capture_default_str();
+  wp_cmd
+      ->add_option("--reference-budget", wp.reference_budget,
+                   "seconds of wall time auto may spend on a quad reference; over it (projected "
+                   "early), the study keeps the double one (0: no bound; docs/precision.md)")
+      ->check(non_negative_number())
       ->capture_default_str();
   add_limits(wp_cmd, wp.limits, true);
 
@@ -333,6 +345,12 @@ int run_command_line(int argc, char** argv) {
                    "auto (quad when the double reference cannot certify a curve and the scene "
                    "allows it) | double | extended | quad (docs/precision.md)")
       ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
+      ->capture_default_str();
+  fig_cmd
+      ->add_option("--reference-budget", fig.reference_budget,
+                   "seconds of wall time auto may spend on a quad reference; over it (projected "
+                   "early), the study keeps the double one (0: no bound; docs/precision.md)")
+      ->check(non_negative_number())
       ->capture_default_str();
   fig_cmd->add_option("--out", fig.out_dir, "output directory")->capture_default_str();
   add_limits(fig_cmd, fig.limits, true);

@@ -13,4 +13,9 @@ struct WorkLimits {
   double max_rows = 1e6;
 };
 
+/// The default --reference-budget of the studies' automatic quad reference (docs/precision.md,
+/// "Cost guard"), s: 10 minutes, two orders above what the bundled studies' quad references take
+/// (book_toss: seconds) and far below the hours of a stiff many-mode body (flexible_spinner_64).
+inline constexpr double kDefaultReferenceBudget = 600.0;
+
 }  // namespace flexref::app

@@ -58,14 +58,19 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
     if (uncertified > 0) {
       std::ostringstream note;
       note << "the double reference (estimated error " << result.reference.estimate.estimate()
-           << ") could not certify " << uncertified
-           << " run(s): the study was repeated with a quad-precision reference "
-              "(docs/precision.md)";
-      study.given_reference = high_precision_study_reference(
-          scene, times, "quad", app_options.metric, app_options.reference_solver, "work-precision");
-      result = studies::run_work_precision(model, times, study);
+           << ") could not certify " << uncertified << " run(s)";
+      std::string refused;
+      study.given_reference =
+          automatic_quad_reference(scene, times, app_options.metric, "work-precision",
+                                   app_options.reference_budget, refused);
+      if (study.given_reference) {
+        note << ": the study was repeated with a quad-precision reference (docs/precision.md)";
+        result = studies::run_work_precision(model, times, study);
+        precision_used = "quad";
+      } else {
+        note << "; " << refused;
+      }
       result.notes.insert(result.notes.begin(), note.str());
-      precision_used = "quad";
     }
   }
 

@@ -31,6 +31,8 @@ struct WorkPrecisionOptions {
   double timeout = 3600.0;  ///< --timeout per external run [s], 0: none
   /// auto | double | extended | quad (docs/precision.md), as for converge.
   std::string reference_precision = "auto";
+  /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
+  double reference_budget = kDefaultReferenceBudget;
 };
 
 /// Runs the study on the scene and writes work_precision.csv, work_precision.txt, study.toml,

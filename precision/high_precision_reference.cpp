@@ -39,13 +39,40 @@ bool finite(const S& x) {
   return static_cast<bool>(isfinite(x));
 }
 
+/// The wall-time bound of one run inside a certified reference (certified_high_precision_
+/// reference's budget_seconds): the reference's projected total is spent + factor × this run's
+/// projected time, where factor is what the reference costs per second of this run.
+struct Budget {
+  double seconds = 0.0;  ///< the whole reference's bound (0: none)
+  double spent = 0.0;    ///< wall time of the reference's earlier runs
+  double factor = 1.0;
+};
+
+/// Throws BudgetExceeded when the budget's projection at simulated time t is over it. The run's
+/// time is extrapolated linearly in simulated time (elapsed × span / (t − t0)); no projection
+/// is made before 1 % of the budget has elapsed, where start-up noise dominates (a refused
+/// reference therefore costs at least that 1 %).
+void check_budget(const Budget& budget, double elapsed, double t0, double t, double t_end,
+                  Precision precision) {
+  if (!(budget.seconds > 0.0) || !(t > t0) || !(t_end > t0)) return;
+  if (elapsed < 0.01 * budget.seconds) return;
+  const double projected = budget.spent + budget.factor * elapsed * (t_end - t0) / (t - t0);
+  if (!(projected > budget.seconds)) return;
+  std::ostringstream out;
+  out << "a " << to_string(precision) << "-precision reference with its estimate is projected to "
+      << "take " << std::setprecision(3) << projected << " s of wall time (at t = " << t
+      << " s after " << budget.spent + elapsed << " s), over its budget of " << budget.seconds
+      << " s";
+  throw BudgetExceeded(out.str(), projected, budget.seconds, t);
+}
+
 /// `subdivisions` > 1 adds that many − 1 equally spaced stops (not written) inside every output
 /// interval: no step is longer than 1/subdivisions of it (a second step sequence for the error
 /// estimate when the first one took whole output intervals at the highest order).
 template <typename S, typename Model>
 HighPrecisionRun integrate_model(const Model& model, const std::vector<double>& output_times,
                                  Precision precision, double rtol, const char* type_name,
-                                 int subdivisions) {
+                                 int subdivisions, const Budget& budget) {
   namespace odeint = boost::numeric::odeint;
   using State = std::vector<S>;
   HighPrecisionRun run;
@@ -56,6 +83,12 @@ HighPrecisionRun integrate_model(const Model& model, const std::vector<double>& 
   run.table.columns = run.columns;
   const int digits = significant_digits(precision);
   const auto start = std::chrono::steady_clock::now();
+  const auto within_budget = [&](double t) {
+    if (!(budget.seconds > 0.0)) return;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    check_budget(budget, elapsed, output_times.front(), t, output_times.back(), precision);
+  };
 
   State y = model.initial_state();
   std::vector<double> impacts(static_cast<std::size_t>(model.wear_channel_count()), 0.0);
@@ -78,6 +111,7 @@ HighPrecisionRun integrate_model(const Model& model, const std::vector<double>& 
     }
     run.text.push_back(std::move(text));
     run.table.rows.push_back(std::move(values));
+    within_budget(t);
   };
   record(output_times.front(), y);
 
@@ -138,6 +172,7 @@ HighPrecisionRun integrate_model(const Model& model, const std::vector<double>& 
             for (const S& v : model.output_row(e.t, x, impacts))
               event.row.push_back(detail::print(v, digits));
             run.events.push_back(std::move(event));
+            within_budget(static_cast<double>(e.t));
           });
       run.steps += counters.steps;
       run.evaluations += counters.evaluations + counters.located_evaluations;
@@ -146,7 +181,8 @@ HighPrecisionRun integrate_model(const Model& model, const std::vector<double>& 
     odeint::bulirsch_stoer<State, S> stepper(tol, tol);
     std::size_t k = 0;
     const auto system = [&](const State& x, State& dxdt, const S t) {
-      ++run.evaluations;
+      // The clock every 64 evaluations: a few ns per evaluation against ≥ 1 µs.
+      if (++run.evaluations % 64 == 0) within_budget(static_cast<double>(t));
       model.derivative(x, dxdt, t, t_segment);
     };
     const auto observer = [&](const State& x, const S& /*t*/) {
@@ -169,19 +205,20 @@ HighPrecisionRun integrate_model(const Model& model, const std::vector<double>& 
 template <typename S>
 HighPrecisionRun integrate(const scene::SceneSpec& spec, core::FlexibleFormulation formulation,
                            const std::vector<double>& output_times, Precision precision,
-                           double rtol, const char* type_name, int subdivisions) {
+                           double rtol, const char* type_name, int subdivisions,
+                           const Budget& budget) {
   if (FlexibleModelTpl<S>::applies_to(spec)) {
     return integrate_model<S>(FlexibleModelTpl<S>(spec, formulation), output_times, precision, rtol,
-                              type_name, subdivisions);
+                              type_name, subdivisions, budget);
   }
   return integrate_model<S>(RigidModelTpl<S>(spec), output_times, precision, rtol, type_name,
-                            subdivisions);
+                            subdivisions, budget);
 }
 
 HighPrecisionRun solve_subdivided(const scene::SceneSpec& spec,
                                   const std::vector<double>& output_times, Precision precision,
                                   double rtol, core::FlexibleFormulation formulation,
-                                  int subdivisions) {
+                                  int subdivisions, const Budget& budget = {}) {
   if (output_times.empty()) throw std::invalid_argument("solve_high_precision: no output times");
   if (!(rtol >= smallest_rtol(precision)) || !(rtol < 1.0)) {
     std::ostringstream out;
@@ -192,13 +229,13 @@ HighPrecisionRun solve_subdivided(const scene::SceneSpec& spec,
   switch (precision) {
     case Precision::kDouble:
       return integrate<double>(spec, formulation, output_times, precision, rtol, "double",
-                               subdivisions);
+                               subdivisions, budget);
     case Precision::kExtended:
       return integrate<long double>(spec, formulation, output_times, precision, rtol,
-                                    "long double (x87 80-bit)", subdivisions);
+                                    "long double (x87 80-bit)", subdivisions, budget);
     case Precision::kQuad:
       return integrate<Quad>(spec, formulation, output_times, precision, rtol,
-                             "float128 (IEEE binary128, libquadmath)", subdivisions);
+                             "float128 (IEEE binary128, libquadmath)", subdivisions, budget);
   }
   throw std::invalid_argument("solve_high_precision: unknown precision");
 }
@@ -272,8 +309,12 @@ double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std:
 studies::CertifiedReference certified_high_precision_reference(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
     double rtol, const std::string& metric, HighPrecisionRun* run_out,
-    core::FlexibleFormulation formulation) {
-  HighPrecisionRun run = solve_high_precision(spec, output_times, precision, rtol, formulation);
+    core::FlexibleFormulation formulation, double budget_seconds) {
+  // The run's projection counts the whole reference: the tighter check costs about twice the
+  // run (flexible_spinner_64 extended: 223 s for the run, 658 s with the check), so 3 × the
+  // run's projected time.
+  HighPrecisionRun run = solve_subdivided(spec, output_times, precision, rtol, formulation, 1,
+                                          {budget_seconds, 0.0, 3.0});
   const double tight_rtol = std::max(rtol / 100.0, smallest_rtol(precision));
   studies::CertifiedReference result;
   result.table = run.table;
@@ -293,13 +334,16 @@ studies::CertifiedReference certified_high_precision_reference(
   check.solver = "odeint";
   check.rtol = tight_rtol;
   if (tight_rtol < rtol) {
-    HighPrecisionRun tight =
-        solve_high_precision(spec, output_times, precision, tight_rtol, formulation);
+    double spent = run.cpu_seconds;
+    HighPrecisionRun tight = solve_subdivided(spec, output_times, precision, tight_rtol,
+                                              formulation, 1, {budget_seconds, spent, 1.0});
     check.method = tight.method;
     if (tight.steps == run.steps && tight.evaluations == run.evaluations) {
       // Both took whole output intervals at extrapolation's highest order (smooth, slow
       // scenes): the same discretization. Steps of at most half an interval are another one.
-      tight = solve_subdivided(spec, output_times, precision, tight_rtol, formulation, 2);
+      spent += tight.cpu_seconds;
+      tight = solve_subdivided(spec, output_times, precision, tight_rtol, formulation, 2,
+                               {budget_seconds, spent, 1.0});
       check.method = tight.method + ", steps of at most half an output interval";
     }
     check.steps = tight.steps;

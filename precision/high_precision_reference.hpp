@@ -5,6 +5,7 @@
 /// Bulirsch–Stoer extrapolation (controlled, stepping exactly onto every output time and load
 /// switch, and locating every contact switch to the working precision), with its error
 /// estimated in the same precision.
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -67,12 +68,38 @@ HighPrecisionRun solve_high_precision(
 /// points), "rotation" or "points".
 double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std::string& metric);
 
+/// Thrown by certified_high_precision_reference when the projected wall time of the reference
+/// with its estimate exceeds its budget (docs/precision.md, "Cost guard"): raised as soon as the
+/// projection is over, so a refused reference costs a small part of the budget.
+class BudgetExceeded : public std::runtime_error {
+ public:
+  BudgetExceeded(const std::string& what, double projected_seconds, double budget_seconds,
+                 double reached_time)
+      : std::runtime_error(what),
+        projected_seconds_(projected_seconds),
+        budget_seconds_(budget_seconds),
+        reached_time_(reached_time) {}
+  /// The projected wall time of the whole reference with its estimate, s.
+  double projected_seconds() const { return projected_seconds_; }
+  double budget_seconds() const { return budget_seconds_; }
+  /// The simulated time the run had reached when it was stopped, s.
+  double reached_time() const { return reached_time_; }
+
+ private:
+  double projected_seconds_;
+  double budget_seconds_;
+  double reached_time_;
+};
+
 /// The run and its error estimate as a studies::CertifiedReference: 2 × the distance to a run
 /// of the same precision at rtol/100 (a different step sequence; the checks are recorded).
+/// budget_seconds > 0 bounds the wall time of the whole: the runs project their cost from the
+/// simulated time reached and throw BudgetExceeded when it is over (0: no bound).
 studies::CertifiedReference certified_high_precision_reference(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
     double rtol, const std::string& metric, HighPrecisionRun* run_out = nullptr,
-    core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
+    core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled,
+    double budget_seconds = 0.0);
 
 /// The CSV text of a run: header, then rows with `t` in 17 digits and the values as printed.
 std::string high_precision_csv(const HighPrecisionRun& run);

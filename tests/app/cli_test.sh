@@ -461,6 +461,17 @@ out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 
   grep -q '^reference_precision = "quad"' "$tmp/cauto/study.toml" ||
   fail "converge did not switch to a quad reference: $out"
 [[ $out == *uncertified* ]] && fail "a level is still uncertified with the quad reference: $out"
+# auto's cost guard: a quad reference projected over --reference-budget is not computed; the
+# study keeps its double reference, says why, and still succeeds.
+out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 2 \
+  --reference-budget 0.001 --out "$tmp/cbudget" 2>/dev/null) ||
+  fail "converge with a refused quad reference failed: $out"
+[[ $out == *"over its budget of 0.001 s (--reference-budget)"* && $out == *uncertified* ]] &&
+  grep -q '^reference_precision = "double"' "$tmp/cbudget/study.toml" ||
+  fail "converge did not keep the double reference under its budget: $out"
+out=$("$flexref" converge scenes/book_toss.toml --reference-budget -1 --out "$tmp/cbneg" 2>&1)
+[[ $? != 0 && $out == *"--reference-budget"* && ! -e "$tmp/cbneg" ]] ||
+  fail "a negative --reference-budget was not refused: $out"
 "$flexref" work-precision "$tmp/fs2.toml" --schemes nmb --levels 2 --solvers cvode \
   --tolerances 1e-6 --repeats 1 --reference-precision extended --out "$tmp/wpx" >/dev/null 2>&1 &&
   grep -q '^reference_precision = "extended"' "$tmp/wpx/study.toml" ||

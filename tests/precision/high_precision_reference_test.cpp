@@ -203,6 +203,37 @@ TEST_CASE("double, extended and quad agree in that order with honest estimates",
   for (const char* file : kSupportedScenes) check_precision_order(file, 2.0);
 }
 
+TEST_CASE("a reference over its wall-time budget stops early and says its projection",
+          "[precision]") {
+  scene::SceneSpec spec = spec_of("scenes/free_spin.toml");
+  spec.end_time = 1.0;
+  spec.output_step = 0.1;
+  const std::vector<double> times = core::output_times(spec.end_time, spec.output_step);
+  // 1e-4 s of budget: projections start once 1 % of it (1 µs) has elapsed, which the first
+  // output row at t = 0.1 s always has; a guard that only looked at the end would run to t = 1.
+  try {
+    (void)certified_high_precision_reference(spec, times, Precision::kQuad, 1e-28, "rotation",
+                                             nullptr, core::FlexibleFormulation::kCoupled, 1e-4);
+    FAIL("a quad reference finished within 1e-4 s");
+  } catch (const BudgetExceeded& e) {
+    CHECK(e.budget_seconds() == 1e-4);
+    CHECK(e.projected_seconds() > 1e-4);
+    CHECK(e.reached_time() < 0.5);
+    CHECK(std::string(e.what()).find("over its budget of 0.0001 s") != std::string::npos);
+  }
+  // A budget the reference keeps to leaves it bit for bit as without one.
+  HighPrecisionRun bounded;
+  HighPrecisionRun free_run;
+  const auto with =
+      certified_high_precision_reference(spec, times, Precision::kExtended, 1e-16, "rotation",
+                                         &bounded, core::FlexibleFormulation::kCoupled, 1e4);
+  const auto without =
+      certified_high_precision_reference(spec, times, Precision::kExtended, 1e-16, "rotation",
+                                         &free_run, core::FlexibleFormulation::kCoupled, 0.0);
+  CHECK(bounded.text == free_run.text);
+  CHECK(with.estimate.value == without.estimate.value);
+}
+
 TEST_CASE("scenes beyond the extended/quad model are refused naming the part", "[precision]") {
   const auto message = [](const auto& scene) {
     try {
