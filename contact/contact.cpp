@@ -75,29 +75,14 @@ ContactPair ContactPair::sphere_sphere(int body_a, const Eigen::Vector3d& p_BoCa
 }
 
 ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKinematics> bodies) {
-  ContactPoint c;
   const Eigen::Vector3d p_WCb =
       centre_W(bodies[static_cast<std::size_t>(pair.body_b)], pair.p_BoCb_B, pair.node_b);
   if (pair.kind == ContactPair::Kind::kSpherePlane) {
-    c.n_W = pair.n_W;
-    c.gap = pair.n_W.dot(p_WCb - pair.p_WQ) - pair.radius_b;
-    c.p_WP = p_WCb - pair.radius_b * pair.n_W;
-    return c;
+    return sphere_plane_point_tpl<double>(p_WCb, pair.radius_b, pair.p_WQ, pair.n_W);
   }
   const Eigen::Vector3d p_WCa =
       centre_W(bodies[static_cast<std::size_t>(pair.body_a)], pair.p_BoCa_B, pair.node_a);
-  const Eigen::Vector3d d = p_WCb - p_WCa;
-  const double distance = d.norm();
-  c.n_W = distance > 0.0 ? Eigen::Vector3d(d / distance) : Eigen::Vector3d::UnitZ();
-  c.gap = distance - pair.radius_a - pair.radius_b;
-  c.p_WP = p_WCa + (pair.radius_a + 0.5 * c.gap) * c.n_W;
-  return c;
-}
-
-double ContactEvaluation::dissipated_power() const {
-  // Normal: −(F_nc n)·v_rel = F_nc δ̇ ≥ 0 (F_nc = c δ̇ or α k δⁿ δ̇ has the sign of δ̇; when
-  // the clamp acts F_nc = −F_e < 0 and δ̇ < 0). Friction: −F_t·v_t = μ F_n tanh(|v_t|/v_reg)|v_t|.
-  return normal.dissipative() * delta_dot - f_friction_W.dot(v_t_W);
+  return sphere_sphere_point_tpl<double>(p_WCa, pair.radius_a, p_WCb, pair.radius_b);
 }
 
 ContactElement::ContactElement(std::vector<ContactPair> pairs, NormalLaw normal,
@@ -127,14 +112,8 @@ ContactEvaluation ContactElement::evaluate(int pair_index,
     e.v_rel_W -= material_velocity_W(bodies[static_cast<std::size_t>(pair.body_a)], e.point.p_WP,
                                      pair.node_a);
   }
-  const double v_n = n.dot(e.v_rel_W);
-  e.delta_dot = -v_n;
-  e.v_t_W = e.v_rel_W - v_n * n;
-  e.normal = normal_.force(-e.point.gap, e.delta_dot);
-  if (friction_.mu > 0.0 && e.normal.total > 0.0) {
-    e.f_friction_W =
-        -(friction_.mu * e.normal.total * friction_.slip_factor(e.v_t_W.norm())) * e.v_t_W;
-  }
+  static_cast<PenaltyLoadTpl<double>&>(e) =
+      penalty_load_tpl<double>(normal_, friction_, e.point.gap, n, e.v_rel_W);
   return e;
 }
 

@@ -21,6 +21,8 @@
 #include <vector>
 
 #include "contact/contact_laws.hpp"
+#include "contact/contact_point_tpl.hpp"
+#include "contact/penalty_load_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/node_attachment.hpp"
 
@@ -54,28 +56,19 @@ struct ContactPair {
 };
 
 /// Gap, normal and contact point of a pair at a configuration.
-struct ContactPoint {
-  double gap = 0.0;                                ///< m
-  Eigen::Vector3d n_W = Eigen::Vector3d::UnitZ();  ///< unit normal, a → b
-  Eigen::Vector3d p_WP = Eigen::Vector3d::Zero();  ///< contact point, world
-};
+using ContactPoint = ContactPointTpl<double>;  ///< gap, unit normal a → b, contact point P
 
 /// Geometry of one pair. Coincident sphere centres (no direction) give n = e_z and
 /// g = −r_a − r_b.
 ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKinematics> bodies);
 
 /// Everything one pair contributes at a state.
-struct ContactEvaluation {
+/// δ̇, v_t, F_n, F_t and the dissipated power F_nc δ̇ − F_t·v_t ≥ 0 are penalty_load_tpl's.
+struct ContactEvaluation : PenaltyLoadTpl<double> {
   ContactPoint point;
   Eigen::Vector3d v_rel_W = Eigen::Vector3d::Zero();  ///< b's point at P minus a's, m/s
-  double delta_dot = 0.0;                             ///< −n·v_rel, m/s
-  Eigen::Vector3d v_t_W = Eigen::Vector3d::Zero();    ///< tangential slip velocity, m/s
-  NormalForce normal;
-  Eigen::Vector3d f_friction_W = Eigen::Vector3d::Zero();  ///< friction force on b, N
   /// Total force on b (on a: its opposite), N.
   Eigen::Vector3d force_on_b_W() const { return normal.total * point.n_W + f_friction_W; }
-  /// Power dissipated by damping (F_nc δ̇) and friction (−F_t·v_t), W; ≥ 0.
-  double dissipated_power() const;
 };
 
 /// A set of contact pairs sharing one normal law and one friction law.

@@ -67,12 +67,8 @@ GapSupport::Evaluation GapSupport::evaluate(std::span<const core::BodyKinematics
   if (e.point.gap >= 0.0) return e;
   const Eigen::Vector3d v =
       core::attached_velocity_W(bodies[static_cast<std::size_t>(body_)], e.point.p_WN, node_);
-  const GapLoadTpl<double> load =
-      gap_load_tpl<double>(normal_, friction_, GapPointTpl<double>{e.point.gap, e.point.n_W}, v);
-  e.delta_dot = load.delta_dot;
-  e.v_t_W = load.v_t_W;
-  e.normal = load.normal;
-  e.f_friction_W = load.f_friction_W;
+  static_cast<PenaltyLoadTpl<double>&>(e) =
+      penalty_load_tpl<double>(normal_, friction_, e.point.gap, e.point.n_W, v);
   return e;
 }
 

@@ -16,6 +16,7 @@
 
 #include "contact/contact_laws.hpp"
 #include "contact/gap_support_tpl.hpp"
+#include "contact/penalty_load_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/node_attachment.hpp"
 
@@ -49,16 +50,10 @@ class GapSupport final : public core::ForceElement {
   GapPoint gap_point(std::span<const core::BodyKinematics> bodies) const;
 
   /// Everything the support applies at a state: penetration rate, slip velocity, forces.
-  struct Evaluation {
+  /// δ̇, v_t, F_n, F_t and the dissipated power are penalty_load_tpl's (penalty_load_tpl.hpp).
+  struct Evaluation : PenaltyLoadTpl<double> {
     GapPoint point;
-    double delta_dot = 0.0;
-    Eigen::Vector3d v_t_W = Eigen::Vector3d::Zero();
-    NormalForce normal;
-    Eigen::Vector3d f_friction_W = Eigen::Vector3d::Zero();
     Eigen::Vector3d force_W() const { return normal.total * point.n_W + f_friction_W; }
-    double dissipated_power() const {
-      return normal.dissipative() * delta_dot - f_friction_W.dot(v_t_W);
-    }
   };
   Evaluation evaluate(std::span<const core::BodyKinematics> bodies) const;
 

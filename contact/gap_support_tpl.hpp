@@ -6,12 +6,9 @@
 /// parameters are the scene's doubles, exact in S.
 ///   circular  d = (I − a aᵀ)(p_WN − p_WS),  g = c − |d|,  n = −d/|d|
 ///   planar    s = m·(p_WN − p_WS),          g = c − |s|,  n = −sign(s) m
-/// and, while g < 0, δ = −g, δ̇ = −n·v_N, the normal force F_n n and the friction
-/// −μ F_n s(|v_t|) v_t/|v_t| on the slip velocity v_t = v_N − (n·v_N) n at the node.
+/// and, while g < 0, the load of penalty_load_tpl.hpp at the node (v_rel = v_N, its velocity).
 #include <Eigen/Core>
 #include <cmath>
-
-#include "contact/contact_laws.hpp"
 
 namespace flexref::contact {
 
@@ -53,38 +50,6 @@ GapPointTpl<S> gap_point_tpl(const GapGeometryTpl<S>& geometry,
     c.n_W = s >= S(0) ? Vector3(-geometry.m_W) : geometry.m_W;
   }
   return c;
-}
-
-/// What the support applies at a state, with the point's velocity v_N.
-template <typename S>
-struct GapLoadTpl {
-  using Vector3 = Eigen::Matrix<S, 3, 1>;
-  S delta_dot = S(0);
-  Vector3 v_t_W = Vector3::Zero();
-  NormalForceTpl<S> normal;
-  Vector3 f_friction_W = Vector3::Zero();
-  /// F_nc δ̇ − F_t·v_t ≥ 0: while the clamp acts (F = 0 < F_e) the spring's energy still
-  /// changes, and F_e δ̇ is dissipated.
-  S dissipated_power() const { return normal.dissipative() * delta_dot - f_friction_W.dot(v_t_W); }
-};
-
-/// The load at a point with gap < 0 (zero otherwise: no force, nothing dissipated).
-template <typename S>
-GapLoadTpl<S> gap_load_tpl(const NormalLaw& normal, const FrictionLaw& friction,
-                           const GapPointTpl<S>& point, const Eigen::Matrix<S, 3, 1>& v_N) {
-  GapLoadTpl<S> e;
-  if (point.gap >= S(0)) return e;
-  const S v_n = point.n_W.dot(v_N);
-  e.delta_dot = -v_n;
-  e.v_t_W = v_N - v_n * point.n_W;
-  e.normal = normal.force_in(S(-point.gap), e.delta_dot);
-  if (friction.mu > 0.0 && e.normal.total > S(0)) {
-    using std::sqrt;
-    e.f_friction_W =
-        -(friction.mu * e.normal.total * friction.slip_factor_in(S(sqrt(e.v_t_W.squaredNorm())))) *
-        e.v_t_W;
-  }
-  return e;
 }
 
 }  // namespace flexref::contact

@@ -282,7 +282,8 @@ typename FlexibleModelTpl<S>::SupportLoad FlexibleModelTpl<S>::support_load(cons
   Vector3 v = p.v_WBr + (p.A * p.w_B).cross(load.r_W);
   if (c.at.node >= 0) v.noalias() += p.A * (c.at.phi_B * scratch_.qd);
   load.clamp = c.normal.clamp_function(S(-point.gap), S(-point.n_W.dot(v)));
-  const contact::GapLoadTpl<S> e = contact::gap_load_tpl<S>(c.normal, c.friction, point, v);
+  const contact::PenaltyLoadTpl<S> e =
+      contact::penalty_load_tpl<S>(c.normal, c.friction, point.gap, point.n_W, v);
   load.dissipated_power = e.dissipated_power();
   if (!(e.normal.total > S(0))) return load;
   load.normal = e.normal.total;

@@ -32,6 +32,7 @@
 
 #include "contact/contact_laws.hpp"
 #include "contact/gap_support_tpl.hpp"
+#include "contact/penalty_load_tpl.hpp"
 #include "core/model.hpp"
 #include "core/prescribed_motion.hpp"
 #include "core/time_profile.hpp"

@@ -8,6 +8,8 @@
 
 #include "contact/bushing_tpl.hpp"
 #include "contact/contact.hpp"
+#include "contact/contact_point_tpl.hpp"
+#include "contact/penalty_load_tpl.hpp"
 #include "precision/refusal.hpp"
 #include "precision/time_profile_tpl.hpp"
 #include "scene/build_model.hpp"
@@ -274,32 +276,19 @@ const std::vector<S>& RigidModelTpl<S>::with_prescribed(S t, const std::vector<S
 template <typename S>
 typename RigidModelTpl<S>::PairLoad RigidModelTpl<S>::pair_load(const ContactPairTpl<S>& c,
                                                                 const PairState& s) const {
-  // F_n n + F_t on b at P (contact.hpp), F_t = −μ F_n s(|v_t|) v_t; the powers of
-  // ContactEvaluation::dissipated_power and of the wear channel.
+  // contact/penalty_load_tpl.hpp in S (ContactElement::evaluate's), and the wear channel's power.
   using std::abs;
   using std::sqrt;
   PairLoad load;
-  if (!(s.gap < S(0))) return load;
-  const S v_n = dot(s.n_W, s.v_rel_W);
-  const S delta_dot = -v_n;
-  const contact::NormalForceTpl<S> f_n = c.normal.force_in(S(-s.gap), delta_dot);
-  // While the clamp acts (F = 0 < F_e) the spring's energy V(δ) still changes: its rate
-  // F_e δ̇ is dissipated, F_nc δ̇ = (0 − F_e) δ̇ ≥ 0 (ContactEvaluation::dissipated_power).
-  load.dissipated_power = f_n.dissipative() * delta_dot;
-  if (!(f_n.total > S(0))) return load;
-  load.normal = f_n.total;
-  const Vec3<S> v_t{s.v_rel_W[0] - v_n * s.n_W[0], s.v_rel_W[1] - v_n * s.n_W[1],
-                    s.v_rel_W[2] - v_n * s.n_W[2]};
-  load.slip_speed = sqrt(dot(v_t, v_t));
-  Vec3<S> f_t{};
-  if (c.friction.mu > 0.0) {
-    const S factor = c.friction.mu * f_n.total * c.friction.slip_factor_in(load.slip_speed);
-    for (std::size_t k = 0; k < 3; ++k) f_t[k] = -factor * v_t[k];
-  }
-  for (std::size_t k = 0; k < 3; ++k) load.f_W[k] = f_n.total * s.n_W[k] + f_t[k];
-  const S friction_power = dot(f_t, v_t);
-  load.dissipated_power -= friction_power;
-  load.wear_power = abs(friction_power);
+  const contact::PenaltyLoadTpl<S> e =
+      contact::penalty_load_tpl<S>(c.normal, c.friction, s.gap, eigen(s.n_W), eigen(s.v_rel_W));
+  load.dissipated_power = e.dissipated_power();
+  if (!(e.normal.total > S(0))) return load;
+  load.normal = e.normal.total;
+  load.slip_speed = sqrt(e.v_t_W.squaredNorm());
+  const EigenVector3<S> f_W = e.normal.total * eigen(s.n_W) + e.f_friction_W;
+  load.f_W = {f_W(0), f_W(1), f_W(2)};
+  load.wear_power = abs(e.f_friction_W.dot(e.v_t_W));
   return load;
 }
 
@@ -307,42 +296,32 @@ template <typename S>
 typename RigidModelTpl<S>::PairState RigidModelTpl<S>::pair_state(const ContactPairTpl<S>& c,
                                                                   const std::vector<S>& y,
                                                                   const Mat3<S>* A) const {
-  using std::sqrt;
   // Centre, and velocity of the material point at P: v_Br + (A ω̄) × (P − p_WBr).
   const auto centre = [&](int body, const Vec3<S>& p_BrC_B) {
     const std::size_t o = kBodyStateSize * static_cast<std::size_t>(body);
     const Vec3<S> r = multiply(A[body], p_BrC_B);
-    return Vec3<S>{y[o] + r[0], y[o + 1] + r[1], y[o + 2] + r[2]};
+    return EigenVector3<S>(y[o] + r[0], y[o + 1] + r[1], y[o + 2] + r[2]);
   };
-  const auto velocity = [&](int body, const Vec3<S>& p_WP) {
+  const auto velocity = [&](int body, const EigenVector3<S>& p_WP) {
     const std::size_t o = kBodyStateSize * static_cast<std::size_t>(body);
     const Vec3<S> w_W = multiply(A[body], Vec3<S>{y[o + 10], y[o + 11], y[o + 12]});
     const Vec3<S> u = cross(w_W, Vec3<S>{p_WP[0] - y[o], p_WP[1] - y[o + 1], p_WP[2] - y[o + 2]});
-    return Vec3<S>{y[o + 7] + u[0], y[o + 8] + u[1], y[o + 9] + u[2]};
+    return EigenVector3<S>(y[o + 7] + u[0], y[o + 8] + u[1], y[o + 9] + u[2]);
   };
+  // The geometry of contact/contact_point_tpl.hpp in S (ContactElement's contact_point).
+  const EigenVector3<S> cb = centre(c.body_b, c.p_BrCb_B);
+  const contact::ContactPointTpl<S> point =
+      c.sphere_sphere
+          ? contact::sphere_sphere_point_tpl<S>(centre(c.body_a, c.p_BrCa_B), c.radius_a, cb,
+                                                c.radius_b)
+          : contact::sphere_plane_point_tpl<S>(cb, c.radius_b, eigen(c.p_WQ), eigen(c.n_W));
+  EigenVector3<S> v_rel = velocity(c.body_b, point.p_WP);
+  if (c.sphere_sphere) v_rel -= velocity(c.body_a, point.p_WP);
   PairState s;
-  const Vec3<S> cb = centre(c.body_b, c.p_BrCb_B);
-  if (!c.sphere_sphere) {
-    // g = n·(p_WC − p_WQ) − r, P = C − r n (contact.hpp).
-    s.n_W = c.n_W;
-    s.gap =
-        dot(c.n_W, Vec3<S>{cb[0] - c.p_WQ[0], cb[1] - c.p_WQ[1], cb[2] - c.p_WQ[2]}) - c.radius_b;
-    for (std::size_t k = 0; k < 3; ++k) s.p_WP[k] = cb[k] - c.radius_b * c.n_W[k];
-    s.v_rel_W = velocity(c.body_b, s.p_WP);
-    return s;
-  }
-  // g = |C_b − C_a| − r_a − r_b, n = (C_b − C_a)/|C_b − C_a|, P = C_a + (r_a + g/2) n.
-  const Vec3<S> ca = centre(c.body_a, c.p_BrCa_B);
-  const Vec3<S> d{cb[0] - ca[0], cb[1] - ca[1], cb[2] - ca[2]};
-  const S distance = sqrt(dot(d, d));
-  s.n_W = distance > S(0) ? Vec3<S>{d[0] / distance, d[1] / distance, d[2] / distance}
-                          : Vec3<S>{S(0), S(0), S(1)};
-  s.gap = distance - c.radius_a - c.radius_b;
-  const S reach = c.radius_a + s.gap / 2;
-  for (std::size_t k = 0; k < 3; ++k) s.p_WP[k] = ca[k] + reach * s.n_W[k];
-  const Vec3<S> vb = velocity(c.body_b, s.p_WP);
-  const Vec3<S> va = velocity(c.body_a, s.p_WP);
-  s.v_rel_W = {vb[0] - va[0], vb[1] - va[1], vb[2] - va[2]};
+  s.gap = point.gap;
+  s.n_W = {point.n_W(0), point.n_W(1), point.n_W(2)};
+  s.p_WP = {point.p_WP(0), point.p_WP(1), point.p_WP(2)};
+  s.v_rel_W = {v_rel(0), v_rel(1), v_rel(2)};
   return s;
 }
 
