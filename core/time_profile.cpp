@@ -1,7 +1,6 @@
 #include "core/time_profile.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
 namespace flexref::core {
@@ -38,23 +37,6 @@ TimeProfile TimeProfile::harmonic(double frequency, double phase) {
 
 bool TimeProfile::active(double t_segment) const {
   return t_segment >= start_ && t_segment < start_ + duration_;
-}
-
-double TimeProfile::value(double t, double t_segment) const {
-  switch (shape_) {
-    case Shape::kConstant:
-      return 1.0;
-    case Shape::kSin2Pulse: {
-      if (!active(t_segment)) return 0.0;
-      const double s = std::sin(std::numbers::pi * (t - start_) / duration_);
-      return s * s;
-    }
-    case Shape::kRectangularPulse:
-      return active(t_segment) ? 1.0 : 0.0;
-    case Shape::kHarmonic:
-      return std::sin(2.0 * std::numbers::pi * frequency_ * t + phase_);
-  }
-  return 0.0;
 }
 
 void TimeProfile::append_discontinuities(std::vector<double>& times) const {

@@ -8,6 +8,8 @@
 /// passes a t_segment inside that step and so gets the left limit; the next step gets the
 /// right limit. This is how every integrator stops at load discontinuities without ever
 /// evaluating the "wrong side" of a jump (docs/design/schemes.md, "Reference integrators").
+#include <boost/math/constants/constants.hpp>
+#include <cmath>
 #include <vector>
 
 namespace flexref::core {
@@ -28,7 +30,12 @@ class TimeProfile {
   static TimeProfile harmonic(double frequency, double phase);
 
   /// Value at t on the branch active at t_segment.
-  double value(double t, double t_segment) const;
+  double value(double t, double t_segment) const { return value_in(t, t_segment); }
+  /// value() in the scalar type S (double; long double and float128 in the extended/quad
+  /// models of precision/): the same laws, written once, the branch chosen in double by
+  /// t_segment.
+  template <typename S>
+  S value_in(const S& t, double t_segment) const;
   /// Times where the law or one of its first derivatives jumps.
   void append_discontinuities(std::vector<double>& times) const;
 
@@ -48,5 +55,25 @@ class TimeProfile {
   double frequency_ = 0.0;
   double phase_ = 0.0;
 };
+
+template <typename S>
+S TimeProfile::value_in(const S& t, double t_segment) const {
+  using std::sin;
+  const S pi = boost::math::constants::pi<S>();
+  switch (shape_) {
+    case Shape::kConstant:
+      return S(1);
+    case Shape::kSin2Pulse: {
+      if (!active(t_segment)) return S(0);
+      const S s = sin(pi * (t - S(start_)) / S(duration_));
+      return s * s;
+    }
+    case Shape::kRectangularPulse:
+      return active(t_segment) ? S(1) : S(0);
+    case Shape::kHarmonic:
+      return sin(S(2) * pi * S(frequency_) * t + S(phase_));
+  }
+  return S(0);
+}
 
 }  // namespace flexref::core

@@ -9,7 +9,6 @@
 
 #include "contact/gap_support.hpp"
 #include "precision/refusal.hpp"
-#include "precision/time_profile_tpl.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
@@ -332,7 +331,7 @@ void FlexibleModelTpl<S>::evaluate(S t, double t_segment, const Pose& p) const {
     s.Q_f.noalias() += invariants_.S.transpose() * g_B;
   }
   for (const Load& l : loads_) {
-    const S scale = profile_value(l.profile, t, t_segment);
+    const S scale = l.profile.value_in(t, t_segment);
     const Vector3 v = l.world_frame ? Vector3(scale * l.value) : Vector3(p.A * (scale * l.value));
     if (l.torque) {
       s.tau_W += v;

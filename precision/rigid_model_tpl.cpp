@@ -11,7 +11,6 @@
 #include "contact/contact_point_tpl.hpp"
 #include "contact/penalty_load_tpl.hpp"
 #include "precision/refusal.hpp"
-#include "precision/time_profile_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -398,7 +397,7 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y_in, std::vector<S>& dy
   }
   for (const AppliedLoadTpl<S>& l : loads_) {
     const auto i = static_cast<std::size_t>(l.body);
-    const S f = profile_value(l.profile, t, t_segment);
+    const S f = l.profile.value_in(t, t_segment);
     const Vec3<S> v{f * l.value[0], f * l.value[1], f * l.value[2]};
     if (l.torque) {
       const Vec3<S> g_B = l.world_frame ? multiply_transposed(A[i], v) : v;
@@ -502,7 +501,7 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y_in, std::vector<S>& dy
       if (!l.tracks_work) continue;
       const auto i = static_cast<std::size_t>(l.body);
       const std::size_t o = kBodyStateSize * i;
-      const S f = profile_value(l.profile, t, t_segment);
+      const S f = l.profile.value_in(t, t_segment);
       const Vec3<S> v{f * l.value[0], f * l.value[1], f * l.value[2]};
       const Vec3<S> f_W = l.world_frame ? v : multiply(A[i], v);
       const Vec3<S> w_W = multiply(A[i], Vec3<S>{y[o + 10], y[o + 11], y[o + 12]});
