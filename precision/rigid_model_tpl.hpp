@@ -170,7 +170,7 @@ class RigidModelTpl {
   /// Writes a prescribed body's 13 slots at t: p_WBr (its initial one), θ, v = 0, ω̄.
   static void prescribed_pose(const RigidBodyTpl<S>& b, S t, S* slots);
 
-  /// Geometry and relative motion of a pair (contact/contact.hpp's formulas).
+  /// Geometry (contact/contact_point_tpl.hpp) and relative motion of a pair.
   struct PairState {
     S gap;
     Vec3<S> n_W;
