@@ -50,6 +50,7 @@ int converge_command(const ConvergeOptions& options) {
                                                          options.reference_solver, "converge");
   studies::ConvergenceResult result = studies::run_convergence(model, times, study);
   std::string precision_used = wanted == "auto" ? "double" : wanted;
+  std::string refused;  // why auto kept the double reference (the budget), when it did
   if (wanted == "auto" &&
       quad_reference_possible(scene, options.metric, options.reference_solver)) {
     int uncertified = 0;
@@ -58,7 +59,6 @@ int converge_command(const ConvergeOptions& options) {
       std::ostringstream note;
       note << "the double reference (estimated error " << result.reference.estimate.estimate()
            << ") could not certify " << uncertified << " level(s)";
-      std::string refused;
       study.given_reference = automatic_quad_reference(scene, times, options.metric, "converge",
                                                        options.reference_budget, refused);
       if (study.given_reference) {
@@ -87,10 +87,12 @@ int converge_command(const ConvergeOptions& options) {
       .set("dt", options.dt)
       .set("levels", options.levels)
       .set("reference_precision", precision_used)
+      .set("reference_budget", options.reference_budget)
       .set("metric", options.metric)
       .set("jobs", study.jobs)
       .set("explicit_step_limit", result.step_limit.h)
       .set("explicit_step_limit_of", result.step_limit.what);
+  if (!refused.empty()) record.table("study").set("reference_refused", refused);
   if (!options.external.empty()) record.table("study").set("external", options.external);
   if (!options.runs.empty()) record.table("study").set("runs", options.runs);
   if (external) record.table("study").set("label", study.external.front().label);

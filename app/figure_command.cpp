@@ -144,12 +144,12 @@ int figure_command(const FigureCommandOptions& options) {
   }
   studies::FigureResult result = studies::run_trajectory_figure(model, times, settings);
   std::string note;
+  std::string refused;  // why auto kept the double reference (the budget), when it did
   if (wanted == "auto" && studies::figure_has_uncertified(result) &&
       quad_reference_possible(scene, "points", "auto")) {
     std::ostringstream why;
     why << "the double reference (estimated error " << result.reference_estimate
         << " m) could not certify every curve";
-    std::string refused;
     settings.given_reference = automatic_quad_reference(scene, times, "points", "figure",
                                                         options.reference_budget, refused);
     if (settings.given_reference) {
@@ -179,6 +179,8 @@ int figure_command(const FigureCommandOptions& options) {
       .set("estimate", result.reference_estimate)
       .set("estimate_method", result.reference_estimate_method);
   if (!settings.given_reference) reference_table.set("rtol", settings.rtol);
+  record.table("study").set("reference_budget", options.reference_budget);
+  if (!refused.empty()) record.table("study").set("reference_refused", refused);
   studies::add_versions(record);
   out.write("figure.csv", studies::figure_csv(result));
   out.write("figure.txt", table);

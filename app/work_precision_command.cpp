@@ -51,6 +51,7 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
       scene, times, wanted, app_options.metric, app_options.reference_solver, "work-precision");
   studies::WorkPrecisionResult result = studies::run_work_precision(model, times, study);
   std::string precision_used = wanted == "auto" ? "double" : wanted;
+  std::string refused;  // why auto kept the double reference (the budget), when it did
   if (wanted == "auto" &&
       quad_reference_possible(scene, app_options.metric, app_options.reference_solver)) {
     int uncertified = 0;
@@ -59,7 +60,6 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
       std::ostringstream note;
       note << "the double reference (estimated error " << result.reference.estimate.estimate()
            << ") could not certify " << uncertified << " run(s)";
-      std::string refused;
       study.given_reference =
           automatic_quad_reference(scene, times, app_options.metric, "work-precision",
                                    app_options.reference_budget, refused);
@@ -79,6 +79,7 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   record.table("study")
       .set("kind", "work-precision")
       .set("reference_precision", precision_used)
+      .set("reference_budget", app_options.reference_budget)
       .set("schemes", study.schemes)
       .set("dt", study.h0)
       .set("levels", study.levels)
@@ -89,6 +90,7 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
       .set("jobs", study.jobs)
       .set("cpu_time", "thread CPU time of the integration only, minimum over repeats")
       .set("target_errors", studies::default_target_errors());
+  if (!refused.empty()) record.table("study").set("reference_refused", refused);
   if (!app_options.external.empty()) {
     record.table("study")
         .set("external", app_options.external)

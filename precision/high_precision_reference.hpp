@@ -5,12 +5,12 @@
 /// Bulirsch–Stoer extrapolation (controlled, stepping exactly onto every output time and load
 /// switch, and locating every contact switch to the working precision), with its error
 /// estimated in the same precision.
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/model.hpp"
 #include "precision/precision.hpp"
+#include "precision/reference_budget.hpp"
 #include "scene/scene_spec.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/trajectory_table.hpp"
@@ -68,33 +68,11 @@ HighPrecisionRun solve_high_precision(
 /// points), "rotation" or "points".
 double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std::string& metric);
 
-/// Thrown by certified_high_precision_reference when the projected wall time of the reference
-/// with its estimate exceeds its budget (docs/precision.md, "Cost guard"): raised as soon as the
-/// projection is over, so a refused reference costs a small part of the budget.
-class BudgetExceeded : public std::runtime_error {
- public:
-  BudgetExceeded(const std::string& what, double projected_seconds, double budget_seconds,
-                 double reached_time)
-      : std::runtime_error(what),
-        projected_seconds_(projected_seconds),
-        budget_seconds_(budget_seconds),
-        reached_time_(reached_time) {}
-  /// The projected wall time of the whole reference with its estimate, s.
-  double projected_seconds() const { return projected_seconds_; }
-  double budget_seconds() const { return budget_seconds_; }
-  /// The simulated time the run had reached when it was stopped, s.
-  double reached_time() const { return reached_time_; }
-
- private:
-  double projected_seconds_;
-  double budget_seconds_;
-  double reached_time_;
-};
-
 /// The run and its error estimate as a studies::CertifiedReference: 2 × the distance to a run
 /// of the same precision at rtol/100 (a different step sequence; the checks are recorded).
-/// budget_seconds > 0 bounds the wall time of the whole: the runs project their cost from the
-/// simulated time reached and throw BudgetExceeded when it is over (0: no bound).
+/// budget_seconds > 0 bounds the wall time of the whole (reference_budget.hpp): the runs
+/// project their cost from the simulated time reached and throw BudgetExceeded when it is over
+/// (0: no bound).
 studies::CertifiedReference certified_high_precision_reference(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
     double rtol, const std::string& metric, HighPrecisionRun* run_out = nullptr,

@@ -467,7 +467,9 @@ out=$("$flexref" converge scenes/book_toss.toml --schemes nmb --levels 8 --jobs 
   --reference-budget 0.001 --out "$tmp/cbudget" 2>/dev/null) ||
   fail "converge with a refused quad reference failed: $out"
 [[ $out == *"over its budget of 0.001 s (--reference-budget)"* && $out == *uncertified* ]] &&
-  grep -q '^reference_precision = "double"' "$tmp/cbudget/study.toml" ||
+  grep -q '^reference_precision = "double"' "$tmp/cbudget/study.toml" &&
+  grep -q '^reference_budget = 0.001' "$tmp/cbudget/study.toml" &&
+  grep -q '^reference_refused = "a quad-precision reference' "$tmp/cbudget/study.toml" ||
   fail "converge did not keep the double reference under its budget: $out"
 out=$("$flexref" converge scenes/book_toss.toml --reference-budget -1 --out "$tmp/cbneg" 2>&1)
 [[ $? != 0 && $out == *"--reference-budget"* && ! -e "$tmp/cbneg" ]] ||
