@@ -316,8 +316,16 @@ TEST_CASE("fuzzed command lines end with a clear answer and an exit code of the 
   std::map<int, int> codes;
   int cases = 0;
   int timeouts = 0;
-  while (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < budget &&
-         cases < 2000) {
+  // At least 150 cases whatever the clock: the checks below need the sequence to reach past
+  // parsing, and a slow build (ASan/UBSan: ~0.4 s a case, 48 cases in 20 s) must run the same
+  // prefix of the seeded sequence as a fast one (seed 17: the first success is past case 48;
+  // 150 cases hold successes, refusals and parse errors, checked in the Release build with
+  // FLEXREF_FUZZ_SECONDS=0).
+  constexpr int kMinimumCases = 150;
+  while (
+      (cases < kMinimumCases ||
+       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < budget) &&
+      cases < 2000) {
     ++cases;
     const CommandSpec& command =
         commands[std::uniform_int_distribution<std::size_t>(0, commands.size() - 1)(rng)];
