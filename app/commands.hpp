@@ -98,10 +98,11 @@ int reference_command(const ReferenceOptions& options);
 int high_precision_reference_command(const ReferenceOptions& options);
 /// A study's --reference-precision: nullptr for "double" and "auto", else the certified
 /// reference in that precision; throws std::invalid_argument when the scene, the metric or a
-/// --reference-solver rules it out.
+/// --reference-solver rules it out, and precision::BudgetExceeded over budget_seconds (> 0).
 std::shared_ptr<const studies::CertifiedReference> high_precision_study_reference(
     const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
-    const std::string& metric, const std::string& reference_solver, const std::string& study);
+    const std::string& metric, const std::string& reference_solver, const std::string& study,
+    double budget_seconds = 0.0);
 /// "auto"'s quad reference for a study whose double reference left something uncertified
 /// (docs/precision.md, "Cost guard"): the certified quad reference, or nullptr with `refused`
 /// saying why when its projected wall time exceeds budget_seconds (0: no bound); the study then

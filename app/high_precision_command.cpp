@@ -131,7 +131,8 @@ int high_precision_reference_command(const ReferenceOptions& options) {
 
 std::shared_ptr<const studies::CertifiedReference> high_precision_study_reference(
     const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
-    const std::string& metric, const std::string& reference_solver, const std::string& study) {
+    const std::string& metric, const std::string& reference_solver, const std::string& study,
+    double budget_seconds) {
   if (precision == "double" || precision == "auto") return nullptr;
   const precision::Precision p = precision::parse_precision(precision);
   precision::check_supported(scene.spec, scene.model->formulation());
@@ -149,20 +150,15 @@ std::shared_ptr<const studies::CertifiedReference> high_precision_study_referenc
   return std::make_shared<const studies::CertifiedReference>(
       precision::certified_high_precision_reference(scene.spec, times, p,
                                                     precision::default_rtol(p), metric, nullptr,
-                                                    scene.model->formulation()));
+                                                    scene.model->formulation(), budget_seconds));
 }
 
 std::shared_ptr<const studies::CertifiedReference> automatic_quad_reference(
     const scene::Scene& scene, const std::vector<double>& times, const std::string& metric,
     const std::string& study, double budget_seconds, std::string& refused) {
-  const precision::Precision quad = precision::Precision::kQuad;
   try {
-    const studies::Progress progress(
-        study + ": reference (odeint, quad precision, with its error estimate)", 0, "");
-    return std::make_shared<const studies::CertifiedReference>(
-        precision::certified_high_precision_reference(
-            scene.spec, times, quad, precision::default_rtol(quad), metric, nullptr,
-            scene.model->formulation(), budget_seconds));
+    return high_precision_study_reference(scene, times, "quad", metric, "auto", study,
+                                          budget_seconds);
   } catch (const precision::BudgetExceeded& e) {
     refused = std::string(e.what()) +
               " (--reference-budget): the study keeps the double reference; give "

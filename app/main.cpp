@@ -26,6 +26,17 @@
 
 namespace {
 
+/// A study's --reference-budget (docs/precision.md, "Cost guard").
+void add_reference_budget(CLI::App* command, double& budget) {
+  using flexref::app::non_negative_number;
+  command
+      ->add_option("--reference-budget", budget,
+                   "seconds of wall time auto may spend on a quad reference; over it (projected "
+                   "early), the study keeps the double one (0: no bound; docs/precision.md)")
+      ->check(non_negative_number())
+      ->capture_default_str();
+}
+
 /// --max-steps and --max-rows (app::WorkLimits).
 void add_limits(CLI::App* command, flexref::app::WorkLimits& limits, bool steps) {
   using flexref::app::positive_number;
@@ -179,12 +190,7 @@ int run_command_line(int argc, char** argv) {
                    "allows it) | double | extended | quad (docs/precision.md)")
       ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
       ->capture_default_str();
-  conv_cmd
-      ->add_option("--reference-budget", conv.reference_budget,
-                   "seconds of wall time auto may spend on a quad reference; over it (projected "
-                   "early), the study keeps the double one (0: no bound; docs/precision.md)")
-      ->check(non_negative_number())
-      ->capture_default_str();
+  add_reference_budget(conv_cmd, conv.reference_budget);
   add_limits(conv_cmd, conv.limits, true);
   auto* conv_external =
       conv_cmd->add_option("--external", conv.external,
@@ -259,12 +265,7 @@ int run_command_line(int argc, char** argv) {
                    "allows it) | double | extended | quad (docs/precision.md)")
       ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
       ->capture_default_str();
-  wp_cmd
-      ->add_option("--reference-budget", wp.reference_budget,
-                   "seconds of wall time auto may spend on a quad reference; over it (projected "
-                   "early), the study keeps the double one (0: no bound; docs/precision.md)")
-      ->check(non_negative_number())
-      ->capture_default_str();
+  add_reference_budget(wp_cmd, wp.reference_budget);
   add_limits(wp_cmd, wp.limits, true);
 
   StabilityCommandOptions stab;
@@ -346,12 +347,7 @@ int run_command_line(int argc, char** argv) {
                    "allows it) | double | extended | quad (docs/precision.md)")
       ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
       ->capture_default_str();
-  fig_cmd
-      ->add_option("--reference-budget", fig.reference_budget,
-                   "seconds of wall time auto may spend on a quad reference; over it (projected "
-                   "early), the study keeps the double one (0: no bound; docs/precision.md)")
-      ->check(non_negative_number())
-      ->capture_default_str();
+  add_reference_budget(fig_cmd, fig.reference_budget);
   fig_cmd->add_option("--out", fig.out_dir, "output directory")->capture_default_str();
   add_limits(fig_cmd, fig.limits, true);
 
