@@ -19,6 +19,7 @@
 #include "contact/penalty_load_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/node_attachment.hpp"
+#include "core/unit_vector_tpl.hpp"
 
 namespace flexref::contact {
 
@@ -84,8 +85,8 @@ class GapSupport final : public core::ForceElement {
     GapGeometryTpl<S> g;
     g.circular = geometry_.kind == GapSupportGeometry::Kind::kCircular;
     g.p_WS = geometry_.p_WS.cast<S>();
-    g.a_W = geometry_.a_W.cast<S>();
-    g.m_W = geometry_.m_W.cast<S>();
+    g.a_W = core::unit_vector_in<S>(geometry_.a_W);
+    g.m_W = core::unit_vector_in<S>(geometry_.m_W);
     g.clearance = S(geometry_.clearance);
     return g;
   }

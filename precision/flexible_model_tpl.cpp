@@ -7,7 +7,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "contact/contact.hpp"
+#include "contact/contact_point_tpl.hpp"
 #include "contact/gap_support.hpp"
+#include "core/unit_vector_tpl.hpp"
 #include "precision/refusal.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "scene/build_model.hpp"
@@ -43,14 +46,18 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
   const auto refuse = [&](const scene::SpecSource& source, const std::string& what) {
     refuse_part(spec, source, what,
                 "of a flexible body yet (docs/precision.md: one flexible body, free, pivot or "
-                "prescribed, with gravity, applied forces and torques, and gap supports)");
+                "prescribed, with gravity, applied forces and torques, point-charge potentials, "
+                "gap supports and spheres on ground planes)");
   };
   if (spec.bodies.size() != 1) {
     refuse(spec.bodies.at(1).source, "a flexible body with another body");
   }
-  for (const scene::PotentialSpec& p : spec.potentials) refuse(p.source, "a potential");
   for (const scene::ContactSpec& c : spec.contacts) {
-    if (!c.gap) refuse(c.source, "a sphere contact");
+    for (const contact::ContactPair& pair : c.pairs) {
+      if (pair.kind != contact::ContactPair::Kind::kSpherePlane) {
+        refuse(c.source, "a sphere–sphere contact");
+      }
+    }
   }
   for (const scene::JointSpec& j : spec.joints) refuse(j.source, "a joint");
   const scene::BodySpec& body = spec.bodies.front();
@@ -61,7 +68,7 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
   name_ = d.name;
   motion_ = d.motion;
   prescribed_ = d.prescribed;
-  axis_W_ = d.prescribed.axis_W.cast<S>();
+  axis_W_ = core::unit_vector_in<S>(d.prescribed.axis_W);
   n_ = modal.mode_count();
 
   // Invariants about Bo (nodes, then the hub) for the undeformed centre of mass; then about Br
@@ -161,23 +168,52 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
                          discontinuities_.end());
   for (int k = 0; k < integral_count_; ++k) initial_.push_back(S(0));
 
-  // The gap supports as the double model builds them (the laws' parameters, the normalized axis
-  // and plane normal, the node's undeformed position): every precision solves one model.
+  // The gap supports and sphere–plane pairs as the double model builds them (the laws'
+  // parameters, the normalized axis and plane normals, the points' undeformed positions), in
+  // its element order, which numbers the switching functions: every precision solves one model.
   wear_channels_ = built.wear_channel_names();
+  const auto channel_of = [&](const core::ForceElement& element) {
+    if (element.wear_channel_count() == 0) return -1;
+    return static_cast<int>(
+        std::find(wear_channels_.begin(), wear_channels_.end(), element.wear_channel_name()) -
+        wear_channels_.begin());
+  };
   for (const auto& element : built.elements()) {
-    const auto* g = dynamic_cast<const contact::GapSupport*>(element.get());
-    if (g == nullptr) continue;
-    Support c;
-    c.at = attachment(g->p_BoN_B(), g->node().deforms() ? g->node().node : -1);
-    c.geometry = g->template geometry_in<S>();
-    c.normal = g->normal_law();
-    c.friction = g->friction_law();
-    if (g->wear_channel_count() > 0) {
-      c.channel = static_cast<int>(
-          std::find(wear_channels_.begin(), wear_channels_.end(), g->wear_channel_name()) -
-          wear_channels_.begin());
+    if (const auto* g = dynamic_cast<const contact::GapSupport*>(element.get())) {
+      Support c;
+      c.at = attachment(g->p_BoN_B(), g->node().deforms() ? g->node().node : -1);
+      c.geometry = g->template geometry_in<S>();
+      c.normal = g->normal_law();
+      c.friction = g->friction_law();
+      c.channel = channel_of(*g);
+      supports_.push_back(c);
+    } else if (const auto* e = dynamic_cast<const contact::ContactElement*>(element.get())) {
+      for (const contact::ContactPair& pair : e->pairs()) {
+        Support c;
+        c.sphere = true;
+        c.at = attachment(pair.p_BoCb_B, pair.node_b.deforms() ? pair.node_b.node : -1);
+        c.radius = S(pair.radius_b);
+        c.p_WQ = pair.p_WQ.cast<S>();
+        c.n_W = core::unit_vector_in<S>(pair.n_W);
+        c.normal = e->normal_law();
+        c.friction = e->friction_law();
+        c.channel = channel_of(*e);
+        supports_.push_back(c);
+      }
     }
-    supports_.push_back(c);
+  }
+  // The potentials' charges sit at hub points (scene/load_reader.cpp): the frame's, never a
+  // node's.
+  for (const scene::PotentialSpec& spec_potential : spec.potentials) {
+    Potential potential{core::PointChargePotential(spec_potential.alpha, spec_potential.beta,
+                                                   spec_potential.p_WM, spec_potential.charges),
+                        {},
+                        {}};
+    for (const core::PointChargePotential::Charge& charge : spec_potential.charges) {
+      potential.at.push_back(attachment(charge.p_BoP_B, -1));
+      potential.weight.push_back(S(charge.weight));
+    }
+    potentials_.push_back(std::move(potential));
   }
 
   Scratch& s = scratch_;
@@ -266,28 +302,49 @@ typename FlexibleModelTpl<S>::Vector3 FlexibleModelTpl<S>::attached_offset_W(con
 }
 
 template <typename S>
+S FlexibleModelTpl<S>::support_gap(const Support& c, const Pose& p) const {
+  const Vector3 p_WC = p.p_WBr + attached_offset_W(c.at, p);
+  if (c.sphere) return contact::sphere_plane_point_tpl<S>(p_WC, c.radius, c.p_WQ, c.n_W).gap;
+  return contact::gap_point_tpl<S>(c.geometry, p_WC).gap;
+}
+
+template <typename S>
 typename FlexibleModelTpl<S>::SupportLoad FlexibleModelTpl<S>::support_load(const Support& c,
                                                                             const Pose& p) const {
-  // contact/gap_support_tpl.hpp in S at the deformed node N (GapSupport::evaluate's).
+  // A gap support: contact/gap_support_tpl.hpp in S at the deformed node N (GapSupport::
+  // evaluate's). A sphere: contact/contact_point_tpl.hpp's P = C − r n on the plane, C the
+  // (deformed) centre (ContactElement::evaluate's).
   using std::abs;
   using std::sqrt;
   SupportLoad load;
   load.f_W.setZero();
-  load.r_W = attached_offset_W(c.at, p);
-  const contact::GapPointTpl<S> point =
-      contact::gap_point_tpl<S>(c.geometry, Vector3(p.p_WBr + load.r_W));
-  load.gap = point.gap;
-  // v_N = v_WBr + ω × (p_WN − p_WBr) + A Φ_k q̇_f (core::attached_velocity_W).
+  const Vector3 r_C = attached_offset_W(c.at, p);
+  Vector3 n_W;
+  if (c.sphere) {
+    const contact::ContactPointTpl<S> point =
+        contact::sphere_plane_point_tpl<S>(Vector3(p.p_WBr + r_C), c.radius, c.p_WQ, c.n_W);
+    load.gap = point.gap;
+    n_W = point.n_W;
+    load.r_W = point.p_WP - p.p_WBr;
+  } else {
+    const contact::GapPointTpl<S> point =
+        contact::gap_point_tpl<S>(c.geometry, Vector3(p.p_WBr + r_C));
+    load.gap = point.gap;
+    n_W = point.n_W;
+    load.r_W = r_C;
+  }
+  // The material point's velocity at the point of application:
+  // v_WBr + ω × (P − p_WBr) + A Φ_k q̇_f (core::attached_velocity_W).
   Vector3 v = p.v_WBr + (p.A * p.w_B).cross(load.r_W);
   if (c.at.node >= 0) v.noalias() += p.A * (c.at.phi_B * scratch_.qd);
-  load.clamp = c.normal.clamp_function(S(-point.gap), S(-point.n_W.dot(v)));
+  load.clamp = c.normal.clamp_function(S(-load.gap), S(-n_W.dot(v)));
   const contact::PenaltyLoadTpl<S> e =
-      contact::penalty_load_tpl<S>(c.normal, c.friction, point.gap, point.n_W, v);
+      contact::penalty_load_tpl<S>(c.normal, c.friction, load.gap, n_W, v);
   load.dissipated_power = e.dissipated_power();
   if (!(e.normal.total > S(0))) return load;
   load.normal = e.normal.total;
   load.slip_speed = sqrt(e.v_t_W.squaredNorm());
-  load.f_W = e.normal.total * point.n_W + e.f_friction_W;
+  load.f_W = e.normal.total * n_W + e.f_friction_W;
   load.wear_power = abs(e.f_friction_W.dot(e.v_t_W));
   return load;
 }
@@ -348,10 +405,24 @@ void FlexibleModelTpl<S>::evaluate(S t, double t_segment, const Pose& p) const {
       s.applied_power += v.dot(v_P);
     }
   }
+  for (const Potential& potential : potentials_) {
+    // f_i = c_i (unit field at P_i), at the hub point P_i (core/point_charge_potential.cpp).
+    for (std::size_t i = 0; i < potential.at.size(); ++i) {
+      const Vector3 r_W = attached_offset_W(potential.at[i], p);
+      const Vector3 p_WP = p.p_WBr + r_W;
+      const S position[3] = {p_WP(0), p_WP(1), p_WP(2)};
+      S field[3];
+      S unit_potential;
+      potential.law.unit_field(position, field, unit_potential);
+      const Vector3 f_W = potential.weight[i] * Vector3(field[0], field[1], field[2]);
+      s.f_W += f_W;
+      s.tau_W += r_W.cross(f_W);
+    }
+  }
   s.contact_dissipation = S(0);
   std::fill(s.wear_power.begin(), s.wear_power.end(), S(0));
   for (std::size_t k = 0; k < supports_.size(); ++k) {
-    // At the deformed node under either model, as applied forces at nodes
+    // At the deformed node (a sphere: at P) under either model, as applied forces at nodes
     // (core::add_attached_force): f, r × f and Φ_kᵀ Aᵀ f.
     const Support& c = supports_[k];
     const SupportLoad load = support_load(c, p);
@@ -451,10 +522,19 @@ S FlexibleModelTpl<S>::energy(S t, const std::vector<S>& y) const {
   const Vector3 s_t = first_moment(q_load);
   S V = -g_W_.dot(invariants_.mass * p.p_WBr + p.A * s_t) +
         S(0.5) * s.q.dot(stiffness_.cwiseProduct(s.q));
-  // The supports' V_law(δ) at the deformed node (GapSupport::potential_energy).
-  for (const Support& c : supports_) {
-    const Vector3 p_WN = p.p_WBr + attached_offset_W(c.at, p);
-    V += c.normal.potential_in(S(-contact::gap_point_tpl<S>(c.geometry, p_WN).gap));
+  // The supports' and pairs' V_law(δ) at the deformed points (GapSupport's and
+  // ContactElement's potential_energy).
+  for (const Support& c : supports_) V += c.normal.potential_in(S(-support_gap(c, p)));
+  // Σ c_i V_unit(P_i) (PointChargePotential::potential_energy).
+  for (const Potential& potential : potentials_) {
+    for (std::size_t i = 0; i < potential.at.size(); ++i) {
+      const Vector3 p_WP = p.p_WBr + attached_offset_W(potential.at[i], p);
+      const S position[3] = {p_WP(0), p_WP(1), p_WP(2)};
+      S field[3];
+      S unit_potential;
+      potential.law.unit_field(position, field, unit_potential);
+      V += potential.weight[i] * unit_potential;
+    }
   }
   return S(0.5) * vMv + V;
 }

@@ -24,8 +24,10 @@
 ///            undeformed body (attachments at nodes see the deformation: node_attachment.hpp),
 /// with the known rows (pivot: a = 0; prescribed: a = 0, α̅ of the law) moved to the right.
 /// Gap supports at nodes (contact/gap_support.hpp) push the deformed node back into its
-/// clearance with their normal and friction laws, evaluated in S; their dissipation enters W_d
-/// and their friction power each wear channel's work.
+/// clearance, and spheres at hub points or nodes on ground planes (contact/contact.hpp) off the
+/// plane, with their normal and friction laws, evaluated in S; their dissipation enters W_d and
+/// their friction power each wear channel's work. Point-charge potentials
+/// (core/point_charge_potential.hpp) act at hub points, and their V enters the energy.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -34,6 +36,7 @@
 #include "contact/gap_support_tpl.hpp"
 #include "contact/penalty_load_tpl.hpp"
 #include "core/model.hpp"
+#include "core/point_charge_potential.hpp"
 #include "core/prescribed_motion.hpp"
 #include "core/time_profile.hpp"
 #include "flexible/mass_matrix_solve_tpl.hpp"
@@ -50,7 +53,7 @@ class FlexibleModelTpl {
   using Quaternion = Eigen::Matrix<S, 4, 1>;
 
   /// Throws std::invalid_argument naming the first part of the scene this model does not carry
-  /// (more than one body, potentials, sphere contacts, joints).
+  /// (more than one body, sphere–sphere contacts, joints).
   FlexibleModelTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation);
 
   /// True when the scene has a flexible body (this model's scenes).
@@ -60,12 +63,13 @@ class FlexibleModelTpl {
   /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
   const std::vector<std::string>& columns() const { return columns_; }
   int mode_count() const { return n_; }
-  /// Two per gap support, in order: the gap g (the support pushes while g < 0; its sign change
-  /// is an onset or a release) and the unclamped law's value (NormalLaw::clamp_function).
+  /// Two per gap support or sphere–plane pair, in the double model's order: the gap g (it
+  /// pushes while g < 0; its sign change is an onset or a release) and the unclamped law's value
+  /// (NormalLaw::clamp_function).
   int switching_function_count() const { return 2 * static_cast<int>(supports_.size()); }
   void switching_functions(S t, const std::vector<S>& y, std::vector<S>& values) const;
   int wear_channel_count() const { return static_cast<int>(wear_channels_.size()); }
-  /// The wear channel of a gap support, −1 for an unnamed one.
+  /// The wear channel of a gap support or pair, −1 for an unnamed one.
   int wear_channel_of_pair(int pair) const {
     return supports_[static_cast<std::size_t>(pair)].channel;
   }
@@ -109,10 +113,15 @@ class FlexibleModelTpl {
     core::TimeProfile profile = core::TimeProfile::constant();
     bool tracks_work = false;
   };
-  /// A gap support at a node (contact/gap_support.hpp), its geometry in S.
+  /// A gap support at a node (contact/gap_support.hpp), or a sphere of radius r at `at` on the
+  /// ground plane through Q with unit normal n (contact/contact.hpp), its geometry in S.
   struct Support {
     Attachment at;
-    contact::GapGeometryTpl<S> geometry;
+    bool sphere = false;
+    contact::GapGeometryTpl<S> geometry;  ///< gap support
+    S radius = S(0);                      ///< sphere
+    Vector3 p_WQ = Vector3::Zero();       ///< sphere: a point of the plane
+    Vector3 n_W = Vector3::UnitZ();       ///< sphere: the plane's unit normal
     contact::NormalLaw normal;
     contact::FrictionLaw friction;
     int channel = -1;
@@ -121,7 +130,7 @@ class FlexibleModelTpl {
   struct SupportLoad {
     S gap = S(0);
     S clamp = S(0);   ///< NormalLaw::clamp_function(δ, δ̇)
-    Vector3 r_W;      ///< the deformed node from p_WBr
+    Vector3 r_W;      ///< the point of application (deformed node, sphere's P) from p_WBr
     Vector3 f_W;      ///< F_n n + F_t, zero when it does not push
     S normal = S(0);  ///< F_n ≥ 0
     S slip_speed = S(0);
@@ -148,6 +157,8 @@ class FlexibleModelTpl {
   Vector3 attached_offset_W(const Attachment& a, const Pose& p) const;
   /// A support's gap, clamp function and load at the pose (q_f, q̇_f in the scratch).
   SupportLoad support_load(const Support& support, const Pose& p) const;
+  /// A support's gap at the pose (q_f in the scratch).
+  S support_gap(const Support& support, const Pose& p) const;
   /// q_f and q̇_f of y into the scratch.
   void load_modes(const std::vector<S>& y) const;
   /// s_t(q) = s0 + S q (+ Δs(q) with geometric stiffening), the first moment about Br.
@@ -170,6 +181,13 @@ class FlexibleModelTpl {
   std::vector<Attachment> points_;
   std::vector<Load> loads_;
   std::vector<Support> supports_;
+  /// A point-charge potential's law and its charges as hub attachments with their weights.
+  struct Potential {
+    core::PointChargePotential law;
+    std::vector<Attachment> at;
+    std::vector<S> weight;
+  };
+  std::vector<Potential> potentials_;
   std::vector<std::string> wear_channels_;
   Vector3 g_W_;
   std::vector<std::string> columns_;

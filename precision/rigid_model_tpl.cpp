@@ -10,6 +10,7 @@
 #include "contact/contact.hpp"
 #include "contact/contact_point_tpl.hpp"
 #include "contact/penalty_load_tpl.hpp"
+#include "core/unit_vector_tpl.hpp"
 #include "precision/refusal.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
@@ -97,7 +98,8 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
     body.pivot = d.motion == core::MotionKind::kPivot;
     body.prescribed = d.motion == core::MotionKind::kPrescribed;
     body.law = d.prescribed;
-    body.axis_W = to_s<S>(d.prescribed.axis_W);
+    const EigenVector3<S> axis = core::unit_vector_in<S>(d.prescribed.axis_W);
+    body.axis_W = {axis(0), axis(1), axis(2)};
     body.mass = S(d.mass);
     const Vec3<S> p_BoBcm_B = to_s<S>(d.p_BoBcm_B);
     // Br: Bcm (free), the pivot, or Bo, fixed on the axis (prescribed; core/body.cpp).
@@ -218,7 +220,8 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
           c.p_BrCa_B = {ca[0] - oa[0], ca[1] - oa[1], ca[2] - oa[2]};
         }
         c.p_WQ = to_s<S>(p.p_WQ);
-        c.n_W = to_s<S>(p.n_W);
+        const EigenVector3<S> n = core::unit_vector_in<S>(p.n_W);
+        c.n_W = {n(0), n(1), n(2)};
         c.normal = e->normal_law();
         c.friction = e->friction_law();
         contacts_.push_back(c);

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "contact/contact.hpp"
 #include "contact/gap_support.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
@@ -88,6 +89,45 @@ scene::SceneSpec spinner_in_planar_support() {
   c.friction.mu = 0.2;
   c.friction.v_reg = 0.01;
   spec.contacts.push_back(c);
+  return spec;
+}
+
+/// flexible_spinner under gravity with its Bo at height h over a ground plane through
+/// (0, 0, plane_z) tilted 0.1 rad about y, a sphere (r = 2 cm) at its tip node (node 9) and one
+/// (r = 10 cm) at the hub point (0, 0, −0.05) on it, a linear law with damping and friction and
+/// a named wear channel; and a point-charge potential (attractor 2 m above Bo, wall z = 0) with
+/// two hub charges. Everything a flexible body carries in extended/quad besides gap supports.
+/// Without the scene's torque pulse, whose work no integral tracks: E − E0 + W_d closes.
+scene::SceneSpec spinner_on_plane_in_field(double height, double plane_z) {
+  scene::SceneSpec spec = spec_of("scenes/flexible_spinner.toml");
+  spec.loads.clear();
+  spec.g_W = Eigen::Vector3d(0.0, 0.0, -9.81);
+  core::RigidBodyDescription& d = spec.bodies.front().description;
+  d.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, height);
+  d.flexible->modal.damping_ratio.setConstant(0.01);
+  const Eigen::Vector3d p_WQ(0.0, 0.0, plane_z);
+  const Eigen::Vector3d n_W(std::sin(0.1), 0.0, std::cos(0.1));
+  scene::ContactSpec c;
+  contact::ContactPair tip =
+      contact::ContactPair::sphere_plane(0, d.flexible->modal.p_BoNode_B.col(9), 0.02, p_WQ, n_W);
+  tip.node_b.node = 9;  // build_model fills Φ_k (scene_spec.hpp)
+  c.pairs.push_back(tip);
+  c.pairs.push_back(
+      contact::ContactPair::sphere_plane(0, Eigen::Vector3d(0.0, 0.0, -0.05), 0.1, p_WQ, n_W));
+  c.name = "floor";
+  c.law.linear = true;
+  c.law.stiffness = 2e4;
+  c.law.damping = 20.0;
+  c.friction.mu = 0.3;
+  c.friction.v_reg = 0.01;
+  spec.contacts.push_back(c);
+  scene::PotentialSpec field;
+  field.alpha = 0.5;
+  field.beta = 0.01;
+  field.p_WM = Eigen::Vector3d(0.0, 0.0, height + 2.0);
+  field.charges = {{0, Eigen::Vector3d(0.0, 0.1, 0.0), 1.0},
+                   {0, Eigen::Vector3d(0.05, 0.0, 0.0), 2.0}};
+  spec.potentials.push_back(field);
   return spec;
 }
 
@@ -247,6 +287,67 @@ TEST_CASE("gap supports on the flexible body agree with core::Model at random st
   CHECK(pushed < checked);
 }
 
+TEST_CASE("sphere contacts and potentials on the flexible body agree with core::Model",
+          "[precision]") {
+  // Bo 3 m up and the plane 0.5 m below it: the random states (Br within ±1 m, any attitude,
+  // q_f ~ 0.05 moving the tip by ~8 cm) put the tip sphere, and less often the hub's, through
+  // the plane in some states and not in others; the charges stay above the wall (z > 1.8 m).
+  // Both must happen, or the check would not see the contact force.
+  int pushed = 0, checked = 0;
+  unsigned seed = 300;
+  for (const auto formulation :
+       {core::FlexibleFormulation::kCoupled, core::FlexibleFormulation::kLte}) {
+    CAPTURE(core::to_string(formulation));
+    for (int k = 0; k < 4; ++k) {
+      pushed += check_against_core_model(spinner_on_plane_in_field(3.0, 2.5), formulation, 0.3,
+                                         0.05, ++seed);
+      checked += 4;
+    }
+  }
+  INFO(pushed << " of " << checked << " random states in contact");
+  CHECK(pushed > checked / 8);
+  CHECK(pushed < checked);
+  // A sphere–sphere pair needs a second body; the model says what it does not carry.
+  scene::SceneSpec two = spinner_on_plane_in_field(3.0, 2.5);
+  two.contacts.front().pairs.front().kind = contact::ContactPair::Kind::kSphereSphere;
+  CHECK_THROWS_WITH(FlexibleModelTpl<long double>(two, core::FlexibleFormulation::kCoupled),
+                    Catch::Contains("sphere–sphere"));
+}
+
+TEST_CASE("a flexible body dropped on a plane in a field: impacts and energy balance in quad",
+          "[precision]") {
+  // The spinner falls 0.3 m (Bo at 0.45 m, the hub sphere's bottom at 0.3 m, ~0.25 s); the
+  // tilted plane and its spin make the hub strike and slide, with friction, while the field
+  // pulls. Quad at rtol 1e-28 closes its energy balance E − E0 + W_d (modal damping, contact
+  // dissipation) to its own accuracy: E ~ 10 J, ~1e-33 J of rounding per step over ~1e4
+  // steps and the located events' 1e-28 (measured 5e-29 J); bound 1e-25 J. A plane normal
+  // left as double stored it (|n| − 1 ~ 1e-16) let friction work along n: 2.5e-13 J
+  // (core/unit_vector_tpl.hpp).
+  scene::SceneSpec spec = spinner_on_plane_in_field(0.45, 0.0);
+  spec.end_time = 0.5;
+  const std::vector<double> times = core::output_times(spec.end_time, 0.05);
+  const HighPrecisionRun run = solve_high_precision(spec, times, Precision::kQuad, 1e-28);
+  const auto column = [&](const std::string& name) {
+    const auto c = static_cast<std::size_t>(
+        std::find(run.columns.begin(), run.columns.end(), name) - run.columns.begin());
+    REQUIRE(c < run.columns.size());
+    return c - 1;  // run.text has no time column
+  };
+  const std::size_t impacts = column("floor.impacts");
+  const std::size_t wear = column("floor.wear_work");
+  const std::size_t balance = column("energy_balance");
+  const std::vector<std::string>& last = run.text.back();
+  INFO("impacts " << last[impacts] << ", wear work " << last[wear] << " J, energy balance "
+                  << last[balance] << " J, events " << run.events.size());
+  CHECK(std::stod(last[impacts]) >= 1.0);
+  CHECK(std::stod(last[wear]) > 0.0);
+  Quad worst(0);
+  for (const std::vector<std::string>& row : run.text) {
+    worst = std::max(worst, Quad(abs(Quad(row[balance]))));
+  }
+  CHECK(static_cast<double>(worst) < 1e-25);
+}
+
 TEST_CASE("the tube in extended precision: impacts, wear work and energy balance", "[precision]") {
   // tube_support_impact over 50 ms (9 impacts) in extended and by CVODE at rtol 1e-12:
   // the impacts counted at the located onsets equal the double reference's count, the wear
@@ -291,6 +392,9 @@ TEST_CASE("double, extended and quad agree in that order on flexible bodies", "[
   // The tube in its gap support over its first 30 ms: an onset with the clamp acting, releases
   // and a second impact (events at 9.5, 11.0, 14.0 … 22 ms); quad takes ~5 s per solve.
   check_precision_order("scenes/tube_support_impact.toml", 0.03);
+  // The spinner dropped on a tilted plane in a point-charge field: an onset, the clamp and a
+  // release of the hub sphere with friction (events at 0.248, 0.323, 0.324 s).
+  check_precision_order(spinner_on_plane_in_field(0.45, 0.0), 0.5);
 }
 
 TEST_CASE("the free flexible body conserves its energy in quad once the torque is off",

@@ -254,7 +254,13 @@ TEST_CASE("scenes beyond the extended/quad model are refused naming the part", "
   sphere.contacts.front().gap.reset();
   sphere.contacts.front().pairs.push_back(
       spec_of("scenes/bouncing_ball.toml").contacts.front().pairs.front());
-  CHECK(message(sphere).find("a sphere contact") != std::string::npos);
+  CHECK(message(sphere) == "accepted");  // a sphere on a plane: carried
+  sphere.contacts.front().pairs.front().kind = contact::ContactPair::Kind::kSphereSphere;
+  sphere.contacts.front().pairs.front().body_a = 0;
+  CHECK(message(sphere).find("a sphere–sphere contact") != std::string::npos);
+  scene::SceneSpec joint = spec_of("scenes/flexible_spinner.toml");
+  joint.joints.push_back(spec_of("scenes/double_pendulum_impacts.toml").joints.front());
+  CHECK(message(joint).find("a joint") != std::string::npos);
   CHECK(message(spec_of("scenes/tube_support_impact.toml")) == "accepted");
   CHECK(message("scenes/coulomb_wall.toml") == "accepted");
   CHECK(message("scenes/double_pendulum_impacts.toml") == "accepted");
