@@ -198,6 +198,29 @@ TEST_CASE("quad carries the double model's contact outputs: energy balance and w
     CHECK(static_cast<double>(worst) < 1e-24);
     CHECK(Quad(run.text.back()[work]) > Quad(8));  // ~8.8 J dissipated in 3 s of bouncing
   }
+  // The ball dropped 5 cm onto a plane tilted 0.3 rad, bouncing and then sliding down it with
+  // friction (μ = 0.3): the plane's unit normal as double stores it (|n| − 1 ~ 1e-16) let
+  // friction work along n that W_d does not count, 1.6e-15 J of balance by 0.6 s; normalized
+  // again in quad (core/unit_vector_tpl.hpp), the balance closes as above (1e-24 J).
+  {
+    scene::SceneSpec spec = spec_of("scenes/bouncing_ball.toml");
+    const Eigen::Vector3d n_W(std::sin(0.3), 0.0, std::cos(0.3));
+    spec.contacts[0].pairs[0].n_W = n_W;
+    spec.contacts[0].pairs[0].p_WQ = Eigen::Vector3d(0.0, 0.0, 1.0 - 0.15 / n_W.z());
+    spec.contacts[0].friction.mu = 0.3;
+    spec.contacts[0].friction.v_reg = 0.01;
+    spec.end_time = 0.6;
+    const std::vector<double> times = core::output_times(spec.end_time, 0.05);
+    const HighPrecisionRun run = solve_high_precision(spec, times, Precision::kQuad, 1e-28);
+    const std::size_t balance = column(run, "energy_balance");
+    const std::size_t work = column(run, "dissipated_work");
+    Quad worst(0);
+    for (const auto& row : run.text) worst = std::max(worst, Quad(abs(Quad(row[balance]))));
+    INFO("balance " << static_cast<double>(worst) << " J, dissipated " << run.text.back()[work]
+                    << " J, events " << run.events.size());
+    CHECK(static_cast<double>(worst) < 1e-24);
+    CHECK(Quad(run.text.back()[work]) > Quad(0.1));
+  }
   // sliding_block with its contact named: the wear channel's columns, as the double model
   // writes them (same names and order), agree with a double reference. CVODE at rtol 1e-10
   // keeps the normal force (~2.4 N per corner) and the wear work (~0.36 J) to ~1e-8; 1e-6
