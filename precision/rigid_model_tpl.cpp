@@ -61,7 +61,10 @@ contact::bushing::EndMotion<S> end_motion(const contact::BushingEnd& end,
                                           const Mat3<S>& A, std::size_t o) {
   contact::bushing::EndMotion<S> m;
   const Vec3<S> point = to_s<S>(end.point);
-  const Vec3<S> axis = to_s<S>(end.axis);
+  // The hinge axis as a unit vector of S (core/unit_vector_tpl.hpp): the damping's projection
+  // ω − ½(a (a·ω) + b (b·ω)) assumes |a| = |b| = 1.
+  const EigenVector3<S> unit_axis = core::unit_vector_in<S>(end.axis);
+  const Vec3<S> axis{unit_axis(0), unit_axis(1), unit_axis(2)};
   if (body == nullptr) {
     m.p_WP = eigen(point);
     m.axis_W = eigen(axis);
