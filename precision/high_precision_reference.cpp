@@ -81,11 +81,12 @@ HighPrecisionRun integrate_model(const Model& model, std::chrono::steady_clock::
   run.columns = model.columns();
   run.table.columns = run.columns;
   const int digits = significant_digits(precision);
+  RateWindow window(output_times.front());
   const auto within_budget = [&](double t) {
     if (!(budget.seconds > 0.0)) return;
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    check_budget(budget, elapsed, output_times.front(), t, output_times.back(), precision);
+    check_budget(budget, window, elapsed, output_times.front(), t, output_times.back(), precision);
   };
 
   State y = model.initial_state();

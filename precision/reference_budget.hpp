@@ -1,8 +1,8 @@
 #pragma once
 /// \file reference_budget.hpp
 /// The wall-time budget of an extended/quad reference (docs/precision.md, "Cost guard"): a run
-/// projects its own wall time linearly in simulated time and stops once the projection of the
-/// whole reference is over its budget.
+/// projects its own wall time over the simulated time left at its recent rate and stops once
+/// the projection of the whole reference is over its budget.
 #include <stdexcept>
 #include <string>
 
@@ -43,10 +43,36 @@ struct Budget {
   double factor = 1.0;
 };
 
+/// The recent cost of a run: wall seconds per simulated second over a window that covers at
+/// least the last half of its elapsed time (samples kept as the elapsed time doubles). A run
+/// whose first stretch is cheap (a many-mode body before its load excites the top modes) is
+/// projected from what it costs now, not from its average so far.
+class RateWindow {
+ public:
+  explicit RateWindow(double t0) : t0_(t0), mark_{0.0, t0}, pending_{0.0, t0} {}
+  /// Records the sample (elapsed, t) and returns the run's projected wall time to t_end,
+  /// elapsed + (t_end − t) × rate: the rate since the window's mark, or since t0 when no
+  /// simulated time has passed since the mark. Never below `elapsed`; requires t > t0.
+  double projected_run(double elapsed, double t, double t_end);
+
+ private:
+  struct Sample {
+    double elapsed;
+    double t;
+  };
+  double t0_;
+  Sample mark_;     ///< at or before half the elapsed time
+  Sample pending_;  ///< becomes the mark once the elapsed time has doubled since it
+};
+
 /// The projection at simulated time t of a run that started at t0, ends at t_end and has taken
-/// `elapsed` seconds: spent + factor × elapsed × (t_end − t0)/(t − t0). Throws BudgetExceeded
-/// when it is over budget.seconds. Nothing is projected without a budget, at t ≤ t0, or before
-/// 1 % of the budget has elapsed (start-up dominates the first rows).
+/// `elapsed` seconds: spent + factor × window.projected_run(elapsed, t, t_end). Throws
+/// BudgetExceeded when it is over budget.seconds. Nothing is projected without a budget, at
+/// t ≤ t0, or before 1 % of the budget has elapsed (start-up dominates the first rows).
+void check_budget(const Budget& budget, RateWindow& window, double elapsed, double t0, double t,
+                  double t_end, Precision precision);
+/// The same with the run's average rate, elapsed/(t − t0): spent + factor × elapsed ×
+/// (t_end − t0)/(t − t0) (one sample: a fresh window).
 void check_budget(const Budget& budget, double elapsed, double t0, double t, double t_end,
                   Precision precision);
 
