@@ -21,7 +21,9 @@ Eigen::Matrix<S, 3, 1> unit_vector_in(const Eigen::Vector3d& n) {
   } else {
     using std::sqrt;
     const Eigen::Matrix<S, 3, 1> v = n.cast<S>();
-    return v / sqrt(v.squaredNorm());
+    const S norm = sqrt(v.squaredNorm());
+    // A zero vector (a circular gap support's unused plane normal, say) stays zero, not NaN.
+    return norm > S(0) ? Eigen::Matrix<S, 3, 1>(v / norm) : v;
   }
 }
 

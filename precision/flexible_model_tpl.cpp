@@ -583,8 +583,8 @@ std::vector<S> FlexibleModelTpl<S>::output_row(S t, const std::vector<S>& y,
     row.push_back(e - energy0_ + work - applied);
   }
   if (!wear_channels_.empty()) {
-    // Per channel Σ F_n, the slip speed of its most loaded support (GapSupport::wear_samples),
-    // the wear work and the impacts counted by the caller.
+    // Per channel Σ F_n, the slip speed of its most loaded support or pair (the wear_samples of
+    // GapSupport and ContactElement), the wear work and the impacts counted by the caller.
     load_modes(y);
     const std::size_t channels = wear_channels_.size();
     std::vector<S> normal(channels, S(0)), largest(channels, S(0)), slip(channels, S(0));
