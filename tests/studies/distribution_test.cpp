@@ -3,6 +3,7 @@
 /// runs the same contract on two MPI ranks.
 #include "studies/distribution.hpp"
 
+#include <atomic>
 #include <bit>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -69,7 +70,7 @@ TEST_CASE("distributed_for in one process: every slot, progress to the end, firs
 
   // Tasks 4 (solver) and 9 (bad argument) fail: the one a serial loop meets first is rethrown,
   // with its type, after all tasks ran.
-  int ran = 0;
+  std::atomic<int> ran = 0;  // the 3 threads count concurrently (a plain int lost increments)
   CHECK_THROWS_AS(distributed_for(
                       n, 3,
                       [&](int k) {
