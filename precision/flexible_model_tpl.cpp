@@ -207,11 +207,9 @@ FlexibleModelTpl<S>::FlexibleModelTpl(const scene::SceneSpec& spec,
   for (const scene::PotentialSpec& spec_potential : spec.potentials) {
     Potential potential{core::PointChargePotential(spec_potential.alpha, spec_potential.beta,
                                                    spec_potential.p_WM, spec_potential.charges),
-                        {},
                         {}};
     for (const core::PointChargePotential::Charge& charge : spec_potential.charges) {
       potential.at.push_back(attachment(charge.p_BoP_B, -1));
-      potential.weight.push_back(S(charge.weight));
     }
     potentials_.push_back(std::move(potential));
   }
@@ -302,37 +300,33 @@ typename FlexibleModelTpl<S>::Vector3 FlexibleModelTpl<S>::attached_offset_W(con
 }
 
 template <typename S>
-S FlexibleModelTpl<S>::support_gap(const Support& c, const Pose& p) const {
-  const Vector3 p_WC = p.p_WBr + attached_offset_W(c.at, p);
-  if (c.sphere) return contact::sphere_plane_point_tpl<S>(p_WC, c.radius, c.p_WQ, c.n_W).gap;
-  return contact::gap_point_tpl<S>(c.geometry, p_WC).gap;
+typename FlexibleModelTpl<S>::SupportPoint FlexibleModelTpl<S>::support_point(const Support& c,
+                                                                              const Pose& p) const {
+  // A gap support: contact/gap_support_tpl.hpp in S at the deformed node N (GapSupport::
+  // evaluate's). A sphere: contact/contact_point_tpl.hpp's P = C − r n on the plane, C the
+  // (deformed) centre (ContactElement::evaluate's).
+  const Vector3 r_C = attached_offset_W(c.at, p);
+  if (c.sphere) {
+    const contact::ContactPointTpl<S> point =
+        contact::sphere_plane_point_tpl<S>(Vector3(p.p_WBr + r_C), c.radius, c.p_WQ, c.n_W);
+    return {point.gap, point.n_W, Vector3(point.p_WP - p.p_WBr)};
+  }
+  const contact::GapPointTpl<S> point =
+      contact::gap_point_tpl<S>(c.geometry, Vector3(p.p_WBr + r_C));
+  return {point.gap, point.n_W, r_C};
 }
 
 template <typename S>
 typename FlexibleModelTpl<S>::SupportLoad FlexibleModelTpl<S>::support_load(const Support& c,
                                                                             const Pose& p) const {
-  // A gap support: contact/gap_support_tpl.hpp in S at the deformed node N (GapSupport::
-  // evaluate's). A sphere: contact/contact_point_tpl.hpp's P = C − r n on the plane, C the
-  // (deformed) centre (ContactElement::evaluate's).
   using std::abs;
   using std::sqrt;
   SupportLoad load;
   load.f_W.setZero();
-  const Vector3 r_C = attached_offset_W(c.at, p);
-  Vector3 n_W;
-  if (c.sphere) {
-    const contact::ContactPointTpl<S> point =
-        contact::sphere_plane_point_tpl<S>(Vector3(p.p_WBr + r_C), c.radius, c.p_WQ, c.n_W);
-    load.gap = point.gap;
-    n_W = point.n_W;
-    load.r_W = point.p_WP - p.p_WBr;
-  } else {
-    const contact::GapPointTpl<S> point =
-        contact::gap_point_tpl<S>(c.geometry, Vector3(p.p_WBr + r_C));
-    load.gap = point.gap;
-    n_W = point.n_W;
-    load.r_W = r_C;
-  }
+  const SupportPoint point = support_point(c, p);
+  const Vector3& n_W = point.n_W;
+  load.gap = point.gap;
+  load.r_W = point.r_W;
   // The material point's velocity at the point of application:
   // v_WBr + ω × (P − p_WBr) + A Φ_k q̇_f (core::attached_velocity_W).
   Vector3 v = p.v_WBr + (p.A * p.w_B).cross(load.r_W);
@@ -347,6 +341,24 @@ typename FlexibleModelTpl<S>::SupportLoad FlexibleModelTpl<S>::support_load(cons
   load.f_W = e.normal.total * n_W + e.f_friction_W;
   load.wear_power = abs(e.f_friction_W.dot(e.v_t_W));
   return load;
+}
+
+template <typename S>
+typename FlexibleModelTpl<S>::ChargeLoad FlexibleModelTpl<S>::charge_load(
+    const Potential& potential, std::size_t i, const Pose& p) const {
+  // f_i = c_i (unit field at P_i), V_i = c_i V_unit(P_i), at the hub point P_i
+  // (core/point_charge_potential.cpp).
+  ChargeLoad charge;
+  charge.r_W = attached_offset_W(potential.at[i], p);
+  const Vector3 p_WP = p.p_WBr + charge.r_W;
+  const S position[3] = {p_WP(0), p_WP(1), p_WP(2)};
+  S field[3];
+  S unit_potential;
+  potential.law.unit_field(position, field, unit_potential);
+  const S weight(potential.law.charges()[i].weight);
+  charge.f_W = weight * Vector3(field[0], field[1], field[2]);
+  charge.potential = weight * unit_potential;
+  return charge;
 }
 
 template <typename S>
@@ -406,17 +418,10 @@ void FlexibleModelTpl<S>::evaluate(S t, double t_segment, const Pose& p) const {
     }
   }
   for (const Potential& potential : potentials_) {
-    // f_i = c_i (unit field at P_i), at the hub point P_i (core/point_charge_potential.cpp).
     for (std::size_t i = 0; i < potential.at.size(); ++i) {
-      const Vector3 r_W = attached_offset_W(potential.at[i], p);
-      const Vector3 p_WP = p.p_WBr + r_W;
-      const S position[3] = {p_WP(0), p_WP(1), p_WP(2)};
-      S field[3];
-      S unit_potential;
-      potential.law.unit_field(position, field, unit_potential);
-      const Vector3 f_W = potential.weight[i] * Vector3(field[0], field[1], field[2]);
-      s.f_W += f_W;
-      s.tau_W += r_W.cross(f_W);
+      const ChargeLoad charge = charge_load(potential, i, p);
+      s.f_W += charge.f_W;
+      s.tau_W += charge.r_W.cross(charge.f_W);
     }
   }
   s.contact_dissipation = S(0);
@@ -524,16 +529,11 @@ S FlexibleModelTpl<S>::energy(S t, const std::vector<S>& y) const {
         S(0.5) * s.q.dot(stiffness_.cwiseProduct(s.q));
   // The supports' and pairs' V_law(δ) at the deformed points (GapSupport's and
   // ContactElement's potential_energy).
-  for (const Support& c : supports_) V += c.normal.potential_in(S(-support_gap(c, p)));
+  for (const Support& c : supports_) V += c.normal.potential_in(S(-support_point(c, p).gap));
   // Σ c_i V_unit(P_i) (PointChargePotential::potential_energy).
   for (const Potential& potential : potentials_) {
     for (std::size_t i = 0; i < potential.at.size(); ++i) {
-      const Vector3 p_WP = p.p_WBr + attached_offset_W(potential.at[i], p);
-      const S position[3] = {p_WP(0), p_WP(1), p_WP(2)};
-      S field[3];
-      S unit_potential;
-      potential.law.unit_field(position, field, unit_potential);
-      V += potential.weight[i] * unit_potential;
+      V += charge_load(potential, i, p).potential;
     }
   }
   return S(0.5) * vMv + V;

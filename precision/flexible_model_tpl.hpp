@@ -157,8 +157,26 @@ class FlexibleModelTpl {
   Vector3 attached_offset_W(const Attachment& a, const Pose& p) const;
   /// A support's gap, clamp function and load at the pose (q_f, q̇_f in the scratch).
   SupportLoad support_load(const Support& support, const Pose& p) const;
-  /// A support's gap at the pose (q_f in the scratch).
-  S support_gap(const Support& support, const Pose& p) const;
+  /// Where a support acts at the pose (q_f in the scratch): its gap, its unit normal and the
+  /// point of application from p_WBr (the deformed node; a sphere's contact point P).
+  struct SupportPoint {
+    S gap;
+    Vector3 n_W;
+    Vector3 r_W;
+  };
+  SupportPoint support_point(const Support& support, const Pose& p) const;
+  /// A point-charge potential's law and its charges' hub points (the weights are the law's).
+  struct Potential {
+    core::PointChargePotential law;
+    std::vector<Attachment> at;
+  };
+  /// Charge i's arm from p_WBr, force c_i f_unit and potential c_i V_unit at the pose.
+  struct ChargeLoad {
+    Vector3 r_W;
+    Vector3 f_W;
+    S potential;
+  };
+  ChargeLoad charge_load(const Potential& potential, std::size_t i, const Pose& p) const;
   /// q_f and q̇_f of y into the scratch.
   void load_modes(const std::vector<S>& y) const;
   /// s_t(q) = s0 + S q (+ Δs(q) with geometric stiffening), the first moment about Br.
@@ -181,12 +199,6 @@ class FlexibleModelTpl {
   std::vector<Attachment> points_;
   std::vector<Load> loads_;
   std::vector<Support> supports_;
-  /// A point-charge potential's law and its charges as hub attachments with their weights.
-  struct Potential {
-    core::PointChargePotential law;
-    std::vector<Attachment> at;
-    std::vector<S> weight;
-  };
   std::vector<Potential> potentials_;
   std::vector<std::string> wear_channels_;
   Vector3 g_W_;

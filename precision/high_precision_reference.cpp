@@ -86,7 +86,7 @@ HighPrecisionRun integrate_model(const Model& model, std::chrono::steady_clock::
     if (!(budget.seconds > 0.0)) return;
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    check_budget(budget, window, elapsed, output_times.front(), t, output_times.back(), precision);
+    check_budget(budget, window, elapsed, t, output_times.back(), precision);
   };
 
   State y = model.initial_state();

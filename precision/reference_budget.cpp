@@ -16,14 +16,9 @@ double RateWindow::projected_run(double elapsed, double t, double t_end) {
   return elapsed + (t_end > t ? (t_end - t) * rate : 0.0);
 }
 
-void check_budget(const Budget& budget, double elapsed, double t0, double t, double t_end,
+void check_budget(const Budget& budget, RateWindow& window, double elapsed, double t, double t_end,
                   Precision precision) {
-  RateWindow window(t0);
-  check_budget(budget, window, elapsed, t0, t, t_end, precision);
-}
-
-void check_budget(const Budget& budget, RateWindow& window, double elapsed, double t0, double t,
-                  double t_end, Precision precision) {
+  const double t0 = window.t0();
   if (!(budget.seconds > 0.0) || !(t > t0) || !(t_end > t0)) return;
   if (elapsed < 0.01 * budget.seconds) return;
   const double projected = budget.spent + budget.factor * window.projected_run(elapsed, t, t_end);

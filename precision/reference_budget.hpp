@@ -54,6 +54,8 @@ class RateWindow {
   /// elapsed + (t_end − t) × rate: the rate since the window's mark, or since t0 when no
   /// simulated time has passed since the mark. Never below `elapsed`; requires t > t0.
   double projected_run(double elapsed, double t, double t_end);
+  /// The run's start in simulated time.
+  double t0() const { return t0_; }
 
  private:
   struct Sample {
@@ -65,15 +67,12 @@ class RateWindow {
   Sample pending_;  ///< becomes the mark once the elapsed time has doubled since it
 };
 
-/// The projection at simulated time t of a run that started at t0, ends at t_end and has taken
-/// `elapsed` seconds: spent + factor × window.projected_run(elapsed, t, t_end). Throws
+/// The projection at simulated time t of a run that started at window.t0(), ends at t_end and
+/// has taken `elapsed` seconds: spent + factor × window.projected_run(elapsed, t, t_end) (with a
+/// fresh window, the average rate: spent + factor × elapsed × (t_end − t0)/(t − t0)). Throws
 /// BudgetExceeded when it is over budget.seconds. Nothing is projected without a budget, at
 /// t ≤ t0, or before 1 % of the budget has elapsed (start-up dominates the first rows).
-void check_budget(const Budget& budget, RateWindow& window, double elapsed, double t0, double t,
-                  double t_end, Precision precision);
-/// The same with the run's average rate, elapsed/(t − t0): spent + factor × elapsed ×
-/// (t_end − t0)/(t − t0) (one sample: a fresh window).
-void check_budget(const Budget& budget, double elapsed, double t0, double t, double t_end,
+void check_budget(const Budget& budget, RateWindow& window, double elapsed, double t, double t_end,
                   Precision precision);
 
 }  // namespace flexref::precision

@@ -55,16 +55,13 @@ EigenVector3<S> eigen(const Vec3<S>& v) {
 
 /// A bushing end's pose and velocity in S (contact/bushing_tpl.hpp): a body's attachment point
 /// p_Br + A (P − Bo − p_BoBr), its Br, v_Br, ω = A ω̄ and axis A ā; the ground's as given.
-template <typename S>
-contact::bushing::EndMotion<S> end_motion(const contact::BushingEnd& end,
-                                          const RigidBodyTpl<S>* body, const std::vector<S>& y,
-                                          const Mat3<S>& A, std::size_t o) {
+template <typename S, typename End>
+contact::bushing::EndMotion<S> end_motion(const End& end, const RigidBodyTpl<S>* body,
+                                          const std::vector<S>& y, const Mat3<S>& A,
+                                          std::size_t o) {
   contact::bushing::EndMotion<S> m;
-  const Vec3<S> point = to_s<S>(end.point);
-  // The hinge axis as a unit vector of S (core/unit_vector_tpl.hpp): the damping's projection
-  // ω − ½(a (a·ω) + b (b·ω)) assumes |a| = |b| = 1.
-  const EigenVector3<S> unit_axis = core::unit_vector_in<S>(end.axis);
-  const Vec3<S> axis{unit_axis(0), unit_axis(1), unit_axis(2)};
+  const Vec3<S>& point = end.point;
+  const Vec3<S>& axis = end.axis;
   if (body == nullptr) {
     m.p_WP = eigen(point);
     m.axis_W = eigen(axis);
@@ -189,11 +186,15 @@ RigidModelTpl<S>::RigidModelTpl(const scene::SceneSpec& spec) : g_W_(to_s<S>(spe
   applied_work_ = dissipates_ && built.tracks_applied_work();
   wear_channels_ = built.wear_channel_names();
   integral_count_ = dissipates_ ? 1 + built.extra_integral_count() : 0;
+  const auto end_in_s = [](const contact::BushingEnd& end) {
+    const EigenVector3<S> axis = core::unit_vector_in<S>(end.axis);
+    return JointEndTpl{end.body, to_s<S>(end.point), {axis(0), axis(1), axis(2)}};
+  };
   for (const auto& element : built.elements()) {
     if (const auto* j = dynamic_cast<const contact::SphericalBushing*>(element.get())) {
-      joints_.push_back({false, j->end_a(), j->end_b(), j->parameters()});
+      joints_.push_back({false, end_in_s(j->end_a()), end_in_s(j->end_b()), j->parameters()});
     } else if (const auto* r = dynamic_cast<const contact::RevoluteBushing*>(element.get())) {
-      joints_.push_back({true, r->end_a(), r->end_b(), r->parameters()});
+      joints_.push_back({true, end_in_s(r->end_a()), end_in_s(r->end_b()), r->parameters()});
     }
   }
   {
@@ -444,7 +445,7 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y_in, std::vector<S>& dy
   for (const JointTpl& j : joints_) {
     // f = k d + c u on A at M, −f on B; τ_A, −τ_B for a revolute bushing (bushing.hpp).
     namespace bushing = contact::bushing;
-    const auto end = [&](const contact::BushingEnd& side) {
+    const auto end = [&](const JointEndTpl& side) {
       if (side.body == contact::kGround) return end_motion<S>(side, nullptr, y, Mat3<S>{}, 0);
       const auto i = static_cast<std::size_t>(side.body);
       return end_motion<S>(side, &bodies_[i], y, A[i], kBodyStateSize * i);
@@ -455,8 +456,7 @@ void RigidModelTpl<S>::derivative(const std::vector<S>& y_in, std::vector<S>& dy
     const EigenVector3<S> f = bushing::spherical_force(sep, j.parameters);
     EigenVector3<S> tau = EigenVector3<S>::Zero();
     if (j.revolute) tau = bushing::revolute_torque(a, b, j.parameters);
-    const auto apply = [&](const contact::BushingEnd& side, const bushing::EndMotion<S>& m,
-                           S sign) {
+    const auto apply = [&](const JointEndTpl& side, const bushing::EndMotion<S>& m, S sign) {
       if (side.body == contact::kGround) return;
       const auto i = static_cast<std::size_t>(side.body);
       const EigenVector3<S> moment = (sep.p_WM - m.p_WBr).cross(f) + tau;
@@ -594,7 +594,7 @@ S RigidModelTpl<S>::energy(const std::vector<S>& y) const {
       A[i] = rotation_matrix(quat_at(y, kBodyStateSize * i));
     }
     for (const JointTpl& j : joints_) {
-      const auto end = [&](const contact::BushingEnd& side) {
+      const auto end = [&](const JointEndTpl& side) {
         if (side.body == contact::kGround) return end_motion<S>(side, nullptr, y, Mat3<S>{}, 0);
         const auto i = static_cast<std::size_t>(side.body);
         return end_motion<S>(side, &bodies_[i], y, A[i], kBodyStateSize * i);

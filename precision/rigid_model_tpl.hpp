@@ -144,13 +144,20 @@ class RigidModelTpl {
   /// class's unit_field evaluates in S; each charge's point relative to its body's Br.
   std::vector<core::PointChargePotential> potentials_;
   std::vector<std::vector<Vec3<S>>> charge_points_;
+  /// A bushing end in S: the element's point from Bo (body) or in world (ground), and its axis
+  /// as a unit vector of S (core/unit_vector_tpl.hpp: the damping's projection
+  /// ω − ½(a (a·ω) + b (b·ω)) assumes |a| = |b| = 1), converted once.
+  struct JointEndTpl {
+    int body = contact::kGround;
+    Vec3<S> point{};
+    Vec3<S> axis{};
+  };
   /// Spherical and revolute bushings (contact/bushing.hpp; their equations are
-  /// contact/bushing_tpl.hpp's, evaluated in S). Ends as the elements hold them: the point from
-  /// Bo (body) or in world (ground), the unit axis.
+  /// contact/bushing_tpl.hpp's, evaluated in S).
   struct JointTpl {
     bool revolute = false;
-    contact::BushingEnd a;
-    contact::BushingEnd b;
+    JointEndTpl a;
+    JointEndTpl b;
     contact::BushingParameters parameters;
   };
   std::vector<JointTpl> joints_;

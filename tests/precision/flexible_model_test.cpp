@@ -344,15 +344,9 @@ TEST_CASE("a flexible body dropped on a plane in a field: impacts and energy bal
   spec.end_time = 0.5;
   const std::vector<double> times = core::output_times(spec.end_time, 0.05);
   const HighPrecisionRun run = solve_high_precision(spec, times, Precision::kQuad, 1e-28);
-  const auto column = [&](const std::string& name) {
-    const auto c = static_cast<std::size_t>(
-        std::find(run.columns.begin(), run.columns.end(), name) - run.columns.begin());
-    REQUIRE(c < run.columns.size());
-    return c - 1;  // run.text has no time column
-  };
   const std::vector<std::string>& last = run.text.back();
-  const auto at_end = [&](const std::string& name) { return std::stod(last[column(name)]); };
-  const std::size_t balance = column("energy_balance");
+  const auto at_end = [&](const std::string& name) { return std::stod(last[column(run, name)]); };
+  const std::size_t balance = column(run, "energy_balance");
   INFO("impacts " << at_end("tip.impacts") << " + " << at_end("hub.impacts") << ", wear work "
                   << at_end("tip.wear_work") << " + " << at_end("hub.wear_work")
                   << " J, energy balance " << last[balance] << " J, events " << run.events.size());

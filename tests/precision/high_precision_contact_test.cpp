@@ -26,14 +26,6 @@ namespace {
 
 using Quad = boost::multiprecision::float128;
 
-std::size_t column(const HighPrecisionRun& run, const std::string& name) {
-  for (std::size_t c = 1; c < run.columns.size(); ++c) {
-    if (run.columns[c] == name) return c - 1;  // index into text rows (t excluded)
-  }
-  FAIL("no column " << name);
-  return 0;
-}
-
 /// The ball's Hunt–Crossley law as the model builds it (α from the scene's restitution).
 contact::NormalLaw ball_law(const scene::SceneSpec& spec) {
   const core::Model model = scene::build_model(spec);

@@ -38,6 +38,16 @@ inline constexpr const char* kFlexibleScenes[] = {"scenes/flexible_spinner.toml"
                                                   "scenes/spin_up_beam_stiff_6.toml",
                                                   "scenes/spin_up_beam_stiff_10.toml"};
 
+/// The index of column `name` in a run's text rows (which have no `t`); fails the test when the
+/// run has no such column.
+inline std::size_t column(const HighPrecisionRun& run, const std::string& name) {
+  for (std::size_t c = 1; c < run.columns.size(); ++c) {
+    if (run.columns[c] == name) return c - 1;
+  }
+  FAIL("no column " << name);
+  return 0;
+}
+
 /// Quad, extended and double (CVODE rtol 1e-12) references of a scene up to `end_time` agree in
 /// that order: the extended reference is within its own estimate of quad, the double one within
 /// its estimate, and quad's estimate is below the extended reference's distance to it.

@@ -14,7 +14,8 @@ namespace {
 /// The projection check_budget threw, or −1 when it returned.
 double thrown_projection(const Budget& budget, double elapsed, double t) {
   try {
-    check_budget(budget, elapsed, 1.0, t, 11.0, Precision::kQuad);
+    RateWindow window(1.0);
+    check_budget(budget, window, elapsed, t, 11.0, Precision::kQuad);
   } catch (const BudgetExceeded& e) {
     CHECK(e.budget_seconds() == budget.seconds);
     CHECK(e.reached_time() == t);
@@ -77,10 +78,11 @@ TEST_CASE("a run is stopped at the first check whose recent rate projects over t
   // (5 s, 0.5) projects 10 + 9.375 × 40 = 385 s (the average: 160 s, under the budget).
   const Budget budget{300.0, 0.0, 1.0};
   RateWindow window(0.0);
-  CHECK_NOTHROW(check_budget(budget, window, 5.0, 0.0, 0.5, 10.0, Precision::kQuad));
-  CHECK_NOTHROW(check_budget(budget, 10.0, 0.0, 0.625, 10.0, Precision::kQuad));
+  CHECK_NOTHROW(check_budget(budget, window, 5.0, 0.5, 10.0, Precision::kQuad));
+  RateWindow average(0.0);  // one sample: the average rate
+  CHECK_NOTHROW(check_budget(budget, average, 10.0, 0.625, 10.0, Precision::kQuad));
   try {
-    check_budget(budget, window, 10.0, 0.0, 0.625, 10.0, Precision::kQuad);
+    check_budget(budget, window, 10.0, 0.625, 10.0, Precision::kQuad);
     FAIL("projected 385 s against 300 s and did not throw");
   } catch (const BudgetExceeded& e) {
     CHECK(e.projected_seconds() == Approx(385.0));
@@ -91,7 +93,8 @@ TEST_CASE("a run is stopped at the first check whose recent rate projects over t
 TEST_CASE("the budget's message names the precision, the projection and the budget",
           "[precision]") {
   try {
-    check_budget({3600.0, 0.0, 3.0}, 60.0, 0.0, 0.1, 10.0, Precision::kQuad);
+    RateWindow window(0.0);
+    check_budget({3600.0, 0.0, 3.0}, window, 60.0, 0.1, 10.0, Precision::kQuad);
     FAIL("projected 1.8e4 s against 3600 s and did not throw");
   } catch (const BudgetExceeded& e) {
     const std::string what = e.what();
