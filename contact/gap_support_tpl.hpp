@@ -2,7 +2,7 @@
 /// \file gap_support_tpl.hpp
 /// The gap support's geometry (docs/contact.md, "Gap support"; gap_support.hpp; its load is
 /// penalty_load_tpl.hpp's) written once, generic in the scalar type S: GapSupport calls it
-/// with double, the extended/quad flexible model (precision/flexible_model_tpl.hpp) with long
+/// with double, the extended/quad model (precision/multibody_model_tpl.hpp) with long
 /// double and float128. The parameters are the scene's doubles, exact in S.
 ///   circular  d = (I − a aᵀ)(p_WN − p_WS),  g = c − |d|,  n = −d/|d|
 ///   planar    s = m·(p_WN − p_WS),          g = c − |s|,  n = −sign(s) m

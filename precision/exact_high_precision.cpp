@@ -11,8 +11,8 @@
 #include <string>
 #include <utility>
 
+#include "precision/multibody_model_tpl.hpp"
 #include "precision/parse_text.hpp"
-#include "precision/rigid_model_tpl.hpp"
 #include "reference/exact_heavy_top.hpp"
 #include "reference/exact_pendulum.hpp"
 #include "reference/exact_rotation_tpl.hpp"
@@ -47,15 +47,10 @@ struct Principal {
 };
 
 template <typename S>
-Principal<S> principal_axes(const Mat3<S>& inertia) {
+Principal<S> principal_axes(const Matrix3<S>& inertia) {
   using std::abs;
   using std::sqrt;
-  Matrix3<S> J;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      J(i, j) = inertia[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-    }
-  }
+  Matrix3<S> J = inertia;
   Matrix3<S> V = Matrix3<S>::Identity();
   const S half_eps = std::numeric_limits<S>::epsilon() / S(2);
   for (int sweep = 0; sweep < 50; ++sweep) {
@@ -95,8 +90,8 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
   using std::isfinite;
   using std::sqrt;
   const auto start = std::chrono::steady_clock::now();
-  const RigidModelTpl<S> model(spec);
-  const RigidBodyTpl<S>& body = model.bodies().front();
+  const MultibodyModelTpl<S> model(spec, core::FlexibleFormulation::kCoupled);
+  const typename MultibodyModelTpl<S>::MassProperties body = model.mass_properties(0);
   const std::vector<S> y0 = model.initial_state();  // p_WBr, θ_WB (unit in S), v_WBr, ω̄
   const Quaternion<S> theta0(y0[3], y0[4], y0[5], y0[6]);
   const Vector3<S> w0_B(y0[10], y0[11], y0[12]);
@@ -146,15 +141,8 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
   } else if (kind == "pendulum") {
     // Released from rest (classify_exact_solution checked it, and the planar axis, in double);
     // the inertia about the pivot and c_B are the model's, formed in S.
-    Matrix3<S> J;
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        J(i, j) = body.J_Br_B[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
-      }
-    }
-    const Vector3<S> c_B(body.c_B[0], body.c_B[1], body.c_B[2]);
     const Vector3<S> g_W(S(spec.g_W.x()), S(spec.g_W.y()), S(spec.g_W.z()));
-    const reference::PendulumExactTpl<S> exact(body.mass, c_B, J, g_W, theta0);
+    const reference::PendulumExactTpl<S> exact(body.mass, body.c_B, body.J_Br_B, g_W, theta0);
     for (double t : output_times) {
       const reference::RigidAttitudeTpl<S> a = exact.at(S(t) - t0);
       record(t, a.theta, a.w_B);
@@ -172,7 +160,7 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
     }
     const S j_axial = p.moments(axis);
     const S j_perp = p.moments((axis + 1) % 3);
-    const Vector3<S> c_B(body.c_B[0], body.c_B[1], body.c_B[2]);
+    const Vector3<S>& c_B = body.c_B;
     const S distance = c_B.norm();
     const Vector3<S> g_W(S(spec.g_W.x()), S(spec.g_W.y()), S(spec.g_W.z()));
     const reference::HeavyTopExactTpl<S> exact(body.mass, distance, Vector3<S>(c_B / distance),

@@ -12,10 +12,9 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
-#include "precision/flexible_model_tpl.hpp"
+#include "precision/multibody_model_tpl.hpp"
 #include "precision/parse_text.hpp"
 #include "precision/precise_comparison.hpp"
-#include "precision/rigid_model_tpl.hpp"
 #include "precision/switched_integration.hpp"
 
 // Boost 1.74's odeint cannot deduce the value type of a multiprecision number for its
@@ -209,12 +208,8 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, core::FlexibleFormulati
   // The run's wall time (cpu_seconds, and the budget's clock) includes building the model:
   // forming a many-mode body's invariants in quad is part of its cost.
   const auto start = std::chrono::steady_clock::now();
-  if (FlexibleModelTpl<S>::applies_to(spec)) {
-    return integrate_model<S>(FlexibleModelTpl<S>(spec, formulation), start, output_times,
-                              precision, rtol, type_name, subdivisions, budget);
-  }
-  return integrate_model<S>(RigidModelTpl<S>(spec), start, output_times, precision, rtol, type_name,
-                            subdivisions, budget);
+  return integrate_model<S>(MultibodyModelTpl<S>(spec, formulation), start, output_times, precision,
+                            rtol, type_name, subdivisions, budget);
 }
 
 HighPrecisionRun solve_subdivided(const scene::SceneSpec& spec,
@@ -279,11 +274,7 @@ double smallest_rtol(Precision precision) {
 }
 
 void check_supported(const scene::SceneSpec& spec, core::FlexibleFormulation formulation) {
-  if (FlexibleModelTpl<double>::applies_to(spec)) {
-    (void)FlexibleModelTpl<double>(spec, formulation);
-  } else {
-    (void)RigidModelTpl<double>(spec);
-  }
+  (void)MultibodyModelTpl<double>(spec, formulation);
 }
 
 HighPrecisionRun solve_high_precision(const scene::SceneSpec& spec,

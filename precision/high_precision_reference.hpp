@@ -1,7 +1,7 @@
 #pragma once
 /// \file high_precision_reference.hpp
-/// References beyond double precision (docs/precision.md): the rigid-body model of
-/// precision/rigid_model_tpl.hpp integrated in extended or quad precision by Boost.Odeint's
+/// References beyond double precision (docs/precision.md): the model of
+/// precision/multibody_model_tpl.hpp integrated in extended or quad precision by Boost.Odeint's
 /// Bulirsch–Stoer extrapolation (controlled, stepping exactly onto every output time and load
 /// switch, and locating every contact switch to the working precision), with its error
 /// estimated in the same precision.
@@ -49,15 +49,16 @@ struct HighPrecisionRun {
   double cpu_seconds = 0.0;
 };
 
-/// Throws std::invalid_argument naming what the scene has that the extended/quad model does
-/// not carry (docs/precision.md); returns normally for a supported scene.
+/// Builds the extended/quad model of the scene in double: throws std::invalid_argument with
+/// what scene::build_model refuses (the model carries every scene build_model builds,
+/// docs/precision.md); returns normally otherwise.
 void check_supported(const scene::SceneSpec& spec,
                      core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
 
-/// Solves the scene at output_times in `precision` (kExtended or kQuad) with rtol (= atol): a
-/// scene with a flexible body by precision/flexible_model_tpl.hpp (coupled or LTE, as
-/// `formulation` says), the others by precision/rigid_model_tpl.hpp.
-/// Throws std::invalid_argument for an unsupported scene or rtol, core::SolverError when the
+/// Solves the scene at output_times in `precision` (kExtended or kQuad) with rtol (= atol) by
+/// precision/multibody_model_tpl.hpp (its flexible bodies coupled or LTE, as `formulation`
+/// says). Throws std::invalid_argument for a scene build_model refuses or an rtol out of range,
+/// core::SolverError when the
 /// integration fails or leaves a non-finite value.
 HighPrecisionRun solve_high_precision(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,

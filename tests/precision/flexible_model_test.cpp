@@ -1,5 +1,5 @@
 /// \file flexible_model_test.cpp
-/// The flexible body in extended/quad (precision/flexible_model_tpl.hpp):
+/// The flexible body in extended/quad (precision/multibody_model_tpl.hpp):
 /// - against core::Model at random states, coupled and LTE, free, pivot and prescribed, with
 ///   geometric stiffening, gravity, modal damping and forces at nodes and hub points: the
 ///   accelerations, the integrals' rates and the output row. The inertia terms and solves are
@@ -22,9 +22,10 @@
 #include "contact/gap_support.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
-#include "precision/flexible_model_tpl.hpp"
+#include "precision/multibody_model_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
+#include "tests/precision/model_agreement.hpp"
 #include "tests/precision/precision_order.hpp"
 
 namespace flexref::precision {
@@ -139,111 +140,6 @@ scene::SceneSpec spinner_on_plane_in_field(double height, double plane_z) {
   return spec;
 }
 
-/// Checks the model against core::Model at four random states (drawn from `seed`) with
-/// q_f ~ q_scale and q̇_f ~ 0.3; returns in how many of them a gap support pushed (its wear
-/// channel's F_n > 0).
-int check_against_core_model(const scene::SceneSpec& spec, core::FlexibleFormulation formulation,
-                             double t, double q_scale = 0.02, unsigned seed = 11,
-                             std::map<std::string, int>* pushed_by_channel = nullptr) {
-  // Tolerance: both sides are a few thousand flops from the same doubles on O(1)–O(100) terms
-  // (the stiff scenes' modal forces K q reach ~1e4 at q ~ 1e-2); 1e-9 relative to the largest
-  // term of each row is ~1e6 ε.
-  const core::Model model = scene::build_model(spec, formulation);
-  const FlexibleModelTpl<double> tpl(spec, formulation);
-  core::Workspace ws = model.make_workspace();
-  core::Accelerations acc = model.make_accelerations();
-  const core::Body& body = model.body(0);
-  const int n = body.mode_count();
-  REQUIRE(tpl.mode_count() == n);
-  const bool prescribed = body.is_prescribed();
-  const std::size_t o = prescribed ? 0 : 13;
-  std::mt19937 random(seed);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  int pushed = 0;
-  for (int trial = 0; trial < 4; ++trial) {
-    CAPTURE(trial);
-    std::vector<double> y = tpl.initial_state();
-    core::State state = model.initial_state();
-    core::BodyState& s = state.front();
-    if (!prescribed) {
-      // An arbitrary attitude and O(1) velocities (a pivot's Br stays, with v = 0).
-      for (std::size_t k = 3; k < 7; ++k) y[k] += 0.5 * unit(random);
-      const double norm = std::sqrt(y[3] * y[3] + y[4] * y[4] + y[5] * y[5] + y[6] * y[6]);
-      for (std::size_t k = 3; k < 7; ++k) y[k] /= norm;
-      if (body.is_free()) {
-        for (std::size_t k = 0; k < 3; ++k) y[k] += unit(random);
-        for (std::size_t k = 7; k < 10; ++k) y[k] += unit(random);
-      }
-      for (std::size_t k = 10; k < 13; ++k) y[k] += 2.0 * unit(random);
-      s.p_WBr = Eigen::Vector3d(y[0], y[1], y[2]);
-      s.theta_WB = Eigen::Vector4d(y[3], y[4], y[5], y[6]);
-      s.v_WBr = Eigen::Vector3d(y[7], y[8], y[9]);
-      s.w_WB_B = Eigen::Vector3d(y[10], y[11], y[12]);
-    }
-    for (int i = 0; i < n; ++i) {
-      y[o + static_cast<std::size_t>(i)] = q_scale * unit(random);
-      y[o + static_cast<std::size_t>(n + i)] = 0.3 * unit(random);
-      s.q_f(i) = y[o + static_cast<std::size_t>(i)];
-      s.qd_f(i) = y[o + static_cast<std::size_t>(n + i)];
-    }
-    model.apply_prescribed_motion(t, state);
-    std::vector<double> dydt(y.size());
-    model.compute_accelerations(core::LoadContext{t, t}, state, ws, acc);
-    tpl.derivative(y, dydt, t, t);
-    const core::BodyAcceleration& a = acc.front();
-    const double scale = std::max({1.0, a.a_WBr.norm(), a.alpha_WB_B.norm(), a.qdd_f.norm()});
-    if (!prescribed) {
-      for (int k = 0; k < 3; ++k) {
-        CHECK(std::abs(dydt[7 + static_cast<std::size_t>(k)] - a.a_WBr(k)) <= 1e-9 * scale);
-        CHECK(std::abs(dydt[10 + static_cast<std::size_t>(k)] - a.alpha_WB_B(k)) <= 1e-9 * scale);
-      }
-    }
-    for (int i = 0; i < n; ++i) {
-      CHECK(std::abs(dydt[o + static_cast<std::size_t>(n + i)] - a.qdd_f(i)) <= 1e-9 * scale);
-      CHECK(dydt[o + static_cast<std::size_t>(i)] == y[o + static_cast<std::size_t>(n + i)]);
-    }
-    if (model.dissipates()) {
-      std::vector<double> rates(static_cast<std::size_t>(1 + model.extra_integral_count()));
-      model.integral_rates(core::LoadContext{t, t}, state, ws, rates);
-      const std::size_t first = o + 2 * static_cast<std::size_t>(n);
-      for (std::size_t k = 0; k < rates.size(); ++k) {
-        CAPTURE(k);
-        CHECK(std::abs(dydt[first + k] - rates[k]) <= 1e-9 * std::max(1.0, std::abs(rates[k])));
-      }
-    }
-    if (model.switching_function_count() > 0) {
-      // The gaps at t (a prescribed body's node moves with its law): core has one switching
-      // function per gap support, the precision model two (the gap, then the clamp's).
-      std::vector<double> g(static_cast<std::size_t>(model.switching_function_count()));
-      model.switching_functions(core::LoadContext{t, t}, state, ws, g);
-      std::vector<double> values;
-      tpl.switching_functions(t, y, values);
-      REQUIRE(values.size() == 2 * g.size());
-      for (std::size_t k = 0; k < g.size(); ++k) {
-        CHECK(std::abs(values[2 * k] - g[k]) <= 1e-12 * std::max(1.0, std::abs(g[k])));
-      }
-    }
-    core::Trajectory trajectory;
-    trajectory.times = {t};
-    trajectory.states = {state};
-    const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
-    const std::vector<double> row = tpl.output_row(t, y);
-    REQUIRE(row.size() + 1 == table.columns.size());
-    for (std::size_t c = 0; c < row.size(); ++c) {
-      const double expected = table.rows[0][c + 1];
-      if (std::isnan(expected) || table.columns[c + 1] == "energy_balance") continue;
-      CAPTURE(table.columns[c + 1]);
-      CHECK(std::abs(row[c] - expected) <= 1e-9 * std::max(1.0, std::abs(expected)));
-      const std::string& column = table.columns[c + 1];
-      if (column.size() > 3 && column.ends_with(".fn") && expected > 0.0) {
-        ++pushed;
-        if (pushed_by_channel != nullptr) ++(*pushed_by_channel)[column];
-      }
-    }
-  }
-  return pushed;
-}
-
 TEST_CASE("the flexible body in extended/quad agrees with core::Model at random states",
           "[precision]") {
   for (const auto formulation :
@@ -255,12 +151,12 @@ TEST_CASE("the flexible body in extended/quad agrees with core::Model at random 
           "scenes/spin_up_beam.toml", "scenes/flexible_spinner_64.toml"}) {
       CAPTURE(file);
       // t = 0.2 inside the spinner's torque pulse and the beams' spin-up; t = 20 s after it.
-      check_against_core_model(spec_of(file), formulation, 0.2);
-      check_against_core_model(spec_of(file), formulation, 20.0);
+      check_against_core_model(spec_of(file), formulation, 0.2, {});
+      check_against_core_model(spec_of(file), formulation, 20.0, {});
     }
     CAPTURE("loaded spinner");
-    check_against_core_model(loaded_spinner(false), formulation, 0.3);
-    check_against_core_model(loaded_spinner(true), formulation, 0.3);
+    check_against_core_model(loaded_spinner(false), formulation, 0.3, {});
+    check_against_core_model(loaded_spinner(true), formulation, 0.3, {});
   }
 }
 
@@ -285,13 +181,14 @@ TEST_CASE("gap supports on the flexible body agree with core::Model at random st
        {core::FlexibleFormulation::kCoupled, core::FlexibleFormulation::kLte}) {
     CAPTURE(core::to_string(formulation));
     for (const double t : {0.0031, 0.4}) {
-      pushed += check_against_core_model(fixed, formulation, t, 1.5e-3, ++seed);
-      pushed += check_against_core_model(spinning, formulation, t, 1.5e-3, ++seed);
-      pushed += check_against_core_model(spinner_in_planar_support(), formulation, t, 4e-3, ++seed);
+      pushed += check_against_core_model(fixed, formulation, t, {.q = 1.5e-3}, ++seed);
+      pushed += check_against_core_model(spinning, formulation, t, {.q = 1.5e-3}, ++seed);
+      pushed += check_against_core_model(spinner_in_planar_support(), formulation, t, {.q = 4e-3},
+                                         ++seed);
       checked += 12;
     }
     // At 3.1 ms the swing has moved the node 0.8 mm across the axis.
-    pushed += check_against_core_model(swinging, formulation, 0.0031, 1.5e-3, ++seed);
+    pushed += check_against_core_model(swinging, formulation, 0.0031, {.q = 1.5e-3}, ++seed);
     checked += 4;
   }
   INFO(pushed << " of " << checked << " random states in contact");
@@ -314,7 +211,7 @@ TEST_CASE("sphere contacts and potentials on the flexible body agree with core::
     CAPTURE(core::to_string(formulation));
     for (int k = 0; k < 4; ++k) {
       pushed += check_against_core_model(spinner_on_plane_in_field(3.0, 2.5), formulation, 0.3,
-                                         0.05, ++seed, &by_channel);
+                                         {.q = 0.05}, ++seed, &by_channel);
       checked += 4;
     }
   }
@@ -324,11 +221,6 @@ TEST_CASE("sphere contacts and potentials on the flexible body agree with core::
   CHECK(by_channel["tip.fn"] < checked);
   CHECK(by_channel["hub.fn"] > 0);
   CHECK(by_channel["hub.fn"] < checked);
-  // A sphere–sphere pair needs a second body; the model says what it does not carry.
-  scene::SceneSpec two = spinner_on_plane_in_field(3.0, 2.5);
-  two.contacts.front().pairs.front().kind = contact::ContactPair::Kind::kSphereSphere;
-  CHECK_THROWS_WITH(FlexibleModelTpl<long double>(two, core::FlexibleFormulation::kCoupled),
-                    Catch::Contains("sphere–sphere"));
 }
 
 TEST_CASE("a flexible body dropped on a plane in a field: impacts and energy balance in quad",

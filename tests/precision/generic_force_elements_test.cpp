@@ -2,9 +2,10 @@
 /// The force elements of the extended/quad model (contacts with friction, bushings, the
 /// point-charge potential) against core::Model at random states of the bundled scenes: the
 /// accelerations of every body, the rates of the integrals (dissipated power, wear power) and
-/// the output row. The laws are shared templates, but the assembly (kinematics of the ends and
-/// contact points, forces into Newton–Euler about Br) is written independently on each side,
-/// so a sign or lever-arm error in either shows up as an O(1) difference.
+/// the output row (model_agreement.hpp). The laws are shared templates, but the assembly
+/// (kinematics of the ends and contact points, forces into Newton–Euler about Br) is written
+/// independently on each side, so a sign or lever-arm error in either shows up as an O(1)
+/// difference.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -14,9 +15,9 @@
 
 #include "core/model.hpp"
 #include "core/output_times.hpp"
-#include "precision/rigid_model_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
+#include "tests/precision/model_agreement.hpp"
 #include "tests/precision/precision_order.hpp"
 
 namespace flexref::precision {
@@ -38,11 +39,10 @@ scene::SceneSpec driven_double_pendulum() {
 
 TEST_CASE("contacts, bushings and potentials of the generic model agree with core::Model",
           "[precision]") {
-  // Tolerance: both sides are a few hundred flops from the same doubles; with penalty
-  // stiffnesses of 1e6 the forces are differences of ~1e4 N terms, so 1e-9 relative to the
-  // largest term of each row (margin 1e-9 × scale) is ~1e5 ε.
-  std::mt19937 random(7);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  // Small moves of position and attitude (joints stretch by ~1e-3 m, contacts penetrate or open
+  // by as much) and O(1) velocities: model_agreement.hpp's check, 1e-9 relative to each row's
+  // largest term (penalty stiffnesses of 1e6 make the forces differences of ~1e4 N terms: ~1e5 ε).
+  unsigned seed = 7;
   for (const char* file :
        {"scenes/pendulum_on_sliding_support.toml", "scenes/double_pendulum_impacts.toml",
         "scenes/coulomb_wall.toml", "scenes/sliding_block.toml", "scenes/top_on_plane.toml",
@@ -53,79 +53,9 @@ TEST_CASE("contacts, bushings and potentials of the generic model agree with cor
     for (std::size_t c = 0; c < spec.contacts.size(); ++c) {
       spec.contacts[c].name = "c" + std::to_string(c);  // wear channels on every contact
     }
-    const core::Model model = scene::build_model(spec);
-    const RigidModelTpl<double> tpl(spec);
-    core::Workspace ws = model.make_workspace();
-    core::Accelerations acc = model.make_accelerations();
-    const int n = model.num_bodies();
-    for (int trial = 0; trial < 4; ++trial) {
-      CAPTURE(trial);
-      std::vector<double> y = tpl.initial_state();
-      core::State state = model.initial_state();
-      for (int i = 0; i < n; ++i) {
-        const auto o = static_cast<std::size_t>(kBodyStateSize * i);
-        // Small moves of position and attitude (joints stretch by ~1e-3 m, contacts penetrate
-        // or open by as much) and O(1) velocities.
-        for (std::size_t k = 0; k < 3; ++k) y[o + k] += 1e-3 * unit(random);
-        for (std::size_t k = 3; k < 7; ++k) y[o + k] += 1e-3 * unit(random);
-        const double norm = std::sqrt(y[o + 3] * y[o + 3] + y[o + 4] * y[o + 4] +
-                                      y[o + 5] * y[o + 5] + y[o + 6] * y[o + 6]);
-        for (std::size_t k = 3; k < 7; ++k) y[o + k] /= norm;
-        if (model.body(i).is_free()) {
-          for (std::size_t k = 7; k < 10; ++k) y[o + k] += unit(random);
-        }
-        for (std::size_t k = 10; k < 13; ++k) y[o + k] += unit(random);
-        core::BodyState& s = state[static_cast<std::size_t>(i)];
-        s.p_WBr = Eigen::Vector3d(y[o], y[o + 1], y[o + 2]);
-        s.theta_WB = Eigen::Vector4d(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
-        s.v_WBr = Eigen::Vector3d(y[o + 7], y[o + 8], y[o + 9]);
-        s.w_WB_B = Eigen::Vector3d(y[o + 10], y[o + 11], y[o + 12]);
-      }
-      // A prescribed body is where its law puts it (its slots of y are ignored).
-      model.apply_prescribed_motion(0.1, state);
-      std::vector<double> dydt(y.size());
-      model.compute_accelerations(core::LoadContext{0.1, 0.1}, state, ws, acc);
-      tpl.derivative(y, dydt, 0.1, 0.1);
-      for (int i = 0; i < n; ++i) {
-        const auto o = static_cast<std::size_t>(kBodyStateSize * i);
-        if (model.body(i).is_prescribed()) {
-          for (std::size_t k = 0; k < 13; ++k) CHECK(dydt[o + k] == 0.0);
-          continue;
-        }
-        const double scale = std::max({1.0, acc[static_cast<std::size_t>(i)].a_WBr.norm(),
-                                       acc[static_cast<std::size_t>(i)].alpha_WB_B.norm()});
-        for (int k = 0; k < 3; ++k) {
-          CHECK(std::abs(dydt[o + 7 + static_cast<std::size_t>(k)] -
-                         acc[static_cast<std::size_t>(i)].a_WBr(k)) <= 1e-9 * scale);
-          CHECK(std::abs(dydt[o + 10 + static_cast<std::size_t>(k)] -
-                         acc[static_cast<std::size_t>(i)].alpha_WB_B(k)) <= 1e-9 * scale);
-        }
-      }
-      // The integrals' rates: W_d, (W_a), the wear channels.
-      std::vector<double> rates(static_cast<std::size_t>(1 + model.extra_integral_count()));
-      if (model.dissipates()) {
-        model.integral_rates(core::LoadContext{0.1, 0.1}, state, ws, rates);
-        const std::size_t first = static_cast<std::size_t>(kBodyStateSize * n);
-        for (std::size_t k = 0; k < rates.size(); ++k) {
-          CAPTURE(k);
-          CHECK(std::abs(dydt[first + k] - rates[k]) <= 1e-9 * std::max(1.0, std::abs(rates[k])));
-        }
-      }
-      // The output row: every column the double tabulation fills (the integrals are NaN
-      // there, without an integrator).
-      core::Trajectory trajectory;
-      trajectory.times = {0.1};
-      trajectory.states = {state};
-      const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
-      const std::vector<double> row = tpl.output_row(0.1, y);
-      REQUIRE(row.size() + 1 == table.columns.size());
-      for (std::size_t c = 0; c < row.size(); ++c) {
-        const double expected = table.rows[0][c + 1];
-        if (std::isnan(expected)) continue;
-        CAPTURE(table.columns[c + 1]);
-        CHECK(std::abs(row[c] - expected) <= 1e-9 * std::max(1.0, std::abs(expected)));
-      }
-    }
+    check_against_core_model(spec, core::FlexibleFormulation::kCoupled, 0.1,
+                             {.position = 1e-3, .attitude = 1e-3, .velocity = 1.0, .rate = 1.0},
+                             ++seed);
   }
 }
 

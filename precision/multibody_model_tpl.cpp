@@ -1,0 +1,761 @@
+#include "precision/multibody_model_tpl.hpp"
+
+// Eigen's NumTraits for float128 before any Eigen type of it.
+#include <algorithm>
+#include <boost/multiprecision/eigen.hpp>
+#include <boost/multiprecision/float128.hpp>
+#include <cmath>
+#include <stdexcept>
+
+#include "contact/bushing_tpl.hpp"
+#include "contact/contact.hpp"
+#include "contact/contact_point_tpl.hpp"
+#include "contact/gap_support.hpp"
+#include "contact/penalty_load_tpl.hpp"
+#include "core/unit_vector_tpl.hpp"
+#include "reference/exact_rotation_tpl.hpp"
+#include "scene/build_model.hpp"
+#include "studies/trajectory_table.hpp"
+
+namespace flexref::precision {
+namespace {
+
+template <typename S>
+Eigen::Matrix<S, 3, 3> rotation_of(const Eigen::Matrix<S, 4, 1>& q) {
+  // A(θ/|θ|) for Euler parameters of any norm (model.md eq. (1)).
+  const S s = S(2) / q.squaredNorm();
+  const S e0 = q(0), e1 = q(1), e2 = q(2), e3 = q(3);
+  Eigen::Matrix<S, 3, 3> A;
+  A << S(1) - s * (e2 * e2 + e3 * e3), s * (e1 * e2 - e0 * e3), s * (e1 * e3 + e0 * e2),
+      s * (e1 * e2 + e0 * e3), S(1) - s * (e1 * e1 + e3 * e3), s * (e2 * e3 - e0 * e1),
+      s * (e1 * e3 - e0 * e2), s * (e2 * e3 + e0 * e1), S(1) - s * (e1 * e1 + e2 * e2);
+  return A;
+}
+
+}  // namespace
+
+template <typename S>
+MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
+                                        core::FlexibleFormulation formulation)
+    : formulation_(formulation), g_W_(spec.g_W.cast<S>()) {
+  // The double model of the same spec: its outputs (columns, integrals), its discontinuities,
+  // and its force elements as it builds them (the laws' parameters, the Hunt–Crossley α from
+  // the restitution, the pairs' and supports' points and node rows), in its element order,
+  // which numbers the switching functions: every precision solves one model.
+  const core::Model built = scene::build_model(spec, formulation);
+  int offset = 0;
+  for (const scene::BodySpec& body_spec : spec.bodies) {
+    const core::RigidBodyDescription& d = body_spec.description;
+    Body b;
+    b.name = d.name;
+    b.motion = d.motion;
+    b.prescribed = d.prescribed;
+    b.axis_W = core::unit_vector_in<S>(d.prescribed.axis_W);
+    const flexible::ModalData* modal = d.flexible ? &d.flexible->modal : nullptr;
+    if (modal != nullptr) modal->validate();
+    b.n = modal != nullptr ? modal->mode_count() : 0;
+    // Invariants about Bo (nodes, then the hub or the rigid body) for the undeformed centre of
+    // mass; then about Br (core/body.cpp's construction, every sum and shift in S). A rigid body
+    // has no nodes: its invariants are its mass, m c and its second moment.
+    const Eigen::VectorXd no_masses;
+    const Eigen::Matrix3Xd no_nodes(3, 0);
+    const Eigen::MatrixXd no_modes(0, 0);
+    const Eigen::VectorXd& masses = modal != nullptr ? modal->mass : no_masses;
+    const Eigen::Matrix3Xd& nodes = modal != nullptr ? modal->p_BoNode_B : no_nodes;
+    const Eigen::MatrixXd& phi = modal != nullptr ? modal->phi : no_modes;
+    const Vector3 hub_c = d.p_BoBcm_B.cast<S>();
+    const Eigen::Matrix3d I_sym_d = 0.5 * (d.I_Bcm_B + d.I_Bcm_B.transpose());
+    const Matrix3 I_hub = I_sym_d.cast<S>();
+    const flexible::GeometricStiffness* geometric =
+        modal != nullptr && modal->geometric ? &*modal->geometric : nullptr;
+    flexible::ModalInvariantsTpl<S> about_Bo =
+        flexible::modal_invariants_tpl<S>(masses, nodes, phi, nullptr);
+    flexible::add_rigid_part_tpl<S>(about_Bo, S(d.mass), hub_c, I_hub);
+    switch (d.motion) {
+      case core::MotionKind::kFree:
+        b.p_BoBr_B = about_Bo.s0 / about_Bo.mass;
+        break;
+      case core::MotionKind::kPivot:
+        b.p_BoBr_B = d.p_BoPivot_B.cast<S>();
+        break;
+      case core::MotionKind::kPrescribed:
+        b.p_BoBr_B.setZero();
+        break;
+    }
+    b.invariants = flexible::modal_invariants_tpl<S>(masses, nodes, phi, geometric, b.p_BoBr_B);
+    flexible::add_rigid_part_tpl<S>(b.invariants, S(d.mass), Vector3(hub_c - b.p_BoBr_B), I_hub);
+    b.factor = flexible::ModalMassFactorTpl<S>(b.invariants);
+    if (b.n == 0 && b.motion != core::MotionKind::kPrescribed) {
+      // The inertia about Br is symmetric positive definite (Body checks it in double, and the
+      // scene's values are the same here).
+      b.J_Br_inv = b.invariants.I0.inverse();
+    }
+    b.stiffness = Vector::Zero(b.n);
+    b.damping = Vector::Zero(b.n);
+    for (int i = 0; i < b.n; ++i) {
+      using std::sqrt;
+      b.stiffness(i) = S(modal->stiffness(i));
+      // d_i = 2 ζ_i √(K_i μ_i), μ_i = (m_ff)_ii (flexible::modal_damping).
+      b.damping(i) =
+          S(2) * S(modal->damping_ratio(i)) * sqrt(b.stiffness(i) * b.invariants.m_ff(i, i));
+    }
+
+    // Initial state (core::Model::initial_state): θ normalized in S; p_WBr = p_WBo + A p_BoBr;
+    // v_WBr = v_WBo + A (ω̄ × p_BoBr) (zero for a pivot).
+    const core::BodyInitialState& init = d.initial;
+    b.theta0 = init.theta_WB.cast<S>();
+    {
+      using std::sqrt;
+      b.theta0 /= sqrt(b.theta0.squaredNorm());
+    }
+    const Matrix3 A0 = rotation_of<S>(b.theta0);
+    const Vector3 w0 = init.w_WB_B.cast<S>();
+    b.p_WBo0 = init.p_WBo.cast<S>();
+    if (b.motion != core::MotionKind::kPrescribed) {
+      const Vector3 p_WBr = b.p_WBo0 + A0 * b.p_BoBr_B;
+      const Vector3 v_WBr = d.motion == core::MotionKind::kPivot
+                                ? Vector3::Zero().eval()
+                                : Vector3(init.v_WBo.cast<S>() + A0 * w0.cross(b.p_BoBr_B));
+      b.initial = {p_WBr(0), p_WBr(1), p_WBr(2), b.theta0(0), b.theta0(1), b.theta0(2), b.theta0(3),
+                   v_WBr(0), v_WBr(1), v_WBr(2), w0(0),       w0(1),       w0(2)};
+    }
+    for (int i = 0; i < b.n; ++i) {
+      b.initial.push_back(d.flexible->q0.size() == 0 ? S(0) : S(d.flexible->q0(i)));
+    }
+    for (int i = 0; i < b.n; ++i) {
+      b.initial.push_back(d.flexible->qd0.size() == 0 ? S(0) : S(d.flexible->qd0(i)));
+    }
+    b.offset = offset;
+    offset += static_cast<int>(b.initial.size());
+    bodies_.push_back(std::move(b));
+  }
+  integrals_offset_ = offset;
+
+  const auto attachment = [&](int body, const Eigen::Vector3d& p_BoP_B, int node) {
+    Attachment a;
+    a.body = body;
+    const Body& b = bodies_.at(static_cast<std::size_t>(body));
+    a.p_BrP_B = p_BoP_B.cast<S>() - b.p_BoBr_B;
+    a.node = node;
+    if (node >= 0) {
+      const flexible::ModalData& modal =
+          spec.bodies[static_cast<std::size_t>(body)].description.flexible->modal;
+      a.phi_B = modal.mode_rows(node).template cast<S>();
+    }
+    return a;
+  };
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    for (const core::TrackedPoint& p : spec.bodies[i].description.points) {
+      bodies_[i].points.push_back(attachment(static_cast<int>(i), p.p_BoP_B, p.node));
+    }
+  }
+  for (const scene::LoadSpec& l : spec.loads) {
+    Load load;
+    load.torque = l.torque;
+    load.value = l.value.cast<S>();
+    load.world_frame = l.frame == core::LoadFrame::kWorld;
+    // The point as the spec gives it (the scene reader puts a node's load at the node), moved
+    // by Φ_k q_f when it is attached to node k (core::AppliedForce).
+    load.at = attachment(l.body, l.p_BoP_B, l.node);
+    load.profile = l.profile;
+    // W_a, once a harmonic force makes the model track it, is the work of every applied force
+    // (core::Model::integral_rates sums AppliedForce::applied_power over all of them).
+    load.tracks_work = !l.torque;
+    loads_.push_back(load);
+  }
+
+  columns_ = studies::trajectory_columns(built);
+  dissipates_ = built.dissipates();
+  applied_work_ = dissipates_ && built.tracks_applied_work();
+  integral_count_ = dissipates_ ? 1 + built.extra_integral_count() : 0;
+  discontinuities_ = built.discontinuities();
+  for (const Body& b : bodies_) {
+    if (b.motion != core::MotionKind::kPrescribed) continue;
+    has_prescribed_ = true;
+    if (b.prescribed.law.kind == core::AngleLaw::Kind::kSpinUp) {
+      discontinuities_.push_back(b.prescribed.law.spin_up_time);
+    }
+  }
+  std::sort(discontinuities_.begin(), discontinuities_.end());
+  discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
+                         discontinuities_.end());
+
+  wear_channels_ = built.wear_channel_names();
+  const auto channel_of = [&](const core::ForceElement& element) {
+    if (element.wear_channel_count() == 0) return -1;
+    return static_cast<int>(
+        std::find(wear_channels_.begin(), wear_channels_.end(), element.wear_channel_name()) -
+        wear_channels_.begin());
+  };
+  const auto end_in_s = [](const contact::BushingEnd& end) {
+    return JointEnd{end.body, end.point.cast<S>(), core::unit_vector_in<S>(end.axis)};
+  };
+  for (const auto& element : built.elements()) {
+    if (const auto* g = dynamic_cast<const contact::GapSupport*>(element.get())) {
+      Support c;
+      c.kind = Support::Kind::kGap;
+      c.at = attachment(g->body(), g->p_BoN_B(), g->node().deforms() ? g->node().node : -1);
+      c.geometry = g->template geometry_in<S>();
+      c.normal = g->normal_law();
+      c.friction = g->friction_law();
+      c.channel = channel_of(*g);
+      supports_.push_back(c);
+    } else if (const auto* e = dynamic_cast<const contact::ContactElement*>(element.get())) {
+      for (const contact::ContactPair& pair : e->pairs()) {
+        Support c;
+        c.at =
+            attachment(pair.body_b, pair.p_BoCb_B, pair.node_b.deforms() ? pair.node_b.node : -1);
+        c.radius = S(pair.radius_b);
+        if (pair.kind == contact::ContactPair::Kind::kSphereSphere) {
+          c.kind = Support::Kind::kSphereSphere;
+          c.at_a =
+              attachment(pair.body_a, pair.p_BoCa_B, pair.node_a.deforms() ? pair.node_a.node : -1);
+          c.radius_a = S(pair.radius_a);
+        } else {
+          c.kind = Support::Kind::kSpherePlane;
+          c.p_WQ = pair.p_WQ.cast<S>();
+          c.n_W = core::unit_vector_in<S>(pair.n_W);
+        }
+        c.normal = e->normal_law();
+        c.friction = e->friction_law();
+        c.channel = channel_of(*e);
+        supports_.push_back(c);
+      }
+    } else if (const auto* j = dynamic_cast<const contact::SphericalBushing*>(element.get())) {
+      joints_.push_back({false, end_in_s(j->end_a()), end_in_s(j->end_b()), j->parameters()});
+    } else if (const auto* r = dynamic_cast<const contact::RevoluteBushing*>(element.get())) {
+      joints_.push_back({true, end_in_s(r->end_a()), end_in_s(r->end_b()), r->parameters()});
+    }
+  }
+  // The potentials' charges sit at hub points (scene/load_reader.cpp): the frame's, never a
+  // node's.
+  for (const scene::PotentialSpec& spec_potential : spec.potentials) {
+    Potential potential{core::PointChargePotential(spec_potential.alpha, spec_potential.beta,
+                                                   spec_potential.p_WM, spec_potential.charges),
+                        {}};
+    for (const core::PointChargePotential::Charge& charge : spec_potential.charges) {
+      potential.at.push_back(attachment(charge.body, charge.p_BoP_B, -1));
+    }
+    potentials_.push_back(std::move(potential));
+  }
+
+  Scratch& s = scratch_;
+  s.bodies.resize(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const int n = bodies_[i].n;
+    BodyScratch& bs = s.bodies[i];
+    bs.terms = flexible::make_inertia_terms_tpl<S>(n);
+    bs.solve = flexible::make_mass_solve_scratch_tpl<S>(n);
+    bs.q = Vector::Zero(n);
+    bs.qd = Vector::Zero(n);
+    bs.zero = Vector::Zero(n);
+    bs.Q_f = Vector::Zero(n);
+    bs.rhs = Vector::Zero(6 + n);
+    bs.x = Vector::Zero(6 + n);
+  }
+  s.wear_power.assign(wear_channels_.size(), S(0));
+  s.switching.assign(2 * supports_.size(), S(0));
+  energy0_ = energy(S(0), initial_state());
+}
+
+template <typename S>
+std::vector<double> MultibodyModelTpl<S>::discontinuities() const {
+  return discontinuities_;
+}
+
+template <typename S>
+std::vector<S> MultibodyModelTpl<S>::initial_state() const {
+  std::vector<S> y;
+  y.reserve(static_cast<std::size_t>(state_size()));
+  for (const Body& b : bodies_) y.insert(y.end(), b.initial.begin(), b.initial.end());
+  y.insert(y.end(), static_cast<std::size_t>(integral_count_), S(0));  // the integrals start at 0
+  return y;
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    BodyScratch& bs = scratch_.bodies[i];
+    Pose& p = bs.pose;
+    auto o = static_cast<std::size_t>(b.offset);
+    p.alpha_B.setZero();
+    if (b.motion == core::MotionKind::kPrescribed) {
+      using std::cos;
+      using std::sin;
+      // θ(t) = q(φ a_W) ⊗ θ0; ω̄ = φ̇ Aᵀ a_W; α̅ = φ̈ Aᵀ a_W (core/prescribed_motion.hpp).
+      const S phi = b.prescribed.law.template angle_in<S>(t);
+      Quaternion q_axis;
+      q_axis << cos(S(0.5) * phi), sin(S(0.5) * phi) * b.axis_W;
+      p.theta_WB = reference::detail::quaternion_multiply<S>(q_axis, b.theta0);
+      p.A = rotation_of<S>(p.theta_WB);
+      const Vector3 axis_B = p.A.transpose() * b.axis_W;
+      p.w_B = b.prescribed.law.template angular_rate_in<S>(t) * axis_B;
+      p.alpha_B = b.prescribed.law.template angular_acceleration_in<S>(t) * axis_B;
+      p.p_WBr = b.p_WBo0;  // Br = Bo, fixed on the axis
+      p.v_WBr.setZero();
+    } else {
+      p.p_WBr = Vector3(y[o], y[o + 1], y[o + 2]);
+      p.theta_WB = Quaternion(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
+      p.A = rotation_of<S>(p.theta_WB);
+      p.v_WBr = Vector3(y[o + 7], y[o + 8], y[o + 9]);
+      p.w_B = Vector3(y[o + 10], y[o + 11], y[o + 12]);
+      o += 13;
+    }
+    p.w_W = p.A * p.w_B;
+    const auto n = static_cast<std::size_t>(b.n);
+    for (std::size_t k = 0; k < n; ++k) {
+      bs.q(static_cast<Eigen::Index>(k)) = y[o + k];
+      bs.qd(static_cast<Eigen::Index>(k)) = y[o + n + k];
+    }
+  }
+}
+
+template <typename S>
+typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::first_moment(const Body& b,
+                                                                          const Vector& q) {
+  // s_t = s0 + S q + Δs, Δs_c = −½ q·E_c q (GS-4), by columns (no temporary).
+  Vector3 s_t = b.invariants.s0 + b.invariants.S * q;
+  if (b.invariants.geometric) {
+    for (const int c : b.invariants.geometric->E_nonzero) {
+      const auto& E = b.invariants.geometric->E[static_cast<std::size_t>(c)];
+      S quadratic(0);
+      for (Eigen::Index j = 0; j < b.n; ++j) quadratic += q(j) * E.col(j).dot(q);
+      s_t(c) -= S(0.5) * quadratic;
+    }
+  }
+  return s_t;
+}
+
+template <typename S>
+typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::offset_W(const Attachment& a) const {
+  // A (x_P − p_BoBr + Φ_k q_f): an attachment always sees the state's deformation
+  // (core/node_attachment.hpp), under LTE too.
+  const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
+  if (a.node < 0) return bs.pose.A * a.p_BrP_B;
+  return bs.pose.A * (a.p_BrP_B + a.phi_B * bs.q);
+}
+
+template <typename S>
+typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::position_W(const Attachment& a) const {
+  return scratch_.bodies[static_cast<std::size_t>(a.body)].pose.p_WBr + offset_W(a);
+}
+
+template <typename S>
+typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::velocity_W(const Attachment& a,
+                                                                        const Vector3& p_WP) const {
+  const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
+  Vector3 v = bs.pose.v_WBr + bs.pose.w_W.cross(p_WP - bs.pose.p_WBr);
+  if (a.node >= 0) v.noalias() += bs.pose.A * (a.phi_B * bs.qd);
+  return v;
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::apply(const Attachment& a, const Vector3& f_W,
+                                 const Vector3& p_WP) const {
+  BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
+  bs.f_W += f_W;
+  bs.tau_W += (p_WP - bs.pose.p_WBr).cross(f_W);
+  if (a.node >= 0) bs.Q_f.noalias() += a.phi_B.transpose() * (bs.pose.A.transpose() * f_W);
+}
+
+template <typename S>
+typename MultibodyModelTpl<S>::SupportPoint MultibodyModelTpl<S>::support_point(
+    const Support& c) const {
+  // A gap support: contact/gap_support_tpl.hpp in S at the deformed node N (GapSupport::
+  // evaluate's). A sphere: contact/contact_point_tpl.hpp's P = C − r n on the plane or the
+  // other sphere, C the (deformed) centre (ContactElement::evaluate's).
+  const Vector3 p_WC = position_W(c.at);
+  SupportPoint s;
+  switch (c.kind) {
+    case Support::Kind::kGap: {
+      const contact::GapPointTpl<S> point = contact::gap_point_tpl<S>(c.geometry, p_WC);
+      s.gap = point.gap;
+      s.n_W = point.n_W;
+      s.p_WP = p_WC;
+      break;
+    }
+    case Support::Kind::kSpherePlane: {
+      const contact::ContactPointTpl<S> point =
+          contact::sphere_plane_point_tpl<S>(p_WC, c.radius, c.p_WQ, c.n_W);
+      s.gap = point.gap;
+      s.n_W = point.n_W;
+      s.p_WP = point.p_WP;
+      break;
+    }
+    case Support::Kind::kSphereSphere: {
+      const contact::ContactPointTpl<S> point =
+          contact::sphere_sphere_point_tpl<S>(position_W(c.at_a), c.radius_a, p_WC, c.radius);
+      s.gap = point.gap;
+      s.n_W = point.n_W;
+      s.p_WP = point.p_WP;
+      break;
+    }
+  }
+  s.v_rel_W = velocity_W(c.at, s.p_WP);
+  if (c.kind == Support::Kind::kSphereSphere) s.v_rel_W -= velocity_W(c.at_a, s.p_WP);
+  return s;
+}
+
+template <typename S>
+typename MultibodyModelTpl<S>::SupportLoad MultibodyModelTpl<S>::support_load(
+    const Support& c) const {
+  using std::abs;
+  using std::sqrt;
+  SupportLoad load;
+  load.point = support_point(c);
+  const SupportPoint& s = load.point;
+  load.f_W.setZero();
+  load.clamp = c.normal.clamp_function(S(-s.gap), S(-s.n_W.dot(s.v_rel_W)));
+  const contact::PenaltyLoadTpl<S> e =
+      contact::penalty_load_tpl<S>(c.normal, c.friction, s.gap, s.n_W, s.v_rel_W);
+  load.dissipated_power = e.dissipated_power();
+  if (!(e.normal.total > S(0))) return load;
+  load.normal = e.normal.total;
+  load.slip_speed = sqrt(e.v_t_W.squaredNorm());
+  load.f_W = e.normal.total * s.n_W + e.f_friction_W;
+  load.wear_power = abs(e.f_friction_W.dot(e.v_t_W));
+  return load;
+}
+
+template <typename S>
+typename MultibodyModelTpl<S>::ChargeLoad MultibodyModelTpl<S>::charge_load(
+    const Potential& potential, std::size_t i) const {
+  // f_i = c_i (unit field at P_i), V_i = c_i V_unit(P_i), at the hub point P_i
+  // (core/point_charge_potential.cpp).
+  ChargeLoad charge;
+  charge.p_WP = position_W(potential.at[i]);
+  const S position[3] = {charge.p_WP(0), charge.p_WP(1), charge.p_WP(2)};
+  S field[3];
+  S unit_potential;
+  potential.law.unit_field(position, field, unit_potential);
+  const S weight(potential.law.charges()[i].weight);
+  charge.f_W = weight * Vector3(field[0], field[1], field[2]);
+  charge.potential = weight * unit_potential;
+  return charge;
+}
+
+template <typename S>
+contact::bushing::EndMotion<S> MultibodyModelTpl<S>::end_motion(const JointEnd& end) const {
+  // A body's hub point p_WBr + A (P − Bo − p_BoBr), its Br, v_Br, ω = A ω̄ and axis A ā
+  // (contact/bushing.cpp's end_motion); the ground's as given.
+  contact::bushing::EndMotion<S> m;
+  if (end.body == contact::kGround) {
+    m.p_WP = end.point;
+    m.axis_W = end.axis;
+    return m;
+  }
+  const Body& b = body(end.body);
+  const Pose& p = scratch_.bodies[static_cast<std::size_t>(end.body)].pose;
+  m.ground = false;
+  m.p_WBr = p.p_WBr;
+  m.p_WP = p.p_WBr + p.A * (end.point - b.p_BoBr_B);
+  m.v_WBr = p.v_WBr;
+  m.w_WB_W = p.w_W;
+  m.axis_W = p.A * end.axis;
+  return m;
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::switching_functions(S t, const std::vector<S>& y,
+                                               std::vector<S>& values) const {
+  load_state(t, y);
+  values.resize(2 * supports_.size());
+  for (std::size_t k = 0; k < supports_.size(); ++k) {
+    const SupportLoad load = support_load(supports_[k]);
+    values[2 * k] = load.point.gap;
+    values[2 * k + 1] = load.clamp;
+  }
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
+  Scratch& s = scratch_;
+  const bool lte = formulation_ == core::FlexibleFormulation::kLte;
+  const bool gravity = g_W_(0) != S(0) || g_W_(1) != S(0) || g_W_(2) != S(0);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    BodyScratch& bs = s.bodies[i];
+    bs.f_W.setZero();
+    bs.tau_W.setZero();
+    bs.Q_f.setZero();
+    if (!gravity) continue;
+    // Qe_R += m g, Qe_θ: τ_Br_W += A (s_t × Aᵀ g), Qe_f += Sᵀ Aᵀ g − Σ_c (Aᵀg)_c E_c q_f
+    // (core/gravity.cpp; the last term is the foreshortening's, geometric stiffening only). The
+    // loads see the state's q_f under the coupled model, q_f = 0 under LTE (core::Model).
+    const Vector& q_load = lte ? bs.zero : bs.q;
+    const Vector3 g_B = bs.pose.A.transpose() * g_W_;
+    const Vector3 s_t = first_moment(b, q_load);
+    if (b.invariants.geometric) {
+      for (const int c : b.invariants.geometric->E_nonzero) {
+        const auto& E = b.invariants.geometric->E[static_cast<std::size_t>(c)];
+        for (Eigen::Index j = 0; j < b.n; ++j) bs.Q_f.noalias() -= (g_B(c) * q_load(j)) * E.col(j);
+      }
+    }
+    bs.f_W += b.invariants.mass * g_W_;
+    bs.tau_W += bs.pose.A * s_t.cross(g_B);
+    bs.Q_f.noalias() += b.invariants.S.transpose() * g_B;
+  }
+  s.applied_power = S(0);
+  for (const Load& l : loads_) {
+    BodyScratch& bs = s.bodies[static_cast<std::size_t>(l.at.body)];
+    const S scale = l.profile.value_in(t, t_segment);
+    const Vector3 v =
+        l.world_frame ? Vector3(scale * l.value) : Vector3(bs.pose.A * (scale * l.value));
+    if (l.torque) {
+      bs.tau_W += v;
+      continue;
+    }
+    const Vector3 p_WP = position_W(l.at);
+    apply(l.at, v, p_WP);
+    if (l.tracks_work) s.applied_power += v.dot(velocity_W(l.at, p_WP));
+  }
+  for (const Potential& potential : potentials_) {
+    for (std::size_t i = 0; i < potential.at.size(); ++i) {
+      const ChargeLoad charge = charge_load(potential, i);
+      apply(potential.at[i], charge.f_W, charge.p_WP);
+    }
+  }
+  s.dissipation = S(0);
+  for (const Joint& j : joints_) {
+    // f = k d + c u on a at M, −f on b; τ on a, −τ on b for a revolute bushing (bushing.hpp).
+    namespace bushing = contact::bushing;
+    const bushing::EndMotion<S> a = end_motion(j.a);
+    const bushing::EndMotion<S> b = end_motion(j.b);
+    const bushing::Separation<S> sep = bushing::separation(a, b);
+    const Vector3 f = bushing::spherical_force(sep, j.parameters);
+    Vector3 tau = Vector3::Zero();
+    if (j.revolute) tau = bushing::revolute_torque(a, b, j.parameters);
+    BodyScratch& sa = s.bodies[static_cast<std::size_t>(j.a.body)];
+    sa.f_W += f;
+    sa.tau_W += (sep.p_WM - a.p_WBr).cross(f) + tau;
+    if (j.b.body != contact::kGround) {
+      BodyScratch& sb = s.bodies[static_cast<std::size_t>(j.b.body)];
+      sb.f_W -= f;
+      sb.tau_W -= (sep.p_WM - b.p_WBr).cross(f) + tau;
+    }
+    if (dissipates_) s.dissipation += bushing::dissipated_power(a, b, j.parameters, j.revolute);
+  }
+  std::fill(s.wear_power.begin(), s.wear_power.end(), S(0));
+  for (std::size_t k = 0; k < supports_.size(); ++k) {
+    // At the deformed node (a sphere: at P) under either model, as applied forces at nodes
+    // (core::add_attached_force): f on `at`, −f on `at_a`.
+    const Support& c = supports_[k];
+    const SupportLoad load = support_load(c);
+    s.switching[2 * k] = load.point.gap;
+    s.switching[2 * k + 1] = load.clamp;
+    s.dissipation += load.dissipated_power;
+    if (!(load.normal > S(0))) continue;
+    apply(c.at, load.f_W, load.point.p_WP);
+    if (c.kind == Support::Kind::kSphereSphere) apply(c.at_a, Vector3(-load.f_W), load.point.p_WP);
+    if (c.channel >= 0) s.wear_power[static_cast<std::size_t>(c.channel)] += load.wear_power;
+  }
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    BodyScratch& bs = s.bodies[i];
+    const Pose& p = bs.pose;
+    if (b.n == 0 && b.motion != core::MotionKind::kPrescribed) {
+      // A rigid body's rows without the inertia terms' generality (model.md eqs. (5)–(6), about
+      // Br): m a = f for a free body (Br = Bcm), a = 0 on a pivot, and Euler's equations
+      // J_Br α̅ = Aᵀ τ_Br − ω̄ × J_Br ω̄ (the pivot's gravity moment is in τ: s_t = m c).
+      const Vector3 Jw = b.invariants.I0 * p.w_B;
+      bs.x.template segment<3>(3) = b.J_Br_inv * (p.A.transpose() * bs.tau_W - p.w_B.cross(Jw));
+      if (b.motion == core::MotionKind::kFree) {
+        bs.x.template head<3>() = bs.f_W / b.invariants.mass;
+      } else {
+        bs.x.template head<3>().setZero();
+      }
+      continue;
+    }
+    if (lte) {
+      // The inertia terms of the undeformed body (q_f = 0, q̇_f = 0).
+      flexible::set_undeformed_products_tpl<S>(bs.terms);
+      flexible::assemble_inertia_terms_tpl<S>(b.invariants, p.A, bs.zero, p.w_B, bs.zero, bs.terms);
+    } else {
+      flexible::compute_modal_products_tpl<S>(b.invariants, bs.q, bs.qd, bs.terms);
+      flexible::assemble_inertia_terms_tpl<S>(b.invariants, p.A, bs.q, p.w_B, bs.qd, bs.terms);
+    }
+    const Vector& Qv = bs.terms.Qv;
+    bs.rhs.template head<3>() = bs.f_W + Qv.template head<3>();
+    bs.rhs.template segment<3>(3) = p.A.transpose() * bs.tau_W + Qv.template segment<3>(3);
+    bs.rhs.tail(b.n) =
+        bs.Q_f + Qv.tail(b.n) - b.stiffness.cwiseProduct(bs.q) - b.damping.cwiseProduct(bs.qd);
+    // Known rows: a = 0 (pivot, prescribed), α̅ of the law (prescribed).
+    const int known = b.motion == core::MotionKind::kFree    ? 0
+                      : b.motion == core::MotionKind::kPivot ? 3
+                                                             : 6;
+    bs.x.setZero();
+    bs.x.template segment<3>(3) = p.alpha_B;
+    if (lte) {
+      flexible::factor_lte_tpl<S>(bs.terms, known, bs.solve);
+      flexible::apply_lte_tpl<S>(b.factor, bs.terms, bs.rhs, bs.solve, bs.x);
+    } else {
+      flexible::factor_coupled_tpl<S>(b.factor, bs.terms, known, bs.solve);
+      flexible::apply_coupled_tpl<S>(b.factor, bs.terms, bs.rhs, bs.solve, bs.x);
+    }
+  }
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, S t,
+                                      double t_segment, std::vector<S>* switching) const {
+  Scratch& s = scratch_;
+  load_state(t, y);
+  evaluate(t, t_segment);
+  if (switching != nullptr) *switching = s.switching;
+  dydt.resize(y.size());
+  S modal_dissipation(0);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    const BodyScratch& bs = s.bodies[i];
+    auto o = static_cast<std::size_t>(b.offset);
+    if (b.motion != core::MotionKind::kPrescribed) {
+      // ṗ = v; θ̇ = ½ θ ⊗ (0, ω̄); v̇ = a; ω̄̇ = α̅.
+      const S h(0.5);
+      const S e0 = y[o + 3], e1 = y[o + 4], e2 = y[o + 5], e3 = y[o + 6];
+      const Vector3& w = bs.pose.w_B;
+      for (std::size_t k = 0; k < 3; ++k) dydt[o + k] = y[o + 7 + k];
+      dydt[o + 3] = -h * (e1 * w(0) + e2 * w(1) + e3 * w(2));
+      dydt[o + 4] = h * (e0 * w(0) + e2 * w(2) - e3 * w(1));
+      dydt[o + 5] = h * (e0 * w(1) + e3 * w(0) - e1 * w(2));
+      dydt[o + 6] = h * (e0 * w(2) + e1 * w(1) - e2 * w(0));
+      for (std::size_t k = 0; k < 3; ++k) {
+        dydt[o + 7 + k] = bs.x(static_cast<Eigen::Index>(k));
+        dydt[o + 10 + k] = bs.x(static_cast<Eigen::Index>(3 + k));
+      }
+      o += 13;
+    }
+    const auto n = static_cast<std::size_t>(b.n);
+    for (std::size_t k = 0; k < n; ++k) {
+      dydt[o + k] = y[o + n + k];
+      dydt[o + n + k] = bs.x(6 + static_cast<Eigen::Index>(k));
+    }
+    if (n > 0) modal_dissipation += bs.qd.dot(b.damping.cwiseProduct(bs.qd));
+  }
+  if (dissipates_) {
+    // Ẇ_d = Σ q̇ᵀ D q̇ + the supports' and bushings' dissipation; Ẇ_a = f·v_P; each wear
+    // channel's |F_t·v_t|.
+    const auto integrals = static_cast<std::size_t>(integrals_offset_);
+    dydt[integrals] = modal_dissipation + s.dissipation;
+    for (int k = 1; k < integral_count_; ++k) dydt[integrals + static_cast<std::size_t>(k)] = S(0);
+    if (applied_work_) dydt[integrals + 1] = s.applied_power;
+    const std::size_t first_wear = integrals + (applied_work_ ? 2 : 1);
+    for (std::size_t c = 0; c < s.wear_power.size(); ++c) dydt[first_wear + c] = s.wear_power[c];
+  }
+}
+
+template <typename S>
+S MultibodyModelTpl<S>::energy(S t, const std::vector<S>& y) const {
+  Scratch& s = scratch_;
+  load_state(t, y);
+  const bool lte = formulation_ == core::FlexibleFormulation::kLte;
+  S T(0);
+  S V(0);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    BodyScratch& bs = s.bodies[i];
+    const Pose& p = bs.pose;
+    // T = ½ vᵀ M v, v = (v_WBr, ω̄, q̇_f), M at the state's q_f (core::Model::kinetic_energy,
+    // under LTE too): ½ [v_rᵀ M_rr v_r + 2 v_rᵀ M_rf q̇ + q̇ᵀ m_ff q̇].
+    flexible::compute_modal_products_tpl<S>(b.invariants, bs.q, bs.zero, bs.terms);
+    flexible::assemble_inertia_terms_tpl<S>(b.invariants, p.A, bs.q, p.w_B, bs.zero, bs.terms);
+    Eigen::Matrix<S, 6, 1> v_r;
+    v_r << p.v_WBr, p.w_B;
+    T += S(0.5) * (v_r.dot(bs.terms.M_rr * v_r) + S(2) * v_r.dot(bs.terms.M_rf * bs.qd) +
+                   bs.qd.dot(b.invariants.m_ff * bs.qd));
+    // V = −g·(m p_WBr + A s_t) on the loads' q_f (zero under LTE) + ½ q_fᵀ K q_f.
+    const Vector3 s_t = first_moment(b, lte ? bs.zero : bs.q);
+    V += -g_W_.dot(b.invariants.mass * p.p_WBr + p.A * s_t) +
+         S(0.5) * bs.q.dot(b.stiffness.cwiseProduct(bs.q));
+  }
+  // The supports' and pairs' V_law(δ) at the deformed points (GapSupport's and
+  // ContactElement's potential_energy), the bushings' springs and Σ c_i V_unit(P_i)
+  // (PointChargePotential::potential_energy).
+  for (const Support& c : supports_) V += c.normal.potential_in(S(-support_point(c).gap));
+  for (const Joint& j : joints_) {
+    V += contact::bushing::potential(end_motion(j.a), end_motion(j.b), j.parameters, j.revolute);
+  }
+  for (const Potential& potential : potentials_) {
+    for (std::size_t i = 0; i < potential.at.size(); ++i) V += charge_load(potential, i).potential;
+  }
+  return T + V;
+}
+
+template <typename S>
+std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
+                                                const std::vector<double>& impacts) const {
+  Scratch& s = scratch_;
+  std::vector<S> row;
+  row.reserve(columns_.size());
+  load_state(t, y);
+  // The drives' torques need the accelerations at (t, y), on the right-limit branch at t.
+  if (has_prescribed_) evaluate(t, static_cast<double>(t));
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    const BodyScratch& bs = s.bodies[i];
+    const Pose& p = bs.pose;
+    // p_WBo = p_WBr − A p_BoBr; v_WBo = v_WBr − A (ω̄ × p_BoBr).
+    const Vector3 p_WBo = p.p_WBr - p.A * b.p_BoBr_B;
+    const Vector3 v_WBo = p.v_WBr - p.A * p.w_B.cross(b.p_BoBr_B);
+    row.insert(row.end(),
+               {p_WBo(0), p_WBo(1), p_WBo(2), p.theta_WB(0), p.theta_WB(1), p.theta_WB(2),
+                p.theta_WB(3), v_WBo(0), v_WBo(1), v_WBo(2), p.w_B(0), p.w_B(1), p.w_B(2)});
+    for (const Attachment& a : b.points) {
+      const Vector3 r = position_W(a);
+      row.insert(row.end(), {r(0), r(1), r(2)});
+    }
+    for (Eigen::Index k = 0; k < b.n; ++k) row.push_back(bs.q(k));
+    for (Eigen::Index k = 0; k < b.n; ++k) row.push_back(bs.qd(k));
+    if (b.motion == core::MotionKind::kPrescribed) {
+      // The drive's torque: the rotation rows of M x − rhs at the solved accelerations, to
+      // world, along the axis (core::Model::driving_torque).
+      Vector3 r = bs.terms.M_rr.template middleRows<3>(3) * bs.x.template head<6>() -
+                  bs.rhs.template segment<3>(3);
+      if (formulation_ == core::FlexibleFormulation::kCoupled && b.n > 0) {
+        r.noalias() += bs.terms.M_rf.template middleRows<3>(3) * bs.x.tail(b.n);
+      }
+      row.push_back(b.axis_W.dot(p.A * r));
+    }
+  }
+  const S e = energy(t, y);
+  row.push_back(e);
+  const auto integrals = static_cast<std::size_t>(integrals_offset_);
+  if (dissipates_) {
+    const S work = y[integrals];
+    const S applied = applied_work_ ? y[integrals + 1] : S(0);
+    row.push_back(work);
+    if (applied_work_) row.push_back(applied);
+    row.push_back(e - energy0_ + work - applied);  // E(t) − E(0) + W_d(t) − W_a(t)
+  }
+  if (!wear_channels_.empty()) {
+    // Per channel Σ F_n, the slip speed of its most loaded support or pair (the wear_samples of
+    // GapSupport and ContactElement), the wear work and the impacts counted by the caller.
+    const std::size_t channels = wear_channels_.size();
+    std::vector<S> normal(channels, S(0)), largest(channels, S(0)), slip(channels, S(0));
+    for (const Support& c : supports_) {
+      if (c.channel < 0) continue;
+      const auto k = static_cast<std::size_t>(c.channel);
+      const SupportLoad load = support_load(c);
+      if (!(load.normal > S(0))) continue;
+      normal[k] += load.normal;
+      if (load.normal > largest[k]) {
+        largest[k] = load.normal;
+        slip[k] = load.slip_speed;
+      }
+    }
+    const std::size_t first_wear = integrals + (applied_work_ ? 2 : 1);
+    for (std::size_t k = 0; k < channels; ++k) {
+      row.push_back(normal[k]);
+      row.push_back(slip[k]);
+      row.push_back(y[first_wear + k]);
+      row.push_back(k < impacts.size() ? S(impacts[k]) : S(0));
+    }
+  }
+  return row;
+}
+
+template class MultibodyModelTpl<double>;
+template class MultibodyModelTpl<long double>;
+template class MultibodyModelTpl<boost::multiprecision::float128>;
+
+}  // namespace flexref::precision

@@ -1,0 +1,280 @@
+#pragma once
+/// \file multibody_model_tpl.hpp
+/// The bodies of a scene, rigid and flexible, and everything between them, in precision S
+/// (double, long double, boost::multiprecision::float128): free, pivot or prescribed rigid
+/// motion of each body, the coupled floating-frame model or the LTE model of each flexible body
+/// (modal stiffness and damping, geometric stiffening), uniform gravity, applied forces (at hub
+/// points or nodes) and torques with their time profiles, point-charge potentials, gap supports,
+/// sphere–plane and sphere–sphere contacts (spheres at hub points or nodes), and spherical and
+/// revolute bushings between bodies or to the ground. The equations are core::Model's and the
+/// evaluation of each body is the one of flexible/ (inertia_terms_tpl.hpp,
+/// mass_matrix_solve_tpl.hpp, modal_invariants_tpl.hpp), the same templates the double model runs,
+/// here instantiated in S; a rigid body is a body without modes (its invariants are its mass,
+/// first and second moments about Br; M_rr and Qv are then Newton–Euler's). Internal to
+/// precision/: instantiated in multibody_model_tpl.cpp for the three precisions.
+///
+/// The data are the scene's double numbers (masses, inertias, node positions, mode shapes,
+/// modal stiffness and damping ratios, geometric stiffness matrices), exact in S; everything
+/// derived from them — each reference point Br (the undeformed centre of mass of a free body),
+/// the invariants about it, the modal damping 2ζ_i√(K_i μ_i), m_ff's Cholesky factor, the unit
+/// vectors of the data (core/unit_vector_tpl.hpp) — is formed in S, so the model solved is the
+/// exact model of the data.
+///
+/// State, body after body: p_WBr (3), θ_WB (4), v_WBr (3), ω̄ (3) unless the body is
+/// prescribed (its attitude, ω̄ and α̅ are its angle law's at t, core/prescribed_motion.hpp, in
+/// S), then q_f (n), q̇_f (n); then the integrals (W_d, W_a, each wear channel's work) when the
+/// model dissipates. Equations of each body (model.md, quasi-velocity form, about Br,
+/// v = (a_WBr, α̅, q̈_f)):
+///   coupled: M(θ, q_f) v = Qe + Qv − [0; 0; K q_f + D q̇_f],  θ̇ = ½ θ ⊗ (0, ω̄),
+///   LTE:     the same blocks at q_f = 0, q̇_f = 0, no M_rf in the rigid rows, loads on the
+///            undeformed body (attachments at nodes see the deformation: node_attachment.hpp),
+/// with the known rows (pivot: a = 0; prescribed: a = 0, α̅ of the law) moved to the right.
+/// A force f at a world point P attached to a body enters its equations as f, (P − p_WBr) × f
+/// and, at node k, Φ_kᵀ Aᵀ f (core/node_attachment.hpp); a contact pushes its second body
+/// along +n and its first (a sphere–sphere pair) along −n at the contact point, a bushing its
+/// first end with f at the midpoint M and its second with −f (contact/bushing.hpp).
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "contact/bushing.hpp"
+#include "contact/bushing_tpl.hpp"
+#include "contact/contact_laws.hpp"
+#include "contact/gap_support_tpl.hpp"
+#include "core/model.hpp"
+#include "core/point_charge_potential.hpp"
+#include "core/prescribed_motion.hpp"
+#include "core/time_profile.hpp"
+#include "flexible/mass_matrix_solve_tpl.hpp"
+#include "scene/scene_spec.hpp"
+
+namespace flexref::precision {
+
+template <typename S>
+class MultibodyModelTpl {
+ public:
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Matrix3 = Eigen::Matrix<S, 3, 3>;
+  using Quaternion = Eigen::Matrix<S, 4, 1>;
+
+  /// Every scene scene::build_model builds (its bodies' modal data validated).
+  MultibodyModelTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation);
+
+  int num_bodies() const { return static_cast<int>(bodies_.size()); }
+  /// The first slot of body i in the state.
+  int body_offset(int i) const { return body(i).offset; }
+  /// False for a prescribed body (no rigid slots: its law gives them).
+  bool integrates_rigid_motion(int i) const {
+    return body(i).motion != core::MotionKind::kPrescribed;
+  }
+  int mode_count(int i = 0) const { return body(i).n; }
+  /// A body's mass, centre of mass from Br and inertia about Br (body frame), hub and nodes
+  /// included, formed in S (the exact solutions' data: exact_high_precision.cpp).
+  struct MassProperties {
+    S mass;
+    Vector3 c_B;
+    Matrix3 J_Br_B;
+  };
+  MassProperties mass_properties(int i) const {
+    const flexible::ModalInvariantsTpl<S>& inv = body(i).invariants;
+    return {inv.mass, inv.s0 / inv.mass, inv.I0};
+  }
+  int state_size() const { return integrals_offset_ + integral_count_; }
+  /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
+  const std::vector<std::string>& columns() const { return columns_; }
+  /// Two per gap support or contact pair, in the double model's element order: the gap g (it
+  /// pushes while g < 0; its sign change is an onset or a release) and the unclamped law's value
+  /// (NormalLaw::clamp_function).
+  int switching_function_count() const { return 2 * static_cast<int>(supports_.size()); }
+  void switching_functions(S t, const std::vector<S>& y, std::vector<S>& values) const;
+  int wear_channel_count() const { return static_cast<int>(wear_channels_.size()); }
+  /// The wear channel of a gap support or pair, −1 for an unnamed one.
+  int wear_channel_of_pair(int pair) const {
+    return supports_[static_cast<std::size_t>(pair)].channel;
+  }
+  /// Times where a load profile switches, and the end of each spin-up law (φ⁗ jumps there: φ̈ =
+  /// (Ω/T)(1 − cos 2πt/T) before, 0 after; extrapolation's high orders need the stop).
+  std::vector<double> discontinuities() const;
+
+  std::vector<S> initial_state() const;
+  /// ẏ = f(t, y) on the load branch active at t_segment. Uses the model's scratch: one
+  /// evaluation at a time (the integrators here are sequential).
+  void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment,
+                  std::vector<S>* switching = nullptr) const;
+  /// Kinetic + gravitational + elastic + the potentials', contacts' and bushings' energy at
+  /// (t, y) (the `energy` column).
+  S energy(S t, const std::vector<S>& y) const;
+  /// The trajectory_columns row at (t, y) after `t`: per body p_WBo, θ, v_WBo, ω̄, tracked points
+  /// (nodes deformed), q_f, q̇_f and a prescribed body's drive torque; the energy, and when the
+  /// model dissipates W_d, (W_a), E − E(0) + W_d − W_a; per wear channel Σ F_n, the slip speed of
+  /// its most loaded support or pair, the wear work and `impacts` (the caller's onset counts, one
+  /// per channel; empty: none yet).
+  std::vector<S> output_row(S t, const std::vector<S>& y,
+                            const std::vector<double>& impacts = {}) const;
+
+ private:
+  /// A point of a body from its Br in the undeformed body frame, moving with node k's Φ_k q_f
+  /// when it is attached to a node; body −1 is the ground (the point then in world).
+  struct Attachment {
+    int body = -1;
+    Vector3 p_BrP_B = Vector3::Zero();
+    int node = -1;
+    Eigen::Matrix<S, 3, Eigen::Dynamic> phi_B;  ///< Φ_k (3×n); empty for a hub point
+  };
+  struct Body {
+    std::string name;
+    core::MotionKind motion = core::MotionKind::kFree;
+    int n = 0;                                   ///< modes (0 for a rigid body)
+    int offset = 0;                              ///< first slot in the state
+    flexible::ModalInvariantsTpl<S> invariants;  ///< about Br, hub (rigid part) included
+    flexible::ModalMassFactorTpl<S> factor;
+    /// J_Br⁻¹, the inverse of invariants.I0 (a rigid body not prescribed: its Newton–Euler rows).
+    Matrix3 J_Br_inv = Matrix3::Zero();
+    Vector stiffness;
+    Vector damping;
+    Vector3 p_BoBr_B = Vector3::Zero();
+    core::PrescribedRotation prescribed;
+    Vector3 axis_W = Vector3::UnitZ();  ///< the prescribed axis, a unit vector of S
+    Quaternion theta0;                  ///< the initial attitude, normalized in S
+    Vector3 p_WBo0 = Vector3::Zero();   ///< the initial frame origin (a prescribed body's Bo = Br)
+    std::vector<S> initial;             ///< its slots of the initial state
+    std::vector<Attachment> points;     ///< tracked points
+  };
+  /// A body's pose and rates at (t, y).
+  struct Pose {
+    Vector3 p_WBr;
+    Quaternion theta_WB;
+    Matrix3 A;
+    Vector3 v_WBr;
+    Vector3 w_B;
+    Vector3 w_W;
+    Vector3 alpha_B;  ///< the law's α̅ (prescribed only)
+  };
+  /// One body's evaluation.
+  struct BodyScratch {
+    Pose pose;
+    flexible::InertiaTermsTpl<S> terms;
+    flexible::MassSolveScratchTpl<S> solve;
+    Vector q, qd, zero, Q_f, rhs, x;
+    Vector3 f_W, tau_W;  ///< Σ f and Σ (P − p_WBr) × f + torques
+  };
+  struct Load {
+    bool torque = false;
+    Vector3 value;
+    bool world_frame = true;
+    Attachment at;
+    core::TimeProfile profile = core::TimeProfile::constant();
+    bool tracks_work = false;
+  };
+  /// A gap support at a body point (contact/gap_support.hpp), or a sphere of radius r centred
+  /// at `at` on the ground plane through Q with unit normal n, or on a sphere of radius r_a
+  /// centred at `at_a` (contact/contact.hpp), its geometry in S. `at` is pushed along +n.
+  struct Support {
+    enum class Kind { kGap, kSpherePlane, kSphereSphere };
+    Kind kind = Kind::kGap;
+    Attachment at;
+    Attachment at_a;                      ///< sphere–sphere: the first sphere's centre
+    S radius_a = S(0);                    ///< sphere–sphere
+    contact::GapGeometryTpl<S> geometry;  ///< gap support
+    S radius = S(0);                      ///< spheres
+    Vector3 p_WQ = Vector3::Zero();       ///< sphere–plane: a point of the plane
+    Vector3 n_W = Vector3::UnitZ();       ///< sphere–plane: the plane's unit normal
+    contact::NormalLaw normal;
+    contact::FrictionLaw friction;
+    int channel = -1;
+  };
+  /// Where a support acts at the state: its gap, its unit normal, the point of application P
+  /// (the deformed node; the contact point C − r n of a sphere) and the relative velocity there
+  /// (the material point of `at` minus that of `at_a`).
+  struct SupportPoint {
+    S gap;
+    Vector3 n_W;
+    Vector3 p_WP;
+    Vector3 v_rel_W;
+  };
+  /// What a support applies at the state (GapSupport::Evaluation in S).
+  struct SupportLoad {
+    SupportPoint point;
+    S clamp = S(0);   ///< NormalLaw::clamp_function(δ, δ̇)
+    Vector3 f_W;      ///< F_n n + F_t on `at`, zero when it does not push
+    S normal = S(0);  ///< F_n ≥ 0
+    S slip_speed = S(0);
+    S dissipated_power = S(0);
+    S wear_power = S(0);  ///< |F_t·v_t|
+  };
+  /// A point-charge potential's law and its charges' hub points (the weights are the law's).
+  struct Potential {
+    core::PointChargePotential law;
+    std::vector<Attachment> at;
+  };
+  /// A bushing end: a body's hub point (from Bo) and axis (body frame), or the ground's (world);
+  /// the axis a unit vector of S (the damping's projection assumes |a| = |b| = 1).
+  struct JointEnd {
+    int body = contact::kGround;
+    Vector3 point = Vector3::Zero();
+    Vector3 axis = Vector3::UnitZ();
+  };
+  /// Spherical and revolute bushings (contact/bushing.hpp; their equations are
+  /// contact/bushing_tpl.hpp's, evaluated in S).
+  struct Joint {
+    bool revolute = false;
+    JointEnd a;
+    JointEnd b;
+    contact::BushingParameters parameters;
+  };
+  /// Charge i's point, force c_i f_unit and potential c_i V_unit at the state.
+  struct ChargeLoad {
+    Vector3 p_WP;
+    Vector3 f_W;
+    S potential;
+  };
+  struct Scratch {
+    std::vector<BodyScratch> bodies;
+    S applied_power = S(0);
+    S dissipation = S(0);       ///< the supports' and bushings' dissipated power
+    std::vector<S> wear_power;  ///< per wear channel
+    std::vector<S> switching;   ///< the supports' switching values of the last evaluation
+  };
+
+  const Body& body(int i) const { return bodies_[static_cast<std::size_t>(i)]; }
+  /// Poses, q_f and q̇_f of every body at (t, y) into the scratch.
+  void load_state(S t, const std::vector<S>& y) const;
+  /// The loads of every body into the scratch (the integrals' rates and the switching values
+  /// with them), then each body's inertia terms, right-hand side and solved accelerations x.
+  void evaluate(S t, double t_segment) const;
+  /// The attached point's offset A (x_P − p_BoBr + Φ_k q_f) from its body's p_WBr.
+  Vector3 offset_W(const Attachment& a) const;
+  Vector3 position_W(const Attachment& a) const;
+  /// Velocity of the material point of the attachment's body at the world point P:
+  /// v_WBr + ω × (P − p_WBr) + A Φ_k q̇_f (core::attached_velocity_W).
+  Vector3 velocity_W(const Attachment& a, const Vector3& p_WP) const;
+  /// f (world) at the world point P into the attachment's body: f, (P − p_WBr) × f, Φ_kᵀ Aᵀ f.
+  void apply(const Attachment& a, const Vector3& f_W, const Vector3& p_WP) const;
+  SupportPoint support_point(const Support& support) const;
+  SupportLoad support_load(const Support& support) const;
+  ChargeLoad charge_load(const Potential& potential, std::size_t i) const;
+  contact::bushing::EndMotion<S> end_motion(const JointEnd& end) const;
+  /// s_t(q) = s0 + S q (+ Δs(q) with geometric stiffening), a body's first moment about Br.
+  static Vector3 first_moment(const Body& b, const Vector& q);
+
+  core::FlexibleFormulation formulation_ = core::FlexibleFormulation::kCoupled;
+  std::vector<Body> bodies_;
+  std::vector<Load> loads_;
+  std::vector<Support> supports_;
+  std::vector<Potential> potentials_;
+  std::vector<Joint> joints_;
+  std::vector<std::string> wear_channels_;
+  Vector3 g_W_;
+  std::vector<std::string> columns_;
+  std::vector<double> discontinuities_;
+  bool dissipates_ = false;
+  bool applied_work_ = false;
+  bool has_prescribed_ = false;
+  int integrals_offset_ = 0;
+  int integral_count_ = 0;
+  S energy0_ = S(0);
+  mutable Scratch scratch_;
+};
+
+}  // namespace flexref::precision

@@ -1,0 +1,154 @@
+#pragma once
+/// \file model_agreement.hpp
+/// The extended/quad model (precision/multibody_model_tpl.hpp, instantiated in double) against
+/// core::Model at random states of a scene: the accelerations, the integrals' rates, the gaps
+/// and the output row. The inertia terms, solves and laws are shared templates, but the loads'
+/// assembly, the known rows, the invariants' reference points, the kinematics and the outputs
+/// are written independently on each side, so a sign, lever-arm, frame or body-index error in
+/// either shows up as an O(1) difference.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "precision/multibody_model_tpl.hpp"
+#include "scene/build_model.hpp"
+#include "studies/trajectory_table.hpp"
+
+namespace flexref::precision {
+
+/// How far the random states lie from the initial one: uniform in ±position (m) about a free
+/// body's Br, ±attitude in each Euler parameter (then normalized), ±velocity (m/s) and ±rate
+/// (rad/s) added to v_WBr and ω̄, and q_f, q̇_f uniform in ±q, ±qd.
+struct Spread {
+  double position = 1.0;
+  double attitude = 0.5;
+  double velocity = 1.0;
+  double rate = 2.0;
+  double q = 0.02;
+  double qd = 0.3;
+};
+
+/// Checks the model against core::Model at four random states (drawn from `seed`, `spread`
+/// about the initial state; a pivot's Br stays, with v = 0). Returns in how many states a wear
+/// channel pushed (F_n > 0), and counts them per channel in `pushed_by_channel`.
+inline int check_against_core_model(const scene::SceneSpec& spec,
+                                    core::FlexibleFormulation formulation, double t,
+                                    const Spread& spread, unsigned seed = 11,
+                                    std::map<std::string, int>* pushed_by_channel = nullptr) {
+  // Tolerance: both sides are a few thousand flops from the same doubles on O(1)–O(1e6) terms
+  // (the stiff scenes' modal forces K q reach ~1e4 at q ~ 1e-2, a bushing's k d ~1e5 at d ~ 1 m);
+  // 1e-9 relative to the largest term of each body's rows is ~1e6 ε.
+  const core::Model model = scene::build_model(spec, formulation);
+  const MultibodyModelTpl<double> tpl(spec, formulation);
+  core::Workspace ws = model.make_workspace();
+  core::Accelerations acc = model.make_accelerations();
+  REQUIRE(tpl.num_bodies() == model.num_bodies());
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int pushed = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    CAPTURE(trial);
+    std::vector<double> y = tpl.initial_state();
+    core::State state = model.initial_state();
+    for (int i = 0; i < model.num_bodies(); ++i) {
+      const core::Body& body = model.body(i);
+      core::BodyState& s = state[static_cast<std::size_t>(i)];
+      const int n = body.mode_count();
+      REQUIRE(tpl.mode_count(i) == n);
+      auto o = static_cast<std::size_t>(tpl.body_offset(i));
+      REQUIRE(tpl.integrates_rigid_motion(i) == !body.is_prescribed());
+      if (tpl.integrates_rigid_motion(i)) {
+        for (std::size_t k = 3; k < 7; ++k) y[o + k] += spread.attitude * unit(random);
+        const double norm = std::sqrt(y[o + 3] * y[o + 3] + y[o + 4] * y[o + 4] +
+                                      y[o + 5] * y[o + 5] + y[o + 6] * y[o + 6]);
+        for (std::size_t k = 3; k < 7; ++k) y[o + k] /= norm;
+        if (body.is_free()) {
+          for (std::size_t k = 0; k < 3; ++k) y[o + k] += spread.position * unit(random);
+          for (std::size_t k = 7; k < 10; ++k) y[o + k] += spread.velocity * unit(random);
+        }
+        for (std::size_t k = 10; k < 13; ++k) y[o + k] += spread.rate * unit(random);
+        s.p_WBr = Eigen::Vector3d(y[o], y[o + 1], y[o + 2]);
+        s.theta_WB = Eigen::Vector4d(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
+        s.v_WBr = Eigen::Vector3d(y[o + 7], y[o + 8], y[o + 9]);
+        s.w_WB_B = Eigen::Vector3d(y[o + 10], y[o + 11], y[o + 12]);
+        o += 13;
+      }
+      for (int k = 0; k < n; ++k) {
+        y[o + static_cast<std::size_t>(k)] = spread.q * unit(random);
+        y[o + static_cast<std::size_t>(n + k)] = spread.qd * unit(random);
+        s.q_f(k) = y[o + static_cast<std::size_t>(k)];
+        s.qd_f(k) = y[o + static_cast<std::size_t>(n + k)];
+      }
+    }
+    model.apply_prescribed_motion(t, state);
+    std::vector<double> dydt(y.size());
+    model.compute_accelerations(core::LoadContext{t, t}, state, ws, acc);
+    tpl.derivative(y, dydt, t, t);
+    for (int i = 0; i < model.num_bodies(); ++i) {
+      CAPTURE(i);
+      const core::BodyAcceleration& a = acc[static_cast<std::size_t>(i)];
+      const int n = model.body(i).mode_count();
+      const double scale = std::max({1.0, a.a_WBr.norm(), a.alpha_WB_B.norm(), a.qdd_f.norm()});
+      auto o = static_cast<std::size_t>(tpl.body_offset(i));
+      if (tpl.integrates_rigid_motion(i)) {
+        for (int k = 0; k < 3; ++k) {
+          CHECK(std::abs(dydt[o + 7 + static_cast<std::size_t>(k)] - a.a_WBr(k)) <= 1e-9 * scale);
+          CHECK(std::abs(dydt[o + 10 + static_cast<std::size_t>(k)] - a.alpha_WB_B(k)) <=
+                1e-9 * scale);
+        }
+        o += 13;
+      }
+      for (int k = 0; k < n; ++k) {
+        CHECK(std::abs(dydt[o + static_cast<std::size_t>(n + k)] - a.qdd_f(k)) <= 1e-9 * scale);
+        CHECK(dydt[o + static_cast<std::size_t>(k)] == y[o + static_cast<std::size_t>(n + k)]);
+      }
+    }
+    if (model.dissipates()) {
+      std::vector<double> rates(static_cast<std::size_t>(1 + model.extra_integral_count()));
+      model.integral_rates(core::LoadContext{t, t}, state, ws, rates);
+      const std::size_t first = y.size() - rates.size();
+      for (std::size_t k = 0; k < rates.size(); ++k) {
+        CAPTURE(k);
+        CHECK(std::abs(dydt[first + k] - rates[k]) <= 1e-9 * std::max(1.0, std::abs(rates[k])));
+      }
+    }
+    if (model.switching_function_count() > 0) {
+      // The gaps at t (a prescribed body's node moves with its law): core has one switching
+      // function per gap support or pair, the precision model two (the gap, then the clamp's).
+      std::vector<double> g(static_cast<std::size_t>(model.switching_function_count()));
+      model.switching_functions(core::LoadContext{t, t}, state, ws, g);
+      std::vector<double> values;
+      tpl.switching_functions(t, y, values);
+      REQUIRE(values.size() == 2 * g.size());
+      for (std::size_t k = 0; k < g.size(); ++k) {
+        CHECK(std::abs(values[2 * k] - g[k]) <= 1e-12 * std::max(1.0, std::abs(g[k])));
+      }
+    }
+    core::Trajectory trajectory;
+    trajectory.times = {t};
+    trajectory.states = {state};
+    const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
+    const std::vector<double> row = tpl.output_row(t, y);
+    // The integrals are NaN in the double tabulation (no integrator), and so is the balance.
+    REQUIRE(row.size() + 1 == table.columns.size());
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      const double expected = table.rows[0][c + 1];
+      if (std::isnan(expected) || table.columns[c + 1] == "energy_balance") continue;
+      CAPTURE(table.columns[c + 1]);
+      CHECK(std::abs(row[c] - expected) <= 1e-9 * std::max(1.0, std::abs(expected)));
+      const std::string& column = table.columns[c + 1];
+      if (column.size() > 3 && column.ends_with(".fn") && expected > 0.0) {
+        ++pushed;
+        if (pushed_by_channel != nullptr) ++(*pushed_by_channel)[column];
+      }
+    }
+  }
+  return pushed;
+}
+
+}  // namespace flexref::precision

@@ -1,0 +1,284 @@
+/// \file multibody_model_test.cpp
+/// Several bodies, rigid and flexible, and what acts between them in extended/quad
+/// (precision/multibody_model_tpl.hpp):
+/// - against core::Model at random states (model_agreement.hpp), coupled and LTE: a free
+///   flexible body hinged to the ground by a revolute bushing, a rigid block on a spherical
+///   bushing, a second flexible body on a pivot or prescribed, joined to the block; sphere–sphere
+///   pairs between two nodes and between a node and the block, a gap support on the block,
+///   charges on two bodies, forces at nodes and torques. Each pair must push in some states and
+///   not in all, or the check would not see its force;
+/// - rigid scenes through the same model (it carries gap supports on rigid bodies, which the
+///   rigid model does not) against core::Model;
+/// - the hinged spinner striking the block: quad's energy balance closes, and double, extended
+///   and quad references agree in that order.
+#include <algorithm>
+#include <boost/multiprecision/float128.hpp>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "contact/bushing.hpp"
+#include "contact/contact.hpp"
+#include "core/output_times.hpp"
+#include "precision/high_precision_reference.hpp"
+#include "tests/precision/model_agreement.hpp"
+#include "tests/precision/precision_order.hpp"
+
+namespace flexref::precision {
+namespace {
+
+using Quad = boost::multiprecision::float128;
+
+/// The tip node of flexible_spinner's beam (ten elements of four nodes each: node 40 at
+/// x = 1.1 m, flexible/beam_model.cpp).
+constexpr int kTipNode = 40;
+/// The scenes' plane of motion, z = 3 m: random states (±1 m) keep the charges above the
+/// potential's wall at z = 0.
+constexpr double kHeight = 3.0;
+
+/// flexible_spinner (body 0, no torque pulse) spinning at 5 rad/s about z, hinged to the ground
+/// at its hub by a damped revolute bushing about z, under a weak gravity; a rigid block (body 1, 2
+/// kg) held at (0, 1.16, 0) by a damped spherical bushing, with a sphere of 10 cm at its centre
+/// that the tip's sphere (5 cm, at the deforming tip node) strikes after about a quarter turn (the
+/// tip circle has radius 1.1 m): named contact "strike", linear law with damping and friction.
+scene::SceneSpec hinged_spinner_and_block() {
+  scene::SceneSpec spec = spec_of("scenes/flexible_spinner.toml");
+  spec.name = "hinged_spinner_and_block";
+  spec.loads.clear();
+  // A weak gravity: the beam's static sag ρA g L⁴/(8 EI) is then 0.04 m (0.38 m at 9.81 m/s²,
+  // and the tip would pass under the block).
+  spec.g_W = Eigen::Vector3d(0.0, 0.0, -1.0);
+  core::RigidBodyDescription& spinner = spec.bodies.front().description;
+  spinner.initial.p_WBo = Eigen::Vector3d(0.0, 0.0, kHeight);
+  spinner.initial.w_WB_B = Eigen::Vector3d(0.0, 0.0, 5.0);
+  spinner.flexible->modal.damping_ratio.setConstant(0.01);
+  REQUIRE(spinner.flexible->modal.p_BoNode_B(0, kTipNode) == Approx(1.1));
+  const Eigen::Vector3d p_BoTip_B = spinner.flexible->modal.p_BoNode_B.col(kTipNode);
+  scene::BodySpec block = spec_of("scenes/free_spin.toml").bodies.front();
+  core::RigidBodyDescription& b = block.description;
+  b.name = "block";
+  b.mass = 2.0;
+  b.I_Bcm_B = Eigen::Vector3d(0.02, 0.03, 0.04).asDiagonal();
+  b.initial.p_WBo = Eigen::Vector3d(0.0, 1.16, kHeight);
+  b.initial.w_WB_B.setZero();
+  spec.bodies.push_back(block);
+
+  scene::JointSpec hinge;
+  hinge.revolute = true;
+  hinge.a = {0, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()};
+  hinge.b = {contact::kGround, Eigen::Vector3d(0.0, 0.0, kHeight), Eigen::Vector3d::UnitZ()};
+  hinge.parameters = {1e5, 50.0, 1e3, 2.0};
+  spec.joints.push_back(hinge);
+  scene::JointSpec mount;
+  mount.a = {1, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ()};
+  mount.b = {contact::kGround, b.initial.p_WBo, Eigen::Vector3d::UnitZ()};
+  mount.parameters = {1e4, 20.0, 0.0, 0.0};
+  spec.joints.push_back(mount);
+
+  scene::ContactSpec strike;
+  strike.name = "strike";
+  strike.law.linear = true;
+  strike.law.stiffness = 1e4;
+  strike.law.damping = 10.0;
+  strike.friction.mu = 0.2;
+  strike.friction.v_reg = 0.01;
+  contact::ContactPair pair =
+      contact::ContactPair::sphere_sphere(1, Eigen::Vector3d::Zero(), 0.1, 0, p_BoTip_B, 0.05);
+  pair.node_b.node = kTipNode;  // build_model fills Φ_k (scene_spec.hpp)
+  strike.pairs = {pair};
+  spec.contacts.push_back(strike);
+  return spec;
+}
+
+/// hinged_spinner_and_block with a second flexible_spinner (body 2) on a pivot at its hub, at
+/// (2.3, 0, 0) turned 180° about z (its tip toward the first one's), or prescribed at 3 rad/s
+/// about z; joined to the block by a spherical bushing; large spheres (40 cm) at the two tips
+/// (pair "tips", node against node), a planar gap support "stop" at a point of the block, two
+/// charges (on the block and on body 2's hub), a harmonic force at body 2's node 20 (its work
+/// W_a tracked) and a body-frame torque on the block. For random states: the spheres are large so
+/// that some states put them through each other (the strike's grown to 50 cm on the block and
+/// 30 cm at the tip).
+scene::SceneSpec three_bodies(bool prescribed) {
+  scene::SceneSpec spec = hinged_spinner_and_block();
+  scene::BodySpec second = spec.bodies.front();
+  core::RigidBodyDescription& d = second.description;
+  d.name = "spinner2";
+  d.points.clear();
+  d.initial.p_WBo = Eigen::Vector3d(2.3, 0.0, kHeight);
+  d.initial.theta_WB = Eigen::Vector4d(0.0, 0.0, 0.0, 1.0);
+  d.initial.v_WBo.setZero();
+  if (prescribed) {
+    d.motion = core::MotionKind::kPrescribed;
+    d.prescribed.axis_W = Eigen::Vector3d::UnitZ();
+    d.prescribed.law.rate = 3.0;
+  } else {
+    d.motion = core::MotionKind::kPivot;
+    d.p_BoPivot_B = Eigen::Vector3d::Zero();
+  }
+  const Eigen::Matrix3Xd nodes = d.flexible->modal.p_BoNode_B;
+  spec.bodies.push_back(second);
+
+  scene::JointSpec link;
+  link.a = {2, Eigen::Vector3d(0.0, 0.1, 0.0), Eigen::Vector3d::UnitZ()};
+  link.b = {1, Eigen::Vector3d(0.0, 0.0, 0.05), Eigen::Vector3d::UnitZ()};
+  link.parameters = {2e4, 5.0, 0.0, 0.0};
+  spec.joints.push_back(link);
+
+  spec.contacts.front().pairs.front().radius_a = 0.5;  // the block's sphere
+  spec.contacts.front().pairs.front().radius_b = 0.3;  // the first tip's
+  scene::ContactSpec tips = spec.contacts.front();
+  tips.name = "tips";
+  contact::ContactPair pair =
+      contact::ContactPair::sphere_sphere(2, nodes.col(kTipNode), 0.4, 0, nodes.col(kTipNode), 0.4);
+  pair.node_a.node = kTipNode;
+  pair.node_b.node = kTipNode;
+  tips.pairs = {pair};
+  spec.contacts.push_back(tips);
+
+  scene::ContactSpec stop = spec.contacts.front();
+  stop.name = "stop";
+  stop.pairs.clear();
+  scene::GapSupportSpec gap;
+  gap.body = 1;
+  gap.p_BoN_B = Eigen::Vector3d(0.1, 0.0, 0.0);
+  gap.geometry.kind = contact::GapSupportGeometry::Kind::kPlanar;
+  gap.geometry.p_WS = spec.bodies[1].description.initial.p_WBo;
+  gap.geometry.a_W = Eigen::Vector3d(1.0, 0.0, 0.0);
+  gap.geometry.m_W = Eigen::Vector3d(0.0, 0.3, 1.0).normalized();
+  gap.geometry.clearance = 0.6;
+  stop.gap = gap;
+  spec.contacts.push_back(stop);
+
+  scene::PotentialSpec field;
+  field.alpha = 0.5;
+  field.beta = 0.01;
+  field.p_WM = Eigen::Vector3d(1.0, 0.5, kHeight + 2.0);
+  field.charges = {{1, Eigen::Vector3d(0.05, 0.0, 0.0), 1.5},
+                   {2, Eigen::Vector3d(0.0, 0.1, 0.0), 2.0}};
+  spec.potentials.push_back(field);
+
+  scene::LoadSpec harmonic;
+  harmonic.body = 2;
+  harmonic.node = 20;
+  harmonic.p_BoP_B = nodes.col(20);
+  harmonic.value = Eigen::Vector3d(0.0, 0.4, 0.3);
+  harmonic.profile = core::TimeProfile::harmonic(2.0, 0.3);
+  spec.loads.push_back(harmonic);
+  scene::LoadSpec torque;
+  torque.torque = true;
+  torque.body = 1;
+  torque.frame = core::LoadFrame::kBody;
+  torque.value = Eigen::Vector3d(0.1, -0.2, 0.3);
+  spec.loads.push_back(torque);
+  return spec;
+}
+
+TEST_CASE("bodies, joints and contacts between them agree with core::Model at random states",
+          "[precision]") {
+  // The random states (each free Br within ±1 m, any attitude, q_f ~ 0.05 moving a tip by
+  // ~20 cm) put the 40 cm tip spheres through each other in some states, the tip through the
+  // block's sphere (80 cm in all) in some, and the
+  // block's point outside the ±0.6 m gap in some.
+  std::map<std::string, int> by_channel;
+  int checked = 0;
+  unsigned seed = 500;
+  for (const auto formulation :
+       {core::FlexibleFormulation::kCoupled, core::FlexibleFormulation::kLte}) {
+    CAPTURE(core::to_string(formulation));
+    for (const bool prescribed : {false, true}) {
+      CAPTURE(prescribed);
+      for (int k = 0; k < 6; ++k) {
+        check_against_core_model(three_bodies(prescribed), formulation, 0.3, {.q = 0.05}, ++seed,
+                                 &by_channel);
+        checked += 4;
+      }
+    }
+    check_against_core_model(hinged_spinner_and_block(), formulation, 0.3, {.q = 0.05}, ++seed,
+                             &by_channel);
+  }
+  INFO(by_channel["tips.fn"] << ", " << by_channel["strike.fn"] << " and " << by_channel["stop.fn"]
+                             << " of " << checked << " random states with the tips, the strike "
+                             << "and the stop in contact");
+  for (const char* channel : {"tips.fn", "strike.fn", "stop.fn"}) {
+    CAPTURE(channel);
+    CHECK(by_channel[channel] > 0);
+    CHECK(by_channel[channel] < checked);
+  }
+}
+
+TEST_CASE("rigid scenes through the multibody model agree with core::Model", "[precision]") {
+  // The rigid model (rigid_model_tpl.hpp) solves these; the multibody model carries them too
+  // (as a body without modes) and solves rigid scenes with gap supports. A rigid body's rows
+  // are then the flexible body's at n = 0: M_rr and Qv must reduce to Newton–Euler's.
+  scene::SceneSpec gap = spec_of("scenes/double_pendulum_impacts.toml");
+  scene::ContactSpec stop;
+  stop.name = "stop";
+  stop.law.linear = true;
+  stop.law.stiffness = 1e4;
+  stop.law.damping = 5.0;
+  stop.friction.mu = 0.3;
+  stop.friction.v_reg = 0.01;
+  scene::GapSupportSpec support;
+  support.body = 1;
+  support.p_BoN_B = Eigen::Vector3d(0.3, 0.0, 0.0);
+  support.geometry.kind = contact::GapSupportGeometry::Kind::kCircular;
+  // About rod2's initial origin: the random states (±1 m) leave the point inside the 0.8 m
+  // clearance in some and outside in others.
+  support.geometry.p_WS = gap.bodies[1].description.initial.p_WBo;
+  support.geometry.a_W = Eigen::Vector3d(0.0, 0.0, 1.0);
+  support.geometry.clearance = 0.8;
+  stop.gap = support;
+  gap.contacts.push_back(stop);
+  int pushed = 0;
+  unsigned seed = 700;
+  for (const char* file :
+       {"scenes/book_toss.toml", "scenes/heavy_top.toml", "scenes/tippe_top.toml",
+        "scenes/coulomb_wall.toml", "scenes/double_pendulum_impacts.toml",
+        "scenes/pendulum_on_sliding_support.toml", "scenes/sliding_block.toml"}) {
+    CAPTURE(file);
+    check_against_core_model(spec_of(file), core::FlexibleFormulation::kCoupled, 0.2, {}, ++seed);
+  }
+  std::map<std::string, int> by_channel;
+  for (int k = 0; k < 4; ++k) {
+    pushed += check_against_core_model(gap, core::FlexibleFormulation::kCoupled, 0.2, {}, ++seed,
+                                       &by_channel);
+  }
+  INFO(by_channel["stop.fn"] << " of 16 states with the stop in contact");
+  CHECK(by_channel["stop.fn"] > 0);
+  CHECK(by_channel["stop.fn"] < 16);
+}
+
+TEST_CASE(
+    "a flexible body striking a rigid block on bushings: quad's energy balance and the "
+    "three precisions in order",
+    "[precision]") {
+  // Over 0.5 s the tip sphere strikes the block (first contact near t ~ 0.3 s), with friction,
+  // the bushings' and the modes' damping. Quad at rtol 1e-28 closes E − E0 + W_d to its own
+  // accuracy: E ~ 170 J (the spin ½ J ω², J ~ 4 kg·m², 25 rad²/s² ... plus the bushings' sag),
+  // ~1e-32 J of rounding per step over ~1e4 steps and the located events' ~1e-28 J; bound
+  // 1e-24 J.
+  scene::SceneSpec spec = hinged_spinner_and_block();
+  spec.end_time = 0.5;
+  const std::vector<double> times = core::output_times(spec.end_time, 0.05);
+  const HighPrecisionRun run = solve_high_precision(spec, times, Precision::kQuad, 1e-28);
+  const std::vector<std::string>& last = run.text.back();
+  const auto at_end = [&](const std::string& name) { return std::stod(last[column(run, name)]); };
+  const std::size_t balance = column(run, "energy_balance");
+  INFO("impacts " << at_end("strike.impacts") << ", wear work " << at_end("strike.wear_work")
+                  << " J, dissipated " << at_end("dissipated_work") << " J, energy "
+                  << at_end("energy") << " J, balance " << last[balance] << " J, events "
+                  << run.events.size());
+  CHECK(at_end("strike.impacts") >= 1.0);
+  CHECK(at_end("strike.wear_work") > 0.0);
+  Quad worst(0);
+  for (const std::vector<std::string>& row : run.text) {
+    worst = std::max(worst, Quad(abs(Quad(row[balance]))));
+  }
+  CHECK(static_cast<double>(worst) < 1e-24);
+  check_precision_order(spec, 0.5);
+}
+
+}  // namespace
+}  // namespace flexref::precision
