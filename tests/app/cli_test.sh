@@ -430,12 +430,20 @@ grep -qi 'nan\|inf' "$tmp/rc.csv" && fail "a non-finite value in the flexible ex
 [[ $out == *"estimated error"* && $out != *"none"* ]] ||
   fail "the flexible extended reference has no estimate: $out"
 grep -q '^model = "lte"' "$tmp/rc.csv.meta.toml" || fail "the LTE model is not in the metadata"
-# A flexible body with a rigid one is not in the extended/quad model yet: refused at its table.
-{ cat scenes/flexible_spinner.toml; printf '\n[[body]]\nname = "ball"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\n'; } >"$tmp/two.toml"
-out=$("$flexref" reference "$tmp/two.toml" --precision quad -o "$tmp/bq.csv" 2>&1)
-[[ $? == 1 && $out == *"two.toml:"*": body[2]: a flexible body with another body is not in the extended/quad model"* ]] ||
-  fail "quad reference of a flexible and a rigid body not refused clearly: $out"
-[[ -e $tmp/bq.csv ]] && fail "a refused quad reference wrote its CSV"
+# A flexible body hinged to a rigid one (a revolute bushing at the hub) in extended: both bodies'
+# columns, every value finite, an estimate.
+{ sed 's/^end_time = 10.0 /end_time = 0.05 /' scenes/flexible_spinner.toml
+  printf '\n[[body]]\nname = "ball"\nmass = 1.0\ninertia = [0.1, 0.1, 0.1]\n'
+  printf '\n[[joint]]\nkind = "revolute"\nbody_a = "ball"\npoint_a = [0.0, 0.0, 0.0]\n'
+  printf 'axis_a = [0.0, 0.0, 1.0]\nbody_b = "spinner"\npoint_b = [0.0, 0.0, 0.0]\n'
+  printf 'axis_b = [0.0, 0.0, 1.0]\nstiffness = 1e5\nangular_stiffness = 1e2\n'; } >"$tmp/two.toml"
+out=$("$flexref" reference "$tmp/two.toml" --precision extended -o "$tmp/bq.csv" 2>&1) ||
+  fail "extended reference of a flexible body hinged to a rigid one failed: $out"
+head -1 "$tmp/bq.csv" | grep -q 'spinner.qd4,ball.x,.*ball.W3,energy' ||
+  fail "the two-body extended CSV lacks its columns: $(head -1 "$tmp/bq.csv")"
+grep -qi 'nan\|inf' "$tmp/bq.csv" && fail "a non-finite value in the two-body extended CSV"
+[[ $out == *"estimated error"* && $out != *"none"* ]] ||
+  fail "the two-body extended reference has no estimate: $out"
 # Gap supports in extended precision: the short tube scene's events, wear columns and impacts.
 out=$("$flexref" reference "$tmp/tube.toml" --precision extended -o "$tmp/tx.csv" 2>&1) ||
   fail "extended reference of the gap-support scene failed: $out"
@@ -478,11 +486,6 @@ out=$("$flexref" converge scenes/book_toss.toml --reference-budget -1 --out "$tm
   --tolerances 1e-6 --repeats 1 --reference-precision extended --out "$tmp/wpx" >/dev/null 2>&1 &&
   grep -q '^reference_precision = "extended"' "$tmp/wpx/study.toml" ||
   fail "work-precision --reference-precision extended did not record its reference"
-out=$("$flexref" work-precision "$tmp/two.toml" --model lte --reference-precision quad \
-  --dt 1e-3 --levels 2 --out "$tmp/wpb" 2>&1)
-[[ $? == 1 && $out == *"two.toml:"*"body[2]: a flexible body with another body is not in the extended/quad model"* ]] ||
-  fail "work-precision with a quad reference on an unsupported scene not refused: $out"
-[[ -e "$tmp/wpb" ]] && fail "a refused work-precision left its output folder"
 # A scheme that refuses the model is refused before the quad reference (which takes a minute).
 out=$("$flexref" work-precision scenes/flexible_spinner.toml --schemes c1 --reference-precision quad \
   --levels 1 --dt 1e-3 --out "$tmp/wpc" 2>&1)
