@@ -124,9 +124,9 @@ int run_command_line(int argc, char** argv) {
   ref_cmd
       ->add_option("--precision", ref.precision,
                    "double | extended (80-bit long double) | quad (binary128): the arithmetic of "
-                   "the reference (docs/precision.md; extended and quad: rigid bodies with "
-                   "contacts and joints, or one flexible body with its gap supports, spheres on "
-                   "ground planes and potentials)")
+                   "the reference (docs/precision.md; extended and quad carry every scene: "
+                   "rigid and flexible bodies, loads, potentials, contacts, gap supports and "
+                   "joints)")
       ->check(CLI::IsMember({"double", "extended", "quad"}))
       ->capture_default_str();
   add_limits(ref_cmd, ref.limits, false);

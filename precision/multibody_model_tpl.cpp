@@ -12,6 +12,8 @@
 #include "contact/contact_point_tpl.hpp"
 #include "contact/gap_support.hpp"
 #include "contact/penalty_load_tpl.hpp"
+#include "core/applied_load.hpp"
+#include "core/gravity.hpp"
 #include "core/unit_vector_tpl.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "scene/build_model.hpp"
@@ -52,7 +54,6 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
     b.prescribed = d.prescribed;
     b.axis_W = core::unit_vector_in<S>(d.prescribed.axis_W);
     const flexible::ModalData* modal = d.flexible ? &d.flexible->modal : nullptr;
-    if (modal != nullptr) modal->validate();
     b.n = modal != nullptr ? modal->mode_count() : 0;
     // Invariants about Bo (nodes, then the hub or the rigid body) for the undeformed centre of
     // mass; then about Br (core/body.cpp's construction, every sum and shift in S). A rigid body
@@ -82,8 +83,21 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
         b.p_BoBr_B.setZero();
         break;
     }
+    if (modal == nullptr && d.motion == core::MotionKind::kFree) {
+      b.p_BoBr_B = hub_c;  // Bcm exactly (s0 / m may differ from it by an ulp)
+    }
     b.invariants = flexible::modal_invariants_tpl<S>(masses, nodes, phi, geometric, b.p_BoBr_B);
     flexible::add_rigid_part_tpl<S>(b.invariants, S(d.mass), Vector3(hub_c - b.p_BoBr_B), I_hub);
+    if (modal == nullptr) {
+      // A rigid body's moments about Br straight from its inertia, J_Br = I_Bcm + m (|c|² 1 −
+      // c cᵀ): the route through the second moment (½ tr(I) 1 − I and back) loses the small
+      // moments' digits (a slender rod's axial one: ~log10(tr I / I_min) of them).
+      const Vector3 c = hub_c - b.p_BoBr_B;
+      b.invariants.I0 =
+          I_hub + S(d.mass) * (c.squaredNorm() * Matrix3::Identity() - c * c.transpose());
+      b.invariants.J0 = (S(0.5) * b.invariants.I0.trace()) * Matrix3::Identity() - b.invariants.I0;
+      b.invariants.s0 = S(d.mass) * c;
+    }
     b.factor = flexible::ModalMassFactorTpl<S>(b.invariants);
     if (b.n == 0 && b.motion != core::MotionKind::kPrescribed) {
       // The inertia about Br is symmetric positive definite (Body checks it in double, and the
@@ -225,6 +239,15 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
       joints_.push_back({false, end_in_s(j->end_a()), end_in_s(j->end_b()), j->parameters()});
     } else if (const auto* r = dynamic_cast<const contact::RevoluteBushing*>(element.get())) {
       joints_.push_back({true, end_in_s(r->end_a()), end_in_s(r->end_b()), r->parameters()});
+    } else if (dynamic_cast<const core::UniformGravity*>(element.get()) == nullptr &&
+               dynamic_cast<const core::AppliedForce*>(element.get()) == nullptr &&
+               dynamic_cast<const core::AppliedTorque*>(element.get()) == nullptr &&
+               dynamic_cast<const core::PointChargePotential*>(element.get()) == nullptr) {
+      // Gravity, the applied loads and the potentials are read from the spec above; an element
+      // of another kind would be left out of this model silently.
+      throw std::invalid_argument(spec.name +
+                                  ": a force element the extended/quad model does not know; use "
+                                  "--precision double");
     }
   }
   // The potentials' charges sit at hub points (scene/load_reader.cpp): the frame's, never a
@@ -614,7 +637,9 @@ void MultibodyModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& d
       const S h(0.5);
       const S e0 = y[o + 3], e1 = y[o + 4], e2 = y[o + 5], e3 = y[o + 6];
       const Vector3& w = bs.pose.w_B;
-      for (std::size_t k = 0; k < 3; ++k) dydt[o + k] = y[o + 7 + k];
+      // A pivot's Br and v_WBr stay (a = 0 is its known row; v starts at 0).
+      const bool pivot = b.motion == core::MotionKind::kPivot;
+      for (std::size_t k = 0; k < 3; ++k) dydt[o + k] = pivot ? S(0) : y[o + 7 + k];
       dydt[o + 3] = -h * (e1 * w(0) + e2 * w(1) + e3 * w(2));
       dydt[o + 4] = h * (e0 * w(0) + e2 * w(2) - e3 * w(1));
       dydt[o + 5] = h * (e0 * w(1) + e3 * w(0) - e1 * w(2));

@@ -58,7 +58,9 @@ class MultibodyModelTpl {
   using Matrix3 = Eigen::Matrix<S, 3, 3>;
   using Quaternion = Eigen::Matrix<S, 4, 1>;
 
-  /// Every scene scene::build_model builds (its bodies' modal data validated).
+  /// Every scene scene::build_model builds (which validates its modal data). Throws
+  /// std::invalid_argument for what build_model refuses and for a force element of a kind this
+  /// model does not know (none of build_model's today).
   MultibodyModelTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation);
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }

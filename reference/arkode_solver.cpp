@@ -90,12 +90,15 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
         weights_(make()),
         y_probe_(make()),
         f_probe_(make()),
+        y_from_(make()),
+        y_near_(make()),
         predictor_(form_),
         g_(static_cast<std::size_t>(model.switching_function_count())),
         g_start_(g_.size()),
         extension_(form_.size()) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
+    data_.watch_values.assign(g_.size(), 0.0);
     erk_ = make_fehlberg(y_.get(), context_.get(), data_);
     sun::check(ERKStepSStolerances(erk_.get(), options.rtol, options.absolute_tolerance()),
                "ERKStepSStolerances");
@@ -155,6 +158,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
       step_start_ = t_start;
       t_ = t_reached;
       fitted_ = false;
+      ended_at_event_ = false;
       if (++steps_here > options_.max_steps) {
         data_.log.message = "ARKODE: more than max_steps = " + std::to_string(options_.max_steps) +
                             " steps before reaching tout (too much work)";
@@ -249,6 +253,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
     step_start_ = t0;
     stop_ = stop;
     fitted_ = false;
+    ended_at_event_ = false;
     output_ready_ = false;
     root_pending_ = false;
   }
@@ -262,50 +267,86 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
 
   /// The event time, to a few ulp, inside the step from (t0, y_start_) whose switching
   /// functions changed side: bisection on the length of one Fehlberg step from its start (the
-  /// step's own solution, as accurate as the step), bracketed by ARKODE's estimate t_root (from
-  /// its degree-5 interpolant, which placed roots up to 2e-5 s off on bouncing_ball, so that
-  /// the restart found the same contact again) and the step's end. Leaves y_ just past the zero,
-  /// on the new side, and returns its time.
+  /// step's own solution, as accurate as the step), from ARKODE's bracket (its estimate t_root,
+  /// from its degree-5 interpolant, placed roots up to 2e-5 s off on bouncing_ball) and the
+  /// step's end. A trial counts as past the switch when its end or any of its stages is on
+  /// another side than the start (a stage near the end lies a local error off the trajectory,
+  /// and a damped penalty law jumps at an onset, F = c δ̇ at δ = 0: one stage there added
+  /// ~b_i h c δ̇ / m to the step, 6e-5 m on hinged_spinner_strike at every tolerance). The state
+  /// past the switch is one clean step to the bracket's near end, then one across it, lengthened
+  /// (doubling, up to 1024 brackets) until its end is past; when it is not, the bisection starts
+  /// again from that near end with short, accurate trials. Leaves y_ just past the zero, on the
+  /// new side, and the near side's state in y_near_ (the continuous extension's left limit), and
+  /// returns its time.
   double locate_event(double t0, double t_root) {
     // g at the start: contact_engaged(t0, y_start_) filled g_start_ before the step.
     double t_end = t0;
     sun::check(ERKStepGetCurrentTime(erk_.get(), &t_end), "ERKStepGetCurrentTime");
-    const auto changed_at = [&](double t, N_Vector out) {
-      fixed_step(t0, y_start_.get(), t - t0, out);
-      sun::check(sun::ode_switching(t, out, g_.data(), &data_), "ERKStepRootFn");
+    double t_a = t0;  // the trials' start: the step's, or a near end the step across missed
+    N_VScale(1.0, y_start_.get(), y_from_.get());
+    const auto end_changed = [&](double t, N_Vector y) {
+      sun::check(sun::ode_switching(t, y, g_.data(), &data_), "ERKStepRootFn");
       for (std::size_t k = 0; k < g_.size(); ++k) {
         if ((g_start_[k] > 0.0) != (g_[k] > 0.0)) return true;
       }
       return false;
+    };
+    const auto changed_at = [&](double t, N_Vector out) {
+      data_.watch_start = &g_start_;
+      data_.other_side = false;
+      fixed_step(t_a, y_from_.get(), t - t_a, out);
+      data_.watch_start = nullptr;
+      const bool stages = data_.other_side;
+      return end_changed(t, out) || stages;
     };
     double lo = t0;
     double hi = t_end;
     if (t_root > t0 && t_root < t_end) {
       if (changed_at(t_root, y_end_.get())) {
         hi = t_root;
-        N_VScale(1.0, y_end_.get(), y_.get());
       } else {
         lo = t_root;
       }
     }
-    if (hi == t_end) {
-      // The step's end: ARKODE's state there (a node of its interpolant, exact).
-      sun::check(ERKStepGetDky(erk_.get(), t_end, 0, y_.get()), "ERKStepGetDky");
-    }
     const double resolution =
         4.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t0));
-    for (int k = 0; k < 200 && hi - lo > resolution; ++k) {
-      const double mid = 0.5 * (lo + hi);
-      if (changed_at(mid, y_end_.get())) {
-        hi = mid;
-        N_VScale(1.0, y_end_.get(), y_.get());
-      } else {
-        lo = mid;
+    for (int round = 0; round < 16; ++round) {
+      bool near_found = lo > t_a;
+      if (near_found) fixed_step(t_a, y_from_.get(), lo - t_a, y_near_.get());
+      for (int k = 0; k < 200 && hi - lo > resolution; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        if (changed_at(mid, y_end_.get())) {
+          hi = mid;
+        } else {
+          lo = mid;
+          N_VScale(1.0, y_end_.get(), y_near_.get());
+          near_found = true;
+        }
       }
+      if (!near_found) N_VScale(1.0, y_from_.get(), y_near_.get());
+      // At least 8 resolutions across, and θ renormalized as restart_at_root will: the end must
+      // stay past the switch after that projection (a margin of ~ġ × 2e-15 s against its ~1e-16
+      // relative change of the points; the branch error of so short a step is ~1e-14 m/s).
+      double across = std::max(hi - lo, 8.0 * resolution);
+      for (int k = 0; k <= 10; ++k, across *= 2.0) {
+        fixed_step(lo, y_near_.get(), across, y_.get());
+        form_.normalize_euler_parameters(sun::data(y_.get()));
+        if (end_changed(lo + across, y_.get())) {
+          step_start_ = t0;
+          fitted_ = false;
+          ended_at_event_ = true;
+          near_time_ = lo;
+          return lo + across;
+        }
+      }
+      // The trajectory reaches the switch later than the stages saw it: bisect again from the
+      // near end (the original step's end is past it).
+      t_a = lo;
+      N_VScale(1.0, y_near_.get(), y_from_.get());
+      hi = t_end;
     }
-    step_start_ = t0;
-    fitted_ = false;
-    return hi;
+    throw sun::SundialsError("ERKStepRootFn", ARK_RTFUNC_FAIL,
+                             "the switch could not be located on the method's own solution");
   }
 
   /// The step-doubling test of the step (t0, y_start_) → (t1, y_): two Fehlberg steps of half
@@ -350,13 +391,17 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
                y_node1_.get());
     fixed_step(step_start_, y_start_.get(), ContinuousExtension::node_fraction(2) * h,
                y_node2_.get());
-    const std::array<N_Vector, 4> nodes{y_start_.get(), y_node1_.get(), y_node2_.get(), y_.get()};
+    // A step that ended at an onset: the derivative at its end is the near side's (the left
+    // limit; at y_ the new branch's force jumps).
+    const std::array<N_Vector, 4> nodes{y_start_.get(), y_node1_.get(), y_node2_.get(),
+                                        ended_at_event_ ? y_near_.get() : y_.get()};
     const std::array<N_Vector, 4> rates{f_start_.get(), f_node1_.get(), f_node2_.get(),
                                         f_end_.get()};
     for (std::size_t j = 0; j < nodes.size(); ++j) {
       const double t_node =
           step_start_ + ContinuousExtension::node_fraction(static_cast<int>(j)) * h;
-      if (sun::ode_rhs(t_node, nodes[j], rates[j], &data_) != 0) {
+      const double t_rate = j == 3 && ended_at_event_ ? near_time_ : t_node;
+      if (sun::ode_rhs(t_rate, nodes[j], rates[j], &data_) != 0) {
         throw sun::SundialsError("ERKStepRhs", ARK_RHSFUNC_FAIL,
                                  sun::flag_name(ARK_RHSFUNC_FAIL, "ERKStepEvolve"));
       }
@@ -387,6 +432,10 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
   sun::Vector f_start_, f_end_, f_node1_, f_node2_;
   sun::Vector weights_;
   sun::Vector y_probe_, f_probe_;  ///< the switching cap's evaluations
+  /// locate_event: the trials' start, and the near end of the located bracket.
+  sun::Vector y_from_, y_near_;
+  bool ended_at_event_ = false;  ///< the last accepted step ended just past a switch
+  double near_time_ = 0.0;       ///< the time of y_near_
   SwitchingPredictor predictor_;
   /// Switching functions: scratch (locate_event, switching_cap) and at a step's start.
   std::vector<double> g_, g_start_;

@@ -25,6 +25,12 @@ int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
     d.last_nonfinite_time = t;
     return 1;
   }
+  if (d.watch_start != nullptr) {
+    if (ode_switching(t, y, d.watch_values.data(), user_data) != 0) return -1;
+    for (std::size_t k = 0; k < d.watch_start->size(); ++k) {
+      if (((*d.watch_start)[k] > 0.0) != (d.watch_values[k] > 0.0)) d.other_side = true;
+    }
+  }
   return 0;
 }
 

@@ -8,6 +8,8 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_matrix.h>
 
+#include <vector>
+
 #include "reference/ode_form.hpp"
 #include "reference/ode_jacobian.hpp"
 #include "reference/structured_jacobian.hpp"
@@ -25,6 +27,12 @@ struct OdeCallbackData : CallbackRecord {
   const StructuredJacobian* structured = nullptr;
   StructuredJacobian::Scratch structured_scratch;
   long evaluations = 0;  ///< calls of ode_rhs (ARKODE counts its main and auxiliary steps by it)
+  /// When set, ode_rhs also evaluates the switching functions at each (t, y) (into
+  /// watch_values, sized by the driver) and sets other_side when one is on another side than in
+  /// *watch_start: a step's stages that saw a switch (ARKODE's event location).
+  const std::vector<double>* watch_start = nullptr;
+  std::vector<double> watch_values;
+  bool other_side = false;
 };
 
 /// y' = f(t, y). Returns 1 (recoverable: the solver retries a smaller step) when f is not

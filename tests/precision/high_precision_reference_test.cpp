@@ -204,7 +204,7 @@ TEST_CASE("quad conserves energy and angular momentum on free_spin and the heavy
 }
 
 TEST_CASE("double, extended and quad agree in that order with honest estimates", "[precision]") {
-  // Every bundled scene the extended/quad model carries, over its first 2 s (the whole
+  // The rigid scenes whose quad references take seconds, over their first 2 s (the whole
   // horizons: tests/precision/precision_order_study_test.cpp, label study).
   for (const char* file : kFastRigidScenes) check_precision_order(file, 2.0);
 }

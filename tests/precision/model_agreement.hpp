@@ -16,6 +16,7 @@
 
 #include "core/model.hpp"
 #include "precision/multibody_model_tpl.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -41,8 +42,9 @@ inline int check_against_core_model(const scene::SceneSpec& spec,
                                     const Spread& spread, unsigned seed = 11,
                                     std::map<std::string, int>* pushed_by_channel = nullptr) {
   // Tolerance: both sides are a few thousand flops from the same doubles on O(1)–O(1e6) terms
-  // (the stiff scenes' modal forces K q reach ~1e4 at q ~ 1e-2, a bushing's k d ~1e5 at d ~ 1 m);
-  // 1e-9 relative to the largest term of each body's rows is ~1e6 ε.
+  // (the stiff scenes' modal forces K q reach ~1e4 at q ~ 1e-2, a bushing's k d ~1e5 at d ~ 1 m),
+  // whose cancellations leave accelerations of the size of the largest of them over the masses;
+  // 1e-9 relative to each body's largest acceleration (a, α̅ or q̈_f; at least 1) is ~1e6 ε of it.
   const core::Model model = scene::build_model(spec, formulation);
   const MultibodyModelTpl<double> tpl(spec, formulation);
   core::Workspace ws = model.make_workspace();
@@ -96,6 +98,17 @@ inline int check_against_core_model(const scene::SceneSpec& spec,
       const double scale = std::max({1.0, a.a_WBr.norm(), a.alpha_WB_B.norm(), a.qdd_f.norm()});
       auto o = static_cast<std::size_t>(tpl.body_offset(i));
       if (tpl.integrates_rigid_motion(i)) {
+        // ṗ = v (0 on a pivot), θ̇ = ½ θ ⊗ (0, ω̄) (model.md eq. (2)).
+        const core::BodyState& s = state[static_cast<std::size_t>(i)];
+        const Eigen::Vector4d theta_dot = rotation::euler_parameter_rate(s.theta_WB, s.w_WB_B);
+        for (int k = 0; k < 3; ++k) {
+          const double v = model.body(i).is_free() ? s.v_WBr(k) : 0.0;
+          CHECK(dydt[o + static_cast<std::size_t>(k)] == v);
+        }
+        for (int k = 0; k < 4; ++k) {
+          CHECK(std::abs(dydt[o + 3 + static_cast<std::size_t>(k)] - theta_dot(k)) <=
+                1e-14 * std::max(1.0, s.w_WB_B.norm()));
+        }
         for (int k = 0; k < 3; ++k) {
           CHECK(std::abs(dydt[o + 7 + static_cast<std::size_t>(k)] - a.a_WBr(k)) <= 1e-9 * scale);
           CHECK(std::abs(dydt[o + 10 + static_cast<std::size_t>(k)] - a.alpha_WB_B(k)) <=

@@ -29,16 +29,13 @@ inline constexpr const char* kFastRigidScenes[] = {
 /// horizon (all but flexible_spinner_64, whose top mode at 1.8e4 rad/s must be
 /// resolved in quad for hours, checked over 20 ms, and tube_support_impact, checked over shorter
 /// horizons for its 1625 impacts: docs/precision.md).
-inline constexpr const char* kFlexibleScenes[] = {"scenes/flexible_spinner.toml",
-                                                  "scenes/rotating_cantilever.toml",
-                                                  "scenes/rotating_cantilever_stiff.toml",
-                                                  "scenes/spin_up_beam.toml",
-                                                  "scenes/spin_up_beam_4.toml",
-                                                  "scenes/spin_up_beam_6.toml",
-                                                  "scenes/spin_up_beam_stiff_2.toml",
-                                                  "scenes/spin_up_beam_stiff_4.toml",
-                                                  "scenes/spin_up_beam_stiff_6.toml",
-                                                  "scenes/spin_up_beam_stiff_10.toml"};
+inline constexpr const char* kFlexibleScenes[] = {
+    "scenes/flexible_spinner.toml",     "scenes/hinged_spinner_strike.toml",
+    "scenes/rotating_cantilever.toml",  "scenes/rotating_cantilever_stiff.toml",
+    "scenes/spin_up_beam.toml",         "scenes/spin_up_beam_4.toml",
+    "scenes/spin_up_beam_6.toml",       "scenes/spin_up_beam_stiff_2.toml",
+    "scenes/spin_up_beam_stiff_4.toml", "scenes/spin_up_beam_stiff_6.toml",
+    "scenes/spin_up_beam_stiff_10.toml"};
 
 /// The index of column `name` in a run's text rows (which have no `t`); fails the test when the
 /// run has no such column.

@@ -1,7 +1,7 @@
 /// \file precision_order_study_test.cpp
-/// Label study: double, extended and quad references of every scene the extended/quad model
-/// carries, over the whole scene (rigid scenes about a minute on one core; the ten flexible
-/// scenes some minutes each in quad; the tube in its gap support over 0.5 s).
+/// Label study: double, extended and quad references of the bundled scenes whose quad references
+/// take minutes at most, over the whole scene (rigid scenes about a minute on one core; the ten
+/// flexible scenes some minutes each in quad; the tube in its gap support over 0.5 s).
 #include "tests/precision/precision_order.hpp"
 
 namespace flexref::precision {

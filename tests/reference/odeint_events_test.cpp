@@ -1,11 +1,13 @@
 /// \file odeint_events_test.cpp
-/// The Odeint reference through contact onsets where the penalty law jumps: a linear law with
+/// The Odeint and ARKODE (explicit Fehlberg) references through contact onsets where the
+/// penalty law jumps: a linear law with
 /// damping pushes with c δ̇ at δ = 0. hinged_spinner_strike's tip strikes its block at 5 m/s
-/// (F jumps by ~50 N at the onset). Before the fix in reference/odeint_solver.cpp's
-/// locate_event, the stages of the step onto the onset saw the new branch and the block's
-/// velocity was off by 2e-3 m/s after it at every tolerance (rtol 1e-8 … 1e-14: 5e-4, 1.7e-4,
-/// 1.8e-4, 1.1e-4 in the points against the quad reference); the error now falls with the
-/// tolerance (3.3e-9, 3.8e-11, 6.5e-13, 1.7e-14 against quad: `flexref compare`).
+/// (F jumps by ~50 N at the onset). Before the fix in the two drivers' locate_event
+/// (reference/odeint_solver.cpp, reference/arkode_solver.cpp), the stages of the step onto the
+/// onset saw the new branch and the block's velocity was off by 2e-3 m/s after it at every
+/// tolerance (rtol 1e-8 … 1e-14: 5e-4, 1.7e-4, 1.8e-4, 1.1e-4 in the points against the quad
+/// reference); the error now falls with the tolerance (3.3e-9, 3.8e-11, 6.5e-13, 1.7e-14 against
+/// quad: `flexref compare`).
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -36,7 +38,8 @@ double largest_difference(const core::Trajectory& a, const core::Trajectory& b) 
   return worst;
 }
 
-TEST_CASE("odeint converges with its tolerance through a damped contact onset", "[reference]") {
+TEST_CASE("odeint and ARKODE converge with their tolerance through a damped contact onset",
+          "[reference]") {
   // Over 0.4 s: the onset at 0.2898 s, a clamp, the release at 0.325 s and a second onset at
   // 0.348 s. CVODE at rtol 1e-13 is the yardstick: it agrees with the quad reference to 4e-11
   // in the points over the whole 2 s (flexref compare, docs/references.md).
@@ -47,25 +50,30 @@ TEST_CASE("odeint converges with its tolerance through a damped contact onset", 
   const reference::ReferenceRun truth =
       reference::solve_cvode(model, times, reference::SolverOptions{1e-13, -1.0});
   REQUIRE(truth.event_times.size() >= 3);
-  double previous = 0.0;
-  std::vector<double> errors;
-  for (const double rtol : {1e-8, 1e-10, 1e-12}) {
-    const reference::ReferenceRun run =
-        reference::solve_odeint(model, times, reference::SolverOptions{rtol, -1.0});
-    CAPTURE(rtol);
-    REQUIRE(run.event_times.size() == truth.event_times.size());
-    CHECK(std::abs(run.event_times.front() - truth.event_times.front()) < 1e-9);
-    errors.push_back(largest_difference(run.trajectory, truth.trajectory));
-    previous = errors.back();
+  for (const std::string solver : {"odeint", "arkode"}) {
+    CAPTURE(solver);
+    std::vector<double> errors;
+    for (const double rtol : {1e-8, 1e-10, 1e-12}) {
+      const reference::SolverOptions options{rtol, -1.0};
+      const reference::ReferenceRun run = solver == "odeint"
+                                              ? reference::solve_odeint(model, times, options)
+                                              : reference::solve_arkode(model, times, options);
+      CAPTURE(rtol);
+      REQUIRE(run.event_times.size() == truth.event_times.size());
+      CHECK(std::abs(run.event_times.front() - truth.event_times.front()) < 1e-9);
+      errors.push_back(largest_difference(run.trajectory, truth.trajectory));
+    }
+    INFO(solver << " against cvode rtol 1e-13: " << errors[0] << ", " << errors[1] << ", "
+                << errors[2] << " at rtol 1e-8, 1e-10, 1e-12");
+    // Measured 5.2e-10, 8.0e-12, 6.0e-12 m (odeint) and 1.6e-9, 6.0e-11, 6.2e-12 m (ARKODE's
+    // Fehlberg 13-7-8): falling with
+    // the tolerance down to the yardstick's own floor (CVODE rtol 1e-13 against itself at 1e-12,
+    // a few 1e-12 m); before the fix every tolerance left ~1e-4 m (ARKODE 3e-6 … 6e-5, growing
+    // as the tolerance fell). Bounds: 1e-10 m at rtol 1e-12 (16 × the measured value, 1e6 below
+    // the defect), and a tenfold gain from rtol 1e-8 to 1e-10 (measured 65×; none before).
+    CHECK(errors[2] < 1e-10);
+    CHECK(errors[0] > 10.0 * errors[1]);
   }
-  INFO("odeint against cvode rtol 1e-13: " << errors[0] << ", " << errors[1] << ", " << errors[2]
-                                           << " at rtol 1e-8, 1e-10, 1e-12");
-  // Measured 5.2e-10, 8.0e-12, 6.0e-12 m: falling with the tolerance down to the yardstick's
-  // own floor (CVODE rtol 1e-13 against itself at 1e-12, a few 1e-12 m); before the fix every
-  // tolerance left ~1e-4 m. Bounds: 1e-10 m at rtol 1e-12 (16 × the measured value, 1e6 below
-  // the defect), and a tenfold gain from rtol 1e-8 to 1e-10 (measured 65×; none before).
-  CHECK(previous < 1e-10);
-  CHECK(errors[0] > 10.0 * errors[1]);
 }
 
 }  // namespace
