@@ -66,6 +66,14 @@ bool all_finite(const StateVector& v) {
   return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
 }
 
+/// Some switching function changed side (positive ↔ not positive).
+bool sign_changed(const std::vector<double>& a, const std::vector<double>& b) {
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if ((a[k] > 0.0) != (b[k] > 0.0)) return true;
+  }
+  return false;
+}
+
 struct Counters {
   long rhs_evaluations = 0;
   bool nonfinite = false;  ///< set when an evaluation returned a non-finite derivative
@@ -91,9 +99,7 @@ class SegmentRhs {
     form_->unpack(t, x.data(), scratch_->state);
     form_->model().switching_functions(core::LoadContext{t, t_segment_}, scratch_->state,
                                        scratch_->workspace, *stage_side_);
-    for (std::size_t k = 0; k < start_side_->size(); ++k) {
-      if (((*start_side_)[k] > 0.0) != ((*stage_side_)[k] > 0.0)) counters_->other_side = true;
-    }
+    if (sign_changed(*start_side_, *stage_side_)) counters_->other_side = true;
   }
 
   /// Also evaluates the switching functions at every evaluation (into `scratch`, sized) and
@@ -319,14 +325,6 @@ class Integrator {
     form_->unpack(t, x.data(), scratch_.state);
     form_->model().switching_functions(core::LoadContext{t, t_segment_}, scratch_.state,
                                        scratch_.workspace, g);
-  }
-
-  /// Some switching function changed side (positive ↔ not positive).
-  static bool sign_changed(const std::vector<double>& a, const std::vector<double>& b) {
-    for (std::size_t k = 0; k < a.size(); ++k) {
-      if ((a[k] > 0.0) != (b[k] > 0.0)) return true;
-    }
-    return false;
   }
 
   /// Some switching function is not positive at the step's start: a contact is engaged.
