@@ -15,6 +15,7 @@
 #include "precision/multibody_model_tpl.hpp"
 #include "precision/parse_text.hpp"
 #include "precision/precise_comparison.hpp"
+#include "precision/roundoff_scale.hpp"
 #include "precision/switched_integration.hpp"
 
 // Boost 1.74's odeint cannot deduce the value type of a multiprecision number for its
@@ -354,17 +355,19 @@ studies::CertifiedReference certified_high_precision_reference(
   }
   e.checks.push_back(check);
   // The check shares the precision's round-off, which a tighter tolerance cannot expose: add a
-  // bound on it that assumes no cancellation, u per evaluation and output value, scaled by the
-  // solution's size (measured: extended on book_toss_step's first 2 s is 3.5e-16 from quad
-  // while 2 x its distance to the tighter run is 1.2e-16; the bound adds 7e-15 there).
+  // bound on it that assumes no cancellation, u per evaluation, scaled by the solution's size
+  // and what it sweeps (roundoff_scale.hpp). Measured: extended on book_toss_step's first 2 s
+  // is 3.5e-16 from quad while 2 x its distance to the tighter run is 1.2e-16; tippe_top's
+  // first second (180 rad/s) 3.0e-13 from quad while 2 x the distance is 1.1e-13 and u x
+  // evaluations x the t0 extent only 5.2e-14.
   const double roundoff = unit_roundoff(precision) * static_cast<double>(run.evaluations) *
-                          studies::solution_scale(run.table, metric);
+                          roundoff_scale(run.table, metric);
   e.value = check.used ? 2.0 * check.distance + roundoff : std::numeric_limits<double>::infinity();
   std::ostringstream method;
   method << "2 x the distance, computed in " << to_string(precision)
          << " precision, to the same integrator at rtol " << std::setprecision(3) << tight_rtol
          << " (a different step sequence, 100x tighter), + the round-off bound u x evaluations x "
-            "solution size = "
+            "(solution size + swept angle and path) = "
          << roundoff;
   e.method = check.used ? method.str() : "none: no usable check";
   if (run_out != nullptr) *run_out = std::move(run);

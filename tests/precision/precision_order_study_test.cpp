@@ -31,6 +31,15 @@ TEST_CASE("double, extended and quad agree in that order over whole flexible sce
   check_precision_order("scenes/tube_support_impact.toml", 0.5);
 }
 
+TEST_CASE("double, extended and quad agree in that order on the stiff contact and joint scenes",
+          "[precision]") {
+  // Over 1 s (about a minute of quad per scene on one core; their whole horizons would take
+  // 3-7 min per quad solve, 10-14 min with the estimate's second solve): the tops on their
+  // plane, the pendulum on its sliding support, the double pendulum's first impacts.
+  for (const char* file : kSustainedContactScenes) check_precision_order(file, 1.0);
+  check_precision_order("scenes/double_pendulum_impacts.toml", 1.0);
+}
+
 TEST_CASE("double, extended and quad agree in that order on the 64-mode spinner over 20 ms",
           "[precision]") {
   // flexible_spinner_64: 64 undamped modes up to 1.8e4 rad/s. Quad resolves the top mode's
