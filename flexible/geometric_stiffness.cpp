@@ -73,13 +73,6 @@ double bilinear_form(const Eigen::MatrixXd& M, const Eigen::Ref<const Eigen::Vec
   return sum;
 }
 
-Eigen::Vector3d foreshortening_first_moment(const GeometricInvariants& g,
-                                            const Eigen::Ref<const Eigen::VectorXd>& q_f) {
-  Eigen::Vector3d ds = Eigen::Vector3d::Zero();
-  for (const int c : g.E_nonzero) ds(c) = -0.5 * bilinear_form(g.E[at(c)], q_f, q_f);
-  return ds;
-}
-
 Eigen::Vector3d foreshortening_first_moment_rate(const GeometricInvariants& g,
                                                  const Eigen::Ref<const Eigen::VectorXd>& q_f,
                                                  const Eigen::Ref<const Eigen::VectorXd>& u) {

@@ -80,9 +80,7 @@ using ForeshorteningTerms = ForeshorteningTermsTpl<double>;
 double bilinear_form(const Eigen::MatrixXd& M, const Eigen::Ref<const Eigen::VectorXd>& x,
                      const Eigen::Ref<const Eigen::VectorXd>& y);
 
-/// Δs(q_f) = Σ_k m_k w_k: Δs_c = −½ q_f·E_c q_f (GS-4). O(n²), allocates nothing.
-Eigen::Vector3d foreshortening_first_moment(const GeometricInvariants& g,
-                                            const Eigen::Ref<const Eigen::VectorXd>& q_f);
+/// Δs(q_f) (GS-4) is part of first_moment_tpl (modal_invariants_tpl.hpp), in every precision.
 /// ΔS(q_f) u = −[q_f·E_c u]_c (GS-5; u = q̇_f gives d(Δs)/dt).
 Eigen::Vector3d foreshortening_first_moment_rate(const GeometricInvariants& g,
                                                  const Eigen::Ref<const Eigen::VectorXd>& q_f,

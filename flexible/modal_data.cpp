@@ -199,10 +199,7 @@ void check_q(const ModalData& data, const Eigen::Ref<const Eigen::VectorXd>& q_f
 Eigen::Vector3d first_moment(const ModalInvariants& inv,
                              const Eigen::Ref<const Eigen::VectorXd>& q_f) {
   check_q(inv, q_f);
-  Eigen::Vector3d s = inv.s0;
-  for (Eigen::Index j = 0; j < q_f.size(); ++j) s += inv.S.col(j) * q_f(j);
-  if (inv.geometric) s += foreshortening_first_moment(*inv.geometric, q_f);
-  return s;
+  return first_moment_tpl(inv, q_f);
 }
 
 Eigen::Vector3d first_moment_rate(const ModalInvariants& inv,

@@ -139,4 +139,24 @@ void add_rigid_part_tpl(ModalInvariantsTpl<Scalar>& inv, const Scalar& mass,
   inv.I0 = inv.J0.trace() * Matrix3::Identity() - inv.J0;
 }
 
+/// The first moment about the invariants' origin of the deformed body, s_t(q) = s0 + S q + Δs(q)
+/// with Δs_c = −½ q·E_c q under geometric stiffening (GS-4): flexible::first_moment in double,
+/// the precision model in S. By columns of S and E_c (no temporary). Allocates nothing.
+template <typename Scalar>
+Eigen::Matrix<Scalar, 3, 1> first_moment_tpl(
+    const ModalInvariantsTpl<Scalar>& inv,
+    const Eigen::Ref<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>>& q) {
+  Eigen::Matrix<Scalar, 3, 1> s = inv.s0;
+  for (Eigen::Index j = 0; j < q.size(); ++j) s += inv.S.col(j) * q(j);
+  if (inv.geometric) {
+    for (const int c : inv.geometric->E_nonzero) {
+      const auto& E = inv.geometric->E[static_cast<std::size_t>(c)];
+      Scalar quadratic(0);
+      for (Eigen::Index j = 0; j < q.size(); ++j) quadratic += q(j) * E.col(j).dot(q);
+      s(c) += Scalar(-0.5) * quadratic;
+    }
+  }
+  return s;
+}
+
 }  // namespace flexref::flexible

@@ -335,22 +335,6 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
 }
 
 template <typename S>
-typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::first_moment(const Body& b,
-                                                                          const Vector& q) {
-  // s_t = s0 + S q + Δs, Δs_c = −½ q·E_c q (GS-4), by columns (no temporary).
-  Vector3 s_t = b.invariants.s0 + b.invariants.S * q;
-  if (b.invariants.geometric) {
-    for (const int c : b.invariants.geometric->E_nonzero) {
-      const auto& E = b.invariants.geometric->E[static_cast<std::size_t>(c)];
-      S quadratic(0);
-      for (Eigen::Index j = 0; j < b.n; ++j) quadratic += q(j) * E.col(j).dot(q);
-      s_t(c) -= S(0.5) * quadratic;
-    }
-  }
-  return s_t;
-}
-
-template <typename S>
 typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::offset_W(const Attachment& a) const {
   // A (x_P − p_BoBr + Φ_k q_f): an attachment always sees the state's deformation
   // (core/node_attachment.hpp), under LTE too.
@@ -508,7 +492,7 @@ void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
     // loads see the state's q_f under the coupled model, q_f = 0 under LTE (core::Model).
     const Vector& q_load = lte ? bs.zero : bs.q;
     const Vector3 g_B = bs.pose.A.transpose() * g_W_;
-    const Vector3 s_t = first_moment(b, q_load);
+    const Vector3 s_t = flexible::first_moment_tpl<S>(b.invariants, q_load);
     if (b.invariants.geometric) {
       for (const int c : b.invariants.geometric->E_nonzero) {
         const auto& E = b.invariants.geometric->E[static_cast<std::size_t>(c)];
@@ -689,7 +673,7 @@ S MultibodyModelTpl<S>::energy(S t, const std::vector<S>& y) const {
     T += S(0.5) * (v_r.dot(bs.terms.M_rr * v_r) + S(2) * v_r.dot(bs.terms.M_rf * bs.qd) +
                    bs.qd.dot(b.invariants.m_ff * bs.qd));
     // V = −g·(m p_WBr + A s_t) on the loads' q_f (zero under LTE) + ½ q_fᵀ K q_f.
-    const Vector3 s_t = first_moment(b, lte ? bs.zero : bs.q);
+    const Vector3 s_t = flexible::first_moment_tpl<S>(b.invariants, lte ? bs.zero : bs.q);
     V += -g_W_.dot(b.invariants.mass * p.p_WBr + p.A * s_t) +
          S(0.5) * bs.q.dot(b.stiffness.cwiseProduct(bs.q));
   }

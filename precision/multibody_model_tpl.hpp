@@ -257,8 +257,6 @@ class MultibodyModelTpl {
   SupportLoad support_load(const Support& support) const;
   ChargeLoad charge_load(const Potential& potential, std::size_t i) const;
   contact::bushing::EndMotion<S> end_motion(const JointEnd& end) const;
-  /// s_t(q) = s0 + S q (+ Δs(q) with geometric stiffening), a body's first moment about Br.
-  static Vector3 first_moment(const Body& b, const Vector& q);
 
   core::FlexibleFormulation formulation_ = core::FlexibleFormulation::kCoupled;
   std::vector<Body> bodies_;
