@@ -367,7 +367,7 @@ studies::CertifiedReference certified_high_precision_reference(
   method << "2 x the distance, computed in " << to_string(precision)
          << " precision, to the same integrator at rtol " << std::setprecision(3) << tight_rtol
          << " (a different step sequence, 100x tighter), + the round-off bound u x evaluations x "
-            "(solution size + swept angle and path) = "
+            "(solution size + T max|w| + T max point speed) = "
          << roundoff;
   e.method = check.used ? method.str() : "none: no usable check";
   if (run_out != nullptr) *run_out = std::move(run);

@@ -18,21 +18,21 @@ bool find_columns(const studies::TrajectoryTable& table, const std::string& stem
   return true;
 }
 
-double norm_at(const studies::TrajectoryTable& table, std::size_t row, const int (&index)[3]) {
-  const std::vector<double>& r = table.rows[row];
-  return std::hypot(r[static_cast<std::size_t>(index[0])], r[static_cast<std::size_t>(index[1])],
-                    r[static_cast<std::size_t>(index[2])]);
+double value(const studies::TrajectoryTable& table, std::size_t row, int column) {
+  return table.rows[row][static_cast<std::size_t>(column)];
 }
 
-double distance_between(const studies::TrajectoryTable& table, std::size_t a, std::size_t b,
-                        const int (&index)[3]) {
-  double sum = 0.0;
-  for (const int i : index) {
-    const double d =
-        table.rows[b][static_cast<std::size_t>(i)] - table.rows[a][static_cast<std::size_t>(i)];
-    sum += d * d;
-  }
-  return std::sqrt(sum);
+double norm_at(const studies::TrajectoryTable& table, std::size_t row, const int (&index)[3]) {
+  return std::hypot(value(table, row, index[0]), value(table, row, index[1]),
+                    value(table, row, index[2]));
+}
+
+/// |a − b| of two column triples in one row.
+double distance_at(const studies::TrajectoryTable& table, std::size_t row, const int (&a)[3],
+                   const int (&b)[3]) {
+  return std::hypot(value(table, row, a[0]) - value(table, row, b[0]),
+                    value(table, row, a[1]) - value(table, row, b[1]),
+                    value(table, row, a[2]) - value(table, row, b[2]));
 }
 
 }  // namespace
@@ -40,31 +40,46 @@ double distance_between(const studies::TrajectoryTable& table, std::size_t a, st
 double roundoff_scale(const studies::TrajectoryTable& table, const std::string& metric) {
   const bool rotation = metric == "rotation" || metric == "rotation+points";
   const bool points = metric == "points" || metric == "rotation+points";
-  double swept_angle = 0.0;  // the largest ∫|ω̄| dt of a body
-  double path = 0.0;         // the longest path of a tracked point
+  const double duration = table.size() > 1 ? table.time(table.size() - 1) - table.time(0) : 0.0;
+  double largest_rate = 0.0;   // max |ω̄| of a body at an output
+  double largest_speed = 0.0;  // max |v_WBo| + |ω̄| |p_WP − p_WBo| of a tracked point
+  double longest_path = 0.0;   // the polyline through a point's outputs (no body columns)
   for (const std::string& name : table.columns) {
-    int index[3];
+    int w[3];
     if (rotation && name.ends_with(".W1")) {
-      const std::string body = name.substr(0, name.size() - 3);
-      if (!find_columns(table, body, {".W1", ".W2", ".W3"}, index)) continue;
-      double angle = 0.0;
-      for (std::size_t k = 1; k < table.size(); ++k) {
-        angle += 0.5 * (norm_at(table, k - 1, index) + norm_at(table, k, index)) *
-                 (table.time(k) - table.time(k - 1));
+      if (!find_columns(table, name.substr(0, name.size() - 3), {".W1", ".W2", ".W3"}, w)) continue;
+      for (std::size_t k = 0; k < table.size(); ++k) {
+        largest_rate = std::max(largest_rate, norm_at(table, k, w));
       }
-      swept_angle = std::max(swept_angle, angle);
     }
     // Tracked points "<B>.<P>.x" (one dot before the suffix: a body's own B.x is its origin).
-    if (points && name.ends_with(".x") && std::count(name.begin(), name.end(), '.') == 2) {
-      const std::string stem = name.substr(0, name.size() - 2);
-      if (!find_columns(table, stem, {".x", ".y", ".z"}, index)) continue;
+    if (!points || !name.ends_with(".x") || std::count(name.begin(), name.end(), '.') != 2) {
+      continue;
+    }
+    const std::string stem = name.substr(0, name.size() - 2);
+    const std::string body = stem.substr(0, stem.find('.'));
+    int p[3], o[3], v[3];
+    if (!find_columns(table, stem, {".x", ".y", ".z"}, p)) continue;
+    if (find_columns(table, body, {".x", ".y", ".z"}, o) &&
+        find_columns(table, body, {".vx", ".vy", ".vz"}, v) &&
+        find_columns(table, body, {".W1", ".W2", ".W3"}, w)) {
+      for (std::size_t k = 0; k < table.size(); ++k) {
+        largest_speed =
+            std::max(largest_speed,
+                     norm_at(table, k, v) + norm_at(table, k, w) * distance_at(table, k, p, o));
+      }
+    } else {
       double length = 0.0;
-      for (std::size_t k = 1; k < table.size(); ++k)
-        length += distance_between(table, k - 1, k, index);
-      path = std::max(path, length);
+      for (std::size_t k = 1; k < table.size(); ++k) {
+        length += std::hypot(value(table, k, p[0]) - value(table, k - 1, p[0]),
+                             value(table, k, p[1]) - value(table, k - 1, p[1]),
+                             value(table, k, p[2]) - value(table, k - 1, p[2]));
+      }
+      longest_path = std::max(longest_path, length);
     }
   }
-  return studies::solution_scale(table, metric) + swept_angle + path;
+  return studies::solution_scale(table, metric) + duration * largest_rate +
+         std::max(duration * largest_speed, longest_path);
 }
 
 }  // namespace flexref::precision

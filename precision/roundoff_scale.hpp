@@ -9,16 +9,21 @@
 namespace flexref::precision {
 
 /// studies::solution_scale(table, metric) (π for the rotation, the tracked points' largest
-/// distance from the origin at t0) plus what the trajectory sweeps: for the rotation, the
-/// largest angle a body turns through, ∫|ω̄| dt (trapezoid over the outputs of B.W1..B.W3); for
-/// the points, the longest path of a tracked point (the polyline through its outputs).
+/// distance from the origin at t0) plus what the trajectory can sweep over its duration T: for
+/// the rotation, T max|ω̄| (the largest rate of a body at an output, B.W1..B.W3); for the
+/// points, T max(|v_WBo| + |ω̄| |p_WP − p_WBo|), a bound on a tracked point's rigid-motion
+/// speed from its body's columns (B.x…, B.vx…, B.W1…), or the polyline through its outputs when
+/// those are missing.
 ///
-/// Why the sweep: an evaluation rounds the rates it computes by u relative; an error u|ω| in
-/// a body's rate persists and turns its attitude by up to u|ω|(T − t) ≤ u ∫|ω̄| dt, and an
-/// error u|v| in a velocity moves a point by up to u × its path. Summed over the evaluations
-/// without cancellation, u × evaluations × this scale bounds the round-off. The t0 extent alone
-/// did not: a free body spinning at 200 rad/s for 10 s in extended lay 2.0e-13 rad from quad,
-/// above u × 417 672 evaluations × (π + 1) = 9.3e-14 (tests/precision/roundoff_scale_test.cpp).
+/// Why: an evaluation at t rounds the rates it computes by u relative; the error u|ω(t)| in a
+/// body's rate persists and turns its attitude by up to u|ω(t)|(T − t) ≤ u T max|ω̄|, and an
+/// error in a velocity moves a point by up to u T × its largest speed. Summed over the
+/// evaluations without cancellation, u × evaluations × this scale bounds the round-off. The
+/// maxima are sampled at the outputs, and a node's elastic velocity A Φ_k q̇_f is left out (small
+/// against the rigid motion on the bundled scenes). The t0 size alone did not bound it: a free
+/// body spinning at 200 rad/s for 10 s in extended lay 2.0e-13 rad from quad, above the estimate
+/// it gave, 1.47e-13 = 2 × 2.7e-14 (the distance to the tighter run) + u × 417 672 evaluations ×
+/// (π + 1) (tests/precision/roundoff_scale_test.cpp).
 double roundoff_scale(const studies::TrajectoryTable& table, const std::string& metric);
 
 }  // namespace flexref::precision

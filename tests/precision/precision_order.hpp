@@ -18,15 +18,15 @@ namespace flexref::precision {
 inline scene::SceneSpec spec_of(const std::string& file) { return scene::read_scene(file).spec; }
 
 /// The rigid bundled scenes whose quad references take seconds over their whole horizon (the
-/// stiff joint and contact scenes take minutes per simulated second: docs/precision.md, "Not
-/// yet"; they are checked over short horizons).
+/// stiff joint and contact scenes take 12-40 s per simulated second, kSustainedContactScenes and
+/// double_pendulum_impacts: short horizons in the unit label, whole ones in the study label).
 inline constexpr const char* kFastRigidScenes[] = {
     "scenes/free_spin.toml",     "scenes/book_toss.toml",   "scenes/book_toss_step.toml",
     "scenes/heavy_top.toml",     "scenes/pendulum.toml",    "scenes/bouncing_ball.toml",
     "scenes/sliding_block.toml", "scenes/coulomb_wall.toml"};
 
 /// The rigid bundled scenes whose contacts or joints stay loaded, checked over short horizons:
-/// quad resolves their stiff contact and joint modes at 26-40 s per simulated second on one core
+/// quad resolves their stiff contact and joint modes at 25-40 s per simulated second on one core
 /// (docs/precision.md, "Not yet").
 inline constexpr const char* kSustainedContactScenes[] = {
     "scenes/top_on_plane.toml", "scenes/tippe_top.toml", "scenes/pendulum_on_sliding_support.toml"};

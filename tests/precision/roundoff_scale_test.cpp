@@ -1,7 +1,7 @@
 /// \file roundoff_scale_test.cpp
 /// The round-off part of an extended or quad reference's estimate (precision/roundoff_scale.hpp):
-/// the swept angle and paths on a table built by hand, and the estimate of a fast spin in
-/// extended against the exact torque-free solution in quad.
+/// the sweep of the rotation and the points on a table built by hand, and the estimate of a fast
+/// spin in extended against the exact torque-free solution in quad.
 #include "precision/roundoff_scale.hpp"
 
 #include <catch2/catch.hpp>
@@ -20,28 +20,46 @@
 namespace flexref::precision {
 namespace {
 
-TEST_CASE("roundoff_scale adds the swept angle and the longest path", "[precision]") {
-  // A body turning at |ω̄| = 5 rad/s for 2 s (10 rad) whose point p goes (1,0,0) → (1,2,0) →
-  // (1,2,2) (a 4 m path); its origin b.x… moves 30 m, which is no tracked point.
+TEST_CASE("roundoff_scale adds the angle and the path the motion can sweep", "[precision]") {
+  // Body b turns about z at 5 rad/s about its fixed origin for 2 s, carrying p at 1 m and r at
+  // 2 m from it (their chords between the outputs are shorter than their arcs: the bound uses
+  // the speed |v_WBo| + |ω̄| |p_WP − p_WBo|, 10 m/s for r, not the chords); body c turns at
+  // 1 rad/s. Body c's point s has no body velocity columns, so its path is the polyline through
+  // its outputs, 3 + 4 = 7 m.
   studies::TrajectoryTable table;
-  table.columns = {"t",    "b.x",  "b.y",  "b.z",  "b.e0",  "b.e1",  "b.e2",
-                   "b.e3", "b.W1", "b.W2", "b.W3", "b.p.x", "b.p.y", "b.p.z"};
-  table.rows = {{0.0, 0.0, 0, 0, 1, 0, 0, 0, 3.0, 4.0, 0.0, 1.0, 0.0, 0.0},
-                {1.0, 10.0, 0, 0, 1, 0, 0, 0, 0.0, 3.0, 4.0, 1.0, 2.0, 0.0},
-                {2.0, 30.0, 0, 0, 1, 0, 0, 0, 4.0, 0.0, -3.0, 1.0, 2.0, 2.0}};
-  // solution_scale: π for the rotation, |p(0)| = 1 m for the points.
-  CHECK(roundoff_scale(table, "rotation") == Approx(std::numbers::pi + 10.0));
-  CHECK(roundoff_scale(table, "points") == Approx(1.0 + 4.0));
-  CHECK(roundoff_scale(table, "rotation+points") == Approx(std::numbers::pi + 1.0 + 10.0 + 4.0));
+  table.columns = {"t",     "b.x",   "b.y",  "b.z",  "b.e0", "b.e1",  "b.e2",  "b.e3",  "b.vx",
+                   "b.vy",  "b.vz",  "b.W1", "b.W2", "b.W3", "b.p.x", "b.p.y", "b.p.z", "b.r.x",
+                   "b.r.y", "b.r.z", "c.W1", "c.W2", "c.W3", "c.s.x", "c.s.y", "c.s.z"};
+  for (const double t : {0.0, 1.0, 2.0}) {
+    const double c = std::cos(5.0 * t), s = std::sin(5.0 * t);
+    const double s_x = t < 1.0 ? 0.0 : 3.0, s_y = t < 2.0 ? 0.0 : 4.0;
+    table.rows.push_back({t,   0.0, 0.0, 0.0, 1.0,   0.0,   0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                          5.0, c,   s,   0.0, 2 * c, 2 * s, 0.0, 0.0, 1.0, 0.0, s_x, s_y, 0.0});
+  }
+  // solution_scale: π for the rotation, the farthest point at t0 (r, 2 m) for the points.
+  const double sweep_angle = 2.0 * 5.0;         // T max|ω̄|
+  const double sweep_path = 2.0 * (5.0 * 2.0);  // T max(|v_WBo| + |ω̄| |p_WP − p_WBo|), point r
+  CHECK(roundoff_scale(table, "rotation") == Approx(std::numbers::pi + sweep_angle));
+  CHECK(roundoff_scale(table, "points") == Approx(2.0 + sweep_path));
+  CHECK(roundoff_scale(table, "rotation+points") ==
+        Approx(std::numbers::pi + 2.0 + sweep_angle + sweep_path));
+  // Without b's velocity columns its points fall back to their polylines: r's two chords of
+  // 2 × 2 sin(2.5) = 2.39 m each (4.79 m) are shorter than s's 7 m.
+  studies::TrajectoryTable no_velocity = table;
+  for (const char* name : {"b.vx", "b.vy", "b.vz"}) {
+    no_velocity.columns[static_cast<std::size_t>(no_velocity.column(name))] =
+        std::string("b.") + (name + 2) + "_";
+  }
+  CHECK(roundoff_scale(no_velocity, "points") == Approx(2.0 + 7.0));
 }
 
 TEST_CASE("the extended estimate bounds a fast spin's round-off", "[precision]") {
   // free_spin's body (J = diag(3, 4, 5)) at ω̄0 = (2, 3, 200) rad/s for 10 s, outputs every
-  // 10 ms: extended at rtol 1e-16 lies 2.0e-13 rad from the exact solution (quad), mostly
-  // round-off that the tighter extended check shares (2 × its distance: 1.5e-13). The bound
-  // with the t0 extent alone, u × 417 672 evaluations × (π + 1) = 9.3e-14, left the estimate
-  // (1.47e-13) below the error; the swept angle (~2000 rad) makes it 8.4e-11, honest and 420×
-  // loose.
+  // 10 ms: extended at rtol 1e-16 lies 2.0e-13 from the exact solution (quad), mostly
+  // round-off that the tighter extended check shares (2 × its distance: 5.3e-14). With the t0
+  // size alone the estimate was 5.3e-14 + u × 417 672 evaluations × (π + 1) = 1.47e-13, below
+  // the error; the sweep (T max|ω̄| ≈ 2000 rad, the corner's 2000 m) makes it 9.1e-11, honest
+  // and 460× loose.
   scene::SceneSpec spec = spec_of("scenes/free_spin.toml");
   spec.end_time = 10.0;
   spec.output_step = 0.01;
