@@ -5,6 +5,8 @@
 #include <sstream>
 #include <utility>
 
+#include "core/gravity_tpl.hpp"
+
 namespace flexref::core {
 
 UniformGravity::UniformGravity(const Eigen::Vector3d& g_W, std::vector<BodyMass> bodies)
@@ -20,20 +22,9 @@ void UniformGravity::add_wrenches(const LoadContext& /*context*/,
       wrenches[i].add_force_at(b.mass * g_W_, k.p_BrP_W(b.p_BoBcm_B));
       continue;
     }
-    // Flexible (docs/design/model.md): Qe_R += m g, Qe_θ += s̃_t Aᵀ g, Qe_f += Sᵀ Aᵀ g, with
-    // s_t = s0 + S q_f the first moment about Br (masses included). τ_Br_W = A(s_t × Aᵀg).
-    const flexible::ModalInvariants& inv = *k.invariants;
-    const Eigen::Vector3d g_B = k.R_WB.transpose() * g_W_;
-    const Eigen::Vector3d s_t = flexible::first_moment(inv, *k.q_f);
-    wrenches[i].f_W += inv.mass * g_W_;
-    wrenches[i].tau_Br_W += k.R_WB * s_t.cross(g_B);
-    wrenches[i].Q_f.noalias() += inv.S.transpose() * g_B;
-    // Geometric stiffening: the foreshortening's work, ΔS(q_f)ᵀ Aᵀ g (so that a freely falling
-    // body carries no axial load: docs/geometric_stiffening.md).
-    if (inv.geometric) {
-      flexible::add_foreshortening_first_moment_transpose(*inv.geometric, *k.q_f, g_B,
-                                                          wrenches[i].Q_f);
-    }
+    // Flexible: the loads of core/gravity_tpl.hpp on the invariants about Br.
+    add_gravity_loads_tpl<double>(*k.invariants, k.R_WB, *k.q_f, g_W_, wrenches[i].f_W,
+                                  wrenches[i].tau_Br_W, wrenches[i].Q_f);
   }
 }
 
@@ -45,9 +36,7 @@ double UniformGravity::potential_energy(const LoadContext& /*context*/,
     if (k.invariants == nullptr) {
       v -= b.mass * g_W_.dot(k.p_WP(b.p_BoBcm_B));
     } else {
-      // V = −g · Σ m_k r_k = −g · (m p_WBr + A s_t)
-      v -= g_W_.dot(k.invariants->mass * k.state->p_WBr +
-                    k.R_WB * flexible::first_moment(*k.invariants, *k.q_f));
+      v += gravity_potential_tpl<double>(*k.invariants, k.R_WB, k.state->p_WBr, *k.q_f, g_W_);
     }
   }
   return v;

@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "core/body_equations_tpl.hpp"
 #include "flexible/flexible_dynamics.hpp"
 
 namespace flexref::core {
@@ -184,7 +185,6 @@ void Model::flexible_system(int i, const BodyState& s, Workspace& ws) const {
   FlexibleScratch& fs = ws.flexible[k];
   const Eigen::Matrix3d& R_WB = ws.kinematics[k].R_WB;
   const Wrench& w = ws.wrenches[k];
-  const Eigen::Index n = b.mode_count();
   if (formulation_ == FlexibleFormulation::kLte) {
     // The inertia terms of the undeformed body (q_f = 0, q̇_f = 0).
     flexible::set_undeformed_products(fs.terms);
@@ -192,11 +192,9 @@ void Model::flexible_system(int i, const BodyState& s, Workspace& ws) const {
   } else {
     flexible::evaluate_inertia_terms(b.invariants(), R_WB, s.q_f, s.w_WB_B, s.qd_f, fs.terms);
   }
-  const Eigen::VectorXd& Qv = fs.terms.Qv;
-  fs.rhs.head<3>() = w.f_W + Qv.head<3>();
-  fs.rhs.segment<3>(3) = R_WB.transpose() * w.tau_Br_W + Qv.segment<3>(3);
-  fs.rhs.tail(n) = w.Q_f + Qv.tail(n) - b.modal_stiffness().cwiseProduct(s.q_f) -
-                   b.modal_damping().cwiseProduct(s.qd_f);
+  flexible_right_hand_side_tpl<double>(w.f_W, w.tau_Br_W, w.Q_f, R_WB, fs.terms.Qv,
+                                       b.modal_stiffness(), b.modal_damping(), s.q_f, s.qd_f,
+                                       fs.rhs);
 }
 
 void Model::flexible_accelerations(int i, const BodyState& s, Workspace& ws,
@@ -244,8 +242,8 @@ void Model::accelerations_from_wrenches(const State& state, Workspace& ws,
     // Newton: m a = f (free bodies, Br = Bcm); a pivot does not translate.
     a.a_WBr = b.is_free() ? Eigen::Vector3d(w.f_W / b.mass()) : Eigen::Vector3d::Zero();
     // Euler about Br: I α̅ = Aᵀ τ − ω̄ × I ω̄   (paper eq. 25).
-    const Eigen::Vector3d tau_B = ws.kinematics[i].R_WB.transpose() * w.tau_Br_W;
-    a.alpha_WB_B = b.I_Br_B_inverse() * (tau_B - s.w_WB_B.cross(b.I_Br_B() * s.w_WB_B));
+    a.alpha_WB_B = euler_angular_acceleration_tpl<double>(
+        b.I_Br_B(), b.I_Br_B_inverse(), ws.kinematics[i].R_WB, w.tau_Br_W, s.w_WB_B);
   }
 }
 

@@ -104,11 +104,7 @@ void add_foreshortening_first_moment_transpose(const GeometricInvariants& g,
                                                const Eigen::Ref<const Eigen::VectorXd>& q_f,
                                                const Eigen::Vector3d& v,
                                                Eigen::Ref<Eigen::VectorXd> out) {
-  // Column by column: no temporary (gravity calls this in every evaluation).
-  for (const int c : g.E_nonzero) {
-    const Eigen::MatrixXd& E = g.E[at(c)];
-    for (Eigen::Index j = 0; j < E.cols(); ++j) out.noalias() -= (v(c) * q_f(j)) * E.col(j);
-  }
+  add_foreshortening_first_moment_transpose_tpl<double>(g, q_f, v, out);
 }
 
 void foreshortening_terms(const Eigen::Ref<const Eigen::VectorXd>& q_f,

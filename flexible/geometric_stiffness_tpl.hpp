@@ -122,6 +122,18 @@ void foreshortening_terms_tpl(const VectorRef<S>& q_f, const VectorRef<S>& qd_f,
   }
 }
 
+/// out += ΔS(q_f)ᵀ v = −Σ_c v_c E_c q_f (a body force field's work on the foreshortening, GS-4).
+/// Column by column: no temporary (gravity calls this in every evaluation).
+template <typename S>
+void add_foreshortening_first_moment_transpose_tpl(
+    const GeometricInvariantsTpl<S>& g, const VectorRef<S>& q_f, const Eigen::Matrix<S, 3, 1>& v,
+    Eigen::Ref<Eigen::Matrix<S, Eigen::Dynamic, 1>> out) {
+  for (const int c : g.E_nonzero) {
+    const auto& E = g.E[static_cast<std::size_t>(c)];
+    for (Eigen::Index j = 0; j < E.cols(); ++j) out.noalias() -= (v(c) * q_f(j)) * E.col(j);
+  }
+}
+
 /// The invariants from matrices E_c, F_ab given in double (exact in S) about the frame origin,
 /// moved in S to the point p (F_ab − p_b E_a, GS-2; none when p is zero), symmetrized and with
 /// Z_c formed in S. `E` and `F` have been validated by the caller (GeometricStiffness::validate).

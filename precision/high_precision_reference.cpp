@@ -361,7 +361,7 @@ studies::CertifiedReference certified_high_precision_reference(
   // first second (180 rad/s) 3.0e-13 from quad while 2 x the distance is 1.1e-13 and u x
   // evaluations x the t0 extent only 5.2e-14.
   const double roundoff = unit_roundoff(precision) * static_cast<double>(run.evaluations) *
-                          roundoff_scale(run.table, metric);
+                          roundoff_scale(run.table, metric, node_points(spec));
   e.value = check.used ? 2.0 * check.distance + roundoff : std::numeric_limits<double>::infinity();
   std::ostringstream method;
   method << "2 x the distance, computed in " << to_string(precision)

@@ -13,7 +13,9 @@
 #include "contact/gap_support.hpp"
 #include "contact/penalty_load_tpl.hpp"
 #include "core/applied_load.hpp"
+#include "core/body_equations_tpl.hpp"
 #include "core/gravity.hpp"
+#include "core/gravity_tpl.hpp"
 #include "core/unit_vector_tpl.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "scene/build_model.hpp"
@@ -487,21 +489,10 @@ void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
     bs.tau_W.setZero();
     bs.Q_f.setZero();
     if (!gravity) continue;
-    // Qe_R += m g, Qe_θ: τ_Br_W += A (s_t × Aᵀ g), Qe_f += Sᵀ Aᵀ g − Σ_c (Aᵀg)_c E_c q_f
-    // (core/gravity.cpp; the last term is the foreshortening's, geometric stiffening only). The
-    // loads see the state's q_f under the coupled model, q_f = 0 under LTE (core::Model).
-    const Vector& q_load = lte ? bs.zero : bs.q;
-    const Vector3 g_B = bs.pose.A.transpose() * g_W_;
-    const Vector3 s_t = flexible::first_moment_tpl<S>(b.invariants, q_load);
-    if (b.invariants.geometric) {
-      for (const int c : b.invariants.geometric->E_nonzero) {
-        const auto& E = b.invariants.geometric->E[static_cast<std::size_t>(c)];
-        for (Eigen::Index j = 0; j < b.n; ++j) bs.Q_f.noalias() -= (g_B(c) * q_load(j)) * E.col(j);
-      }
-    }
-    bs.f_W += b.invariants.mass * g_W_;
-    bs.tau_W += bs.pose.A * s_t.cross(g_B);
-    bs.Q_f.noalias() += b.invariants.S.transpose() * g_B;
+    // core/gravity_tpl.hpp, as core::UniformGravity; the loads see the state's q_f under the
+    // coupled model, q_f = 0 under LTE (core::Model).
+    core::add_gravity_loads_tpl<S>(b.invariants, bs.pose.A, lte ? bs.zero : bs.q, g_W_, bs.f_W,
+                                   bs.tau_W, bs.Q_f);
   }
   s.applied_power = S(0);
   for (const Load& l : loads_) {
@@ -565,8 +556,8 @@ void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
       // A rigid body's rows without the inertia terms' generality (model.md eqs. (5)–(6), about
       // Br): m a = f for a free body (Br = Bcm), a = 0 on a pivot, and Euler's equations
       // J_Br α̅ = Aᵀ τ_Br − ω̄ × J_Br ω̄ (the pivot's gravity moment is in τ: s_t = m c).
-      const Vector3 Jw = b.invariants.I0 * p.w_B;
-      bs.x.template segment<3>(3) = b.J_Br_inv * (p.A.transpose() * bs.tau_W - p.w_B.cross(Jw));
+      bs.x.template segment<3>(3) = core::euler_angular_acceleration_tpl<S>(
+          b.invariants.I0, b.J_Br_inv, p.A, bs.tau_W, p.w_B);
       if (b.motion == core::MotionKind::kFree) {
         bs.x.template head<3>() = bs.f_W / b.invariants.mass;
       } else {
@@ -582,11 +573,8 @@ void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
       flexible::compute_modal_products_tpl<S>(b.invariants, bs.q, bs.qd, bs.terms);
       flexible::assemble_inertia_terms_tpl<S>(b.invariants, p.A, bs.q, p.w_B, bs.qd, bs.terms);
     }
-    const Vector& Qv = bs.terms.Qv;
-    bs.rhs.template head<3>() = bs.f_W + Qv.template head<3>();
-    bs.rhs.template segment<3>(3) = p.A.transpose() * bs.tau_W + Qv.template segment<3>(3);
-    bs.rhs.tail(b.n) =
-        bs.Q_f + Qv.tail(b.n) - b.stiffness.cwiseProduct(bs.q) - b.damping.cwiseProduct(bs.qd);
+    core::flexible_right_hand_side_tpl<S>(bs.f_W, bs.tau_W, bs.Q_f, p.A, bs.terms.Qv, b.stiffness,
+                                          b.damping, bs.q, bs.qd, bs.rhs);
     // Known rows: a = 0 (pivot, prescribed), α̅ of the law (prescribed).
     const int known = b.motion == core::MotionKind::kFree    ? 0
                       : b.motion == core::MotionKind::kPivot ? 3
@@ -673,8 +661,7 @@ S MultibodyModelTpl<S>::energy(S t, const std::vector<S>& y) const {
     T += S(0.5) * (v_r.dot(bs.terms.M_rr * v_r) + S(2) * v_r.dot(bs.terms.M_rf * bs.qd) +
                    bs.qd.dot(b.invariants.m_ff * bs.qd));
     // V = −g·(m p_WBr + A s_t) on the loads' q_f (zero under LTE) + ½ q_fᵀ K q_f.
-    const Vector3 s_t = flexible::first_moment_tpl<S>(b.invariants, lte ? bs.zero : bs.q);
-    V += -g_W_.dot(b.invariants.mass * p.p_WBr + p.A * s_t) +
+    V += core::gravity_potential_tpl<S>(b.invariants, p.A, p.p_WBr, lte ? bs.zero : bs.q, g_W_) +
          S(0.5) * bs.q.dot(b.stiffness.cwiseProduct(bs.q));
   }
   // The supports' and pairs' V_law(δ) at the deformed points (GapSupport's and

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
+#include "scene/scene_spec.hpp"
 #include "studies/certified_reference.hpp"
 
 namespace flexref::precision {
@@ -35,9 +38,42 @@ double distance_at(const studies::TrajectoryTable& table, std::size_t row, const
                     value(table, row, a[2]) - value(table, row, b[2]));
 }
 
+/// |q̇_f| of a body at an output row from its columns qd_1 … (indices), 0 without them.
+double modal_rate_at(const studies::TrajectoryTable& table, std::size_t row,
+                     const std::vector<int>& qd) {
+  double sum = 0.0;
+  for (const int c : qd) sum += value(table, row, c) * value(table, row, c);
+  return std::sqrt(sum);
+}
+
+/// The columns <body>.qd1, <body>.qd2, … present in the table.
+std::vector<int> modal_rate_columns(const studies::TrajectoryTable& table,
+                                    const std::string& body) {
+  std::vector<int> qd;
+  for (int k = 1;; ++k) {
+    const int c = table.column(body + ".qd" + std::to_string(k));
+    if (c < 0) return qd;
+    qd.push_back(c);
+  }
+}
+
 }  // namespace
 
-double roundoff_scale(const studies::TrajectoryTable& table, const std::string& metric) {
+std::vector<NodePoint> node_points(const scene::SceneSpec& spec) {
+  std::vector<NodePoint> nodes;
+  for (const scene::BodySpec& body : spec.bodies) {
+    const core::RigidBodyDescription& d = body.description;
+    if (!d.flexible) continue;
+    for (const core::TrackedPoint& p : d.points) {
+      if (p.node < 0) continue;
+      nodes.push_back({d.name + "." + p.name, d.name, d.flexible->modal.mode_rows(p.node).norm()});
+    }
+  }
+  return nodes;
+}
+
+double roundoff_scale(const studies::TrajectoryTable& table, const std::string& metric,
+                      std::span<const NodePoint> nodes) {
   const bool rotation = metric == "rotation" || metric == "rotation+points";
   const bool points = metric == "points" || metric == "rotation+points";
   const double duration = table.size() > 1 ? table.time(table.size() - 1) - table.time(0) : 0.0;
@@ -63,10 +99,17 @@ double roundoff_scale(const studies::TrajectoryTable& table, const std::string& 
     if (find_columns(table, body, {".x", ".y", ".z"}, o) &&
         find_columns(table, body, {".vx", ".vy", ".vz"}, v) &&
         find_columns(table, body, {".W1", ".W2", ".W3"}, w)) {
+      // A node's elastic speed ‖Φ_k‖_F |q̇_f| on top of its rigid-motion speed.
+      const auto node = std::find_if(nodes.begin(), nodes.end(),
+                                     [&](const NodePoint& n) { return n.stem == stem; });
+      const double shape_norm = node != nodes.end() ? node->shape_norm : 0.0;
+      const std::vector<int> qd =
+          shape_norm > 0.0 ? modal_rate_columns(table, body) : std::vector<int>{};
       for (std::size_t k = 0; k < table.size(); ++k) {
         largest_speed =
-            std::max(largest_speed,
-                     norm_at(table, k, v) + norm_at(table, k, w) * distance_at(table, k, p, o));
+            std::max(largest_speed, norm_at(table, k, v) +
+                                        norm_at(table, k, w) * distance_at(table, k, p, o) +
+                                        shape_norm * modal_rate_at(table, k, qd));
       }
     } else {
       double length = 0.0;

@@ -14,6 +14,7 @@
 #include "precision/exact_high_precision.hpp"
 #include "precision/high_precision_reference.hpp"
 #include "precision/precision.hpp"
+#include "scene/scene_spec.hpp"
 #include "studies/certified_reference.hpp"
 #include "tests/precision/precision_order.hpp"
 
@@ -51,6 +52,45 @@ TEST_CASE("roundoff_scale adds the angle and the path the motion can sweep", "[p
         std::string("b.") + (name + 2) + "_";
   }
   CHECK(roundoff_scale(no_velocity, "points") == Approx(2.0 + 7.0));
+}
+
+TEST_CASE("roundoff_scale adds a node's elastic speed", "[precision]") {
+  // Body b stands still; its point n at 1 m is a node with ‖Φ_k‖_F = 2 whose modal rates are
+  // (3, 4) at t = 1 s: |A Φ_k q̇_f| ≤ 2 × 5 = 10 m/s over T = 1 s. Without the node the point
+  // sweeps nothing (its rigid-motion speed is 0): the scale is its t0 distance alone.
+  studies::TrajectoryTable table;
+  table.columns = {"t",    "b.x",  "b.y",   "b.z",   "b.vx",  "b.vy",  "b.vz", "b.W1",
+                   "b.W2", "b.W3", "b.n.x", "b.n.y", "b.n.z", "b.qd1", "b.qd2"};
+  table.rows.push_back({0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0});
+  table.rows.push_back({1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 3.0, 4.0});
+  const std::vector<NodePoint> nodes{{"b.n", "b", 2.0}};
+  CHECK(roundoff_scale(table, "points") == Approx(1.0));
+  CHECK(roundoff_scale(table, "points", nodes) == Approx(1.0 + 10.0));
+  // A node of another point leaves n alone.
+  const std::vector<NodePoint> other{{"b.m", "b", 2.0}};
+  CHECK(roundoff_scale(table, "points", other) == Approx(1.0));
+}
+
+TEST_CASE("node_points lists the points at nodes with their mode-shape norms", "[precision]") {
+  // flexible_spinner_64: "tip" at node40 (deforms), "hub_rim" on the hub (does not).
+  const scene::SceneSpec spec = spec_of("scenes/flexible_spinner_64.toml");
+  const std::vector<NodePoint> nodes = node_points(spec);
+  REQUIRE(nodes.size() == 1);
+  CHECK(nodes[0].stem == spec.bodies[0].description.name + ".tip");
+  CHECK(nodes[0].body == spec.bodies[0].description.name);
+  // ‖Φ_k‖_F of the tip's three rows, summed by hand.
+  const flexible::ModalData& modal = spec.bodies[0].description.flexible->modal;
+  int node = -1;
+  for (const core::TrackedPoint& p : spec.bodies[0].description.points) {
+    if (p.name == "tip") node = p.node;
+  }
+  REQUIRE(node >= 0);
+  double sum = 0.0;
+  for (Eigen::Index r = 3 * node; r < 3 * node + 3; ++r) {
+    for (Eigen::Index c = 0; c < modal.phi.cols(); ++c) sum += modal.phi(r, c) * modal.phi(r, c);
+  }
+  CHECK(nodes[0].shape_norm == Approx(std::sqrt(sum)).epsilon(1e-14));
+  CHECK(nodes[0].shape_norm > 0.0);
 }
 
 TEST_CASE("the extended estimate bounds a fast spin's round-off", "[precision]") {
