@@ -11,6 +11,7 @@
 /// V = −g·Σ m_k r_k = −g·(m p_WBr + A s_t). q_f is what the loads see: the state's under the
 /// coupled model, zero under LTE.
 #include <Eigen/Core>
+#include <stdexcept>
 
 #include "flexible/geometric_stiffness_tpl.hpp"
 #include "flexible/modal_invariants_tpl.hpp"
@@ -25,6 +26,9 @@ void add_gravity_loads_tpl(const flexible::ModalInvariantsTpl<S>& inv,
                            const Eigen::Matrix<S, 3, 1>& g_W, Eigen::Matrix<S, 3, 1>& f_W,
                            Eigen::Matrix<S, 3, 1>& tau_Br_W,
                            Eigen::Ref<Eigen::Matrix<S, Eigen::Dynamic, 1>> Q_f) {
+  if (q_f.size() != inv.S.cols() || Q_f.size() != inv.S.cols()) {
+    throw std::invalid_argument("gravity: q_f or Q_f does not have one entry per mode");
+  }
   const Eigen::Matrix<S, 3, 1> g_B = R_WB.transpose() * g_W;
   const Eigen::Matrix<S, 3, 1> s_t = flexible::first_moment_tpl<S>(inv, q_f);
   f_W += inv.mass * g_W;

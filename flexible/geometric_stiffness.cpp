@@ -100,13 +100,6 @@ Eigen::Vector3d foreshortening_theta_f(const GeometricInvariants& g,
   return out;
 }
 
-void add_foreshortening_first_moment_transpose(const GeometricInvariants& g,
-                                               const Eigen::Ref<const Eigen::VectorXd>& q_f,
-                                               const Eigen::Vector3d& v,
-                                               Eigen::Ref<Eigen::VectorXd> out) {
-  add_foreshortening_first_moment_transpose_tpl<double>(g, q_f, v, out);
-}
-
 void foreshortening_terms(const Eigen::Ref<const Eigen::VectorXd>& q_f,
                           const Eigen::Ref<const Eigen::VectorXd>& qd_f, const GeometricProducts& p,
                           ForeshorteningTerms& f) {

@@ -92,11 +92,6 @@ Eigen::Matrix3d foreshortening_inertia(const GeometricInvariants& g,
 Eigen::Vector3d foreshortening_theta_f(const GeometricInvariants& g,
                                        const Eigen::Ref<const Eigen::VectorXd>& q_f,
                                        const Eigen::Ref<const Eigen::VectorXd>& u);
-/// out += ΔS(q_f)ᵀ v = −Σ_c v_c E_c q_f (a body force field's work on the foreshortening).
-void add_foreshortening_first_moment_transpose(const GeometricInvariants& g,
-                                               const Eigen::Ref<const Eigen::VectorXd>& q_f,
-                                               const Eigen::Vector3d& v,
-                                               Eigen::Ref<Eigen::VectorXd> out);
 
 void foreshortening_terms(const Eigen::Ref<const Eigen::VectorXd>& q_f,
                           const Eigen::Ref<const Eigen::VectorXd>& qd_f, const GeometricProducts& p,

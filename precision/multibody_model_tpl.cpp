@@ -553,9 +553,9 @@ void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
     BodyScratch& bs = s.bodies[i];
     const Pose& p = bs.pose;
     if (b.n == 0 && b.motion != core::MotionKind::kPrescribed) {
-      // A rigid body's rows without the inertia terms' generality (model.md eqs. (5)–(6), about
-      // Br): m a = f for a free body (Br = Bcm), a = 0 on a pivot, and Euler's equations
-      // J_Br α̅ = Aᵀ τ_Br − ω̄ × J_Br ω̄ (the pivot's gravity moment is in τ: s_t = m c).
+      // A rigid body's rows without the inertia terms' generality (docs/design/model.md, paper eqs.
+      // 24–25, about Br): m a = f for a free body (Br = Bcm), a = 0 on a pivot, and Euler's
+      // equations J_Br α̅ = Aᵀ τ_Br − ω̄ × J_Br ω̄ (the pivot's gravity moment is in τ: s_t = m c).
       bs.x.template segment<3>(3) = core::euler_angular_acceleration_tpl<S>(
           b.invariants.I0, b.J_Br_inv, p.A, bs.tau_W, p.w_B);
       if (b.motion == core::MotionKind::kFree) {

@@ -66,7 +66,7 @@ std::vector<NodePoint> node_points(const scene::SceneSpec& spec) {
     if (!d.flexible) continue;
     for (const core::TrackedPoint& p : d.points) {
       if (p.node < 0) continue;
-      nodes.push_back({d.name + "." + p.name, d.name, d.flexible->modal.mode_rows(p.node).norm()});
+      nodes.push_back({d.name + "." + p.name, d.flexible->modal.mode_rows(p.node).norm()});
     }
   }
   return nodes;

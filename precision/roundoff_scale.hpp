@@ -19,7 +19,6 @@ namespace flexref::precision {
 /// qd columns).
 struct NodePoint {
   std::string stem;
-  std::string body;
   double shape_norm = 0.0;
 };
 /// The scene's tracked points at nodes (hub points and rigid bodies' points have none).
@@ -36,7 +35,7 @@ std::vector<NodePoint> node_points(const scene::SceneSpec& spec);
 /// Why: an evaluation at t rounds the rates it computes by u relative; the error u|ω(t)| in a
 /// body's rate persists and turns its attitude by up to u|ω(t)|(T − t) ≤ u T max|ω̄|, and an
 /// error in a velocity moves a point by up to u T × its largest speed. Summed over the
-/// evaluations without cancellation, u × evaluations × this scale bounds the round-off.  The
+/// evaluations without cancellation, u × evaluations × this scale bounds the round-off. The
 /// maxima are sampled at the outputs. The t0 size alone did not bound it: a free
 /// body spinning at 200 rad/s for 10 s in extended lay 2.0e-13 rad from quad, above the estimate
 /// it gave, 1.47e-13 = 2 × 2.7e-14 (the distance to the tighter run) + u × 417 672 evaluations ×
