@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/attachment_tpl.hpp"
+
 namespace flexref::core {
 namespace {
 
@@ -11,6 +13,13 @@ void require_modes(const NodeAttachment& a, const BodyState& s) {
     throw std::invalid_argument("node attachment has " + std::to_string(a.phi_B.cols()) +
                                 " modes, the body " + std::to_string(s.q_f.size()));
   }
+}
+
+/// Φ_k of a deforming attachment (its size checked against the state), nullptr for a hub point.
+const Eigen::Matrix3Xd* shape_of(const NodeAttachment& a, const BodyState& s) {
+  if (!a.deforms()) return nullptr;
+  require_modes(a, s);
+  return &a.phi_B;
 }
 
 }  // namespace
@@ -40,26 +49,23 @@ Eigen::Vector3d NodeAttachment::displacement_rate_B(const BodyState& state) cons
 
 Eigen::Vector3d attached_position_W(const BodyKinematics& body, const Eigen::Vector3d& p_BoP_B,
                                     const NodeAttachment& attachment) {
-  // p_WBr + A (x_P − p_BoBr + Φ_k q_f)
-  return body.state->p_WBr +
-         body.R_WB * (p_BoP_B - body.p_BoBr_B + attachment.displacement_B(*body.state));
+  const BodyState& s = *body.state;
+  return s.p_WBr + attached_offset_tpl<double>(body.R_WB, p_BoP_B - body.p_BoBr_B,
+                                               shape_of(attachment, s), s.q_f);
 }
 
 Eigen::Vector3d attached_velocity_W(const BodyKinematics& body, const Eigen::Vector3d& p_WP,
                                     const NodeAttachment& attachment) {
-  // v_WBr + ω × (P − p_WBr) + A Φ_k q̇_f
   const BodyState& s = *body.state;
-  return s.v_WBr + (body.R_WB * s.w_WB_B).cross(p_WP - s.p_WBr) +
-         body.R_WB * attachment.displacement_rate_B(s);
+  return attached_velocity_tpl<double>(s.v_WBr, body.R_WB * s.w_WB_B, s.p_WBr, body.R_WB,
+                                       shape_of(attachment, s), s.qd_f, p_WP);
 }
 
 void add_attached_force(const BodyKinematics& body, const NodeAttachment& attachment,
                         const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_WP, Wrench& wrench) {
   wrench.add_force_at(f_W, p_WP - body.state->p_WBr);
-  if (!attachment.deforms()) return;
-  // Qe_f += Φ_kᵀ Aᵀ f
-  const Eigen::Vector3d f_B = body.R_WB.transpose() * f_W;
-  wrench.Q_f.noalias() += attachment.phi_B.transpose() * f_B;
+  add_attached_modal_force_tpl<double>(
+      body.R_WB, attachment.deforms() ? &attachment.phi_B : nullptr, f_W, wrench.Q_f);
 }
 
 }  // namespace flexref::core

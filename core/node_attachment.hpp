@@ -7,7 +7,8 @@
 /// world point P of such an attachment enters the generalized forces by virtual work
 /// δr_P = δp_WBr + δπ × (P − p_WBr) + A Φ_k δq_f:
 ///   Qe_R += f,   Qe_θ: τ_Br += (P − p_WBr) × f   (the deformed arm),   Qe_f += Φ_kᵀ Aᵀ f.
-/// A point of the rigid part (hub, node = −1) has Φ = 0 and only the first two.
+/// A point of the rigid part (hub, node = −1) has Φ = 0 and only the first two. The formulas
+/// are core/attachment_tpl.hpp's, which the extended and quad model calls too.
 ///
 /// *Decision* (docs/decisions.md): an attachment always sees the state's deformation, under the
 /// LTE model too, where the other loads act on the undeformed body. A contact at a node exists

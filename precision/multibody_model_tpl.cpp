@@ -13,6 +13,7 @@
 #include "contact/gap_support.hpp"
 #include "contact/penalty_load_tpl.hpp"
 #include "core/applied_load.hpp"
+#include "core/attachment_tpl.hpp"
 #include "core/body_equations_tpl.hpp"
 #include "core/gravity.hpp"
 #include "core/gravity_tpl.hpp"
@@ -341,8 +342,7 @@ typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::offset_W(const Atta
   // A (x_P − p_BoBr + Φ_k q_f): an attachment always sees the state's deformation
   // (core/node_attachment.hpp), under LTE too.
   const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
-  if (a.node < 0) return bs.pose.A * a.p_BrP_B;
-  return bs.pose.A * (a.p_BrP_B + a.phi_B * bs.q);
+  return core::attached_offset_tpl<S>(bs.pose.A, a.p_BrP_B, a.node >= 0 ? &a.phi_B : nullptr, bs.q);
 }
 
 template <typename S>
@@ -354,9 +354,8 @@ template <typename S>
 typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::velocity_W(const Attachment& a,
                                                                         const Vector3& p_WP) const {
   const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
-  Vector3 v = bs.pose.v_WBr + bs.pose.w_W.cross(p_WP - bs.pose.p_WBr);
-  if (a.node >= 0) v.noalias() += bs.pose.A * (a.phi_B * bs.qd);
-  return v;
+  return core::attached_velocity_tpl<S>(bs.pose.v_WBr, bs.pose.w_W, bs.pose.p_WBr, bs.pose.A,
+                                        a.node >= 0 ? &a.phi_B : nullptr, bs.qd, p_WP);
 }
 
 template <typename S>
@@ -365,7 +364,7 @@ void MultibodyModelTpl<S>::apply(const Attachment& a, const Vector3& f_W,
   BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
   bs.f_W += f_W;
   bs.tau_W += (p_WP - bs.pose.p_WBr).cross(f_W);
-  if (a.node >= 0) bs.Q_f.noalias() += a.phi_B.transpose() * (bs.pose.A.transpose() * f_W);
+  core::add_attached_modal_force_tpl<S>(bs.pose.A, a.node >= 0 ? &a.phi_B : nullptr, f_W, bs.Q_f);
 }
 
 template <typename S>
