@@ -25,55 +25,63 @@ struct LoadContext {
   double t_segment = 0.0;
 };
 
-/// Pose of one body at the evaluation, computed once and shared by all elements.
-struct BodyKinematics {
-  const BodyState* state = nullptr;
-  Eigen::Matrix3d R_WB = Eigen::Matrix3d::Identity();  ///< A(θ)
-  Eigen::Vector3d p_BoBr_B = Eigen::Vector3d::Zero();
+/// Pose of one body at the evaluation, computed once and shared by all elements; in scalar type S
+/// (double: core::Model; extended and quad: precision/multibody_model_tpl.hpp).
+template <typename S>
+struct BodyKinematicsTpl {
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Matrix3 = Eigen::Matrix<S, 3, 3>;
+  const BodyStateTpl<S>* state = nullptr;
+  Matrix3 R_WB = Matrix3::Identity();  ///< A(θ)
+  Vector3 p_BoBr_B = Vector3::Zero();
   /// Flexible bodies: invariants about Br and the modal coordinates the loads see (the state's
   /// under the coupled model; zero under LTE, whose loads act on the undeformed body).
-  const flexible::ModalInvariants* invariants = nullptr;
-  const Eigen::VectorXd* q_f = nullptr;
+  const flexible::ModalInvariantsTpl<S>* invariants = nullptr;
+  const Eigen::Matrix<S, Eigen::Dynamic, 1>* q_f = nullptr;
 
   /// Arm from Br to a body point given from the frame origin, world frame.
-  Eigen::Vector3d p_BrP_W(const Eigen::Vector3d& p_BoP_B) const {
-    return R_WB * (p_BoP_B - p_BoBr_B);
-  }
+  Vector3 p_BrP_W(const Vector3& p_BoP_B) const { return R_WB * (p_BoP_B - p_BoBr_B); }
   /// World position of a body point given from the frame origin.
-  Eigen::Vector3d p_WP(const Eigen::Vector3d& p_BoP_B) const {
-    return state->p_WBr + p_BrP_W(p_BoP_B);
-  }
+  Vector3 p_WP(const Vector3& p_BoP_B) const { return state->p_WBr + p_BrP_W(p_BoP_B); }
   /// World velocity of a body point given from the frame origin: v_Br + ω × p_BrP.
-  Eigen::Vector3d v_WP(const Eigen::Vector3d& p_BoP_B) const {
+  Vector3 v_WP(const Vector3& p_BoP_B) const {
     return state->v_WBr + R_WB * state->w_WB_B.cross(p_BoP_B - p_BoBr_B);
   }
 };
 
-/// Resultant of the loads on one body: force (world) and torque about Br (world).
-struct Wrench {
-  Eigen::Vector3d f_W = Eigen::Vector3d::Zero();
-  Eigen::Vector3d tau_Br_W = Eigen::Vector3d::Zero();
+using BodyKinematics = BodyKinematicsTpl<double>;
+
+/// Resultant of the loads on one body: force (world) and torque about Br (world), in scalar type
+/// S.
+template <typename S>
+struct WrenchTpl {
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  Vector3 f_W = Vector3::Zero();
+  Vector3 tau_Br_W = Vector3::Zero();
   /// Generalized modal force Qe_f (n; empty for a rigid body).
-  Eigen::VectorXd Q_f;
+  Eigen::Matrix<S, Eigen::Dynamic, 1> Q_f;
   /// Σ of the magnitudes of the torque contributions about Br that add_force_at summed (N·m):
   /// the scale of the net torque's round-off when contributions cancel (four corner contacts
   /// carrying a block's weight), used by implicit schemes' convergence tests.
-  double torque_magnitude = 0.0;
+  S torque_magnitude = S(0);
 
   void set_zero() {
     f_W.setZero();
     tau_Br_W.setZero();
     Q_f.setZero();
-    torque_magnitude = 0.0;
+    torque_magnitude = S(0);
   }
   /// Adds a force applied at a point whose arm from Br is p_BrP_W.
-  void add_force_at(const Eigen::Vector3d& force_W, const Eigen::Vector3d& p_BrP_W) {
+  void add_force_at(const Vector3& force_W, const Vector3& p_BrP_W) {
+    using std::sqrt;
     f_W += force_W;
-    const Eigen::Vector3d tau = p_BrP_W.cross(force_W);
+    const Vector3 tau = p_BrP_W.cross(force_W);
     tau_Br_W += tau;
-    torque_magnitude += tau.norm();
+    torque_magnitude += sqrt(tau.squaredNorm());
   }
 };
+
+using Wrench = WrenchTpl<double>;
 
 class Body;
 

@@ -11,23 +11,6 @@
 
 namespace flexref::core {
 
-namespace {
-
-/// First generalized-velocity row a body integrates: free 0, pivot 3 (a = 0), prescribed 6.
-Eigen::Index first_unknown_row(const Body& b) {
-  switch (b.motion()) {
-    case MotionKind::kFree:
-      return 0;
-    case MotionKind::kPivot:
-      return 3;
-    case MotionKind::kPrescribed:
-      return 6;
-  }
-  return 0;
-}
-
-}  // namespace
-
 const char* to_string(FlexibleFormulation formulation) {
   return formulation == FlexibleFormulation::kLte ? "lte" : "coupled";
 }
@@ -183,18 +166,15 @@ void Model::flexible_system(int i, const BodyState& s, Workspace& ws) const {
   const auto k = static_cast<std::size_t>(i);
   const Body& b = bodies_[k];
   FlexibleScratch& fs = ws.flexible[k];
-  const Eigen::Matrix3d& R_WB = ws.kinematics[k].R_WB;
-  const Wrench& w = ws.wrenches[k];
-  if (formulation_ == FlexibleFormulation::kLte) {
-    // The inertia terms of the undeformed body (q_f = 0, q̇_f = 0).
-    flexible::set_undeformed_products(fs.terms);
-    flexible::assemble_inertia_terms(b.invariants(), R_WB, fs.zero, s.w_WB_B, fs.zero, fs.terms);
-  } else {
-    flexible::evaluate_inertia_terms(b.invariants(), R_WB, s.q_f, s.w_WB_B, s.qd_f, fs.terms);
-  }
-  flexible_right_hand_side_tpl<double>(w.f_W, w.tau_Br_W, w.Q_f, R_WB, fs.terms.Qv,
-                                       b.modal_stiffness(), b.modal_damping(), s.q_f, s.qd_f,
-                                       fs.rhs);
+  flexible_system_tpl<double>(b.invariants(), formulation_, ws.kinematics[k].R_WB, s, fs.zero,
+                              ws.wrenches[k], b.modal_stiffness(), b.modal_damping(), fs.terms,
+                              fs.rhs);
+}
+
+Eigen::Vector3d Model::prescribed_alpha_WB_B(const Body& b, double t) const {
+  if (!b.is_prescribed()) return Eigen::Vector3d::Zero();
+  const RigidBodyDescription& d = b.description();
+  return prescribed_attitude(d.prescribed, d.initial.theta_WB, t).alpha_WB_B;
 }
 
 void Model::flexible_accelerations(int i, const BodyState& s, Workspace& ws,
@@ -204,18 +184,9 @@ void Model::flexible_accelerations(int i, const BodyState& s, Workspace& ws,
   FlexibleScratch& fs = ws.flexible[k];
   flexible_system(i, s, ws);
   const Eigen::Index n = b.mode_count();
-  const auto known = static_cast<int>(first_unknown_row(b));
-  // Known rows: a = 0 (pivot, prescribed), α̅ of the law (prescribed).
-  fs.x.head<6>().setZero();
-  if (b.is_prescribed()) {
-    const RigidBodyDescription& d = b.description();
-    fs.x.segment<3>(3) = prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
-  }
-  if (formulation_ == FlexibleFormulation::kCoupled) {
-    flexible::solve_coupled(b.modal_mass(), fs.terms, known, fs.rhs, fs.solve, fs.x);
-  } else {
-    flexible::solve_lte(b.modal_mass(), fs.terms, known, fs.rhs, fs.solve, fs.x);
-  }
+  solve_flexible_accelerations_tpl<double>(b.modal_mass(), formulation_, fs.terms, b.motion(),
+                                           prescribed_alpha_WB_B(b, ws.time), fs.rhs, fs.solve,
+                                           fs.x);
   a.a_WBr = fs.x.head<3>();
   a.alpha_WB_B = fs.x.segment<3>(3);
   a.qdd_f = fs.x.tail(n);
@@ -229,21 +200,10 @@ void Model::accelerations_from_wrenches(const State& state, Workspace& ws,
       flexible_accelerations(static_cast<int>(i), state[i], ws, accelerations[i]);
       continue;
     }
-    if (b.is_prescribed()) {
-      const RigidBodyDescription& d = b.description();
-      accelerations[i].a_WBr.setZero();
-      accelerations[i].alpha_WB_B =
-          prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
-      continue;
-    }
-    const BodyState& s = state[i];
-    const Wrench& w = ws.wrenches[i];
     BodyAcceleration& a = accelerations[i];
-    // Newton: m a = f (free bodies, Br = Bcm); a pivot does not translate.
-    a.a_WBr = b.is_free() ? Eigen::Vector3d(w.f_W / b.mass()) : Eigen::Vector3d::Zero();
-    // Euler about Br: I α̅ = Aᵀ τ − ω̄ × I ω̄   (paper eq. 25).
-    a.alpha_WB_B = euler_angular_acceleration_tpl<double>(
-        b.I_Br_B(), b.I_Br_B_inverse(), ws.kinematics[i].R_WB, w.tau_Br_W, s.w_WB_B);
+    rigid_body_accelerations_tpl<double>(b.motion(), b.mass(), b.I_Br_B(), b.I_Br_B_inverse(),
+                                         ws.kinematics[i].R_WB, ws.wrenches[i], state[i].w_WB_B,
+                                         prescribed_alpha_WB_B(b, ws.time), a.a_WBr, a.alpha_WB_B);
   }
 }
 
@@ -311,9 +271,8 @@ void Model::modal_accelerations(int i, const BodyState& s, const Eigen::Vector3d
   flexible_system(i, s, ws);
   const Eigen::Index n = b.mode_count();
   if (b.is_prescribed()) {
-    const RigidBodyDescription& d = b.description();
     fs.x.head<3>().setZero();
-    fs.x.segment<3>(3) = prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
+    fs.x.segment<3>(3) = prescribed_alpha_WB_B(b, ws.time);
   } else {
     fs.x.head<3>() = a_WBr;
     fs.x.segment<3>(3) = alpha_WB_B;

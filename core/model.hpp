@@ -25,21 +25,13 @@
 #include <vector>
 
 #include "core/body.hpp"
+#include "core/flexible_formulation.hpp"
 #include "core/force_element.hpp"
 #include "core/state.hpp"
 #include "flexible/inertia_terms.hpp"
 #include "flexible/mass_matrix_solve.hpp"
 
 namespace flexref::core {
-
-/// Which model a flexible body's equations are (docs/design/model.md); rigid bodies are the same in
-/// both.
-enum class FlexibleFormulation {
-  kCoupled,  ///< the full floating-frame model (the paper's eq. 19–21)
-  kLte,      ///< linear theory of elastodynamics (the paper's §3)
-};
-/// "coupled" / "lte".
-const char* to_string(FlexibleFormulation formulation);
 
 /// Scratch of one flexible body's evaluation (sized once; never reallocated).
 struct FlexibleScratch {
@@ -170,6 +162,8 @@ class Model {
   /// Points ws.kinematics at the state (A(θ), and the q_f the loads see).
   void pose_bodies(const State& state, Workspace& ws) const;
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
+  /// α̅ of a prescribed body's angle law at t (zero for another body).
+  Eigen::Vector3d prescribed_alpha_WB_B(const Body& b, double t) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
 
   std::vector<Body> bodies_;

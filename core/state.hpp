@@ -13,14 +13,21 @@
 
 namespace flexref::core {
 
-struct BodyState {
-  Eigen::Vector3d p_WBr = Eigen::Vector3d::Zero();
-  rotation::EulerParameters theta_WB = rotation::identity_euler_parameters();
-  Eigen::Vector3d v_WBr = Eigen::Vector3d::Zero();
-  Eigen::Vector3d w_WB_B = Eigen::Vector3d::Zero();
-  Eigen::VectorXd q_f;   ///< modal coordinates (n)
-  Eigen::VectorXd qd_f;  ///< their rates (n)
+/// One body's state in scalar type S: core::Model advances it in double, the extended and quad
+/// references (precision/multibody_model_tpl.hpp) evaluate their loads on it in S.
+template <typename S>
+struct BodyStateTpl {
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  Vector3 p_WBr = Vector3::Zero();
+  Eigen::Matrix<S, 4, 1> theta_WB = Eigen::Matrix<S, 4, 1>(S(1), S(0), S(0), S(0));  ///< identity
+  Vector3 v_WBr = Vector3::Zero();
+  Vector3 w_WB_B = Vector3::Zero();
+  Vector q_f;   ///< modal coordinates (n)
+  Vector qd_f;  ///< their rates (n)
 };
+
+using BodyState = BodyStateTpl<double>;
 
 using State = std::vector<BodyState>;
 

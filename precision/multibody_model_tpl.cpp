@@ -272,10 +272,11 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
     BodyScratch& bs = s.bodies[i];
     bs.terms = flexible::make_inertia_terms_tpl<S>(n);
     bs.solve = flexible::make_mass_solve_scratch_tpl<S>(n);
-    bs.q = Vector::Zero(n);
-    bs.qd = Vector::Zero(n);
+    bs.state.q_f = Vector::Zero(n);
+    bs.state.qd_f = Vector::Zero(n);
+    bs.kinematics.p_BoBr_B = bodies_[i].p_BoBr_B;
     bs.zero = Vector::Zero(n);
-    bs.Q_f = Vector::Zero(n);
+    bs.wrench.Q_f = Vector::Zero(n);
     bs.rhs = Vector::Zero(6 + n);
     bs.x = Vector::Zero(6 + n);
   }
@@ -300,12 +301,16 @@ std::vector<S> MultibodyModelTpl<S>::initial_state() const {
 
 template <typename S>
 void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
+  // The loads see the state's q_f under the coupled model, q_f = 0 under LTE (core::Model's
+  // pose_bodies).
+  const bool lte = formulation_ == core::FlexibleFormulation::kLte;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     BodyScratch& bs = scratch_.bodies[i];
-    Pose& p = bs.pose;
+    core::BodyStateTpl<S>& x = bs.state;
+    core::BodyKinematicsTpl<S>& k = bs.kinematics;
     auto o = static_cast<std::size_t>(b.offset);
-    p.alpha_B.setZero();
+    bs.alpha_B.setZero();
     if (b.motion == core::MotionKind::kPrescribed) {
       using std::cos;
       using std::sin;
@@ -313,27 +318,30 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
       const S phi = b.prescribed.law.template angle_in<S>(t);
       Quaternion q_axis;
       q_axis << cos(S(0.5) * phi), sin(S(0.5) * phi) * b.axis_W;
-      p.theta_WB = reference::detail::quaternion_multiply<S>(q_axis, b.theta0);
-      p.A = rotation_of<S>(p.theta_WB);
-      const Vector3 axis_B = p.A.transpose() * b.axis_W;
-      p.w_B = b.prescribed.law.template angular_rate_in<S>(t) * axis_B;
-      p.alpha_B = b.prescribed.law.template angular_acceleration_in<S>(t) * axis_B;
-      p.p_WBr = b.p_WBo0;  // Br = Bo, fixed on the axis
-      p.v_WBr.setZero();
+      x.theta_WB = reference::detail::quaternion_multiply<S>(q_axis, b.theta0);
+      k.R_WB = rotation_of<S>(x.theta_WB);
+      const Vector3 axis_B = k.R_WB.transpose() * b.axis_W;
+      x.w_WB_B = b.prescribed.law.template angular_rate_in<S>(t) * axis_B;
+      bs.alpha_B = b.prescribed.law.template angular_acceleration_in<S>(t) * axis_B;
+      x.p_WBr = b.p_WBo0;  // Br = Bo, fixed on the axis
+      x.v_WBr.setZero();
     } else {
-      p.p_WBr = Vector3(y[o], y[o + 1], y[o + 2]);
-      p.theta_WB = Quaternion(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
-      p.A = rotation_of<S>(p.theta_WB);
-      p.v_WBr = Vector3(y[o + 7], y[o + 8], y[o + 9]);
-      p.w_B = Vector3(y[o + 10], y[o + 11], y[o + 12]);
+      x.p_WBr = Vector3(y[o], y[o + 1], y[o + 2]);
+      x.theta_WB = Quaternion(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
+      k.R_WB = rotation_of<S>(x.theta_WB);
+      x.v_WBr = Vector3(y[o + 7], y[o + 8], y[o + 9]);
+      x.w_WB_B = Vector3(y[o + 10], y[o + 11], y[o + 12]);
       o += 13;
     }
-    p.w_W = p.A * p.w_B;
+    bs.w_W = k.R_WB * x.w_WB_B;
     const auto n = static_cast<std::size_t>(b.n);
-    for (std::size_t k = 0; k < n; ++k) {
-      bs.q(static_cast<Eigen::Index>(k)) = y[o + k];
-      bs.qd(static_cast<Eigen::Index>(k)) = y[o + n + k];
+    for (std::size_t j = 0; j < n; ++j) {
+      x.q_f(static_cast<Eigen::Index>(j)) = y[o + j];
+      x.qd_f(static_cast<Eigen::Index>(j)) = y[o + n + j];
     }
+    k.state = &bs.state;
+    k.invariants = &b.invariants;
+    k.q_f = lte ? &bs.zero : &bs.state.q_f;
   }
 }
 
@@ -342,29 +350,30 @@ typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::offset_W(const Atta
   // A (x_P − p_BoBr + Φ_k q_f): an attachment always sees the state's deformation
   // (core/node_attachment.hpp), under LTE too.
   const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
-  return core::attached_offset_tpl<S>(bs.pose.A, a.p_BrP_B, a.node >= 0 ? &a.phi_B : nullptr, bs.q);
+  return core::attached_offset_tpl<S>(bs.kinematics.R_WB, a.p_BrP_B,
+                                      a.node >= 0 ? &a.phi_B : nullptr, bs.state.q_f);
 }
 
 template <typename S>
 typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::position_W(const Attachment& a) const {
-  return scratch_.bodies[static_cast<std::size_t>(a.body)].pose.p_WBr + offset_W(a);
+  return scratch_.bodies[static_cast<std::size_t>(a.body)].state.p_WBr + offset_W(a);
 }
 
 template <typename S>
 typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::velocity_W(const Attachment& a,
                                                                         const Vector3& p_WP) const {
   const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
-  return core::attached_velocity_tpl<S>(bs.pose.v_WBr, bs.pose.w_W, bs.pose.p_WBr, bs.pose.A,
-                                        a.node >= 0 ? &a.phi_B : nullptr, bs.qd, p_WP);
+  return core::attached_velocity_tpl<S>(bs.state.v_WBr, bs.w_W, bs.state.p_WBr, bs.kinematics.R_WB,
+                                        a.node >= 0 ? &a.phi_B : nullptr, bs.state.qd_f, p_WP);
 }
 
 template <typename S>
 void MultibodyModelTpl<S>::apply(const Attachment& a, const Vector3& f_W,
                                  const Vector3& p_WP) const {
   BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
-  bs.f_W += f_W;
-  bs.tau_W += (p_WP - bs.pose.p_WBr).cross(f_W);
-  core::add_attached_modal_force_tpl<S>(bs.pose.A, a.node >= 0 ? &a.phi_B : nullptr, f_W, bs.Q_f);
+  bs.wrench.add_force_at(f_W, p_WP - bs.state.p_WBr);
+  core::add_attached_modal_force_tpl<S>(bs.kinematics.R_WB, a.node >= 0 ? &a.phi_B : nullptr, f_W,
+                                        bs.wrench.Q_f);
 }
 
 template <typename S>
@@ -453,14 +462,13 @@ contact::bushing::EndMotion<S> MultibodyModelTpl<S>::end_motion(const JointEnd& 
     m.axis_W = end.axis;
     return m;
   }
-  const Body& b = body(end.body);
-  const Pose& p = scratch_.bodies[static_cast<std::size_t>(end.body)].pose;
+  const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(end.body)];
   m.ground = false;
-  m.p_WBr = p.p_WBr;
-  m.p_WP = p.p_WBr + p.A * (end.point - b.p_BoBr_B);
-  m.v_WBr = p.v_WBr;
-  m.w_WB_W = p.w_W;
-  m.axis_W = p.A * end.axis;
+  m.p_WBr = bs.state.p_WBr;
+  m.p_WP = bs.kinematics.p_WP(end.point);
+  m.v_WBr = bs.state.v_WBr;
+  m.w_WB_W = bs.w_W;
+  m.axis_W = bs.kinematics.R_WB * end.axis;
   return m;
 }
 
@@ -479,28 +487,25 @@ void MultibodyModelTpl<S>::switching_functions(S t, const std::vector<S>& y,
 template <typename S>
 void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
   Scratch& s = scratch_;
-  const bool lte = formulation_ == core::FlexibleFormulation::kLte;
   const bool gravity = g_W_(0) != S(0) || g_W_(1) != S(0) || g_W_(2) != S(0);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     BodyScratch& bs = s.bodies[i];
-    bs.f_W.setZero();
-    bs.tau_W.setZero();
-    bs.Q_f.setZero();
+    core::WrenchTpl<S>& w = bs.wrench;
+    w.set_zero();
     if (!gravity) continue;
-    // core/gravity_tpl.hpp, as core::UniformGravity; the loads see the state's q_f under the
-    // coupled model, q_f = 0 under LTE (core::Model).
-    core::add_gravity_loads_tpl<S>(b.invariants, bs.pose.A, lte ? bs.zero : bs.q, g_W_, bs.f_W,
-                                   bs.tau_W, bs.Q_f);
+    // core/gravity_tpl.hpp, as core::UniformGravity, on the q_f the loads see.
+    core::add_gravity_loads_tpl<S>(b.invariants, bs.kinematics.R_WB, *bs.kinematics.q_f, g_W_,
+                                   w.f_W, w.tau_Br_W, w.Q_f);
   }
   s.applied_power = S(0);
   for (const Load& l : loads_) {
     BodyScratch& bs = s.bodies[static_cast<std::size_t>(l.at.body)];
     const S scale = l.profile.value_in(t, t_segment);
     const Vector3 v =
-        l.world_frame ? Vector3(scale * l.value) : Vector3(bs.pose.A * (scale * l.value));
+        l.world_frame ? Vector3(scale * l.value) : Vector3(bs.kinematics.R_WB * (scale * l.value));
     if (l.torque) {
-      bs.tau_W += v;
+      bs.wrench.tau_Br_W += v;
       continue;
     }
     const Vector3 p_WP = position_W(l.at);
@@ -523,13 +528,13 @@ void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
     const Vector3 f = bushing::spherical_force(sep, j.parameters);
     Vector3 tau = Vector3::Zero();
     if (j.revolute) tau = bushing::revolute_torque(a, b, j.parameters);
-    BodyScratch& sa = s.bodies[static_cast<std::size_t>(j.a.body)];
-    sa.f_W += f;
-    sa.tau_W += (sep.p_WM - a.p_WBr).cross(f) + tau;
+    core::WrenchTpl<S>& wa = s.bodies[static_cast<std::size_t>(j.a.body)].wrench;
+    wa.f_W += f;
+    wa.tau_Br_W += (sep.p_WM - a.p_WBr).cross(f) + tau;
     if (j.b.body != contact::kGround) {
-      BodyScratch& sb = s.bodies[static_cast<std::size_t>(j.b.body)];
-      sb.f_W -= f;
-      sb.tau_W -= (sep.p_WM - b.p_WBr).cross(f) + tau;
+      core::WrenchTpl<S>& wb = s.bodies[static_cast<std::size_t>(j.b.body)].wrench;
+      wb.f_W -= f;
+      wb.tau_Br_W -= (sep.p_WM - b.p_WBr).cross(f) + tau;
     }
     if (dissipates_) s.dissipation += bushing::dissipated_power(a, b, j.parameters, j.revolute);
   }
@@ -548,45 +553,27 @@ void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
     if (c.channel >= 0) s.wear_power[static_cast<std::size_t>(c.channel)] += load.wear_power;
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    // Each body's accelerations from its loads (core/body_equations_tpl.hpp, as core::Model):
+    // Newton–Euler for a free or pivot rigid body; the structured solve of M v = Qe + Qv −
+    // [0; 0; K q + D q̇] otherwise, a prescribed rigid body's too (a body without modes whose
+    // rows are all known: its drive torque, output_row, reads the system's rotation rows).
     const Body& b = bodies_[i];
     BodyScratch& bs = s.bodies[i];
-    const Pose& p = bs.pose;
+    const Matrix3& A = bs.kinematics.R_WB;
     if (b.n == 0 && b.motion != core::MotionKind::kPrescribed) {
-      // A rigid body's rows without the inertia terms' generality (docs/design/model.md, paper eqs.
-      // 24–25, about Br): m a = f for a free body (Br = Bcm), a = 0 on a pivot, and Euler's
-      // equations J_Br α̅ = Aᵀ τ_Br − ω̄ × J_Br ω̄ (the pivot's gravity moment is in τ: s_t = m c).
-      bs.x.template segment<3>(3) = core::euler_angular_acceleration_tpl<S>(
-          b.invariants.I0, b.J_Br_inv, p.A, bs.tau_W, p.w_B);
-      if (b.motion == core::MotionKind::kFree) {
-        bs.x.template head<3>() = bs.f_W / b.invariants.mass;
-      } else {
-        bs.x.template head<3>().setZero();
-      }
+      Vector3 a_WBr;
+      Vector3 alpha_WB_B;
+      core::rigid_body_accelerations_tpl<S>(b.motion, b.invariants.mass, b.invariants.I0,
+                                            b.J_Br_inv, A, bs.wrench, bs.state.w_WB_B, bs.alpha_B,
+                                            a_WBr, alpha_WB_B);
+      bs.x.template head<3>() = a_WBr;
+      bs.x.template segment<3>(3) = alpha_WB_B;
       continue;
     }
-    if (lte) {
-      // The inertia terms of the undeformed body (q_f = 0, q̇_f = 0).
-      flexible::set_undeformed_products_tpl<S>(bs.terms);
-      flexible::assemble_inertia_terms_tpl<S>(b.invariants, p.A, bs.zero, p.w_B, bs.zero, bs.terms);
-    } else {
-      flexible::compute_modal_products_tpl<S>(b.invariants, bs.q, bs.qd, bs.terms);
-      flexible::assemble_inertia_terms_tpl<S>(b.invariants, p.A, bs.q, p.w_B, bs.qd, bs.terms);
-    }
-    core::flexible_right_hand_side_tpl<S>(bs.f_W, bs.tau_W, bs.Q_f, p.A, bs.terms.Qv, b.stiffness,
-                                          b.damping, bs.q, bs.qd, bs.rhs);
-    // Known rows: a = 0 (pivot, prescribed), α̅ of the law (prescribed).
-    const int known = b.motion == core::MotionKind::kFree    ? 0
-                      : b.motion == core::MotionKind::kPivot ? 3
-                                                             : 6;
-    bs.x.setZero();
-    bs.x.template segment<3>(3) = p.alpha_B;
-    if (lte) {
-      flexible::factor_lte_tpl<S>(bs.terms, known, bs.solve);
-      flexible::apply_lte_tpl<S>(b.factor, bs.terms, bs.rhs, bs.solve, bs.x);
-    } else {
-      flexible::factor_coupled_tpl<S>(b.factor, bs.terms, known, bs.solve);
-      flexible::apply_coupled_tpl<S>(b.factor, bs.terms, bs.rhs, bs.solve, bs.x);
-    }
+    core::flexible_system_tpl<S>(b.invariants, formulation_, A, bs.state, bs.zero, bs.wrench,
+                                 b.stiffness, b.damping, bs.terms, bs.rhs);
+    core::solve_flexible_accelerations_tpl<S>(b.factor, formulation_, bs.terms, b.motion,
+                                              bs.alpha_B, bs.rhs, bs.solve, bs.x);
   }
 }
 
@@ -607,7 +594,7 @@ void MultibodyModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& d
       // ṗ = v; θ̇ = ½ θ ⊗ (0, ω̄); v̇ = a; ω̄̇ = α̅.
       const S h(0.5);
       const S e0 = y[o + 3], e1 = y[o + 4], e2 = y[o + 5], e3 = y[o + 6];
-      const Vector3& w = bs.pose.w_B;
+      const Vector3& w = bs.state.w_WB_B;
       // A pivot's Br and v_WBr stay (a = 0 is its known row; v starts at 0).
       const bool pivot = b.motion == core::MotionKind::kPivot;
       for (std::size_t k = 0; k < 3; ++k) dydt[o + k] = pivot ? S(0) : y[o + 7 + k];
@@ -626,7 +613,7 @@ void MultibodyModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& d
       dydt[o + k] = y[o + n + k];
       dydt[o + n + k] = bs.x(6 + static_cast<Eigen::Index>(k));
     }
-    if (n > 0) modal_dissipation += bs.qd.dot(b.damping.cwiseProduct(bs.qd));
+    if (n > 0) modal_dissipation += bs.state.qd_f.dot(b.damping.cwiseProduct(bs.state.qd_f));
   }
   if (dissipates_) {
     // Ẇ_d = Σ q̇ᵀ D q̇ + the supports' and bushings' dissipation; Ẇ_a = f·v_P; each wear
@@ -644,24 +631,25 @@ template <typename S>
 S MultibodyModelTpl<S>::energy(S t, const std::vector<S>& y) const {
   Scratch& s = scratch_;
   load_state(t, y);
-  const bool lte = formulation_ == core::FlexibleFormulation::kLte;
   S T(0);
   S V(0);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     BodyScratch& bs = s.bodies[i];
-    const Pose& p = bs.pose;
+    const Matrix3& A = bs.kinematics.R_WB;
+    const Vector& q = bs.state.q_f;
+    const Vector& qd = bs.state.qd_f;
     // T = ½ vᵀ M v, v = (v_WBr, ω̄, q̇_f), M at the state's q_f (core::Model::kinetic_energy,
     // under LTE too): ½ [v_rᵀ M_rr v_r + 2 v_rᵀ M_rf q̇ + q̇ᵀ m_ff q̇].
-    flexible::compute_modal_products_tpl<S>(b.invariants, bs.q, bs.zero, bs.terms);
-    flexible::assemble_inertia_terms_tpl<S>(b.invariants, p.A, bs.q, p.w_B, bs.zero, bs.terms);
+    flexible::compute_modal_products_tpl<S>(b.invariants, q, bs.zero, bs.terms);
+    flexible::assemble_inertia_terms_tpl<S>(b.invariants, A, q, bs.state.w_WB_B, bs.zero, bs.terms);
     Eigen::Matrix<S, 6, 1> v_r;
-    v_r << p.v_WBr, p.w_B;
-    T += S(0.5) * (v_r.dot(bs.terms.M_rr * v_r) + S(2) * v_r.dot(bs.terms.M_rf * bs.qd) +
-                   bs.qd.dot(b.invariants.m_ff * bs.qd));
+    v_r << bs.state.v_WBr, bs.state.w_WB_B;
+    T += S(0.5) * (v_r.dot(bs.terms.M_rr * v_r) + S(2) * v_r.dot(bs.terms.M_rf * qd) +
+                   qd.dot(b.invariants.m_ff * qd));
     // V = −g·(m p_WBr + A s_t) on the loads' q_f (zero under LTE) + ½ q_fᵀ K q_f.
-    V += core::gravity_potential_tpl<S>(b.invariants, p.A, p.p_WBr, lte ? bs.zero : bs.q, g_W_) +
-         S(0.5) * bs.q.dot(b.stiffness.cwiseProduct(bs.q));
+    V += core::gravity_potential_tpl<S>(b.invariants, A, bs.state.p_WBr, *bs.kinematics.q_f, g_W_) +
+         S(0.5) * q.dot(b.stiffness.cwiseProduct(q));
   }
   // The supports' and pairs' V_law(δ) at the deformed points (GapSupport's and
   // ContactElement's potential_energy), the bushings' springs and Σ c_i V_unit(P_i)
@@ -688,19 +676,20 @@ std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     const BodyScratch& bs = s.bodies[i];
-    const Pose& p = bs.pose;
+    const core::BodyStateTpl<S>& p = bs.state;
+    const Matrix3& A = bs.kinematics.R_WB;
     // p_WBo = p_WBr − A p_BoBr; v_WBo = v_WBr − A (ω̄ × p_BoBr).
-    const Vector3 p_WBo = p.p_WBr - p.A * b.p_BoBr_B;
-    const Vector3 v_WBo = p.v_WBr - p.A * p.w_B.cross(b.p_BoBr_B);
-    row.insert(row.end(),
-               {p_WBo(0), p_WBo(1), p_WBo(2), p.theta_WB(0), p.theta_WB(1), p.theta_WB(2),
-                p.theta_WB(3), v_WBo(0), v_WBo(1), v_WBo(2), p.w_B(0), p.w_B(1), p.w_B(2)});
+    const Vector3 p_WBo = p.p_WBr - A * b.p_BoBr_B;
+    const Vector3 v_WBo = p.v_WBr - A * p.w_WB_B.cross(b.p_BoBr_B);
+    row.insert(row.end(), {p_WBo(0), p_WBo(1), p_WBo(2), p.theta_WB(0), p.theta_WB(1),
+                           p.theta_WB(2), p.theta_WB(3), v_WBo(0), v_WBo(1), v_WBo(2), p.w_WB_B(0),
+                           p.w_WB_B(1), p.w_WB_B(2)});
     for (const Attachment& a : b.points) {
       const Vector3 r = position_W(a);
       row.insert(row.end(), {r(0), r(1), r(2)});
     }
-    for (Eigen::Index k = 0; k < b.n; ++k) row.push_back(bs.q(k));
-    for (Eigen::Index k = 0; k < b.n; ++k) row.push_back(bs.qd(k));
+    for (Eigen::Index k = 0; k < b.n; ++k) row.push_back(p.q_f(k));
+    for (Eigen::Index k = 0; k < b.n; ++k) row.push_back(p.qd_f(k));
     if (b.motion == core::MotionKind::kPrescribed) {
       // The drive's torque: the rotation rows of M x − rhs at the solved accelerations, to
       // world, along the axis (core::Model::driving_torque).
@@ -709,7 +698,7 @@ std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
       if (formulation_ == core::FlexibleFormulation::kCoupled && b.n > 0) {
         r.noalias() += bs.terms.M_rf.template middleRows<3>(3) * bs.x.tail(b.n);
       }
-      row.push_back(b.axis_W.dot(p.A * r));
+      row.push_back(b.axis_W.dot(A * r));
     }
   }
   const S e = energy(t, y);

@@ -143,23 +143,17 @@ class MultibodyModelTpl {
     std::vector<S> initial;             ///< its slots of the initial state
     std::vector<Attachment> points;     ///< tracked points
   };
-  /// A body's pose and rates at (t, y).
-  struct Pose {
-    Vector3 p_WBr;
-    Quaternion theta_WB;
-    Matrix3 A;
-    Vector3 v_WBr;
-    Vector3 w_B;
-    Vector3 w_W;
-    Vector3 alpha_B;  ///< the law's α̅ (prescribed only)
-  };
-  /// One body's evaluation.
+  /// One body's evaluation: its state at (t, y), its pose (the kinematics the loads see), the
+  /// loads on it and its solved accelerations x = (a_WBr, α̅, q̈_f).
   struct BodyScratch {
-    Pose pose;
+    core::BodyStateTpl<S> state;
+    core::BodyKinematicsTpl<S> kinematics;
+    Vector3 w_W = Vector3::Zero();      ///< ω = A ω̄
+    Vector3 alpha_B = Vector3::Zero();  ///< the law's α̅ (prescribed only)
+    core::WrenchTpl<S> wrench;
     flexible::InertiaTermsTpl<S> terms;
     flexible::MassSolveScratchTpl<S> solve;
-    Vector q, qd, zero, Q_f, rhs, x;
-    Vector3 f_W, tau_W;  ///< Σ f and Σ (P − p_WBr) × f + torques
+    Vector zero, rhs, x;
   };
   struct Load {
     bool torque = false;
