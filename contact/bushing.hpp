@@ -30,7 +30,9 @@
 ///
 /// On a flexible body the attachment point is a point of the rigid part (hub), as for every
 /// point load given by its position (force_element.hpp).
+#include <span>
 #include <string>
+#include <vector>
 
 #include "core/force_element.hpp"
 
@@ -39,16 +41,19 @@ namespace flexref::contact {
 /// Body index meaning "the ground" (fixed world frame) for the second end of a bushing.
 constexpr int kGround = -1;
 
-/// One end of a bushing.
-struct BushingEnd {
+/// One end of a bushing, in scalar type S.
+template <typename S>
+struct BushingEndTpl {
   int body = kGround;  ///< body index, or kGround (only for the second end)
   /// The attachment point from the body frame origin Bo, body frame (p_BoP_B); for the ground,
   /// the world point p_WQ.
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Matrix<S, 3, 1> point = Eigen::Matrix<S, 3, 1>::Zero();
   /// Revolute only: the hinge axis, body frame (ground: world frame); normalized on
   /// construction.
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  Eigen::Matrix<S, 3, 1> axis = Eigen::Matrix<S, 3, 1>::UnitZ();
 };
+
+using BushingEnd = BushingEndTpl<double>;
 
 /// Stiffness and damping of a bushing (SI units). The defaults are those of docs/joints.md:
 /// joint frequencies of 1000 rad/s for m = 1 kg and I = 1e-2 kg·m², stable explicit steps
@@ -70,20 +75,42 @@ double bushing_frequency(double stiffness, double effective_inertia);
 /// for zero stiffness and damping.
 double bushing_stable_step(double stiffness, double damping, double effective_inertia);
 
+namespace detail {
+
+/// The checks of the bushings' constructors (their \throws), on the ends in double.
+void validate_bushing(const BushingEnd& a, const BushingEnd& b, const BushingParameters& p,
+                      bool revolute);
+/// "body i point (x, y, z) to ground point (...)" / "... to body j point (...)".
+std::string bushing_ends_text(const BushingEnd& a, const BushingEnd& b);
+/// The joint's translational mode, and for a revolute bushing its angular mode, at the bodies'
+/// initial state (append_penalty_modes).
+void append_bushing_modes(std::span<const core::Body> bodies, const BushingEnd& a,
+                          const BushingEnd& b, const BushingParameters& p, bool revolute,
+                          std::vector<core::PenaltyMode>& modes);
+
+}  // namespace detail
+
 /// A point of body A held to a point of body B (or of the ground) by an isotropic
-/// spring–damper.
-class SphericalBushing final : public core::ForceElement {
+/// spring–damper. Generic in the scalar type S (core/force_element.hpp); the definitions are
+/// bushing_impl.hpp's, the equations bushing_tpl.hpp's.
+template <typename S>
+class SphericalBushingTpl final : public core::ForceElementTpl<S> {
  public:
+  using typename core::ForceElementTpl<S>::Context;
+  using typename core::ForceElementTpl<S>::Kinematics;
+
   /// \throws std::invalid_argument when a.body < 0, a.body == b.body, b.body < kGround, a
   /// stiffness or damping is negative or any input is not finite.
-  SphericalBushing(const BushingEnd& a, const BushingEnd& b, const BushingParameters& parameters);
+  SphericalBushingTpl(const BushingEndTpl<S>& a, const BushingEndTpl<S>& b,
+                      const BushingParameters& parameters);
+  /// The same bushing in another scalar type.
+  template <typename U>
+  explicit SphericalBushingTpl(const SphericalBushingTpl<U>& other);
 
-  void add_wrenches(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
-                    std::span<core::Wrench> wrenches) const override;
-  double potential_energy(const core::LoadContext& context,
-                          std::span<const core::BodyKinematics> bodies) const override;
-  double dissipated_power(const core::LoadContext& context,
-                          std::span<const core::BodyKinematics> bodies) const override;
+  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<core::WrenchTpl<S>> wrenches) const override;
+  S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
+  S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
   bool depends_on_velocity() const override { return parameters_.damping > 0.0; }
   int max_body_index() const override;
   std::string describe() const override;
@@ -92,8 +119,8 @@ class SphericalBushing final : public core::ForceElement {
   void append_penalty_modes(std::span<const core::Body> bodies,
                             std::vector<core::PenaltyMode>& modes) const override;
 
-  const BushingEnd& end_a() const { return a_; }
-  const BushingEnd& end_b() const { return b_; }
+  const BushingEndTpl<S>& end_a() const { return a_; }
+  const BushingEndTpl<S>& end_b() const { return b_; }
   double translational_stiffness() const { return parameters_.stiffness; }
   double translational_damping() const { return parameters_.damping; }
   const BushingParameters& parameters() const { return parameters_; }
@@ -101,24 +128,33 @@ class SphericalBushing final : public core::ForceElement {
   double angular_stiffness() const { return 0.0; }
 
  private:
-  BushingEnd a_;
-  BushingEnd b_;
+  template <typename>
+  friend class SphericalBushingTpl;
+
+  BushingEndTpl<S> a_;
+  BushingEndTpl<S> b_;
   BushingParameters parameters_;
 };
 
 /// The spherical bushing plus an angular spring–damper that keeps the hinge axes a_A and a_B
 /// aligned; rotation about the hinge is free.
-class RevoluteBushing final : public core::ForceElement {
+template <typename S>
+class RevoluteBushingTpl final : public core::ForceElementTpl<S> {
  public:
-  /// \throws std::invalid_argument as SphericalBushing, and for a zero axis.
-  RevoluteBushing(const BushingEnd& a, const BushingEnd& b, const BushingParameters& parameters);
+  using typename core::ForceElementTpl<S>::Context;
+  using typename core::ForceElementTpl<S>::Kinematics;
 
-  void add_wrenches(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
-                    std::span<core::Wrench> wrenches) const override;
-  double potential_energy(const core::LoadContext& context,
-                          std::span<const core::BodyKinematics> bodies) const override;
-  double dissipated_power(const core::LoadContext& context,
-                          std::span<const core::BodyKinematics> bodies) const override;
+  /// \throws std::invalid_argument as SphericalBushing, and for a zero axis.
+  RevoluteBushingTpl(const BushingEndTpl<S>& a, const BushingEndTpl<S>& b,
+                     const BushingParameters& parameters);
+  /// The same bushing in another scalar type (its axes unit vectors of S).
+  template <typename U>
+  explicit RevoluteBushingTpl(const RevoluteBushingTpl<U>& other);
+
+  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<core::WrenchTpl<S>> wrenches) const override;
+  S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
+  S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
   bool depends_on_velocity() const override {
     return parameters_.damping > 0.0 || parameters_.angular_damping > 0.0;
   }
@@ -129,8 +165,8 @@ class RevoluteBushing final : public core::ForceElement {
   void append_penalty_modes(std::span<const core::Body> bodies,
                             std::vector<core::PenaltyMode>& modes) const override;
 
-  const BushingEnd& end_a() const { return a_; }
-  const BushingEnd& end_b() const { return b_; }
+  const BushingEndTpl<S>& end_a() const { return a_; }
+  const BushingEndTpl<S>& end_b() const { return b_; }
   double translational_stiffness() const { return parameters_.stiffness; }
   double translational_damping() const { return parameters_.damping; }
   double angular_stiffness() const { return parameters_.angular_stiffness; }
@@ -138,9 +174,17 @@ class RevoluteBushing final : public core::ForceElement {
   const BushingParameters& parameters() const { return parameters_; }
 
  private:
-  BushingEnd a_;
-  BushingEnd b_;
+  template <typename>
+  friend class RevoluteBushingTpl;
+
+  BushingEndTpl<S> a_;
+  BushingEndTpl<S> b_;
   BushingParameters parameters_;
 };
+
+using SphericalBushing = SphericalBushingTpl<double>;
+using RevoluteBushing = RevoluteBushingTpl<double>;
+extern template class SphericalBushingTpl<double>;
+extern template class RevoluteBushingTpl<double>;
 
 }  // namespace flexref::contact

@@ -1,7 +1,11 @@
 #pragma once
 /// \file applied_load.hpp
 /// Prescribed loads: a force at a body point or a pure torque, given in the world or the
-/// body frame, scaled by a time profile. Non-conservative: no potential energy.
+/// body frame, scaled by a time profile. Non-conservative: no potential energy. Generic in the
+/// scalar type S (core/force_element.hpp); the definitions are applied_load_impl.hpp's.
+#include <string>
+#include <vector>
+
 #include "core/force_element.hpp"
 #include "core/node_attachment.hpp"
 #include "core/time_profile.hpp"
@@ -13,48 +17,76 @@ enum class LoadFrame { kWorld, kBody };
 /// f(t) = profile(t) · value, applied at the body point p_BoP_B — at a node of a flexible body
 /// when `node` deforms (core/node_attachment.hpp: the deformed point, Φ_kᵀ Aᵀ f in the modal
 /// rows). A harmonic force's work is tracked (applied_work, docs/output.md).
-class AppliedForce final : public ForceElement {
+template <typename S>
+class AppliedForceTpl final : public ForceElementTpl<S> {
  public:
-  AppliedForce(int body, const Eigen::Vector3d& value, LoadFrame frame,
-               const Eigen::Vector3d& p_BoP_B, TimeProfile profile, NodeAttachment node = {});
-  void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
-                    std::span<Wrench> wrenches) const override;
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using typename ForceElementTpl<S>::Context;
+  using typename ForceElementTpl<S>::Kinematics;
+
+  AppliedForceTpl(int body, const Vector3& value, LoadFrame frame, const Vector3& p_BoP_B,
+                  TimeProfile profile, NodeAttachmentTpl<S> node = {});
+  /// The same load in another scalar type.
+  template <typename U>
+  explicit AppliedForceTpl(const AppliedForceTpl<U>& other);
+
+  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<WrenchTpl<S>> wrenches) const override;
   bool tracks_applied_work() const override {
     return profile_.shape() == TimeProfile::Shape::kHarmonic;
   }
   /// f · v_P, v_P the velocity of the (deformed) point.
-  double applied_power(const LoadContext& context,
-                       std::span<const BodyKinematics> bodies) const override;
+  S applied_power(const Context& context, std::span<const Kinematics> bodies) const override;
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
   int max_body_index() const override { return body_; }
 
  private:
-  int body_;
-  Eigen::Vector3d value_;
-  LoadFrame frame_;
-  Eigen::Vector3d p_BoP_B_;
-  TimeProfile profile_;
-  NodeAttachment node_;
+  template <typename>
+  friend class AppliedForceTpl;
 
-  Eigen::Vector3d force_W(const LoadContext& context, const BodyKinematics& body) const;
+  int body_;
+  Vector3 value_;
+  LoadFrame frame_;
+  Vector3 p_BoP_B_;
+  TimeProfile profile_;
+  NodeAttachmentTpl<S> node_;
+
+  Vector3 force_W(const Context& context, const Kinematics& body) const;
 };
 
 /// Γ(t) = profile(t) · value, a pure torque (couple).
-class AppliedTorque final : public ForceElement {
+template <typename S>
+class AppliedTorqueTpl final : public ForceElementTpl<S> {
  public:
-  AppliedTorque(int body, const Eigen::Vector3d& value, LoadFrame frame, TimeProfile profile);
-  void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
-                    std::span<Wrench> wrenches) const override;
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using typename ForceElementTpl<S>::Context;
+  using typename ForceElementTpl<S>::Kinematics;
+
+  AppliedTorqueTpl(int body, const Vector3& value, LoadFrame frame, TimeProfile profile);
+  /// The same load in another scalar type.
+  template <typename U>
+  explicit AppliedTorqueTpl(const AppliedTorqueTpl<U>& other);
+
+  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<WrenchTpl<S>> wrenches) const override;
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
   int max_body_index() const override { return body_; }
 
  private:
+  template <typename>
+  friend class AppliedTorqueTpl;
+
   int body_;
-  Eigen::Vector3d value_;
+  Vector3 value_;
   LoadFrame frame_;
   TimeProfile profile_;
 };
+
+using AppliedForce = AppliedForceTpl<double>;
+using AppliedTorque = AppliedTorqueTpl<double>;
+extern template class AppliedForceTpl<double>;
+extern template class AppliedTorqueTpl<double>;
 
 }  // namespace flexref::core

@@ -18,12 +18,16 @@
 
 namespace flexref::core {
 
-/// When loads are evaluated: t, and a time strictly inside the current step or solver
-/// interval that selects the active branch of piecewise time laws (see time_profile.hpp).
-struct LoadContext {
-  double t = 0.0;
+/// When loads are evaluated: t (in the model's scalar type S), and a time strictly inside the
+/// current step or solver interval that selects the active branch of piecewise time laws (see
+/// time_profile.hpp).
+template <typename S>
+struct LoadContextTpl {
+  S t = S(0);
   double t_segment = 0.0;
 };
+
+using LoadContext = LoadContextTpl<double>;
 
 /// Pose of one body at the evaluation, computed once and shared by all elements; in scalar type S
 /// (double: core::Model; extended and quad: precision/multibody_model_tpl.hpp).
@@ -88,11 +92,14 @@ class Body;
 /// What a wear model consumes from one contact at a state (docs/output.md, "Wear outputs"):
 /// the normal force, the slip speed |v_t| of the contact point and the friction power
 /// |F_t·v_t| whose time integral is Archard's wear work.
-struct WearSample {
-  double normal_force = 0.0;  ///< N, ≥ 0 (summed over a contact's pairs)
-  double slip_speed = 0.0;    ///< m/s (of the pair carrying the largest normal force)
-  double wear_power = 0.0;    ///< |F_t·v_t|, W (summed over the pairs)
+template <typename S>
+struct WearSampleTpl {
+  S normal_force = S(0);  ///< N, ≥ 0 (summed over a contact's pairs)
+  S slip_speed = S(0);    ///< m/s (of the pair carrying the largest normal force)
+  S wear_power = S(0);    ///< |F_t·v_t|, W (summed over the pairs)
 };
+
+using WearSample = WearSampleTpl<double>;
 
 /// The stiffest mode of a penalty element (a contact's normal law, a joint's spring), as an
 /// explicit central-difference scheme sees it: ω = √(k/m_eff) and the largest stable step it
@@ -107,36 +114,41 @@ struct PenaltyMode {
   double step_limit = 0.0;  ///< s
 };
 
-class ForceElement {
+/// The interface of a force element in scalar type S (Drake's ForceElement<T>): core::Model
+/// evaluates ForceElement = ForceElementTpl<double>; the extended and quad references evaluate
+/// the same elements converted to long double and float128 (precision/element_conversion.hpp).
+/// Every element's equations are written once, as a class template.
+template <typename S>
+class ForceElementTpl {
  public:
-  virtual ~ForceElement() = default;
+  using Context = LoadContextTpl<S>;
+  using Kinematics = BodyKinematicsTpl<S>;
+
+  virtual ~ForceElementTpl() = default;
 
   /// Adds this element's loads to the bodies' wrenches. Must not allocate.
-  virtual void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
-                            std::span<Wrench> wrenches) const = 0;
+  virtual void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                            std::span<WrenchTpl<S>> wrenches) const = 0;
   /// Potential energy of conservative elements (zero for applied loads).
-  virtual double potential_energy(const LoadContext& context,
-                                  std::span<const BodyKinematics> bodies) const {
+  virtual S potential_energy(const Context& context, std::span<const Kinematics> bodies) const {
     (void)context;
     (void)bodies;
-    return 0.0;
+    return S(0);
   }
   /// Power the element dissipates, W (≥ 0: dampers, friction). Its time integral W_d is the
   /// dissipated work of the energy balance E(t) − E(0) + W_d(t) = work of applied loads.
-  virtual double dissipated_power(const LoadContext& context,
-                                  std::span<const BodyKinematics> bodies) const {
+  virtual S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const {
     (void)context;
     (void)bodies;
-    return 0.0;
+    return S(0);
   }
   /// Number of switching functions: signed gaps of contacts whose zeros (onset, release) the
   /// references locate with root finding and restart at, so that no step straddles an impact.
   virtual int switching_function_count() const { return 0; }
   /// Writes the switching_function_count() values g_k at this configuration (a gap: positive
   /// when separated, negative when penetrating, m).
-  virtual void switching_functions(const LoadContext& context,
-                                   std::span<const BodyKinematics> bodies,
-                                   std::span<double> g) const {
+  virtual void switching_functions(const Context& context, std::span<const Kinematics> bodies,
+                                   std::span<S> g) const {
     (void)context;
     (void)bodies;
     (void)g;
@@ -148,8 +160,8 @@ class ForceElement {
   /// C.impacts).
   virtual std::string wear_channel_name() const { return {}; }
   /// The channel's sample at this configuration (wear_channel_count() entries).
-  virtual void wear_samples(const LoadContext& context, std::span<const BodyKinematics> bodies,
-                            std::span<WearSample> samples) const {
+  virtual void wear_samples(const Context& context, std::span<const Kinematics> bodies,
+                            std::span<WearSampleTpl<S>> samples) const {
     (void)context;
     (void)bodies;
     (void)samples;
@@ -158,11 +170,10 @@ class ForceElement {
   /// doing work, such as a harmonic force.
   virtual bool tracks_applied_work() const { return false; }
   /// Power the element's loads put into the bodies, W (tracked elements only).
-  virtual double applied_power(const LoadContext& context,
-                               std::span<const BodyKinematics> bodies) const {
+  virtual S applied_power(const Context& context, std::span<const Kinematics> bodies) const {
     (void)context;
     (void)bodies;
-    return 0.0;
+    return S(0);
   }
   /// Known times where the element's loads jump (both sides must be integrated separately).
   virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
@@ -181,5 +192,7 @@ class ForceElement {
     (void)modes;
   }
 };
+
+using ForceElement = ForceElementTpl<double>;
 
 }  // namespace flexref::core

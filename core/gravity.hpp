@@ -1,33 +1,50 @@
 #pragma once
 /// \file gravity.hpp
 /// Uniform gravity g_W on every body: f = m g at the centre of mass (docs/design/model.md:
-/// Qe_R += m g, Qe_θ += s̃ Aᵀ g), potential V = −Σ m g·p_WBcm.
+/// Qe_R += m g, Qe_θ += s̃ Aᵀ g), potential V = −Σ m g·p_WBcm; on a flexible body the loads of
+/// core/gravity_tpl.hpp on its invariants. Generic in the scalar type S (core/force_element.hpp);
+/// the definitions are gravity_impl.hpp's.
+#include <string>
 #include <vector>
 
 #include "core/force_element.hpp"
 
 namespace flexref::core {
 
-class UniformGravity final : public ForceElement {
+template <typename S>
+class UniformGravityTpl final : public ForceElementTpl<S> {
  public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using typename ForceElementTpl<S>::Context;
+  using typename ForceElementTpl<S>::Kinematics;
+
   struct BodyMass {
     int body = 0;
-    double mass = 0.0;
-    Eigen::Vector3d p_BoBcm_B = Eigen::Vector3d::Zero();
+    S mass = S(0);
+    Vector3 p_BoBcm_B = Vector3::Zero();
   };
 
-  UniformGravity(const Eigen::Vector3d& g_W, std::vector<BodyMass> bodies);
-  void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
-                    std::span<Wrench> wrenches) const override;
-  double potential_energy(const LoadContext& context,
-                          std::span<const BodyKinematics> bodies) const override;
+  UniformGravityTpl(const Vector3& g_W, std::vector<BodyMass> bodies);
+  /// The same field in another scalar type.
+  template <typename U>
+  explicit UniformGravityTpl(const UniformGravityTpl<U>& other);
+
+  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<WrenchTpl<S>> wrenches) const override;
+  S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
   std::string describe() const override;
   int max_body_index() const override;
-  const Eigen::Vector3d& g_W() const { return g_W_; }
+  const Vector3& g_W() const { return g_W_; }
 
  private:
-  Eigen::Vector3d g_W_;
+  template <typename>
+  friend class UniformGravityTpl;
+
+  Vector3 g_W_;
   std::vector<BodyMass> bodies_;
 };
+
+using UniformGravity = UniformGravityTpl<double>;
+extern template class UniformGravityTpl<double>;
 
 }  // namespace flexref::core

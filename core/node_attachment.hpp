@@ -8,14 +8,19 @@
 /// δr_P = δp_WBr + δπ × (P − p_WBr) + A Φ_k δq_f:
 ///   Qe_R += f,   Qe_θ: τ_Br += (P − p_WBr) × f   (the deformed arm),   Qe_f += Φ_kᵀ Aᵀ f.
 /// A point of the rigid part (hub, node = −1) has Φ = 0 and only the first two. The formulas
-/// are core/attachment_tpl.hpp's, which the extended and quad model calls too.
+/// are core/attachment_tpl.hpp's; everything here is generic in the scalar type S, as the
+/// force elements that use it (core/force_element.hpp).
 ///
 /// *Decision* (docs/decisions.md): an attachment always sees the state's deformation, under the
 /// LTE model too, where the other loads act on the undeformed body. A contact at a node exists
 /// only through the deformation (a tube in a support whose frame does not move), so it must see
 /// x_k + Φ_k q_f; the rigid rows then take the deformed arm, which is what the coupled model does.
 #include <Eigen/Core>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
 
+#include "core/attachment_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/state.hpp"
 #include "flexible/modal_data.hpp"
@@ -24,30 +29,75 @@ namespace flexref::core {
 
 /// Where a body point deforms: the node index and its mode-shape rows Φ_k (3×n, body frame),
 /// or node = −1 and no rows for a point of the rigid part.
-struct NodeAttachment {
+template <typename S>
+struct NodeAttachmentTpl {
   int node = -1;
-  Eigen::Matrix3Xd phi_B;  ///< Φ_k (3×n); empty for a hub point
+  AttachmentShape<S> phi_B;  ///< Φ_k (3×n); empty for a hub point
+
+  NodeAttachmentTpl() = default;
+  /// The same attachment in another scalar type (Φ_k's entries are exact in a wider type).
+  template <typename U>
+  explicit NodeAttachmentTpl(const NodeAttachmentTpl<U>& other)
+      : node(other.node), phi_B(other.phi_B.template cast<S>()) {}
 
   /// Node k of the modal data (copies Φ_k). Throws std::invalid_argument for a bad index.
-  static NodeAttachment of_node(const flexible::ModalData& modal, int node);
+  static NodeAttachmentTpl of_node(const flexible::ModalData& modal, int node) {
+    if (node < 0 || node >= modal.node_count()) {
+      throw std::invalid_argument("node index " + std::to_string(node) + " outside 0.." +
+                                  std::to_string(modal.node_count() - 1));
+    }
+    NodeAttachmentTpl a;
+    a.node = node;
+    a.phi_B = modal.mode_rows(node).template cast<S>();
+    return a;
+  }
   bool deforms() const { return node >= 0; }
-  /// Φ_k q_f (body frame, m); zero for a hub point. Throws when the sizes differ.
-  Eigen::Vector3d displacement_B(const BodyState& state) const;
-  /// Φ_k q̇_f (body frame, m/s).
-  Eigen::Vector3d displacement_rate_B(const BodyState& state) const;
+  /// Φ_k of a deforming attachment (its size checked against q_f, n), nullptr for a hub point.
+  /// Throws std::invalid_argument when the sizes differ.
+  const AttachmentShape<S>* shape_for(Eigen::Index mode_count) const {
+    if (!deforms()) return nullptr;
+    if (phi_B.cols() != mode_count) {
+      throw std::invalid_argument("node attachment has " + std::to_string(phi_B.cols()) +
+                                  " modes, the body " + std::to_string(mode_count));
+    }
+    return &phi_B;
+  }
 };
+
+using NodeAttachment = NodeAttachmentTpl<double>;
 
 /// World position of the attached point given by its undeformed position from the frame
 /// origin: p_WBr + A (x_P − p_BoBr + Φ_k q_f).
-Eigen::Vector3d attached_position_W(const BodyKinematics& body, const Eigen::Vector3d& p_BoP_B,
-                                    const NodeAttachment& attachment);
+template <typename S>
+Eigen::Matrix<S, 3, 1> attached_position_W(
+    const BodyKinematicsTpl<S>& body, const std::type_identity_t<Eigen::Matrix<S, 3, 1>>& p_BoP_B,
+    const NodeAttachmentTpl<S>& attachment) {
+  const BodyStateTpl<S>& s = *body.state;
+  return s.p_WBr + attached_offset_tpl<S>(body.R_WB, p_BoP_B - body.p_BoBr_B,
+                                          attachment.shape_for(s.q_f.size()), s.q_f);
+}
+
 /// Velocity of the material point at the world point P that moves with the attachment (P on a
 /// sphere around the node, or the node itself): v_WBr + ω × (P − p_WBr) + A Φ_k q̇_f.
-Eigen::Vector3d attached_velocity_W(const BodyKinematics& body, const Eigen::Vector3d& p_WP,
-                                    const NodeAttachment& attachment);
+template <typename S>
+Eigen::Matrix<S, 3, 1> attached_velocity_W(const BodyKinematicsTpl<S>& body,
+                                           const std::type_identity_t<Eigen::Matrix<S, 3, 1>>& p_WP,
+                                           const NodeAttachmentTpl<S>& attachment) {
+  const BodyStateTpl<S>& s = *body.state;
+  return attached_velocity_tpl<S>(s.v_WBr, body.R_WB * s.w_WB_B, s.p_WBr, body.R_WB,
+                                  attachment.shape_for(s.q_f.size()), s.qd_f, p_WP);
+}
+
 /// Adds the force f_W applied at the world point P of the attachment to the body's wrench:
 /// f, (P − p_WBr) × f and Φ_kᵀ Aᵀ f (see above). Allocates nothing.
-void add_attached_force(const BodyKinematics& body, const NodeAttachment& attachment,
-                        const Eigen::Vector3d& f_W, const Eigen::Vector3d& p_WP, Wrench& wrench);
+template <typename S>
+void add_attached_force(const BodyKinematicsTpl<S>& body, const NodeAttachmentTpl<S>& attachment,
+                        const std::type_identity_t<Eigen::Matrix<S, 3, 1>>& f_W,
+                        const std::type_identity_t<Eigen::Matrix<S, 3, 1>>& p_WP,
+                        WrenchTpl<S>& wrench) {
+  wrench.add_force_at(f_W, p_WP - body.state->p_WBr);
+  add_attached_modal_force_tpl<S>(body.R_WB, attachment.deforms() ? &attachment.phi_B : nullptr,
+                                  f_W, wrench.Q_f);
+}
 
 }  // namespace flexref::core

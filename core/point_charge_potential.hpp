@@ -4,54 +4,59 @@
 /// a fixed point M and repelled by the wall z = 0 (docs/design/scenes.md, `coulomb_wall`):
 ///   V = Σ_i c_i ( −α/|r_i − M| + β/z_i ),
 ///   f_i = −∇V = −c_i α (r_i − M)/|r_i − M|³ + c_i β/z_i² e_z.
-/// Conservative: the energy output includes V.
-#include <cmath>
+/// Conservative: the energy output includes V. Generic in the scalar type S
+/// (core/force_element.hpp); the definitions are point_charge_potential_impl.hpp's.
+#include <string>
 #include <vector>
 
 #include "core/force_element.hpp"
 
 namespace flexref::core {
 
-class PointChargePotential final : public ForceElement {
+template <typename S>
+class PointChargePotentialTpl final : public ForceElementTpl<S> {
  public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using typename ForceElementTpl<S>::Context;
+  using typename ForceElementTpl<S>::Kinematics;
+
   struct Charge {
     int body = 0;
-    Eigen::Vector3d p_BoP_B = Eigen::Vector3d::Zero();
-    double weight = 1.0;  ///< c_i
+    Vector3 p_BoP_B = Vector3::Zero();
+    S weight = S(1);  ///< c_i
   };
 
-  PointChargePotential(double alpha, double beta, const Eigen::Vector3d& p_WM,
-                       std::vector<Charge> charges);
-  void add_wrenches(const LoadContext& context, std::span<const BodyKinematics> bodies,
-                    std::span<Wrench> wrenches) const override;
-  double potential_energy(const LoadContext& context,
-                          std::span<const BodyKinematics> bodies) const override;
+  PointChargePotentialTpl(S alpha, S beta, const Vector3& p_WM, std::vector<Charge> charges);
+  /// The same potential in another scalar type.
+  template <typename U>
+  explicit PointChargePotentialTpl(const PointChargePotentialTpl<U>& other);
+
+  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<WrenchTpl<S>> wrenches) const override;
+  S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
   std::string describe() const override;
   int max_body_index() const override;
 
   /// Force on a unit-weight charge at r (world); exposed for derivative tests.
-  Eigen::Vector3d unit_force_W(const Eigen::Vector3d& p_WP) const;
+  Vector3 unit_force_W(const Vector3& p_WP) const;
   /// Potential of a unit-weight charge at r.
-  double unit_potential(const Eigen::Vector3d& p_WP) const;
-  /// Both in any precision S, written once: the members above call it with double, the
-  /// extended/quad references (precision/) with long double and float128.
-  template <typename S>
-  void unit_field(const S (&p_WP)[3], S (&f_W)[3], S& potential) const {
-    using std::sqrt;
-    const S d[3] = {p_WP[0] - p_WM_.x(), p_WP[1] - p_WM_.y(), p_WP[2] - p_WM_.z()};
-    const S r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    const S z = p_WP[2];
-    for (int i = 0; i < 3; ++i) f_W[i] = -alpha_ * d[i] / (r * r * r);
-    f_W[2] += beta_ / (z * z);
-    potential = -alpha_ / r + beta_ / z;
-  }
+  S unit_potential(const Vector3& p_WP) const;
   const std::vector<Charge>& charges() const { return charges_; }
 
  private:
-  double alpha_;
-  double beta_;
-  Eigen::Vector3d p_WM_;
+  template <typename>
+  friend class PointChargePotentialTpl;
+
+  S alpha_;
+  S beta_;
+  Vector3 p_WM_;
   std::vector<Charge> charges_;
+
+  /// The unit charge's force and potential at r, both from one evaluation.
+  void unit_field(const Vector3& p_WP, Vector3& f_W, S& potential) const;
 };
+
+using PointChargePotential = PointChargePotentialTpl<double>;
+extern template class PointChargePotentialTpl<double>;
 
 }  // namespace flexref::core

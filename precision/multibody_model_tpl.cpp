@@ -7,17 +7,14 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "contact/bushing_tpl.hpp"
 #include "contact/contact.hpp"
 #include "contact/contact_point_tpl.hpp"
 #include "contact/gap_support.hpp"
 #include "contact/penalty_load_tpl.hpp"
-#include "core/applied_load.hpp"
 #include "core/attachment_tpl.hpp"
 #include "core/body_equations_tpl.hpp"
-#include "core/gravity.hpp"
-#include "core/gravity_tpl.hpp"
 #include "core/unit_vector_tpl.hpp"
+#include "precision/element_conversion.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
@@ -42,7 +39,7 @@ Eigen::Matrix<S, 3, 3> rotation_of(const Eigen::Matrix<S, 4, 1>& q) {
 template <typename S>
 MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
                                         core::FlexibleFormulation formulation)
-    : formulation_(formulation), g_W_(spec.g_W.cast<S>()) {
+    : formulation_(formulation) {
   // The double model of the same spec: its outputs (columns, integrals), its discontinuities,
   // and its force elements as it builds them (the laws' parameters, the Hunt–Crossley α from
   // the restitution, the pairs' and supports' points and node rows), in its element order,
@@ -166,21 +163,6 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
       bodies_[i].points.push_back(attachment(static_cast<int>(i), p.p_BoP_B, p.node));
     }
   }
-  for (const scene::LoadSpec& l : spec.loads) {
-    Load load;
-    load.torque = l.torque;
-    load.value = l.value.cast<S>();
-    load.world_frame = l.frame == core::LoadFrame::kWorld;
-    // The point as the spec gives it (the scene reader puts a node's load at the node), moved
-    // by Φ_k q_f when it is attached to node k (core::AppliedForce).
-    load.at = attachment(l.body, l.p_BoP_B, l.node);
-    load.profile = l.profile;
-    // W_a, once a harmonic force makes the model track it, is the work of every applied force
-    // (core::Model::integral_rates sums AppliedForce::applied_power over all of them).
-    load.tracks_work = !l.torque;
-    loads_.push_back(load);
-  }
-
   columns_ = studies::trajectory_columns(built);
   dissipates_ = built.dissipates();
   applied_work_ = dissipates_ && built.tracks_applied_work();
@@ -204,11 +186,10 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
         std::find(wear_channels_.begin(), wear_channels_.end(), element.wear_channel_name()) -
         wear_channels_.begin());
   };
-  const auto end_in_s = [](const contact::BushingEnd& end) {
-    return JointEnd{end.body, end.point.cast<S>(), core::unit_vector_in<S>(end.axis)};
-  };
   for (const auto& element : built.elements()) {
-    if (const auto* g = dynamic_cast<const contact::GapSupport*>(element.get())) {
+    if (std::unique_ptr<const core::ForceElementTpl<S>> converted = element_in<S>(*element)) {
+      elements_.push_back(std::move(converted));
+    } else if (const auto* g = dynamic_cast<const contact::GapSupport*>(element.get())) {
       Support c;
       c.kind = Support::Kind::kGap;
       c.at = attachment(g->body(), g->p_BoN_B(), g->node().deforms() ? g->node().node : -1);
@@ -238,35 +219,18 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
         c.channel = channel_of(*e);
         supports_.push_back(c);
       }
-    } else if (const auto* j = dynamic_cast<const contact::SphericalBushing*>(element.get())) {
-      joints_.push_back({false, end_in_s(j->end_a()), end_in_s(j->end_b()), j->parameters()});
-    } else if (const auto* r = dynamic_cast<const contact::RevoluteBushing*>(element.get())) {
-      joints_.push_back({true, end_in_s(r->end_a()), end_in_s(r->end_b()), r->parameters()});
-    } else if (dynamic_cast<const core::UniformGravity*>(element.get()) == nullptr &&
-               dynamic_cast<const core::AppliedForce*>(element.get()) == nullptr &&
-               dynamic_cast<const core::AppliedTorque*>(element.get()) == nullptr &&
-               dynamic_cast<const core::PointChargePotential*>(element.get()) == nullptr) {
-      // Gravity, the applied loads and the potentials are read from the spec above; an element
-      // of another kind would be left out of this model silently.
+    } else {
+      // An element of another kind would be left out of this model silently.
       throw std::invalid_argument(spec.name +
                                   ": a force element the extended/quad model does not know; use "
                                   "--precision double");
     }
   }
-  // The potentials' charges sit at hub points (scene/load_reader.cpp): the frame's, never a
-  // node's.
-  for (const scene::PotentialSpec& spec_potential : spec.potentials) {
-    Potential potential{core::PointChargePotential(spec_potential.alpha, spec_potential.beta,
-                                                   spec_potential.p_WM, spec_potential.charges),
-                        {}};
-    for (const core::PointChargePotential::Charge& charge : spec_potential.charges) {
-      potential.at.push_back(attachment(charge.body, charge.p_BoP_B, -1));
-    }
-    potentials_.push_back(std::move(potential));
-  }
 
   Scratch& s = scratch_;
   s.bodies.resize(bodies_.size());
+  s.kinematics.resize(bodies_.size());
+  s.wrenches.resize(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const int n = bodies_[i].n;
     BodyScratch& bs = s.bodies[i];
@@ -274,11 +238,11 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
     bs.solve = flexible::make_mass_solve_scratch_tpl<S>(n);
     bs.state.q_f = Vector::Zero(n);
     bs.state.qd_f = Vector::Zero(n);
-    bs.kinematics.p_BoBr_B = bodies_[i].p_BoBr_B;
     bs.zero = Vector::Zero(n);
-    bs.wrench.Q_f = Vector::Zero(n);
     bs.rhs = Vector::Zero(6 + n);
     bs.x = Vector::Zero(6 + n);
+    s.kinematics[i].p_BoBr_B = bodies_[i].p_BoBr_B;
+    s.wrenches[i].Q_f = Vector::Zero(n);
   }
   s.wear_power.assign(wear_channels_.size(), S(0));
   s.switching.assign(2 * supports_.size(), S(0));
@@ -308,7 +272,7 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
     const Body& b = bodies_[i];
     BodyScratch& bs = scratch_.bodies[i];
     core::BodyStateTpl<S>& x = bs.state;
-    core::BodyKinematicsTpl<S>& k = bs.kinematics;
+    core::BodyKinematicsTpl<S>& k = scratch_.kinematics[i];
     auto o = static_cast<std::size_t>(b.offset);
     bs.alpha_B.setZero();
     if (b.motion == core::MotionKind::kPrescribed) {
@@ -339,8 +303,10 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
       x.q_f(static_cast<Eigen::Index>(j)) = y[o + j];
       x.qd_f(static_cast<Eigen::Index>(j)) = y[o + n + j];
     }
+    // A rigid body's loads are Newton–Euler's (its elements apply m g at the centre of mass): no
+    // invariants, as core::Model's.
     k.state = &bs.state;
-    k.invariants = &b.invariants;
+    k.invariants = b.n > 0 ? &b.invariants : nullptr;
     k.q_f = lte ? &bs.zero : &bs.state.q_f;
   }
 }
@@ -349,9 +315,10 @@ template <typename S>
 typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::offset_W(const Attachment& a) const {
   // A (x_P − p_BoBr + Φ_k q_f): an attachment always sees the state's deformation
   // (core/node_attachment.hpp), under LTE too.
-  const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
-  return core::attached_offset_tpl<S>(bs.kinematics.R_WB, a.p_BrP_B,
-                                      a.node >= 0 ? &a.phi_B : nullptr, bs.state.q_f);
+  const auto i = static_cast<std::size_t>(a.body);
+  return core::attached_offset_tpl<S>(scratch_.kinematics[i].R_WB, a.p_BrP_B,
+                                      a.node >= 0 ? &a.phi_B : nullptr,
+                                      scratch_.bodies[i].state.q_f);
 }
 
 template <typename S>
@@ -362,18 +329,21 @@ typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::position_W(const At
 template <typename S>
 typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::velocity_W(const Attachment& a,
                                                                         const Vector3& p_WP) const {
-  const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
-  return core::attached_velocity_tpl<S>(bs.state.v_WBr, bs.w_W, bs.state.p_WBr, bs.kinematics.R_WB,
+  const auto i = static_cast<std::size_t>(a.body);
+  const BodyScratch& bs = scratch_.bodies[i];
+  return core::attached_velocity_tpl<S>(bs.state.v_WBr, bs.w_W, bs.state.p_WBr,
+                                        scratch_.kinematics[i].R_WB,
                                         a.node >= 0 ? &a.phi_B : nullptr, bs.state.qd_f, p_WP);
 }
 
 template <typename S>
 void MultibodyModelTpl<S>::apply(const Attachment& a, const Vector3& f_W,
                                  const Vector3& p_WP) const {
-  BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(a.body)];
-  bs.wrench.add_force_at(f_W, p_WP - bs.state.p_WBr);
-  core::add_attached_modal_force_tpl<S>(bs.kinematics.R_WB, a.node >= 0 ? &a.phi_B : nullptr, f_W,
-                                        bs.wrench.Q_f);
+  const auto i = static_cast<std::size_t>(a.body);
+  core::WrenchTpl<S>& w = scratch_.wrenches[i];
+  w.add_force_at(f_W, p_WP - scratch_.bodies[i].state.p_WBr);
+  core::add_attached_modal_force_tpl<S>(scratch_.kinematics[i].R_WB,
+                                        a.node >= 0 ? &a.phi_B : nullptr, f_W, w.Q_f);
 }
 
 template <typename S>
@@ -436,43 +406,6 @@ typename MultibodyModelTpl<S>::SupportLoad MultibodyModelTpl<S>::support_load(
 }
 
 template <typename S>
-typename MultibodyModelTpl<S>::ChargeLoad MultibodyModelTpl<S>::charge_load(
-    const Potential& potential, std::size_t i) const {
-  // f_i = c_i (unit field at P_i), V_i = c_i V_unit(P_i), at the hub point P_i
-  // (core/point_charge_potential.cpp).
-  ChargeLoad charge;
-  charge.p_WP = position_W(potential.at[i]);
-  const S position[3] = {charge.p_WP(0), charge.p_WP(1), charge.p_WP(2)};
-  S field[3];
-  S unit_potential;
-  potential.law.unit_field(position, field, unit_potential);
-  const S weight(potential.law.charges()[i].weight);
-  charge.f_W = weight * Vector3(field[0], field[1], field[2]);
-  charge.potential = weight * unit_potential;
-  return charge;
-}
-
-template <typename S>
-contact::bushing::EndMotion<S> MultibodyModelTpl<S>::end_motion(const JointEnd& end) const {
-  // A body's hub point p_WBr + A (P − Bo − p_BoBr), its Br, v_Br, ω = A ω̄ and axis A ā
-  // (contact/bushing.cpp's end_motion); the ground's as given.
-  contact::bushing::EndMotion<S> m;
-  if (end.body == contact::kGround) {
-    m.p_WP = end.point;
-    m.axis_W = end.axis;
-    return m;
-  }
-  const BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(end.body)];
-  m.ground = false;
-  m.p_WBr = bs.state.p_WBr;
-  m.p_WP = bs.kinematics.p_WP(end.point);
-  m.v_WBr = bs.state.v_WBr;
-  m.w_WB_W = bs.w_W;
-  m.axis_W = bs.kinematics.R_WB * end.axis;
-  return m;
-}
-
-template <typename S>
 void MultibodyModelTpl<S>::switching_functions(S t, const std::vector<S>& y,
                                                std::vector<S>& values) const {
   load_state(t, y);
@@ -487,56 +420,19 @@ void MultibodyModelTpl<S>::switching_functions(S t, const std::vector<S>& y,
 template <typename S>
 void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
   Scratch& s = scratch_;
-  const bool gravity = g_W_(0) != S(0) || g_W_(1) != S(0) || g_W_(2) != S(0);
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    const Body& b = bodies_[i];
-    BodyScratch& bs = s.bodies[i];
-    core::WrenchTpl<S>& w = bs.wrench;
-    w.set_zero();
-    if (!gravity) continue;
-    // core/gravity_tpl.hpp, as core::UniformGravity, on the q_f the loads see.
-    core::add_gravity_loads_tpl<S>(b.invariants, bs.kinematics.R_WB, *bs.kinematics.q_f, g_W_,
-                                   w.f_W, w.tau_Br_W, w.Q_f);
-  }
-  s.applied_power = S(0);
-  for (const Load& l : loads_) {
-    BodyScratch& bs = s.bodies[static_cast<std::size_t>(l.at.body)];
-    const S scale = l.profile.value_in(t, t_segment);
-    const Vector3 v =
-        l.world_frame ? Vector3(scale * l.value) : Vector3(bs.kinematics.R_WB * (scale * l.value));
-    if (l.torque) {
-      bs.wrench.tau_Br_W += v;
-      continue;
-    }
-    const Vector3 p_WP = position_W(l.at);
-    apply(l.at, v, p_WP);
-    if (l.tracks_work) s.applied_power += v.dot(velocity_W(l.at, p_WP));
-  }
-  for (const Potential& potential : potentials_) {
-    for (std::size_t i = 0; i < potential.at.size(); ++i) {
-      const ChargeLoad charge = charge_load(potential, i);
-      apply(potential.at[i], charge.f_W, charge.p_WP);
-    }
-  }
+  // The force elements' loads (core::Model::compute_wrenches) and the integrals' rates
+  // (core::Model::integral_rates: every element's dissipation, and every applied force's power
+  // once a harmonic force makes the model track W_a).
+  for (core::WrenchTpl<S>& w : s.wrenches) w.set_zero();
+  const core::LoadContextTpl<S> ctx = context(t, t_segment);
+  for (const auto& e : elements_) e->add_wrenches(ctx, s.kinematics, s.wrenches);
   s.dissipation = S(0);
-  for (const Joint& j : joints_) {
-    // f = k d + c u on a at M, −f on b; τ on a, −τ on b for a revolute bushing (bushing.hpp).
-    namespace bushing = contact::bushing;
-    const bushing::EndMotion<S> a = end_motion(j.a);
-    const bushing::EndMotion<S> b = end_motion(j.b);
-    const bushing::Separation<S> sep = bushing::separation(a, b);
-    const Vector3 f = bushing::spherical_force(sep, j.parameters);
-    Vector3 tau = Vector3::Zero();
-    if (j.revolute) tau = bushing::revolute_torque(a, b, j.parameters);
-    core::WrenchTpl<S>& wa = s.bodies[static_cast<std::size_t>(j.a.body)].wrench;
-    wa.f_W += f;
-    wa.tau_Br_W += (sep.p_WM - a.p_WBr).cross(f) + tau;
-    if (j.b.body != contact::kGround) {
-      core::WrenchTpl<S>& wb = s.bodies[static_cast<std::size_t>(j.b.body)].wrench;
-      wb.f_W -= f;
-      wb.tau_Br_W -= (sep.p_WM - b.p_WBr).cross(f) + tau;
+  s.applied_power = S(0);
+  if (dissipates_) {
+    for (const auto& e : elements_) s.dissipation += e->dissipated_power(ctx, s.kinematics);
+    if (applied_work_) {
+      for (const auto& e : elements_) s.applied_power += e->applied_power(ctx, s.kinematics);
     }
-    if (dissipates_) s.dissipation += bushing::dissipated_power(a, b, j.parameters, j.revolute);
   }
   std::fill(s.wear_power.begin(), s.wear_power.end(), S(0));
   for (std::size_t k = 0; k < supports_.size(); ++k) {
@@ -559,19 +455,20 @@ void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
     // rows are all known: its drive torque, output_row, reads the system's rotation rows).
     const Body& b = bodies_[i];
     BodyScratch& bs = s.bodies[i];
-    const Matrix3& A = bs.kinematics.R_WB;
+    const Matrix3& A = s.kinematics[i].R_WB;
+    const core::WrenchTpl<S>& w = s.wrenches[i];
     if (b.n == 0 && b.motion != core::MotionKind::kPrescribed) {
       Vector3 a_WBr;
       Vector3 alpha_WB_B;
       core::rigid_body_accelerations_tpl<S>(b.motion, b.invariants.mass, b.invariants.I0,
-                                            b.J_Br_inv, A, bs.wrench, bs.state.w_WB_B, bs.alpha_B,
-                                            a_WBr, alpha_WB_B);
+                                            b.J_Br_inv, A, w, bs.state.w_WB_B, bs.alpha_B, a_WBr,
+                                            alpha_WB_B);
       bs.x.template head<3>() = a_WBr;
       bs.x.template segment<3>(3) = alpha_WB_B;
       continue;
     }
-    core::flexible_system_tpl<S>(b.invariants, formulation_, A, bs.state, bs.zero, bs.wrench,
-                                 b.stiffness, b.damping, bs.terms, bs.rhs);
+    core::flexible_system_tpl<S>(b.invariants, formulation_, A, bs.state, bs.zero, w, b.stiffness,
+                                 b.damping, bs.terms, bs.rhs);
     core::solve_flexible_accelerations_tpl<S>(b.factor, formulation_, bs.terms, b.motion,
                                               bs.alpha_B, bs.rhs, bs.solve, bs.x);
   }
@@ -636,7 +533,7 @@ S MultibodyModelTpl<S>::energy(S t, const std::vector<S>& y) const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     BodyScratch& bs = s.bodies[i];
-    const Matrix3& A = bs.kinematics.R_WB;
+    const Matrix3& A = s.kinematics[i].R_WB;
     const Vector& q = bs.state.q_f;
     const Vector& qd = bs.state.qd_f;
     // T = ½ vᵀ M v, v = (v_WBr, ω̄, q̇_f), M at the state's q_f (core::Model::kinetic_energy,
@@ -647,20 +544,15 @@ S MultibodyModelTpl<S>::energy(S t, const std::vector<S>& y) const {
     v_r << bs.state.v_WBr, bs.state.w_WB_B;
     T += S(0.5) * (v_r.dot(bs.terms.M_rr * v_r) + S(2) * v_r.dot(bs.terms.M_rf * qd) +
                    qd.dot(b.invariants.m_ff * qd));
-    // V = −g·(m p_WBr + A s_t) on the loads' q_f (zero under LTE) + ½ q_fᵀ K q_f.
-    V += core::gravity_potential_tpl<S>(b.invariants, A, bs.state.p_WBr, *bs.kinematics.q_f, g_W_) +
-         S(0.5) * q.dot(b.stiffness.cwiseProduct(q));
+    // V = ½ q_fᵀ K q_f + the elements' potentials below.
+    V += S(0.5) * q.dot(b.stiffness.cwiseProduct(q));
   }
-  // The supports' and pairs' V_law(δ) at the deformed points (GapSupport's and
-  // ContactElement's potential_energy), the bushings' springs and Σ c_i V_unit(P_i)
-  // (PointChargePotential::potential_energy).
+  // The elements' potentials (gravity on the loads' q_f, zero under LTE; the bushings' springs;
+  // the point charges') and the supports' and pairs' V_law(δ) at the deformed points
+  // (GapSupport's and ContactElement's potential_energy).
+  const core::LoadContextTpl<S> ctx = context(t, static_cast<double>(t));
+  for (const auto& e : elements_) V += e->potential_energy(ctx, s.kinematics);
   for (const Support& c : supports_) V += c.normal.potential_in(S(-support_point(c).gap));
-  for (const Joint& j : joints_) {
-    V += contact::bushing::potential(end_motion(j.a), end_motion(j.b), j.parameters, j.revolute);
-  }
-  for (const Potential& potential : potentials_) {
-    for (std::size_t i = 0; i < potential.at.size(); ++i) V += charge_load(potential, i).potential;
-  }
   return T + V;
 }
 
@@ -677,7 +569,7 @@ std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
     const Body& b = bodies_[i];
     const BodyScratch& bs = s.bodies[i];
     const core::BodyStateTpl<S>& p = bs.state;
-    const Matrix3& A = bs.kinematics.R_WB;
+    const Matrix3& A = s.kinematics[i].R_WB;
     // p_WBo = p_WBr − A p_BoBr; v_WBo = v_WBr − A (ω̄ × p_BoBr).
     const Vector3 p_WBo = p.p_WBr - A * b.p_BoBr_B;
     const Vector3 v_WBo = p.v_WBr - A * p.w_WB_B.cross(b.p_BoBr_B);

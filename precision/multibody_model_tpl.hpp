@@ -6,12 +6,16 @@
 /// (modal stiffness and damping, geometric stiffening), uniform gravity, applied forces (at hub
 /// points or nodes) and torques with their time profiles, point-charge potentials, gap supports,
 /// sphere–plane and sphere–sphere contacts (spheres at hub points or nodes), and spherical and
-/// revolute bushings between bodies or to the ground. The equations are core::Model's and the
-/// evaluation of each body is the one of flexible/ (inertia_terms_tpl.hpp,
-/// mass_matrix_solve_tpl.hpp, modal_invariants_tpl.hpp), the same templates the double model runs,
-/// here instantiated in S; a rigid body is a body without modes (its invariants are its mass,
-/// first and second moments about Br; M_rr and Qv are then Newton–Euler's). Internal to
-/// precision/: instantiated in multibody_model_tpl.cpp for the three precisions.
+/// revolute bushings between bodies or to the ground. The equations are core::Model's, written
+/// once: each body's rows are core/body_equations_tpl.hpp's over flexible/ (inertia_terms_tpl.hpp,
+/// mass_matrix_solve_tpl.hpp, modal_invariants_tpl.hpp), and gravity, the applied loads, the
+/// potentials and the bushings are the double model's force elements themselves, class templates
+/// converted to S (element_conversion.hpp; core::ForceElementTpl). A rigid body is a body without
+/// modes (its invariants are its mass, first and second moments about Br; M_rr and Qv are then
+/// Newton–Euler's). The contacts and gap supports are still evaluated here, on their shared
+/// templates (contact/contact_point_tpl.hpp, gap_support_tpl.hpp, penalty_load_tpl.hpp), because
+/// their release is located on a second switching function the double elements do not have.
+/// Internal to precision/: instantiated in multibody_model_tpl.cpp for the three precisions.
 ///
 /// The data are the scene's double numbers (masses, inertias, node positions, mode shapes,
 /// modal stiffness and damping ratios, geometric stiffness matrices), exact in S; everything
@@ -34,17 +38,14 @@
 /// along +n and its first (a sphere–sphere pair) along −n at the contact point, a bushing its
 /// first end with f at the midpoint M and its second with −f (contact/bushing.hpp).
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "contact/bushing.hpp"
-#include "contact/bushing_tpl.hpp"
 #include "contact/contact_laws.hpp"
 #include "contact/gap_support_tpl.hpp"
 #include "core/model.hpp"
-#include "core/point_charge_potential.hpp"
 #include "core/prescribed_motion.hpp"
-#include "core/time_profile.hpp"
 #include "flexible/mass_matrix_solve_tpl.hpp"
 #include "scene/scene_spec.hpp"
 
@@ -143,25 +144,15 @@ class MultibodyModelTpl {
     std::vector<S> initial;             ///< its slots of the initial state
     std::vector<Attachment> points;     ///< tracked points
   };
-  /// One body's evaluation: its state at (t, y), its pose (the kinematics the loads see), the
-  /// loads on it and its solved accelerations x = (a_WBr, α̅, q̈_f).
+  /// One body's evaluation: its state at (t, y) and its solved accelerations x = (a_WBr, α̅,
+  /// q̈_f); its pose and loads are Scratch::kinematics[i] and Scratch::wrenches[i].
   struct BodyScratch {
     core::BodyStateTpl<S> state;
-    core::BodyKinematicsTpl<S> kinematics;
     Vector3 w_W = Vector3::Zero();      ///< ω = A ω̄
     Vector3 alpha_B = Vector3::Zero();  ///< the law's α̅ (prescribed only)
-    core::WrenchTpl<S> wrench;
     flexible::InertiaTermsTpl<S> terms;
     flexible::MassSolveScratchTpl<S> solve;
     Vector zero, rhs, x;
-  };
-  struct Load {
-    bool torque = false;
-    Vector3 value;
-    bool world_frame = true;
-    Attachment at;
-    core::TimeProfile profile = core::TimeProfile::constant();
-    bool tracks_work = false;
   };
   /// A gap support at a body point (contact/gap_support.hpp), or a sphere of radius r centred
   /// at `at` on the ground plane through Q with unit normal n, or on a sphere of radius r_a
@@ -199,34 +190,12 @@ class MultibodyModelTpl {
     S dissipated_power = S(0);
     S wear_power = S(0);  ///< |F_t·v_t|
   };
-  /// A point-charge potential's law and its charges' hub points (the weights are the law's).
-  struct Potential {
-    core::PointChargePotential law;
-    std::vector<Attachment> at;
-  };
-  /// A bushing end: a body's hub point (from Bo) and axis (body frame), or the ground's (world);
-  /// the axis a unit vector of S (the damping's projection assumes |a| = |b| = 1).
-  struct JointEnd {
-    int body = contact::kGround;
-    Vector3 point = Vector3::Zero();
-    Vector3 axis = Vector3::UnitZ();
-  };
-  /// Spherical and revolute bushings (contact/bushing.hpp; their equations are
-  /// contact/bushing_tpl.hpp's, evaluated in S).
-  struct Joint {
-    bool revolute = false;
-    JointEnd a;
-    JointEnd b;
-    contact::BushingParameters parameters;
-  };
-  /// Charge i's point, force c_i f_unit and potential c_i V_unit at the state.
-  struct ChargeLoad {
-    Vector3 p_WP;
-    Vector3 f_W;
-    S potential;
-  };
   struct Scratch {
     std::vector<BodyScratch> bodies;
+    /// Each body's pose as the force elements see it (the q_f of the loads: zero under LTE) and
+    /// the loads on it, one entry per body (the elements' spans).
+    std::vector<core::BodyKinematicsTpl<S>> kinematics;
+    std::vector<core::WrenchTpl<S>> wrenches;
     S applied_power = S(0);
     S dissipation = S(0);       ///< the supports' and bushings' dissipated power
     std::vector<S> wear_power;  ///< per wear channel
@@ -249,17 +218,16 @@ class MultibodyModelTpl {
   void apply(const Attachment& a, const Vector3& f_W, const Vector3& p_WP) const;
   SupportPoint support_point(const Support& support) const;
   SupportLoad support_load(const Support& support) const;
-  ChargeLoad charge_load(const Potential& potential, std::size_t i) const;
-  contact::bushing::EndMotion<S> end_motion(const JointEnd& end) const;
+  /// The elements' context at (t, t_segment).
+  core::LoadContextTpl<S> context(S t, double t_segment) const { return {t, t_segment}; }
 
   core::FlexibleFormulation formulation_ = core::FlexibleFormulation::kCoupled;
   std::vector<Body> bodies_;
-  std::vector<Load> loads_;
+  /// The double model's force elements other than the contacts and gap supports, converted to S
+  /// (element_conversion.hpp): gravity, applied loads, potentials, bushings.
+  std::vector<std::unique_ptr<const core::ForceElementTpl<S>>> elements_;
   std::vector<Support> supports_;
-  std::vector<Potential> potentials_;
-  std::vector<Joint> joints_;
   std::vector<std::string> wear_channels_;
-  Vector3 g_W_;
   std::vector<std::string> columns_;
   std::vector<double> discontinuities_;
   bool dissipates_ = false;

@@ -1,0 +1,67 @@
+#include "precision/element_conversion.hpp"
+
+// Eigen's NumTraits for float128 before any Eigen type of it.
+#include <boost/multiprecision/eigen.hpp>
+#include <boost/multiprecision/float128.hpp>
+#include <type_traits>
+
+#include "contact/bushing_impl.hpp"
+#include "core/applied_load_impl.hpp"
+#include "core/gravity_impl.hpp"
+#include "core/point_charge_potential_impl.hpp"
+
+// The class templates in extended and quad precision (double: in core/ and contact/).
+namespace flexref::core {
+template class AppliedForceTpl<long double>;
+template class AppliedForceTpl<boost::multiprecision::float128>;
+template class AppliedTorqueTpl<long double>;
+template class AppliedTorqueTpl<boost::multiprecision::float128>;
+template class UniformGravityTpl<long double>;
+template class UniformGravityTpl<boost::multiprecision::float128>;
+template class PointChargePotentialTpl<long double>;
+template class PointChargePotentialTpl<boost::multiprecision::float128>;
+}  // namespace flexref::core
+
+namespace flexref::contact {
+template class SphericalBushingTpl<long double>;
+template class SphericalBushingTpl<boost::multiprecision::float128>;
+template class RevoluteBushingTpl<long double>;
+template class RevoluteBushingTpl<boost::multiprecision::float128>;
+}  // namespace flexref::contact
+
+namespace flexref::precision {
+namespace {
+
+/// The element of type E<double> as E<S>, or nullptr when `element` is not one.
+template <template <typename> class E, typename S>
+std::unique_ptr<const core::ForceElementTpl<S>> converted(const core::ForceElement& element) {
+  const auto* e = dynamic_cast<const E<double>*>(&element);
+  if (e == nullptr) return nullptr;
+  if constexpr (std::is_same_v<S, double>) {
+    return std::make_unique<const E<double>>(*e);
+  } else {
+    return std::make_unique<const E<S>>(*e);
+  }
+}
+
+}  // namespace
+
+template <typename S>
+std::unique_ptr<const core::ForceElementTpl<S>> element_in(const core::ForceElement& element) {
+  std::unique_ptr<const core::ForceElementTpl<S>> e;
+  if ((e = converted<core::UniformGravityTpl, S>(element))) return e;
+  if ((e = converted<core::AppliedForceTpl, S>(element))) return e;
+  if ((e = converted<core::AppliedTorqueTpl, S>(element))) return e;
+  if ((e = converted<core::PointChargePotentialTpl, S>(element))) return e;
+  if ((e = converted<contact::SphericalBushingTpl, S>(element))) return e;
+  return converted<contact::RevoluteBushingTpl, S>(element);
+}
+
+template std::unique_ptr<const core::ForceElementTpl<double>> element_in<double>(
+    const core::ForceElement&);
+template std::unique_ptr<const core::ForceElementTpl<long double>> element_in<long double>(
+    const core::ForceElement&);
+template std::unique_ptr<const core::ForceElementTpl<boost::multiprecision::float128>>
+element_in<boost::multiprecision::float128>(const core::ForceElement&);
+
+}  // namespace flexref::precision

@@ -1,0 +1,21 @@
+#pragma once
+/// \file element_conversion.hpp
+/// The double model's force elements in another scalar type S (Drake's scalar conversion): the
+/// same class template instantiated in S, its data converted exactly and its unit vectors
+/// normalized again in S (core/unit_vector_tpl.hpp). Internal to precision/: the class
+/// templates' definitions (the *_impl.hpp headers) are instantiated for long double and
+/// float128 in element_conversion.cpp only, so that the libraries of core/ and contact/ build
+/// without float128.
+#include <memory>
+
+#include "core/force_element.hpp"
+
+namespace flexref::precision {
+
+/// `element` in S: uniform gravity, applied forces and torques, point-charge potentials,
+/// spherical and revolute bushings; nullptr for another kind (MultibodyModelTpl evaluates the
+/// contacts and gap supports itself).
+template <typename S>
+std::unique_ptr<const core::ForceElementTpl<S>> element_in(const core::ForceElement& element);
+
+}  // namespace flexref::precision
