@@ -111,6 +111,11 @@ class SphericalBushingTpl final : public core::ForceElementTpl<S> {
                     std::span<core::WrenchTpl<S>> wrenches) const override;
   S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
   S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// The ends' motion once for the loads and the dissipated power.
+  void add_wrenches_and_rates(const Context& context, std::span<const Kinematics> bodies,
+                              std::span<core::WrenchTpl<S>> wrenches, S* dissipated,
+                              std::span<core::WearSampleTpl<S>> wear, std::span<S> gaps,
+                              std::span<S> clamps) const override;
   bool depends_on_velocity() const override { return parameters_.damping > 0.0; }
   int max_body_index() const override;
   std::string describe() const override;
@@ -155,6 +160,11 @@ class RevoluteBushingTpl final : public core::ForceElementTpl<S> {
                     std::span<core::WrenchTpl<S>> wrenches) const override;
   S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
   S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// The ends' motion once for the loads and the dissipated power.
+  void add_wrenches_and_rates(const Context& context, std::span<const Kinematics> bodies,
+                              std::span<core::WrenchTpl<S>> wrenches, S* dissipated,
+                              std::span<core::WearSampleTpl<S>> wear, std::span<S> gaps,
+                              std::span<S> clamps) const override;
   bool depends_on_velocity() const override {
     return parameters_.damping > 0.0 || parameters_.angular_damping > 0.0;
   }

@@ -106,6 +106,20 @@ S SphericalBushingTpl<S>::dissipated_power(const Context& /*context*/,
 }
 
 template <typename S>
+void SphericalBushingTpl<S>::add_wrenches_and_rates(const Context& /*context*/,
+                                                    std::span<const Kinematics> bodies,
+                                                    std::span<core::WrenchTpl<S>> wrenches,
+                                                    S* dissipated,
+                                                    std::span<core::WearSampleTpl<S>> /*wear*/,
+                                                    std::span<S> /*gaps*/,
+                                                    std::span<S> /*clamps*/) const {
+  const bushing::EndMotion<S> a = detail::end_motion(a_, bodies);
+  const bushing::EndMotion<S> b = detail::end_motion(b_, bodies);
+  detail::add_spherical<S>(a_, b_, a, b, parameters_, wrenches);
+  if (dissipated != nullptr) *dissipated += bushing::dissipated_power(a, b, parameters_, false);
+}
+
+template <typename S>
 int SphericalBushingTpl<S>::max_body_index() const {
   return std::max(a_.body, b_.body);
 }
@@ -146,13 +160,24 @@ RevoluteBushingTpl<S>::RevoluteBushingTpl(const RevoluteBushingTpl<U>& other)
       parameters_(other.parameters_) {}
 
 template <typename S>
-void RevoluteBushingTpl<S>::add_wrenches(const Context& /*context*/,
-                                         std::span<const Kinematics> bodies,
+void RevoluteBushingTpl<S>::add_wrenches(const Context& context, std::span<const Kinematics> bodies,
                                          std::span<core::WrenchTpl<S>> wrenches) const {
+  add_wrenches_and_rates(context, bodies, wrenches, nullptr, {}, {}, {});
+}
+
+template <typename S>
+void RevoluteBushingTpl<S>::add_wrenches_and_rates(const Context& /*context*/,
+                                                   std::span<const Kinematics> bodies,
+                                                   std::span<core::WrenchTpl<S>> wrenches,
+                                                   S* dissipated,
+                                                   std::span<core::WearSampleTpl<S>> /*wear*/,
+                                                   std::span<S> /*gaps*/,
+                                                   std::span<S> /*clamps*/) const {
   using std::sqrt;
   const bushing::EndMotion<S> a = detail::end_motion(a_, bodies);
   const bushing::EndMotion<S> b = detail::end_motion(b_, bodies);
   detail::add_spherical<S>(a_, b_, a, b, parameters_, wrenches);
+  if (dissipated != nullptr) *dissipated += bushing::dissipated_power(a, b, parameters_, true);
   // τ_A = k_θ a_A × a_B + c_θ P (ω_B − ω_A), τ_B = −τ_A.
   const Eigen::Matrix<S, 3, 1> tau_W = bushing::revolute_torque(a, b, parameters_);
   const S tau_norm = sqrt(tau_W.squaredNorm());

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "contact/contact_impl.hpp"
 #include "core/body.hpp"
 
 namespace flexref::contact {
@@ -17,19 +18,6 @@ void require(bool ok, const char* what) {
 }
 
 bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
-
-/// World position of a sphere centre (from Bo, body frame; deformed when at a node).
-Eigen::Vector3d centre_W(const core::BodyKinematics& k, const Eigen::Vector3d& p_BoC_B,
-                         const core::NodeAttachment& node) {
-  return core::attached_position_W(k, p_BoC_B, node);
-}
-
-/// Velocity of the sphere's material point at the world point P:
-/// v_Br + ω × (P − p_WBr) (+ A Φ_k q̇_f at a node).
-Eigen::Vector3d material_velocity_W(const core::BodyKinematics& k, const Eigen::Vector3d& p_WP,
-                                    const core::NodeAttachment& node) {
-  return core::attached_velocity_W(k, p_WP, node);
-}
 
 }  // namespace
 
@@ -75,170 +63,58 @@ ContactPair ContactPair::sphere_sphere(int body_a, const Eigen::Vector3d& p_BoCa
 }
 
 ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKinematics> bodies) {
-  const Eigen::Vector3d p_WCb =
-      centre_W(bodies[static_cast<std::size_t>(pair.body_b)], pair.p_BoCb_B, pair.node_b);
-  if (pair.kind == ContactPair::Kind::kSpherePlane) {
-    return sphere_plane_point_tpl<double>(p_WCb, pair.radius_b, pair.p_WQ, pair.n_W);
-  }
-  const Eigen::Vector3d p_WCa =
-      centre_W(bodies[static_cast<std::size_t>(pair.body_a)], pair.p_BoCa_B, pair.node_a);
-  return sphere_sphere_point_tpl<double>(p_WCa, pair.radius_a, p_WCb, pair.radius_b);
+  return detail::pair_point<double>(detail::pair_in<double>(pair), bodies);
 }
 
-ContactElement::ContactElement(std::vector<ContactPair> pairs, NormalLaw normal,
-                               FrictionLaw friction, double effective_mass, std::string name)
-    : pairs_(std::move(pairs)),
-      normal_(std::move(normal)),
-      friction_(friction),
-      effective_mass_(effective_mass),
-      name_(std::move(name)) {
-  require(friction_.mu >= 0.0 && std::isfinite(friction_.mu), "friction coefficient must be >= 0");
-  require(friction_.v_reg > 0.0 && std::isfinite(friction_.v_reg),
+namespace detail {
+
+void validate_contact(const FrictionLaw& friction, double effective_mass) {
+  require(friction.mu >= 0.0 && std::isfinite(friction.mu), "friction coefficient must be >= 0");
+  require(friction.v_reg > 0.0 && std::isfinite(friction.v_reg),
           "friction regularization speed must be > 0");
-  require(effective_mass_ >= 0.0 && std::isfinite(effective_mass_),
+  require(effective_mass >= 0.0 && std::isfinite(effective_mass),
           "contact effective mass must be >= 0");
 }
 
-ContactEvaluation ContactElement::evaluate(int pair_index,
-                                           std::span<const core::BodyKinematics> bodies) const {
-  const ContactPair& pair = pairs_[static_cast<std::size_t>(pair_index)];
-  ContactEvaluation e;
-  e.point = contact_point(pair, bodies);
-  if (e.point.gap >= 0.0) return e;  // separated (or touching): no force
-  const Eigen::Vector3d& n = e.point.n_W;
-  e.v_rel_W =
-      material_velocity_W(bodies[static_cast<std::size_t>(pair.body_b)], e.point.p_WP, pair.node_b);
-  if (pair.body_a >= 0) {
-    e.v_rel_W -= material_velocity_W(bodies[static_cast<std::size_t>(pair.body_a)], e.point.p_WP,
-                                     pair.node_a);
+double contact_effective_mass(std::span<const core::Body> bodies,
+                              const std::vector<ContactPair>& pairs) {
+  // body_b is the sphere body pushed along +n; body_a is −1 for the ground plane.
+  const ContactPair& p = pairs.front();
+  double m = bodies[static_cast<std::size_t>(p.body_b)].mass();
+  if (p.body_a >= 0) {
+    const double m_a = bodies[static_cast<std::size_t>(p.body_a)].mass();
+    m = m * m_a / (m + m_a);
   }
-  static_cast<PenaltyLoadTpl<double>&>(e) =
-      penalty_load_tpl<double>(normal_, friction_, e.point.gap, n, e.v_rel_W);
-  return e;
+  return m / static_cast<double>(pairs.size());
 }
 
-void ContactElement::add_wrenches(const core::LoadContext& /*context*/,
-                                  std::span<const core::BodyKinematics> bodies,
-                                  std::span<core::Wrench> wrenches) const {
-  for (std::size_t i = 0; i < pairs_.size(); ++i) {
-    const ContactEvaluation e = evaluate(static_cast<int>(i), bodies);
-    if (e.normal.total == 0.0) continue;
-    const ContactPair& pair = pairs_[i];
-    const Eigen::Vector3d f_W = e.force_on_b_W();
-    const auto b = static_cast<std::size_t>(pair.body_b);
-    core::add_attached_force(bodies[b], pair.node_b, f_W, e.point.p_WP, wrenches[b]);
-    if (pair.body_a >= 0) {
-      const auto a = static_cast<std::size_t>(pair.body_a);
-      core::add_attached_force(bodies[a], pair.node_a, -f_W, e.point.p_WP, wrenches[a]);
-    }
-  }
-}
-
-double ContactElement::potential_energy(const core::LoadContext& /*context*/,
-                                        std::span<const core::BodyKinematics> bodies) const {
-  double v = 0.0;
-  for (const ContactPair& pair : pairs_) v += normal_.potential(-contact_point(pair, bodies).gap);
-  return v;
-}
-
-double ContactElement::dissipated_power(const core::LoadContext& /*context*/,
-                                        std::span<const core::BodyKinematics> bodies) const {
-  double p = 0.0;
-  for (std::size_t i = 0; i < pairs_.size(); ++i) {
-    p += evaluate(static_cast<int>(i), bodies).dissipated_power();
-  }
-  return p;
-}
-
-void ContactElement::wear_samples(const core::LoadContext& /*context*/,
-                                  std::span<const core::BodyKinematics> bodies,
-                                  std::span<core::WearSample> samples) const {
-  core::WearSample& w = samples[0];
-  w = core::WearSample{};
-  double largest = 0.0;
-  for (std::size_t i = 0; i < pairs_.size(); ++i) {
-    const ContactEvaluation e = evaluate(static_cast<int>(i), bodies);
-    if (e.normal.total == 0.0) continue;
-    w.normal_force += e.normal.total;
-    w.wear_power += std::abs(e.f_friction_W.dot(e.v_t_W));  // |F_t·v_t|
-    if (e.normal.total > largest) {
-      largest = e.normal.total;
-      w.slip_speed = e.v_t_W.norm();
-    }
-  }
-}
-
-void ContactElement::switching_functions(const core::LoadContext& /*context*/,
-                                         std::span<const core::BodyKinematics> bodies,
-                                         std::span<double> g) const {
-  for (std::size_t i = 0; i < pairs_.size(); ++i) g[i] = contact_point(pairs_[i], bodies).gap;
-}
-
-int ContactElement::max_body_index() const {
-  int m = -1;
-  for (const ContactPair& p : pairs_) m = std::max({m, p.body_a, p.body_b});
-  return m;
-}
-
-double ContactElement::effective_stiffness(double effective_mass) const {
-  if (normal_.kind() == NormalLaw::Kind::kLinear) return normal_.stiffness();
-  return normal_.linearized_stiffness(
-      normal_.impact_penetration(effective_mass, normal_.reference_speed()));
-}
-
-double ContactElement::frequency(double effective_mass) const {
-  return std::sqrt(effective_stiffness(effective_mass) / effective_mass);
-}
-
-double ContactElement::explicit_step_limit(double effective_mass) const {
-  return 2.0 / frequency(effective_mass);
-}
-
-void ContactElement::append_penalty_modes(std::span<const core::Body> bodies,
-                                          std::vector<core::PenaltyMode>& modes) const {
-  double m_eff = effective_mass_;
-  if (!(m_eff > 0.0)) {
-    // body_b is the sphere body pushed along +n; body_a is −1 for the ground plane.
-    const ContactPair& p = pairs_.front();
-    double m = bodies[static_cast<std::size_t>(p.body_b)].mass();
-    if (p.body_a >= 0) {
-      const double m_a = bodies[static_cast<std::size_t>(p.body_a)].mass();
-      m = m * m_a / (m + m_a);
-    }
-    m_eff = m / static_cast<double>(pairs_.size());
-  }
-  core::PenaltyMode mode;
-  mode.kind = "contact";
-  mode.inertia = m_eff;
-  mode.stiffness = effective_stiffness(m_eff);
-  mode.frequency = frequency(m_eff);
-  mode.step_limit = explicit_step_limit(m_eff);
-  modes.push_back(mode);
-}
-
-std::string ContactElement::describe() const {
+std::string contact_text(const std::vector<ContactPair>& pairs, const NormalLaw& normal,
+                         const FrictionLaw& friction, double effective_mass,
+                         const std::string& name, double k_eff, double omega, double step) {
   std::ostringstream out;
   int planes = 0;
   int nodes = 0;
-  for (const ContactPair& p : pairs_) nodes += p.node_a.deforms() + p.node_b.deforms();
-  for (const ContactPair& p : pairs_) planes += p.kind == ContactPair::Kind::kSpherePlane;
+  for (const ContactPair& p : pairs) nodes += p.node_a.deforms() + p.node_b.deforms();
+  for (const ContactPair& p : pairs) planes += p.kind == ContactPair::Kind::kSpherePlane;
   out << "contact: " << planes << " sphere-plane and "
-      << pairs_.size() - static_cast<std::size_t>(planes) << " sphere-sphere pairs, "
-      << normal_.describe() << ", friction mu = " << friction_.mu << ", v_reg = " << friction_.v_reg
+      << pairs.size() - static_cast<std::size_t>(planes) << " sphere-sphere pairs, "
+      << normal.describe() << ", friction mu = " << friction.mu << ", v_reg = " << friction.v_reg
       << " m/s";
   if (nodes > 0) out << ", " << nodes << " sphere(s) at deforming nodes";
-  if (!name_.empty()) out << ", wear outputs '" << name_ << "'";
-  if (effective_mass_ > 0.0) {
-    out << "; m_eff = " << effective_mass_
-        << " kg: k_eff = " << effective_stiffness(effective_mass_)
-        << " N/m, omega = " << frequency(effective_mass_)
-        << " rad/s, explicit step limit 2/omega = " << explicit_step_limit(effective_mass_) << " s";
-    if (normal_.kind() == NormalLaw::Kind::kLinear) {
+  if (!name.empty()) out << ", wear outputs '" << name << "'";
+  if (effective_mass > 0.0) {
+    out << "; m_eff = " << effective_mass << " kg: k_eff = " << k_eff << " N/m, omega = " << omega
+        << " rad/s, explicit step limit 2/omega = " << step << " s";
+    if (normal.kind() == NormalLaw::Kind::kLinear) {
       out << " (zeta = "
-          << normal_.damping() / (2.0 * std::sqrt(normal_.stiffness() * effective_mass_)) << ")";
+          << normal.damping() / (2.0 * std::sqrt(normal.stiffness() * effective_mass)) << ")";
     }
   }
   return out.str();
 }
+
+}  // namespace detail
+
+template class ContactElementTpl<double>;
 
 }  // namespace flexref::contact

@@ -17,6 +17,8 @@
 /// or to a node of a flexible body (core/node_attachment.hpp): its centre is then the deformed
 /// node x_k + Φ_k q_f, the velocity of its material point at P gains A Φ_k q̇_f, and the force
 /// adds Φ_kᵀ Aᵀ f to the modal rows. A named contact has a wear channel (docs/output.md).
+/// The element is generic in the scalar type S (core/force_element.hpp).
+#include <span>
 #include <string>
 #include <vector>
 
@@ -64,40 +66,77 @@ ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKi
 
 /// Everything one pair contributes at a state.
 /// δ̇, v_t, F_n, F_t and the dissipated power F_nc δ̇ − F_t·v_t ≥ 0 are penalty_load_tpl's.
-struct ContactEvaluation : PenaltyLoadTpl<double> {
-  ContactPoint point;
-  Eigen::Vector3d v_rel_W = Eigen::Vector3d::Zero();  ///< b's point at P minus a's, m/s
+template <typename S>
+struct ContactEvaluationTpl : PenaltyLoadTpl<S> {
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  ContactPointTpl<S> point;
+  Vector3 v_rel_W = Vector3::Zero();  ///< b's point at P minus a's, m/s
   /// Total force on b (on a: its opposite), N.
-  Eigen::Vector3d force_on_b_W() const { return normal.total * point.n_W + f_friction_W; }
+  Vector3 force_on_b_W() const { return this->normal.total * point.n_W + this->f_friction_W; }
 };
 
-/// A set of contact pairs sharing one normal law and one friction law.
-class ContactElement final : public core::ForceElement {
+using ContactEvaluation = ContactEvaluationTpl<double>;
+
+/// A pair's data in S: ContactPair's points and radii exact, its plane normal a unit vector of S
+/// (core/unit_vector_tpl.hpp), its node attachments' Φ_k exact.
+template <typename S>
+struct ContactPairTpl {
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  ContactPair::Kind kind = ContactPair::Kind::kSpherePlane;
+  int body_a = -1;
+  Vector3 p_BoCa_B = Vector3::Zero();
+  S radius_a = S(0);
+  int body_b = 0;
+  Vector3 p_BoCb_B = Vector3::Zero();
+  S radius_b = S(0);
+  Vector3 p_WQ = Vector3::Zero();
+  Vector3 n_W = Vector3::UnitZ();
+  core::NodeAttachmentTpl<S> node_a;
+  core::NodeAttachmentTpl<S> node_b;
+};
+
+/// A set of contact pairs sharing one normal law and one friction law. Generic in the scalar
+/// type S (core/force_element.hpp); the definitions are contact_impl.hpp's. The pairs are given
+/// in double (ContactPair), as the scene has them, and evaluated in S.
+template <typename S>
+class ContactElementTpl final : public core::ForceElementTpl<S> {
  public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using typename core::ForceElementTpl<S>::Context;
+  using typename core::ForceElementTpl<S>::Kinematics;
+
   /// effective_mass (kg, > 0 or 0 for unknown) is used only for describe()'s frequency and
   /// explicit step limit.
   /// A non-empty name gives the element a wear channel with that name.
-  ContactElement(std::vector<ContactPair> pairs, NormalLaw normal, FrictionLaw friction,
-                 double effective_mass = 0.0, std::string name = {});
+  ContactElementTpl(std::vector<ContactPair> pairs, NormalLaw normal, FrictionLaw friction,
+                    double effective_mass = 0.0, std::string name = {});
+  /// The same contacts in another scalar type.
+  template <typename U>
+  explicit ContactElementTpl(const ContactElementTpl<U>& other);
 
-  void add_wrenches(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
-                    std::span<core::Wrench> wrenches) const override;
+  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<core::WrenchTpl<S>> wrenches) const override;
   /// Elastic energy of the penalty springs, Σ V_law(δ).
-  double potential_energy(const core::LoadContext& context,
-                          std::span<const core::BodyKinematics> bodies) const override;
-  double dissipated_power(const core::LoadContext& context,
-                          std::span<const core::BodyKinematics> bodies) const override;
+  S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
+  S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
   int switching_function_count() const override { return static_cast<int>(pairs_.size()); }
   /// The gap of each pair, in order.
-  void switching_functions(const core::LoadContext& context,
-                           std::span<const core::BodyKinematics> bodies,
-                           std::span<double> g) const override;
+  void switching_functions(const Context& context, std::span<const Kinematics> bodies,
+                           std::span<S> g) const override;
+  /// NormalLaw::clamp_function(δ, δ̇) of each pair, in order, δ̇ = −n·v_rel also while separated.
+  void clamp_functions(const Context& context, std::span<const Kinematics> bodies,
+                       std::span<S> values) const override;
+  /// One evaluation of each pair for all of them.
+  void add_wrenches_and_rates(const Context& context, std::span<const Kinematics> bodies,
+                              std::span<core::WrenchTpl<S>> wrenches, S* dissipated,
+                              std::span<core::WearSampleTpl<S>> wear, std::span<S> gaps,
+                              std::span<S> clamps) const override;
   bool depends_on_velocity() const override { return true; }
   int wear_channel_count() const override { return name_.empty() ? 0 : 1; }
   std::string wear_channel_name() const override { return name_; }
   /// Σ F_n, the slip speed of the pair carrying the largest normal force, Σ |F_t·v_t|.
-  void wear_samples(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
-                    std::span<core::WearSample> samples) const override;
+  void wear_samples(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<core::WearSampleTpl<S>> samples) const override;
   int max_body_index() const override;
   std::string describe() const override;
   /// One mode "contact": the effective stiffness at the effective mass (the constructor's, or
@@ -107,7 +146,7 @@ class ContactElement final : public core::ForceElement {
                             std::vector<core::PenaltyMode>& modes) const override;
 
   /// One pair's contribution at a state.
-  ContactEvaluation evaluate(int pair, std::span<const core::BodyKinematics> bodies) const;
+  ContactEvaluationTpl<S> evaluate(int pair, std::span<const Kinematics> bodies) const;
 
   /// Stiffness the explicit step sees with a mass m_eff (N/m): k for the linear law; for
   /// Hunt–Crossley the linearized n k δⁿ⁻¹ at the largest penetration of an undamped impact
@@ -124,11 +163,22 @@ class ContactElement final : public core::ForceElement {
   const FrictionLaw& friction_law() const { return friction_; }
 
  private:
+  template <typename>
+  friend class ContactElementTpl;
+
   std::vector<ContactPair> pairs_;
+  std::vector<ContactPairTpl<S>> pairs_in_s_;  ///< pairs_ in S
   NormalLaw normal_;
   FrictionLaw friction_;
   double effective_mass_;
   std::string name_;
+
+  /// Relative velocity of b's material point at P minus a's.
+  Vector3 relative_velocity(const ContactPairTpl<S>& pair, std::span<const Kinematics> bodies,
+                            const Vector3& p_WP) const;
 };
+
+using ContactElement = ContactElementTpl<double>;
+extern template class ContactElementTpl<double>;
 
 }  // namespace flexref::contact

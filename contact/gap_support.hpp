@@ -12,14 +12,17 @@
 /// is fixed), the normal force F_n n and the friction −μ F_n tanh(|v_t|/v_reg) v_t/|v_t| on the
 /// slip velocity v_t = v_N − (n·v_N) n (axial and circumferential sliding) at the point N.
 /// The normal force is −∇V of V = V_law(δ): δ = |d| − c has gradient d/|d| = −n.
+/// Generic in the scalar type S (core/force_element.hpp); the definitions are
+/// gap_support_impl.hpp's.
+#include <span>
 #include <string>
+#include <vector>
 
 #include "contact/contact_laws.hpp"
 #include "contact/gap_support_tpl.hpp"
 #include "contact/penalty_load_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/node_attachment.hpp"
-#include "core/unit_vector_tpl.hpp"
 
 namespace flexref::contact {
 
@@ -32,80 +35,91 @@ struct GapSupportGeometry {
   double clearance = 1e-3;                         ///< c, m (> 0)
 };
 
-/// Gap, normal and contact point of the support at a configuration.
-struct GapPoint {
-  double gap = 0.0;
-  Eigen::Vector3d n_W = Eigen::Vector3d::UnitZ();  ///< on the body, toward the axis
-  Eigen::Vector3d p_WN = Eigen::Vector3d::Zero();  ///< the (deformed) point
-};
-
-class GapSupport final : public core::ForceElement {
+/// The support, generic in the scalar type S (core/force_element.hpp); the definitions are
+/// gap_support_impl.hpp's, the formulas gap_support_tpl.hpp's and penalty_load_tpl.hpp's.
+template <typename S>
+class GapSupportTpl final : public core::ForceElementTpl<S> {
  public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using typename core::ForceElementTpl<S>::Context;
+  using typename core::ForceElementTpl<S>::Kinematics;
+
+  /// Gap, normal and contact point of the support at a configuration.
+  struct Point {
+    S gap = S(0);
+    Vector3 n_W = Vector3::UnitZ();  ///< on the body, toward the axis
+    Vector3 p_WN = Vector3::Zero();  ///< the (deformed) point
+  };
+
   /// The point p_BoN_B of `body` (a node's undeformed position when `node` deforms). Throws
   /// std::invalid_argument for a non-unit or dependent axis/normal or a clearance ≤ 0.
   /// effective_mass (kg, 0: the body's mass) only sets the penalty mode of the step limit.
-  GapSupport(int body, const Eigen::Vector3d& p_BoN_B, core::NodeAttachment node,
-             GapSupportGeometry geometry, NormalLaw normal, FrictionLaw friction,
-             double effective_mass = 0.0, std::string name = {});
+  GapSupportTpl(int body, const Vector3& p_BoN_B, core::NodeAttachmentTpl<S> node,
+                GapSupportGeometry geometry, NormalLaw normal, FrictionLaw friction,
+                double effective_mass = 0.0, std::string name = {});
+  /// The same support in another scalar type (its axis and normal unit vectors of S).
+  template <typename U>
+  explicit GapSupportTpl(const GapSupportTpl<U>& other);
 
-  GapPoint gap_point(std::span<const core::BodyKinematics> bodies) const;
+  Point gap_point(std::span<const Kinematics> bodies) const;
 
   /// Everything the support applies at a state: penetration rate, slip velocity, forces.
   /// δ̇, v_t, F_n, F_t and the dissipated power are penalty_load_tpl's (penalty_load_tpl.hpp).
-  struct Evaluation : PenaltyLoadTpl<double> {
-    GapPoint point;
-    Eigen::Vector3d force_W() const { return normal.total * point.n_W + f_friction_W; }
+  struct Evaluation : PenaltyLoadTpl<S> {
+    Point point;
+    Vector3 force_W() const { return this->normal.total * point.n_W + this->f_friction_W; }
   };
-  Evaluation evaluate(std::span<const core::BodyKinematics> bodies) const;
+  Evaluation evaluate(std::span<const Kinematics> bodies) const;
 
-  void add_wrenches(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
-                    std::span<core::Wrench> wrenches) const override;
-  double potential_energy(const core::LoadContext& context,
-                          std::span<const core::BodyKinematics> bodies) const override;
-  double dissipated_power(const core::LoadContext& context,
-                          std::span<const core::BodyKinematics> bodies) const override;
+  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<core::WrenchTpl<S>> wrenches) const override;
+  S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
+  S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
   int switching_function_count() const override { return 1; }
-  void switching_functions(const core::LoadContext& context,
-                           std::span<const core::BodyKinematics> bodies,
-                           std::span<double> g) const override;
+  void switching_functions(const Context& context, std::span<const Kinematics> bodies,
+                           std::span<S> g) const override;
+  /// The normal law's unclamped value NormalLaw::clamp_function(δ, δ̇) at the point, with
+  /// δ̇ = −n·v_N also while separated.
+  void clamp_functions(const Context& context, std::span<const Kinematics> bodies,
+                       std::span<S> values) const override;
+  /// One evaluation of the point for all of them.
+  void add_wrenches_and_rates(const Context& context, std::span<const Kinematics> bodies,
+                              std::span<core::WrenchTpl<S>> wrenches, S* dissipated,
+                              std::span<core::WearSampleTpl<S>> wear, std::span<S> gaps,
+                              std::span<S> clamps) const override;
   bool depends_on_velocity() const override { return true; }
   int wear_channel_count() const override { return name_.empty() ? 0 : 1; }
   std::string wear_channel_name() const override { return name_; }
-  void wear_samples(const core::LoadContext& context, std::span<const core::BodyKinematics> bodies,
-                    std::span<core::WearSample> samples) const override;
+  void wear_samples(const Context& context, std::span<const Kinematics> bodies,
+                    std::span<core::WearSampleTpl<S>> samples) const override;
   int max_body_index() const override { return body_; }
   std::string describe() const override;
   void append_penalty_modes(std::span<const core::Body> bodies,
                             std::vector<core::PenaltyMode>& modes) const override;
 
+  /// The geometry as given (double; its axis and normal normalized in double).
   const GapSupportGeometry& geometry() const { return geometry_; }
-  /// The geometry in S (gap_support_tpl.hpp: the formulas above, written once).
-  template <typename S>
-  GapGeometryTpl<S> geometry_in() const {
-    GapGeometryTpl<S> g;
-    g.circular = geometry_.kind == GapSupportGeometry::Kind::kCircular;
-    g.p_WS = geometry_.p_WS.cast<S>();
-    g.a_W = core::unit_vector_in<S>(geometry_.a_W);
-    g.m_W = core::unit_vector_in<S>(geometry_.m_W);
-    g.clearance = S(geometry_.clearance);
-    return g;
-  }
   int body() const { return body_; }
-  const Eigen::Vector3d& p_BoN_B() const { return p_BoN_B_; }
-  const core::NodeAttachment& node() const { return node_; }
   const NormalLaw& normal_law() const { return normal_; }
   const FrictionLaw& friction_law() const { return friction_; }
 
  private:
+  template <typename>
+  friend class GapSupportTpl;
+
   int body_;
-  Eigen::Vector3d p_BoN_B_;
-  core::NodeAttachment node_;
+  Vector3 p_BoN_B_;
+  core::NodeAttachmentTpl<S> node_;
   GapSupportGeometry geometry_;
-  GapGeometryTpl<double> geometry_in_s_;
+  GapGeometryTpl<S> geometry_in_s_;  ///< geometry_ in S (gap_support_tpl.hpp)
   NormalLaw normal_;
   FrictionLaw friction_;
   double effective_mass_;
   std::string name_;
 };
+
+using GapSupport = GapSupportTpl<double>;
+using GapPoint = GapSupport::Point;
+extern template class GapSupportTpl<double>;
 
 }  // namespace flexref::contact

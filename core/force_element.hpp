@@ -9,6 +9,7 @@
 /// with the invariant S).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <span>
 #include <string>
 #include <vector>
@@ -152,6 +153,32 @@ class ForceElementTpl {
     (void)context;
     (void)bodies;
     (void)g;
+  }
+  /// The normal law's unclamped value at each switching function's contact point
+  /// (contact::NormalLaw::clamp_function, switching_function_count() values): a penalty force
+  /// clamped at F_n ≥ 0 switches inside a contact where it changes sign. The extended and quad
+  /// references locate these switches too (precision/switched_integration.hpp). Elements whose
+  /// switching functions have no clamp write 1 (no switch).
+  virtual void clamp_functions(const Context& context, std::span<const Kinematics> bodies,
+                               std::span<S> values) const {
+    (void)context;
+    (void)bodies;
+    std::fill(values.begin(), values.end(), S(1));
+  }
+  /// What a reference integrating the contacts' work needs at one state, in one pass:
+  /// add_wrenches, and at the same state the dissipated power (added to *dissipated), the wear
+  /// samples (wear_channel_count() entries) and the switching and clamp functions
+  /// (switching_function_count() entries each), each when given (non-null, non-empty). The
+  /// default makes the separate calls; a contact overrides it to evaluate each pair once.
+  virtual void add_wrenches_and_rates(const Context& context, std::span<const Kinematics> bodies,
+                                      std::span<WrenchTpl<S>> wrenches, S* dissipated,
+                                      std::span<WearSampleTpl<S>> wear, std::span<S> gaps,
+                                      std::span<S> clamps) const {
+    add_wrenches(context, bodies, wrenches);
+    if (dissipated != nullptr) *dissipated += dissipated_power(context, bodies);
+    if (!wear.empty()) wear_samples(context, bodies, wear);
+    if (!gaps.empty()) switching_functions(context, bodies, gaps);
+    if (!clamps.empty()) clamp_functions(context, bodies, clamps);
   }
   /// Number of wear channels (contacts: one; other elements: none). Each channel's switching
   /// functions are all of the element's (an impact of the channel is an onset of any of them).

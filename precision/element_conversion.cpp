@@ -6,6 +6,8 @@
 #include <type_traits>
 
 #include "contact/bushing_impl.hpp"
+#include "contact/contact_impl.hpp"
+#include "contact/gap_support_impl.hpp"
 #include "core/applied_load_impl.hpp"
 #include "core/gravity_impl.hpp"
 #include "core/point_charge_potential_impl.hpp"
@@ -27,6 +29,10 @@ template class SphericalBushingTpl<long double>;
 template class SphericalBushingTpl<boost::multiprecision::float128>;
 template class RevoluteBushingTpl<long double>;
 template class RevoluteBushingTpl<boost::multiprecision::float128>;
+template class GapSupportTpl<long double>;
+template class GapSupportTpl<boost::multiprecision::float128>;
+template class ContactElementTpl<long double>;
+template class ContactElementTpl<boost::multiprecision::float128>;
 }  // namespace flexref::contact
 
 namespace flexref::precision {
@@ -54,7 +60,9 @@ std::unique_ptr<const core::ForceElementTpl<S>> element_in(const core::ForceElem
   if ((e = converted<core::AppliedTorqueTpl, S>(element))) return e;
   if ((e = converted<core::PointChargePotentialTpl, S>(element))) return e;
   if ((e = converted<contact::SphericalBushingTpl, S>(element))) return e;
-  return converted<contact::RevoluteBushingTpl, S>(element);
+  if ((e = converted<contact::RevoluteBushingTpl, S>(element))) return e;
+  if ((e = converted<contact::GapSupportTpl, S>(element))) return e;
+  return converted<contact::ContactElementTpl, S>(element);
 }
 
 template std::unique_ptr<const core::ForceElementTpl<double>> element_in<double>(

@@ -13,8 +13,7 @@
 namespace flexref::precision {
 
 /// `element` in S: uniform gravity, applied forces and torques, point-charge potentials,
-/// spherical and revolute bushings; nullptr for another kind (MultibodyModelTpl evaluates the
-/// contacts and gap supports itself).
+/// spherical and revolute bushings, gap supports and contacts; nullptr for another kind.
 template <typename S>
 std::unique_ptr<const core::ForceElementTpl<S>> element_in(const core::ForceElement& element);
 

@@ -5,12 +5,9 @@
 #include <boost/multiprecision/eigen.hpp>
 #include <boost/multiprecision/float128.hpp>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 
-#include "contact/contact.hpp"
-#include "contact/contact_point_tpl.hpp"
-#include "contact/gap_support.hpp"
-#include "contact/penalty_load_tpl.hpp"
 #include "core/attachment_tpl.hpp"
 #include "core/body_equations_tpl.hpp"
 #include "core/unit_vector_tpl.hpp"
@@ -180,51 +177,29 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
                          discontinuities_.end());
 
   wear_channels_ = built.wear_channel_names();
-  const auto channel_of = [&](const core::ForceElement& element) {
-    if (element.wear_channel_count() == 0) return -1;
-    return static_cast<int>(
-        std::find(wear_channels_.begin(), wear_channels_.end(), element.wear_channel_name()) -
-        wear_channels_.begin());
-  };
+  // Every element in S, in the double model's order (which numbers the switching functions);
+  // each wear channel is one element's (core::Model's wear_elements).
   for (const auto& element : built.elements()) {
-    if (std::unique_ptr<const core::ForceElementTpl<S>> converted = element_in<S>(*element)) {
-      elements_.push_back(std::move(converted));
-    } else if (const auto* g = dynamic_cast<const contact::GapSupport*>(element.get())) {
-      Support c;
-      c.kind = Support::Kind::kGap;
-      c.at = attachment(g->body(), g->p_BoN_B(), g->node().deforms() ? g->node().node : -1);
-      c.geometry = g->template geometry_in<S>();
-      c.normal = g->normal_law();
-      c.friction = g->friction_law();
-      c.channel = channel_of(*g);
-      supports_.push_back(c);
-    } else if (const auto* e = dynamic_cast<const contact::ContactElement*>(element.get())) {
-      for (const contact::ContactPair& pair : e->pairs()) {
-        Support c;
-        c.at =
-            attachment(pair.body_b, pair.p_BoCb_B, pair.node_b.deforms() ? pair.node_b.node : -1);
-        c.radius = S(pair.radius_b);
-        if (pair.kind == contact::ContactPair::Kind::kSphereSphere) {
-          c.kind = Support::Kind::kSphereSphere;
-          c.at_a =
-              attachment(pair.body_a, pair.p_BoCa_B, pair.node_a.deforms() ? pair.node_a.node : -1);
-          c.radius_a = S(pair.radius_a);
-        } else {
-          c.kind = Support::Kind::kSpherePlane;
-          c.p_WQ = pair.p_WQ.cast<S>();
-          c.n_W = core::unit_vector_in<S>(pair.n_W);
-        }
-        c.normal = e->normal_law();
-        c.friction = e->friction_law();
-        c.channel = channel_of(*e);
-        supports_.push_back(c);
-      }
-    } else {
+    std::unique_ptr<const core::ForceElementTpl<S>> e = element_in<S>(*element);
+    if (e == nullptr) {
       // An element of another kind would be left out of this model silently.
       throw std::invalid_argument(spec.name +
                                   ": a force element the extended/quad model does not know; use "
                                   "--precision double");
     }
+    int channel = -1;
+    if (e->wear_channel_count() > 0) {
+      channel = static_cast<int>(
+          std::find(wear_channels_.begin(), wear_channels_.end(), e->wear_channel_name()) -
+          wear_channels_.begin());
+      wear_elements_.resize(wear_channels_.size());
+      wear_elements_[static_cast<std::size_t>(channel)] = elements_.size();
+    }
+    element_channels_.push_back(channel);
+    gap_count_ += e->switching_function_count();
+    pair_channels_.insert(pair_channels_.end(),
+                          static_cast<std::size_t>(e->switching_function_count()), channel);
+    elements_.push_back(std::move(e));
   }
 
   Scratch& s = scratch_;
@@ -245,7 +220,10 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
     s.wrenches[i].Q_f = Vector::Zero(n);
   }
   s.wear_power.assign(wear_channels_.size(), S(0));
-  s.switching.assign(2 * supports_.size(), S(0));
+  s.wear.assign(wear_channels_.size(), core::WearSampleTpl<S>{});
+  s.switching.assign(static_cast<std::size_t>(2 * gap_count_), S(0));
+  s.gaps.assign(static_cast<std::size_t>(gap_count_), S(0));
+  s.clamps.assign(static_cast<std::size_t>(gap_count_), S(0));
   energy0_ = energy(S(0), initial_state());
 }
 
@@ -327,126 +305,76 @@ typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::position_W(const At
 }
 
 template <typename S>
-typename MultibodyModelTpl<S>::Vector3 MultibodyModelTpl<S>::velocity_W(const Attachment& a,
-                                                                        const Vector3& p_WP) const {
-  const auto i = static_cast<std::size_t>(a.body);
-  const BodyScratch& bs = scratch_.bodies[i];
-  return core::attached_velocity_tpl<S>(bs.state.v_WBr, bs.w_W, bs.state.p_WBr,
-                                        scratch_.kinematics[i].R_WB,
-                                        a.node >= 0 ? &a.phi_B : nullptr, bs.state.qd_f, p_WP);
-}
-
-template <typename S>
-void MultibodyModelTpl<S>::apply(const Attachment& a, const Vector3& f_W,
-                                 const Vector3& p_WP) const {
-  const auto i = static_cast<std::size_t>(a.body);
-  core::WrenchTpl<S>& w = scratch_.wrenches[i];
-  w.add_force_at(f_W, p_WP - scratch_.bodies[i].state.p_WBr);
-  core::add_attached_modal_force_tpl<S>(scratch_.kinematics[i].R_WB,
-                                        a.node >= 0 ? &a.phi_B : nullptr, f_W, w.Q_f);
-}
-
-template <typename S>
-typename MultibodyModelTpl<S>::SupportPoint MultibodyModelTpl<S>::support_point(
-    const Support& c) const {
-  // A gap support: contact/gap_support_tpl.hpp in S at the deformed node N (GapSupport::
-  // evaluate's). A sphere: contact/contact_point_tpl.hpp's P = C − r n on the plane or the
-  // other sphere, C the (deformed) centre (ContactElement::evaluate's).
-  const Vector3 p_WC = position_W(c.at);
-  SupportPoint s;
-  switch (c.kind) {
-    case Support::Kind::kGap: {
-      const contact::GapPointTpl<S> point = contact::gap_point_tpl<S>(c.geometry, p_WC);
-      s.gap = point.gap;
-      s.n_W = point.n_W;
-      s.p_WP = p_WC;
-      break;
-    }
-    case Support::Kind::kSpherePlane: {
-      const contact::ContactPointTpl<S> point =
-          contact::sphere_plane_point_tpl<S>(p_WC, c.radius, c.p_WQ, c.n_W);
-      s.gap = point.gap;
-      s.n_W = point.n_W;
-      s.p_WP = point.p_WP;
-      break;
-    }
-    case Support::Kind::kSphereSphere: {
-      const contact::ContactPointTpl<S> point =
-          contact::sphere_sphere_point_tpl<S>(position_W(c.at_a), c.radius_a, p_WC, c.radius);
-      s.gap = point.gap;
-      s.n_W = point.n_W;
-      s.p_WP = point.p_WP;
-      break;
-    }
+void MultibodyModelTpl<S>::switching_values(const core::LoadContextTpl<S>& context,
+                                            std::vector<S>& values) const {
+  Scratch& s = scratch_;
+  std::size_t k = 0;
+  for (const auto& e : elements_) {
+    const auto count = static_cast<std::size_t>(e->switching_function_count());
+    if (count == 0) continue;
+    e->switching_functions(context, s.kinematics, std::span<S>(s.gaps).subspan(k, count));
+    e->clamp_functions(context, s.kinematics, std::span<S>(s.clamps).subspan(k, count));
+    k += count;
   }
-  s.v_rel_W = velocity_W(c.at, s.p_WP);
-  if (c.kind == Support::Kind::kSphereSphere) s.v_rel_W -= velocity_W(c.at_a, s.p_WP);
-  return s;
+  interleave_switching(values);
 }
 
 template <typename S>
-typename MultibodyModelTpl<S>::SupportLoad MultibodyModelTpl<S>::support_load(
-    const Support& c) const {
-  using std::abs;
-  using std::sqrt;
-  SupportLoad load;
-  load.point = support_point(c);
-  const SupportPoint& s = load.point;
-  load.f_W.setZero();
-  load.clamp = c.normal.clamp_function(S(-s.gap), S(-s.n_W.dot(s.v_rel_W)));
-  const contact::PenaltyLoadTpl<S> e =
-      contact::penalty_load_tpl<S>(c.normal, c.friction, s.gap, s.n_W, s.v_rel_W);
-  load.dissipated_power = e.dissipated_power();
-  if (!(e.normal.total > S(0))) return load;
-  load.normal = e.normal.total;
-  load.slip_speed = sqrt(e.v_t_W.squaredNorm());
-  load.f_W = e.normal.total * s.n_W + e.f_friction_W;
-  load.wear_power = abs(e.f_friction_W.dot(e.v_t_W));
-  return load;
+void MultibodyModelTpl<S>::interleave_switching(std::vector<S>& values) const {
+  const Scratch& s = scratch_;
+  values.resize(2 * s.gaps.size());
+  for (std::size_t i = 0; i < s.gaps.size(); ++i) {
+    values[2 * i] = s.gaps[i];
+    values[2 * i + 1] = s.clamps[i];
+  }
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::sample_wear(const core::LoadContextTpl<S>& context) const {
+  Scratch& s = scratch_;
+  for (std::size_t c = 0; c < wear_elements_.size(); ++c) {
+    elements_[wear_elements_[c]]->wear_samples(context, s.kinematics,
+                                               std::span<core::WearSampleTpl<S>>(&s.wear[c], 1));
+  }
 }
 
 template <typename S>
 void MultibodyModelTpl<S>::switching_functions(S t, const std::vector<S>& y,
                                                std::vector<S>& values) const {
   load_state(t, y);
-  values.resize(2 * supports_.size());
-  for (std::size_t k = 0; k < supports_.size(); ++k) {
-    const SupportLoad load = support_load(supports_[k]);
-    values[2 * k] = load.point.gap;
-    values[2 * k + 1] = load.clamp;
-  }
+  switching_values(context(t, static_cast<double>(t)), values);
 }
 
 template <typename S>
 void MultibodyModelTpl<S>::evaluate(S t, double t_segment) const {
   Scratch& s = scratch_;
-  // The force elements' loads (core::Model::compute_wrenches) and the integrals' rates
-  // (core::Model::integral_rates: every element's dissipation, and every applied force's power
-  // once a harmonic force makes the model track W_a).
+  // The force elements' loads (core::Model::compute_wrenches), and with them, in one pass over
+  // each contact's pairs, the switching values (they come along with every evaluation:
+  // switched_integration.hpp) and the integrals' rates (core::Model::integral_rates: every
+  // element's dissipation, each wear channel's |F_t·v_t|, and every applied force's power once a
+  // harmonic force makes the model track W_a).
   for (core::WrenchTpl<S>& w : s.wrenches) w.set_zero();
   const core::LoadContextTpl<S> ctx = context(t, t_segment);
-  for (const auto& e : elements_) e->add_wrenches(ctx, s.kinematics, s.wrenches);
   s.dissipation = S(0);
   s.applied_power = S(0);
-  if (dissipates_) {
-    for (const auto& e : elements_) s.dissipation += e->dissipated_power(ctx, s.kinematics);
-    if (applied_work_) {
-      for (const auto& e : elements_) s.applied_power += e->applied_power(ctx, s.kinematics);
-    }
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < elements_.size(); ++j) {
+    const core::ForceElementTpl<S>& e = *elements_[j];
+    const auto count = static_cast<std::size_t>(e.switching_function_count());
+    const int channel = element_channels_[j];
+    std::span<core::WearSampleTpl<S>> wear;
+    if (dissipates_ && channel >= 0) wear = {&s.wear[static_cast<std::size_t>(channel)], 1};
+    e.add_wrenches_and_rates(ctx, s.kinematics, s.wrenches, dissipates_ ? &s.dissipation : nullptr,
+                             wear, std::span<S>(s.gaps).subspan(k, count),
+                             std::span<S>(s.clamps).subspan(k, count));
+    k += count;
   }
-  std::fill(s.wear_power.begin(), s.wear_power.end(), S(0));
-  for (std::size_t k = 0; k < supports_.size(); ++k) {
-    // At the deformed node (a sphere: at P) under either model, as applied forces at nodes
-    // (core::add_attached_force): f on `at`, −f on `at_a`.
-    const Support& c = supports_[k];
-    const SupportLoad load = support_load(c);
-    s.switching[2 * k] = load.point.gap;
-    s.switching[2 * k + 1] = load.clamp;
-    s.dissipation += load.dissipated_power;
-    if (!(load.normal > S(0))) continue;
-    apply(c.at, load.f_W, load.point.p_WP);
-    if (c.kind == Support::Kind::kSphereSphere) apply(c.at_a, Vector3(-load.f_W), load.point.p_WP);
-    if (c.channel >= 0) s.wear_power[static_cast<std::size_t>(c.channel)] += load.wear_power;
+  if (applied_work_) {
+    for (const auto& e : elements_) s.applied_power += e->applied_power(ctx, s.kinematics);
+  }
+  interleave_switching(s.switching);
+  if (dissipates_) {
+    for (std::size_t c = 0; c < s.wear.size(); ++c) s.wear_power[c] = s.wear[c].wear_power;
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     // Each body's accelerations from its loads (core/body_equations_tpl.hpp, as core::Model):
@@ -547,12 +475,10 @@ S MultibodyModelTpl<S>::energy(S t, const std::vector<S>& y) const {
     // V = ½ q_fᵀ K q_f + the elements' potentials below.
     V += S(0.5) * q.dot(b.stiffness.cwiseProduct(q));
   }
-  // The elements' potentials (gravity on the loads' q_f, zero under LTE; the bushings' springs;
-  // the point charges') and the supports' and pairs' V_law(δ) at the deformed points
-  // (GapSupport's and ContactElement's potential_energy).
+  // The elements' potentials: gravity on the loads' q_f (zero under LTE), the bushings' springs,
+  // the point charges', the contacts' and gap supports' V_law(δ) at the deformed points.
   const core::LoadContextTpl<S> ctx = context(t, static_cast<double>(t));
   for (const auto& e : elements_) V += e->potential_energy(ctx, s.kinematics);
-  for (const Support& c : supports_) V += c.normal.potential_in(S(-support_point(c).gap));
   return T + V;
 }
 
@@ -604,25 +530,13 @@ std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
     row.push_back(e - energy0_ + work - applied);  // E(t) − E(0) + W_d(t) − W_a(t)
   }
   if (!wear_channels_.empty()) {
-    // Per channel Σ F_n, the slip speed of its most loaded support or pair (the wear_samples of
-    // GapSupport and ContactElement), the wear work and the impacts counted by the caller.
-    const std::size_t channels = wear_channels_.size();
-    std::vector<S> normal(channels, S(0)), largest(channels, S(0)), slip(channels, S(0));
-    for (const Support& c : supports_) {
-      if (c.channel < 0) continue;
-      const auto k = static_cast<std::size_t>(c.channel);
-      const SupportLoad load = support_load(c);
-      if (!(load.normal > S(0))) continue;
-      normal[k] += load.normal;
-      if (load.normal > largest[k]) {
-        largest[k] = load.normal;
-        slip[k] = load.slip_speed;
-      }
-    }
+    // Per channel Σ F_n, the slip speed of its most loaded support or pair (the element's
+    // wear_samples), the wear work and the impacts counted by the caller.
+    sample_wear(context(t, static_cast<double>(t)));
     const std::size_t first_wear = integrals + (applied_work_ ? 2 : 1);
-    for (std::size_t k = 0; k < channels; ++k) {
-      row.push_back(normal[k]);
-      row.push_back(slip[k]);
+    for (std::size_t k = 0; k < wear_channels_.size(); ++k) {
+      row.push_back(s.wear[k].normal_force);
+      row.push_back(s.wear[k].slip_speed);
       row.push_back(y[first_wear + k]);
       row.push_back(k < impacts.size() ? S(impacts[k]) : S(0));
     }

@@ -8,13 +8,10 @@
 /// sphere–plane and sphere–sphere contacts (spheres at hub points or nodes), and spherical and
 /// revolute bushings between bodies or to the ground. The equations are core::Model's, written
 /// once: each body's rows are core/body_equations_tpl.hpp's over flexible/ (inertia_terms_tpl.hpp,
-/// mass_matrix_solve_tpl.hpp, modal_invariants_tpl.hpp), and gravity, the applied loads, the
-/// potentials and the bushings are the double model's force elements themselves, class templates
-/// converted to S (element_conversion.hpp; core::ForceElementTpl). A rigid body is a body without
-/// modes (its invariants are its mass, first and second moments about Br; M_rr and Qv are then
-/// Newton–Euler's). The contacts and gap supports are still evaluated here, on their shared
-/// templates (contact/contact_point_tpl.hpp, gap_support_tpl.hpp, penalty_load_tpl.hpp), because
-/// their release is located on a second switching function the double elements do not have.
+/// mass_matrix_solve_tpl.hpp, modal_invariants_tpl.hpp), and the loads are the double model's
+/// force elements themselves, class templates converted to S (element_conversion.hpp;
+/// core::ForceElementTpl). A rigid body is a body without modes (its invariants are its mass,
+/// first and second moments about Br; M_rr and Qv are then Newton–Euler's).
 /// Internal to precision/: instantiated in multibody_model_tpl.cpp for the three precisions.
 ///
 /// The data are the scene's double numbers (masses, inertias, node positions, mode shapes,
@@ -42,8 +39,6 @@
 #include <string>
 #include <vector>
 
-#include "contact/contact_laws.hpp"
-#include "contact/gap_support_tpl.hpp"
 #include "core/model.hpp"
 #include "core/prescribed_motion.hpp"
 #include "flexible/mass_matrix_solve_tpl.hpp"
@@ -86,15 +81,16 @@ class MultibodyModelTpl {
   int state_size() const { return integrals_offset_ + integral_count_; }
   /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
   const std::vector<std::string>& columns() const { return columns_; }
-  /// Two per gap support or contact pair, in the double model's element order: the gap g (it
+  /// Two per switching function of the force elements (a gap support's or contact pair's gap),
+  /// in the double model's element order: the gap g (it
   /// pushes while g < 0; its sign change is an onset or a release) and the unclamped law's value
   /// (NormalLaw::clamp_function).
-  int switching_function_count() const { return 2 * static_cast<int>(supports_.size()); }
+  int switching_function_count() const { return 2 * gap_count_; }
   void switching_functions(S t, const std::vector<S>& y, std::vector<S>& values) const;
   int wear_channel_count() const { return static_cast<int>(wear_channels_.size()); }
   /// The wear channel of a gap support or pair, −1 for an unnamed one.
   int wear_channel_of_pair(int pair) const {
-    return supports_[static_cast<std::size_t>(pair)].channel;
+    return pair_channels_[static_cast<std::size_t>(pair)];
   }
   /// Times where a load profile switches, and the end of each spin-up law (φ⁗ jumps there: φ̈ =
   /// (Ω/T)(1 − cos 2πt/T) before, 0 after; extrapolation's high orders need the stop).
@@ -154,42 +150,6 @@ class MultibodyModelTpl {
     flexible::MassSolveScratchTpl<S> solve;
     Vector zero, rhs, x;
   };
-  /// A gap support at a body point (contact/gap_support.hpp), or a sphere of radius r centred
-  /// at `at` on the ground plane through Q with unit normal n, or on a sphere of radius r_a
-  /// centred at `at_a` (contact/contact.hpp), its geometry in S. `at` is pushed along +n.
-  struct Support {
-    enum class Kind { kGap, kSpherePlane, kSphereSphere };
-    Kind kind = Kind::kGap;
-    Attachment at;
-    Attachment at_a;                      ///< sphere–sphere: the first sphere's centre
-    S radius_a = S(0);                    ///< sphere–sphere
-    contact::GapGeometryTpl<S> geometry;  ///< gap support
-    S radius = S(0);                      ///< spheres
-    Vector3 p_WQ = Vector3::Zero();       ///< sphere–plane: a point of the plane
-    Vector3 n_W = Vector3::UnitZ();       ///< sphere–plane: the plane's unit normal
-    contact::NormalLaw normal;
-    contact::FrictionLaw friction;
-    int channel = -1;
-  };
-  /// Where a support acts at the state: its gap, its unit normal, the point of application P
-  /// (the deformed node; the contact point C − r n of a sphere) and the relative velocity there
-  /// (the material point of `at` minus that of `at_a`).
-  struct SupportPoint {
-    S gap;
-    Vector3 n_W;
-    Vector3 p_WP;
-    Vector3 v_rel_W;
-  };
-  /// What a support applies at the state (GapSupport::Evaluation in S).
-  struct SupportLoad {
-    SupportPoint point;
-    S clamp = S(0);   ///< NormalLaw::clamp_function(δ, δ̇)
-    Vector3 f_W;      ///< F_n n + F_t on `at`, zero when it does not push
-    S normal = S(0);  ///< F_n ≥ 0
-    S slip_speed = S(0);
-    S dissipated_power = S(0);
-    S wear_power = S(0);  ///< |F_t·v_t|
-  };
   struct Scratch {
     std::vector<BodyScratch> bodies;
     /// Each body's pose as the force elements see it (the q_f of the loads: zero under LTE) and
@@ -197,9 +157,12 @@ class MultibodyModelTpl {
     std::vector<core::BodyKinematicsTpl<S>> kinematics;
     std::vector<core::WrenchTpl<S>> wrenches;
     S applied_power = S(0);
-    S dissipation = S(0);       ///< the supports' and bushings' dissipated power
-    std::vector<S> wear_power;  ///< per wear channel
-    std::vector<S> switching;   ///< the supports' switching values of the last evaluation
+    S dissipation = S(0);                      ///< the elements' dissipated power
+    std::vector<S> wear_power;                 ///< per wear channel
+    std::vector<S> switching;                  ///< the switching values of the last evaluation
+    std::vector<S> gaps;                       ///< the elements' switching functions, in order
+    std::vector<S> clamps;                     ///< their clamp functions
+    std::vector<core::WearSampleTpl<S>> wear;  ///< per wear channel
   };
 
   const Body& body(int i) const { return bodies_[static_cast<std::size_t>(i)]; }
@@ -211,23 +174,25 @@ class MultibodyModelTpl {
   /// The attached point's offset A (x_P − p_BoBr + Φ_k q_f) from its body's p_WBr.
   Vector3 offset_W(const Attachment& a) const;
   Vector3 position_W(const Attachment& a) const;
-  /// Velocity of the material point of the attachment's body at the world point P:
-  /// v_WBr + ω × (P − p_WBr) + A Φ_k q̇_f (core::attached_velocity_W).
-  Vector3 velocity_W(const Attachment& a, const Vector3& p_WP) const;
-  /// f (world) at the world point P into the attachment's body: f, (P − p_WBr) × f, Φ_kᵀ Aᵀ f.
-  void apply(const Attachment& a, const Vector3& f_W, const Vector3& p_WP) const;
-  SupportPoint support_point(const Support& support) const;
-  SupportLoad support_load(const Support& support) const;
+  /// The elements' switching functions (gaps) and clamp functions at the scratch's state,
+  /// interleaved into `values` (switching_functions' layout).
+  void switching_values(const core::LoadContextTpl<S>& context, std::vector<S>& values) const;
+  /// The scratch's gaps and clamps interleaved into `values` (g_0, c_0, g_1, c_1, …).
+  void interleave_switching(std::vector<S>& values) const;
+  /// Each wear channel's sample (its element's wear_samples) at the scratch's state.
+  void sample_wear(const core::LoadContextTpl<S>& context) const;
   /// The elements' context at (t, t_segment).
   core::LoadContextTpl<S> context(S t, double t_segment) const { return {t, t_segment}; }
 
   core::FlexibleFormulation formulation_ = core::FlexibleFormulation::kCoupled;
   std::vector<Body> bodies_;
-  /// The double model's force elements other than the contacts and gap supports, converted to S
-  /// (element_conversion.hpp): gravity, applied loads, potentials, bushings.
+  /// The double model's force elements, in its order, converted to S (element_conversion.hpp).
   std::vector<std::unique_ptr<const core::ForceElementTpl<S>>> elements_;
-  std::vector<Support> supports_;
+  int gap_count_ = 0;               ///< Σ the elements' switching functions
+  std::vector<int> pair_channels_;  ///< the wear channel of each (−1: none)
   std::vector<std::string> wear_channels_;
+  std::vector<std::size_t> wear_elements_;  ///< the element of each wear channel
+  std::vector<int> element_channels_;       ///< the wear channel of each element (−1: none)
   std::vector<std::string> columns_;
   std::vector<double> discontinuities_;
   bool dissipates_ = false;

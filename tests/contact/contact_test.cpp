@@ -471,5 +471,54 @@ TEST_CASE("contact evaluation allocates nothing", "[core][contact][allocation]")
   CHECK(sum > 0.0);
 }
 
+TEST_CASE("one pass over the pairs gives what the separate calls give", "[core][contact]") {
+  // The extended/quad references evaluate each pair once (add_wrenches_and_rates); core::Model
+  // calls add_wrenches, dissipated_power, wear_samples, switching_functions and clamp_functions
+  // apart. Both are the same expressions in the same order, so they agree to the last bit; a
+  // separated pair (seed ≥ 10: gap > 0) contributes nothing but its gap and clamp value.
+  for (const contact::NormalLaw& law : laws()) {
+    int pushed = 0;
+    for (unsigned seed = 1; seed <= 20; ++seed) {
+      CAPTURE(seed);
+      const TwoBodies b(seed);
+      const Eigen::Vector3d n = Eigen::Vector3d(0.2, -0.4, 1.0).normalized();
+      const double gap = 0.03 * (static_cast<double>(seed) / 10.0 - 1.0);
+      const contact::ContactElement element(
+          {penetrating_sphere_plane(b, 0.1, -gap, n), sphere_pair(b, 0.2, 0.15, gap)}, law,
+          contact::FrictionLaw{0.4, 0.05}, 0.0, "wear");
+      const LoadContext context{0.0, 0.0};
+      std::array<Wrench, 2> fused;
+      std::array<Wrench, 2> separate;
+      double dissipated = 0.0;
+      std::array<WearSample, 1> wear_fused;
+      std::array<WearSample, 1> wear_separate;
+      std::array<double, 2> gaps_fused{};
+      std::array<double, 2> gaps_separate{};
+      std::array<double, 2> clamps_fused{};
+      std::array<double, 2> clamps_separate{};
+      element.add_wrenches_and_rates(context, b.span(), fused, &dissipated, wear_fused, gaps_fused,
+                                     clamps_fused);
+      element.add_wrenches(context, b.span(), separate);
+      element.wear_samples(context, b.span(), wear_separate);
+      element.switching_functions(context, b.span(), gaps_separate);
+      element.clamp_functions(context, b.span(), clamps_separate);
+      for (std::size_t i = 0; i < 2; ++i) {
+        CHECK(fused[i].f_W == separate[i].f_W);
+        CHECK(fused[i].tau_Br_W == separate[i].tau_Br_W);
+        CHECK(fused[i].torque_magnitude == separate[i].torque_magnitude);
+        CHECK(gaps_fused[i] == gaps_separate[i]);
+        CHECK(clamps_fused[i] == clamps_separate[i]);
+      }
+      CHECK(dissipated == element.dissipated_power(context, b.span()));
+      CHECK(wear_fused[0].normal_force == wear_separate[0].normal_force);
+      CHECK(wear_fused[0].slip_speed == wear_separate[0].slip_speed);
+      CHECK(wear_fused[0].wear_power == wear_separate[0].wear_power);
+      if (fused[1].f_W.norm() > 0.0) ++pushed;
+    }
+    // Penetrating pairs moving apart may be clamped to F_n = 0; most push.
+    CHECK(pushed >= 5);
+  }
+}
+
 }  // namespace
 }  // namespace flexref::core

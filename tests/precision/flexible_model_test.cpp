@@ -2,10 +2,10 @@
 /// The flexible body in extended/quad (precision/multibody_model_tpl.hpp):
 /// - against core::Model at random states, coupled and LTE, free, pivot and prescribed, with
 ///   geometric stiffening, gravity, modal damping and forces at nodes and hub points: the
-///   accelerations, the integrals' rates and the output row. The inertia terms and solves are
-///   the shared templates of flexible/, but the loads, the known rows, the invariants' reference
-///   point, the kinematics and the outputs are assembled independently on each side, so a sign,
-///   lever-arm or frame error in either shows up as an O(1) difference;
+///   accelerations, the integrals' rates and the output row. The equations are one code (the
+///   force elements, body rows, inertia terms and solves are templates both models run), so this
+///   checks what each model writes itself: the invariants' reference point and the bodies' data
+///   formed in S, the state layout, the elements' conversion to S and the outputs;
 /// - double, extended and quad references in that order on the bundled flexible scenes;
 /// - conservation of energy in quad by the free flexible body once its torque pulse is over.
 #include <algorithm>

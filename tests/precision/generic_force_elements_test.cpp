@@ -2,10 +2,10 @@
 /// The force elements of the extended/quad model (contacts with friction, bushings, the
 /// point-charge potential) against core::Model at random states of the bundled scenes: the
 /// accelerations of every body, the rates of the integrals (dissipated power, wear power) and
-/// the output row (model_agreement.hpp). The laws are shared templates, but the assembly
-/// (kinematics of the ends and contact points, forces into Newton–Euler about Br) is written
-/// independently on each side, so a sign or lever-arm error in either shows up as an O(1)
-/// difference.
+/// the output row (model_agreement.hpp). The elements are one code (class templates both
+/// models run, core/force_element.hpp), so this checks their conversion to S (data, unit
+/// vectors, node rows, the element order that numbers the switching functions), the state
+/// layout and the outputs.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>

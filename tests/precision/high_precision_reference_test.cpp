@@ -1,6 +1,6 @@
 /// \file high_precision_reference_test.cpp
 /// References in extended and quad precision (precision/, docs/precision.md): the generic model
-/// against core::Model (the double model written independently), an exact solution in closed
+/// against core::Model (the same equations, its own state and data), an exact solution in closed
 /// form, conservation laws, the ordering double < extended < quad with honest estimates,
 /// load switches, and the scenes it carries (all) and the tolerances it refuses.
 #include "precision/high_precision_reference.hpp"
@@ -60,8 +60,8 @@ scene::SceneSpec loaded_spec(bool pivot) {
 }
 
 TEST_CASE("the generic model agrees with core::Model at random states", "[precision]") {
-  // core::Model and MultibodyModelTpl<double> are written independently (the Newton–Euler
-  // equations about Br against model.md's generalized form): a sign error in either shows up
+  // core::Model and MultibodyModelTpl<double> run the same elements and body rows on their own
+  // state layouts and body data (formed in S by the latter): a layout or data error shows up
   // as an O(1) difference. Tolerance: both are a few dozen flops from the same inputs, 1e-12
   // relative.
   for (const bool pivot : {false, true}) {

@@ -2,10 +2,11 @@
 /// \file model_agreement.hpp
 /// The extended/quad model (precision/multibody_model_tpl.hpp, instantiated in double) against
 /// core::Model at random states of a scene: the accelerations, the integrals' rates, the gaps
-/// and the output row. The inertia terms, solves and laws are shared templates, but the loads'
-/// assembly, the known rows, the invariants' reference points, the kinematics and the outputs
-/// are written independently on each side, so a sign, lever-arm, frame or body-index error in
-/// either shows up as an O(1) difference.
+/// and the output row. The force elements, the bodies' rows, the inertia terms and the solves are
+/// templates both models run; what each writes itself — the bodies' data (reference points and
+/// invariants formed in S), the state layout, the elements' conversion, the kinematics of the
+/// prescribed bodies and the outputs — is what this compares, so an error there shows up as an
+/// O(1) difference. The equations themselves are guarded by their own tests.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
