@@ -3,6 +3,7 @@
 /// The definitions of bushing.hpp's class templates, included where they are instantiated:
 /// bushing.cpp (double) and precision/element_conversion.cpp (long double, float128).
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <sstream>
 

@@ -1,9 +1,8 @@
 #pragma once
 /// \file bushing_tpl.hpp
-/// The bushing equations of contact/bushing.hpp written once for any scalar type S: the double
-/// elements (SphericalBushing, RevoluteBushing) call them with double, the extended/quad
-/// references of precision/ with long double and float128 (docs/precision.md). The stiffness
-/// and damping stay the scene's doubles.
+/// The bushing equations of contact/bushing.hpp written once for any scalar type S: the elements
+/// SphericalBushingTpl<S> and RevoluteBushingTpl<S> call them in every precision (double,
+/// long double, float128; docs/precision.md). The stiffness and damping stay the scene's doubles.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 

@@ -139,6 +139,7 @@ void ContactElementTpl<S>::add_wrenches_and_rates(const Context& /*context*/,
   using std::sqrt;
   core::WearSampleTpl<S> w{};
   S largest(0);
+  S power(0);  // dissipated_power's sum over the pairs, added once
   for (std::size_t i = 0; i < pairs_in_s_.size(); ++i) {
     // evaluate()'s load, with v_rel also while separated (the clamp function).
     const ContactPairTpl<S>& pair = pairs_in_s_[i];
@@ -151,7 +152,7 @@ void ContactElementTpl<S>::add_wrenches_and_rates(const Context& /*context*/,
     if (!clamps.empty()) {
       clamps[i] = normal_.clamp_function(S(-e.point.gap), S(-e.point.n_W.dot(e.v_rel_W)));
     }
-    if (dissipated != nullptr) *dissipated += e.dissipated_power();
+    power += e.dissipated_power();
     if (e.normal.total == S(0)) continue;
     // wear_samples' Σ F_n, Σ |F_t·v_t| and the slip speed of the most loaded pair.
     w.normal_force += e.normal.total;
@@ -168,6 +169,7 @@ void ContactElementTpl<S>::add_wrenches_and_rates(const Context& /*context*/,
       core::add_attached_force<S>(bodies[a], pair.node_a, -f_W, e.point.p_WP, wrenches[a]);
     }
   }
+  if (dissipated != nullptr) *dissipated += power;
   if (!wear.empty()) wear[0] = w;
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 /// \file contact_point_tpl.hpp
 /// The geometry of a sphere–plane and a sphere–sphere pair (contact.hpp, docs/contact.md),
-/// written once, generic in the scalar type S: ContactElement calls it with double, the
-/// extended/quad model (precision/multibody_model_tpl.hpp) with long double and float128.
+/// written once, generic in the scalar type S: ContactElementTpl<S> calls it in every precision
+/// (double for core::Model, long double and float128 for the extended/quad references).
 ///   sphere–plane:  g = n·(p_WCb − p_WQ) − r_b,  P = C_b − r_b n  (n the plane's unit normal)
 ///   sphere–sphere: d = C_b − C_a,  g = |d| − r_a − r_b,  n = d/|d|,  P = C_a + (r_a + g/2) n
 /// (coincident centres have no direction: n = e_z). n points from a (or the plane) to b.

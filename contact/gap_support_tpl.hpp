@@ -1,9 +1,9 @@
 #pragma once
 /// \file gap_support_tpl.hpp
 /// The gap support's geometry (docs/contact.md, "Gap support"; gap_support.hpp; its load is
-/// penalty_load_tpl.hpp's) written once, generic in the scalar type S: GapSupport calls it
-/// with double, the extended/quad model (precision/multibody_model_tpl.hpp) with long
-/// double and float128. The parameters are the scene's doubles, exact in S.
+/// penalty_load_tpl.hpp's) written once, generic in the scalar type S: GapSupportTpl<S> calls
+/// it in every precision (double for core::Model, long double and float128 for the extended/quad
+/// references). The parameters are the scene's doubles, exact in S.
 ///   circular  d = (I − a aᵀ)(p_WN − p_WS),  g = c − |d|,  n = −d/|d|
 ///   planar    s = m·(p_WN − p_WS),          g = c − |s|,  n = −sign(s) m
 /// and, while g < 0, the load of penalty_load_tpl.hpp at the node (v_rel = v_N, its velocity).

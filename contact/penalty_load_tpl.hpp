@@ -1,8 +1,8 @@
 #pragma once
 /// \file penalty_load_tpl.hpp
 /// The penalty load at one contact point (docs/contact.md), written once, generic in the scalar
-/// type S: the double contacts (contact.hpp) and gap supports (gap_support.hpp) call it with
-/// double, the extended/quad models (precision/) with long double and float128. With the gap
+/// type S: the contacts (contact.hpp) and gap supports (gap_support.hpp) call it in every
+/// precision (double, long double, float128). With the gap
 /// g < 0, the unit normal n along which the load pushes body b, and the relative velocity
 /// v_rel of b's material point at the contact point minus the other side's:
 ///   δ = −g,  δ̇ = −n·v_rel,  F_n = NormalLaw(δ, δ̇),  v_t = v_rel − (n·v_rel) n,

@@ -1,7 +1,7 @@
 #pragma once
 /// \file force_element.hpp
 /// The interface of everything that applies loads: applied forces and torques, gravity,
-/// potentials; later contacts and bushings. An element adds, for each body it acts on, a
+/// potentials, contacts, gap supports and bushings. An element adds, for each body it acts on, a
 /// force (world) and a torque about the body's reference point Br (world); the model maps
 /// these to generalized forces (docs/design/model.md: Qe_R += f, Qe_θ += ũ_P Aᵀ f). On a flexible
 /// body a point load given by its position is a load on the rigid part (hub, Φ = 0); loads on
@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <span>
 #include <string>
 #include <vector>

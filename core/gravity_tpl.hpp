@@ -1,9 +1,9 @@
 #pragma once
 /// \file gravity_tpl.hpp
 /// Uniform gravity's generalized loads and potential on a body given by its invariants about its
-/// reference point Br, written once for any scalar type S: core::UniformGravity evaluates its
-/// flexible bodies with it in double, and precision::MultibodyModelTpl every body in extended
-/// and quad (a rigid body there is a body without modes: s_t = m c). docs/design/model.md:
+/// reference point Br, written once for any scalar type S: core::UniformGravityTpl<S> evaluates
+/// its flexible bodies with it in every precision (a rigid body takes m g at its centre of mass).
+/// docs/design/model.md:
 ///   Qe_R += m g,   Qe_θ += s̃_t Aᵀ g (τ_Br_W += A (s_t × Aᵀ g)),   Qe_f += Sᵀ Aᵀ g,
 /// with s_t = s0 + S q_f − ½ [q·E_c q]_c the first moment about Br (modal_invariants_tpl.hpp,
 /// GS-4), and under geometric stiffening the foreshortening's work Qe_f += ΔS(q_f)ᵀ Aᵀ g

@@ -275,7 +275,6 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
       x.w_WB_B = Vector3(y[o + 10], y[o + 11], y[o + 12]);
       o += 13;
     }
-    bs.w_W = k.R_WB * x.w_WB_B;
     const auto n = static_cast<std::size_t>(b.n);
     for (std::size_t j = 0; j < n; ++j) {
       x.q_f(static_cast<Eigen::Index>(j)) = y[o + j];

@@ -144,7 +144,6 @@ class MultibodyModelTpl {
   /// q̈_f); its pose and loads are Scratch::kinematics[i] and Scratch::wrenches[i].
   struct BodyScratch {
     core::BodyStateTpl<S> state;
-    Vector3 w_W = Vector3::Zero();      ///< ω = A ω̄
     Vector3 alpha_B = Vector3::Zero();  ///< the law's α̅ (prescribed only)
     flexible::InertiaTermsTpl<S> terms;
     flexible::MassSolveScratchTpl<S> solve;

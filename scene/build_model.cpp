@@ -133,7 +133,7 @@ core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formula
   std::vector<std::unique_ptr<const core::ForceElement>> elements;
   if (!spec.g_W.isZero(0.0)) {
     // Flexible bodies take their gravity loads from the inertia invariants (m g, s̃_t Aᵀ g,
-    // Sᵀ Aᵀ g; core/gravity.cpp); the mass and centre given here are used for rigid bodies.
+    // Sᵀ Aᵀ g; core/gravity_impl.hpp); the mass and centre given here are used for rigid bodies.
     std::vector<core::UniformGravity::BodyMass> masses;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       masses.push_back({static_cast<int>(i), bodies[i].mass(), bodies[i].description().p_BoBcm_B});
