@@ -85,11 +85,10 @@ SphericalBushingTpl<S>::SphericalBushingTpl(const SphericalBushingTpl<U>& other)
       parameters_(other.parameters_) {}
 
 template <typename S>
-void SphericalBushingTpl<S>::add_wrenches(const Context& /*context*/,
+void SphericalBushingTpl<S>::add_wrenches(const Context& context,
                                           std::span<const Kinematics> bodies,
                                           std::span<core::WrenchTpl<S>> wrenches) const {
-  detail::add_spherical<S>(a_, b_, detail::end_motion(a_, bodies), detail::end_motion(b_, bodies),
-                           parameters_, wrenches);
+  add_wrenches_and_rates(context, bodies, wrenches, nullptr, {}, {}, {});
 }
 
 template <typename S>

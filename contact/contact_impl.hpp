@@ -58,6 +58,20 @@ ContactPointTpl<S> pair_point(const ContactPairTpl<S>& pair,
   return sphere_sphere_point_tpl<S>(p_WCa, pair.radius_a, p_WCb, pair.radius_b);
 }
 
+/// A pair's load: F_n n + F_t on b's sphere at P, its opposite on a's (when a is a body).
+template <typename S>
+void add_pair_force(const ContactPairTpl<S>& pair, const ContactEvaluationTpl<S>& e,
+                    std::span<const core::BodyKinematicsTpl<S>> bodies,
+                    std::span<core::WrenchTpl<S>> wrenches) {
+  const Eigen::Matrix<S, 3, 1> f_W = e.force_on_b_W();
+  const auto b = static_cast<std::size_t>(pair.body_b);
+  core::add_attached_force<S>(bodies[b], pair.node_b, f_W, e.point.p_WP, wrenches[b]);
+  if (pair.body_a >= 0) {
+    const auto a = static_cast<std::size_t>(pair.body_a);
+    core::add_attached_force<S>(bodies[a], pair.node_a, -f_W, e.point.p_WP, wrenches[a]);
+  }
+}
+
 }  // namespace detail
 
 template <typename S>
@@ -118,13 +132,7 @@ void ContactElementTpl<S>::add_wrenches(const Context& /*context*/,
     const ContactEvaluationTpl<S> e = evaluate(static_cast<int>(i), bodies);
     if (e.normal.total == S(0)) continue;
     const ContactPairTpl<S>& pair = pairs_in_s_[i];
-    const Vector3 f_W = e.force_on_b_W();
-    const auto b = static_cast<std::size_t>(pair.body_b);
-    core::add_attached_force<S>(bodies[b], pair.node_b, f_W, e.point.p_WP, wrenches[b]);
-    if (pair.body_a >= 0) {
-      const auto a = static_cast<std::size_t>(pair.body_a);
-      core::add_attached_force<S>(bodies[a], pair.node_a, -f_W, e.point.p_WP, wrenches[a]);
-    }
+    detail::add_pair_force<S>(pair, e, bodies, wrenches);
   }
 }
 
@@ -161,13 +169,7 @@ void ContactElementTpl<S>::add_wrenches_and_rates(const Context& /*context*/,
       largest = e.normal.total;
       w.slip_speed = sqrt(e.v_t_W.squaredNorm());
     }
-    const Vector3 f_W = e.force_on_b_W();
-    const auto b = static_cast<std::size_t>(pair.body_b);
-    core::add_attached_force<S>(bodies[b], pair.node_b, f_W, e.point.p_WP, wrenches[b]);
-    if (pair.body_a >= 0) {
-      const auto a = static_cast<std::size_t>(pair.body_a);
-      core::add_attached_force<S>(bodies[a], pair.node_a, -f_W, e.point.p_WP, wrenches[a]);
-    }
+    detail::add_pair_force<S>(pair, e, bodies, wrenches);
   }
   if (dissipated != nullptr) *dissipated += power;
   if (!wear.empty()) wear[0] = w;
