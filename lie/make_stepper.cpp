@@ -101,4 +101,6 @@ std::vector<std::string> scheme_names() {
   return names;
 }
 
+std::vector<std::string> builtin_scheme_names() { return {"c1", "c2", "nmb"}; }
+
 }  // namespace flexref::lie

@@ -27,9 +27,11 @@ struct NmbLinearization {
   double scale = 0.0;
 };
 
-inline NmbLinearization nmb_linearize(const Eigen::Matrix3d& J, const Eigen::Vector3d& torque_B,
-                                      const Eigen::Vector3d& w_n, const Eigen::Vector3d& alpha_n,
-                                      const Eigen::Vector3d& alpha, double h) {
+// Inlined into the Newton loop: a call returning the struct through memory costs NMB ~12 % of
+// its step (bench/scheme_step_benchmark, docs/performance.md "Build").
+[[gnu::always_inline]] inline NmbLinearization nmb_linearize(
+    const Eigen::Matrix3d& J, const Eigen::Vector3d& torque_B, const Eigen::Vector3d& w_n,
+    const Eigen::Vector3d& alpha_n, const Eigen::Vector3d& alpha, double h) {
   const Eigen::Vector3d w = nmb_velocity(w_n, alpha_n, alpha, h);
   const Eigen::Vector3d J_w = J * w;
   const Eigen::Vector3d J_alpha = J * alpha;

@@ -51,5 +51,8 @@ std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& 
 
 /// The names make_stepper accepts, in registration order: {"c1", "c2", "nmb", ...}.
 std::vector<std::string> scheme_names();
+/// The schemes flexref itself registers at start-up, {"c1", "c2", "nmb"}: what a study or test
+/// means by "the built-in schemes", whatever else a program registered.
+std::vector<std::string> builtin_scheme_names();
 
 }  // namespace flexref::lie

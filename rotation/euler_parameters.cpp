@@ -7,63 +7,6 @@
 
 namespace flexref::rotation {
 
-EulerParameters identity_euler_parameters() { return EulerParameters(1.0, 0.0, 0.0, 0.0); }
-
-EulerParameters quaternion_multiply(const EulerParameters& p, const EulerParameters& q) {
-  const double p0 = p(0);
-  const double q0 = q(0);
-  const Eigen::Vector3d pv = p.tail<3>();
-  const Eigen::Vector3d qv = q.tail<3>();
-  EulerParameters r;
-  r(0) = p0 * q0 - pv.dot(qv);
-  r.tail<3>() = p0 * qv + q0 * pv + pv.cross(qv);
-  return r;
-}
-
-EulerParameters quaternion_conjugate(const EulerParameters& q) {
-  return EulerParameters(q(0), -q(1), -q(2), -q(3));
-}
-
-Eigen::Matrix3d rotation_matrix(const EulerParameters& theta) {
-  // A = (2e0² − 1) I + 2 (e eᵀ + e0 ẽ), written out entry by entry (this is on every
-  // evaluation's path).
-  const double e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
-  const double d = 2.0 * e0 * e0 - 1.0;
-  Eigen::Matrix3d a;
-  a << d + 2.0 * e1 * e1, 2.0 * (e1 * e2 - e0 * e3), 2.0 * (e1 * e3 + e0 * e2),  //
-      2.0 * (e1 * e2 + e0 * e3), d + 2.0 * e2 * e2, 2.0 * (e2 * e3 - e0 * e1),   //
-      2.0 * (e1 * e3 - e0 * e2), 2.0 * (e2 * e3 + e0 * e1), d + 2.0 * e3 * e3;
-  return a;
-}
-
-Matrix34d g_bar_matrix(const EulerParameters& theta) {
-  const double e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
-  Matrix34d g;
-  g << -e1, e0, e3, -e2,  //
-      -e2, -e3, e0, e1,   //
-      -e3, e2, -e1, e0;
-  return g;
-}
-
-Matrix34d g_matrix(const EulerParameters& theta) {
-  const double e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
-  Matrix34d g;
-  g << -e1, e0, -e3, e2,  //
-      -e2, e3, e0, -e1,   //
-      -e3, -e2, e1, e0;
-  return g;
-}
-
-EulerParameters euler_parameter_rate(const EulerParameters& theta, const Eigen::Vector3d& w_B) {
-  // θ̇ = ½ θ ⊗ (0, ω̄)
-  const double e0 = theta(0);
-  const Eigen::Vector3d e = theta.tail<3>();
-  EulerParameters rate;
-  rate(0) = -0.5 * e.dot(w_B);
-  rate.tail<3>() = 0.5 * (e0 * w_B + e.cross(w_B));
-  return rate;
-}
-
 EulerParameters exp_quaternion(const Eigen::Vector3d& phi) {
   const double angle = phi.norm();
   const double half = 0.5 * angle;

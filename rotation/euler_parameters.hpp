@@ -5,6 +5,9 @@
 ///   A  = (2e0² − 1) I + 2 (e eᵀ + e0 ẽ)
 ///   Ḡ  = [−e  e0 I − ẽ],  G = [−e  e0 I + ẽ],  A = G Ḡᵀ
 ///   ω̄  = 2 Ḡ θ̇,  ω = 2 G θ̇,  θ̇ = ½ Ḡᵀ ω̄ = ½ θ ⊗ (0, ω̄)
+/// The small maps on every evaluation's path (A, Ḡ, G, the product, the rate) are inline here:
+/// they cross every library boundary, and inline they need no link-time optimization
+/// (docs/performance.md, "Build").
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -13,20 +16,64 @@ namespace flexref::rotation {
 using EulerParameters = Eigen::Vector4d;  ///< (e0, e1, e2, e3), scalar first
 using Matrix34d = Eigen::Matrix<double, 3, 4>;
 
-EulerParameters identity_euler_parameters();
+inline EulerParameters identity_euler_parameters() { return EulerParameters(1.0, 0.0, 0.0, 0.0); }
 /// Hamilton product p ⊗ q (scalar first); rotation of q followed by p in the body→global sense.
-EulerParameters quaternion_multiply(const EulerParameters& p, const EulerParameters& q);
-EulerParameters quaternion_conjugate(const EulerParameters& q);
+inline EulerParameters quaternion_multiply(const EulerParameters& p, const EulerParameters& q) {
+  const double p0 = p(0);
+  const double q0 = q(0);
+  const Eigen::Vector3d pv = p.tail<3>();
+  const Eigen::Vector3d qv = q.tail<3>();
+  EulerParameters r;
+  r(0) = p0 * q0 - pv.dot(qv);
+  r.tail<3>() = p0 * qv + q0 * pv + pv.cross(qv);
+  return r;
+}
+inline EulerParameters quaternion_conjugate(const EulerParameters& q) {
+  return EulerParameters(q(0), -q(1), -q(2), -q(3));
+}
 
 /// A(θ), body → global (exact rotation for unit θ).
-Eigen::Matrix3d rotation_matrix(const EulerParameters& theta);
+inline Eigen::Matrix3d rotation_matrix(const EulerParameters& theta) {
+  // A = (2e0² − 1) I + 2 (e eᵀ + e0 ẽ), written out entry by entry (this is on every
+  // evaluation's path).
+  const double e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
+  const double d = 2.0 * e0 * e0 - 1.0;
+  Eigen::Matrix3d a;
+  a << d + 2.0 * e1 * e1, 2.0 * (e1 * e2 - e0 * e3), 2.0 * (e1 * e3 + e0 * e2),  //
+      2.0 * (e1 * e2 + e0 * e3), d + 2.0 * e2 * e2, 2.0 * (e2 * e3 - e0 * e1),   //
+      2.0 * (e1 * e3 - e0 * e2), 2.0 * (e2 * e3 + e0 * e1), d + 2.0 * e3 * e3;
+  return a;
+}
 /// Ḡ(θ) (body-frame velocity transformation).
-Matrix34d g_bar_matrix(const EulerParameters& theta);
+inline Matrix34d g_bar_matrix(const EulerParameters& theta) {
+  const double e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
+  Matrix34d g;
+  g << -e1, e0, e3, -e2,  //
+      -e2, -e3, e0, e1,   //
+      -e3, e2, -e1, e0;
+  return g;
+}
 /// G(θ) (global-frame velocity transformation).
-Matrix34d g_matrix(const EulerParameters& theta);
+inline Matrix34d g_matrix(const EulerParameters& theta) {
+  const double e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
+  Matrix34d g;
+  g << -e1, e0, -e3, e2,  //
+      -e2, e3, e0, -e1,   //
+      -e3, -e2, e1, e0;
+  return g;
+}
 
 /// θ̇ = ½ θ ⊗ (0, ω̄_B) for a body-frame angular velocity.
-EulerParameters euler_parameter_rate(const EulerParameters& theta, const Eigen::Vector3d& w_B);
+inline EulerParameters euler_parameter_rate(const EulerParameters& theta,
+                                            const Eigen::Vector3d& w_B) {
+  // θ̇ = ½ θ ⊗ (0, ω̄)
+  const double e0 = theta(0);
+  const Eigen::Vector3d e = theta.tail<3>();
+  EulerParameters rate;
+  rate(0) = -0.5 * e.dot(w_B);
+  rate.tail<3>() = 0.5 * (e0 * w_B + e.cross(w_B));
+  return rate;
+}
 
 /// Unit quaternion of the rotation exp(φ̃): (cos(|φ|/2), sin(|φ|/2) φ/|φ|).
 EulerParameters exp_quaternion(const Eigen::Vector3d& phi);

@@ -41,18 +41,6 @@ double dexp_inv_coefficient(double x) {
 
 }  // namespace
 
-Eigen::Matrix3d hat(const Eigen::Vector3d& a) {
-  Eigen::Matrix3d m;
-  m << 0.0, -a.z(), a.y(),  //
-      a.z(), 0.0, -a.x(),   //
-      -a.y(), a.x(), 0.0;
-  return m;
-}
-
-Eigen::Vector3d vee(const Eigen::Matrix3d& m) {
-  return 0.5 * Eigen::Vector3d(m(2, 1) - m(1, 2), m(0, 2) - m(2, 0), m(1, 0) - m(0, 1));
-}
-
 Eigen::Matrix3d exp_so3(const Eigen::Vector3d& phi) {
   const double angle = phi.norm();
   const Eigen::Matrix3d phi_hat = hat(phi);

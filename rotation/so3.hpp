@@ -15,9 +15,17 @@
 namespace flexref::rotation {
 
 /// ã with ã b = a × b.
-Eigen::Matrix3d hat(const Eigen::Vector3d& a);
+inline Eigen::Matrix3d hat(const Eigen::Vector3d& a) {
+  Eigen::Matrix3d m;
+  m << 0.0, -a.z(), a.y(),  //
+      a.z(), 0.0, -a.x(),   //
+      -a.y(), a.x(), 0.0;
+  return m;
+}
 /// Inverse of hat on skew-symmetric matrices (the skew part of any matrix).
-Eigen::Vector3d vee(const Eigen::Matrix3d& m);
+inline Eigen::Vector3d vee(const Eigen::Matrix3d& m) {
+  return 0.5 * Eigen::Vector3d(m(2, 1) - m(1, 2), m(0, 2) - m(2, 0), m(1, 0) - m(0, 1));
+}
 
 /// Rotation matrix exp(φ̃) (Rodrigues' formula).
 Eigen::Matrix3d exp_so3(const Eigen::Vector3d& phi);

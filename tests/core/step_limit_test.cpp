@@ -45,7 +45,7 @@ TEST_CASE("a flexible body's limit is 2/omega_max of its modes", "[step_limit]")
   CHECK(modes[0].stiffness / modes[0].inertia == Approx(omega_max * omega_max).epsilon(1e-12));
 }
 
-TEST_CASE("a contact's limit is 2/omega at its impact stiffness; the smallest limit wins",
+TEST_CASE("a contact's limit is 2/omega at its impact stiffness, the smallest limit wins",
           "[step_limit]") {
   // bouncing_ball: Hunt-Crossley k = 1e6 N/m^1.5, n = 1.5, linearized at the penetration of an
   // impact at v_ref = 4.2 m/s, m_eff = m = 1 kg (tests/support/contact_models.hpp).

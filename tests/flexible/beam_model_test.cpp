@@ -414,7 +414,7 @@ TEST_CASE("sign and normalization conventions", "[core][beam]") {
   }
 }
 
-TEST_CASE("filters select the families; torsion never enters the modal data", "[core][beam]") {
+TEST_CASE("filters select the families, torsion never enters the modal data", "[core][beam]") {
   const flexible::BeamParameters p = test_beam(flexible::BeamBoundary::kClampedFree, 10);
   const flexible::ModalData bending = make_beam_modal_data(p, 6, {.axial = false});
   const flexible::ModalData in_plane =

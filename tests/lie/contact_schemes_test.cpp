@@ -102,7 +102,7 @@ TEST_CASE("contact scenes: C1, C2 and NMB stay bounded inside the explicit step 
         reference::solve_cvode(scene.model, times, reference::SolverOptions{1e-10, -1.0});
     const double h = step_within(scene.step_limit());
     const double e_scale = energy_scale(scene.model, ref.trajectory);
-    for (const std::string& name : scheme_names()) {
+    for (const std::string& name : builtin_scheme_names()) {
       // Every scheme must run (C2 may need a smaller step than the derived limit on the double
       // pendulum: retried at h/2, h/4, h/8). C1's Newton used to stall on these scenes (its
       // Jacobian omitted ∂Γ/∂W, and its residual scale ignored cancelling corner torques);
@@ -171,7 +171,7 @@ TEST_CASE("contact scenes: observed orders of C1, C2 and NMB", "[contact][order]
     const std::vector<double> times = core::output_times(end, 0.01);
     const reference::ReferenceRun ref =
         reference::solve_cvode(c.scene.model, times, reference::SolverOptions{1e-12, -1.0});
-    for (const std::string& name : scheme_names()) {
+    for (const std::string& name : builtin_scheme_names()) {
       std::vector<double> errors;
       std::string failure;
       for (double h : {c.h, c.h / 2.0, c.h / 4.0}) {

@@ -74,7 +74,7 @@ void check_hybrid_orders(const core::Model& model) {
   const std::vector<double> times = core::output_times(2.0, 0.05);
   const core::Trajectory ref = reference(model, times, 1e-12);
   const double ref_error = trajectory_error(model, reference(model, times, 1e-10), ref);
-  for (const std::string& name : scheme_names()) {
+  for (const std::string& name : builtin_scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
       check_order_two(errors_for(model, name, times, ref, 0.01), ref_error);
     }
@@ -83,7 +83,7 @@ void check_hybrid_orders(const core::Model& model) {
 
 TEST_CASE("the hybrid schemes refuse the coupled model", "[lie][flexible]") {
   const core::Model coupled = testing::flexible_spinner_model(FlexibleFormulation::kCoupled);
-  for (const std::string& name : scheme_names()) {
+  for (const std::string& name : builtin_scheme_names()) {
     CHECK_THROWS_AS(make_stepper(name, coupled), std::invalid_argument);
   }
 }

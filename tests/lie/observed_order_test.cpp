@@ -1,7 +1,7 @@
 /// Two-sided observed-order tests of C1, C2 and NMB (Drake ErrEstOrder style) on
 /// non-commuting dynamics, against a reference computed here with Boost.Odeint RKF7(8) at
-/// abs/rel 1e-13 (odeint_reference.hpp). Metric (docs/design/schemes.md default): L∞ over the output
-/// times (every 0.1 s) of the geodesic rotation angle plus L∞ of the position error of the
+/// abs/rel 1e-13 (odeint_reference.hpp). Metric (docs/design/schemes.md default): L∞ over the
+/// output times (every 0.1 s) of the geodesic rotation angle plus L∞ of the position error of the
 /// tracked point (1, 0, 0). For each scheme the steps h, h/2, h/4 are chosen in the scheme's
 /// asymptotic range on that scene; where that range starts late, and why, is measured and
 /// explained in docs/schemes.md ("Observed orders"), and pinned by the finding tests below.
@@ -70,7 +70,7 @@ TEST_CASE("observed order 2 on book_toss over [0, 2], pulse included", "[lie][or
   const core::Model model = testing::book_toss();
   const std::vector<double> times = core::output_times(2.0, 0.1);
   const Reference reference = make_reference(model, times);
-  for (const std::string& name : scheme_names()) {
+  for (const std::string& name : builtin_scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
       check_order_two(scheme_errors(model, name, times, reference, 5e-3), reference);
     }
@@ -98,7 +98,7 @@ TEST_CASE("observed order 2 across a load discontinuity (rectangular torque puls
   const core::Model model = testing::book_toss_step();
   const std::vector<double> times = core::output_times(2.0, 0.1);
   const Reference reference = make_reference(model, times);
-  for (const std::string& name : scheme_names()) {
+  for (const std::string& name : builtin_scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
       check_order_two(scheme_errors(model, name, times, reference, 5e-3), reference);
     }
@@ -113,7 +113,7 @@ TEST_CASE("observed order 2 on heavy_top over [0, 0.5]", "[lie][order]") {
   const std::vector<double> times = core::output_times(0.5, 0.1);
   const Reference reference = make_reference(model, times);
   const std::map<std::string, double> first_step{{"c1", 1e-3}, {"c2", 6.25e-5}, {"nmb", 1e-3}};
-  for (const std::string& name : scheme_names()) {
+  for (const std::string& name : builtin_scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
       check_order_two(scheme_errors(model, name, times, reference, first_step.at(name)), reference);
     }
@@ -129,7 +129,7 @@ TEST_CASE("observed order 2 with translation and configuration/velocity-dependen
   for (const bool damped : {false, true}) {
     const core::Model model = damped ? testing::damped_coulomb_wall() : testing::coulomb_wall();
     const Reference reference = make_reference(model, times);
-    for (const std::string& name : scheme_names()) {
+    for (const std::string& name : builtin_scheme_names()) {
       DYNAMIC_SECTION((damped ? "damped " : "") << "coulomb_wall, scheme " << name) {
         check_order_two(scheme_errors(model, name, times, reference, 1e-2), reference);
       }
@@ -157,7 +157,7 @@ TEST_CASE("finding: C2 leaves the book_toss separatrix distance at moderate step
   const double d_reference = separatrix_distance(model, reference.states.back());
   REQUIRE(std::abs(d_reference) <=
           1e-6 * model.angular_momentum_W(reference.states.back()).squaredNorm());
-  for (const std::string& name : scheme_names()) {
+  for (const std::string& name : builtin_scheme_names()) {
     const auto stepper = make_stepper(name, model);
     const core::Trajectory run = run_scheme(model, *stepper, 1.25e-3, times);
     double d_error = 0.0;

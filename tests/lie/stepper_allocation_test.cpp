@@ -32,7 +32,7 @@ TEST_CASE("step() allocates nothing", "[lie][conformance][allocation]") {
   const core::Model cantilever =
       testing::rotating_cantilever_model(core::FlexibleFormulation::kLte, 3.0);
   for (const core::Model* model : {&book, &top, &wall, &spinner, &cantilever}) {
-    for (const std::string& name : scheme_names()) {
+    for (const std::string& name : builtin_scheme_names()) {
       const auto stepper = make_stepper(name, *model);
       stepper->initialize(0.0, model->initial_state());
       g_allocations = 0;

@@ -240,7 +240,7 @@ TEST_CASE("a reference over its wall-time budget stops early and says its projec
   CHECK(with.estimate.value == without.estimate.value);
 }
 
-TEST_CASE("every scene is carried in extended/quad; a tolerance beyond it is refused",
+TEST_CASE("every scene is carried in extended/quad, a tolerance beyond it is refused",
           "[precision]") {
   const auto message = [](const scene::SceneSpec& scene) {
     try {

@@ -114,7 +114,7 @@ double lte_coupled_difference(double omega) {
   return d;
 }
 
-TEST_CASE("without rotation LTE and coupled agree; their difference grows like Ω²",
+TEST_CASE("without rotation LTE and coupled agree, their difference grows like Ω²",
           "[reference][flexible]") {
   // Ω = 0: both reduce to m_ff q̈ + K q = 0 (Qv = 0, no rigid acceleration); the solver sees the
   // same right-hand side, so the solutions agree to the solver's tolerance (1e-10 · |q| ≈ 1e-12;

@@ -161,7 +161,7 @@ SpinUpPeak spin_up_peak(double omega_s, bool stiffening) {
   return peak;
 }
 
-TEST_CASE("spin-up beam: stiffened it stays bounded for Ω_s = 2, 4, 6, 10; classical diverges",
+TEST_CASE("spin-up beam: stiffened it stays bounded for Ω_s = 2, 4, 6, 10, classical diverges",
           "[reference][flexible][geometric]") {
   // Kane, Ryan and Banerjee (1987): L = 10 m, EI = 1.4e4 N m², ρA = 1.2 kg/m, T_s = 15 s;
   // in-plane ω1 = 3.80 rad/s. With stiffening the in-plane stiffness is ω_flap(Ω)² − Ω² ≥ ω1² > 0

@@ -93,7 +93,7 @@ TEST_CASE("CVODE's method: Adams unless contact or a heavily damped fast mode", 
   }
 }
 
-TEST_CASE("solve_cvode records its method and why; --method overrides", "[cvode][method]") {
+TEST_CASE("solve_cvode records its method and why, --method overrides", "[cvode][method]") {
   const core::Model model = testing::free_spin();
   const std::vector<double> times = core::output_times(1.0, 0.5);
   SolverOptions options;

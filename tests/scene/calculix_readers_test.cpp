@@ -189,7 +189,7 @@ TEST_CASE("dat reader: eigenvalue tables per frequency step", "[calculix]") {
   CHECK(tables[0].line == 2);
 }
 
-TEST_CASE("matrix reader: .dof, .mas and .sti; missing files name the deck keyword", "[calculix]") {
+TEST_CASE("matrix reader: .dof, .mas and .sti, missing files name the deck keyword", "[calculix]") {
   TempDir dir;
   dir.write("job.dof", "1.1\n1.2\n1.3\n7.1\n7.2\n7.3\n");
   dir.write("job.mas", "1 1  2.0000000000000e+00\n1 4  5.0000000000000e-01\n4 4 2.0e+00\n");

@@ -174,7 +174,7 @@ TEST_CASE("tube_support_impact: the schemes' wear work converges at second order
   const std::vector<double> t = grid(0.3, 0.005);
   const Columns reference_columns = columns(model, reference::solve_cvode(model, t, o));
   const double reference_wear = reference_columns.wear.back();
-  for (const std::string& name : lie::scheme_names()) {
+  for (const std::string& name : lie::builtin_scheme_names()) {
     INFO(name);
     std::vector<double> errors;
     for (const double h : {2.5e-5, 1.25e-5, 6.25e-6}) {

@@ -61,7 +61,7 @@ TEST_CASE("a record reads back through a TOML parser with every value intact", "
   CHECK(!toml::find<std::string>(v, "versions", "sundials").empty());
 }
 
-TEST_CASE("tables and keys keep their insertion order; a key set twice is replaced",
+TEST_CASE("tables and keys keep their insertion order, a key set twice is replaced",
           "[study_record]") {
   StudyRecord record;
   record.table("scene").set("name", "a");

@@ -1,3 +1,8 @@
+#pragma once
+/// \file multibody_model_impl.hpp
+/// MultibodyModelTpl<S>'s definitions, included by the one translation unit per precision that
+/// instantiates it (multibody_model_{double,extended,quad}.cpp: three units build in parallel
+/// where one took 96 s, docs/performance.md "Build").
 #include "precision/multibody_model_tpl.hpp"
 
 // Eigen's NumTraits for float128 before any Eigen type of it.
@@ -17,7 +22,7 @@
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::precision {
-namespace {
+namespace detail {
 
 template <typename S>
 Eigen::Matrix<S, 3, 3> rotation_of(const Eigen::Matrix<S, 4, 1>& q) {
@@ -31,7 +36,7 @@ Eigen::Matrix<S, 3, 3> rotation_of(const Eigen::Matrix<S, 4, 1>& q) {
   return A;
 }
 
-}  // namespace
+}  // namespace detail
 
 template <typename S>
 MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
@@ -119,7 +124,7 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
       using std::sqrt;
       b.theta0 /= sqrt(b.theta0.squaredNorm());
     }
-    const Matrix3 A0 = rotation_of<S>(b.theta0);
+    const Matrix3 A0 = detail::rotation_of<S>(b.theta0);
     const Vector3 w0 = init.w_WB_B.cast<S>();
     b.p_WBo0 = init.p_WBo.cast<S>();
     if (b.motion != core::MotionKind::kPrescribed) {
@@ -261,7 +266,7 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
       Quaternion q_axis;
       q_axis << cos(S(0.5) * phi), sin(S(0.5) * phi) * b.axis_W;
       x.theta_WB = reference::detail::quaternion_multiply<S>(q_axis, b.theta0);
-      k.R_WB = rotation_of<S>(x.theta_WB);
+      k.R_WB = detail::rotation_of<S>(x.theta_WB);
       const Vector3 axis_B = k.R_WB.transpose() * b.axis_W;
       x.w_WB_B = b.prescribed.law.template angular_rate_in<S>(t) * axis_B;
       bs.alpha_B = b.prescribed.law.template angular_acceleration_in<S>(t) * axis_B;
@@ -270,7 +275,7 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
     } else {
       x.p_WBr = Vector3(y[o], y[o + 1], y[o + 2]);
       x.theta_WB = Quaternion(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
-      k.R_WB = rotation_of<S>(x.theta_WB);
+      k.R_WB = detail::rotation_of<S>(x.theta_WB);
       x.v_WBr = Vector3(y[o + 7], y[o + 8], y[o + 9]);
       x.w_WB_B = Vector3(y[o + 10], y[o + 11], y[o + 12]);
       o += 13;
@@ -542,9 +547,5 @@ std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
   }
   return row;
 }
-
-template class MultibodyModelTpl<double>;
-template class MultibodyModelTpl<long double>;
-template class MultibodyModelTpl<boost::multiprecision::float128>;
 
 }  // namespace flexref::precision
