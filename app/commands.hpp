@@ -28,7 +28,9 @@ inline constexpr int kExitOutputError = 5;  ///< an output file or folder cannot
 inline constexpr const char* kExitCodeTable =
     "Exit codes: 0 success, 1 bad input (scene, CSV, study file, option value), 2 usage "
     "(command-line syntax), 3 solver failure, 4 a study refused to report (e.g. an uncertified "
-    "reference, fewer than three valid levels), 5 an output file or folder cannot be written.";
+    "reference, fewer than three valid levels), 5 an output file or folder cannot be written. "
+    "Interrupted by SIGINT, SIGTERM or SIGHUP, flexref removes its unfinished outputs and ends "
+    "by the signal (shell status 128+N: 130, 143, 129).";
 
 /// Refuses (core::InputError naming the scene file and the key) a scene whose physics double
 /// precision cannot carry over [0, end_time]: a stiff mode (flexible body, contact, joint) or
@@ -46,8 +48,15 @@ std::vector<double> limited_output_times(double end_time, double output_step,
 /// message. Returns the number of steps.
 long check_scheme_run(const core::Model& model, double dt, const std::vector<double>& times,
                       const WorkLimits& limits, const std::string& what);
-/// io::check_writable_file for each path (io::OutputError), before any work.
-void check_output_files(const std::vector<std::string>& paths);
+/// The output file of `run`, `reference` or `import-modes` and, when it gets one, its sidecar
+/// (io::sidecar_path), checked before any work (io::OutputError): app/output_files.cpp.
+void check_output_file(const std::string& output, bool with_sidecar);
+/// Writes `record` as the sidecar of `output` (io::sidecar_path) or, when the output is
+/// standard output, another descriptor, a device or a FIFO, says on stderr that none is written.
+void write_sidecar(const studies::StudyRecord& record, const std::string& output);
+/// Where a command's summary goes: standard error when its output file is standard output (so
+/// that standard output carries the data alone), standard output otherwise.
+std::ostream& summary_stream(const std::string& output);
 
 struct CheckOptions {
   std::string scene;

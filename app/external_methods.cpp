@@ -9,6 +9,8 @@
 #include <stdexcept>
 
 #include "app/commands.hpp"
+#include "core/error.hpp"
+#include "io/input_file.hpp"
 #include "studies/external_program.hpp"
 
 namespace flexref::app {
@@ -41,8 +43,14 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
     method.kept_file = [label, &out](int level) {
       return out.staged("run_" + label + "_" + std::to_string(level) + ".csv");
     };
-    method.run = [command, kept = method.kept_file](double h, int level) {
-      return studies::run_external_level(command, h, kept(level));
+    // The program writes into the staging folder, which is gone when the user reads why a level
+    // failed: the message names the file's final place.
+    method.run = [command, kept = method.kept_file, &out](double h, int level) {
+      try {
+        return studies::run_external_level(command, h, kept(level));
+      } catch (const std::exception& e) {
+        throw std::runtime_error(out.with_final_paths(e.what()));
+      }
     };
   } else {
     auto files = std::make_shared<std::map<double, std::string>>();
@@ -56,7 +64,12 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
           !std::isfinite(h) || eq + 1 == pair.size()) {
         throw std::invalid_argument("--runs '" + pair + "': expected DT=FILE with DT > 0");
       }
-      if (!files->emplace(h, pair.substr(eq + 1)).second) {
+      const std::string file = pair.substr(eq + 1);
+      // Refused before any work when it cannot be read (missing, a folder, a FIFO, a device).
+      if (const io::InputFile in(file, "a trajectory CSV file (--runs)"); !in.is_open()) {
+        throw core::InputError(file, 0, "", in.error());
+      }
+      if (!files->emplace(h, file).second) {
         throw std::invalid_argument("--runs: the step " + dt_text + " is given twice");
       }
       method.steps.push_back(h);

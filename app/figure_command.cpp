@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -12,6 +11,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
+#include "io/input_file.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
@@ -27,11 +27,13 @@ namespace flexref::app {
 namespace {
 
 std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw core::InputError(path, 0, "", "cannot open the study file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  io::InputFile in(path, "the study file (TOML)");
+  if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
+  try {
+    return in.read_all();
+  } catch (const std::runtime_error& e) {
+    throw core::InputError(path, 0, "", e.what());
+  }
 }
 
 /// An array of strings or numbers under `key` of table t (file:line:key errors).

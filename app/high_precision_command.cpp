@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "app/commands.hpp"
-#include "io/atomic_file.hpp"
+#include "io/output_file.hpp"
 #include "precision/exact_high_precision.hpp"
 #include "precision/high_precision_reference.hpp"
 #include "studies/progress.hpp"
@@ -25,9 +25,9 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
   }
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);
-  check_output_files({options.output, options.output + ".meta.toml"});
+  check_output_file(options.output, true);
   const precision::HighPrecisionRun run = precision::exact_high_precision(scene.spec, times, p);
-  io::write_file_atomically(options.output, precision::high_precision_csv(run));
+  io::write_output_file(options.output, precision::high_precision_csv(run));
   studies::StudyRecord record = scene_record(options.scene, scene);
   record.table("integrator")
       .set("kind", "reference")
@@ -38,9 +38,10 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
       .set("cpu_seconds", run.cpu_seconds);
   record.table("columns").set("names", run.columns);
   studies::add_versions(record);
-  record.write(options.output + ".meta.toml");
-  std::cout << "reference " << scene.name << " with " << run.method << ": " << run.steps
-            << " output times, " << run.cpu_seconds << " s; wrote " << options.output << "\n";
+  write_sidecar(record, options.output);
+  summary_stream(options.output) << "reference " << scene.name << " with " << run.method << ": "
+                                 << run.steps << " output times, " << run.cpu_seconds
+                                 << " s; wrote " << options.output << "\n";
   return kExitOk;
 }
 
@@ -68,7 +69,7 @@ int high_precision_reference_command(const ReferenceOptions& options) {
   const double rtol = options.rtol_given ? options.rtol : precision::default_rtol(p);
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);
-  check_output_files({options.output, options.output + ".meta.toml"});
+  check_output_file(options.output, true);
 
   precision::HighPrecisionRun run;
   studies::CertifiedReference ref;
@@ -84,7 +85,7 @@ int high_precision_reference_command(const ReferenceOptions& options) {
       run = precision::solve_high_precision(scene.spec, times, p, rtol, formulation);
     }
   }
-  io::write_file_atomically(options.output, precision::high_precision_csv(run));
+  io::write_output_file(options.output, precision::high_precision_csv(run));
 
   studies::StudyRecord record = scene_record(options.scene, scene);
   record.table("integrator")
@@ -118,13 +119,14 @@ int high_precision_reference_command(const ReferenceOptions& options) {
   }
   record.table("columns").set("names", run.columns);
   studies::add_versions(record);
-  record.write(options.output + ".meta.toml");
+  write_sidecar(record, options.output);
 
-  std::cout << "reference " << scene.name << " with odeint (" << run.method << ", rtol " << rtol
-            << "): " << run.steps << " steps, " << run.evaluations << " evaluations, "
-            << run.cpu_seconds << " s; wrote " << options.output << "\n";
+  std::ostream& summary = summary_stream(options.output);
+  summary << "reference " << scene.name << " with odeint (" << run.method << ", rtol " << rtol
+          << "): " << run.steps << " steps, " << run.evaluations << " evaluations, "
+          << run.cpu_seconds << " s; wrote " << options.output << "\n";
   if (options.estimate) {
-    std::cout << "estimated error " << studies::describe_estimate(ref.estimate) << "\n";
+    summary << "estimated error " << studies::describe_estimate(ref.estimate) << "\n";
   }
   return kExitOk;
 }

@@ -8,7 +8,7 @@
 #include "app/cli_validators.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
+#include "io/output_file.hpp"
 #include "scene/calculix_frd.hpp"
 #include "scene/calculix_import.hpp"
 #include "scene/calculix_input_deck.hpp"
@@ -38,7 +38,10 @@ CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options) {
   auto* cmd = app.add_subcommand(
       "import-modes", "modal-data file of a flexible body from a CalculiX frequency step");
   cmd->add_option("frd", options.frd, "CalculiX result file JOB.frd (ASCII)")->required();
-  cmd->add_option("-o,--output", options.output, "modal-data file to write (TOML)")->required();
+  cmd->add_option("-o,--output", options.output,
+                  "modal-data file to write (TOML; - for standard output; a link's target is "
+                  "written, docs/output.md)")
+      ->required();
   cmd->add_option("--matrices", options.matrices,
                   "base name of the .mas/.sti/.dof of the free solid (default: JOB)");
   cmd->add_option("--dat", options.dat,
@@ -65,6 +68,8 @@ CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options) {
 }
 
 int import_modes_command(const ImportModesOptions& options) {
+  check_output_file(options.output, false);
+  std::ostream& summary = summary_stream(options.output);
   const std::string job = job_of(options.frd);
   const scene::CalculixModes frd = scene::read_calculix_frd(options.frd);
   const scene::CalculixMatrices matrices =
@@ -94,7 +99,7 @@ int import_modes_command(const ImportModesOptions& options) {
           << (dat_file.empty() ? std::string(", no .dat checked") : ", " + dat_file + " (checked)")
           << "\n";
   std::string report = sources.str() + scene::format_calculix_import_report(result);
-  std::cout << report;
+  summary << report;
   if (!result.self_check_passed) {
     if (!options.accept) {
       throw core::InputError(
@@ -105,7 +110,7 @@ int import_modes_command(const ImportModesOptions& options) {
               "); refine the mesh, keep more nodes, or pass --accept; nothing written");
     }
     report += "self-check failure ACCEPTED (--accept)\n";
-    std::cout << "self-check failure accepted (--accept)\n";
+    summary << "self-check failure accepted (--accept)\n";
   }
   const std::string description = options.description.empty()
                                       ? "CalculiX modes of " +
@@ -113,9 +118,9 @@ int import_modes_command(const ImportModesOptions& options) {
                                             " (step " + std::to_string(result.frequency_step) + ")"
                                       : options.description;
   const std::string text = commented(report) + scene::format_modal_data(result.data, description);
-  io::write_file_atomically(options.output, text);
-  std::cout << "wrote " << options.output << " (" << result.data.node_count() << " nodes, "
-            << result.data.mode_count() << " modes)\n";
+  io::write_output_file(options.output, text);
+  summary << "wrote " << options.output << " (" << result.data.node_count() << " nodes, "
+          << result.data.mode_count() << " modes)\n";
   return kExitOk;
 }
 

@@ -7,7 +7,6 @@
 #include "core/error.hpp"
 #include "core/output_times.hpp"
 #include "core/step_limit.hpp"
-#include "io/atomic_file.hpp"
 #include "lie/run_scheme.hpp"
 #include "scene/scene_reader.hpp"
 
@@ -108,10 +107,6 @@ long check_scheme_run(const core::Model& model, double dt, const std::vector<dou
                                 " steps per run: choose a larger step or raise --max-steps");
   }
   return steps;
-}
-
-void check_output_files(const std::vector<std::string>& paths) {
-  for (const std::string& path : paths) io::check_writable_file(path);
 }
 
 }  // namespace flexref::app

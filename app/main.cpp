@@ -18,13 +18,23 @@
 #include "app/stability_command.hpp"
 #include "app/work_precision_command.hpp"
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
+#include "io/interrupt_cleanup.hpp"
+#include "io/output_file.hpp"
 #include "lie/stepper.hpp"
 #include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/study_refused.hpp"
 
 namespace {
+
+/// The output rule (io/output_file.hpp, docs/output.md "Where outputs go"), in the help of every
+/// option that takes an output path.
+constexpr const char* kOutputFileHelp =
+    "file to write; - for standard output; a symbolic link's target is written, a FIFO or "
+    "device directly (no .meta.toml sidecar then); docs/output.md";
+constexpr const char* kOutputFolderHelp =
+    "output directory, replaced as a whole when the study completes (a link to a folder stays "
+    "a link; docs/output.md)";
 
 /// A study's --reference-budget (docs/precision.md, "Cost guard").
 void add_reference_budget(CLI::App* command, double& budget) {
@@ -85,7 +95,7 @@ int run_command_line(int argc, char** argv) {
       ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
   run_cmd->add_option("--dt", run.dt, "step [s]")->check(positive_number())->capture_default_str();
-  run_cmd->add_option("-o,--output", run.output, "CSV file to write")->required();
+  run_cmd->add_option("-o,--output", run.output, std::string("CSV ") + kOutputFileHelp)->required();
   run_cmd
       ->add_option("--model", run.model,
                    "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
@@ -117,7 +127,7 @@ int run_command_line(int argc, char** argv) {
       ->check(number_in(1e-16, 1.0));
   ref_cmd->add_flag("!--no-estimate", ref.estimate,
                     "skip the error estimate (rerun 100x tighter and a second solver)");
-  ref_cmd->add_option("-o,--output", ref.output, "CSV file to write")->required();
+  ref_cmd->add_option("-o,--output", ref.output, std::string("CSV ") + kOutputFileHelp)->required();
   ref_cmd->add_option("--model", ref.model, "flexible bodies' equations: coupled | lte")
       ->check(CLI::IsMember({"coupled", "lte"}))
       ->capture_default_str();
@@ -179,7 +189,7 @@ int run_command_line(int argc, char** argv) {
       ->capture_default_str();
   conv_cmd->add_option("--jobs", conv.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
-  conv_cmd->add_option("--out", conv.out_dir, "output directory")->capture_default_str();
+  conv_cmd->add_option("--out", conv.out_dir, kOutputFolderHelp)->capture_default_str();
   conv_cmd
       ->add_option("--model", conv.model,
                    "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
@@ -247,7 +257,7 @@ int run_command_line(int argc, char** argv) {
                    "parallel runs (0: all cores); timings are per-thread CPU time, cleanest "
                    "with --jobs 1")
       ->check(integer_in(0, 1024));
-  wp_cmd->add_option("--out", wp.out_dir, "output directory")->capture_default_str();
+  wp_cmd->add_option("--out", wp.out_dir, kOutputFolderHelp)->capture_default_str();
   wp_cmd->add_option("--external", wp.external,
                      "another code's integrator: a command with {scene}, {dt}, {output}, run "
                      "per step; its CPU time is the program's own (docs/external.md)");
@@ -332,7 +342,7 @@ int run_command_line(int argc, char** argv) {
       ->capture_default_str();
   stab_cmd->add_option("--jobs", stab.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
-  stab_cmd->add_option("--out", stab.out_dir, "output directory")->capture_default_str();
+  stab_cmd->add_option("--out", stab.out_dir, kOutputFolderHelp)->capture_default_str();
   add_limits(stab_cmd, stab.limits, true);
 
   FigureCommandOptions fig;
@@ -349,7 +359,7 @@ int run_command_line(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
       ->capture_default_str();
   add_reference_budget(fig_cmd, fig.reference_budget);
-  fig_cmd->add_option("--out", fig.out_dir, "output directory")->capture_default_str();
+  fig_cmd->add_option("--out", fig.out_dir, kOutputFolderHelp)->capture_default_str();
   add_limits(fig_cmd, fig.limits, true);
 
   LteMapCommandOptions lte;
@@ -415,7 +425,7 @@ int run_command_line(int argc, char** argv) {
       ->check(positive_number());
   lte_cmd->add_option("--jobs", lte.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
-  lte_cmd->add_option("--out", lte.out_dir, "output directory")->capture_default_str();
+  lte_cmd->add_option("--out", lte.out_dir, kOutputFolderHelp)->capture_default_str();
   add_limits(lte_cmd, lte.limits, false);
 
   ImportModesOptions import_modes;
@@ -450,7 +460,7 @@ int run_command_line(int argc, char** argv) {
       ->capture_default_str();
   modes_cmd->add_option("--jobs", modes.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
-  modes_cmd->add_option("--out", modes.out_dir, "output directory")->capture_default_str();
+  modes_cmd->add_option("--out", modes.out_dir, kOutputFolderHelp)->capture_default_str();
 
   // An unknown command is a usage error that names it (CLI11 would say "A subcommand is
   // required").
@@ -522,6 +532,9 @@ int run_command_line(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First, before any thread exists: SIGINT, SIGTERM and SIGHUP remove the unfinished outputs
+  // (io/interrupt_cleanup.hpp).
+  flexref::io::install_interrupt_cleanup();
   // One process, or a rank of an MPI job (studies/distribution.hpp, docs/mpi.md).
   flexref::studies::ProcessSession session(argc, argv);
   return session.finish(run_command_line(argc, argv));

@@ -60,7 +60,7 @@ int reference_command(const ReferenceOptions& options) {
     solver = choice.solver;
     solver_reason = choice.reason;
   }
-  check_output_files({options.output, options.output + ".meta.toml"});
+  check_output_file(options.output, true);
   reference::SolverOptions solver_options;
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
@@ -112,36 +112,37 @@ int reference_command(const ReferenceOptions& options) {
       .set("names", ref.table.columns)
       .set("units", studies::trajectory_units(model));
   studies::add_versions(record);
-  record.write(options.output + ".meta.toml");
+  write_sidecar(record, options.output);
 
-  std::cout << "reference " << scene.name << " with " << ref.run.solver << " (" << ref.run.method
-            << ")";
+  std::ostream& summary = summary_stream(options.output);
+  summary << "reference " << scene.name << " with " << ref.run.solver << " (" << ref.run.method
+          << ")";
   if (model.has_flexible_bodies()) {
-    std::cout << " (" << core::to_string(model.formulation()) << " model)";
+    summary << " (" << core::to_string(model.formulation()) << " model)";
   }
   if (ref.run.solver == "exact") {
-    std::cout << " (analytic, " << st.steps << " output times)";
+    summary << " (analytic, " << st.steps << " output times)";
   } else {
-    std::cout << " (rtol " << options.rtol << "): " << st.steps << " steps, " << st.rhs_evaluations
-              << " evaluations";
+    summary << " (rtol " << options.rtol << "): " << st.steps << " steps, " << st.rhs_evaluations
+            << " evaluations";
   }
   if (model.switching_function_count() > 0 || !ref.run.event_times.empty()) {
-    std::cout << ", " << ref.run.event_times.size() << " events located";
+    summary << ", " << ref.run.event_times.size() << " events located";
   }
-  std::cout << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
-  if (options.solver == "auto") std::cout << "solver: " << solver_reason << "\n";
+  summary << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
+  if (options.solver == "auto") summary << "solver: " << solver_reason << "\n";
   if (ref.run.solver == "cvode" || ref.run.solver == "ida" || ref.run.solver == "arkode") {
-    std::cout << "method: " << ref.run.method_reason << "\n";
+    summary << "method: " << ref.run.method_reason << "\n";
   }
-  if (!ref.run.jacobian.empty()) std::cout << "newton systems: " << ref.run.jacobian << "\n";
+  if (!ref.run.jacobian.empty()) summary << "newton systems: " << ref.run.jacobian << "\n";
   if (options.estimate) {
     const auto& e = ref.estimate;
-    std::cout << "estimated error (" << e.metric << "): " << studies::describe_estimate(e) << "\n";
+    summary << "estimated error (" << e.metric << "): " << studies::describe_estimate(e) << "\n";
     for (const auto& c : e.checks) {
-      std::cout << "  " << c.role << ": " << c.solver;
-      if (c.rtol > 0.0) std::cout << " rtol " << c.rtol;
-      std::cout << ", " << c.steps << " steps, distance " << c.distance
-                << (c.used ? "" : " (not used: " + c.note + ")") << "\n";
+      summary << "  " << c.role << ": " << c.solver;
+      if (c.rtol > 0.0) summary << " rtol " << c.rtol;
+      summary << ", " << c.steps << " steps, distance " << c.distance
+              << (c.used ? "" : " (not used: " + c.note + ")") << "\n";
     }
   }
   return kExitOk;

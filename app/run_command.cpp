@@ -21,7 +21,7 @@ int run_command(const RunOptions& options) {
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);
   const long steps = check_scheme_run(model, options.dt, times, options.limits, "--dt");
-  check_output_files({options.output, options.output + ".meta.toml"});
+  check_output_file(options.output, true);
   auto stepper = lie::make_stepper(options.scheme, model);
   // Central differences are stable for h ω ≤ 2 on every elastic mode and penalty element
   // (core/step_limit.hpp): warn when the step exceeds one (implicit schemes stay stable but do
@@ -61,14 +61,16 @@ int run_command(const RunOptions& options) {
       .set("names", table.columns)
       .set("units", studies::trajectory_units(model));
   studies::add_versions(record);
-  record.write(options.output + ".meta.toml");
+  write_sidecar(record, options.output);
 
-  std::cout << "run " << scene.name << " with " << options.scheme
-            << (model.has_flexible_bodies()
-                    ? std::string(" (") + core::to_string(model.formulation()) + " model)"
-                    : std::string())
-            << ", dt " << options.dt << " s: " << steps << " steps, " << cpu << " s CPU; energy "
-            << e_first << " -> " << e_last << " J; wrote " << options.output << "\n";
+  summary_stream(options.output) << "run " << scene.name << " with " << options.scheme
+                                 << (model.has_flexible_bodies()
+                                         ? std::string(" (") +
+                                               core::to_string(model.formulation()) + " model)"
+                                         : std::string())
+                                 << ", dt " << options.dt << " s: " << steps << " steps, " << cpu
+                                 << " s CPU; energy " << e_first << " -> " << e_last << " J; wrote "
+                                 << options.output << "\n";
   return kExitOk;
 }
 

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <boost/multiprecision/float128.hpp>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "io/input_file.hpp"
 #include "precision/parse_text.hpp"
 #include "studies/error_metrics_tpl.hpp"
 #include "studies/reference_sidecar.hpp"
@@ -62,8 +62,8 @@ PreciseTable read_precise_table(const std::string& path) {
   PreciseTable table;
   table.path = path;
   table.precision = precision_of(studies::read_reference_sidecar(path).precision);
-  std::ifstream in(path);
-  if (!in) throw core::InputError(path, 0, "", "cannot open the file");
+  io::InputFile in(path, "a trajectory CSV file");
+  if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {

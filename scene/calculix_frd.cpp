@@ -2,14 +2,13 @@
 
 #include <charconv>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string_view>
 #include <unordered_map>
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/input_file.hpp"
 
 namespace flexref::scene {
 namespace {
@@ -264,14 +263,10 @@ void read_result_block(LineReader& r, const Parameters& p, CalculixModes& out) {
   modes.push_back(std::move(mode));
 }
 
-std::ifstream open(const std::string& path, const std::string& what) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw core::InputError(path, 0, "", "is a directory; expected " + what);
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw core::InputError(path, 0, "", "cannot open " + what);
-  return in;
+/// Throws core::InputError naming the path when `in` (io::InputFile: regular files only) did
+/// not open.
+void check_open(const io::InputFile& in, const std::string& path) {
+  if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
 }
 
 }  // namespace
@@ -318,7 +313,8 @@ CalculixModes parse_calculix_frd(std::istream& in, const std::string& file_name)
 }
 
 CalculixModes read_calculix_frd(const std::string& path) {
-  std::ifstream in = open(path, "a CalculiX result file (.frd)");
+  io::InputFile in(path, "a CalculiX result file (.frd)");
+  check_open(in, path);
   return parse_calculix_frd(in, path);
 }
 
@@ -361,7 +357,8 @@ std::vector<CalculixEigenvalueTable> parse_calculix_dat_eigenvalues(std::istream
 }
 
 std::vector<CalculixEigenvalueTable> read_calculix_dat_eigenvalues(const std::string& path) {
-  std::ifstream in = open(path, "a CalculiX printed-output file (.dat)");
+  io::InputFile in(path, "a CalculiX printed-output file (.dat)");
+  check_open(in, path);
   return parse_calculix_dat_eigenvalues(in, path);
 }
 

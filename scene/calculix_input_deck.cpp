@@ -4,11 +4,11 @@
 #include <cctype>
 #include <charconv>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "io/input_file.hpp"
 
 namespace flexref::scene {
 namespace {
@@ -59,8 +59,8 @@ class DeckReader {
 
   void read(const std::string& path, int depth) {
     if (depth > 20) throw core::InputError(path, 0, "", "*INCLUDE nested more than 20 deep");
-    std::ifstream in(path);
-    if (!in) throw core::InputError(path, 0, "", "cannot open the CalculiX input deck");
+    io::InputFile in(path, "a CalculiX input deck (.inp)");
+    if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
     enum class Block { kNone, kNode, kNset, kGenerate };
     Block block = Block::kNone;
     std::string set;

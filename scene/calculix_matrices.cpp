@@ -5,11 +5,11 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <string_view>
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/input_file.hpp"
 
 namespace flexref::scene {
 namespace {
@@ -19,17 +19,13 @@ constexpr const char* kHowToWrite =
     "add a step '*STEP / *BOUNDARY, OP=NEW / *FREQUENCY, SOLVER=MATRIXSTORAGE / *END STEP' "
     "after the frequency step (docs/calculix.md)";
 
-std::ifstream open(const std::string& path, const std::string& what) {
+/// Opens a matrix file (io::InputFile: regular files only); throws core::InputError.
+void open(io::InputFile& in, const std::string& path, const std::string& what) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) {
     throw core::InputError(path, 0, "", "missing " + what + ": " + kHowToWrite);
   }
-  if (std::filesystem::is_directory(path, ec)) {
-    throw core::InputError(path, 0, "", "is a directory; expected " + what);
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw core::InputError(path, 0, "", "cannot open " + what);
-  return in;
+  if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
 }
 
 /// Skips blanks; false at the end of the text.
@@ -51,7 +47,8 @@ bool number(const char*& p, const char* end, T& value) {
 
 void read_calculix_dofs(const std::string& path, std::vector<int>& node,
                         std::vector<int>& direction) {
-  std::ifstream in = open(path, "degree-of-freedom list (.dof)");
+  io::InputFile in(path, "the degree-of-freedom list (.dof)");
+  open(in, path, "degree-of-freedom list (.dof)");
   node.clear();
   direction.clear();
   std::string line;
@@ -99,7 +96,8 @@ void read_calculix_dofs(const std::string& path, std::vector<int>& node,
 Eigen::SparseMatrix<double> read_calculix_matrix(const std::string& path, int size) {
   const std::string what =
       path.ends_with(".mas") ? "mass matrix (.mas)" : "stiffness matrix (.sti)";
-  std::ifstream in = open(path, what);
+  io::InputFile in(path, "the " + what);
+  open(in, path, what);
   std::vector<Eigen::Triplet<double>> entries;
   std::vector<std::uint64_t> keys;
   std::string line;

@@ -4,8 +4,6 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -15,7 +13,8 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
+#include "io/input_file.hpp"
+#include "io/output_file.hpp"
 #include "scene/scene_toml.hpp"
 
 namespace flexref::scene {
@@ -327,16 +326,9 @@ flexible::ModalData parse_modal_data(const std::string& text, const std::string&
 flexible::ModalData read_modal_data(const std::string& path) {
   std::string text;
   try {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) {
-      throw core::InputError(path, 0, "", "is a directory; expected a modal-data file (TOML)");
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw core::InputError(path, 0, "", "cannot open the modal-data file");
-    std::ostringstream buffer;
-    buffer << in.rdbuf();
-    if (in.bad()) throw core::InputError(path, 0, "", "cannot read the modal-data file");
-    text = std::move(buffer).str();
+    io::InputFile in(path, "the modal-data file (TOML)");
+    if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
+    text = in.read_all();
   } catch (const core::InputError&) {
     throw;
   } catch (const std::exception& e) {
@@ -419,7 +411,7 @@ std::string format_modal_data(const flexible::ModalData& data, const std::string
 
 void write_modal_data(const flexible::ModalData& data, const std::string& path,
                       const std::string& description) {
-  io::write_file_atomically(path, format_modal_data(data, description));
+  io::write_output_file(path, format_modal_data(data, description));
 }
 
 }  // namespace flexref::scene

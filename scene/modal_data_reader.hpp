@@ -34,8 +34,9 @@ flexible::ModalData parse_modal_data(const std::string& text, const std::string&
 /// (names: ASCII letters, digits, '_' and '-').
 std::string format_modal_data(const flexible::ModalData& data, const std::string& description = "");
 
-/// format_modal_data written atomically (temporary file, then rename). Throws
-/// std::invalid_argument (bad data) or std::runtime_error (I/O).
+/// format_modal_data written to `path` under the output rule (io/output_file.hpp: atomically
+/// for a file, through links, directly to a FIFO or device). Throws std::invalid_argument (bad
+/// data) or io::OutputError (I/O).
 void write_modal_data(const flexible::ModalData& data, const std::string& path,
                       const std::string& description = "");
 

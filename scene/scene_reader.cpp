@@ -3,17 +3,14 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <exception>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
-#include <system_error>
 #include <utility>
 #include <vector>
 
 #include "core/error.hpp"
+#include "io/input_file.hpp"
 #include "scene/build_model.hpp"
 #include "scene/reader_parts.hpp"
 #include "scene/scene_toml.hpp"
@@ -188,16 +185,9 @@ Scene parse_scene(const std::string& text, const std::string& file_name,
 Scene read_scene(const std::string& path, core::FlexibleFormulation formulation) {
   std::string text;
   try {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) {
-      throw core::InputError(path, 0, "", "is a directory; expected a scene file (TOML)");
-    }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw core::InputError(path, 0, "", "cannot open the scene file");
-    std::ostringstream buffer;
-    buffer << in.rdbuf();
-    if (in.bad()) throw core::InputError(path, 0, "", "cannot read the scene file");
-    text = std::move(buffer).str();
+    io::InputFile in(path, "the scene file (TOML)");
+    if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
+    text = in.read_all();
   } catch (const core::InputError&) {
     throw;
   } catch (const std::exception& e) {

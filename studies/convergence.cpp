@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <limits>
@@ -11,7 +10,8 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
+#include "io/input_file.hpp"
+#include "io/output_file.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "studies/distribution.hpp"
@@ -70,15 +70,18 @@ SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measure
 
 std::string kept_file_bytes(const ExternalMethod& method, int level) {
   if (distribution().is_root() || !method.kept_file) return {};
-  std::ifstream in(method.kept_file(level), std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
+  io::InputFile in(method.kept_file(level), "a run's output file");
+  if (!in.is_open()) return {};
+  try {
+    return in.read_all();
+  } catch (const std::runtime_error&) {
+    return {};
+  }
 }
 
 void restore_kept_file(const ExternalMethod& method, int level, const std::string& bytes) {
   if (bytes.empty() || !distribution().is_root() || !method.kept_file) return;
-  io::write_file_atomically(method.kept_file(level), bytes);
+  io::write_output_file(method.kept_file(level), bytes);
 }
 
 SchemeSummary summarize_levels(const std::string& method, int claimed_order,

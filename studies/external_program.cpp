@@ -22,6 +22,7 @@
 #include <thread>
 
 #include "core/error.hpp"
+#include "io/interrupt_cleanup.hpp"
 
 extern char** environ;
 
@@ -59,13 +60,16 @@ std::string file_tail(const std::string& path, std::size_t max_chars) {
   return text;
 }
 
-/// A temporary file, removed when this goes out of scope.
+/// A temporary file, removed when this goes out of scope (or when a signal ends the program).
 class TempFile {
  public:
   TempFile() {
     std::string pattern =
         (std::filesystem::temp_directory_path() / "flexref-stderr-XXXXXX").string();
-    fd_ = mkstemp(pattern.data());
+    cleanup_ = io::InterruptCleanup::remove_path([&] {
+      fd_ = mkstemp(pattern.data());
+      return fd_ < 0 ? std::filesystem::path() : std::filesystem::path(pattern);
+    });
     if (fd_ < 0) throw std::runtime_error("cannot create a temporary file: " + pattern);
     path_ = pattern;
   }
@@ -82,6 +86,7 @@ class TempFile {
  private:
   std::string path_;
   int fd_ = -1;
+  io::InterruptCleanup cleanup_;
 };
 
 double seconds(const timeval& tv) {
@@ -135,12 +140,21 @@ ProgramOutcome run_program(const std::string& command_line, double timeout_secon
   posix_spawn_file_actions_adddup2(&actions, err.fd(), 2);
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);  // its own group, killed as a whole
+  // Its own group, killed as a whole; the signal mask flexref had before it blocked SIGINT,
+  // SIGTERM and SIGHUP for its watcher (io/interrupt_cleanup.hpp), so the program stays
+  // interruptible.
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK);
   posix_spawnattr_setpgroup(&attr, 0);
+  const sigset_t mask = io::child_signal_mask();
+  posix_spawnattr_setsigmask(&attr, &mask);
   const char* argv[] = {"/bin/sh", "-c", command_line.c_str(), nullptr};
   pid_t pid = 0;
-  const int rc =
-      posix_spawn(&pid, "/bin/sh", &actions, &attr, const_cast<char* const*>(argv), environ);
+  int rc = 0;
+  // Started and listed under the cleanup's lock: a signal that ends flexref reaches its group.
+  const io::InterruptCleanup group = io::InterruptCleanup::signal_process([&] {
+    rc = posix_spawn(&pid, "/bin/sh", &actions, &attr, const_cast<char* const*>(argv), environ);
+    return rc == 0 ? -pid : 0;
+  });
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attr);
   if (rc != 0) throw std::runtime_error("cannot start /bin/sh: " + std::string(std::strerror(rc)));

@@ -2,6 +2,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
+
+#include "studies/external_program.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -18,9 +21,25 @@ std::string shell_quote(const std::string& s) {
   return out + "'";
 }
 
+/// The last non-empty line of a program's output, for a one-line message.
+std::string last_line(const std::string& text) {
+  const auto end = text.find_last_not_of(" \n\r");
+  if (end == std::string::npos) return "";
+  const auto start = text.find_last_of('\n', end);
+  return text.substr(start == std::string::npos ? 0 : start + 1,
+                     end + 1 - (start == std::string::npos ? 0 : start + 1));
+}
+
+// The scripts run through run_program (studies/external_program.hpp), not std::system: that
+// blocks SIGCHLD and ignores SIGINT in flexref while the script runs and hands the script
+// flexref's blocked signals, so an interrupt would be lost (io/interrupt_cleanup.hpp). Their
+// output is captured; a failure's last line goes into the message.
 bool imports_matplotlib(const std::string& python) {
-  const std::string cmd = shell_quote(python) + " -c 'import matplotlib' >/dev/null 2>&1";
-  return std::system(cmd.c_str()) == 0;
+  try {
+    return run_program(shell_quote(python) + " -c 'import matplotlib'", 0.0).exit_status == 0;
+  } catch (const std::runtime_error&) {
+    return false;
+  }
 }
 
 std::string script_path(const std::string& script) {
@@ -58,11 +77,18 @@ PlotOutcome run_plot_script(const std::string& script, std::vector<std::string> 
   for (std::size_t i = 0; i < arguments.size(); ++i) {
     cmd += " " + shell_quote(arguments[i] == png_path ? temp : arguments[i]);
   }
-  cmd += " 2>&1";
-  if (std::system(cmd.c_str()) != 0) {
+  ProgramOutcome outcome;
+  try {
+    outcome = run_program(cmd, 0.0);
+  } catch (const std::runtime_error& e) {
+    return {false, std::string("no plot: ") + e.what()};
+  }
+  if (outcome.exit_status != 0) {
     std::error_code ignore;
     std::filesystem::remove(temp, ignore);
-    return {false, "no plot: " + script + " failed (" + python + ")"};
+    const std::string why = last_line(outcome.output_tail);
+    return {false, "no plot: " + script + " failed (" + python + ")" +
+                       (why.empty() ? std::string() : ": " + why)};
   }
   std::error_code ec;
   std::filesystem::rename(temp, png_path, ec);

@@ -5,18 +5,28 @@
 #include <toml.hpp>
 
 #include "core/error.hpp"
+#include "io/input_file.hpp"
+#include "io/output_file.hpp"
 
 namespace flexref::studies {
 
 ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
   ReferenceSidecar out;
-  out.path = csv_path + ".meta.toml";
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(out.path, ec)) return out;
+  std::string beside_target = csv_path + ".meta.toml";
+  try {
+    beside_target = io::follow_links(csv_path).string() + ".meta.toml";
+  } catch (const io::OutputError&) {
+    // A loop of links: the CSV itself cannot be read either, and says so.
+  }
+  out.path = std::filesystem::exists(beside_target, ec) ? beside_target : csv_path + ".meta.toml";
+  if (!std::filesystem::exists(out.path, ec)) return out;
   out.found = true;
+  io::InputFile in(out.path, "a metadata sidecar (TOML)");
+  if (!in.is_open()) throw core::InputError(out.path, 0, "", in.error());
   toml::value doc;
   try {
-    doc = toml::parse(out.path);
+    doc = toml::parse(in, out.path);
   } catch (const std::exception& e) {
     throw core::InputError(out.path, 0, "", std::string("not a readable TOML file: ") + e.what());
   }

@@ -27,7 +27,9 @@ struct ReferenceSidecar {
   std::string precision = "double";
 };
 
-/// Reads `csv_path + ".meta.toml"`. A missing file is not an error (found = false); a file that
+/// Reads the CSV's sidecar: `TARGET.meta.toml` beside the file a symbolic link `csv_path` points
+/// to (where flexref writes it, io::sidecar_path), else `csv_path + ".meta.toml"`. A missing
+/// file is not an error (found = false); a file that
 /// is not TOML, or whose [error_estimate] lacks a non-negative `estimate` (+inf allowed: unknown;
 /// NaN refused) or a `metric` string, is a core::InputError naming the file and key.
 ReferenceSidecar read_reference_sidecar(const std::string& csv_path);

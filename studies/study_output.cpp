@@ -1,5 +1,6 @@
 #include "studies/study_output.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -7,7 +8,7 @@
 #include <system_error>
 #include <utility>
 
-#include "io/atomic_file.hpp"
+#include "io/output_file.hpp"
 #include "studies/distribution.hpp"
 #include "studies/progress.hpp"
 
@@ -59,7 +60,8 @@ StudyOutput::StudyOutput(fs::path dir) : dir_(std::move(dir)) {
     std::error_code ec;
     staging_ = fs::temp_directory_path(ec) /
                ("flexref-rank-" + std::to_string(distribution().rank()) + "-" + random_suffix());
-    fs::create_directories(staging_, ec);
+    staging_cleanup_ = io::InterruptCleanup::remove_path(
+        [&] { return fs::create_directories(staging_, ec) ? staging_ : fs::path(); });
   }
   try {
     distribution().on_root([this] { prepare(); });
@@ -77,28 +79,36 @@ void StudyOutput::prepare() {
   std::error_code ec;
   const fs::path absolute = fs::absolute(dir_, ec);
   if (ec) fail(dir_, ec.message());
-  const fs::file_status status = fs::status(absolute, ec);
+  // A link to a folder stays a link: the study replaces the folder it points to (a dangling
+  // link: the folder it names is created).
+  const fs::path target = io::follow_links(absolute);
+  const std::string via = target == absolute ? "" : " (a symbolic link to " + target.string() + ")";
+  const fs::file_status status = fs::status(target, ec);
   if (fs::exists(status) && !fs::is_directory(status)) {
-    fail(dir_, "it exists and is not a directory");
+    fail(dir_, "it exists and is not a directory" + via);
   }
-  if (fs::is_directory(status)) check_replaceable(absolute);
+  if (fs::is_directory(status)) {
+    check_replaceable(target);
+    // Replaced as a whole by a rename: a read-only folder is the user's sign to leave it alone.
+    struct stat st {};
+    if (::stat(target.c_str(), &st) == 0 && (st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
+      fail(dir_, "it is read-only" + via + " (its permission bits grant no write access)");
+    }
+  }
   // The nearest existing ancestor must be a directory we may write into.
-  fs::path ancestor = absolute.parent_path();
+  fs::path ancestor = target.parent_path();
   while (!ancestor.empty() && !fs::exists(ancestor, ec)) ancestor = ancestor.parent_path();
-  if (ancestor.empty() || !fs::is_directory(ancestor, ec)) {
-    fail(dir_, (ancestor.empty() ? std::string("no existing parent directory")
-                                 : ancestor.string() + " is not a directory"));
-  }
-  if (::access(ancestor.c_str(), W_OK | X_OK) != 0) {
-    fail(dir_, ancestor.string() + " is not writable");
-  }
-  fs::create_directories(absolute.parent_path(), ec);
-  if (ec) fail(dir_, "cannot create " + absolute.parent_path().string() + ": " + ec.message());
+  if (ancestor.empty()) fail(dir_, "no existing parent directory");
+  io::check_writable_directory(ancestor, "the output folder " + dir_.string());
+  fs::create_directories(target.parent_path(), ec);
+  if (ec) fail(dir_, "cannot create " + target.parent_path().string() + ": " + ec.message());
   staging_ =
-      absolute.parent_path() / ("." + absolute.filename().string() + ".staging-" + random_suffix());
-  fs::create_directory(staging_, ec);
+      target.parent_path() / ("." + target.filename().string() + ".staging-" + random_suffix());
+  staging_cleanup_ = io::InterruptCleanup::remove_path(
+      [&] { return fs::create_directory(staging_, ec) ? staging_ : fs::path(); });
   if (ec) fail(dir_, "cannot create " + staging_.string() + ": " + ec.message());
   dir_ = absolute;
+  target_ = target;
 }
 
 StudyOutput::~StudyOutput() {
@@ -115,8 +125,22 @@ std::string StudyOutput::final_path(const std::string& file) const {
   return (dir_ / file).string();
 }
 
+std::string StudyOutput::with_final_paths(std::string text) const {
+  const std::string from = staging_.string();
+  const std::string to = dir_.string();
+  if (from.empty()) return text;
+  for (auto at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
 void StudyOutput::write(const std::string& file, const std::string& text) {
-  io::write_file_atomically(staged(file), text);
+  try {
+    io::write_output_file(staged(file), text);
+  } catch (const io::OutputError& e) {
+    throw io::OutputError(with_final_paths(e.what()));
+  }
   add(file);
 }
 
@@ -135,6 +159,8 @@ PlotOutcome StudyOutput::plot(const std::string& script, const std::string& png,
   if (outcome.ok) {
     add(png);
     outcome.message = final_path(png);
+  } else {
+    outcome.message = with_final_paths(outcome.message);
   }
   plots_.emplace_back(png, outcome.ok ? std::string("written") : outcome.message);
   return outcome;
@@ -154,26 +180,41 @@ void StudyOutput::commit_files(StudyRecord record) {
   record.table("files").set("folder", dir_.string()).set("written", listed);
   for (const auto& [png, status] : plots_)
     record.table("plot").set(fs::path(png).stem().string(), status);
-  io::write_file_atomically(staged("study.toml"), record.to_toml());
-  add("study.toml");
+  write("study.toml", record.to_toml());
   // Move the previous folder aside, the new one into place, then drop the previous one: the
   // folder holds either the old study or the new one at every instant but between the two
-  // renames.
-  std::error_code ec;
+  // renames. Both renames happen under the interrupt cleanup's lock, which then lists the
+  // previous folder instead of the staging one.
+  std::string error;
   fs::path previous;
-  if (fs::exists(dir_, ec)) {
-    previous =
-        dir_.parent_path() / ("." + dir_.filename().string() + ".previous-" + random_suffix());
-    fs::rename(dir_, previous, ec);
-    if (ec) fail(dir_, "cannot move the previous results aside: " + ec.message());
+  staging_cleanup_.update([&]() -> fs::path {
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(target_, ec))) {
+      previous = target_.parent_path() /
+                 ("." + target_.filename().string() + ".previous-" + random_suffix());
+      fs::rename(target_, previous, ec);
+      if (ec) {
+        error = "cannot move the previous results aside: " + ec.message();
+        previous.clear();
+        return staging_;
+      }
+    }
+    fs::rename(staging_, target_, ec);
+    if (ec) {
+      error = "cannot move the new results into place: " + ec.message();
+      std::error_code ignore;
+      if (!previous.empty()) fs::rename(previous, target_, ignore);
+      previous.clear();
+      return staging_;
+    }
+    return previous;
+  });
+  if (!error.empty()) fail(dir_, error);
+  if (!previous.empty()) {
+    std::error_code ec;
+    fs::remove_all(previous, ec);
   }
-  fs::rename(staging_, dir_, ec);
-  if (ec) {
-    std::error_code ignore;
-    if (!previous.empty()) fs::rename(previous, dir_, ignore);
-    fail(dir_, "cannot move the new results into place: " + ec.message());
-  }
-  if (!previous.empty()) fs::remove_all(previous, ec);
+  staging_cleanup_.release();
 }
 
 }  // namespace flexref::studies

@@ -7,11 +7,18 @@
 /// old plots. In a study distributed over processes (studies/distribution.hpp) only the root
 /// writes: the others stage into a private temporary folder, draw no plot, and share the root's
 /// outcome of the checks and of commit().
+///
+/// `--out` follows the output rule (io/output_file.hpp, docs/decisions.md "Outputs"): a
+/// symbolic link to a folder stays a link and the study replaces the folder it points to; an
+/// existing file, FIFO or device is refused, and so is a read-only folder. The staging folder
+/// (and, during commit, the previous folder moved aside) is removed if SIGINT, SIGTERM or SIGHUP
+/// ends the program (io/interrupt_cleanup.hpp).
 #include <filesystem>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "io/interrupt_cleanup.hpp"
 #include "studies/plot.hpp"
 #include "studies/study_record.hpp"
 
@@ -31,8 +38,11 @@ class StudyOutput {
 
   /// Where `file` is staged (for writers that take a path, such as plot scripts).
   std::string staged(const std::string& file) const;
-  /// Where `file` will be after commit().
+  /// Where `file` will be after commit() (through --out as given, links not followed).
   std::string final_path(const std::string& file) const;
+  /// `text` (a message) with every path into the staging folder replaced by its final path: the
+  /// staging folder no longer exists when the user reads it.
+  std::string with_final_paths(std::string text) const;
   /// Writes a text file into the staging folder (atomically) and lists it in the record.
   void write(const std::string& file, const std::string& text);
   /// Notes a file that a writer put at staged(file) itself.
@@ -54,9 +64,11 @@ class StudyOutput {
   void prepare();
   void commit_files(StudyRecord record);
 
-  bool writer_ = true;  ///< the root process: the one that writes the folder
-  std::filesystem::path dir_;
+  bool writer_ = true;            ///< the root process: the one that writes the folder
+  std::filesystem::path dir_;     ///< --out as given, made absolute
+  std::filesystem::path target_;  ///< the folder replaced: dir_ with its links followed
   std::filesystem::path staging_;
+  io::InterruptCleanup staging_cleanup_;  ///< the staging folder, then the previous one
   std::vector<std::string> files_;
   std::vector<std::pair<std::string, std::string>> plots_;  ///< (png, final path or why not)
   bool committed_ = false;

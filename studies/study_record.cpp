@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <toml.hpp>
 
-#include "io/atomic_file.hpp"
+#include "io/output_file.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -136,7 +136,7 @@ std::string StudyRecord::to_toml() const {
 }
 
 void StudyRecord::write(const std::string& path) const {
-  io::write_file_atomically(path, to_toml());
+  io::write_output_file(path, to_toml());
 }
 
 void add_versions(StudyRecord& record) {

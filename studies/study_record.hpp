@@ -68,7 +68,8 @@ class StudyRecord {
 
   /// The record as TOML text.
   std::string to_toml() const;
-  /// Writes to_toml() to path atomically; throws io::OutputError.
+  /// Writes to_toml() to path under the output rule (io/output_file.hpp); throws
+  /// io::OutputError.
   void write(const std::string& path) const;
 
  private:

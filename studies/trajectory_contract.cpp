@@ -6,13 +6,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "io/input_file.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -237,10 +237,8 @@ void check_values(const RunData& data, const std::vector<Group>& groups,
 }  // namespace
 
 RunData read_run_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    throw core::InputError(path, 0, "", "cannot open file: " + std::string(std::strerror(errno)));
-  }
+  io::InputFile in(path, "a trajectory CSV file");
+  if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
   RunData data;
   data.source = path;
   std::string line;

@@ -3,15 +3,14 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/error.hpp"
-#include "io/atomic_file.hpp"
+#include "io/input_file.hpp"
+#include "io/output_file.hpp"
 
 namespace flexref::studies {
 
@@ -177,7 +176,7 @@ void write_csv(const TrajectoryTable& table, const std::string& path) {
     for (std::size_t i = 0; i < row.size(); ++i) out << (i ? "," : "") << row[i];
     out << '\n';
   }
-  io::write_file_atomically(path, out.str());
+  io::write_output_file(path, out.str());
 }
 
 std::string csv_text(std::string text) {
@@ -190,9 +189,8 @@ std::string csv_text(std::string text) {
 }
 
 TrajectoryTable read_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw core::InputError(path, 0, "", "cannot open file: " + std::string(std::strerror(errno)));
+  io::InputFile in(path, "a trajectory CSV file");
+  if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
   TrajectoryTable table;
   std::string line;
   int line_number = 0;

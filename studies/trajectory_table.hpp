@@ -42,8 +42,9 @@ std::vector<std::string> trajectory_units(const core::Model& model);
 /// Tabulates states at their times (energy evaluated with the load branch active at t).
 TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory);
 
-/// Writes the table as CSV (17 significant digits) atomically: to a temporary file in the
-/// same directory, then renamed, so an interrupted run never leaves a half-written file.
+/// Writes the table as CSV (17 significant digits) under the output rule (io/output_file.hpp):
+/// a file atomically (a temporary beside it, then renamed, so an interrupted run never leaves a
+/// half-written file), a link's target, a FIFO or device directly, `-` to standard output.
 void write_csv(const TrajectoryTable& table, const std::string& path);
 /// A free-text CSV field (a status, a classification) that every CSV reader splits alike,
 /// numpy.genfromtxt included: commas become semicolons, double quotes apostrophes, line breaks

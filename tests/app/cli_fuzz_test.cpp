@@ -6,12 +6,24 @@
 /// (0 … 5), never a signal or a sanitizer report, say something on a failure, write no output
 /// after refusing its input, and write no inf or NaN into a trajectory CSV.
 ///
+/// Output paths are fuzzed too (docs/output.md, "Where outputs go"): links to a file, to a
+/// folder and dangling, a FIFO with a reader attached, standard output, a read-only file and a
+/// read-only folder; after every case the links are still links, the FIFO still a FIFO without
+/// a sidecar, the read-only file and folder as they were, and no temporary or staging folder is
+/// left. A second case interrupts every study command with SIGINT, SIGTERM and SIGHUP once its
+/// staging folder exists (no clock: the signal follows an event) and requires the end by that
+/// signal and nothing left behind.
+///
 /// Bounded in time with a fixed seed: FLEXREF_FUZZ_SECONDS (default 20) and
 /// FLEXREF_FUZZ_SEED (default 17) override them; the cases are a prefix of one fixed sequence.
+#include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <cctype>
 #include <chrono>
@@ -20,6 +32,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -40,15 +53,20 @@ struct Outcome {
   std::string output;  ///< standard output and error
 };
 
-/// Runs flexref with `args` (from the repository root), killing its process group after
-/// `limit`. The sanitizers get exit codes outside the table, so that a report cannot pass
-/// for "bad input" (their default exit code is 1).
-Outcome run(const std::vector<std::string>& args, std::chrono::duration<double> limit,
-            const fs::path& log, bool plots) {
+/// Starts flexref with `args` (from the repository root) in its own process group, its output
+/// in `log`, with the signals it handles at their defaults. The sanitizers get exit codes
+/// outside the table, so that a report cannot pass for "bad input" (their default exit code
+/// is 1).
+pid_t start(const std::vector<std::string>& args, const fs::path& log, bool plots) {
   const pid_t pid = fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
     setpgid(0, 0);
+    // The signals the program handles, as a shell's foreground command gets them.
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
+    for (const int s : {SIGINT, SIGTERM, SIGHUP}) signal(s, SIG_DFL);
     std::FILE* out = std::fopen(log.c_str(), "w");
     if (out == nullptr) _exit(120);
     dup2(fileno(out), STDOUT_FILENO);
@@ -66,6 +84,15 @@ Outcome run(const std::vector<std::string>& args, std::chrono::duration<double> 
     execv(binary.c_str(), argv.data());
     _exit(121);
   }
+  return pid;
+}
+
+/// Runs flexref with `args` (from the repository root), killing its process group after
+/// `limit`. The sanitizers get exit codes outside the table, so that a report cannot pass
+/// for "bad input" (their default exit code is 1).
+Outcome run(const std::vector<std::string>& args, std::chrono::duration<double> limit,
+            const fs::path& log, bool plots) {
+  const pid_t pid = start(args, log, plots);
   Outcome outcome;
   const auto start = std::chrono::steady_clock::now();
   int status = 0;
@@ -198,27 +225,142 @@ struct Fixture {
   std::vector<std::string> studies;
 };
 
+/// A FIFO with a reader attached for the whole fuzz: a thread holds it open for reading and
+/// writing (so a writer's open never waits, and the reader never sees an end) and drains it.
+class FifoReader {
+ public:
+  explicit FifoReader(const fs::path& path) : path_(path) {
+    REQUIRE(mkfifo(path.c_str(), 0600) == 0);
+    fd_ = open(path.c_str(), O_RDWR | O_NONBLOCK);
+    REQUIRE(fd_ >= 0);
+    thread_ = std::thread([this] {
+      char buffer[1 << 16];
+      pollfd p{fd_, POLLIN, 0};
+      while (!stop_) {
+        if (poll(&p, 1, 50) > 0) bytes_ += std::max<ssize_t>(0, read(fd_, buffer, sizeof buffer));
+      }
+    });
+  }
+  ~FifoReader() {
+    stop_ = true;
+    thread_.join();
+    close(fd_);
+  }
+  FifoReader(const FifoReader&) = delete;
+  FifoReader& operator=(const FifoReader&) = delete;
+  long bytes() const { return bytes_; }
+
+ private:
+  fs::path path_;
+  int fd_ = -1;
+  std::atomic<bool> stop_{false};
+  std::atomic<long> bytes_{0};
+  std::thread thread_;
+};
+
+/// The output-path fixtures (made by make_output_fixtures) and what must stay true of them.
+struct OutputFixtures {
+  fs::path file_link;      ///< -> a regular file
+  fs::path folder_link;    ///< -> a folder
+  fs::path fifo;           ///< with a FifoReader attached
+  fs::path readonly_file;  ///< mode 0444, "precious"
+  fs::path readonly_dir;   ///< mode 0555, holding "kept.csv"
+};
+
+OutputFixtures make_output_fixtures(const fs::path& dir) {
+  OutputFixtures o;
+  std::ofstream(dir / "link_target.csv") << "t\n0\n";
+  o.file_link = dir / "file_link.csv";
+  fs::create_symlink("link_target.csv", o.file_link);
+  fs::create_directories(dir / "linked_folder");
+  o.folder_link = dir / "folder_link";
+  fs::create_symlink("linked_folder", o.folder_link);
+  o.fifo = dir / "fifo";
+  o.readonly_file = dir / "readonly.csv";
+  std::ofstream(o.readonly_file) << "precious\n";
+  chmod(o.readonly_file.c_str(), 0444);
+  o.readonly_dir = dir / "readonly_dir";
+  fs::create_directories(o.readonly_dir);
+  std::ofstream(o.readonly_dir / "kept.csv") << "kept\n";
+  chmod(o.readonly_dir.c_str(), 0555);
+  return o;
+}
+
+bool is_leftover(const std::string& name) {
+  return name.find(".staging-") != std::string::npos || name.find(".tmp-") != std::string::npos ||
+         name.find(".previous-") != std::string::npos;
+}
+
+void remove_leftovers(const fs::path& dir) {
+  std::vector<fs::path> found;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec);
+       it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (is_leftover(it->path().filename().string())) found.push_back(it->path());
+  }
+  for (const fs::path& p : found) fs::remove_all(p, ec);
+}
+
+/// What a case broke among the output fixtures, or "" (links replaced, the FIFO replaced or
+/// given a sidecar, a read-only file or folder changed, a temporary or staging folder left).
+std::string broken_fixture(const Fixture& f, const OutputFixtures& o) {
+  struct stat st {};
+  for (const fs::path& link : {o.file_link, o.folder_link}) {
+    if (lstat(link.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return link.string() + " is no link";
+  }
+  if (lstat(o.fifo.c_str(), &st) != 0 || !S_ISFIFO(st.st_mode)) return "the FIFO was replaced";
+  if (fs::exists(o.fifo.string() + ".meta.toml")) return "a sidecar beside the FIFO";
+  std::ifstream in(o.readonly_file);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  if (text != "precious\n") return "the read-only file was written";
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(o.readonly_dir)) names.insert(e.path().filename());
+  if (names != std::set<std::string>{"kept.csv"}) return "the read-only folder was written";
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(f.dir, ec);
+       it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (is_leftover(it->path().filename().string())) return "left behind: " + it->path().string();
+  }
+  return "";
+}
+
 std::string pick(std::mt19937& rng, const std::vector<std::string>& from) {
   return from[std::uniform_int_distribution<std::size_t>(0, from.size() - 1)(rng)];
 }
 
 bool chance(std::mt19937& rng, double p) { return std::bernoulli_distribution(p)(rng); }
 
-std::string output_path(std::mt19937& rng, const Fixture& f, int case_number, bool folder) {
+std::string output_path(std::mt19937& rng, const Fixture& f, const OutputFixtures& o,
+                        int case_number, bool folder) {
   const std::string fresh = (f.dir / ("out" + std::to_string(case_number))).string();
-  const double r = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
-  if (r < 0.6) return fresh + (folder ? "" : ".csv");
-  if (r < 0.7) return (f.dir / "file.txt" / "sub").string();  // under a file
-  if (r < 0.8) return f.dir.string();                         // an existing non-study folder
-  if (r < 0.9) return "/nonexistent-flexref/out";
-  return "";
+  const int r = std::uniform_int_distribution<int>(0, 99)(rng);
+  if (r < 45) return fresh + (folder ? "" : ".csv");
+  if (r < 50) return (f.dir / "file.txt" / "sub").string();  // under a file
+  if (r < 55) return f.dir.string();                         // an existing non-study folder
+  // A missing folder (a study creates it, a file is refused): inside the fixture, since a study
+  // run as root would create it anywhere.
+  if (r < 60) return (f.dir / "missing" / "out").string();
+  if (r < 63) return "";
+  if (r < 68) return o.file_link.string();
+  if (r < 73) {
+    // A dangling link, made for this case: written, it creates its target.
+    const fs::path link = f.dir / ("dangling" + std::to_string(case_number));
+    fs::create_symlink("made" + std::to_string(case_number), link);
+    return link.string();
+  }
+  if (r < 78) return o.folder_link.string();
+  if (r < 83) return o.fifo.string();
+  if (r < 88) return o.readonly_file.string();
+  if (r < 93) return (o.readonly_dir / (folder ? "study" : "x.csv")).string();
+  if (r < 96) return o.readonly_dir.string();
+  return folder ? fresh : "-";  // standard output (a folder named "-" would land in the cwd)
 }
 
 std::string value_for(std::mt19937& rng, const OptionSpec& option, const Fixture& f,
-                      int case_number) {
+                      const OutputFixtures& o, int case_number) {
   const std::string& n = option.name;
-  if (n == "-o" || n == "--output") return output_path(rng, f, case_number, false);
-  if (n == "--out") return output_path(rng, f, case_number, true);
+  if (n == "-o" || n == "--output") return output_path(rng, f, o, case_number, false);
+  if (n == "--out") return output_path(rng, f, o, case_number, true);
   if (n == "scene") return pick(rng, f.scenes);
   if (n == "run" || n == "reference") return pick(rng, f.csvs);
   if (n == "study") return pick(rng, f.studies);
@@ -265,6 +407,8 @@ TEST_CASE("fuzzed command lines end with a clear answer and an exit code of the 
   std::ofstream(f.dir / "file.txt") << "not a folder";
   std::ofstream(f.dir / "empty.toml");
   std::ofstream(f.dir / "garbage.toml") << "[scene\nname = = 3\n\x01\x02";
+  const OutputFixtures outputs = make_output_fixtures(f.dir);
+  const FifoReader fifo_reader(outputs.fifo);
   // Short scenes (a fraction of a second of simulated time) keep each case fast.
   for (const char* scene : {"free_spin", "book_toss", "bouncing_ball", "flexible_spinner"}) {
     std::ifstream in(std::string("scenes/") + scene + ".toml");
@@ -332,7 +476,7 @@ TEST_CASE("fuzzed command lines end with a clear answer and an exit code of the 
     std::vector<std::string> args{command.name};
     std::string out_path;
     for (const OptionSpec& p : command.positionals) {
-      if (p.required || chance(rng, 0.5)) args.push_back(value_for(rng, p, f, cases));
+      if (p.required || chance(rng, 0.5)) args.push_back(value_for(rng, p, f, outputs, cases));
     }
     const int n_options = std::uniform_int_distribution<int>(0, 4)(rng);
     bool limited = false;
@@ -342,7 +486,7 @@ TEST_CASE("fuzzed command lines end with a clear answer and an exit code of the 
       args.push_back(o.name);
       limited = limited || o.name == "--max-steps";
       if (!o.takes_value) continue;
-      args.push_back(value_for(rng, o, f, cases));
+      args.push_back(value_for(rng, o, f, outputs, cases));
       if (o.name == "-o" || o.name == "--output" || o.name == "--out") out_path = args.back();
     }
     // Most cases keep their runs short through the command's own limit (when it has one).
@@ -351,7 +495,7 @@ TEST_CASE("fuzzed command lines end with a clear answer and an exit code of the 
         args.insert(args.end(), {"--max-steps", "20000"});
       }
       if (o.name == "--out" && out_path.empty() && chance(rng, 0.9)) {
-        out_path = output_path(rng, f, cases, true);
+        out_path = output_path(rng, f, outputs, cases, true);
         args.insert(args.end(), {"--out", out_path});
       }
     }
@@ -362,6 +506,7 @@ TEST_CASE("fuzzed command lines end with a clear answer and an exit code of the 
     INFO("output:\n" << o.output.substr(0, 3000));
     if (o.timed_out) {
       ++timeouts;
+      remove_leftovers(f.dir);  // SIGKILL leaves what no program can clean up
       continue;
     }
     REQUIRE_FALSE(o.signalled);
@@ -376,6 +521,9 @@ TEST_CASE("fuzzed command lines end with a clear answer and an exit code of the 
       // Refused input writes nothing.
       REQUIRE_FALSE(fs::exists(out_path));
     }
+    const std::string broken = broken_fixture(f, outputs);
+    INFO("output fixture: " << broken);
+    REQUIRE(broken.empty());
     if (o.code == 0 && !out_path.empty() && fs::is_regular_file(out_path)) {
       REQUIRE(non_finite_cell(out_path).empty());
     }
@@ -397,7 +545,242 @@ TEST_CASE("fuzzed command lines end with a clear answer and an exit code of the 
   CHECK(codes[0] > 0);
   CHECK(codes[2] > 0);
   CHECK(codes[1] > 0);
+  chmod(outputs.readonly_dir.c_str(), 0755);
   fs::remove_all(f.dir);
+}
+
+/// The names in `dir` that start with `prefix` (a study's staging or previous folder).
+std::vector<std::string> entries_with_prefix(const fs::path& dir, const std::string& prefix) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) == 0) out.push_back(name);
+  }
+  return out;
+}
+
+/// A long run of each study command: a full bundled scene (or a paper study), so that the
+/// signal always finds it computing.
+std::vector<std::string> long_study(const CommandSpec& command, const fs::path& out) {
+  std::vector<std::string> args{command.name};
+  for (const OptionSpec& p : command.positionals) {
+    if (p.name == "scene") {
+      const bool flexible = command.name == "lte-map" || command.name == "modes";
+      args.push_back(flexible ? "scenes/flexible_spinner.toml" : "scenes/book_toss.toml");
+    } else if (p.name == "study") {
+      args.push_back("studies/paper/fig1_free_spin.toml");
+    }
+  }
+  args.insert(args.end(), {"--out", out.string()});
+  return args;
+}
+
+/// The text of a file ("" when it cannot be read).
+std::string text_of(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+TEST_CASE("every output option is tried with every kind of path", "[app][fuzz]") {
+  std::string pattern = (fs::temp_directory_path() / "flexref_cli_outputs_XXXXXX").string();
+  REQUIRE(mkdtemp(pattern.data()) != nullptr);
+  Fixture f;
+  f.dir = pattern;
+  const OutputFixtures outputs = make_output_fixtures(f.dir);
+  const FifoReader fifo_reader(outputs.fifo);
+  // Short scenes (0.2 s) and a figure study keep each accepted case short; lte-map and modes
+  // need a flexible body.
+  const auto shortened = [&](const std::string& name) {
+    std::ifstream in("scenes/" + name + ".toml");
+    REQUIRE(in);
+    std::string scene((std::istreambuf_iterator<char>(in)), {});
+    const auto end = scene.find("\nend_time");
+    REQUIRE(end != std::string::npos);
+    scene.replace(end + 1, scene.find('\n', end + 1) - end - 1, "end_time = 0.2");
+    const auto step = scene.find("\noutput_step");
+    REQUIRE(step != std::string::npos);
+    scene.replace(step + 1, scene.find('\n', step + 1) - step - 1, "output_step = 0.02");
+    const fs::path path = f.dir / (name + ".toml");
+    std::ofstream(path) << scene;
+    return path;
+  };
+  const fs::path scene_path = shortened("free_spin");
+  const fs::path flexible_path = shortened("flexible_spinner");
+  std::ofstream(f.dir / "fig.toml")
+      << "[figure]\nscene = \"" << scene_path.string() << "\"\nsteps = [0.01, 0.05]\n";
+  fs::create_directories(f.dir / "not_a_study");
+  std::ofstream(f.dir / "not_a_study" / "notes.md") << "mine\n";
+
+  const Outcome top = run({"--help"}, std::chrono::seconds(30), f.dir / "help.log", false);
+  REQUIRE(top.code == 0);
+  int file_commands = 0, folder_commands = 0;
+  for (const std::string& name : subcommands(top.output)) {
+    const Outcome help = run({name, "--help"}, std::chrono::seconds(30), f.dir / "help.log", false);
+    const CommandSpec command = parse_help(name, help.output);
+    std::string option;
+    for (const OptionSpec& o : command.options) {
+      if (o.name == "--output" || o.name == "--out") option = o.name;
+    }
+    // Commands whose positionals this test can fill (a scene or a study file).
+    std::vector<std::string> base{name};
+    bool fillable = !option.empty();
+    for (const OptionSpec& p : command.positionals) {
+      if (p.name == "scene") {
+        const bool flexible = name == "lte-map" || name == "modes";
+        base.push_back((flexible ? flexible_path : scene_path).string());
+      } else if (p.name == "study") {
+        base.push_back((f.dir / "fig.toml").string());
+      } else if (p.required) {
+        fillable = false;
+      }
+    }
+    if (!fillable) continue;
+    const bool folder = option == "--out";
+    (folder ? folder_commands : file_commands) += 1;
+    struct Kind {
+      std::string what;
+      fs::path path;
+      bool accepted;
+    };
+    std::vector<Kind> kinds = {
+        {"a link to a folder", outputs.folder_link, folder},
+        {"a link to a file", outputs.file_link, !folder},
+        {"a FIFO", outputs.fifo, !folder},
+        {"a read-only file", outputs.readonly_file, false},
+        {"a path in a read-only folder", outputs.readonly_dir / "new", false},
+        {"a read-only folder", outputs.readonly_dir, false},
+        {"a folder that is not a study's", f.dir / "not_a_study", false},
+    };
+    // The accepted folder cases run a whole study: one command is enough for them (every study
+    // writes through the same StudyOutput); files are cheap.
+    if (!folder || name == "converge") {
+      const fs::path dangling = f.dir / ("dangling_" + name);
+      fs::create_symlink("made_" + name, dangling);
+      kinds.push_back({"a dangling link", dangling, true});
+      if (!folder) kinds.push_back({"standard output", "-", true});
+    }
+    for (const Kind& kind : kinds) {
+      if (kind.accepted && folder && name != "converge") continue;
+      std::vector<std::string> args = base;
+      args.insert(args.end(), {option, kind.path.string()});
+      std::string line = "flexref";
+      for (const std::string& a : args) line += " '" + a + "'";
+      INFO(line << " (" << kind.what << ")");
+      const long fifo_bytes = fifo_reader.bytes();
+      const Outcome o = run(args, std::chrono::seconds(120), f.dir / "case.log", false);
+      INFO("output:\n" << o.output.substr(0, 3000));
+      REQUIRE_FALSE(o.timed_out);
+      REQUIRE_FALSE(o.signalled);
+      CHECK(o.code == (kind.accepted ? 0 : 5));
+      const std::string broken = broken_fixture(f, outputs);
+      INFO("output fixture: " << broken);
+      CHECK(broken.empty());
+      if (!kind.accepted) continue;
+      if (kind.path == "-") {
+        CHECK(o.output.rfind("t,", 0) == 0);  // the CSV first, on standard output
+      } else if (kind.path == outputs.fifo) {
+        CHECK(fifo_reader.bytes() > fifo_bytes);
+      } else if (folder) {
+        CHECK(fs::is_symlink(kind.path));
+        CHECK(fs::is_regular_file(kind.path / "study.toml"));
+      } else {
+        CHECK(fs::is_symlink(kind.path));
+        CHECK(text_of(kind.path).rfind("t,", 0) == 0);
+        // The sidecar beside the link's target (the fixtures' links are relative).
+        std::error_code ec;
+        const fs::path target = fs::read_symlink(kind.path, ec);
+        CHECK(fs::is_regular_file(f.dir / (target.string() + ".meta.toml")));
+      }
+    }
+  }
+  CHECK(file_commands >= 2);    // run, reference
+  CHECK(folder_commands >= 6);  // converge, work-precision, stability, figure, lte-map, modes
+  chmod(outputs.readonly_dir.c_str(), 0755);
+  fs::remove_all(f.dir);
+}
+
+TEST_CASE("interrupted studies leave nothing behind and end by the signal", "[app][fuzz]") {
+  std::string pattern = (fs::temp_directory_path() / "flexref_cli_signals_XXXXXX").string();
+  REQUIRE(mkdtemp(pattern.data()) != nullptr);
+  const fs::path dir = pattern;
+  const Outcome top = run({"--help"}, std::chrono::seconds(30), dir / "help.log", false);
+  REQUIRE(top.code == 0);
+  std::vector<CommandSpec> studies;
+  for (const std::string& name : subcommands(top.output)) {
+    const Outcome help = run({name, "--help"}, std::chrono::seconds(30), dir / "help.log", false);
+    REQUIRE(help.code == 0);
+    CommandSpec spec = parse_help(name, help.output);
+    for (const OptionSpec& o : spec.options) {
+      if (o.name == "--out") studies.push_back(spec);
+    }
+  }
+  REQUIRE(studies.size() >= 6);  // converge, work-precision, stability, figure, lte-map, modes
+  int interrupted = 0;
+  for (const CommandSpec& command : studies) {
+    for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+      // Half the cases replace a previous study's folder, which must survive as it was.
+      const std::string name = command.name + "_" + std::to_string(signal_number);
+      const fs::path out = dir / name;
+      const bool previous = signal_number != SIGTERM;
+      if (previous) {
+        fs::create_directories(out);
+        std::ofstream(out / "study.toml") << "[files]\n";
+        std::ofstream(out / "table.csv") << "old\n";
+      }
+      const std::vector<std::string> args = long_study(command, out);
+      std::string line = "flexref";
+      for (const std::string& a : args) line += " '" + a + "'";
+      INFO(line << ", signal " << signal_number);
+      const pid_t pid = start(args, dir / (name + ".log"), true);
+      // Wait for the event (the staging folder exists: the study is past its checks), not for
+      // a time; the study may also end first (a refusal), which the checks below accept.
+      int status = 0;
+      bool ended = false;
+      const auto since = std::chrono::steady_clock::now();
+      while (entries_with_prefix(dir, "." + name + ".staging-").empty()) {
+        if (waitpid(pid, &status, WNOHANG) == pid) {
+          ended = true;
+          break;
+        }
+        // A guard against a study that never gets to its staging folder (a hang), not a timing.
+        if (std::chrono::steady_clock::now() - since > std::chrono::seconds(120)) {
+          kill(-pid, SIGKILL);
+          waitpid(pid, &status, 0);
+          FAIL("no staging folder and no end after 120 s");
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+      if (!ended) {
+        kill(pid, signal_number);
+        REQUIRE(waitpid(pid, &status, 0) == pid);
+      }
+      kill(-pid, SIGKILL);  // anything of its group left behind
+      std::ifstream log(dir / (name + ".log"));
+      const std::string output((std::istreambuf_iterator<char>(log)), {});
+      INFO("output:\n" << output.substr(0, 3000));
+      if (WIFSIGNALED(status)) {
+        // Ended by the signal itself (shell status 128 + N), after the cleanup.
+        CHECK(WTERMSIG(status) == signal_number);
+        CHECK(output.find("flexref: interrupted") != std::string::npos);
+        ++interrupted;
+      } else {
+        REQUIRE(WIFEXITED(status));
+        CHECK(WEXITSTATUS(status) <= 5);
+      }
+      CHECK(entries_with_prefix(dir, "." + name + ".").empty());
+      if (previous && WIFSIGNALED(status)) {
+        std::set<std::string> names;
+        for (const auto& e : fs::directory_iterator(out)) names.insert(e.path().filename());
+        CHECK(names == std::set<std::string>{"study.toml", "table.csv"});
+      } else if (WIFSIGNALED(status)) {
+        CHECK_FALSE(fs::exists(out));
+      }
+    }
+  }
+  // Every long study reaches its staging folder and computes long after it: each case is
+  // interrupted (a study that ended first would have been refused or finished in an instant).
+  CHECK(interrupted == 3 * static_cast<int>(studies.size()));
+  fs::remove_all(dir);
 }
 
 }  // namespace

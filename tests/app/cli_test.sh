@@ -505,6 +505,144 @@ out=$("$flexref" reference scenes/book_toss.toml --solver exact --precision quad
 [[ $? == 1 && $out == *"the free body is loaded"* ]] ||
   fail "exact quad reference of a loaded scene not refused clearly: $out"
 
+# Outputs never replace what a path points to (docs/output.md, "Where outputs go"): a link's
+# target is written and the link stays, a FIFO is written directly and stays a FIFO (no sidecar
+# beside it), `-` and the program's own descriptors are written as they are, and a read-only
+# file or folder is refused (exit 5, as root too) and left as it was. Only the test's own links
+# and FIFOs: never a real /dev entry.
+o="$tmp/outputs"
+mkdir -p "$o/data"
+fs_short="$o/free_spin_short.toml"
+sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/free_spin.toml >"$fs_short"
+"$flexref" run "$fs_short" --dt 0.01 -o "$o/plain.csv" >/dev/null 2>&1 || fail "run -o plain.csv"
+printf 'old\n' >"$o/data/real.csv"
+ln -s data/real.csv "$o/link.csv"
+out=$("$flexref" run "$fs_short" --dt 0.01 -o "$o/link.csv" 2>&1) || fail "run -o link.csv: $out"
+[[ -L $o/link.csv && $(head -1 "$o/data/real.csv") == t,* && -s $o/data/real.csv.meta.toml &&
+  ! -e $o/link.csv.meta.toml ]] ||
+  fail "run -o link.csv replaced the link or put the sidecar beside it: $(ls -la "$o" "$o/data")"
+out=$("$flexref" compare "$o/link.csv" "$o/link.csv" --json 2>&1) || fail "compare through a link: $out"
+ln -s data/made.csv "$o/dangling.csv"
+out=$("$flexref" reference "$fs_short" --no-estimate --rtol 1e-8 -o "$o/dangling.csv" 2>&1) ||
+  fail "reference -o dangling link: $out"
+[[ -L $o/dangling.csv && $(head -1 "$o/data/made.csv") == t,* && -s $o/data/made.csv.meta.toml ]] ||
+  fail "reference -o dangling link did not create its target: $(ls -la "$o" "$o/data")"
+mkfifo "$o/fifo"
+cat "$o/fifo" >"$o/fifo.txt" &
+reader=$!
+out=$("$flexref" run "$fs_short" --dt 0.01 -o "$o/fifo" 2>&1)
+code=$?
+[[ -p $o/fifo ]] || { fail "run -o FIFO replaced the FIFO by a file"; kill "$reader" 2>/dev/null; }
+wait "$reader"
+rows=$(wc -l <"$o/plain.csv")
+[[ $code -eq 0 && $(head -1 "$o/fifo.txt") == t,* && $(wc -l <"$o/fifo.txt") -eq $rows &&
+  ! -e $o/fifo.meta.toml && $out == *"sidecar (.meta.toml) is not written"* ]] ||
+  fail "run -o FIFO: exit $code, $(wc -l <"$o/fifo.txt") lines read: $out"
+# `-`: the CSV alone on standard output (the summary goes to stderr), nothing written in the
+# working folder.
+mkdir -p "$o/cwd"
+flexref_path=$(cd "$(dirname "$flexref")" && pwd)/$(basename "$flexref")
+out=$(cd "$o/cwd" && "$flexref_path" run "$fs_short" --dt 0.01 -o - 2>"$o/stderr.txt")
+code=$?
+[[ $code -eq 0 && $(head -1 <<<"$out") == t,* && $(wc -l <<<"$out") -eq $rows && -z $(ls -A "$o/cwd") ]] ||
+  fail "run -o -: exit $code, $(wc -l <<<"$out") lines, working folder: $(ls -A "$o/cwd")"
+grep -q "standard output: its metadata sidecar" "$o/stderr.txt" && grep -q "^run " "$o/stderr.txt" ||
+  fail "run -o -: no note on the sidecar or no summary on stderr: $(cat "$o/stderr.txt")"
+# A link to one of the program's descriptors (as /dev/stdout is): the descriptor is written as
+# it is — here a file opened for appending, which keeps its first line.
+printf 'previous\n' >"$o/appended.csv"
+ln -s /proc/self/fd/3 "$o/fd3"
+"$flexref" run "$fs_short" --dt 0.01 -o "$o/fd3" 3>>"$o/appended.csv" >/dev/null 2>&1 ||
+  fail "run -o a link to descriptor 3 failed"
+[[ -L $o/fd3 && $(head -1 "$o/appended.csv") == previous && $(sed -n 2p "$o/appended.csv") == t,* ]] ||
+  fail "run -o a link to descriptor 3 did not append to it: $(head -2 "$o/appended.csv")"
+# Read-only files and folders: exit 5, untouched (root included: the permission bits decide).
+printf 'precious\n' >"$o/readonly.csv"
+chmod 444 "$o/readonly.csv"
+expect 5 "run -o a read-only file" "read-only" "$flexref" run "$fs_short" --dt 0.01 -o "$o/readonly.csv"
+[[ $(cat "$o/readonly.csv") == precious ]] || fail "a read-only file was replaced"
+mkdir -p "$o/readonly_dir"
+chmod 555 "$o/readonly_dir"
+expect 5 "run -o into a read-only folder" "read-only" \
+  "$flexref" run "$fs_short" --dt 0.01 -o "$o/readonly_dir/x.csv"
+expect 5 "converge --out in a read-only folder" "read-only" \
+  "$flexref" converge "$fs_short" --schemes c1 --levels 3 --out "$o/readonly_dir/study"
+[[ -z $(ls -A "$o/readonly_dir") ]] || fail "a read-only folder was written: $(ls -A "$o/readonly_dir")"
+chmod 755 "$o/readonly_dir"
+ln -s data "$o/to_data"
+expect 5 "run -o a link to a folder" "is a directory" "$flexref" run "$fs_short" --dt 0.01 -o "$o/to_data"
+[[ -L $o/to_data ]] || fail "run -o a link to a folder replaced the link"
+# Study folders: a link to a folder stays a link, the study replaces the folder it points to;
+# a FIFO or a read-only folder is refused.
+mkdir -p "$o/study_real"
+ln -s study_real "$o/study_link"
+for round in 1 2; do
+  out=$("$flexref" converge "$fs_short" --schemes c1 --levels 3 --out "$o/study_link" 2>&1) ||
+    fail "converge --out a link to a folder (round $round): $out"
+done
+[[ -L $o/study_link && -s $o/study_real/study.toml && -z $(ls -A "$o" | grep -e '\.staging-' -e '\.previous-') ]] ||
+  fail "converge --out a link: the link was replaced or a folder left: $(ls -la "$o")"
+expect 5 "converge --out a FIFO" "not a directory" \
+  "$flexref" converge "$fs_short" --schemes c1 --levels 3 --out "$o/fifo"
+[[ -p $o/fifo ]] || fail "converge --out a FIFO replaced it"
+chmod 555 "$o/study_real"
+expect 5 "converge --out a read-only study folder" "read-only" \
+  "$flexref" converge "$fs_short" --schemes c1 --levels 3 --out "$o/study_link"
+chmod 755 "$o/study_real"
+
+# A failed level names the file's final place, not the staging folder (gone by then).
+out=$("$flexref" converge "$fs_short" --label ext --order 1 --dt 0.02 --levels 3 \
+  --external "false {dt} {output}" --out "$o/ext" 2>&1)
+[[ $out == *"$o/ext/run_ext_0.csv"* && $out != *".staging-"* ]] &&
+  grep -q "$o/ext/run_ext_0.csv" "$o/ext/convergence.csv" && ! grep -q '\.staging-' "$o/ext/convergence.csv" ||
+  fail "a failed level's message does not name the final path: $out"
+
+# Inputs: what is not a regular file is refused at once (exit 1, naming the path), never read
+# (a FIFO would block, a device never end). A writer waits on each FIFO, so that a reader that
+# opened it would finish instead of hanging the test.
+mkfifo "$o/in.fifo"
+for cmd in "check $o/in.fifo" "run $o/in.fifo --dt 0.01 -o $o/never.csv" \
+  "compare $o/in.fifo $o/plain.csv" "compare $o/plain.csv $o/in.fifo" \
+  "converge $fs_short --runs 0.02=$o/in.fifo 0.01=$o/in.fifo 0.005=$o/in.fifo --out $o/never" \
+  "figure $o/in.fifo --out $o/never" "import-modes $o/in.fifo -o $o/never.modal.toml"; do
+  if [[ $cmd == check* || $cmd == run* || $cmd == figure* ]]; then source_file=$fs_short; else source_file=$o/plain.csv; fi
+  cat "$source_file" >"$o/in.fifo" &
+  writer=$!
+  # shellcheck disable=SC2086
+  out=$(timeout -s KILL 120 "$flexref" $cmd 2>&1) # a guard against a reader that waits
+  code=$?
+  kill "$writer" 2>/dev/null
+  wait "$writer" 2>/dev/null
+  [[ $code -eq 1 && $out == *"$o/in.fifo"*"FIFO"* ]] || fail "$cmd: exit $code: $out"
+done
+[[ ! -e $o/never.csv && ! -e $o/never && ! -e $o/never.modal.toml ]] || fail "a refused input wrote an output"
+
+# Interrupts: SIGINT and SIGTERM during a study leave no staging folder and the previous study
+# as it was; flexref ends by the signal (shell status 128+N). The signal is sent once the
+# staging folder exists (no clock: the study is then past its checks and computing). SIGINT
+# gets its default disposition back (a script's background job starts with it ignored).
+for sig in INT TERM; do
+  mkdir -p "$o/intr_$sig"
+  printf 'scheme\nold\n' >"$o/intr_$sig/convergence.csv"
+  printf '[files]\n' >"$o/intr_$sig/study.toml"
+  old_sum=$(cd "$o/intr_$sig" && md5sum -- * | sort)
+  env --default-signal=INT "$flexref" converge scenes/book_toss.toml --schemes nmb --levels 12 \
+    --out "$o/intr_$sig" >/dev/null 2>"$o/intr_$sig.txt" &
+  pid=$!
+  until compgen -G "$o/.intr_$sig.staging-*" >/dev/null || ! kill -0 "$pid" 2>/dev/null; do
+    sleep 0.05
+  done
+  kill -"$sig" "$pid"
+  wait "$pid"
+  code=$?
+  want=$((128 + $(kill -l "$sig")))
+  [[ $code -eq $want ]] || fail "converge interrupted by SIG$sig: exit $code, expected $want"
+  [[ -z $(compgen -G "$o/.intr_$sig.*") ]] || fail "SIG$sig left $(compgen -G "$o/.intr_$sig.*")"
+  [[ $(cd "$o/intr_$sig" && md5sum -- * | sort) == "$old_sum" ]] ||
+    fail "SIG$sig changed the previous study"
+  grep -q "interrupted" "$o/intr_$sig.txt" || fail "SIG$sig: no word on stderr: $(cat "$o/intr_$sig.txt")"
+done
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1
