@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <toml.hpp>
 
 #include "core/error.hpp"
@@ -26,7 +27,9 @@ ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
   if (!in.is_open()) throw core::InputError(out.path, 0, "", in.error());
   toml::value doc;
   try {
-    doc = toml::parse(in, out.path);
+    // From a string: toml11 measures a stream by seeking, which a descriptor's stream cannot.
+    std::istringstream text(in.read_all());
+    doc = toml::parse(text, out.path);
   } catch (const std::exception& e) {
     throw core::InputError(out.path, 0, "", std::string("not a readable TOML file: ") + e.what());
   }

@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -89,6 +90,26 @@ TEST_CASE("sidecar: estimates that could fool a comparison are refused naming fi
   refused("not_table", "error_estimate = 1e-9\n", "error_estimate");
   CHECK_THROWS_AS(read_reference_sidecar(with_sidecar("broken", "[error_estimate\n")),
                   core::InputError);
+}
+
+TEST_CASE("sidecar: found beside the file a link points to, where flexref writes it", "[sidecar]") {
+  namespace fs = std::filesystem;
+  std::string pattern = (fs::temp_directory_path() / "flexref_sidecar_link_XXXXXX").string();
+  REQUIRE(::mkdtemp(pattern.data()) != nullptr);
+  const fs::path dir = pattern;
+  fs::create_directories(dir / "data");
+  std::ofstream(dir / "data" / "ref.csv") << "t\n0\n";
+  std::ofstream(dir / "data" / "ref.csv.meta.toml") << "[integrator]\nsolver = \"cvode\"\n";
+  fs::create_symlink("data/ref.csv", dir / "link.csv");
+  const ReferenceSidecar s = read_reference_sidecar((dir / "link.csv").string());
+  CHECK(s.found);
+  CHECK(s.solver == "cvode");
+  CHECK(fs::equivalent(s.path, dir / "data" / "ref.csv.meta.toml"));
+  // Beside the name given when the target has none (a sidecar copied by hand).
+  fs::remove(dir / "data" / "ref.csv.meta.toml");
+  std::ofstream(dir / "link.csv.meta.toml") << "[integrator]\nsolver = \"ida\"\n";
+  CHECK(read_reference_sidecar((dir / "link.csv").string()).solver == "ida");
+  fs::remove_all(dir);
 }
 
 }  // namespace
