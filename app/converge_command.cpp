@@ -101,8 +101,9 @@ int converge_command(const ConvergeOptions& options) {
 
   out.write("convergence.csv", studies::convergence_csv(result));
   out.write("convergence.txt", table);
-  studies::write_csv(result.reference.table, out.staged("reference.csv"));
-  out.add("reference.csv");
+  out.write_with("reference.csv", [&](const std::string& path) {
+    studies::write_csv(result.reference.table, path);
+  });
   std::ostringstream limit;
   limit.precision(17);
   limit << result.step_limit.h;

@@ -108,8 +108,9 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
 
   out.write("work_precision.csv", studies::work_precision_csv(result));
   out.write("work_precision.txt", table);
-  studies::write_csv(result.reference.table, out.staged("reference.csv"));
-  out.add("reference.csv");
+  out.write_with("reference.csv", [&](const std::string& path) {
+    studies::write_csv(result.reference.table, path);
+  });
   const studies::PlotOutcome plot =
       out.plot("plot_work_precision.py", "work_precision.png",
                {out.staged("work_precision.csv"), out.staged("work_precision.png"),

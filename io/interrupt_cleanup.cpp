@@ -105,7 +105,13 @@ void install_interrupt_cleanup() {
     sigaddset(&set, s);
   }
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
-  std::thread(watch, set).detach();
+  try {
+    std::thread(watch, set).detach();
+  } catch (const std::system_error&) {
+    // No thread to take them: the signals keep their default action (no cleanup).
+    pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+    return;
+  }
   r.installed = true;
 }
 

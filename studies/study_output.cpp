@@ -136,8 +136,13 @@ std::string StudyOutput::with_final_paths(std::string text) const {
 }
 
 void StudyOutput::write(const std::string& file, const std::string& text) {
+  write_with(file, [&](const std::string& path) { io::write_output_file(path, text); });
+}
+
+void StudyOutput::write_with(const std::string& file,
+                             const std::function<void(const std::string& path)>& writer) {
   try {
-    io::write_output_file(staged(file), text);
+    writer(staged(file));
   } catch (const io::OutputError& e) {
     throw io::OutputError(with_final_paths(e.what()));
   }

@@ -14,6 +14,7 @@
 /// (and, during commit, the previous folder moved aside) is removed if SIGINT, SIGTERM or SIGHUP
 /// ends the program (io/interrupt_cleanup.hpp).
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,7 +45,12 @@ class StudyOutput {
   /// staging folder no longer exists when the user reads it.
   std::string with_final_paths(std::string text) const;
   /// Writes a text file into the staging folder (atomically) and lists it in the record.
+  /// Throws io::OutputError naming the file's final path.
   void write(const std::string& file, const std::string& text);
+  /// Runs `writer` on staged(file) (a writer that takes a path, such as write_csv) and lists the
+  /// file; an io::OutputError it throws names the file's final path.
+  void write_with(const std::string& file,
+                  const std::function<void(const std::string& path)>& writer);
   /// Notes a file that a writer put at staged(file) itself.
   void add(const std::string& file);
   /// Runs a bundled plot script (studies/plot.hpp) that writes `png` (a file name in the
