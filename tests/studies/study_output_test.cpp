@@ -126,7 +126,7 @@ TEST_CASE("output folders are validated before any work", "[study_output]") {
   CHECK_NOTHROW(StudyOutput(tmp.path / "empty"));
 }
 
-TEST_CASE("a link to a study folder stays a link; the folder it points to is replaced",
+TEST_CASE("a link to a study folder stays a link and the folder it points to is replaced",
           "[study_output]") {
   TempDir tmp;
   fs::create_directories(tmp.path / "results" / "real");
