@@ -36,7 +36,7 @@ std::string named(const std::string& path, const fs::path& target) {
 }
 
 /// Nobody may write it according to its permission bits. Root could, but the bits say the
-/// owner wants the file or folder left alone (vim and git refuse a read-only file for root
+/// owner wants the file or folder left alone (vim refuses to write a read-only file for root
 /// too); a read-only file system fails access(W_OK) for root as well.
 bool read_only_bits(const struct stat& st) {
   return (st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0;
