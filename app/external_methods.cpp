@@ -10,6 +10,7 @@
 
 #include "app/commands.hpp"
 #include "studies/external_program.hpp"
+#include "studies/reference_sidecar.hpp"
 
 namespace flexref::app {
 
@@ -41,8 +42,14 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
     method.kept_file = [label, &out](int level) {
       return out.staged("run_" + label + "_" + std::to_string(level) + ".csv");
     };
-    method.run = [command, kept = method.kept_file](double h, int level) {
-      return studies::run_external_level(command, h, kept(level));
+    method.run = [command, kept = method.kept_file, options](double h, int level) {
+      studies::ExternalLevel run = studies::run_external_level(command, h, kept(level));
+      // A program that writes a sidecar (flexref run, another code's own) says which scene it
+      // integrated: refuse the level when that is not the studied one.
+      check_same_scene(studies::read_reference_sidecar(kept(level)).scene,
+                       "the run of level " + std::to_string(level) + " (its sidecar)",
+                       options.scene_identity, "the study", options.allow_scene_mismatch);
+      return run;
     };
   } else {
     auto files = std::make_shared<std::map<double, std::string>>();
@@ -56,9 +63,12 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
           !std::isfinite(h) || eq + 1 == pair.size()) {
         throw std::invalid_argument("--runs '" + pair + "': expected DT=FILE with DT > 0");
       }
-      if (!files->emplace(h, pair.substr(eq + 1)).second) {
+      const std::string file = pair.substr(eq + 1);
+      if (!files->emplace(h, file).second) {
         throw std::invalid_argument("--runs: the step " + dt_text + " is given twice");
       }
+      check_same_scene(studies::read_reference_sidecar(file).scene, "--runs " + file,
+                       options.scene_identity, "the study", options.allow_scene_mismatch);
       method.steps.push_back(h);
     }
     method.run = [files](double h, int) {
