@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -237,6 +238,10 @@ void check_values(const RunData& data, const std::vector<Group>& groups,
 }  // namespace
 
 RunData read_run_csv(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw core::InputError(path, 0, "", "is a directory; expected a CSV file");
+  }
   std::ifstream in(path);
   if (!in) {
     throw core::InputError(path, 0, "", "cannot open file: " + std::string(std::strerror(errno)));
@@ -250,6 +255,10 @@ RunData read_run_csv(const std::string& path) {
   bool have_header = false;
   while (std::getline(in, line)) {
     ++line_number;
+    // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first column's name.
+    if (line_number == 1 && line.starts_with(kUtf8ByteOrderMark)) {
+      line.erase(0, kUtf8ByteOrderMark.size());
+    }
     const std::string text = trim(line);
     if (text.empty()) continue;
     if (text[0] == '#') {
