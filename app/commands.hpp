@@ -11,6 +11,7 @@
 #include "lie/stepper.hpp"
 #include "scene/scene.hpp"
 #include "studies/convergence.hpp"
+#include "studies/reference_sidecar.hpp"
 #include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
 
@@ -131,8 +132,17 @@ struct CompareOptions {
   bool json = false;              ///< machine-readable output
   double time_tolerance = 1e-6;   ///< studies::ContractOptions
   double euler_tolerance = 1e-6;  ///< studies::ContractOptions
+  /// Compare files whose sidecars name different scenes (refused otherwise, exit 1).
+  bool allow_scene_mismatch = false;
 };
 int compare_command(const CompareOptions& options);
+
+/// Refuses (std::invalid_argument, exit 1) results of different scenes (studies::scene_mismatch)
+/// unless `allow`; with `allow` a mismatch is a warning on standard error. Returns the mismatch
+/// ("" when none).
+std::string check_same_scene(const studies::SceneIdentity& a, const std::string& a_what,
+                             const studies::SceneIdentity& b, const std::string& b_what,
+                             bool allow);
 
 struct ConvergeOptions {
   std::string scene;
@@ -157,6 +167,8 @@ struct ConvergeOptions {
   std::string reference_precision = "auto";
   /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
   double reference_budget = kDefaultReferenceBudget;
+  /// --runs/--external files whose sidecars name another scene are used anyway.
+  bool allow_scene_mismatch = false;
 };
 int converge_command(const ConvergeOptions& options);
 
@@ -171,13 +183,21 @@ struct ExternalOptions {
   std::string label;
   int claimed_order = 0;
   double timeout = 3600.0;
+  /// The studied scene: a file whose sidecar (FILE.meta.toml) names another scene is refused
+  /// (--runs: before any work, exit 1; --external: that level fails) unless
+  /// allow_scene_mismatch (check_same_scene).
+  studies::SceneIdentity scene_identity;
+  bool allow_scene_mismatch = false;
 };
 std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& options,
                                                       const studies::StudyOutput& out);
 
+/// The identity a result of `scene` records in its sidecar (scene_record).
+studies::SceneIdentity scene_identity(const std::string& scene_file, const scene::Scene& scene);
+
 /// A result record (studies/study_record.hpp) that starts with the [scene] table: the scene
-/// file, its name, the creation time and the model formulation (`model = "coupled"` or
-/// `"lte"`, the --model option).
+/// file, its name, the hash of its physics (scene/scene_identity.hpp), the creation time and
+/// the model formulation (`model = "coupled"` or `"lte"`, the --model option).
 studies::StudyRecord scene_record(const std::string& scene_file, const scene::Scene& scene);
 
 }  // namespace flexref::app

@@ -68,8 +68,11 @@ Certification certify(const studies::ReferenceSidecar& sidecar, const std::strin
   if (!sidecar.found) {
     out << "no sidecar " << sidecar.path << ": the reference's own error is unknown";
   } else if (!sidecar.has_estimate) {
-    out << "the reference has no error estimate (made with --no-estimate): its own error is "
-           "unknown";
+    out << "the reference has no error estimate ("
+        << (sidecar.kind == "reference" ? std::string("made with --no-estimate")
+            : sidecar.kind.empty()      ? "its sidecar has no [error_estimate]"
+                                        : "a " + sidecar.kind + " run, not a reference")
+        << "): its own error is unknown";
   } else if (sidecar.metric != metric) {
     out << "the reference's estimated error " << sidecar.estimate << " is in metric "
         << sidecar.metric << ", not " << metric << ": not checked";
@@ -100,6 +103,11 @@ int compare_command(const CompareOptions& options) {
   studies::ContractOptions contract;
   contract.time_tolerance = options.time_tolerance;
   contract.euler_norm_tolerance = options.euler_tolerance;
+  // The two files' scenes first (their sidecars), before any reading of values.
+  const studies::ReferenceSidecar sidecar = studies::read_reference_sidecar(options.reference);
+  const std::string mismatch =
+      check_same_scene(studies::read_reference_sidecar(options.run).scene, options.run,
+                       sidecar.scene, options.reference, options.allow_scene_mismatch);
   const studies::RunData run = studies::read_run_csv(options.run);
   const studies::TrajectoryTable ref =
       studies::checked_reference(studies::read_run_csv(options.reference), contract);
@@ -126,7 +134,23 @@ int compare_command(const CompareOptions& options) {
   } catch (const std::invalid_argument& e) {
     throw core::InputError(options.run, 0, "", e.what());
   }
-  const studies::ReferenceSidecar sidecar = studies::read_reference_sidecar(options.reference);
+  // The files hold finite values (the contract refuses others), so a non-finite norm is a
+  // difference beyond double precision (values near 1e308 of opposite signs): a result that
+  // turned non-finite (exit 3), never a table or a JSON null with exit 0.
+  for (const auto& q : report.quantities) {
+    for (const double norm : {q.norms.linf, q.norms.rms, q.norms.final}) {
+      if (std::isfinite(norm)) continue;
+      std::ostringstream why;
+      why << "the error of " << q.name << " (" << q.kind << ", " << q.unit
+          << ") is not finite near t = " << q.linf_time
+          << " s: the difference of the two files' values overflows double precision";
+      throw std::overflow_error(why.str());
+    }
+  }
+  if (!std::isfinite(value)) {
+    throw std::overflow_error("the metric " + options.metric +
+                              " is not finite: its sum overflows double precision");
+  }
   const Certification cert = certify(sidecar, options.metric, value);
 
   if (options.json) {
@@ -161,7 +185,9 @@ int compare_command(const CompareOptions& options) {
     }
     out << ",\n  \"certified\": "
         << (cert.comparable ? (cert.certified ? "true" : "false") : "null")
-        << ",\n  \"note\": " << json_string(cert.text) << "\n}\n";
+        << ",\n  \"note\": " << json_string(cert.text)
+        << ",\n  \"scene_mismatch\": " << (mismatch.empty() ? "null" : json_string(mismatch))
+        << "\n}\n";
     std::cout << out.str();
     return kExitOk;
   }

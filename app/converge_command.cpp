@@ -39,9 +39,10 @@ int converge_command(const ConvergeOptions& options) {
   check_scheme_run(model, study.h0 / std::ldexp(1.0, study.levels - 1), times, options.limits,
                    "--dt/2^(levels-1) =");
   studies::StudyOutput out(options.out_dir);
-  study.external = external_methods({options.scene, options.external, options.runs, options.label,
-                                     options.claimed_order, options.timeout},
-                                    out);
+  study.external = external_methods(
+      {options.scene, options.external, options.runs, options.label, options.claimed_order,
+       options.timeout, scene_identity(options.scene, scene), options.allow_scene_mismatch},
+      out);
   // --reference-precision (docs/precision.md): a given precision, or "auto": the double
   // reference, and when it cannot certify every level and the scene is one the extended/quad
   // model carries, the study again with a quad reference.

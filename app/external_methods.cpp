@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "io/input_file.hpp"
 #include "studies/external_program.hpp"
+#include "studies/reference_sidecar.hpp"
 
 namespace flexref::app {
 
@@ -45,12 +46,19 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
     };
     // The program writes into the staging folder, which is gone when the user reads why a level
     // failed: the message names the file's final place.
-    method.run = [command, kept = method.kept_file, &out](double h, int level) {
+    method.run = [command, kept = method.kept_file, &out, options](double h, int level) {
+      studies::ExternalLevel run;
       try {
-        return studies::run_external_level(command, h, kept(level));
+        run = studies::run_external_level(command, h, kept(level));
       } catch (const std::exception& e) {
         throw std::runtime_error(out.with_final_paths(e.what()));
       }
+      // A program that writes a sidecar (flexref run, another code's own) says which scene it
+      // integrated: refuse the level when that is not the studied one.
+      check_same_scene(studies::read_reference_sidecar(kept(level)).scene,
+                       "the run of level " + std::to_string(level) + " (its sidecar)",
+                       options.scene_identity, "the study", options.allow_scene_mismatch);
+      return run;
     };
   } else {
     auto files = std::make_shared<std::map<double, std::string>>();
@@ -72,6 +80,8 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
       if (!files->emplace(h, file).second) {
         throw std::invalid_argument("--runs: the step " + dt_text + " is given twice");
       }
+      check_same_scene(studies::read_reference_sidecar(file).scene, "--runs " + file,
+                       options.scene_identity, "the study", options.allow_scene_mismatch);
       method.steps.push_back(h);
     }
     method.run = [files](double h, int) {

@@ -131,7 +131,7 @@ int figure_command(const FigureCommandOptions& options) {
   studies::StudyOutput out(options.out_dir);
   std::cerr << "figure: reference (" << settings.solver << ") and "
             << settings.schemes.size() * settings.steps.size() << " scheme runs on "
-            << settings.jobs << " threads ...\n";
+            << studies::workers_text(settings.jobs) << " ...\n";
   // --reference-precision (docs/precision.md), as in converge: a given precision replaces the
   // reference; "auto" repeats the figure against a quad reference when the double one leaves a
   // curve uncertified and the scene allows it.

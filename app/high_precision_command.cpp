@@ -9,6 +9,8 @@
 #include "io/output_file.hpp"
 #include "precision/exact_high_precision.hpp"
 #include "precision/high_precision_reference.hpp"
+#include "reference/solve_progress.hpp"
+#include "studies/certified_reference.hpp"
 #include "studies/progress.hpp"
 #include "studies/study_record.hpp"
 
@@ -16,8 +18,8 @@ namespace flexref::app {
 namespace {
 
 /// `--solver exact`: the closed form (torque-free body, Lagrange top) evaluated in the
-/// precision, with no tolerance and no estimate (its error is a few hundred ulp of the
-/// precision, docs/precision.md).
+/// precision, with no tolerance; its error estimate (unless --no-estimate) is the distance to
+/// an independent numerical solution in the same precision, as for the double exact reference.
 int exact_reference_command(const ReferenceOptions& options, precision::Precision p,
                             const scene::Scene& scene) {
   if (options.rtol_given || options.atol >= 0.0 || options.method != "auto") {
@@ -27,6 +29,17 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
       limited_output_times(scene.end_time, scene.output_step, options.limits);
   check_output_file(options.output, true);
   const precision::HighPrecisionRun run = precision::exact_high_precision(scene.spec, times, p);
+  studies::ReferenceEstimate estimate;
+  if (options.estimate) {
+    studies::Progress progress(std::string("reference: exact solution's error estimate (odeint "
+                                           "in ") +
+                                   precision::to_string(p) + " precision)",
+                               0, "");
+    reference::SolveProgress solves(1);
+    progress.follow(&solves);
+    estimate = precision::exact_high_precision_estimate(scene.spec, times, run, "rotation+points",
+                                                        &solves);
+  }
   io::write_output_file(options.output, precision::high_precision_csv(run));
   studies::StudyRecord record = scene_record(options.scene, scene);
   record.table("integrator")
@@ -36,12 +49,23 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
       .set("precision", precision::to_string(p))
       .set("significant_digits", precision::significant_digits(p))
       .set("cpu_seconds", run.cpu_seconds);
+  if (options.estimate) {
+    record.table("error_estimate")
+        .set("metric", estimate.metric)
+        .set("estimate", estimate.estimate())
+        .set("method", estimate.method);
+    studies::add_estimate_checks(record, "error_estimate.check", estimate);
+  }
   record.table("columns").set("names", run.columns);
   studies::add_versions(record);
   write_sidecar(record, options.output);
   summary_stream(options.output) << "reference " << scene.name << " with " << run.method << ": "
                                  << run.steps << " output times, " << run.cpu_seconds
                                  << " s; wrote " << options.output << "\n";
+  if (options.estimate) {
+    summary_stream(options.output) << "estimated error " << studies::describe_estimate(estimate)
+                                   << "\n";
+  }
   return kExitOk;
 }
 
@@ -74,15 +98,17 @@ int high_precision_reference_command(const ReferenceOptions& options) {
   precision::HighPrecisionRun run;
   studies::CertifiedReference ref;
   {
-    const studies::Progress progress(
-        std::string("reference: odeint in ") + precision::to_string(p) + " precision" +
-            (options.estimate ? " and its error estimate (2 solves)" : ""),
-        0, "");
+    studies::Progress progress(std::string("reference: odeint in ") + precision::to_string(p) +
+                                   " precision" +
+                                   (options.estimate ? " and its error estimate" : ""),
+                               0, "");
+    reference::SolveProgress solves(options.estimate ? 2 : 1);
+    progress.follow(&solves);
     if (options.estimate) {
-      ref = precision::certified_high_precision_reference(scene.spec, times, p, rtol,
-                                                          "rotation+points", &run, formulation);
+      ref = precision::certified_high_precision_reference(
+          scene.spec, times, p, rtol, "rotation+points", &run, formulation, 0.0, &solves);
     } else {
-      run = precision::solve_high_precision(scene.spec, times, p, rtol, formulation);
+      run = precision::solve_high_precision(scene.spec, times, p, rtol, formulation, &solves);
     }
   }
   io::write_output_file(options.output, precision::high_precision_csv(run));
@@ -147,12 +173,14 @@ std::shared_ptr<const studies::CertifiedReference> high_precision_study_referenc
     throw std::invalid_argument("--reference-solver: a " + precision +
                                 " precision reference is Odeint's; omit --reference-solver");
   }
-  const studies::Progress progress(
+  studies::Progress progress(
       study + ": reference (odeint, " + precision + " precision, with its error estimate)", 0, "");
+  reference::SolveProgress solves(2);
+  progress.follow(&solves);
   return std::make_shared<const studies::CertifiedReference>(
-      precision::certified_high_precision_reference(scene.spec, times, p,
-                                                    precision::default_rtol(p), metric, nullptr,
-                                                    scene.model->formulation(), budget_seconds));
+      precision::certified_high_precision_reference(
+          scene.spec, times, p, precision::default_rtol(p), metric, nullptr,
+          scene.model->formulation(), budget_seconds, &solves));
 }
 
 std::shared_ptr<const studies::CertifiedReference> automatic_quad_reference(

@@ -59,7 +59,7 @@ CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options) {
   cmd->add_option("--inp", options.inp, "input deck for --node-set (default: JOB.inp)");
   cmd->add_option("--tolerance", options.tolerance,
                   "frequency self-check, relative (default: " +
-                      std::to_string(scene::kDefaultFrequencyTolerance) + ")")
+                      number_text(scene::kDefaultFrequencyTolerance) + ")")
       ->check(positive_number());
   cmd->add_flag("--accept", options.accept,
                 "write the file even when the frequency self-check fails");
@@ -101,12 +101,14 @@ int import_modes_command(const ImportModesOptions& options) {
   std::string report = sources.str() + scene::format_calculix_import_report(result);
   summary << report;
   if (!result.self_check_passed) {
+    std::ostringstream difference;
+    difference.precision(3);
+    difference << result.max_difference;
     if (!options.accept) {
       throw core::InputError(
           options.frd, 0, "",
           "frequency self-check failed: the body's frequencies differ from CalculiX's by up to " +
-              std::to_string(result.max_difference) + " (> " +
-              std::to_string(result.frequency_tolerance) +
+              difference.str() + " (> " + number_text(result.frequency_tolerance) +
               "); refine the mesh, keep more nodes, or pass --accept; nothing written");
     }
     report += "self-check failure ACCEPTED (--accept)\n";

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -8,6 +9,7 @@
 #include "core/output_times.hpp"
 #include "core/step_limit.hpp"
 #include "lie/run_scheme.hpp"
+#include "scene/initial_energy.hpp"
 #include "scene/scene_reader.hpp"
 
 namespace flexref::app {
@@ -20,13 +22,60 @@ std::string text(double x) {
   return out.str();
 }
 
+/// The 0-based index in "contact[3] friction", "joint[2] angular" after `prefix` ("contact["),
+/// or −1.
+int table_index(const std::string& label, const std::string& prefix) {
+  if (!label.starts_with(prefix)) return -1;
+  return std::atoi(label.c_str() + prefix.size()) - 1;
+}
+
+/// Where a penalty mode comes from in the scene: its table's line and, for a contact whose
+/// effective mass the scene does not give, the body whose mass it takes ("" otherwise).
+struct ModeOrigin {
+  int line = 0;
+  std::string mass;  ///< e.g. "the mass of body[1] 'ball' (line 14)"
+};
+
+ModeOrigin mode_origin(const scene::Scene& scene, const core::PenaltyMode& m) {
+  const scene::SceneSpec& spec = scene.spec;
+  ModeOrigin origin;
+  const auto body_mass = [&](int b) {
+    const auto ub = static_cast<std::size_t>(b);
+    return "body[" + std::to_string(b + 1) + "] '" + scene.model->body(b).name() + "' (line " +
+           std::to_string(spec.bodies[ub].source.line) + ")";
+  };
+  if (m.kind == "flexible body") {
+    const int b = scene.model->body_index(m.label);
+    if (b >= 0) origin.line = spec.bodies[static_cast<std::size_t>(b)].source.line;
+  } else if (const int c = table_index(m.label, "contact[");
+             c >= 0 && static_cast<std::size_t>(c) < spec.contacts.size()) {
+    const scene::ContactSpec& contact = spec.contacts[static_cast<std::size_t>(c)];
+    origin.line = contact.source.line;
+    if (contact.effective_mass == 0.0) {
+      // scene::build_contact's default: the pairs' body (reduced with the other body's).
+      if (contact.gap) {
+        origin.mass = "the mass of " + body_mass(contact.gap->body);
+      } else if (!contact.pairs.empty()) {
+        const contact::ContactPair& p = contact.pairs.front();
+        origin.mass = p.body_a >= 0 ? "the reduced mass of " + body_mass(p.body_a) + " and " +
+                                          body_mass(p.body_b)
+                                    : "the mass of " + body_mass(p.body_b);
+      }
+    }
+  } else if (const int j = table_index(m.label, "joint[");
+             j >= 0 && static_cast<std::size_t>(j) < spec.joints.size()) {
+    origin.line = spec.joints[static_cast<std::size_t>(j)].source.line;
+  }
+  return origin;
+}
+
 }  // namespace
 
 void check_scene_extremes(const scene::Scene& scene, double end_time) {
   const core::Model& model = *scene.model;
   const double h_min = core::smallest_resolved_step(end_time);
-  const auto refuse = [&](const std::string& key, const std::string& why) {
-    throw core::InputError(scene.file, 0, key, why);
+  const auto refuse = [&](const std::string& key, const std::string& why, int line = 0) {
+    throw core::InputError(scene.file, line, key, why);
   };
   // Every motion must be slower than what double precision resolves over [0, end_time]: a
   // period below h_min cannot be followed by any integrator, fixed-step or adaptive.
@@ -38,17 +87,26 @@ void check_scene_extremes(const scene::Scene& scene, double end_time) {
     // A friction mode is a damper (stiffness 0, rate c/m: contact/gap_support.cpp); every
     // other mode is a spring and needs a positive stiffness.
     const bool damper = m.label.ends_with(" friction");
+    const ModeOrigin origin = mode_origin(scene, m);
+    // The inertia the mode sees, and where it comes from when the scene takes it from a body.
+    const std::string inertia = text(m.inertia) + (origin.mass.empty() ? "" : ", " + origin.mass);
     if (!(m.frequency > 0.0) || !std::isfinite(m.frequency) || !std::isfinite(m.stiffness) ||
         !(damper ? m.stiffness >= 0.0 : m.stiffness > 0.0)) {
-      refuse(key, "its stiffness " + text(m.stiffness) + " and inertia " + text(m.inertia) +
-                      " give the frequency " + text(m.frequency) +
-                      " rad/s: a value of the scene under- or overflows double precision");
+      refuse(key,
+             "its stiffness " + text(m.stiffness) + " and inertia " + inertia +
+                 " give the frequency " + text(m.frequency) +
+                 " rad/s: a value of the scene under- or overflows double precision",
+             origin.line);
     }
     if (!resolvable(m.frequency)) {
-      refuse(key, "omega = " + text(m.frequency) + " rad/s gives the step limit 2/omega = " +
-                      text(2.0 / m.frequency) + " s, below the " + text(h_min) +
-                      " s that double precision resolves at t = " + text(end_time) +
-                      " s: no integrator can follow it; lower the stiffness or the end time");
+      refuse(key,
+             "omega = " + text(m.frequency) + " rad/s (stiffness " + text(m.stiffness) +
+                 ", inertia " + inertia +
+                 ") gives the step limit 2/omega = " + text(2.0 / m.frequency) + " s, below the " +
+                 text(h_min) + " s that double precision resolves at t = " + text(end_time) +
+                 " s: no integrator can follow it; lower the stiffness" +
+                 (origin.mass.empty() ? "" : ", raise that mass") + " or shorten the end time",
+             origin.line);
     }
   }
   const core::State s0 = model.initial_state();
@@ -68,9 +126,17 @@ void check_scene_extremes(const scene::Scene& scene, double end_time) {
   // the overflow threshold (1.8e308) so that no intermediate product can overflow.
   constexpr double kEnergyCeiling = 1e100;
   if (!(std::abs(kinetic) < kEnergyCeiling) || !(std::abs(potential) < kEnergyCeiling)) {
-    refuse("", "the initial energy (kinetic " + text(kinetic) + " J, potential " + text(potential) +
-                   " J) is beyond 1e100 J: the scene's values overflow " +
-                   "double precision in the equations of motion");
+    // At the part that holds it (a body, a potential, the gravity), with its table's line.
+    const scene::EnergyPart part = scene::largest_initial_energy(scene.spec, *scene.model);
+    const std::string why = "the initial energy (kinetic " + text(kinetic) + " J, potential " +
+                            text(potential) + " J) is beyond 1e100 J, " + text(part.energy) +
+                            " J of it the " + part.what +
+                            " of this part: the scene's values overflow double precision in the "
+                            "equations of motion";
+    const std::string key =
+        part.source.path.empty() ? "" : part.source.path + (part.key.empty() ? "" : "." + part.key);
+    throw core::InputError(part.source.file.empty() ? scene.file : part.source.file,
+                           part.source.line, key, why);
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include "app/commands.hpp"
 #include "scene/scene_reader.hpp"
+#include "studies/accuracy_check.hpp"
 #include "studies/lte_map.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
@@ -79,7 +80,7 @@ int lte_map_command(const LteMapCommandOptions& options) {
   std::cerr << "lte-map: " << study.spin_ratios.size() * study.inertia_ratios.size()
             << " grid points x " << (study.stiffened_truth ? 6 : 4) << " reference runs ("
             << study.solver << ", rtol " << study.rtol << ", " << study.end_time << " s) on "
-            << study.jobs << " threads ...\n";
+            << studies::workers_text(study.jobs) << " ...\n";
   const studies::LteMapResult result = studies::run_lte_map(factory, study);
 
   const std::string table = studies::format_lte_map_table(result);
@@ -108,7 +109,7 @@ int lte_map_command(const LteMapCommandOptions& options) {
            "point, body frame")
       .set("solver", study.solver)
       .set("rtol", study.rtol)
-      .set("estimate_rtol", study.estimate_factor * study.rtol)
+      .set("estimate_rtol", studies::accuracy_check_rtol(study.rtol, study.estimate_factor))
       .set("end_time", study.end_time)
       .set("output_step", study.output_step)
       .set("jobs", study.jobs);

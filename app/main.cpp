@@ -47,20 +47,39 @@ void add_reference_budget(CLI::App* command, double& budget) {
       ->capture_default_str();
 }
 
-/// --max-steps and --max-rows (app::WorkLimits).
+/// --max-steps and --max-rows (app::WorkLimits): counts, whole numbers.
 void add_limits(CLI::App* command, flexref::app::WorkLimits& limits, bool steps) {
-  using flexref::app::positive_number;
+  using flexref::app::positive_integer;
   if (steps) {
     command
         ->add_option("--max-steps", limits.max_steps,
                      "refuse a scheme run of more steps (raise it to allow longer runs)")
-        ->check(positive_number())
+        ->check(positive_integer())
         ->capture_default_str();
   }
   command
       ->add_option("--max-rows", limits.max_rows,
                    "refuse a trajectory of more output rows (raise it to allow larger files)")
-      ->check(positive_number())
+      ->check(positive_integer())
+      ->capture_default_str();
+}
+
+/// --allow-scene-mismatch: compare files whose sidecars name different scenes
+/// (docs/decisions.md, "Scene identity").
+void add_allow_scene_mismatch(CLI::App* command, bool& allow) {
+  command->add_flag("--allow-scene-mismatch", allow,
+                    "compare results whose sidecars (FILE.meta.toml) name different scenes or "
+                    "another version of the scene (refused otherwise)");
+}
+
+/// --estimate-factor of lte-map and modes: one meaning (studies/accuracy_check.hpp).
+void add_estimate_factor(CLI::App* command, double& factor) {
+  using flexref::app::number_in;
+  command
+      ->add_option("--estimate-factor", factor,
+                   "accuracy check: every reference run is repeated at rtol divided by this "
+                   "factor (tighter); their distance estimates the run's error")
+      ->check(number_in(2.0, 1e6))
       ->capture_default_str();
 }
 
@@ -149,6 +168,7 @@ int run_command_line(int argc, char** argv) {
       ->check(CLI::IsMember(flexref::studies::metric_names()))
       ->capture_default_str();
   cmp_cmd->add_flag("--json", cmp.json, "print the comparison as JSON");
+  add_allow_scene_mismatch(cmp_cmd, cmp.allow_scene_mismatch);
   cmp_cmd
       ->add_option("--time-tolerance", cmp.time_tolerance,
                    "row times match output times within this x the output step")
@@ -216,6 +236,7 @@ int run_command_line(int argc, char** argv) {
   conv_cmd->add_option("--timeout", conv.timeout, "seconds per external run (0: no limit)")
       ->check(non_negative_number())
       ->capture_default_str();
+  add_allow_scene_mismatch(conv_cmd, conv.allow_scene_mismatch);
 
   WorkPrecisionOptions wp;
   auto* wp_cmd = app.add_subcommand("work-precision", "error against CPU time, cheapest method");
@@ -265,6 +286,7 @@ int run_command_line(int argc, char** argv) {
   wp_cmd->add_option("--timeout", wp.timeout, "seconds per external run (0: no limit)")
       ->check(non_negative_number())
       ->capture_default_str();
+  add_allow_scene_mismatch(wp_cmd, wp.allow_scene_mismatch);
   wp_cmd
       ->add_option("--model", wp.model,
                    "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
@@ -407,11 +429,7 @@ int run_command_line(int argc, char** argv) {
   lte_cmd->add_option("--rtol", lte.rtol, "reference tolerance (both models)")
       ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();
-  lte_cmd
-      ->add_option("--estimate-factor", lte.estimate_factor,
-                   "accuracy check: rerun at this factor times rtol")
-      ->check(number_in(2.0, 1e6))
-      ->capture_default_str();
+  add_estimate_factor(lte_cmd, lte.estimate_factor);
   lte_cmd->add_flag("!--no-scale-loads", lte.scale_loads,
                     "keep the loads (default: scale them with spin and inertia)");
   lte_cmd
@@ -448,11 +466,7 @@ int run_command_line(int argc, char** argv) {
   modes_cmd->add_option("--rtol", modes.rtol, "reference tolerance")
       ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();
-  modes_cmd
-      ->add_option("--estimate-factor", modes.estimate_factor,
-                   "accuracy check: rerun at rtol divided by this factor")
-      ->check(number_in(2.0, 1e6))
-      ->capture_default_str();
+  add_estimate_factor(modes_cmd, modes.estimate_factor);
   modes_cmd->add_option("--end-time", modes.end_time, "s (default: the scene's)")
       ->check(positive_number());
   modes_cmd->add_option("--model", modes.model, "flexible bodies' equations: coupled | lte")

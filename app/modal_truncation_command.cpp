@@ -7,6 +7,7 @@
 
 #include "app/commands.hpp"
 #include "scene/scene_reader.hpp"
+#include "studies/accuracy_check.hpp"
 #include "studies/modal_truncation.hpp"
 #include "studies/parallel.hpp"
 #include "studies/study_output.hpp"
@@ -38,7 +39,7 @@ int modal_truncation_command(const ModalTruncationCommandOptions& options) {
   studies::StudyOutput out(options.out_dir);
   std::cerr << "modes: " << study.mode_counts.size() << " mode counts x 2 reference runs ("
             << study.solver << ", rtol " << study.rtol << ", " << study.end_time << " s) on "
-            << study.jobs << " threads ...\n";
+            << studies::workers_text(study.jobs) << " ...\n";
   const studies::ModalTruncationResult result = studies::run_modal_truncation(scene.spec, study);
 
   std::vector<double> counts;
@@ -58,7 +59,7 @@ int modal_truncation_command(const ModalTruncationCommandOptions& options) {
            "frame) and max_t geodesic angle between the body attitudes")
       .set("solver", study.solver)
       .set("rtol", study.rtol)
-      .set("estimate_rtol", study.rtol / study.estimate_factor)
+      .set("estimate_rtol", studies::accuracy_check_rtol(study.rtol, study.estimate_factor))
       .set("estimate", "difference to a run at estimate_rtol (same output times)")
       .set("end_time", study.end_time)
       .set("output_step", study.output_step)

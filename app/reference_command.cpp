@@ -3,9 +3,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_validators.hpp"
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
 #include "reference/method_choice.hpp"
+#include "reference/solve_progress.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/certified_reference.hpp"
@@ -44,7 +46,7 @@ void set_method(const std::string& solver, const std::string& method,
 int reference_command(const ReferenceOptions& options) {
   if (options.precision != "double") return high_precision_reference_command(options);
   if (options.rtol < 1e-15) {
-    throw std::invalid_argument("--rtol " + std::to_string(options.rtol) +
+    throw std::invalid_argument("--rtol " + number_text(options.rtol) +
                                 ": double precision takes rtol >= 1e-15 (--precision extended or "
                                 "quad for tighter references)");
   }
@@ -68,15 +70,19 @@ int reference_command(const ReferenceOptions& options) {
 
   studies::CertifiedReference ref;
   {
-    const studies::Progress progress(
-        "reference: " + solver + (options.estimate ? " and its error estimate (3 solves)" : ""), 0,
-        "");
+    studies::Progress progress(
+        "reference: " + solver + (options.estimate ? " and its error estimate" : ""), 0, "");
+    reference::SolveProgress solves(options.estimate ? studies::reference_solve_count(model, solver)
+                                                     : 1);
+    solver_options.progress = &solves;
+    progress.follow(&solves);
     if (options.estimate) {
       ref = studies::certified_reference(model, times, solver, solver_options, "rotation+points");
     } else {
       ref.run = reference::solve_reference(solver, model, times, solver_options);
       ref.table = studies::tabulate(model, ref.run.trajectory);
     }
+    solver_options.progress = nullptr;
   }
   studies::write_csv(ref.table, options.output);
 

@@ -1,6 +1,7 @@
 #include <chrono>
 #include <ctime>
 #include <filesystem>
+#include <iostream>
 #include <stdexcept>
 
 #include "app/commands.hpp"
@@ -24,19 +25,37 @@ std::string reference_solver_for(const core::Model& model, const std::string& so
   return solver;
 }
 
-studies::StudyRecord scene_record(const std::string& scene_file, const scene::Scene& scene) {
+studies::SceneIdentity scene_identity(const std::string& scene_file, const scene::Scene& scene) {
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(scene_file, ec);
+  return {scene.name, scene.hash, ec ? scene_file : absolute.string()};
+}
+
+std::string check_same_scene(const studies::SceneIdentity& a, const std::string& a_what,
+                             const studies::SceneIdentity& b, const std::string& b_what,
+                             bool allow) {
+  const std::string mismatch = studies::scene_mismatch(a, a_what, b, b_what);
+  if (mismatch.empty()) return mismatch;
+  if (!allow) {
+    throw std::invalid_argument(mismatch +
+                                "; nothing compared (--allow-scene-mismatch compares them anyway)");
+  }
+  std::cerr << "flexref: warning: " << mismatch << " (compared anyway: --allow-scene-mismatch)\n";
+  return mismatch;
+}
+
+studies::StudyRecord scene_record(const std::string& scene_file, const scene::Scene& scene) {
+  const studies::SceneIdentity identity = scene_identity(scene_file, scene);
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
   int flexible_bodies = 0;
   for (const core::Body& b : scene.model->bodies()) flexible_bodies += b.is_flexible() ? 1 : 0;
   studies::StudyRecord record;
-  record.table("scene")
-      .set("file", ec ? scene_file : absolute.string())
-      .set("name", scene.name)
-      .set("created", std::string(stamp))
+  studies::StudyRecord::Table& table =
+      record.table("scene").set("file", identity.file).set("name", identity.name);
+  if (!identity.hash.empty()) table.set("hash", identity.hash);
+  table.set("created", std::string(stamp))
       .set("model", core::to_string(scene.model->formulation()))
       .set("flexible_bodies", flexible_bodies);
   return record;

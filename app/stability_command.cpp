@@ -87,7 +87,7 @@ int linear_stability_command(const StabilityCommandOptions& options) {
   study.progress = true;
   studies::StudyOutput out(options.out_dir);
   std::cerr << "stability: " << study.values.size() * study.schemes.size() << " bisections ("
-            << options.parameter << ") on " << study.jobs << " threads ...\n";
+            << options.parameter << ") on " << studies::workers_text(study.jobs) << " ...\n";
   const std::vector<studies::LinearSweepPoint> points = studies::run_linear_sweep(study);
 
   const std::string model =
@@ -184,7 +184,7 @@ int stability_command(const StabilityCommandOptions& options) {
             << (study.long_run_steps > 0
                     ? " + long runs of " + std::to_string(study.long_run_steps) + " steps"
                     : "")
-            << " on " << study.jobs << " threads ...\n";
+            << " on " << studies::workers_text(study.jobs) << " ...\n";
   const studies::StabilityResult result = studies::run_stability(study);
 
   const std::string table = "body: " + body_source + "\n" + studies::format_stability_table(result);

@@ -39,9 +39,15 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
                      "--dt/2^(levels-1) =");
   }
   studies::StudyOutput out(app_options.out_dir);
-  study.external = external_methods(
-      {app_options.scene, app_options.external, {}, app_options.label, 0, app_options.timeout},
-      out);
+  study.external = external_methods({app_options.scene,
+                                     app_options.external,
+                                     {},
+                                     app_options.label,
+                                     0,
+                                     app_options.timeout,
+                                     scene_identity(app_options.scene, scene),
+                                     app_options.allow_scene_mismatch},
+                                    out);
   // --reference-precision (docs/precision.md), as in converge: "auto" repeats the study with a
   // quad reference when the double one leaves runs uncertified and the scene allows it.
   const std::string& wanted = app_options.reference_precision;

@@ -33,6 +33,8 @@ struct WorkPrecisionOptions {
   std::string reference_precision = "auto";
   /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
   double reference_budget = kDefaultReferenceBudget;
+  /// --external files whose sidecars name another scene are used anyway.
+  bool allow_scene_mismatch = false;
 };
 
 /// Runs the study on the scene and writes work_precision.csv, work_precision.txt, study.toml,

@@ -70,6 +70,28 @@ long validate_step_grid(const core::Model& model, double dt,
         << h_min << " s (1e6 roundings) to be taken as given; use a larger step";
     throw std::invalid_argument(out.str());
   }
+  // A step longer than an output interval cannot end on both of its ends; the grid check below
+  // would accept it (t − t0 is then 0·dt to within its tolerance), so say it in plain terms.
+  if (output_times.size() > 1) {
+    double interval = t_end - t0;
+    for (std::size_t k = 1; k < output_times.size(); ++k) {
+      interval = std::min(interval, output_times[k] - output_times[k - 1]);
+    }
+    std::ostringstream out;
+    out.precision(6);  // the intervals differ by rounding: 0.0999999999999943 prints as 0.1
+    if (dt > t_end - t0) {
+      out << "the step dt = " << dt << " s is longer than the whole run (" << t_end - t0
+          << " s, t = " << t0 << " to " << t_end << "): a step must divide the output interval ("
+          << interval << " s)";
+      throw std::invalid_argument(out.str());
+    }
+    // The same relative tolerance as core::is_multiple_of: dt may exceed the interval by rounding.
+    if (interval / dt < 1.0 - 1e-9) {
+      out << "the step dt = " << dt << " s is longer than the output interval (" << interval
+          << " s): a step must divide it";
+      throw std::invalid_argument(out.str());
+    }
+  }
   for (std::size_t k = 1; k < output_times.size(); ++k) {
     require_on_grid("output time", output_times[k], t0, dt);
   }

@@ -13,8 +13,9 @@ namespace flexref::lie {
 /// Checks a fixed step against an output grid before any work and returns the number of steps
 /// from output_times.front() to output_times.back(). Throws std::invalid_argument, naming the
 /// offending time and the step, when dt is not positive and finite, the output times are empty,
-/// not finite or not strictly increasing, an output time or a load discontinuity in
-/// (t0, t_end] is not t0 plus an integer multiple of dt (core::is_multiple_of), or dt is below
+/// not finite or not strictly increasing, dt is longer than the run or than an output interval
+/// (said in those words), an output time or a load discontinuity in (t0, t_end] is not t0 plus
+/// an integer multiple of dt (core::is_multiple_of), or dt is below
 /// what double precision resolves at the grid's times (core::smallest_resolved_step of
 /// max(|t0|, |t_end|): the stepper's h_n = t_{n+1} − t_n must equal dt to 1e-6 relative; this
 /// also keeps the step count far below the range of `long`).

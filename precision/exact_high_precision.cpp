@@ -199,4 +199,35 @@ HighPrecisionRun exact_high_precision(const scene::SceneSpec& spec,
   throw std::invalid_argument("exact_high_precision: unknown precision");
 }
 
+studies::ReferenceEstimate exact_high_precision_estimate(const scene::SceneSpec& spec,
+                                                         const std::vector<double>& output_times,
+                                                         const HighPrecisionRun& exact,
+                                                         const std::string& metric,
+                                                         reference::SolveProgress* progress) {
+  const double rtol = smallest_rtol(exact.precision);
+  const HighPrecisionRun check = solve_high_precision(
+      spec, output_times, exact.precision, rtol, core::FlexibleFormulation::kCoupled, progress);
+  studies::ReferenceEstimate e;
+  e.metric = metric;
+  e.exact = true;
+  studies::EstimateCheck c;
+  c.role = "other";
+  c.solver = "odeint";
+  c.method = check.method;
+  c.rtol = rtol;
+  c.steps = check.steps;
+  c.distance = distance(exact, check, metric);
+  c.used = c.distance > 0.0;
+  if (!c.used) c.note = "distance exactly 0";
+  e.checks.push_back(c);
+  e.value = c.used ? c.distance : std::numeric_limits<double>::infinity();
+  std::ostringstream method;
+  method << "distance, computed in " << to_string(exact.precision)
+         << " precision, to an independent numerical solution (odeint Bulirsch-Stoer rtol "
+         << std::setprecision(3) << rtol
+         << "): bounds the exact solution's error plus the numerical one's";
+  e.method = c.used ? method.str() : "none: the numerical solution equals the exact one";
+  return e;
+}
+
 }  // namespace flexref::precision

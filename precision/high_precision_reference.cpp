@@ -82,7 +82,11 @@ HighPrecisionRun integrate_model(const Model& model, std::chrono::steady_clock::
   run.table.columns = run.columns;
   const int digits = significant_digits(precision);
   RateWindow window(output_times.front());
+  if (budget.progress != nullptr) {
+    budget.progress->start_solve(output_times.front(), output_times.back());
+  }
   const auto within_budget = [&](double t) {
+    if (budget.progress != nullptr) budget.progress->reached(t);
     if (!(budget.seconds > 0.0)) return;
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -280,8 +284,11 @@ void check_supported(const scene::SceneSpec& spec, core::FlexibleFormulation for
 
 HighPrecisionRun solve_high_precision(const scene::SceneSpec& spec,
                                       const std::vector<double>& output_times, Precision precision,
-                                      double rtol, core::FlexibleFormulation formulation) {
-  return solve_subdivided(spec, output_times, precision, rtol, formulation, 1);
+                                      double rtol, core::FlexibleFormulation formulation,
+                                      reference::SolveProgress* progress) {
+  Budget unbounded;
+  unbounded.progress = progress;
+  return solve_subdivided(spec, output_times, precision, rtol, formulation, 1, unbounded);
 }
 
 double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std::string& metric) {
@@ -303,13 +310,15 @@ double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std:
 studies::CertifiedReference certified_high_precision_reference(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
     double rtol, const std::string& metric, HighPrecisionRun* run_out,
-    core::FlexibleFormulation formulation, double budget_seconds) {
+    core::FlexibleFormulation formulation, double budget_seconds,
+    reference::SolveProgress* progress) {
   const double tight_rtol = std::max(rtol / 100.0, smallest_rtol(precision));
   // The run's projection counts the whole reference: the tighter check costs about twice the
   // run (flexible_spinner_64 extended: 223 s for the run, 658 s with the check), so 3 × the
   // run's projected time when there is a check.
-  HighPrecisionRun run = solve_subdivided(spec, output_times, precision, rtol, formulation, 1,
-                                          {budget_seconds, 0.0, tight_rtol < rtol ? 3.0 : 1.0});
+  HighPrecisionRun run =
+      solve_subdivided(spec, output_times, precision, rtol, formulation, 1,
+                       {budget_seconds, 0.0, tight_rtol < rtol ? 3.0 : 1.0, progress});
   studies::CertifiedReference result;
   result.table = run.table;
   result.run.solver = "odeint";
@@ -329,15 +338,16 @@ studies::CertifiedReference certified_high_precision_reference(
   check.rtol = tight_rtol;
   if (tight_rtol < rtol) {
     double spent = run.cpu_seconds;
-    HighPrecisionRun tight = solve_subdivided(spec, output_times, precision, tight_rtol,
-                                              formulation, 1, {budget_seconds, spent, 1.0});
+    HighPrecisionRun tight =
+        solve_subdivided(spec, output_times, precision, tight_rtol, formulation, 1,
+                         {budget_seconds, spent, 1.0, progress});
     check.method = tight.method;
     if (tight.steps == run.steps && tight.evaluations == run.evaluations) {
       // Both took whole output intervals at extrapolation's highest order (smooth, slow
       // scenes): the same discretization. Steps of at most half an interval are another one.
       spent += tight.cpu_seconds;
       tight = solve_subdivided(spec, output_times, precision, tight_rtol, formulation, 2,
-                               {budget_seconds, spent, 1.0});
+                               {budget_seconds, spent, 1.0, progress});
       check.method = tight.method + ", steps of at most half an output interval";
     }
     check.steps = tight.steps;

@@ -11,6 +11,7 @@
 #include "core/model.hpp"
 #include "precision/precision.hpp"
 #include "precision/reference_budget.hpp"
+#include "reference/solve_progress.hpp"
 #include "scene/scene_spec.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/trajectory_table.hpp"
@@ -60,9 +61,11 @@ void check_supported(const scene::SceneSpec& spec,
 /// says). Throws std::invalid_argument for a scene build_model refuses or an rtol out of range,
 /// core::SolverError when the
 /// integration fails or leaves a non-finite value.
+/// `progress` (may be null) follows the solve (reference/solve_progress.hpp).
 HighPrecisionRun solve_high_precision(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
-    double rtol, core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
+    double rtol, core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled,
+    reference::SolveProgress* progress = nullptr);
 
 /// metric(a, b) computed in the runs' precision (both of the same precision and columns):
 /// "rotation+points" (L∞ geodesic angle + L∞ tracked-point distance, max over bodies and
@@ -73,12 +76,13 @@ double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std:
 /// of the same precision at rtol/100 (a different step sequence; the checks are recorded).
 /// budget_seconds > 0 bounds the wall time of the whole (reference_budget.hpp): the runs
 /// project their cost from the simulated time reached and throw BudgetExceeded when it is over
-/// (0: no bound).
+/// (0: no bound). `progress` (may be null) follows its solves: the run and its check (2; 3 when
+/// the check is repeated with shorter steps).
 studies::CertifiedReference certified_high_precision_reference(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
     double rtol, const std::string& metric, HighPrecisionRun* run_out = nullptr,
     core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled,
-    double budget_seconds = 0.0);
+    double budget_seconds = 0.0, reference::SolveProgress* progress = nullptr);
 
 /// The CSV text of a run: header, then rows with `t` in 17 digits and the values as printed.
 std::string high_precision_csv(const HighPrecisionRun& run);

@@ -12,6 +12,7 @@
 #include "precision/parse_text.hpp"
 #include "studies/error_metrics_tpl.hpp"
 #include "studies/reference_sidecar.hpp"
+#include "studies/trajectory_contract.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -68,6 +69,9 @@ PreciseTable read_precise_table(const std::string& path) {
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
+    if (line_number == 1 && line.starts_with(studies::kUtf8ByteOrderMark)) {
+      line.erase(0, studies::kUtf8ByteOrderMark.size());
+    }
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line.front() == '#') continue;
     std::vector<std::string> cells = split(line);

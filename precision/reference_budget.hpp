@@ -7,6 +7,7 @@
 #include <string>
 
 #include "precision/precision.hpp"
+#include "reference/solve_progress.hpp"
 
 namespace flexref::precision {
 
@@ -41,6 +42,9 @@ struct Budget {
   double seconds = 0.0;  ///< the whole reference's bound (0: none)
   double spent = 0.0;    ///< wall time of the reference's earlier runs
   double factor = 1.0;
+  /// Where a progress line follows the run (reference/solve_progress.hpp; not owned, may be
+  /// null): the run starts a solve in it and stores the simulated time it reaches.
+  reference::SolveProgress* progress = nullptr;
 };
 
 /// The recent cost of a run: wall seconds per simulated second over a window that covers at

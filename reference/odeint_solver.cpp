@@ -46,6 +46,7 @@
 #include "reference/continuous_extension.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/solve_progress.hpp"
 #include "reference/switching_predictor.hpp"
 
 namespace flexref::reference {
@@ -575,6 +576,7 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
   core::State step_end = state;
   const auto record = [&]() {
     run.trajectory.states.push_back(state);
+    if (options.progress != nullptr) options.progress->reached(output_times[k]);
     if (track_work) {
       run.trajectory.dissipated_work.push_back(integrals[0]);
       run.trajectory.extra_work.insert(run.trajectory.extra_work.end(), integrals.begin() + 1,

@@ -16,6 +16,7 @@
 namespace flexref::reference {
 
 class OdeJacobian;
+class SolveProgress;
 
 /// CVODE's linear multistep family (docs/references.md, "CVODE: Adams or BDF").
 enum class CvodeMethod {
@@ -48,6 +49,9 @@ struct SolverOptions {
   /// (flexible models) or difference quotients (rigid ones) (ode_jacobian.hpp); not owned, must
   /// outlive the solve.
   const OdeJacobian* jacobian = nullptr;
+  /// Where a progress line follows the solve (solve_progress.hpp): the solver stores the time
+  /// it reached at each output time. Not owned; solve_reference does not keep it in the run.
+  SolveProgress* progress = nullptr;
   double absolute_tolerance() const { return atol < 0.0 ? rtol : atol; }
 };
 

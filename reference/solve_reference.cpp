@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "reference/exact_solution.hpp"
+#include "reference/solve_progress.hpp"
 
 namespace flexref::reference {
 
@@ -76,7 +77,16 @@ void check_finite(const ReferenceRun& run, const core::Model& model) {
 ReferenceRun solve_reference(const std::string& solver, const core::Model& model,
                              const std::vector<double>& output_times,
                              const SolverOptions& options) {
+  if (options.progress != nullptr && !output_times.empty()) {
+    options.progress->start_solve(output_times.front(), output_times.back());
+  }
   ReferenceRun run = dispatch(solver, model, output_times, options);
+  // A finished solve has reached the end (the exact solution reports no time on its way).
+  if (options.progress != nullptr && !output_times.empty()) {
+    options.progress->reached(output_times.back());
+  }
+  // The progress channel belongs to the caller's progress line, which may end before the run.
+  run.options.progress = nullptr;
   check_finite(run, model);
   return run;
 }

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/impact_counter.hpp"
+#include "reference/solve_progress.hpp"
 
 namespace flexref::reference::sundials {
 
@@ -37,6 +38,7 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
   const bool count_impacts = model.wear_channel_count() > 0;
   const auto record = [&](double t) {
     run.trajectory.states.push_back(state);
+    if (options.progress != nullptr) options.progress->reached(t);
     if (track_work) {
       run.trajectory.dissipated_work.push_back(integrals[0]);
       run.trajectory.extra_work.insert(run.trajectory.extra_work.end(), integrals.begin() + 1,

@@ -1,7 +1,9 @@
 #include "scene/build_model.hpp"
 
+#include <cmath>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -15,8 +17,31 @@ core::Body build_body(const BodySpec& spec) {
   try {
     return core::Body(d);
   } catch (const core::InertiaRangeError&) {
-    // The reference-point data core::Body derives (the parallel-axis shift to the pivot and the
-    // inverse) can overflow for extreme but finite input: report it at the inertia.
+    // The reference-point data core::Body derives (1/m, the parallel-axis shift to the pivot and
+    // the inverse) can overflow for extreme but finite input. When the inertia about the centre
+    // of mass and the mass are representable themselves, the shift m |c − pivot|² is what
+    // overflows: report it at the farther of the centre of mass and the pivot.
+    const Eigen::Matrix3d I_inverse = d.I_Bcm_B.inverse();
+    const bool own_data_fine = std::isfinite(1.0 / d.mass) && d.I_Bcm_B.allFinite() &&
+                               I_inverse.allFinite() && !d.flexible;
+    const bool shifted = d.motion != core::MotionKind::kFree;
+    if (own_data_fine && shifted) {
+      const bool pivot_body = d.motion == core::MotionKind::kPivot;
+      const Eigen::Vector3d p_BoBr_B = pivot_body ? d.p_BoPivot_B : Eigen::Vector3d::Zero();
+      const double distance = (d.p_BoBcm_B - p_BoBr_B).stableNorm();
+      const char* point = pivot_body ? "pivot" : "frame origin";
+      std::ostringstream why;
+      why.precision(3);
+      why << "the inertia about the " << point << ", m d^2 with m = " << d.mass
+          << " kg and d = " << distance << " m (the centre of mass from the " << point
+          << "), or its inverse is not finite (too large for double precision)";
+      // The factor that brings most of the orders of magnitude of m d^2.
+      std::string key = "mass";
+      if (!(std::abs(std::log10(d.mass)) > 2.0 * std::abs(std::log10(distance)))) {
+        key = d.p_BoBcm_B.stableNorm() >= p_BoBr_B.stableNorm() ? "center_of_mass" : "pivot";
+      }
+      throw SpecError(spec.source, key, why.str());
+    }
     throw SpecError(spec.source, "inertia",
                     std::string("the inertia about the ") +
                         (d.motion == core::MotionKind::kPivot ? "pivot" : "centre of mass") +
@@ -123,6 +148,17 @@ std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
   } catch (const std::invalid_argument& e) {
     throw SpecError(spec.source, "", e.what());
   }
+}
+
+std::vector<SpecSource> element_sources(const SceneSpec& spec) {
+  // The order of build_model below.
+  std::vector<SpecSource> sources;
+  if (!spec.g_W.isZero(0.0)) sources.push_back({spec.file, 0, "scene"});
+  for (const LoadSpec& l : spec.loads) sources.push_back(l.source);
+  for (const PotentialSpec& p : spec.potentials) sources.push_back(p.source);
+  for (const ContactSpec& c : spec.contacts) sources.push_back(c.source);
+  for (const JointSpec& j : spec.joints) sources.push_back(j.source);
+  return sources;
 }
 
 core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formulation) {

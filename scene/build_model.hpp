@@ -29,6 +29,11 @@ class SpecError : public std::invalid_argument {
 core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formulation =
                                                    core::FlexibleFormulation::kCoupled);
 
+/// Where each force element of build_model(spec) comes from, in the model's order: gravity
+/// (path "scene", line 0: SceneSpec keeps no line for it), then every load, potential, contact
+/// and joint with its table's source.
+std::vector<SpecSource> element_sources(const SceneSpec& spec);
+
 /// The contact element of one [[contact]] spec, given the bodies it acts on (for the default
 /// effective mass). Throws SpecError.
 std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& contact,

@@ -12,7 +12,9 @@
 #include "core/error.hpp"
 #include "io/input_file.hpp"
 #include "scene/build_model.hpp"
+#include "scene/initial_energy.hpp"
 #include "scene/reader_parts.hpp"
+#include "scene/scene_identity.hpp"
 #include "scene/scene_toml.hpp"
 
 namespace flexref::scene {
@@ -66,7 +68,9 @@ SceneSettings read_settings(const Table& root) {
   return s;
 }
 
-void check_initial_evaluation(const core::Model& model, const Table& root,
+[[noreturn]] void fail_at_source(const SpecError& e, const Table& root);
+
+void check_initial_evaluation(const SceneSpec& spec, const core::Model& model, const Table& root,
                               const std::vector<Table>& body_tables) {
   const core::State state = model.initial_state();
   core::Workspace ws = model.make_workspace();
@@ -84,9 +88,18 @@ void check_initial_evaluation(const core::Model& model, const Table& root,
   }
   const double energy = model.kinetic_energy(state) + model.potential_energy({}, state, ws);
   if (!std::isfinite(energy)) {
-    root.fail("scene",
-              "the initial energy is not finite (values too large or too small); "
-              "expected values whose products stay within the range of a double");
+    // At the part that makes it: a body's spin, velocity or centre of mass, a potential's
+    // constants, the gravity.
+    const EnergyPart part = largest_initial_energy(spec, model);
+    const std::string why = "the initial " + part.what + " is not finite (" + format(part.energy) +
+                            " J: values too large or too small); expected values whose products "
+                            "stay within the range of a double";
+    if (part.source.path == "scene") {
+      const std::optional<Table> scene = root.table("scene", "a [scene] table");
+      if (scene) scene->fail(part.key, why);
+    }
+    if (!part.source.path.empty()) fail_at_source(SpecError(part.source, part.key, why), root);
+    root.fail("scene", why);
   }
 }
 
@@ -161,7 +174,18 @@ Scene read_document(const toml::value& document, const std::string& file,
   scene.description = scene.spec.description;
   scene.end_time = scene.spec.end_time;
   scene.output_step = scene.spec.output_step;
-  check_initial_evaluation(*scene.model, root, root.tables("body", "[[body]] tables"));
+  check_initial_evaluation(scene.spec, *scene.model, root, root.tables("body", "[[body]] tables"));
+  // The modal-data files were read and parsed above (read_modal_data); their documents again
+  // for the hash.
+  std::vector<toml::value> modal_documents;
+  for (const BodySpec& body : scene.spec.bodies) {
+    if (body.modal_file.empty()) continue;
+    std::ifstream in(body.modal_file, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    modal_documents.push_back(scene_toml::parse(text.str(), body.modal_file));
+  }
+  scene.hash = scene_hash(document, modal_documents);
   return scene;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "reference/exact_solution.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/solve_reference.hpp"
+#include "studies/accuracy_check.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/study_refused.hpp"
 
@@ -17,8 +19,6 @@ namespace flexref::studies {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-/// Relative tolerances below this are round-off limited.
-constexpr double kTightestRtol = 1e-14;
 /// A check is run this much tighter than the run.
 constexpr double kTighterFactor = 100.0;
 /// Twice the distance to a check at least twice as accurate bounds the error (see the header).
@@ -59,6 +59,11 @@ std::string number(double x) {
   return out.str();
 }
 
+std::string count_word(std::size_t n) {
+  static const char* const kWords[] = {"no", "one", "two", "three", "four"};
+  return n < std::size(kWords) ? kWords[n] : std::to_string(n);
+}
+
 }  // namespace
 
 std::string cross_check_solver(const std::string& solver) {
@@ -96,26 +101,40 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
     e.exact = true;
     reference::SolverOptions tightest;
     tightest.rtol = kTightestRtol;
-    reference::SolverOptions cvode_options;
+    tightest.progress = run.options.progress;
+    reference::SolverOptions cvode_options = tightest;
     cvode_options.rtol = 1e-13;
     e.checks.push_back(compare(model, output_times, table, metric, "other", "arkode", tightest));
     e.checks.push_back(compare(model, output_times, table, metric, "other", "odeint", tightest));
     e.checks.push_back(
         compare(model, output_times, table, metric, "other", "cvode", cvode_options));
     e.value = kInf;
+    const EstimateCheck* closest = nullptr;
+    std::string checked;
     for (const EstimateCheck& c : e.checks) {
-      if (c.used) e.value = std::min(e.value, c.distance);
+      checked += (checked.empty() ? "" : ", ") + c.solver + " rtol " + number(c.rtol) +
+                 (c.used ? "" : " (not used: " + c.note + ")");
+      if (c.used && c.distance < e.value) {
+        e.value = c.distance;
+        closest = &c;
+      }
     }
-    e.method =
-        "smaller distance to two independent numerical solutions (odeint rtol 1e-14, "
-        "cvode rtol 1e-13): bounds the exact solution's error plus the closer one's";
+    // Say what was computed: which solutions, which one gave the value.
+    e.method = closest == nullptr
+                   ? "none: no independent numerical solution is a usable check (" + checked + ")"
+                   : "smallest distance to " + count_word(e.checks.size()) +
+                         " independent numerical solutions (" + checked + "), to " +
+                         closest->solver + " rtol " + number(closest->rtol) +
+                         ": bounds the exact solution's error plus that solution's";
     return e;
   }
 
   const bool has_exact =
       !reference::classify_exact_solution(model).kind.empty() && !model.has_flexible_bodies();
   if (has_exact && estimate_options.use_exact_solution) {
-    EstimateCheck c = compare(model, output_times, table, metric, "exact", "exact", {});
+    reference::SolverOptions exact_options;
+    exact_options.progress = run.options.progress;
+    EstimateCheck c = compare(model, output_times, table, metric, "exact", "exact", exact_options);
     e.value = c.used ? c.distance : kInf;
     e.checks.push_back(c);
     e.method =
@@ -138,16 +157,23 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
       compare(model, output_times, table, metric, "other", cross_check_solver(run.solver), tight));
   double largest = 0.0;
   std::string used;
+  int used_count = 0;
   for (const EstimateCheck& c : e.checks) {
     if (!c.used) continue;
     largest = std::max(largest, c.distance);
     used += (used.empty() ? "" : " and ") + c.solver + " rtol " + number(c.rtol);
+    ++used_count;
   }
   e.value = used.empty() ? kInf : kSafetyFactor * largest;
-  e.method = used.empty() ? "none: no check is a different, more accurate solution"
-                          : "2 x the larger distance to " + used +
-                                " (each 100x tighter than the run: twice its distance bounds the "
-                                "run's error when it is at least twice as accurate)";
+  // The checks' tolerance is 100x the run's, clamped at kTightestRtol: say the factor it is.
+  const std::string tighter_text = number(run.options.rtol / tight.rtol) +
+                                   "x tighter than the run's rtol " + number(run.options.rtol);
+  e.method = used.empty()
+                 ? "none: no check is a different, more accurate solution"
+                 : (used_count > 1 ? "2 x the larger distance to " : "2 x the distance to ") +
+                       used + " (" + (used_count > 1 ? "each " : "") + tighter_text +
+                       ": twice the distance bounds the run's error when the check is at least "
+                       "twice as accurate)";
   return e;
 }
 
@@ -175,8 +201,11 @@ CertifiedReference certified_reference(const core::Model& model,
   CertifiedReference result;
   result.run = reference::solve_reference(solver, model, output_times, options);
   result.table = tabulate(model, result.run.trajectory);
+  // The checks report to the same progress line (solve_reference does not keep it in the run).
+  reference::ReferenceRun reported = result.run;
+  reported.options.progress = options.progress;
   result.estimate =
-      estimate_error(model, output_times, result.run, result.table, metric, estimate_options);
+      estimate_error(model, output_times, reported, result.table, metric, estimate_options);
   const double estimate = result.estimate.estimate();
   if (std::isnan(estimate)) {
     throw core::SolverError(
@@ -196,6 +225,19 @@ CertifiedReference certified_reference(const core::Model& model,
         "above its first frequency grows exponentially: docs/design/model.md)");
   }
   return result;
+}
+
+int reference_solve_count(const core::Model& model, const std::string& solver,
+                          const EstimateOptions& estimate_options) {
+  if (solver == "exact") return 4;  // the exact solution and three numerical checks
+  const bool has_exact =
+      !reference::classify_exact_solution(model).kind.empty() && !model.has_flexible_bodies();
+  return has_exact && estimate_options.use_exact_solution ? 2 : 3;
+}
+
+std::string describe_reference_run(const reference::ReferenceRun& run) {
+  if (run.solver == "exact") return "exact solution (analytic, no tolerance)";
+  return run.solver + " rtol " + number(run.options.rtol);
 }
 
 std::string describe_estimate(const ReferenceEstimate& e) {
@@ -227,7 +269,8 @@ void add_reference(StudyRecord& record, const CertifiedReference& reference) {
       .set("method", reference.run.method)
       .set("method_reason", reference.run.method_reason)
       .set("jacobian", reference.run.jacobian)
-      .set("rtol", reference.run.options.rtol)
+      // 0 for the exact solution, as its checks record it: it has no tolerance.
+      .set("rtol", reference.run.solver == "exact" ? 0.0 : reference.run.options.rtol)
       .set("estimated_error", e.value)
       .set("metric", e.metric)
       .set("estimate_method", e.method);

@@ -14,7 +14,8 @@
 ///
 /// An exact solution run as the reference itself is compared with three independent numerical
 /// solutions at tight tolerance (ARKODE and Odeint at 1e-14, CVODE at 1e-13); its estimate is
-/// the smallest distance, which bounds its own error plus the best numerical solution's.
+/// the smallest distance, which bounds its own error plus the closest numerical solution's. The
+/// estimate's method text names the solutions checked and the one that gave the value.
 ///
 /// No usable check leaves the estimate at +inf (unknown): studies then certify nothing.
 #include <string>
@@ -66,7 +67,8 @@ std::string resolve_reference_solver(const std::string& solver, const core::Mode
                                      const std::vector<double>& output_times);
 
 /// The `[reference]` table a study records next to its results: solver, method and why, the
-/// Newton systems (implicit solvers), tolerance, the estimate and how it was made, and one
+/// Newton systems (implicit solvers), tolerance (0 for the exact solution), the estimate and how it
+/// was made, and one
 /// `[[reference.check]]` per comparison solution.
 void add_reference(StudyRecord& record, const CertifiedReference& reference);
 
@@ -74,6 +76,10 @@ void add_reference(StudyRecord& record, const CertifiedReference& reference);
 /// distance, used, note).
 void add_estimate_checks(StudyRecord& record, const std::string& array,
                          const ReferenceEstimate& estimate);
+
+/// The reference itself in one phrase: "cvode rtol 1e-12", or "exact solution (analytic, no
+/// tolerance)" for the exact solution, whose run carries an rtol it never used.
+std::string describe_reference_run(const reference::ReferenceRun& run);
 
 /// "2.1e-10 (2 x distance to cvode rtol 1e-14, ...)": the estimate and its method, one line.
 std::string describe_estimate(const ReferenceEstimate& estimate);
@@ -83,6 +89,12 @@ struct EstimateOptions {
   /// off).
   bool use_exact_solution = true;
 };
+
+/// How many solves certified_reference makes (for a progress line, reference/solve_progress.hpp):
+/// 4 for the exact solution (and its three checks), 2 for a numerical solver on a scene with an
+/// exact solution (the run and the exact one), else 3 (the run and its two checks).
+int reference_solve_count(const core::Model& model, const std::string& solver,
+                          const EstimateOptions& estimate_options = {});
 
 /// The size of a solution in `metric`, the yardstick of its error estimate: the metric of the
 /// table's first row (held over every time) against a body at rest at the world origin with the

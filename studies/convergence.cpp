@@ -255,8 +255,11 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
     const std::string solver =
         resolve_reference_solver(options.reference_solver, model, output_times);
     if (options.progress) std::fprintf(stderr, "converge: reference (%s) ...\n", solver.c_str());
-    const Progress progress("converge: reference (" + solver + ", with its error estimate)", 0, "",
-                            options.progress);
+    Progress progress("converge: reference (" + solver + ", with its error estimate)", 0, "",
+                      options.progress);
+    reference::SolveProgress solves(reference_solve_count(model, solver));
+    ref_options.progress = &solves;
+    progress.follow(&solves);
     result.reference =
         certified_reference(model, output_times, solver, ref_options, options.metric);
   }
@@ -358,8 +361,8 @@ bool ConvergenceResult::refused() const {
 std::string format_convergence_table(const ConvergenceResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
-  out << "reference: " << r.reference.run.solver << " rtol " << r.reference.run.options.rtol
-      << ", estimated error " << describe_estimate(est) << "\n";
+  out << "reference: " << describe_reference_run(r.reference.run) << ", estimated error "
+      << describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n\n";
   out << std::left << std::setw(7) << "scheme" << std::right << std::setw(12) << "h"
       << std::setw(10) << "steps" << std::setw(12) << "error" << std::setw(8) << "order"

@@ -29,6 +29,10 @@ struct Item {
 std::vector<Item> find_items(const TrajectoryTable& table);
 
 /// L∞ (with the time it is reached), RMS and final value of an error history, accumulated in S.
+/// The RMS keeps the plain sum of squares and, beside it, a scaled one (LAPACK's dlassq: the
+/// largest value so far and the sum of squares of the values divided by it), used when the plain
+/// sum over- or underflows: errors of 1e200 give an RMS of 1e200, not inf, and errors of 1e-200
+/// not 0. Where the plain sum is representable it is used, so ordinary results keep their bits.
 template <typename S>
 class Accumulator {
  public:
@@ -41,15 +45,30 @@ class Accumulator {
       linf_time_ = t;
     }
     sum_sq_ += e * e;
+    if (e > scale_) {
+      const S r = scale_ / e;
+      scaled_sum_sq_ = S(1) + scaled_sum_sq_ * r * r;
+      scale_ = e;
+    } else if (e > S(0)) {
+      const S r = e / scale_;
+      scaled_sum_sq_ += r * r;
+    }
     final_ = e;
     ++count_;
   }
   ErrorNorms norms() const {
+    using std::isfinite;
     using std::sqrt;
     ErrorNorms n;
     n.linf = static_cast<double>(linf_);
     n.final = static_cast<double>(final_);
-    n.rms = count_ ? static_cast<double>(S(sqrt(sum_sq_ / S(count_)))) : 0.0;
+    if (count_ == 0) return n;
+    const bool plain = static_cast<bool>(isfinite(sum_sq_)) &&
+                       (sum_sq_ >= std::numeric_limits<S>::min() || linf_ == S(0));
+    const bool finite = static_cast<bool>(isfinite(scale_));
+    n.rms = plain    ? static_cast<double>(S(sqrt(sum_sq_ / S(count_))))
+            : finite ? static_cast<double>(S(scale_ * sqrt(scaled_sum_sq_ / S(count_))))
+                     : std::numeric_limits<double>::infinity();
     return n;
   }
   double linf_time() const { return linf_time_; }
@@ -58,9 +77,37 @@ class Accumulator {
   S linf_ = S(0);
   S final_ = S(0);
   S sum_sq_ = S(0);
+  S scale_ = S(0);          ///< the largest error so far (0 before the first nonzero one)
+  S scaled_sum_sq_ = S(0);  ///< Σ (e/scale_)²
   double linf_time_ = 0.0;
   long count_ = 0;
 };
+
+/// |(dx, dy, dz)| without overflow or underflow in the squares: the plain root of the sum of
+/// squares where it is representable (ordinary results keep their bits), else the largest
+/// component times the root of the sum of the squared ratios.
+template <typename S>
+S vector_norm(S dx, S dy, S dz) {
+  using std::abs;
+  using std::isfinite;
+  using std::sqrt;
+  S plain;
+  if constexpr (std::is_same_v<S, double>) {
+    plain = Eigen::Vector3d(dx, dy, dz).norm();
+  } else {
+    plain = S(sqrt(dx * dx + dy * dy + dz * dz));
+  }
+  const S m = std::max({S(abs(dx)), S(abs(dy)), S(abs(dz))});
+  if (!static_cast<bool>(isfinite(m)) || m == S(0))
+    return static_cast<bool>(isfinite(m)) ? plain : m;
+  if (static_cast<bool>(isfinite(plain)) && plain * plain >= std::numeric_limits<S>::min()) {
+    return plain;
+  }
+  const S x = dx / m;
+  const S y = dy / m;
+  const S z = dz / m;
+  return m * S(sqrt(x * x + y * y + z * z));
+}
 
 /// |log(A(a)ᵀ A(b))| = 2 atan2(|vec(a* ⊗ b)|, |scalar(a* ⊗ b)|) (rotation::geodesic_angle,
 /// which double calls).
@@ -116,11 +163,7 @@ ComparisonReport compare_cells(const TrajectoryTable& shape, Cell cell) {
         const S dx = cell(0, k, c[0]) - cell(1, k, c[0]);
         const S dy = cell(0, k, c[1]) - cell(1, k, c[1]);
         const S dz = cell(0, k, c[2]) - cell(1, k, c[2]);
-        if constexpr (std::is_same_v<S, double>) {
-          acc.add(t, Eigen::Vector3d(dx, dy, dz).norm());
-        } else {
-          acc.add(t, S(sqrt(dx * dx + dy * dy + dz * dz)));
-        }
+        acc.add(t, vector_norm(dx, dy, dz));
       }
     }
     item.quantity.norms = acc.norms();

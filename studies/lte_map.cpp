@@ -16,6 +16,7 @@
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
+#include "studies/accuracy_check.hpp"
 #include "studies/distribution.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -370,6 +371,7 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   if (!(options.rtol > 0.0) || !(options.estimate_factor > 1.0)) {
     throw std::invalid_argument("lte-map: need rtol > 0 and an estimate factor > 1");
   }
+  check_accuracy_check_rtol("lte-map", options.rtol, options.estimate_factor);
   LteMapResult result;
   result.options = options;
   const LteMapLevel truth_level =
@@ -405,7 +407,8 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
     out.hub_scale = scalings[uk].hub_scale;
     out.load_scale = scalings[uk].load_scale;
     try {
-      const double loose = options.estimate_factor * options.rtol;
+      // The accuracy check: the same run estimate_factor times tighter (accuracy_check_rtol).
+      const double tight = accuracy_check_rtol(options.rtol, options.estimate_factor);
       const auto run = [&](LteMapLevel level, double rtol) {
         return integrate(factory(level, scalings[uk]), body_index, point, times, options.solver,
                          rtol);
@@ -424,8 +427,8 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
       out.envelope_error = lte.envelope;
       out.frequency_shift = lte.frequency;
       out.attitude_error = max_angle(l, t);
-      out.truth_estimate = max_difference(run(truth_level, loose), t, out.max_deflection);
-      out.lte_estimate = max_difference(run(LteMapLevel::kLte, loose), l, out.max_deflection);
+      out.truth_estimate = max_difference(run(truth_level, tight), t, out.max_deflection);
+      out.lte_estimate = max_difference(run(LteMapLevel::kLte, tight), l, out.max_deflection);
       out.resolved = out.tip_error >= 100.0 * std::max(out.truth_estimate, out.lte_estimate);
       out.classical_tip_error = kNaN;
       out.classical_envelope_error = kNaN;
@@ -439,7 +442,7 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
         out.classical_envelope_error = classical.envelope;
         out.classical_frequency_shift = classical.frequency;
         out.classical_estimate =
-            max_difference(run(LteMapLevel::kClassical, loose), coupled, out.max_deflection);
+            max_difference(run(LteMapLevel::kClassical, tight), coupled, out.max_deflection);
         out.classical_resolved =
             out.classical_tip_error >= 100.0 * std::max(out.truth_estimate, out.classical_estimate);
       }

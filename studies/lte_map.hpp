@@ -41,9 +41,10 @@
 ///     second half of the horizon (after the spin-up transients; phase rate only);
 ///   - attitude error (LTE): max_t of the geodesic angle between the LTE and truth attitudes.
 /// **Reference accuracy** (the 100× rule of docs/design/studies.md): each reference is rerun at
-/// estimate_factor·rtol (looser); the difference of the deflections (same normalization)
-/// estimates the looser run's error, an upper bound of the tight run's. A model's tip error is
-/// `resolved` when it is ≥ 100 × the larger of its and the truth's estimates.
+/// rtol/estimate_factor (tighter, accuracy_check_rtol, as the modes study and a certified
+/// reference's checks); the difference of the deflections (same normalization) estimates the
+/// run's own error. A model's tip error is `resolved` when it is ≥ 100 × the larger of its and
+/// the truth's estimates.
 #include <Eigen/Core>
 #include <functional>
 #include <optional>
@@ -94,7 +95,7 @@ struct LteMapOptions {
   double output_step = 0.01;           ///< s
   std::string solver = "cvode";        ///< reference solver of both models
   double rtol = 1e-10;
-  double estimate_factor = 10.0;  ///< the accuracy check reruns at estimate_factor·rtol
+  double estimate_factor = 10.0;  ///< the accuracy check reruns at rtol/estimate_factor
   bool scale_loads = true;
   /// The truth: the coupled model with geometric stiffening (true) or the classical coupled
   /// model (false: the two-level map, no classical-model metrics).

@@ -25,6 +25,13 @@ int default_jobs() {
   return std::max(1, std::min(cores, shared));
 }
 
+std::string workers_text(int jobs) {
+  const auto threads = [](int n) { return std::to_string(n) + (n == 1 ? " thread" : " threads"); };
+  const int processes = distribution().size();
+  if (processes <= 1) return threads(jobs);
+  return std::to_string(processes) + " processes x " + threads(jobs) + " each";
+}
+
 void parallel_for(int n, int jobs, const std::function<void(int)>& task) {
   if (n <= 0) return;
   std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));

@@ -24,6 +24,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import ticker  # noqa: E402
 
+
+def legend(ax, **kwargs):
+    """ax.legend(**kwargs) when an artist carries a label, else None: matplotlib warns on
+    standard error ("No artists with labels found") for a legend of nothing, e.g. when every
+    level of a study failed."""
+    if not ax.get_legend_handles_labels()[0]:
+        return None
+    return ax.legend(**kwargs)
+
 METRICS = (("tip_error", "L∞ tip error"), ("envelope_error", "peak deflection error"),
            ("frequency_shift", "first-mode frequency shift"))
 
@@ -114,8 +123,9 @@ def main(argv):
         for j, (key, metric) in enumerate(METRICS):
             panel(fig, axes[i][j], rows, xs, ys, prefix + key, f"{name}: {metric}", resolved_key,
                   scene)
-    legend = axes[0][0].legend(fontsize=6, loc="upper left", framealpha=0.9)
-    legend.get_frame().set_facecolor("0.55")  # grey, so that the white 1 % line shows
+    box = legend(axes[0][0], fontsize=6, loc="upper left", framealpha=0.9)
+    if box is not None:
+        box.get_frame().set_facecolor("0.55")  # grey, so that the white 1 % line shows
     fig.suptitle(argv[3], fontsize=11)
     fig.tight_layout()
     fig.savefig(argv[2])

@@ -20,6 +20,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+def legend(ax, **kwargs):
+    """ax.legend(**kwargs) when an artist carries a label, else None: matplotlib warns on
+    standard error ("No artists with labels found") for a legend of nothing, e.g. when every
+    level of a study failed."""
+    if not ax.get_legend_handles_labels()[0]:
+        return None
+    return ax.legend(**kwargs)
+
+
 def main(argv):
     if len(argv) != 4:
         sys.stderr.write(__doc__)
@@ -64,7 +73,7 @@ def main(argv):
     ax.set_ylabel("max over the outputs of the error against the reference")
     ax.set_title(argv[3], fontsize=10)
     ax.grid(True, which="both", linewidth=0.3)
-    ax.legend(fontsize=8, loc="best")
+    legend(ax, fontsize=8, loc="best")
     fig.tight_layout()
     fig.savefig(argv[2])
     return 0

@@ -30,6 +30,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
+def legend(ax, **kwargs):
+    """ax.legend(**kwargs) when an artist carries a label, else None: matplotlib warns on
+    standard error ("No artists with labels found") for a legend of nothing, e.g. when every
+    level of a study failed."""
+    if not ax.get_legend_handles_labels()[0]:
+        return None
+    return ax.legend(**kwargs)
+
+
 def ordered(values):
     out = []
     for v in values:
@@ -68,7 +77,7 @@ def plot_sweep(rows, png, title):
     ax.set_ylabel("largest stable step h_max [s]")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    legend(ax, fontsize=8)
     fig.tight_layout()
     fig.savefig(png)
     return 0
@@ -96,7 +105,7 @@ def plot_long_run(rows, png, title):
     axes[-1].text(0.01, eps * 1.5, "ε = 2.2e-16 (round-off)", color="gray", fontsize=8,
                   transform=axes[-1].get_yaxis_transform())
     axes[0].set_title(title)
-    axes[0].legend()
+    legend(axes[0])
     axes[-1].set_xlabel("time t [s]")
     fig.tight_layout()
     fig.savefig(png)
@@ -124,7 +133,7 @@ def plot_linear(rows, png, title):
     ax.set_ylabel("largest stable step h_max [s]")
     ax.set_title(title)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend()
+    legend(ax)
     fig.tight_layout()
     fig.savefig(png)
     return 0

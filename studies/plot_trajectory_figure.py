@@ -18,6 +18,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+
+def legend(ax, **kwargs):
+    """ax.legend(**kwargs) when an artist carries a label, else None: matplotlib warns on
+    standard error ("No artists with labels found") for a legend of nothing, e.g. when every
+    level of a study failed."""
+    if not ax.get_legend_handles_labels()[0]:
+        return None
+    return ax.legend(**kwargs)
+
 COLORS = {"c1": "tab:blue", "c2": "tab:orange", "nmb": "tab:green"}
 
 
@@ -56,7 +65,7 @@ def main(argv):
             ax.grid(True, alpha=0.3)
             if i == len(steps) - 1:
                 ax.set_xlabel("t [s]")
-    axes[0][0].legend(loc="best", fontsize=8)
+    legend(axes[0][0], loc="best", fontsize=8)
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(png, dpi=110)

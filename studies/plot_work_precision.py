@@ -17,6 +17,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+
+def legend(ax, **kwargs):
+    """ax.legend(**kwargs) when an artist carries a label, else None: matplotlib warns on
+    standard error ("No artists with labels found") for a legend of nothing, e.g. when every
+    level of a study failed."""
+    if not ax.get_legend_handles_labels()[0]:
+        return None
+    return ax.legend(**kwargs)
+
 TARGETS = (1e-2, 1e-4, 1e-6, 1e-8)
 METRIC_LABELS = {
     "rotation+points": "error (L∞ rotation [rad] + L∞ tracked points [m])",
@@ -67,7 +76,7 @@ def main(argv):
     ax.set_ylabel(METRIC_LABELS.get(argv[4], f"error ({argv[4]})"))
     ax.set_title(argv[3])
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize="small")
+    legend(ax, fontsize="small")
     fig.tight_layout()
     fig.savefig(argv[2])
     return 0

@@ -9,14 +9,32 @@
 
 namespace flexref::studies {
 
+namespace {
+
+/// A duration as a progress line says it: "7 s", "12 min", "2.5 h".
+std::string duration_text(double seconds) {
+  char buffer[32];
+  if (seconds < 99.5) {
+    std::snprintf(buffer, sizeof buffer, "%.0f s", seconds);
+  } else if (seconds < 5970.0) {
+    std::snprintf(buffer, sizeof buffer, "%.0f min", seconds / 60.0);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%.1f h", seconds / 3600.0);
+  }
+  return buffer;
+}
+
+}  // namespace
+
 Progress::Progress(std::string label, long total, std::string unit, bool enabled,
                    ProgressSettings settings)
     : label_(std::move(label)),
       total_(total),
       unit_(std::move(unit)),
-      settings_(settings),
-      uncaught_(std::uncaught_exceptions()),
-      start_(std::chrono::steady_clock::now()) {
+      settings_(std::move(settings)),
+      uncaught_(std::uncaught_exceptions()) {
+  if (!settings_.clock) settings_.clock = [] { return std::chrono::steady_clock::now(); };
+  start_ = settings_.clock();
   if (settings_.from_environment) {
     if (const char* env = std::getenv("FLEXREF_PROGRESS")) {
       double delay = 0.0;
@@ -34,6 +52,9 @@ Progress::Progress(std::string label, long total, std::string unit, bool enabled
   if (!enabled || settings_.stream == nullptr) return;
   terminal_ =
       settings_.terminal < 0 ? isatty(fileno(settings_.stream)) != 0 : settings_.terminal > 0;
+  // Without a delay the first line is printed here, before the work: the line (and its final
+  // "done") then appears however short the work is (FLEXREF_PROGRESS=0,I in logs and tests).
+  if (settings_.delay <= std::chrono::duration<double>::zero()) print(false);
   printer_ = std::thread([this] { run(); });
 }
 
@@ -52,31 +73,52 @@ void Progress::finish() {
 
 void Progress::run() {
   std::unique_lock<std::mutex> lock(mutex_);
-  if (wake_.wait_for(lock, settings_.delay, [this] { return stop_; })) return;
-  const auto period = terminal_ ? settings_.redraw : settings_.interval;
-  do {
+  const auto stopped = [this] { return stop_; };
+  if (settings_.delay > std::chrono::duration<double>::zero()) {
+    if (wake_.wait_for(lock, settings_.delay, stopped)) return;
     print(false);
-  } while (!wake_.wait_for(lock, period, [this] { return stop_; }));
+  }
+  const auto period = terminal_ ? settings_.redraw : settings_.interval;
+  while (!wake_.wait_for(lock, period, stopped)) print(false);
+}
+
+std::string Progress::line(bool final_line) const {
+  const double elapsed = std::chrono::duration<double>(settings_.clock() - start_).count();
+  const long done = done_.load(std::memory_order_relaxed);
+  const long total = total_.load(std::memory_order_relaxed);
+  std::string text = label_ + ": ";
+  double fraction = -1.0;  // share of the work done, when known
+  if (const reference::SolveProgress* solves = solves_.load(std::memory_order_relaxed)) {
+    const reference::SolveProgress::Snapshot s = solves->snapshot();
+    if (s.solve > 0) {
+      char buffer[96];
+      std::snprintf(buffer, sizeof buffer, "solve %d of %d, t = %.3g of %.3g s, ", s.solve,
+                    s.solves, s.t, s.t_end);
+      text += buffer;
+      fraction = s.fraction();
+    }
+  } else if (total > 0) {
+    text += std::to_string(done) + "/" + std::to_string(total) + " " + unit_ + ", ";
+    fraction = static_cast<double>(done) / static_cast<double>(total);
+  } else if (done > 0) {
+    text += std::to_string(done) + " " + unit_ + ", ";
+  }
+  text += duration_text(elapsed);
+  if (final_line) {
+    text += std::uncaught_exceptions() > uncaught_ ? ", stopped" : ", done";
+  } else if (fraction > 0.0 && fraction < 1.0) {
+    text += ", ~" + duration_text(elapsed * (1.0 - fraction) / fraction) + " left";
+  }
+  return text;
 }
 
 void Progress::print(bool final_line) {
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const long done = done_.load(std::memory_order_relaxed);
-  const long total = total_.load(std::memory_order_relaxed);
-  std::string line = label_ + ": ";
-  if (total > 0) {
-    line += std::to_string(done) + "/" + std::to_string(total) + " " + unit_ + ", ";
-  } else if (done > 0) {
-    line += std::to_string(done) + " " + unit_ + ", ";
-  }
-  line += std::to_string(std::lround(elapsed)) + " s";
-  if (final_line) line += std::uncaught_exceptions() > uncaught_ ? ", stopped" : ", done";
+  const std::string text = line(final_line);
   if (terminal_) {
     // Clear to the end of the line: a shorter line must not leave old characters behind.
-    std::fprintf(settings_.stream, "\r%s\033[K%s", line.c_str(), final_line ? "\n" : "");
+    std::fprintf(settings_.stream, "\r%s\033[K%s", text.c_str(), final_line ? "\n" : "");
   } else {
-    std::fprintf(settings_.stream, "%s\n", line.c_str());
+    std::fprintf(settings_.stream, "%s\n", text.c_str());
   }
   std::fflush(settings_.stream);
   printed_ = true;

@@ -9,16 +9,23 @@
 ///
 /// The environment variable FLEXREF_PROGRESS overrides the defaults: "off" prints nothing,
 /// "D,I" waits D seconds and then prints every I seconds (terminal or not), e.g. "0,1" in a
-/// CI log that should show every second.
+/// CI log that should show every second; with D = 0 the first line is printed at once, so the
+/// line and its final "done" appear even for work shorter than I.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
 
+#include "reference/solve_progress.hpp"
+
 namespace flexref::studies {
+
+/// The clock of a progress line (tests inject one: no assertion on the wall clock).
+using ProgressClock = std::function<std::chrono::steady_clock::time_point()>;
 
 struct ProgressSettings {
   std::chrono::duration<double> delay{2.0};     ///< print nothing for work shorter than this
@@ -28,12 +35,19 @@ struct ProgressSettings {
   /// -1: ask isatty() of the stream; 0: lines; 1: a redrawn line.
   int terminal = -1;
   bool from_environment = true;  ///< apply FLEXREF_PROGRESS (see above)
+  ProgressClock clock;           ///< empty: std::chrono::steady_clock::now
 };
 
+/// What a progress line says (see Progress::line):
+///   "converge: 12/36 runs, 7 s, ~14 s left" (a count of units of work);
+///   "reference: cvode and its error estimate: solve 2 of 3, t = 4.1 of 10 s, 7 s, ~9 s left"
+///   (reference solves followed through reference::SolveProgress);
+///   "plot x.png: 7 s" (nothing else known).
+/// The time left is the elapsed time scaled by the share of the work still to do, counting
+/// every unit, and every solve, as equally long: a guide ("~"), not a promise.
 class Progress {
  public:
-  /// `label` starts the line ("converge: 12/36 runs, 7 s"); `total` the count of `unit`s to do
-  /// (0: unknown — the line then shows the elapsed time only, as for a reference solve).
+  /// `label` starts the line; `total` the count of `unit`s to do (0: unknown).
   /// Disabled (enabled = false) it prints nothing and starts no thread.
   Progress(std::string label, long total, std::string unit, bool enabled = true,
            ProgressSettings settings = {});
@@ -51,6 +65,14 @@ class Progress {
   void set_total(long total) noexcept { total_.store(total, std::memory_order_relaxed); }
   /// Stops the printer now; when a line was printed, finishes it (the destructor does this too).
   void finish();
+  /// Shows the solve count, the simulated time reached and the time left of reference solves
+  /// that report to `solves` (reference::SolverOptions::progress), which must outlive this.
+  void follow(const reference::SolveProgress* solves) noexcept {
+    solves_.store(solves, std::memory_order_relaxed);
+  }
+  /// The line as it would be printed now (without "\r" or "\n"); `final_line` adds "done" or
+  /// "stopped".
+  std::string line(bool final_line = false) const;
 
  private:
   void run();
@@ -64,6 +86,7 @@ class Progress {
   bool printed_ = false;
   int uncaught_ = 0;  ///< std::uncaught_exceptions() at construction
   std::atomic<long> done_{0};
+  std::atomic<const reference::SolveProgress*> solves_{nullptr};
   std::chrono::steady_clock::time_point start_;
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 #include <toml.hpp>
+#include <utility>
 
 #include "core/error.hpp"
 #include "io/input_file.hpp"
@@ -35,8 +36,21 @@ ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
   }
   if (!doc.is_table()) return out;
   const auto& root = doc.as_table();
+  if (const auto it = root.find("scene"); it != root.end() && it->second.is_table()) {
+    const auto& t = it->second.as_table();
+    for (auto [key, field] :
+         {std::pair{"name", &out.scene.name}, std::pair{"hash", &out.scene.hash},
+          std::pair{"file", &out.scene.file}}) {
+      if (const auto v = t.find(key); v != t.end() && v->second.is_string()) {
+        *field = v->second.as_string().str;
+      }
+    }
+  }
   if (const auto it = root.find("integrator"); it != root.end() && it->second.is_table()) {
     const auto& t = it->second.as_table();
+    if (const auto k = t.find("kind"); k != t.end() && k->second.is_string()) {
+      out.kind = k->second.as_string().str;
+    }
     if (const auto s = t.find("solver"); s != t.end() && s->second.is_string()) {
       out.solver = s->second.as_string().str;
     }
@@ -79,6 +93,21 @@ ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
   }
   out.has_estimate = true;
   return out;
+}
+
+std::string scene_mismatch(const SceneIdentity& a, const std::string& a_what,
+                           const SceneIdentity& b, const std::string& b_what) {
+  if (a.name.empty() || b.name.empty()) return "";
+  const bool hashes = !a.hash.empty() && !b.hash.empty();
+  if (hashes ? a.hash == b.hash : a.name == b.name) return "";
+  const auto describe = [](const SceneIdentity& s) {
+    std::string details = s.hash.empty() ? "no hash recorded" : s.hash;
+    if (!s.file.empty()) details += ", " + s.file;
+    return s.name + " (" + details + ")";
+  };
+  return a_what + " is of scene " + describe(a) + " but " + b_what + " of scene " + describe(b) +
+         (a.name == b.name ? ": the same name, different physics (the scene was edited)"
+                           : ": different scenes");
 }
 
 bool is_certified(double error, double estimate) {

@@ -11,15 +11,33 @@ namespace flexref::studies {
 /// estimated error (docs/design/schemes.md: the reference then contributes at most 1 %).
 inline constexpr double kCertificationFactor = 100.0;
 
+/// The scene a result is of: the [scene] table of its sidecar (app::scene_record), or of the
+/// scene a study reads.
+struct SceneIdentity {
+  std::string name;  ///< [scene] name; "" when unknown (no sidecar, or one without [scene])
+  /// [scene] hash (scene/scene_identity.hpp); "" when unknown (a sidecar of an older flexref)
+  std::string hash;
+  std::string file;  ///< [scene] file, for messages
+};
+
+/// "" when `a` and `b` may be of the same scene: equal hashes; equal names when either hash is
+/// unknown; either name unknown (nothing to check). Otherwise why not, naming both ("run.csv is
+/// of scene coulomb_wall (fnv1a64:…, /x/coulomb_wall.toml) but ref.csv of free_spin (…)").
+/// `a_what` and `b_what` name the two results in the message.
+std::string scene_mismatch(const SceneIdentity& a, const std::string& a_what,
+                           const SceneIdentity& b, const std::string& b_what);
+
 struct ReferenceSidecar {
   std::string path;           ///< the sidecar file looked for
   bool found = false;         ///< the file exists
+  SceneIdentity scene;        ///< its [scene] name, hash and file
   bool has_estimate = false;  ///< it has [error_estimate] (not --no-estimate)
   std::string metric;         ///< [error_estimate] metric
   /// [error_estimate] estimate; +inf when the reference found no usable check (its error is
   /// unknown, studies/certified_reference.hpp) — then nothing is certified against it.
   double estimate = 0.0;
   std::string estimate_method;  ///< [error_estimate] method: how it was made, "" when absent
+  std::string kind;             ///< [integrator] kind: "reference", "scheme"; "" when absent
   std::string solver;           ///< [integrator] solver, "" when absent
   double rtol = 0.0;            ///< [integrator] rtol, 0 when absent
   /// [integrator] precision ("double", "extended", "quad"; docs/precision.md), "double" when

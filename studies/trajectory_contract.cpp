@@ -248,6 +248,10 @@ RunData read_run_csv(const std::string& path) {
   bool have_header = false;
   while (std::getline(in, line)) {
     ++line_number;
+    // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first column's name.
+    if (line_number == 1 && line.starts_with(kUtf8ByteOrderMark)) {
+      line.erase(0, kUtf8ByteOrderMark.size());
+    }
     const std::string text = trim(line);
     if (text.empty()) continue;
     if (text[0] == '#') {

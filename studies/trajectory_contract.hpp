@@ -16,6 +16,7 @@
 /// time off the reference's grid, two rows at one output time, or a metric with nothing to
 /// measure are core::InputError naming the source, the line (row) and the column.
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -51,9 +52,14 @@ struct RunData {
   std::vector<BadCell> bad_cells;
 };
 
+/// The UTF-8 byte-order mark some programs (spreadsheets, Windows editors) write at the start of
+/// a CSV; the readers skip it.
+inline constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
+
 /// Reads a CSV under the contract: `#` comment lines and blank lines anywhere, spaces and tabs
-/// around names and values, CRLF line ends. Throws core::InputError for an unreadable or empty
-/// file, duplicate or empty column names, or a row with the wrong number of cells.
+/// around names and values, CRLF line ends, a UTF-8 byte-order mark. Throws core::InputError for
+/// a directory, an unreadable or empty file, duplicate or empty column names, or a row with the
+/// wrong number of cells.
 RunData read_run_csv(const std::string& path);
 
 /// Wraps columns given in memory (the Python module's arrays); `source` names them in errors

@@ -118,12 +118,17 @@ FigureResult run_trajectory_figure(const core::Model& model,
     result.reference_estimate_method = describe_estimate(settings.given_reference->estimate);
     result.reference_precision = settings.given_precision;
   } else {
-    const Progress progress("figure: reference (" + settings.solver + ")", 0, "",
-                            settings.progress);
+    Progress progress("figure: reference (" + settings.solver + ")", 0, "", settings.progress);
+    reference::SolveProgress solves(
+        settings.estimate ? reference_solve_count(model, settings.solver) : 1);
+    options.progress = &solves;
+    progress.follow(&solves);
     run = reference::solve_reference(settings.solver, model, output_times, options);
     if (settings.estimate) {
+      reference::ReferenceRun reported = run;
+      reported.options.progress = &solves;
       const ReferenceEstimate estimate =
-          estimate_error(model, output_times, run, tabulate(model, run.trajectory), "points");
+          estimate_error(model, output_times, reported, tabulate(model, run.trajectory), "points");
       result.reference_estimate = estimate.estimate();
       result.reference_estimate_method = describe_estimate(estimate);
     }

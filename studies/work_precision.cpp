@@ -156,8 +156,11 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
     if (options.progress) {
       std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
     }
-    const Progress progress("work-precision: reference (" + solver + ", 3 solves)", 0, "",
-                            options.progress);
+    Progress progress("work-precision: reference (" + solver + ", with its error estimate)", 0, "",
+                      options.progress);
+    reference::SolveProgress solves(reference_solve_count(model, solver));
+    ref_options.progress = &solves;
+    progress.follow(&solves);
     result.reference =
         certified_reference(model, output_times, solver, ref_options, options.metric);
   }
@@ -293,8 +296,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 std::string format_work_precision_table(const WorkPrecisionResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
-  out << "reference: " << r.reference.run.solver << " rtol " << r.reference.run.options.rtol
-      << ", estimated error " << describe_estimate(est) << "\n";
+  out << "reference: " << describe_reference_run(r.reference.run) << ", estimated error "
+      << describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n";
 
   std::string current;

@@ -642,6 +642,152 @@ for sig in INT TERM; do
     fail "SIG$sig changed the previous study"
   grep -q "interrupted" "$o/intr_$sig.txt" || fail "SIG$sig: no word on stderr: $(cat "$o/intr_$sig.txt")"
 done
+# Messages and identities (issue 35: items 7-10, 12-15). Short scenes: free_spin and
+# coulomb_wall over 2 s.
+sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/free_spin.toml >"$tmp/id_fs.toml"
+sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/coulomb_wall.toml >"$tmp/id_cw.toml"
+# A step longer than the scene: exit 1 (a value this scene cannot honour, as a step off the
+# grid), said in those words; no internal count, no output time named as off the grid.
+for dt in 1e15 1e10; do
+  out=$("$flexref" run scenes/free_spin.toml --dt $dt -o "$tmp/long.csv" 2>&1)
+  [[ $? == 1 && $out == *"is longer than the whole run (100 s, t = 0 to 100)"* &&
+    $out != *tabulate* && $out != *"10.1"* && ! -e $tmp/long.csv ]] ||
+    fail "run --dt $dt: not refused in the user's words: $out"
+done
+out=$("$flexref" run scenes/free_spin.toml --dt 0.2 -o "$tmp/long.csv" 2>&1)
+[[ $? == 1 && $out == *"is longer than the output interval (0.1 s)"* ]] ||
+  fail "run --dt 0.2 (output step 0.1): $out"
+# compare: errors of 1e200 are measured (the norms are scaled), a difference that overflows
+# double precision is a non-finite result, exit 3, never inf or null with exit 0.
+"$flexref" reference "$tmp/id_fs.toml" --no-estimate -o "$tmp/id_ref.csv" >/dev/null ||
+  fail "reference id_fs failed"
+awk -F, 'BEGIN { OFS = "," } NR == 1 { print; next } { $2 = "1e200"; print }' "$tmp/id_ref.csv" \
+  >"$tmp/id_big.csv"
+out=$("$flexref" compare "$tmp/id_big.csv" "$tmp/id_ref.csv" --json 2>&1)
+[[ $? == 0 && $out == *'"name": "body.position"'*'"linf": 9.9999999999999997e+199, "rms": 9.9999999999999997e+199'* ]] ||
+  fail "compare of positions 1e200: $out"
+awk -F, 'BEGIN { OFS = "," } NR == 1 { print; next } { $2 = "1.5e308"; print }' "$tmp/id_ref.csv" \
+  >"$tmp/id_plus.csv"
+awk -F, 'BEGIN { OFS = "," } NR == 1 { print; next } { $2 = "-1.5e308"; print }' "$tmp/id_ref.csv" \
+  >"$tmp/id_minus.csv"
+for json in "" --json; do
+  out=$("$flexref" compare "$tmp/id_plus.csv" "$tmp/id_minus.csv" $json 2>&1)
+  [[ $? == 3 && $out == *"body.position"*"not finite"* && $out != *null* ]] ||
+    fail "compare whose difference overflows ($json): not exit 3: $out"
+done
+# The scene's identity: every sidecar records it; compare refuses files of different scenes
+# (and of an edited scene), naming both, unless --allow-scene-mismatch.
+"$flexref" run "$tmp/id_cw.toml" --scheme c2 --dt 0.01 -o "$tmp/id_cw.csv" >/dev/null ||
+  fail "run id_cw failed"
+grep -q '^hash = "fnv1a64:[0-9a-f]\{16\}"$' "$tmp/id_cw.csv.meta.toml" ||
+  fail "the run's sidecar records no scene hash"
+out=$("$flexref" compare "$tmp/id_cw.csv" "$tmp/id_ref.csv" 2>&1)
+[[ $? == 1 && $out == *"id_cw.csv is of scene coulomb_wall"*"id_ref.csv of scene free_spin"* &&
+  $out == *--allow-scene-mismatch* ]] || fail "compare of coulomb_wall against free_spin: $out"
+out=$("$flexref" compare "$tmp/id_cw.csv" "$tmp/id_ref.csv" --allow-scene-mismatch 2>&1)
+[[ $out == *"warning"*"different scenes"* ]] || fail "--allow-scene-mismatch: no warning: $out"
+# The same physics written differently (a comment, integers) is the same scene; a run over 2 s
+# compares with the 100 s reference of the same scene; an edited value is another scene.
+(echo "# my copy"; sed 's/\[3.0, 4.0, 5.0\]/[3, 4, 5]/' "$tmp/id_fs.toml") >"$tmp/id_same.toml"
+"$flexref" run "$tmp/id_same.toml" --scheme c1 --dt 0.01 -o "$tmp/id_same.csv" >/dev/null
+"$flexref" compare "$tmp/id_same.csv" "$tmp/id_ref.csv" >/dev/null 2>&1 ||
+  fail "compare refused the same scene written differently"
+"$flexref" reference scenes/free_spin.toml --no-estimate -o "$tmp/id_ref100.csv" >/dev/null
+"$flexref" compare "$tmp/id_same.csv" "$tmp/id_ref100.csv" >/dev/null 2>&1 ||
+  fail "compare refused a 2 s run against the 100 s reference of the same scene"
+sed 's/\[3.0, 4.0, 5.0\]/[3.1, 4.0, 5.0]/' "$tmp/id_fs.toml" >"$tmp/id_edit.toml"
+"$flexref" run "$tmp/id_edit.toml" --scheme c1 --dt 0.01 -o "$tmp/id_edit.csv" >/dev/null
+out=$("$flexref" compare "$tmp/id_edit.csv" "$tmp/id_ref.csv" 2>&1)
+[[ $? == 1 && $out == *"the same name, different physics"* ]] || fail "an edited scene compared: $out"
+# Wherever a run meets a reference: converge --runs before any work, --external per level.
+out=$("$flexref" converge "$tmp/id_fs.toml" --runs 0.02="$tmp/id_cw.csv" 0.01="$tmp/id_same.csv" \
+  0.005="$tmp/id_same.csv" --out "$tmp/id_runs" 2>&1)
+[[ $? == 1 && $out == *"id_cw.csv is of scene coulomb_wall"* && ! -e $tmp/id_runs ]] ||
+  fail "converge --runs accepted a run of another scene: $out"
+out=$("$flexref" converge "$tmp/id_fs.toml" --external \
+  "$flexref run $tmp/id_cw.toml --scheme c2 --dt {dt} -o {output}" --label wrong --order 2 \
+  --dt 0.02 --levels 3 --out "$tmp/id_ext" 2>&1)
+[[ $? != 0 && $out == *"failed: the run of level 0 (its sidecar) is of scene coulomb_wall"* ]] ||
+  fail "converge --external accepted a program that integrates another scene: $out"
+"$flexref" work-precision "$tmp/id_fs.toml" --schemes nmb --levels 1 --solvers cvode \
+  --tolerances 1e-6 --repeats 1 --allow-scene-mismatch --external \
+  "$flexref run $tmp/id_cw.toml --scheme c2 --dt {dt} -o {output}" --out "$tmp/id_wp" \
+  >/dev/null 2>"$tmp/id_wp.err"
+grep -q "warning:.*coulomb_wall.*--allow-scene-mismatch" "$tmp/id_wp.err" ||
+  fail "work-precision --external --allow-scene-mismatch: no warning: $(cat "$tmp/id_wp.err")"
+# The exact solution in quad has an error estimate; compare does not call it --no-estimate.
+"$flexref" reference "$tmp/id_fs.toml" --solver exact --precision quad -o "$tmp/id_eq.csv" \
+  >/dev/null 2>&1 && grep -q '^\[error_estimate\]' "$tmp/id_eq.csv.meta.toml" ||
+  fail "reference --solver exact --precision quad wrote no [error_estimate]"
+out=$("$flexref" compare "$tmp/id_same.csv" "$tmp/id_eq.csv" 2>&1)
+[[ $out == *"reference estimated error"*"certified"* && $out != *--no-estimate* ]] ||
+  fail "compare against the exact quad reference: $out"
+# Messages: numbers as written, a byte-order mark, a directory, whole counts.
+out=$("$flexref" reference scenes/free_spin.toml --rtol 1e-16 -o "$tmp/m.csv" 2>&1)
+[[ $? == 1 && $out == *"--rtol 1e-16:"* && $out != *0.000000* ]] || fail "--rtol 1e-16: $out"
+out=$("$flexref" lte-map scenes/flexible_spinner.toml --rtol 1.0000001e-20 --out "$tmp/m" 2>&1)
+[[ $? == 2 && $out == *"got 1.0000001e-20"* ]] || fail "a validator does not quote the value as written: $out"
+printf '\xef\xbb\xbf' >"$tmp/id_bom.csv"
+cat "$tmp/id_same.csv" >>"$tmp/id_bom.csv"
+"$flexref" compare "$tmp/id_bom.csv" "$tmp/id_ref.csv" >/dev/null 2>&1 ||
+  fail "a CSV with a UTF-8 byte-order mark was refused"
+out=$("$flexref" compare "$tmp/id_same.csv" "$tmp" 2>&1)
+[[ $? == 1 && $out == *"is a directory"* ]] || fail "compare RUN DIR: $out"
+for option in --max-rows --max-steps; do
+  out=$("$flexref" run scenes/free_spin.toml $option 0.5 -o "$tmp/m.csv" 2>&1)
+  [[ $? == 2 && $out == *"$option: must be a whole number, got 0.5"* ]] || fail "$option 0.5: $out"
+done
+# Scene values blamed on the key that holds them.
+sed 's/^center_of_mass = .*/center_of_mass = [0.0, 1e300, 0.0]/' scenes/heavy_top.toml \
+  >"$tmp/id_com.toml"
+out=$("$flexref" check "$tmp/id_com.toml" 2>&1)
+[[ $? == 1 && $out == *"id_com.toml:21: key 'body[1].center_of_mass'"* ]] ||
+  fail "center_of_mass = 1e300 not named: $out"
+sed 's/^alpha = .*/alpha = 1e300/' scenes/coulomb_wall.toml >"$tmp/id_alpha.toml"
+out=$("$flexref" check "$tmp/id_alpha.toml" 2>&1)
+[[ $? == 1 && $out == *"id_alpha.toml:29: key 'potential[1]'"* ]] || fail "alpha = 1e300 not named: $out"
+sed 's/^mass = 1.0 .*/mass = 1e-300/' scenes/bouncing_ball.toml >"$tmp/id_mass.toml"
+out=$("$flexref" check "$tmp/id_mass.toml" 2>&1)
+[[ $? == 1 && $out == *"the mass of body[1] 'ball' (line 20)"*"raise that mass"* ]] ||
+  fail "mass = 1e-300 not named: $out"
+# Plots: no matplotlib warning when every level failed (no labelled artist).
+printf 'scheme,h,steps,error,order,cpu_seconds,status\nc1,0.01,100,inf,nan,0.1,failed: x\n' \
+  >"$tmp/id_failed.csv"
+out=$(/usr/bin/python3 studies/plot_convergence.py "$tmp/id_failed.csv" "$tmp/id_failed.png" t 2>&1)
+[[ $? == 0 && -z $out ]] || fail "plot_convergence.py with every level failed printed: $out"
+# The estimate says what was computed; the exact solution has no tolerance to print.
+out=$("$flexref" converge "$tmp/id_fs.toml" --reference-rtol 1e-4 --schemes c1 --levels 3 \
+  --dt 0.02 --out "$tmp/id_conv" 2>/dev/null)
+[[ $out == *"reference: exact solution (analytic, no tolerance)"* &&
+  $out == *"smallest distance to three independent numerical solutions (arkode rtol 1e-14"* &&
+  $out != *"exact rtol"* ]] || fail "converge's reference line: $out"
+# Progress: the reference solves, k of n, and the time reached (the final line is printed at
+# the end whatever the machine's speed: FLEXREF_PROGRESS=0,… prints from the start).
+out=$(FLEXREF_PROGRESS=0,100 "$flexref" reference "$tmp/id_fs.toml" --solver cvode --rtol 1e-8 \
+  -o "$tmp/id_p.csv" 2>&1 >/dev/null)
+[[ $out == *"reference: cvode and its error estimate: solve 2 of 2, t = 2 of 2 s, "*", done"* ]] ||
+  fail "the progress line does not show the solves and the time reached: $out"
+# --estimate-factor: one meaning, the check F times tighter, in lte-map and modes.
+"$flexref" lte-map scenes/flexible_spinner.toml --spin-ratios 0.05 --inertia-ratios 0.1 \
+  --end-time 0.5 --estimate-factor 4 --rtol 1e-8 --out "$tmp/id_lte" >/dev/null 2>&1 &&
+  grep -q '^estimate_rtol = 2.5e-09$' "$tmp/id_lte/study.toml" ||
+  fail "lte-map --estimate-factor 4 is not a 4x tighter check"
+"$flexref" modes scenes/flexible_spinner.toml --modes 2,4 --end-time 0.5 --estimate-factor 4 \
+  --rtol 1e-8 --out "$tmp/id_modes" >/dev/null 2>&1 &&
+  grep -q '^estimate_rtol = 2.5e-09$' "$tmp/id_modes/study.toml" ||
+  fail "modes --estimate-factor 4 is not a 4x tighter check"
+out=$("$flexref" modes scenes/flexible_spinner.toml --modes 2,4 --rtol 1e-14 --out "$tmp/id_m" 2>&1)
+[[ $? == 1 && $out == *"below 1e-14"* ]] || fail "a check tighter than 1e-14 was accepted: $out"
+# The README's scene list is the folder's content, and its quad figure is a run's.
+listed=$(sed -n '/^## Bundled scenes/,/^## Layout/p' README.md | grep -o '`[a-z][a-z0-9_]*`' |
+  tr -d '`' | sort -u)
+present=$(ls scenes/*.toml | xargs -n1 basename | sed 's/\.toml$//' | sort)
+[[ $listed == "$present" ]] ||
+  fail "README's bundled scenes differ from scenes/*.toml: $(diff <(echo "$listed") <(echo "$present"))"
+out=$("$flexref" reference scenes/book_toss.toml --precision quad -o "$tmp/id_bq.csv" 2>&1)
+estimate=$(grep -o 'estimated error [0-9.e+-]*' <<<"$out" | head -1 | awk '{ printf "%.1e", $3 }')
+grep -q "book_toss in quad: [0-9.]* s, estimated error $estimate[^0-9]" README.md ||
+  fail "README's quad book_toss estimate is not a run's ($estimate): $out"
 
 if ((failures)); then
   echo "$failures CLI checks failed"

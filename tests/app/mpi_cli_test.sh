@@ -32,6 +32,9 @@ same() {
 
 same lte_map "lte_map.csv" lte-map scenes/flexible_spinner.toml --spin-ratios 0.02,0.2,0.5 \
   --inertia-ratios 0.01,1 --end-time 1.5 --jobs 1
+# The opening line says who works: the ranks and their threads ("on 1 threads" before).
+grep -q "on 2 processes x 1 thread each" "$tmp/lte_map.mpi.log" ||
+  fail "lte_map: the 2-rank log does not say it runs on 2 processes: $(head -3 "$tmp/lte_map.mpi.log")"
 same stability "stability.csv long_run.csv" stability --count 4 --steps 300 --long-run-steps 400 \
   --jobs 1
 same stability_modal "stability.csv" stability --parameter modal_frequency --values 50,500 \

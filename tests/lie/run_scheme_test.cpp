@@ -116,6 +116,27 @@ TEST_CASE("validate_step_grid refuses a step double precision cannot resolve",
   CHECK(validate_step_grid(model, 0.01, grid) == 1000);
 }
 
+TEST_CASE("validate_step_grid refuses a step longer than the run or an output interval",
+          "[lie][run_scheme]") {
+  const core::Model model = testing::free_spin();
+  const std::vector<double> grid = core::output_times(100.0, 0.1);
+  // 1e15 s: (t − t0)/dt rounds to 0 steps for every output time, which the grid check accepted
+  // (the run then returned one state for 1001 output times). 1e10 s: accepted up to t = 10 s.
+  for (const double dt : {1e15, 1e10, 200.0}) {
+    INFO("dt = " << dt);
+    const std::string message = invalid_argument_message(model, dt, grid);
+    CHECK(message.find("is longer than the whole run (100 s, t = 0 to 100)") != std::string::npos);
+    CHECK(message.find("not on the step grid") == std::string::npos);
+  }
+  for (const double dt : {0.2, 50.0}) {
+    INFO("dt = " << dt);
+    const std::string message = invalid_argument_message(model, dt, grid);
+    CHECK(message.find("is longer than the output interval (0.1 s)") != std::string::npos);
+  }
+  // The output step itself is one step per interval.
+  CHECK(validate_step_grid(model, 0.1, grid) == 1000);
+}
+
 TEST_CASE("run_scheme stops with a SolverError when the energy is not finite",
           "[lie][run_scheme]") {
   // W = 1e160 rad/s: every state component is finite but ½ Wᵀ J W = 2e320 J overflows. The

@@ -106,6 +106,45 @@ TEST_CASE("with an exact solution the estimate is the distance to it", "[estimat
   CHECK(toml.find("estimate_method = \"distance to the exact solution") != std::string::npos);
 }
 
+TEST_CASE("the estimate's text says what was computed", "[estimate]") {
+  // The exact solution as the reference: three numerical checks (ARKODE and Odeint at 1e-14,
+  // CVODE at 1e-13). The text said "smaller distance to two … (odeint, cvode)" whichever check
+  // gave the value.
+  const core::Model model = testing::free_spin();
+  const std::vector<double> times = core::output_times(2.0, 0.1);
+  const CertifiedReference exact = certified_reference(model, times, "exact", {}, kMetric);
+  REQUIRE(exact.estimate.checks.size() == 3);
+  const EstimateCheck* closest = nullptr;
+  for (const EstimateCheck& c : exact.estimate.checks) {
+    CAPTURE(c.solver, c.distance, c.used);
+    CHECK(exact.estimate.method.find(c.solver + " rtol") != std::string::npos);
+    if (c.used && (closest == nullptr || c.distance < closest->distance)) closest = &c;
+  }
+  REQUIRE(closest != nullptr);
+  CAPTURE(exact.estimate.method);
+  CHECK(exact.estimate.value == closest->distance);
+  CHECK(exact.estimate.method.find("three independent numerical solutions") != std::string::npos);
+  CHECK(exact.estimate.method.find(", to " + closest->solver + " rtol") != std::string::npos);
+  CHECK(exact.estimate.method.find("two") == std::string::npos);
+  // The exact run carries SolverOptions' default rtol, which it never used: not printed.
+  CHECK(describe_reference_run(exact.run) == "exact solution (analytic, no tolerance)");
+  StudyRecord record;
+  add_reference(record, exact);
+  CHECK(record.to_toml().find("solver = \"exact\"\nmethod = \"analytic\"") != std::string::npos);
+  CHECK(record.to_toml().find("\nrtol = 0.0\n") != std::string::npos);
+
+  // A numerical reference at rtol 1e-13: its checks are clamped at 1e-14, 10x tighter, not 100x.
+  reference::SolverOptions options;
+  options.rtol = 1e-13;
+  const CertifiedReference numerical =
+      certified_reference(model, times, "cvode", options, kMetric, {.use_exact_solution = false});
+  CAPTURE(numerical.estimate.method);
+  CHECK(numerical.estimate.method.find("10x tighter than the run's rtol 1e-13") !=
+        std::string::npos);
+  CHECK(numerical.estimate.method.find("100x") == std::string::npos);
+  CHECK(describe_reference_run(numerical.run) == "cvode rtol 1e-13");
+}
+
 TEST_CASE("the numerical estimate brackets the true error on short exact scenes", "[estimate]") {
   // The near-separatrix body (3 s, errors amplified ~200 per flip) and the heavy top (2 s, spin
   // 150 rad/s) for every solver at two tolerances; all tolerances 1e-6…1e-12 on every exact

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "studies/trajectory_table.hpp"
@@ -42,6 +43,38 @@ TEST_CASE("a metric with nothing to measure is an error, never 0", "[studies][me
   CHECK_THROWS_WITH(metric_value(empty, "modes"), Catch::Matchers::Contains("nothing to measure"));
   CHECK_THROWS_WITH(metric_value(empty, "rotation+points"),
                     Catch::Matchers::Contains("nothing to measure"));
+}
+
+/// A body's position columns b.x, b.y, b.z over `rows` times, every row at `position`.
+TrajectoryTable positions(double position, int rows) {
+  TrajectoryTable table;
+  table.columns = {"t", "b.x", "b.y", "b.z"};
+  for (int k = 0; k < rows; ++k) {
+    table.rows.push_back({0.1 * k, position, position, position});
+  }
+  return table;
+}
+
+TEST_CASE("the norms neither overflow nor underflow where the error is representable",
+          "[studies][metrics]") {
+  // |(d, d, d)| = √3 d over every row: L∞, RMS and final value are all √3 d. The squares of
+  // 1e200 (1e400) overflow and those of 1e-200 (1e-400) underflow double precision; the
+  // scaled norms are accurate to a few roundings (4 ε, relative).
+  constexpr double kRoundings = 4.0 * std::numeric_limits<double>::epsilon();
+  for (const double d : {1e200, 1e-200, 1.0}) {
+    INFO("d = " << d);
+    const ComparisonReport report = compare_trajectories(positions(d, 5), positions(0.0, 5));
+    REQUIRE(report.quantities.size() == 1);
+    const ErrorNorms& n = report.quantities.front().norms;
+    const double expected = std::sqrt(3.0) * d;
+    CHECK(std::abs(n.linf - expected) <= kRoundings * expected);
+    CHECK(std::abs(n.rms - expected) <= kRoundings * expected);
+    CHECK(std::abs(n.final - expected) <= kRoundings * expected);
+  }
+  // A difference beyond double precision itself (1e308 − (−1e308)) stays infinite.
+  const ComparisonReport report = compare_trajectories(positions(1e308, 2), positions(-1e308, 2));
+  CHECK(std::isinf(report.quantities.front().norms.linf));
+  CHECK(std::isinf(report.quantities.front().norms.rms));
 }
 
 }  // namespace

@@ -104,3 +104,78 @@ TEST_CASE("Progress says 'stopped' when an exception ends the work", "[studies]"
 
 }  // namespace
 }  // namespace flexref::studies
+
+namespace flexref::studies {
+namespace {
+
+/// A clock the test moves by hand: no assertion depends on the wall clock.
+struct ManualClock {
+  std::chrono::steady_clock::time_point now{};
+  ProgressClock clock() {
+    return [this] { return now; };
+  }
+  void advance(double seconds) {
+    now += std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(seconds));
+  }
+};
+
+ProgressSettings manual(ManualClock& clock) {
+  ProgressSettings s;
+  s.clock = clock.clock();
+  s.from_environment = false;
+  return s;
+}
+
+TEST_CASE("Progress shows the count done and the time left", "[studies]") {
+  ManualClock clock;
+  // Disabled: no printer thread; line() says what would be printed.
+  Progress progress("converge", 36, "runs", false, manual(clock));
+  CHECK(progress.line() == "converge: 0/36 runs, 0 s");  // nothing done: no estimate yet
+  for (int i = 0; i < 12; ++i) progress.advance();
+  clock.advance(7.0);
+  // 12 of 36 in 7 s: the 24 left take 14 s at the same rate.
+  CHECK(progress.line() == "converge: 12/36 runs, 7 s, ~14 s left");
+  for (int i = 0; i < 24; ++i) progress.advance();
+  clock.advance(14.0);
+  CHECK(progress.line(true) == "converge: 36/36 runs, 21 s, done");
+}
+
+TEST_CASE("Progress follows reference solves: solve k of n, t of T, time left", "[studies]") {
+  ManualClock clock;
+  Progress progress("reference: cvode and its error estimate", 0, "", false, manual(clock));
+  reference::SolveProgress solves(3);
+  progress.follow(&solves);
+  CHECK(progress.line() == "reference: cvode and its error estimate: 0 s");  // not started
+  solves.start_solve(0.0, 10.0);
+  solves.reached(5.0);
+  clock.advance(3.0);
+  // Half of the first of three solves: 1/6 of the work in 3 s, 15 s left.
+  CHECK(progress.line() ==
+        "reference: cvode and its error estimate: solve 1 of 3, t = 5 of 10 s, 3 s, ~15 s left");
+  solves.start_solve(0.0, 10.0);
+  solves.reached(10.0);
+  solves.start_solve(0.0, 10.0);
+  solves.reached(2.5);
+  clock.advance(6.0);
+  // 2.25 of 3 solves in 9 s: 3 s left.
+  CHECK(progress.line() ==
+        "reference: cvode and its error estimate: solve 3 of 3, t = 2.5 of 10 s, 9 s, ~3 s left");
+  // Long work: minutes and hours.
+  clock.advance(9000.0);
+  CHECK(progress.line().find(", 2.5 h, ~50 min left") != std::string::npos);
+}
+
+TEST_CASE("SolveProgress counts a solve beyond the expected number", "[studies]") {
+  // The high-precision check repeats itself with shorter steps when its steps equal the run's.
+  reference::SolveProgress solves(2);
+  for (int k = 0; k < 3; ++k) solves.start_solve(0.0, 4.0);
+  solves.reached(4.0);
+  const reference::SolveProgress::Snapshot s = solves.snapshot();
+  CHECK(s.solve == 3);
+  CHECK(s.solves == 3);
+  CHECK(s.fraction() == 1.0);
+}
+
+}  // namespace
+}  // namespace flexref::studies

@@ -8,10 +8,12 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/output_times.hpp"
@@ -300,6 +302,41 @@ TEST_CASE("contract: arrays in memory name their source and row", "[studies][con
       "my arrays", {"t", "charged.e0", "charged.e1", "charged.e2", "charged.e3"}, q);
   CHECK_THROWS_WITH(compare_run(nan_data, f.reference),
                     Contains("my arrays:5: key 'charged.e1': row 5: non-finite"));
+}
+
+}  // namespace
+}  // namespace flexref::studies
+
+namespace flexref::studies {
+namespace {
+
+/// A folder of this test's own under the temporary directory, removed with everything in it.
+struct OwnFolder {
+  std::filesystem::path path;
+  OwnFolder() {
+    std::string name = (std::filesystem::temp_directory_path() / "flexref_bom_XXXXXX").string();
+    if (mkdtemp(name.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+    path = name;
+  }
+  ~OwnFolder() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  OwnFolder(const OwnFolder&) = delete;
+  OwnFolder& operator=(const OwnFolder&) = delete;
+};
+
+TEST_CASE("contract: a UTF-8 byte-order mark is skipped, a directory is named as one",
+          "[studies][contract]") {
+  const OwnFolder folder;
+  const std::string csv = (folder.path / "bom.csv").string();
+  std::ofstream(csv) << "\xEF\xBB\xBFt,b.x,b.y,b.z\n0,1,2,3\n0.1,1,2,3\n";
+  const RunData data = read_run_csv(csv);
+  REQUIRE_FALSE(data.table.columns.empty());
+  CHECK(data.table.columns.front() == "t");
+  CHECK(data.table.size() == 2);
+  CHECK_THROWS_WITH(read_run_csv(folder.path.string()),
+                    Contains("is a directory; expected a CSV file"));
 }
 
 }  // namespace
