@@ -116,12 +116,12 @@ int lte_map_command(const LteMapCommandOptions& options) {
 
   out.write("lte_map.csv", studies::lte_map_csv(result));
   out.write("lte_map.txt", table);
-  const studies::PlotOutcome plot =
-      out.plot("plot_lte_map.py", "lte_map.png",
-               {out.staged("lte_map.csv"), out.staged("lte_map.png"),
-                "on " + scene.name + " (" + number(study.end_time) + " s horizon; truth: " +
-                    (study.stiffened_truth ? "stiffened coupled" : "classical coupled") + ")",
-                number(base.spin_ratio), number(base.inertia_ratio)});
+  const studies::PlotOutcome plot = out.plot(
+      "plot_lte_map.py", "lte_map.png",
+      {out.staged("lte_map.csv"), out.staged("lte_map.png"),
+       "flexref lte-map on " + scene.name + " (" + number(study.end_time) + " s horizon; truth: " +
+           (study.stiffened_truth ? "stiffened coupled" : "classical coupled") + ")",
+       number(base.spin_ratio), number(base.inertia_ratio)});
   const std::string csv_path = out.final_path("lte_map.csv");
   out.commit(std::move(record));
 
