@@ -129,8 +129,11 @@ int lte_map_command(const LteMapCommandOptions& options) {
   if (plot.ok) std::cout << ", " << plot.message;
   std::cout << "\n";
   if (!plot.ok) std::cout << plot.message << "\n";
+  // A point without a frequency shift still measured its other metrics.
   bool any_ok = false;
-  for (const studies::LteMapPoint& p : result.points) any_ok = any_ok || p.status == "ok";
+  for (const studies::LteMapPoint& p : result.points) {
+    any_ok = any_ok || !p.status.starts_with("failed");
+  }
   if (!any_ok) {
     std::cerr << "flexref: lte-map refused: every grid point failed (see the status column)\n";
     return kExitRefused;

@@ -162,11 +162,14 @@ out=$("$flexref" check scenes/pendulum_on_sliding_support.toml 2>&1)
 [[ $out == *"joint[1] angular: omega = sqrt(k/I_eff)"* ]] || fail "check: no angular joint mode: $out"
 # The event count of the bouncing ball: two per bounce.
 grep -q '^events = [1-9][0-9]*$' "$tmp/bouncing_ball.csv.meta.toml" || fail "bouncing_ball: no events"
-# run warns when the step exceeds a contact's explicit limit, and still runs.
-out=$("$flexref" run scenes/bouncing_ball.toml --scheme c2 --dt 0.01 -o "$tmp/bb_run.csv" 2>&1) ||
-  fail "run bouncing_ball failed: $out"
+# run warns when the step exceeds a contact's explicit limit; the run then breaks its energy
+# balance and is refused with a step below the limit (exit 3, nothing written).
+out=$("$flexref" run scenes/bouncing_ball.toml --scheme c2 --dt 0.01 -o "$tmp/bb_run.csv" 2>&1)
+code=$?
 [[ $out == *"warning: step 0.01 s exceeds 2/omega"*"contact[1]"* ]] ||
   fail "run bouncing_ball: no step-limit warning: $out"
+[[ $code -eq 3 && $out == *"unstable: energy balance"*"use --dt 0.002 (at most half the explicit step limit"*"contact[1]"* &&
+   ! -e $tmp/bb_run.csv ]] || fail "run bouncing_ball above its step limit: exit $code: $out"
 out=$("$flexref" run scenes/bouncing_ball.toml --scheme c2 --dt 1e-3 -o "$tmp/bb_run.csv" 2>&1)
 [[ $out != *"warning"* ]] || fail "run bouncing_ball below the limit warned: $out"
 # compare: run and reference files of a contact scene have the same columns.
