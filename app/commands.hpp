@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/default_model.hpp"
 #include "app/work_limits.hpp"
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
@@ -39,8 +40,8 @@ inline constexpr const char* kExitCodeTable =
 /// or frequency that under- or overflows, an initial energy beyond 1e100 J.
 void check_scene_extremes(const scene::Scene& scene, double end_time);
 /// scene::read_scene followed by check_scene_extremes(scene, scene.end_time).
-scene::Scene load_scene(const std::string& path, core::FlexibleFormulation formulation =
-                                                     core::FlexibleFormulation::kCoupled);
+scene::Scene load_scene(const std::string& path,
+                        core::FlexibleFormulation formulation = kDefaultFormulation);
 /// core::output_times, refused (std::invalid_argument) beyond limits.max_rows rows before the
 /// grid is built.
 std::vector<double> limited_output_times(double end_time, double output_step,
@@ -78,8 +79,7 @@ std::string reference_solver_for(const core::Model& model, const std::string& so
 
 struct RunOptions {
   std::string scene;
-  /// The schemes integrate the LTE model (docs/decisions.md, "Schemes"): their default.
-  std::string model = "lte";
+  std::string model = core::to_string(kDefaultFormulation);
   std::string scheme = "c2";
   double dt = 1e-3;
   std::string output;
@@ -89,7 +89,7 @@ int run_command(const RunOptions& options);
 
 struct ReferenceOptions {
   std::string scene;
-  std::string model = "coupled";
+  std::string model = core::to_string(kDefaultFormulation);
   /// "auto": reference::choose_reference_solver (arkode's ESDIRK on a stiff oscillatory scene,
   /// else cvode; never the exact solution, which --solver exact asks for).
   std::string solver = "auto";
@@ -146,7 +146,7 @@ std::string check_same_scene(const studies::SceneIdentity& a, const std::string&
 
 struct ConvergeOptions {
   std::string scene;
-  std::string model = "lte";  ///< the schemes' model (see RunOptions::model)
+  std::string model = core::to_string(kDefaultFormulation);
   std::vector<std::string> schemes = lie::scheme_names();
   double dt = 1e-2;
   int levels = 6;

@@ -108,10 +108,21 @@ int converge_command(const ConvergeOptions& options) {
   std::ostringstream limit;
   limit.precision(17);
   limit << result.step_limit.h;
+  // The fitted orders for the legend: "c1=2.0012,c2=no order (2 valid levels),...".
+  std::ostringstream orders;
+  for (const studies::SchemeSummary& summary : result.summaries) {
+    orders << (orders.tellp() > 0 ? "," : "") << summary.scheme << '=';
+    if (summary.refused()) {
+      orders << "no order: " << summary.fitted_levels << " valid level"
+             << (summary.fitted_levels == 1 ? "" : "s");
+    } else {
+      orders << summary.fitted_order;
+    }
+  }
   const studies::PlotOutcome plot =
       out.plot("plot_convergence.py", "convergence.png",
                {out.staged("convergence.csv"), out.staged("convergence.png"),
-                "convergence: " + scene.name, limit.str(), result.step_limit.what});
+                "convergence: " + scene.name, limit.str(), result.step_limit.what, orders.str()});
   const std::string csv_path = out.final_path("convergence.csv");
   out.commit(std::move(record));
 

@@ -47,6 +47,16 @@ void add_reference_budget(CLI::App* command, double& budget) {
       ->capture_default_str();
 }
 
+/// --model of every command that takes it, with the one default (app/default_model.hpp).
+void add_model_option(CLI::App* command, std::string& model) {
+  command
+      ->add_option("--model", model,
+                   "flexible bodies' equations: coupled | lte (lte by default: the model the "
+                   "schemes integrate)")
+      ->check(CLI::IsMember({"coupled", "lte"}))
+      ->capture_default_str();
+}
+
 /// --max-steps and --max-rows (app::WorkLimits): counts, whole numbers.
 void add_limits(CLI::App* command, flexref::app::WorkLimits& limits, bool steps) {
   using flexref::app::positive_integer;
@@ -115,11 +125,7 @@ int run_command_line(int argc, char** argv) {
       ->capture_default_str();
   run_cmd->add_option("--dt", run.dt, "step [s]")->check(positive_number())->capture_default_str();
   run_cmd->add_option("-o,--output", run.output, std::string("CSV ") + kOutputFileHelp)->required();
-  run_cmd
-      ->add_option("--model", run.model,
-                   "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
-      ->check(CLI::IsMember({"coupled", "lte"}))
-      ->capture_default_str();
+  add_model_option(run_cmd, run.model);
   add_limits(run_cmd, run.limits, true);
 
   ReferenceOptions ref;
@@ -147,9 +153,7 @@ int run_command_line(int argc, char** argv) {
   ref_cmd->add_flag("!--no-estimate", ref.estimate,
                     "skip the error estimate (rerun 100x tighter and a second solver)");
   ref_cmd->add_option("-o,--output", ref.output, std::string("CSV ") + kOutputFileHelp)->required();
-  ref_cmd->add_option("--model", ref.model, "flexible bodies' equations: coupled | lte")
-      ->check(CLI::IsMember({"coupled", "lte"}))
-      ->capture_default_str();
+  add_model_option(ref_cmd, ref.model);
   ref_cmd
       ->add_option("--precision", ref.precision,
                    "double | extended (80-bit long double) | quad (binary128): the arithmetic of "
@@ -210,11 +214,7 @@ int run_command_line(int argc, char** argv) {
   conv_cmd->add_option("--jobs", conv.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
   conv_cmd->add_option("--out", conv.out_dir, kOutputFolderHelp)->capture_default_str();
-  conv_cmd
-      ->add_option("--model", conv.model,
-                   "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
-      ->check(CLI::IsMember({"coupled", "lte"}))
-      ->capture_default_str();
+  add_model_option(conv_cmd, conv.model);
   conv_cmd
       ->add_option("--reference-precision", conv.reference_precision,
                    "auto (double; quad when double cannot certify every level and the scene "
@@ -287,11 +287,7 @@ int run_command_line(int argc, char** argv) {
       ->check(non_negative_number())
       ->capture_default_str();
   add_allow_scene_mismatch(wp_cmd, wp.allow_scene_mismatch);
-  wp_cmd
-      ->add_option("--model", wp.model,
-                   "flexible bodies' equations: coupled | lte (the schemes integrate lte)")
-      ->check(CLI::IsMember({"coupled", "lte"}))
-      ->capture_default_str();
+  add_model_option(wp_cmd, wp.model);
   wp_cmd
       ->add_option("--reference-precision", wp.reference_precision,
                    "auto (double; quad when double cannot certify every run and the scene "
@@ -469,9 +465,7 @@ int run_command_line(int argc, char** argv) {
   add_estimate_factor(modes_cmd, modes.estimate_factor);
   modes_cmd->add_option("--end-time", modes.end_time, "s (default: the scene's)")
       ->check(positive_number());
-  modes_cmd->add_option("--model", modes.model, "flexible bodies' equations: coupled | lte")
-      ->check(CLI::IsMember({"coupled", "lte"}))
-      ->capture_default_str();
+  add_model_option(modes_cmd, modes.model);
   modes_cmd->add_option("--jobs", modes.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
   modes_cmd->add_option("--out", modes.out_dir, kOutputFolderHelp)->capture_default_str();

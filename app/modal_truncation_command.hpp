@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "app/default_model.hpp"
+
 namespace flexref::app {
 
 struct ModalTruncationCommandOptions {
@@ -15,9 +17,9 @@ struct ModalTruncationCommandOptions {
   std::string solver = "odeint";
   double rtol = 1e-10;
   double estimate_factor = 10.0;
-  double end_time = 0.0;  ///< s (0: the scene's)
-  std::string model = "coupled";
-  int jobs = 0;  ///< 0: all cores
+  double end_time = 0.0;                                     ///< s (0: the scene's)
+  std::string model = core::to_string(kDefaultFormulation);  ///< --model coupled|lte
+  int jobs = 0;                                              ///< 0: all cores
   std::string out_dir = "out/modes";
 };
 

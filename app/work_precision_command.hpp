@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/default_model.hpp"
 #include "app/work_limits.hpp"
 #include "lie/stepper.hpp"
 
@@ -13,7 +14,7 @@ namespace flexref::app {
 
 struct WorkPrecisionOptions {
   std::string scene;
-  std::string model = "coupled";  ///< --model coupled|lte (flexible bodies)
+  std::string model = core::to_string(kDefaultFormulation);  ///< --model coupled|lte
   std::vector<std::string> schemes = lie::scheme_names();
   double dt = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< number of steps dt, dt/2, …

@@ -30,6 +30,7 @@
 ///
 /// On a flexible body the attachment point is a point of the rigid part (hub), as for every
 /// point load given by its position (force_element.hpp).
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -111,6 +112,8 @@ class SphericalBushingTpl final : public core::ForceElementTpl<S> {
                     std::span<core::WrenchTpl<S>> wrenches) const override;
   S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
   S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// Its work is its springs' potential energy and its dampers' dissipated work.
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   /// The ends' motion once for the loads and the dissipated power.
   void add_wrenches_and_rates(const Context& context, std::span<const Kinematics> bodies,
                               std::span<core::WrenchTpl<S>> wrenches, S* dissipated,
@@ -160,6 +163,8 @@ class RevoluteBushingTpl final : public core::ForceElementTpl<S> {
                     std::span<core::WrenchTpl<S>> wrenches) const override;
   S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
   S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// Its work is its springs' potential energy and its dampers' dissipated work.
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   /// The ends' motion once for the loads and the dissipated power.
   void add_wrenches_and_rates(const Context& context, std::span<const Kinematics> bodies,
                               std::span<core::WrenchTpl<S>> wrenches, S* dissipated,

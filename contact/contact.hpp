@@ -18,6 +18,7 @@
 /// node x_k + Φ_k q_f, the velocity of its material point at P gains A Φ_k q̇_f, and the force
 /// adds Φ_kᵀ Aᵀ f to the modal rows. A named contact has a wear channel (docs/output.md).
 /// The element is generic in the scalar type S (core/force_element.hpp).
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -119,6 +120,9 @@ class ContactElementTpl final : public core::ForceElementTpl<S> {
   /// Elastic energy of the penalty springs, Σ V_law(δ).
   S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
   S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// Its work is the penalty springs' potential energy and the work its damping and friction
+  /// dissipate.
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   int switching_function_count() const override { return static_cast<int>(pairs_.size()); }
   /// The gap of each pair, in order.
   void switching_functions(const Context& context, std::span<const Kinematics> bodies,

@@ -14,6 +14,7 @@
 /// The normal force is −∇V of V = V_law(δ): δ = |d| − c has gradient d/|d| = −n.
 /// Generic in the scalar type S (core/force_element.hpp); the definitions are
 /// gap_support_impl.hpp's.
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -75,6 +76,9 @@ class GapSupportTpl final : public core::ForceElementTpl<S> {
                     std::span<core::WrenchTpl<S>> wrenches) const override;
   S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
   S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// Its work is the penalty spring's potential energy and the work its damping and friction
+  /// dissipate.
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   int switching_function_count() const override { return 1; }
   void switching_functions(const Context& context, std::span<const Kinematics> bodies,
                            std::span<S> g) const override;

@@ -3,6 +3,7 @@
 /// Prescribed loads: a force at a body point or a pure torque, given in the world or the
 /// body frame, scaled by a time profile. Non-conservative: no potential energy. Generic in the
 /// scalar type S (core/force_element.hpp); the definitions are applied_load_impl.hpp's.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,12 @@ class AppliedForceTpl final : public ForceElementTpl<S> {
   }
   /// f · v_P, v_P the velocity of the (deformed) point.
   S applied_power(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// A tracked (harmonic) force's work is in the balance throughout; another force's only
+  /// once its profile has ended.
+  double energy_balanced_from() const override {
+    return tracks_applied_work() ? -std::numeric_limits<double>::infinity() : profile_.end();
+  }
+  double loads_end() const override { return profile_.end(); }
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
   int max_body_index() const override { return body_; }
@@ -70,6 +77,9 @@ class AppliedTorqueTpl final : public ForceElementTpl<S> {
 
   void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
                     std::span<WrenchTpl<S>> wrenches) const override;
+  /// A torque's work is never tracked: in the balance only once its profile has ended.
+  double energy_balanced_from() const override { return profile_.end(); }
+  double loads_end() const override { return profile_.end(); }
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
   int max_body_index() const override { return body_; }

@@ -39,6 +39,7 @@ SolverError::SolverError(std::string solver, double time, long step, const std::
     : std::runtime_error(solver_message(solver, time, step, why)),
       solver_(std::move(solver)),
       time_(time),
-      step_(step) {}
+      step_(step),
+      why_(why) {}
 
 }  // namespace flexref::core

@@ -28,11 +28,14 @@ class SolverError : public std::runtime_error {
   const std::string& solver() const { return solver_; }
   double time() const { return time_; }
   long step() const { return step_; }
+  /// The reason alone, without the solver, time and step.
+  const std::string& why() const { return why_; }
 
  private:
   std::string solver_;
   double time_;
   long step_;
+  std::string why_;
 };
 
 }  // namespace flexref::core

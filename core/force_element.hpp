@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -203,6 +204,15 @@ class ForceElementTpl {
     (void)bodies;
     return S(0);
   }
+  /// The time from which every joule the element exchanges with the bodies is in the energy
+  /// balance E + W_d − W_a (core/invariants.hpp): its potential energy, its dissipated power or
+  /// its tracked applied power. −∞ for potentials, springs, dampers and contacts; the end of a
+  /// load pulse; +∞ for a load that keeps doing work. The default, +∞, assumes nothing: an
+  /// element that does not say so is never taken to conserve energy.
+  virtual double energy_balanced_from() const { return std::numeric_limits<double>::infinity(); }
+  /// The time from which the element applies no load at all (the end of a load pulse; +∞:
+  /// it acts throughout, the default).
+  virtual double loads_end() const { return std::numeric_limits<double>::infinity(); }
   /// Known times where the element's loads jump (both sides must be integrated separately).
   virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
   /// True when the loads depend on velocities (then schemes use a predicted velocity).

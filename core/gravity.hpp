@@ -4,6 +4,7 @@
 /// Qe_R += m g, Qe_θ += s̃ Aᵀ g), potential V = −Σ m g·p_WBcm; on a flexible body the loads of
 /// core/gravity_tpl.hpp on its invariants. Generic in the scalar type S (core/force_element.hpp);
 /// the definitions are gravity_impl.hpp's.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,8 @@ class UniformGravityTpl final : public ForceElementTpl<S> {
   void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
                     std::span<WrenchTpl<S>> wrenches) const override;
   S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// Conservative: its work is its potential energy.
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   std::string describe() const override;
   int max_body_index() const override;
   const Vector3& g_W() const { return g_W_; }

@@ -6,6 +6,7 @@
 ///   f_i = −∇V = −c_i α (r_i − M)/|r_i − M|³ + c_i β/z_i² e_z.
 /// Conservative: the energy output includes V. Generic in the scalar type S
 /// (core/force_element.hpp); the definitions are point_charge_potential_impl.hpp's.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,8 @@ class PointChargePotentialTpl final : public ForceElementTpl<S> {
   void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
                     std::span<WrenchTpl<S>> wrenches) const override;
   S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
+  /// Conservative: its work is its potential energy.
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   std::string describe() const override;
   int max_body_index() const override;
 

@@ -1,6 +1,7 @@
 #include "core/time_profile.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace flexref::core {
@@ -45,6 +46,13 @@ void TimeProfile::append_discontinuities(std::vector<double>& times) const {
   // pulse jumps. Both ends are switches every integrator must step on.
   times.push_back(start_);
   times.push_back(start_ + duration_);
+}
+
+double TimeProfile::end() const {
+  if (shape_ == Shape::kConstant || shape_ == Shape::kHarmonic) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return start_ + duration_;
 }
 
 }  // namespace flexref::core

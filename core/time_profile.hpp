@@ -38,6 +38,9 @@ class TimeProfile {
   S value_in(const S& t, double t_segment) const;
   /// Times where the law or one of its first derivatives jumps.
   void append_discontinuities(std::vector<double>& times) const;
+  /// The time from which the law is 0 for good: a pulse's end, +∞ for the constant and the
+  /// harmonic law.
+  double end() const;
 
   Shape shape() const { return shape_; }
   double start() const { return start_; }

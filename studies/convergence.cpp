@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/invariants.hpp"
 #include "io/input_file.hpp"
 #include "io/output_file.hpp"
 #include "lie/run_scheme.hpp"
@@ -36,13 +37,15 @@ constexpr double kRoundOffFloor = 1e-11;
 /// External levels: the quantities the metric measured and the run's columns it ignored.
 struct Measured {
   std::vector<std::string> used, ignored;
-  std::string kept_bytes;  ///< the level's output file, from a rank other than 0
+  std::string kept_bytes;   ///< the level's output file, from a rank other than 0
+  std::string instability;  ///< an unstable level: the invariant it broke (InvariantBreach)
+  std::string bounds;       ///< metric_bounds_text of the level's comparison
 };
 
 SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measured>& measured) {
-  require_codec_size<ConvergenceLevel, 104>();
+  require_codec_size<ConvergenceLevel, 112>();
   const auto fields = [](auto& io, auto& l) {
-    io(l.scheme, l.h, l.steps, l.error, l.order, l.cpu_seconds, l.status);
+    io(l.scheme, l.h, l.steps, l.error, l.order, l.cpu_seconds, l.status, l.saturation);
   };
   return {[&levels, &measured, fields](int i, SlotWriter& w) {
             auto put = [&w](const auto&... x) { (w.put(x), ...); };
@@ -53,6 +56,8 @@ SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measure
               for (const std::string& name : *names) w.put(name);
             }
             w.put(measured[k].kept_bytes);
+            w.put(measured[k].instability);
+            w.put(measured[k].bounds);
           },
           [&levels, &measured, fields](int i, SlotReader& r) {
             auto get = [&r](auto&... x) { (r.get(x), ...); };
@@ -63,6 +68,8 @@ SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measure
               for (std::string& name : *names) name = r.get_string();
             }
             measured[k].kept_bytes = r.get_string();
+            measured[k].instability = r.get_string();
+            measured[k].bounds = r.get_string();
           }};
 }
 
@@ -93,18 +100,27 @@ SchemeSummary summarize_levels(const std::string& method, int claimed_order,
   double last_valid_error = std::numeric_limits<double>::infinity();
   int above_limit = 0;
   int not_decreasing = 0;
+  std::vector<double> saturated;
+  double saturation = 0.0;
   for (ConvergenceLevel& lv : levels) {
     steps.push_back(lv.h);
     errors.push_back(lv.error);
-    if (lv.status != "ok") {
-      // failed: stays as it is
-    } else if (stopped) {
-      lv.status = "round-off";
-    } else if (lv.h > step_limit.h) {
+    if ((lv.status == "ok" || lv.status == "unstable") && lv.h > step_limit.h) {
       // Central differences on the limiting mode are unstable: the error measures that
-      // instability (or an implicit scheme's unresolved mode), not the scheme's order.
+      // instability (or an implicit scheme's unresolved mode), not the scheme's order. The
+      // cause is named rather than its symptom.
       lv.status = "above step limit";
       ++above_limit;
+    } else if (lv.status != "ok") {
+      // failed or unstable: stays as it is
+    } else if (stopped) {
+      lv.status = "round-off";
+    } else if (lv.saturation >= kSaturationFraction) {
+      // The error is a sizeable fraction of the largest the metric can give: it measures how
+      // far the run strayed, not the scheme's order.
+      lv.status = "saturated";
+      saturated.push_back(lv.h);
+      saturation = std::max(saturation, lv.saturation);
     } else if (lv.error <= kRoundOffFloor) {
       lv.status = "round-off";
       stopped = true;
@@ -134,6 +150,18 @@ SchemeSummary summarize_levels(const std::string& method, int claimed_order,
          << " above the explicit step limit " << std::setprecision(3) << step_limit.h << " s of "
          << step_limit.what
          << " (2/omega: central differences are unstable there) left out of the fit";
+    notes.push_back(note.str());
+  }
+  if (!saturated.empty()) {
+    std::ostringstream note;
+    note << method << ": " << saturated.size() << " level" << (saturated.size() > 1 ? "s" : "")
+         << " saturated left out of the fit (h =";
+    for (std::size_t k = 0; k < saturated.size(); ++k) {
+      note << (k ? ", " : " ") << std::setprecision(3) << saturated[k];
+    }
+    note << "): errors up to " << std::fixed << std::setprecision(0) << 100.0 * saturation
+         << " % of the largest the metric can give (saturated from " << 100.0 * kSaturationFraction
+         << " %) measure how far the run strayed from the reference, not the order";
     notes.push_back(note.str());
   }
   if (not_decreasing > 0) {
@@ -284,6 +312,10 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         const core::Trajectory trajectory = lie::run_scheme(model, *stepper, out.h, output_times);
         out.cpu_seconds = thread_cpu_seconds() - start;
         report = compare_trajectories(tabulate(model, trajectory), result.reference.table);
+        const core::InvariantCheck check = core::check_invariants(model, trajectory);
+        if (check.breach) {
+          measured[static_cast<std::size_t>(k)].instability = check.breach->describe();
+        }
       } else {
         const ExternalMethod& method = options.external[static_cast<std::size_t>(block.external)];
         Measured& m = measured[static_cast<std::size_t>(k)];
@@ -295,7 +327,11 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         m.ignored = report.ignored_columns;
       }
       out.error = metric_value(report, options.metric);
-      out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
+      out.saturation = metric_saturation(report, options.metric);
+      measured[static_cast<std::size_t>(k)].bounds = metric_bounds_text(report, options.metric);
+      out.status = !std::isfinite(out.error) ? "failed: non-finite error"
+                   : measured[static_cast<std::size_t>(k)].instability.empty() ? "ok"
+                                                                               : "unstable";
     } catch (const std::exception& e) {
       out.error = std::numeric_limits<double>::infinity();
       out.status = std::string("failed: ") + e.what();
@@ -338,6 +374,25 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         summarize_levels(block.name, claimed, levels, ref_estimate,
                          block.external < 0 ? result.step_limit : core::StepLimit{}, result.notes));
     std::copy(levels.begin(), levels.end(), result.levels.begin() + first);
+  }
+  // Unstable levels (core/invariants.hpp) and the bounds saturation is measured against.
+  for (std::size_t k = 0; k < result.levels.size(); ++k) {
+    const ConvergenceLevel& lv = result.levels[k];
+    if (lv.status != "unstable") continue;
+    std::ostringstream note;
+    note << lv.scheme << ": level h = " << std::setprecision(3) << lv.h
+         << " unstable, left out of the fit: " << measured[k].instability;
+    result.notes.push_back(note.str());
+  }
+  bool any_saturated = false;
+  for (const auto& lv : result.levels) any_saturated |= lv.status == "saturated";
+  for (std::size_t k = 0; k < result.levels.size() && any_saturated; ++k) {
+    if (measured[k].bounds.empty()) continue;
+    result.notes.push_back(
+        "saturation is measured against the largest values of the metric's "
+        "quantities: " +
+        measured[k].bounds + " (studies/error_metrics.hpp)");
+    break;
   }
   bool any_uncertified = false;
   for (const auto& lv : result.levels) any_uncertified |= lv.status == "uncertified";
@@ -393,10 +448,15 @@ std::string format_convergence_table(const ConvergenceResult& r) {
     } else {
       out << "-";
     }
-    out << ", observed ";
     if (s.refused()) {
-      out << "refused";
-    } else if (std::isnan(s.fitted_order)) {
+      // No order from fewer than three valid levels: the line says so, not a number.
+      out << ", no order: " << s.fitted_levels << " valid level"
+          << (s.fitted_levels == 1 ? "" : "s") << " (" << SchemeSummary::kMinFittedLevels
+          << " needed; see the notes)\n";
+      continue;
+    }
+    out << ", observed ";
+    if (std::isnan(s.fitted_order)) {
       out << "n/a";
     } else {
       out << std::fixed << std::setprecision(2) << s.fitted_order;
@@ -413,8 +473,9 @@ std::string convergence_csv(const ConvergenceResult& r) {
   out << "scheme,h,steps,error,order,cpu_seconds,status\n";
   for (const auto& lv : r.levels) {
     const std::string status = csv_text(lv.status);
-    out << lv.scheme << ',' << lv.h << ',' << lv.steps << ',' << lv.error << ',' << lv.order << ','
-        << lv.cpu_seconds << ',' << status << '\n';
+    // The first level has no pairwise order and a run made earlier no CPU time: empty cells.
+    out << lv.scheme << ',' << lv.h << ',' << lv.steps << ',' << lv.error << ','
+        << csv_number(lv.order) << ',' << csv_number(lv.cpu_seconds) << ',' << status << '\n';
   }
   return out.str();
 }

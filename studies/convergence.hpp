@@ -5,10 +5,12 @@
 /// orders. Only levels that measure the scheme's asymptotic error enter the fit; the others are
 /// marked and the table says why: a step above the scene's explicit step limit
 /// (core::explicit_step_limit: central differences on a mode or penalty element are unstable
-/// there), an error that does not decrease from the previous valid level, an error not at
-/// least 100× the reference's estimated error ("uncertified"), or an error at round-off
-/// (which also stops the refinement). No order is fitted from fewer than three valid levels
-/// (two points always lie on a line: their "order" verifies nothing).
+/// there), a run that breaks the scene's invariants ("unstable", core/invariants.hpp), an error
+/// that is a sizeable fraction of the largest the metric can give ("saturated",
+/// studies/error_metrics.hpp), an error that does not decrease from the previous valid level,
+/// an error not at least 100× the reference's estimated error ("uncertified"), or an error at
+/// round-off (which also stops the refinement). No order is fitted from fewer than three valid
+/// levels (two points always lie on a line: their "order" verifies nothing).
 #include <functional>
 #include <memory>
 #include <string>
@@ -74,8 +76,12 @@ struct ConvergenceLevel {
   double error = 0.0;
   double order = 0.0;  ///< pairwise order against the previous level (NaN for the first)
   double cpu_seconds = 0.0;
-  /// "ok", "above step limit", "not decreasing", "uncertified", "round-off", or "failed: why".
+  /// "ok", "above step limit", "unstable", "saturated", "not decreasing", "uncertified",
+  /// "round-off", or "failed: why".
   std::string status;
+  /// The error as a fraction of its bound (studies/error_metrics.hpp, metric_saturation): at
+  /// kSaturationFraction or more the level is "saturated".
+  double saturation = 0.0;
 };
 
 struct SchemeSummary {
@@ -110,12 +116,13 @@ void check_convergence_inputs(const core::Model& model, const std::vector<double
 ConvergenceResult run_convergence(const core::Model& model, const std::vector<double>& output_times,
                                   const ConvergenceOptions& options);
 
-/// The analysis of one method's levels (coarsest first, error and status "ok" or "failed: …"
-/// set). Only levels that measure the method's asymptotic error stay "ok": a step above
-/// `step_limit` (the model's explicit step limit for the built-in schemes; unbounded for an
-/// external method) is "above step limit", an error that does not decrease from the previous
-/// valid level "not decreasing", an error at round-off "round-off" (and stops the refinement),
-/// an error not kCertificationFactor× above the reference's estimated error "uncertified".
+/// The analysis of one method's levels (coarsest first, error, saturation and status "ok",
+/// "unstable" or "failed: …" set). Only levels that measure the method's asymptotic error stay
+/// "ok": a step above `step_limit` (the model's explicit step limit for the built-in schemes;
+/// unbounded for an external method) is "above step limit", an error at kSaturationFraction of
+/// its bound or more "saturated", an error that does not decrease from the previous valid level
+/// "not decreasing", an error at round-off "round-off" (and stops the refinement), an error not
+/// kCertificationFactor× above the reference's estimated error "uncertified".
 /// Pairwise orders are filled in; the least-squares order is fitted over the "ok" levels, and
 /// refused (NaN) from fewer than three. Notes say what was left out and why.
 SchemeSummary summarize_levels(const std::string& method, int claimed_order,

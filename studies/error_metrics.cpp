@@ -164,4 +164,31 @@ double metric_value(const ComparisonReport& report, const std::string& metric) {
   return value;
 }
 
+double metric_saturation(const ComparisonReport& report, const std::string& metric) {
+  const std::vector<std::string> used = metric_quantities(report, metric);
+  double worst = 0.0;
+  for (const QuantityError& q : report.quantities) {
+    if (std::find(used.begin(), used.end(), q.name) == used.end()) continue;
+    if (!std::isfinite(q.bound)) continue;
+    // A non-finite error (a diverged run) is as saturated as it gets.
+    worst = std::max(worst, std::isfinite(q.norms.linf) ? q.norms.linf / q.bound
+                                                        : std::numeric_limits<double>::infinity());
+  }
+  return worst;
+}
+
+std::string metric_bounds_text(const ComparisonReport& report, const std::string& metric) {
+  const std::vector<std::string> used = metric_quantities(report, metric);
+  std::string out;
+  for (const QuantityError& q : report.quantities) {
+    if (std::find(used.begin(), used.end(), q.name) == used.end()) continue;
+    if (!std::isfinite(q.bound)) continue;
+    char value[48];
+    std::snprintf(value, sizeof value, "%.3g %s", q.bound, q.unit.c_str());
+    out += (out.empty() ? "" : ", ") + q.name + " " +
+           (q.kind == "rotation" ? std::string("pi rad") : std::string(value));
+  }
+  return out;
+}
+
 }  // namespace flexref::studies

@@ -10,6 +10,7 @@
 /// the table has `B.x, B.y, B.z`, in rotation when it has `B.e0 … B.e3`, and so on; a table
 /// with a subset of the standard columns (docs/external.md) is measured in what it has. A
 /// metric that finds nothing to measure is an error, never 0.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,26 @@ struct QuantityError {
   ErrorNorms norms;
   double linf_time = 0.0;            ///< an output time where the L∞ value is reached
   std::vector<std::string> columns;  ///< the columns this quantity measures
+  /// The largest value the error can take while the run stays on the reference's range (see
+  /// kSaturationFraction): π for a rotation (the geodesic angle), the reference's extent for a
+  /// position, point, velocity or angular velocity (twice the largest distance of its values
+  /// from the centre of their bounding box, ≥ their diameter), the largest range of a modal
+  /// coordinate for the modes; +∞ where there is none: a relative wear error, or a quantity the
+  /// reference holds constant (extent 0).
+  double bound = std::numeric_limits<double>::infinity();
 };
+
+/// A level whose error reaches this fraction of its quantity's bound is "saturated": it
+/// measures how far the run is from the reference's range, not the scheme's order, and is left
+/// out of an order fit (docs/decisions.md, "Saturated levels"). Derivation: a point at distance
+/// r from an accurate centre, turned by a wrong angle δ, is off by the chord 2r sin(δ/2), and
+/// its bound is the extent 2r; the order measured between a level at e = B sin x and its
+/// finer neighbour of a p-th order scheme is biased by about p (1 − x cot x). At e = B/3 that is
+/// 0.04 for p = 2, below the 0.1 an order is quoted to; beyond it the bias grows quickly (0.09
+/// at B/2, 0.2 at 0.7 B) while an unrelated motion sits at 0.7 of the bound (the mean angle
+/// between two random rotations, π/2 + 2/π, is 0.70 π). The geodesic angle itself is exact
+/// below π but its L∞ over time is capped there, so the same fraction is used for rotations.
+inline constexpr double kSaturationFraction = 1.0 / 3.0;
 
 struct ComparisonReport {
   std::vector<QuantityError> quantities;
@@ -78,5 +98,12 @@ std::vector<std::string> metric_quantities(const ComparisonReport& report,
 
 /// The metric names metric_value accepts.
 std::vector<std::string> metric_names();
+
+/// The largest L∞ / bound over the quantities metric_value(report, metric) takes its value
+/// from (0 when every bound is +∞); throws like metric_value.
+double metric_saturation(const ComparisonReport& report, const std::string& metric);
+/// "book.rotation: pi rad, book.corner: 2 m": the bounds of the metric's quantities that have
+/// one; throws like metric_value.
+std::string metric_bounds_text(const ComparisonReport& report, const std::string& metric);
 
 }  // namespace flexref::studies

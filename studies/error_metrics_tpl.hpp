@@ -130,6 +130,41 @@ S geodesic_angle(const S (&a)[4], const S (&b)[4]) {
   }
 }
 
+/// QuantityError::bound of a quantity from the reference (table 1) alone: π for a rotation; for
+/// the modes the largest range of a coordinate; otherwise the extent of the reference's values,
+/// twice the largest distance from the centre of their bounding box (an upper bound on their
+/// diameter, exact for a symmetric set such as a sphere). +∞ when that is 0 (a constant
+/// quantity has no range to saturate) or not finite. In double: a bound needs no more.
+template <typename Cell>
+double reference_bound(const TrajectoryTable& shape, Cell cell, const std::string& kind,
+                       const std::vector<std::size_t>& c) {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  if (kind == "rotation") return 3.14159265358979323846;
+  const std::size_t n = shape.size();
+  std::vector<double> lo(c.size(), kNone), hi(c.size(), -kNone);
+  for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t j = 0; j < c.size(); ++j) {
+      const auto v = static_cast<double>(cell(1, k, c[j]));
+      lo[j] = std::min(lo[j], v);
+      hi[j] = std::max(hi[j], v);
+    }
+  }
+  double bound = 0.0;
+  if (kind == "modes") {
+    for (std::size_t j = 0; j < c.size(); ++j) bound = std::max(bound, hi[j] - lo[j]);
+  } else {
+    for (std::size_t k = 0; k < n; ++k) {
+      double d2 = 0.0;
+      for (std::size_t j = 0; j < c.size(); ++j) {
+        const double d = static_cast<double>(cell(1, k, c[j])) - 0.5 * (lo[j] + hi[j]);
+        d2 += d * d;
+      }
+      bound = std::max(bound, 2.0 * std::sqrt(d2));
+    }
+  }
+  return bound > 0.0 && std::isfinite(bound) ? bound : kNone;
+}
+
 /// compare_trajectories' norms in S. `shape` gives the columns and the times (the caller has
 /// checked that both tables have them); cell(table, k, i) is column i of row k of the run
 /// (table 0) or the reference (table 1) in S.
@@ -168,6 +203,7 @@ ComparisonReport compare_cells(const TrajectoryTable& shape, Cell cell) {
     }
     item.quantity.norms = acc.norms();
     item.quantity.linf_time = acc.linf_time();
+    item.quantity.bound = reference_bound(shape, cell, kind, c);
     const double linf = item.quantity.norms.linf;
     if (kind == "rotation") {
       report.max_rotation_linf = std::max(report.max_rotation_linf, linf);

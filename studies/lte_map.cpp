@@ -446,6 +446,17 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
         out.classical_resolved =
             out.classical_tip_error >= 100.0 * std::max(out.truth_estimate, out.classical_estimate);
       }
+      // A deflection without three mean crossings over the second half has no dominant
+      // frequency: the row says so instead of carrying a NaN.
+      const char* without = std::isnan(out.truth_frequency)   ? "the truth's"
+                            : std::isnan(out.frequency_shift) ? "the LTE model's"
+                            : options.stiffened_truth && std::isnan(out.classical_frequency_shift)
+                                ? "the classical model's"
+                                : nullptr;
+      if (without != nullptr) {
+        out.status = std::string("no frequency shift: ") + without +
+                     " deflection crosses its mean fewer than 3 times over the second half";
+      }
     } catch (const std::exception& e) {
       out.tip_error = kNaN;
       out.attitude_error = kNaN;
@@ -457,12 +468,19 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
 
   int unresolved = 0;
   int failed = 0;
+  int no_frequency = 0;
   for (const LteMapPoint& p : result.points) {
-    if (p.status != "ok") {
+    if (p.status.starts_with("failed")) {
       ++failed;
     } else if (!p.resolved) {
       ++unresolved;
     }
+    no_frequency += p.status.starts_with("no frequency") ? 1 : 0;
+  }
+  if (no_frequency > 0) {
+    result.notes.push_back(std::to_string(no_frequency) +
+                           " grid point(s) have no frequency shift (status in lte_map.csv): a "
+                           "deflection crosses its mean fewer than 3 times over the second half");
   }
   if (unresolved > 0) {
     result.notes.push_back(std::to_string(unresolved) +
@@ -472,7 +490,7 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   }
   int classical_unresolved = 0;
   for (const LteMapPoint& p : result.points) {
-    if (options.stiffened_truth && p.status == "ok" && !p.classical_resolved) {
+    if (options.stiffened_truth && !p.status.starts_with("failed") && !p.classical_resolved) {
       ++classical_unresolved;
     }
   }
@@ -536,13 +554,15 @@ std::string lte_map_csv(const LteMapResult& result) {
        "classical_estimate,resolved,classical_resolved,status\n";
   for (const LteMapPoint& p : result.points) {
     const std::string status = csv_text(p.status);
-    s << p.spin_ratio << ',' << p.inertia_ratio << ',' << p.spin << ',' << p.omega1 << ','
-      << p.hub_scale << ',' << p.load_scale << ',' << p.tip_error << ',' << p.envelope_error << ','
-      << p.frequency_shift << ',' << p.attitude_error << ',' << p.classical_tip_error << ','
-      << p.classical_envelope_error << ',' << p.classical_frequency_shift << ',' << p.max_deflection
-      << ',' << p.truth_frequency << ',' << p.truth_estimate << ',' << p.lte_estimate << ','
-      << p.classical_estimate << ',' << (p.resolved ? 1 : 0) << ','
-      << (p.classical_resolved ? 1 : 0) << ',' << status << '\n';
+    const auto n = [](double x) { return csv_number(x); };
+    s << n(p.spin_ratio) << ',' << n(p.inertia_ratio) << ',' << n(p.spin) << ',' << n(p.omega1)
+      << ',' << n(p.hub_scale) << ',' << n(p.load_scale) << ',' << n(p.tip_error) << ','
+      << n(p.envelope_error) << ',' << n(p.frequency_shift) << ',' << n(p.attitude_error) << ','
+      << n(p.classical_tip_error) << ',' << n(p.classical_envelope_error) << ','
+      << n(p.classical_frequency_shift) << ',' << n(p.max_deflection) << ',' << n(p.truth_frequency)
+      << ',' << n(p.truth_estimate) << ',' << n(p.lte_estimate) << ',' << n(p.classical_estimate)
+      << ',' << (p.resolved ? 1 : 0) << ',' << (p.classical_resolved ? 1 : 0) << ',' << status
+      << '\n';
   }
   return s.str();
 }
@@ -568,7 +588,7 @@ void grid_table(std::ostringstream& s, const LteMapResult& result, bool classica
       const bool resolved = classical ? p.classical_resolved : p.resolved;
       s << std::setw(9)
         << (percent(classical ? p.classical_tip_error : p.tip_error) +
-            (p.status == "ok" && !resolved ? "*" : ""));
+            (!p.status.starts_with("failed") && !resolved ? "*" : ""));
     }
     s << "\n";
   }

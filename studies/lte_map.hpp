@@ -148,7 +148,10 @@ struct LteMapPoint {
   double classical_estimate = 0.0;  ///< same for the classical reference
   bool resolved = false;            ///< tip_error ≥ 100 × max(truth, LTE estimates)
   bool classical_resolved = false;  ///< classical_tip_error ≥ 100 × max(truth, classical)
-  std::string status = "ok";        ///< "ok" or "failed: …"
+  /// "ok"; "no frequency shift: …" when a deflection crosses its mean fewer than three times
+  /// over the second half (the other metrics are measured, the frequency cells are empty); or
+  /// "failed: …".
+  std::string status = "ok";
 };
 
 struct LteMapResult {
@@ -192,7 +195,9 @@ std::vector<double> log_spaced_values(double lo, double hi, int count);
 /// CSV columns: spin_ratio,inertia_ratio,spin,omega1,hub_scale,load_scale,tip_error,
 /// envelope_error,frequency_shift,attitude_error,classical_tip_error,classical_envelope_error,
 /// classical_frequency_shift,max_deflection,truth_frequency,truth_estimate,lte_estimate,
-/// classical_estimate,resolved,classical_resolved,status.
+/// classical_estimate,resolved,classical_resolved,status. A value that is not measured (a
+/// failed point, the classical columns of a two-level map, a frequency the status says is
+/// missing) is an empty cell, never NaN.
 std::string lte_map_csv(const LteMapResult& result);
 /// The terminal table: the LTE tip error (%) per inertia ratio (rows) and spin ratio (columns),
 /// the classical coupled model's (stiffened truth), the crossings of the 1 %, 5 % and 20 % lines

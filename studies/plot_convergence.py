@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Log-log convergence plot of a `flexref converge` study.
 
-Usage: plot_convergence.py convergence.csv out.png "title" [step_limit "what limits it"]
+Usage: plot_convergence.py convergence.csv out.png "title" [step_limit "what limits it"
+                           ["orders"]]
 Reads the CSV written by the study (scheme,h,steps,error,order,cpu_seconds,status), draws the
 error of each scheme against its step, marks levels that were not used in the fit (a legend
-entry says so), adds reference slopes 1 and 2 anchored at the coarsest certified point, and
-draws the scene's explicit step limit 2/omega when one is given (a number; "inf": none).
+entry says so), adds reference slopes 1 and 2 a factor 3 below every drawn level (so that no
+curve hides them), and draws the scene's explicit step limit 2/omega when one is given (a
+number; "inf": none). `orders` is "scheme=observed" pairs separated by commas (observed: the
+fitted order, or why there is none), shown in the legend.
 """
 import csv
 import math
@@ -15,6 +18,17 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+# The guides lie at least this factor below every drawn level.
+GUIDE_OFFSET = 3.0
+
+
+def parse_orders(text):
+    orders = {}
+    for pair in filter(None, text.split(",")):
+        scheme, _, observed = pair.partition("=")
+        orders[scheme] = observed
+    return orders
 
 
 def legend(ax, **kwargs):
@@ -27,41 +41,50 @@ def legend(ax, **kwargs):
 
 
 def main(argv):
-    if len(argv) not in (4, 6):
+    if len(argv) not in (4, 6, 7):
         sys.stderr.write(__doc__)
         return 2
     rows = list(csv.DictReader(open(argv[1], newline="")))
+    orders = parse_orders(argv[6]) if len(argv) == 7 else {}
     schemes = []
     for r in rows:
         if r["scheme"] not in schemes:
             schemes.append(r["scheme"])
-    fig, ax = plt.subplots(figsize=(6.4, 4.8), dpi=120)
+    fig, ax = plt.subplots(figsize=(8.8, 4.8), dpi=120)
     markers = "osD^v<>"
-    anchor = None
-    unused_labelled = False
+    drawn = []  # (h, error) of every level drawn
+    unused = False
     for k, s in enumerate(schemes):
         pts = [(float(r["h"]), float(r["error"]), r["status"]) for r in rows if r["scheme"] == s]
         pts = [p for p in pts if math.isfinite(p[1]) and p[1] > 0]
         if not pts:
             continue
-        h = [p[0] for p in pts]
-        e = [p[1] for p in pts]
-        line, = ax.loglog(h, e, marker=markers[k % len(markers)], label=s.upper())
+        label = s.upper()
+        if s in orders:
+            observed = orders[s]
+            try:
+                label += f" (observed order {float(observed):.2f})"
+            except ValueError:
+                label += f" ({observed})"
+        ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=markers[k % len(markers)],
+                  label=label)
         bad = [(p[0], p[1]) for p in pts if p[2] != "ok"]
         if bad:
             ax.loglog([b[0] for b in bad], [b[1] for b in bad], linestyle="none", marker="x",
-                      color="k", markersize=9,
-                      label=None if unused_labelled else "not in the fit (see status)")
-            unused_labelled = True
-        ok = [p for p in pts if p[2] == "ok"]
-        if ok and (anchor is None or ok[0][1] > anchor[1]):
-            anchor = ok[0]
-    if anchor is not None:
-        hs = sorted({float(r["h"]) for r in rows})
+                      color="k", markersize=9)
+            unused = True
+        drawn += [(p[0], p[1]) for p in pts]
+    if unused:
+        ax.plot([], [], linestyle="none", marker="x", color="k", markersize=9,
+                label="not in the fit (see status)")
+    if drawn:
+        hs = sorted({h for h, _ in drawn})
         for p, style in ((1, ":"), (2, "--")):
-            ax.loglog(hs, [anchor[1] * (x / anchor[0]) ** p for x in hs], style, color="gray",
+            # c·h^p at most every drawn error / GUIDE_OFFSET: below all curves, never hidden.
+            c = min(e / h ** p for h, e in drawn) / GUIDE_OFFSET
+            ax.loglog(hs, [c * h ** p for h in hs], style, color="gray", linewidth=1.5,
                       label=f"slope {p}")
-    if len(argv) == 6 and math.isfinite(float(argv[4])) and rows:
+    if len(argv) >= 6 and math.isfinite(float(argv[4])) and rows:
         limit = float(argv[4])
         label = f"explicit step limit 2/ω = {limit:.3g} s ({argv[5]})"
         hs = [float(r["h"]) for r in rows]
@@ -73,7 +96,8 @@ def main(argv):
     ax.set_ylabel("error (L∞ rotation [rad] + L∞ tracked points [m])")
     ax.set_title(argv[3])
     ax.grid(True, which="both", alpha=0.3)
-    legend(ax)
+    # Beside the axes: inside, it hides a curve wherever it is put.
+    legend(ax, fontsize="small", loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     fig.savefig(argv[2])
     return 0

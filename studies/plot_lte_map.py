@@ -37,14 +37,29 @@ METRICS = (("tip_error", "L∞ tip error"), ("envelope_error", "peak deflection 
            ("frequency_shift", "first-mode frequency shift"))
 
 
+def failed(row):
+    return row["status"].startswith("failed")
+
+
 def value(row, key):
-    if row["status"] != "ok":
+    """|row[key]|, or NaN for a failed point or a value the study did not measure (an empty
+    cell: a classical column of a two-level map, a frequency the status says is missing)."""
+    if failed(row):
         return float("nan")
     try:
         v = abs(float(row[key]))
     except (KeyError, ValueError):
         return float("nan")
     return v if math.isfinite(v) else float("nan")
+
+
+def grid_ticks(values, most=6):
+    """Tick positions (log10) at grid values, both ends included, at most `most` of them."""
+    m = min(len(values), most)
+    if m < 2:
+        return [math.log10(v) for v in values]
+    picked = sorted({math.floor(i * (len(values) - 1) / (m - 1) + 0.5) for i in range(m)})
+    return [math.log10(values[i]) for i in picked]
 
 
 def panel(fig, ax, rows, xs, ys, key, title, resolved_key, scene):
@@ -79,20 +94,25 @@ def panel(fig, ax, rows, xs, ys, key, title, resolved_key, scene):
     ax.plot([log(p[0]) for p in grid], [log(p[1]) for p in grid], ".", color="black",
             markersize=2, label="grid point")
     unresolved = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows
-                  if r["status"] == "ok" and r.get(resolved_key, "1") != "1"]
-    failed = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows
-              if r["status"] != "ok"]
+                  if not failed(r) and r.get(resolved_key, "1") != "1"]
+    failures = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows if failed(r)]
+    missing = [(float(r["spin_ratio"]), float(r["inertia_ratio"])) for r in rows
+               if not failed(r) and math.isnan(value(r, key))]
     if unresolved and key.endswith("tip_error"):
         ax.plot([log(p[0]) for p in unresolved], [log(p[1]) for p in unresolved], "+",
                 color="white", label="< 100x reference error")
-    if failed:
-        ax.plot([log(p[0]) for p in failed], [log(p[1]) for p in failed], "x", color="red",
+    if failures:
+        ax.plot([log(p[0]) for p in failures], [log(p[1]) for p in failures], "x", color="red",
                 label="failed")
+    if missing:
+        ax.plot([log(p[0]) for p in missing], [log(p[1]) for p in missing], "o",
+                markerfacecolor="none", color="red", markersize=5, label="not measured (status)")
     if scene:
         ax.plot([log(scene[0])], [log(scene[1])], "*", color="magenta", markersize=11,
                 markeredgecolor="black", label="the scene")
-    ax.xaxis.set_major_locator(ticker.MaxNLocator(5))
-    ax.yaxis.set_major_locator(ticker.MaxNLocator(6))
+    # Ticks at grid values, the grid's ends included.
+    ax.xaxis.set_major_locator(ticker.FixedLocator(grid_ticks(xs, 5)))
+    ax.yaxis.set_major_locator(ticker.FixedLocator(grid_ticks(ys, 6)))
     ax.xaxis.set_major_formatter(power)
     ax.yaxis.set_major_formatter(power)
     ax.set_xlabel("spin ratio Ω0/ω1 [-]", fontsize=8)

@@ -67,7 +67,8 @@ def main(argv):
         if bad:
             ax.loglog([b[0] for b in bad], [b[1] for b in bad], linestyle="none", marker="x",
                       color="k", markersize=9,
-                      label=None if crossed else "uncertified (below 100x reference error)")
+                      label=None if crossed else "not counted: uncertified, unstable or "
+                      "saturated (see status)")
             crossed = True
     for i, t in enumerate(TARGETS):
         ax.axhline(t, linestyle=":", color="gray", linewidth=0.8,

@@ -11,6 +11,7 @@
 
 #include "core/body.hpp"
 #include "core/force_element.hpp"
+#include "core/invariants.hpp"
 #include "lie/stepper.hpp"
 #include "studies/distribution.hpp"
 #include "studies/trajectory_table.hpp"
@@ -139,6 +140,13 @@ std::vector<LongRunSample> long_run(const std::string& scheme, const StabilityOp
       current.momentum_drift =
           std::max(current.momentum_drift, (model.angular_momentum_W(s) - pi0).norm() / pi0.norm());
       current.quaternion_drift = std::max(current.quaternion_drift, std::abs(q - 1.0));
+    }
+    // Both drifts are of invariants of the torque-free body: beyond the invariant monitor's
+    // tolerance (core/invariants.hpp) the run is unstable from here on.
+    if (failure.empty() && current.status == "ok" &&
+        (current.energy_drift > core::kInvariantTolerance ||
+         current.momentum_drift > core::kInvariantTolerance)) {
+      current.status = "unstable";
     }
     if (k == next_sample || k == n || !failure.empty()) {
       current.step = k;
@@ -412,12 +420,15 @@ std::string format_stability_table(const StabilityResult& result) {
     for (const std::string& scheme : o.schemes) {
       LongRunSample worst;
       worst.status = "ok";
+      std::string previous = "ok";
       for (const LongRunSample& s : result.long_run) {
         if (s.scheme != scheme) continue;
         worst.energy_drift = std::max(worst.energy_drift, s.energy_drift);
         worst.momentum_drift = std::max(worst.momentum_drift, s.momentum_drift);
         worst.quaternion_drift = std::max(worst.quaternion_drift, s.quaternion_drift);
-        if (s.status != "ok") worst.status = s.status + " at step " + std::to_string(s.step);
+        // Where a status first appears ("unstable" holds for every later sample).
+        if (s.status != previous) worst.status = s.status + " from step " + std::to_string(s.step);
+        previous = s.status;
       }
       std::snprintf(line, sizeof line, "%-6s %14.3e %14.3e %14.3e  ", scheme.c_str(),
                     worst.energy_drift, worst.momentum_drift, worst.quaternion_drift);

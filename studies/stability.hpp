@@ -118,7 +118,10 @@ struct LongRunSample {
   double energy_drift = 0.0;      ///< |E − E₀|/|E₀|
   double momentum_drift = 0.0;    ///< |π − π₀|/|π₀|, world angular momentum
   double quaternion_drift = 0.0;  ///< ||θ| − 1|
-  std::string status;             ///< "ok" or the classification that stopped the run
+  /// "ok", "unstable" (from the first sample whose energy or momentum drift exceeds the
+  /// invariant monitor's tolerance, core/invariants.hpp, on), or the classification that
+  /// stopped the run.
+  std::string status;
 };
 
 struct StabilityResult {

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/invariants.hpp"
 #include "core/output_times.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
@@ -39,10 +40,14 @@ FigureCurve run_scheme_curve(const core::Model& model, const std::string& scheme
   stepper->initialize(t0, model.initial_state());
   const core::TrackedPoint& point =
       model.body(settings.body).description().points[static_cast<std::size_t>(settings.point)];
+  // This loop does not integrate the dissipated work: the energy balance is monitored only on
+  // a model that dissipates nothing.
+  core::InvariantMonitor monitor(model, core::kInvariantTolerance, model.dissipates());
   const auto record = [&] {
     curve.times.push_back(stepper->time());
     curve.p_W.push_back(model.p_WP(
         settings.body, stepper->state()[static_cast<std::size_t>(settings.body)], point));
+    monitor.observe(stepper->time(), stepper->state(), 0.0, 0.0);
   };
   record();
   const long n_steps = std::lround((t_end - t0) / h);
@@ -62,6 +67,10 @@ FigureCurve run_scheme_curve(const core::Model& model, const std::string& scheme
       break;
     }
     if ((n + 1) % stride == 0 || n + 1 == n_steps) record();
+  }
+  if (monitor.breach()) {
+    curve.instability = monitor.breach()->describe();
+    curve.label += " (unstable)";
   }
   return curve;
 }
@@ -214,7 +223,10 @@ std::string figure_table(const FigureResult& result) {
     error << std::setprecision(3) << std::scientific << c.max_error;
     out << std::left << std::setw(8) << c.scheme << std::setw(12) << step_text(c.step)
         << std::setw(16) << error.str() << std::setw(11) << (c.certified ? "yes" : "NO")
-        << (c.completed ? "completed" : c.failure) << "\n";
+        << (!c.completed            ? c.failure
+            : c.instability.empty() ? std::string("completed")
+                                    : "unstable: " + c.instability)
+        << "\n";
   }
   if (figure_has_uncertified(result)) {
     out << "note: NO = the error is below 100x the reference's estimated error: an upper bound, "

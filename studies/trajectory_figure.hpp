@@ -5,7 +5,9 @@
 /// integrated by each scheme at a few steps, with the reference on the same axes, and the L∞
 /// distance of each curve to the reference. A scheme that fails (blows up, Newton diverges)
 /// keeps its curve up to the failure and says where and why: at the paper's large steps the
-/// explicit schemes can be unstable, and the figure must show that rather than stop.
+/// explicit schemes can be unstable, and the figure must show that rather than stop. A curve
+/// whose run breaks the scene's invariants (core/invariants.hpp) is drawn in full and marked
+/// unstable.
 
 #include <Eigen/Core>
 #include <limits>
@@ -45,6 +47,9 @@ struct FigureCurve {
   std::vector<Eigen::Vector3d> p_W;  ///< the tracked point, world, m
   bool completed = true;
   std::string failure;  ///< where and why the run stopped, empty when completed
+  /// The invariant the run broke (core::InvariantBreach::describe; the curve's label then ends
+  /// in " (unstable)"), empty when it broke none.
+  std::string instability;
   /// L∞ over the curve's times of |p − p_ref| (m); NaN when no time is shared.
   double max_error = 0.0;
   /// max_error ≥ 100 × the reference's estimated error (the 100× rule of docs/design/studies.md).

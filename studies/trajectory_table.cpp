@@ -2,6 +2,8 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -184,6 +186,16 @@ std::string csv_text(std::string text) {
     if (c == ',') c = ';';
     if (c == '"') c = '\'';
     if (c == '\n' || c == '\r') c = ' ';
+  }
+  return text;
+}
+
+std::string csv_number(double x) {
+  if (std::isnan(x)) return {};
+  char text[32];
+  for (int precision = 15; precision <= 17; ++precision) {
+    std::snprintf(text, sizeof text, "%.*g", precision, x);
+    if (std::strtod(text, nullptr) == x) break;
   }
   return text;
 }

@@ -50,6 +50,9 @@ void write_csv(const TrajectoryTable& table, const std::string& path);
 /// numpy.genfromtxt included: commas become semicolons, double quotes apostrophes, line breaks
 /// spaces; never quoted.
 std::string csv_text(std::string text);
+/// A number for a CSV cell: the shortest text that reads back as the same double, and an empty
+/// cell for NaN (a value that was not measured; no file gets a NaN).
+std::string csv_number(double x);
 /// Reads a CSV written by write_csv; throws core::InputError naming file and line.
 TrajectoryTable read_csv(const std::string& path);
 

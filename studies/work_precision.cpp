@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/invariants.hpp"
 #include "core/state.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
@@ -44,21 +45,25 @@ core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integra
   return trajectory;
 }
 
-/// Every field of a run, and an external run's output file from a rank other than 0.
-SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes) {
+/// Every field of a run, an external run's output file from a rank other than 0, and what an
+/// unstable run broke (core::InvariantBreach::describe).
+SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes,
+                    std::vector<std::string>& instability) {
   require_codec_size<WorkPrecisionRun, 128>();
   const auto fields = [](auto& io, auto& r) {
     io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
   };
-  return {[&runs, &kept_bytes, fields](int i, SlotWriter& w) {
+  return {[&runs, &kept_bytes, &instability, fields](int i, SlotWriter& w) {
             auto put = [&w](const auto&... x) { (w.put(x), ...); };
             fields(put, runs[static_cast<std::size_t>(i)]);
             w.put(kept_bytes[static_cast<std::size_t>(i)]);
+            w.put(instability[static_cast<std::size_t>(i)]);
           },
-          [&runs, &kept_bytes, fields](int i, SlotReader& r) {
+          [&runs, &kept_bytes, &instability, fields](int i, SlotReader& r) {
             auto get = [&r](auto&... x) { (r.get(x), ...); };
             fields(get, runs[static_cast<std::size_t>(i)]);
             kept_bytes[static_cast<std::size_t>(i)] = r.get_string();
+            instability[static_cast<std::size_t>(i)] = r.get_string();
           }};
 }
 
@@ -188,11 +193,13 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
   const int n_runs = n_scheme_runs + n_solver_runs + static_cast<int>(external_runs.size());
   result.runs.resize(static_cast<std::size_t>(n_runs));
   std::vector<std::string> kept_bytes(static_cast<std::size_t>(n_runs));
+  std::vector<std::string> instability(static_cast<std::size_t>(n_runs));
   ProgressLine progress("work-precision", "runs", options.progress);
   const auto task = [&](int k) {
     WorkPrecisionRun& out = result.runs[static_cast<std::size_t>(k)];
     try {
       core::Trajectory trajectory;
+      ComparisonReport report;
       if (k < n_scheme_runs) {
         out.method = options.schemes[static_cast<std::size_t>(k / options.levels)];
         out.kind = "scheme";
@@ -218,7 +225,7 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
           out.cpu_seconds = std::min(out.cpu_seconds, run.cpu_seconds);
         }
         kept_bytes[static_cast<std::size_t>(k)] = kept_file_bytes(method, x.level);
-        out.error = metric_value(compare_run(run.run, result.reference.table), options.metric);
+        report = compare_run(run.run, result.reference.table);
       } else {
         const int j = k - n_scheme_runs;
         out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];
@@ -234,18 +241,25 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         });
       }
       if (out.kind != "external") {
-        out.error =
-            metric_value(compare_trajectories(tabulate(model, trajectory), result.reference.table),
-                         options.metric);
+        report = compare_trajectories(tabulate(model, trajectory), result.reference.table);
       }
-      out.status = std::isfinite(out.error) ? "ok" : "failed: non-finite error";
+      if (out.kind == "scheme") {
+        // A scheme run that breaks the scene's invariants (core/invariants.hpp) is unstable.
+        const core::InvariantCheck check = core::check_invariants(model, trajectory);
+        if (check.breach) instability[static_cast<std::size_t>(k)] = check.breach->describe();
+      }
+      out.error = metric_value(report, options.metric);
+      out.status = !std::isfinite(out.error)                           ? "failed: non-finite error"
+                   : !instability[static_cast<std::size_t>(k)].empty() ? "unstable"
+                   : metric_saturation(report, options.metric) >= kSaturationFraction ? "saturated"
+                                                                                      : "ok";
     } catch (const std::exception& e) {
       out.error = kInf;
       out.cpu_seconds = kNaN;
       out.status = std::string("failed: ") + e.what();
     }
   };
-  distributed_for(n_runs, options.jobs, task, run_codec(result.runs, kept_bytes),
+  distributed_for(n_runs, options.jobs, task, run_codec(result.runs, kept_bytes, instability),
                   progress.callback());
   progress.finish();
   for (std::size_t x = 0; x < external_runs.size(); ++x) {
@@ -276,6 +290,29 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
          << ref_estimate
          << ": it cannot be measured, and they are left out of the cheapest-method table "
             "(tighten --reference-rtol to measure them)";
+    result.notes.push_back(note.str());
+  }
+  for (std::size_t k = 0; k < result.runs.size(); ++k) {
+    const WorkPrecisionRun& run = result.runs[k];
+    if (run.status != "unstable") continue;
+    std::ostringstream note;
+    note << run.method << " at h = " << std::setprecision(3) << run.setting
+         << " is unstable and left out: " << instability[k];
+    result.notes.push_back(note.str());
+  }
+  std::string saturated;
+  for (const auto& run : result.runs) {
+    if (run.status != "saturated") continue;
+    std::ostringstream name;
+    name << run.method << " " << std::setprecision(3) << run.setting;
+    saturated += (saturated.empty() ? "" : ", ") + name.str();
+  }
+  if (!saturated.empty()) {
+    std::ostringstream note;
+    note << "runs marked 'saturated' (" << saturated << ") have an error of at least " << std::fixed
+         << std::setprecision(0) << 100.0 * kSaturationFraction
+         << " % of the largest the metric can give (studies/error_metrics.hpp): it measures how "
+            "far the run strayed, and they are left out of the cheapest-method table";
     result.notes.push_back(note.str());
   }
   for (const auto& run : result.runs) {
@@ -355,8 +392,10 @@ std::string work_precision_csv(const WorkPrecisionResult& r) {
   out.precision(17);
   out << "method,kind,setting,error,cpu_seconds,status,evaluations\n";
   for (const auto& run : r.runs) {
+    // A failed run's CPU time is not measured: an empty cell, not NaN.
     out << run.method << ',' << run.kind << ',' << run.setting << ',' << run.error << ','
-        << run.cpu_seconds << ',' << csv_text(run.status) << ',' << run.evaluations << '\n';
+        << csv_number(run.cpu_seconds) << ',' << csv_text(run.status) << ',' << run.evaluations
+        << '\n';
   }
   return out.str();
 }

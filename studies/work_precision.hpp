@@ -51,7 +51,10 @@ struct WorkPrecisionRun {
   double setting = 0.0;      ///< step h [s] for a scheme, relative tolerance for a solver
   double error = 0.0;        ///< metric against the reference (+inf when failed)
   double cpu_seconds = 0.0;  ///< minimum thread CPU time over the repeats (NaN when failed)
-  std::string status;        ///< "ok", "uncertified", or "failed: why"
+  /// "ok", "uncertified", "unstable" (a scheme run that breaks the scene's invariants,
+  /// core/invariants.hpp), "saturated" (an error of kSaturationFraction of the metric's largest
+  /// value or more, studies/error_metrics.hpp), or "failed: why".
+  std::string status;
   /// Right-hand-side (residual) evaluations of a solver run, the cost that does not depend on
   /// the machine; 0 for a scheme.
   long evaluations = 0;

@@ -72,8 +72,31 @@ header=$(head -1 "$tmp/flexible_spinner.csv")
 [[ $(head -1 "$tmp/spin_up_beam.csv") == *"beam.qd4,beam.drive_torque,energy" ]] ||
   fail "spin_up_beam CSV lacks beam.drive_torque"
 "$flexref" reference scenes/rotating_cantilever.toml --rtol 1e-8 --no-estimate \
-  -o "$tmp/rc.csv" >/dev/null || fail "reference rotating_cantilever (coupled) failed"
-grep -q '^model = "coupled"' "$tmp/rc.csv.meta.toml" || fail "default model is not coupled"
+  -o "$tmp/rc.csv" >/dev/null || fail "reference rotating_cantilever (default model) failed"
+grep -q '^model = "lte"' "$tmp/rc.csv.meta.toml" || fail "reference's default model is not lte"
+"$flexref" reference scenes/rotating_cantilever.toml --model coupled --rtol 1e-8 --no-estimate \
+  -o "$tmp/rcc.csv" >/dev/null || fail "reference rotating_cantilever --model coupled failed"
+grep -q '^model = "coupled"' "$tmp/rcc.csv.meta.toml" || fail "--model coupled not recorded"
+# One default model for every command that takes --model (issue 35: work-precision defaulted to
+# coupled and refused flexible_spinner): the help says lte, and each command run without
+# --model on a flexible scene records lte.
+for command in run reference converge work-precision modes; do
+  "$flexref" "$command" --help | grep -qE -- '--model TEXT:\{coupled,lte\}=lte( |$)' ||
+    fail "$command --help does not give --model's default lte: $("$flexref" "$command" --help | grep -- --model)"
+done
+sed 's/^end_time = 10.0 /end_time = 0.2 /' scenes/flexible_spinner.toml >"$tmp/fs_short.toml"
+out=$("$flexref" work-precision "$tmp/fs_short.toml" --schemes c2 --levels 1 --solvers cvode \
+  --tolerances 1e-6 --repeats 1 --jobs 1 --reference-precision double --out "$tmp/wp_lte" 2>&1) ||
+  fail "work-precision on a flexible scene with the default model: $out"
+grep -q '^model = "lte"' "$tmp/wp_lte/study.toml" || fail "work-precision's default model is not lte"
+out=$("$flexref" converge "$tmp/fs_short.toml" --schemes c2 --levels 3 --dt 0.01 --jobs 1 \
+  --reference-precision double --out "$tmp/conv_lte" 2>&1)
+code=$?
+[[ $code -eq 0 || $code -eq 4 ]] || fail "converge on a flexible scene with the default model: $out"
+grep -q '^model = "lte"' "$tmp/conv_lte/study.toml" || fail "converge's default model is not lte"
+out=$("$flexref" modes "$tmp/fs_short.toml" --modes 2,4 --jobs 1 --out "$tmp/modes_lte" 2>&1) ||
+  fail "modes on a flexible scene with the default model: $out"
+grep -q '^model = "lte"' "$tmp/modes_lte/study.toml" || fail "modes' default model is not lte"
 
 # 9. run --model lte on a flexible scene; a step above 2/omega_max warns on stderr.
 sed 's/^output_step = 0.01 /output_step = 0.1 /' scenes/flexible_spinner.toml >"$tmp/fs.toml"
@@ -102,6 +125,25 @@ code=$?
 "$flexref" run scenes/spin_up_beam.toml --model rigid -o "$tmp/z.csv" >/dev/null 2>&1
 [[ $? -eq 2 ]] || fail "unknown --model: not a usage error (exit 2)"
 
+# A run that breaks its scene's invariants is refused (issue 35: C2 far past its rotational
+# stability limit raised free_spin's energy by half and exited 0): a warning before the run,
+# exit 3 naming the time, the quantity and the step to use, nothing written.
+sed 's/^angular_velocity = .*/angular_velocity = [200.0, 300.0, 2000.0]/' scenes/free_spin.toml \
+  >"$tmp/fast_spin.toml"
+out=$("$flexref" run "$tmp/fast_spin.toml" --scheme c2 --dt 0.01 -o "$tmp/fast.csv" 2>&1)
+code=$?
+[[ $code -eq 3 ]] || fail "unstable run: exit $code (expected 3): $out"
+[[ $out == *"warning:"*"rotational stability limit 0.582"* ]] ||
+  fail "unstable run: no h|W| warning: $out"
+[[ $out == *"unstable: energy balance"*" at t = "*"use --dt "* ]] ||
+  fail "unstable run: the refusal does not say what, when and which step: $out"
+[[ ! -e $tmp/fast.csv && ! -e $tmp/fast.csv.meta.toml ]] || fail "unstable run: a file was written"
+step=$(grep -o 'use --dt [0-9.e+-]*' <<<"$out" | cut -d' ' -f3)
+out=$("$flexref" run "$tmp/fast_spin.toml" --scheme c2 --dt "$step" -o "$tmp/fast.csv" 2>&1) ||
+  fail "run at the suggested step $step failed: $out"
+grep -q '^largest_relative_change = ' "$tmp/fast.csv.meta.toml" ||
+  fail "run sidecar lacks the invariants table"
+
 # Contact and joint scenes: check prints each penalty element's frequency and step limit;
 # reference writes the dissipated work and the energy balance, and counts the events.
 for scene in bouncing_ball sliding_block top_on_plane tippe_top pendulum_on_sliding_support \
@@ -120,11 +162,14 @@ out=$("$flexref" check scenes/pendulum_on_sliding_support.toml 2>&1)
 [[ $out == *"joint[1] angular: omega = sqrt(k/I_eff)"* ]] || fail "check: no angular joint mode: $out"
 # The event count of the bouncing ball: two per bounce.
 grep -q '^events = [1-9][0-9]*$' "$tmp/bouncing_ball.csv.meta.toml" || fail "bouncing_ball: no events"
-# run warns when the step exceeds a contact's explicit limit, and still runs.
-out=$("$flexref" run scenes/bouncing_ball.toml --scheme c2 --dt 0.01 -o "$tmp/bb_run.csv" 2>&1) ||
-  fail "run bouncing_ball failed: $out"
+# run warns when the step exceeds a contact's explicit limit; the run then breaks its energy
+# balance and is refused with a step below the limit (exit 3, nothing written).
+out=$("$flexref" run scenes/bouncing_ball.toml --scheme c2 --dt 0.01 -o "$tmp/bb_run.csv" 2>&1)
+code=$?
 [[ $out == *"warning: step 0.01 s exceeds 2/omega"*"contact[1]"* ]] ||
   fail "run bouncing_ball: no step-limit warning: $out"
+[[ $code -eq 3 && $out == *"unstable: energy balance"*"use --dt 0.002 (at most half the explicit step limit"*"contact[1]"* &&
+   ! -e $tmp/bb_run.csv ]] || fail "run bouncing_ball above its step limit: exit $code: $out"
 out=$("$flexref" run scenes/bouncing_ball.toml --scheme c2 --dt 1e-3 -o "$tmp/bb_run.csv" 2>&1)
 [[ $out != *"warning"* ]] || fail "run bouncing_ball below the limit warned: $out"
 # compare: run and reference files of a contact scene have the same columns.
@@ -320,7 +365,7 @@ sed 's/^reference_speed = .*/reference_speed = 1e-300/' scenes/bouncing_ball.tom
 expect 1 "reference_speed 1e-300" "contact[1]" "$flexref" check "$tmp/v.toml"
 # A diverging reference (coupled model above its first frequency) is refused, not certified.
 expect 4 "reference spin_up_beam_6" "certifies nothing" \
-  "$flexref" reference scenes/spin_up_beam_6.toml -o "$tmp/sub6.csv"
+  "$flexref" reference scenes/spin_up_beam_6.toml --model coupled -o "$tmp/sub6.csv"
 [[ ! -e $tmp/sub6.csv ]] || fail "refused reference wrote its CSV"
 
 # Output files and folders: checked before any work, exit 5.
@@ -487,8 +532,8 @@ out=$("$flexref" converge scenes/book_toss.toml --reference-budget -1 --out "$tm
   grep -q '^reference_precision = "extended"' "$tmp/wpx/study.toml" ||
   fail "work-precision --reference-precision extended did not record its reference"
 # A scheme that refuses the model is refused before the quad reference (which takes a minute).
-out=$("$flexref" work-precision scenes/flexible_spinner.toml --schemes c1 --reference-precision quad \
-  --levels 1 --dt 1e-3 --out "$tmp/wpc" 2>&1)
+out=$("$flexref" work-precision scenes/flexible_spinner.toml --model coupled --schemes c1 \
+  --reference-precision quad --levels 1 --dt 1e-3 --out "$tmp/wpc" 2>&1)
 [[ $? == 1 && $out == *"c1: the hybrid schemes integrate the LTE model"* &&
   $out != *"reference (odeint"* ]] ||
   fail "work-precision computed the quad reference before refusing C1 on the coupled model: $out"

@@ -190,13 +190,13 @@ TEST_CASE("lte-map CSV and table", "[lte_map]") {
     while (std::getline(fs, f, ',')) fields.push_back(f);
     REQUIRE(fields.size() == 21);
     const LteMapPoint& p = r.points[static_cast<std::size_t>(rows)];
-    // 17 significant digits round-trip a double exactly.
+    // csv_number writes the shortest text that reads back as the same double.
     CHECK(std::stod(fields[0]) == p.spin_ratio);
     CHECK(std::stod(fields[1]) == p.inertia_ratio);
     CHECK(std::stod(fields[6]) == p.tip_error);
     CHECK(std::stod(fields[7]) == p.envelope_error);
     CHECK(std::stod(fields[9]) == p.attitude_error);
-    CHECK(fields[10] == "nan");  // two-level map: no classical-model metrics
+    CHECK(fields[10].empty());  // two-level map: no classical-model metrics (never NaN)
     CHECK(fields[20] == "ok");
     ++rows;
   }
@@ -205,6 +205,27 @@ TEST_CASE("lte-map CSV and table", "[lte_map]") {
   CHECK(table.find("L-inf tip error, 5 % line at Omega0/omega1") != std::string::npos);
   CHECK(table.find("truth: the classical coupled model") != std::string::npos);
   CHECK(table.find("body 'spinner', point 'tip'") != std::string::npos);
+}
+
+TEST_CASE("lte-map: a frequency it cannot measure is a status and an empty cell and never NaN",
+          "[lte_map]") {
+  // Over 0.4 s the deflection (first period ~1 s: ω1 = 6.3 rad/s) cannot cross its mean three
+  // times in the second half: no dominant frequency. It used to be written as `nan` with
+  // status `ok`.
+  LteMapOptions options = small_grid(1);
+  options.spin_ratios = {0.02, 0.05};
+  options.inertia_ratios = {1e-4};
+  options.end_time = 0.4;
+  const LteMapResult r = run_lte_map(spinner, options);
+  for (const LteMapPoint& p : r.points) {
+    INFO(p.status);
+    CHECK(p.status.rfind("no frequency shift: the truth's deflection", 0) == 0);
+    CHECK(std::isfinite(p.tip_error));
+  }
+  const std::string csv = lte_map_csv(r);
+  CHECK(csv.find("nan") == std::string::npos);
+  const std::string table = format_lte_map_table(r);
+  CHECK(table.find("2 grid point(s) have no frequency shift") != std::string::npos);
 }
 
 TEST_CASE("lte-map with the stiffened truth: the classical coupled model's own error",
