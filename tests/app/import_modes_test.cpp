@@ -21,8 +21,9 @@
 #include "scene/calculix_matrices.hpp"
 #include "scene/modal_data_reader.hpp"
 
+namespace flexref {
+
 namespace fs = std::filesystem;
-using namespace flexref;
 using Catch::Matchers::Contains;
 
 namespace {
@@ -294,3 +295,5 @@ TEST_CASE("import-modes: bad CalculiX output is refused with its file and line, 
     require_refused(options, other.job + ".dof", "different meshes");
   }
 }
+
+}  // namespace flexref

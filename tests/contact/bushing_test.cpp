@@ -14,6 +14,7 @@
 #include "rotation/euler_parameters.hpp"
 #include "rotation/so3.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/floating_point.hpp"
 
 namespace rotation = flexref::rotation;
 namespace contact = flexref::contact;
@@ -23,7 +24,7 @@ namespace {
 namespace core = flexref::core;
 using Eigen::Vector3d;
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using flexref::testing::kEps;
 
 /// Two rigid bodies at arbitrary poses, with reference points Br off their frame origins (as
 /// a free body's centre of mass is), and the kinematics the model would build for them.

@@ -17,12 +17,13 @@
 
 #include "flexible/modal_data.hpp"
 #include "rotation/so3.hpp"
+#include "tests/support/floating_point.hpp"
 
 namespace flexref::core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using testing::kEps;
+using testing::kPi;
 
 // Root of f in [a, b] (a sign change) by bisection to the last bit.
 double bisect(const std::function<double(double)>& f, double a, double b) {

@@ -25,15 +25,18 @@
 #include "rotation/euler_parameters.hpp"
 #include "rotation/so3.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/floating_point.hpp"
+#include "tests/support/random_samples.hpp"
 
 namespace flexref::core {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using testing::kEps;
+using testing::random_vector;
 
 // N nodes in a box off the origin, masses in [0.1, 2], dense random mode shapes (full m_ff,
 // every Cartesian pair of invariants non-zero).
-flexible::ModalData random_data(int N, int n, unsigned seed) {
+flexible::ModalData random_dense_modal_data(int N, int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> mass(0.1, 2.0);
   std::uniform_real_distribution<double> coordinate(-1.0, 3.0);
@@ -54,7 +57,7 @@ flexible::ModalData random_data(int N, int n, unsigned seed) {
   return data;
 }
 
-flexible::ModalData beam_data() {
+flexible::ModalData clamped_beam_data() {
   flexible::BeamParameters p;
   p.origin = Eigen::Vector3d(0.1, 0.05, -0.02);
   p.elements = 20;
@@ -63,13 +66,6 @@ flexible::ModalData beam_data() {
   p.EI_z = 3.2;
   p.boundary = flexible::BeamBoundary::kClampedFree;
   return make_beam_modal_data(p, 6);
-}
-
-Eigen::VectorXd random_vector(Eigen::Index n, std::mt19937& rng, double size) {
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd x(n);
-  for (Eigen::Index i = 0; i < n; ++i) x(i) = size * normal(rng);
-  return x;
 }
 
 Eigen::Vector3d random_vector3(std::mt19937& rng, double size) {
@@ -96,7 +92,7 @@ State random_state(int n, std::mt19937& rng, double q_size) {
 // term is m_k times at most two position-like factors (|ū_k| ≤ U, ‖Φ_k‖ ≤ P, entries of A ≤ 1)
 // and at most two velocity factors (|ω̄|, ‖Φ_k‖ |q̇|: coefficient ≤ 2), so
 // m (1 + U + P)² (1 + |ω̄| + |q̇|)² bounds it.
-double magnitude(const flexible::ModalData& data, const State& s) {
+double term_magnitude(const flexible::ModalData& data, const State& s) {
   double U = 0.0, P = 0.0;
   for (int k = 0; k < data.node_count(); ++k) {
     P = std::max(P, data.mode_rows(k).norm());
@@ -111,7 +107,7 @@ double magnitude(const flexible::ModalData& data, const State& s) {
 // summation of T terms errs by ≤ T ε Σ|terms| (Higham, "Accuracy and stability of numerical
 // algorithms", §4.2), so 10 (N + 9 n²) ε scale bounds the difference with a margin of 10 for
 // the few flops per term.
-double roundoff(const flexible::ModalData& data, double scale) {
+double evaluation_roundoff(const flexible::ModalData& data, double scale) {
   const double n = data.mode_count();
   return 10.0 * (data.node_count() + 9.0 * n * n) * kEps * scale;
 }
@@ -137,7 +133,7 @@ void check_against_nodes(const flexible::ModalData& data, unsigned seed, double 
   for (int trial = 0; trial < 20; ++trial) {
     const State s = random_state(n, rng, q_size);
     INFO("trial " << trial);
-    const double tol = roundoff(data, magnitude(data, s));
+    const double tol = evaluation_roundoff(data, term_magnitude(data, s));
 
     // (a) invariants against the nodal sums.
     flexible_mass_matrix(inv, s.A, s.q, M);
@@ -205,7 +201,7 @@ void check_against_nodes(const flexible::ModalData& data, unsigned seed, double 
     a << Rdd, alpha, qdd;
     delta << dR, dpi, dq;
     const double work = delta.dot(M * a - Qv);
-    // Terms of Σ|·| ≤ magnitude·(1 + |a|)·|δ| per entry, (6 + n) entries of δ.
+    // Terms of Σ|·| ≤ term_magnitude·(1 + |a|)·|δ| per entry, (6 + n) entries of δ.
     const double tol_work = tol * (1.0 + a.norm()) * delta.norm() * (6.0 + n);
     CHECK(std::abs(work - work_nodes) <= tol_work);
 
@@ -226,13 +222,13 @@ void check_against_nodes(const flexible::ModalData& data, unsigned seed, double 
 TEST_CASE("flexible M, Qv, T: invariants = nodal sums, SPD, energy, virtual work (random data)",
           "[core][flexible]") {
   // 5 nodes, 3 modes (the brief's small case) and a larger generic body.
-  check_against_nodes(random_data(5, 3, 11), 101, 0.5);
-  check_against_nodes(random_data(40, 7, 12), 102, 0.5);
+  check_against_nodes(random_dense_modal_data(5, 3, 11), 101, 0.5);
+  check_against_nodes(random_dense_modal_data(40, 7, 12), 102, 0.5);
 }
 
 TEST_CASE("flexible M, Qv, T: invariants = nodal sums on a 20-element beam", "[core][flexible]") {
   // Unit modal mass on a 1 kg beam: |Φ| ≈ 1 m, q ≈ 0.3 deflects the beam by ≈ 0.3 L.
-  check_against_nodes(beam_data(), 103, 0.3, /*collinear=*/true);
+  check_against_nodes(clamped_beam_data(), 103, 0.3, /*collinear=*/true);
 }
 
 TEST_CASE("flexible M and Qv of a single node by hand", "[core][flexible]") {
@@ -269,7 +265,7 @@ TEST_CASE("flexible M and Qv of a single node by hand", "[core][flexible]") {
 }
 
 TEST_CASE("flexible M and Qv: wrong sizes throw, T allocates nothing", "[core][flexible]") {
-  const flexible::ModalData data = random_data(5, 3, 21);
+  const flexible::ModalData data = random_dense_modal_data(5, 3, 21);
   const flexible::ModalInvariants inv = make_modal_invariants(data);
   std::mt19937 rng(22);
   const State s = random_state(3, rng, 0.5);
@@ -321,7 +317,7 @@ struct Motion {
 };
 
 TEST_CASE("eq. 14 and eq. 17 against central differences of r_k(t)", "[core][flexible]") {
-  const flexible::ModalData data = random_data(5, 3, 31);
+  const flexible::ModalData data = random_dense_modal_data(5, 3, 31);
   std::mt19937 rng(32);
   Motion m;
   m.c0 = random_vector3(rng, 1.0);

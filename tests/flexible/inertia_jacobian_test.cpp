@@ -20,22 +20,18 @@
 #include "rotation/euler_parameters.hpp"
 #include "rotation/so3.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/floating_point.hpp"
 #include "tests/support/random_geometric_stiffness.hpp"
+#include "tests/support/random_samples.hpp"
 
 namespace flexref::flexible {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-Eigen::VectorXd random_vector(Eigen::Index n, std::mt19937& rng, double size) {
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd x(n);
-  for (Eigen::Index i = 0; i < n; ++i) x(i) = size * normal(rng);
-  return x;
-}
+using testing::kEps;
+using testing::random_vector;
 
 /// N nodes in a box off the origin, dense random mode shapes, random K, ζ.
-ModalData random_data(int N, int n, unsigned seed) {
+ModalData random_damped_modal_data(int N, int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> mass(0.1, 2.0);
   std::uniform_real_distribution<double> coordinate(-1.0, 3.0);
@@ -53,7 +49,7 @@ ModalData random_data(int N, int n, unsigned seed) {
 }
 
 /// `geometric`: with the beam's geometric stiffness (flexible/geometric_stiffness.hpp).
-ModalData beam_data(bool geometric = false) {
+ModalData damped_beam_data(bool geometric = false) {
   BeamParameters p;
   p.origin = Eigen::Vector3d(0.1, 0.05, -0.02);
   p.elements = 8;
@@ -189,15 +185,15 @@ TEST_CASE("the inertial residual's Jacobian equals differences of the nodal sums
           "[flexible][jacobian]") {
   for (const bool coupled : {true, false}) {
     INFO((coupled ? "coupled" : "lte"));
-    CHECK(worst_ratio(random_data(7, 3, 1), coupled, 11) <= 1.0);
-    CHECK(worst_ratio(random_data(25, 6, 2), coupled, 12) <= 1.0);
-    CHECK(worst_ratio(beam_data(), coupled, 13) <= 1.0);
+    CHECK(worst_ratio(random_damped_modal_data(7, 3, 1), coupled, 11) <= 1.0);
+    CHECK(worst_ratio(random_damped_modal_data(25, 6, 2), coupled, 12) <= 1.0);
+    CHECK(worst_ratio(damped_beam_data(), coupled, 13) <= 1.0);
   }
 }
 
 TEST_CASE("the Jacobian check catches a wrong sign in any column block", "[flexible][jacobian]") {
   // One column of each block (π̄, ω̄, q_f, q̇_f) with its sign flipped fails by a wide margin.
-  const ModalData data = random_data(7, 3, 1);
+  const ModalData data = random_damped_modal_data(7, 3, 1);
   for (const Eigen::Index column : {1, 4, 7, 10}) {
     INFO("column " << column);
     CHECK(worst_ratio(data, true, 11, column) > 100.0);
@@ -205,7 +201,7 @@ TEST_CASE("the Jacobian check catches a wrong sign in any column block", "[flexi
 }
 
 ModalData stiffened_random_data(int N, int n, unsigned seed) {
-  ModalData data = random_data(N, n, seed);
+  ModalData data = random_damped_modal_data(N, n, seed);
   std::mt19937 rng(seed + 1000);
   data.geometric = testing::random_geometric_stiffness(n, rng);
   return data;
@@ -215,7 +211,7 @@ TEST_CASE("with geometric stiffening the Jacobian equals differences of the resi
           "[flexible][jacobian][geometric]") {
   CHECK(worst_ratio(stiffened_random_data(7, 3, 1), true, 21) <= 1.0);
   CHECK(worst_ratio(stiffened_random_data(25, 6, 2), true, 22) <= 1.0);
-  CHECK(worst_ratio(beam_data(true), true, 23) <= 1.0);
+  CHECK(worst_ratio(damped_beam_data(true), true, 23) <= 1.0);
   // A wrong sign in any column block is caught.
   const ModalData data = stiffened_random_data(7, 3, 1);
   for (const Eigen::Index column : {1, 4, 7, 10}) {
@@ -226,7 +222,7 @@ TEST_CASE("with geometric stiffening the Jacobian equals differences of the resi
 
 TEST_CASE("the inertial residual's Jacobian allocates nothing and checks sizes",
           "[flexible][jacobian]") {
-  const ModalData data = random_data(10, 4, 3);
+  const ModalData data = random_damped_modal_data(10, 4, 3);
   const ModalInvariants inv = make_modal_invariants(data);
   std::mt19937 rng(31);
   const Eigen::VectorXd q = random_vector(4, rng, 0.1), qd = random_vector(4, rng, 1.0);

@@ -13,18 +13,14 @@
 #include "flexible/beam_model.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/random_samples.hpp"
 
 namespace flexref::flexible {
 namespace {
 
-Eigen::VectorXd random_vector(Eigen::Index n, std::mt19937& rng, double size) {
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd x(n);
-  for (Eigen::Index i = 0; i < n; ++i) x(i) = size * normal(rng);
-  return x;
-}
+using testing::random_vector;
 
-ModalInvariants beam_invariants(int modes) {
+ModalInvariants bending_beam_invariants(int modes) {
   BeamParameters p;
   p.origin = Eigen::Vector3d(0.1, 0.05, -0.02);
   p.elements = 12;
@@ -40,7 +36,7 @@ Eigen::Matrix3d random_rotation(std::mt19937& rng) {
 }
 
 TEST_CASE("modal products serve every attitude and angular velocity", "[flexible][terms]") {
-  const ModalInvariants inv = beam_invariants(10);
+  const ModalInvariants inv = bending_beam_invariants(10);
   std::mt19937 rng(3);
   const Eigen::VectorXd q = random_vector(10, rng, 0.1);
   const Eigen::VectorXd qd = random_vector(10, rng, 1.0);
@@ -64,7 +60,7 @@ TEST_CASE("modal products serve every attitude and angular velocity", "[flexible
 }
 
 TEST_CASE("the undeformed products equal the evaluation at zero modal state", "[flexible][terms]") {
-  const ModalInvariants inv = beam_invariants(6);
+  const ModalInvariants inv = bending_beam_invariants(6);
   std::mt19937 rng(5);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(6);
   const Eigen::Matrix3d A = random_rotation(rng);
@@ -83,7 +79,7 @@ TEST_CASE("the undeformed products equal the evaluation at zero modal state", "[
 }
 
 TEST_CASE("inertia terms allocate nothing and check sizes", "[flexible][terms]") {
-  const ModalInvariants inv = beam_invariants(8);
+  const ModalInvariants inv = bending_beam_invariants(8);
   std::mt19937 rng(7);
   const Eigen::VectorXd q = random_vector(8, rng, 0.1);
   const Eigen::VectorXd qd = random_vector(8, rng, 1.0);

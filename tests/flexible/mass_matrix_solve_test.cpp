@@ -19,21 +19,17 @@
 #include "flexible/inertia_terms.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "tests/support/allocation_counting.hpp"
+#include "tests/support/floating_point.hpp"
+#include "tests/support/random_samples.hpp"
 
 namespace flexref::flexible {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-Eigen::VectorXd random_vector(Eigen::Index n, std::mt19937& rng, double size) {
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd x(n);
-  for (Eigen::Index i = 0; i < n; ++i) x(i) = size * normal(rng);
-  return x;
-}
+using testing::kEps;
+using testing::random_vector;
 
 /// N nodes in a box off the origin (inertia about every axis), dense random mode shapes.
-ModalData random_data(int N, int n, unsigned seed) {
+ModalData random_undamped_modal_data(int N, int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> mass(0.1, 2.0);
   std::uniform_real_distribution<double> coordinate(-1.0, 3.0);
@@ -52,7 +48,7 @@ ModalData random_data(int N, int n, unsigned seed) {
 
 /// A 20-element clamped-free beam (24 modes) with a hub's worth of inertia added to J0 (the
 /// beam's points are collinear: without a hub M is singular about the beam's axis).
-ModalInvariants beam_invariants() {
+ModalInvariants beam_with_hub_invariants() {
   BeamParameters p;
   p.origin = Eigen::Vector3d(0.1, 0.0, 0.0);
   p.elements = 20;
@@ -136,9 +132,9 @@ void check_coupled(const ModalInvariants& inv, unsigned seed) {
 }
 
 TEST_CASE("the structured coupled solve equals the dense Cholesky solve", "[flexible][solve]") {
-  check_coupled(make_modal_invariants(random_data(12, 5, 1)), 11);
-  check_coupled(make_modal_invariants(random_data(60, 17, 2)), 12);
-  check_coupled(beam_invariants(), 13);
+  check_coupled(make_modal_invariants(random_undamped_modal_data(12, 5, 1)), 11);
+  check_coupled(make_modal_invariants(random_undamped_modal_data(60, 17, 2)), 12);
+  check_coupled(beam_with_hub_invariants(), 13);
 }
 
 TEST_CASE("m_ff's factor groups the modes that do not couple", "[flexible][solve]") {
@@ -148,8 +144,8 @@ TEST_CASE("m_ff's factor groups the modes that do not couple", "[flexible][solve
   // Cholesky solve: both are backward stable on m_ff (cond ≈ 1 for mass-normalized modes), so
   // 100 n ε relative.
   std::mt19937 rng(17);
-  const ModalInvariants dense = make_modal_invariants(random_data(30, 9, 4));
-  const ModalInvariants beam = beam_invariants();
+  const ModalInvariants dense = make_modal_invariants(random_undamped_modal_data(30, 9, 4));
+  const ModalInvariants beam = beam_with_hub_invariants();
   CHECK(ModalMassFactor(dense).group_count() == 1);
   CHECK(ModalMassFactor(beam).group_count() == 3);
   // The beam's permutation is not its own inverse (a cycle longer than 2), so swapping P and Pᵀ
@@ -182,7 +178,7 @@ TEST_CASE("m_ff's factor groups the modes that do not couple", "[flexible][solve
 }
 
 TEST_CASE("the structured LTE and modal-row solves equal dense substitution", "[flexible][solve]") {
-  const ModalInvariants inv = make_modal_invariants(random_data(30, 9, 3));
+  const ModalInvariants inv = make_modal_invariants(random_undamped_modal_data(30, 9, 3));
   const int n = inv.mode_count;
   const ModalMassFactor factor(inv);
   MassSolveScratch scratch = make_mass_solve_scratch(n);
@@ -216,7 +212,7 @@ TEST_CASE("the structured LTE and modal-row solves equal dense substitution", "[
 }
 
 TEST_CASE("the structured solves allocate nothing and check sizes", "[flexible][solve]") {
-  const ModalInvariants inv = make_modal_invariants(random_data(20, 8, 4));
+  const ModalInvariants inv = make_modal_invariants(random_undamped_modal_data(20, 8, 4));
   const ModalMassFactor factor(inv);
   MassSolveScratch scratch = make_mass_solve_scratch(8);
   std::mt19937 rng(41);
@@ -239,7 +235,7 @@ TEST_CASE("the structured solves allocate nothing and check sizes", "[flexible][
 TEST_CASE("a singular rigid block gives NaN accelerations", "[flexible][solve]") {
   // No inertia about body x (the rotation row 3 of M_rr and its coupling zeroed): the Schur
   // complement has a zero pivot. The former dense evaluation returned unchecked garbage.
-  const ModalInvariants inv = make_modal_invariants(random_data(20, 4, 5));
+  const ModalInvariants inv = make_modal_invariants(random_undamped_modal_data(20, 4, 5));
   const ModalMassFactor factor(inv);
   MassSolveScratch scratch = make_mass_solve_scratch(4);
   std::mt19937 rng(51);

@@ -14,18 +14,20 @@
 
 #include "flexible/beam_model.hpp"
 #include "rotation/so3.hpp"
+#include "tests/support/floating_point.hpp"
+#include "tests/support/random_samples.hpp"
 
 namespace flexref::core {
 namespace {
 
 using Catch::Matchers::Contains;
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using testing::kEps;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // N nodes scattered in a box away from the origin, masses in [0.1, 2], dense random mode
 // shapes (so m_ff is full and every Cartesian pair of invariants is non-zero).
-flexible::ModalData random_data(int N, int n, unsigned seed) {
+flexible::ModalData random_modal_data(int N, int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> mass(0.1, 2.0);
   std::uniform_real_distribution<double> coordinate(-1.0, 3.0);
@@ -50,26 +52,20 @@ flexible::ModalData random_data(int N, int n, unsigned seed) {
   return data;
 }
 
-Eigen::VectorXd random_q(int n, std::mt19937& rng, double size) {
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd q(n);
-  for (int i = 0; i < n; ++i) q(i) = size * normal(rng);
-  return q;
-}
-
 // Round-off bound for comparing two evaluations of the same sums. Each entry is, in either
 // evaluation, a sum over the N nodes and over at most n² mode pairs of products whose
 // magnitudes add up to at most `scale` (below); recursive summation of T terms errs by at most
 // about T ε Σ|terms| (Higham, "Accuracy and stability of numerical algorithms", §4.2), so
 // 10 (N + n²) ε scale bounds the difference with a margin for the few flops per term.
-double roundoff(const flexible::ModalData& data, double scale) {
+double invariant_roundoff(const flexible::ModalData& data, double scale) {
   const double n = data.mode_count();
   return 10.0 * (data.node_count() + n * n) * kEps * scale;
 }
 
 // Σ m_k (|x_k| + ‖Φ_k‖ |q|)^p ‖Φ_k‖^r: bounds Σ|terms| of s_t (p = 1), Ī_θθ (p = 2) and
 // Ī_θf (p = 1, r = 1).
-double magnitude(const flexible::ModalData& data, const Eigen::VectorXd& q, int p, int r) {
+double invariant_magnitude(const flexible::ModalData& data, const Eigen::VectorXd& q, int p,
+                           int r) {
   double sum = 0.0;
   for (int k = 0; k < data.node_count(); ++k) {
     const double phi = data.mode_rows(k).norm();
@@ -85,37 +81,41 @@ void check_against_direct_sums(const flexible::ModalData& data, unsigned seed, d
   std::mt19937 rng(seed);
   for (int sample = 0; sample < 10; ++sample) {
     // Sample 0 is the undeformed state q_f = 0.
-    const Eigen::VectorXd q = sample == 0 ? Eigen::VectorXd::Zero(n) : random_q(n, rng, q_size);
+    const Eigen::VectorXd q =
+        sample == 0 ? Eigen::VectorXd::Zero(n) : testing::random_vector(n, rng, q_size);
     INFO("sample " << sample << ", |q| = " << q.norm());
     const Eigen::Vector3d s = first_moment(inv, q);
     const Eigen::Vector3d s_direct = first_moment_direct(data, q);
     INFO("s_t " << s.transpose() << " direct " << s_direct.transpose());
-    CHECK((s - s_direct).cwiseAbs().maxCoeff() < roundoff(data, magnitude(data, q, 1, 0)));
+    CHECK((s - s_direct).cwiseAbs().maxCoeff() <
+          invariant_roundoff(data, invariant_magnitude(data, q, 1, 0)));
 
     const Eigen::Matrix3d I = inertia_theta_theta(inv, q);
     const Eigen::Matrix3d I_direct = inertia_theta_theta_direct(data, q);
     INFO("I_theta_theta\n" << I << "\ndirect\n" << I_direct);
     // ũᵀũ = |u|² I − u uᵀ: the entries add up to at most 2 Σ m |u|².
-    CHECK((I - I_direct).cwiseAbs().maxCoeff() < roundoff(data, 2.0 * magnitude(data, q, 2, 0)));
+    CHECK((I - I_direct).cwiseAbs().maxCoeff() <
+          invariant_roundoff(data, 2.0 * invariant_magnitude(data, q, 2, 0)));
 
     const Eigen::Matrix3Xd G = inertia_theta_f(inv, q);
     const Eigen::Matrix3Xd G_direct = inertia_theta_f_direct(data, q);
     INFO("I_theta_f\n" << G << "\ndirect\n" << G_direct);
-    CHECK((G - G_direct).cwiseAbs().maxCoeff() < roundoff(data, 2.0 * magnitude(data, q, 1, 1)));
+    CHECK((G - G_direct).cwiseAbs().maxCoeff() <
+          invariant_roundoff(data, 2.0 * invariant_magnitude(data, q, 1, 1)));
   }
   // The invariants themselves against their definitions.
   CHECK((inv.m_ff - modal_mass_matrix(data)).cwiseAbs().maxCoeff() <
-        roundoff(data, inv.m_ff.diagonal().sum()));
+        invariant_roundoff(data, inv.m_ff.diagonal().sum()));
   CHECK(
       (inv.I0 - inertia_theta_theta_direct(data, Eigen::VectorXd::Zero(n))).cwiseAbs().maxCoeff() <
-      roundoff(data, inv.I0.trace()));
+      invariant_roundoff(data, inv.I0.trace()));
 }
 
 TEST_CASE("invariant-based inertia equals the direct nodal sums: generic data", "[core][modal]") {
   // Displacements Φq of the size of the node positions, so the quadratic terms matter.
-  check_against_direct_sums(random_data(50, 7, 11), 101, 3.0);
-  check_against_direct_sums(random_data(3, 1, 12), 102, 3.0);
-  check_against_direct_sums(random_data(2, 4, 13), 103, 3.0);  // 4 modes on 6 DOF
+  check_against_direct_sums(random_modal_data(50, 7, 11), 101, 3.0);
+  check_against_direct_sums(random_modal_data(3, 1, 12), 102, 3.0);
+  check_against_direct_sums(random_modal_data(2, 4, 13), 103, 3.0);  // 4 modes on 6 DOF
 }
 
 TEST_CASE("invariant-based inertia equals the direct nodal sums: beams of 20 and 200 elements",
@@ -172,7 +172,7 @@ TEST_CASE("a single node and mode, by hand", "[core][modal]") {
 }
 
 TEST_CASE("inertia_theta_f writes into a block and checks sizes", "[core][modal]") {
-  const flexible::ModalData data = random_data(10, 3, 21);
+  const flexible::ModalData data = random_modal_data(10, 3, 21);
   const flexible::ModalInvariants inv = make_modal_invariants(data);
   const Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(3, -1.0, 2.0);
   Eigen::MatrixXd mass_matrix = Eigen::MatrixXd::Zero(9, 9);
@@ -187,7 +187,7 @@ TEST_CASE("inertia_theta_f writes into a block and checks sizes", "[core][modal]
 }
 
 TEST_CASE("natural frequencies of a non-diagonal modal mass matrix", "[core][modal]") {
-  const flexible::ModalData data = random_data(20, 4, 31);
+  const flexible::ModalData data = random_modal_data(20, 4, 31);
   const Eigen::MatrixXd m_ff = modal_mass_matrix(data);
   REQUIRE(std::abs(m_ff(0, 1)) > 1e-3 * m_ff(0, 0));  // really non-diagonal
   const Eigen::VectorXd omega = natural_frequencies(data);
@@ -231,7 +231,7 @@ void require_invalid(const flexible::ModalData& data, const std::string& fragmen
 }
 
 TEST_CASE("validate names each class of bad data", "[core][modal]") {
-  const flexible::ModalData good = random_data(4, 2, 41);
+  const flexible::ModalData good = random_modal_data(4, 2, 41);
   REQUIRE_NOTHROW(good.validate());
   flexible::ModalData d = good;
   d.mass.resize(0);

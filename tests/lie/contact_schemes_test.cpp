@@ -33,8 +33,8 @@ struct Error {
   double angle = 0.0;
 };
 
-Error trajectory_error(const core::Model& model, const core::Trajectory& a,
-                       const core::Trajectory& b) {
+Error contact_trajectory_error(const core::Model& model, const core::Trajectory& a,
+                               const core::Trajectory& b) {
   Error e;
   for (std::size_t i = 0; i < a.times.size(); ++i) {
     for (std::size_t body = 0; body < a.states[i].size(); ++body) {
@@ -129,7 +129,7 @@ TEST_CASE("contact scenes: C1, C2 and NMB stay bounded inside the explicit step 
         FAIL_CHECK(scene.name << " " << name << " did not run at any step tried: " << failure);
         continue;
       }
-      const Error e = trajectory_error(scene.model, run, ref.trajectory);
+      const Error e = contact_trajectory_error(scene.model, run, ref.trajectory);
       const double growth = energy_growth(scene.model, run);
       INFO(scene.name << " " << name << " h = " << h_used << " (limit " << scene.step_limit()
                       << "): position error " << e.position << " m, angle error " << e.angle
@@ -178,7 +178,7 @@ TEST_CASE("contact scenes: observed orders of C1, C2 and NMB", "[contact][order]
         std::unique_ptr<Stepper> stepper = make_stepper(name, c.scene.model);
         try {
           const core::Trajectory run = run_scheme(c.scene.model, *stepper, h, times);
-          const Error e = trajectory_error(c.scene.model, run, ref.trajectory);
+          const Error e = contact_trajectory_error(c.scene.model, run, ref.trajectory);
           errors.push_back(e.position + e.angle);
         } catch (const core::SolverError& error) {
           failure = error.what();

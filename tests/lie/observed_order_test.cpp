@@ -15,6 +15,7 @@
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "tests/support/odeint_reference.hpp"
+#include "tests/support/order_checks.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::lie {
@@ -49,21 +50,6 @@ std::vector<double> scheme_errors(const core::Model& model, const std::string& s
   return errors;
 }
 
-// p = 2 is the order the authors claim (Simo & Wong 1991, Krysl & Endres 2005). Two-sided:
-// e(h)/e(h/2) ∈ [2^(p−0.2), 2^(p+0.3)] = [3.48, 4.92], so a scheme of order 1 or 3 fails.
-void check_order_two(const std::vector<double>& errors, const Reference& reference) {
-  // The reference must be ≥ 100× more accurate than the smallest error it measures
-  // (docs/design/schemes.md); its error is at most its distance to the looser run.
-  CHECK(reference.error_estimate <= 1e-2 * errors.back());
-  for (std::size_t k = 0; k + 1 < errors.size(); ++k) {
-    const double ratio = errors[k] / errors[k + 1];
-    INFO("e = " << errors[k] << " -> " << errors[k + 1] << ", ratio " << ratio
-                << ", p = " << std::log2(ratio));
-    CHECK(ratio >= std::pow(2.0, 1.8));
-    CHECK(ratio <= std::pow(2.0, 2.3));
-  }
-}
-
 TEST_CASE("observed order 2 on book_toss over [0, 2], pulse included", "[lie][order]") {
   // Span [0, 2]: over [0, 10] C2 is not in its asymptotic range for any step above the
   // problem's round-off floor (finding below). Measured ratios 3.98–4.03 for all three.
@@ -72,7 +58,8 @@ TEST_CASE("observed order 2 on book_toss over [0, 2], pulse included", "[lie][or
   const Reference reference = make_reference(model, times);
   for (const std::string& name : builtin_scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
-      check_order_two(scheme_errors(model, name, times, reference, 5e-3), reference);
+      testing::check_two_sided_order(scheme_errors(model, name, times, reference, 5e-3), 2.0,
+                                     reference.error_estimate);
     }
   }
 }
@@ -85,7 +72,8 @@ TEST_CASE("observed order 2 on book_toss over [0, 10] for C1 and NMB", "[lie][or
   const Reference reference = make_reference(model, times);
   for (const std::string name : {"c1", "nmb"}) {
     DYNAMIC_SECTION("scheme " << name) {
-      check_order_two(scheme_errors(model, name, times, reference, 2.5e-3), reference);
+      testing::check_two_sided_order(scheme_errors(model, name, times, reference, 2.5e-3), 2.0,
+                                     reference.error_estimate);
     }
   }
 }
@@ -100,7 +88,8 @@ TEST_CASE("observed order 2 across a load discontinuity (rectangular torque puls
   const Reference reference = make_reference(model, times);
   for (const std::string& name : builtin_scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
-      check_order_two(scheme_errors(model, name, times, reference, 5e-3), reference);
+      testing::check_two_sided_order(scheme_errors(model, name, times, reference, 5e-3), 2.0,
+                                     reference.error_estimate);
     }
   }
 }
@@ -115,7 +104,9 @@ TEST_CASE("observed order 2 on heavy_top over [0, 0.5]", "[lie][order]") {
   const std::map<std::string, double> first_step{{"c1", 1e-3}, {"c2", 6.25e-5}, {"nmb", 1e-3}};
   for (const std::string& name : builtin_scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
-      check_order_two(scheme_errors(model, name, times, reference, first_step.at(name)), reference);
+      testing::check_two_sided_order(
+          scheme_errors(model, name, times, reference, first_step.at(name)), 2.0,
+          reference.error_estimate);
     }
   }
 }
@@ -131,7 +122,8 @@ TEST_CASE("observed order 2 with translation and configuration/velocity-dependen
     const Reference reference = make_reference(model, times);
     for (const std::string& name : builtin_scheme_names()) {
       DYNAMIC_SECTION((damped ? "damped " : "") << "coulomb_wall, scheme " << name) {
-        check_order_two(scheme_errors(model, name, times, reference, 1e-2), reference);
+        testing::check_two_sided_order(scheme_errors(model, name, times, reference, 1e-2), 2.0,
+                                       reference.error_estimate);
       }
     }
   }

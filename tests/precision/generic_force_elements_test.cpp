@@ -82,7 +82,11 @@ TEST_CASE("contacts, bushings and potentials of the generic model agree with cor
                                ++seed, &by_channel);
     }
     for (std::size_t c = 0; c < spec.contacts.size(); ++c) {
-      const std::string channel = "c" + std::to_string(c) + ".fn";
+      // Appended, not "c" + to_string(c): GCC 12 warns falsely (-Wstringop-overflow) on the
+      // inlined operator+ of a literal and a temporary.
+      std::string channel = "c";
+      channel += std::to_string(c);
+      channel += ".fn";
       INFO(channel << " pushed in " << by_channel[channel] << " of 16 states");
       CHECK(by_channel[channel] > 0);
     }

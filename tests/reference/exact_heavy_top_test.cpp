@@ -10,6 +10,7 @@
 
 #include "rotation/euler_parameters.hpp"
 #include "tests/support/attitude_ode.hpp"
+#include "tests/support/floating_point.hpp"
 
 namespace rotation = flexref::rotation;
 
@@ -19,7 +20,7 @@ namespace ref = flexref::reference;
 namespace testing = flexref::testing;
 using flexref::testing::sample_times;
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using flexref::testing::kEps;
 
 struct Top {
   std::string name;

@@ -16,6 +16,7 @@
 
 #include "rotation/euler_parameters.hpp"
 #include "tests/support/attitude_ode.hpp"
+#include "tests/support/floating_point.hpp"
 
 namespace rotation = flexref::rotation;
 
@@ -24,7 +25,7 @@ namespace {
 namespace ref = flexref::reference;
 using flexref::testing::sample_times;
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using flexref::testing::kEps;
 
 // ---- independent reference: the 7-dimensional ODE (θ, ω_B) by RKF78 ----
 // State type std::vector: odeint's std::array scratch buffers trigger a spurious

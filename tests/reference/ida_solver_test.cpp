@@ -6,16 +6,13 @@
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
+#include "tests/support/solver_options.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {
 
-SolverOptions with_rtol(double rtol) {
-  SolverOptions options;
-  options.rtol = rtol;
-  return options;
-}
+using testing::with_rtol;
 
 }  // namespace
 

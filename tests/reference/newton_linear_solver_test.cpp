@@ -16,12 +16,13 @@
 #include <vector>
 
 #include "reference/structured_jacobian.hpp"
+#include "tests/support/floating_point.hpp"
 #include "tests/support/jacobian_models.hpp"
 
 namespace flexref::reference {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using testing::kEps;
 
 struct Sundials {
   Sundials() { SUNContext_Create(nullptr, &context); }

@@ -15,13 +15,14 @@
 #include "reference/structured_jacobian.hpp"
 #include "tests/support/allocation_counting.hpp"
 #include "tests/support/flexible_models.hpp"
+#include "tests/support/floating_point.hpp"
 #include "tests/support/jacobian_models.hpp"
 #include "tests/support/test_models.hpp"
 
 namespace flexref::reference {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using testing::kEps;
 
 /// A = I − γ J at a random state of the model.
 Eigen::MatrixXd newton_matrix(const OdeForm& form, double gamma, double t, unsigned seed) {

@@ -22,13 +22,16 @@
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
 #include "rotation/euler_parameters.hpp"
+#include "tests/support/solver_options.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {
 
-using Solver = ReferenceRun (*)(const core::Model&, const std::vector<double>&,
-                                const SolverOptions&);
+using testing::with_rtol;
+
+using SolveFunction = ReferenceRun (*)(const core::Model&, const std::vector<double>&,
+                                       const SolverOptions&);
 
 /// book_toss's torque (docs/design/scenes.md, tests/support/test_problems.hpp): world (0.2, 0, 0.2)
 /// N·m on [0, 0.1).
@@ -80,12 +83,6 @@ double impulse_fraction(bool rectangular, double t) {
   if (rectangular) return s;
   return 0.5 * s -
          kPulse / (4.0 * std::numbers::pi) * std::sin(2.0 * std::numbers::pi * s / kPulse);
-}
-
-SolverOptions with_rtol(double rtol) {
-  SolverOptions options;
-  options.rtol = rtol;
-  return options;
 }
 
 /// Largest differences over the output times (L∞, docs/design/schemes.md "Error metrics").
@@ -224,7 +221,7 @@ TEST_CASE("book_toss angular momentum follows the applied impulse exactly",
   const std::vector<double> times = core::output_times(1.0, 0.03);
   const double rtol = 1e-12;
   const double momentum = model.angular_momentum_W(model.initial_state()).norm();
-  for (const Solver solve : {solve_ida, solve_cvode, solve_arkode, solve_odeint}) {
+  for (const SolveFunction solve : {solve_ida, solve_cvode, solve_arkode, solve_odeint}) {
     const ReferenceRun run = solve(model, times, with_rtol(rtol));
     CAPTURE(run.solver);
     // N steps with local errors up to rtol·|π| each (the conservation bound of the solver
@@ -258,7 +255,7 @@ TEST_CASE("book_toss_step: stopping at the switch matters", "[ida][cvode][arkode
 
   // IDA and CVODE: their error tests catch the jump, at the price of rejected steps while
   // they shrink the step onto it (measured: IDA 105 → 136, CVODE 4 → 22).
-  for (const Solver solve : {solve_ida, solve_cvode}) {
+  for (const SolveFunction solve : {solve_ida, solve_cvode}) {
     const ReferenceRun with_stop = solve(planned, times, with_rtol(rtol));
     const ReferenceRun across = solve(hidden, times, with_rtol(rtol));
     CAPTURE(with_stop.solver, with_stop.stats.error_test_failures,
@@ -274,7 +271,7 @@ TEST_CASE("a load that throws ends every solver with the time and the load's mes
   testing::Elements elements;
   elements.push_back(std::make_unique<ThrowingTorque>());
   const core::Model model(std::move(bodies), std::move(elements));
-  for (const Solver solve : {solve_ida, solve_cvode, solve_arkode, solve_odeint}) {
+  for (const SolveFunction solve : {solve_ida, solve_cvode, solve_arkode, solve_odeint}) {
     try {
       solve(model, core::output_times(1.0, 0.1), with_rtol(1e-10));
       FAIL("no SolverError");

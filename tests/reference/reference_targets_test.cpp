@@ -20,16 +20,13 @@
 #include "rotation/euler_parameters.hpp"
 #include "tests/support/exact_scenes.hpp"
 #include "tests/support/flexible_models.hpp"
+#include "tests/support/solver_options.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {
 
-SolverOptions with_rtol(double rtol) {
-  SolverOptions options;
-  options.rtol = rtol;
-  return options;
-}
+using testing::with_rtol;
 
 /// L∞ over the outputs and bodies of the geodesic angle between two runs' attitudes, rad.
 double attitude_difference(const ReferenceRun& a, const ReferenceRun& b) {
@@ -61,7 +58,7 @@ double point_difference(const core::Model& model, const ReferenceRun& a, const R
   return d;
 }
 
-const char* const kSolvers[] = {"cvode", "ida", "arkode", "odeint"};
+const char* const kTargetSolverNames[] = {"cvode", "ida", "arkode", "odeint"};
 
 }  // namespace
 
@@ -74,7 +71,7 @@ TEST_CASE("free_spin at rtol 1e-13: every reference within its target of the exa
   const core::Model model = testing::free_spin();
   const std::vector<double> times = core::output_times(100.0, 0.1);
   const ReferenceRun exact = solve_exact(model, times);
-  for (const char* solver : kSolvers) {
+  for (const char* solver : kTargetSolverNames) {
     const ReferenceRun run = solve_reference(solver, model, times, with_rtol(1e-13));
     const double error = attitude_difference(run, exact);
     const double target = run.solver == "cvode" || run.solver == "ida" ? 1e-10 : 1e-11;
@@ -106,7 +103,7 @@ TEST_CASE("every reference's error falls with each decade of rtol from 1e-4 to 1
     const ReferenceRun truth = c.name == "coulomb_wall"
                                    ? solve_odeint(c.model, times, with_rtol(1e-14))
                                    : solve_exact(c.model, times);
-    for (const char* solver : kSolvers) {
+    for (const char* solver : kTargetSolverNames) {
       double previous = 1e300;
       for (double rtol = 1e-4; rtol > 5e-13; rtol /= 10.0) {
         const ReferenceRun run = solve_reference(solver, c.model, times, with_rtol(rtol));

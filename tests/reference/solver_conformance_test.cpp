@@ -20,10 +20,13 @@
 #include "core/point_charge_potential.hpp"
 #include "reference/arkode_esdirk_solver.hpp"
 #include "reference/reference_solver.hpp"
+#include "tests/support/solver_options.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::reference {
 namespace {
+
+using testing::with_rtol;
 
 struct Solver {
   const char* name;
@@ -51,12 +54,6 @@ core::Model coulomb_wall_on_the_wall() {
       std::vector<core::PointChargePotential::Charge>{{0, Eigen::Vector3d(0.5, 0.0, 0.0), 1.0},
                                                       {0, Eigen::Vector3d(-0.5, 0.0, 0.0), 0.6}}));
   return core::Model(std::move(bodies), std::move(elements));
-}
-
-SolverOptions with_rtol(double rtol) {
-  SolverOptions options;
-  options.rtol = rtol;
-  return options;
 }
 
 }  // namespace

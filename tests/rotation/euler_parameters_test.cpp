@@ -18,6 +18,8 @@
 
 #include "rotation/so3.hpp"
 #include "tests/support/finite_difference.hpp"
+#include "tests/support/floating_point.hpp"
+#include "tests/support/matrix_checks.hpp"
 #include "tests/support/rotation_samples.hpp"
 
 namespace flexref::core {
@@ -26,8 +28,11 @@ namespace {
 using flexref::testing::central_difference_jacobian;
 using flexref::testing::max_relative_difference;
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();  // 2.2e-16
-constexpr double kPi = std::numbers::pi;
+using flexref::testing::check_close;
+using flexref::testing::flatten;
+using flexref::testing::kEps;
+using flexref::testing::kPi;
+using flexref::testing::unflatten;
 // exp_quaternion switches to its Taylor series for |φ|/2 < 1e-2, i.e. |φ| < 2e-2.
 constexpr double kQuaternionBranchAngle = 2e-2;
 // Central differences with h = ε^(1/3)·max(1, |t|) ≈ 6e-6: truncation h²/6·|f'''| ≲ 1e-11 for
@@ -39,7 +44,7 @@ using flexref::testing::RotationSample;
 
 /// Rotation vectors at 0, 1e-8, both sides of exp_quaternion's branch switch, generic (fixed
 /// seed) and near π.
-std::vector<RotationSample> rotation_vector_samples() {
+std::vector<RotationSample> quaternion_branch_samples() {
   return flexref::testing::rotation_vector_samples({1e-2, kQuaternionBranchAngle}, 20240612u);
 }
 
@@ -52,7 +57,7 @@ struct AttitudeSample {
 /// sample, and −θ (same attitude, e0 ≤ 0).
 std::vector<AttitudeSample> attitude_samples() {
   std::vector<AttitudeSample> samples;
-  for (const RotationSample& s : rotation_vector_samples()) {
+  for (const RotationSample& s : quaternion_branch_samples()) {
     const rotation::EulerParameters theta = rotation::exp_quaternion(s.phi);
     samples.push_back({s.name, theta});
     samples.push_back({"minus " + s.name, -theta});
@@ -67,29 +72,6 @@ rotation::EulerParameters random_unit_quaternion(std::mt19937& rng) {
 
 rotation::EulerParameters pure_quaternion(const Eigen::Vector3d& v) {
   return rotation::EulerParameters(0.0, v.x(), v.y(), v.z());
-}
-
-/// Checks max|actual − expected| ≤ tolerance · max(1, max|expected|) and prints both on failure.
-void check_close(const Eigen::MatrixXd& actual, const Eigen::MatrixXd& expected, double tolerance) {
-  const double difference = max_relative_difference(actual, expected);
-  INFO(std::setprecision(17) << "actual:\n"
-                             << actual << "\nexpected:\n"
-                             << expected << "\nrelative difference " << difference << ", tolerance "
-                             << tolerance);
-  CHECK(difference <= tolerance);
-}
-
-void check_close(double actual, double expected, double tolerance) {
-  INFO(std::setprecision(17) << "actual " << actual << ", expected " << expected << ", difference "
-                             << actual - expected << ", tolerance " << tolerance);
-  CHECK(std::abs(actual - expected) <= tolerance);
-}
-
-Eigen::VectorXd flatten(const Eigen::Matrix3d& m) {
-  return Eigen::Map<const Eigen::VectorXd>(m.data(), 9);
-}
-Eigen::Matrix3d unflatten(const Eigen::VectorXd& v) {
-  return Eigen::Map<const Eigen::Matrix3d>(v.data());
 }
 
 /// d/dt f(t) at t by central differences (tests/support helper).
@@ -319,7 +301,7 @@ TEST_CASE("quaternion_multiply composes rotations", "[euler]") {
 }
 
 TEST_CASE("exp_quaternion agrees with exp_so3 and its own reference", "[euler]") {
-  for (const RotationSample& s : rotation_vector_samples()) {
+  for (const RotationSample& s : quaternion_branch_samples()) {
     INFO(s.name << ", phi = " << s.phi.transpose());
     const rotation::EulerParameters theta = rotation::exp_quaternion(s.phi);
     // Unit: cos² + sin² of correctly-rounded values, ≲ 2 ulp → 4ε.
@@ -346,7 +328,7 @@ TEST_CASE("exp_quaternion agrees with exp_so3 and its own reference", "[euler]")
 
 TEST_CASE("log_quaternion inverts exp_quaternion and agrees with log_so3", "[euler]") {
   CHECK(rotation::log_quaternion(rotation::identity_euler_parameters()) == Eigen::Vector3d::Zero());
-  for (const RotationSample& s : rotation_vector_samples()) {
+  for (const RotationSample& s : quaternion_branch_samples()) {
     INFO(s.name << ", phi = " << s.phi.transpose());
     const double angle = s.phi.norm();
     const rotation::EulerParameters theta = rotation::exp_quaternion(s.phi);
@@ -417,7 +399,7 @@ TEST_CASE("euler_parameters_from_matrix round-trips with e0 >= 0", "[euler]") {
   }
   // Matrices from an independent source (exp_so3, so not exactly A(θ) of any θ), at and near
   // π in several directions, where the rounded |φ| can exceed π: e0 must still be ≥ 0.
-  for (const RotationSample& s : rotation_vector_samples()) {
+  for (const RotationSample& s : quaternion_branch_samples()) {
     INFO(s.name << ", phi = " << s.phi.transpose());
     const Eigen::Matrix3d r = rotation::exp_so3(s.phi);
     const rotation::EulerParameters q = rotation::euler_parameters_from_matrix(r);

@@ -16,6 +16,8 @@
 #include <vector>
 
 #include "tests/support/finite_difference.hpp"
+#include "tests/support/floating_point.hpp"
+#include "tests/support/matrix_checks.hpp"
 #include "tests/support/rotation_samples.hpp"
 
 namespace flexref::core {
@@ -24,8 +26,11 @@ namespace {
 using flexref::testing::central_difference_jacobian;
 using flexref::testing::max_relative_difference;
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();  // 2.2e-16
-constexpr double kPi = std::numbers::pi;
+using flexref::testing::check_close;
+using flexref::testing::flatten;
+using flexref::testing::kEps;
+using flexref::testing::kPi;
+using flexref::testing::unflatten;
 // The branch switch in so3.cpp (kSmallAngle): Taylor series below, closed forms above.
 constexpr double kBranchAngle = 1e-2;
 
@@ -33,25 +38,8 @@ using Sample = flexref::testing::RotationSample;
 using flexref::testing::generic_axis;
 
 /// Rotation vectors covering every branch of so3.cpp. Fixed seed.
-std::vector<Sample> rotation_vector_samples() {
+std::vector<Sample> so3_branch_samples() {
   return flexref::testing::rotation_vector_samples({kBranchAngle}, 20240611u);
-}
-
-/// Checks max|actual − expected| ≤ tolerance · max(1, max|expected|) and prints both on failure.
-void check_close(const Eigen::MatrixXd& actual, const Eigen::MatrixXd& expected, double tolerance) {
-  const double difference = max_relative_difference(actual, expected);
-  INFO(std::setprecision(17) << "actual:\n"
-                             << actual << "\nexpected:\n"
-                             << expected << "\nrelative difference " << difference << ", tolerance "
-                             << tolerance);
-  CHECK(difference <= tolerance);
-}
-
-Eigen::VectorXd flatten(const Eigen::Matrix3d& m) {
-  return Eigen::Map<const Eigen::VectorXd>(m.data(), 9);
-}
-Eigen::Matrix3d unflatten(const Eigen::VectorXd& v) {
-  return Eigen::Map<const Eigen::Matrix3d>(v.data());
 }
 
 // Independent reference: the Rodrigues-type formulas evaluated in long double, with the scalar
@@ -157,7 +145,7 @@ TEST_CASE("exp_so3 is a rotation and agrees with Eigen::AngleAxisd and the refer
   // Sign convention pinned: a quarter turn about z maps e_x to e_y.
   check_close(rotation::exp_so3(0.5 * kPi * Eigen::Vector3d::UnitZ()) * Eigen::Vector3d::UnitX(),
               Eigen::Vector3d::UnitY(), 4.0 * kEps);
-  for (const Sample& s : rotation_vector_samples()) {
+  for (const Sample& s : so3_branch_samples()) {
     INFO(s.name << ", phi = " << s.phi.transpose());
     const Eigen::Matrix3d r = rotation::exp_so3(s.phi);
     // Each entry of R is I + a φ̃ + b φ̃² with O(1) terms and ≤ 5 roundings, so ≲ 3 ulp;
@@ -179,7 +167,7 @@ TEST_CASE("exp_so3 is a rotation and agrees with Eigen::AngleAxisd and the refer
 
 TEST_CASE("log_so3 inverts exp_so3", "[so3]") {
   CHECK(rotation::log_so3(Eigen::Matrix3d::Identity()) == Eigen::Vector3d::Zero());
-  for (const Sample& s : rotation_vector_samples()) {
+  for (const Sample& s : so3_branch_samples()) {
     INFO(s.name << ", phi = " << s.phi.transpose());
     const Eigen::Matrix3d r = rotation::exp_so3(s.phi);
     const Eigen::Vector3d log_r = rotation::log_so3(r);
@@ -215,7 +203,7 @@ TEST_CASE("log_so3 keeps full relative accuracy at tiny angles", "[so3]") {
 }
 
 TEST_CASE("dexp is the left-trivialized differential of exp", "[so3]") {
-  for (const Sample& s : rotation_vector_samples()) {
+  for (const Sample& s : so3_branch_samples()) {
     INFO(s.name << ", phi = " << s.phi.transpose());
     const Eigen::Matrix3d r = rotation::exp_so3(s.phi);
     // ∂vec(exp(φ))/∂φ, 9×3, by central differences. h = ε^(1/3)·max(1, |φ_j|) ≤ 2e-5: the
@@ -253,7 +241,7 @@ TEST_CASE("dexp is the left-trivialized differential of exp", "[so3]") {
 TEST_CASE("dexp_inv and right_jacobian_inv invert dexp and right_jacobian", "[so3]") {
   // dexp⁻¹ blows up only at |φ| = 2π; on |φ| ≤ π its norm is ≤ 1 + π/2 + 1, so the whole
   // sample set, exact π included, is well conditioned.
-  for (const Sample& s : rotation_vector_samples()) {
+  for (const Sample& s : so3_branch_samples()) {
     INFO(s.name << ", phi = " << s.phi.transpose());
     const double scale = std::max(1.0, s.phi.norm());
     const Eigen::Matrix3d j_left_inv = rotation::dexp_inv(s.phi);

@@ -20,8 +20,9 @@
 #include "scene/calculix_matrices.hpp"
 #include "scene/nodal_mass_lumping.hpp"
 
+namespace flexref {
+
 namespace fs = std::filesystem;
-using namespace flexref;
 using Catch::Matchers::Contains;
 
 namespace {
@@ -319,3 +320,5 @@ TEST_CASE("scalar mass matrix: M0 of M0 ⊗ I₃ and the anisotropy of anything 
   (void)scene::scalar_mass_matrix(M.sparseView(), anisotropy);
   CHECK(anisotropy == Approx(0.1 / 2.0));
 }
+
+}  // namespace flexref

@@ -12,10 +12,12 @@
 #include "rotation/euler_parameters.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/trajectory_table.hpp"
-#include "tests/support/input_error_checks.hpp"
+#include "tests/support/scene_error_checks.hpp"
 
 namespace flexref::app {
 namespace {
+
+using testing::require_scene_error;
 
 using Catch::Matchers::Contains;
 
@@ -37,13 +39,6 @@ const std::string kHead =
     "inertia = [0.5, 0.5, 0.5]\n"
     "position = [0, 0, 3]\n";
 constexpr int kFirst = 16;  // line of the first added line
-
-void require_error(const std::string& text, int line, const std::string& key,
-                   const std::string& fragment) {
-  flexref::testing::require_input_error(
-      [](const std::string& t, const std::string& file) { return scene::parse_scene(t, file); },
-      "parse_scene", text, line, key, fragment);
-}
 
 template <class T>
 const T& element(const scene::Scene& scene, int index) {
@@ -194,90 +189,95 @@ TEST_CASE("every contact key is read", "[app][scene][contact]") {
 TEST_CASE("contact errors name file, line and key", "[app][scene][contact]") {
   const int l = kFirst;  // [[contact]] header
   SECTION("unknown key, kind, law") {
-    require_error(kHead + kSpherePlane + "radiu = 1\n", l + 5, "contact[1].radiu", "unknown key");
-    require_error(kHead + "[[contact]]\nkind = \"box-plane\"\n", l + 1, "contact[1].kind",
-                  "sphere-plane");
-    require_error(kHead + kSpherePlane + "law = \"hertz\"\n", l + 5, "contact[1].law", "linear");
+    require_scene_error(kHead + kSpherePlane + "radiu = 1\n", l + 5, "contact[1].radiu",
+                        "unknown key");
+    require_scene_error(kHead + "[[contact]]\nkind = \"box-plane\"\n", l + 1, "contact[1].kind",
+                        "sphere-plane");
+    require_scene_error(kHead + kSpherePlane + "law = \"hertz\"\n", l + 5, "contact[1].law",
+                        "linear");
   }
   SECTION("missing and wrong keys") {
-    require_error(kHead + "[[contact]]\nbody = \"a\"\n", l, "contact[1].kind", "missing");
-    require_error(kHead + "[[contact]]\nkind = \"sphere-plane\"\nbody = \"c\"\n", l + 2,
-                  "contact[1].body", "no [[body]] named \"c\"");
-    require_error(kHead + "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\nradius = 1\n", l,
-                  "contact[1].center", "missing");
-    require_error(
+    require_scene_error(kHead + "[[contact]]\nbody = \"a\"\n", l, "contact[1].kind", "missing");
+    require_scene_error(kHead + "[[contact]]\nkind = \"sphere-plane\"\nbody = \"c\"\n", l + 2,
+                        "contact[1].body", "no [[body]] named \"c\"");
+    require_scene_error(kHead + "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\nradius = 1\n",
+                        l, "contact[1].center", "missing");
+    require_scene_error(
         kHead + "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\ncenter = [0, 0, 0]\n", l,
         "contact[1].radius", "missing");
-    require_error(kHead + kSpherePlane + "centers = [[0, 0, 0]]\n", l + 5, "contact[1].centers",
-                  "not both");
-    require_error(kHead +
-                      "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\nradius = 1\n"
-                      "centers = [[0, 0, 0], [1, 2]]\n",
-                  l + 4, "contact[1].centers", "array of");
-    require_error(kHead +
-                      "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\nradius = 1\n"
-                      "centers = []\n",
-                  l + 4, "contact[1].centers", "at least one");
-    require_error(kHead + "[[contact]]\nkind = \"point-plane\"\nbody = \"a\"\n", l,
-                  "contact[1].point", "missing");
-    require_error(kHead +
-                      "[[contact]]\nkind = \"point-plane\"\nbody = \"a\"\npoint = [0, 0, 0]\n"
-                      "radius = 1\n",
-                  l + 4, "contact[1].radius", "point-plane");
-    require_error(kHead + kSpherePlane + "body_b = \"b\"\n", l + 5, "contact[1].body_b",
-                  "sphere-sphere");
-    require_error(kHead + "[[contact]]\nkind = \"sphere-sphere\"\nbody = \"a\"\nbody_b = \"a\"\n",
-                  l + 3, "contact[1].body_b", "two different bodies");
-    require_error(kHead +
-                      "[[contact]]\nkind = \"sphere-sphere\"\nbody = \"a\"\nbody_b = \"b\"\n"
-                      "center = [0, 0, 0]\nradius = 1\ncenter_b = [0, 0, 0]\nradius_b = 1\n"
-                      "plane_normal = [0, 0, 1]\n",
-                  l + 8, "contact[1].plane_normal", "sphere-plane");
+    require_scene_error(kHead + kSpherePlane + "centers = [[0, 0, 0]]\n", l + 5,
+                        "contact[1].centers", "not both");
+    require_scene_error(kHead +
+                            "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\nradius = 1\n"
+                            "centers = [[0, 0, 0], [1, 2]]\n",
+                        l + 4, "contact[1].centers", "array of");
+    require_scene_error(kHead +
+                            "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\nradius = 1\n"
+                            "centers = []\n",
+                        l + 4, "contact[1].centers", "at least one");
+    require_scene_error(kHead + "[[contact]]\nkind = \"point-plane\"\nbody = \"a\"\n", l,
+                        "contact[1].point", "missing");
+    require_scene_error(kHead +
+                            "[[contact]]\nkind = \"point-plane\"\nbody = \"a\"\npoint = [0, 0, 0]\n"
+                            "radius = 1\n",
+                        l + 4, "contact[1].radius", "point-plane");
+    require_scene_error(kHead + kSpherePlane + "body_b = \"b\"\n", l + 5, "contact[1].body_b",
+                        "sphere-sphere");
+    require_scene_error(
+        kHead + "[[contact]]\nkind = \"sphere-sphere\"\nbody = \"a\"\nbody_b = \"a\"\n", l + 3,
+        "contact[1].body_b", "two different bodies");
+    require_scene_error(kHead +
+                            "[[contact]]\nkind = \"sphere-sphere\"\nbody = \"a\"\nbody_b = \"b\"\n"
+                            "center = [0, 0, 0]\nradius = 1\ncenter_b = [0, 0, 0]\nradius_b = 1\n"
+                            "plane_normal = [0, 0, 1]\n",
+                        l + 8, "contact[1].plane_normal", "sphere-plane");
   }
   SECTION("plane normal") {
-    require_error(kHead + kSpherePlane + "plane_normal = [0, 0, 2]\n", l + 5,
-                  "contact[1].plane_normal", "norm 1 within 1e-6");
-    require_error(kHead + kSpherePlane + "plane_normal = [0, 0]\n", l + 5,
-                  "contact[1].plane_normal", "plane");
+    require_scene_error(kHead + kSpherePlane + "plane_normal = [0, 0, 2]\n", l + 5,
+                        "contact[1].plane_normal", "norm 1 within 1e-6");
+    require_scene_error(kHead + kSpherePlane + "plane_normal = [0, 0]\n", l + 5,
+                        "contact[1].plane_normal", "plane");
   }
   SECTION("numbers out of range") {
-    require_error(kHead +
-                      "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\ncenter = [0, 0, 0]\n"
-                      "radius = -1\n",
-                  l + 4, "contact[1].radius", "radius >= 0");
-    require_error(kHead +
-                      "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\n"
-                      "center = [0, 0, 1e400]\nradius = 1\n",
-                  l + 3, "contact[1].center", "center");
+    require_scene_error(
+        kHead +
+            "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\ncenter = [0, 0, 0]\n"
+            "radius = -1\n",
+        l + 4, "contact[1].radius", "radius >= 0");
+    require_scene_error(kHead +
+                            "[[contact]]\nkind = \"sphere-plane\"\nbody = \"a\"\n"
+                            "center = [0, 0, 1e400]\nradius = 1\n",
+                        l + 3, "contact[1].center", "center");
   }
   SECTION("law parameters") {
-    require_error(kHead + kSpherePlane + "stiffness = -1\n", l + 5, "contact[1].stiffness",
-                  "positive stiffness");
-    require_error(kHead + kSpherePlane + "stiffness = inf\n", l + 5, "contact[1].stiffness",
-                  "stiffness");
-    require_error(kHead + kSpherePlane + "exponent = 0.5\n", l + 5, "contact[1].exponent", ">= 1");
-    require_error(kHead + kSpherePlane + "restitution = 1.5\n", l + 5, "contact[1].restitution",
-                  "(0, 1]");
-    require_error(kHead + kSpherePlane + "restitution = 0\n", l + 5, "contact[1].restitution",
-                  "(0, 1]");
-    require_error(kHead + kSpherePlane + "reference_speed = 0\n", l + 5,
-                  "contact[1].reference_speed", "positive");
-    require_error(kHead + kSpherePlane + "damping = 3\n", l + 5, "contact[1].damping",
-                  "law = \"linear\"");
-    require_error(kHead + kSpherePlane + "law = \"linear\"\nexponent = 2\n", l + 6,
-                  "contact[1].exponent", "hunt-crossley");
-    require_error(kHead + kSpherePlane + "law = \"linear\"\ndamping = 1\nrestitution = 0.5\n",
-                  l + 6, "contact[1].damping", "not both");
-    require_error(kHead + kSpherePlane + "law = \"linear\"\ndamping = -1\n", l + 6,
-                  "contact[1].damping", ">= 0");
-    require_error(kHead + kSpherePlane + "friction = -0.1\n", l + 5, "contact[1].friction",
-                  "friction");
-    require_error(kHead + kSpherePlane + "regularization_speed = 0\n", l + 5,
-                  "contact[1].regularization_speed", "positive");
-    require_error(kHead + kSpherePlane + "effective_mass = 0\n", l + 5, "contact[1].effective_mass",
-                  "positive");
-    require_error(kHead + kSpherePlane + "friction = \"high\"\n", l + 5, "contact[1].friction",
-                  "a string");
+    require_scene_error(kHead + kSpherePlane + "stiffness = -1\n", l + 5, "contact[1].stiffness",
+                        "positive stiffness");
+    require_scene_error(kHead + kSpherePlane + "stiffness = inf\n", l + 5, "contact[1].stiffness",
+                        "stiffness");
+    require_scene_error(kHead + kSpherePlane + "exponent = 0.5\n", l + 5, "contact[1].exponent",
+                        ">= 1");
+    require_scene_error(kHead + kSpherePlane + "restitution = 1.5\n", l + 5,
+                        "contact[1].restitution", "(0, 1]");
+    require_scene_error(kHead + kSpherePlane + "restitution = 0\n", l + 5, "contact[1].restitution",
+                        "(0, 1]");
+    require_scene_error(kHead + kSpherePlane + "reference_speed = 0\n", l + 5,
+                        "contact[1].reference_speed", "positive");
+    require_scene_error(kHead + kSpherePlane + "damping = 3\n", l + 5, "contact[1].damping",
+                        "law = \"linear\"");
+    require_scene_error(kHead + kSpherePlane + "law = \"linear\"\nexponent = 2\n", l + 6,
+                        "contact[1].exponent", "hunt-crossley");
+    require_scene_error(kHead + kSpherePlane + "law = \"linear\"\ndamping = 1\nrestitution = 0.5\n",
+                        l + 6, "contact[1].damping", "not both");
+    require_scene_error(kHead + kSpherePlane + "law = \"linear\"\ndamping = -1\n", l + 6,
+                        "contact[1].damping", ">= 0");
+    require_scene_error(kHead + kSpherePlane + "friction = -0.1\n", l + 5, "contact[1].friction",
+                        "friction");
+    require_scene_error(kHead + kSpherePlane + "regularization_speed = 0\n", l + 5,
+                        "contact[1].regularization_speed", "positive");
+    require_scene_error(kHead + kSpherePlane + "effective_mass = 0\n", l + 5,
+                        "contact[1].effective_mass", "positive");
+    require_scene_error(kHead + kSpherePlane + "friction = \"high\"\n", l + 5,
+                        "contact[1].friction", "a string");
   }
 }
 
@@ -355,33 +355,37 @@ TEST_CASE("every joint key is read", "[app][scene][joint]") {
 
 TEST_CASE("joint errors name file, line and key", "[app][scene][joint]") {
   const int l = kFirst;
-  require_error(kHead + kRevolute + "axis = [0, 0, 1]\n", l + 8, "joint[1].axis", "unknown key");
-  require_error(kHead + "[[joint]]\nkind = \"prismatic\"\n", l + 1, "joint[1].kind", "revolute");
-  require_error(kHead + "[[joint]]\nkind = \"spherical\"\nbody_a = \"ground\"\n", l + 2,
-                "joint[1].body_a", "no [[body]] named \"ground\"");
-  require_error(kHead + "[[joint]]\nkind = \"spherical\"\nbody_a = \"a\"\nbody_b = \"a\"\n", l + 3,
-                "joint[1].body_b", "two different bodies");
-  require_error(kHead + "[[joint]]\nkind = \"spherical\"\nbody_a = \"a\"\nbody_b = \"ground\"\n", l,
-                "joint[1].point_a", "missing");
-  require_error(kHead +
-                    "[[joint]]\nkind = \"spherical\"\nbody_a = \"a\"\nbody_b = \"b\"\n"
-                    "point_a = [0, 0, 0]\npoint_b = [0, 0, 0]\naxis_a = [0, 0, 1]\n",
-                l + 6, "joint[1].axis_a", "revolute");
-  require_error(kHead +
-                    "[[joint]]\nkind = \"revolute\"\nbody_a = \"a\"\nbody_b = \"b\"\n"
-                    "point_a = [0, 0, 0]\npoint_b = [0, 0, 0]\naxis_a = [0, 0, 1]\n",
-                l, "joint[1].axis_b", "missing");
-  require_error(kHead + kRevolute + "stiffness = -1\n", l + 8, "joint[1].stiffness", "positive");
-  require_error(kHead + kRevolute + "damping = nan\n", l + 8, "joint[1].damping", "damping");
-  require_error(kHead + kRevolute + "angular_stiffness = -1\n", l + 8, "joint[1].angular_stiffness",
-                ">= 0");
-  require_error(kHead + kRevolute + "angular_damping = -1\n", l + 8, "joint[1].angular_damping",
-                ">= 0");
-  require_error(kHead +
-                    "[[joint]]\nkind = \"revolute\"\nbody_a = \"a\"\nbody_b = \"b\"\n"
-                    "point_a = [0, 0, 0]\npoint_b = [0, 0, 0]\naxis_a = [0, 0, 0.5]\n"
-                    "axis_b = [0, 0, 1]\n",
-                l + 6, "joint[1].axis_a", "norm 1 within 1e-6");
+  require_scene_error(kHead + kRevolute + "axis = [0, 0, 1]\n", l + 8, "joint[1].axis",
+                      "unknown key");
+  require_scene_error(kHead + "[[joint]]\nkind = \"prismatic\"\n", l + 1, "joint[1].kind",
+                      "revolute");
+  require_scene_error(kHead + "[[joint]]\nkind = \"spherical\"\nbody_a = \"ground\"\n", l + 2,
+                      "joint[1].body_a", "no [[body]] named \"ground\"");
+  require_scene_error(kHead + "[[joint]]\nkind = \"spherical\"\nbody_a = \"a\"\nbody_b = \"a\"\n",
+                      l + 3, "joint[1].body_b", "two different bodies");
+  require_scene_error(
+      kHead + "[[joint]]\nkind = \"spherical\"\nbody_a = \"a\"\nbody_b = \"ground\"\n", l,
+      "joint[1].point_a", "missing");
+  require_scene_error(kHead +
+                          "[[joint]]\nkind = \"spherical\"\nbody_a = \"a\"\nbody_b = \"b\"\n"
+                          "point_a = [0, 0, 0]\npoint_b = [0, 0, 0]\naxis_a = [0, 0, 1]\n",
+                      l + 6, "joint[1].axis_a", "revolute");
+  require_scene_error(kHead +
+                          "[[joint]]\nkind = \"revolute\"\nbody_a = \"a\"\nbody_b = \"b\"\n"
+                          "point_a = [0, 0, 0]\npoint_b = [0, 0, 0]\naxis_a = [0, 0, 1]\n",
+                      l, "joint[1].axis_b", "missing");
+  require_scene_error(kHead + kRevolute + "stiffness = -1\n", l + 8, "joint[1].stiffness",
+                      "positive");
+  require_scene_error(kHead + kRevolute + "damping = nan\n", l + 8, "joint[1].damping", "damping");
+  require_scene_error(kHead + kRevolute + "angular_stiffness = -1\n", l + 8,
+                      "joint[1].angular_stiffness", ">= 0");
+  require_scene_error(kHead + kRevolute + "angular_damping = -1\n", l + 8,
+                      "joint[1].angular_damping", ">= 0");
+  require_scene_error(kHead +
+                          "[[joint]]\nkind = \"revolute\"\nbody_a = \"a\"\nbody_b = \"b\"\n"
+                          "point_a = [0, 0, 0]\npoint_b = [0, 0, 0]\naxis_a = [0, 0, 0.5]\n"
+                          "axis_b = [0, 0, 1]\n",
+                      l + 6, "joint[1].axis_a", "norm 1 within 1e-6");
 }
 
 TEST_CASE("bundled contact scenes read into the expected elements", "[app][scene][contact]") {

@@ -18,19 +18,14 @@
 #include "scene/scene_reader.hpp"
 #include "studies/trajectory_table.hpp"
 #include "tests/support/flexible_models.hpp"
-#include "tests/support/input_error_checks.hpp"
+#include "tests/support/scene_error_checks.hpp"
 
 namespace flexref::app {
 namespace {
 
-using Catch::Matchers::Contains;
+using testing::require_scene_error;
 
-void require_error(const std::string& text, int line, const std::string& key,
-                   const std::string& fragment = "") {
-  flexref::testing::require_input_error(
-      [](const std::string& t, const std::string& file) { return scene::parse_scene(t, file); },
-      "parse_scene", text, line, key, fragment);
-}
+using Catch::Matchers::Contains;
 
 std::string replace(std::string text, const std::string& from, const std::string& to) {
   const auto at = text.find(from);
@@ -39,7 +34,7 @@ std::string replace(std::string text, const std::string& from, const std::string
 }
 
 // Lines 1-4.
-const std::string kScene =
+const std::string kFlexibleSceneHead =
     "[scene]\n"
     "name = \"t\"\n"
     "end_time = 1.0\n"
@@ -62,7 +57,7 @@ const std::string kBeam =
     "modes = 2\n";
 
 std::string flexible(const std::string& body_extra = "", const std::string& beam_extra = "") {
-  return kScene + kHub + body_extra + kBeam + beam_extra;
+  return kFlexibleSceneHead + kHub + body_extra + kBeam + beam_extra;
 }
 
 // Accelerations at the initial state.
@@ -221,7 +216,7 @@ TEST_CASE("flexible body keys", "[app][scene][flexible]") {
     CHECK((deformed - undeformed).norm() > 1e-3);
   }
   SECTION("prescribed motion: no hub, axis renormalized within 1e-6, spin-up law") {
-    const std::string text = kScene +
+    const std::string text = kFlexibleSceneHead +
                              "[[body]]\nname = \"f\"\nmotion = \"prescribed\"\n"
                              "prescribed = { axis = [0, 0, 1.0000001], law = \"spin-up\", rate = "
                              "2, spin_up_time = 15 }\n" +
@@ -272,7 +267,8 @@ TEST_CASE("modal = \"file.toml\" is read relative to the scene", "[app][scene][f
   p.EI_y = p.EI_z = 3.2;
   const flexible::ModalData data = flexible::make_beam_modal_data(p, 3);
   scene::write_modal_data(data, (dir / "sub" / "m.toml").string());
-  const std::string body = kScene + kHub + "points = [{ name = \"tip\", node = \"node4\" }]\n";
+  const std::string body =
+      kFlexibleSceneHead + kHub + "points = [{ name = \"tip\", node = \"node4\" }]\n";
 
   SECTION("a good file") {
     write_text(dir / "scene.toml", body + "modal = \"sub/m.toml\"\n");
@@ -314,105 +310,114 @@ TEST_CASE("modal = \"file.toml\" is read relative to the scene", "[app][scene][f
 TEST_CASE("bad flexible input is an InputError naming file, line and key",
           "[app][scene][flexible]") {
   SECTION("missing key") {
-    require_error(replace(flexible(), "length = 1.0\n", ""), 9, "body[1].beam.length",
-                  "required key is missing");
-    require_error(replace(flexible(), "EI = 3.2\n", ""), 9, "body[1].beam.EI", "or EI_y and EI_z");
-    require_error(replace(flexible(), "EI = 3.2\n", "EI_y = 3.2\n"), 9, "body[1].beam.EI_z",
-                  "required key is missing");
-    require_error(flexible("motion = \"prescribed\"\n"), 5, "body[1].prescribed",
-                  "required table is missing");
-    require_error(flexible("motion = \"prescribed\"\n"
-                           "prescribed = { law = \"constant-rate\", rate = 1 }\n"),
-                  10, "body[1].prescribed.axis", "required key is missing");
-    require_error(flexible("motion = \"prescribed\"\n"
-                           "prescribed = { axis = [0, 0, 1], law = \"spin-up\", rate = 1 }\n"),
-                  10, "body[1].prescribed.spin_up_time", "positive spin-up time");
+    require_scene_error(replace(flexible(), "length = 1.0\n", ""), 9, "body[1].beam.length",
+                        "required key is missing");
+    require_scene_error(replace(flexible(), "EI = 3.2\n", ""), 9, "body[1].beam.EI",
+                        "or EI_y and EI_z");
+    require_scene_error(replace(flexible(), "EI = 3.2\n", "EI_y = 3.2\n"), 9, "body[1].beam.EI_z",
+                        "required key is missing");
+    require_scene_error(flexible("motion = \"prescribed\"\n"), 5, "body[1].prescribed",
+                        "required table is missing");
+    require_scene_error(flexible("motion = \"prescribed\"\n"
+                                 "prescribed = { law = \"constant-rate\", rate = 1 }\n"),
+                        10, "body[1].prescribed.axis", "required key is missing");
+    require_scene_error(
+        flexible("motion = \"prescribed\"\n"
+                 "prescribed = { axis = [0, 0, 1], law = \"spin-up\", rate = 1 }\n"),
+        10, "body[1].prescribed.spin_up_time", "positive spin-up time");
   }
   SECTION("wrong type") {
-    require_error(replace(flexible(), "elements = 4\n", "elements = 1.5\n"), 11,
-                  "body[1].beam.elements", "got 1.5 (a number)");
-    require_error(replace(flexible(), "modes = 2\n", "modes = \"2\"\n"), 15, "body[1].beam.modes",
-                  "positive integer mode count");
-    require_error(flexible("", "families = \"axial\"\n"), 16, "body[1].beam.families",
-                  "got \"axial\" (a string)");
-    require_error(kScene + kHub + "beam = 1.0\n", 9, "body[1].beam", "got 1.0 (a number)");
-    require_error(kScene + kHub + "modal = 1\n", 9, "body[1].modal", "path of a modal-data file");
-    require_error(flexible("q0 = [0.1, \"x\"]\n"), 9, "body[1].q0", "got \"x\" (a string)");
+    require_scene_error(replace(flexible(), "elements = 4\n", "elements = 1.5\n"), 11,
+                        "body[1].beam.elements", "got 1.5 (a number)");
+    require_scene_error(replace(flexible(), "modes = 2\n", "modes = \"2\"\n"), 15,
+                        "body[1].beam.modes", "positive integer mode count");
+    require_scene_error(flexible("", "families = \"axial\"\n"), 16, "body[1].beam.families",
+                        "got \"axial\" (a string)");
+    require_scene_error(kFlexibleSceneHead + kHub + "beam = 1.0\n", 9, "body[1].beam",
+                        "got 1.0 (a number)");
+    require_scene_error(kFlexibleSceneHead + kHub + "modal = 1\n", 9, "body[1].modal",
+                        "path of a modal-data file");
+    require_scene_error(flexible("q0 = [0.1, \"x\"]\n"), 9, "body[1].q0", "got \"x\" (a string)");
   }
   SECTION("bad values") {
-    require_error(flexible("", "families = [\"bending-xy\", \"twist\"]\n"), 16,
-                  "body[1].beam.families", "got \"twist\" (a string)");
-    require_error(flexible("", "families = [\"torsion\"]\n"), 16, "body[1].beam.families",
-                  "torsion modes do not move the beam axis");
-    require_error(flexible("", "families = [\"axial\", \"axial\"]\n"), 16, "body[1].beam.families",
-                  "listed twice");
-    require_error(flexible("", "boundary = \"pinned\"\n"), 16, "body[1].beam.boundary",
-                  "\"clamped-free\", \"free-free\"");
-    require_error(flexible("", "geometric_stiffening = \"yes\"\n"), 16,
-                  "body[1].beam.geometric_stiffening", "true or false");
-    require_error(flexible("", "boundary = \"free-free\"\ngeometric_stiffening = true\n"), 17,
-                  "body[1].beam.geometric_stiffening", "clamped-free");
-    require_error(replace(flexible(), "elements = 4\n", "elements = 0\n"), 11,
-                  "body[1].beam.elements", "1 to 500");
-    require_error(replace(flexible(), "EA = 1e5\n", "EA = -1\n"), 12, "body[1].beam.EA",
-                  "positive axial stiffness");
-    require_error(replace(flexible(), "modes = 2\n", "modes = 100\n"), 15, "body[1].beam.modes",
-                  "cannot make the beam's modal data");
-    require_error(flexible("", "EI_y = 1.0\n"), 16, "body[1].beam.EI_y", "either EI or EI_y");
-    require_error(flexible("", "damping_ratio = -0.1\n"), 16, "body[1].beam.damping_ratio",
-                  "damping ratio >= 0");
-    require_error(flexible("", "damping_ratio = [0.1]\n"), 16, "body[1].beam.damping_ratio",
-                  "an array of 2");
-    require_error(flexible("", "colour = 1\n"), 16, "body[1].beam.colour", "unknown key");
+    require_scene_error(flexible("", "families = [\"bending-xy\", \"twist\"]\n"), 16,
+                        "body[1].beam.families", "got \"twist\" (a string)");
+    require_scene_error(flexible("", "families = [\"torsion\"]\n"), 16, "body[1].beam.families",
+                        "torsion modes do not move the beam axis");
+    require_scene_error(flexible("", "families = [\"axial\", \"axial\"]\n"), 16,
+                        "body[1].beam.families", "listed twice");
+    require_scene_error(flexible("", "boundary = \"pinned\"\n"), 16, "body[1].beam.boundary",
+                        "\"clamped-free\", \"free-free\"");
+    require_scene_error(flexible("", "geometric_stiffening = \"yes\"\n"), 16,
+                        "body[1].beam.geometric_stiffening", "true or false");
+    require_scene_error(flexible("", "boundary = \"free-free\"\ngeometric_stiffening = true\n"), 17,
+                        "body[1].beam.geometric_stiffening", "clamped-free");
+    require_scene_error(replace(flexible(), "elements = 4\n", "elements = 0\n"), 11,
+                        "body[1].beam.elements", "1 to 500");
+    require_scene_error(replace(flexible(), "EA = 1e5\n", "EA = -1\n"), 12, "body[1].beam.EA",
+                        "positive axial stiffness");
+    require_scene_error(replace(flexible(), "modes = 2\n", "modes = 100\n"), 15,
+                        "body[1].beam.modes", "cannot make the beam's modal data");
+    require_scene_error(flexible("", "EI_y = 1.0\n"), 16, "body[1].beam.EI_y", "either EI or EI_y");
+    require_scene_error(flexible("", "damping_ratio = -0.1\n"), 16, "body[1].beam.damping_ratio",
+                        "damping ratio >= 0");
+    require_scene_error(flexible("", "damping_ratio = [0.1]\n"), 16, "body[1].beam.damping_ratio",
+                        "an array of 2");
+    require_scene_error(flexible("", "colour = 1\n"), 16, "body[1].beam.colour", "unknown key");
   }
   SECTION("unknown node names and node points on rigid bodies") {
-    require_error(flexible("points = [{ name = \"tip\", node = \"node9\" }]\n"), 9,
-                  "body[1].points[1].node", "no node named \"node9\"");
-    require_error(flexible("points = [{ name = \"tip\", node = \"node4\", at = [1, 0, 0] }]\n"), 9,
-                  "body[1].points[1].at", "either at or node");
-    require_error(kScene + kHub + "points = [{ name = \"p\", node = \"node1\" }]\n", 9,
-                  "body[1].points[1].node", "applies only to flexible bodies");
+    require_scene_error(flexible("points = [{ name = \"tip\", node = \"node9\" }]\n"), 9,
+                        "body[1].points[1].node", "no node named \"node9\"");
+    require_scene_error(
+        flexible("points = [{ name = \"tip\", node = \"node4\", at = [1, 0, 0] }]\n"), 9,
+        "body[1].points[1].at", "either at or node");
+    require_scene_error(
+        kFlexibleSceneHead + kHub + "points = [{ name = \"p\", node = \"node1\" }]\n", 9,
+        "body[1].points[1].node", "applies only to flexible bodies");
   }
   SECTION("initial modal coordinates") {
-    require_error(flexible("q0 = [0.1]\n"), 9, "body[1].q0", "an array of 2");
-    require_error(flexible("qd0 = [0.1, 0.2, 0.3]\n"), 9, "body[1].qd0", "an array of 2");
-    require_error(kScene + kHub + "q0 = [0.1]\n", 9, "body[1].q0",
-                  "applies only to flexible bodies");
+    require_scene_error(flexible("q0 = [0.1]\n"), 9, "body[1].q0", "an array of 2");
+    require_scene_error(flexible("qd0 = [0.1, 0.2, 0.3]\n"), 9, "body[1].qd0", "an array of 2");
+    require_scene_error(kFlexibleSceneHead + kHub + "q0 = [0.1]\n", 9, "body[1].q0",
+                        "applies only to flexible bodies");
   }
   SECTION("hub mass and inertia") {
-    require_error(kScene + "[[body]]\nname = \"b\"\nmass = 0\ninertia = [1, 1, 1]\n", 7,
-                  "body[1].mass", "allowed only for the hub of a flexible body");
-    require_error(kScene + "[[body]]\nname = \"f\"\nmass = 0.0\ninertia = [1, 1, 1]\n" + kBeam, 8,
-                  "body[1].inertia", "no inertia with mass = 0");
-    require_error(kScene + "[[body]]\nname = \"f\"\nmass = -1.0\n" + kBeam, 7, "body[1].mass",
-                  "hub mass >= 0");
+    require_scene_error(
+        kFlexibleSceneHead + "[[body]]\nname = \"b\"\nmass = 0\ninertia = [1, 1, 1]\n", 7,
+        "body[1].mass", "allowed only for the hub of a flexible body");
+    require_scene_error(
+        kFlexibleSceneHead + "[[body]]\nname = \"f\"\nmass = 0.0\ninertia = [1, 1, 1]\n" + kBeam, 8,
+        "body[1].inertia", "no inertia with mass = 0");
+    require_scene_error(kFlexibleSceneHead + "[[body]]\nname = \"f\"\nmass = -1.0\n" + kBeam, 7,
+                        "body[1].mass", "hub mass >= 0");
     // A free beam without hub has no inertia about its own axis.
-    require_error(kScene + "[[body]]\nname = \"f\"\n" + kBeam, 5, "body[1].mass", "add a hub");
+    require_scene_error(kFlexibleSceneHead + "[[body]]\nname = \"f\"\n" + kBeam, 5, "body[1].mass",
+                        "add a hub");
   }
   SECTION("prescribed motion") {
-    require_error(kScene +
-                      "[[body]]\nname = \"b\"\nmass = 1\ninertia = [1, 1, 1]\n"
-                      "motion = \"prescribed\"\n",
-                  9, "body[1].motion", "applies only to flexible bodies");
+    require_scene_error(kFlexibleSceneHead +
+                            "[[body]]\nname = \"b\"\nmass = 1\ninertia = [1, 1, 1]\n"
+                            "motion = \"prescribed\"\n",
+                        9, "body[1].motion", "applies only to flexible bodies");
     const std::string law = "prescribed = { axis = [0, 0, 1], law = \"constant-rate\", rate = 3";
-    require_error(flexible("motion = \"prescribed\"\n" + law + ", spin_up_time = 1 }\n"), 10,
-                  "body[1].prescribed.spin_up_time", "applies only to law = \"spin-up\"");
-    require_error(flexible("motion = \"prescribed\"\nprescribed = { axis = [0, 0, 2], law = "
-                           "\"constant-rate\", rate = 3 }\n"),
-                  10, "body[1].prescribed.axis", "got norm 2");
-    require_error(flexible("motion = \"prescribed\"\nprescribed = { axis = [0, 0, 1], law = "
-                           "\"spin\", rate = 3 }\n"),
-                  10, "body[1].prescribed.law", "\"constant-rate\", \"spin-up\"");
-    require_error(flexible(law + " }\n"), 9, "body[1].prescribed",
-                  "applies only to motion = \"prescribed\"");
-    require_error(
+    require_scene_error(flexible("motion = \"prescribed\"\n" + law + ", spin_up_time = 1 }\n"), 10,
+                        "body[1].prescribed.spin_up_time", "applies only to law = \"spin-up\"");
+    require_scene_error(flexible("motion = \"prescribed\"\nprescribed = { axis = [0, 0, 2], law = "
+                                 "\"constant-rate\", rate = 3 }\n"),
+                        10, "body[1].prescribed.axis", "got norm 2");
+    require_scene_error(flexible("motion = \"prescribed\"\nprescribed = { axis = [0, 0, 1], law = "
+                                 "\"spin\", rate = 3 }\n"),
+                        10, "body[1].prescribed.law", "\"constant-rate\", \"spin-up\"");
+    require_scene_error(flexible(law + " }\n"), 9, "body[1].prescribed",
+                        "applies only to motion = \"prescribed\"");
+    require_scene_error(
         flexible("motion = \"prescribed\"\n" + law + " }\nangular_velocity = [0, 0, 1]\n"), 11,
         "body[1].angular_velocity", "follows from its law");
-    require_error(flexible("motion = \"prescribed\"\n" + law + " }\nvelocity = [1, 0, 0]\n"), 11,
-                  "body[1].velocity", "frame origin is fixed");
+    require_scene_error(flexible("motion = \"prescribed\"\n" + law + " }\nvelocity = [1, 0, 0]\n"),
+                        11, "body[1].velocity", "frame origin is fixed");
   }
   SECTION("beam and modal together") {
-    require_error(flexible("modal = \"m.toml\"\n"), 9, "body[1].modal", "not both");
+    require_scene_error(flexible("modal = \"m.toml\"\n"), 9, "body[1].modal", "not both");
   }
 }
 
@@ -423,10 +428,11 @@ TEST_CASE("gravity on a flexible body loads its modes", "[app][scene][flexible]"
   // difference between the nodes' g and the frame's acceleration: zero for translation. The
   // rotation rows see the torque of gravity about the undeformed centre of mass: zero. So the
   // modal accelerations vanish to round-off, while the frame falls with g.
-  const scene::Scene s = scene::parse_scene(
-      replace(kScene, "output_step = 0.1\n", "output_step = 0.1\ngravity = [0, 0, -9.81]\n") +
-          kHub + kBeam + "families = [\"bending-xz\"]\n",
-      "g.toml");
+  const scene::Scene s =
+      scene::parse_scene(replace(kFlexibleSceneHead, "output_step = 0.1\n",
+                                 "output_step = 0.1\ngravity = [0, 0, -9.81]\n") +
+                             kHub + kBeam + "families = [\"bending-xz\"]\n",
+                         "g.toml");
   const core::Accelerations acc = initial_accelerations(*s.model);
   CHECK(acc[0].a_WBr.isApprox(Eigen::Vector3d(0.0, 0.0, -9.81), 1e-12));
   // Round-off: terms of size g·μ with unit modal masses, ~1e-15·10.

@@ -74,8 +74,8 @@ std::string without(int first, int last) {
 
 // parse_modal_data(text) throws an InputError for "bad.toml" at `line` naming `key`, with
 // the file, line and key in what() and, when given, `fragment` too.
-void require_error(const std::string& text, int line, const std::string& key,
-                   const std::string& fragment = "") {
+void require_modal_data_error(const std::string& text, int line, const std::string& key,
+                              const std::string& fragment = "") {
   flexref::testing::require_input_error(
       [](const std::string& t, const std::string& file) {
         return scene::parse_modal_data(t, file);
@@ -190,73 +190,89 @@ TEST_CASE("unwritable data is refused", "[app][modal]") {
 }
 
 TEST_CASE("bad files: syntax, header and top-level keys", "[app][modal]") {
-  require_error(with({{5, R"(  { name = "mid", mass = , position = [0.5, 0.0, 0.0] },)"}}), 5, "",
-                "TOML syntax error");
-  require_error(without(1, 1), 1, "format", "required key is missing");
-  require_error(with({{1, R"(format = "flexref-scene")"}}), 1, "format", "modal-data file");
-  require_error(with({{2, R"(version = 2)"}}), 2, "version", "unsupported version");
-  require_error(with({{2, R"(version = "1")"}}), 2, "version", "a string");
-  require_error(with({{8, R"(colour = "red")"}}), 8, "colour", "unknown key");
-  require_error(with({{8, R"(modal_mass_tolerance = 0)"}}), 8, "modal_mass_tolerance", "> 0");
-  require_error(without(3, 7), 1, "nodes", "required key is missing");
-  require_error(without(9, 27), 1, "mode", "at least one mode");
+  require_modal_data_error(
+      with({{5, R"(  { name = "mid", mass = , position = [0.5, 0.0, 0.0] },)"}}), 5, "",
+      "TOML syntax error");
+  require_modal_data_error(without(1, 1), 1, "format", "required key is missing");
+  require_modal_data_error(with({{1, R"(format = "flexref-scene")"}}), 1, "format",
+                           "modal-data file");
+  require_modal_data_error(with({{2, R"(version = 2)"}}), 2, "version", "unsupported version");
+  require_modal_data_error(with({{2, R"(version = "1")"}}), 2, "version", "a string");
+  require_modal_data_error(with({{8, R"(colour = "red")"}}), 8, "colour", "unknown key");
+  require_modal_data_error(with({{8, R"(modal_mass_tolerance = 0)"}}), 8, "modal_mass_tolerance",
+                           "> 0");
+  require_modal_data_error(without(3, 7), 1, "nodes", "required key is missing");
+  require_modal_data_error(without(9, 27), 1, "mode", "at least one mode");
 }
 
 TEST_CASE("bad files: nodes", "[app][modal]") {
   const auto node = [](const std::string& fields) { return "  { " + fields + " },"; };
-  require_error(with({{5, node(R"(name = "mid", mass = 0.0, position = [0.5, 0.0, 0.0])")}}), 5,
-                "nodes[2].mass", "> 0");
-  require_error(with({{5, node(R"(name = "mid", mass = -1.0, position = [0.5, 0.0, 0.0])")}}), 5,
-                "nodes[2].mass", "> 0");
-  require_error(with({{5, node(R"(name = "mid", mass = inf, position = [0.5, 0.0, 0.0])")}}), 5,
-                "nodes[2].mass", "infinite and NaN values are not allowed");
-  require_error(with({{5, node(R"(name = "mid", mass = nan, position = [0.5, 0.0, 0.0])")}}), 5,
-                "nodes[2].mass", "infinite and NaN values are not allowed");
-  require_error(with({{5, node(R"(name = "mid", mass = "2", position = [0.5, 0.0, 0.0])")}}), 5,
-                "nodes[2].mass", "a string");
-  require_error(with({{5, node(R"(name = "mid", position = [0.5, 0.0, 0.0])")}}), 5,
-                "nodes[2].mass", "required key is missing");
-  require_error(with({{5, node(R"(name = "mid", mass = 2.0, position = [0.5, 0.0])")}}), 5,
-                "nodes[2].position", "[x, y, z]");
-  require_error(with({{5, node(R"(name = "mid", mass = 2.0, position = [0.5, nan, 0.0])")}}), 5,
-                "nodes[2].position", "infinite and NaN");
-  require_error(
+  require_modal_data_error(
+      with({{5, node(R"(name = "mid", mass = 0.0, position = [0.5, 0.0, 0.0])")}}), 5,
+      "nodes[2].mass", "> 0");
+  require_modal_data_error(
+      with({{5, node(R"(name = "mid", mass = -1.0, position = [0.5, 0.0, 0.0])")}}), 5,
+      "nodes[2].mass", "> 0");
+  require_modal_data_error(
+      with({{5, node(R"(name = "mid", mass = inf, position = [0.5, 0.0, 0.0])")}}), 5,
+      "nodes[2].mass", "infinite and NaN values are not allowed");
+  require_modal_data_error(
+      with({{5, node(R"(name = "mid", mass = nan, position = [0.5, 0.0, 0.0])")}}), 5,
+      "nodes[2].mass", "infinite and NaN values are not allowed");
+  require_modal_data_error(
+      with({{5, node(R"(name = "mid", mass = "2", position = [0.5, 0.0, 0.0])")}}), 5,
+      "nodes[2].mass", "a string");
+  require_modal_data_error(with({{5, node(R"(name = "mid", position = [0.5, 0.0, 0.0])")}}), 5,
+                           "nodes[2].mass", "required key is missing");
+  require_modal_data_error(with({{5, node(R"(name = "mid", mass = 2.0, position = [0.5, 0.0])")}}),
+                           5, "nodes[2].position", "[x, y, z]");
+  require_modal_data_error(
+      with({{5, node(R"(name = "mid", mass = 2.0, position = [0.5, nan, 0.0])")}}), 5,
+      "nodes[2].position", "infinite and NaN");
+  require_modal_data_error(
       with({{5, node(R"(name = "mid", mass = 2.0, position = [0.5, 0.0, 0.0], colour = 1)")}}), 5,
       "nodes[2].colour", "unknown key");
-  require_error(with({{6, node(R"(name = "mid", mass = 1.0, position = [1.0, 0.0, 0.0])")}}), 6,
-                "nodes[3].name", "duplicate node name \"mid\" (first used at line 5)");
-  require_error(with({{5, node(R"(mass = 2.0, position = [0.5, 0.0, 0.0])")}}), 5, "nodes[2]",
-                "give every node a name or none");
-  require_error(with({{5, node(R"(name = "m id", mass = 2.0, position = [0.5, 0.0, 0.0])")}}), 5,
-                "nodes[2].name", "letters, digits");
+  require_modal_data_error(
+      with({{6, node(R"(name = "mid", mass = 1.0, position = [1.0, 0.0, 0.0])")}}), 6,
+      "nodes[3].name", "duplicate node name \"mid\" (first used at line 5)");
+  require_modal_data_error(with({{5, node(R"(mass = 2.0, position = [0.5, 0.0, 0.0])")}}), 5,
+                           "nodes[2]", "give every node a name or none");
+  require_modal_data_error(
+      with({{5, node(R"(name = "m id", mass = 2.0, position = [0.5, 0.0, 0.0])")}}), 5,
+      "nodes[2].name", "letters, digits");
 }
 
 TEST_CASE("bad files: modes", "[app][modal]") {
-  require_error(with({{12, R"(damping = 0.01)"}}), 12, "mode[1].damping", "unknown key");
-  require_error(with({{11, ""}}), 9, "mode[1]", "one of stiffness");
-  require_error(with({{12, R"(stiffness = 1.0)"}}), 11, "mode[1].omega", "only one of");
-  require_error(with({{11, R"(stiffness = -1.0)"}}), 11, "mode[1].stiffness", "≥ 0");
-  require_error(with({{11, R"(omega = -2.0)"}}), 11, "mode[1].omega", "≥ 0");
-  require_error(with({{21, R"(frequency_hz = nan)"}}), 21, "mode[2].frequency_hz", "NaN");
-  require_error(with({{12, R"(damping_ratio = -0.1)"}}), 12, "mode[1].damping_ratio", "≥ 0");
-  require_error(with({{12, R"(damping_ratio = inf)"}}), 12, "mode[1].damping_ratio", "infinite");
-  require_error(with({{10, R"(name = 3)"}}), 10, "mode[1].name", "an integer");
-  require_error(with({{20, ""}}), 19, "mode[2]", "give every mode a name or none");
+  require_modal_data_error(with({{12, R"(damping = 0.01)"}}), 12, "mode[1].damping", "unknown key");
+  require_modal_data_error(with({{11, ""}}), 9, "mode[1]", "one of stiffness");
+  require_modal_data_error(with({{12, R"(stiffness = 1.0)"}}), 11, "mode[1].omega", "only one of");
+  require_modal_data_error(with({{11, R"(stiffness = -1.0)"}}), 11, "mode[1].stiffness", "≥ 0");
+  require_modal_data_error(with({{11, R"(omega = -2.0)"}}), 11, "mode[1].omega", "≥ 0");
+  require_modal_data_error(with({{21, R"(frequency_hz = nan)"}}), 21, "mode[2].frequency_hz",
+                           "NaN");
+  require_modal_data_error(with({{12, R"(damping_ratio = -0.1)"}}), 12, "mode[1].damping_ratio",
+                           "≥ 0");
+  require_modal_data_error(with({{12, R"(damping_ratio = inf)"}}), 12, "mode[1].damping_ratio",
+                           "infinite");
+  require_modal_data_error(with({{10, R"(name = 3)"}}), 10, "mode[1].name", "an integer");
+  require_modal_data_error(with({{20, ""}}), 19, "mode[2]", "give every mode a name or none");
   // Shapes: missing, wrong row count, wrong row length, non-finite or non-numeric entries.
-  require_error(without(13, 17), 9, "mode[1].shape", "required key is missing");
-  require_error(with({{13, R"(shape = 0.0)"}, {14, ""}, {15, ""}, {16, ""}, {17, ""}}), 13,
-                "mode[1].shape", "rows [ux, uy, uz]");
-  require_error(with({{16, ""}}), 13, "mode[1].shape", "got 2 rows");
-  require_error(with({{15, R"(  [0.0, 0.25],)"}}), 15, "mode[1].shape[2]", "node 2");
-  require_error(with({{15, R"(  [0.0, nan, 0.0],)"}}), 15, "mode[1].shape[2]", "NaN");
-  require_error(with({{15, R"(  [0.0, "x", 0.0],)"}}), 15, "mode[1].shape[2]", "a string");
-  require_error(with({{15, R"(  [0.0, 0.0, 0.0],)"}, {16, R"(  [0.0, 0.0, 0.0],)"}}), 13,
-                "mode[1].shape", "no displacement");
+  require_modal_data_error(without(13, 17), 9, "mode[1].shape", "required key is missing");
+  require_modal_data_error(with({{13, R"(shape = 0.0)"}, {14, ""}, {15, ""}, {16, ""}, {17, ""}}),
+                           13, "mode[1].shape", "rows [ux, uy, uz]");
+  require_modal_data_error(with({{16, ""}}), 13, "mode[1].shape", "got 2 rows");
+  require_modal_data_error(with({{15, R"(  [0.0, 0.25],)"}}), 15, "mode[1].shape[2]", "node 2");
+  require_modal_data_error(with({{15, R"(  [0.0, nan, 0.0],)"}}), 15, "mode[1].shape[2]", "NaN");
+  require_modal_data_error(with({{15, R"(  [0.0, "x", 0.0],)"}}), 15, "mode[1].shape[2]",
+                           "a string");
+  require_modal_data_error(with({{15, R"(  [0.0, 0.0, 0.0],)"}, {16, R"(  [0.0, 0.0, 0.0],)"}}), 13,
+                           "mode[1].shape", "no displacement");
   // The modal mass check, and modes that are linear combinations of others.
-  require_error(with({{22, R"(modal_mass = 1.0)"}}), 22, "mode[2].modal_mass",
-                "Σ m_k |Φ_k|² = 0.75");
-  require_error(with({{22, ""}, {25, R"(  [0.0, 0.5, 0.0],)"}, {26, R"(  [0.0, 1.0, 0.0],)"}}), 19,
-                "mode[2]", "linear combination");
+  require_modal_data_error(with({{22, R"(modal_mass = 1.0)"}}), 22, "mode[2].modal_mass",
+                           "Σ m_k |Φ_k|² = 0.75");
+  require_modal_data_error(
+      with({{22, ""}, {25, R"(  [0.0, 0.5, 0.0],)"}, {26, R"(  [0.0, 1.0, 0.0],)"}}), 19, "mode[2]",
+      "linear combination");
 }
 
 // The example with a [geometric_stiffness] section (lines 28-): its lines appended.
@@ -290,17 +306,17 @@ TEST_CASE("geometric stiffness: round trip, the documented section, bad sections
   CHECK(read.geometric->F[0].norm() == 0.0);
   CHECK_FALSE(scene::parse_modal_data(join(kExample), "g.toml").geometric.has_value());
 
-  require_error(with_geometric({"E_x = [[1.0, 0.5], [0.4, 2.0]]"}), 30, "geometric_stiffness.E_x",
-                "not symmetric");
-  require_error(with_geometric({"F_xy = [[1.0, 0.5]]"}), 30, "geometric_stiffness.F_xy",
-                "2 rows of 2 numbers");
-  require_error(with_geometric({"F_zz = [[1.0], [0.5, 2.0]]"}), 30, "geometric_stiffness.F_zz[1]",
-                "a row of 2 numbers");
-  require_error(with_geometric({"E_y = [[1.0, nan], [0.5, 2.0]]"}), 30,
-                "geometric_stiffness.E_y[1]", "NaN");
-  require_error(with_geometric({"G_xx = [[1.0, 0.0], [0.0, 2.0]]"}), 30, "geometric_stiffness.G_xx",
-                "unknown key");
-  require_error(with_geometric({}), 29, "geometric_stiffness", "no matrix given");
+  require_modal_data_error(with_geometric({"E_x = [[1.0, 0.5], [0.4, 2.0]]"}), 30,
+                           "geometric_stiffness.E_x", "not symmetric");
+  require_modal_data_error(with_geometric({"F_xy = [[1.0, 0.5]]"}), 30, "geometric_stiffness.F_xy",
+                           "2 rows of 2 numbers");
+  require_modal_data_error(with_geometric({"F_zz = [[1.0], [0.5, 2.0]]"}), 30,
+                           "geometric_stiffness.F_zz[1]", "a row of 2 numbers");
+  require_modal_data_error(with_geometric({"E_y = [[1.0, nan], [0.5, 2.0]]"}), 30,
+                           "geometric_stiffness.E_y[1]", "NaN");
+  require_modal_data_error(with_geometric({"G_xx = [[1.0, 0.0], [0.0, 2.0]]"}), 30,
+                           "geometric_stiffness.G_xx", "unknown key");
+  require_modal_data_error(with_geometric({}), 29, "geometric_stiffness", "no matrix given");
 }
 
 TEST_CASE("unreadable files name the path", "[app][modal]") {

@@ -12,10 +12,12 @@
 #include "scene/scene_reader.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/trajectory_table.hpp"
-#include "tests/support/input_error_checks.hpp"
+#include "tests/support/scene_error_checks.hpp"
 
 namespace flexref {
 namespace {
+
+using testing::require_scene_error;
 
 // Lines 1-4 [scene], 5-8 the rigid body "ball", 9-22 the flexible "tube"; additions at 23.
 const std::string kHead =
@@ -42,13 +44,6 @@ const std::string kHead =
     "rho_A = 1.0\n"
     "modes = 2\n";
 constexpr int kFirst = 23;
-
-void require_error(const std::string& text, int line, const std::string& key,
-                   const std::string& fragment) {
-  testing::require_input_error(
-      [](const std::string& t, const std::string& file) { return scene::parse_scene(t, file); },
-      "parse_scene", text, line, key, fragment);
-}
 
 const std::string kGap =
     "[[contact]]\n"
@@ -133,43 +128,47 @@ TEST_CASE("clamped-clamped and clamped-pinned beams: no displacement at the ends
 }
 
 TEST_CASE("bad node, gap-support and profile keys are refused at their line and key") {
-  require_error(kHead +
-                    "[[load]]\nkind = \"force\"\nbody = \"ball\"\nnode = \"node1\"\n"
-                    "value = [0, 1, 0]\n",
-                kFirst + 3, "load[1].node", "applies only to flexible bodies");
-  require_error(kHead +
-                    "[[load]]\nkind = \"force\"\nbody = \"tube\"\nnode = \"nodeX\"\n"
-                    "value = [0, 1, 0]\n",
-                kFirst + 3, "load[1].node", "no node named \"nodeX\"");
-  require_error(kHead +
-                    "[[load]]\nkind = \"force\"\nbody = \"tube\"\nnode = \"node1\"\n"
-                    "at = [0, 0, 0]\nvalue = [0, 1, 0]\n",
-                kFirst + 4, "load[1].at", "either at or node");
-  require_error(kHead +
-                    "[[load]]\nkind = \"force\"\nbody = \"tube\"\nvalue = [0, 1, 0]\n"
-                    "profile = { shape = \"harmonic\", frequency = 0.0 }\n",
-                kFirst + 4, "load[1].profile.frequency", "positive frequency");
-  require_error(kHead +
-                    "[[load]]\nkind = \"force\"\nbody = \"tube\"\nvalue = [0, 1, 0]\n"
-                    "profile = { shape = \"harmonic\", frequency = 1.0, duration = 1.0 }\n",
-                kFirst + 4, "load[1].profile.duration", "applies only to pulses");
-  require_error(kHead + kGap + "clearance = 0.002\n", kFirst + 8, "", "");
+  require_scene_error(kHead +
+                          "[[load]]\nkind = \"force\"\nbody = \"ball\"\nnode = \"node1\"\n"
+                          "value = [0, 1, 0]\n",
+                      kFirst + 3, "load[1].node", "applies only to flexible bodies");
+  require_scene_error(kHead +
+                          "[[load]]\nkind = \"force\"\nbody = \"tube\"\nnode = \"nodeX\"\n"
+                          "value = [0, 1, 0]\n",
+                      kFirst + 3, "load[1].node", "no node named \"nodeX\"");
+  require_scene_error(kHead +
+                          "[[load]]\nkind = \"force\"\nbody = \"tube\"\nnode = \"node1\"\n"
+                          "at = [0, 0, 0]\nvalue = [0, 1, 0]\n",
+                      kFirst + 4, "load[1].at", "either at or node");
+  require_scene_error(kHead +
+                          "[[load]]\nkind = \"force\"\nbody = \"tube\"\nvalue = [0, 1, 0]\n"
+                          "profile = { shape = \"harmonic\", frequency = 0.0 }\n",
+                      kFirst + 4, "load[1].profile.frequency", "positive frequency");
+  require_scene_error(kHead +
+                          "[[load]]\nkind = \"force\"\nbody = \"tube\"\nvalue = [0, 1, 0]\n"
+                          "profile = { shape = \"harmonic\", frequency = 1.0, duration = 1.0 }\n",
+                      kFirst + 4, "load[1].profile.duration", "applies only to pulses");
+  require_scene_error(kHead + kGap + "clearance = 0.002\n", kFirst + 8, "", "");
   std::string no_clearance = kGap;
   no_clearance.erase(no_clearance.find("clearance"));
-  require_error(kHead + no_clearance, kFirst, "contact[1].clearance", "positive radial clearance");
-  require_error(kHead + kGap + "shape = \"planar\"\nplane_normal = [1.0, 0.0, 0.0]\n", kFirst + 9,
-                "contact[1].plane_normal", "parallel to the axis");
-  require_error(kHead + kGap + "radius = 0.1\n", kFirst + 8, "contact[1].radius",
-                "does not apply to a gap support");
-  require_error(kHead + kGap + kGap, kFirst + 10, "contact[2].name", "duplicate contact name");
-  require_error(kHead +
-                    "[[contact]]\nkind = \"sphere-plane\"\nbody = \"ball\"\nnode = \"node1\"\n"
-                    "radius = 0.1\n",
-                kFirst + 3, "contact[1].node", "applies only to flexible bodies");
-  require_error(kHead +
-                    "[[contact]]\nkind = \"point-plane\"\nbody = \"ball\"\npoint = [0, 0, 0]\n"
-                    "clearance = 0.1\n",
-                kFirst + 4, "contact[1].clearance", "applies only to kind = \"gap-support\"");
+  require_scene_error(kHead + no_clearance, kFirst, "contact[1].clearance",
+                      "positive radial clearance");
+  require_scene_error(kHead + kGap + "shape = \"planar\"\nplane_normal = [1.0, 0.0, 0.0]\n",
+                      kFirst + 9, "contact[1].plane_normal", "parallel to the axis");
+  require_scene_error(kHead + kGap + "radius = 0.1\n", kFirst + 8, "contact[1].radius",
+                      "does not apply to a gap support");
+  require_scene_error(kHead + kGap + kGap, kFirst + 10, "contact[2].name",
+                      "duplicate contact name");
+  require_scene_error(
+      kHead +
+          "[[contact]]\nkind = \"sphere-plane\"\nbody = \"ball\"\nnode = \"node1\"\n"
+          "radius = 0.1\n",
+      kFirst + 3, "contact[1].node", "applies only to flexible bodies");
+  require_scene_error(
+      kHead +
+          "[[contact]]\nkind = \"point-plane\"\nbody = \"ball\"\npoint = [0, 0, 0]\n"
+          "clearance = 0.1\n",
+      kFirst + 4, "contact[1].clearance", "applies only to kind = \"gap-support\"");
 }
 
 TEST_CASE("the wear metric is the relative error of each contact's final wear work") {

@@ -15,8 +15,7 @@
 
 #include "core/error.hpp"
 
-using namespace flexref;
-using namespace flexref::studies;
+namespace flexref::studies {
 
 namespace {
 
@@ -90,3 +89,5 @@ TEST_CASE("on_root runs the action here and rethrows its failure", "[distributio
   CHECK_THROWS_AS(distribution().on_root([] { throw core::InputError("f.toml", 3, "k", "bad"); }),
                   core::InputError);
 }
+
+}  // namespace flexref::studies

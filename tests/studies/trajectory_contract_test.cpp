@@ -28,7 +28,7 @@ namespace {
 
 using Catch::Matchers::Contains;
 
-std::string temp_path(const std::string& name) {
+std::string contract_temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("flexref_contract_" + name)).string();
 }
 
@@ -73,7 +73,7 @@ std::string write_variant(const std::string& file, const TrajectoryTable& table,
     }
     out << line_end;
   }
-  const std::string path = temp_path(file);
+  const std::string path = contract_temp_path(file);
   std::ofstream(path) << out.str();
   return path;
 }
@@ -94,7 +94,7 @@ TEST_CASE("contract: any column order, subsets, extra columns, comments, spaces,
   const std::string b = f.run.columns[1].substr(0, f.run.columns[1].find('.'));
 
   SECTION("flexref's own file read under the contract gives the same report") {
-    const std::string path = temp_path("own.csv");
+    const std::string path = contract_temp_path("own.csv");
     write_csv(f.run, path);
     const ComparisonReport r = compare_run(read_run_csv(path), f.reference);
     REQUIRE(r.quantities.size() == full.quantities.size());
@@ -171,7 +171,7 @@ TEST_CASE("contract: any column order, subsets, extra columns, comments, spaces,
       }
       text << '\n';
     }
-    const std::string path = temp_path("savetxt.csv");
+    const std::string path = contract_temp_path("savetxt.csv");
     std::ofstream(path) << text.str();
     const ComparisonReport r = compare_run(read_run_csv(path), f.reference);
     CHECK(metric_value(r, "rotation") == full.max_rotation_linf);

@@ -33,7 +33,7 @@ core::Model pendulum_like_model() {
   return core::Model(std::move(bodies), std::move(elements));
 }
 
-std::string temp_path(const std::string& name) {
+std::string table_temp_path(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("flexref_test_" + name)).string();
 }
 
@@ -72,7 +72,7 @@ TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero"
     trajectory.states.push_back(s);
   }
   const TrajectoryTable table = tabulate(model, trajectory);
-  const std::string path = temp_path("roundtrip.csv");
+  const std::string path = table_temp_path("roundtrip.csv");
   write_csv(table, path);
   const TrajectoryTable back = read_csv(path);
   CHECK(back.columns == table.columns);
@@ -96,7 +96,7 @@ TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero"
 }
 
 TEST_CASE("read_csv reports file, line and column of bad data", "[studies]") {
-  const std::string path = temp_path("bad.csv");
+  const std::string path = table_temp_path("bad.csv");
   {
     std::ofstream out(path);
     out << "t,a\n0,1\n0.1,x\n";

@@ -14,6 +14,7 @@
 
 #include "flexible/flexible_dynamics.hpp"
 #include "reference/ode_form.hpp"
+#include "tests/support/floating_point.hpp"
 
 namespace flexref::testing {
 
@@ -83,7 +84,6 @@ inline double mass_condition(const reference::OdeForm& form, const std::vector<d
 /// column's bound is at most 1e-4 of its scale (the comparison is not vacuous).
 inline double worst_jacobian_ratio(const reference::OdeForm& form, const core::LoadContext& context,
                                    const std::vector<double>& y, const Eigen::MatrixXd& J) {
-  constexpr double kEps = std::numeric_limits<double>::epsilon();
   reference::OdeForm::Scratch scratch = form.make_scratch();
   const int d = form.size();
   Eigen::VectorXd f(d);

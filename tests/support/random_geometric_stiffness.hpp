@@ -8,16 +8,9 @@
 #include <random>
 
 #include "flexible/geometric_stiffness.hpp"
+#include "tests/support/random_samples.hpp"
 
 namespace flexref::testing {
-
-/// n entries drawn from N(0, size²).
-inline Eigen::VectorXd random_vector(Eigen::Index n, std::mt19937& rng, double size) {
-  std::normal_distribution<double> normal;
-  Eigen::VectorXd x(n);
-  for (Eigen::Index i = 0; i < n; ++i) x(i) = size * normal(rng);
-  return x;
-}
 
 /// E_x, E_y, E_z, then F_xx … F_zz: each the symmetric part of an n×n N(0, 1) matrix.
 inline flexible::GeometricStiffness random_geometric_stiffness(Eigen::Index n, std::mt19937& rng) {

@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include "tests/support/floating_point.hpp"
+
 namespace flexref::testing {
 
 struct RotationSample {
@@ -26,7 +28,6 @@ inline Eigen::Vector3d generic_axis() { return Eigen::Vector3d(1.0, -2.0, 3.0).n
 /// `seed` fixes the generic and random-axis samples.
 inline std::vector<RotationSample> rotation_vector_samples(
     std::initializer_list<double> branch_angles, unsigned seed) {
-  constexpr double kPi = std::numbers::pi;
   std::vector<RotationSample> samples;
   samples.push_back({"zero", Eigen::Vector3d::Zero()});
   const std::vector<Eigen::Vector3d> axes = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(),
