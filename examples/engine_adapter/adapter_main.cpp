@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <iostream>
 
 #include "core/error.hpp"
@@ -19,6 +20,12 @@ constexpr int kExitInputError = 1;
 constexpr int kExitUsage = 2;
 constexpr int kExitSolverError = 3;
 constexpr int kExitOutputError = 5;
+
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 StepPlan make_plan(const scene::Scene& scene, double dt, long max_steps) {
   StepPlan plan;
@@ -92,10 +99,18 @@ int adapter_main(int argc, char** argv, Engine& engine) {
     engine.check_mappable(scene, integrator);
     TrajectoryWriter writer(output, scene);
     const std::string label = engine.version() + " " + integrator;
+    // The CPU time of the engine's work alone, as flexref times its own schemes: building the
+    // engine's model and stepping it, without reading the scene or writing the file
+    // (reported as `# cpu_seconds`, docs/external.md).
+    double writing_seconds = 0.0;
+    const double start = process_cpu_seconds();
     engine.simulate(scene, plan, integrator,
                     [&](std::size_t k, double t_engine, const std::vector<BodySample>& bodies) {
+                      const double before = process_cpu_seconds();
                       writer.write_row(t_engine, plan.output_steps[k], bodies, label);
+                      writing_seconds += process_cpu_seconds() - before;
                     });
+    writer.write_cpu_seconds(process_cpu_seconds() - start - writing_seconds);
     writer.commit();
     std::cout << who << engine.version() << ", integrator " << integrator << ", " << plan.step_count
               << " steps of " << dt << " s: wrote " << output << "\n";

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -88,6 +89,12 @@ void TrajectoryWriter::write_row(double t, long n, const std::vector<BodySample>
     }
   }
   if (std::fputc('\n', file_) == EOF) throw OutputError(system_error("cannot write", temporary_));
+}
+
+void TrajectoryWriter::write_cpu_seconds(double seconds) {
+  if (std::fprintf(file_, "# cpu_seconds = %.6g\n", std::max(seconds, 0.0)) < 0) {
+    throw OutputError(system_error("cannot write", temporary_));
+  }
 }
 
 void TrajectoryWriter::commit() {

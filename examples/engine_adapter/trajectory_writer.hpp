@@ -3,7 +3,8 @@
 /// Writes an engine's samples under flexref's trajectory contract (docs/external.md): `t`,
 /// then per body B the columns B.x B.y B.z, B.e0 … B.e3 (Euler parameters body→world, scalar
 /// first), B.vx B.vy B.vz, B.W1 B.W2 B.W3 (body-frame angular velocity) and per tracked point P
-/// B.P.x B.P.y B.P.z, every value with 17 significant digits. The file is written under a
+/// B.P.x B.P.y B.P.z, every value with 17 significant digits, and the engine's CPU time as
+/// `# cpu_seconds = X`. The file is written under a
 /// temporary name in the output's folder and renamed when complete: a failed run leaves no
 /// file, never a partial one.
 #include <cstdio>
@@ -33,6 +34,8 @@ class TrajectoryWriter {
   /// not finite, and OutputError when the row cannot be written.
   void write_row(double t, long n, const std::vector<BodySample>& bodies,
                  const std::string& engine);
+  /// The comment `# cpu_seconds = X`: the CPU time of the integration alone (docs/external.md).
+  void write_cpu_seconds(double seconds);
   /// Closes the file and renames it to the output path. Throws OutputError.
   void commit();
 
