@@ -9,8 +9,15 @@ quantities are measured on the same files with `converge --runs`, so every integ
 once per level. Writes OUT/<scene>/<engine>_<integrator>/<metric>/ (each a converge study)
 and OUT/table.csv, OUT/table.md.
 
+With --work-precision, `flexref work-precision` instead, per scene and integrator beside
+flexref's schemes C1, C2 and NMB (metric rotation+points, CPU time the minimum of --repeats
+runs; the adapters report their integration's CPU time alone, as flexref times its schemes):
+OUT/<scene>/<label>/ and OUT/work_precision.md, the cheapest CPU time of each method reaching
+each target error.
+
     examples/engine_studies.py [--out out/engines] [--jobs 1] [--scenes free_spin,...]
-                               [--engines mujoco,simbody]
+                               [--engines mujoco,simbody] [--integrators rk4,...]
+                               [--dt H --levels N] [--work-precision [--repeats 3]]
 
 Run it with `nice` on a shared machine. Needs build/app/flexref and the adapters
 (build/examples/mujoco/flexref_mujoco, build/examples/simbody/flexref_simbody).
@@ -39,7 +46,7 @@ INTEGRATORS = {
 # levels at round-off (~3e-12) otherwise; the steps must divide the output step (0.01 s but
 # for free_spin's 0.1 s) and book_toss's pulse (0.1 s).
 SCENES = {
-    "free_spin": (0.01, 0.04, 6, ("mujoco", "simbody")),
+    "free_spin": (0.01, 0.05, 6, ("mujoco", "simbody")),
     "heavy_top": (0.002, 0.004, 6, ("mujoco", "simbody")),
     "book_toss": (0.01, 0.01, 6, ("mujoco", "simbody")),
     "pendulum": (0.01, 0.01, 6, ("mujoco", "simbody")),
@@ -50,21 +57,20 @@ METRICS = ("rotation", "angular_velocity", "points")
 
 def observed(study_dir, label):
     """The observed order of a study as the table shows it: the least-squares order and the
-    number of levels it was fitted from, or, when converge refused to fit one, the pairwise
-    orders it has and the statuses of the other levels."""
+    number of levels it was fitted from (or "-" when converge refused to fit one), then the
+    pairwise order of the two finest levels that are ok (not round-off, uncertified, failed
+    or left out)."""
     text = open(os.path.join(study_dir, "convergence.txt")).read()
     m = re.search(r"^\s*%s\s+claimed \S+, observed (\S+) over (\d+) levels" % re.escape(label),
                   text, re.M)
-    if m and m.group(1) != "refused":
-        return "%.2f (%s)" % (float(m.group(1)), m.group(2))
-    pairwise, statuses = [], []
+    fit = "%.2f (%s)" % (float(m.group(1)), m.group(2)) if m and m.group(1) != "refused" else "-"
+    last = None
     with open(os.path.join(study_dir, "convergence.csv")) as f:
-        for row in csv.DictReader(f):
-            statuses.append(row["status"])
-            if row["order"] != "nan" and row["status"] in ("ok", "round-off"):
-                pairwise.append("%.2f" % float(row["order"]))
-    return "- [%s; %s]" % (" ".join(pairwise), ", ".join(
-        sorted(set(s.split(":")[0] for s in statuses))))
+        rows = list(csv.DictReader(f))
+    for previous, row in zip(rows, rows[1:]):
+        if row["status"] == "ok" and previous["status"] == "ok":
+            last = float(row["order"])
+    return fit + ("; %.2f" % last if last is not None else "")
 
 
 def run(cmd):
@@ -82,7 +88,13 @@ def main():
     parser.add_argument("--integrators", default="", help="only these (comma-separated)")
     parser.add_argument("--dt", type=float, default=0.0, help="the coarsest step (else the scene's)")
     parser.add_argument("--levels", type=int, default=0, help="levels (else the scene's)")
+    parser.add_argument("--reuse", action="store_true",
+                        help="tabulate the studies already in OUT instead of running them again")
+    parser.add_argument("--work-precision", action="store_true")
+    parser.add_argument("--repeats", default="3")
     args = parser.parse_args()
+    if args.work_precision:
+        return work_precision(args)
     rows = []
     for scene in args.scenes.split(","):
         dt_low, dt_high, scene_levels, engines = SCENES[scene]
@@ -104,7 +116,10 @@ def main():
                            "--dt %g --levels %d --metric rotation --out %s"
                            % (FLEXREF, scene, command, label, claimed, dt, levels,
                               os.path.join(base, "rotation")))}
-                code, text = run([args.flexref, "converge", "scenes/%s.toml" % scene, "--external",
+                done = args.reuse and os.path.exists(
+                    os.path.join(base, "rotation", "convergence.txt"))
+                code, text = (0, "") if done else run([
+                                  args.flexref, "converge", "scenes/%s.toml" % scene, "--external",
                                   command, "--label", label, "--order", str(claimed), "--dt",
                                   str(dt), "--levels", str(levels), "--metric", "rotation",
                                   "--jobs", args.jobs, "--out", os.path.join(base, "rotation")])
@@ -118,7 +133,8 @@ def main():
                         base, "rotation", "run_%s_%d.csv" % (label, level))))
                 for metric in METRICS:
                     study = os.path.join(base, metric)
-                    if metric != "rotation":
+                    if metric != "rotation" and not (
+                            args.reuse and os.path.exists(os.path.join(study, "convergence.txt"))):
                         run([args.flexref, "converge", "scenes/%s.toml" % scene, "--runs"] + runs +
                             ["--label", label, "--order", str(claimed), "--metric", metric,
                              "--jobs", args.jobs, "--out", study])
@@ -144,6 +160,72 @@ def main():
             f.write("| %s | %s | %s | %d | %s | %s | %s |\n" % (
                 r["scene"], r["engine"], r["integrator"], r["claimed"], r["rotation"],
                 r["angular_velocity"], r["points"]))
+
+
+TARGETS = (1e-2, 1e-4, 1e-6, 1e-8)
+
+
+def cheapest(runs, target):
+    """The smallest CPU time of the runs (dicts of work_precision.csv) reaching `target`."""
+    ok = [float(r["cpu_seconds"]) for r in runs
+          if r["status"] == "ok" and float(r["error"]) <= target]
+    return min(ok) if ok else None
+
+
+def work_precision(args):
+    """work-precision per scene and integrator; the table of cheapest CPU times."""
+    lines = []
+    for scene in args.scenes.split(","):
+        if scene == "bouncing_ball":
+            continue
+        dt_low, dt_high, scene_levels, engines = SCENES[scene]
+        methods = {}  # label -> its runs
+        for engine in args.engines.split(","):
+            if engine not in engines:
+                continue
+            for integrator, claimed in INTEGRATORS[engine]:
+                if args.integrators and integrator not in args.integrators.split(","):
+                    continue
+                dt = args.dt or (dt_low if claimed <= 2 else dt_high)
+                levels = args.levels or scene_levels
+                label = "%s_%s" % (engine, integrator.replace("-", "_"))
+                study = os.path.join(args.out, scene, label)
+                command = "%s {scene} {dt} {output} --integrator %s" % (ADAPTERS[engine],
+                                                                        integrator)
+                code, text = run([args.flexref, "work-precision", "scenes/%s.toml" % scene,
+                                  "--external", command, "--label", label, "--schemes",
+                                  "c1,c2,nmb", "--solvers", "cvode", "--tolerances",
+                                  "1e-6,1e-9", "--dt", str(dt), "--levels", str(levels),
+                                  "--repeats", args.repeats, "--jobs", args.jobs, "--out",
+                                  study])
+                table = os.path.join(study, "work_precision.csv")
+                if not os.path.exists(table):
+                    print("%s %s: work-precision failed (%d):\n%s" % (scene, label, code, text),
+                          file=sys.stderr)
+                    continue
+                with open(table) as f:
+                    rows = list(csv.DictReader(f))
+                # The schemes and the solver as the first study ran them (each study reruns them
+                # at its own steps: those of the first one are kept).
+                known = set(methods)
+                for r in rows:
+                    if r["method"] not in known:
+                        methods.setdefault(r["method"], []).append(r)
+                print("%s %s: done" % (scene, label), flush=True)
+        lines.append("\n%s (dt %g/%g, %d levels): cheapest CPU time [s] to reach the error "
+                     "(rotation+points)\n" % (scene, dt_low, dt_high, scene_levels))
+        lines.append("| method | " + " | ".join("%g" % t for t in TARGETS) + " |")
+        lines.append("|---|" + "---|" * len(TARGETS))
+        for method, runs in methods.items():
+            cells = []
+            for t in TARGETS:
+                c = cheapest(runs, t)
+                cells.append("%.2e" % c if c is not None else "-")
+            lines.append("| %s | %s |" % (method, " | ".join(cells)))
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "work_precision.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
 
 
 if __name__ == "__main__":
