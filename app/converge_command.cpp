@@ -36,8 +36,12 @@ int converge_command(const ConvergeOptions& options) {
   // Every refusal before any work: the schemes on this model, each level's grid, the finest
   // level's step count, the output folder.
   studies::check_convergence_inputs(model, times, study);
-  check_scheme_run(model, study.h0 / std::ldexp(1.0, study.levels - 1), times, options.limits,
-                   "--dt/2^(levels-1) =");
+  // --dt and --levels set the steps of the schemes and of an --external program; runs made
+  // earlier (--runs alone) have their own steps and are read under the contract.
+  if (!study.schemes.empty() || !options.external.empty()) {
+    check_scheme_run(model, study.h0 / std::ldexp(1.0, study.levels - 1), times, options.limits,
+                     "--dt/2^(levels-1) =");
+  }
   studies::StudyOutput out(options.out_dir);
   study.external = external_methods(
       {options.scene, options.external, options.runs, options.label, options.claimed_order,

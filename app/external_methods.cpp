@@ -87,7 +87,9 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
     method.run = [files](double h, int) {
       studies::ExternalLevel level;
       level.run = studies::read_run_csv(files->at(h));
-      level.cpu_seconds = std::nan("");
+      // Only the program's own report is known of a run made earlier.
+      level.cpu_reported = std::isfinite(level.run.reported_cpu_seconds);
+      level.cpu_seconds = level.cpu_reported ? level.run.reported_cpu_seconds : std::nan("");
       return level;
     };
   }

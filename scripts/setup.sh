@@ -17,7 +17,8 @@ done
 
 packages=(build-essential cmake libsundials-dev libeigen3-dev libboost-dev libcli11-dev catch2
           libtoml11-dev libbenchmark-dev python3-matplotlib python3-numpy pybind11-dev
-          python3-pybind11 python3-dev calculix-ccx libopenmpi-dev openmpi-bin)
+          python3-pybind11 python3-dev calculix-ccx libopenmpi-dev openmpi-bin
+          libmujoco-dev libsimbody-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")

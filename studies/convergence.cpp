@@ -322,7 +322,9 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         const ExternalLevel run = method.run(out.h, level);
         m.kept_bytes = kept_file_bytes(method, level);
         out.cpu_seconds = run.cpu_seconds;
-        report = compare_run(run.run, result.reference.table);
+        ContractOptions contract;
+        contract.run_step = out.h;
+        report = compare_run(run.run, result.reference.table, contract);
         m.used = metric_quantities(report, options.metric);
         m.ignored = report.ignored_columns;
       }

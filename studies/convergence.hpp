@@ -29,6 +29,9 @@ namespace flexref::studies {
 struct ExternalLevel {
   RunData run;
   double cpu_seconds = 0.0;
+  /// cpu_seconds is the program's own report of its integration (`# cpu_seconds`), not the
+  /// whole process's CPU time.
+  bool cpu_reported = false;
 };
 
 /// An integrator outside the method registry (another program, runs already made): studied

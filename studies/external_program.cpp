@@ -1,6 +1,7 @@
 #include "studies/external_program.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/resource.h>
@@ -12,11 +13,11 @@
 #include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -45,48 +46,87 @@ std::string shell_word(const std::string& s) {
   return out + "'";
 }
 
-/// The last lines of a file, at most `max_chars` characters.
-std::string file_tail(const std::string& path, std::size_t max_chars) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream all;
-  all << in.rdbuf();
-  std::string text = all.str();
-  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
-  if (text.size() > max_chars) {
-    text = text.substr(text.size() - max_chars);
-    const auto nl = text.find('\n');
-    text = "..." + (nl == std::string::npos ? text : text.substr(nl));
-  }
-  return text;
-}
-
-/// A temporary file, removed when this goes out of scope (or when a signal ends the program).
-class TempFile {
+/// What a program prints, as its last `keep` bytes: read from a pipe while it runs, so that a
+/// program that writes its own progress (millions of lines) needs neither memory nor disk for
+/// it.
+class OutputTail {
  public:
-  TempFile() {
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "flexref-stderr-XXXXXX").string();
-    cleanup_ = io::InterruptCleanup::remove_path([&] {
-      fd_ = mkstemp(pattern.data());
-      return fd_ < 0 ? std::filesystem::path() : std::filesystem::path(pattern);
-    });
-    if (fd_ < 0) throw std::runtime_error("cannot create a temporary file: " + pattern);
-    path_ = pattern;
+  explicit OutputTail(std::size_t keep) : keep_(keep) {}
+  void append(const char* data, std::size_t n) {
+    text_.append(data, n);
+    if (text_.size() > 2 * keep_) text_.erase(0, text_.size() - keep_);
   }
-  ~TempFile() {
-    if (fd_ >= 0) close(fd_);
-    std::error_code ec;
-    std::filesystem::remove(path_, ec);
+  /// The tail as a terminal leaves it: each line as what follows its last carriage return
+  /// (a progress line rewritten in place shows its final state), trailing line ends dropped,
+  /// at most `max_chars` characters, starting at a line when cut ("..." marks the cut).
+  std::string lines(std::size_t max_chars) const {
+    std::string text;
+    std::size_t begin = 0;
+    while (begin <= text_.size()) {
+      const auto nl = text_.find('\n', begin);
+      const std::size_t end = nl == std::string::npos ? text_.size() : nl;
+      std::string line = text_.substr(begin, end - begin);
+      while (!line.empty() && line.back() == '\r') line.pop_back();
+      const auto cr = line.rfind('\r');
+      if (cr != std::string::npos) line.erase(0, cr + 1);
+      text += line;
+      if (nl == std::string::npos) break;
+      text += '\n';
+      begin = nl + 1;
+    }
+    while (!text.empty() && text.back() == '\n') text.pop_back();
+    if (text.size() > max_chars) {
+      text = text.substr(text.size() - max_chars);
+      const auto nl = text.find('\n');
+      text = "..." + (nl == std::string::npos ? text : text.substr(nl));
+    }
+    return text;
   }
-  TempFile(const TempFile&) = delete;
-  TempFile& operator=(const TempFile&) = delete;
-  const std::string& path() const { return path_; }
-  int fd() const { return fd_; }
 
  private:
-  std::string path_;
-  int fd_ = -1;
-  io::InterruptCleanup cleanup_;
+  std::size_t keep_;
+  std::string text_;
+};
+
+/// A pipe whose read end this process keeps (non-blocking) and whose write end the program
+/// gets as its standard output and error.
+class OutputPipe {
+ public:
+  OutputPipe() {
+    if (pipe2(fds_, O_CLOEXEC) != 0) {
+      throw std::runtime_error("cannot create a pipe: " + std::string(std::strerror(errno)));
+    }
+    fcntl(fds_[0], F_SETFL, fcntl(fds_[0], F_GETFL) | O_NONBLOCK);
+  }
+  ~OutputPipe() {
+    for (int fd : fds_) {
+      if (fd >= 0) close(fd);
+    }
+  }
+  OutputPipe(const OutputPipe&) = delete;
+  OutputPipe& operator=(const OutputPipe&) = delete;
+  int read_end() const { return fds_[0]; }
+  int write_end() const { return fds_[1]; }
+  void close_write_end() {
+    close(fds_[1]);
+    fds_[1] = -1;
+  }
+  /// Reads what is there into `tail`; false at end of file (every writer closed its end).
+  bool drain(OutputTail& tail) {
+    char buffer[65536];
+    while (true) {
+      const ssize_t n = read(fds_[0], buffer, sizeof buffer);
+      if (n > 0) {
+        tail.append(buffer, static_cast<std::size_t>(n));
+        continue;
+      }
+      if (n == 0) return false;
+      return errno == EAGAIN || errno == EINTR;
+    }
+  }
+
+ private:
+  int fds_[2] = {-1, -1};
 };
 
 double seconds(const timeval& tv) {
@@ -132,12 +172,12 @@ std::string substitute_command(const std::string& command, const std::string& sc
 }
 
 ProgramOutcome run_program(const std::string& command_line, double timeout_seconds) {
-  TempFile err;
+  OutputPipe output;
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_adddup2(&actions, err.fd(), 1);  // stdout and stderr together
-  posix_spawn_file_actions_adddup2(&actions, err.fd(), 2);
+  posix_spawn_file_actions_adddup2(&actions, output.write_end(), 1);  // stdout and stderr
+  posix_spawn_file_actions_adddup2(&actions, output.write_end(), 2);  // together
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
   // Its own group, killed as a whole; the signal mask flexref had before it blocked SIGINT,
@@ -158,12 +198,16 @@ ProgramOutcome run_program(const std::string& command_line, double timeout_secon
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attr);
   if (rc != 0) throw std::runtime_error("cannot start /bin/sh: " + std::string(std::strerror(rc)));
+  output.close_write_end();
 
+  // Its output is read while it runs (a full pipe would stall it), waiting on the pipe at most
+  // 50 ms at a time between looks at the process.
+  OutputTail tail(64 * 1024);
   ProgramOutcome outcome;
   const auto start = std::chrono::steady_clock::now();
   int status = 0;
   rusage usage{};
-  auto pause = std::chrono::milliseconds(1);
+  bool open = true;
   while (true) {
     const pid_t w = wait4(pid, &status, WNOHANG, &usage);
     if (w == pid) break;
@@ -176,13 +220,21 @@ ProgramOutcome run_program(const std::string& command_line, double timeout_secon
       outcome.timed_out = true;
       kill(-pid, SIGKILL);
     }
-    std::this_thread::sleep_for(pause);
-    pause = std::min(pause * 2, std::chrono::milliseconds(50));
+    if (open) {
+      pollfd p{output.read_end(), POLLIN, 0};
+      poll(&p, 1, 50);
+      open = output.drain(tail);
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
   }
+  // What it wrote before it exited; a child it left running in the background may hold the
+  // pipe open, so this takes what is there and does not wait for the end of file.
+  if (open) output.drain(tail);
   outcome.cpu_seconds = seconds(usage.ru_utime) + seconds(usage.ru_stime);
   if (WIFEXITED(status)) outcome.exit_status = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) outcome.signal = WTERMSIG(status);
-  outcome.output_tail = file_tail(err.path(), 2000);
+  outcome.output_tail = tail.lines(2000);
   return outcome;
 }
 
@@ -210,6 +262,19 @@ ExternalLevel run_external_level(const ExternalCommand& command, double dt,
   ExternalLevel level;
   level.run = read_run_csv(output);
   level.cpu_seconds = outcome.cpu_seconds;
+  const double reported = level.run.reported_cpu_seconds;
+  if (std::isfinite(reported)) {
+    // wait4's times come in clock ticks of the kernel's accounting (≤ 10 ms) and the two
+    // clocks are read at different moments: 10 ms + 1 % before a report is called impossible.
+    if (reported > 1.01 * outcome.cpu_seconds + 0.01) {
+      std::ostringstream what;
+      what << "reports " << reported << " s of CPU for its integration, more than the "
+           << outcome.cpu_seconds << " s the whole program used (wait4)";
+      throw core::InputError(output, level.run.reported_cpu_line, "cpu_seconds", what.str());
+    }
+    level.cpu_seconds = reported;
+    level.cpu_reported = true;
+  }
   return level;
 }
 

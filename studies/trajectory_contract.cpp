@@ -255,6 +255,25 @@ RunData read_run_csv(const std::string& path) {
     const std::string text = trim(line);
     if (text.empty()) continue;
     if (text[0] == '#') {
+      const std::string comment = trim(text.substr(1));
+      if (comment.starts_with("cpu_seconds") && trim(comment.substr(11)).starts_with("=")) {
+        const std::string value = trim(trim(comment.substr(11)).substr(1));
+        double cpu = 0.0;
+        if (!parse_number(value, cpu) || !std::isfinite(cpu) || cpu < 0.0) {
+          throw core::InputError(path, line_number, "cpu_seconds",
+                                 "expected the integration's CPU time in s, a finite number >= "
+                                 "0, got '" +
+                                     value + "'");
+        }
+        if (data.reported_cpu_line != 0) {
+          throw core::InputError(
+              path, line_number, "cpu_seconds",
+              "given twice (first on line " + std::to_string(data.reported_cpu_line) + ")");
+        }
+        data.reported_cpu_seconds = cpu;
+        data.reported_cpu_line = line_number;
+        continue;
+      }
       if (!have_header) {
         last_comment = trim(text.substr(1));
         last_comment_line = line_number;
@@ -417,6 +436,11 @@ ComparisonReport compare_run(const RunData& run, const TrajectoryTable& referenc
     step = std::min(step, reference.time(k) - reference.time(k - 1));
   if (!std::isfinite(step)) step = std::max(1.0, std::abs(reference.time(0)));
   const double tolerance = options.time_tolerance * step;
+  // A clock accumulated as t += h (ContractOptions::run_step): ε t² / h at time t.
+  const auto tolerance_at = [&](double t) {
+    if (!(options.run_step > 0.0)) return tolerance;
+    return std::max(tolerance, std::numeric_limits<double>::epsilon() * t * t / options.run_step);
+  };
   std::vector<std::size_t> matched(run.table.size());
   std::map<std::size_t, std::size_t> used;  // reference row -> run row
   double max_offset = 0.0;
@@ -434,12 +458,17 @@ ComparisonReport compare_run(const RunData& run, const TrajectoryTable& referenc
       }
     }
     const double offset = std::abs(reference.time(k) - t);
-    if (!(offset <= tolerance)) {
+    const double allowed = tolerance_at(reference.time(k));
+    if (!(offset <= allowed)) {
+      const std::string why =
+          allowed > tolerance
+              ? " = eps t^2/h, the drift of a clock accumulated at the step h = " +
+                    g3(options.run_step)
+              : " = " + g3(options.time_tolerance) + " x the output step " + g3(step);
       throw error_at(run, r, "t",
                      "t = " + g17(t) + " is not an output time of the reference (nearest " +
-                         g17(reference.time(k)) + ", off by " + g3(offset) + " > " + g3(tolerance) +
-                         " = " + g3(options.time_tolerance) + " x the output step " + g3(step) +
-                         ")");
+                         g17(reference.time(k)) + ", off by " + g3(offset) + " > " + g3(allowed) +
+                         why + ")");
     }
     const auto [it, fresh] = used.emplace(k, r);
     if (!fresh) {

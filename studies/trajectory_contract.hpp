@@ -15,6 +15,7 @@
 /// Euler parameters whose norm is off 1 by more than `euler_norm_tolerance`, a missing `t`, a
 /// time off the reference's grid, two rows at one output time, or a metric with nothing to
 /// measure are core::InputError naming the source, the line (row) and the column.
+#include <limits>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -36,6 +37,14 @@ struct ContractOptions {
   /// of O(h), or the all-zero parameters of a missing attitude) is refused instead of being
   /// silently normalized by the geodesic angle.
   double euler_norm_tolerance = 1e-6;
+  /// The run's fixed step h when known (converge --external and --runs; 0: unknown). A program
+  /// whose clock is accumulated as t += h carries up to n rounding errors of at most ε·t/2 each
+  /// after n = t/h steps: with h known, a row also matches t_k when |t − t_k| ≤ ε t_k² / h
+  /// (twice that bound), which a long run at a small step can exceed 1e-6 output steps by (a
+  /// 100 s run written every 0.01 s at h = 1e-5: drift 2e-8 > 1e-8). The time is a label: the
+  /// state after n steps is the state at n·h whatever the clock says, so accepting the drift
+  /// adds no error.
+  double run_step = 0.0;
 };
 
 /// A trajectory as another code wrote it.
@@ -50,6 +59,10 @@ struct RunData {
     std::string text;
   };
   std::vector<BadCell> bad_cells;
+  /// The CPU time of the integration alone as the program reported it, in a comment line
+  /// `# cpu_seconds = X` (docs/external.md); NaN when the file has none.
+  double reported_cpu_seconds = std::numeric_limits<double>::quiet_NaN();
+  int reported_cpu_line = 0;  ///< its line
 };
 
 /// The UTF-8 byte-order mark some programs (spreadsheets, Windows editors) write at the start of
@@ -57,9 +70,11 @@ struct RunData {
 inline constexpr std::string_view kUtf8ByteOrderMark = "\xEF\xBB\xBF";
 
 /// Reads a CSV under the contract: `#` comment lines and blank lines anywhere, spaces and tabs
-/// around names and values, CRLF line ends, a UTF-8 byte-order mark. Throws core::InputError for
-/// a directory, an unreadable or empty file, duplicate or empty column names, or a row with the
-/// wrong number of cells.
+/// around names and values, CRLF line ends, a UTF-8 byte-order mark; a comment
+/// `# cpu_seconds = X` is the program's report of its integration's CPU time. Throws
+/// core::InputError for a directory, an unreadable or empty file, duplicate or empty column
+/// names, a row with the wrong number of cells, or a cpu_seconds that is not a finite number
+/// ≥ 0 or is given twice.
 RunData read_run_csv(const std::string& path);
 
 /// Wraps columns given in memory (the Python module's arrays); `source` names them in errors

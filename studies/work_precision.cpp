@@ -49,9 +49,10 @@ core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integra
 /// unstable run broke (core::InvariantBreach::describe).
 SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes,
                     std::vector<std::string>& instability) {
-  require_codec_size<WorkPrecisionRun, 128>();
+  require_codec_size<WorkPrecisionRun, 136>();
   const auto fields = [](auto& io, auto& r) {
-    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations);
+    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations,
+       r.cpu_reported);
   };
   return {[&runs, &kept_bytes, &instability, fields](int i, SlotWriter& w) {
             auto put = [&w](const auto&... x) { (w.put(x), ...); };
@@ -217,15 +218,19 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         out.method = method.label;
         out.kind = "external";
         out.setting = x.h;
-        // The program's own CPU time (wait4), minimum over the repeats like the others.
+        // The program's own CPU time (its report of the integration alone, else wait4's whole
+        // process), minimum over the repeats like the others.
         ExternalLevel run;
         out.cpu_seconds = kInf;
         for (int r = 0; r < options.repeats; ++r) {
           run = method.run(x.h, x.level);
           out.cpu_seconds = std::min(out.cpu_seconds, run.cpu_seconds);
         }
+        out.cpu_reported = run.cpu_reported;
         kept_bytes[static_cast<std::size_t>(k)] = kept_file_bytes(method, x.level);
-        report = compare_run(run.run, result.reference.table);
+        ContractOptions contract;
+        contract.run_step = x.h;
+        report = compare_run(run.run, result.reference.table, contract);
       } else {
         const int j = k - n_scheme_runs;
         out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];
@@ -320,6 +325,26 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
       result.notes.push_back("some runs failed (see their status); they are left out");
       break;
     }
+  }
+  for (const ExternalMethod& method : options.external) {
+    int reported = 0, measured = 0;
+    for (const auto& run : result.runs) {
+      if (run.kind != "external" || run.method != method.label || !std::isfinite(run.cpu_seconds))
+        continue;
+      (run.cpu_reported ? reported : measured) += 1;
+    }
+    if (reported + measured == 0) continue;
+    result.notes.push_back(
+        method.label + ": " +
+        (measured == 0
+             ? std::string("CPU time as reported by the program (`# cpu_seconds`: its "
+                           "integration alone, like the schemes')")
+             : (reported == 0 ? std::string("CPU time of the whole program (wait4: start-up, "
+                                            "reading the scene and writing the file included; a "
+                                            "program reports its integration alone with "
+                                            "`# cpu_seconds = X`, docs/external.md)")
+                              : std::string("CPU time as reported by the program for some runs, "
+                                            "of the whole program for the others"))));
   }
   std::ostringstream timing;
   timing << "CPU time: thread CPU time of the integration alone (output excluded), minimum of "

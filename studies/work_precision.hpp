@@ -58,6 +58,8 @@ struct WorkPrecisionRun {
   /// Right-hand-side (residual) evaluations of a solver run, the cost that does not depend on
   /// the machine; 0 for a scheme.
   long evaluations = 0;
+  /// An external run's cpu_seconds is the program's own report of its integration.
+  bool cpu_reported = false;
 };
 
 /// The cheapest run reaching a target error (see cheapest_methods).

@@ -66,6 +66,65 @@ grep -q '^euler,external,0.02,' "$tmp/wp/work_precision.csv" && ok ||
 cpu=$(awk -F, '$1 == "euler" && $2 == "external" {print $5; exit}' "$tmp/wp/work_precision.csv")
 awk -v c="$cpu" 'BEGIN { exit !(c > 0 && c < 60) }' && ok || fail "external CPU time '$cpu'"
 
+# A program that reports the CPU time of its integration alone (`# cpu_seconds = X`, start-up
+# and output excluded, as flexref times its own schemes): work-precision uses it instead of the
+# process's whole CPU time; a report above what the process used is refused.
+cat >"$tmp/reports_cpu.py" <<'PY'
+import shutil, sys, time
+t = time.process_time()
+while time.process_time() - t < 0.2:  # 0.2 s of start-up work the report leaves out
+    pass
+shutil.copy(sys.argv[1], sys.argv[3])
+with open(sys.argv[3], "a") as f:
+    f.write("# cpu_seconds = %s\n" % sys.argv[2])
+PY
+out=$("$flexref" work-precision "$tmp/fs10.toml" \
+  --external "/usr/bin/python3 $tmp/reports_cpu.py $tmp/c1/run_euler_0.csv 1.5e-06 {output} {dt}" \
+  --label reported --schemes c2 --solvers cvode --tolerances 1e-6 --dt 0.02 --levels 1 \
+  --repeats 1 --jobs 1 --out "$tmp/wp_reported" 2>&1) || fail "work-precision, reported CPU: $out"
+cpu=$(awk -F, '$1 == "reported" {print $5; exit}' "$tmp/wp_reported/work_precision.csv")
+[[ $cpu == 1.5e-06 || $cpu == 1.5000000000000000e-06 || $cpu == 1.5000000000000002e-06 ]] && ok ||
+  fail "the program's reported CPU time is not used: '$cpu': $out"
+[[ $out == *"reported: CPU time as reported by the program"* ]] && ok ||
+  fail "work-precision does not say whose CPU time it shows: $out"
+out=$("$flexref" work-precision "$tmp/fs10.toml" \
+  --external "/usr/bin/python3 $tmp/reports_cpu.py $tmp/c1/run_euler_0.csv 100 {output} {dt}" \
+  --label overclaim --schemes c2 --solvers cvode --tolerances 1e-6 --dt 0.02 --levels 1 \
+  --repeats 1 --jobs 1 --out "$tmp/wp_overclaim" 2>&1)
+status=$(awk -F, '$1 == "overclaim" {print $6; exit}' "$tmp/wp_overclaim/work_precision.csv")
+[[ $status == *"reports 100 s of CPU"* ]] && ok || fail "an impossible CPU report is accepted: '$status'"
+
+# An engine's own clock, accumulated as t += h over millions of steps, drifts from the output
+# times by more than 1e-6 output steps (free_spin on [0, 50] written every 0.001 s, h = 1e-5:
+# 5e6 additions, drift up to ~5e-9 > 1e-9); with the run's step known (--runs, --external) the
+# contract accepts the drift a clock of that step can have, eps t^2 / h.
+sed -e 's/^end_time = 100.0 /end_time = 50.0 /' -e 's/^output_step = 0.1 /output_step = 0.001 /' \
+  scenes/free_spin.toml >"$tmp/fs50.toml"
+"$flexref" reference "$tmp/fs50.toml" --solver exact --no-estimate -o "$tmp/fs50_exact.csv" \
+  >/dev/null || fail "reference of fs50"
+/usr/bin/python3 - "$tmp/fs50_exact.csv" "$tmp/drifted.csv" <<'PY'
+import sys
+rows = [l for l in open(sys.argv[1]) if not l.startswith("#")]
+header, data = rows[0], rows[1:]
+h, t, n = 1e-5, 0.0, 0
+out = [header]
+for k in range(0, len(data), 1000):  # every second: the exact states at the engine's clock
+    while n < 100 * k:
+        t += h
+        n += 1
+    cells = data[k].split(",")
+    cells[0] = repr(t)
+    out.append(",".join(cells))
+open(sys.argv[2], "w").write("".join(out))
+PY
+# (the same file for three steps: converge --runs needs three; the coarsest, 1e-5, is checked)
+out=$("$flexref" converge "$tmp/fs50.toml" --runs 1e-05="$tmp/drifted.csv" \
+  5e-06="$tmp/drifted.csv" 2.5e-06="$tmp/drifted.csv" --label drifted --reference-solver exact \
+  --out "$tmp/drift" 2>&1)
+status=$(awk -F, '$1 == "drifted" && $2 == 1.0000000000000001e-05 {print $7; exit}' \
+  "$tmp/drift/convergence.csv")
+[[ $status == ok || $status == round-off ]] && ok || fail "an accumulated clock is refused: '$status' $out"
+
 # compare: the contract's file, JSON, the reference's estimate beside the error.
 "$flexref" reference "$tmp/fs10.toml" --solver cvode --rtol 1e-10 -o "$tmp/ref.csv" >/dev/null ||
   fail "reference"

@@ -4,6 +4,7 @@
 #include "studies/external_program.hpp"
 
 #include <catch2/catch.hpp>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -14,6 +15,13 @@ namespace flexref::studies {
 namespace {
 
 using Catch::Matchers::Contains;
+
+/// A folder of this process's own, for the files of one test.
+std::filesystem::path unique_temp_folder() {
+  std::string pattern = (std::filesystem::temp_directory_path() / "flexref-ext-XXXXXX").string();
+  REQUIRE(mkdtemp(pattern.data()) != nullptr);
+  return pattern;
+}
 
 TEST_CASE("the command template: {dt} with 17 digits, paths quoted only when needed",
           "[studies][external]") {
@@ -51,6 +59,49 @@ TEST_CASE("a program's exit status, signal, output tail, CPU time and timeout",
   CHECK(slow.timed_out);
   CHECK(slow.signal == 9);
   CHECK(slow.output_tail.empty());
+}
+
+TEST_CASE("a program's own progress: the tail shows each line as a terminal leaves it",
+          "[studies][external]") {
+  // 20000 progress updates on one line ('\r' between them), then two lines: the tail holds
+  // what follows each line's last carriage return, never the overwritten updates.
+  const ProgramOutcome chatty = run_program(
+      "i=0; while [ $i -lt 20000 ]; do printf 'step %d\r' $i; i=$((i+1)); done; "
+      "printf 'step 20000 of 20000\nfailed at t = 3\n'; exit 1",
+      0.0);
+  CHECK(chatty.exit_status == 1);
+  CHECK(chatty.output_tail == "step 20000 of 20000\nfailed at t = 3");
+  // 20 MB of progress lines: the tail is the last lines, at most 2000 characters.
+  const ProgramOutcome verbose = run_program(
+      "/usr/bin/python3 -c 'import sys\nfor i in range(200000): "
+      "sys.stdout.write(\"%099d\\n\" % i)\nsys.stderr.write(\"the end\\n\")'",
+      0.0);
+  CHECK(verbose.exit_status == 0);
+  CHECK(verbose.output_tail.size() <= 2000);
+  CHECK_THAT(verbose.output_tail, Catch::Matchers::EndsWith("199999\nthe end"));
+}
+
+TEST_CASE("a level: the program's own CPU report, checked against what it used",
+          "[studies][external]") {
+  const std::filesystem::path dir = unique_temp_folder();
+  const std::string out = (dir / "run.csv").string();
+  ExternalCommand command;
+  command.scene = "scene.toml";
+  command.command = "printf 't,body.W1\\n0,1\\n# cpu_seconds = 2.5e-3\\n' > {output}; : {dt}";
+  const ExternalLevel level = run_external_level(command, 0.1, out);
+  CHECK(level.cpu_reported);
+  CHECK(level.cpu_seconds == 2.5e-3);
+  // printf uses no measurable CPU: a report of 5 s cannot be its integration's.
+  command.command = "printf 't,body.W1\\n0,1\\n# cpu_seconds = 5\\n' > {output}; : {dt}";
+  CHECK_THROWS_WITH(run_external_level(command, 0.1, out),
+                    Contains(":3: key 'cpu_seconds': reports 5 s of CPU"));
+  command.command = "printf 't,body.W1\\n0,1\\n# cpu_seconds = soon\\n' > {output}; : {dt}";
+  CHECK_THROWS_WITH(run_external_level(command, 0.1, out),
+                    Contains("key 'cpu_seconds': expected the integration's CPU time"));
+  // Without a report: the whole program's time, not marked as reported.
+  command.command = "printf 't,body.W1\\n0,1\\n' > {output}; : {dt}";
+  CHECK_FALSE(run_external_level(command, 0.1, out).cpu_reported);
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("a level: failures say why, the file is read under the contract", "[studies][external]") {

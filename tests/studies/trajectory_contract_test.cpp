@@ -304,6 +304,66 @@ TEST_CASE("contract: arrays in memory name their source and row", "[studies][con
                     Contains("my arrays:5: key 'charged.e1': row 5: non-finite"));
 }
 
+TEST_CASE("contract: a clock accumulated at the run's step may drift by eps t^2 / h",
+          "[studies][contract]") {
+  // A reference written every 1e-3 s on [0, 50] (times k·1e-3 exactly), and a run whose clock
+  // is t += h with h = 1e-5 over 5e6 steps, written every second: its rounding drift (a few
+  // 1e-9 s near t = 50) exceeds the default 1e-6 output steps (1e-9 s) but stays below
+  // eps t² / h (5.6e-8 s at t = 50).
+  const double h = 1e-5;
+  TrajectoryTable reference;
+  reference.columns = {"t", "b.W1", "b.W2", "b.W3"};
+  for (long k = 0; k <= 50000; ++k) {
+    reference.rows.push_back({static_cast<double>(k) * 1e-3, 1.0, 0.0, 0.0});
+  }
+  std::vector<std::vector<double>> columns(4);
+  double t = 0.0;
+  double drift = 0.0;
+  for (long n = 1; n <= 5'000'000; ++n) {
+    t += h;
+    if (n % 100'000 == 0) {
+      columns[0].push_back(t);
+      for (std::size_t c = 1; c < 4; ++c) columns[c].push_back(c == 1 ? 1.0 : 0.0);
+      drift = std::max(drift, std::abs(t - static_cast<double>(n) * h));
+    }
+  }
+  REQUIRE(drift > 1e-6 * 1e-3);  // the case this is about: beyond the default tolerance
+  const RunData run = run_from_columns("engine", {"t", "b.W1", "b.W2", "b.W3"}, columns);
+  CHECK_THROWS_WITH(compare_run(run, reference), Contains("is not an output time"));
+  ContractOptions with_step;
+  with_step.run_step = h;
+  const ComparisonReport report = compare_run(run, reference, with_step);
+  // n·h and k·1e-3 are rounded separately: the offsets agree to an ulp of t ≤ 50 (7.1e-15).
+  CHECK(report.max_time_offset == Approx(drift).margin(1e-14));
+  // A row between two output times (0.4 output steps off) is still refused, the bound named.
+  columns[0][10] += 4e-4;
+  const RunData off = run_from_columns("engine", {"t", "b.W1", "b.W2", "b.W3"}, columns);
+  CHECK_THROWS_WITH(compare_run(off, reference, with_step),
+                    Contains("engine:11: key 't': row 11") && Contains("eps t^2/h"));
+}
+
+TEST_CASE("contract: a program's CPU report is a comment line, read and checked",
+          "[studies][contract]") {
+  const std::string path = temp_path("cpu_report.csv");
+  std::ofstream(path) << "# written by an engine\n# cpu_seconds = 0.25\nt,b.W1\n0,1\n";
+  const RunData data = read_run_csv(path);
+  CHECK(data.reported_cpu_seconds == 0.25);
+  CHECK(data.reported_cpu_line == 2);
+  CHECK(data.table.columns == std::vector<std::string>{"t", "b.W1"});
+  // numpy.savetxt's header comment stays the header when the report follows it.
+  std::ofstream(path) << "# t,b.W1\n#cpu_seconds=1e-3\n0,1\n";
+  const RunData numpy = read_run_csv(path);
+  CHECK(numpy.table.columns == std::vector<std::string>{"t", "b.W1"});
+  CHECK(numpy.reported_cpu_seconds == 1e-3);
+  std::ofstream(path) << "t,b.W1\n0,1\n# cpu_seconds = -1\n";
+  CHECK_THROWS_WITH(read_run_csv(path), Contains(":3: key 'cpu_seconds'"));
+  std::ofstream(path) << "t,b.W1\n# cpu_seconds = 1\n0,1\n# cpu_seconds = 2\n";
+  CHECK_THROWS_WITH(read_run_csv(path), Contains(":4: key 'cpu_seconds': given twice"));
+  std::ofstream(path) << "t,b.W1\n0,1\n";
+  CHECK(std::isnan(read_run_csv(path).reported_cpu_seconds));
+  std::filesystem::remove(path);
+}
+
 }  // namespace
 }  // namespace flexref::studies
 

@@ -1,0 +1,232 @@
+#!/usr/bin/python3
+"""The verification table of docs/engines.md: every integrator of the engine adapters
+(examples/mujoco, examples/simbody) through `flexref converge --external`, one study per scene
+and integrator, with the observed order of convergence of the attitude (metric rotation), the
+body-frame angular velocity (angular_velocity) and the tracked points (points).
+
+The attitude study runs the adapter once per level and keeps its files; the other two
+quantities are measured on the same files with `converge --runs`, so every integrator runs
+once per level. Writes OUT/<scene>/<engine>_<integrator>/<metric>/ (each a converge study)
+and OUT/table.csv, OUT/table.md.
+
+With --work-precision, `flexref work-precision` instead, per scene and integrator beside
+flexref's schemes C1, C2 and NMB (metric rotation+points, CPU time the minimum of --repeats
+runs; the adapters report their integration's CPU time alone, as flexref times its schemes):
+OUT/<scene>/<label>/ and OUT/work_precision.md, the cheapest CPU time of each method reaching
+each target error.
+
+    examples/engine_studies.py [--out out/engines] [--jobs 1] [--scenes free_spin,...]
+                               [--engines mujoco,simbody] [--integrators rk4,...]
+                               [--dt H --levels N] [--work-precision [--repeats 3]]
+
+Run it with `nice` on a shared machine. Needs build/app/flexref and the adapters
+(build/examples/mujoco/flexref_mujoco, build/examples/simbody/flexref_simbody).
+"""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+
+FLEXREF = "build/app/flexref"
+ADAPTERS = {
+    "mujoco": "build/examples/mujoco/flexref_mujoco",
+    "simbody": "build/examples/simbody/flexref_simbody",
+}
+# (integrator, the order its engine claims or is known for)
+INTEGRATORS = {
+    "mujoco": [("euler", 1), ("rk4", 4), ("implicit", 1)],
+    "simbody": [("euler", 1), ("rk2", 2), ("rk3", 3), ("merson", 4), ("feldberg", 5),
+                ("verlet", 3), ("semi-euler", 1), ("semi-euler2", 1)],
+}
+# scene: (coarsest step for claimed orders 1-2, for orders 3-5, levels, engines that map it).
+# heavy_top spins at 150 rad/s: h|W| = 0.3 and 0.6 at its coarsest steps; the others start at
+# h|W| <= 0.1. The higher orders start coarser on free_spin, whose 100 s put their finest
+# levels at round-off (~3e-12) otherwise; the steps must divide the output step (0.01 s but
+# for free_spin's 0.1 s) and book_toss's pulse (0.1 s).
+SCENES = {
+    "free_spin": (0.01, 0.05, 6, ("mujoco", "simbody")),
+    "heavy_top": (0.002, 0.004, 6, ("mujoco", "simbody")),
+    "book_toss": (0.01, 0.01, 6, ("mujoco", "simbody")),
+    "pendulum": (0.01, 0.01, 6, ("mujoco", "simbody")),
+    "bouncing_ball": (0.001, 0.001, 6, ("simbody",)),
+}
+METRICS = ("rotation", "angular_velocity", "points")
+
+
+def observed(study_dir, label):
+    """The observed order of a study as the table shows it: the least-squares order and the
+    number of levels it was fitted from (or "-" when converge refused to fit one), then the
+    pairwise order of the two finest levels that are ok (not round-off, uncertified, failed
+    or left out)."""
+    text = open(os.path.join(study_dir, "convergence.txt")).read()
+    m = re.search(r"^\s*%s\s+claimed \S+, observed (\S+) over (\d+) levels" % re.escape(label),
+                  text, re.M)
+    fit = "%.2f (%s)" % (float(m.group(1)), m.group(2)) if m and m.group(1) != "refused" else "-"
+    last = None
+    with open(os.path.join(study_dir, "convergence.csv")) as f:
+        rows = list(csv.DictReader(f))
+    for previous, row in zip(rows, rows[1:]):
+        if row["status"] == "ok" and previous["status"] == "ok":
+            last = float(row["order"])
+    return fit + ("; %.2f" % last if last is not None else "")
+
+
+def run(cmd):
+    result = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    return result.returncode, result.stdout
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", default="out/engines")
+    parser.add_argument("--jobs", default="1")
+    parser.add_argument("--scenes", default=",".join(SCENES))
+    parser.add_argument("--engines", default=",".join(ADAPTERS))
+    parser.add_argument("--flexref", default=FLEXREF, help="the flexref program to run")
+    parser.add_argument("--integrators", default="", help="only these (comma-separated)")
+    parser.add_argument("--dt", type=float, default=0.0, help="the coarsest step (else the scene's)")
+    parser.add_argument("--levels", type=int, default=0, help="levels (else the scene's)")
+    parser.add_argument("--reuse", action="store_true",
+                        help="tabulate the studies already in OUT instead of running them again")
+    parser.add_argument("--work-precision", action="store_true")
+    parser.add_argument("--repeats", default="3")
+    args = parser.parse_args()
+    if args.work_precision:
+        return work_precision(args)
+    rows = []
+    for scene in args.scenes.split(","):
+        dt_low, dt_high, scene_levels, engines = SCENES[scene]
+        for engine in args.engines.split(","):
+            if engine not in engines:
+                continue
+            for integrator, claimed in INTEGRATORS[engine]:
+                if args.integrators and integrator not in args.integrators.split(","):
+                    continue
+                dt = args.dt or (dt_low if claimed <= 2 else dt_high)
+                levels = args.levels or scene_levels
+                label = "%s_%s" % (engine, integrator.replace("-", "_"))
+                base = os.path.join(args.out, scene, label)
+                command = "%s {scene} {dt} {output} --integrator %s" % (ADAPTERS[engine],
+                                                                        integrator)
+                row = {"scene": scene, "engine": engine, "integrator": integrator,
+                       "claimed": claimed, "dt": dt, "levels": levels, "command": (
+                           "%s converge scenes/%s.toml --external \"%s\" --label %s --order %d "
+                           "--dt %g --levels %d --metric rotation --out %s"
+                           % (FLEXREF, scene, command, label, claimed, dt, levels,
+                              os.path.join(base, "rotation")))}
+                done = args.reuse and os.path.exists(
+                    os.path.join(base, "rotation", "convergence.txt"))
+                code, text = (0, "") if done else run([
+                                  args.flexref, "converge", "scenes/%s.toml" % scene, "--external",
+                                  command, "--label", label, "--order", str(claimed), "--dt",
+                                  str(dt), "--levels", str(levels), "--metric", "rotation",
+                                  "--jobs", args.jobs, "--out", os.path.join(base, "rotation")])
+                if not os.path.exists(os.path.join(base, "rotation", "convergence.txt")):
+                    print("%s %s: converge failed (%d):\n%s" % (scene, label, code, text),
+                          file=sys.stderr)
+                    continue
+                runs = []
+                for level in range(levels):
+                    runs.append("%.17g=%s" % (dt / 2 ** level, os.path.join(
+                        base, "rotation", "run_%s_%d.csv" % (label, level))))
+                for metric in METRICS:
+                    study = os.path.join(base, metric)
+                    if metric != "rotation" and not (
+                            args.reuse and os.path.exists(os.path.join(study, "convergence.txt"))):
+                        run([args.flexref, "converge", "scenes/%s.toml" % scene, "--runs"] + runs +
+                            ["--label", label, "--order", str(claimed), "--metric", metric,
+                             "--jobs", args.jobs, "--out", study])
+                    if not os.path.exists(os.path.join(study, "convergence.txt")):
+                        row[metric] = "refused"
+                        continue
+                    row[metric] = observed(study, label)
+                rows.append(row)
+                print("%-14s %-20s claimed %d  rotation %-12s angular_velocity %-12s points %s"
+                      % (scene, label, claimed, row["rotation"], row["angular_velocity"],
+                         row["points"]), flush=True)
+    os.makedirs(args.out, exist_ok=True)
+    fields = ["scene", "engine", "integrator", "claimed", "dt", "levels"] + list(METRICS) + [
+        "command"]
+    with open(os.path.join(args.out, "table.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+    with open(os.path.join(args.out, "table.md"), "w") as f:
+        f.write("| scene | engine | integrator | claimed | attitude | angular velocity | "
+                "points |\n|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            f.write("| %s | %s | %s | %d | %s | %s | %s |\n" % (
+                r["scene"], r["engine"], r["integrator"], r["claimed"], r["rotation"],
+                r["angular_velocity"], r["points"]))
+
+
+TARGETS = (1e-2, 1e-4, 1e-6, 1e-8)
+
+
+def cheapest(runs, target):
+    """The smallest CPU time of the runs (dicts of work_precision.csv) reaching `target`."""
+    ok = [float(r["cpu_seconds"]) for r in runs
+          if r["status"] == "ok" and float(r["error"]) <= target]
+    return min(ok) if ok else None
+
+
+def work_precision(args):
+    """work-precision per scene and integrator; the table of cheapest CPU times."""
+    lines = []
+    for scene in args.scenes.split(","):
+        if scene == "bouncing_ball":
+            continue
+        dt_low, dt_high, scene_levels, engines = SCENES[scene]
+        methods = {}  # label -> its runs
+        for engine in args.engines.split(","):
+            if engine not in engines:
+                continue
+            for integrator, claimed in INTEGRATORS[engine]:
+                if args.integrators and integrator not in args.integrators.split(","):
+                    continue
+                dt = args.dt or (dt_low if claimed <= 2 else dt_high)
+                levels = args.levels or scene_levels
+                label = "%s_%s" % (engine, integrator.replace("-", "_"))
+                study = os.path.join(args.out, scene, label)
+                command = "%s {scene} {dt} {output} --integrator %s" % (ADAPTERS[engine],
+                                                                        integrator)
+                code, text = run([args.flexref, "work-precision", "scenes/%s.toml" % scene,
+                                  "--external", command, "--label", label, "--schemes",
+                                  "c1,c2,nmb", "--solvers", "cvode", "--tolerances",
+                                  "1e-6,1e-9", "--dt", str(dt), "--levels", str(levels),
+                                  "--repeats", args.repeats, "--jobs", args.jobs, "--out",
+                                  study])
+                table = os.path.join(study, "work_precision.csv")
+                if not os.path.exists(table):
+                    print("%s %s: work-precision failed (%d):\n%s" % (scene, label, code, text),
+                          file=sys.stderr)
+                    continue
+                with open(table) as f:
+                    rows = list(csv.DictReader(f))
+                # The schemes and the solver as the first study ran them (each study reruns them
+                # at its own steps: those of the first one are kept).
+                known = set(methods)
+                for r in rows:
+                    if r["method"] not in known:
+                        methods.setdefault(r["method"], []).append(r)
+                print("%s %s: done" % (scene, label), flush=True)
+        lines.append("\n%s (dt %g/%g, %d levels): cheapest CPU time [s] to reach the error "
+                     "(rotation+points)\n" % (scene, dt_low, dt_high, scene_levels))
+        lines.append("| method | " + " | ".join("%g" % t for t in TARGETS) + " |")
+        lines.append("|---|" + "---|" * len(TARGETS))
+        for method, runs in methods.items():
+            cells = []
+            for t in TARGETS:
+                c = cheapest(runs, t)
+                cells.append("%.2e" % c if c is not None else "-")
+            lines.append("| %s | %s |" % (method, " | ".join(cells)))
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "work_precision.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
