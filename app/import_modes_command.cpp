@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -56,7 +57,8 @@ CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options) {
                                 "ccx node numbers to keep, e.g. 1-20,31 (default: all)");
   cmd->add_option("--node-set", options.node_set, "a *NSET of the deck: the nodes to keep")
       ->excludes(nodes);
-  cmd->add_option("--inp", options.inp, "input deck for --node-set (default: JOB.inp)");
+  cmd->add_option("--inp", options.inp,
+                  "input deck: shell and beam nodes, --node-set (default: JOB.inp if present)");
   cmd->add_option("--tolerance", options.tolerance,
                   "frequency self-check, relative (default: " +
                       number_text(scene::kDefaultFrequencyTolerance) + ")")
@@ -83,21 +85,27 @@ int import_modes_command(const ImportModesOptions& options) {
   import.frequency_step = options.step;
   if (!options.modes.empty()) import.modes = scene::parse_index_list(options.modes, "--modes");
   if (!options.nodes.empty()) import.nodes = scene::parse_ranges(options.nodes, "--nodes");
+  // The deck: where shell and beam nodes lie and what their *BOUNDARY holds (ccx expands them
+  // into solid nodes), and the node sets.
+  const std::string inp = options.inp.empty() ? job + ".inp" : options.inp;
+  std::optional<scene::CalculixDeck> deck;
+  if (!options.inp.empty() || !options.node_set.empty() || std::filesystem::is_regular_file(inp)) {
+    deck = scene::read_calculix_deck(inp);
+  }
   if (!options.node_set.empty()) {
-    for (const int id : scene::read_calculix_node_set(
-             options.inp.empty() ? job + ".inp" : options.inp, options.node_set)) {
+    for (const int id : scene::read_calculix_node_set(inp, options.node_set)) {
       import.nodes.emplace_back(id, id);
     }
   }
   if (options.tolerance > 0.0) import.frequency_tolerance = options.tolerance;
-  const scene::CalculixImport result =
-      scene::import_calculix_modes(frd, matrices, dat_file.empty() ? nullptr : &dat, import);
+  const scene::CalculixImport result = scene::import_calculix_modes(
+      frd, matrices, dat_file.empty() ? nullptr : &dat, import, deck ? &*deck : nullptr);
 
   std::ostringstream sources;
   sources << "import-modes: " << options.frd << " (modes), " << matrices.mass_file << ", "
           << matrices.stiffness_file << ", " << matrices.dof_file << " (matrices)"
           << (dat_file.empty() ? std::string(", no .dat checked") : ", " + dat_file + " (checked)")
-          << "\n";
+          << (deck ? ", " + inp + " (deck)" : std::string()) << "\n";
   std::string report = sources.str() + scene::format_calculix_import_report(result);
   summary << report;
   if (!result.self_check_passed) {

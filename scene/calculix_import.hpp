@@ -5,17 +5,22 @@
 /// stiffness matrices of the free solid (calculix_matrices.hpp).
 ///
 /// Steps (each checked; any failure is an error and nothing is produced):
-///  1. the .frd nodes and the .dof rows must name the same nodes, 3 directions each;
-///  2. the mass matrix must be M0 ⊗ I₃ (solid elements: anisotropy ≤ kAnisotropyTolerance);
-///     its projections give the solid's m, s0, J0 and the other invariants that are linear in
-///     the masses (nodal_mass_lumping.hpp);
+///  1. the .dof rows are mapped onto the .frd nodes (calculix_dof_map.hpp): every .frd node has
+///     its 3 directions or belongs to a shell or beam expansion; the rows the .frd does not show
+///     (bubble amplitudes, tied expansions, held rows) are condensed (calculix_condensation.hpp);
+///     a rigid motion must carry no force (kRigidForceTolerance) and leave the bubble
+///     amplitudes at rest (kInternalRigidTolerance);
+///  2. the mass matrix must be M0 ⊗ I₃ on the .frd's nodes (solid elements: anisotropy ≤
+///     kAnisotropyTolerance); its projections on the fields at every row give the solid's m,
+///     s0, J0 and the other invariants that are linear in the masses (nodal_mass_lumping.hpp);
 ///  3. rigid-body modes (a free or partly free solid) are those whose shape lies within
 ///     `rigid_tolerance` (M-norm, relative) of a rigid motion; they are removed, and the
 ///     elastic modes are made exactly M-orthogonal to the rigid motions they span;
 ///  4. each kept elastic mode is checked against the matrices: its Rayleigh quotient
 ///     φᵀKφ/φᵀMφ must equal ccx's eigenvalue within kRayleighTolerance (wrong files, or modes
 ///     of another model, fail here);
-///  5. nodal masses on the kept nodes reproduce the solid's m, s0, J0 and as many of the
+///  5. nodal masses on the kept nodes (the .frd's, and the shell and beam nodes of the deck that
+///     no expanded node lies at) reproduce the solid's m, s0, J0 and as many of the
 ///     kept modes' invariants m_ff, S, X as the nodes can carry with positive masses (the
 ///     first of invariant_selections() that succeeds; a note says when not all);
 ///     m, s0, J0 are checked to kMassPropertyTolerance;
@@ -31,7 +36,9 @@
 #include <vector>
 
 #include "flexible/modal_data.hpp"
+#include "scene/calculix_dof_map.hpp"
 #include "scene/calculix_frd.hpp"
+#include "scene/calculix_input_deck.hpp"
 #include "scene/calculix_matrices.hpp"
 #include "scene/nodal_mass_lumping.hpp"
 
@@ -54,6 +61,14 @@ inline constexpr double kRayleighTolerance = 1e-2;
 /// rounding (first order in the 5e-6 perturbation, ≲ 1e-5 measured). A mass matrix of another
 /// model (another density, mesh or element type) misses by its ratio.
 inline constexpr double kModalMassTolerance = 1e-4;
+/// Bubble amplitudes of incompatible modes are zero on rigid motions (the patch test; 1e-17 of
+/// the nodes' motion measured on C3D8I): a row the .frd does not show that moves more than
+/// this with a rigid motion is a node of another mesh.
+inline constexpr double kInternalRigidTolerance = 1e-6;
+/// Largest force of a rigid motion of the .frd's nodes with the stiffness matrix, relative to
+/// max|K| max|R|: the positions' 6 printed digits leave ≲ 5e-6; rows mapped to wrong nodes
+/// (another mesh, wrong shell or beam nodes) give O(1e-2…1).
+inline constexpr double kRigidForceTolerance = 1e-4;
 /// Nodal mass properties against the finite-element ones (the requirement).
 inline constexpr double kMassPropertyTolerance = 1e-6;
 /// M − M0 ⊗ I₃ relative to max |M|: ccx computes the three direction blocks of a solid element
@@ -90,7 +105,8 @@ struct CalculixRigidMode {
 struct CalculixImport {
   flexible::ModalData data;
   int frequency_step = 0;  ///< ccx's step number
-  int total_nodes = 0;     ///< nodes of the mesh (the body keeps data.node_count())
+  int total_nodes = 0;     ///< nodes of the .frd (the body keeps data.node_count() of these and
+                           ///< of dof_map.added)
   MassProperties solid;    ///< from the mass matrix (all nodes)
   MassProperties body;     ///< from the nodal masses
   MassPropertyDifference mass_difference;
@@ -99,6 +115,10 @@ struct CalculixImport {
   /// What the nodal masses match (InvariantSelection::describe: "m, s0, J0, diag(m_ff), S", …).
   std::string mass_model;
   double anisotropy = 0.0;
+  /// Which rows of the matrices are the .frd's nodes, which are condensed or held.
+  CalculixDofMap dof_map;
+  /// max |K R| / (max|K| max|R|) over the rigid fields R at every row.
+  double rigid_force = 0.0;
   double rigid_orthogonalization = 0.0;  ///< largest relative M-norm change of step 3
   std::vector<CalculixRigidMode> rigid_modes;
   std::vector<CalculixModeCheck> modes;  ///< in the order of the kept modes
@@ -110,12 +130,15 @@ struct CalculixImport {
 
 /// Runs steps 1–7. `dat`: the eigenvalue tables of the run's .dat (nullptr: not checked);
 /// when given, their count per step must equal the .frd's modes and their eigenvalues agree.
+/// `deck`: the input deck (nullptr: none), needed when ccx expanded shells or beams
+/// (calculix_dof_map.hpp).
 /// Throws core::InputError naming the file (and line where one applies): bad selections,
 /// inconsistent files, failed checks of steps 1–6 (not the self-check: see
 /// self_check_passed).
 CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMatrices& matrices,
                                      const std::vector<CalculixEigenvalueTable>* dat,
-                                     const CalculixImportOptions& options);
+                                     const CalculixImportOptions& options,
+                                     const CalculixDeck* deck = nullptr);
 
 /// The report printed by `flexref import-modes` and recorded (as comments) in the modal-data
 /// file: sources, mass properties (solid vs nodes), removed rigid modes, the frequency table.

@@ -74,23 +74,13 @@ void read_calculix_dofs(const std::string& path, std::vector<int>& node,
       throw core::InputError(
           path, number_of_line, "",
           "direction " + std::to_string(dir) + " of node " + std::to_string(id) +
-              ": only the displacements 1-3 of solid elements are read (no beams, shells, "
-              "temperatures)");
+              ": only displacements 1-3 are read (ccx writes rotations of shells and beams as "
+              "expanded solid nodes; no temperatures)");
     }
     node.push_back(id);
     direction.push_back(dir - 1);
   }
   if (node.empty()) throw core::InputError(path, number_of_line, "", "no degree of freedom");
-  std::vector<std::pair<int, int>> sorted;
-  sorted.reserve(node.size());
-  for (std::size_t i = 0; i < node.size(); ++i) sorted.emplace_back(node[i], direction[i]);
-  std::sort(sorted.begin(), sorted.end());
-  const auto twice = std::adjacent_find(sorted.begin(), sorted.end());
-  if (twice != sorted.end()) {
-    throw core::InputError(path, 0, "",
-                           "degree of freedom " + std::to_string(twice->first) + "." +
-                               std::to_string(twice->second + 1) + " is listed twice");
-  }
 }
 
 Eigen::SparseMatrix<double> read_calculix_matrix(const std::string& path, int size) {

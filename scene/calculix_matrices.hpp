@@ -10,7 +10,9 @@
 ///
 /// Every problem is a core::InputError naming the file and the line: a missing file (with the
 /// deck keyword that writes it), a malformed line, an index outside the .dof list, an entry
-/// given twice, a direction other than 1–3 (only solid elements are read).
+/// given twice, a direction other than 1–3 (only solid elements are read). A node may be named
+/// by several rows of the same direction: ccx names the rows of the solid nodes it expands a
+/// shell or beam node into by that node (calculix_dof_map.hpp).
 #include <Eigen/SparseCore>
 #include <string>
 #include <vector>

@@ -262,8 +262,8 @@ LinearInvariants consistent_invariants(const Eigen::SparseMatrix<double>& M0,
   return v;
 }
 
-Eigen::VectorXd diagonal_scaled_masses(const Eigen::SparseMatrix<double>& M0, double total_mass) {
-  const Eigen::VectorXd m = M0.diagonal();
+Eigen::VectorXd diagonal_scaled_masses(const Eigen::VectorXd& M0_diagonal, double total_mass) {
+  const Eigen::VectorXd& m = M0_diagonal;
   if (!(m.minCoeff() > 0.0)) {
     throw std::invalid_argument(
         "the mass matrix has a node without mass on its diagonal (an unattached node?)");

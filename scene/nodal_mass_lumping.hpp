@@ -94,8 +94,8 @@ Eigen::SparseMatrix<double> scalar_mass_matrix(const Eigen::SparseMatrix<double>
 LinearInvariants consistent_invariants(const Eigen::SparseMatrix<double>& M0,
                                        const Eigen::Matrix3Xd& x, const Eigen::MatrixXd& phi);
 
-/// HRZ masses: the diagonal of M0 scaled to the total mass.
-Eigen::VectorXd diagonal_scaled_masses(const Eigen::SparseMatrix<double>& M0, double total_mass);
+/// HRZ masses: the diagonal of M0 (given as a vector) scaled to the total mass.
+Eigen::VectorXd diagonal_scaled_masses(const Eigen::VectorXd& M0_diagonal, double total_mass);
 
 /// Moves every node's mass to the nearest node of `kept` (indices into x), for a body that keeps
 /// a subset of the nodes; returns the masses of the kept nodes in the order of `kept`.
