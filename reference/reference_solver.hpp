@@ -48,6 +48,10 @@ struct SolverOptions {
   /// (flexible models) or difference quotients (rigid ones) (ode_jacobian.hpp); not owned, must
   /// outlive the solve.
   const OdeJacobian* jacobian = nullptr;
+  /// Ideal joints: Baumgarte's rate α (1/s) the ODE drivers that cannot project after their
+  /// steps put in the accelerations (core::Workspace::constraint_stabilization); set by the
+  /// solve_* functions from the model (constraint_stabilization_rate, method_choice.hpp).
+  double constraint_stabilization = 0.0;
   double absolute_tolerance() const { return atol < 0.0 ? rtol : atol; }
 };
 
