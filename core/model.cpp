@@ -1,13 +1,17 @@
 #include "core/model.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 #include "core/body_equations_tpl.hpp"
 #include "flexible/flexible_dynamics.hpp"
+#include "flexible/mass_matrix_solve_tpl.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::core {
 
@@ -16,8 +20,12 @@ const char* to_string(FlexibleFormulation formulation) {
 }
 
 Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements,
-             FlexibleFormulation formulation)
-    : bodies_(std::move(bodies)), elements_(std::move(elements)), formulation_(formulation) {
+             FlexibleFormulation formulation,
+             std::unique_ptr<const ConstraintEquations> constraints, ConstraintOptions options)
+    : bodies_(std::move(bodies)),
+      elements_(std::move(elements)),
+      formulation_(formulation),
+      constraints_(std::move(constraints)) {
   for (const Body& b : bodies_) flexible_ = flexible_ || b.is_flexible();
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
@@ -60,19 +68,17 @@ Model::Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceEl
       }
     }
   }
+  layout_.offsets.push_back(0);
+  for (const Body& b : bodies_) layout_.offsets.push_back(layout_.size() + 6 + b.mode_count());
+  if (constraints_) constraints_->append_discontinuities(discontinuities_);
   std::sort(discontinuities_.begin(), discontinuities_.end());
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());
+  initial_state_ = scene_initial_state();
+  if (constraints_) assemble_initial_state(options);
 }
 
-int Model::body_index(const std::string& name) const {
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    if (bodies_[i].name() == name) return static_cast<int>(i);
-  }
-  return -1;
-}
-
-State Model::initial_state() const {
+State Model::scene_initial_state() const {
   State state(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
@@ -96,6 +102,15 @@ State Model::initial_state() const {
   }
   apply_prescribed_motion(0.0, state);
   return state;
+}
+
+State Model::initial_state() const { return initial_state_; }
+
+int Model::body_index(const std::string& name) const {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (bodies_[i].name() == name) return static_cast<int>(i);
+  }
+  return -1;
 }
 
 Accelerations Model::make_accelerations() const {
@@ -126,6 +141,9 @@ Workspace Model::make_workspace() const {
   ws.wrenches.resize(bodies_.size());
   ws.flexible.resize(bodies_.size());
   ws.wear.resize(wear_names_.size());
+  if (constraints_) {
+    ws.constraint = ConstraintSolveTpl<double>(constraints_->row_count(), layout_, active_rows_);
+  }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     ws.kinematics[i].p_BoBr_B = b.p_BoBr_B();
@@ -194,6 +212,12 @@ void Model::flexible_accelerations(int i, const BodyState& s, Workspace& ws,
 
 void Model::accelerations_from_wrenches(const State& state, Workspace& ws,
                                         Accelerations& accelerations) const {
+  free_accelerations(state, ws, accelerations);
+  if (constraints_) apply_constraints(ws.time, ws, accelerations);
+}
+
+void Model::free_accelerations(const State& state, Workspace& ws,
+                               Accelerations& accelerations) const {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     if (b.is_flexible()) {
@@ -413,6 +437,268 @@ Eigen::Vector3d Model::p_WP(int i, const BodyState& s, const Eigen::Vector3d& p_
 
 Eigen::Vector3d Model::p_WP(int i, const BodyState& s, const TrackedPoint& point) const {
   return s.p_WBr + rotation::rotation_matrix(s.theta_WB) * body(i).p_BrP_B(point, s.q_f);
+}
+
+// --- Ideal joints (docs/joints.md, "Ideal joints") ----------------------------------------
+
+void Model::apply_inverse_mass(int b, const Eigen::Ref<const Eigen::VectorXd>& rhs,
+                               Eigen::Ref<Eigen::VectorXd> out, Workspace& ws) const {
+  const auto k = static_cast<std::size_t>(b);
+  const Body& body = bodies_[k];
+  if (body.is_flexible()) {
+    FlexibleScratch& fs = ws.flexible[k];
+    fs.x.head<6>().setZero();  // the known rows take no constraint force
+    if (formulation_ == FlexibleFormulation::kCoupled) {
+      flexible::apply_coupled_tpl<double>(body.modal_mass(), fs.terms, rhs, fs.solve, fs.x);
+    } else {
+      flexible::apply_lte_tpl<double>(body.modal_mass(), fs.terms, rhs, fs.solve, fs.x);
+    }
+    out = fs.x;
+    return;
+  }
+  // Rigid, about Br: M = diag(m 1, I_Br) on (v_WBr, ω̄); a pivot's translation and a prescribed
+  // body's motion are fixed.
+  out.setZero();
+  if (body.is_prescribed()) return;
+  if (body.is_free()) out.head<3>() = rhs.head<3>() / body.mass();
+  out.segment<3>(3).noalias() = body.I_Br_B_inverse() * rhs.segment<3>(3);
+}
+
+void Model::stack_velocities(const State& state, Eigen::VectorXd& v) const {
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const int o = layout_.offset(static_cast<int>(b));
+    v.segment<3>(o) = state[b].v_WBr;
+    v.segment<3>(o + 3) = state[b].w_WB_B;
+    v.segment(o + 6, bodies_[b].mode_count()) = state[b].qd_f;
+  }
+}
+
+void Model::apply_constraints(double t, Workspace& ws, Accelerations& accelerations) const {
+  ConstraintSolveTpl<double>& s = ws.constraint;
+  constraints_->evaluate(t, ws.kinematics, layout_, s.rows);
+  if (ws.constraint_stabilization > 0.0) {
+    // Baumgarte: γ − 2α (J v + Φ_t) − α² Φ (critically damped drift at the rate α).
+    const double alpha = ws.constraint_stabilization;
+    for (std::size_t b = 0; b < bodies_.size(); ++b) {
+      const int o = layout_.offset(static_cast<int>(b));
+      const BodyState& x = *ws.kinematics[b].state;
+      s.v.segment<3>(o) = x.v_WBr;
+      s.v.segment<3>(o + 3) = x.w_WB_B;
+      s.v.segment(o + 6, bodies_[b].mode_count()) = x.qd_f;
+    }
+    s.rows.gamma.noalias() -= (2.0 * alpha) * (s.rows.J * s.v + s.rows.phi_t);
+    s.rows.gamma -= (alpha * alpha) * s.rows.phi;
+  }
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const int o = layout_.offset(static_cast<int>(b));
+    s.x.segment<3>(o) = accelerations[b].a_WBr;
+    s.x.segment<3>(o + 3) = accelerations[b].alpha_WB_B;
+    s.x.segment(o + 6, bodies_[b].mode_count()) = accelerations[b].qdd_f;
+  }
+  solve_constrained_accelerations(
+      *constraints_, layout_,
+      [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); }, t, s);
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const int o = layout_.offset(static_cast<int>(b));
+    accelerations[b].a_WBr = s.x.segment<3>(o);
+    accelerations[b].alpha_WB_B = s.x.segment<3>(o + 3);
+    accelerations[b].qdd_f = s.x.segment(o + 6, bodies_[b].mode_count());
+  }
+}
+
+void Model::factor_constraints_at(double t, const State& state, Workspace& ws) const {
+  ws.time = t;
+  pose_bodies(state, ws);
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    if (!b.is_flexible()) continue;
+    // The mass matrix at the state (its loads do not enter the factors).
+    flexible_system(static_cast<int>(i), state[i], ws);
+    FlexibleScratch& fs = ws.flexible[i];
+    if (formulation_ == FlexibleFormulation::kCoupled) {
+      flexible::factor_coupled_tpl<double>(b.modal_mass(), fs.terms, known_rows(b.motion()),
+                                           fs.solve);
+    } else {
+      flexible::factor_lte_tpl<double>(fs.terms, known_rows(b.motion()), fs.solve);
+    }
+  }
+  ConstraintSolveTpl<double>& s = ws.constraint;
+  constraints_->evaluate(t, ws.kinematics, layout_, s.rows);
+  if (!factor_constraints(
+          *constraints_, layout_,
+          [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); }, s)) {
+    throw_singular(*constraints_, s, t);
+  }
+}
+
+Model::RelativeViolation Model::relative_violation(const ConstraintRows& rows,
+                                                   const State& state) const {
+  Eigen::VectorXd v(layout_.size());
+  stack_velocities(state, v);
+  const Eigen::VectorXd rate = rows.J * v + rows.phi_t;
+  // Velocity scale: the bodies' speeds (|v_Br| + |ω̄| ℓ) and the drives' rates.
+  double speed = 0.0;
+  for (const BodyState& b : state) {
+    speed = std::max(speed, b.v_WBr.norm() + b.w_WB_B.norm() * joint_length_scale_);
+  }
+  for (Eigen::Index r = 0; r < rows.phi_t.size(); ++r) {
+    const double scale =
+        constraints_->is_length_row(static_cast<int>(r)) ? 1.0 : joint_length_scale_;
+    speed = std::max(speed, std::abs(rows.phi_t(r)) * scale);
+  }
+  RelativeViolation out;
+  for (Eigen::Index r = 0; r < rows.phi.size(); ++r) {
+    const int row = static_cast<int>(r);
+    const bool length = constraints_->is_length_row(row);
+    const double position = std::abs(rows.phi(r)) / (length ? joint_length_scale_ : 1.0);
+    const double velocity =
+        speed > 0.0 ? std::abs(rate(r)) * (length ? 1.0 : joint_length_scale_) / speed : 0.0;
+    if (position > out.position) {
+      out.position = position;
+      out.position_joint = constraints_->joint_of_row(row);
+    }
+    if (velocity > out.velocity) {
+      out.velocity = velocity;
+      out.velocity_joint = constraints_->joint_of_row(row);
+    }
+  }
+  return out;
+}
+
+InitialProjection Model::project(double t, State& state, Workspace& ws) const {
+  InitialProjection before;
+  if (!constraints_) return before;
+  ConstraintSolveTpl<double>& s = ws.constraint;
+  factor_constraints_at(t, state, ws);
+  const RelativeViolation first = relative_violation(s.rows, state);
+  before.position = first.position;
+  // Newton on Φ = 0 in the mass metric: converged when the relative violation is a few ε (the
+  // round-off of Φ itself, a sum of products of lengths of size ℓ); 20 iterations are far more
+  // than quadratic convergence needs from a violation below the accepted tolerance.
+  constexpr double kConverged = 8.0 * std::numeric_limits<double>::epsilon();
+  double violation = first.position;
+  for (int iteration = 0; iteration < 20 && violation > kConverged; ++iteration) {
+    constraint_correction<double>(s.rows.phi, s);
+    for (std::size_t b = 0; b < bodies_.size(); ++b) {
+      const Body& body = bodies_[b];
+      if (body.is_prescribed() && !body.is_flexible()) continue;
+      const int o = layout_.offset(static_cast<int>(b));
+      BodyState& x = state[b];
+      if (!body.is_prescribed()) {
+        x.p_WBr += s.x.segment<3>(o);
+        // A ← A exp(δφ̃): θ ← θ ⊗ exp(δφ), renormalized.
+        x.theta_WB = rotation::quaternion_multiply(
+            x.theta_WB, rotation::exp_quaternion(Eigen::Vector3d(s.x.segment<3>(o + 3))));
+        x.theta_WB.normalize();
+      }
+      x.q_f += s.x.segment(o + 6, body.mode_count());
+    }
+    factor_constraints_at(t, state, ws);
+    violation = relative_violation(s.rows, state).position;
+  }
+  before.velocity = relative_violation(s.rows, state).velocity;
+  project_velocities(t, state, ws);
+  return before;
+}
+
+void Model::project_velocities(double t, State& state, Workspace& ws) const {
+  if (!constraints_) return;
+  ConstraintSolveTpl<double>& s = ws.constraint;
+  factor_constraints_at(t, state, ws);
+  Eigen::VectorXd v(layout_.size());
+  stack_velocities(state, v);
+  const Eigen::VectorXd residual = s.rows.J * v + s.rows.phi_t;
+  constraint_correction<double>(residual, s);
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const Body& body = bodies_[b];
+    const int o = layout_.offset(static_cast<int>(b));
+    BodyState& x = state[b];
+    if (!body.is_prescribed()) {
+      if (body.is_free()) x.v_WBr += s.x.segment<3>(o);
+      x.w_WB_B += s.x.segment<3>(o + 3);
+    }
+    x.qd_f += s.x.segment(o + 6, body.mode_count());
+  }
+}
+
+void Model::assemble_initial_state(const ConstraintOptions& options) {
+  Workspace ws = make_workspace();
+  pose_bodies(initial_state_, ws);
+  ConstraintRows rows;
+  rows.resize(constraints_->row_count(), layout_.size());
+  constraints_->evaluate(0.0, ws.kinematics, layout_, rows);
+  active_rows_ = core::independent_rows<double>(rows.J);
+  // The joints' length scale ℓ: the largest arm from a body's Br to a joint point, |∂(u·v_P)/∂ω̄|
+  // of the length rows (1 m when every joint sits at its bodies' reference points).
+  joint_length_scale_ = 0.0;
+  for (Eigen::Index r = 0; r < rows.J.rows(); ++r) {
+    if (!constraints_->is_length_row(static_cast<int>(r))) continue;
+    for (std::size_t b = 0; b < bodies_.size(); ++b) {
+      joint_length_scale_ =
+          std::max(joint_length_scale_,
+                   rows.J.row(r).segment<3>(layout_.offset(static_cast<int>(b)) + 3).norm());
+    }
+  }
+  if (!(joint_length_scale_ > 0.0)) joint_length_scale_ = 1.0;
+  ws = make_workspace();
+  State state = initial_state_;
+  const RelativeViolation before = relative_violation(rows, state);
+  const auto refuse = [&](int joint, const char* level, double value) {
+    throw InconsistentInitialStateError(
+        joint, "the initial state violates joint '" + constraints_->joint_name(joint) + "' at " +
+                   level + " level by " + std::to_string(value) +
+                   " (relative), more than the accepted " +
+                   std::to_string(options.initial_tolerance) +
+                   "; correct the bodies' initial positions and velocities, or set "
+                   "project_initial_state = true in [scene] to project them onto the joints");
+  };
+  if (!options.project_initial_state && before.position > options.initial_tolerance) {
+    refuse(before.position_joint, "position", before.position);
+  }
+  initial_projection_ = project(0.0, state, ws);
+  if (!options.project_initial_state && initial_projection_.velocity > options.initial_tolerance) {
+    refuse(before.velocity_joint, "velocity", initial_projection_.velocity);
+  }
+  initial_state_ = std::move(state);
+}
+
+std::vector<std::array<double, 2>> Model::constraint_violations(double t, const State& state,
+                                                                Workspace& ws) const {
+  std::vector<std::array<double, 2>> out;
+  if (!constraints_) return out;
+  ws.time = t;
+  pose_bodies(state, ws);
+  ConstraintRows& rows = ws.constraint.rows;
+  constraints_->evaluate(t, ws.kinematics, layout_, rows);
+  Eigen::VectorXd v(layout_.size());
+  stack_velocities(state, v);
+  const Eigen::VectorXd rate = rows.J * v + rows.phi_t;
+  out.assign(static_cast<std::size_t>(constraints_->joint_count()), {0.0, 0.0});
+  for (Eigen::Index r = 0; r < rows.phi.size(); ++r) {
+    auto& j = out[static_cast<std::size_t>(constraints_->joint_of_row(static_cast<int>(r)))];
+    j[0] = std::max(j[0], std::abs(rows.phi(r)));
+    j[1] = std::max(j[1], std::abs(rate(r)));
+  }
+  return out;
+}
+
+std::vector<JointReaction> Model::joint_reactions(const LoadContext& context, const State& state,
+                                                  Workspace& ws) const {
+  std::vector<JointReaction> out;
+  if (!constraints_) return out;
+  Accelerations accelerations = make_accelerations();
+  compute_accelerations(context, state, ws, accelerations);
+  const ConstraintSolveTpl<double>& s = ws.constraint;
+  const Eigen::VectorXd lambda = minimum_norm_multipliers<double>(s.rows.J, s.force);
+  Eigen::VectorXd force(layout_.size());
+  for (int j = 0; j < constraints_->joint_count(); ++j) {
+    const std::array<int, 2> rows = constraints_->joint_rows(j);
+    // −J_jᵀ λ_j: the generalized force of this joint's rows alone.
+    force.noalias() =
+        -s.rows.J.middleRows(rows[0], rows[1]).transpose() * lambda.segment(rows[0], rows[1]);
+    out.push_back(constraints_->reaction(j, ws.kinematics, layout_, force));
+  }
+  return out;
 }
 
 }  // namespace flexref::core

@@ -19,12 +19,15 @@
 /// constant factor of m_ff (flexible/mass_matrix_solve.hpp): coupled, by the Schur complement
 /// of the unknown rigid rows; LTE, by block forward substitution. Its inertia terms cost
 /// O(n²) (flexible/inertia_terms.hpp), independent of the number of nodes.
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "core/body.hpp"
+#include "core/constrained_solve_tpl.hpp"
+#include "core/constraint_equations.hpp"
 #include "core/flexible_formulation.hpp"
 #include "core/force_element.hpp"
 #include "core/state.hpp"
@@ -50,12 +53,53 @@ struct Workspace {
   std::vector<FlexibleScratch> flexible;  ///< one per body (empty matrices for rigid bodies)
   std::vector<WearSample> wear;           ///< one per wear channel (Model::wear_samples)
   double time = 0.0;                      ///< t of the last compute_wrenches (prescribed α̅)
+  ConstraintSolveTpl<double> constraint;  ///< the ideal joints' solve (empty without joints)
+  /// Baumgarte's rate α (1/s) of the ideal joints in the accelerations: J v̇ = γ − 2α (J v + Φ_t)
+  /// − α² Φ makes the constraint manifold attracting for integrators that cannot project
+  /// (reference/ode_form.hpp); 0: the plain index-1 form. On the manifold it changes nothing.
+  double constraint_stabilization = 0.0;
+};
+
+/// How a model with ideal joints treats a scene's initial state that violates its constraints
+/// (docs/joints.md, "Initial state").
+struct ConstraintOptions {
+  /// Largest violation accepted and projected away silently, relative (length rows to the
+  /// joints' largest arm, rotation rows as they are, velocity rows to the bodies' speeds).
+  double initial_tolerance = 1e-6;
+  /// Project whatever the violation (the scene's `project_initial_state = true`).
+  bool project_initial_state = false;
+};
+
+/// A scene's initial state that violates its ideal joints by more than the tolerance: names
+/// the joint, the level (position or velocity) and the relative violation.
+class InconsistentInitialStateError : public std::invalid_argument {
+ public:
+  InconsistentInitialStateError(int joint, const std::string& what)
+      : std::invalid_argument(what), joint_(joint) {}
+  int joint() const { return joint_; }
+
+ private:
+  int joint_;
+};
+
+/// What the consistent initial state moved from the scene's: the largest relative position and
+/// velocity violations before projection (0 without joints).
+struct InitialProjection {
+  double position = 0.0;
+  double velocity = 0.0;
 };
 
 class Model {
  public:
+  /// With ideal joints (`constraints`), the initial state is made consistent here (positions by
+  /// Newton projection, velocities by projection, in the mass metric): a violation beyond
+  /// options.initial_tolerance throws InconsistentInitialStateError unless
+  /// options.project_initial_state; a singular initial configuration throws
+  /// SingularConfigurationError.
   Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements,
-        FlexibleFormulation formulation = FlexibleFormulation::kCoupled);
+        FlexibleFormulation formulation = FlexibleFormulation::kCoupled,
+        std::unique_ptr<const ConstraintEquations> constraints = nullptr,
+        ConstraintOptions options = {});
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
   const Body& body(int i) const { return bodies_[static_cast<std::size_t>(i)]; }
@@ -74,8 +118,36 @@ class Model {
   /// damping: integrators then track the dissipated work W_d (Trajectory::dissipated_work).
   bool dissipates() const { return dissipates_; }
 
+  /// The scene's initial state (consistent with the ideal joints, see the constructor).
   State initial_state() const;
   Workspace make_workspace() const;
+
+  /// Ideal joints (docs/joints.md): the constraint equations, or nullptr.
+  bool has_constraints() const { return constraints_ != nullptr; }
+  const ConstraintEquations* constraints() const { return constraints_.get(); }
+  /// Where each body's (v_WBr, ω̄, q̇_f) sits in the stacked velocities of the constraint rows.
+  const VelocityLayout& velocity_layout() const { return layout_; }
+  /// The independent constraint rows (the others are redundant: docs/joints.md).
+  const std::vector<int>& independent_rows() const { return active_rows_; }
+  /// How far the scene's initial state was from its constraints.
+  const InitialProjection& initial_projection() const { return initial_projection_; }
+  /// Newton projection of the positions onto Φ(q, t) = 0 (mass metric; p_Br, θ by the body-frame
+  /// rotation increment, q_f), then of the velocities onto J v + Φ_t = 0. Returns the largest
+  /// relative violations before the projection.
+  InitialProjection project(double t, State& state, Workspace& ws) const;
+  /// The stacked generalized velocities (v_WBr, ω̄, q̇_f) of a state.
+  void stack_velocities(const State& state, Eigen::VectorXd& v) const;
+  /// The projection of the velocities alone (positions consistent).
+  void project_velocities(double t, State& state, Workspace& ws) const;
+  /// Per joint: the largest |Φ| of its rows (m or rad) and of its velocity rows |J v + Φ_t| (m/s
+  /// or rad/s) at a state.
+  std::vector<std::array<double, 2>> constraint_violations(double t, const State& state,
+                                                           Workspace& ws) const;
+  /// Per joint: the force and torque (about the joint point, world) it exerts on its first body,
+  /// from the minimum-norm multipliers of all its rows at the state's accelerations (loads of
+  /// the branch active at context.t_segment). Allocates: for outputs.
+  std::vector<JointReaction> joint_reactions(const LoadContext& context, const State& state,
+                                             Workspace& ws) const;
   /// Accelerations sized for the model (modal parts included).
   Accelerations make_accelerations() const;
   /// Sets the rigid part of every prescribed body to its angle law's at time t (p_WBr fixed,
@@ -159,12 +231,37 @@ class Model {
   Eigen::Vector3d p_WP(int i, const BodyState& s, const TrackedPoint& point) const;
 
  private:
+  /// The scene's initial state as described (before any projection onto the joints).
+  State scene_initial_state() const;
+  /// With joints: the independent rows and length scale at the scene's initial state, then the
+  /// consistent initial state (see the constructor).
+  void assemble_initial_state(const ConstraintOptions& options);
   /// Points ws.kinematics at the state (A(θ), and the q_f the loads see).
   void pose_bodies(const State& state, Workspace& ws) const;
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
   /// α̅ of a prescribed body's angle law at t (zero for another body).
   Eigen::Vector3d prescribed_alpha_WB_B(const Body& b, double t) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
+  /// Each body's accelerations from its loads alone (M⁻¹ Q), before the joints' reactions.
+  void free_accelerations(const State& state, Workspace& ws, Accelerations& accelerations) const;
+  /// M_b⁻¹ rhs for body b (rigid: its diag(m, I_Br) inverse; flexible: the structured solve
+  /// factored by the last accelerations_from_wrenches), with the rows its motion fixes zero.
+  void apply_inverse_mass(int b, const Eigen::Ref<const Eigen::VectorXd>& rhs,
+                          Eigen::Ref<Eigen::VectorXd> out, Workspace& ws) const;
+  /// The ideal joints' multipliers and constrained accelerations at the loads in ws.
+  void apply_constraints(double t, Workspace& ws, Accelerations& accelerations) const;
+  /// The rows at a state, and their factorization in the mass metric (flexible bodies' factors
+  /// at the state); throws SingularConfigurationError at a singular configuration.
+  void factor_constraints_at(double t, const State& state, Workspace& ws) const;
+  /// Largest relative violation of the position rows (length rows by the joints' length scale)
+  /// and of the velocity rows (by the bodies' speeds), and the joints where each is largest.
+  struct RelativeViolation {
+    double position = 0.0;
+    double velocity = 0.0;
+    int position_joint = 0;
+    int velocity_joint = 0;
+  };
+  RelativeViolation relative_violation(const ConstraintRows& rows, const State& state) const;
 
   std::vector<Body> bodies_;
   std::vector<std::unique_ptr<const ForceElement>> elements_;
@@ -178,6 +275,12 @@ class Model {
   std::vector<int> wear_elements_;  ///< element index of each channel
   std::vector<int> switching_channels_;
   bool applied_work_ = false;
+  std::unique_ptr<const ConstraintEquations> constraints_;
+  VelocityLayout layout_;
+  std::vector<int> active_rows_;
+  double joint_length_scale_ = 1.0;  ///< the joints' largest arm from a body's Br (m)
+  State initial_state_;
+  InitialProjection initial_projection_;
 };
 
 }  // namespace flexref::core

@@ -8,6 +8,7 @@
 #include "contact/bushing_impl.hpp"
 #include "contact/contact_impl.hpp"
 #include "contact/gap_support_impl.hpp"
+#include "contact/spring_damper.hpp"
 #include "core/applied_load_impl.hpp"
 #include "core/gravity_impl.hpp"
 #include "core/point_charge_potential_impl.hpp"
@@ -33,6 +34,8 @@ template class GapSupportTpl<long double>;
 template class GapSupportTpl<boost::multiprecision::float128>;
 template class ContactElementTpl<long double>;
 template class ContactElementTpl<boost::multiprecision::float128>;
+template class SpringDamperTpl<long double>;
+template class SpringDamperTpl<boost::multiprecision::float128>;
 }  // namespace flexref::contact
 
 namespace flexref::precision {
@@ -62,6 +65,7 @@ std::unique_ptr<const core::ForceElementTpl<S>> element_in(const core::ForceElem
   if ((e = converted<contact::SphericalBushingTpl, S>(element))) return e;
   if ((e = converted<contact::RevoluteBushingTpl, S>(element))) return e;
   if ((e = converted<contact::GapSupportTpl, S>(element))) return e;
+  if ((e = converted<contact::SpringDamperTpl, S>(element))) return e;
   return converted<contact::ContactElementTpl, S>(element);
 }
 

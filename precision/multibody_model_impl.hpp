@@ -47,6 +47,11 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
   // the restitution, the pairs' and supports' points and node rows), in its element order,
   // which numbers the switching functions: every precision solves one model.
   const core::Model built = scene::build_model(spec, formulation);
+  if (built.has_constraints()) {
+    throw std::invalid_argument(spec.name +
+                                ": ideal joints are not yet carried by the extended/quad model; "
+                                "use --precision double");
+  }
   int offset = 0;
   for (const scene::BodySpec& body_spec : spec.bodies) {
     const core::RigidBodyDescription& d = body_spec.description;

@@ -66,6 +66,8 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
             "CVodeCreate")) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
+    data_.scratch.workspace.constraint_stabilization = options.constraint_stabilization;
+    if (model.has_constraints()) data_.projected.resize(static_cast<std::size_t>(form_.size()));
     data_.jacobian = options.jacobian;
     if (newton == NewtonJacobian::kStructured) {
       structured_.emplace(form_);
@@ -78,6 +80,8 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
                      std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     form_.pack(state, sun::data(y_.get()));
+    // Ideal joints: every segment starts on the constraint manifold.
+    form_.project(segment.start, sun::data(y_.get()), data_.scratch);
     form_.set_integrals(sun::data(y_.get()), integrals);
     void* cvode = cvode_.get();
     if (!initialized_) {
@@ -95,7 +99,11 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
         sun::check(CVodeSetJacFn(cvode, sun::structured_ode_jacobian), "CVodeSetJacFn");
       }
       if (method_ != CvodeMethod::kAdams) {
-        sun::check(CVodeSetProjFn(cvode, sun::project_euler_parameters), "CVodeSetProjFn");
+        // BDF projects after each step: θ onto the unit sphere, and with ideal joints the
+        // state onto Φ = 0, J v + Φ_t = 0 (docs/joints.md).
+        sun::check(CVodeSetProjFn(cvode, model_->has_constraints() ? sun::project_constraints
+                                                                   : sun::project_euler_parameters),
+                   "CVodeSetProjFn");
       }
       if (method_ == CvodeMethod::kBdf2) sun::check(CVodeSetMaxOrd(cvode, 2), "CVodeSetMaxOrd");
       sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
@@ -132,7 +140,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   void restart_at_root(double t, const sun::Segment& segment) override {
     // A new order-1 step sequence from the solution at the event; θ back on the sphere (BDF's
     // projection keeps it there already).
-    if (method_ == CvodeMethod::kAdams) form_.normalize_euler_parameters(sun::data(y_.get()));
+    if (method_ == CvodeMethod::kAdams || model_->has_constraints()) {
+      form_.project(t, sun::data(y_.get()), data_.scratch);
+    }
     sun::check(CVodeReInit(cvode_.get(), t, y_.get()), "CVodeReInit");
     sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
   }
@@ -200,8 +210,14 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
     choice = choose_cvode_method(model, mean_output_spacing(output_times));
   }
   const NewtonJacobian newton = choose_newton_jacobian(model, options);
-  ReferenceRun run = sun::integrate_segments(model, output_times, options, "cvode", [&] {
-    return std::make_unique<CvodeSegmentSolver>(model, options, choice.method, newton);
+  // Adams cannot project (CVODE 6.4): the joints' drift is damped instead (Baumgarte).
+  SolverOptions o = options;
+  if (choice.method == CvodeMethod::kAdams) {
+    o.constraint_stabilization =
+        constraint_stabilization_rate(model, mean_output_spacing(output_times));
+  }
+  ReferenceRun run = sun::integrate_segments(model, output_times, o, "cvode", [&] {
+    return std::make_unique<CvodeSegmentSolver>(model, o, choice.method, newton);
   });
   run.method = to_string(choice.method);
   run.method_reason = choice.reason;

@@ -51,6 +51,19 @@ DaeForm::DaeForm(const core::Model& model) : model_(&model), fixed_(model.initia
     integral_count_ = 1 + model.extra_integral_count();
     size_ += integral_count_;
   }
+  if (model.has_constraints()) {
+    multiplier_index_ = size_;
+    multiplier_count_ = static_cast<int>(model.independent_rows().size());
+    size_ += 2 * multiplier_count_;
+  }
+}
+
+std::vector<double> DaeForm::differential_ids() const {
+  std::vector<double> ids(static_cast<std::size_t>(size_), 1.0);
+  if (multiplier_index_ >= 0) {
+    std::fill(ids.begin() + multiplier_index_, ids.end(), 0.0);
+  }
+  return ids;
 }
 
 DaeForm::Scratch DaeForm::make_scratch() const {
@@ -64,13 +77,21 @@ DaeForm::Scratch DaeForm::make_scratch() const {
     const Eigen::Index m = b.is_flexible() ? 6 + b.mode_count() : 0;
     s.body_mass.push_back(Eigen::MatrixXd::Zero(m, m));
   }
+  if (model_->has_constraints()) {
+    s.velocities = Eigen::VectorXd::Zero(model_->velocity_layout().size());
+    s.multipliers = Eigen::VectorXd::Zero(2 * model_->velocity_layout().size());
+  }
   return s;
 }
 
-void DaeForm::initial_values(const core::LoadContext& context, const core::State& state, double* y,
+void DaeForm::initial_values(const core::LoadContext& context, const core::State& given, double* y,
                              double* yp) const {
   core::Workspace ws = model_->make_workspace();
   core::Accelerations acc = model_->make_accelerations();
+  // With joints, the state projected onto Φ = 0, J v + Φ_t = 0 (a restart at an event starts
+  // from the solver's state, consistent to its tolerance).
+  core::State state = given;
+  if (model_->has_constraints()) model_->project(context.t, state, ws);
   model_->compute_accelerations(context, state, ws, acc);
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Block& k = blocks_[i];
@@ -97,6 +118,15 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
     model_->integral_rates(
         context, state, ws,
         std::span<double>(yp + work_index_, static_cast<std::size_t>(integral_count_)));
+  }
+  if (multiplier_index_ >= 0) {
+    // λ of the constrained accelerations (the same sign: M v̇ = Q − Jᵀ λ), μ = 0; both algebraic.
+    for (int j = 0; j < multiplier_count_; ++j) {
+      y[multiplier_index_ + j] = ws.constraint.lambda(j);
+      y[multiplier_index_ + multiplier_count_ + j] = 0.0;
+      yp[multiplier_index_ + j] = 0.0;
+      yp[multiplier_index_ + multiplier_count_ + j] = 0.0;
+    }
   }
 }
 
@@ -185,13 +215,42 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
     acc[i].qdd_f = ConstMapX(yp + k.v_q, k.n);
   }
   model_->compute_wrenches(context, state, scratch.workspace);
+  const bool joints = multiplier_index_ >= 0;
+  const core::VelocityLayout& layout = model_->velocity_layout();
+  if (joints) {
+    // Jᵀ λ and Jᵀ μ over the independent rows, stacked like the generalized velocities.
+    core::ConstraintRows& rows = scratch.workspace.constraint.rows;
+    model_->constraints()->evaluate(context.t, scratch.workspace.kinematics, layout, rows);
+    const std::vector<int>& active = model_->independent_rows();
+    const auto n_v = static_cast<Eigen::Index>(layout.size());
+    auto force = scratch.multipliers.head(n_v);
+    auto shift = scratch.multipliers.tail(n_v);
+    force.setZero();
+    shift.setZero();
+    for (int j = 0; j < multiplier_count_; ++j) {
+      const auto row = rows.J.row(active[static_cast<std::size_t>(j)]);
+      force.noalias() += y[multiplier_index_ + j] * row.transpose();
+      shift.noalias() += y[multiplier_index_ + multiplier_count_ + j] * row.transpose();
+    }
+    model_->stack_velocities(state, scratch.velocities);
+    for (int j = 0; j < multiplier_count_; ++j) {
+      const int r = active[static_cast<std::size_t>(j)];
+      // J v + Φ_t = 0 (λ's equation), Φ = 0 (μ's)
+      res[multiplier_index_ + j] = rows.J.row(r).dot(scratch.velocities) + rows.phi_t(r);
+      res[multiplier_index_ + multiplier_count_ + j] = rows.phi(r);
+    }
+  }
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Block& k = blocks_[i];
     auto r = scratch.residual.head(6 + k.n);
     model_->dynamics_residual(static_cast<int>(i), state[i], acc[i], scratch.workspace, r);
+    const int o = joints ? layout.offset(static_cast<int>(i)) : 0;
+    if (joints) r += scratch.multipliers.segment(o, 6 + k.n);  // + Jᵀ λ
     if (k.p >= 0) {
       Map3(res + k.p) = ConstMap3(yp + k.p) - ConstMap3(y + k.v);  // ṗ − v
       Map3(res + k.v) = r.head<3>();                               // m v̇ − f (+ coupling)
+      // + Φ_pᵀ μ
+      if (joints) Map3(res + k.p) += scratch.multipliers.segment<3>(layout.size() + o);
     }
     if (k.theta >= 0) {
       // θ̇ − ½ θ ⊗ (0, ω̄), with the θ of y (tangent to its sphere) as in the ODE form
@@ -199,9 +258,15 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
           ConstMap4(yp + k.theta) -
           rotation::euler_parameter_rate(ConstMap4(y + k.theta), ConstMap3(y + k.w));
       Map3(res + k.w) = r.segment<3>(3);  // I α̅ + ω̄ × I ω̄ − Aᵀ τ (+ coupling)
+      if (joints) {
+        // + (∂Φ/∂θ)ᵀ μ = 2 Ḡ(θ̂)ᵀ J_ω̄ᵀ μ
+        Map4(res + k.theta) += 2.0 * rotation::g_bar_matrix(state[i].theta_WB).transpose() *
+                               scratch.multipliers.segment<3>(layout.size() + o + 3);
+      }
     }
     MapX(res + k.q, k.n) = ConstMapX(yp + k.q, k.n) - ConstMapX(y + k.v_q, k.n);  // q̇ − v_q
     MapX(res + k.v_q, k.n) = r.tail(k.n);                                         // modal rows
+    if (joints) MapX(res + k.q, k.n) += scratch.multipliers.segment(layout.size() + o + 6, k.n);
   }
   if (work_index_ >= 0) {
     // W_d' − P = 0, and each extra integral's W' − rate = 0 (rates into res, then subtracted)

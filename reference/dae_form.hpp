@@ -15,11 +15,17 @@
 /// the ODE form's (reference/ode_form.hpp): a Jacobian of the ODE right-hand side serves IDA
 /// too (reference/ode_jacobian.hpp).
 ///
-/// ∂F/∂y' = blockdiag(I, M) is regular: an implicit ODE (index 0), every component
-/// differential. |θ| is a first integral of the kinematic equation (θᵀ (θ ⊗ (0, ω̄)) = 0), and
-/// the equations are homogeneous in θ, so a drift of |θ| by the local errors does not move the
-/// attitude θ̂; the driver renormalizes θ at every restart. *Decision* (measured against the
-/// paper's Euler-parameter form and a GGL-constrained variant, docs/references.md): no
+/// With ideal joints (docs/joints.md) the form is the stabilized index-2 system of Gear, Gupta &
+/// Leimkuhler (1985) in the quasi-velocity variables, the multipliers λ, μ of the m independent
+/// rows last in y (algebraic: IDASetId 0, out of the error test):
+///   ṗ − v + Φ_pᵀ μ = 0,   θ̇ − ½ θ ⊗ (0, ω̄) + 2 Ḡ(θ̂)ᵀ J_ω̄ᵀ μ = 0,   q̇ − v_q + J_q̇ᵀ μ = 0,
+///   M v̇ − Q + Jᵀ λ = 0,   J v + Φ_t = 0,   Φ(q, t) = 0,
+/// (Φ_p = J_v, ∂Φ/∂θ = J_ω̄ 2Ḡ(θ̂) since δφ_B = 2 Ḡ δθ); on the exact solution μ = 0 and λ are the
+/// joints' multipliers. Without joints ∂F/∂y' = blockdiag(I, M) is regular: an implicit ODE
+/// (index 0), every component differential. |θ| is a first integral of the kinematic equation (θᵀ
+/// (θ ⊗ (0, ω̄)) = 0), and the equations are homogeneous in θ, so a drift of |θ| by the local errors
+/// does not move the attitude θ̂; the driver renormalizes θ at every restart. *Decision* (measured
+/// against the paper's Euler-parameter form and a GGL-constrained variant, docs/references.md): no
 /// constraint and no multiplier. BDF damps and dephases the oscillation the Euler-parameter
 /// velocities v_θ = θ̇ carry even in a steady spin, where ω̄ is constant; and a GGL multiplier
 /// on |θ| = 1 puts the predictor's normal displacement into IDA's local error estimate (CVODE's
@@ -43,6 +49,8 @@ class DaeForm {
     Eigen::VectorXd residual;
     std::vector<int> generalized_rows;       ///< mass_rows: a body's rows in y
     std::vector<Eigen::MatrixXd> body_mass;  ///< mass_rows: a flexible body's (6+n)² matrix
+    Eigen::VectorXd velocities;              ///< ideal joints: the stacked (v_Br, ω̄, q̇_f)
+    Eigen::VectorXd multipliers;             ///< ideal joints: Jᵀ λ, then Jᵀ μ (stacked)
   };
 
   int size() const { return size_; }
@@ -82,6 +90,13 @@ class DaeForm {
       y[work_index_ + j] = values[static_cast<std::size_t>(j)];
   }
 
+  /// Ideal joints: the first multiplier in y (λ of the independent rows, then μ), their count m
+  /// (each), −1 and 0 without joints.
+  int multiplier_index() const { return multiplier_index_; }
+  int multiplier_count() const { return multiplier_count_; }
+  /// 1 for a differential component of y, 0 for an algebraic one (IDASetId).
+  std::vector<double> differential_ids() const;
+
   /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
   struct Block {
     int p = -1, theta = -1, v = -1, w = -1, q = -1, v_q = -1;
@@ -99,6 +114,8 @@ class DaeForm {
   int max_rows_ = 6;
   int work_index_ = -1;
   int integral_count_ = 0;
+  int multiplier_index_ = -1;
+  int multiplier_count_ = 0;
 };
 
 }  // namespace flexref::reference

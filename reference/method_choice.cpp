@@ -93,6 +93,12 @@ StiffnessSummary summarize_stiffness(const core::Model& model, double output_spa
       summary.resolved_rate = std::max(summary.resolved_rate, magnitude);
       summary.fastest_oscillation = std::max(summary.fastest_oscillation, magnitude);
     }
+    // A growing mode is resolved whatever the method (its growth sets the step): a mechanism
+    // linearized away from equilibrium has real pairs ±σ (Andrews' squeezer: ±471/s at its
+    // initial state), whose decaying half is then no faster than what the solution resolves.
+    if (lambda.real() > noise) {
+      summary.resolved_rate = std::max(summary.resolved_rate, lambda.real());
+    }
   }
   return summary;
 }
@@ -167,7 +173,17 @@ ReferenceSolverChoice choose_reference_solver(const core::Model& model, double o
   return {"cvode", "the default reference (no stiff oscillatory mode)"};
 }
 
+double constraint_stabilization_rate(const core::Model& model, double output_spacing) {
+  if (!model.has_constraints()) return 0.0;
+  const StiffnessSummary summary = summarize_stiffness(model, output_spacing);
+  if (summary.resolved_rate > 0.0) return summary.resolved_rate;
+  return output_spacing > 0.0 ? std::numbers::pi / output_spacing : 1.0;
+}
+
 NewtonJacobian choose_newton_jacobian(const core::Model& model, const SolverOptions& options) {
+  // A user's or the structured Jacobian is the unconstrained right-hand side's; with ideal
+  // joints (and for IDA's multiplier rows) the difference quotients are the system's own.
+  if (model.has_constraints()) return NewtonJacobian::kDifferenceQuotients;
   if (options.jacobian != nullptr) return NewtonJacobian::kUser;
   if (model.has_flexible_bodies()) return NewtonJacobian::kStructured;
   return NewtonJacobian::kDifferenceQuotients;

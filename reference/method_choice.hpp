@@ -13,8 +13,10 @@
 ///  - a heavily damped fast mode in the spectrum of the ODE Jacobian J at the initial state
 ///    (difference quotients, the loads of the first segment): the fastest decay rate
 ///    σ = max(−Re λ) exceeds kStiffnessRatio times every rate the solution must resolve — the
-///    magnitudes |λ| of the modes damped less than critically ratio 1/√2 (|Re λ| ≤ |Im λ|) and
-///    the bodies' angular speeds.
+///    magnitudes |λ| of the modes damped less than critically ratio 1/√2 (|Re λ| ≤ |Im λ|), the
+///    growth rates Re λ > 0 of unstable modes (a linearization away from equilibrium has real
+///    pairs ±σ, whose decaying half is no stiffer than the growing one the step must follow)
+///    and the bodies' angular speeds.
 /// BDF capped at order 2 (kBdf2, A-stable) is chosen before either where a lightly damped mode
 /// (|Re λ| ≤ |Im λ|, undamped modes on the imaginary axis) oscillates much faster than every
 /// rate the solution is asked to show: more than kStiffnessRatio × the accuracy rate
@@ -98,7 +100,18 @@ enum class NewtonJacobian {
   kUser,                 ///< SolverOptions::jacobian, dense LU
 };
 
-/// kUser when the options give a Jacobian; kStructured for a model with flexible bodies (its
+/// Baumgarte's rate α for a model with ideal joints integrated without projection (CVODE's
+/// Adams, ARKODE, Odeint; docs/joints.md, "References"): the fastest rate the solution must
+/// resolve at the initial state (StiffnessSummary::resolved_rate: oscillations, growth rates and
+/// the bodies' angular speeds), or π/Δt_out when none is known. The drift of Φ and J v + Φ_t,
+/// fed by the local errors, then decays at α instead of growing linearly and quadratically,
+/// and h·α stays within the step's accuracy range, so the term adds no stiffness. 0 without
+/// joints.
+double constraint_stabilization_rate(const core::Model& model, double output_spacing);
+
+/// kDifferenceQuotients for a model with ideal joints (the user's and the structured Jacobians
+/// are the unconstrained equations'); kUser when the options give a Jacobian; kStructured for a
+/// model with flexible bodies (its
 /// modal blocks make difference quotients cost 1 + dim y evaluations of O(n²) and the dense LU
 /// O((13 + 2n)³); docs/performance.md); otherwise kDifferenceQuotients (rigid models keep
 /// SUNDIALS' own, the figures of docs/references.md).

@@ -127,6 +127,16 @@ void OdeForm::rhs(const core::LoadContext& context, const double* y, double* ydo
   }
 }
 
+void OdeForm::project(double t, double* y, Scratch& scratch) const {
+  if (!model_->has_constraints()) {
+    normalize_euler_parameters(y);
+    return;
+  }
+  unpack(t, y, scratch.state);
+  model_->project(t, scratch.state, scratch.workspace);
+  pack(scratch.state, y);
+}
+
 void OdeForm::normalize_euler_parameters(double* y) const {
   for (int offset : theta_offsets_) {
     Map4 theta(y + offset);

@@ -43,6 +43,9 @@ class OdeForm {
   void rhs(const core::LoadContext& context, const double* y, double* ydot, Scratch& scratch) const;
   /// Scales every body's θ to unit norm.
   void normalize_euler_parameters(double* y) const;
+  /// Ideal joints: projects the bodies' state in y onto Φ = 0 and J v + Φ_t = 0 at t
+  /// (core::Model::project; θ unit); the integrals are left as they are.
+  void project(double t, double* y, Scratch& scratch) const;
   /// Index of W_d in y, or −1 when not tracked.
   int work_index() const { return work_index_; }
   double dissipated_work(const double* y) const { return work_index_ < 0 ? 0.0 : y[work_index_]; }

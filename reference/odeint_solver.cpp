@@ -44,6 +44,7 @@
 #include "core/error.hpp"
 #include "core/impact_counter.hpp"
 #include "reference/continuous_extension.hpp"
+#include "reference/method_choice.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
 #include "reference/solve_progress.hpp"
@@ -163,7 +164,9 @@ class Integrator {
         g_new_(g_.size()),
         g_mid_(g_.size()),
         g_stage_(g_.size()),
-        carried_(static_cast<std::size_t>(form.integral_count())) {}
+        carried_(static_cast<std::size_t>(form.integral_count())) {
+    scratch_.workspace.constraint_stabilization = options.constraint_stabilization;
+  }
 
   /// Where located event times are appended.
   void record_events_in(std::vector<double>* events) { events_ = events; }
@@ -175,6 +178,8 @@ class Integrator {
     t_segment_ = t_segment;
     form_->integrals(x_.data(), carried_);  // W_d and the extra integrals, across segments
     form_->pack(state, x_.data());
+    // Ideal joints: every segment starts on the constraint manifold.
+    if (form_->model().has_constraints()) form_->project(t_, x_.data(), scratch_);
     form_->set_integrals(x_.data(), carried_);
     evaluate_derivative();
     evaluate_switching(x_, t_, g_);
@@ -590,7 +595,11 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
   for (; k < output_times.size() && output_times[k] <= time_slack(0.0); ++k) record();
   if (k == output_times.size()) return run;
 
-  Integrator integrator(form, options, run.stats);
+  // Odeint's steppers have no projection: the joints' drift is damped instead (Baumgarte).
+  SolverOptions o = options;
+  o.constraint_stabilization =
+      constraint_stabilization_rate(model, mean_output_spacing(output_times));
+  Integrator integrator(form, o, run.stats);
   integrator.record_events_in(&run.event_times);
   std::clock_t cpu = 0;
   try {

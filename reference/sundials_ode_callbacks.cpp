@@ -3,6 +3,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <exception>
@@ -106,6 +107,33 @@ int project_euler_parameters(sunrealtype /*t*/, N_Vector ycur, N_Vector corr,
       error -= unit.dot(error) * unit;
     }
   }
+  return 0;
+}
+
+int project_constraints(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj,
+                        N_Vector err, void* user_data) {
+  auto& d = *static_cast<OdeCallbackData*>(user_data);
+  const int n = d.form->size();
+  const double* y = data(ycur);
+  try {
+    std::copy(y, y + n, d.projected.begin());
+    d.form->project(t, d.projected.data(), d.scratch);
+  } catch (...) {
+    return 1;  // a trial step far off the manifold (or singular): retry a smaller step
+  }
+  double* c = data(corr);
+  for (int i = 0; i < n; ++i) c[i] = d.projected[static_cast<std::size_t>(i)] - y[i];
+  if (!all_finite(c, n)) return 1;
+  // The error's θ components tangent to the sphere, as for the Euler parameters alone.
+  if (err != nullptr) {
+    double* e = data(err);
+    for (int offset : d.form->theta_offsets()) {
+      const Eigen::Map<const Eigen::Vector4d> theta(d.projected.data() + offset);
+      Eigen::Map<Eigen::Vector4d> error(e + offset);
+      error -= theta.dot(error) * theta;
+    }
+  }
+  (void)eps_proj;
   return 0;
 }
 

@@ -33,11 +33,19 @@ struct OdeCallbackData : CallbackRecord {
   const std::vector<double>* watch_start = nullptr;
   std::vector<double> watch_values;
   bool other_side = false;
+  /// project_constraints' copy of y (sized by the driver for models with ideal joints).
+  std::vector<double> projected;
 };
 
 /// y' = f(t, y). Returns 1 (recoverable: the solver retries a smaller step) when f is not
 /// finite, e.g. a trial step that reached a singular load.
 int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data);
+
+/// CVProjFn for models with ideal joints: the correction that puts the bodies' state on
+/// Φ = 0, J v + Φ_t = 0 with unit θ (OdeForm::project); the error's θ parts projected as in
+/// project_euler_parameters. Returns 1 (recoverable) when the projection fails.
+int project_constraints(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype eps_proj,
+                        N_Vector err, void* user_data);
 
 /// The model's switching functions at (t, y).
 int ode_switching(sunrealtype t, N_Vector y, sunrealtype* g, void* user_data);

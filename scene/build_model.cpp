@@ -7,7 +7,9 @@
 #include <utility>
 #include <vector>
 
+#include "constraint/ideal_joints_tpl.hpp"
 #include "core/gravity.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::scene {
 namespace {
@@ -78,6 +80,93 @@ core::NodeAttachment attachment(const std::vector<core::Body>& bodies, int body,
     return core::NodeAttachment::of_node(b.description().flexible->modal, node);
   } catch (const std::invalid_argument& e) {
     throw SpecError(source, key, e.what());
+  }
+}
+
+/// A unit vector perpendicular to the unit vector z (z × the axis z is least aligned with).
+Eigen::Vector3d perpendicular_to(const Eigen::Vector3d& z) {
+  Eigen::Index k = 0;
+  z.cwiseAbs().minCoeff(&k);
+  return z.cross(Eigen::Vector3d::Unit(k)).normalized();
+}
+
+/// An end's initial pose: the body's attitude R_WB and the end point in the world (the node
+/// displaced by Φ_k q0), from the scene's initial state; the ground's identity and its point.
+struct EndPose {
+  Eigen::Matrix3d R_WB = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p_WP = Eigen::Vector3d::Zero();
+};
+
+EndPose initial_pose(const constraint::JointEnd& end, const std::vector<core::Body>& bodies) {
+  EndPose pose;
+  if (end.body == constraint::kGround) {
+    pose.p_WP = end.p_BoP_B;
+    return pose;
+  }
+  const core::RigidBodyDescription& d = bodies[static_cast<std::size_t>(end.body)].description();
+  pose.R_WB = rotation::rotation_matrix(d.initial.theta_WB.normalized());
+  Eigen::Vector3d x = end.p_BoP_B;
+  if (end.node >= 0 && d.flexible && d.flexible->q0.size() == end.phi_B.cols()) {
+    x += end.phi_B * d.flexible->q0;
+  }
+  pose.p_WP = d.initial.p_WBo + pose.R_WB * x;
+  return pose;
+}
+
+/// The ideal joints of the spec with their ends' frames, node rows, drive offsets and default
+/// lengths formed from the bodies' initial state (constraint/ideal_joint.hpp).
+std::unique_ptr<const core::ConstraintEquations> build_ideal_joints(
+    const SceneSpec& spec, const std::vector<core::Body>& bodies,
+    core::FlexibleFormulation formulation) {
+  std::vector<constraint::IdealJointSpec> joints;
+  for (const IdealJointSceneSpec& j : spec.ideal_joints) {
+    constraint::IdealJointSpec joint = j.joint;
+    for (constraint::JointEnd* end : {&joint.a, &joint.b}) {
+      if (end->node < 0) continue;
+      const core::Body& b = bodies[static_cast<std::size_t>(end->body)];
+      const char* key = end == &joint.a ? "node_a" : "node_b";
+      if (formulation == core::FlexibleFormulation::kLte) {
+        throw SpecError(j.source, key,
+                        "an ideal joint at a node of a flexible body needs the coupled model (the "
+                        "LTE model has no elastic feedback on the rigid motion); use --model "
+                        "coupled or join the body at its hub");
+      }
+      end->phi_B = b.description().flexible->modal.mode_rows(end->node);
+    }
+    const EndPose a = initial_pose(joint.a, bodies);
+    const EndPose b = initial_pose(joint.b, bodies);
+    // End frames: z the given axes; X_b any perpendicular; X_a the same world direction seen
+    // from body a (projected off Z_a), so that the frames coincide when the joint is assembled.
+    Eigen::Matrix3d R_b;
+    const Eigen::Vector3d z_b = j.axis_b;
+    const Eigen::Vector3d x_b = perpendicular_to(z_b);
+    R_b << x_b, z_b.cross(x_b), z_b;
+    const Eigen::Vector3d z_a = j.axis_a;
+    Eigen::Vector3d x_a = a.R_WB.transpose() * (b.R_WB * x_b);
+    x_a -= x_a.dot(z_a) * z_a;
+    x_a = x_a.norm() > 1e-6 ? Eigen::Vector3d(x_a.normalized()) : perpendicular_to(z_a);
+    Eigen::Matrix3d R_a;
+    R_a << x_a, z_a.cross(x_a), z_a;
+    joint.a.R_BJ = R_a;
+    joint.b.R_BJ = R_b;
+    const Eigen::Vector3d d = a.p_WP - b.p_WP;
+    if (joint.type == constraint::JointType::kDistance && !j.length_given) {
+      joint.length = d.norm();
+      if (!(joint.length > 0.0)) {
+        throw SpecError(j.source, "length",
+                        "the two points coincide initially; give the rod's length");
+      }
+    }
+    if (joint.drive.active && joint.type == constraint::JointType::kPrismatic) {
+      joint.drive.offset = d.dot(b.R_WB * z_b);
+    }
+    joints.push_back(std::move(joint));
+  }
+  try {
+    return std::make_unique<constraint::IdealJoints>(std::move(joints),
+                                                     static_cast<int>(bodies.size()));
+  } catch (const std::invalid_argument& e) {
+    throw SpecError(spec.ideal_joints.front().source, "", e.what());
   }
 }
 
@@ -202,7 +291,32 @@ core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formula
       throw SpecError(j.source, "", e.what());
     }
   }
-  return core::Model(std::move(bodies), std::move(elements), formulation);
+  for (const SpringSpec& sp : spec.springs) {
+    try {
+      elements.push_back(std::make_unique<contact::SpringDamper>(sp.body_a, sp.point_a, sp.body_b,
+                                                                 sp.point_b, sp.parameters));
+    } catch (const std::invalid_argument& e) {
+      throw SpecError(sp.source, "", e.what());
+    }
+  }
+  if (spec.ideal_joints.empty()) {
+    return core::Model(std::move(bodies), std::move(elements), formulation);
+  }
+  std::unique_ptr<const core::ConstraintEquations> joints =
+      build_ideal_joints(spec, bodies, formulation);
+  core::ConstraintOptions options;
+  options.project_initial_state = spec.project_initial_state;
+  try {
+    return core::Model(std::move(bodies), std::move(elements), formulation, std::move(joints),
+                       options);
+  } catch (const core::InconsistentInitialStateError& e) {
+    throw SpecError(spec.ideal_joints[static_cast<std::size_t>(e.joint())].source, "", e.what());
+  } catch (const core::SingularConfigurationError& e) {
+    for (const IdealJointSceneSpec& j : spec.ideal_joints) {
+      if (j.joint.name == e.joint()) throw SpecError(j.source, "", e.what());
+    }
+    throw SpecError(spec.ideal_joints.front().source, "", e.what());
+  }
 }
 
 }  // namespace flexref::scene

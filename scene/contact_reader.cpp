@@ -203,8 +203,8 @@ ContactSpec read_contact(const Table& t, const BodyNames& names,
 // --- [[joint]] -----------------------------------------------------------------------------
 
 JointSpec read_joint(const Table& t, const BodyNames& names) {
-  t.check_keys({"kind", "body_a", "body_b", "point_a", "point_b", "axis_a", "axis_b", "stiffness",
-                "damping", "angular_stiffness", "angular_damping"});
+  t.check_keys({"model", "kind", "body_a", "body_b", "point_a", "point_b", "axis_a", "axis_b",
+                "stiffness", "damping", "angular_stiffness", "angular_damping"});
   const bool revolute = t.choice("kind", {"spherical", "revolute"}, -1) == 1;
   contact::BushingEnd a;
   contact::BushingEnd b;

@@ -90,5 +90,10 @@ PotentialSpec read_potential(const Table& t, const BodyNames& names,
 ContactSpec read_contact(const Table& t, const BodyNames& names,
                          const std::vector<BodySpec>& bodies);
 JointSpec read_joint(const Table& t, const BodyNames& names);
+/// A [[joint]] table with model = "ideal"; `index` is its position among the [[joint]] tables
+/// (from 1), the default name "joint<index>".
+IdealJointSceneSpec read_ideal_joint(const Table& t, const BodyNames& names,
+                                     const std::vector<BodySpec>& bodies, int index);
+SpringSpec read_spring(const Table& t, const BodyNames& names);
 
 }  // namespace flexref::scene::detail

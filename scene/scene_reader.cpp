@@ -40,6 +40,7 @@ struct SceneSettings {
   double end_time = 0.0;
   double output_step = 0.0;
   Eigen::Vector3d g_W = Eigen::Vector3d::Zero();
+  bool project_initial_state = false;
 };
 
 SceneSettings read_settings(const Table& root) {
@@ -49,7 +50,8 @@ SceneSettings read_settings(const Table& root) {
               "required table is missing; expected a [scene] table with name, end_time and "
               "output_step");
   }
-  scene->check_keys({"name", "description", "end_time", "output_step", "gravity"});
+  scene->check_keys(
+      {"name", "description", "end_time", "output_step", "gravity", "project_initial_state"});
   SceneSettings s;
   s.name = scene->name("name", "the scene name, a string");
   s.description = scene->optional_string("description", "a string").value_or("");
@@ -65,6 +67,9 @@ SceneSettings read_settings(const Table& root) {
   }
   s.g_W = scene->vector3_or("gravity", Eigen::Vector3d::Zero(),
                             "gravity [gx, gy, gz] in m/s^2, world frame");
+  s.project_initial_state =
+      scene->boolean_or("project_initial_state", false,
+                        "true or false: project an initial state that violates the ideal joints");
   return s;
 }
 
@@ -124,7 +129,7 @@ void check_initial_evaluation(const SceneSpec& spec, const core::Model& model, c
 
 SceneSpec read_spec(const toml::value& document, const std::string& file) {
   const Table root(document, file, "");
-  root.check_keys({"scene", "body", "load", "potential", "contact", "joint"});
+  root.check_keys({"scene", "body", "load", "potential", "contact", "joint", "spring"});
   SceneSettings settings = read_settings(root);
   SceneSpec spec;
   spec.name = std::move(settings.name);
@@ -133,6 +138,7 @@ SceneSpec read_spec(const toml::value& document, const std::string& file) {
   spec.end_time = settings.end_time;
   spec.output_step = settings.output_step;
   spec.g_W = settings.g_W;
+  spec.project_initial_state = settings.project_initial_state;
 
   const std::vector<Table> body_tables = root.tables("body", "[[body]] tables");
   if (body_tables.empty()) root.fail("body", "expected at least one [[body]] table");
@@ -153,8 +159,28 @@ SceneSpec read_spec(const toml::value& document, const std::string& file) {
       }
     }
   }
+  int joint_index = 0;
   for (const Table& t : root.tables("joint", "[[joint]] tables")) {
-    spec.joints.push_back(read_joint(t, names));
+    ++joint_index;
+    const std::optional<std::string> model =
+        t.optional_string("model", "\"bushing\" (a compliant joint) or \"ideal\" (a constraint)");
+    if (model && *model == "ideal") {
+      spec.ideal_joints.push_back(read_ideal_joint(t, names, spec.bodies, joint_index));
+      const std::string& name = spec.ideal_joints.back().joint.name;
+      for (std::size_t j = 0; j + 1 < spec.ideal_joints.size(); ++j) {
+        if (spec.ideal_joints[j].joint.name == name) {
+          t.fail("name", "duplicate joint name \"" + name + "\"; expected a unique name");
+        }
+      }
+    } else {
+      if (model && *model != "bushing") {
+        t.fail("model", "expected \"bushing\" or \"ideal\", got \"" + *model + "\"");
+      }
+      spec.joints.push_back(read_joint(t, names));
+    }
+  }
+  for (const Table& t : root.tables("spring", "[[spring]] tables")) {
+    spec.springs.push_back(read_spring(t, names));
   }
   return spec;
 }

@@ -12,10 +12,12 @@
 #include <string>
 #include <vector>
 
+#include "constraint/ideal_joint.hpp"
 #include "contact/bushing.hpp"
 #include "contact/contact.hpp"
 #include "contact/contact_laws.hpp"
 #include "contact/gap_support.hpp"
+#include "contact/spring_damper.hpp"
 #include "core/applied_load.hpp"
 #include "core/body.hpp"
 #include "core/point_charge_potential.hpp"
@@ -122,6 +124,27 @@ struct JointSpec {
   SpecSource source;
 };
 
+/// [[joint]] model = "ideal" (constraint/ideal_joint.hpp) as given: the ends' bodies, points or
+/// nodes and axes, the drive; build_model forms the ends' joint frames, the node rows Φ_k, the
+/// drive's offset and a distance joint's default length from the bodies' initial state.
+struct IdealJointSceneSpec {
+  constraint::IdealJointSpec joint;
+  Eigen::Vector3d axis_a = Eigen::Vector3d::UnitZ();  ///< body_a frame, unit
+  Eigen::Vector3d axis_b = Eigen::Vector3d::UnitZ();  ///< body_b frame (ground: world), unit
+  bool length_given = false;                          ///< distance: `length` was given
+  SpecSource source;
+};
+
+/// [[spring]]: a linear spring–damper between two points (contact/spring_damper.hpp).
+struct SpringSpec {
+  int body_a = 0;
+  int body_b = contact::kGround;
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< body_a frame, from Bo
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< body_b frame, or world (ground)
+  contact::SpringDamperParameters parameters;
+  SpecSource source;
+};
+
 struct SceneSpec {
   std::string name;
   std::string file;          ///< path or name as given to the reader ("" when built in code)
@@ -134,6 +157,11 @@ struct SceneSpec {
   std::vector<PotentialSpec> potentials;
   std::vector<ContactSpec> contacts;
   std::vector<JointSpec> joints;
+  std::vector<IdealJointSceneSpec> ideal_joints;
+  std::vector<SpringSpec> springs;
+  /// [scene] project_initial_state: project an initial state that violates the ideal joints
+  /// by more than the accepted tolerance instead of refusing it (core::ConstraintOptions).
+  bool project_initial_state = false;
 };
 
 /// Recomputes a beam body's modal data from its BeamSpec (after a study edits the beam), keeping

@@ -1,5 +1,6 @@
 #include "studies/trajectory_table.hpp"
 
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -40,6 +41,16 @@ std::vector<std::string> trajectory_columns(const core::Model& model) {
     for (int k = 1; k <= b.mode_count(); ++k) names.push_back(n + ".qd" + std::to_string(k));
     if (b.is_prescribed()) names.push_back(n + ".drive_torque");
   }
+  // Ideal joints: the reaction on the first body (force, torque about the joint point; world)
+  // and the largest position and velocity violation of the joint's rows (docs/output.md).
+  if (model.has_constraints()) {
+    const core::ConstraintEquations& joints = *model.constraints();
+    for (int j = 0; j < joints.joint_count(); ++j) {
+      for (const char* c : {".fx", ".fy", ".fz", ".tx", ".ty", ".tz", ".phi", ".phi_dot"}) {
+        names.push_back(joints.joint_name(j) + c);
+      }
+    }
+  }
   names.emplace_back("energy");
   if (model.dissipates()) {
     names.emplace_back("dissipated_work");
@@ -64,6 +75,13 @@ std::vector<std::string> trajectory_units(const core::Model& model) {
     units.insert(units.end(), static_cast<std::size_t>(b.mode_count()), "modal");
     units.insert(units.end(), static_cast<std::size_t>(b.mode_count()), "modal/s");
     if (b.is_prescribed()) units.emplace_back("N*m");
+  }
+  if (model.has_constraints()) {
+    for (int j = 0; j < model.constraints()->joint_count(); ++j) {
+      for (const char* u : {"N", "N", "N", "N*m", "N*m", "N*m", "m|rad", "m/s|rad/s"}) {
+        units.emplace_back(u);
+      }
+    }
   }
   units.emplace_back("J");
   if (model.dissipates()) {
@@ -119,6 +137,18 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
       for (int m = 0; m < b.mode_count(); ++m) row.push_back(s.qd_f(m));
       if (b.is_prescribed()) {
         row.push_back(model.driving_torque(i, s, accelerations[static_cast<std::size_t>(i)], ws));
+      }
+    }
+    if (model.has_constraints()) {
+      // Reactions at the state's accelerations (loads of the right-limit branch at t).
+      const std::vector<core::JointReaction> reactions =
+          model.joint_reactions(core::LoadContext{t, t}, state, ws);
+      const std::vector<std::array<double, 2>> violations =
+          model.constraint_violations(t, state, ws);
+      for (std::size_t j = 0; j < reactions.size(); ++j) {
+        const core::JointReaction& r = reactions[j];
+        row.insert(row.end(), {r.f_W.x(), r.f_W.y(), r.f_W.z(), r.tau_W.x(), r.tau_W.y(),
+                               r.tau_W.z(), violations[j][0], violations[j][1]});
       }
     }
     // Energy at an output time: the right-limit branch of piecewise loads (potentials do not

@@ -1,0 +1,253 @@
+#pragma once
+/// \file constrained_solve_tpl.hpp
+/// The multipliers of holonomic constraints and the constrained accelerations, written once for
+/// any scalar type S (core::Model in double, the extended and quad references in S), and the
+/// projections onto the constraint manifold. docs/design/model.md, "Ideal joints", index-1 form:
+///
+///   [M  Jᵀ] [v̇]   [Q]          A λ = J M⁻¹ Q − γ,   A = J M⁻¹ Jᵀ   (Schur complement)
+///   [J  0 ] [λ] = [γ],         v̇ = M⁻¹ Q − M⁻¹ Jᵀ λ,
+///
+/// with M⁻¹ applied body by body by the model (a rigid body's diag(m, I_Br) inverse, a flexible
+/// body's structured solve; the rows a body's motion fixes stay zero). Only the independent rows
+/// enter (chosen once, at the initial configuration, by a rank-revealing QR of Jᵀ: redundant
+/// rows of an over-constrained mechanism — a planar loop of revolute joints in 3D, the Bricard
+/// linkage — carry no multiplier of their own, and the reactions are the minimum-norm
+/// multipliers of all rows that give the same generalized force). A rank drop of A in motion is
+/// a singular configuration (a four-bar's dead point): the solve throws
+/// SingularConfigurationError naming the joint.
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/constraint_equations.hpp"
+
+namespace flexref::core {
+
+/// A configuration where the independent constraint rows became dependent (the Schur complement
+/// J M⁻¹ Jᵀ lost rank): no multiplier is determined. Names the joint whose row fell out.
+class SingularConfigurationError : public std::runtime_error {
+ public:
+  SingularConfigurationError(std::string joint, double time, const std::string& what)
+      : std::runtime_error(what), joint_(std::move(joint)), time_(time) {}
+  const std::string& joint() const { return joint_; }
+  double time() const { return time_; }
+
+ private:
+  std::string joint_;
+  double time_;
+};
+
+/// Smallest pivot of the Schur complement's LDLᵀ relative to its largest below which the
+/// configuration counts as singular: ~1e4 ε above the round-off of a rank-deficient A (whose lost
+/// pivot is ~ε times the largest), far below the pivot ratios of assembled mechanisms (the
+/// Andrews squeezer's is ~1e-5 at worst, measured over its horizon).
+inline constexpr double kSingularPivotRatio = 1e-12;
+/// Relative threshold of the rank-revealing QR that picks the independent rows at the initial
+/// configuration: redundancy is structural, its pivots are ~ε relative; 1e-10 keeps rows whose
+/// independence is merely weak (they become a singular configuration if they lose it later).
+inline constexpr double kRedundantRowTolerance = 1e-10;
+
+/// Scratch of the constrained solve, sized once (allocation-free evaluations).
+template <typename S>
+struct ConstraintSolveTpl {
+  using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  ConstraintRowsTpl<S> rows;
+  std::vector<int> active;  ///< the independent rows (indices into rows)
+  Matrix Y;                 ///< N × m_a: M⁻¹ J_aᵀ
+  Matrix A;                 ///< m_a × m_a: J_a M⁻¹ J_aᵀ
+  Eigen::LDLT<Matrix> ldlt;
+  Vector rhs;            ///< m_a
+  Vector lambda;         ///< m_a: the multipliers of the active rows
+  Vector x;              ///< N: stacked accelerations (free in, constrained out)
+  Vector force;          ///< N: the generalized constraint force −J_aᵀ λ
+  Vector v;              ///< N: stacked velocities (stabilization)
+  Vector column;         ///< widest body block
+  Vector out;            ///< widest body block
+  S pivot_ratio = S(1);  ///< smallest/largest |pivot| of the last factorization
+
+  ConstraintSolveTpl() = default;
+  ConstraintSolveTpl(int rows_count, const VelocityLayout& layout, std::vector<int> active_rows) {
+    rows.resize(rows_count, layout.size());
+    active = std::move(active_rows);
+    const auto m = static_cast<Eigen::Index>(active.size());
+    const Eigen::Index n = layout.size();
+    Y = Matrix::Zero(n, m);
+    A = Matrix::Zero(m, m);
+    ldlt = Eigen::LDLT<Matrix>(m);
+    rhs = Vector::Zero(m);
+    lambda = Vector::Zero(m);
+    x = Vector::Zero(n);
+    force = Vector::Zero(n);
+    v = Vector::Zero(n);
+    int widest = 0;
+    for (std::size_t b = 0; b + 1 < layout.offsets.size(); ++b) {
+      widest = std::max(widest, layout.width(static_cast<int>(b)));
+    }
+    column = Vector::Zero(widest);
+    out = Vector::Zero(widest);
+  }
+};
+
+/// The independent rows of J (ascending): the columns a column-pivoted Householder QR of Jᵀ keeps
+/// (rank decided with kRedundantRowTolerance relative to the largest pivot).
+template <typename S>
+std::vector<int> independent_rows(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J) {
+  std::vector<int> rows;
+  if (J.rows() == 0) return rows;
+  Eigen::ColPivHouseholderQR<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>> qr(J.transpose());
+  qr.setThreshold(S(kRedundantRowTolerance));
+  const Eigen::Index rank = qr.rank();
+  for (Eigen::Index k = 0; k < rank; ++k) rows.push_back(qr.colsPermutation().indices()(k));
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
+/// Y = M⁻¹ J_aᵀ, A = J_a Y and A's LDLᵀ for the active rows of s.rows.J. apply_inverse_mass(b,
+/// rhs, out) writes M_b⁻¹ rhs into out (body b's block width; the rows the body's motion fixes
+/// stay zero). Returns false (s.pivot_ratio set) when A is singular by kSingularPivotRatio.
+template <typename S, typename ApplyInverseMass>
+bool factor_constraints(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
+                        ApplyInverseMass&& apply_inverse_mass, ConstraintSolveTpl<S>& s) {
+  using std::abs;
+  const auto m = static_cast<Eigen::Index>(s.active.size());
+  s.Y.setZero();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int row = s.active[static_cast<std::size_t>(i)];
+    for (const int b : equations.row_bodies(row)) {
+      if (b < 0) continue;
+      const int offset = layout.offset(b);
+      const int width = layout.width(b);
+      s.column.head(width) = s.rows.J.row(row).segment(offset, width).transpose();
+      apply_inverse_mass(b, s.column.head(width), s.out.head(width));
+      s.Y.col(i).segment(offset, width) = s.out.head(width);
+    }
+  }
+  // A_ij = Σ over the bodies row i acts on of J_i,b · Y_b,j (J_i is zero elsewhere).
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int row = s.active[static_cast<std::size_t>(i)];
+    for (Eigen::Index j = 0; j <= i; ++j) {
+      S sum = S(0);
+      for (const int b : equations.row_bodies(row)) {
+        if (b < 0) continue;
+        const int offset = layout.offset(b);
+        const int width = layout.width(b);
+        sum += s.rows.J.row(row).segment(offset, width).dot(s.Y.col(j).segment(offset, width));
+      }
+      s.A(i, j) = sum;
+      s.A(j, i) = sum;
+    }
+  }
+  if (m == 0) {
+    s.pivot_ratio = S(1);
+    return true;
+  }
+  s.ldlt.compute(s.A);
+  const auto d = s.ldlt.vectorD();
+  S smallest = abs(d(0));
+  S largest = abs(d(0));
+  for (Eigen::Index k = 1; k < m; ++k) {
+    smallest = std::min<S>(smallest, abs(d(k)));
+    largest = std::max<S>(largest, abs(d(k)));
+  }
+  s.pivot_ratio = largest > S(0) ? S(smallest / largest) : S(0);
+  return s.ldlt.info() == Eigen::Success && s.pivot_ratio > S(kSingularPivotRatio);
+}
+
+/// The joint whose row falls out of the independent set at the current rows (for the message of
+/// a singular configuration): the first active row a rank-revealing QR of J_aᵀ leaves out.
+/// Allocates (the failure path only).
+template <typename S>
+int singular_joint(const ConstraintEquationsTpl<S>& equations, const ConstraintSolveTpl<S>& s) {
+  Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> J_a(static_cast<Eigen::Index>(s.active.size()),
+                                                       s.rows.J.cols());
+  for (std::size_t i = 0; i < s.active.size(); ++i) {
+    J_a.row(static_cast<Eigen::Index>(i)) = s.rows.J.row(s.active[i]);
+  }
+  const std::vector<int> kept = independent_rows<S>(J_a);
+  for (std::size_t i = 0; i < s.active.size(); ++i) {
+    if (std::find(kept.begin(), kept.end(), static_cast<int>(i)) == kept.end()) {
+      return equations.joint_of_row(s.active[i]);
+    }
+  }
+  return equations.joint_of_row(s.active.back());
+}
+
+/// Throws SingularConfigurationError for the factorization that failed at time t.
+template <typename S>
+[[noreturn]] void throw_singular(const ConstraintEquationsTpl<S>& equations,
+                                 const ConstraintSolveTpl<S>& s, double t) {
+  const int joint = singular_joint(equations, s);
+  const std::string& name = equations.joint_name(joint);
+  throw SingularConfigurationError(
+      name, t,
+      "singular configuration at t = " + std::to_string(t) + ": the constraints of joint '" + name +
+          "' became dependent on the others (smallest/largest pivot of J M^-1 J^T " +
+          std::to_string(static_cast<double>(s.pivot_ratio)) +
+          "); the mechanism is at a dead point or a bifurcation, where its multipliers and "
+          "motion are not determined");
+}
+
+/// Constrained accelerations: s.x holds the free accelerations M⁻¹ Q on entry (stacked, body
+/// blocks as in layout) and the constrained ones on exit; s.rows evaluated at the state; λ of
+/// the active rows in s.lambda and the generalized constraint force −J_aᵀ λ in s.force. Throws
+/// SingularConfigurationError at a singular configuration (t names the time).
+template <typename S, typename ApplyInverseMass>
+void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
+                                     const VelocityLayout& layout,
+                                     ApplyInverseMass&& apply_inverse_mass, double t,
+                                     ConstraintSolveTpl<S>& s) {
+  if (!factor_constraints(equations, layout, apply_inverse_mass, s)) {
+    throw_singular(equations, s, t);
+  }
+  const auto m = static_cast<Eigen::Index>(s.active.size());
+  // A λ = J_a x_free − γ_a
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int row = s.active[static_cast<std::size_t>(i)];
+    s.rhs(i) = s.rows.J.row(row).dot(s.x) - s.rows.gamma(row);
+  }
+  s.lambda = s.ldlt.solve(s.rhs);
+  // v̇ = x_free − Y λ;  F = −J_aᵀ λ
+  s.x.noalias() -= s.Y * s.lambda;
+  s.force.setZero();
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const int row = s.active[static_cast<std::size_t>(i)];
+    s.force.noalias() -= s.lambda(i) * s.rows.J.row(row).transpose();
+  }
+}
+
+/// The correction δ = −M⁻¹ J_aᵀ A⁻¹ r of the stacked generalized coordinates (velocities, or
+/// position increments (δp_Br, δφ_B, δq_f)) that removes the residual r of the active rows to
+/// first order in the mass metric — the projection onto the constraint manifold of Hairer,
+/// Lubich & Wanner (Geometric Numerical Integration, IV.4) with M as the metric. s must be
+/// factored (factor_constraints) at the configuration. Writes δ into s.x.
+template <typename S>
+void constraint_correction(const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynamic, 1>>& residual,
+                           ConstraintSolveTpl<S>& s) {
+  const auto m = static_cast<Eigen::Index>(s.active.size());
+  for (Eigen::Index i = 0; i < m; ++i) s.rhs(i) = residual(s.active[static_cast<std::size_t>(i)]);
+  s.lambda = s.ldlt.solve(s.rhs);
+  s.x.noalias() = -(s.Y * s.lambda);
+}
+
+/// The minimum-norm multipliers of all rows (redundant ones included) that give the generalized
+/// constraint force F = −J_aᵀ λ_a: λ = argmin |λ| subject to −Jᵀ λ = F (a complete orthogonal
+/// decomposition of Jᵀ). Allocates: for outputs, not for evaluations.
+template <typename S>
+Eigen::Matrix<S, Eigen::Dynamic, 1> minimum_norm_multipliers(
+    const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J,
+    const Eigen::Matrix<S, Eigen::Dynamic, 1>& force) {
+  Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>> cod(
+      J.transpose());
+  cod.setThreshold(S(kRedundantRowTolerance));
+  return cod.solve(Eigen::Matrix<S, Eigen::Dynamic, 1>(-force));
+}
+
+}  // namespace flexref::core

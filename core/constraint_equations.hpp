@@ -1,0 +1,105 @@
+#pragma once
+/// \file constraint_equations.hpp
+/// The interface of holonomic constraints between bodies — ideal joints (constraint/) — as the
+/// model sees them, in scalar type S (the force elements' pattern: the interface here, the
+/// equations in their own folder). docs/design/model.md, "Ideal joints":
+///
+///   M v̇ + Jᵀ λ = Qe + Qv − [0; 0; K q_f + D q̇_f],   Φ(q, t) = 0,
+///   Φ̇ = J v + Φ_t = 0,   Φ̈ = J v̇ − γ = 0,
+///
+/// with v the stacked generalized velocities of the bodies, body b contributing
+/// v_b = (v_WBr, ω̄, q̇_f) (6 + n_b entries, in that order: the accelerations x = (a_WBr, α̅, q̈_f)
+/// the model solves for). A row of J acts on at most two bodies.
+#include <Eigen/Core>
+#include <array>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/force_element.hpp"
+
+namespace flexref::core {
+
+/// Where each body's generalized velocity sits in the stacked vector v: body b occupies
+/// [offsets[b], offsets[b] + 6 + n_b); offsets has one more entry, the total size N.
+struct VelocityLayout {
+  std::vector<int> offsets;
+  int size() const { return offsets.empty() ? 0 : offsets.back(); }
+  int offset(int body) const { return offsets[static_cast<std::size_t>(body)]; }
+  int width(int body) const {
+    return offsets[static_cast<std::size_t>(body) + 1] - offsets[static_cast<std::size_t>(body)];
+  }
+};
+
+/// The constraint rows at one configuration and time, in S.
+template <typename S>
+struct ConstraintRowsTpl {
+  using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  Matrix J;      ///< m × N: ∂Φ̇/∂v
+  Vector phi;    ///< Φ (m or rad per row: point and slide rows in m, rotation rows the sine of
+                 ///< an angle, distance rows (|d|² − L²)/(2L) in m)
+  Vector phi_t;  ///< Φ_t: Φ̇ = J v + Φ_t (driven rows; zero otherwise)
+  Vector gamma;  ///< γ: Φ̈ = J v̇ − γ (everything of Φ̈ but J v̇, with its sign changed)
+
+  void resize(int rows, int velocities) {
+    J = Matrix::Zero(rows, velocities);
+    phi = Vector::Zero(rows);
+    phi_t = Vector::Zero(rows);
+    gamma = Vector::Zero(rows);
+  }
+};
+
+/// What one joint exerts on its first body at a state: the force (world) and the torque about
+/// the joint's point on that body (world), from the multipliers of the joint's rows.
+template <typename S>
+struct JointReactionTpl {
+  Eigen::Matrix<S, 3, 1> f_W = Eigen::Matrix<S, 3, 1>::Zero();
+  Eigen::Matrix<S, 3, 1> tau_W = Eigen::Matrix<S, 3, 1>::Zero();
+};
+
+/// Holonomic constraints on the bodies of a model (Drake's constraint interface in spirit): rows
+/// grouped by joint, each row acting on at most two bodies.
+template <typename S>
+class ConstraintEquationsTpl {
+ public:
+  using Kinematics = BodyKinematicsTpl<S>;
+
+  virtual ~ConstraintEquationsTpl() = default;
+
+  /// Number of rows m.
+  virtual int row_count() const = 0;
+  /// The bodies row r acts on (−1: none; ground ends have no columns).
+  virtual std::array<int, 2> row_bodies(int row) const = 0;
+  /// Number of joints, the joint that owns row r, and a joint's name (the prefix of its output
+  /// columns) and its rows [first, first + count).
+  virtual int joint_count() const = 0;
+  virtual int joint_of_row(int row) const = 0;
+  virtual const std::string& joint_name(int joint) const = 0;
+  virtual std::array<int, 2> joint_rows(int joint) const = 0;
+  /// True when row r is a position row in m (point, slide, distance), false for a rotation row
+  /// (dimensionless: the sine of an angle).
+  virtual bool is_length_row(int row) const = 0;
+  /// Fills rows.phi, rows.J, rows.phi_t and rows.gamma at the bodies' poses and velocities
+  /// (kinematics: A(θ), the state and the q_f the equations see). rows is sized by the caller
+  /// (row_count() × layout.size()); the entries of J outside the rows' bodies stay zero.
+  /// Must not allocate.
+  virtual void evaluate(const S& t, std::span<const Kinematics> bodies,
+                        const VelocityLayout& layout, ConstraintRowsTpl<S>& rows) const = 0;
+  /// The reaction of each joint on its first body from the stacked generalized constraint forces
+  /// on the bodies, F = −Jᵀ λ restricted to the joint's rows (joint_forces: N entries per joint,
+  /// only the joint's first body's block read).
+  virtual JointReactionTpl<S> reaction(
+      int joint, std::span<const Kinematics> bodies, const VelocityLayout& layout,
+      const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynamic, 1>>& generalized_force) const = 0;
+  /// One line per joint for `flexref check`.
+  virtual std::string describe(int joint) const = 0;
+  /// Known times where a drive law's derivatives jump.
+  virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
+};
+
+using ConstraintEquations = ConstraintEquationsTpl<double>;
+using JointReaction = JointReactionTpl<double>;
+using ConstraintRows = ConstraintRowsTpl<double>;
+
+}  // namespace flexref::core
