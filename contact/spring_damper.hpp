@@ -12,6 +12,7 @@
 /// Generic in the scalar type S (core/force_element.hpp): double is instantiated in
 /// spring_damper.cpp, long double and float128 in precision/.
 #include <cmath>
+#include <limits>
 #include <span>
 #include <sstream>
 #include <stdexcept>
@@ -79,6 +80,8 @@ class SpringDamperTpl final : public core::ForceElementTpl<S> {
     const S stretch = line_of(bodies).length - S(parameters_.rest_length);
     return S(0.5) * S(parameters_.stiffness) * stretch * stretch;
   }
+  /// A spring and a damper: E + W_d is conserved from the start (core/invariants.hpp).
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override {
     (void)context;
     if (parameters_.damping == 0.0) return S(0);
