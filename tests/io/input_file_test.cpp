@@ -17,13 +17,13 @@ namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
 /// A folder of this test's own (mkdtemp), removed at the end.
-struct TempDir {
-  TempDir() {
+struct InputFileTempDir {
+  InputFileTempDir() {
     std::string pattern = (fs::temp_directory_path() / "flexref_input_file_XXXXXX").string();
     REQUIRE(::mkdtemp(pattern.data()) != nullptr);
     path = pattern;
   }
-  ~TempDir() {
+  ~InputFileTempDir() {
     std::error_code ec;
     fs::remove_all(path, ec);
   }
@@ -31,7 +31,7 @@ struct TempDir {
 };
 
 TEST_CASE("regular files and links to them are read whole and line by line", "[io]") {
-  TempDir tmp;
+  InputFileTempDir tmp;
   // More than one 64 KiB block, so the reader refills its buffer.
   std::string text;
   for (int i = 0; i < 20000; ++i) text += "line " + std::to_string(i) + "\n";
@@ -56,7 +56,7 @@ TEST_CASE("regular files and links to them are read whole and line by line", "[i
 }
 
 TEST_CASE("what is not a regular file is refused before it is opened", "[io]") {
-  TempDir tmp;
+  InputFileTempDir tmp;
   const auto refused = [](const fs::path& path) {
     InputFile in(path.string(), "the scene file");
     CHECK_FALSE(in.is_open());

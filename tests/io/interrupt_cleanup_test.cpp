@@ -19,13 +19,13 @@ namespace {
 namespace fs = std::filesystem;
 
 /// A folder of this test's own (mkdtemp), removed at the end.
-struct TempDir {
-  TempDir() {
+struct InterruptTempDir {
+  InterruptTempDir() {
     std::string pattern = (fs::temp_directory_path() / "flexref_interrupt_XXXXXX").string();
     REQUIRE(::mkdtemp(pattern.data()) != nullptr);
     path = pattern;
   }
-  ~TempDir() {
+  ~InterruptTempDir() {
     std::error_code ec;
     fs::remove_all(path, ec);
   }
@@ -63,7 +63,7 @@ TEST_CASE("SIGINT, SIGTERM and SIGHUP remove the registered paths and end the pr
           "[io][signals]") {
   for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
     INFO("signal " << signal_number);
-    TempDir tmp;
+    InterruptTempDir tmp;
     const fs::path staging = tmp.path / ".out.staging-1";
     const fs::path temp = tmp.path / ".run.csv.tmp-1";
     const fs::path released = tmp.path / "released";
@@ -99,7 +99,7 @@ TEST_CASE("SIGINT, SIGTERM and SIGHUP remove the registered paths and end the pr
 }
 
 TEST_CASE("a signal is forwarded to the registered child programs", "[io][signals]") {
-  TempDir tmp;
+  InterruptTempDir tmp;
   // The grandchild holds the write end of a pipe: its end (by the forwarded signal) and the
   // child's close the pipe, and the read below returns.
   int fds[2];
@@ -129,7 +129,7 @@ TEST_CASE("a signal is forwarded to the registered child programs", "[io][signal
 }
 
 TEST_CASE("a signal ignored at startup stays ignored", "[io][signals]") {
-  TempDir tmp;
+  InterruptTempDir tmp;
   const fs::path staging = tmp.path / "staging";
   const int status = in_child(
       tmp.path / "stderr.txt",

@@ -21,13 +21,13 @@ namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
 /// A folder of this test's own (mkdtemp: unique per process and call), removed at the end.
-struct TempDir {
-  TempDir() {
+struct OutputFileTempDir {
+  OutputFileTempDir() {
     std::string pattern = (fs::temp_directory_path() / "flexref_output_file_XXXXXX").string();
     REQUIRE(::mkdtemp(pattern.data()) != nullptr);
     path = pattern;
   }
-  ~TempDir() {
+  ~OutputFileTempDir() {
     // Read-only folders made by a test must not stop the removal.
     std::error_code ec;
     for (const auto& e : fs::recursive_directory_iterator(path, ec)) {
@@ -39,7 +39,7 @@ struct TempDir {
   fs::path path;
 };
 
-std::string read(const fs::path& p) {
+std::string read_text(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
@@ -70,7 +70,7 @@ std::string write_message(const std::string& path, const std::string& text) {
 }
 
 TEST_CASE("check_writable_file refuses paths that cannot be written, before any work", "[io]") {
-  TempDir tmp;
+  OutputFileTempDir tmp;
   const fs::path& dir = tmp.path;
   std::ofstream(dir / "file.toml") << "x";
 
@@ -84,13 +84,13 @@ TEST_CASE("check_writable_file refuses paths that cannot be written, before any 
 }
 
 TEST_CASE("a regular file is replaced atomically and keeps its permission bits", "[io]") {
-  TempDir tmp;
+  OutputFileTempDir tmp;
   const fs::path file = tmp.path / "run.csv";
   write_output_file(file.string(), "first\n");
-  CHECK(read(file) == "first\n");
+  CHECK(read_text(file) == "first\n");
   ::chmod(file.c_str(), 0640);
   write_output_file(file.string(), "second\n");
-  CHECK(read(file) == "second\n");
+  CHECK(read_text(file) == "second\n");
   struct stat st {};
   REQUIRE(::stat(file.c_str(), &st) == 0);
   CHECK((st.st_mode & 07777) == 0640);
@@ -98,7 +98,7 @@ TEST_CASE("a regular file is replaced atomically and keeps its permission bits",
 }
 
 TEST_CASE("a symbolic link stays a link and its target is written", "[io]") {
-  TempDir tmp;
+  OutputFileTempDir tmp;
   fs::create_directories(tmp.path / "data");
   std::ofstream(tmp.path / "data" / "real.csv") << "old\n";
   fs::create_symlink("data/real.csv", tmp.path / "link.csv");
@@ -108,7 +108,7 @@ TEST_CASE("a symbolic link stays a link and its target is written", "[io]") {
   write_output_file((tmp.path / "link2.csv").string(), "new\n");
   CHECK(fs::is_symlink(tmp.path / "link.csv"));
   CHECK(fs::is_symlink(tmp.path / "link2.csv"));
-  CHECK(read(tmp.path / "data" / "real.csv") == "new\n");
+  CHECK(read_text(tmp.path / "data" / "real.csv") == "new\n");
   CHECK(names(tmp.path / "data") == std::set<std::string>{"real.csv"});
   // The sidecar goes beside the file written, not beside the link.
   const std::optional<std::string> sidecar = sidecar_path((tmp.path / "link2.csv").string());
@@ -118,12 +118,12 @@ TEST_CASE("a symbolic link stays a link and its target is written", "[io]") {
 }
 
 TEST_CASE("a dangling symbolic link creates its target", "[io]") {
-  TempDir tmp;
+  OutputFileTempDir tmp;
   fs::create_directories(tmp.path / "data");
   fs::create_symlink("data/made.csv", tmp.path / "dangling.csv");
   write_output_file((tmp.path / "dangling.csv").string(), "made\n");
   CHECK(fs::is_symlink(tmp.path / "dangling.csv"));
-  CHECK(read(tmp.path / "data" / "made.csv") == "made\n");
+  CHECK(read_text(tmp.path / "data" / "made.csv") == "made\n");
   // A link into a missing folder is refused like the folder itself.
   fs::create_symlink("nowhere/x.csv", tmp.path / "lost.csv");
   CHECK_THAT(message_of((tmp.path / "lost.csv").string()), Contains("does not exist"));
@@ -135,7 +135,7 @@ TEST_CASE("a dangling symbolic link creates its target", "[io]") {
 }
 
 TEST_CASE("a FIFO is written directly and stays a FIFO, without a sidecar", "[io]") {
-  TempDir tmp;
+  OutputFileTempDir tmp;
   const fs::path fifo = tmp.path / "fifo";
   REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
   // A reader attached first (a non-blocking open for reading does not wait for a writer), so the
@@ -156,7 +156,7 @@ TEST_CASE("a FIFO is written directly and stays a FIFO, without a sidecar", "[io
 }
 
 TEST_CASE("standard output and the program's own descriptors are written as they are", "[io]") {
-  TempDir tmp;
+  OutputFileTempDir tmp;
   // A file opened for appending, as a shell's `>>` opens it: /dev/fd/N appends to it instead of
   // replacing the file behind the descriptor.
   const fs::path log = tmp.path / "log.csv";
@@ -170,7 +170,7 @@ TEST_CASE("standard output and the program's own descriptors are written as they
   CHECK_FALSE(sidecar_path(path).has_value());
   write_output_file(path, "appended\n");
   ::close(fd);
-  CHECK(read(log) == "previous\nappended\n");
+  CHECK(read_text(log) == "previous\nappended\n");
   CHECK(names(tmp.path) == std::set<std::string>{"log.csv"});
 
   // `-` is standard output (redirected here into a pipe for the check).
@@ -192,17 +192,17 @@ TEST_CASE("standard output and the program's own descriptors are written as they
 }
 
 TEST_CASE("read-only files and folders are refused and left untouched, for root too", "[io]") {
-  TempDir tmp;
+  OutputFileTempDir tmp;
   const fs::path file = tmp.path / "kept.csv";
   std::ofstream(file) << "precious\n";
   ::chmod(file.c_str(), 0444);
   CHECK_THAT(message_of(file.string()), Contains("read-only"));
   CHECK_THAT(write_message(file.string(), "new\n"), Contains("read-only"));
-  CHECK(read(file) == "precious\n");
+  CHECK(read_text(file) == "precious\n");
   // Through a link as well.
   fs::create_symlink("kept.csv", tmp.path / "link.csv");
   CHECK_THAT(write_message((tmp.path / "link.csv").string(), "new\n"), Contains("read-only"));
-  CHECK(read(file) == "precious\n");
+  CHECK(read_text(file) == "precious\n");
   CHECK(names(tmp.path) == std::set<std::string>{"kept.csv", "link.csv"});
 
   const fs::path folder = tmp.path / "ro";
@@ -212,12 +212,12 @@ TEST_CASE("read-only files and folders are refused and left untouched, for root 
   CHECK_THAT(write_message((folder / "new.csv").string(), "new\n"), Contains("read-only"));
   // A writable file in a read-only folder cannot be replaced atomically either.
   CHECK_THAT(write_message((folder / "old.csv").string(), "new\n"), Contains("read-only"));
-  CHECK(read(folder / "old.csv") == "old\n");
+  CHECK(read_text(folder / "old.csv") == "old\n");
   CHECK(names(folder) == std::set<std::string>{"old.csv"});
 }
 
 TEST_CASE("directories and sockets are refused", "[io]") {
-  TempDir tmp;
+  OutputFileTempDir tmp;
   fs::create_directories(tmp.path / "folder");
   fs::create_symlink("folder", tmp.path / "to_folder");
   CHECK_THAT(message_of((tmp.path / "to_folder").string()), Contains("is a directory"));

@@ -33,13 +33,13 @@ namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
 /// A folder of this test's own (mkdtemp), removed at the end.
-struct TempDir {
-  TempDir() {
+struct InputFilesTempDir {
+  InputFilesTempDir() {
     std::string pattern = (fs::temp_directory_path() / "flexref_input_files_XXXXXX").string();
     REQUIRE(::mkdtemp(pattern.data()) != nullptr);
     path = pattern;
   }
-  ~TempDir() {
+  ~InputFilesTempDir() {
     std::error_code ec;
     fs::remove_all(path, ec);
   }
@@ -74,7 +74,7 @@ std::string message_on_fifo(const fs::path& fifo, const std::string& text,
 }
 
 TEST_CASE("every reader refuses a FIFO at once, naming it", "[scene][io]") {
-  TempDir tmp;
+  InputFilesTempDir tmp;
   const fs::path fifo = tmp.path / "input";
   const std::string scene =
       "[scene]\nname = \"x\"\nend_time = 1.0\noutput_step = 0.1\n[[body]]\nname = \"b\"\n"

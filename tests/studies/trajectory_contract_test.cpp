@@ -344,7 +344,7 @@ TEST_CASE("contract: a clock accumulated at the run's step may drift by eps t^2 
 
 TEST_CASE("contract: a program's CPU report is a comment line, read and checked",
           "[studies][contract]") {
-  const std::string path = temp_path("cpu_report.csv");
+  const std::string path = contract_temp_path("cpu_report.csv");
   std::ofstream(path) << "# written by an engine\n# cpu_seconds = 0.25\nt,b.W1\n0,1\n";
   const RunData data = read_run_csv(path);
   CHECK(data.reported_cpu_seconds == 0.25);
