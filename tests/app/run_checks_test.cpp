@@ -11,6 +11,7 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "scene/scene_reader.hpp"
 
 namespace flexref::app {
 namespace {
@@ -118,6 +119,15 @@ TEST_CASE("every bundled scene runs with its defaults or the refusal names a ste
     options.scene =
         edited_scene(tmp.path, name, {{"\nend_time = [^#\n]*", "\nend_time = 0.2 "}}).string();
     options.output = (tmp.path / (name + ".csv")).string();
+    // A scene with ideal joints is the references' (C1, C2 and NMB refuse it before any work,
+    // naming the joint and what to use instead: lie/scheme_support.cpp), at a step on its grid.
+    if (scene::read_scene(options.scene).spec.ideal_joints.size() > 0) {
+      options.dt = 1e-5;
+      CHECK_THROWS_WITH(run_command(options), Catch::Matchers::Contains("ideal joint") &&
+                                                  Catch::Matchers::Contains("flexref reference"));
+      CHECK_FALSE(fs::exists(options.output));
+      continue;
+    }
     const std::string refusal = run_refusal(options);
     if (refusal.empty()) continue;
     std::smatch step;
