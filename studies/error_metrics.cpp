@@ -49,6 +49,11 @@ std::vector<Item> find_items(const TrajectoryTable& table) {
     group("rotation", "rad", {".e0", ".e1", ".e2", ".e3"});
     group("velocity", "m/s", {".vx", ".vy", ".vz"});
     group("angular_velocity", "rad/s", {".W1", ".W2", ".W3"});
+    // An ideal joint's reaction on its first body (docs/output.md, "Joints") and the run's own
+    // position-constraint violation.
+    group("reaction_force", "N", {".fx", ".fy", ".fz"});
+    group("reaction_torque", "N*m", {".tx", ".ty", ".tz"});
+    group("violation", "m|rad", {".phi"});
     // Points: "<B>.<P>.x" with ".y" and ".z" (names have no dots: scenes/README.md).
     for (const std::string& c : cols) {
       if (c.size() <= b.size() + 3 || !c.starts_with(b + ".") || !c.ends_with(".x")) continue;
@@ -116,8 +121,9 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
 }
 
 std::vector<std::string> metric_names() {
-  return {"rotation+points", "rotation", "points",           "modes",
-          "position",        "velocity", "angular_velocity", "wear"};
+  return {"rotation+points", "rotation",        "points",           "modes",
+          "position",        "velocity",        "angular_velocity", "wear",
+          "reaction_force",  "reaction_torque", "violation"};
 }
 
 std::vector<std::string> metric_quantities(const ComparisonReport& report,
@@ -126,7 +132,8 @@ std::vector<std::string> metric_quantities(const ComparisonReport& report,
   if (std::find(names.begin(), names.end(), metric) == names.end()) {
     throw std::invalid_argument("unknown metric '" + metric +
                                 "' (rotation+points, rotation, points, modes, position, "
-                                "velocity, angular_velocity, wear)");
+                                "velocity, angular_velocity, wear, reaction_force, "
+                                "reaction_torque, violation)");
   }
   std::vector<std::string> used;
   for (const QuantityError& q : report.quantities) {
@@ -143,7 +150,10 @@ std::vector<std::string> metric_quantities(const ComparisonReport& report,
                         : metric == "position"      ? "position columns B.x..B.z"
                         : metric == "velocity"      ? "velocity columns B.vx..B.vz"
                         : metric == "wear" ? "wear-work columns C.wear_work of a named contact"
-                                           : "angular-velocity columns B.W1..B.W3";
+                        : metric == "reaction_force"  ? "joint reaction columns J.fx..J.fz"
+                        : metric == "reaction_torque" ? "joint reaction columns J.tx..J.tz"
+                        : metric == "violation"       ? "constraint-violation columns J.phi"
+                                                      : "angular-velocity columns B.W1..B.W3";
     throw std::invalid_argument("metric '" + metric + "' has nothing to measure: no " + needs +
                                 " were compared");
   }

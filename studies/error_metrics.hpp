@@ -27,7 +27,8 @@ struct ErrorNorms {
 struct QuantityError {
   std::string name;  ///< e.g. "book.rotation", "book.velocity", "book.corner" (a point)
   std::string unit;  ///< "m", "rad", "m/s", "rad/s"
-  /// "position", "rotation", "velocity", "angular_velocity", "point" or "modes"
+  /// "position", "rotation", "velocity", "angular_velocity", "point", "modes",
+  /// "reaction_force", "reaction_torque" or "violation" (an ideal joint's)
   std::string kind;
   ErrorNorms norms;
   double linf_time = 0.0;            ///< an output time where the L∞ value is reached
@@ -83,10 +84,12 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run, const Trajecto
 /// The metrics a study may name: "rotation+points" (default), "rotation", "points", "modes"
 /// (L∞ over time of max_i |q_i − q_i,ref| over the flexible bodies' modal coordinates),
 /// "position", "velocity", "angular_velocity", "wear" (max_wear_relative: the final wear work of
-/// the named contacts, docs/output.md "Wear outputs"). Throws std::invalid_argument for any other
-/// name, and when the report has no quantity the metric measures (e.g. "rotation" without
-/// Euler-parameter columns, "modes" on a rigid scene, "wear" without a named contact): an absent
-/// quantity is not an error of 0.
+/// the named contacts, docs/output.md "Wear outputs"), "reaction_force" and "reaction_torque"
+/// (L∞ over time and the ideal joints of |f − f_ref|, |t − t_ref| of the reactions J.fx…J.tz),
+/// "violation" (L∞ over time and the joints of the run's own |J.phi|). Throws std::invalid_argument
+/// for any other name, and when the report has no quantity the metric measures (e.g. "rotation"
+/// without Euler-parameter columns, "modes" on a rigid scene, "wear" without a named contact): an
+/// absent quantity is not an error of 0.
 double metric_value(const ComparisonReport& report, const std::string& metric);
 /// The names metric_value accepts, the default first.
 std::vector<std::string> metric_names();

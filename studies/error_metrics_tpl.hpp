@@ -140,6 +140,7 @@ double reference_bound(const TrajectoryTable& shape, Cell cell, const std::strin
                        const std::vector<std::size_t>& c) {
   constexpr double kNone = std::numeric_limits<double>::infinity();
   if (kind == "rotation") return 3.14159265358979323846;
+  if (kind == "violation") return kNone;  // the run's own value: no range of the reference's
   const std::size_t n = shape.size();
   std::vector<double> lo(c.size(), kNone), hi(c.size(), -kNone);
   for (std::size_t k = 0; k < n; ++k) {
@@ -190,6 +191,10 @@ ComparisonReport compare_cells(const TrajectoryTable& shape, Cell cell) {
           if (static_cast<bool>(isnan(worst))) break;
         }
         acc.add(t, worst);
+      } else if (kind == "violation") {
+        // The run's own |Φ| (the reference holds Φ at its solver's round-off): how far the run
+        // has left the constraint manifold, not a difference of two drifts.
+        acc.add(t, S(abs(S(cell(0, k, c[0])))));
       } else if (kind == "rotation") {
         const S qa[4] = {cell(0, k, c[0]), cell(0, k, c[1]), cell(0, k, c[2]), cell(0, k, c[3])};
         const S qb[4] = {cell(1, k, c[0]), cell(1, k, c[1]), cell(1, k, c[2]), cell(1, k, c[3])};

@@ -76,7 +76,10 @@ const std::vector<std::pair<const char*, std::vector<std::string>>>& rigid_group
       {"a position", {"x", "y", "z"}},
       {"Euler parameters", {"e0", "e1", "e2", "e3"}},
       {"a velocity", {"vx", "vy", "vz"}},
-      {"an angular velocity", {"W1", "W2", "W3"}}};
+      {"an angular velocity", {"W1", "W2", "W3"}},
+      // An ideal joint's reaction on its first body (docs/output.md, "Joints").
+      {"a reaction force", {"fx", "fy", "fz"}},
+      {"a reaction torque", {"tx", "ty", "tz"}}};
   return groups;
 }
 
@@ -114,6 +117,10 @@ ColumnName classify(const std::string& name) {
   // Named contacts' outputs (docs/output.md "Wear outputs"): the wear work is measured.
   if (rest == "fn" || rest == "slip_speed" || rest == "impacts") c.standard = true;
   if (rest == "wear_work") c.standard = c.measured = true;
+  // An ideal joint's position-constraint violation is measured (the `violation` metric), its
+  // velocity violation is known but not an error quantity.
+  if (rest == "phi") c.standard = c.measured = true;
+  if (rest == "phi_dot") c.standard = true;
   return c;
 }
 
@@ -194,7 +201,7 @@ std::vector<Group> measured_groups(const RunData& data) {
       groups.push_back(std::move(g));
       continue;
     }
-    if (c.suffix[0] == 'q' || c.suffix == "wear_work") {
+    if (c.suffix[0] == 'q' || c.suffix == "wear_work" || c.suffix == "phi") {
       groups.push_back({{i}, false});
       continue;
     }
@@ -410,9 +417,9 @@ ComparisonReport compare_run(const RunData& run, const TrajectoryTable& referenc
     const bool in_reference = reference.column(name) >= 0;
     if (!in_reference && n.standard) {
       if (std::find(bodies.begin(), bodies.end(), n.body) == bodies.end()) {
-        throw core::InputError(
-            run.source, run.header_line, name,
-            "unknown body '" + n.body + "' (the reference's bodies: " + join(bodies) + ")");
+        throw core::InputError(run.source, run.header_line, name,
+                               "unknown body '" + n.body +
+                                   "' (the reference's bodies and joints: " + join(bodies) + ")");
       }
       throw core::InputError(run.source, run.header_line, name,
                              "body " + n.body + " has no such " +
@@ -425,7 +432,8 @@ ComparisonReport compare_run(const RunData& run, const TrajectoryTable& referenc
   if (groups.empty()) {
     throw core::InputError(run.source, run.header_line, "",
                            "no column to measure: the contract's columns are B.x..B.z, "
-                           "B.e0..B.e3, B.vx..B.vz, B.W1..B.W3, B.P.x..B.P.z, B.q1.. (columns: " +
+                           "B.e0..B.e3, B.vx..B.vz, B.W1..B.W3, B.P.x..B.P.z, B.q1.., "
+                           "J.fx..J.fz, J.tx..J.tz, J.phi (columns: " +
                                join(run.table.columns) + ")");
   }
 

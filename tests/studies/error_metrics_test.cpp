@@ -45,6 +45,41 @@ TEST_CASE("a metric with nothing to measure is an error, never 0", "[studies][me
                     Catch::Matchers::Contains("nothing to measure"));
 }
 
+/// A table with one body's position columns only.
+TrajectoryTable positions_only() {
+  TrajectoryTable table;
+  table.columns = {"t", "b.x", "b.y", "b.z"};
+  table.rows = {{0.0, 1, 2, 3}, {0.1, 1, 2, 3}};
+  return table;
+}
+
+TEST_CASE("joint metrics: reaction force and torque errors, the run's own violation",
+          "[studies][metrics][joints]") {
+  // A joint J's columns (docs/output.md, "Joints") over three times; the run is off the
+  // reference by (3, 4, 0) N in force at the second time and by (0, 0, 2) N*m in torque at the
+  // third, and has left the constraint by Φ = -5e-7 at the second time (the reference by 1e-15).
+  TrajectoryTable reference;
+  reference.columns = {"t", "J.fx", "J.fy", "J.fz", "J.tx", "J.ty", "J.tz", "J.phi", "J.phi_dot"};
+  reference.rows = {{0.0, 10, 20, 30, 1, 2, 3, 0.0, 0.0},
+                    {0.1, 11, 21, 31, 1, 2, 3, 1e-15, 0.0},
+                    {0.2, 12, 22, 32, 1, 2, 3, 0.0, 0.0}};
+  TrajectoryTable run = reference;
+  run.rows[1][1] += 3.0;
+  run.rows[1][2] += 4.0;
+  run.rows[2][6] -= 2.0;
+  run.rows[1][7] = -5e-7;
+  const ComparisonReport report = compare_trajectories(run, reference);
+  // Sums and differences of small integers are exact in double: |(3, 4, 0)| = 5 exactly.
+  CHECK(metric_value(report, "reaction_force") == 5.0);
+  CHECK(metric_value(report, "reaction_torque") == 2.0);
+  // The run's own |Φ|, not its difference to the reference's 1e-15: exactly 5e-7.
+  CHECK(metric_value(report, "violation") == 5e-7);
+  // Without joint columns the joint metrics have nothing to measure (never a silent 0).
+  CHECK_THROWS_WITH(
+      metric_value(compare_trajectories(positions_only(), positions_only()), "reaction_force"),
+      Catch::Matchers::Contains("J.fx..J.fz"));
+}
+
 /// A body's position columns b.x, b.y, b.z over `rows` times, every row at `position`.
 TrajectoryTable positions(double position, int rows) {
   TrajectoryTable table;

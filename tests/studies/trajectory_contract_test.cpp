@@ -395,8 +395,30 @@ TEST_CASE("contract: a UTF-8 byte-order mark is skipped, a directory is named as
   REQUIRE_FALSE(data.table.columns.empty());
   CHECK(data.table.columns.front() == "t");
   CHECK(data.table.size() == 2);
-  CHECK_THROWS_WITH(read_run_csv(folder.path.string()),
-                    Contains("is a directory"));
+  CHECK_THROWS_WITH(read_run_csv(folder.path.string()), Contains("is a directory"));
+}
+
+TEST_CASE("contract: a joint's reaction and violation columns are measured, phi_dot is not",
+          "[studies][contract][joints]") {
+  // The reference: joint J's columns (docs/output.md, "Joints") on two output times.
+  TrajectoryTable reference;
+  reference.columns = {"t", "J.fx", "J.fy", "J.fz", "J.tx", "J.ty", "J.tz", "J.phi", "J.phi_dot"};
+  reference.rows = {{0.0, 1, 2, 3, 4, 5, 6, 0.0, 0.0}, {0.1, 1, 2, 3, 4, 5, 6, 0.0, 0.0}};
+  // A user's run with the force off by (0, 0, 2) N at t = 0.1, a violation of 1e-6 and its own
+  // phi_dot; the torque group is left out (any subset of the groups).
+  const RunData run =
+      run_from_columns("engine", {"t", "J.fx", "J.fy", "J.fz", "J.phi", "J.phi_dot"},
+                       {{0.0, 0.1}, {1, 1}, {2, 2}, {3, 5}, {0.0, 1e-6}, {0.0, 0.5}});
+  const ComparisonReport report = compare_run(run, reference);
+  // Small integers and their differences are exact in double.
+  CHECK(metric_value(report, "reaction_force") == 2.0);
+  CHECK(metric_value(report, "violation") == 1e-6);
+  CHECK_THROWS_WITH(metric_value(report, "reaction_torque"), Contains("nothing to measure"));
+  CHECK(report.ignored_columns == std::vector<std::string>{"J.phi_dot"});
+  // An incomplete reaction group is refused naming the missing column.
+  const RunData partial =
+      run_from_columns("engine", {"t", "J.fx", "J.fy"}, {{0.0, 0.1}, {1, 1}, {2, 2}});
+  CHECK_THROWS_WITH(compare_run(partial, reference), Contains("J.fz"));
 }
 
 }  // namespace
