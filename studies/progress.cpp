@@ -26,6 +26,14 @@ std::string duration_text(double seconds) {
 
 }  // namespace
 
+namespace {
+
+std::chrono::steady_clock::duration as_clock_duration(std::chrono::duration<double> d) {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(d);
+}
+
+}  // namespace
+
 Progress::Progress(std::string label, long total, std::string unit, bool enabled,
                    ProgressSettings settings)
     : label_(std::move(label)),
@@ -33,7 +41,8 @@ Progress::Progress(std::string label, long total, std::string unit, bool enabled
       unit_(std::move(unit)),
       settings_(std::move(settings)),
       uncaught_(std::uncaught_exceptions()) {
-  if (!settings_.clock) settings_.clock = [] { return std::chrono::steady_clock::now(); };
+  const bool injected_clock = static_cast<bool>(settings_.clock);
+  if (!injected_clock) settings_.clock = [] { return std::chrono::steady_clock::now(); };
   start_ = settings_.clock();
   if (settings_.from_environment) {
     if (const char* env = std::getenv("FLEXREF_PROGRESS")) {
@@ -52,34 +61,43 @@ Progress::Progress(std::string label, long total, std::string unit, bool enabled
   if (!enabled || settings_.stream == nullptr) return;
   terminal_ =
       settings_.terminal < 0 ? isatty(fileno(settings_.stream)) != 0 : settings_.terminal > 0;
+  active_ = true;
+  next_ = start_ + as_clock_duration(settings_.delay);
   // Without a delay the first line is printed here, before the work: the line (and its final
   // "done") then appears however short the work is (FLEXREF_PROGRESS=0,I in logs and tests).
-  if (settings_.delay <= std::chrono::duration<double>::zero()) print(false);
-  printer_ = std::thread([this] { run(); });
+  if (settings_.delay <= std::chrono::duration<double>::zero()) tick();
+  if (!injected_clock) printer_ = std::thread([this] { run(); });
 }
 
 Progress::~Progress() { finish(); }
 
 void Progress::finish() {
-  if (!printer_.joinable()) return;
-  {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
+  if (!active_) return;
+  if (printer_.joinable()) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    printer_.join();
   }
-  wake_.notify_all();
-  printer_.join();
+  active_ = false;
   if (printed_) print(true);
 }
 
 void Progress::run() {
   std::unique_lock<std::mutex> lock(mutex_);
-  const auto stopped = [this] { return stop_; };
-  if (settings_.delay > std::chrono::duration<double>::zero()) {
-    if (wake_.wait_for(lock, settings_.delay, stopped)) return;
-    print(false);
-  }
-  const auto period = terminal_ ? settings_.redraw : settings_.interval;
-  while (!wake_.wait_for(lock, period, stopped)) print(false);
+  // The steady clock here (an injected clock starts no thread): wait until the next line is
+  // due, or the work has finished.
+  while (!wake_.wait_until(lock, next_, [this] { return stop_; })) tick();
+}
+
+void Progress::tick() {
+  if (!active_) return;
+  const auto now = settings_.clock();
+  if (now < next_) return;
+  print(false);
+  next_ = now + as_clock_duration(terminal_ ? settings_.redraw : settings_.interval);
 }
 
 std::string Progress::line(bool final_line) const {

@@ -24,7 +24,10 @@
 
 namespace flexref::studies {
 
-/// The clock of a progress line (tests inject one: no assertion on the wall clock).
+/// The clock of a progress line. Tests inject one and move it by hand: a Progress on an
+/// injected clock starts no printer thread, and prints only from tick(), in the caller's
+/// thread, what is due at the clock's time; what it prints then depends on the times the test
+/// sets, not on the machine's load.
 using ProgressClock = std::function<std::chrono::steady_clock::time_point()>;
 
 struct ProgressSettings {
@@ -35,7 +38,7 @@ struct ProgressSettings {
   /// -1: ask isatty() of the stream; 0: lines; 1: a redrawn line.
   int terminal = -1;
   bool from_environment = true;  ///< apply FLEXREF_PROGRESS (see above)
-  ProgressClock clock;           ///< empty: std::chrono::steady_clock::now
+  ProgressClock clock;           ///< empty: std::chrono::steady_clock::now and a printer thread
 };
 
 /// What a progress line says (see Progress::line):
@@ -70,6 +73,10 @@ class Progress {
   void follow(const reference::SolveProgress* solves) noexcept {
     solves_.store(solves, std::memory_order_relaxed);
   }
+  /// Prints a line when one is due at the clock's time: the first once `delay` has passed,
+  /// then one per period (`redraw` on a terminal, `interval` otherwise). The printer thread
+  /// calls it; with an injected clock (ProgressSettings::clock) the caller does.
+  void tick();
   /// The line as it would be printed now (without "\r" or "\n"); `final_line` adds "done" or
   /// "stopped".
   std::string line(bool final_line = false) const;
@@ -84,10 +91,12 @@ class Progress {
   ProgressSettings settings_;
   bool terminal_ = false;
   bool printed_ = false;
-  int uncaught_ = 0;  ///< std::uncaught_exceptions() at construction
+  bool active_ = false;  ///< enabled with a stream, not yet finished
+  int uncaught_ = 0;     ///< std::uncaught_exceptions() at construction
   std::atomic<long> done_{0};
   std::atomic<const reference::SolveProgress*> solves_{nullptr};
   std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point next_;  ///< when the next line is due
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;

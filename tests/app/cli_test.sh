@@ -416,24 +416,33 @@ code=$?
   fail "converge --model coupled on a flexible scene: exit $code: $out"
 
 # An interrupted study never leaves new files beside old ones: the folder holds the previous
-# study or the complete new one. (Interrupted at several moments: during the reference, the
-# runs, the plot.)
+# study or the complete new one. Interrupted at three moments, each found from what the study
+# has done rather than after a fixed delay (which a loaded machine shifts): during the
+# reference (its staging folder exists), the runs (the progress line counts a run) and the plot
+# (convergence.csv is staged). A study that ends before its moment is simply complete.
 sed 's/^end_time = .*/end_time = 4.0/' scenes/book_toss.toml >"$tmp/short.toml"
 "$flexref" converge "$tmp/short.toml" --schemes c1 --levels 3 --out "$tmp/intr" >/dev/null 2>&1 ||
   fail "converge for the interrupt test"
 old_sum=$(cd "$tmp/intr" && md5sum -- * | sort)
-for delay in 0.2 0.6 1.2; do
-  "$flexref" converge "$tmp/short.toml" --schemes c1,c2,nmb --levels 4 --out "$tmp/intr" \
-    >/dev/null 2>&1 &
+wait_for() { # PID CONDITION: until CONDITION holds or PID has ended
+  while kill -0 "$1" 2>/dev/null && ! eval "$2"; do sleep 0.01; done
+}
+for moment in reference runs plot; do
+  FLEXREF_PROGRESS=0,0.01 "$flexref" converge "$tmp/short.toml" --schemes c1,c2,nmb --levels 4 \
+    --out "$tmp/intr" >/dev/null 2>"$tmp/intr.err" &
   pid=$!
-  sleep "$delay"
+  case $moment in
+  reference) wait_for "$pid" 'compgen -G "$tmp/.intr.staging-*" >/dev/null' ;;
+  runs) wait_for "$pid" 'grep -q "^converge: [1-9]" "$tmp/intr.err"' ;;
+  plot) wait_for "$pid" 'compgen -G "$tmp/.intr.staging-*/convergence.csv" >/dev/null' ;;
+  esac
   kill -TERM "$pid" 2>/dev/null
   wait "$pid"
   new_sum=$(cd "$tmp/intr" && md5sum -- * | sort)
   if [[ $new_sum != "$old_sum" ]]; then
     # Complete new study: its table lists every scheme it was asked for.
     grep -q '^nmb,' "$tmp/intr/convergence.csv" && grep -q 'c1.*c2.*nmb' "$tmp/intr/study.toml" ||
-      fail "interrupted converge (after $delay s) left a mix of files: $(ls "$tmp/intr")"
+      fail "interrupted converge (during the $moment) left a mix of files: $(ls "$tmp/intr")"
     old_sum=$new_sum
   fi
 done

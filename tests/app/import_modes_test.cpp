@@ -22,6 +22,7 @@
 #include "scene/calculix_input_deck.hpp"
 #include "scene/calculix_matrices.hpp"
 #include "scene/modal_data_reader.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref {
 
@@ -45,21 +46,15 @@ bool have_tools() {
 
 /// A ccx run in a fresh temporary folder: JOB.inp from make_deck.py, then ccx.
 struct CcxRun {
-  fs::path dir;
+  testing::TempDir tmp{"ccx"};
+  fs::path dir = tmp.path();
   std::string job;
   explicit CcxRun(const std::string& deck_options) {
-    std::random_device rd;
-    dir = fs::temp_directory_path() / ("flexref-ccx-" + std::to_string(rd()));
-    fs::create_directories(dir);
     job = (dir / "job").string();
     const std::string command = "python3 examples/calculix/make_deck.py " + deck_options + " -o " +
                                 job + ".inp && cd " + dir.string() +
                                 " && ccx -i job > ccx.log 2>&1";
     REQUIRE(std::system(command.c_str()) == 0);
-  }
-  ~CcxRun() {
-    std::error_code ignore;
-    fs::remove_all(dir, ignore);
   }
   scene::CalculixImport import(const scene::CalculixImportOptions& options = {}) const {
     const scene::CalculixModes frd = scene::read_calculix_frd(job + ".frd");

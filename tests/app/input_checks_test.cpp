@@ -8,6 +8,7 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::app {
@@ -22,7 +23,8 @@ std::string edited_scene(const std::string& scene, const std::string& pattern,
   const std::string edited = std::regex_replace(text, std::regex(pattern), replacement,
                                                 std::regex_constants::format_first_only);
   REQUIRE(edited != text);
-  const std::string path = "/tmp/flexref_input_checks_" + scene + ".toml";
+  static const testing::TempDir dir("input-checks");  // this program's, removed at exit
+  const std::string path = (dir / (scene + ".toml")).string();
   std::ofstream(path) << edited;
   return path;
 }

@@ -12,22 +12,14 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "scene/scene_reader.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref::app {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// A fresh folder of this process (mkdtemp), removed at the end of the test.
-struct TempDir {
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "flexref_run_checks_XXXXXX").string();
-    REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~TempDir() { fs::remove_all(path); }
-  fs::path path;
-};
+using testing::TempDir;  // this test's own folder (tests/support/temp_dir.hpp)
 
 /// Captures what a command prints (its summary line, warnings, progress) for the test to read.
 struct Captured {
@@ -84,15 +76,15 @@ TEST_CASE(
   RunOptions options;
   options.scheme = "c2";
   options.dt = 0.01;
-  options.output = (tmp.path / "run.csv").string();
+  options.output = (tmp.path() / "run.csv").string();
   SECTION("free_spin at W0 = (200, 300, 2000) rad/s: h|W| = 20") {
     options.scene =
-        edited_scene(tmp.path, "free_spin",
+        edited_scene(tmp.path(), "free_spin",
                      {{"angular_velocity = .*", "angular_velocity = [200.0, 300.0, 2000.0]"}})
             .string();
   }
   SECTION("book_toss at |W| = 1e6 rad/s") {
-    options.scene = edited_scene(tmp.path, "book_toss",
+    options.scene = edited_scene(tmp.path(), "book_toss",
                                  {{"angular_velocity = .*", "angular_velocity = [0.0, 1e6, 0.0]"}})
                         .string();
   }
@@ -117,8 +109,8 @@ TEST_CASE("every bundled scene runs with its defaults or the refusal names a ste
     INFO(name);
     RunOptions options;
     options.scene =
-        edited_scene(tmp.path, name, {{"\nend_time = [^#\n]*", "\nend_time = 0.2 "}}).string();
-    options.output = (tmp.path / (name + ".csv")).string();
+        edited_scene(tmp.path(), name, {{"\nend_time = [^#\n]*", "\nend_time = 0.2 "}}).string();
+    options.output = (tmp.path() / (name + ".csv")).string();
     // A scene with ideal joints is the references' (C1, C2 and NMB refuse it before any work,
     // naming the joint and what to use instead: lie/scheme_support.cpp), at a step on its grid.
     if (scene::read_scene(options.scene).spec.ideal_joints.size() > 0) {

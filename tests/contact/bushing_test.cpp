@@ -338,9 +338,12 @@ TEST_CASE("Bushing parameters, validation and description") {
   CHECK(spherical.describe().find("k = 1e+06 N/m") != std::string::npos);
 
   // ω = √(k/m), the undamped leapfrog limit 2/ω, and a damped limit below it.
-  CHECK(contact::bushing_frequency(1e6, 1.0) == Approx(1e3));
-  CHECK(contact::bushing_stable_step(1e6, 0.0, 1.0) == Approx(2e-3));
-  CHECK(contact::bushing_stable_step(1e6, 2e3, 1.0) == Approx(2e-3 * (std::sqrt(2.0) - 1.0)));
+  // Tolerance: √(k/m) and 2/ω (and the damped factor √2 − 1): a few roundings of O(1)-relative
+  // operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.
+  CHECK(contact::bushing_frequency(1e6, 1.0) == Approx(1e3).epsilon(1e-14));
+  CHECK(contact::bushing_stable_step(1e6, 0.0, 1.0) == Approx(2e-3).epsilon(1e-14));
+  CHECK(contact::bushing_stable_step(1e6, 2e3, 1.0) ==
+        Approx(2e-3 * (std::sqrt(2.0) - 1.0)).epsilon(1e-14));
   CHECK(std::isinf(contact::bushing_stable_step(0.0, 0.0, 1.0)));
 
   contact::BushingParameters negative;

@@ -49,15 +49,21 @@ TEST_CASE("penalty load: normal force along n, friction against the slip, power 
   // Penetration 1e-3, approaching at 0.2 m/s (v_rel·n = −0.2), slipping at 0.5 m/s along t.
   const V3 v_rel = -0.2 * n + 0.5 * t;
   const PenaltyLoadTpl<double> e = penalty_load_tpl<double>(law, friction, -1e-3, n, v_rel);
-  CHECK(e.delta_dot == Approx(0.2));
+  // Tolerance: δ̇ = −v_rel·n from three products and sums: a few roundings of O(1)-relative
+  // operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.
+  CHECK(e.delta_dot == Approx(0.2).epsilon(1e-14));
   CHECK((e.v_t_W - 0.5 * t).norm() < 1e-15);
   // F_n = k δ + c δ̇ = 10 + 6 = 16 N; F_t = −μ F_n tanh(|v_t|/v_reg) t (t the slip's direction).
-  CHECK(e.normal.total == Approx(16.0));
+  // Tolerance: k δ + c δ̇: two products and a sum: a few roundings of O(1)-relative operations,
+  // each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.
+  CHECK(e.normal.total == Approx(16.0).epsilon(1e-14));
   const double th = std::tanh(0.5 / 1e-3);
   CHECK((e.f_friction_W + 0.4 * 16.0 * th * t).norm() < 1e-12);
   CHECK(e.f_friction_W.dot(e.v_t_W) < 0.0);
   // Dissipated: c δ̇ · δ̇ + μ F_n tanh(|v_t|/v_reg) |v_t| = 6 × 0.2 + 6.4 th × 0.5.
-  CHECK(e.dissipated_power() == Approx(6.0 * 0.2 + 6.4 * th * 0.5));
+  // Tolerance: F_n δ̇ + |F_t| |v_t| with a tanh (its own rounding ~1 ulp) and the norms of v_t:
+  // ~10 roundings of terms of one sign, ≤ ~1e-15; 1e-13 leaves a factor ~100.
+  CHECK(e.dissipated_power() == Approx(6.0 * 0.2 + 6.4 * th * 0.5).epsilon(1e-13));
   // Separated (g ≥ 0): nothing.
   const PenaltyLoadTpl<double> off = penalty_load_tpl<double>(law, friction, 1e-6, n, v_rel);
   CHECK(off.normal.total == 0.0);

@@ -13,24 +13,15 @@
 #include <functional>
 #include <string>
 
+#include "tests/support/temp_dir.hpp"
+
 namespace flexref::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// A folder of this test's own (mkdtemp), removed at the end.
-struct InterruptTempDir {
-  InterruptTempDir() {
-    std::string pattern = (fs::temp_directory_path() / "flexref_interrupt_XXXXXX").string();
-    REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~InterruptTempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  fs::path path;
-};
+/// This test's own folder (tests/support/temp_dir.hpp).
+using InterruptTempDir = testing::TempDir;
 
 /// Runs `body` in a child process with the cleanup installed and its stderr in `log`, and
 /// returns the child's wait status. The child starts as a program does, with the signals at
@@ -64,11 +55,11 @@ TEST_CASE("SIGINT, SIGTERM and SIGHUP remove the registered paths and end the pr
   for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
     INFO("signal " << signal_number);
     InterruptTempDir tmp;
-    const fs::path staging = tmp.path / ".out.staging-1";
-    const fs::path temp = tmp.path / ".run.csv.tmp-1";
-    const fs::path released = tmp.path / "released";
-    const fs::path kept = tmp.path / "kept.csv";
-    const int status = in_child(tmp.path / "stderr.txt", [&] {
+    const fs::path staging = tmp.path() / ".out.staging-1";
+    const fs::path temp = tmp.path() / ".run.csv.tmp-1";
+    const fs::path released = tmp.path() / "released";
+    const fs::path kept = tmp.path() / "kept.csv";
+    const int status = in_child(tmp.path() / "stderr.txt", [&] {
       // Entries that live until the signal (never destroyed: the process ends in the watcher).
       static InterruptCleanup folder, file;
       folder = InterruptCleanup::remove_path([&] {
@@ -94,7 +85,7 @@ TEST_CASE("SIGINT, SIGTERM and SIGHUP remove the registered paths and end the pr
     CHECK_FALSE(fs::exists(temp));
     CHECK(fs::exists(released));  // taken off the list: not the cleanup's any more
     CHECK(read(kept) == "a user's file\n");
-    CHECK(read(tmp.path / "stderr.txt").find("flexref: interrupted") != std::string::npos);
+    CHECK(read(tmp.path() / "stderr.txt").find("flexref: interrupted") != std::string::npos);
   }
 }
 
@@ -104,7 +95,7 @@ TEST_CASE("a signal is forwarded to the registered child programs", "[io][signal
   // child's close the pipe, and the read below returns.
   int fds[2];
   REQUIRE(::pipe(fds) == 0);
-  const int status = in_child(tmp.path / "stderr.txt", [&] {
+  const int status = in_child(tmp.path() / "stderr.txt", [&] {
     static InterruptCleanup program;
     // The mask a spawned program gets: SIGTERM unblocked.
     const sigset_t mask = child_signal_mask();
@@ -130,9 +121,9 @@ TEST_CASE("a signal is forwarded to the registered child programs", "[io][signal
 
 TEST_CASE("a signal ignored at startup stays ignored", "[io][signals]") {
   InterruptTempDir tmp;
-  const fs::path staging = tmp.path / "staging";
+  const fs::path staging = tmp.path() / "staging";
   const int status = in_child(
-      tmp.path / "stderr.txt",
+      tmp.path() / "stderr.txt",
       [&] {
         static InterruptCleanup folder;
         folder = InterruptCleanup::remove_path([&] {
@@ -140,13 +131,13 @@ TEST_CASE("a signal ignored at startup stays ignored", "[io][signals]") {
           return staging;
         });
         ::kill(::getpid(), SIGHUP);  // discarded
-        std::ofstream(tmp.path / "after_sighup") << "still running\n";
+        std::ofstream(tmp.path() / "after_sighup") << "still running\n";
         ::kill(::getpid(), SIGTERM);
       },
       SIGHUP);  // as nohup leaves it
   REQUIRE(WIFSIGNALED(status));
   CHECK(WTERMSIG(status) == SIGTERM);
-  CHECK(fs::exists(tmp.path / "after_sighup"));
+  CHECK(fs::exists(tmp.path() / "after_sighup"));
   CHECK_FALSE(fs::exists(staging));
 }
 

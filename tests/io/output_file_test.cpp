@@ -14,30 +14,16 @@
 #include <set>
 #include <string>
 
+#include "tests/support/temp_dir.hpp"
+
 namespace flexref::io {
 namespace {
 
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
-/// A folder of this test's own (mkdtemp: unique per process and call), removed at the end.
-struct OutputFileTempDir {
-  OutputFileTempDir() {
-    std::string pattern = (fs::temp_directory_path() / "flexref_output_file_XXXXXX").string();
-    REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~OutputFileTempDir() {
-    // Read-only folders made by a test must not stop the removal.
-    std::error_code ec;
-    for (const auto& e : fs::recursive_directory_iterator(path, ec)) {
-      if (e.is_directory(ec) && !e.is_symlink(ec)) ::chmod(e.path().c_str(), 0700);
-    }
-    ::chmod(path.c_str(), 0700);
-    fs::remove_all(path, ec);
-  }
-  fs::path path;
-};
+/// This test's own folder (tests/support/temp_dir.hpp).
+using OutputFileTempDir = testing::TempDir;
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -71,7 +57,7 @@ std::string write_message(const std::string& path, const std::string& text) {
 
 TEST_CASE("check_writable_file refuses paths that cannot be written, before any work", "[io]") {
   OutputFileTempDir tmp;
-  const fs::path& dir = tmp.path;
+  const fs::path& dir = tmp.path();
   std::ofstream(dir / "file.toml") << "x";
 
   CHECK_THAT(message_of(""), Contains("empty"));
@@ -85,7 +71,7 @@ TEST_CASE("check_writable_file refuses paths that cannot be written, before any 
 
 TEST_CASE("a regular file is replaced atomically and keeps its permission bits", "[io]") {
   OutputFileTempDir tmp;
-  const fs::path file = tmp.path / "run.csv";
+  const fs::path file = tmp.path() / "run.csv";
   write_output_file(file.string(), "first\n");
   CHECK(read_text(file) == "first\n");
   ::chmod(file.c_str(), 0640);
@@ -94,49 +80,49 @@ TEST_CASE("a regular file is replaced atomically and keeps its permission bits",
   struct stat st {};
   REQUIRE(::stat(file.c_str(), &st) == 0);
   CHECK((st.st_mode & 07777) == 0640);
-  CHECK(names(tmp.path) == std::set<std::string>{"run.csv"});  // no temporary left
+  CHECK(names(tmp.path()) == std::set<std::string>{"run.csv"});  // no temporary left
 }
 
 TEST_CASE("a symbolic link stays a link and its target is written", "[io]") {
   OutputFileTempDir tmp;
-  fs::create_directories(tmp.path / "data");
-  std::ofstream(tmp.path / "data" / "real.csv") << "old\n";
-  fs::create_symlink("data/real.csv", tmp.path / "link.csv");
+  fs::create_directories(tmp.path() / "data");
+  std::ofstream(tmp.path() / "data" / "real.csv") << "old\n";
+  fs::create_symlink("data/real.csv", tmp.path() / "link.csv");
   // A chain: link2 -> link.csv -> data/real.csv.
-  fs::create_symlink(tmp.path / "link.csv", tmp.path / "link2.csv");
+  fs::create_symlink(tmp.path() / "link.csv", tmp.path() / "link2.csv");
 
-  write_output_file((tmp.path / "link2.csv").string(), "new\n");
-  CHECK(fs::is_symlink(tmp.path / "link.csv"));
-  CHECK(fs::is_symlink(tmp.path / "link2.csv"));
-  CHECK(read_text(tmp.path / "data" / "real.csv") == "new\n");
-  CHECK(names(tmp.path / "data") == std::set<std::string>{"real.csv"});
+  write_output_file((tmp.path() / "link2.csv").string(), "new\n");
+  CHECK(fs::is_symlink(tmp.path() / "link.csv"));
+  CHECK(fs::is_symlink(tmp.path() / "link2.csv"));
+  CHECK(read_text(tmp.path() / "data" / "real.csv") == "new\n");
+  CHECK(names(tmp.path() / "data") == std::set<std::string>{"real.csv"});
   // The sidecar goes beside the file written, not beside the link.
-  const std::optional<std::string> sidecar = sidecar_path((tmp.path / "link2.csv").string());
+  const std::optional<std::string> sidecar = sidecar_path((tmp.path() / "link2.csv").string());
   REQUIRE(sidecar);
   CHECK(fs::path(*sidecar).filename() == "real.csv.meta.toml");
-  CHECK(fs::equivalent(fs::path(*sidecar).parent_path(), tmp.path / "data"));
+  CHECK(fs::equivalent(fs::path(*sidecar).parent_path(), tmp.path() / "data"));
 }
 
 TEST_CASE("a dangling symbolic link creates its target", "[io]") {
   OutputFileTempDir tmp;
-  fs::create_directories(tmp.path / "data");
-  fs::create_symlink("data/made.csv", tmp.path / "dangling.csv");
-  write_output_file((tmp.path / "dangling.csv").string(), "made\n");
-  CHECK(fs::is_symlink(tmp.path / "dangling.csv"));
-  CHECK(read_text(tmp.path / "data" / "made.csv") == "made\n");
+  fs::create_directories(tmp.path() / "data");
+  fs::create_symlink("data/made.csv", tmp.path() / "dangling.csv");
+  write_output_file((tmp.path() / "dangling.csv").string(), "made\n");
+  CHECK(fs::is_symlink(tmp.path() / "dangling.csv"));
+  CHECK(read_text(tmp.path() / "data" / "made.csv") == "made\n");
   // A link into a missing folder is refused like the folder itself.
-  fs::create_symlink("nowhere/x.csv", tmp.path / "lost.csv");
-  CHECK_THAT(message_of((tmp.path / "lost.csv").string()), Contains("does not exist"));
+  fs::create_symlink("nowhere/x.csv", tmp.path() / "lost.csv");
+  CHECK_THAT(message_of((tmp.path() / "lost.csv").string()), Contains("does not exist"));
   // A loop of links.
-  fs::create_symlink("b.csv", tmp.path / "a.csv");
-  fs::create_symlink("a.csv", tmp.path / "b.csv");
-  CHECK_THAT(message_of((tmp.path / "a.csv").string()),
+  fs::create_symlink("b.csv", tmp.path() / "a.csv");
+  fs::create_symlink("a.csv", tmp.path() / "b.csv");
+  CHECK_THAT(message_of((tmp.path() / "a.csv").string()),
              Contains("too many levels of symbolic links"));
 }
 
 TEST_CASE("a FIFO is written directly and stays a FIFO, without a sidecar", "[io]") {
   OutputFileTempDir tmp;
-  const fs::path fifo = tmp.path / "fifo";
+  const fs::path fifo = tmp.path() / "fifo";
   REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
   // A reader attached first (a non-blocking open for reading does not wait for a writer), so the
   // writer's open does not wait either; the text fits in the pipe's buffer.
@@ -151,7 +137,7 @@ TEST_CASE("a FIFO is written directly and stays a FIFO, without a sidecar", "[io
   struct stat st {};
   REQUIRE(::lstat(fifo.c_str(), &st) == 0);
   CHECK(S_ISFIFO(st.st_mode));
-  CHECK(names(tmp.path) == std::set<std::string>{"fifo"});
+  CHECK(names(tmp.path()) == std::set<std::string>{"fifo"});
   CHECK(resolve_output(fifo.string()).kind == OutputTarget::Kind::kSpecial);
 }
 
@@ -159,7 +145,7 @@ TEST_CASE("standard output and the program's own descriptors are written as they
   OutputFileTempDir tmp;
   // A file opened for appending, as a shell's `>>` opens it: /dev/fd/N appends to it instead of
   // replacing the file behind the descriptor.
-  const fs::path log = tmp.path / "log.csv";
+  const fs::path log = tmp.path() / "log.csv";
   std::ofstream(log) << "previous\n";
   const int fd = ::open(log.c_str(), O_WRONLY | O_APPEND);
   REQUIRE(fd >= 0);
@@ -171,7 +157,7 @@ TEST_CASE("standard output and the program's own descriptors are written as they
   write_output_file(path, "appended\n");
   ::close(fd);
   CHECK(read_text(log) == "previous\nappended\n");
-  CHECK(names(tmp.path) == std::set<std::string>{"log.csv"});
+  CHECK(names(tmp.path()) == std::set<std::string>{"log.csv"});
 
   // `-` is standard output (redirected here into a pipe for the check).
   int pipe_fds[2];
@@ -193,19 +179,19 @@ TEST_CASE("standard output and the program's own descriptors are written as they
 
 TEST_CASE("read-only files and folders are refused and left untouched, for root too", "[io]") {
   OutputFileTempDir tmp;
-  const fs::path file = tmp.path / "kept.csv";
+  const fs::path file = tmp.path() / "kept.csv";
   std::ofstream(file) << "precious\n";
   ::chmod(file.c_str(), 0444);
   CHECK_THAT(message_of(file.string()), Contains("read-only"));
   CHECK_THAT(write_message(file.string(), "new\n"), Contains("read-only"));
   CHECK(read_text(file) == "precious\n");
   // Through a link as well.
-  fs::create_symlink("kept.csv", tmp.path / "link.csv");
-  CHECK_THAT(write_message((tmp.path / "link.csv").string(), "new\n"), Contains("read-only"));
+  fs::create_symlink("kept.csv", tmp.path() / "link.csv");
+  CHECK_THAT(write_message((tmp.path() / "link.csv").string(), "new\n"), Contains("read-only"));
   CHECK(read_text(file) == "precious\n");
-  CHECK(names(tmp.path) == std::set<std::string>{"kept.csv", "link.csv"});
+  CHECK(names(tmp.path()) == std::set<std::string>{"kept.csv", "link.csv"});
 
-  const fs::path folder = tmp.path / "ro";
+  const fs::path folder = tmp.path() / "ro";
   fs::create_directories(folder);
   std::ofstream(folder / "old.csv") << "old\n";
   ::chmod(folder.c_str(), 0555);
@@ -218,13 +204,13 @@ TEST_CASE("read-only files and folders are refused and left untouched, for root 
 
 TEST_CASE("directories and sockets are refused", "[io]") {
   OutputFileTempDir tmp;
-  fs::create_directories(tmp.path / "folder");
-  fs::create_symlink("folder", tmp.path / "to_folder");
-  CHECK_THAT(message_of((tmp.path / "to_folder").string()), Contains("is a directory"));
-  CHECK_THAT(message_of((tmp.path / "to_folder").string()), Contains("symbolic link"));
-  CHECK(fs::is_symlink(tmp.path / "to_folder"));
+  fs::create_directories(tmp.path() / "folder");
+  fs::create_symlink("folder", tmp.path() / "to_folder");
+  CHECK_THAT(message_of((tmp.path() / "to_folder").string()), Contains("is a directory"));
+  CHECK_THAT(message_of((tmp.path() / "to_folder").string()), Contains("symbolic link"));
+  CHECK(fs::is_symlink(tmp.path() / "to_folder"));
 
-  const fs::path socket_path = tmp.path / "socket";
+  const fs::path socket_path = tmp.path() / "socket";
   const int s = ::socket(AF_UNIX, SOCK_STREAM, 0);
   REQUIRE(s >= 0);
   sockaddr_un address{};

@@ -113,7 +113,9 @@ scene::SceneSpec spinner_on_plane_in_field(double height, double plane_z) {
   const Eigen::Vector3d p_WQ(0.0, 0.0, plane_z);
   const Eigen::Vector3d n_W(std::sin(0.1), 0.0, std::cos(0.1));
   const int tip_node = 40;
-  REQUIRE(d.flexible->modal.p_BoNode_B(0, tip_node) == Approx(1.1));  // root 0.1 m + 1 m
+  // Tolerance: the root's 0.1 plus the 1 m length: one rounding (≤ 1.1e-16 relative).
+  REQUIRE(d.flexible->modal.p_BoNode_B(0, tip_node) ==
+          Approx(1.1).epsilon(1e-15));  // root 0.1 m + 1 m
   scene::ContactSpec c;
   c.law.linear = true;
   c.law.stiffness = 2e4;
@@ -314,7 +316,9 @@ TEST_CASE("the free flexible body conserves its energy in quad once the torque i
       std::find(run.columns.begin(), run.columns.end(), "energy") - run.columns.begin() - 1);
   REQUIRE(energy + 1 < run.columns.size());
   const std::size_t after_pulse = 6;  // t = 0.6
-  REQUIRE(run.table.rows[after_pulse][0] == Approx(0.6));
+  // Tolerance: the output time 6 × 0.1 (core::output_times): one product's rounding (≤ 1.1e-16),
+  // far inside 1e-14.
+  REQUIRE(run.table.rows[after_pulse][0] == Approx(0.6).epsilon(1e-14));
   const Quad e0(run.text[after_pulse][energy]);
   Quad worst(0);
   for (std::size_t r = after_pulse; r < run.text.size(); ++r) {

@@ -17,6 +17,7 @@
 #include "core/output_times.hpp"
 #include "precision/high_precision_reference.hpp"
 #include "tests/precision/precision_order.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -82,9 +83,7 @@ TEST_CASE("compare measures a quad difference far below double's resolution", "[
 }
 
 TEST_CASE("precise tables take their precision from the sidecar and name bad rows", "[precision]") {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / "flexref_precise_comparison_test";
-  std::filesystem::create_directories(dir);
+  const testing::TempDir dir("precise-comparison");
   const std::string csv = (dir / "q.csv").string();
   std::ofstream(csv) << "t,b.x\n0,0.1000000000000000000000000000000001\n0.1,0.2\n";
   CHECK(read_precise_table(csv).precision == Precision::kDouble);  // no sidecar
@@ -103,7 +102,6 @@ TEST_CASE("precise tables take their precision from the sidecar and name bad row
   } catch (const core::InputError& e) {
     CHECK(std::string(e.what()).find(":3") != std::string::npos);
   }
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -40,10 +40,13 @@ TEST_CASE("roundoff_scale adds the angle and the path the motion can sweep", "[p
   // solution_scale: π for the rotation, the farthest point at t0 (r, 2 m) for the points.
   const double sweep_angle = 2.0 * 5.0;         // T max|ω̄|
   const double sweep_path = 2.0 * (5.0 * 2.0);  // T max(|v_WBo| + |ω̄| |p_WP − p_WBo|), point r
-  CHECK(roundoff_scale(table, "rotation") == Approx(std::numbers::pi + sweep_angle));
-  CHECK(roundoff_scale(table, "points") == Approx(2.0 + sweep_path));
+  // Tolerance: sums and products of the table's O(1)-O(10) entries and one norm per row over
+  // three rows: a few roundings of O(1)-relative operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves
+  // a factor ~10 over them.
+  CHECK(roundoff_scale(table, "rotation") == Approx(std::numbers::pi + sweep_angle).epsilon(1e-14));
+  CHECK(roundoff_scale(table, "points") == Approx(2.0 + sweep_path).epsilon(1e-14));
   CHECK(roundoff_scale(table, "rotation+points") ==
-        Approx(std::numbers::pi + 2.0 + sweep_angle + sweep_path));
+        Approx(std::numbers::pi + 2.0 + sweep_angle + sweep_path).epsilon(1e-14));
   // Without b's velocity columns its points fall back to their polylines: r's two chords of
   // 2 × 2 sin(2.5) = 2.39 m each (4.79 m) are shorter than s's 7 m.
   studies::TrajectoryTable no_velocity = table;
@@ -51,7 +54,9 @@ TEST_CASE("roundoff_scale adds the angle and the path the motion can sweep", "[p
     no_velocity.columns[static_cast<std::size_t>(no_velocity.column(name))] =
         std::string("b.") + (name + 2) + "_";
   }
-  CHECK(roundoff_scale(no_velocity, "points") == Approx(2.0 + 7.0));
+  // Tolerance: the two chords' norms and their sum: a few roundings of O(1)-relative operations,
+  // each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.
+  CHECK(roundoff_scale(no_velocity, "points") == Approx(2.0 + 7.0).epsilon(1e-14));
 }
 
 TEST_CASE("roundoff_scale adds a node's elastic speed", "[precision]") {
@@ -64,11 +69,13 @@ TEST_CASE("roundoff_scale adds a node's elastic speed", "[precision]") {
   table.rows.push_back({0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0});
   table.rows.push_back({1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 3.0, 4.0});
   const std::vector<NodePoint> nodes{{"b.n", 2.0}};
-  CHECK(roundoff_scale(table, "points") == Approx(1.0));
-  CHECK(roundoff_scale(table, "points", nodes) == Approx(1.0 + 10.0));
+  // Tolerance: a norm, a product and a sum per row over two rows: a few roundings of
+  // O(1)-relative operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.
+  CHECK(roundoff_scale(table, "points") == Approx(1.0).epsilon(1e-14));
+  CHECK(roundoff_scale(table, "points", nodes) == Approx(1.0 + 10.0).epsilon(1e-14));
   // A node of another point leaves n alone.
   const std::vector<NodePoint> other{{"b.m", 2.0}};
-  CHECK(roundoff_scale(table, "points", other) == Approx(1.0));
+  CHECK(roundoff_scale(table, "points", other) == Approx(1.0).epsilon(1e-14));
 }
 
 TEST_CASE("node_points lists the points at nodes with their mode-shape norms", "[precision]") {

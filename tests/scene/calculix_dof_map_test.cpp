@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "scene/calculix_condensation.hpp"
 #include "scene/calculix_input_deck.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace flexref;
@@ -198,9 +199,8 @@ TEST_CASE("condensation: a mode's rows the .frd does not show are its own eigen-
 }
 
 TEST_CASE("input deck: coordinates and the directions *BOUNDARY holds", "[calculix]") {
-  std::random_device rd;
-  const fs::path dir = fs::temp_directory_path() / ("flexref-deck-" + std::to_string(rd()));
-  fs::create_directories(dir);
+  const testing::TempDir tmp("deck");
+  const fs::path& dir = tmp.path();
   std::ofstream(dir / "job.inp") << "*NODE, NSET=ALL\n1, 0.5, -1e-2, +3.\n2, 1.0\n"
                                     "*NSET, NSET=ROOT\n1\n*BOUNDARY\nROOT, 1, 3\n2, 5\n"
                                     "*BOUNDARY, OP=NEW\n1, 11, 11\n";
@@ -218,6 +218,4 @@ TEST_CASE("input deck: coordinates and the directions *BOUNDARY holds", "[calcul
     CHECK(e.line() == 2);
     CHECK_THAT(std::string(e.what()), Contains("coordinate \"x\" is not a number"));
   }
-  std::error_code ignore;
-  fs::remove_all(dir, ignore);
 }

@@ -13,6 +13,7 @@
 #include "scene/scene_reader.hpp"
 #include "studies/trajectory_table.hpp"
 #include "tests/support/scene_error_checks.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref::app {
 namespace {
@@ -141,8 +142,12 @@ TEST_CASE("every contact key is read", "[app][scene][contact]") {
     CHECK(c.normal_law().stiffness() == 4e5);
     CHECK(c.normal_law().damping() == 30.0);
     CHECK(core::penalty_modes(*s.model)[0].inertia == 0.5);
-    CHECK(core::penalty_modes(*s.model)[0].frequency == Approx(std::sqrt(4e5 / 0.5)));
-    CHECK(core::penalty_modes(*s.model)[0].step_limit == Approx(2.0 / std::sqrt(4e5 / 0.5)));
+    // Tolerance: √(k/m) and 2/ω from the scene's numbers: a few roundings of O(1)-relative
+    // operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.
+    CHECK(core::penalty_modes(*s.model)[0].frequency ==
+          Approx(std::sqrt(4e5 / 0.5)).epsilon(1e-14));
+    CHECK(core::penalty_modes(*s.model)[0].step_limit ==
+          Approx(2.0 / std::sqrt(4e5 / 0.5)).epsilon(1e-14));
   }
   SECTION("point-plane, linear law from restitution with m_eff") {
     const scene::Scene s = scene::parse_scene(kHead +
@@ -177,7 +182,9 @@ TEST_CASE("every contact key is read", "[app][scene][contact]") {
     CHECK(p.radius_b == 0.25);
     CHECK(p.p_BoCa_B == Eigen::Vector3d(0, 0, 0.1));
     CHECK(p.p_BoCb_B == Eigen::Vector3d(0, 0, -0.1));
-    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(2.0 / 3.0));
+    // Tolerance: 1/(1/m_a + 1/m_b) from the scene's masses: a few roundings of O(1)-relative
+    // operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.
+    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(2.0 / 3.0).epsilon(1e-14));
   }
   SECTION("a plane normal within 1e-6 of unit is renormalized") {
     const scene::Scene s =
@@ -313,12 +320,18 @@ TEST_CASE("every joint key is read", "[app][scene][joint]") {
     CHECK(core::penalty_modes(*s.model)[1].label == "joint[1] angular");
     // Free bodies at their centres of mass... translational: arms of 1 m.
     // Along x: 1/m_a + 1/m_b + r²/J_a + r²/J_b = 0.5 + 1 + 1 + 2 = 4.5.
-    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(1.0 / 4.5));
-    CHECK(core::penalty_modes(*s.model)[0].frequency == Approx(std::sqrt(1e6 * 4.5)));
-    CHECK(core::penalty_modes(*s.model)[0].step_limit == Approx(2.0 / std::sqrt(1e6 * 4.5)));
+    // Tolerance: sums of 1/m and r²/J (all positive: no cancellation), their inverse, √ and 2/ω:
+    // a few roundings of O(1)-relative operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor
+    // ~10 over them.
+    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(1.0 / 4.5).epsilon(1e-14));
+    CHECK(core::penalty_modes(*s.model)[0].frequency ==
+          Approx(std::sqrt(1e6 * 4.5)).epsilon(1e-14));
+    CHECK(core::penalty_modes(*s.model)[0].step_limit ==
+          Approx(2.0 / std::sqrt(1e6 * 4.5)).epsilon(1e-14));
     // Angular, about x or z (perpendicular to the hinge): 1/J_a + 1/J_b = 3.
-    CHECK(core::penalty_modes(*s.model)[1].inertia == Approx(1.0 / 3.0));
-    CHECK(core::penalty_modes(*s.model)[1].frequency == Approx(std::sqrt(1e4 * 3.0)));
+    CHECK(core::penalty_modes(*s.model)[1].inertia == Approx(1.0 / 3.0).epsilon(1e-14));
+    CHECK(core::penalty_modes(*s.model)[1].frequency ==
+          Approx(std::sqrt(1e4 * 3.0)).epsilon(1e-14));
   }
   SECTION("every key; damping lowers the step limit") {
     const scene::Scene s =
@@ -332,7 +345,7 @@ TEST_CASE("every joint key is read", "[app][scene][joint]") {
     CHECK(j.angular_stiffness() == 1e3);
     CHECK(j.angular_damping() == 2.0);
     CHECK(core::penalty_modes(*s.model)[0].step_limit ==
-          Approx(contact::bushing_stable_step(1e5, 30.0, 1.0 / 4.5)));
+          Approx(contact::bushing_stable_step(1e5, 30.0, 1.0 / 4.5)).epsilon(1e-14));
     CHECK(core::penalty_modes(*s.model)[0].step_limit < 2.0 / std::sqrt(1e5 * 4.5));
   }
   SECTION("spherical to the ground") {
@@ -349,7 +362,9 @@ TEST_CASE("every joint key is read", "[app][scene][joint]") {
     REQUIRE(core::penalty_modes(*s.model).size() == 1);
     CHECK(core::penalty_modes(*s.model)[0].label == "joint[1]");
     // Along y or z at arm 1 m along x: 1/2 + 1/1 = 1.5.
-    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(1.0 / 1.5));
+    // Tolerance: a sum of 1/m and r²/J and its inverse: a few roundings of O(1)-relative
+    // operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.
+    CHECK(core::penalty_modes(*s.model)[0].inertia == Approx(1.0 / 1.5).epsilon(1e-14));
   }
 }
 
@@ -422,7 +437,11 @@ TEST_CASE("bundled contact scenes read into the expected elements", "[app][scene
     const auto& stem = element<contact::ContactElement>(s, 2);
     CHECK(sphere.pairs()[0].radius_b == 0.015);
     CHECK(stem.pairs()[0].radius_b == 0.005);
-    CHECK((stem.pairs()[0].p_BoCb_B - sphere.pairs()[0].p_BoCb_B).norm() == Approx(0.016));
+    // Tolerance: the distance of two centres written with ≤ 3 digits, O(0.01) apart on a body of
+    // O(0.03) m: the difference's absolute error ≤ 2^-53 × 0.03 ≈ 3e-18, 2e-16 relative to 0.016;
+    // 1e-13 leaves a wide factor.
+    CHECK((stem.pairs()[0].p_BoCb_B - sphere.pairs()[0].p_BoCb_B).norm() ==
+          Approx(0.016).epsilon(1e-13));
     CHECK(sphere.friction_law().mu == 0.3);
     CHECK(stem.friction_law().mu == 0.3);
     CHECK(s.model->body(0).mass() == 0.006);
@@ -481,13 +500,15 @@ TEST_CASE("the CSV of a dissipating model has dissipated work and the energy bal
     CHECK(at(r, b) == at(r, e) - at(0, e) + at(r, w));
   }
   // Body a 0.1 m lower: E changes by m g Δz = −2·9.81·0.1.
-  CHECK(at(1, e) - at(0, e) == Approx(-2.0 * 9.81 * 0.1));
+  // Tolerance: the difference of two energies of O(20) J (m g z + kinetic) is 1.96 J: each
+  // energy's rounding ~20 × 1e-16 is ~1e-15 relative to the difference; 1e-12 leaves a factor
+  // ~1000 for the energies' sums over the bodies.
+  CHECK(at(1, e) - at(0, e) == Approx(-2.0 * 9.81 * 0.1).epsilon(1e-12));
 
-  const std::string path =
-      (std::filesystem::temp_directory_path() / "flexref_contact_scene_test.csv").string();
+  const testing::TempDir dir("contact-scene");
+  const std::string path = (dir / "round_trip.csv").string();
   studies::write_csv(table, path);
   const studies::TrajectoryTable back = studies::read_csv(path);
-  std::filesystem::remove(path);
   CHECK(back.columns == table.columns);
   REQUIRE(back.rows.size() == table.rows.size());
   for (std::size_t r = 0; r < table.rows.size(); ++r) CHECK(back.rows[r] == table.rows[r]);

@@ -25,6 +25,7 @@
 #include "studies/reference_sidecar.hpp"
 #include "studies/trajectory_contract.hpp"
 #include "studies/trajectory_table.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref {
 namespace {
@@ -32,19 +33,8 @@ namespace {
 namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 
-/// A folder of this test's own (mkdtemp), removed at the end.
-struct InputFilesTempDir {
-  InputFilesTempDir() {
-    std::string pattern = (fs::temp_directory_path() / "flexref_input_files_XXXXXX").string();
-    REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~InputFilesTempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  fs::path path;
-};
+/// This test's own folder (tests/support/temp_dir.hpp).
+using InputFilesTempDir = testing::TempDir;
 
 /// The message of the core::InputError that `read` throws on a FIFO at `fifo` ("" when it
 /// throws none). A writer thread feeds the FIFO `text`, so that a reader that opens it anyway
@@ -75,7 +65,7 @@ std::string message_on_fifo(const fs::path& fifo, const std::string& text,
 
 TEST_CASE("every reader refuses a FIFO at once, naming it", "[scene][io]") {
   InputFilesTempDir tmp;
-  const fs::path fifo = tmp.path / "input";
+  const fs::path fifo = tmp.path() / "input";
   const std::string scene =
       "[scene]\nname = \"x\"\nend_time = 1.0\noutput_step = 0.1\n[[body]]\nname = \"b\"\n"
       "mass = 1.0\ninertia = [1.0, 2.0, 3.0]\n";
@@ -104,10 +94,10 @@ TEST_CASE("every reader refuses a FIFO at once, naming it", "[scene][io]") {
     CHECK_THAT(message, Contains(fifo.string()) && Contains("FIFO"));
   }
   // A sidecar that is a FIFO (beside a regular CSV).
-  std::ofstream(tmp.path / "run.csv") << csv;
+  std::ofstream(tmp.path() / "run.csv") << csv;
   const std::string message =
-      message_on_fifo(tmp.path / "run.csv.meta.toml", "[integrator]\n", [&](const std::string&) {
-        (void)studies::read_reference_sidecar((tmp.path / "run.csv").string());
+      message_on_fifo(tmp.path() / "run.csv.meta.toml", "[integrator]\n", [&](const std::string&) {
+        (void)studies::read_reference_sidecar((tmp.path() / "run.csv").string());
       });
   CHECK_THAT(message, Contains("run.csv.meta.toml") && Contains("FIFO"));
 }

@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "flexible/beam_model.hpp"
 #include "tests/support/input_error_checks.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref::app {
 namespace {
@@ -173,11 +174,10 @@ TEST_CASE("beam modal data: write then read is exact", "[app][modal]") {
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   // Digits beyond the beam's (the root, rows 0..2, stays still).
   for (Eigen::Index r = 3; r < data.phi.rows(); ++r) data.phi(r, 1) += 1e-3 * uniform(rng);
-  const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "flexref_modal_data_reader_test.toml";
+  const testing::TempDir dir("modal-data-reader");
+  const std::filesystem::path path = dir / "modes.toml";
   scene::write_modal_data(data, path.string());
   require_equal(scene::read_modal_data(path.string()), data);
-  std::filesystem::remove(path);
 }
 
 TEST_CASE("unwritable data is refused", "[app][modal]") {
@@ -328,8 +328,8 @@ TEST_CASE("unreadable files name the path", "[app][modal]") {
     CHECK(e.file() == path);
     CHECK_THAT(std::string(e.what()), Contains("cannot open"));
   }
-  CHECK_THROWS_AS(scene::read_modal_data(std::filesystem::temp_directory_path().string()),
-                  core::InputError);
+  const testing::TempDir dir("modal-data-folder");
+  CHECK_THROWS_AS(scene::read_modal_data(dir.path().string()), core::InputError);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "scene/modal_data_reader.hpp"
 #include "scene/scene_reader.hpp"
 #include "scene/scene_toml.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref::scene {
 namespace {
@@ -68,22 +69,8 @@ TEST_CASE("the canonical text tells types and string boundaries apart", "[scene]
   CHECK(canonical_text(parse_toml("a = true")) != canonical_text(parse_toml("a = \"true\"")));
 }
 
-/// A folder of this test's own under the temporary directory, removed with everything in it.
-struct OwnFolder {
-  std::filesystem::path path;
-  OwnFolder() {
-    std::string name =
-        (std::filesystem::temp_directory_path() / "flexref_identity_XXXXXX").string();
-    if (mkdtemp(name.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path = name;
-  }
-  ~OwnFolder() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  OwnFolder(const OwnFolder&) = delete;
-  OwnFolder& operator=(const OwnFolder&) = delete;
-};
+/// This test's own folder (tests/support/temp_dir.hpp).
+using OwnFolder = testing::TempDir;
 
 TEST_CASE("a modal-data file's content is part of the scene hash", "[scene][identity]") {
   const OwnFolder folder;
@@ -96,21 +83,21 @@ TEST_CASE("a modal-data file's content is part of the scene hash", "[scene][iden
   const std::string scene_text =
       "[scene]\nname = \"f\"\nend_time = 1.0\noutput_step = 0.1\n"
       "[[body]]\nname = \"f\"\nmass = 10.0\ninertia = [0.5, 0.5, 1.0]\nmodal = \"m.toml\"\n";
-  std::ofstream(folder.path / "scene.toml") << scene_text;
-  const std::string scene_file = (folder.path / "scene.toml").string();
-  write_modal_data(flexible::make_beam_modal_data(p, 3), (folder.path / "m.toml").string());
+  std::ofstream(folder.path() / "scene.toml") << scene_text;
+  const std::string scene_file = (folder.path() / "scene.toml").string();
+  write_modal_data(flexible::make_beam_modal_data(p, 3), (folder.path() / "m.toml").string());
   const std::string first = read_scene(scene_file).hash;
   // The same scene text with a stiffer beam in its modal file: another scene.
   p.EI_y = p.EI_z = 3.3;
-  write_modal_data(flexible::make_beam_modal_data(p, 3), (folder.path / "m.toml").string());
+  write_modal_data(flexible::make_beam_modal_data(p, 3), (folder.path() / "m.toml").string());
   CHECK(read_scene(scene_file).hash != first);
   // The scene and its file moved elsewhere together: the same scene.
   p.EI_y = p.EI_z = 3.2;
-  std::filesystem::create_directory(folder.path / "moved");
-  std::ofstream(folder.path / "moved" / "scene.toml") << scene_text;
+  std::filesystem::create_directory(folder.path() / "moved");
+  std::ofstream(folder.path() / "moved" / "scene.toml") << scene_text;
   write_modal_data(flexible::make_beam_modal_data(p, 3),
-                   (folder.path / "moved" / "m.toml").string());
-  CHECK(read_scene((folder.path / "moved" / "scene.toml").string()).hash == first);
+                   (folder.path() / "moved" / "m.toml").string());
+  CHECK(read_scene((folder.path() / "moved" / "scene.toml").string()).hash == first);
 }
 
 }  // namespace

@@ -8,20 +8,15 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <string>
 
 #include "core/error.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref::studies {
 namespace {
 
 using Catch::Matchers::Contains;
-
-/// A folder of this process's own, for the files of one test.
-std::filesystem::path unique_temp_folder() {
-  std::string pattern = (std::filesystem::temp_directory_path() / "flexref-ext-XXXXXX").string();
-  REQUIRE(mkdtemp(pattern.data()) != nullptr);
-  return pattern;
-}
 
 TEST_CASE("the command template: {dt} with 17 digits, paths quoted only when needed",
           "[studies][external]") {
@@ -46,16 +41,21 @@ TEST_CASE("a program's exit status, signal, output tail, CPU time and timeout",
   CHECK(failed.output_tail == "boom");
   const ProgramOutcome killed = run_program("kill -9 $$", 0.0);
   CHECK(killed.signal == 9);
-  // A busy loop of ~0.2 s of CPU in a child of the shell: wait4 counts the grandchild's time
-  // (the shell waited for it). 0.05 s is a quarter of the work, safe on a loaded machine.
+  // A busy loop in a child of the shell that prints, at its end, the CPU time it used by its
+  // own clock: wait4 counts the grandchild's time (the shell waited for it), so the outcome's
+  // CPU time is at least that reading, whatever the load (both are CPU time, not wall time).
+  // Slack: one scheduler tick, 1e-2 s at the coarsest Linux accounting (HZ = 100).
   const ProgramOutcome busy = run_program(
       "/usr/bin/python3 -c 'import time\nt = time.process_time()\n"
-      "while time.process_time() - t < 0.2: pass'; true",
+      "while time.process_time() - t < 0.2: pass\nprint(repr(time.process_time()))'; true",
       0.0);
   CHECK(busy.exit_status == 0);
-  CHECK(busy.cpu_seconds >= 0.05);
-  // The timeout kills the whole process group (the shell and its sleep).
-  const ProgramOutcome slow = run_program("sleep 20; echo never", 0.2);
+  const double reported = std::stod(busy.output_tail);
+  CHECK(reported >= 0.2);
+  CHECK(busy.cpu_seconds >= reported - 1e-2);
+  // The timeout kills the whole process group (the shell and its sleep); the command never
+  // ends by itself, so only the timeout can end it.
+  const ProgramOutcome slow = run_program("while :; do sleep 1; done; echo never", 0.2);
   CHECK(slow.timed_out);
   CHECK(slow.signal == 9);
   CHECK(slow.output_tail.empty());
@@ -83,7 +83,8 @@ TEST_CASE("a program's own progress: the tail shows each line as a terminal leav
 
 TEST_CASE("a level: the program's own CPU report, checked against what it used",
           "[studies][external]") {
-  const std::filesystem::path dir = unique_temp_folder();
+  const testing::TempDir tmp("external-report");
+  const std::filesystem::path& dir = tmp.path();
   const std::string out = (dir / "run.csv").string();
   ExternalCommand command;
   command.scene = "scene.toml";
@@ -101,12 +102,11 @@ TEST_CASE("a level: the program's own CPU report, checked against what it used",
   // Without a report: the whole program's time, not marked as reported.
   command.command = "printf 't,body.W1\\n0,1\\n' > {output}; : {dt}";
   CHECK_FALSE(run_external_level(command, 0.1, out).cpu_reported);
-  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("a level: failures say why, the file is read under the contract", "[studies][external]") {
-  const std::string out =
-      (std::filesystem::temp_directory_path() / "flexref_ext_level.csv").string();
+  const testing::TempDir dir("external-level");
+  const std::string out = (dir / "level.csv").string();
   ExternalCommand command;
   command.scene = "scene.toml";
   command.command = "printf 't,body.W1\\n0,1\\n' > {output}; : {dt}";
@@ -122,7 +122,6 @@ TEST_CASE("a level: failures say why, the file is read under the contract", "[st
   CHECK_THROWS_WITH(run_external_level(command, 0.1, out), Contains("wrote no file"));
   command.command = "printf 'x,y\\n1,2,3\\n' > {output}; : {dt}";
   CHECK_THROWS_AS(run_external_level(command, 0.1, out), core::InputError);
-  std::filesystem::remove(out);
 }
 
 }  // namespace

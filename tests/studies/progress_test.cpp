@@ -6,109 +6,12 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 namespace flexref::studies {
 namespace {
 
-/// What a Progress printed into a temporary file while `work` ran.
-template <class Work>
-std::string printed(ProgressSettings settings, long total, Work&& work) {
-  std::FILE* file = std::tmpfile();
-  REQUIRE(file != nullptr);
-  settings.stream = file;
-  settings.from_environment = false;
-  {
-    Progress progress("study", total, "runs", true, settings);
-    work(progress);
-  }
-  std::rewind(file);
-  std::string text;
-  for (int c = std::fgetc(file); c != EOF; c = std::fgetc(file)) text += static_cast<char>(c);
-  std::fclose(file);
-  return text;
-}
-
-ProgressSettings fast(int terminal) {
-  ProgressSettings s;
-  s.delay = std::chrono::milliseconds(20);
-  s.interval = std::chrono::milliseconds(20);
-  s.redraw = std::chrono::milliseconds(20);
-  s.terminal = terminal;
-  return s;
-}
-
-// The timings below only bound how many lines appear: a line every 20 ms over 300 ms of work
-// gives several whatever the scheduler does; nothing is asserted about speed.
-TEST_CASE("Progress writes new lines when standard error is not a terminal", "[studies]") {
-  const std::string text = printed(fast(0), 4, [](Progress& p) {
-    for (int i = 0; i < 4; ++i) {
-      p.advance();
-      std::this_thread::sleep_for(std::chrono::milliseconds(75));
-    }
-  });
-  INFO(text);
-  CHECK(text.find('\r') == std::string::npos);
-  CHECK(text.find("study: ") == 0);
-  CHECK(text.find("/4 runs") != std::string::npos);
-  CHECK(text.find("study: 4/4 runs") != std::string::npos);  // the final line
-  CHECK(text.find("done\n") != std::string::npos);
-  CHECK(std::count(text.begin(), text.end(), '\n') >= 3);
-}
-
-TEST_CASE("Progress redraws one line on a terminal", "[studies]") {
-  const std::string text = printed(
-      fast(1), 0, [](Progress&) { std::this_thread::sleep_for(std::chrono::milliseconds(200)); });
-  INFO(text);
-  CHECK(text.find('\r') != std::string::npos);
-  CHECK(std::count(text.begin(), text.end(), '\n') == 1);  // only the finished line
-}
-
-TEST_CASE("Progress prints nothing for short work or when disabled", "[studies]") {
-  ProgressSettings slow = fast(0);
-  slow.delay = std::chrono::seconds(30);
-  CHECK(printed(slow, 3, [](Progress& p) { p.advance(); }).empty());
-  std::FILE* file = std::tmpfile();
-  {
-    ProgressSettings s = fast(0);
-    s.stream = file;
-    Progress disabled("study", 1, "runs", false, s);
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  CHECK(std::ftell(file) == 0);
-  std::fclose(file);
-}
-
-TEST_CASE("Progress says 'stopped' when an exception ends the work", "[studies]") {
-  std::FILE* file = std::tmpfile();
-  REQUIRE(file != nullptr);
-  ProgressSettings settings = fast(0);
-  settings.stream = file;
-  settings.from_environment = false;
-  try {
-    Progress progress("study", 5, "runs", true, settings);
-    progress.advance();
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    throw std::runtime_error("failure");
-  } catch (const std::runtime_error&) {
-  }
-  std::rewind(file);
-  std::string text;
-  for (int c = std::fgetc(file); c != EOF; c = std::fgetc(file)) text += static_cast<char>(c);
-  std::fclose(file);
-  INFO(text);
-  CHECK(text.find("study: 1/5 runs") != std::string::npos);
-  CHECK(text.find("stopped\n") != std::string::npos);
-  CHECK(text.find("done") == std::string::npos);
-}
-
-}  // namespace
-}  // namespace flexref::studies
-
-namespace flexref::studies {
-namespace {
-
-/// A clock the test moves by hand: no assertion depends on the wall clock.
+/// A clock the test moves by hand: no assertion depends on the wall clock or the machine's
+/// load. A Progress on it starts no printer thread; tick() prints what is due.
 struct ManualClock {
   std::chrono::steady_clock::time_point now{};
   ProgressClock clock() {
@@ -119,6 +22,148 @@ struct ManualClock {
         std::chrono::duration<double>(seconds));
   }
 };
+
+/// Everything written to `file` so far.
+std::string progress_file_text(std::FILE* file) {
+  std::fflush(file);
+  const long end = std::ftell(file);
+  std::rewind(file);
+  std::string text;
+  for (int c = std::fgetc(file); c != EOF; c = std::fgetc(file)) text += static_cast<char>(c);
+  std::fseek(file, end, SEEK_SET);
+  return text;
+}
+
+/// The default periods (delay 2 s, redraw 0.5 s, interval 5 s) on `clock`, into `file`.
+ProgressSettings on_manual_clock(ManualClock& clock, std::FILE* file, int terminal) {
+  ProgressSettings s;
+  s.clock = clock.clock();
+  s.stream = file;
+  s.terminal = terminal;
+  s.from_environment = false;
+  return s;
+}
+
+TEST_CASE("Progress writes new lines when standard error is not a terminal", "[studies]") {
+  ManualClock clock;
+  std::FILE* file = std::tmpfile();
+  REQUIRE(file != nullptr);
+  {
+    Progress p("study", 4, "runs", true, on_manual_clock(clock, file, 0));
+    p.advance();
+    clock.advance(1.0);
+    p.tick();
+    CHECK(progress_file_text(file).empty());  // before the 2 s delay
+    clock.advance(1.0);
+    p.tick();
+    CHECK(progress_file_text(file) == "study: 1/4 runs, 2 s, ~6 s left\n");
+    p.advance();
+    clock.advance(4.5);
+    p.tick();  // the next line is due at 7 s
+    CHECK(progress_file_text(file) == "study: 1/4 runs, 2 s, ~6 s left\n");
+    clock.advance(0.5);
+    p.tick();
+    CHECK(progress_file_text(file) ==
+          "study: 1/4 runs, 2 s, ~6 s left\nstudy: 2/4 runs, 7 s, ~7 s left\n");
+    p.advance();
+    p.advance();
+    clock.advance(1.0);
+  }
+  const std::string text = progress_file_text(file);
+  std::fclose(file);
+  CHECK(text.find('\r') == std::string::npos);
+  CHECK(text ==
+        "study: 1/4 runs, 2 s, ~6 s left\nstudy: 2/4 runs, 7 s, ~7 s left\n"
+        "study: 4/4 runs, 8 s, done\n");
+}
+
+TEST_CASE("Progress redraws one line on a terminal", "[studies]") {
+  ManualClock clock;
+  std::FILE* file = std::tmpfile();
+  REQUIRE(file != nullptr);
+  {
+    Progress p("study", 0, "runs", true, on_manual_clock(clock, file, 1));
+    for (int i = 0; i < 6; ++i) {  // 0.5 ... 3 s: lines due at 2, 2.5 and 3 s
+      clock.advance(0.5);
+      p.tick();
+    }
+  }
+  const std::string text = progress_file_text(file);
+  std::fclose(file);
+  // Each line cleared to its end; only the finished one ends the line.
+  CHECK(text == "\rstudy: 2 s\033[K\rstudy: 2 s\033[K\rstudy: 3 s\033[K\rstudy: 3 s, done\033[K\n");
+  CHECK(std::count(text.begin(), text.end(), '\n') == 1);
+}
+
+TEST_CASE("Progress prints nothing for short work or when disabled", "[studies]") {
+  ManualClock clock;
+  std::FILE* file = std::tmpfile();
+  REQUIRE(file != nullptr);
+  {
+    Progress p("study", 3, "runs", true, on_manual_clock(clock, file, 0));
+    p.advance();
+    clock.advance(1.9);  // the work ends before the 2 s delay
+    p.tick();
+  }
+  CHECK(progress_file_text(file).empty());
+  {
+    Progress disabled("study", 1, "runs", false, on_manual_clock(clock, file, 0));
+    clock.advance(60.0);
+    disabled.tick();
+  }
+  CHECK(progress_file_text(file).empty());
+  std::fclose(file);
+}
+
+TEST_CASE("Progress says 'stopped' when an exception ends the work", "[studies]") {
+  ManualClock clock;
+  std::FILE* file = std::tmpfile();
+  REQUIRE(file != nullptr);
+  try {
+    Progress progress("study", 5, "runs", true, on_manual_clock(clock, file, 0));
+    progress.advance();
+    clock.advance(3.0);
+    progress.tick();
+    throw std::runtime_error("failure");
+  } catch (const std::runtime_error&) {
+  }
+  const std::string text = progress_file_text(file);
+  std::fclose(file);
+  CHECK(text == "study: 1/5 runs, 3 s, ~12 s left\nstudy: 1/5 runs, 3 s, stopped\n");
+}
+
+TEST_CASE("Progress on the steady clock prints at once without a delay and finishes its line",
+          "[studies]") {
+  // No time is asserted: with no delay the first line is printed before the work starts, and
+  // the printer thread's next line is due only after an hour, so exactly that line and the
+  // final one appear whatever the load.
+  std::FILE* file = std::tmpfile();
+  REQUIRE(file != nullptr);
+  ProgressSettings s;
+  s.stream = file;
+  s.terminal = 0;
+  s.from_environment = false;
+  s.delay = std::chrono::duration<double>(0.0);
+  s.interval = std::chrono::hours(1);
+  {
+    Progress p("study", 2, "runs", true, s);
+    p.advance();
+    p.advance();
+  }
+  const std::string text = progress_file_text(file);
+  std::fclose(file);
+  INFO(text);
+  CHECK(text.rfind("study: 0/2 runs, 0 s\n", 0) == 0);
+  CHECK(text.find("study: 2/2 runs, ") != std::string::npos);
+  CHECK(text.ends_with(", done\n"));
+  CHECK(std::count(text.begin(), text.end(), '\n') == 2);
+}
+
+}  // namespace
+}  // namespace flexref::studies
+
+namespace flexref::studies {
+namespace {
 
 ProgressSettings manual(ManualClock& clock) {
   ProgressSettings s;

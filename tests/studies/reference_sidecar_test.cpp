@@ -12,24 +12,28 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref::studies {
 namespace {
 
 using Catch::Matchers::Contains;
 
-/// Writes `meta` as the sidecar of a CSV path in the temporary folder and returns the CSV path.
+/// This program's folder for the sidecars (removed at exit).
+const testing::TempDir& sidecar_dir() {
+  static const testing::TempDir dir("sidecar");
+  return dir;
+}
+
+/// Writes `meta` as the sidecar of a CSV path in sidecar_dir() and returns the CSV path.
 std::string with_sidecar(const std::string& name, const std::string& meta) {
-  const std::string csv =
-      (std::filesystem::temp_directory_path() / ("flexref_sidecar_" + name + ".csv")).string();
+  const std::string csv = (sidecar_dir() / (name + ".csv")).string();
   std::ofstream(csv + ".meta.toml") << meta;
   return csv;
 }
 
 TEST_CASE("sidecar: a missing file is not an error, the estimate is then unknown", "[sidecar]") {
-  const std::string csv =
-      (std::filesystem::temp_directory_path() / "flexref_sidecar_none.csv").string();
-  std::filesystem::remove(csv + ".meta.toml");
+  const std::string csv = (sidecar_dir() / "none.csv").string();
   const ReferenceSidecar s = read_reference_sidecar(csv);
   CHECK_FALSE(s.found);
   CHECK_FALSE(s.has_estimate);
@@ -94,9 +98,8 @@ TEST_CASE("sidecar: estimates that could fool a comparison are refused naming fi
 
 TEST_CASE("sidecar: found beside the file a link points to, where flexref writes it", "[sidecar]") {
   namespace fs = std::filesystem;
-  std::string pattern = (fs::temp_directory_path() / "flexref_sidecar_link_XXXXXX").string();
-  REQUIRE(::mkdtemp(pattern.data()) != nullptr);
-  const fs::path dir = pattern;
+  const testing::TempDir tmp("sidecar-link");
+  const fs::path& dir = tmp.path();
   fs::create_directories(dir / "data");
   std::ofstream(dir / "data" / "ref.csv") << "t\n0\n";
   std::ofstream(dir / "data" / "ref.csv.meta.toml") << "[integrator]\nsolver = \"cvode\"\n";

@@ -1,8 +1,10 @@
 #include "studies/stability_sweeps.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace flexref::studies {
 namespace {
@@ -15,7 +17,21 @@ namespace {
 // that were not central differences fails it (explicit Euler is unstable at every h; a wrong
 // factor ½ in the update moves the limit to √2 or 2√2).
 void check_limits(const LinearSweepOptions& options) {
-  for (const LinearSweepPoint& p : run_linear_sweep(options)) {
+  const std::vector<LinearSweepPoint> points = run_linear_sweep(options);
+  // One point per scheme and value, each pair once: a sweep that lost or repeated one (or
+  // returned nothing) fails here rather than passing the loop below vacuously.
+  REQUIRE_FALSE(options.schemes.empty());
+  REQUIRE_FALSE(options.values.empty());
+  REQUIRE(points.size() == options.schemes.size() * options.values.size());
+  for (const std::string& scheme : options.schemes) {
+    for (const double value : options.values) {
+      INFO(scheme << " at " << value);
+      CHECK(std::count_if(points.begin(), points.end(), [&](const LinearSweepPoint& p) {
+              return p.scheme == scheme && p.value == value;
+            }) == 1);
+    }
+  }
+  for (const LinearSweepPoint& p : points) {
     INFO(p.scheme << " at " << p.value << ": h_max ω = " << p.h_max * p.omega << " ("
                   << p.classification << ")");
     CHECK(p.h_max * p.omega > 1.98);

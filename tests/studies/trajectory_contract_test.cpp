@@ -21,6 +21,7 @@
 #include "lie/stepper.hpp"
 #include "studies/error_metrics.hpp"
 #include "studies/trajectory_table.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::studies {
@@ -28,8 +29,10 @@ namespace {
 
 using Catch::Matchers::Contains;
 
+/// `name` in this program's folder for the contract's files (removed at exit).
 std::string contract_temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("flexref_contract_" + name)).string();
+  static const testing::TempDir dir("trajectory-contract");
+  return (dir / name).string();
 }
 
 /// A run (C2, h = 1e-2) and a reference (C2, h = 1e-3) of the Coulomb wall on [0, 2], output
@@ -116,6 +119,7 @@ TEST_CASE("contract: any column order, subsets, extra columns, comments, spaces,
         write_variant("shuffled.csv", f.run, names, all, " , ",
                       "# written by another code\n  # indented comment\n\n", "\r\n");
     const ComparisonReport r = compare_run(read_run_csv(path), f.reference);
+    REQUIRE_FALSE(full.quantities.empty());
     for (const auto& q : full.quantities) CHECK(quantity(r, q.name).norms.linf == q.norms.linf);
     CHECK(std::find(r.ignored_columns.begin(), r.ignored_columns.end(), "iterations") !=
           r.ignored_columns.end());
@@ -370,32 +374,19 @@ TEST_CASE("contract: a program's CPU report is a comment line, read and checked"
 namespace flexref::studies {
 namespace {
 
-/// A folder of this test's own under the temporary directory, removed with everything in it.
-struct OwnFolder {
-  std::filesystem::path path;
-  OwnFolder() {
-    std::string name = (std::filesystem::temp_directory_path() / "flexref_bom_XXXXXX").string();
-    if (mkdtemp(name.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path = name;
-  }
-  ~OwnFolder() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  OwnFolder(const OwnFolder&) = delete;
-  OwnFolder& operator=(const OwnFolder&) = delete;
-};
+/// This test's own folder (tests/support/temp_dir.hpp).
+using OwnFolder = testing::TempDir;
 
 TEST_CASE("contract: a UTF-8 byte-order mark is skipped, a directory is named as one",
           "[studies][contract]") {
   const OwnFolder folder;
-  const std::string csv = (folder.path / "bom.csv").string();
+  const std::string csv = (folder.path() / "bom.csv").string();
   std::ofstream(csv) << "\xEF\xBB\xBFt,b.x,b.y,b.z\n0,1,2,3\n0.1,1,2,3\n";
   const RunData data = read_run_csv(csv);
   REQUIRE_FALSE(data.table.columns.empty());
   CHECK(data.table.columns.front() == "t");
   CHECK(data.table.size() == 2);
-  CHECK_THROWS_WITH(read_run_csv(folder.path.string()), Contains("is a directory"));
+  CHECK_THROWS_WITH(read_run_csv(folder.path().string()), Contains("is a directory"));
 }
 
 TEST_CASE("contract: a joint's reaction and violation columns are measured, phi_dot is not",

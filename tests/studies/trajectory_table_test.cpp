@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 #include "core/gravity.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/error_metrics.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -33,8 +35,10 @@ core::Model pendulum_like_model() {
   return core::Model(std::move(bodies), std::move(elements));
 }
 
+/// `name` in this program's folder for the tables (removed at exit).
 std::string table_temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("flexref_test_" + name)).string();
+  static const testing::TempDir dir("trajectory-table");
+  return (dir / name).string();
 }
 
 TEST_CASE("tabulate names the documented columns and recovers the frame origin", "[studies]") {
@@ -129,37 +133,59 @@ TEST_CASE("csv_text keeps a free-text field in one unquoted CSV cell", "[studies
   CHECK(csv_text("ok") == "ok");
 }
 
-TEST_CASE("trajectory_units gives one unit per column", "[studies]") {
-  const core::Model model = pendulum_like_model();
-  const std::vector<std::string> names = trajectory_columns(model);
-  const std::vector<std::string> units = trajectory_units(model);
+/// A unit every column that `applies` to must have; `columns` counts them.
+struct UnitRule {
+  std::string what;
+  std::function<bool(const std::string&)> applies;
+  std::string unit;
+  int columns = 0;
+};
+
+/// Checks one unit per column, each rule's unit on the columns it applies to, and that every
+/// rule applied to at least one column (a table without such columns fails rather than passing
+/// the loop vacuously).
+void check_units(const std::vector<std::string>& names, const std::vector<std::string>& units,
+                 std::vector<UnitRule> rules) {
   REQUIRE(units.size() == names.size());
   for (std::size_t i = 0; i < names.size(); ++i) {
-    INFO(names[i]);
-    const std::string& n = names[i];
-    if (n == "t") CHECK(units[i] == "s");
-    if (n.ends_with(".e0") || n.ends_with(".e3")) CHECK(units[i] == "-");
-    if (n.ends_with(".vx")) CHECK(units[i] == "m/s");
-    if (n.ends_with(".W2")) CHECK(units[i] == "rad/s");
-    if (n.ends_with(".tip.z") || n == "rod.x") CHECK(units[i] == "m");
-    if (n == "energy") CHECK(units[i] == "J");
+    for (UnitRule& rule : rules) {
+      if (!rule.applies(names[i])) continue;
+      INFO(names[i] << " (" << rule.what << ")");
+      CHECK(units[i] == rule.unit);
+      ++rule.columns;
+    }
   }
+  for (const UnitRule& rule : rules) {
+    INFO("columns of " << rule.what);
+    CHECK(rule.columns > 0);
+  }
+}
+
+TEST_CASE("trajectory_units gives one unit per column", "[studies]") {
+  const core::Model model = pendulum_like_model();
+  check_units(
+      trajectory_columns(model), trajectory_units(model),
+      {{"time", [](const std::string& n) { return n == "t"; }, "s"},
+       {"Euler parameters",
+        [](const std::string& n) { return n.ends_with(".e0") || n.ends_with(".e3"); }, "-"},
+       {"velocities", [](const std::string& n) { return n.ends_with(".vx"); }, "m/s"},
+       {"angular velocities", [](const std::string& n) { return n.ends_with(".W2"); }, "rad/s"},
+       {"positions", [](const std::string& n) { return n.ends_with(".tip.z") || n == "rod.x"; },
+        "m"},
+       {"energy", [](const std::string& n) { return n == "energy"; }, "J"}});
 }
 
 TEST_CASE("trajectory_units covers work and wear columns", "[studies]") {
   // tube_support_impact: a dissipating model with applied work and a named contact, whose
   // columns end with energy, dissipated/applied work, balance and four wear outputs.
   const scene::Scene scene = scene::read_scene("scenes/tube_support_impact.toml");
-  const std::vector<std::string> names = trajectory_columns(*scene.model);
-  const std::vector<std::string> units = trajectory_units(*scene.model);
-  REQUIRE(units.size() == names.size());
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    INFO(names[i]);
-    if (names[i].ends_with("_work") || names[i] == "energy_balance") CHECK(units[i] == "J");
-    if (names[i].ends_with(".fn")) CHECK(units[i] == "N");
-    if (names[i].ends_with(".slip_speed")) CHECK(units[i] == "m/s");
-    if (names[i].ends_with(".impacts")) CHECK(units[i] == "-");
-  }
+  check_units(
+      trajectory_columns(*scene.model), trajectory_units(*scene.model),
+      {{"work and balance",
+        [](const std::string& n) { return n.ends_with("_work") || n == "energy_balance"; }, "J"},
+       {"normal forces", [](const std::string& n) { return n.ends_with(".fn"); }, "N"},
+       {"slip speeds", [](const std::string& n) { return n.ends_with(".slip_speed"); }, "m/s"},
+       {"impact counts", [](const std::string& n) { return n.ends_with(".impacts"); }, "-"}});
 }
 
 }  // namespace
