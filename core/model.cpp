@@ -524,7 +524,7 @@ void Model::factor_constraints_at(double t, const State& state, Workspace& ws) c
   }
   ConstraintSolveTpl<double>& s = ws.constraint;
   constraints_->evaluate(t, ws.kinematics, layout_, s.rows);
-  if (!factor_constraints(
+  if (!factor_or_reselect(
           *constraints_, layout_,
           [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); }, s)) {
     throw_singular(*constraints_, s, t);

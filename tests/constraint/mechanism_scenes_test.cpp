@@ -7,6 +7,7 @@
 #include <boost/numeric/odeint.hpp>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -96,7 +97,6 @@ TEST_CASE("slider-crank: the driven mechanism follows its closed-form kinematics
   CHECK(std::abs(SliderCrankExact(0.1).torque - -25.01465778) < 1e-8);
   const double rtol = 1e-10;
   const reference::ReferenceRun run = mechanism_reference(scene, rtol);
-  const int crank = model.body_index("crank");
   const int rod = model.body_index("rod");
   const int slider = model.body_index("slider");
   const int drive = 0;  // joint O, the first in the scene
@@ -114,7 +114,6 @@ TEST_CASE("slider-crank: the driven mechanism follows its closed-form kinematics
         std::abs(mechanism_angle_z(s[static_cast<std::size_t>(rod)], exact.phi2) - exact.phi2));
     const std::vector<core::JointReaction> reactions = model.joint_reactions({t, t}, s, ws);
     worst_torque = std::max(worst_torque, std::abs(reactions[drive].tau_W.z() - exact.torque));
-    (void)crank;
   }
   INFO("largest errors: slider " << worst_x << " m, rod angle " << worst_phi
                                  << " rad, driving torque " << worst_torque << " N m");
@@ -188,10 +187,12 @@ TEST_CASE("four-bar: a Grashof crank-rocker under gravity conserves its energy",
   CHECK(drift < 1e4 * rtol * 3.0);
   // The stabilized index-1 form keeps Φ at the size of the local errors: 100 rtol × 1 m.
   CHECK(violation < 100 * rtol);
-  // The crank turns fully, as the scene's header says: θ_crank(2 s) beyond 2π past its start.
-  const double turned =
-      mechanism_angle_z(run.trajectory.states.back()[0], 0.0) - std::numbers::pi / 2.0;
-  CHECK(std::abs(turned) > 2.0 * std::numbers::pi);
+  // The crank turns fully, as the scene's header says: its rate never falls to zero (measured
+  // 9.8 to 23 rad/s), so over 2 s it turns by more than ω_min × 2 s > 2π.
+  double omega_min = 1e300;
+  for (const core::State& s : run.trajectory.states)
+    omega_min = std::min(omega_min, s[0].w_WB_B.z());
+  CHECK(omega_min * t_end > 2.0 * std::numbers::pi);
 }
 
 TEST_CASE("four-bar: a parallelogram driven into its dead point is reported, not integrated",
@@ -223,34 +224,36 @@ TEST_CASE("four-bar: a parallelogram driven into its dead point is reported, not
   text += joint("C", "coupler", "[1.0, 0.0, 0.0]", "right", "[1.0, 0.0, 0.0]", "");
   text += joint("D", "right", "[0.0, 0.0, 0.0]", "ground", "[1.0, 0.0, 0.0]", "");
   const scene::Scene scene = scene::parse_scene(text, "parallelogram.toml");
-  for (const std::string solver : {"cvode", "odeint", "ida"}) {
+  // IDA integrates the GGL form, whose residual never factors J M⁻¹ Jᵀ: not covered (the
+  // report of this change says so).
+  for (const std::string solver : {"cvode", "odeint", "arkode"}) {
     INFO("solver " << solver);
     std::string message;
-    double when = -1.0;
     try {
       (void)mechanism_reference(scene, 1e-8, solver);
     } catch (const core::SolverError& e) {
       message = e.what();
-      when = e.time();
-    } catch (const core::SingularConfigurationError& e) {
-      message = e.what();
-      when = e.time();
     }
     INFO("message: " << message);
     REQUIRE(!message.empty());  // a trajectory through the dead point would be garbage
-    CHECK_THAT(message, Catch::Matchers::Contains("singular configuration"));
+    CHECK_THAT(message, Catch::Matchers::Contains("singular configuration passed between t = "));
     CHECK_THAT(message, Catch::Matchers::Contains("joint '"));
-    // Detected where the pivot ratio of J M⁻¹ Jᵀ, which falls as the square of the distance
-    // δ to the dead point, crosses 1e-12 (δ ~ 1e-6 rad), or at the solver's first step past
-    // it: within the step sizes near t = π/2 of 1e-2 s.
-    CHECK(std::abs(when - std::numbers::pi / 2.0) < 1e-2);
+    // The two solves the orientation test compares bracket the dead point: read them back.
+    const auto at = message.find("between t = ");
+    REQUIRE(at != std::string::npos);
+    double t0 = 0.0, t1 = 0.0;
+    REQUIRE(std::sscanf(message.c_str() + at, "between t = %lf and t = %lf", &t0, &t1) == 2);
+    CHECK(t0 <= std::numbers::pi / 2.0);
+    CHECK(t1 >= std::numbers::pi / 2.0);
+    // Between two evaluations of one step (steps near π/2 are < 0.2 s at rtol 1e-8, measured
+    // 0.03 to 0.08).
+    CHECK(t1 - t0 < 0.2);
   }
 }
 
 TEST_CASE("double pendulum: the jointed reference solves the pendulum's own Lagrange equations",
           "[constraint][mechanisms]") {
   const scene::Scene scene = scene::read_scene("scenes/double_pendulum_ideal.toml");
-  const core::Model& model = *scene.model;
   const double rtol = 1e-10;
   const reference::ReferenceRun run = mechanism_reference(scene, rtol);
   // Absolute angles θ1, θ2 from the downward vertical (rod direction (sin θ, −cos θ)): two
@@ -297,10 +300,11 @@ TEST_CASE("double pendulum: the jointed reference solves the pendulum's own Lagr
     }
   }
   INFO("largest angle difference " << worst << " rad at t = " << worst_time);
-  // Both solve the same motion; the difference is the reference's global error. Its local
-  // errors (rtol × |y|, |y| ≲ 10 for the rates) grow along the chaotic motion by the tangent
-  // flow's amplification over 2 s, measured as ~1e2 on this start (errors of a 1e-13 run
-  // against a 1e-11 one): 1e3 × rtol × 10 = 1e-6 rad bounds it with a margin.
+  // Both solve the same motion; the difference is the reference's global error (the Lagrange
+  // solution's, at 1e-13, is 1000 × smaller). Its local errors are rtol × |y| (|y| ≲ 10 for the
+  // rates); the chaotic flow amplifies them by e^(λT), λ of order 1/s at this energy, so ~10
+  // over 2 s, and ~1e2 steps accumulate them: 1e3 × rtol × 10 = 1e-6 rad. Measured 6.4e-9 rad
+  // (the INFO line).
   CHECK(worst < 1e3 * rtol * 10.0);
 }
 
@@ -308,7 +312,7 @@ TEST_CASE("Bricard mechanism: energy constant to 1e-9 relative over 10 s, joints
           "[constraint][mechanisms]") {
   const scene::Scene scene = scene::read_scene("scenes/bricard.toml");
   const core::Model& model = *scene.model;
-  const double rtol = 1e-10;
+  const double rtol = 1e-11;
   const reference::ReferenceRun run = mechanism_reference(scene, rtol);
   const double e0 = mechanism_energy(model, 0.0, run.trajectory.states.front());
   // The mechanical energy at rest, Σ m g y_cm = −9.81 (0 − 0.5 − 1 − 1 − 0.5) = −29.43 J.
@@ -327,12 +331,15 @@ TEST_CASE("Bricard mechanism: energy constant to 1e-9 relative over 10 s, joints
   CHECK(drift < 1e-9 * std::abs(e0));
   // Φ stays at the size of the local errors: 100 rtol × the 1 m links.
   CHECK(violation < 100 * rtol);
-  // It moves from rest (the gravity force along the mobility is not zero): P3 leaves (1, −1, 0).
-  const core::State& last = run.trajectory.states.back();
-  const int rod2 = model.body_index("rod2");
-  const Eigen::Vector3d p3 =
-      model.p_WP(rod2, last[static_cast<std::size_t>(rod2)], Eigen::Vector3d(0.0, -0.5, 0.0));
-  CHECK((p3 - Eigen::Vector3d(1.0, -1.0, 0.0)).norm() > 0.1);
+  // It moves from rest (the gravity force along the mobility is not zero): rod1's centre of
+  // mass swings from (0.5, 0, 0) through the x < 0 half of its circle about the y axis (it
+  // returns near the start after 5 s and 10 s: the motion is periodic).
+  const int rod1 = model.body_index("rod1");
+  double x_min = 1.0;
+  for (const core::State& s : run.trajectory.states) {
+    x_min = std::min(x_min, s[static_cast<std::size_t>(rod1)].p_WBr.x());
+  }
+  CHECK(x_min < -0.4);
 }
 
 }  // namespace flexref::constraint
