@@ -687,6 +687,9 @@ std::vector<JointReaction> Model::joint_reactions(const LoadContext& context, co
   std::vector<JointReaction> out;
   if (!constraints_) return out;
   Accelerations accelerations = make_accelerations();
+  // Outputs come at any spacing: the rows' orientation test (core/constrained_solve_tpl.hpp),
+  // which assumes the small state changes between a solver's evaluations, does not apply.
+  ws.constraint.has_previous = false;
   compute_accelerations(context, state, ws, accelerations);
   const ConstraintSolveTpl<double>& s = ws.constraint;
   const Eigen::VectorXd lambda = minimum_norm_multipliers<double>(s.rows.J, s.force);
