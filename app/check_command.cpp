@@ -8,6 +8,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "constraint/mobility.hpp"
 #include "core/step_limit.hpp"
 #include "reference/exact_solution.hpp"
 #include "scene/scene_reader.hpp"
@@ -21,11 +22,10 @@ int check_command(const CheckOptions& options) {
   if (!scene.description.empty()) std::cout << "  " << scene.description << "\n";
   std::cout << "  end time " << scene.end_time << " s, output every " << scene.output_step
             << " s\n";
-  int dofs = 0;
-  for (const core::Body& b : model.bodies()) {
-    dofs += (b.is_free() ? 6 : b.is_prescribed() ? 0 : 3) + b.mode_count();
-  }
-  std::cout << "  " << model.num_bodies() << " bodies, " << dofs << " degrees of freedom\n";
+  const constraint::Mobility mobility = constraint::mobility(model);
+  std::cout << "  " << model.num_bodies() << " bodies, " << mobility.coordinates
+            << " degrees of freedom" << (model.has_constraints() ? " before the ideal joints" : "")
+            << "\n";
   for (const core::Body& b : model.bodies()) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(b.I_Br_B());
     const char* motion = b.is_free() ? "free" : b.is_prescribed() ? "prescribed" : "pivot";
@@ -59,6 +59,32 @@ int check_command(const CheckOptions& options) {
       std::cout << "    explicit step limit (central differences) 2/omega_max = "
                 << 2.0 / w.maxCoeff() << " s\n";
     }
+  }
+  if (const core::ConstraintEquations* joints = model.constraints(); joints != nullptr) {
+    // Ideal joints (docs/joints.md): the mobility by counting and in fact, and the rows the
+    // model left out as redundant (their reactions are the minimum-norm ones).
+    for (int j = 0; j < joints->joint_count(); ++j)
+      std::cout << "  " << joints->describe(j) << "\n";
+    std::cout << "  ideal joints: " << joints->joint_count() << " joints, " << mobility.rows
+              << " rows of rank " << mobility.rank << " at the initial configuration; degrees of "
+              << "freedom by counting " << mobility.coordinates << " - " << mobility.rows << " = "
+              << mobility.by_counting() << ", in fact " << mobility.coordinates << " - "
+              << mobility.rank << " = " << mobility.in_fact() << "\n";
+    if (mobility.redundant.empty()) {
+      std::cout << "  redundant rows: none\n";
+    } else {
+      std::cout << "  redundant rows (" << mobility.redundant.size()
+                << ", no multiplier of their own; minimum-norm reactions):";
+      for (std::size_t k = 0; k < mobility.redundant.size(); ++k) {
+        const constraint::RedundantRow& r = mobility.redundant[k];
+        std::cout << (k == 0 ? " " : ", ") << r.joint << " row " << r.joint_row + 1 << " ("
+                  << r.label << ")";
+      }
+      std::cout << "\n";
+    }
+    const core::InitialProjection& p = model.initial_projection();
+    std::cout << "  initial state: relative violation " << p.position << " (positions), "
+              << p.velocity << " (velocities) before the projection onto the joints\n";
   }
   for (const auto& e : model.elements()) std::cout << "  " << e->describe() << "\n";
   // Penalty elements: each contact's and joint's stiffest mode (docs/contact.md,

@@ -17,6 +17,7 @@
 /// SingularConfigurationError naming the joint.
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
@@ -53,6 +54,11 @@ inline constexpr double kSingularPivotRatio = 1e-12;
 /// configuration: redundancy is structural, its pivots are ~ε relative; 1e-10 keeps rows whose
 /// independence is merely weak (they become a singular configuration if they lose it later).
 inline constexpr double kRedundantRowTolerance = 1e-10;
+/// Pivot ratio below which the independent rows are chosen again at the current configuration:
+/// rows independent at the initial configuration can become dependent among themselves later
+/// while the whole set keeps its rank (a planar loop in 3D: which out-of-plane rows are
+/// independent depends on the pose), and an ill-conditioned A loses ~log10(1/ratio) digits of λ.
+inline constexpr double kReselectPivotRatio = 1e-8;
 
 /// Scratch of the constrained solve, sized once (allocation-free evaluations).
 template <typename S>
@@ -72,6 +78,14 @@ struct ConstraintSolveTpl {
   Vector column;         ///< widest body block
   Vector out;            ///< widest body block
   S pivot_ratio = S(1);  ///< smallest/largest |pivot| of the last factorization
+  /// The rows at the last constrained solve (all rows, m × N), its time, and whether there was
+  /// one: a singular configuration passed between two solves turns the orientation of the rows
+  /// (crossed_singularity).
+  Matrix J_previous;
+  double previous_time = 0.0;
+  bool has_previous = false;
+  Matrix crossing;  ///< m_a × m_a: J_a,previous M⁻¹ J_aᵀ
+  Eigen::PartialPivLU<Matrix> crossing_lu;
 
   ConstraintSolveTpl() = default;
   ConstraintSolveTpl(int rows_count, const VelocityLayout& layout, std::vector<int> active_rows) {
@@ -93,6 +107,9 @@ struct ConstraintSolveTpl {
     }
     column = Vector::Zero(widest);
     out = Vector::Zero(widest);
+    J_previous = Matrix::Zero(rows_count, n);
+    crossing = Matrix::Zero(m, m);
+    crossing_lu = Eigen::PartialPivLU<Matrix>(m);
   }
 };
 
@@ -195,6 +212,82 @@ template <typename S>
           "motion are not determined");
 }
 
+/// factor_constraints, and when A is singular or ill-conditioned (kReselectPivotRatio) the
+/// independent rows chosen again at the current configuration (a column-pivoted QR of all rows,
+/// allocating: the rare path) and A factored anew. Returns false when the rows have lost rank
+/// (fewer independent rows than before: a singular configuration) or A is still singular.
+template <typename S, typename ApplyInverseMass>
+bool factor_or_reselect(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
+                        ApplyInverseMass&& apply_inverse_mass, ConstraintSolveTpl<S>& s) {
+  const bool ok = factor_constraints(equations, layout, apply_inverse_mass, s);
+  if (ok && s.pivot_ratio >= S(kReselectPivotRatio)) return true;
+  std::vector<int> rows = independent_rows<S>(s.rows.J);
+  if (rows.size() < s.active.size()) return false;
+  rows.resize(s.active.size());  // the rank cannot grow for a mechanism that moves continuously
+  if (rows == s.active) return ok;
+  s.active = std::move(rows);
+  return factor_constraints(equations, layout, apply_inverse_mass, s);
+}
+
+/// True when the active rows kept their orientation since the last solve: det(J_a,prev M⁻¹ J_aᵀ)
+/// > 0. Both are bases of the rows' span; away from singular configurations and for the small
+/// state changes between a solver's evaluations the product is close to A, symmetric positive
+/// definite. When a configuration where the rows lose rank lies between the two (a four-bar's
+/// change point, stepped over: A's pivot ratio falls as the square of the distance to it and
+/// would flag it only within ~1e-6 of it), a singular value of J changes sign and the
+/// determinant with it. s factored at the current rows (s.Y = M⁻¹ J_aᵀ).
+template <typename S>
+bool kept_orientation(ConstraintSolveTpl<S>& s) {
+  const auto m = static_cast<Eigen::Index>(s.active.size());
+  if (m == 0) return true;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    s.crossing.row(i).noalias() = s.J_previous.row(s.active[static_cast<std::size_t>(i)]) * s.Y;
+  }
+  s.crossing_lu.compute(s.crossing);
+  // The determinant's sign: the permutation's and the signs of U's diagonal (no product, which
+  // could underflow).
+  int sign = static_cast<int>(s.crossing_lu.permutationP().determinant());
+  const auto& lu = s.crossing_lu.matrixLU();
+  for (Eigen::Index k = 0; k < m; ++k) {
+    if (!(lu(k, k) != S(0))) return false;
+    if (lu(k, k) < S(0)) sign = -sign;
+  }
+  return sign > 0;
+}
+
+/// Throws SingularConfigurationError for a singular configuration passed between two solves, at
+/// t0 and t1 (kept_orientation): the joint of the active row with the smallest pivot of A's
+/// pivoted LDLᵀ at t1, the row nearest to dependence on the others.
+template <typename S>
+[[noreturn]] void throw_singular_between(const ConstraintEquationsTpl<S>& equations,
+                                         const ConstraintSolveTpl<S>& s, double t0, double t1) {
+  using std::abs;
+  const auto d = s.ldlt.vectorD();
+  Eigen::Index smallest = 0;
+  for (Eigen::Index k = 1; k < d.size(); ++k) {
+    if (abs(d(k)) < abs(d(smallest))) smallest = k;
+  }
+  // vectorD is in the pivoted order: P A Pᵀ = L D Lᵀ, so pivot k is row transpositions⁻¹(k).
+  Eigen::Matrix<S, Eigen::Dynamic, 1> unit = Eigen::Matrix<S, Eigen::Dynamic, 1>::Zero(d.size());
+  unit(smallest) = S(1);
+  const Eigen::Matrix<S, Eigen::Dynamic, 1> original = s.ldlt.transpositionsP().transpose() * unit;
+  Eigen::Index row = 0;
+  for (Eigen::Index k = 0; k < original.size(); ++k) {
+    if (original(k) != S(0)) row = k;
+  }
+  const std::string& name =
+      equations.joint_name(equations.joint_of_row(s.active[static_cast<std::size_t>(row)]));
+  throw SingularConfigurationError(
+      name, t1,
+      "singular configuration passed between t = " + std::to_string(t0) +
+          " and t = " + std::to_string(t1) + ": the constraints of joint '" + name +
+          "' became dependent on the others there (the rows' orientation turned; smallest/largest "
+          "pivot of J M^-1 J^T now " +
+          std::to_string(static_cast<double>(s.pivot_ratio)) +
+          "); the mechanism passed a dead point or a bifurcation, where its multipliers and "
+          "motion are not determined");
+}
+
 /// Constrained accelerations: s.x holds the free accelerations M⁻¹ Q on entry (stacked, body
 /// blocks as in layout) and the constrained ones on exit; s.rows evaluated at the state; λ of
 /// the active rows in s.lambda and the generalized constraint force −J_aᵀ λ in s.force. Throws
@@ -204,9 +297,26 @@ void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
                                      const VelocityLayout& layout,
                                      ApplyInverseMass&& apply_inverse_mass, double t,
                                      ConstraintSolveTpl<S>& s) {
-  if (!factor_constraints(equations, layout, apply_inverse_mass, s)) {
+  if (!factor_or_reselect(equations, layout, apply_inverse_mass, s)) {
     throw_singular(equations, s, t);
   }
+  if (s.has_previous && !kept_orientation(s)) {
+    // Either the active rows alone passed a configuration where they are dependent while all
+    // rows kept their rank — rows chosen at the current configuration then keep the orientation
+    // — or the mechanism passed a singular configuration between the two solves.
+    std::vector<int> rows = independent_rows<S>(s.rows.J);
+    rows.resize(std::min(rows.size(), s.active.size()));
+    if (rows.size() == s.active.size() && rows != s.active) {
+      s.active = std::move(rows);
+      if (!factor_constraints(equations, layout, apply_inverse_mass, s)) {
+        throw_singular(equations, s, t);
+      }
+    }
+    if (!kept_orientation(s)) throw_singular_between(equations, s, s.previous_time, t);
+  }
+  s.J_previous = s.rows.J;
+  s.previous_time = t;
+  s.has_previous = true;
   const auto m = static_cast<Eigen::Index>(s.active.size());
   // A λ = J_a x_free − γ_a
   for (Eigen::Index i = 0; i < m; ++i) {

@@ -524,7 +524,7 @@ void Model::factor_constraints_at(double t, const State& state, Workspace& ws) c
   }
   ConstraintSolveTpl<double>& s = ws.constraint;
   constraints_->evaluate(t, ws.kinematics, layout_, s.rows);
-  if (!factor_constraints(
+  if (!factor_or_reselect(
           *constraints_, layout_,
           [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); }, s)) {
     throw_singular(*constraints_, s, t);
@@ -687,6 +687,9 @@ std::vector<JointReaction> Model::joint_reactions(const LoadContext& context, co
   std::vector<JointReaction> out;
   if (!constraints_) return out;
   Accelerations accelerations = make_accelerations();
+  // Outputs come at any spacing: the rows' orientation test (core/constrained_solve_tpl.hpp),
+  // which assumes the small state changes between a solver's evaluations, does not apply.
+  ws.constraint.has_previous = false;
   compute_accelerations(context, state, ws, accelerations);
   const ConstraintSolveTpl<double>& s = ws.constraint;
   const Eigen::VectorXd lambda = minimum_norm_multipliers<double>(s.rows.J, s.force);
