@@ -285,9 +285,10 @@ S relative_position_violation(const ConstraintEquationsTpl<S>& equations,
 /// them (factor_constraints), violation()
 /// is the relative position violation of s.rows, apply_increment(δ) adds δ = s.x, the stacked
 /// (δp_Br, δφ_B, δq_f), to the positions. Stops when the violation is at most `converged` (a
-/// few ε of S: the round-off of Φ itself), stops decreasing, or after 20 iterations (far more
-/// than quadratic convergence needs from an accepted violation). s is left factored at the
-/// final positions.
+/// few ε of S: the round-off of Φ itself) or after 20 iterations (far more than quadratic
+/// convergence needs from an accepted violation; a far start may first grow before it
+/// converges, so a growing iterate does not stop it). s is left factored at the final
+/// positions.
 template <typename S, typename FactorAt, typename Violation, typename ApplyIncrement>
 void project_positions(FactorAt&& factor_at, Violation&& violation,
                        ApplyIncrement&& apply_increment, const S& converged,
@@ -297,9 +298,7 @@ void project_positions(FactorAt&& factor_at, Violation&& violation,
     constraint_correction<S>(s.rows.phi, s);
     apply_increment(s.x);
     factor_at();
-    const S next = violation();
-    if (!(next < current)) break;  // at round-off: further iterates only move in its noise
-    current = next;
+    current = violation();
   }
 }
 
