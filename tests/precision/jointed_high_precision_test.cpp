@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -141,7 +142,7 @@ TEST_CASE("Andrews' squeezer in extended and quad agrees with double within its 
   CHECK(double_vs_extended <= d.estimate.value);
   // Extended at rtol 1e-16 over its N steps: at most N × 1e-16 × the angles' size (K1 turns
   // ~0.35 rad in 3 ms, the others < π): the bound N × 1e-16 × π; it must also beat double.
-  CHECK(extended_vs_quad <= static_cast<double>(a.extended.steps) * 1e-16 * M_PI);
+  CHECK(extended_vs_quad <= static_cast<double>(a.extended.steps) * 1e-16 * std::numbers::pi);
   CHECK(extended_vs_quad < double_vs_quad);
 }
 
