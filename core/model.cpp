@@ -486,8 +486,7 @@ void Model::apply_constraints(double t, Workspace& ws, Accelerations& accelerati
       s.v.segment<3>(o + 3) = x.w_WB_B;
       s.v.segment(o + 6, bodies_[b].mode_count()) = x.qd_f;
     }
-    s.rows.gamma.noalias() -= (2.0 * alpha) * (s.rows.J * s.v + s.rows.phi_t);
-    s.rows.gamma -= (alpha * alpha) * s.rows.phi;
+    add_baumgarte(alpha, s);
   }
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     const int o = layout_.offset(static_cast<int>(b));
@@ -573,29 +572,29 @@ InitialProjection Model::project(double t, State& state, Workspace& ws) const {
   const RelativeViolation first = relative_violation(s.rows, state);
   before.position = first.position;
   // Newton on Φ = 0 in the mass metric: converged when the relative violation is a few ε (the
-  // round-off of Φ itself, a sum of products of lengths of size ℓ); 20 iterations are far more
-  // than quadratic convergence needs from a violation below the accepted tolerance.
-  constexpr double kConverged = 8.0 * std::numeric_limits<double>::epsilon();
-  double violation = first.position;
-  for (int iteration = 0; iteration < 20 && violation > kConverged; ++iteration) {
-    constraint_correction<double>(s.rows.phi, s);
-    for (std::size_t b = 0; b < bodies_.size(); ++b) {
-      const Body& body = bodies_[b];
-      if (body.is_prescribed() && !body.is_flexible()) continue;
-      const int o = layout_.offset(static_cast<int>(b));
-      BodyState& x = state[b];
-      if (!body.is_prescribed()) {
-        x.p_WBr += s.x.segment<3>(o);
-        // A ← A exp(δφ̃): θ ← θ ⊗ exp(δφ), renormalized.
-        x.theta_WB = rotation::quaternion_multiply(
-            x.theta_WB, rotation::exp_quaternion(Eigen::Vector3d(s.x.segment<3>(o + 3))));
-        x.theta_WB.normalize();
-      }
-      x.q_f += s.x.segment(o + 6, body.mode_count());
-    }
-    factor_constraints_at(t, state, ws);
-    violation = relative_violation(s.rows, state).position;
-  }
+  // round-off of Φ itself, a sum of products of lengths of size ℓ).
+  project_positions<double>(
+      [&] { factor_constraints_at(t, state, ws); },
+      [&] {
+        return relative_position_violation<double>(*constraints_, s.rows.phi, joint_length_scale_);
+      },
+      [&](const Eigen::VectorXd& delta) {
+        for (std::size_t b = 0; b < bodies_.size(); ++b) {
+          const Body& body = bodies_[b];
+          if (body.is_prescribed() && !body.is_flexible()) continue;
+          const int o = layout_.offset(static_cast<int>(b));
+          BodyState& x = state[b];
+          if (!body.is_prescribed()) {
+            x.p_WBr += delta.segment<3>(o);
+            // A ← A exp(δφ̃): θ ← θ ⊗ exp(δφ), renormalized.
+            x.theta_WB = rotation::quaternion_multiply(
+                x.theta_WB, rotation::exp_quaternion(Eigen::Vector3d(delta.segment<3>(o + 3))));
+            x.theta_WB.normalize();
+          }
+          x.q_f += delta.segment(o + 6, body.mode_count());
+        }
+      },
+      8.0 * std::numeric_limits<double>::epsilon(), s);
   before.velocity = relative_violation(s.rows, state).velocity;
   project_velocities(t, state, ws);
   return before;
@@ -628,18 +627,8 @@ void Model::assemble_initial_state(const ConstraintOptions& options) {
   rows.resize(constraints_->row_count(), layout_.size());
   constraints_->evaluate(0.0, ws.kinematics, layout_, rows);
   active_rows_ = core::independent_rows<double>(rows.J);
-  // The joints' length scale ℓ: the largest arm from a body's Br to a joint point, |∂(u·v_P)/∂ω̄|
-  // of the length rows (1 m when every joint sits at its bodies' reference points).
-  joint_length_scale_ = 0.0;
-  for (Eigen::Index r = 0; r < rows.J.rows(); ++r) {
-    if (!constraints_->is_length_row(static_cast<int>(r))) continue;
-    for (std::size_t b = 0; b < bodies_.size(); ++b) {
-      joint_length_scale_ =
-          std::max(joint_length_scale_,
-                   rows.J.row(r).segment<3>(layout_.offset(static_cast<int>(b)) + 3).norm());
-    }
-  }
-  if (!(joint_length_scale_ > 0.0)) joint_length_scale_ = 1.0;
+  // The joints' length scale ℓ: the largest arm from a body's Br to a joint point.
+  joint_length_scale_ = core::joint_length_scale<double>(*constraints_, layout_, rows.J);
   ws = make_workspace();
   State state = initial_state_;
   const RelativeViolation before = relative_violation(rows, state);
@@ -672,14 +661,7 @@ std::vector<std::array<double, 2>> Model::constraint_violations(double t, const 
   constraints_->evaluate(t, ws.kinematics, layout_, rows);
   Eigen::VectorXd v(layout_.size());
   stack_velocities(state, v);
-  const Eigen::VectorXd rate = rows.J * v + rows.phi_t;
-  out.assign(static_cast<std::size_t>(constraints_->joint_count()), {0.0, 0.0});
-  for (Eigen::Index r = 0; r < rows.phi.size(); ++r) {
-    auto& j = out[static_cast<std::size_t>(constraints_->joint_of_row(static_cast<int>(r)))];
-    j[0] = std::max(j[0], std::abs(rows.phi(r)));
-    j[1] = std::max(j[1], std::abs(rate(r)));
-  }
-  return out;
+  return joint_violations<double>(*constraints_, rows, v);
 }
 
 std::vector<JointReaction> Model::joint_reactions(const LoadContext& context, const State& state,
@@ -691,17 +673,7 @@ std::vector<JointReaction> Model::joint_reactions(const LoadContext& context, co
   // which assumes the small state changes between a solver's evaluations, does not apply.
   ws.constraint.has_previous = false;
   compute_accelerations(context, state, ws, accelerations);
-  const ConstraintSolveTpl<double>& s = ws.constraint;
-  const Eigen::VectorXd lambda = minimum_norm_multipliers<double>(s.rows.J, s.force);
-  Eigen::VectorXd force(layout_.size());
-  for (int j = 0; j < constraints_->joint_count(); ++j) {
-    const std::array<int, 2> rows = constraints_->joint_rows(j);
-    // −J_jᵀ λ_j: the generalized force of this joint's rows alone.
-    force.noalias() =
-        -s.rows.J.middleRows(rows[0], rows[1]).transpose() * lambda.segment(rows[0], rows[1]);
-    out.push_back(constraints_->reaction(j, ws.kinematics, layout_, force));
-  }
-  return out;
+  return joint_reactions_from_solve<double>(*constraints_, ws.kinematics, layout_, ws.constraint);
 }
 
 }  // namespace flexref::core

@@ -5,6 +5,7 @@
 #include <boost/multiprecision/float128.hpp>
 #include <type_traits>
 
+#include "constraint/ideal_joints_impl.hpp"
 #include "contact/bushing_impl.hpp"
 #include "contact/contact_impl.hpp"
 #include "contact/gap_support_impl.hpp"
@@ -38,6 +39,11 @@ template class SpringDamperTpl<long double>;
 template class SpringDamperTpl<boost::multiprecision::float128>;
 }  // namespace flexref::contact
 
+namespace flexref::constraint {
+template class IdealJointsTpl<long double>;
+template class IdealJointsTpl<boost::multiprecision::float128>;
+}  // namespace flexref::constraint
+
 namespace flexref::precision {
 namespace {
 
@@ -69,11 +75,29 @@ std::unique_ptr<const core::ForceElementTpl<S>> element_in(const core::ForceElem
   return converted<contact::ContactElementTpl, S>(element);
 }
 
+template <typename S>
+std::unique_ptr<const core::ConstraintEquationsTpl<S>> constraints_in(
+    const core::ConstraintEquations& equations, int body_count) {
+  const auto* joints = dynamic_cast<const constraint::IdealJointsTpl<double>*>(&equations);
+  if (joints == nullptr) return nullptr;
+  if constexpr (std::is_same_v<S, double>) {
+    return std::make_unique<const constraint::IdealJointsTpl<double>>(*joints);
+  } else {
+    return std::make_unique<const constraint::IdealJointsTpl<S>>(joints->joints(), body_count);
+  }
+}
+
 template std::unique_ptr<const core::ForceElementTpl<double>> element_in<double>(
     const core::ForceElement&);
 template std::unique_ptr<const core::ForceElementTpl<long double>> element_in<long double>(
     const core::ForceElement&);
 template std::unique_ptr<const core::ForceElementTpl<boost::multiprecision::float128>>
 element_in<boost::multiprecision::float128>(const core::ForceElement&);
+template std::unique_ptr<const core::ConstraintEquationsTpl<double>> constraints_in<double>(
+    const core::ConstraintEquations&, int);
+template std::unique_ptr<const core::ConstraintEquationsTpl<long double>>
+constraints_in<long double>(const core::ConstraintEquations&, int);
+template std::unique_ptr<const core::ConstraintEquationsTpl<boost::multiprecision::float128>>
+constraints_in<boost::multiprecision::float128>(const core::ConstraintEquations&, int);
 
 }  // namespace flexref::precision

@@ -8,6 +8,7 @@
 /// without float128.
 #include <memory>
 
+#include "core/constraint_equations.hpp"
 #include "core/force_element.hpp"
 
 namespace flexref::precision {
@@ -16,5 +17,12 @@ namespace flexref::precision {
 /// spherical and revolute bushings, gap supports and contacts; nullptr for another kind.
 template <typename S>
 std::unique_ptr<const core::ForceElementTpl<S>> element_in(const core::ForceElement& element);
+
+/// The double model's constraint equations in S: its ideal joints (constraint::IdealJointsTpl,
+/// the same joint specifications evaluated in S, on a model of `body_count` bodies); nullptr for
+/// another kind.
+template <typename S>
+std::unique_ptr<const core::ConstraintEquationsTpl<S>> constraints_in(
+    const core::ConstraintEquations& equations, int body_count);
 
 }  // namespace flexref::precision

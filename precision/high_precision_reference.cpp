@@ -17,6 +17,7 @@
 #include "precision/precise_comparison.hpp"
 #include "precision/roundoff_scale.hpp"
 #include "precision/switched_integration.hpp"
+#include "reference/method_choice.hpp"
 
 // Boost 1.74's odeint cannot deduce the value type of a multiprecision number for its
 // controlled steppers; this is the specialisation its documentation gives for such types.
@@ -213,8 +214,11 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, core::FlexibleFormulati
   // The run's wall time (cpu_seconds, and the budget's clock) includes building the model:
   // forming a many-mode body's invariants in quad is part of its cost.
   const auto start = std::chrono::steady_clock::now();
-  return integrate_model<S>(MultibodyModelTpl<S>(spec, formulation), start, output_times, precision,
-                            rtol, type_name, subdivisions, budget);
+  // Ideal joints: Baumgarte's rate from the output spacing, as the double ODE references
+  // (reference::constraint_stabilization_rate).
+  return integrate_model<S>(
+      MultibodyModelTpl<S>(spec, formulation, reference::mean_output_spacing(output_times)), start,
+      output_times, precision, rtol, type_name, subdivisions, budget);
 }
 
 HighPrecisionRun solve_subdivided(const scene::SceneSpec& spec,

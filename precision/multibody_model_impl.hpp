@@ -10,6 +10,7 @@
 #include <boost/multiprecision/eigen.hpp>
 #include <boost/multiprecision/float128.hpp>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <stdexcept>
 
@@ -18,6 +19,7 @@
 #include "core/unit_vector_tpl.hpp"
 #include "precision/element_conversion.hpp"
 #include "reference/exact_rotation_tpl.hpp"
+#include "reference/method_choice.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -40,18 +42,14 @@ Eigen::Matrix<S, 3, 3> rotation_of(const Eigen::Matrix<S, 4, 1>& q) {
 
 template <typename S>
 MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
-                                        core::FlexibleFormulation formulation)
+                                        core::FlexibleFormulation formulation,
+                                        double output_spacing)
     : formulation_(formulation) {
   // The double model of the same spec: its outputs (columns, integrals), its discontinuities,
   // and its force elements as it builds them (the laws' parameters, the Hunt–Crossley α from
   // the restitution, the pairs' and supports' points and node rows), in its element order,
   // which numbers the switching functions: every precision solves one model.
   const core::Model built = scene::build_model(spec, formulation);
-  if (built.has_constraints()) {
-    throw std::invalid_argument(spec.name +
-                                ": ideal joints are not yet carried by the extended/quad model; "
-                                "use --precision double");
-  }
   int offset = 0;
   for (const scene::BodySpec& body_spec : spec.bodies) {
     const core::RigidBodyDescription& d = body_spec.description;
@@ -234,7 +232,202 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
   s.switching.assign(static_cast<std::size_t>(2 * gap_count_), S(0));
   s.gaps.assign(static_cast<std::size_t>(gap_count_), S(0));
   s.clamps.assign(static_cast<std::size_t>(gap_count_), S(0));
+
+  if (built.has_constraints()) {
+    // The double model's joints in S, its independent rows (chosen once, at the initial
+    // configuration) and its stabilization rate (reference/method_choice.hpp).
+    joints_ = constraints_in<S>(*built.constraints(), built.num_bodies());
+    if (joints_ == nullptr) {
+      throw std::invalid_argument(spec.name +
+                                  ": constraints the extended/quad model does not know; use "
+                                  "--precision double");
+    }
+    layout_ = built.velocity_layout();
+    s.constraint =
+        core::ConstraintSolveTpl<S>(joints_->row_count(), layout_, built.independent_rows());
+    stabilization_ = S(reference::constraint_stabilization_rate(built, output_spacing));
+    // The double model's consistent initial state (its Newton projection, in double), refined
+    // in S: the scene's data give the state only to double's round-off, and the joints then
+    // start violated at ~1e-16 relative, far above extended's and quad's own round-off.
+    const core::State consistent = built.initial_state();
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      Body& b = bodies_[i];
+      const core::BodyState& x = consistent[i];
+      std::size_t k = 0;
+      if (b.motion != core::MotionKind::kPrescribed) {
+        Quaternion theta = x.theta_WB.cast<S>();
+        {
+          using std::sqrt;
+          theta /= sqrt(theta.squaredNorm());
+        }
+        const Vector3 p = x.p_WBr.cast<S>();
+        const Vector3 v = x.v_WBr.cast<S>();
+        const Vector3 w = x.w_WB_B.cast<S>();
+        for (int j = 0; j < 3; ++j) b.initial[k++] = p(j);
+        for (int j = 0; j < 4; ++j) b.initial[k++] = theta(j);
+        for (int j = 0; j < 3; ++j) b.initial[k++] = v(j);
+        for (int j = 0; j < 3; ++j) b.initial[k++] = w(j);
+      }
+      for (int j = 0; j < b.n; ++j) b.initial[k++] = S(x.q_f(j));
+      for (int j = 0; j < b.n; ++j) b.initial[k++] = S(x.qd_f(j));
+    }
+    std::vector<S> y = initial_state();
+    load_state(S(0), y);
+    joints_->evaluate(S(0), s.kinematics, layout_, s.constraint.rows);
+    joint_length_scale_ = core::joint_length_scale<S>(*joints_, layout_, s.constraint.rows.J);
+    project(S(0), y);
+    for (Body& b : bodies_) {
+      const auto first = y.begin() + b.offset;
+      std::copy(first, first + static_cast<std::ptrdiff_t>(b.initial.size()), b.initial.begin());
+    }
+  }
   energy0_ = energy(S(0), initial_state());
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::apply_inverse_mass(int b, const Eigen::Ref<const Vector>& rhs,
+                                              Eigen::Ref<Vector> out) const {
+  const Body& body = bodies_[static_cast<std::size_t>(b)];
+  BodyScratch& bs = scratch_.bodies[static_cast<std::size_t>(b)];
+  if (body.n > 0) {
+    // The structured solve of the last evaluate (its known rows take no constraint force). The
+    // body's x is free here: apply_constraints has stacked it before the solve.
+    bs.x.template head<6>().setZero();
+    if (formulation_ == core::FlexibleFormulation::kCoupled) {
+      flexible::apply_coupled_tpl<S>(body.factor, bs.terms, rhs, bs.solve, bs.x);
+    } else {
+      flexible::apply_lte_tpl<S>(body.factor, bs.terms, rhs, bs.solve, bs.x);
+    }
+    out = bs.x;
+    return;
+  }
+  // Rigid, about Br: M = diag(m 1, J_Br) on (v_WBr, ω̄); a pivot's translation and a prescribed
+  // body's motion are fixed.
+  out.setZero();
+  if (body.motion == core::MotionKind::kPrescribed) return;
+  if (body.motion == core::MotionKind::kFree) {
+    out.template head<3>() = rhs.template head<3>() / body.invariants.mass;
+  }
+  out.template segment<3>(3).noalias() = body.J_Br_inv * rhs.template segment<3>(3);
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::apply_constraints(S t, bool stabilize) const {
+  Scratch& s = scratch_;
+  core::ConstraintSolveTpl<S>& c = s.constraint;
+  joints_->evaluate(t, s.kinematics, layout_, c.rows);
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const int o = layout_.offset(static_cast<int>(b));
+    const BodyScratch& bs = s.bodies[b];
+    const auto width = static_cast<Eigen::Index>(6 + bodies_[b].n);
+    c.v.template segment<3>(o) = bs.state.v_WBr;
+    c.v.template segment<3>(o + 3) = bs.state.w_WB_B;
+    c.v.segment(o + 6, bodies_[b].n) = bs.state.qd_f;
+    c.x.segment(o, width) = bs.x.head(width);
+  }
+  if (stabilize && stabilization_ > S(0)) core::add_baumgarte<S>(stabilization_, c);
+  core::solve_constrained_accelerations(
+      *joints_, layout_,
+      [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out); },
+      static_cast<double>(t), c);
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const auto width = static_cast<Eigen::Index>(6 + bodies_[b].n);
+    s.bodies[b].x.head(width) = c.x.segment(layout_.offset(static_cast<int>(b)), width);
+  }
+}
+
+template <typename S>
+void MultibodyModelTpl<S>::factor_constraints_at(S t, const std::vector<S>& y) const {
+  Scratch& s = scratch_;
+  load_state(t, y);
+  evaluate(t, static_cast<double>(t));  // the flexible bodies' mass factors at the state
+  joints_->evaluate(t, s.kinematics, layout_, s.constraint.rows);
+  if (!core::factor_constraints(
+          *joints_, layout_,
+          [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out); },
+          s.constraint)) {
+    core::throw_singular(*joints_, s.constraint, static_cast<double>(t));
+  }
+}
+
+template <typename S>
+S MultibodyModelTpl<S>::relative_position_violation(S t, const std::vector<S>& y) const {
+  if (!joints_) return S(0);
+  Scratch& s = scratch_;
+  load_state(t, y);
+  joints_->evaluate(t, s.kinematics, layout_, s.constraint.rows);
+  return core::relative_position_violation<S>(*joints_, s.constraint.rows.phi, joint_length_scale_);
+}
+
+template <typename S>
+S MultibodyModelTpl<S>::project(S t, std::vector<S>& y) const {
+  if (!joints_) return S(0);
+  Scratch& s = scratch_;
+  core::ConstraintSolveTpl<S>& c = s.constraint;
+  factor_constraints_at(t, y);
+  const S before = core::relative_position_violation<S>(*joints_, c.rows.phi, joint_length_scale_);
+  // Converged at a few ε of S: the round-off of Φ, sums of products of lengths of size ℓ
+  // (core::Model::project's criterion in double).
+  core::project_positions<S>(
+      [&] { factor_constraints_at(t, y); },
+      [&] {
+        return core::relative_position_violation<S>(*joints_, c.rows.phi, joint_length_scale_);
+      },
+      [&](const Vector& delta) {
+        for (std::size_t b = 0; b < bodies_.size(); ++b) {
+          const Body& body = bodies_[b];
+          const int o = layout_.offset(static_cast<int>(b));
+          auto k = static_cast<std::size_t>(body.offset);
+          if (body.motion != core::MotionKind::kPrescribed) {
+            using std::cos;
+            using std::sin;
+            using std::sqrt;
+            for (std::size_t j = 0; j < 3; ++j) y[k + j] += delta(o + static_cast<Eigen::Index>(j));
+            // A ← A exp(δφ̃): θ ← θ ⊗ exp(δφ), renormalized.
+            const Vector3 phi = delta.template segment<3>(o + 3);
+            const S angle = sqrt(phi.squaredNorm());
+            Quaternion e;
+            e(0) = cos(S(0.5) * angle);
+            e.template tail<3>() =
+                angle > S(0) ? Vector3(sin(S(0.5) * angle) / angle * phi) : Vector3(S(0.5) * phi);
+            Quaternion theta(y[k + 3], y[k + 4], y[k + 5], y[k + 6]);
+            theta = reference::detail::quaternion_multiply<S>(theta, e);
+            theta /= sqrt(theta.squaredNorm());
+            for (std::size_t j = 0; j < 4; ++j) y[k + 3 + j] = theta(static_cast<Eigen::Index>(j));
+            k += 13;
+          }
+          for (int j = 0; j < body.n; ++j) y[k + static_cast<std::size_t>(j)] += delta(o + 6 + j);
+        }
+      },
+      S(8) * std::numeric_limits<S>::epsilon(), c);
+  // The velocities onto J v + Φ_t = 0: linear in v, one correction (c factored at the positions).
+  factor_constraints_at(t, y);
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const int o = layout_.offset(static_cast<int>(b));
+    const BodyScratch& bs = s.bodies[b];
+    c.v.template segment<3>(o) = bs.state.v_WBr;
+    c.v.template segment<3>(o + 3) = bs.state.w_WB_B;
+    c.v.segment(o + 6, bodies_[b].n) = bs.state.qd_f;
+  }
+  const Vector residual = c.rows.J * c.v + c.rows.phi_t;
+  core::constraint_correction<S>(residual, c);
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const Body& body = bodies_[b];
+    const int o = layout_.offset(static_cast<int>(b));
+    auto k = static_cast<std::size_t>(body.offset);
+    if (body.motion != core::MotionKind::kPrescribed) {
+      for (std::size_t j = 0; j < 3; ++j) {
+        if (body.motion == core::MotionKind::kFree) {
+          y[k + 7 + j] += c.x(o + static_cast<Eigen::Index>(j));
+        }
+        y[k + 10 + j] += c.x(o + 3 + static_cast<Eigen::Index>(j));
+      }
+      k += 13;
+    }
+    const auto n = static_cast<std::size_t>(body.n);
+    for (std::size_t j = 0; j < n; ++j) y[k + n + j] += c.x(o + 6 + static_cast<Eigen::Index>(j));
+  }
+  return before;
 }
 
 template <typename S>
@@ -417,6 +610,7 @@ void MultibodyModelTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& d
   Scratch& s = scratch_;
   load_state(t, y);
   evaluate(t, t_segment);
+  if (joints_) apply_constraints(t, true);
   if (switching != nullptr) *switching = s.switching;
   dydt.resize(y.size());
   S modal_dissipation(0);
@@ -498,8 +692,11 @@ std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
   std::vector<S> row;
   row.reserve(columns_.size());
   load_state(t, y);
-  // The drives' torques need the accelerations at (t, y), on the right-limit branch at t.
-  if (has_prescribed_) evaluate(t, static_cast<double>(t));
+  // The drives' torques and the joints' reactions need the accelerations at (t, y), on the
+  // right-limit branch at t; the reactions from the plain index-1 form (no stabilization terms:
+  // core::Model::joint_reactions').
+  if (has_prescribed_ || joints_) evaluate(t, static_cast<double>(t));
+  if (joints_) apply_constraints(t, false);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];
     const BodyScratch& bs = s.bodies[i];
@@ -526,6 +723,20 @@ std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
         r.noalias() += bs.terms.M_rf.template middleRows<3>(3) * bs.x.tail(b.n);
       }
       row.push_back(b.axis_W.dot(A * r));
+    }
+  }
+  if (joints_) {
+    // Per joint: its reaction on its first body (force, torque about the joint point; world)
+    // from the minimum-norm multipliers, and its largest position and velocity violation
+    // (studies::tabulate's columns).
+    const std::vector<core::JointReactionTpl<S>> reactions =
+        core::joint_reactions_from_solve<S>(*joints_, s.kinematics, layout_, s.constraint);
+    const std::vector<std::array<S, 2>> violations =
+        core::joint_violations<S>(*joints_, s.constraint.rows, s.constraint.v);
+    for (std::size_t j = 0; j < reactions.size(); ++j) {
+      const core::JointReactionTpl<S>& r = reactions[j];
+      row.insert(row.end(), {r.f_W(0), r.f_W(1), r.f_W(2), r.tau_W(0), r.tau_W(1), r.tau_W(2),
+                             violations[j][0], violations[j][1]});
     }
   }
   const S e = energy(t, y);

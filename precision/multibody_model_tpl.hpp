@@ -6,7 +6,8 @@
 /// (modal stiffness and damping, geometric stiffening), uniform gravity, applied forces (at hub
 /// points or nodes) and torques with their time profiles, point-charge potentials, gap supports,
 /// sphere–plane and sphere–sphere contacts (spheres at hub points or nodes), and spherical and
-/// revolute bushings between bodies or to the ground. The equations are core::Model's, written
+/// revolute bushings between bodies or to the ground, and ideal joints (constraint/, the
+/// multipliers by core/constrained_solve_tpl.hpp). The equations are core::Model's, written
 /// once: each body's rows are core/body_equations_tpl.hpp's over flexible/ (inertia_terms_tpl.hpp,
 /// mass_matrix_solve_tpl.hpp, modal_invariants_tpl.hpp), and the loads are the double model's
 /// force elements themselves, class templates converted to S (element_conversion.hpp;
@@ -57,7 +58,11 @@ class MultibodyModelTpl {
   /// Every scene scene::build_model builds (which validates its modal data). Throws
   /// std::invalid_argument for what build_model refuses and for a force element of a kind this
   /// model does not know (none of build_model's today).
-  MultibodyModelTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation);
+  /// With ideal joints, output_spacing (s, 0: none given) sets the Baumgarte rate the double
+  /// ODE references use (reference::constraint_stabilization_rate), and the initial state is the
+  /// double model's consistent one refined by Newton projection in S (project).
+  MultibodyModelTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation,
+                    double output_spacing = 0.0);
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
   /// The first slot of body i in the state.
@@ -97,6 +102,20 @@ class MultibodyModelTpl {
   std::vector<double> discontinuities() const;
 
   std::vector<S> initial_state() const;
+
+  /// Ideal joints (docs/joints.md, "Extended and quad precision"): the double model's equations
+  /// in S (constraint::IdealJointsTpl), their multipliers by core/constrained_solve_tpl.hpp.
+  bool has_constraints() const { return joints_ != nullptr; }
+  /// Baumgarte's rate α (1/s) in the accelerations (core::Workspace::constraint_stabilization):
+  /// J v̇ = γ − 2α (J v + Φ_t) − α² Φ; 0: the plain index-1 form.
+  S constraint_stabilization() const { return stabilization_; }
+  void set_constraint_stabilization(S alpha) { stabilization_ = alpha; }
+  /// Newton projection of the positions in y onto Φ(q, t) = 0 in the mass metric, then of the
+  /// velocities onto J v + Φ_t = 0 (core::Model::project in S), to S's round-off. Returns the
+  /// largest relative position violation (length rows by the joints' length scale) before it.
+  S project(S t, std::vector<S>& y) const;
+  /// The largest relative position violation of the joints at (t, y) (as project's).
+  S relative_position_violation(S t, const std::vector<S>& y) const;
   /// ẏ = f(t, y) on the load branch active at t_segment. Uses the model's scratch: one
   /// evaluation at a time (the integrators here are sequential).
   void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment,
@@ -162,6 +181,7 @@ class MultibodyModelTpl {
     std::vector<S> gaps;                       ///< the elements' switching functions, in order
     std::vector<S> clamps;                     ///< their clamp functions
     std::vector<core::WearSampleTpl<S>> wear;  ///< per wear channel
+    core::ConstraintSolveTpl<S> constraint;    ///< the ideal joints' solve (empty without)
   };
 
   const Body& body(int i) const { return bodies_[static_cast<std::size_t>(i)]; }
@@ -180,6 +200,18 @@ class MultibodyModelTpl {
   void interleave_switching(std::vector<S>& values) const;
   /// Each wear channel's sample (its element's wear_samples) at the scratch's state.
   void sample_wear(const core::LoadContextTpl<S>& context) const;
+  /// M_b⁻¹ rhs for body b (core::Model::apply_inverse_mass): a rigid body's diag(m, J_Br)
+  /// inverse, a flexible body's structured solve factored by the last evaluate; the rows its
+  /// motion fixes zero.
+  void apply_inverse_mass(int b, const Eigen::Ref<const Vector>& rhs, Eigen::Ref<Vector> out) const;
+  /// After evaluate at t: the joints' rows at the scratch's state, the stacked velocities
+  /// (constraint.v) and, with stabilize, Baumgarte's terms; then the constrained accelerations
+  /// into each body's x, the multipliers and the generalized constraint force into the
+  /// constraint scratch (core::Model::apply_constraints).
+  void apply_constraints(S t, bool stabilize) const;
+  /// Loads the state, evaluates it (the flexible bodies' mass factors) and factors the joints'
+  /// rows there; throws core::SingularConfigurationError at a singular configuration.
+  void factor_constraints_at(S t, const std::vector<S>& y) const;
   /// The elements' context at (t, t_segment).
   core::LoadContextTpl<S> context(S t, double t_segment) const { return {t, t_segment}; }
 
@@ -200,6 +232,12 @@ class MultibodyModelTpl {
   int integrals_offset_ = 0;
   int integral_count_ = 0;
   S energy0_ = S(0);
+  /// The ideal joints in S (nullptr without), where each body's (v_WBr, ω̄, q̇_f) sits in their
+  /// stacked velocities, the joints' length scale ℓ (m) and Baumgarte's rate (1/s).
+  std::unique_ptr<const core::ConstraintEquationsTpl<S>> joints_;
+  core::VelocityLayout layout_;
+  S joint_length_scale_ = S(1);
+  S stabilization_ = S(0);
   mutable Scratch scratch_;
 };
 
