@@ -88,7 +88,10 @@ struct ConstraintSolveTpl {
   Matrix crossing;  ///< m_a × m_a: J_a,previous M⁻¹ J_aᵀ
   Eigen::PartialPivLU<Matrix> crossing_lu;
 
-  ConstraintSolveTpl() = default;
+  /// Every Eigen decomposition here is computed once at construction (on an identity or an
+  /// empty matrix): a decomposition never computed holds an uninitialized ComputationInfo, which
+  /// moving the scratch would copy (UBSan: invalid enum load).
+  ConstraintSolveTpl() { ldlt.compute(Matrix::Identity(0, 0)); }
   ConstraintSolveTpl(int rows_count, const VelocityLayout& layout, std::vector<int> active_rows) {
     rows.resize(rows_count, layout.size());
     active = std::move(active_rows);
@@ -96,7 +99,7 @@ struct ConstraintSolveTpl {
     const Eigen::Index n = layout.size();
     Y = Matrix::Zero(n, m);
     A = Matrix::Zero(m, m);
-    ldlt = Eigen::LDLT<Matrix>(m);
+    ldlt.compute(Matrix::Identity(m, m));
     rhs = Vector::Zero(m);
     lambda = Vector::Zero(m);
     x = Vector::Zero(n);
