@@ -63,8 +63,8 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
                                  << run.steps << " output times, " << run.cpu_seconds
                                  << " s; wrote " << options.output << "\n";
   if (options.estimate) {
-    summary_stream(options.output) << "estimated error " << studies::describe_estimate(estimate)
-                                   << "\n";
+    summary_stream(options.output)
+        << "estimated error " << studies::describe_estimate(estimate) << "\n";
   }
   return kExitOk;
 }

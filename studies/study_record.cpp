@@ -135,9 +135,7 @@ std::string StudyRecord::to_toml() const {
   return out;
 }
 
-void StudyRecord::write(const std::string& path) const {
-  io::write_output_file(path, to_toml());
-}
+void StudyRecord::write(const std::string& path) const { io::write_output_file(path, to_toml()); }
 
 void add_versions(StudyRecord& record) {
   std::ostringstream eigen;

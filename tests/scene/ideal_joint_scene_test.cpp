@@ -91,8 +91,8 @@ TEST_CASE("ideal joints: bad input names file, line and key", "[scene][joints]")
         ideal_joint_replace(kIdealJointScene, "point_a = [0.0, 0.0, 0.0]", "node_a = \"tip\""), 14,
         "joint[1].node_a", "applies only to flexible bodies");
     require_scene_error(
-        ideal_joint_replace(kIdealJointFlexibleScene, "node_a = \"node4\"", "node_a = \"node9\""), 21,
-        "joint[1].node_a", "no node named \"node9\" in the modal data of body \"f\"");
+        ideal_joint_replace(kIdealJointFlexibleScene, "node_a = \"node4\"", "node_a = \"node9\""),
+        21, "joint[1].node_a", "no node named \"node9\" in the modal data of body \"f\"");
   }
   SECTION("an axis of zero length") {
     require_scene_error(

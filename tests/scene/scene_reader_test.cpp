@@ -307,18 +307,19 @@ TEST_CASE("every bad input is an InputError naming file, line and key", "[app][s
   }
   SECTION("inertia extremes whose derived data overflow") {
     const std::string head = kMinimalScene + "[[body]]\nname = \"b\"\n";
-    require_scene_error(head + "mass = 1\ninertia = [1e-310, 1e-310, 1e-310]\n", 8, "body[1].inertia",
-                  "not finite");
+    require_scene_error(head + "mass = 1\ninertia = [1e-310, 1e-310, 1e-310]\n", 8,
+                        "body[1].inertia", "not finite");
     // m d^2 = 1e320 about the pivot: the mass brings 300 of its orders of magnitude, the
     // distance 20; with the mass of a top and a centre of mass 1e300 m away, the distance.
     require_scene_error(head +
-                      "mass = 1e300\ninertia = [1, 1, 1]\ncenter_of_mass = [1e10, 0, 0]\n"
-                      "motion = \"pivot\"\npivot = [0, 0, 0]\n",
-                  7, "body[1].mass", "the inertia about the pivot, m d^2 with m = 1e+300 kg");
+                            "mass = 1e300\ninertia = [1, 1, 1]\ncenter_of_mass = [1e10, 0, 0]\n"
+                            "motion = \"pivot\"\npivot = [0, 0, 0]\n",
+                        7, "body[1].mass", "the inertia about the pivot, m d^2 with m = 1e+300 kg");
     require_scene_error(head +
-                      "mass = 15\ninertia = [1, 1, 1]\ncenter_of_mass = [0, 1e300, 0]\n"
-                      "motion = \"pivot\"\npivot = [0, 0, 0]\n",
-                  9, "body[1].center_of_mass", "d = 1e+300 m (the centre of mass from the pivot)");
+                            "mass = 15\ninertia = [1, 1, 1]\ncenter_of_mass = [0, 1e300, 0]\n"
+                            "motion = \"pivot\"\npivot = [0, 0, 0]\n",
+                        9, "body[1].center_of_mass",
+                        "d = 1e+300 m (the centre of mass from the pivot)");
   }
   SECTION("finite input whose model overflows") {
     require_scene_error(
