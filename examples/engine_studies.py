@@ -100,60 +100,49 @@ def main():
         return work_precision(args)
     rows = []
     for scene in args.scenes.split(","):
-        dt_low, dt_high, scene_levels, engines = SCENES[scene]
         scene_file = os.path.join(args.scene_dir, scene + ".toml")
-        for engine in args.engines.split(","):
-            if engine not in engines:
+        for engine, integrator, claimed, dt, levels, label, command in methods(args, scene):
+            base = os.path.join(args.out, scene, label)
+            row = {"scene": scene, "engine": engine, "integrator": integrator,
+                   "claimed": claimed, "dt": dt, "levels": levels, "command": (
+                       "%s converge %s --external \"%s\" --label %s --order %d "
+                       "--dt %g --levels %d --metric rotation --out %s"
+                       % (FLEXREF, scene_file, command, label, claimed, dt, levels,
+                          os.path.join(base, "rotation")))}
+            done = args.reuse and os.path.exists(
+                os.path.join(base, "rotation", "convergence.txt"))
+            code, text = (0, "") if done else run([
+                              args.flexref, "converge", scene_file, "--external",
+                              command, "--label", label, "--order", str(claimed), "--dt",
+                              str(dt), "--levels", str(levels), "--metric", "rotation",
+                              "--jobs", args.jobs, "--out", os.path.join(base, "rotation")])
+            if not os.path.exists(os.path.join(base, "rotation", "convergence.txt")):
+                print("%s %s: converge failed (%d):\n%s" % (scene, label, code, text),
+                      file=sys.stderr)
                 continue
-            for integrator, claimed in INTEGRATORS[engine]:
-                if args.integrators and integrator not in args.integrators.split(","):
+            # The levels whose run wrote its file: a level that failed (the engine went
+            # unstable at the coarse steps) has none, and converge --runs refuses a missing
+            # file before any work.
+            runs = []
+            for level in range(levels):
+                path = os.path.join(base, "rotation", "run_%s_%d.csv" % (label, level))
+                if os.path.exists(path):
+                    runs.append("%.17g=%s" % (dt / 2 ** level, path))
+            for metric in METRICS:
+                study = os.path.join(base, metric)
+                if metric != "rotation" and not (
+                        args.reuse and os.path.exists(os.path.join(study, "convergence.txt"))):
+                    run([args.flexref, "converge", scene_file, "--runs"] + runs +
+                        ["--label", label, "--order", str(claimed), "--metric", metric,
+                         "--jobs", args.jobs, "--out", study])
+                if not os.path.exists(os.path.join(study, "convergence.txt")):
+                    row[metric] = "refused"
                     continue
-                dt = args.dt or (dt_low if claimed <= 2 else dt_high)
-                levels = args.levels or scene_levels
-                label = "%s_%s" % (engine, integrator.replace("-", "_"))
-                base = os.path.join(args.out, scene, label)
-                command = "%s {scene} {dt} {output} --integrator %s" % (ADAPTERS[engine],
-                                                                        integrator)
-                row = {"scene": scene, "engine": engine, "integrator": integrator,
-                       "claimed": claimed, "dt": dt, "levels": levels, "command": (
-                           "%s converge %s --external \"%s\" --label %s --order %d "
-                           "--dt %g --levels %d --metric rotation --out %s"
-                           % (FLEXREF, scene_file, command, label, claimed, dt, levels,
-                              os.path.join(base, "rotation")))}
-                done = args.reuse and os.path.exists(
-                    os.path.join(base, "rotation", "convergence.txt"))
-                code, text = (0, "") if done else run([
-                                  args.flexref, "converge", scene_file, "--external",
-                                  command, "--label", label, "--order", str(claimed), "--dt",
-                                  str(dt), "--levels", str(levels), "--metric", "rotation",
-                                  "--jobs", args.jobs, "--out", os.path.join(base, "rotation")])
-                if not os.path.exists(os.path.join(base, "rotation", "convergence.txt")):
-                    print("%s %s: converge failed (%d):\n%s" % (scene, label, code, text),
-                          file=sys.stderr)
-                    continue
-                # The levels whose run wrote its file: a level that failed (the engine went
-                # unstable at the coarse steps) has none, and converge --runs refuses a missing
-                # file before any work.
-                runs = []
-                for level in range(levels):
-                    path = os.path.join(base, "rotation", "run_%s_%d.csv" % (label, level))
-                    if os.path.exists(path):
-                        runs.append("%.17g=%s" % (dt / 2 ** level, path))
-                for metric in METRICS:
-                    study = os.path.join(base, metric)
-                    if metric != "rotation" and not (
-                            args.reuse and os.path.exists(os.path.join(study, "convergence.txt"))):
-                        run([args.flexref, "converge", scene_file, "--runs"] + runs +
-                            ["--label", label, "--order", str(claimed), "--metric", metric,
-                             "--jobs", args.jobs, "--out", study])
-                    if not os.path.exists(os.path.join(study, "convergence.txt")):
-                        row[metric] = "refused"
-                        continue
-                    row[metric] = observed(study, label)
-                rows.append(row)
-                print("%-14s %-20s claimed %d  rotation %-12s angular_velocity %-12s points %s"
-                      % (scene, label, claimed, row["rotation"], row["angular_velocity"],
-                         row["points"]), flush=True)
+                row[metric] = observed(study, label)
+            rows.append(row)
+            print("%-14s %-20s claimed %d  rotation %-12s angular_velocity %-12s points %s"
+                  % (scene, label, claimed, row["rotation"], row["angular_velocity"],
+                     row["points"]), flush=True)
     os.makedirs(args.out, exist_ok=True)
     fields = ["scene", "engine", "integrator", "claimed", "dt", "levels"] + list(METRICS) + [
         "command"]
@@ -180,52 +169,59 @@ def cheapest(runs, target):
     return min(ok) if ok else None
 
 
+def methods(args, scene):
+    """The engine integrators to study on `scene` with their levels: (engine, integrator,
+    claimed order, coarsest step, levels, label, the adapter's command template)."""
+    dt_low, dt_high, scene_levels, engines = SCENES[scene]
+    for engine in args.engines.split(","):
+        if engine not in engines:
+            continue
+        for integrator, claimed in INTEGRATORS[engine]:
+            if args.integrators and integrator not in args.integrators.split(","):
+                continue
+            yield (engine, integrator, claimed,
+                   args.dt or (dt_low if claimed <= 2 else dt_high),
+                   args.levels or scene_levels,
+                   "%s_%s" % (engine, integrator.replace("-", "_")),
+                   "%s {scene} {dt} {output} --integrator %s" % (ADAPTERS[engine], integrator))
+
+
 def work_precision(args):
     """work-precision per scene and integrator; the table of cheapest CPU times."""
     lines = []
     for scene in args.scenes.split(","):
         if scene == "bouncing_ball":
             continue
-        dt_low, dt_high, scene_levels, engines = SCENES[scene]
-        methods = {}  # label -> its runs
-        for engine in args.engines.split(","):
-            if engine not in engines:
+        dt_low, dt_high, scene_levels, _ = SCENES[scene]
+        runs_of = {}  # label -> its runs
+        for engine, integrator, claimed, dt, levels, label, command in methods(args, scene):
+            study = os.path.join(args.out, scene, label)
+            code, text = run([args.flexref, "work-precision",
+                              os.path.join(args.scene_dir, scene + ".toml"),
+                              "--external", command, "--label", label, "--schemes",
+                              "c1,c2,nmb", "--solvers", "cvode", "--tolerances",
+                              "1e-6,1e-9", "--dt", str(dt), "--levels", str(levels),
+                              "--repeats", args.repeats, "--jobs", args.jobs, "--out",
+                              study])
+            table = os.path.join(study, "work_precision.csv")
+            if not os.path.exists(table):
+                print("%s %s: work-precision failed (%d):\n%s" % (scene, label, code, text),
+                      file=sys.stderr)
                 continue
-            for integrator, claimed in INTEGRATORS[engine]:
-                if args.integrators and integrator not in args.integrators.split(","):
-                    continue
-                dt = args.dt or (dt_low if claimed <= 2 else dt_high)
-                levels = args.levels or scene_levels
-                label = "%s_%s" % (engine, integrator.replace("-", "_"))
-                study = os.path.join(args.out, scene, label)
-                command = "%s {scene} {dt} {output} --integrator %s" % (ADAPTERS[engine],
-                                                                        integrator)
-                code, text = run([args.flexref, "work-precision",
-                                  os.path.join(args.scene_dir, scene + ".toml"),
-                                  "--external", command, "--label", label, "--schemes",
-                                  "c1,c2,nmb", "--solvers", "cvode", "--tolerances",
-                                  "1e-6,1e-9", "--dt", str(dt), "--levels", str(levels),
-                                  "--repeats", args.repeats, "--jobs", args.jobs, "--out",
-                                  study])
-                table = os.path.join(study, "work_precision.csv")
-                if not os.path.exists(table):
-                    print("%s %s: work-precision failed (%d):\n%s" % (scene, label, code, text),
-                          file=sys.stderr)
-                    continue
-                with open(table) as f:
-                    rows = list(csv.DictReader(f))
-                # The schemes and the solver as the first study ran them (each study reruns them
-                # at its own steps: those of the first one are kept).
-                known = set(methods)
-                for r in rows:
-                    if r["method"] not in known:
-                        methods.setdefault(r["method"], []).append(r)
-                print("%s %s: done" % (scene, label), flush=True)
+            with open(table) as f:
+                rows = list(csv.DictReader(f))
+            # The schemes and the solver as the first study ran them (each study reruns them
+            # at its own steps: those of the first one are kept).
+            known = set(runs_of)
+            for r in rows:
+                if r["method"] not in known:
+                    runs_of.setdefault(r["method"], []).append(r)
+            print("%s %s: done" % (scene, label), flush=True)
         lines.append("\n%s (dt %g/%g, %d levels): cheapest CPU time [s] to reach the error "
                      "(rotation+points)\n" % (scene, dt_low, dt_high, scene_levels))
         lines.append("| method | " + " | ".join("%g" % t for t in TARGETS) + " |")
         lines.append("|---|" + "---|" * len(TARGETS))
-        for method, runs in methods.items():
+        for method, runs in runs_of.items():
             cells = []
             for t in TARGETS:
                 c = cheapest(runs, t)
