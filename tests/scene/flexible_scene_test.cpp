@@ -24,15 +24,10 @@
 namespace flexref::app {
 namespace {
 
+using testing::replace_first;
 using testing::require_scene_error;
 
 using Catch::Matchers::Contains;
-
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
 
 // Lines 1-4.
 const std::string kFlexibleSceneHead =
@@ -167,7 +162,7 @@ TEST_CASE("flexible body keys", "[app][scene][flexible]") {
         "origin = [0.2, 0.0, 0.0]\nboundary = \"free-free\"\nfamilies = [\"axial\", "
         "\"bending-xz\"]\nGJ = 2.0\n";
     const std::string text =
-        replace(flexible("", beam_extra), "EI = 3.2\n", "EI_y = 3.2\nEI_z = 6.4\n");
+        replace_first(flexible("", beam_extra), "EI = 3.2\n", "EI_y = 3.2\nEI_z = 6.4\n");
     const scene::Scene s = scene::parse_scene(text + "damping_ratio = 0.02\n", "f.toml");
     const flexible::ModalData& m = s.model->body(0).description().flexible->modal;
     REQUIRE_FALSE(m.mode_names.empty());
@@ -306,12 +301,12 @@ TEST_CASE("modal = \"file.toml\" is read relative to the scene", "[app][scene][f
 TEST_CASE("bad flexible input is an InputError naming file, line and key",
           "[app][scene][flexible]") {
   SECTION("missing key") {
-    require_scene_error(replace(flexible(), "length = 1.0\n", ""), 9, "body[1].beam.length",
+    require_scene_error(replace_first(flexible(), "length = 1.0\n", ""), 9, "body[1].beam.length",
                         "required key is missing");
-    require_scene_error(replace(flexible(), "EI = 3.2\n", ""), 9, "body[1].beam.EI",
+    require_scene_error(replace_first(flexible(), "EI = 3.2\n", ""), 9, "body[1].beam.EI",
                         "or EI_y and EI_z");
-    require_scene_error(replace(flexible(), "EI = 3.2\n", "EI_y = 3.2\n"), 9, "body[1].beam.EI_z",
-                        "required key is missing");
+    require_scene_error(replace_first(flexible(), "EI = 3.2\n", "EI_y = 3.2\n"), 9,
+                        "body[1].beam.EI_z", "required key is missing");
     require_scene_error(flexible("motion = \"prescribed\"\n"), 5, "body[1].prescribed",
                         "required table is missing");
     require_scene_error(flexible("motion = \"prescribed\"\n"
@@ -323,9 +318,9 @@ TEST_CASE("bad flexible input is an InputError naming file, line and key",
         10, "body[1].prescribed.spin_up_time", "positive spin-up time");
   }
   SECTION("wrong type") {
-    require_scene_error(replace(flexible(), "elements = 4\n", "elements = 1.5\n"), 11,
+    require_scene_error(replace_first(flexible(), "elements = 4\n", "elements = 1.5\n"), 11,
                         "body[1].beam.elements", "got 1.5 (a number)");
-    require_scene_error(replace(flexible(), "modes = 2\n", "modes = \"2\"\n"), 15,
+    require_scene_error(replace_first(flexible(), "modes = 2\n", "modes = \"2\"\n"), 15,
                         "body[1].beam.modes", "positive integer mode count");
     require_scene_error(flexible("", "families = \"axial\"\n"), 16, "body[1].beam.families",
                         "got \"axial\" (a string)");
@@ -348,11 +343,11 @@ TEST_CASE("bad flexible input is an InputError naming file, line and key",
                         "body[1].beam.geometric_stiffening", "true or false");
     require_scene_error(flexible("", "boundary = \"free-free\"\ngeometric_stiffening = true\n"), 17,
                         "body[1].beam.geometric_stiffening", "clamped-free");
-    require_scene_error(replace(flexible(), "elements = 4\n", "elements = 0\n"), 11,
+    require_scene_error(replace_first(flexible(), "elements = 4\n", "elements = 0\n"), 11,
                         "body[1].beam.elements", "1 to 500");
-    require_scene_error(replace(flexible(), "EA = 1e5\n", "EA = -1\n"), 12, "body[1].beam.EA",
+    require_scene_error(replace_first(flexible(), "EA = 1e5\n", "EA = -1\n"), 12, "body[1].beam.EA",
                         "positive axial stiffness");
-    require_scene_error(replace(flexible(), "modes = 2\n", "modes = 100\n"), 15,
+    require_scene_error(replace_first(flexible(), "modes = 2\n", "modes = 100\n"), 15,
                         "body[1].beam.modes", "cannot make the beam's modal data");
     require_scene_error(flexible("", "EI_y = 1.0\n"), 16, "body[1].beam.EI_y", "either EI or EI_y");
     require_scene_error(flexible("", "damping_ratio = -0.1\n"), 16, "body[1].beam.damping_ratio",
@@ -425,8 +420,8 @@ TEST_CASE("gravity on a flexible body loads its modes", "[app][scene][flexible]"
   // rotation rows see the torque of gravity about the undeformed centre of mass: zero. So the
   // modal accelerations vanish to round-off, while the frame falls with g.
   const scene::Scene s =
-      scene::parse_scene(replace(kFlexibleSceneHead, "output_step = 0.1\n",
-                                 "output_step = 0.1\ngravity = [0, 0, -9.81]\n") +
+      scene::parse_scene(replace_first(kFlexibleSceneHead, "output_step = 0.1\n",
+                                       "output_step = 0.1\ngravity = [0, 0, -9.81]\n") +
                              kHub + kBeam + "families = [\"bending-xz\"]\n",
                          "g.toml");
   const core::Accelerations acc = initial_accelerations(*s.model);

@@ -12,14 +12,8 @@
 namespace flexref::scene {
 namespace {
 
+using testing::replace_first;
 using testing::require_scene_error;
-
-// Replaces the first occurrence of `from` (which must occur) in text.
-std::string ideal_joint_replace(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
 
 // Lines 1-4 [scene], 5-8 the rigid body "a", 9-18 a revolute joint to the ground at its origin:
 // valid as it stands.
@@ -80,37 +74,36 @@ TEST_CASE("ideal joints: the valid test scene reads", "[scene][joints]") {
 
 TEST_CASE("ideal joints: bad input names file, line and key", "[scene][joints]") {
   SECTION("an end on an unknown body") {
-    require_scene_error(ideal_joint_replace(kIdealJointScene, "body_a = \"a\"", "body_a = \"b\""),
-                        13, "joint[1].body_a", "no [[body]] named \"b\"; expected one of \"a\"");
-    require_scene_error(
-        ideal_joint_replace(kIdealJointScene, "body_b = \"ground\"", "body_b = \"grnd\""), 15,
-        "joint[1].body_b", "no [[body]] named \"grnd\"");
+    require_scene_error(replace_first(kIdealJointScene, "body_a = \"a\"", "body_a = \"b\""), 13,
+                        "joint[1].body_a", "no [[body]] named \"b\"; expected one of \"a\"");
+    require_scene_error(replace_first(kIdealJointScene, "body_b = \"ground\"", "body_b = \"grnd\""),
+                        15, "joint[1].body_b", "no [[body]] named \"grnd\"");
   }
   SECTION("an end on a node of a rigid body, or on an unknown node") {
     require_scene_error(
-        ideal_joint_replace(kIdealJointScene, "point_a = [0.0, 0.0, 0.0]", "node_a = \"tip\""), 14,
+        replace_first(kIdealJointScene, "point_a = [0.0, 0.0, 0.0]", "node_a = \"tip\""), 14,
         "joint[1].node_a", "applies only to flexible bodies");
     require_scene_error(
-        ideal_joint_replace(kIdealJointFlexibleScene, "node_a = \"node4\"", "node_a = \"node9\""),
-        21, "joint[1].node_a", "no node named \"node9\" in the modal data of body \"f\"");
+        replace_first(kIdealJointFlexibleScene, "node_a = \"node4\"", "node_a = \"node9\""), 21,
+        "joint[1].node_a", "no node named \"node9\" in the modal data of body \"f\"");
   }
   SECTION("an axis of zero length") {
     require_scene_error(
-        ideal_joint_replace(kIdealJointScene, "axis_a = [0.0, 0.0, 1.0]", "axis_a = [0, 0, 0]"), 17,
+        replace_first(kIdealJointScene, "axis_a = [0.0, 0.0, 1.0]", "axis_a = [0, 0, 0]"), 17,
         "joint[1].axis_a", "got norm 0");
     require_scene_error(
-        ideal_joint_replace(kIdealJointScene, "axis_b = [0.0, 0.0, 1.0]", "axis_b = [0, 0, 0]"), 18,
+        replace_first(kIdealJointScene, "axis_b = [0.0, 0.0, 1.0]", "axis_b = [0, 0, 0]"), 18,
         "joint[1].axis_b", "got norm 0");
   }
   SECTION("an initial state that violates the joint beyond 1e-6, at either level") {
     // The joint point 1e-3 m off the body's: relative 1e-3 of the 1 m length scale (no arm: 1 m).
-    require_scene_error(ideal_joint_replace(kIdealJointScene, "point_b = [0.0, 0.0, 0.0]",
-                                            "point_b = [0.0, 0.0, 1e-3]"),
-                        9, "joint[1]", "violates joint 'hinge' at position level");
+    require_scene_error(
+        replace_first(kIdealJointScene, "point_b = [0.0, 0.0, 0.0]", "point_b = [0.0, 0.0, 1e-3]"),
+        9, "joint[1]", "violates joint 'hinge' at position level");
     // The body turning about x, which the hinge about z forbids.
-    require_scene_error(ideal_joint_replace(kIdealJointScene, "inertia = [1.0, 1.0, 1.0]\n",
-                                            "inertia = [1.0, 1.0, 1.0]\n"
-                                            "angular_velocity = [1.0, 0.0, 0.0]\n"),
+    require_scene_error(replace_first(kIdealJointScene, "inertia = [1.0, 1.0, 1.0]\n",
+                                      "inertia = [1.0, 1.0, 1.0]\n"
+                                      "angular_velocity = [1.0, 0.0, 0.0]\n"),
                         10, "joint[1]", "violates joint 'hinge' at velocity level");
   }
 }
@@ -118,20 +111,19 @@ TEST_CASE("ideal joints: bad input names file, line and key", "[scene][joints]")
 TEST_CASE("ideal joints: a violation within 1e-6 is projected, a larger one when the scene asks",
           "[scene][joints]") {
   // 1e-7 m off: below the 1e-6 relative tolerance, accepted and projected onto the joint.
-  const Scene small = parse_scene(ideal_joint_replace(kIdealJointScene, "point_b = [0.0, 0.0, 0.0]",
-                                                      "point_b = [0.0, 0.0, 1e-7]"),
-                                  "small.toml");
+  const Scene small = parse_scene(
+      replace_first(kIdealJointScene, "point_b = [0.0, 0.0, 0.0]", "point_b = [0.0, 0.0, 1e-7]"),
+      "small.toml");
   // The projection removes it to Newton's tolerance: round-off of the 1e-7 correction.
   CHECK(small.model->initial_projection().position > 0.9e-7);
   core::Workspace ws = small.model->make_workspace();
   CHECK(small.model->constraint_violations(0.0, small.model->initial_state(), ws)[0][0] < 1e-15);
   // 1e-3 m off with project_initial_state = true: projected instead of refused.
-  const Scene projected =
-      parse_scene(ideal_joint_replace(
-                      ideal_joint_replace(kIdealJointScene, "point_b = [0.0, 0.0, 0.0]",
-                                          "point_b = [0.0, 0.0, 1e-3]"),
-                      "output_step = 0.1\n", "output_step = 0.1\nproject_initial_state = true\n"),
-                  "projected.toml");
+  const Scene projected = parse_scene(
+      replace_first(replace_first(kIdealJointScene, "point_b = [0.0, 0.0, 0.0]",
+                                  "point_b = [0.0, 0.0, 1e-3]"),
+                    "output_step = 0.1\n", "output_step = 0.1\nproject_initial_state = true\n"),
+      "projected.toml");
   CHECK(projected.model->initial_projection().position > 0.9e-3);
 }
 

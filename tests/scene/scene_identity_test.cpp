@@ -13,10 +13,13 @@
 #include "scene/modal_data_reader.hpp"
 #include "scene/scene_reader.hpp"
 #include "scene/scene_toml.hpp"
+#include "tests/support/scene_error_checks.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace flexref::scene {
 namespace {
+
+using testing::replace_first;
 
 const std::string kSpin =
     "[scene]\n"
@@ -33,31 +36,26 @@ toml::value parse_toml(const std::string& text) { return scene_toml::parse(text,
 
 std::string hash_of(const std::string& text) { return parse_scene(text, "s.toml").hash; }
 
-/// `text` with the first `from` replaced by `to` (which must occur).
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::logic_error("no '" + from + "' in the scene");
-  return text.replace(at, from.size(), to);
-}
-
 TEST_CASE("the scene hash is of the parsed physics", "[scene][identity]") {
   const std::string base = hash_of(kSpin);
   CHECK(base.starts_with("fnv1a64:"));
   CHECK(base.size() == 8 + 16);
   // Comments, layout, key order and the spelling of numbers are not the physics.
-  CHECK(hash_of("# a comment\n" + replaced(kSpin, "[3.0, 4.0, 5.0]", "[ 3, 4e0, 5.00 ]")) == base);
-  CHECK(hash_of(replaced(kSpin, "mass = 1.0\ninertia = [3.0, 4.0, 5.0]\n",
-                         "inertia = [3.0, 4.0, 5.0]\nmass = 1.0\n")) == base);
-  // What is written, not integrated: the name, description, end time and output step.
-  CHECK(hash_of(replaced(kSpin, "name = \"spin\"", "name = \"renamed\"\ndescription = \"x\"")) ==
+  CHECK(hash_of("# a comment\n" + replace_first(kSpin, "[3.0, 4.0, 5.0]", "[ 3, 4e0, 5.00 ]")) ==
         base);
-  CHECK(hash_of(replaced(replaced(kSpin, "100.0", "2.0"), "0.1", "0.01")) == base);
+  CHECK(hash_of(replace_first(kSpin, "mass = 1.0\ninertia = [3.0, 4.0, 5.0]\n",
+                              "inertia = [3.0, 4.0, 5.0]\nmass = 1.0\n")) == base);
+  // What is written, not integrated: the name, description, end time and output step.
+  CHECK(hash_of(replace_first(kSpin, "name = \"spin\"",
+                              "name = \"renamed\"\ndescription = \"x\"")) == base);
+  CHECK(hash_of(replace_first(replace_first(kSpin, "100.0", "2.0"), "0.1", "0.01")) == base);
   // Every value of the physics changes it, also in the last digit.
-  CHECK(hash_of(replaced(kSpin, "[3.0, 4.0, 5.0]", "[3.0, 4.0, 5.000000000000001]")) != base);
-  CHECK(hash_of(replaced(kSpin, "mass = 1.0", "mass = 2.0")) != base);
-  CHECK(hash_of(replaced(kSpin, "name = \"body\"", "name = \"other\"")) != base);
+  CHECK(hash_of(replace_first(kSpin, "[3.0, 4.0, 5.0]", "[3.0, 4.0, 5.000000000000001]")) != base);
+  CHECK(hash_of(replace_first(kSpin, "mass = 1.0", "mass = 2.0")) != base);
+  CHECK(hash_of(replace_first(kSpin, "name = \"body\"", "name = \"other\"")) != base);
   CHECK(hash_of(kSpin + "points = [{ name = \"corner\", at = [1.0, 0.0, 0.0] }]\n") != base);
-  CHECK(hash_of(replaced(kSpin, "[scene]\n", "[scene]\ngravity = [0.0, 0.0, -9.81]\n")) != base);
+  CHECK(hash_of(replace_first(kSpin, "[scene]\n", "[scene]\ngravity = [0.0, 0.0, -9.81]\n")) !=
+        base);
 }
 
 TEST_CASE("the canonical text tells types and string boundaries apart", "[scene][identity]") {

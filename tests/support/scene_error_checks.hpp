@@ -17,4 +17,12 @@ inline void require_scene_error(const std::string& text, int line, const std::st
       "parse_scene", text, line, key, fragment);
 }
 
+/// `text` with the first occurrence of `from` replaced by `to`; `from` must occur (a scene edit
+/// that finds nothing to edit would test the unedited scene).
+inline std::string replace_first(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
+}
+
 }  // namespace flexref::testing
