@@ -32,7 +32,7 @@ C1Stepper::C1Stepper(const core::Model& model)
       w_accepted_(state_.size(), Vector3d::Zero()),
       delta_(state_.size(), Vector3d::Zero()),
       ws_(model.make_workspace()) {
-  detail::require_lte_for_flexible_bodies(model, "c1");
+  detail::require_hybrid_scheme_model(model, "c1");
   for (const core::Body& body : model.bodies()) {
     has_free_body_ = has_free_body_ || body.is_free() || body.is_flexible();
   }

@@ -23,7 +23,7 @@ C2Stepper::C2Stepper(const core::Model& model)
       momentum_W_(state_.size(), Vector3d::Zero()),
       momentum_next_W_(state_.size(), Vector3d::Zero()),
       ws_(model.make_workspace()) {
-  detail::require_lte_for_flexible_bodies(model, "c2");
+  detail::require_hybrid_scheme_model(model, "c2");
 }
 
 void C2Stepper::initialize(double t0, const core::State& state) {

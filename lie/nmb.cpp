@@ -24,7 +24,7 @@ NmbStepper::NmbStepper(const core::Model& model)
       acc_(model.make_accelerations()),
       acc_next_(model.make_accelerations()),
       ws_(model.make_workspace()) {
-  detail::require_lte_for_flexible_bodies(model, "nmb");
+  detail::require_hybrid_scheme_model(model, "nmb");
 }
 
 void NmbStepper::initialize(double t0, const core::State& state) {

@@ -97,19 +97,16 @@ void update_modes(const core::Model& model, core::Workspace& ws, const core::Sta
   }
 }
 
-void require_no_ideal_joints(const core::Model& model, const char* scheme) {
-  if (!model.has_constraints()) return;
-  const core::ConstraintEquations& joints = *model.constraints();
-  throw std::invalid_argument(
-      std::string(scheme) + ": the scene has the ideal joint '" + joints.joint_name(0) +
-      "'; C1, C2 and NMB step unconstrained bodies only (their rotation updates have no "
-      "multipliers). Compute a reference (flexref reference: CVODE, ARKODE, Odeint on the index-1 "
-      "form, IDA on the stabilized index-2 form), or model the joint as a bushing "
-      "(model = \"bushing\") to run these schemes (docs/joints.md)");
-}
-
-void require_lte_for_flexible_bodies(const core::Model& model, const char* scheme) {
-  require_no_ideal_joints(model, scheme);
+void require_hybrid_scheme_model(const core::Model& model, const char* scheme) {
+  if (model.has_constraints()) {
+    const core::ConstraintEquations& joints = *model.constraints();
+    throw std::invalid_argument(
+        std::string(scheme) + ": the scene has the ideal joint '" + joints.joint_name(0) +
+        "'; C1, C2 and NMB step unconstrained bodies only (their rotation updates have no "
+        "multipliers). Compute a reference (flexref reference: CVODE, ARKODE, Odeint on the "
+        "index-1 form, IDA on the stabilized index-2 form), or model the joint as a bushing "
+        "(model = \"bushing\") to run these schemes (docs/joints.md)");
+  }
   if (model.has_flexible_bodies() && model.formulation() != core::FlexibleFormulation::kLte) {
     throw std::invalid_argument(
         std::string(scheme) +

@@ -80,12 +80,11 @@ void predict_modes(const core::Model& model, const core::State& state,
 void update_modes(const core::Model& model, core::Workspace& ws, const core::State& state,
                   const core::Accelerations& acc, double h, core::State& next,
                   core::Accelerations& acc_next);
-/// Throws std::invalid_argument naming a joint when the model has ideal joints (docs/joints.md).
-void require_no_ideal_joints(const core::Model& model, const char* scheme);
-/// Throws std::invalid_argument when the model has a flexible body under the coupled
-/// formulation: the hybrid schemes integrate the LTE model (the paper's final algorithm). Checks
-/// require_no_ideal_joints first.
-void require_lte_for_flexible_bodies(const core::Model& model, const char* scheme);
+/// What the hybrid schemes (C1, C2, NMB) can step, checked when one is made: throws
+/// std::invalid_argument naming a joint when the model has ideal joints (their rotation updates
+/// have no multipliers: docs/joints.md), and when it has a flexible body under the coupled
+/// formulation (they integrate the LTE model, the paper's final algorithm).
+void require_hybrid_scheme_model(const core::Model& model, const char* scheme);
 /// "<scheme> Newton did not converge at t = …, h = …: residual … after … iterations (body …)".
 std::string newton_failure(const char* scheme, double t_n, double h, double relative_residual,
                            int iterations, int body);
