@@ -76,6 +76,7 @@ struct ConstraintSolveTpl {
   Vector x;              ///< N: stacked accelerations (free in, constrained out)
   Vector force;          ///< N: the generalized constraint force −J_aᵀ λ
   Vector v;              ///< N: stacked velocities (stabilization)
+  Vector rate;           ///< m: J v + Φ_t of all rows (stabilization, projection)
   Vector column;         ///< widest body block
   Vector out;            ///< widest body block
   S pivot_ratio = S(1);  ///< smallest/largest |pivot| of the last factorization
@@ -105,6 +106,7 @@ struct ConstraintSolveTpl {
     x = Vector::Zero(n);
     force = Vector::Zero(n);
     v = Vector::Zero(n);
+    rate = Vector::Zero(rows_count);
     int widest = 0;
     for (std::size_t b = 0; b + 1 < layout.offsets.size(); ++b) {
       widest = std::max(widest, layout.width(static_cast<int>(b)));
@@ -356,7 +358,11 @@ void constraint_correction(const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynami
 /// the stacked velocities and s.rows the rows at the state. On the manifold it changes nothing.
 template <typename S>
 void add_baumgarte(const S& alpha, ConstraintSolveTpl<S>& s) {
-  s.rows.gamma.noalias() -= (S(2) * alpha) * (s.rows.J * s.v + s.rows.phi_t);
+  // The product into the sized scratch first: inside the sum Eigen would evaluate it into a
+  // temporary on the heap, once per evaluation.
+  s.rate.noalias() = s.rows.J * s.v;
+  s.rate += s.rows.phi_t;
+  s.rows.gamma -= (S(2) * alpha) * s.rate;
   s.rows.gamma -= (alpha * alpha) * s.rows.phi;
 }
 

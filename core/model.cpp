@@ -530,11 +530,13 @@ void Model::factor_constraints_at(double t, const State& state, Workspace& ws) c
   }
 }
 
-Model::RelativeViolation Model::relative_violation(const ConstraintRows& rows,
+Model::RelativeViolation Model::relative_violation(ConstraintSolveTpl<double>& s,
                                                    const State& state) const {
-  Eigen::VectorXd v(layout_.size());
-  stack_velocities(state, v);
-  const Eigen::VectorXd rate = rows.J * v + rows.phi_t;
+  const ConstraintRows& rows = s.rows;
+  stack_velocities(state, s.v);
+  s.rate.noalias() = rows.J * s.v;
+  s.rate += rows.phi_t;
+  const Eigen::VectorXd& rate = s.rate;
   // Velocity scale: the bodies' speeds (|v_Br| + |ω̄| ℓ) and the drives' rates.
   double speed = 0.0;
   for (const BodyState& b : state) {
@@ -569,7 +571,7 @@ InitialProjection Model::project(double t, State& state, Workspace& ws) const {
   if (!constraints_) return before;
   ConstraintSolveTpl<double>& s = ws.constraint;
   factor_constraints_at(t, state, ws);
-  const RelativeViolation first = relative_violation(s.rows, state);
+  const RelativeViolation first = relative_violation(s, state);
   before.position = first.position;
   // Newton on Φ = 0 in the mass metric: converged when the relative violation is a few ε (the
   // round-off of Φ itself, a sum of products of lengths of size ℓ).
@@ -595,7 +597,7 @@ InitialProjection Model::project(double t, State& state, Workspace& ws) const {
         }
       },
       8.0 * std::numeric_limits<double>::epsilon(), s);
-  before.velocity = relative_violation(s.rows, state).velocity;
+  before.velocity = relative_violation(s, state).velocity;
   project_velocities(t, state, ws);
   return before;
 }
@@ -604,10 +606,10 @@ void Model::project_velocities(double t, State& state, Workspace& ws) const {
   if (!constraints_) return;
   ConstraintSolveTpl<double>& s = ws.constraint;
   factor_constraints_at(t, state, ws);
-  Eigen::VectorXd v(layout_.size());
-  stack_velocities(state, v);
-  const Eigen::VectorXd residual = s.rows.J * v + s.rows.phi_t;
-  constraint_correction<double>(residual, s);
+  stack_velocities(state, s.v);
+  s.rate.noalias() = s.rows.J * s.v;
+  s.rate += s.rows.phi_t;
+  constraint_correction<double>(s.rate, s);
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     const Body& body = bodies_[b];
     const int o = layout_.offset(static_cast<int>(b));
@@ -631,7 +633,8 @@ void Model::assemble_initial_state(const ConstraintOptions& options) {
   joint_length_scale_ = core::joint_length_scale<double>(*constraints_, layout_, rows.J);
   ws = make_workspace();
   State state = initial_state_;
-  const RelativeViolation before = relative_violation(rows, state);
+  ws.constraint.rows = rows;
+  const RelativeViolation before = relative_violation(ws.constraint, state);
   const auto refuse = [&](int joint, const char* level, double value) {
     throw InconsistentInitialStateError(
         joint, "the initial state violates joint '" + constraints_->joint_name(joint) + "' at " +

@@ -261,7 +261,8 @@ class Model {
     int position_joint = 0;
     int velocity_joint = 0;
   };
-  RelativeViolation relative_violation(const ConstraintRows& rows, const State& state) const;
+  /// From s.rows at `state`; s.v and s.rate are its scratch.
+  RelativeViolation relative_violation(ConstraintSolveTpl<double>& s, const State& state) const;
 
   std::vector<Body> bodies_;
   std::vector<std::unique_ptr<const ForceElement>> elements_;
