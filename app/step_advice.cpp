@@ -12,7 +12,7 @@
 namespace flexref::app {
 namespace {
 
-std::string text(double x) {
+std::string short_text(double x) {
   std::ostringstream out;
   out.precision(3);
   out << x;
@@ -32,7 +32,7 @@ Bound step_bound(const core::Model& model, const std::string& scheme, double dt,
   const core::StepLimit limit = core::explicit_step_limit(model);
   if (limit.bounded() && 0.5 * limit.h < bound.h) {
     bound = {0.5 * limit.h,
-             "half the explicit step limit " + text(limit.h) + " s of " + limit.what};
+             "half the explicit step limit " + short_text(limit.h) + " s of " + limit.what};
   }
   // A tenth of the rotational limit: below its limit C2's energy still drifts secularly, and
   // long runs break the balance (free_spin's body at 1000× its spin: at h|W| = 0.1 after
@@ -40,8 +40,8 @@ Bound step_bound(const core::Model& model, const std::string& scheme, double dt,
   const double rotational = lie::rotational_stability_limit(scheme);
   if (rotational > 0.0 && spin > 0.0 && 0.1 * rotational / spin < bound.h) {
     bound = {0.1 * rotational / spin,
-             "a tenth of " + scheme + "'s rotational stability limit h|W| = " + text(rotational) +
-                 " at |W| = " + text(spin) + " rad/s"};
+             "a tenth of " + scheme + "'s rotational stability limit h|W| = " + short_text(rotational) +
+                 " at |W| = " + short_text(spin) + " rad/s"};
   }
   return bound;
 }
@@ -63,9 +63,9 @@ std::string rotational_step_warning(const core::Model& model, const std::string&
   const lie::SpinRate spin = lie::largest_spin(model, state);
   if (!(limit > 0.0) || spin.body < 0 || !(dt * spin.w > limit)) return {};
   std::ostringstream out;
-  out << "step " << text(dt) << " s times |W| = " << text(spin.w) << " rad/s of body '"
-      << model.body(spin.body).name() << "' at t = " << text(t)
-      << " s is h|W| = " << text(dt * spin.w) << ", above " << scheme
+  out << "step " << short_text(dt) << " s times |W| = " << short_text(spin.w) << " rad/s of body '"
+      << model.body(spin.body).name() << "' at t = " << short_text(t)
+      << " s is h|W| = " << short_text(dt * spin.w) << ", above " << scheme
       << "'s rotational stability limit " << limit
       << " (measured on a torque-free body, lie/rotational_stability.hpp): the run may blow up";
   return out.str();
@@ -80,7 +80,7 @@ double suggested_step(const core::Model& model, const std::string& scheme, doubl
   for (int k = 0; k < 30; ++k, decade /= 10.0) {
     for (const double m : {5.0, 2.0, 1.0}) {
       // The value as printed, so that the step the user types is the one checked here.
-      const double h = std::stod(text(m * decade));
+      const double h = std::stod(short_text(m * decade));
       if (h <= bound && h >= 1e-6 * dt && on_grid(model, h, times)) return h;
     }
   }
@@ -91,7 +91,7 @@ std::string step_advice(const core::Model& model, const std::string& scheme, dou
                         const std::vector<double>& times, double spin) {
   const double h = suggested_step(model, scheme, dt, times, spin);
   if (!(h > 0.0)) return {};
-  return "; nothing was written: use --dt " + text(h) + " (at most " +
+  return "; nothing was written: use --dt " + short_text(h) + " (at most " +
          step_bound(model, scheme, dt, spin).why + ")";
 }
 

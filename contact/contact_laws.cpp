@@ -41,7 +41,7 @@ double solve_bracketed(F f, double lo, double hi) {
   return 0.5 * (r.first + r.second);
 }
 
-void require(bool ok, const char* what) {
+void require_law(bool ok, const char* what) {
   if (!ok) throw std::invalid_argument(what);
 }
 
@@ -49,7 +49,7 @@ void require(bool ok, const char* what) {
 
 double hunt_crossley_alpha_times_speed(double restitution) {
   const double e = restitution;
-  require(e > 0.0 && e <= 1.0, "Hunt-Crossley restitution must lie in (0, 1]");
+  require_law(e > 0.0 && e <= 1.0, "Hunt-Crossley restitution must lie in (0, 1]");
   if (e == 1.0) return 0.0;
   // Unknown a = α v⁻ ∈ ((1 − e)/e, 1/e): f(a) = φ(a) − φ(−a e) rises on (0, (1 − e)/e) and
   // falls to −∞ as a e → 1, so its only positive root is there. Parametrize the rebound side
@@ -65,7 +65,7 @@ double hunt_crossley_alpha_times_speed(double restitution) {
 
 double hunt_crossley_restitution(double alpha_times_speed) {
   const double a = alpha_times_speed;
-  require(a >= 0.0 && std::isfinite(a), "Hunt-Crossley alpha v must be finite and >= 0");
+  require_law(a >= 0.0 && std::isfinite(a), "Hunt-Crossley alpha v must be finite and >= 0");
   const double target = phi(a);
   if (target <= 0.0) return 1.0;
   // b = a e = 1 − e^{−u}: φ(−b) rises from 0 (u = 0) to φ(−b) = u − b ≥ u − 1 (so u = φ(a) + 1
@@ -76,7 +76,7 @@ double hunt_crossley_restitution(double alpha_times_speed) {
 }
 
 double linear_restitution_with_clamp(double zeta) {
-  require(zeta >= 0.0 && zeta < std::numbers::sqrt2 / 2.0,
+  require_law(zeta >= 0.0 && zeta < std::numbers::sqrt2 / 2.0,
           "clamped linear restitution needs 0 <= zeta < 1/sqrt(2)");
   // δ = (v⁻/ω_d) e^{−ζωt} sin ω_d t; k δ + c δ̇ = 0 ⇔ tan ω_d t = −2ζ√(1−ζ²)/(1 − 2ζ²) = −tan 2β
   // with ζ = sin β, so ω_d t* = π − 2β, and there δ̇ = −v⁻ e^{−ζω t*} exactly.
@@ -85,8 +85,8 @@ double linear_restitution_with_clamp(double zeta) {
 }
 
 NormalLaw NormalLaw::linear(double stiffness, double damping) {
-  require(stiffness > 0.0 && std::isfinite(stiffness), "contact stiffness must be > 0");
-  require(damping >= 0.0 && std::isfinite(damping), "contact damping must be >= 0");
+  require_law(stiffness > 0.0 && std::isfinite(stiffness), "contact stiffness must be > 0");
+  require_law(damping >= 0.0 && std::isfinite(damping), "contact damping must be >= 0");
   NormalLaw law;
   law.kind_ = Kind::kLinear;
   law.k_ = stiffness;
@@ -99,8 +99,8 @@ NormalLaw NormalLaw::linear(double stiffness, double damping) {
 
 NormalLaw NormalLaw::linear_from_restitution(double stiffness, double restitution,
                                              double effective_mass) {
-  require(restitution > 0.0 && restitution <= 1.0, "contact restitution must lie in (0, 1]");
-  require(effective_mass > 0.0 && std::isfinite(effective_mass),
+  require_law(restitution > 0.0 && restitution <= 1.0, "contact restitution must lie in (0, 1]");
+  require_law(effective_mass > 0.0 && std::isfinite(effective_mass),
           "contact effective mass must be > 0");
   // Damped oscillator m δ̈ + c δ̇ + k δ = 0 over half a damped period: e = exp(−ζπ/√(1 − ζ²)).
   const double log_e = std::log(restitution);
@@ -112,9 +112,9 @@ NormalLaw NormalLaw::linear_from_restitution(double stiffness, double restitutio
 
 NormalLaw NormalLaw::hunt_crossley(double stiffness, double exponent, double restitution,
                                    double reference_speed) {
-  require(stiffness > 0.0 && std::isfinite(stiffness), "contact stiffness must be > 0");
-  require(exponent >= 1.0 && std::isfinite(exponent), "Hunt-Crossley exponent must be >= 1");
-  require(reference_speed > 0.0 && std::isfinite(reference_speed),
+  require_law(stiffness > 0.0 && std::isfinite(stiffness), "contact stiffness must be > 0");
+  require_law(exponent >= 1.0 && std::isfinite(exponent), "Hunt-Crossley exponent must be >= 1");
+  require_law(reference_speed > 0.0 && std::isfinite(reference_speed),
           "Hunt-Crossley reference speed must be > 0");
   NormalLaw law;
   law.kind_ = Kind::kHuntCrossley;

@@ -11,14 +11,14 @@
 namespace flexref::flexible {
 namespace {
 
-constexpr int pair(int a, int b) { return 3 * a + b; }
-constexpr std::size_t at(int k) { return static_cast<std::size_t>(k); }
+constexpr int pair_entry(int a, int b) { return 3 * a + b; }
+constexpr std::size_t index_at(int k) { return static_cast<std::size_t>(k); }
 
 // 3×3 matrix from nine entries m(3a+b) (a row of an n×9 product block).
 Eigen::Matrix3d matrix_of(const Eigen::Matrix<double, 1, 9>& m) {
   Eigen::Matrix3d out;
   for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) out(a, b) = m(pair(a, b));
+    for (int b = 0; b < 3; ++b) out(a, b) = m(pair_entry(a, b));
   }
   return out;
 }
@@ -57,8 +57,8 @@ void add_geometric_jacobian(const GeometricInvariants& g, const InertiaTerms& t,
   for (int c = 0; c < 3; ++c) {
     auto col = out.block(6, kJacobianAngularVelocity + c, n, 1);
     for (int k = 0; k < 3; ++k) {
-      col.noalias() -= w_B(k) * (p.F_q.col(pair(c, k)) + p.F_q.col(pair(k, c)));
-      col.noalias() += (2.0 * w_B(c)) * p.F_q.col(pair(k, k));
+      col.noalias() -= w_B(k) * (p.F_q.col(pair_entry(c, k)) + p.F_q.col(pair_entry(k, c)));
+      col.noalias() += (2.0 * w_B(c)) * p.F_q.col(pair_entry(k, k));
     }
   }
 
@@ -81,9 +81,9 @@ void add_geometric_jacobian(const GeometricInvariants& g, const InertiaTerms& t,
     dqd.col(j).segment<3>(3) += 2.0 * trace_minus(-F, w_B) - 2.0 * p.Z_qd.row(j).transpose();
   }
   // Modal rows.
-  for (const int c : g.E_nonzero) dq.bottomRows(n).noalias() -= b(c) * g.E[at(c)];
-  for (const int c : g.Z_nonzero) dq.bottomRows(n).noalias() -= alpha(c) * g.Z[at(c)];
-  for (const int ab : g.F_nonzero) dq.bottomRows(n).noalias() -= W2(ab / 3, ab % 3) * g.F[at(ab)];
+  for (const int c : g.E_nonzero) dq.bottomRows(n).noalias() -= b(c) * g.E[index_at(c)];
+  for (const int c : g.Z_nonzero) dq.bottomRows(n).noalias() -= alpha(c) * g.Z[index_at(c)];
+  for (const int ab : g.F_nonzero) dq.bottomRows(n).noalias() -= W2(ab / 3, ab % 3) * g.F[index_at(ab)];
 }
 
 }  // namespace
@@ -145,10 +145,10 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
     auto col = out.block(6, kJacobianAngularVelocity + c, n, 1);
     for (int k = 0; k < 3; ++k) {
       // Y_ck and Y_kc, each weighted by ω̄_k; Y_kk by −2 ω̄_c.
-      col.noalias() += w_B(k) * (inv.x_phi.row(pair(k, c)).transpose() + t.P_q.col(pair(c, k)) +
-                                 inv.x_phi.row(pair(c, k)).transpose() + t.P_q.col(pair(k, c)));
+      col.noalias() += w_B(k) * (inv.x_phi.row(pair_entry(k, c)).transpose() + t.P_q.col(pair_entry(c, k)) +
+                                 inv.x_phi.row(pair_entry(c, k)).transpose() + t.P_q.col(pair_entry(k, c)));
       col.noalias() -=
-          (2.0 * w_B(c)) * (inv.x_phi.row(pair(k, k)).transpose() + t.P_q.col(pair(k, k)));
+          (2.0 * w_B(c)) * (inv.x_phi.row(pair_entry(k, k)).transpose() + t.P_q.col(pair_entry(k, k)));
     }
     col.noalias() -= 2.0 * t.G_qd.col(c);
   }
@@ -161,41 +161,41 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
   if (!coupled) return;
 
   // Extra products: P_ab q̇_f, G_a q̈_f.
-  for (int k = 0; k < 9; ++k) s.P_qd.col(k).noalias() = inv.phi_phi[at(k)] * qd_f;
-  for (int k = 0; k < 3; ++k) s.G_qdd.col(k).noalias() = inv.phi_cross_phi[at(k)] * qdd;
+  for (int k = 0; k < 9; ++k) s.P_qd.col(k).noalias() = inv.phi_phi[index_at(k)] * qd_f;
+  for (int k = 0; k < 3; ++k) s.G_qdd.col(k).noalias() = inv.phi_cross_phi[index_at(k)] * qdd;
 
   // q_f columns. Translation rows: A (α̅̃ + W²) S.
   dq.topRows<3>().noalias() = (A * (rotation::hat(alpha) + W2)) * inv.S;
   // Rotation rows: −b̃ S_j + tr(dJ_j) α̅ − dJ_j α̅ − W dJ_j ω̄ + (G_a q̈)_j + 2 (tr(dC_j) ω̄ − dC_j ω̄).
   for (int p = 0; p < 3; ++p) {
     for (int r = 0; r < 3; ++r) {
-      s.dJ.col(pair(p, r)) = inv.x_phi.row(pair(p, r)).transpose() +
-                             inv.x_phi.row(pair(r, p)).transpose() + t.P_q.col(pair(p, r)) +
-                             t.P_q.col(pair(r, p));
-      s.dC.col(pair(p, r)) = s.P_qd.col(pair(r, p));  // dC_pr = P_rp q̇
+      s.dJ.col(pair_entry(p, r)) = inv.x_phi.row(pair_entry(p, r)).transpose() +
+                             inv.x_phi.row(pair_entry(r, p)).transpose() + t.P_q.col(pair_entry(p, r)) +
+                             t.P_q.col(pair_entry(r, p));
+      s.dC.col(pair_entry(p, r)) = s.P_qd.col(pair_entry(r, p));  // dC_pr = P_rp q̇
     }
   }
   dq.middleRows<3>(3).noalias() = (-b_hat) * inv.S;
   for (int p = 0; p < 3; ++p) {
     auto row = dq.row(3 + p);
     // tr(dJ) α̅_p − Σ_r dJ_pr α̅_r − Σ_c W_pc Σ_r dJ_cr ω̄_r
-    for (int c = 0; c < 3; ++c) row.noalias() += alpha(p) * s.dJ.col(pair(c, c)).transpose();
+    for (int c = 0; c < 3; ++c) row.noalias() += alpha(p) * s.dJ.col(pair_entry(c, c)).transpose();
     for (int r = 0; r < 3; ++r) {
-      row.noalias() -= alpha(r) * s.dJ.col(pair(p, r)).transpose();
+      row.noalias() -= alpha(r) * s.dJ.col(pair_entry(p, r)).transpose();
       for (int c = 0; c < 3; ++c) {
-        row.noalias() -= (W(p, c) * w_B(r)) * s.dJ.col(pair(c, r)).transpose();
+        row.noalias() -= (W(p, c) * w_B(r)) * s.dJ.col(pair_entry(c, r)).transpose();
       }
     }
     row.noalias() += s.G_qdd.col(p).transpose();
     // 2 (tr(dC) ω̄_p − Σ_r dC_pr ω̄_r)
-    for (int c = 0; c < 3; ++c) row.noalias() += (2.0 * w_B(p)) * s.dC.col(pair(c, c)).transpose();
-    for (int r = 0; r < 3; ++r) row.noalias() -= (2.0 * w_B(r)) * s.dC.col(pair(p, r)).transpose();
+    for (int c = 0; c < 3; ++c) row.noalias() += (2.0 * w_B(p)) * s.dC.col(pair_entry(c, c)).transpose();
+    for (int r = 0; r < 3; ++r) row.noalias() -= (2.0 * w_B(r)) * s.dC.col(pair_entry(p, r)).transpose();
   }
   // Modal rows: + Σ_ab (W²)_ab P_ab − Σ_a α̅_a G_a.
   for (int p = 0; p < 3; ++p) {
     for (int r = 0; r < 3; ++r)
-      dq.bottomRows(n).noalias() += W2(p, r) * inv.phi_phi[at(pair(p, r))];
-    dq.bottomRows(n).noalias() -= alpha(p) * inv.phi_cross_phi[at(p)];
+      dq.bottomRows(n).noalias() += W2(p, r) * inv.phi_phi[index_at(pair_entry(p, r))];
+    dq.bottomRows(n).noalias() -= alpha(p) * inv.phi_cross_phi[index_at(p)];
   }
 
   // q̇_f columns. Translation rows: 2 A W S; rotation rows: 2 (tr(dC') ω̄ − dC' ω̄) with
@@ -203,16 +203,16 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
   dqd.topRows<3>().noalias() = (2.0 * A * W) * inv.S;
   for (int p = 0; p < 3; ++p) {
     for (int r = 0; r < 3; ++r) {
-      s.dC.col(pair(p, r)) = inv.x_phi.row(pair(r, p)).transpose() + t.P_q.col(pair(p, r));
+      s.dC.col(pair_entry(p, r)) = inv.x_phi.row(pair_entry(r, p)).transpose() + t.P_q.col(pair_entry(p, r));
     }
   }
   for (int p = 0; p < 3; ++p) {
     auto row = dqd.row(3 + p);
-    for (int c = 0; c < 3; ++c) row.noalias() += (2.0 * w_B(p)) * s.dC.col(pair(c, c)).transpose();
-    for (int r = 0; r < 3; ++r) row.noalias() -= (2.0 * w_B(r)) * s.dC.col(pair(p, r)).transpose();
+    for (int c = 0; c < 3; ++c) row.noalias() += (2.0 * w_B(p)) * s.dC.col(pair_entry(c, c)).transpose();
+    for (int r = 0; r < 3; ++r) row.noalias() -= (2.0 * w_B(r)) * s.dC.col(pair_entry(p, r)).transpose();
   }
   for (int p = 0; p < 3; ++p) {
-    dqd.bottomRows(n).noalias() -= (2.0 * w_B(p)) * inv.phi_cross_phi[at(p)];
+    dqd.bottomRows(n).noalias() -= (2.0 * w_B(p)) * inv.phi_cross_phi[index_at(p)];
   }
   if (inv.geometric) {
     add_geometric_jacobian(*inv.geometric, t, qd_f, w_B, W, W2, b, b_hat, alpha, qdd, s, out);

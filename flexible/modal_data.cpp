@@ -35,7 +35,7 @@ std::string mode_label(const ModalData& data, int i) {
   return label;
 }
 
-std::string number(double x) {
+std::string number_text(double x) {
   std::ostringstream out;
   out.precision(17);
   out << x;
@@ -78,7 +78,7 @@ void check_nodes(const ModalData& data) {
   for (int k = 0; k < N; ++k) {
     const double m = data.mass(k);
     if (!std::isfinite(m) || m <= 0.0) {
-      fail(node_label(data, k) + " has mass " + number(m) + "; expected a finite mass > 0");
+      fail(node_label(data, k) + " has mass " + number_text(m) + "; expected a finite mass > 0");
     }
     if (!data.p_BoNode_B.col(k).allFinite()) {
       fail(node_label(data, k) + " has a non-finite position");
@@ -101,11 +101,11 @@ void check_modes(const ModalData& data) {
   for (int i = 0; i < data.mode_count(); ++i) {
     const double K = data.stiffness(i);
     if (!std::isfinite(K) || K < 0.0) {
-      fail(mode_label(data, i) + " has stiffness " + number(K) + "; expected a finite value ≥ 0");
+      fail(mode_label(data, i) + " has stiffness " + number_text(K) + "; expected a finite value ≥ 0");
     }
     const double zeta = data.damping_ratio(i);
     if (!std::isfinite(zeta) || zeta < 0.0) {
-      fail(mode_label(data, i) + " has damping ratio " + number(zeta) +
+      fail(mode_label(data, i) + " has damping ratio " + number_text(zeta) +
            "; expected a finite value ≥ 0");
     }
   }

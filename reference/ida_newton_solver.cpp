@@ -60,6 +60,7 @@ void IdaNewtonSystem::solve(double* x) const {
 }
 
 namespace {
+namespace ida_ops {
 
 struct Content {
   IdaNewtonSystem* system = nullptr;
@@ -104,23 +105,24 @@ int free_solver(SUNLinearSolver S) {
   return SUNLS_SUCCESS;
 }
 
+}  // namespace ida_ops
 }  // namespace
 
 SUNLinearSolver make_ida_newton_linear_solver(IdaNewtonSystem& system, SUNContext context) {
   SUNLinearSolver S = SUNLinSolNewEmpty(context);
   if (S == nullptr) throw std::bad_alloc();
-  S->content = new (std::nothrow) Content{&system, SUNLS_SUCCESS};
+  S->content = new (std::nothrow) ida_ops::Content{&system, SUNLS_SUCCESS};
   if (S->content == nullptr) {
     SUNLinSolFreeEmpty(S);
     throw std::bad_alloc();
   }
-  S->ops->gettype = get_type;
-  S->ops->getid = get_id;
-  S->ops->initialize = initialize;
-  S->ops->setup = setup;
-  S->ops->solve = solve;
-  S->ops->lastflag = last_flag;
-  S->ops->free = free_solver;
+  S->ops->gettype = ida_ops::get_type;
+  S->ops->getid = ida_ops::get_id;
+  S->ops->initialize = ida_ops::initialize;
+  S->ops->setup = ida_ops::setup;
+  S->ops->solve = ida_ops::solve;
+  S->ops->lastflag = ida_ops::last_flag;
+  S->ops->free = ida_ops::free_solver;
   return S;
 }
 

@@ -15,7 +15,7 @@ namespace {
 
 using Kind = StructuredJacobian::TangentColumn::Kind;
 
-std::size_t at(int i) { return static_cast<std::size_t>(i); }
+std::size_t column_at(int i) { return static_cast<std::size_t>(i); }
 
 /// First unknown generalized-velocity row: free 0, pivot 3 (a = 0), prescribed 6.
 int known_rows(const core::Body& b) {
@@ -54,7 +54,7 @@ double value_of(const StructuredJacobian::TangentColumn& c, const core::BodyStat
 StructuredJacobian::StructuredJacobian(const OdeForm& form) : form_(&form) {
   const core::Model& model = form.model();
   for (int i = 0; i < model.num_bodies(); ++i) {
-    const OdeForm::Block& k = form.blocks()[at(i)];
+    const OdeForm::Block& k = form.blocks()[column_at(i)];
     first_column_.push_back(tangent_size_);
     const auto add = [&](Kind kind, int count, int y_offset, bool rotation = false) {
       for (int j = 0; j < count; ++j) {
@@ -102,7 +102,7 @@ StructuredJacobian::Scratch StructuredJacobian::make_scratch() const {
 }
 
 void StructuredJacobian::perturb(const TangentColumn& c, double h, core::State& state) const {
-  core::BodyState& s = state[at(c.body)];
+  core::BodyState& s = state[column_at(c.body)];
   switch (c.kind) {
     case Kind::kPosition:
       s.p_WBr(c.index) += h;
@@ -158,13 +158,13 @@ void StructuredJacobian::evaluate(const core::LoadContext& context, const double
   // Inertial part, analytic, and each body's factorization of M_UU.
   for (int i = 0; i < model.num_bodies(); ++i) {
     const core::Body& body = model.body(i);
-    const core::BodyState& st = s.state[at(i)];
-    const core::BodyAcceleration& acc = s.accelerations[at(i)];
-    BodyScratch& b = s.bodies[at(i)];
+    const core::BodyState& st = s.state[column_at(i)];
+    const core::BodyAcceleration& acc = s.accelerations[column_at(i)];
+    BodyScratch& b = s.bodies[column_at(i)];
     b.dR.setZero();
-    if (first_column_[at(i)] < 0) continue;
+    if (first_column_[column_at(i)] < 0) continue;
     const int n = body.mode_count();
-    const int c0 = first_column_[at(i)];
+    const int c0 = first_column_[column_at(i)];
     const int c_rot = c0 + (body.is_free() ? 3 : 0);
     const int c_w = c0 + (body.is_free() ? 9 : 3);
     const int c_q = body.is_prescribed() ? c0 : c_w + 3;
@@ -206,8 +206,8 @@ void StructuredJacobian::evaluate(const core::LoadContext& context, const double
   if (loads || track_work) {
     const double h_unit = std::cbrt(std::numeric_limits<double>::epsilon());
     for (int c = 0; c < tangent_size_; ++c) {
-      const TangentColumn& col = columns_[at(c)];
-      const double h = h_unit * std::max(1.0, std::abs(value_of(col, s.state[at(col.body)])));
+      const TangentColumn& col = columns_[column_at(c)];
+      const double h = h_unit * std::max(1.0, std::abs(value_of(col, s.state[column_at(col.body)])));
       double power_plus = 0.0, power_minus = 0.0;
       for (const double sign : {1.0, -1.0}) {
         s.perturbed = s.state;
@@ -241,8 +241,8 @@ void StructuredJacobian::evaluate(const core::LoadContext& context, const double
   };
   for (int i = 0; i < model.num_bodies(); ++i) {
     const core::Body& body = model.body(i);
-    const OdeForm::Block& k = form_->blocks()[at(i)];
-    BodyScratch& b = s.bodies[at(i)];
+    const OdeForm::Block& k = form_->blocks()[column_at(i)];
+    BodyScratch& b = s.bodies[column_at(i)];
     const int known = known_rows(body);
     if (known == 6 && !body.is_flexible()) continue;  // a prescribed rigid body: nothing unknown
     const int n = body.mode_count();
@@ -261,7 +261,7 @@ void StructuredJacobian::evaluate(const core::LoadContext& context, const double
                                         : Eigen::Vector3d::Zero();
         b.dx.segment<3>(3) = body.I_Br_B_inverse() * b.column.segment<3>(3);
       }
-      const TangentColumn& col = columns_[at(c)];
+      const TangentColumn& col = columns_[column_at(c)];
       if (k.v >= 0) {
         for (int r = 0; r < 3; ++r) put(k.v + r, col, b.dx(r));
       }
@@ -273,12 +273,12 @@ void StructuredJacobian::evaluate(const core::LoadContext& context, const double
   }
   if (track_work) {
     for (int c = 0; c < tangent_size_; ++c)
-      put(form_->work_index(), columns_[at(c)], s.work_row(c));
+      put(form_->work_index(), columns_[column_at(c)], s.work_row(c));
   }
 
   // Kinematic rows.
   for (int i = 0; i < model.num_bodies(); ++i) {
-    const OdeForm::Block& k = form_->blocks()[at(i)];
+    const OdeForm::Block& k = form_->blocks()[column_at(i)];
     if (k.p >= 0) {
       for (int r = 0; r < 3; ++r) J(k.p + r, k.v + r) = 1.0;  // ṗ = v
     }

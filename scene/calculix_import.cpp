@@ -18,7 +18,7 @@
 namespace flexref::scene {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kRadPerCycle = 2.0 * std::numbers::pi;  // ω = 2π f
 /// .dat eigenvalues and .frd 1PGK values both carry 7 significant digits (rounding ≤ 5e-7
 /// relative each).
 constexpr double kDatTolerance = 1e-6;
@@ -331,7 +331,7 @@ CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMat
 
   // 3: the modes at every row; rigid-body modes.
   const auto eigenvalue = [](const CalculixMode& mode) {
-    return mode.frequency_hz > 0.0 ? std::pow(kTwoPi * mode.frequency_hz, 2) : mode.eigenvalue;
+    return mode.frequency_hz > 0.0 ? std::pow(kRadPerCycle * mode.frequency_hz, 2) : mode.eigenvalue;
   };
   std::vector<Eigen::VectorXd> rows_of_mode;
   std::vector<const CalculixMode*> elastic;
@@ -684,7 +684,7 @@ std::string format_calculix_import_report(const CalculixImport& r) {
   for (std::size_t i = 0; i < r.modes.size(); ++i) {
     const CalculixModeCheck& m = r.modes[i];
     std::snprintf(line, sizeof line, "  %-6zu %-9d %-16.10g %-16.10g %-+12.3e %-+12.1e %-10.7f\n",
-                  i + 1, m.ccx_mode, m.omega_ccx / kTwoPi, m.omega_body / kTwoPi, m.difference,
+                  i + 1, m.ccx_mode, m.omega_ccx / kRadPerCycle, m.omega_body / kRadPerCycle, m.difference,
                   m.rayleigh_difference, m.consistent_modal_mass);
     out << line;
   }

@@ -17,6 +17,7 @@
 #include "lie/stepper.hpp"
 #include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
+#include "studies/missing_value.hpp"
 #include "studies/observed_order.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
@@ -26,7 +27,6 @@
 namespace flexref::studies {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // An error below this is at the level of accumulated round-off for the step counts studies
 // use (10³–10⁷ steps: √N·ε·|state| ≈ 1e-14…1e-12 for O(1) states, with the constant of the

@@ -18,12 +18,12 @@
 #include "scene/build_model.hpp"
 #include "studies/accuracy_check.hpp"
 #include "studies/distribution.hpp"
+#include "studies/missing_value.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 int find_flexible_body(const core::Model& model, int requested) {
   if (requested >= 0) {
@@ -42,7 +42,7 @@ int find_flexible_body(const core::Model& model, int requested) {
       "flexible part, e.g. scenes/flexible_spinner.toml)");
 }
 
-const core::TrackedPoint& find_point(const core::Body& body, const std::string& name) {
+const core::TrackedPoint& find_deforming_point(const core::Body& body, const std::string& name) {
   const core::TrackedPoint* best = nullptr;
   double best_distance = -1.0;
   for (const core::TrackedPoint& p : body.description().points) {
@@ -258,7 +258,7 @@ LteMapBase lte_map_base(const core::Model& model, const LteMapOptions& options) 
   const core::Body& body = model.body(index);
   LteMapBase base;
   base.body = body.name();
-  base.point = find_point(body, options.point).name;
+  base.point = find_deforming_point(body, options.point).name;
   if (body.natural_frequencies().size() == 0 || !(body.natural_frequencies()(0) > 0.0)) {
     throw std::invalid_argument("lte-map: body '" + base.body + "' has no positive frequency");
   }
@@ -379,7 +379,7 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   const core::Model scene_model = factory(truth_level, std::nullopt);
   result.base = lte_map_base(scene_model, options);
   const int body_index = find_flexible_body(scene_model, options.body);
-  const core::TrackedPoint point = find_point(scene_model.body(body_index), result.base.point);
+  const core::TrackedPoint point = find_deforming_point(scene_model.body(body_index), result.base.point);
   const std::vector<double> times = core::output_times(options.end_time, options.output_step);
   // The frequency metric's window: the second half of the horizon.
   const auto second_half = static_cast<std::size_t>(

@@ -16,11 +16,10 @@
 #include "scene/build_model.hpp"
 #include "studies/accuracy_check.hpp"
 #include "studies/distribution.hpp"
+#include "studies/missing_value.hpp"
 
 namespace flexref::studies {
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 [[noreturn]] void fail(const std::string& what) { throw std::invalid_argument("modes: " + what); }
 
@@ -76,21 +75,22 @@ Eigen::VectorXd head_or_empty(const Eigen::VectorXd& v, int m) {
 }
 
 /// One run: deflections δ(t) (body frame), attitudes, cost.
-struct Response {
+struct ModalResponse {
   std::vector<Eigen::Vector3d> deflection;
   std::vector<rotation::EulerParameters> attitude;
   long steps = 0;
   double cpu_seconds = 0.0;
 };
 
-Response integrate(const core::Model& model, int body_index, const core::TrackedPoint& point,
-                   const std::vector<double>& times, const std::string& solver, double rtol) {
+ModalResponse integrate_modes(const core::Model& model, int body_index,
+                              const core::TrackedPoint& point, const std::vector<double>& times,
+                              const std::string& solver, double rtol) {
   reference::SolverOptions options;
   options.rtol = rtol;
   const reference::ReferenceRun run = reference::solve_reference(solver, model, times, options);
   const core::Body& body = model.body(body_index);
   const Eigen::Vector3d undeformed = body.p_BrP_B(point, Eigen::VectorXd::Zero(body.mode_count()));
-  Response r;
+  ModalResponse r;
   for (const core::State& state : run.trajectory.states) {
     const core::BodyState& s = state[static_cast<std::size_t>(body_index)];
     r.deflection.push_back(body.p_BrP_B(point, s.q_f) - undeformed);
@@ -103,11 +103,11 @@ Response integrate(const core::Model& model, int body_index, const core::Tracked
 
 /// A run's response and failure message, for distributed_for (every field: the comparisons
 /// after the runs read them on every process).
-SlotCodec run_codec(std::vector<Response>& responses, std::vector<std::string>& failures) {
-  require_codec_size<Response, 64>();
+SlotCodec run_codec(std::vector<ModalResponse>& responses, std::vector<std::string>& failures) {
+  require_codec_size<ModalResponse, 64>();
   return {[&responses, &failures](int i, SlotWriter& w) {
             const auto r = static_cast<std::size_t>(i);
-            const Response& out = responses[r];
+            const ModalResponse& out = responses[r];
             w.put(failures[r]);
             w.put(out.steps);
             w.put(out.cpu_seconds);
@@ -122,7 +122,7 @@ SlotCodec run_codec(std::vector<Response>& responses, std::vector<std::string>& 
           },
           [&responses, &failures](int i, SlotReader& reader) {
             const auto r = static_cast<std::size_t>(i);
-            Response& out = responses[r];
+            ModalResponse& out = responses[r];
             reader.get(failures[r]);
             reader.get(out.steps);
             reader.get(out.cpu_seconds);
@@ -139,7 +139,7 @@ SlotCodec run_codec(std::vector<Response>& responses, std::vector<std::string>& 
 }
 
 /// The output times with their midpoints inserted: times[i] = fine[2i], bitwise.
-double max_deflection_difference(const Response& a, const Response& b) {
+double max_deflection_difference(const ModalResponse& a, const ModalResponse& b) {
   double m = 0.0;
   for (std::size_t i = 0; i < a.deflection.size(); ++i) {
     m = std::max(m, (a.deflection[i] - b.deflection[i]).norm());
@@ -147,7 +147,7 @@ double max_deflection_difference(const Response& a, const Response& b) {
   return m;
 }
 
-double max_angle(const Response& a, const Response& b) {
+double largest_angle(const ModalResponse& a, const ModalResponse& b) {
   double m = 0.0;
   for (std::size_t i = 0; i < a.attitude.size(); ++i) {
     m = std::max(m, rotation::geodesic_angle(a.attitude[i], b.attitude[i]));
@@ -158,14 +158,15 @@ double max_angle(const Response& a, const Response& b) {
 /// The integration-error estimates of `run` from its check at a tighter rtol on the same output
 /// times: the differences, or +∞ when the check took the run's own number of steps (the same
 /// step sequence, not a different solution; docs/references.md "Error estimates"). Both solvers'
-/// steps are independent of the output grid (Odeint since issue 9, the SUNDIALS solvers always).
-double tip_estimate(const Response& check, const Response& run) {
+/// steps are independent of the output grid (Odeint and the SUNDIALS solvers step past output
+/// times and interpolate).
+double tip_estimate(const ModalResponse& check, const ModalResponse& run) {
   if (check.steps == run.steps) return std::numeric_limits<double>::infinity();
   return max_deflection_difference(check, run);
 }
-double attitude_estimate(const Response& check, const Response& run) {
+double attitude_estimate(const ModalResponse& check, const ModalResponse& run) {
   if (check.steps == run.steps) return std::numeric_limits<double>::infinity();
-  return max_angle(check, run);
+  return largest_angle(check, run);
 }
 
 std::string scientific(double x, int digits = 2) {
@@ -265,15 +266,15 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
 
   // Runs 2k (the study's) and 2k + 1 (its accuracy check) of count k.
   const int runs = 2 * static_cast<int>(counts.size());
-  std::vector<Response> responses(static_cast<std::size_t>(runs));
+  std::vector<ModalResponse> responses(static_cast<std::size_t>(runs));
   std::vector<std::string> failures(static_cast<std::size_t>(runs));
   ProgressLine progress("modes", "runs", options.progress);
   const auto task = [&](int r) {
     const auto k = static_cast<std::size_t>(r / 2);
     const bool check = r % 2 == 1;
     try {
-      Response& out = responses[static_cast<std::size_t>(r)];
-      out = integrate(
+      ModalResponse& out = responses[static_cast<std::size_t>(r)];
+      out = integrate_modes(
           models[k], body_index, point, times, options.solver,
           check ? accuracy_check_rtol(options.rtol, options.estimate_factor) : options.rtol);
     } catch (const std::exception& e) {
@@ -285,7 +286,7 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
 
   const std::size_t last = counts.size() - 1;
   const bool reference_ok = failures[2 * last].empty() && failures[2 * last + 1].empty();
-  const Response& ref = responses[2 * last];
+  const ModalResponse& ref = responses[2 * last];
   double ref_deflection = 0.0;
   for (const Eigen::Vector3d& d : ref.deflection)
     ref_deflection = std::max(ref_deflection, d.norm());
@@ -310,14 +311,14 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
       result.rows.push_back(row);
       continue;
     }
-    const Response& tight = responses[2 * k];
-    const Response& check = responses[2 * k + 1];
+    const ModalResponse& tight = responses[2 * k];
+    const ModalResponse& check = responses[2 * k + 1];
     for (const Eigen::Vector3d& d : tight.deflection) {
       row.max_deflection = std::max(row.max_deflection, d.norm());
     }
     row.tip_error_m = max_deflection_difference(tight, ref);
     row.tip_error = row.tip_error_m / ref_deflection;
-    row.attitude_error = max_angle(tight, ref);
+    row.attitude_error = largest_angle(tight, ref);
     row.tip_estimate = tip_estimate(check, tight) / ref_deflection;
     row.attitude_estimate = attitude_estimate(check, tight);
     row.steps = tight.steps;

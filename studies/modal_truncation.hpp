@@ -16,8 +16,8 @@
 /// on the same output times, and the difference estimates the run's integration error (as a
 /// certified reference's 'vs tighter' check); a check that took the run's own number of steps is
 /// not a different solution, and its estimate is +∞ (the row is then unresolved). No solver's
-/// steps depend on the output grid (Odeint's since issue 9), and the grid enters the automatic
-/// method choice (reference/method_choice.hpp): the check runs the same method. A row is
+/// steps depend on the output grid (every solver interpolates its output), and the grid enters the
+/// automatic method choice (reference/method_choice.hpp): the check runs the same method. A row is
 /// `resolved` when its errors are at least 10× the larger estimate of the two runs compared
 /// (its own and the reference's): below that the truncation error is not separated from the
 /// integration error and the value is an upper bound.

@@ -3,9 +3,10 @@
 #include <cmath>
 #include <limits>
 
+#include "studies/missing_value.hpp"
+
 namespace flexref::studies {
 namespace {
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 bool usable(double e) { return std::isfinite(e) && e > 0.0; }
 }  // namespace
 

@@ -65,7 +65,7 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
-bool is_digits(const std::string& s) {
+bool all_digits(const std::string& s) {
   return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
@@ -110,9 +110,9 @@ ColumnName classify(const std::string& name) {
   for (const auto& [what, group] : rigid_groups()) {
     if (std::find(group.begin(), group.end(), rest) != group.end()) c.standard = c.measured = true;
   }
-  if (rest.size() > 1 && rest[0] == 'q' && is_digits(rest.substr(1)))
+  if (rest.size() > 1 && rest[0] == 'q' && all_digits(rest.substr(1)))
     c.standard = c.measured = true;
-  if (rest.size() > 2 && rest.starts_with("qd") && is_digits(rest.substr(2))) c.standard = true;
+  if (rest.size() > 2 && rest.starts_with("qd") && all_digits(rest.substr(2))) c.standard = true;
   if (rest == "drive_torque") c.standard = true;
   // Named contacts' outputs (docs/output.md "Wear outputs"): the wear work is measured.
   if (rest == "fn" || rest == "slip_speed" || rest == "impacts") c.standard = true;

@@ -17,6 +17,7 @@
 #include "reference/solve_reference.hpp"
 #include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
+#include "studies/missing_value.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
 #include "studies/trajectory_table.hpp"
@@ -24,8 +25,8 @@
 namespace flexref::studies {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
+// A cost or an error that no run achieved (a failed or refused run): ranks last.
+constexpr double kUnreached = std::numeric_limits<double>::infinity();
 
 bool contains(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
@@ -35,7 +36,7 @@ bool contains(const std::vector<std::string>& names, const std::string& name) {
 /// thread CPU time of the `integrate` calls alone.
 template <typename Integrate>
 core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integrate) {
-  cpu_seconds = kInf;
+  cpu_seconds = kUnreached;
   core::Trajectory trajectory;
   for (int r = 0; r < repeats; ++r) {
     const double start = thread_cpu_seconds();
@@ -221,7 +222,7 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         // The program's own CPU time (its report of the integration alone, else wait4's whole
         // process), minimum over the repeats like the others.
         ExternalLevel run;
-        out.cpu_seconds = kInf;
+        out.cpu_seconds = kUnreached;
         for (int r = 0; r < options.repeats; ++r) {
           run = method.run(x.h, x.level);
           out.cpu_seconds = std::min(out.cpu_seconds, run.cpu_seconds);
@@ -259,7 +260,7 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
                    : metric_saturation(report, options.metric) >= kSaturationFraction ? "saturated"
                                                                                       : "ok";
     } catch (const std::exception& e) {
-      out.error = kInf;
+      out.error = kUnreached;
       out.cpu_seconds = kNaN;
       out.status = std::string("failed: ") + e.what();
     }
