@@ -289,7 +289,8 @@ TEST_CASE("the tube in extended precision: impacts, wear work and energy balance
   CHECK(std::abs(balance_ext) <= 1e-12);
 }
 
-TEST_CASE("double, extended and quad agree in that order on flexible bodies", "[precision]") {
+TEST_CASE("double, extended and quad agree in that order on flexible bodies",
+          "[precision][long_quad]") {
   // Over 0.5 s (the whole horizons: tests/precision/precision_order_study_test.cpp).
   for (const char* file : kFlexibleScenes) check_precision_order(file, 0.5);
   check_precision_order("scenes/rotating_cantilever_stiff.toml", 0.5,

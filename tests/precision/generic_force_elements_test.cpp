@@ -101,7 +101,7 @@ TEST_CASE("double, extended and quad agree in that order on a scene with joints 
 }
 
 TEST_CASE("double, extended and quad agree in that order on the sustained-contact scenes",
-          "[precision]") {
+          "[precision][long_quad]") {
   // The scenes whose contacts or joints stay loaded: the tops spin on their plane, the pendulum
   // hangs from a block sliding on its support. Quad resolves the contact's and the joint's stiff
   // modes (13-20 s of quad per 0.5 s on one core, docs/precision.md), so the unit label covers
@@ -110,7 +110,7 @@ TEST_CASE("double, extended and quad agree in that order on the sustained-contac
 }
 
 TEST_CASE("double, extended and quad agree in that order with a prescribed rigid body",
-          "[precision]") {
+          "[precision][long_quad]") {
   // The driven double pendulum over 0.3 s: the spin-up (φ⁗ jumps at 0.2 s, a stop of the
   // integrators) and after; the drive torque is among the compared columns' sources.
   check_precision_order(driven_double_pendulum(), 0.3);

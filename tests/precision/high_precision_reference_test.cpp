@@ -203,7 +203,8 @@ TEST_CASE("quad conserves energy and angular momentum on free_spin and the heavy
   CHECK(static_cast<double>(top_worst) < 1e-26);
 }
 
-TEST_CASE("double, extended and quad agree in that order with honest estimates", "[precision]") {
+TEST_CASE("double, extended and quad agree in that order with honest estimates",
+          "[precision][long_quad]") {
   // The rigid scenes whose quad references take seconds, over their first 2 s (the whole
   // horizons: tests/precision/precision_order_study_test.cpp, label study).
   for (const char* file : kFastRigidScenes) check_precision_order(file, 2.0);

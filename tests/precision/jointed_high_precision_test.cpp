@@ -94,7 +94,7 @@ TEST_CASE("quad carries the heavy top's ideal spherical joint to the exact Lagra
 /// Andrews' squeezer over its first 3 ms (the whole 0.03 s takes 3.6 min per quad solve at
 /// rtol 1e-28: docs/joints.md): quad at its default rtol, extended at its default, and the
 /// double CVODE reference at rtol 1e-12 with its certified estimate. Computed once for the
-/// test cases below.
+/// sections below.
 struct JointedAndrews {
   scene::SceneSpec spec;
   std::vector<double> times;
@@ -123,99 +123,102 @@ const JointedAndrews& jointed_andrews() {
   return a;
 }
 
-TEST_CASE("Andrews' squeezer in extended and quad agrees with double within its estimate",
-          "[precision][joints]") {
+/// One test case for the three properties, so that one process computes the three solutions
+/// (ctest runs each test case in a process of its own; quad takes ~70 s here).
+TEST_CASE("Andrews' squeezer in extended and quad: agreement with double, joints, reactions",
+          "[precision][joints][long_quad]") {
   const JointedAndrews& a = jointed_andrews();
-  const studies::CertifiedReference& d = a.double_reference;
-  REQUIRE(std::isfinite(d.estimate.value));
-  const double double_vs_quad =
-      studies::metric_value(studies::compare_trajectories(d.table, a.quad.table), "rotation");
-  const double double_vs_extended =
-      studies::metric_value(studies::compare_trajectories(d.table, a.extended.table), "rotation");
-  const double extended_vs_quad = distance(a.extended, a.quad, "rotation");
-  INFO("double estimate " << d.estimate.value << ", double vs quad " << double_vs_quad
-                          << ", double vs extended " << double_vs_extended << ", extended vs quad "
-                          << extended_vs_quad << "; quad " << a.quad.cpu_seconds << " s");
-  // The double reference's certified estimate bounds its distance to the truth, which quad and
-  // extended are far closer to (below): each is within it of double.
-  CHECK(double_vs_quad <= d.estimate.value);
-  CHECK(double_vs_extended <= d.estimate.value);
-  // Extended at rtol 1e-16 over its N steps: at most N × 1e-16 × the angles' size (K1 turns
-  // ~0.35 rad in 3 ms, the others < π): the bound N × 1e-16 × π; it must also beat double.
-  // Measured: double 3.6e-11 from quad and from extended (estimate 7.3e-11), extended 3.0e-18
-  // from quad.
-  CHECK(extended_vs_quad <= static_cast<double>(a.extended.steps) * 1e-16 * std::numbers::pi);
-  CHECK(extended_vs_quad < double_vs_quad);
-}
+  SECTION("extended and quad agree with double within its estimate") {
+    const studies::CertifiedReference& d = a.double_reference;
+    REQUIRE(std::isfinite(d.estimate.value));
+    const double double_vs_quad =
+        studies::metric_value(studies::compare_trajectories(d.table, a.quad.table), "rotation");
+    const double double_vs_extended =
+        studies::metric_value(studies::compare_trajectories(d.table, a.extended.table), "rotation");
+    const double extended_vs_quad = distance(a.extended, a.quad, "rotation");
+    INFO("double estimate " << d.estimate.value << ", double vs quad " << double_vs_quad
+                            << ", double vs extended " << double_vs_extended
+                            << ", extended vs quad " << extended_vs_quad << "; quad "
+                            << a.quad.cpu_seconds << " s");
+    // The double reference's certified estimate bounds its distance to the truth, which quad and
+    // extended are far closer to (below): each is within it of double.
+    CHECK(double_vs_quad <= d.estimate.value);
+    CHECK(double_vs_extended <= d.estimate.value);
+    // Extended at rtol 1e-16 over its N steps: at most N × 1e-16 × the angles' size (K1 turns
+    // ~0.35 rad in 3 ms, the others < π): the bound N × 1e-16 × π; it must also beat double.
+    // Measured: double 3.6e-11 from quad and from extended (estimate 7.3e-11), extended 3.0e-18
+    // from quad.
+    CHECK(extended_vs_quad <= static_cast<double>(a.extended.steps) * 1e-16 * std::numbers::pi);
+    CHECK(extended_vs_quad < double_vs_quad);
+  }
 
-TEST_CASE("Andrews' squeezer in quad keeps its joints to quad's round-off", "[precision][joints]") {
-  const JointedAndrews& a = jointed_andrews();
-  // The largest |Φ| (m for the point rows, the sine of an angle for the axis rows) and
-  // |J v + Φ_t| over the joints and outputs.
-  Quad position(0), velocity(0);
-  for (std::size_t r = 0; r < a.quad.text.size(); ++r) {
-    for (std::size_t c = 1; c < a.quad.columns.size(); ++c) {
-      const std::string& name = a.quad.columns[c];
-      if (name.size() > 4 && name.substr(name.size() - 4) == ".phi") {
-        position = std::max(position, abs(Quad(a.quad.text[r][c - 1])));
-      } else if (name.size() > 8 && name.substr(name.size() - 8) == ".phi_dot") {
-        velocity = std::max(velocity, abs(Quad(a.quad.text[r][c - 1])));
+  SECTION("quad keeps its joints to quad's round-off") {
+    // The largest |Φ| (m for the point rows, the sine of an angle for the axis rows) and
+    // |J v + Φ_t| over the joints and outputs.
+    Quad position(0), velocity(0);
+    for (std::size_t r = 0; r < a.quad.text.size(); ++r) {
+      for (std::size_t c = 1; c < a.quad.columns.size(); ++c) {
+        const std::string& name = a.quad.columns[c];
+        if (name.size() > 4 && name.substr(name.size() - 4) == ".phi") {
+          position = std::max(position, abs(Quad(a.quad.text[r][c - 1])));
+        } else if (name.size() > 8 && name.substr(name.size() - 8) == ".phi_dot") {
+          velocity = std::max(velocity, abs(Quad(a.quad.text[r][c - 1])));
+        }
       }
     }
+    INFO("max |phi| " << static_cast<double>(position) << ", max |phi_dot| "
+                      << static_cast<double>(velocity));
+    // The initial state is projected in quad to 8 ε relative; afterwards each step of rtol R =
+    // 1e-28 leaves at most R × the state's size off the manifold (positions ≤ 0.1 m: 1e-29;
+    // velocities ≤ 40 m/s, K1's 1140 rad/s × its 35 mm: 4e-27 m/s) and Baumgarte damps it
+    // instead of letting it grow. Measured: 2.0e-33 m and 3.3e-31 m/s over these 3 ms, 9.9e-33 m
+    // and 1.7e-30 m/s over 0.03 s — ~1e3 ε of the lengths and speeds, round-off, 1e17 below
+    // double's ~1e-15.
+    CHECK(static_cast<double>(position) < 1e-29);
+    CHECK(static_cast<double>(velocity) < 4e-27);
+    CHECK(position > Quad(0));  // the columns are computed, not zero-filled
   }
-  INFO("max |phi| " << static_cast<double>(position) << ", max |phi_dot| "
-                    << static_cast<double>(velocity));
-  // The initial state is projected in quad to 8 ε relative; afterwards each step of rtol R =
-  // 1e-28 leaves at most R × the state's size off the manifold (positions ≤ 0.1 m: 1e-29;
-  // velocities ≤ 40 m/s, K1's 1140 rad/s × its 35 mm: 4e-27 m/s) and Baumgarte damps it
-  // instead of letting it grow. Measured: 2.0e-33 m and 3.3e-31 m/s over these 3 ms, 9.9e-33 m
-  // and 1.7e-30 m/s over 0.03 s — ~1e3 ε of the lengths and speeds, round-off, 1e17 below
-  // double's ~1e-15.
-  CHECK(static_cast<double>(position) < 1e-29);
-  CHECK(static_cast<double>(velocity) < 4e-27);
-  CHECK(position > Quad(0));  // the columns are computed, not zero-filled
-}
 
-TEST_CASE("Andrews' squeezer's joint reactions in quad agree with double's",
-          "[precision][joints]") {
-  const JointedAndrews& a = jointed_andrews();
-  const studies::TrajectoryTable& d = a.double_reference.table;
-  const studies::TrajectoryTable& q = a.quad.table;
-  REQUIRE(d.columns == q.columns);
-  double largest = 0.0;
-  double worst = 0.0;
-  int compared = 0;
-  for (std::size_t c = 0; c < q.columns.size(); ++c) {
-    const std::string& name = q.columns[c];
-    const std::string tail = name.size() > 3 ? name.substr(name.size() - 3) : "";
-    if (tail != ".fx" && tail != ".fy" && tail != ".tz") continue;  // the planar reactions
-    ++compared;
-    for (std::size_t r = 0; r < q.rows.size(); ++r) {
-      largest = std::max(largest, std::abs(q.rows[r][c]));
-      worst = std::max(worst, std::abs(q.rows[r][c] - d.rows[r][c]));
+  SECTION("the joint reactions in quad agree with double's") {
+    const studies::TrajectoryTable& d = a.double_reference.table;
+    const studies::TrajectoryTable& q = a.quad.table;
+    REQUIRE(d.columns == q.columns);
+    double largest = 0.0;
+    double worst = 0.0;
+    int compared = 0;
+    for (std::size_t c = 0; c < q.columns.size(); ++c) {
+      const std::string& name = q.columns[c];
+      const std::string tail = name.size() > 3 ? name.substr(name.size() - 3) : "";
+      if (tail != ".fx" && tail != ".fy" && tail != ".tz") continue;  // the planar reactions
+      ++compared;
+      for (std::size_t r = 0; r < q.rows.size(); ++r) {
+        largest = std::max(largest, std::abs(q.rows[r][c]));
+        worst = std::max(worst, std::abs(q.rows[r][c] - d.rows[r][c]));
+      }
     }
-  }
-  REQUIRE(compared == 30);  // ten revolute joints
-  const double relative = worst / largest;
-  INFO("largest reaction " << largest << ", worst difference " << worst << " (" << relative
-                           << " relative); double estimate " << a.double_reference.estimate.value);
-  // The reactions solve (J M⁻¹ Jᵀ) λ = J M⁻¹ Q − γ: a relative perturbation δ of the data moves
-  // them by at most κ δ relative, κ ≤ 1/(the smallest pivot ratio of the Schur complement's
-  // LDLᵀ) ≈ 1e5 on this mechanism (core/constrained_solve_tpl.hpp). The double state is off by
-  // its certified estimate e (rad), a relative perturbation of the data (trigonometric in the
-  // angles) of ~e, plus double's round-off in forming them, ~1e-16 κ. Bound κ (e + 1e-15).
-  // Measured: 1.6e-9 N of 107 N, 1.5e-11 relative.
-  CHECK(relative <= 1e5 * (a.double_reference.estimate.value + 1e-15));
-  // At t = 0 both start from the same consistent state (quad refines double's projection by
-  // ~1e-16): κ × 1e-15.
-  double initial = 0.0;
-  for (std::size_t c = 0; c < q.columns.size(); ++c) {
-    const std::string& name = q.columns[c];
-    if (name.size() > 3 && name.substr(name.size() - 3) == ".fx") {
-      initial = std::max(initial, std::abs(q.rows[0][c] - d.rows[0][c]));
+    REQUIRE(compared == 30);  // ten revolute joints
+    const double relative = worst / largest;
+    INFO("largest reaction " << largest << ", worst difference " << worst << " (" << relative
+                             << " relative); double estimate "
+                             << a.double_reference.estimate.value);
+    // The reactions solve (J M⁻¹ Jᵀ) λ = J M⁻¹ Q − γ: a relative perturbation δ of the data moves
+    // them by at most κ δ relative, κ ≤ 1/(the smallest pivot ratio of the Schur complement's
+    // LDLᵀ) ≈ 1e5 on this mechanism (core/constrained_solve_tpl.hpp). The double state is off by
+    // its certified estimate e (rad), a relative perturbation of the data (trigonometric in the
+    // angles) of ~e, plus double's round-off in forming them, ~1e-16 κ. Bound κ (e + 1e-15).
+    // Measured: 1.6e-9 N of 107 N, 1.5e-11 relative.
+    CHECK(relative <= 1e5 * (a.double_reference.estimate.value + 1e-15));
+    // At t = 0 both start from the same consistent state (quad refines double's projection by
+    // ~1e-16): κ × 1e-15.
+    double initial = 0.0;
+    for (std::size_t c = 0; c < q.columns.size(); ++c) {
+      const std::string& name = q.columns[c];
+      if (name.size() > 3 && name.substr(name.size() - 3) == ".fx") {
+        initial = std::max(initial, std::abs(q.rows[0][c] - d.rows[0][c]));
+      }
     }
+    CHECK(initial / largest <= 1e5 * 1e-15);
   }
-  CHECK(initial / largest <= 1e5 * 1e-15);
 }
 
 }  // namespace
