@@ -61,9 +61,9 @@ TEST_CASE("contact references: the energy balance converges with the tolerance",
       // B is the sum of the steps' local errors along ∇B (it does not decay like the state's
       // error), so it falls like the local errors: by 100^(q/(q+1)) ≥ 100^(1/2) = 10 for a
       // tolerance-proportional method of any order q ≥ 1, 100× tighter. Measured (rigid,
-      // flexible): CVODE 31×, 39×; IDA 38×, 49×; ARKODE 42×, 45×; Odeint 42×, 43×. A state at
-      // an event taken by an unchecked step (ARKODE's located step onto a release, error
-      // ~h^3.5) falls ~1.5× (bouncing_ball) and ~4× (tube_support_impact) instead.
+      // flexible): CVODE 34×, 39×; IDA 40×, 37×; ARKODE 42×, 37×; Odeint 28×, 55×. A state at an
+      // event taken by an unchecked step (ARKODE's located step onto a release, error ~h^3.5)
+      // fell 1.5× (bouncing_ball) and 3.0× (tube_support_impact) instead.
       INFO(slice.scene << ", " << solver << ": balance " << estimates[0].energy_balance << " -> "
                        << estimates[1].energy_balance << " J, state estimate "
                        << estimates[0].estimate() << " -> " << estimates[1].estimate());
