@@ -105,6 +105,12 @@ int reference_command(const ReferenceOptions& options) {
       .set("cpu_seconds", st.cpu_seconds)
       .set("events", ref.run.event_times.size())
       .set("event_times", ref.run.event_times);
+  const studies::BalancePeak balance = studies::largest_energy_balance(ref.table);
+  if (!std::isnan(balance.value)) {
+    record.table("integrator")
+        .set("largest_energy_balance", balance.value)
+        .set("largest_energy_balance_time", balance.time);
+  }
   if (options.estimate) {
     const auto& e = ref.estimate;
     // estimate = inf: no check was a different, more accurate solution (see method).
@@ -112,6 +118,13 @@ int reference_command(const ReferenceOptions& options) {
         .set("metric", e.metric)
         .set("estimate", e.estimate())
         .set("method", e.method);
+    if (!std::isnan(e.energy_balance)) {
+      // The balance next to the scale it is read against (studies/certified_reference.hpp).
+      record.table("error_estimate")
+          .set("energy_balance", e.energy_balance)
+          .set("energy_balance_time", e.energy_balance_time)
+          .set("energy_estimate", e.energy_estimate);
+    }
     studies::add_estimate_checks(record, "error_estimate.check", e);
   }
   record.table("columns")
@@ -141,9 +154,16 @@ int reference_command(const ReferenceOptions& options) {
     summary << "method: " << ref.run.method_reason << "\n";
   }
   if (!ref.run.jacobian.empty()) summary << "newton systems: " << ref.run.jacobian << "\n";
+  if (!options.estimate && !std::isnan(balance.value)) {
+    summary << "energy balance: largest |E - E0 + W_d - W_a| " << balance.value
+            << " J at t = " << balance.time << " s\n";
+  }
   if (options.estimate) {
     const auto& e = ref.estimate;
     summary << "estimated error (" << e.metric << "): " << studies::describe_estimate(e) << "\n";
+    if (!std::isnan(e.energy_balance)) {
+      summary << "energy balance: " << studies::describe_energy_balance(e) << "\n";
+    }
     for (const auto& c : e.checks) {
       summary << "  " << c.role << ": " << c.solver;
       if (c.rtol > 0.0) summary << " rtol " << c.rtol;

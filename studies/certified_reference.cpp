@@ -31,6 +31,25 @@ reference::SolverOptions tighter(const reference::SolverOptions& options) {
   return t;
 }
 
+/// L∞ over the output times of the differences in the energy balance's terms, J; NaN when the
+/// tables have no balance (a model that does not dissipate).
+double energy_distance(const TrajectoryTable& a, const TrajectoryTable& b) {
+  if (a.column("energy_balance") < 0) return std::numeric_limits<double>::quiet_NaN();
+  double largest = 0.0;
+  for (const char* name : {"energy", "dissipated_work", "applied_work"}) {
+    const int ca = a.column(name);
+    const int cb = b.column(name);
+    if (ca < 0 || cb < 0) continue;
+    for (std::size_t k = 0; k < a.rows.size() && k < b.rows.size(); ++k) {
+      const double d = std::abs(a.rows[k][static_cast<std::size_t>(ca)] -
+                                b.rows[k][static_cast<std::size_t>(cb)]);
+      // A non-finite difference makes the distance infinite, never silently small.
+      largest = std::isnan(d) ? kInf : std::max(largest, d);
+    }
+  }
+  return largest;
+}
+
 EstimateCheck compare(const core::Model& model, const std::vector<double>& output_times,
                       const TrajectoryTable& table, const std::string& metric,
                       const std::string& role, const std::string& solver,
@@ -43,7 +62,9 @@ EstimateCheck compare(const core::Model& model, const std::vector<double>& outpu
   c.method = check.method;
   c.rtol = solver == "exact" ? 0.0 : options.rtol;
   c.steps = check.stats.steps;
-  c.distance = metric_value(compare_trajectories(table, tabulate(model, check.trajectory)), metric);
+  const TrajectoryTable check_table = tabulate(model, check.trajectory);
+  c.distance = metric_value(compare_trajectories(table, check_table), metric);
+  c.energy_distance = energy_distance(table, check_table);
   c.used = true;
   if (!(c.distance > 0.0)) {
     c.used = false;
@@ -165,6 +186,16 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
     ++used_count;
   }
   e.value = used.empty() ? kInf : kSafetyFactor * largest;
+  const BalancePeak peak = largest_energy_balance(table);
+  e.energy_balance = peak.value;
+  e.energy_balance_time = peak.time;
+  if (!std::isnan(e.energy_balance)) {
+    double energy = 0.0;
+    for (const EstimateCheck& c : e.checks) {
+      if (c.used) energy = std::max(energy, c.energy_distance);
+    }
+    e.energy_estimate = used.empty() ? kInf : kSafetyFactor * energy;
+  }
   // The checks' tolerance is 100x the run's, clamped at kTightestRtol: say the factor it is.
   const std::string tighter_text = number(run.options.rtol / tight.rtol) +
                                    "x tighter than the run's rtol " + number(run.options.rtol);
@@ -240,6 +271,43 @@ std::string describe_reference_run(const reference::ReferenceRun& run) {
   return run.solver + " rtol " + number(run.options.rtol);
 }
 
+BalancePeak largest_energy_balance(const TrajectoryTable& table) {
+  BalancePeak peak;
+  const int c = table.column("energy_balance");
+  if (c < 0 || table.rows.empty()) return peak;
+  const auto at = [](const std::vector<double>& row, int column) {
+    return row[static_cast<std::size_t>(column)];
+  };
+  const int t = table.column("t");
+  peak.value = 0.0;
+  for (const auto& row : table.rows) {
+    const double b = std::abs(at(row, c));
+    // A non-finite balance is the peak: never reported as small.
+    if (!(b <= peak.value)) {
+      peak.value = std::isnan(b) ? kInf : b;
+      peak.time = t < 0 ? peak.time : at(row, t);
+      if (std::isinf(peak.value)) break;
+    }
+  }
+  if (std::isnan(peak.time) && t >= 0) peak.time = at(table.rows.front(), t);
+  return peak;
+}
+
+std::string describe_energy_balance(const ReferenceEstimate& e) {
+  if (std::isnan(e.energy_balance)) return "";
+  std::ostringstream out;
+  out.precision(2);
+  out << "largest |E - E0 + W_d - W_a| " << e.energy_balance
+      << " J at t = " << e.energy_balance_time << " s";
+  if (std::isfinite(e.energy_estimate) && e.energy_estimate > 0.0) {
+    out << ", " << e.energy_balance / e.energy_estimate << " x the estimated error of its terms ("
+        << e.energy_estimate << " J)";
+  } else if (!std::isnan(e.energy_estimate)) {
+    out << " (the estimated error of its terms is " << e.energy_estimate << " J)";
+  }
+  return out.str();
+}
+
 std::string describe_estimate(const ReferenceEstimate& e) {
   std::ostringstream out;
   out.precision(3);
@@ -250,8 +318,8 @@ std::string describe_estimate(const ReferenceEstimate& e) {
 void add_estimate_checks(StudyRecord& record, const std::string& array,
                          const ReferenceEstimate& estimate) {
   for (const EstimateCheck& c : estimate.checks) {
-    record.append(array)
-        .set("role", c.role)
+    auto& check = record.append(array);
+    check.set("role", c.role)
         .set("solver", c.solver)
         .set("method", c.method)
         .set("rtol", c.rtol)
@@ -259,6 +327,7 @@ void add_estimate_checks(StudyRecord& record, const std::string& array,
         .set("distance", c.distance)
         .set("used", c.used)
         .set("note", c.note);
+    if (!std::isnan(c.energy_distance)) check.set("energy_distance", c.energy_distance);
   }
 }
 
@@ -274,6 +343,12 @@ void add_reference(StudyRecord& record, const CertifiedReference& reference) {
       .set("estimated_error", e.value)
       .set("metric", e.metric)
       .set("estimate_method", e.method);
+  if (!std::isnan(e.energy_balance)) {
+    record.table("reference")
+        .set("energy_balance", e.energy_balance)
+        .set("energy_balance_time", e.energy_balance_time)
+        .set("energy_estimate", e.energy_estimate);
+  }
   add_estimate_checks(record, "reference.check", e);
 }
 

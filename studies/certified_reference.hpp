@@ -18,6 +18,14 @@
 /// estimate's method text names the solutions checked and the one that gave the value.
 ///
 /// No usable check leaves the estimate at +inf (unknown): studies then certify nothing.
+///
+/// A dissipating model's energy balance B = E − E(0) + W_d − W_a (trajectory_table.hpp) is
+/// recorded next to the estimate with the scale it is read against: the estimated error of its
+/// terms, made the same way from the same checks — twice the larger distance in `energy`,
+/// `dissipated_work` or `applied_work` (docs/references.md, "Energy balance"). A balance within a
+/// small multiple of that scale is the integration error of its terms; one far above it would be
+/// a leak in the bookkeeping itself, which the checks share.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -36,8 +44,11 @@ struct EstimateCheck {
   double rtol = 0.0;   ///< 0 for the exact solution
   long steps = 0;
   double distance = 0.0;  ///< metric(run, this solution)
-  bool used = false;      ///< part of the estimate
-  std::string note;       ///< why it is not used, when it is not
+  /// L∞ distance in the energy balance's terms (energy, dissipated_work, applied_work), J; NaN
+  /// for a model that does not dissipate.
+  double energy_distance = 0.0;
+  bool used = false;  ///< part of the estimate
+  std::string note;   ///< why it is not used, when it is not
 };
 
 struct ReferenceEstimate {
@@ -47,6 +58,13 @@ struct ReferenceEstimate {
   std::vector<EstimateCheck> checks;
   double value = 0.0;  ///< the estimated error; +inf when no check is usable
   bool exact = false;  ///< the run is an exact solution (see above)
+  /// Largest |E − E(0) + W_d − W_a| over the run's output times, J (NaN: the model does not
+  /// dissipate, so the table has no balance).
+  double energy_balance = std::numeric_limits<double>::quiet_NaN();
+  double energy_balance_time = std::numeric_limits<double>::quiet_NaN();  ///< where, s
+  /// Estimated error of the balance's terms (see the file comment), J; +inf when no check is
+  /// usable, NaN when the model does not dissipate.
+  double energy_estimate = std::numeric_limits<double>::quiet_NaN();
   double estimate() const { return value; }
 };
 
@@ -83,6 +101,18 @@ std::string describe_reference_run(const reference::ReferenceRun& run);
 
 /// "2.1e-10 (2 x distance to cvode rtol 1e-14, ...)": the estimate and its method, one line.
 std::string describe_estimate(const ReferenceEstimate& estimate);
+
+/// The largest |energy_balance| of a table (J) and the output time where it occurs (s); both
+/// NaN when the table has no such column (a model that does not dissipate).
+struct BalancePeak {
+  double value = std::numeric_limits<double>::quiet_NaN();
+  double time = std::numeric_limits<double>::quiet_NaN();
+};
+BalancePeak largest_energy_balance(const TrajectoryTable& table);
+
+/// "largest |E - E0 + W_d - W_a| 2.4e-05 J, 1.1 x the estimated error of its terms (2.2e-05 J)",
+/// one line; empty when the model does not dissipate.
+std::string describe_energy_balance(const ReferenceEstimate& estimate);
 
 struct EstimateOptions {
   /// Use the model's exact solution when it has one (tests of the numerical estimate turn it

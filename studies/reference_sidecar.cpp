@@ -91,6 +91,18 @@ ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
   if (const auto m = e.find("method"); m != e.end() && m->second.is_string()) {
     out.estimate_method = m->second.as_string().str;
   }
+  for (const auto& [key, target] :
+       {std::pair<const char*, double*>{"energy_balance", &out.energy_balance},
+        std::pair<const char*, double*>{"energy_estimate", &out.energy_estimate}}) {
+    const auto v = e.find(key);
+    if (v == e.end()) continue;
+    if (!(v->second.is_floating() || v->second.is_integer())) {
+      throw core::InputError(out.path, 0, std::string("error_estimate.") + key,
+                             "expected a number");
+    }
+    *target = v->second.is_floating() ? v->second.as_floating()
+                                      : static_cast<double>(v->second.as_integer());
+  }
   out.has_estimate = true;
   return out;
 }

@@ -3,6 +3,7 @@
 /// What a reference says about itself: the `FILE.meta.toml` written next to `FILE` by
 /// `flexref reference` (StudyRecord; its [error_estimate] table when the estimate was made),
 /// read back so that a comparison can set the measured error beside the reference's own.
+#include <limits>
 #include <string>
 
 namespace flexref::studies {
@@ -37,9 +38,14 @@ struct ReferenceSidecar {
   /// unknown, studies/certified_reference.hpp) — then nothing is certified against it.
   double estimate = 0.0;
   std::string estimate_method;  ///< [error_estimate] method: how it was made, "" when absent
-  std::string kind;             ///< [integrator] kind: "reference", "scheme"; "" when absent
-  std::string solver;           ///< [integrator] solver, "" when absent
-  double rtol = 0.0;            ///< [integrator] rtol, 0 when absent
+  /// [error_estimate] energy_balance and energy_estimate, J (studies/certified_reference.hpp):
+  /// the largest |E − E0 + W_d − W_a| and the estimated error of its terms; NaN when absent
+  /// (a model that does not dissipate, or a file written before they were recorded).
+  double energy_balance = std::numeric_limits<double>::quiet_NaN();
+  double energy_estimate = std::numeric_limits<double>::quiet_NaN();
+  std::string kind;    ///< [integrator] kind: "reference", "scheme"; "" when absent
+  std::string solver;  ///< [integrator] solver, "" when absent
+  double rtol = 0.0;   ///< [integrator] rtol, 0 when absent
   /// [integrator] precision ("double", "extended", "quad"; docs/precision.md), "double" when
   /// absent (every file but an extended/quad reference's).
   std::string precision = "double";

@@ -157,9 +157,19 @@ for scene in bouncing_ball sliding_block top_on_plane tippe_top pendulum_on_slid
     fail "$scene: CSV lacks dissipated_work and energy_balance"
   grep -q '^events = ' "$tmp/$scene.csv.meta.toml" || fail "$scene: meta.toml lacks events"
   grep -q '^event_times = \[' "$tmp/$scene.csv.meta.toml" || fail "$scene: meta.toml lacks event_times"
+  grep -q '^largest_energy_balance = ' "$tmp/$scene.csv.meta.toml" ||
+    fail "$scene: meta.toml lacks largest_energy_balance"
 done
 out=$("$flexref" check scenes/pendulum_on_sliding_support.toml 2>&1)
 [[ $out == *"joint[1] angular: omega = sqrt(k/I_eff)"* ]] || fail "check: no angular joint mode: $out"
+# With the estimate, the balance is recorded next to the estimated error of its terms.
+out=$("$flexref" reference scenes/bouncing_ball.toml --rtol 1e-8 -o "$tmp/bb_est.csv" 2>&1) ||
+  fail "reference bouncing_ball with estimate failed: $out"
+[[ $out == *"energy balance: largest |E - E0 + W_d - W_a|"*"x the estimated error of its terms"* ]] ||
+  fail "reference bouncing_ball: no energy balance line: $out"
+grep -q '^energy_balance = ' "$tmp/bb_est.csv.meta.toml" &&
+  grep -q '^energy_estimate = ' "$tmp/bb_est.csv.meta.toml" ||
+  fail "bouncing_ball: [error_estimate] lacks energy_balance and energy_estimate"
 # The event count of the bouncing ball: two per bounce.
 grep -q '^events = [1-9][0-9]*$' "$tmp/bouncing_ball.csv.meta.toml" || fail "bouncing_ball: no events"
 # run warns when the step exceeds a contact's explicit limit; the run then breaks its energy

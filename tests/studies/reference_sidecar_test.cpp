@@ -48,6 +48,8 @@ rtol = 1e-10
 metric = "rotation+points"
 estimate = 3.5e-11
 method = "2 x largest distance to a more accurate solution"
+energy_balance = 2.4e-5
+energy_estimate = 4.8e-5
 [[error_estimate.check]]
 role = "tighter"
 )");
@@ -59,6 +61,8 @@ role = "tighter"
   CHECK(s.metric == "rotation+points");
   CHECK(s.estimate == 3.5e-11);
   CHECK(s.estimate_method == "2 x largest distance to a more accurate solution");
+  CHECK(s.energy_balance == 2.4e-5);
+  CHECK(s.energy_estimate == 4.8e-5);
   // The factor 100 (reference contributes ≤ 1 %): exactly at the bound is certified, below not.
   CHECK(is_certified(kCertificationFactor * s.estimate, s.estimate));
   CHECK(is_certified(3.6e-9, s.estimate));
@@ -91,6 +95,9 @@ TEST_CASE("sidecar: estimates that could fool a comparison are refused naming fi
   refused("string", "[error_estimate]\nmetric = \"rotation\"\nestimate = \"small\"\n",
           "error_estimate.estimate");
   refused("no_metric", "[error_estimate]\nestimate = 1e-9\n", "error_estimate.metric");
+  refused("balance",
+          "[error_estimate]\nmetric = \"rotation\"\nestimate = 1e-9\nenergy_balance = \"x\"\n",
+          "error_estimate.energy_balance");
   refused("not_table", "error_estimate = 1e-9\n", "error_estimate");
   CHECK_THROWS_AS(read_reference_sidecar(with_sidecar("broken", "[error_estimate\n")),
                   core::InputError);
