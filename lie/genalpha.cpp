@@ -1,0 +1,144 @@
+#include "lie/genalpha.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "lie/scheme_support.hpp"
+
+namespace flexref::lie {
+
+GenAlphaStepper::GenAlphaStepper(const core::Model& model, const GenAlphaParameters& parameters)
+    : model_(model),
+      system_(model, parameters),
+      state_(model.initial_state()),
+      next_(state_),
+      ws_(model.make_workspace()),
+      acc_(model.make_accelerations()),
+      vdot_(Eigen::VectorXd::Zero(system_.body_unknowns())),
+      a_(vdot_),
+      vdot_next_(vdot_),
+      a_next_(vdot_),
+      lambda_hat_(Eigen::VectorXd::Zero(system_.multiplier_count())),
+      z_(Eigen::VectorXd::Zero(system_.size())),
+      r_(z_),
+      dz_(z_),
+      S_(Eigen::MatrixXd::Identity(system_.size(), system_.size())),
+      lu_(S_) {}
+
+double GenAlphaStepper::force_evaluations_per_step() const {
+  if (steps_ == 0) return 1.0 + system_.matrix_evaluations();
+  return static_cast<double>(system_.evaluations() - evaluations_at_start_) /
+         static_cast<double>(steps_);
+}
+
+void GenAlphaStepper::initialize(double t0, const core::State& state) {
+  if (state.size() != state_.size()) {
+    throw std::invalid_argument(
+        "genalpha: the state has a different number of bodies than the model");
+  }
+  time_ = t0;
+  state_ = state;
+  next_ = state;
+  last_h_ = 0.0;
+  restart();
+  restart_pending_ = false;
+  evaluations_at_start_ = system_.evaluations();
+  newton_iterations_ = 0;
+  max_newton_iterations_ = 0;
+  steps_ = 0;
+}
+
+void GenAlphaStepper::restart() {
+  // Consistent accelerations from the equations at t_n (right limit: the branch of loads that
+  // starts there), and a_n = v̇_n; with joints, λ_n from the index-1 solve as the predictor.
+  const double segment = time_ + (last_h_ > 0.0 ? 0.5 * last_h_ : 0.0);
+  model_.compute_accelerations(core::LoadContext{time_, segment}, state_, ws_, acc_);
+  for (std::size_t b = 0; b < acc_.size(); ++b) {
+    vdot_.segment<3>(6 * static_cast<Eigen::Index>(b)) = acc_[b].a_WBr;
+    vdot_.segment<3>(6 * static_cast<Eigen::Index>(b) + 3) = acc_[b].alpha_WB_B;
+  }
+  a_ = vdot_;
+  if (system_.multiplier_count() > 0) lambda_hat_ = ws_.constraint.lambda;  // scaled in step()
+  restart_pending_ = false;
+}
+
+Eigen::VectorXd GenAlphaStepper::multipliers() const {
+  if (last_h_ <= 0.0) return lambda_hat_;
+  const double bh2 = system_.parameters().beta * last_h_ * last_h_;
+  return lambda_hat_ / bh2;
+}
+
+StepStatus GenAlphaStepper::step(double h) {
+  const double t_n = time_;
+  bool unscaled_lambda = false;
+  if (restart_pending_ || detail::starts_on_discontinuity(model_.discontinuities(), t_n, h)) {
+    last_h_ = h;
+    restart();
+    unscaled_lambda = true;
+  }
+  const double bh2 = system_.parameters().beta * h * h;
+  // λ̂ = β h² λ: the predictor carries λ_n over; rescale when h changed.
+  if (system_.multiplier_count() > 0) {
+    const double previous = system_.parameters().beta * last_h_ * last_h_;
+    if (unscaled_lambda) {
+      lambda_hat_ *= bh2;
+    } else if (previous > 0.0 && previous != bh2) {
+      lambda_hat_ *= bh2 / previous;
+    }
+  }
+  system_.begin_step(t_n, h, state_, vdot_, a_);
+  system_.predictor(lambda_hat_, z_);
+
+  bool converged = false;
+  bool assembled = false;
+  int reassemblies = 0;
+  int iterations = 0;
+  double previous = std::numeric_limits<double>::infinity();
+  detail::GenAlphaResidualNorm norm;
+  for (; iterations < kMaxNewtonIterations; ++iterations) {
+    norm = system_.residual(z_, r_);
+    if (!norm.finite) return {false, detail::non_finite_failure("genalpha", t_n, h)};
+    const bool slow = assembled && norm.relative > 0.5 * previous;
+    if (!assembled || (slow && reassemblies < kMaxReassemblies &&
+                       !detail::newton_stagnated(norm.relative, previous))) {
+      reassemblies += assembled ? 1 : 0;
+      system_.iteration_matrix(z_, S_);
+      if (!std::isfinite(S_.sum())) return {false, detail::non_finite_failure("genalpha", t_n, h)};
+      lu_.compute(S_);
+      assembled = true;
+    }
+    // z ← z − S⁻¹ r   (also after the test has passed: the last correction costs no evaluation)
+    dz_.noalias() = lu_.solve(r_);
+    z_ -= dz_;
+    if (norm.relative <= detail::kNewtonTolerance ||
+        detail::newton_stagnated(norm.relative, previous)) {
+      converged = true;
+      ++iterations;
+      break;
+    }
+    previous = norm.relative;
+  }
+  if (!converged) {
+    return {false,
+            detail::newton_failure("genalpha", t_n, h, norm.relative, iterations, norm.worst_body)};
+  }
+  system_.state_at(z_, next_, vdot_next_, a_next_);
+  if (!detail::all_finite(next_) || !std::isfinite(z_.sum())) {
+    return {false, detail::non_finite_failure("genalpha", t_n, h)};
+  }
+  std::swap(state_, next_);
+  std::swap(vdot_, vdot_next_);
+  std::swap(a_, a_next_);
+  if (system_.multiplier_count() > 0) lambda_hat_ = z_.tail(system_.multiplier_count());
+  time_ = t_n + h;
+  last_h_ = h;
+  newton_iterations_ += iterations;
+  max_newton_iterations_ = std::max(max_newton_iterations_, iterations);
+  ++steps_;
+  return {};
+}
+
+}  // namespace flexref::lie

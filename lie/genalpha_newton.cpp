@@ -1,0 +1,324 @@
+#include "lie/genalpha_newton.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "lie/scheme_support.hpp"
+#include "rotation/euler_parameters.hpp"
+#include "rotation/so3.hpp"
+
+namespace flexref::lie::detail {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+namespace {
+
+/// Forward-difference step of the loads' directional derivatives (see the header).
+constexpr double kDirectionalStep = 1.5e-8;
+
+}  // namespace
+
+GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameters& parameters)
+    : model_(model),
+      p_(parameters),
+      n_bodies_(model.num_bodies()),
+      next_(model.initial_state()),
+      perturbed_(next_),
+      ws_(model.make_workspace()),
+      wrenches_(ws_.wrenches),
+      R_(static_cast<std::size_t>(model.num_bodies()), Matrix3d::Identity()) {
+  for (const core::Body& body : model.bodies()) {
+    if (body.is_flexible()) {
+      throw std::invalid_argument(
+          "genalpha: body '" + body.name() +
+          "' is flexible; genalpha integrates rigid bodies (and ideal joints) only so far: use "
+          "c1, c2 or nmb (LTE model) or a reference solver for flexible bodies");
+    }
+    if (!body.is_prescribed()) ++integrated_bodies_;
+  }
+  if (model.has_constraints()) {
+    n_multipliers_ = static_cast<int>(model.independent_rows().size());
+    const int rows = model.constraints()->row_count();
+    rows_.resize(rows, model.velocity_layout().size());
+    rows_perturbed_.resize(rows, model.velocity_layout().size());
+    if (model.velocity_layout().size() != 6 * n_bodies_) {
+      throw std::invalid_argument("genalpha: the joints' velocity layout is not 6 per body");
+    }
+  }
+  const Eigen::Index n = 6 * n_bodies_;
+  z_size_ = n + n_multipliers_;
+  v_n_ = Eigen::VectorXd::Zero(n);
+  a_n_ = Eigen::VectorXd::Zero(n);
+  vdot_n_ = Eigen::VectorXd::Zero(n);
+  a_base_ = Eigen::VectorXd::Zero(n);
+  vdot_ = Eigen::VectorXd::Zero(n);
+  a_ = Eigen::VectorXd::Zero(n);
+  v_ = Eigen::VectorXd::Zero(n);
+  diagonal_ = Eigen::VectorXd::Zero(n);
+  jt_lambda_ = Eigen::VectorXd::Zero(n);
+  jt_lambda_perturbed_ = Eigen::VectorXd::Zero(n);
+  // m̂ = β h² M_kk β' = M_kk (1 − α_m)/(1 − α_f): independent of h.
+  const double ratio = (1.0 - p_.alpha_m) / (1.0 - p_.alpha_f);
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::Body& body = model.body(b);
+    diagonal_.segment<3>(6 * b).setConstant(ratio * body.mass());
+    diagonal_.segment<3>(6 * b + 3) = ratio * body.I_Br_B().diagonal();
+  }
+}
+
+bool GenAlphaSystem::integrated_row(int body, int k) const {
+  const core::Body& b = model_.body(body);
+  if (b.is_prescribed()) return false;
+  return k >= 3 || b.is_free();
+}
+
+void GenAlphaSystem::stack_velocities(const core::State& state, Eigen::VectorXd& v) const {
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::BodyState& s = state[static_cast<std::size_t>(b)];
+    v.segment<3>(6 * b) = s.v_WBr;
+    v.segment<3>(6 * b + 3) = s.w_WB_B;
+  }
+}
+
+void GenAlphaSystem::begin_step(double t_n, double h, const core::State& state,
+                                const Eigen::VectorXd& vdot_n, const Eigen::VectorXd& a_n) {
+  t_n_ = t_n;
+  h_ = h;
+  state_n_ = &state;
+  stack_velocities(state, v_n_);
+  vdot_n_ = vdot_n;
+  a_n_ = a_n;
+  // a_{n+1} = x/(β h²) + a_base,  a_base = −(v_n + (½ − β) h a_n)/(β h)
+  a_base_ = -(v_n_ + ((0.5 - p_.beta) * h) * a_n_) / (p_.beta * h);
+}
+
+void GenAlphaSystem::predictor(const Eigen::VectorXd& lambda_hat, Eigen::VectorXd& z) const {
+  const Eigen::Index n = 6 * n_bodies_;
+  // v̇_{n+1} = v̇_n:  a_{n+1} = (v̇_n − α_m a_n)/(1 − α_m),  x = β h² (a_{n+1} − a_base)
+  const double bh2 = p_.beta * h_ * h_;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const int body = static_cast<int>(k / 6);
+    if (!integrated_row(body, static_cast<int>(k % 6))) {
+      z(k) = 0.0;
+      continue;
+    }
+    const double a_next = (vdot_n_(k) - p_.alpha_m * a_n_(k)) / (1.0 - p_.alpha_m);
+    z(k) = bh2 * (a_next - a_base_(k));
+  }
+  if (n_multipliers_ > 0) z.tail(n_multipliers_) = lambda_hat;
+}
+
+void GenAlphaSystem::state_at(const Eigen::VectorXd& z, core::State& next, Eigen::VectorXd& vdot,
+                              Eigen::VectorXd& a) const {
+  const core::State& s_n = *state_n_;
+  const double bh2 = p_.beta * h_ * h_;
+  const Eigen::Index n = 6 * n_bodies_;
+  // a_{n+1} = x/(β h²) + a_base
+  a = z.head(n) / bh2 + a_base_;
+  // v̇_{n+1} = ((1 − α_m) a_{n+1} + α_m a_n − α_f v̇_n)/(1 − α_f)
+  vdot = ((1.0 - p_.alpha_m) * a + p_.alpha_m * a_n_ - p_.alpha_f * vdot_n_) / (1.0 - p_.alpha_f);
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::BodyState& s = s_n[static_cast<std::size_t>(b)];
+    core::BodyState& s1 = next[static_cast<std::size_t>(b)];
+    const auto o = static_cast<Eigen::Index>(6 * b);
+    if (model_.body(b).is_free()) {
+      // x_{n+1} = x_n + x_T,  v_{n+1} = v_n + (1 − γ) h a_n + γ h a_{n+1}
+      s1.p_WBr = s.p_WBr + z.segment<3>(o);
+      s1.v_WBr = s.v_WBr + ((1.0 - p_.gamma) * h_) * a_n_.segment<3>(o) +
+                 (p_.gamma * h_) * a.segment<3>(o);
+    } else {
+      s1.p_WBr = s.p_WBr;
+      s1.v_WBr.setZero();
+      a.segment<3>(o).setZero();
+      vdot.segment<3>(o).setZero();
+    }
+    // R_{n+1} = R_n exp(x̃_R)   (θ_{n+1} = θ_n ⊗ exp(x_R), renormalized)
+    s1.theta_WB =
+        rotation::quaternion_multiply(s.theta_WB, rotation::exp_quaternion(z.segment<3>(o + 3)));
+    renormalize_unit_product(s1.theta_WB);
+    s1.w_WB_B = s.w_WB_B + ((1.0 - p_.gamma) * h_) * a_n_.segment<3>(o + 3) +
+                (p_.gamma * h_) * a.segment<3>(o + 3);
+  }
+  model_.apply_prescribed_motion(t_n_ + h_, next);
+}
+
+GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::VectorXd& r) {
+  state_at(z, next_, vdot_, a_);
+  stack_velocities(next_, v_);
+  const double t_np1 = t_n_ + h_;
+  model_.compute_wrenches(core::LoadContext{t_np1, t_n_ + 0.5 * h_}, next_, ws_);
+  ++evaluations_;
+  for (int b = 0; b < n_bodies_; ++b) {
+    wrenches_[static_cast<std::size_t>(b)].f_W = ws_.wrenches[static_cast<std::size_t>(b)].f_W;
+    wrenches_[static_cast<std::size_t>(b)].tau_Br_W =
+        ws_.wrenches[static_cast<std::size_t>(b)].tau_Br_W;
+    wrenches_[static_cast<std::size_t>(b)].torque_magnitude =
+        ws_.wrenches[static_cast<std::size_t>(b)].torque_magnitude;
+    R_[static_cast<std::size_t>(b)] = ws_.kinematics[static_cast<std::size_t>(b)].R_WB;
+  }
+  const Eigen::Index n = 6 * n_bodies_;
+  jt_lambda_.setZero();
+  if (n_multipliers_ > 0) {
+    model_.constraints()->evaluate(t_np1, ws_.kinematics, model_.velocity_layout(), rows_);
+    const std::vector<int>& active = model_.independent_rows();
+    for (int a = 0; a < n_multipliers_; ++a) {
+      // J_aᵀ λ̂ (λ̂ = β h² λ)
+      jt_lambda_ += rows_.J.row(active[static_cast<std::size_t>(a)]).transpose() * z(n + a);
+    }
+  }
+  const double bh2 = p_.beta * h_ * h_;
+  GenAlphaResidualNorm norm;
+  const auto note = [&](double value, double scale, int body) {
+    const double relative = std::abs(value) / (scale > 0.0 ? scale : 1.0);
+    if (!std::isfinite(relative)) norm.finite = false;
+    if (relative > norm.relative) {
+      norm.relative = relative;
+      norm.worst_body = body;
+    }
+  };
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::Body& body = model_.body(b);
+    const auto o = static_cast<Eigen::Index>(6 * b);
+    const core::Wrench& w = wrenches_[static_cast<std::size_t>(b)];
+    const Matrix3d& J = body.I_Br_B();
+    const Vector3d W = v_.segment<3>(o + 3);
+    const Vector3d J_W = J * W;
+    const Vector3d gyroscopic = W.cross(J_W);
+    const Vector3d torque_B = R_[static_cast<std::size_t>(b)].transpose() * w.tau_Br_W;
+    const Vector3d inertia_T = body.mass() * vdot_.segment<3>(o);
+    const Vector3d inertia_R = J * vdot_.segment<3>(o + 3);
+    // r_T = β h² (m v̇_T − f_W) + (Jᵀ λ̂)_T,  r_R = β h² (J v̇_R + W × J W − Rᵀ τ_W) + (Jᵀ λ̂)_R
+    r.segment<3>(o) = bh2 * (inertia_T - w.f_W) + jt_lambda_.segment<3>(o);
+    r.segment<3>(o + 3) = bh2 * (inertia_R + gyroscopic - torque_B) + jt_lambda_.segment<3>(o + 3);
+    const double scale_T =
+        bh2 * (max_abs(inertia_T) + max_abs(w.f_W)) + max_abs(jt_lambda_.segment<3>(o));
+    const double scale_R =
+        bh2 * (max_abs(inertia_R) + max_abs(gyroscopic) + max_abs(torque_B) + w.torque_magnitude) +
+        max_abs(jt_lambda_.segment<3>(o + 3));
+    for (int k = 0; k < 6; ++k) {
+      if (!integrated_row(b, k)) {
+        r(o + k) = diagonal_(o + k) * z(o + k);  // keeps x_k = 0
+        continue;
+      }
+      note(r(o + k), k < 3 ? scale_T : scale_R, b);
+    }
+  }
+  if (n_multipliers_ > 0) {
+    // Length rows relative to the size of the bodies' positions (at least 1 cm), rotation rows
+    // (sines of angles) as they are.
+    double length = 1e-2;
+    for (const core::BodyState& s : next_) length = std::max(length, max_abs(s.p_WBr));
+    const std::vector<int>& active = model_.independent_rows();
+    for (int a = 0; a < n_multipliers_; ++a) {
+      const int row = active[static_cast<std::size_t>(a)];
+      r(n + a) = rows_.phi(row);
+      const double scale = model_.constraints()->is_length_row(row) ? length : 1.0;
+      note(r(n + a), scale, std::max(0, model_.constraints()->row_bodies(row)[0]));
+    }
+  }
+  if (!std::isfinite(r.sum())) norm.finite = false;
+  return norm;
+}
+
+void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd& S) {
+  const double bh2 = p_.beta * h_ * h_;
+  const double gamma_prime = p_.gamma / (p_.beta * h_);  // ∂v_{n+1}/∂x
+  const Eigen::Index n = 6 * n_bodies_;
+  S.setZero();
+  // Inertia, gyroscopic damping, the frame of the torque (analytic); fixed rows m̂ I.
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::Body& body = model_.body(b);
+    const auto o = static_cast<Eigen::Index>(6 * b);
+    for (int k = 0; k < 6; ++k) S(o + k, o + k) = diagonal_(o + k);
+    if (body.is_prescribed()) continue;
+    const Matrix3d& J = body.I_Br_B();
+    const Vector3d W = v_.segment<3>(o + 3);
+    const Vector3d torque_B = R_[static_cast<std::size_t>(b)].transpose() *
+                              wrenches_[static_cast<std::size_t>(b)].tau_Br_W;
+    const Matrix3d T = rotation::right_jacobian(z.segment<3>(o + 3));
+    // β h² (J β' + (W̃ J − (J W)~) γ' − (Rᵀτ)~ T);  β h² J β' = J (1 − α_m)/(1 − α_f)
+    S.block<3, 3>(o + 3, o + 3) =
+        J * ((1.0 - p_.alpha_m) / (1.0 - p_.alpha_f)) +
+        bh2 * (gamma_prime * (rotation::hat(W) * J - rotation::hat(J * W)) -
+               rotation::hat(torque_B) * T);
+  }
+  // The loads' K T + C γ' (and the joints' ∂(Jᵀλ̂)/∂x): one directional forward difference per
+  // integrated unknown.
+  const core::LoadContext context{t_n_ + h_, t_n_ + 0.5 * h_};
+  const std::vector<int>* active = n_multipliers_ > 0 ? &model_.independent_rows() : nullptr;
+  const double eps = kDirectionalStep;
+  for (int j = 0; j < n_bodies_; ++j) {
+    if (model_.body(j).is_prescribed()) continue;
+    const auto oj = static_cast<Eigen::Index>(6 * j);
+    const Matrix3d T = rotation::right_jacobian(z.segment<3>(oj + 3));
+    core::BodyState& sj = perturbed_[static_cast<std::size_t>(j)];
+    for (int k = 0; k < 6; ++k) {
+      if (!integrated_row(j, k)) continue;
+      for (std::size_t b = 0; b < next_.size(); ++b) {
+        perturbed_[b].p_WBr = next_[b].p_WBr;
+        perturbed_[b].theta_WB = next_[b].theta_WB;
+        perturbed_[b].v_WBr = next_[b].v_WBr;
+        perturbed_[b].w_WB_B = next_[b].w_WB_B;
+      }
+      if (k < 3) {
+        sj.p_WBr(k) += eps;
+        sj.v_WBr(k) += eps * gamma_prime;
+      } else {
+        // configuration q exp(ε (T e_k)~), velocity W + ε γ' e_k
+        sj.theta_WB = rotation::quaternion_multiply(sj.theta_WB,
+                                                    rotation::exp_quaternion(eps * T.col(k - 3)));
+        renormalize_unit_product(sj.theta_WB);
+        sj.w_WB_B(k - 3) += eps * gamma_prime;
+      }
+      model_.compute_wrenches(context, perturbed_, ws_);
+      ++evaluations_;
+      for (int i = 0; i < n_bodies_; ++i) {
+        if (model_.body(i).is_prescribed()) continue;
+        const auto oi = static_cast<Eigen::Index>(6 * i);
+        const core::Wrench& w0 = wrenches_[static_cast<std::size_t>(i)];
+        const core::Wrench& w1 = ws_.wrenches[static_cast<std::size_t>(i)];
+        if (model_.body(i).is_free()) {
+          S.block<3, 1>(oi, oj + k) -= (bh2 / eps) * (w1.f_W - w0.f_W);
+        }
+        S.block<3, 1>(oi + 3, oj + k) -=
+            (bh2 / eps) *
+            (R_[static_cast<std::size_t>(i)].transpose() * (w1.tau_Br_W - w0.tau_Br_W));
+      }
+      if (active != nullptr) {
+        model_.constraints()->evaluate(context.t, ws_.kinematics, model_.velocity_layout(),
+                                       rows_perturbed_);
+        jt_lambda_perturbed_.setZero();
+        for (int a = 0; a < n_multipliers_; ++a) {
+          jt_lambda_perturbed_ +=
+              rows_perturbed_.J.row((*active)[static_cast<std::size_t>(a)]).transpose() * z(n + a);
+        }
+        for (Eigen::Index row = 0; row < n; ++row) {
+          if (!integrated_row(static_cast<int>(row / 6), static_cast<int>(row % 6))) continue;
+          S(row, oj + k) += (jt_lambda_perturbed_(row) - jt_lambda_(row)) / eps;
+        }
+      }
+    }
+  }
+  for (std::size_t b = 0; b < next_.size(); ++b) perturbed_[b] = next_[b];
+  if (active == nullptr) return;
+  // Joint blocks: Jᵀ in the dynamic rows, J T in the constraint rows (integrated unknowns).
+  for (int a = 0; a < n_multipliers_; ++a) {
+    const int row = (*active)[static_cast<std::size_t>(a)];
+    for (int b = 0; b < n_bodies_; ++b) {
+      const auto o = static_cast<Eigen::Index>(6 * b);
+      if (model_.body(b).is_prescribed()) continue;
+      const Matrix3d T = rotation::right_jacobian(z.segment<3>(o + 3));
+      for (int k = 0; k < 6; ++k) {
+        if (!integrated_row(b, k)) continue;
+        S(o + k, n + a) = rows_.J(row, o + k);
+      }
+      if (model_.body(b).is_free()) S.block<1, 3>(n + a, o) = rows_.J.block<1, 3>(row, o);
+      S.block<1, 3>(n + a, o + 3) = rows_.J.block<1, 3>(row, o + 3) * T;
+    }
+  }
+}
+
+}  // namespace flexref::lie::detail
