@@ -193,11 +193,16 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
     // r_T = β h² (m v̇_T − f_W) + (Jᵀ λ̂)_T,  r_R = β h² (J v̇_R + W × J W − Rᵀ τ_W) + (Jᵀ λ̂)_R
     r.segment<3>(o) = bh2 * (inertia_T - w.f_W) + jt_lambda_.segment<3>(o);
     r.segment<3>(o + 3) = bh2 * (inertia_R + gyroscopic - torque_B) + jt_lambda_.segment<3>(o + 3);
-    const double scale_T =
-        bh2 * (max_abs(inertia_T) + max_abs(w.f_W)) + max_abs(jt_lambda_.segment<3>(o));
+    // Scales: the terms of each row, and the inertia of the increment itself, m̂ |x| (without
+    // it a row whose terms all vanish — a free body without loads — would be measured against
+    // its own round-off).
+    const Vector3d inertia_x_T = diagonal_.segment<3>(o).cwiseProduct(z.segment<3>(o));
+    const Vector3d inertia_x_R = diagonal_.segment<3>(o + 3).cwiseProduct(z.segment<3>(o + 3));
+    const double scale_T = bh2 * (max_abs(inertia_T) + max_abs(w.f_W)) +
+                           max_abs(jt_lambda_.segment<3>(o)) + max_abs(inertia_x_T);
     const double scale_R =
         bh2 * (max_abs(inertia_R) + max_abs(gyroscopic) + max_abs(torque_B) + w.torque_magnitude) +
-        max_abs(jt_lambda_.segment<3>(o + 3));
+        max_abs(jt_lambda_.segment<3>(o + 3)) + max_abs(inertia_x_R);
     for (int k = 0; k < 6; ++k) {
       if (!integrated_row(b, k)) {
         r(o + k) = diagonal_(o + k) * z(o + k);  // keeps x_k = 0
