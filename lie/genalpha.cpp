@@ -43,12 +43,26 @@ void GenAlphaStepper::initialize(double t0, const core::State& state) {
   state_ = state;
   next_ = state;
   last_h_ = 0.0;
+  initialized_ = false;
   restart();
+  // t_segment = t0 evaluated the branch on the right of t0, the first step's own; a load
+  // discontinuity at t0 itself restarts there (starts_on_discontinuity).
   restart_pending_ = false;
   evaluations_at_start_ = system_.evaluations();
   newton_iterations_ = 0;
   max_newton_iterations_ = 0;
   steps_ = 0;
+}
+
+void GenAlphaStepper::initialize_with_auxiliary(double t0, const core::State& state,
+                                                const Eigen::VectorXd& a0) {
+  initialize(t0, state);
+  if (a0.size() != a_.size()) {
+    throw std::invalid_argument("genalpha: a0 must have 6 entries per body");
+  }
+  a_ = a0;
+  restart_pending_ = false;
+  initialized_ = true;
 }
 
 void GenAlphaStepper::restart() {
@@ -60,31 +74,34 @@ void GenAlphaStepper::restart() {
     vdot_.segment<3>(6 * static_cast<Eigen::Index>(b)) = acc_[b].a_WBr;
     vdot_.segment<3>(6 * static_cast<Eigen::Index>(b) + 3) = acc_[b].alpha_WB_B;
   }
-  a_ = vdot_;
-  if (system_.multiplier_count() > 0) lambda_hat_ = ws_.constraint.lambda;  // scaled in step()
+  if (!initialized_) a_ = vdot_;
+  initialized_ = true;
+  if (system_.multiplier_count() > 0) {
+    lambda_hat_ = ws_.constraint.lambda;  // λ_n: scaled to β h² λ_n by the next step
+    lambda_unscaled_ = true;
+  }
   restart_pending_ = false;
 }
 
 Eigen::VectorXd GenAlphaStepper::multipliers() const {
-  if (last_h_ <= 0.0) return lambda_hat_;
+  if (lambda_unscaled_ || last_h_ <= 0.0) return lambda_hat_;
   const double bh2 = system_.parameters().beta * last_h_ * last_h_;
   return lambda_hat_ / bh2;
 }
 
 StepStatus GenAlphaStepper::step(double h) {
   const double t_n = time_;
-  bool unscaled_lambda = false;
   if (restart_pending_ || detail::starts_on_discontinuity(model_.discontinuities(), t_n, h)) {
     last_h_ = h;
     restart();
-    unscaled_lambda = true;
   }
   const double bh2 = system_.parameters().beta * h * h;
   // λ̂ = β h² λ: the predictor carries λ_n over; rescale when h changed.
   if (system_.multiplier_count() > 0) {
     const double previous = system_.parameters().beta * last_h_ * last_h_;
-    if (unscaled_lambda) {
+    if (lambda_unscaled_) {
       lambda_hat_ *= bh2;
+      lambda_unscaled_ = false;
     } else if (previous > 0.0 && previous != bh2) {
       lambda_hat_ *= bh2 / previous;
     }
@@ -113,8 +130,12 @@ StepStatus GenAlphaStepper::step(double h) {
     // z ← z − S⁻¹ r   (also after the test has passed: the last correction costs no evaluation)
     dz_.noalias() = lu_.solve(r_);
     z_ -= dz_;
+    // Converged: the residual at its tolerance or round-off floor, or a correction that no longer
+    // moves the unknowns beyond round-off (≤ kNewtonTolerance of the largest: at h ω ≫ 1 the
+    // residual's floor is the loads' round-off times β h², above kNewtonStagnationFloor).
     if (norm.relative <= detail::kNewtonTolerance ||
-        detail::newton_stagnated(norm.relative, previous)) {
+        detail::newton_stagnated(norm.relative, previous) ||
+        dz_.cwiseAbs().maxCoeff() <= detail::kNewtonTolerance * z_.cwiseAbs().maxCoeff()) {
       converged = true;
       ++iterations;
       break;

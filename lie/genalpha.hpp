@@ -16,7 +16,8 @@
 /// reassembled at the current iterate when it does not. Converged when every component is ≤
 /// kNewtonTolerance (1e-14) of the size of its terms, or at the round-off floor
 /// (newton_stagnated); the last correction is applied as well. At a known load discontinuity
-/// the scheme restarts: v̇_n is re-evaluated on the new branch and a_n = v̇_n.
+/// v̇_n is re-evaluated on the new branch (its right limit) and a_n kept: bodies whose loads do
+/// not jump step exactly as they would alone.
 #include <Eigen/Core>
 #include <Eigen/LU>
 
@@ -45,6 +46,9 @@ class GenAlphaStepper final : public Stepper {
 
   void initialize(double t0, const core::State& state) override;
   StepStatus step(double h) override;
+  /// initialize, then a_0 = a0 (stacked, 6 per body) instead of v̇_0: the one-step map of the
+  /// scheme's full state (q, v, a) — its amplification matrix on a linear oscillator, tests.
+  void initialize_with_auxiliary(double t0, const core::State& state, const Eigen::VectorXd& a0);
 
   double time() const override { return time_; }
   const core::State& state() const override { return state_; }
@@ -60,6 +64,7 @@ class GenAlphaStepper final : public Stepper {
   long steps_taken() const { return steps_; }
 
  private:
+  /// v̇_n (and λ_n) from the equations at t_n; a_0 = v̇_0 at the first call after initialize.
   void restart();
 
   const core::Model& model_;
@@ -67,6 +72,8 @@ class GenAlphaStepper final : public Stepper {
   double time_ = 0.0;
   double last_h_ = 0.0;
   bool restart_pending_ = true;
+  bool initialized_ = false;      ///< a_0 = v̇_0 set (restarts keep a_n)
+  bool lambda_unscaled_ = false;  ///< lambda_hat_ holds λ_n from restart(), not β h² λ_n
   core::State state_;
   core::State next_;
   core::Workspace ws_;

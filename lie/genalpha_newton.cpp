@@ -97,7 +97,9 @@ void GenAlphaSystem::begin_step(double t_n, double h, const core::State& state,
 
 void GenAlphaSystem::predictor(const Eigen::VectorXd& lambda_hat, Eigen::VectorXd& z) const {
   const Eigen::Index n = 6 * n_bodies_;
-  // v̇_{n+1} = v̇_n:  a_{n+1} = (v̇_n − α_m a_n)/(1 − α_m),  x = β h² (a_{n+1} − a_base)
+  // v̇_{n+1} = 0 (Brüls, Cardona & Arnold's predictor: bounded however stiff the problem, where
+  // extrapolating v̇_n by h ω ≫ 1 would start Newton far off, at another root of a nonlinear
+  // spring): a_{n+1} = (α_f v̇_n − α_m a_n)/(1 − α_m),  x = β h² (a_{n+1} − a_base)
   const double bh2 = p_.beta * h_ * h_;
   for (Eigen::Index k = 0; k < n; ++k) {
     const int body = static_cast<int>(k / 6);
@@ -105,7 +107,7 @@ void GenAlphaSystem::predictor(const Eigen::VectorXd& lambda_hat, Eigen::VectorX
       z(k) = 0.0;
       continue;
     }
-    const double a_next = (vdot_n_(k) - p_.alpha_m * a_n_(k)) / (1.0 - p_.alpha_m);
+    const double a_next = (p_.alpha_f * vdot_n_(k) - p_.alpha_m * a_n_(k)) / (1.0 - p_.alpha_m);
     z(k) = bh2 * (a_next - a_base_(k));
   }
   if (n_multipliers_ > 0) z.tail(n_multipliers_) = lambda_hat;

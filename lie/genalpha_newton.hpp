@@ -58,7 +58,7 @@ class GenAlphaSystem {
   /// before predictor, residual and iteration_matrix.
   void begin_step(double t_n, double h, const core::State& state, const Eigen::VectorXd& vdot_n,
                   const Eigen::VectorXd& a_n);
-  /// The predictor z⁰: v̇_{n+1} = v̇_n and λ̂ the last step's (lambda_hat).
+  /// The predictor z⁰: v̇_{n+1} = 0 (Brüls, Cardona & Arnold's) and λ̂ the last step's.
   void predictor(const Eigen::VectorXd& lambda_hat, Eigen::VectorXd& z) const;
   /// The state, v̇_{n+1} and a_{n+1} of the unknowns z (no evaluation). Prescribed bodies follow
   /// their law at t_{n+1}.
