@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "lie/scheme_support.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::lie {
 
@@ -47,8 +48,14 @@ void GenAlphaStepper::initialize(double t0, const core::State& state) {
   initialized_ = false;
   restart();
   // t_segment = t0 evaluated the branch on the right of t0, the first step's own; a load
-  // discontinuity at t0 itself restarts there (starts_on_discontinuity).
-  restart_pending_ = false;
+  // discontinuity at t0 itself restarts there (starts_on_discontinuity). The perturbed start
+  // needs h: the first step sets a_0.
+  if (system_.parameters().perturbed_start) {
+    initialized_ = false;
+    restart_pending_ = true;
+  } else {
+    restart_pending_ = false;
+  }
   evaluations_at_start_ = system_.evaluations();
   newton_iterations_ = 0;
   max_newton_iterations_ = 0;
@@ -76,13 +83,45 @@ void GenAlphaStepper::restart() {
     vdot_.segment<3>(6 * static_cast<Eigen::Index>(b)) = acc_[b].a_WBr;
     vdot_.segment<3>(6 * static_cast<Eigen::Index>(b) + 3) = acc_[b].alpha_WB_B;
   }
-  if (!initialized_) a_ = vdot_;
-  initialized_ = true;
   if (system_.multiplier_count() > 0) {
     lambda_hat_ = ws_.constraint.lambda;  // λ_n: scaled to β h² λ_n by the next step
     lambda_unscaled_ = true;
   }
+  if (!initialized_) {
+    a_ = vdot_;
+    if (system_.parameters().perturbed_start && last_h_ > 0.0) perturbed_start(segment);
+  }
+  initialized_ = true;
   restart_pending_ = false;
+}
+
+void GenAlphaStepper::perturbed_start(double segment) {
+  // a_0 = v̇(t_0 + Δ h), Δ = α_m − α_f (Arnold, Brüls & Cardona): the accelerations at the state
+  // extrapolated by Taylor, q_0 exp(Δh v_0 + ½ (Δh)² v̇_0), v_0 + Δh v̇_0, which is O(h²) from
+  // the exact one.
+  const GenAlphaParameters& p = system_.parameters();
+  const double shift = (p.alpha_m - p.alpha_f) * last_h_;
+  for (std::size_t b = 0; b < state_.size(); ++b) {
+    const core::BodyState& s = state_[b];
+    core::BodyState& s1 = next_[b];
+    s1 = s;
+    const auto o = 6 * static_cast<Eigen::Index>(b);
+    if (model_.body(static_cast<int>(b)).is_free()) {
+      s1.p_WBr = s.p_WBr + shift * s.v_WBr + (0.5 * shift * shift) * vdot_.segment<3>(o);
+      s1.v_WBr = s.v_WBr + shift * vdot_.segment<3>(o);
+    }
+    s1.theta_WB = rotation::quaternion_multiply(
+        s.theta_WB, rotation::exp_quaternion(shift * s.w_WB_B +
+                                             (0.5 * shift * shift) * vdot_.segment<3>(o + 3)));
+    detail::renormalize_unit_product(s1.theta_WB);
+    s1.w_WB_B = s.w_WB_B + shift * vdot_.segment<3>(o + 3);
+  }
+  model_.apply_prescribed_motion(time_ + shift, next_);
+  model_.compute_accelerations(core::LoadContext{time_ + shift, segment}, next_, ws_, acc_);
+  for (std::size_t b = 0; b < acc_.size(); ++b) {
+    a_.segment<3>(6 * static_cast<Eigen::Index>(b)) = acc_[b].a_WBr;
+    a_.segment<3>(6 * static_cast<Eigen::Index>(b) + 3) = acc_[b].alpha_WB_B;
+  }
 }
 
 Eigen::VectorXd GenAlphaStepper::multipliers() const {

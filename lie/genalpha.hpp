@@ -71,6 +71,8 @@ class GenAlphaStepper final : public Stepper {
  private:
   /// v̇_n (and λ_n) from the equations at t_n; a_0 = v̇_0 at the first call after initialize.
   void restart();
+  /// a_0 = v̇(t_0 + (α_m − α_f) h) (GenAlphaParameters::perturbed_start); segment: the branch.
+  void perturbed_start(double segment);
 
   const core::Model& model_;
   detail::GenAlphaSystem system_;

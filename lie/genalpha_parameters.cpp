@@ -13,6 +13,11 @@ std::atomic<double>& rho_inf_setting() {
   return value;
 }
 
+std::atomic<bool>& perturbed_start_setting() {
+  static std::atomic<bool> value{false};
+  return value;
+}
+
 void require_rho_inf(double rho_inf) {
   if (std::isfinite(rho_inf) && rho_inf >= 0.0 && rho_inf <= 1.0) return;
   std::ostringstream out;
@@ -39,5 +44,9 @@ void set_genalpha_rho_inf(double rho_inf) {
 }
 
 double genalpha_rho_inf() { return rho_inf_setting().load(); }
+
+void set_genalpha_perturbed_start(bool perturbed) { perturbed_start_setting().store(perturbed); }
+
+bool genalpha_perturbed_start() { return perturbed_start_setting().load(); }
 
 }  // namespace flexref::lie

@@ -18,6 +18,10 @@ struct GenAlphaParameters {
   double alpha_f = 0.0;
   double gamma = 0.0;
   double beta = 0.0;
+  /// Arnold's perturbed starting value a_0 = v̇(t_0 + (α_m − α_f) h) instead of a_0 = v̇_0
+  /// (docs/schemes.md, "Lie-group generalized-α": the start that avoids the order reduction of
+  /// the O(h) transient in a_n, and so in the multipliers).
+  bool perturbed_start = false;
 
   /// The coefficients for ρ∞ ∈ [0, 1]; throws std::invalid_argument otherwise, naming ρ∞.
   static GenAlphaParameters from_rho_inf(double rho_inf);
@@ -28,5 +32,8 @@ struct GenAlphaParameters {
 /// for a value outside [0, 1].
 void set_genalpha_rho_inf(double rho_inf);
 double genalpha_rho_inf();
+/// Whether the registry's `genalpha` starts with Arnold's perturbed a_0 (`--perturbed-start`).
+void set_genalpha_perturbed_start(bool perturbed);
+bool genalpha_perturbed_start();
 
 }  // namespace flexref::lie

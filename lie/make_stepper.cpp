@@ -36,13 +36,14 @@ Registry& registry() {
     reg->methods.push_back({"nmb", 2, "Krysl-Endres NMB (explicit Newmark on the Lie group)",
                             [](const core::Model& m) { return std::make_unique<NmbStepper>(m); }});
     // The comparison method, with the ρ∞ of set_genalpha_rho_inf (--rho-inf); run when named.
-    reg->methods.push_back({"genalpha", 2,
-                            "Lie-group generalized-alpha (Bruls-Cardona-Arnold 2012, implicit)",
-                            [](const core::Model& m) {
-                              return std::make_unique<GenAlphaStepper>(
-                                  m, GenAlphaParameters::from_rho_inf(genalpha_rho_inf()));
-                            },
-                            false});
+    reg->methods.push_back(
+        {"genalpha", 2, "Lie-group generalized-alpha (Bruls-Cardona-Arnold 2012, implicit)",
+         [](const core::Model& m) {
+           GenAlphaParameters parameters = GenAlphaParameters::from_rho_inf(genalpha_rho_inf());
+           parameters.perturbed_start = genalpha_perturbed_start();
+           return std::make_unique<GenAlphaStepper>(m, parameters);
+         },
+         false});
     return reg;
   }();
   return *r;
