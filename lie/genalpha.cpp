@@ -66,7 +66,7 @@ void GenAlphaStepper::initialize_with_auxiliary(double t0, const core::State& st
                                                 const Eigen::VectorXd& a0) {
   initialize(t0, state);
   if (a0.size() != a_.size()) {
-    throw std::invalid_argument("genalpha: a0 must have 6 entries per body");
+    throw std::invalid_argument("genalpha: a0 must have 6 + n_b entries per body b");
   }
   a_ = a0;
   restart_pending_ = false;
@@ -79,10 +79,7 @@ void GenAlphaStepper::restart() {
   // starts there), and a_n = v̇_n; with joints, λ_n from the index-1 solve as the predictor.
   const double segment = time_ + (last_h_ > 0.0 ? 0.5 * last_h_ : 0.0);
   model_.compute_accelerations(core::LoadContext{time_, segment}, state_, ws_, acc_);
-  for (std::size_t b = 0; b < acc_.size(); ++b) {
-    vdot_.segment<3>(6 * static_cast<Eigen::Index>(b)) = acc_[b].a_WBr;
-    vdot_.segment<3>(6 * static_cast<Eigen::Index>(b) + 3) = acc_[b].alpha_WB_B;
-  }
+  system_.stack_accelerations(acc_, vdot_);
   if (system_.multiplier_count() > 0) {
     lambda_hat_ = ws_.constraint.lambda;  // λ_n: scaled to β h² λ_n by the next step
     lambda_unscaled_ = true;
@@ -105,7 +102,7 @@ void GenAlphaStepper::perturbed_start(double segment) {
     const core::BodyState& s = state_[b];
     core::BodyState& s1 = next_[b];
     s1 = s;
-    const auto o = 6 * static_cast<Eigen::Index>(b);
+    const auto o = static_cast<Eigen::Index>(system_.offset(static_cast<int>(b)));
     if (model_.body(static_cast<int>(b)).is_free()) {
       s1.p_WBr = s.p_WBr + shift * s.v_WBr + (0.5 * shift * shift) * vdot_.segment<3>(o);
       s1.v_WBr = s.v_WBr + shift * vdot_.segment<3>(o);
@@ -115,13 +112,15 @@ void GenAlphaStepper::perturbed_start(double segment) {
                                              (0.5 * shift * shift) * vdot_.segment<3>(o + 3)));
     detail::renormalize_unit_product(s1.theta_WB);
     s1.w_WB_B = s.w_WB_B + shift * vdot_.segment<3>(o + 3);
+    const Eigen::Index modes = s.q_f.size();
+    if (modes > 0) {
+      s1.q_f = s.q_f + shift * s.qd_f + (0.5 * shift * shift) * vdot_.segment(o + 6, modes);
+      s1.qd_f = s.qd_f + shift * vdot_.segment(o + 6, modes);
+    }
   }
   model_.apply_prescribed_motion(time_ + shift, next_);
   model_.compute_accelerations(core::LoadContext{time_ + shift, segment}, next_, ws_, acc_);
-  for (std::size_t b = 0; b < acc_.size(); ++b) {
-    a_.segment<3>(6 * static_cast<Eigen::Index>(b)) = acc_[b].a_WBr;
-    a_.segment<3>(6 * static_cast<Eigen::Index>(b) + 3) = acc_[b].alpha_WB_B;
-  }
+  system_.stack_accelerations(acc_, a_);
 }
 
 Eigen::VectorXd GenAlphaStepper::multipliers() const {
@@ -180,8 +179,13 @@ StepStatus GenAlphaStepper::step(double h) {
     // z ← z − S⁻¹ r   (also after the test has passed: the last correction costs no evaluation)
     dz_.noalias() = lu_.solve(r_);
     z_ -= dz_;
+    // A residual that repeats bit for bit is at the round-off floor of its own terms: the
+    // corrections no longer change what it resolves (a flexible body near rest, whose modal
+    // rows' terms cancel to below any scale the test knows of: 7e-10 relative on
+    // flexible_spinner's first step). Accepted up to kRepeatedResidualFloor.
+    const bool repeated = norm.relative == previous && norm.relative <= kRepeatedResidualFloor;
     if (norm.relative <= detail::kNewtonTolerance ||
-        detail::newton_stagnated(norm.relative, previous)) {
+        detail::newton_stagnated(norm.relative, previous) || repeated) {
       converged = true;
       ++iterations;
       break;

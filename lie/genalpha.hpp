@@ -1,7 +1,8 @@
 #pragma once
 /// \file genalpha.hpp
 /// The Lie-group generalized-α scheme of Brüls, Cardona & Arnold (Mechanism and Machine Theory
-/// 48, 2012) on SO(3) × R³ per body, the comparison method of the field (docs/schemes.md,
+/// 48, 2012) on SO(3) × R³ per body (× Rⁿ for the modes of a flexible body, LTE or coupled), the
+/// comparison method of the field (docs/schemes.md,
 /// "Lie-group generalized-α"). Per step (lie/genalpha_newton.hpp has the equations):
 ///   q_{n+1} = q_n ∘ exp(h Δq_n),  Δq_n = v_n + (½ − β) h a_n + β h a_{n+1}
 ///   v_{n+1} = v_n + (1 − γ) h a_n + γ h a_{n+1}
@@ -38,10 +39,14 @@ class GenAlphaStepper final : public Stepper {
   /// Residual ratio between iterations above which the matrix is assembled anew: a contraction
   /// of ¼ gains 14 digits in ≤ 24 iterations, a fresh matrix in 2–4 on smooth problems.
   static constexpr double kSlowContraction = 0.25;
+  /// Largest relative residual accepted when it repeats exactly between two iterations (the
+  /// round-off floor of a residual whose terms cancel; 1e-8 is below the truncation error of
+  /// any step a study uses, as kNewtonStagnationFloor's 1e-10 is for the others).
+  static constexpr double kRepeatedResidualFloor = 1e-8;
   /// Reassemblies of the iteration matrix allowed in one step beyond the first.
   static constexpr int kMaxReassemblies = 4;
 
-  /// The model must outlive the stepper. Throws std::invalid_argument for a flexible body.
+  /// The model must outlive the stepper.
   GenAlphaStepper(const core::Model& model, const GenAlphaParameters& parameters);
 
   std::string_view name() const override { return "genalpha"; }
@@ -51,14 +56,14 @@ class GenAlphaStepper final : public Stepper {
 
   void initialize(double t0, const core::State& state) override;
   StepStatus step(double h) override;
-  /// initialize, then a_0 = a0 (stacked, 6 per body) instead of v̇_0: the one-step map of the
+  /// initialize, then a_0 = a0 (stacked as accelerations()) instead of v̇_0: the one-step map of the
   /// scheme's full state (q, v, a) — its amplification matrix on a linear oscillator, tests.
   void initialize_with_auxiliary(double t0, const core::State& state, const Eigen::VectorXd& a0);
 
   double time() const override { return time_; }
   const core::State& state() const override { return state_; }
   const GenAlphaParameters& parameters() const { return system_.parameters(); }
-  /// v̇_n (stacked: per body a_WBr then α̅) and the auxiliary a_n.
+  /// v̇_n (stacked: per body a_WBr, α̅, q̈_f) and the auxiliary a_n.
   const Eigen::VectorXd& accelerations() const { return vdot_; }
   const Eigen::VectorXd& auxiliary_accelerations() const { return a_; }
   /// The multipliers λ_n of the independent joint rows (M v̇ + Jᵀ λ = Q).

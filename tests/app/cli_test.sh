@@ -333,7 +333,7 @@ expect 1 "stability inertia_ratio 0.5" "is below 1" \
 [[ ! -e $tmp/stab_bad ]] || fail "refused stability study created its folder"
 
 # genalpha (issue 34): --rho-inf in [0, 1] on run, converge, work-precision and stability; a
-# jointed scene runs with it, a flexible one is refused naming the body.
+# jointed scene and a flexible one (coupled model) run with it.
 expect 2 "run --rho-inf 1.5" "--rho-inf: must lie in [0, 1], got 1.5" \
   "$flexref" run scenes/heavy_top.toml --rho-inf 1.5 -o "$tmp/e.csv"
 for cmd in converge work-precision stability; do
@@ -348,8 +348,9 @@ sed 's/^end_time = .*/end_time = 0.003/' scenes/andrews_squeezer.toml >"$tmp/and
 expect 0 "genalpha on Andrews' squeezer" "run andrews_squeezer with genalpha" \
   "$flexref" run "$tmp/andrews_short.toml" --scheme genalpha --dt 1e-4 --rho-inf 0.5 \
   --perturbed-start -o "$tmp/andrews_ga.csv"
-expect 1 "genalpha refuses a flexible body" "genalpha: body 'spinner' is flexible" \
-  "$flexref" run scenes/flexible_spinner.toml --scheme genalpha -o "$tmp/e.csv"
+sed 's/^end_time = .*/end_time = 0.05/' scenes/flexible_spinner.toml >"$tmp/spinner_short.toml"
+expect 0 "genalpha on a flexible body (coupled model)" "with genalpha (coupled model)" \
+  "$flexref" run "$tmp/spinner_short.toml" --scheme genalpha --model coupled -o "$tmp/fs_ga.csv"
 
 # Tiny and huge steps and outputs: refused up front with a reason, never a crash (the first
 # segfaulted, the second ran for ever, the third wrote 1e7 rows without a word).
