@@ -38,7 +38,6 @@ GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameter
     const int width = 6 + body.mode_count();
     offsets_.push_back(offsets_.back() + width);
     for (int k = 0; k < width; ++k) integrated_unknowns_ += integrated_row(b, k) ? 1 : 0;
-    has_flexible_ = has_flexible_ || body.is_flexible();
     body_residual_.push_back(Eigen::VectorXd::Zero(width));
     body_residual_base_.push_back(Eigen::VectorXd::Zero(width));
     mass_.push_back(body.is_flexible() ? Eigen::MatrixXd::Zero(width, width) : Eigen::MatrixXd());

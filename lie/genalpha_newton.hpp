@@ -98,7 +98,6 @@ class GenAlphaSystem {
   int n_multipliers_ = 0;
   Eigen::Index z_size_ = 0;
   int integrated_unknowns_ = 0;
-  bool has_flexible_ = false;
   std::vector<int> offsets_;  ///< body b: [offsets_[b], offsets_[b + 1]); last: the total
   double t_n_ = 0.0;
   double h_ = 0.0;
