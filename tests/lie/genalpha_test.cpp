@@ -140,7 +140,7 @@ TEST_CASE("genalpha: spectral radius on a linear oscillator against rho_inf", "[
     CHECK(std::abs(measured - formulas) <= 1e-4);
     CHECK(std::abs(measured - rho) <= 0.011);
     // At h ω = 1e6 the formulas' spectral radius is (1e6)^(−2/3) ≈ 1e-4 from ρ∞, within 1e-3
-    // (the stepper at h = 1e6 s is not checked here: docs/schemes.md, open items).
+    // (the stepper at h = 1e6 s meets a residual floor there: docs/schemes.md, "Not done").
     const double far = spectral_radius(exact_amplification(rho, 1.0, 1e6));
     CHECK(std::abs(far - rho) <= 1e-3);
   }
