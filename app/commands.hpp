@@ -147,7 +147,7 @@ std::string check_same_scene(const studies::SceneIdentity& a, const std::string&
 struct ConvergeOptions {
   std::string scene;
   std::string model = core::to_string(kDefaultFormulation);
-  std::vector<std::string> schemes = lie::scheme_names();
+  std::vector<std::string> schemes = lie::default_scheme_names();
   double dt = 1e-2;
   int levels = 6;
   std::string metric = "rotation+points";

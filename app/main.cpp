@@ -20,6 +20,7 @@
 #include "core/error.hpp"
 #include "io/interrupt_cleanup.hpp"
 #include "io/output_file.hpp"
+#include "lie/genalpha_parameters.hpp"
 #include "lie/stepper.hpp"
 #include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
@@ -35,6 +36,20 @@ constexpr const char* kOutputFileHelp =
 constexpr const char* kOutputFolderHelp =
     "output directory, replaced as a whole when the study completes (a link to a folder stays "
     "a link; docs/output.md)";
+
+/// genalpha's options (lie/genalpha_parameters.hpp, docs/schemes.md "Lie-group generalized-α"):
+/// --rho-inf, its spectral radius at infinity, and --perturbed-start, Arnold's starting value
+/// a_0 = v̇(t_0 + (α_m − α_f) h). Other schemes ignore them.
+void add_genalpha_options(CLI::App* command, double& rho_inf, bool& perturbed_start) {
+  command
+      ->add_option("--rho-inf", rho_inf,
+                   "genalpha's spectral radius at infinity, in [0, 1] (1: no numerical damping)")
+      ->check(flexref::app::number_in(0.0, 1.0))
+      ->capture_default_str();
+  command->add_flag("--perturbed-start", perturbed_start,
+                    "genalpha: start from a_0 = dv/dt(t0 + (alpha_m - alpha_f) h) (Arnold's "
+                    "perturbed starting value) instead of a_0 = dv/dt(t0)");
+}
 
 /// A study's --reference-budget (docs/precision.md, "Cost guard").
 void add_reference_budget(CLI::App* command, double& budget) {
@@ -120,13 +135,16 @@ int run_command_line(int argc, char** argv) {
   RunOptions run;
   auto* run_cmd = app.add_subcommand("run", "integrate a scene with a Lie-group scheme");
   run_cmd->add_option("scene", run.scene, "scene file (TOML)")->required();
-  run_cmd->add_option("--scheme", run.scheme, "c1 | c2 | nmb")
+  run_cmd->add_option("--scheme", run.scheme, "c1 | c2 | nmb | genalpha")
       ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
   run_cmd->add_option("--dt", run.dt, "step [s]")->check(positive_number())->capture_default_str();
   run_cmd->add_option("-o,--output", run.output, std::string("CSV ") + kOutputFileHelp)->required();
   add_model_option(run_cmd, run.model);
   add_limits(run_cmd, run.limits, true);
+  double rho_inf = flexref::lie::kDefaultRhoInfinity;  // one subcommand runs: one value
+  bool perturbed_start = false;
+  add_genalpha_options(run_cmd, rho_inf, perturbed_start);
 
   ReferenceOptions ref;
   auto* ref_cmd = app.add_subcommand("reference", "compute a reference solution");
@@ -214,6 +232,7 @@ int run_command_line(int argc, char** argv) {
   conv_cmd->add_option("--jobs", conv.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
   conv_cmd->add_option("--out", conv.out_dir, kOutputFolderHelp)->capture_default_str();
+  add_genalpha_options(conv_cmd, rho_inf, perturbed_start);
   add_model_option(conv_cmd, conv.model);
   conv_cmd
       ->add_option("--reference-precision", conv.reference_precision,
@@ -279,6 +298,7 @@ int run_command_line(int argc, char** argv) {
                    "with --jobs 1")
       ->check(integer_in(0, 1024));
   wp_cmd->add_option("--out", wp.out_dir, kOutputFolderHelp)->capture_default_str();
+  add_genalpha_options(wp_cmd, rho_inf, perturbed_start);
   wp_cmd->add_option("--external", wp.external,
                      "another code's integrator: a command with {scene}, {dt}, {output}, run "
                      "per step; its CPU time is the program's own (docs/external.md)");
@@ -361,6 +381,7 @@ int run_command_line(int argc, char** argv) {
   stab_cmd->add_option("--jobs", stab.jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
   stab_cmd->add_option("--out", stab.out_dir, kOutputFolderHelp)->capture_default_str();
+  add_genalpha_options(stab_cmd, rho_inf, perturbed_start);
   add_limits(stab_cmd, stab.limits, true);
 
   FigureCommandOptions fig;
@@ -494,6 +515,8 @@ int run_command_line(int argc, char** argv) {
   }
 
   try {
+    flexref::lie::set_genalpha_rho_inf(rho_inf);
+    flexref::lie::set_genalpha_perturbed_start(perturbed_start);
     if (*check_cmd) return check_command(check);
     if (*run_cmd) return run_command(run);
     if (*ref_cmd) {

@@ -23,7 +23,7 @@ struct StabilityCommandOptions {
   double min = 0.0;
   double max = 0.0;
   int count = 9;
-  std::vector<std::string> schemes = lie::scheme_names();
+  std::vector<std::string> schemes = lie::default_scheme_names();
   double spin = 0.0;           ///< |W0| of the ratio sweep and degenerate set (0: the body's)
   long steps = 1000;           ///< steps per stability run
   double energy_factor = 0.5;  ///< unstable when |E − E0| > factor·|E0| (same for |π|)

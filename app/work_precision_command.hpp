@@ -15,7 +15,7 @@ namespace flexref::app {
 struct WorkPrecisionOptions {
   std::string scene;
   std::string model = core::to_string(kDefaultFormulation);  ///< --model coupled|lte
-  std::vector<std::string> schemes = lie::scheme_names();
+  std::vector<std::string> schemes = lie::default_scheme_names();
   double dt = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< number of steps dt, dt/2, …
   std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};

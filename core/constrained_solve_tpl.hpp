@@ -252,7 +252,15 @@ bool kept_orientation(ConstraintSolveTpl<S>& s) {
   s.crossing_lu.compute(s.crossing);
   // The determinant's sign: the permutation's and the signs of U's diagonal (no product, which
   // could underflow).
-  int sign = static_cast<int>(s.crossing_lu.permutationP().determinant());
+  // The permutation's sign is the parity of its inversions (O(m²) comparisons, no scratch:
+  // Eigen's PermutationMatrix::determinant allocates a mask).
+  const auto& indices = s.crossing_lu.permutationP().indices();
+  int sign = 1;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    for (Eigen::Index j = i + 1; j < m; ++j) {
+      if (indices(i) > indices(j)) sign = -sign;
+    }
+  }
   const auto& lu = s.crossing_lu.matrixLU();
   for (Eigen::Index k = 0; k < m; ++k) {
     if (!(lu(k, k) != S(0))) return false;

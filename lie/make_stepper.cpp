@@ -10,6 +10,8 @@
 
 #include "lie/c1.hpp"
 #include "lie/c2.hpp"
+#include "lie/genalpha.hpp"
+#include "lie/genalpha_parameters.hpp"
 #include "lie/method_registry.hpp"
 #include "lie/nmb.hpp"
 #include "lie/stepper.hpp"
@@ -33,6 +35,15 @@ Registry& registry() {
                             [](const core::Model& m) { return std::make_unique<C2Stepper>(m); }});
     reg->methods.push_back({"nmb", 2, "Krysl-Endres NMB (explicit Newmark on the Lie group)",
                             [](const core::Model& m) { return std::make_unique<NmbStepper>(m); }});
+    // The comparison method, with the ρ∞ of set_genalpha_rho_inf (--rho-inf); run when named.
+    reg->methods.push_back(
+        {"genalpha", 2, "Lie-group generalized-alpha (Bruls-Cardona-Arnold 2012, implicit)",
+         [](const core::Model& m) {
+           GenAlphaParameters parameters = GenAlphaParameters::from_rho_inf(genalpha_rho_inf());
+           parameters.perturbed_start = genalpha_perturbed_start();
+           return std::make_unique<GenAlphaStepper>(m, parameters);
+         },
+         false});
     return reg;
   }();
   return *r;
@@ -98,6 +109,14 @@ std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& 
 std::vector<std::string> scheme_names() {
   std::vector<std::string> names;
   for (const MethodInfo& m : registered_methods()) names.push_back(m.name);
+  return names;
+}
+
+std::vector<std::string> default_scheme_names() {
+  std::vector<std::string> names;
+  for (const MethodInfo& m : registered_methods()) {
+    if (m.in_default_studies) names.push_back(m.name);
+  }
   return names;
 }
 

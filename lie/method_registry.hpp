@@ -29,6 +29,9 @@ struct MethodInfo {
   int claimed_order = 0;    ///< the order the authors claim (≥ 1), checked by `converge`
   std::string description;  ///< one line for listings
   StepperFactory factory;   ///< builds a stepper for a model (the model outlives it)
+  /// Whether studies run it when no scheme list is given (default_scheme_names). The comparison
+  /// method `genalpha` is registered with false: it runs only when named (--schemes).
+  bool in_default_studies = true;
 };
 
 /// Adds a method. Throws std::invalid_argument when the name is empty, has other characters
@@ -39,7 +42,7 @@ void register_method(MethodInfo method);
 /// The registered method of that name, or nullptr.
 const MethodInfo* find_method(std::string_view name);
 
-/// All registered methods, in registration order (c1, c2, nmb first).
+/// All registered methods, in registration order (c1, c2, nmb, genalpha first).
 std::vector<MethodInfo> registered_methods();
 
 }  // namespace flexref::lie

@@ -24,7 +24,7 @@ class Stepper {
   Stepper(const Stepper&) = delete;
   Stepper& operator=(const Stepper&) = delete;
 
-  /// "c1", "c2", "nmb", or a user method's registered name.
+  /// "c1", "c2", "nmb", "genalpha", or a user method's registered name.
   virtual std::string_view name() const = 0;
   /// The order the scheme's authors claim (measured by the tests and `converge`).
   virtual int order() const = 0;
@@ -44,15 +44,19 @@ class Stepper {
   Stepper() = default;
 };
 
-/// A stepper of a registered method (lie/method_registry.hpp: "c1", "c2", "nmb" and whatever
-/// the program registered); throws std::invalid_argument for any other name. The model must
-/// outlive the stepper.
+/// A stepper of a registered method (lie/method_registry.hpp: "c1", "c2", "nmb", "genalpha" and
+/// whatever the program registered); throws std::invalid_argument for any other name. The model
+/// must outlive the stepper.
 std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model);
 
-/// The names make_stepper accepts, in registration order: {"c1", "c2", "nmb", ...}.
+/// The names make_stepper accepts, in registration order: {"c1", "c2", "nmb", "genalpha", ...}.
 std::vector<std::string> scheme_names();
-/// The schemes flexref itself registers at start-up, {"c1", "c2", "nmb"}: what a study or test
-/// means by "the built-in schemes", whatever else a program registered.
+/// The schemes a study runs when none are named: every registered method but those registered
+/// with in_default_studies = false (genalpha, the comparison method, runs when named).
+std::vector<std::string> default_scheme_names();
+/// The paper's hybrid schemes flexref registers at start-up, {"c1", "c2", "nmb"}: what a study
+/// or test means by "the built-in schemes", whatever else a program registered. The comparison
+/// method "genalpha" (lie/genalpha.hpp) is registered after them and is not among these.
 std::vector<std::string> builtin_scheme_names();
 
 }  // namespace flexref::lie

@@ -57,7 +57,7 @@ std::string kept_file_bytes(const ExternalMethod& method, int level);
 void restore_kept_file(const ExternalMethod& method, int level, const std::string& bytes);
 
 struct ConvergenceOptions {
-  std::vector<std::string> schemes = lie::scheme_names();
+  std::vector<std::string> schemes = lie::default_scheme_names();
   double h0 = 1e-2;
   int levels = 6;
   std::string metric = "rotation+points";

@@ -84,7 +84,7 @@ Eigen::Matrix3d rod_inertia(double ratio);
 struct StabilityOptions {
   std::string parameter = "spin";  ///< "spin" (|W0|, rad/s) or "inertia_ratio" (J3/J1)
   std::vector<double> values;
-  std::vector<std::string> schemes = lie::scheme_names();
+  std::vector<std::string> schemes = lie::default_scheme_names();
   /// The body: free_spin's J = diag(3, 4, 5) and W0 direction (0.2, 0.3, 2.0) by default.
   Eigen::Matrix3d I_Bcm_B = Eigen::Vector3d(3.0, 4.0, 5.0).asDiagonal();
   Eigen::Vector3d w_direction_B{0.2, 0.3, 2.0};

@@ -195,14 +195,14 @@ std::string format_linear_sweep_table(const std::string& parameter,
                                       const std::vector<LinearSweepPoint>& points) {
   std::ostringstream out;
   const std::string label = parameter == "modal_frequency" ? "w_max [rad/s]" : "k [N/m]";
-  out << std::left << std::setw(8) << "scheme" << std::setw(14) << label << std::setw(14)
+  out << std::left << std::setw(10) << "scheme" << std::setw(14) << label << std::setw(14)
       << "omega [rad/s]" << std::setw(13) << "h_max [s]" << std::setw(13) << "2/omega [s]"
       << std::setw(10) << "h*omega"
       << "first unstable step\n";
   for (const LinearSweepPoint& p : points) {
     std::ostringstream row;
     row << std::setprecision(4);
-    row << std::left << std::setw(8) << p.scheme << std::setw(14) << p.value << std::setw(14)
+    row << std::left << std::setw(10) << p.scheme << std::setw(14) << p.value << std::setw(14)
         << p.omega << std::setw(13) << p.h_max << std::setw(13) << p.h_theory << std::setw(10)
         << p.h_max * p.omega << p.classification << "\n";
     out << row.str();

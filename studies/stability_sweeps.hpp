@@ -35,7 +35,7 @@ struct LinearSweepOptions {
   std::string parameter = "modal_frequency";  ///< or "contact_stiffness"
   /// ω_max (rad/s) for modal_frequency, k (N/m) for contact_stiffness.
   std::vector<double> values;
-  std::vector<std::string> schemes = lie::scheme_names();
+  std::vector<std::string> schemes = lie::default_scheme_names();
   long steps = 2000;
   double growth_factor = 10.0;
   double relative_tolerance = 1e-3;

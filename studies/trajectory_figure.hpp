@@ -22,7 +22,7 @@
 namespace flexref::studies {
 
 struct FigureSettings {
-  std::vector<std::string> schemes = lie::scheme_names();
+  std::vector<std::string> schemes = lie::default_scheme_names();
   std::vector<double> steps;  ///< s
   int body = 0;
   int point = 0;                 ///< index into the body's tracked points

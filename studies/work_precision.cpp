@@ -388,8 +388,8 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
     out << "\n"
         << title << " (certified runs only):\n"
         << std::right << std::setw(8) << "target"
-        << "  " << std::left << std::setw(8) << "method" << std::setw(18) << "setting" << std::right
-        << std::setw(11) << "error" << std::setw(11) << "cpu [s]\n";
+        << "  " << std::left << std::setw(10) << "method" << std::setw(18) << "setting"
+        << std::right << std::setw(11) << "error" << std::setw(11) << "cpu [s]\n";
     for (const auto& c : cheapest) {
       out << std::right << std::scientific << std::setprecision(0) << std::setw(8) << c.target
           << "  ";
@@ -400,7 +400,7 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
       std::ostringstream setting;
       setting << (c.run.kind == "solver" ? "rtol = " : "h = ") << std::scientific
               << std::setprecision(2) << c.run.setting;
-      out << std::left << std::setw(8) << c.run.method << std::setw(18) << setting.str()
+      out << std::left << std::setw(10) << c.run.method << std::setw(18) << setting.str()
           << std::right << std::setprecision(2) << std::setw(11) << c.run.error << std::setw(11)
           << c.run.cpu_seconds << "\n";
     }

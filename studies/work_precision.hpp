@@ -25,7 +25,7 @@
 namespace flexref::studies {
 
 struct WorkPrecisionOptions {
-  std::vector<std::string> schemes = lie::scheme_names();
+  std::vector<std::string> schemes = lie::default_scheme_names();
   double h0 = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< steps h0, h0/2, …, h0/2^(levels−1)
   std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};

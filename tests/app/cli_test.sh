@@ -342,6 +342,26 @@ expect 1 "stability inertia_ratio 0.5" "is below 1" \
   "$flexref" stability --parameter inertia_ratio --values 0.5 --out "$tmp/stab_bad"
 [[ ! -e $tmp/stab_bad ]] || fail "refused stability study created its folder"
 
+# genalpha (issue 34): --rho-inf in [0, 1] on run, converge, work-precision and stability; a
+# jointed scene and a flexible one (coupled model) run with it.
+expect 2 "run --rho-inf 1.5" "--rho-inf: must lie in [0, 1], got 1.5" \
+  "$flexref" run scenes/heavy_top.toml --rho-inf 1.5 -o "$tmp/e.csv"
+for cmd in converge work-precision stability; do
+  expect 2 "$cmd --rho-inf 1.5" "--rho-inf: must lie in [0, 1], got 1.5" \
+    "$flexref" $cmd scenes/heavy_top.toml --schemes genalpha --rho-inf 1.5 --out "$tmp/ga_bad"
+done
+[[ ! -e $tmp/ga_bad ]] || fail "a refused --rho-inf created $tmp/ga_bad"
+expect 2 "run --rho-inf -0.1" "--rho-inf: must lie in [0, 1], got -0.1" \
+  "$flexref" run scenes/heavy_top.toml --scheme genalpha --rho-inf=-0.1 -o "$tmp/e.csv"
+[[ ! -e $tmp/e.csv ]] || fail "a refused --rho-inf wrote $tmp/e.csv"
+sed 's/^end_time = .*/end_time = 0.003/' scenes/andrews_squeezer.toml >"$tmp/andrews_short.toml"
+expect 0 "genalpha on Andrews' squeezer" "run andrews_squeezer with genalpha" \
+  "$flexref" run "$tmp/andrews_short.toml" --scheme genalpha --dt 1e-4 --rho-inf 0.5 \
+  --perturbed-start -o "$tmp/andrews_ga.csv"
+sed 's/^end_time = .*/end_time = 0.05/' scenes/flexible_spinner.toml >"$tmp/spinner_short.toml"
+expect 0 "genalpha on a flexible body (coupled model)" "with genalpha (coupled model)" \
+  "$flexref" run "$tmp/spinner_short.toml" --scheme genalpha --model coupled -o "$tmp/fs_ga.csv"
+
 # Tiny and huge steps and outputs: refused up front with a reason, never a crash (the first
 # segfaulted, the second ran for ever, the third wrote 1e7 rows without a word).
 expect 1 "run --dt 1e-19" "below what double precision resolves" \

@@ -22,6 +22,7 @@ const bool kLieEulerRegistered = (user::register_lie_euler(), true);
 FLEXREF_STEPPER_CONFORMANCE_TESTS("c1")
 FLEXREF_STEPPER_CONFORMANCE_TESTS("c2")
 FLEXREF_STEPPER_CONFORMANCE_TESTS("nmb")
+FLEXREF_STEPPER_CONFORMANCE_TESTS("genalpha")
 FLEXREF_STEPPER_CONFORMANCE_TESTS("lie_euler")
 
 namespace flexref::lie {

@@ -1,0 +1,456 @@
+#include "lie/genalpha_newton.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "core/prescribed_motion.hpp"
+#include "lie/scheme_support.hpp"
+#include "rotation/euler_parameters.hpp"
+#include "rotation/so3.hpp"
+
+namespace flexref::lie::detail {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+namespace {
+
+/// Forward-difference step of the loads' directional derivatives (see the header).
+constexpr double kDirectionalStep = 1.5e-8;
+
+}  // namespace
+
+GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameters& parameters)
+    : model_(model),
+      p_(parameters),
+      n_bodies_(model.num_bodies()),
+      next_(model.initial_state()),
+      perturbed_(next_),
+      ws_(model.make_workspace()),
+      wrenches_(ws_.wrenches),
+      R_(static_cast<std::size_t>(model.num_bodies()), Matrix3d::Identity()),
+      acc_(model.make_accelerations()) {
+  offsets_.push_back(0);
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::Body& body = model.body(b);
+    const int width = 6 + body.mode_count();
+    offsets_.push_back(offsets_.back() + width);
+    for (int k = 0; k < width; ++k) integrated_unknowns_ += integrated_row(b, k) ? 1 : 0;
+    body_residual_.push_back(Eigen::VectorXd::Zero(width));
+    body_residual_base_.push_back(Eigen::VectorXd::Zero(width));
+    mass_.push_back(body.is_flexible() ? Eigen::MatrixXd::Zero(width, width) : Eigen::MatrixXd());
+  }
+  const Eigen::Index n = offsets_.back();
+  if (model.has_constraints()) {
+    n_multipliers_ = static_cast<int>(model.independent_rows().size());
+    const int rows = model.constraints()->row_count();
+    if (model.velocity_layout().offsets != offsets_) {
+      throw std::invalid_argument("genalpha: the joints' velocity layout is not the bodies' own");
+    }
+    rows_.resize(rows, static_cast<int>(n));
+    rows_perturbed_.resize(rows, static_cast<int>(n));
+  }
+  z_size_ = n + n_multipliers_;
+  v_n_ = Eigen::VectorXd::Zero(n);
+  a_n_ = Eigen::VectorXd::Zero(n);
+  vdot_n_ = Eigen::VectorXd::Zero(n);
+  a_base_ = Eigen::VectorXd::Zero(n);
+  vdot_ = Eigen::VectorXd::Zero(n);
+  a_ = Eigen::VectorXd::Zero(n);
+  v_ = Eigen::VectorXd::Zero(n);
+  diagonal_ = Eigen::VectorXd::Zero(n);
+  jt_lambda_ = Eigen::VectorXd::Zero(n);
+  jt_lambda_perturbed_ = Eigen::VectorXd::Zero(n);
+  // m̂ = β h² M_kk β' = M_kk (1 − α_m)/(1 − α_f): independent of h (modal rows: the diagonal of
+  // the modal mass m_ff).
+  const double ratio = (1.0 - p_.alpha_m) / (1.0 - p_.alpha_f);
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::Body& body = model.body(b);
+    const auto o = static_cast<Eigen::Index>(offset(b));
+    diagonal_.segment<3>(o).setConstant(ratio * body.mass());
+    diagonal_.segment<3>(o + 3) = ratio * body.I_Br_B().diagonal();
+    if (body.is_flexible()) {
+      diagonal_.segment(o + 6, body.mode_count()) = ratio * body.invariants().m_ff.diagonal();
+    }
+    // A fixed row needs a non-zero diagonal (a prescribed beam's hub may have no inertia about
+    // an axis): the body's mass stands in.
+    for (int k = 0; k < 6; ++k) {
+      if (!(diagonal_(o + k) > 0.0)) diagonal_(o + k) = ratio * std::max(body.mass(), 1.0);
+    }
+  }
+}
+
+bool GenAlphaSystem::integrated_row(int body, int k) const {
+  const core::Body& b = model_.body(body);
+  if (k >= 6) return true;  // modal coordinates
+  if (b.is_prescribed()) return false;
+  return k >= 3 || b.is_free();
+}
+
+void GenAlphaSystem::stack_velocities(const core::State& state, Eigen::VectorXd& v) const {
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::BodyState& s = state[static_cast<std::size_t>(b)];
+    const auto o = static_cast<Eigen::Index>(offset(b));
+    v.segment<3>(o) = s.v_WBr;
+    v.segment<3>(o + 3) = s.w_WB_B;
+    if (s.qd_f.size() > 0) v.segment(o + 6, s.qd_f.size()) = s.qd_f;
+  }
+}
+
+void GenAlphaSystem::stack_accelerations(const core::Accelerations& acc, Eigen::VectorXd& x) const {
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::BodyAcceleration& a = acc[static_cast<std::size_t>(b)];
+    const auto o = static_cast<Eigen::Index>(offset(b));
+    x.segment<3>(o) = a.a_WBr;
+    x.segment<3>(o + 3) = a.alpha_WB_B;
+    if (a.qdd_f.size() > 0) x.segment(o + 6, a.qdd_f.size()) = a.qdd_f;
+  }
+}
+
+void GenAlphaSystem::begin_step(double t_n, double h, const core::State& state,
+                                const Eigen::VectorXd& vdot_n, const Eigen::VectorXd& a_n) {
+  t_n_ = t_n;
+  h_ = h;
+  state_n_ = &state;
+  stack_velocities(state, v_n_);
+  vdot_n_ = vdot_n;
+  a_n_ = a_n;
+  // a_{n+1} = x/(β h²) + a_base,  a_base = −(v_n + (½ − β) h a_n)/(β h)
+  a_base_ = -(v_n_ + ((0.5 - p_.beta) * h) * a_n_) / (p_.beta * h);
+}
+
+void GenAlphaSystem::predictor(const Eigen::VectorXd& lambda_hat, Eigen::VectorXd& z) const {
+  const Eigen::Index n = offsets_.back();
+  // v̇_{n+1} = 0 (Brüls, Cardona & Arnold's predictor: bounded however stiff the problem, where
+  // extrapolating v̇_n by h ω ≫ 1 would start Newton far off, at another root of a nonlinear
+  // spring): a_{n+1} = (α_f v̇_n − α_m a_n)/(1 − α_m),  x = β h² (a_{n+1} − a_base)
+  const double bh2 = p_.beta * h_ * h_;
+  for (int b = 0; b < n_bodies_; ++b) {
+    for (int k = offset(b); k < offset(b + 1); ++k) {
+      if (!integrated_row(b, k - offset(b))) {
+        z(k) = 0.0;
+        continue;
+      }
+      const double a_next = (p_.alpha_f * vdot_n_(k) - p_.alpha_m * a_n_(k)) / (1.0 - p_.alpha_m);
+      z(k) = bh2 * (a_next - a_base_(k));
+    }
+  }
+  if (n_multipliers_ > 0) z.tail(n_multipliers_) = lambda_hat;
+  (void)n;
+}
+
+void GenAlphaSystem::state_at(const Eigen::VectorXd& z, core::State& next, Eigen::VectorXd& vdot,
+                              Eigen::VectorXd& a) const {
+  const core::State& s_n = *state_n_;
+  const double bh2 = p_.beta * h_ * h_;
+  const Eigen::Index n = offsets_.back();
+  // a_{n+1} = x/(β h²) + a_base
+  a = z.head(n) / bh2 + a_base_;
+  // v̇_{n+1} = ((1 − α_m) a_{n+1} + α_m a_n − α_f v̇_n)/(1 − α_f)
+  vdot = ((1.0 - p_.alpha_m) * a + p_.alpha_m * a_n_ - p_.alpha_f * vdot_n_) / (1.0 - p_.alpha_f);
+  const double c_n = (1.0 - p_.gamma) * h_;
+  const double c_np1 = p_.gamma * h_;
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::BodyState& s = s_n[static_cast<std::size_t>(b)];
+    core::BodyState& s1 = next[static_cast<std::size_t>(b)];
+    const auto o = static_cast<Eigen::Index>(offset(b));
+    if (model_.body(b).is_free()) {
+      // x_{n+1} = x_n + x_T,  v_{n+1} = v_n + (1 − γ) h a_n + γ h a_{n+1}
+      s1.p_WBr = s.p_WBr + z.segment<3>(o);
+      s1.v_WBr = s.v_WBr + c_n * a_n_.segment<3>(o) + c_np1 * a.segment<3>(o);
+    } else {
+      s1.p_WBr = s.p_WBr;
+      s1.v_WBr.setZero();
+      a.segment<3>(o).setZero();
+      vdot.segment<3>(o).setZero();
+    }
+    // R_{n+1} = R_n exp(x̃_R)   (θ_{n+1} = θ_n ⊗ exp(x_R), renormalized)
+    s1.theta_WB =
+        rotation::quaternion_multiply(s.theta_WB, rotation::exp_quaternion(z.segment<3>(o + 3)));
+    renormalize_unit_product(s1.theta_WB);
+    s1.w_WB_B = s.w_WB_B + c_n * a_n_.segment<3>(o + 3) + c_np1 * a.segment<3>(o + 3);
+    const Eigen::Index modes = s.q_f.size();
+    if (modes > 0) {
+      // q_{n+1} = q_n + x_q (a vector space),  q̇_{n+1} = q̇_n + (1 − γ) h q̈ₐ_n + γ h q̈ₐ_{n+1}
+      s1.q_f = s.q_f + z.segment(o + 6, modes);
+      s1.qd_f = s.qd_f + c_n * a_n_.segment(o + 6, modes) + c_np1 * a.segment(o + 6, modes);
+    }
+  }
+  model_.apply_prescribed_motion(t_n_ + h_, next);
+}
+
+void GenAlphaSystem::body_residual(int b, const core::State& state) {
+  const core::Body& body = model_.body(b);
+  core::BodyAcceleration& acc = acc_[static_cast<std::size_t>(b)];
+  const auto o = static_cast<Eigen::Index>(offset(b));
+  acc.a_WBr = vdot_.segment<3>(o);
+  acc.alpha_WB_B = vdot_.segment<3>(o + 3);
+  if (body.is_prescribed()) {
+    const core::RigidBodyDescription& d = body.description();
+    acc.a_WBr.setZero();
+    acc.alpha_WB_B =
+        core::prescribed_attitude(d.prescribed, d.initial.theta_WB, t_n_ + h_).alpha_WB_B;
+  } else if (!body.is_free()) {
+    acc.a_WBr.setZero();
+  }
+  if (body.mode_count() > 0) acc.qdd_f = vdot_.segment(o + 6, body.mode_count());
+  model_.dynamics_residual(b, state[static_cast<std::size_t>(b)], acc, ws_,
+                           body_residual_[static_cast<std::size_t>(b)]);
+}
+
+GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::VectorXd& r) {
+  state_at(z, next_, vdot_, a_);
+  stack_velocities(next_, v_);
+  const double t_np1 = t_n_ + h_;
+  model_.compute_wrenches(core::LoadContext{t_np1, t_n_ + 0.5 * h_}, next_, ws_);
+  ++evaluations_;
+  for (int b = 0; b < n_bodies_; ++b) {
+    const auto k = static_cast<std::size_t>(b);
+    wrenches_[k].f_W = ws_.wrenches[k].f_W;
+    wrenches_[k].tau_Br_W = ws_.wrenches[k].tau_Br_W;
+    wrenches_[k].torque_magnitude = ws_.wrenches[k].torque_magnitude;
+    R_[k] = ws_.kinematics[k].R_WB;
+  }
+  const Eigen::Index n = offsets_.back();
+  jt_lambda_.setZero();
+  if (n_multipliers_ > 0) {
+    model_.constraints()->evaluate(t_np1, ws_.kinematics, model_.velocity_layout(), rows_);
+    const std::vector<int>& active = model_.independent_rows();
+    for (int a = 0; a < n_multipliers_; ++a) {
+      // J_aᵀ λ̂ (λ̂ = β h² λ)
+      jt_lambda_ += rows_.J.row(active[static_cast<std::size_t>(a)]).transpose() * z(n + a);
+    }
+  }
+  const double bh2 = p_.beta * h_ * h_;
+  GenAlphaResidualNorm norm;
+  const auto note = [&](double value, double scale, int body) {
+    const double relative = std::abs(value) / (scale > 0.0 ? scale : 1.0);
+    if (!std::isfinite(relative)) norm.finite = false;
+    if (relative > norm.relative) {
+      norm.relative = relative;
+      norm.worst_body = body;
+    }
+  };
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::Body& body = model_.body(b);
+    const auto o = static_cast<Eigen::Index>(offset(b));
+    const core::Wrench& w = wrenches_[static_cast<std::size_t>(b)];
+    // Scales: the terms of each row, and the inertia of the increment itself, m̂ |x| (without
+    // it a row whose terms all vanish — a free body without loads — would be measured against
+    // its own round-off).
+    const Vector3d inertia_x_T = diagonal_.segment<3>(o).cwiseProduct(z.segment<3>(o));
+    const Vector3d inertia_x_R = diagonal_.segment<3>(o + 3).cwiseProduct(z.segment<3>(o + 3));
+    if (body.is_flexible()) {
+      // r_b = β h² (M v̇ − Q) + (Jᵀ λ̂)_b, Model::dynamics_residual's rows.
+      const auto k = static_cast<std::size_t>(b);
+      body_residual(b, next_);
+      model_.residual_mass_matrix(b, ws_, mass_[k]);
+      const Eigen::Index width = offset(b + 1) - offset(b);
+      r.segment(o, width) = bh2 * body_residual_[k] + jt_lambda_.segment(o, width);
+      // One scale for the whole body, the largest of its rows' terms: a modal row's own terms can
+      // be 1e-8 of the hub's while the coupled solve leaves it the round-off of the hub's rows.
+      double body_scale = 0.0;
+      for (Eigen::Index i = 0; i < width; ++i) {
+        if (!integrated_row(b, static_cast<int>(i))) continue;
+        const double inertia = mass_[k].row(i).dot(vdot_.segment(o, width));
+        const double inertia_terms =
+            mass_[k].row(i).cwiseAbs().dot(vdot_.segment(o, width).cwiseAbs());
+        // The loads' and the body's own forces: Qe (f, Rᵀτ, Q_f), Qv, K q and D q̇.
+        double forces =
+            std::abs(ws_.flexible[k].terms.Qv(i)) + std::abs(body_residual_[k](i) - inertia);
+        if (i < 3) forces += std::abs(w.f_W(i));
+        if (i >= 3 && i < 6) {
+          forces += std::abs((R_[k].transpose() * w.tau_Br_W)(i - 3)) + w.torque_magnitude;
+        }
+        if (i >= 6) {
+          const Eigen::Index m = i - 6;
+          const core::BodyState& s1 = next_[k];
+          forces += std::abs(w.Q_f(m)) + std::abs(body.modal_stiffness()(m) * s1.q_f(m)) +
+                    std::abs(body.modal_damping()(m) * s1.qd_f(m));
+        }
+        body_scale =
+            std::max(body_scale, bh2 * (inertia_terms + forces) + std::abs(jt_lambda_(o + i)) +
+                                     std::abs(diagonal_(o + i) * z(o + i)));
+      }
+      for (Eigen::Index i = 0; i < width; ++i) {
+        if (!integrated_row(b, static_cast<int>(i))) {
+          r(o + i) = diagonal_(o + i) * z(o + i);  // keeps x_k = 0
+          continue;
+        }
+        note(r(o + i), body_scale, b);
+      }
+      continue;
+    }
+    const Matrix3d& J = body.I_Br_B();
+    const Vector3d W = v_.segment<3>(o + 3);
+    const Vector3d J_W = J * W;
+    const Vector3d gyroscopic = W.cross(J_W);
+    const Vector3d torque_B = R_[static_cast<std::size_t>(b)].transpose() * w.tau_Br_W;
+    const Vector3d inertia_T = body.mass() * vdot_.segment<3>(o);
+    const Vector3d inertia_R = J * vdot_.segment<3>(o + 3);
+    // r_T = β h² (m v̇_T − f_W) + (Jᵀ λ̂)_T,  r_R = β h² (J v̇_R + W × J W − Rᵀ τ_W) + (Jᵀ λ̂)_R
+    r.segment<3>(o) = bh2 * (inertia_T - w.f_W) + jt_lambda_.segment<3>(o);
+    r.segment<3>(o + 3) = bh2 * (inertia_R + gyroscopic - torque_B) + jt_lambda_.segment<3>(o + 3);
+    const double scale_T = bh2 * (max_abs(inertia_T) + max_abs(w.f_W)) +
+                           max_abs(jt_lambda_.segment<3>(o)) + max_abs(inertia_x_T);
+    const double scale_R =
+        bh2 * (max_abs(inertia_R) + max_abs(gyroscopic) + max_abs(torque_B) + w.torque_magnitude) +
+        max_abs(jt_lambda_.segment<3>(o + 3)) + max_abs(inertia_x_R);
+    for (int k = 0; k < 6; ++k) {
+      if (!integrated_row(b, k)) {
+        r(o + k) = diagonal_(o + k) * z(o + k);  // keeps x_k = 0
+        continue;
+      }
+      note(r(o + k), k < 3 ? scale_T : scale_R, b);
+    }
+  }
+  if (n_multipliers_ > 0) {
+    // Length rows relative to the size of the bodies' positions (at least 1 cm), rotation rows
+    // (sines of angles) as they are.
+    double length = 1e-2;
+    for (const core::BodyState& s : next_) length = std::max(length, max_abs(s.p_WBr));
+    const std::vector<int>& active = model_.independent_rows();
+    for (int a = 0; a < n_multipliers_; ++a) {
+      const int row = active[static_cast<std::size_t>(a)];
+      r(n + a) = rows_.phi(row);
+      const double scale = model_.constraints()->is_length_row(row) ? length : 1.0;
+      note(r(n + a), scale, std::max(0, model_.constraints()->row_bodies(row)[0]));
+    }
+  }
+  if (!std::isfinite(r.sum())) norm.finite = false;
+  return norm;
+}
+
+void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd& S) {
+  const double bh2 = p_.beta * h_ * h_;
+  const double gamma_prime = p_.gamma / (p_.beta * h_);                // ∂v_{n+1}/∂x
+  const double mass_factor = (1.0 - p_.alpha_m) / (1.0 - p_.alpha_f);  // β h² β'
+  const Eigen::Index n = offsets_.back();
+  S.setZero();
+  // Inertia, gyroscopic damping, the frame of the torque (analytic); fixed rows m̂ I.
+  for (int b = 0; b < n_bodies_; ++b) {
+    const core::Body& body = model_.body(b);
+    const auto o = static_cast<Eigen::Index>(offset(b));
+    const Eigen::Index width = offset(b + 1) - offset(b);
+    for (Eigen::Index k = 0; k < width; ++k) S(o + k, o + k) = diagonal_(o + k);
+    if (body.is_flexible()) {
+      // β h² M β' from the residual's mass matrix, on the integrated rows and columns.
+      const Eigen::MatrixXd& M = mass_[static_cast<std::size_t>(b)];
+      for (Eigen::Index i = 0; i < width; ++i) {
+        if (!integrated_row(b, static_cast<int>(i))) continue;
+        for (Eigen::Index j = 0; j < width; ++j) {
+          if (integrated_row(b, static_cast<int>(j))) S(o + i, o + j) = mass_factor * M(i, j);
+        }
+      }
+      body_residual_base_[static_cast<std::size_t>(b)] =
+          body_residual_[static_cast<std::size_t>(b)];
+      continue;
+    }
+    if (body.is_prescribed()) continue;
+    const Matrix3d& J = body.I_Br_B();
+    const Vector3d W = v_.segment<3>(o + 3);
+    const Vector3d torque_B = R_[static_cast<std::size_t>(b)].transpose() *
+                              wrenches_[static_cast<std::size_t>(b)].tau_Br_W;
+    const Matrix3d T = rotation::right_jacobian(z.segment<3>(o + 3));
+    // β h² (J β' + (W̃ J − (J W)~) γ' − (Rᵀτ)~ T);  β h² J β' = J (1 − α_m)/(1 − α_f)
+    S.block<3, 3>(o + 3, o + 3) =
+        J * mass_factor + bh2 * (gamma_prime * (rotation::hat(W) * J - rotation::hat(J * W)) -
+                                 rotation::hat(torque_B) * T);
+  }
+  // The loads' K T + C γ' (a flexible body: its whole residual at fixed v̇; and the joints'
+  // ∂(Jᵀλ̂)/∂x): one directional forward difference per integrated unknown.
+  const core::LoadContext context{t_n_ + h_, t_n_ + 0.5 * h_};
+  const std::vector<int>* active = n_multipliers_ > 0 ? &model_.independent_rows() : nullptr;
+  const double eps = kDirectionalStep;
+  for (int j = 0; j < n_bodies_; ++j) {
+    const auto oj = static_cast<Eigen::Index>(offset(j));
+    const Eigen::Index width_j = offset(j + 1) - offset(j);
+    const Matrix3d T = rotation::right_jacobian(z.segment<3>(oj + 3));
+    core::BodyState& sj = perturbed_[static_cast<std::size_t>(j)];
+    for (Eigen::Index k = 0; k < width_j; ++k) {
+      if (!integrated_row(j, static_cast<int>(k))) continue;
+      for (std::size_t b = 0; b < next_.size(); ++b) perturbed_[b] = next_[b];
+      if (k < 3) {
+        sj.p_WBr(k) += eps;
+        sj.v_WBr(k) += eps * gamma_prime;
+      } else if (k < 6) {
+        // configuration q exp(ε (T e_k)~), velocity W + ε γ' e_k
+        sj.theta_WB = rotation::quaternion_multiply(sj.theta_WB,
+                                                    rotation::exp_quaternion(eps * T.col(k - 3)));
+        renormalize_unit_product(sj.theta_WB);
+        sj.w_WB_B(k - 3) += eps * gamma_prime;
+      } else {
+        sj.q_f(k - 6) += eps;
+        sj.qd_f(k - 6) += eps * gamma_prime;
+      }
+      model_.compute_wrenches(context, perturbed_, ws_);
+      ++evaluations_;
+      for (int i = 0; i < n_bodies_; ++i) {
+        const core::Body& body_i = model_.body(i);
+        const auto oi = static_cast<Eigen::Index>(offset(i));
+        const auto ii = static_cast<std::size_t>(i);
+        if (body_i.is_flexible()) {
+          body_residual(i, perturbed_);
+          const Eigen::Index width_i = offset(i + 1) - offset(i);
+          for (Eigen::Index row = 0; row < width_i; ++row) {
+            if (!integrated_row(i, static_cast<int>(row))) continue;
+            S(oi + row, oj + k) +=
+                (bh2 / eps) * (body_residual_[ii](row) - body_residual_base_[ii](row));
+          }
+          continue;
+        }
+        if (body_i.is_prescribed()) continue;
+        const core::Wrench& w0 = wrenches_[ii];
+        const core::Wrench& w1 = ws_.wrenches[ii];
+        if (body_i.is_free()) S.block<3, 1>(oi, oj + k) -= (bh2 / eps) * (w1.f_W - w0.f_W);
+        S.block<3, 1>(oi + 3, oj + k) -=
+            (bh2 / eps) * (R_[ii].transpose() * (w1.tau_Br_W - w0.tau_Br_W));
+      }
+      if (active != nullptr) {
+        model_.constraints()->evaluate(context.t, ws_.kinematics, model_.velocity_layout(),
+                                       rows_perturbed_);
+        jt_lambda_perturbed_.setZero();
+        for (int a = 0; a < n_multipliers_; ++a) {
+          jt_lambda_perturbed_ +=
+              rows_perturbed_.J.row((*active)[static_cast<std::size_t>(a)]).transpose() * z(n + a);
+        }
+        for (int b = 0; b < n_bodies_; ++b) {
+          for (int row = offset(b); row < offset(b + 1); ++row) {
+            if (!integrated_row(b, row - offset(b))) continue;
+            S(row, oj + k) += (jt_lambda_perturbed_(row) - jt_lambda_(row)) / eps;
+          }
+        }
+      }
+    }
+  }
+  for (std::size_t b = 0; b < next_.size(); ++b) perturbed_[b] = next_[b];
+  // Leave the flexible bodies' residuals as they were at z (the last residual call).
+  for (int b = 0; b < n_bodies_; ++b) {
+    if (model_.body(b).is_flexible()) {
+      body_residual_[static_cast<std::size_t>(b)] =
+          body_residual_base_[static_cast<std::size_t>(b)];
+    }
+  }
+  if (active == nullptr) return;
+  // Joint blocks: Jᵀ in the dynamic rows, J T in the constraint rows (integrated unknowns).
+  for (int a = 0; a < n_multipliers_; ++a) {
+    const int row = (*active)[static_cast<std::size_t>(a)];
+    for (int b = 0; b < n_bodies_; ++b) {
+      const auto o = static_cast<Eigen::Index>(offset(b));
+      const Eigen::Index width = offset(b + 1) - offset(b);
+      const Matrix3d T = rotation::right_jacobian(z.segment<3>(o + 3));
+      for (Eigen::Index k = 0; k < width; ++k) {
+        if (!integrated_row(b, static_cast<int>(k))) continue;
+        S(o + k, n + a) = rows_.J(row, o + k);
+        if (k < 3 || k >= 6) S(n + a, o + k) = rows_.J(row, o + k);
+      }
+      if (integrated_row(b, 3)) {
+        S.block<1, 3>(n + a, o + 3) = rows_.J.block<1, 3>(row, o + 3) * T;
+      }
+    }
+  }
+}
+
+}  // namespace flexref::lie::detail
