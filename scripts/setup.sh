@@ -15,7 +15,7 @@ while (($#)); do
   esac
 done
 
-packages=(build-essential cmake libsundials-dev libeigen3-dev libboost-dev libcli11-dev catch2
+packages=(build-essential cmake ninja-build libsundials-dev libeigen3-dev libboost-dev libcli11-dev catch2
           libtoml11-dev libbenchmark-dev python3-matplotlib python3-numpy pybind11-dev
           python3-pybind11 python3-dev calculix-ccx libopenmpi-dev openmpi-bin)
 # The engines the examples verify (docs/engines.md) are needed only when everything is built:
@@ -35,5 +35,10 @@ fi
 
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "${cmake_args[@]}" >/dev/null
+# Ninja for a new build folder: it compiles a target's sources while the libraries they link are
+# still compiling, where make builds target after target and leaves a core idle (an existing
+# folder keeps the generator it was made with).
+generator=()
+[[ -f build/CMakeCache.txt ]] || ! command -v ninja >/dev/null || generator=(-G Ninja)
+cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "${cmake_args[@]}" >/dev/null
 cmake --build build -j"$(nproc)" "${targets[@]}"

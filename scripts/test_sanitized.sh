@@ -12,7 +12,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+generator=()
+[[ -f build-sanitize/CMakeCache.txt ]] || ! command -v ninja >/dev/null || generator=(-G Ninja)  # as setup.sh
+cmake -S . -B build-sanitize "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DFLEXREF_SANITIZE=ON -DFLEXREF_BUILD_BENCH=OFF -DFLEXREF_BUILD_STUDY_TESTS=OFF \
   -DFLEXREF_BUILD_PYTHON=OFF -DFLEXREF_BUILD_EXAMPLES=OFF -DFLEXREF_MPI=OFF \
   "${launcher[@]}" "$@" >/dev/null
