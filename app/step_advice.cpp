@@ -40,8 +40,8 @@ Bound step_bound(const core::Model& model, const std::string& scheme, double dt,
   const double rotational = lie::rotational_stability_limit(scheme);
   if (rotational > 0.0 && spin > 0.0 && 0.1 * rotational / spin < bound.h) {
     bound = {0.1 * rotational / spin,
-             "a tenth of " + scheme + "'s rotational stability limit h|W| = " + short_text(rotational) +
-                 " at |W| = " + short_text(spin) + " rad/s"};
+             "a tenth of " + scheme + "'s rotational stability limit h|W| = " +
+                 short_text(rotational) + " at |W| = " + short_text(spin) + " rad/s"};
   }
   return bound;
 }

@@ -77,7 +77,7 @@ double hunt_crossley_restitution(double alpha_times_speed) {
 
 double linear_restitution_with_clamp(double zeta) {
   require_law(zeta >= 0.0 && zeta < std::numbers::sqrt2 / 2.0,
-          "clamped linear restitution needs 0 <= zeta < 1/sqrt(2)");
+              "clamped linear restitution needs 0 <= zeta < 1/sqrt(2)");
   // δ = (v⁻/ω_d) e^{−ζωt} sin ω_d t; k δ + c δ̇ = 0 ⇔ tan ω_d t = −2ζ√(1−ζ²)/(1 − 2ζ²) = −tan 2β
   // with ζ = sin β, so ω_d t* = π − 2β, and there δ̇ = −v⁻ e^{−ζω t*} exactly.
   return std::exp(-zeta * (std::numbers::pi - 2.0 * std::asin(zeta)) /
@@ -101,7 +101,7 @@ NormalLaw NormalLaw::linear_from_restitution(double stiffness, double restitutio
                                              double effective_mass) {
   require_law(restitution > 0.0 && restitution <= 1.0, "contact restitution must lie in (0, 1]");
   require_law(effective_mass > 0.0 && std::isfinite(effective_mass),
-          "contact effective mass must be > 0");
+              "contact effective mass must be > 0");
   // Damped oscillator m δ̈ + c δ̇ + k δ = 0 over half a damped period: e = exp(−ζπ/√(1 − ζ²)).
   const double log_e = std::log(restitution);
   const double zeta = -log_e / std::sqrt(std::numbers::pi * std::numbers::pi + log_e * log_e);
@@ -115,7 +115,7 @@ NormalLaw NormalLaw::hunt_crossley(double stiffness, double exponent, double res
   require_law(stiffness > 0.0 && std::isfinite(stiffness), "contact stiffness must be > 0");
   require_law(exponent >= 1.0 && std::isfinite(exponent), "Hunt-Crossley exponent must be >= 1");
   require_law(reference_speed > 0.0 && std::isfinite(reference_speed),
-          "Hunt-Crossley reference speed must be > 0");
+              "Hunt-Crossley reference speed must be > 0");
   NormalLaw law;
   law.kind_ = Kind::kHuntCrossley;
   law.k_ = stiffness;

@@ -20,9 +20,10 @@ namespace detail {
 void validate_gap_support(int body, const Eigen::Vector3d& p_BoN_B, GapSupportGeometry& geometry,
                           const FrictionLaw& friction, double effective_mass) {
   require_support(body >= 0, "gap support body index must be >= 0");
-  require_support(p_BoN_B.allFinite() && geometry.p_WS.allFinite(), "gap support geometry must be finite");
+  require_support(p_BoN_B.allFinite() && geometry.p_WS.allFinite(),
+                  "gap support geometry must be finite");
   require_support(geometry.clearance > 0.0 && std::isfinite(geometry.clearance),
-          "gap support clearance must be > 0");
+                  "gap support clearance must be > 0");
   const double a = geometry.a_W.norm();
   require_support(std::isfinite(a) && a > 0.0, "gap support axis must be nonzero");
   geometry.a_W /= a;
@@ -30,14 +31,15 @@ void validate_gap_support(int body, const Eigen::Vector3d& p_BoN_B, GapSupportGe
     // m projected on the plane normal to the axis, then normalized.
     const Eigen::Vector3d m = geometry.m_W - geometry.a_W.dot(geometry.m_W) * geometry.a_W;
     require_support(m.allFinite() && m.norm() > 1e-12 * geometry.m_W.norm(),
-            "gap support plane normal must not be parallel to the axis");
+                    "gap support plane normal must not be parallel to the axis");
     geometry.m_W = m.normalized();
   }
-  require_support(friction.mu >= 0.0 && std::isfinite(friction.mu), "friction coefficient must be >= 0");
+  require_support(friction.mu >= 0.0 && std::isfinite(friction.mu),
+                  "friction coefficient must be >= 0");
   require_support(friction.v_reg > 0.0 && std::isfinite(friction.v_reg),
-          "friction regularization speed must be > 0");
+                  "friction regularization speed must be > 0");
   require_support(effective_mass >= 0.0 && std::isfinite(effective_mass),
-          "gap support effective mass must be >= 0");
+                  "gap support effective mass must be >= 0");
 }
 
 void append_gap_support_modes(std::span<const core::Body> bodies, int body,

@@ -83,7 +83,8 @@ void add_geometric_jacobian(const GeometricInvariants& g, const InertiaTerms& t,
   // Modal rows.
   for (const int c : g.E_nonzero) dq.bottomRows(n).noalias() -= b(c) * g.E[index_at(c)];
   for (const int c : g.Z_nonzero) dq.bottomRows(n).noalias() -= alpha(c) * g.Z[index_at(c)];
-  for (const int ab : g.F_nonzero) dq.bottomRows(n).noalias() -= W2(ab / 3, ab % 3) * g.F[index_at(ab)];
+  for (const int ab : g.F_nonzero)
+    dq.bottomRows(n).noalias() -= W2(ab / 3, ab % 3) * g.F[index_at(ab)];
 }
 
 }  // namespace
@@ -145,10 +146,11 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
     auto col = out.block(6, kJacobianAngularVelocity + c, n, 1);
     for (int k = 0; k < 3; ++k) {
       // Y_ck and Y_kc, each weighted by ω̄_k; Y_kk by −2 ω̄_c.
-      col.noalias() += w_B(k) * (inv.x_phi.row(pair_entry(k, c)).transpose() + t.P_q.col(pair_entry(c, k)) +
-                                 inv.x_phi.row(pair_entry(c, k)).transpose() + t.P_q.col(pair_entry(k, c)));
-      col.noalias() -=
-          (2.0 * w_B(c)) * (inv.x_phi.row(pair_entry(k, k)).transpose() + t.P_q.col(pair_entry(k, k)));
+      col.noalias() +=
+          w_B(k) * (inv.x_phi.row(pair_entry(k, c)).transpose() + t.P_q.col(pair_entry(c, k)) +
+                    inv.x_phi.row(pair_entry(c, k)).transpose() + t.P_q.col(pair_entry(k, c)));
+      col.noalias() -= (2.0 * w_B(c)) *
+                       (inv.x_phi.row(pair_entry(k, k)).transpose() + t.P_q.col(pair_entry(k, k)));
     }
     col.noalias() -= 2.0 * t.G_qd.col(c);
   }
@@ -170,8 +172,8 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
   for (int p = 0; p < 3; ++p) {
     for (int r = 0; r < 3; ++r) {
       s.dJ.col(pair_entry(p, r)) = inv.x_phi.row(pair_entry(p, r)).transpose() +
-                             inv.x_phi.row(pair_entry(r, p)).transpose() + t.P_q.col(pair_entry(p, r)) +
-                             t.P_q.col(pair_entry(r, p));
+                                   inv.x_phi.row(pair_entry(r, p)).transpose() +
+                                   t.P_q.col(pair_entry(p, r)) + t.P_q.col(pair_entry(r, p));
       s.dC.col(pair_entry(p, r)) = s.P_qd.col(pair_entry(r, p));  // dC_pr = P_rp q̇
     }
   }
@@ -188,8 +190,10 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
     }
     row.noalias() += s.G_qdd.col(p).transpose();
     // 2 (tr(dC) ω̄_p − Σ_r dC_pr ω̄_r)
-    for (int c = 0; c < 3; ++c) row.noalias() += (2.0 * w_B(p)) * s.dC.col(pair_entry(c, c)).transpose();
-    for (int r = 0; r < 3; ++r) row.noalias() -= (2.0 * w_B(r)) * s.dC.col(pair_entry(p, r)).transpose();
+    for (int c = 0; c < 3; ++c)
+      row.noalias() += (2.0 * w_B(p)) * s.dC.col(pair_entry(c, c)).transpose();
+    for (int r = 0; r < 3; ++r)
+      row.noalias() -= (2.0 * w_B(r)) * s.dC.col(pair_entry(p, r)).transpose();
   }
   // Modal rows: + Σ_ab (W²)_ab P_ab − Σ_a α̅_a G_a.
   for (int p = 0; p < 3; ++p) {
@@ -203,13 +207,16 @@ void inertia_residual_jacobian(const ModalInvariants& inv, const InertiaTerms& t
   dqd.topRows<3>().noalias() = (2.0 * A * W) * inv.S;
   for (int p = 0; p < 3; ++p) {
     for (int r = 0; r < 3; ++r) {
-      s.dC.col(pair_entry(p, r)) = inv.x_phi.row(pair_entry(r, p)).transpose() + t.P_q.col(pair_entry(p, r));
+      s.dC.col(pair_entry(p, r)) =
+          inv.x_phi.row(pair_entry(r, p)).transpose() + t.P_q.col(pair_entry(p, r));
     }
   }
   for (int p = 0; p < 3; ++p) {
     auto row = dqd.row(3 + p);
-    for (int c = 0; c < 3; ++c) row.noalias() += (2.0 * w_B(p)) * s.dC.col(pair_entry(c, c)).transpose();
-    for (int r = 0; r < 3; ++r) row.noalias() -= (2.0 * w_B(r)) * s.dC.col(pair_entry(p, r)).transpose();
+    for (int c = 0; c < 3; ++c)
+      row.noalias() += (2.0 * w_B(p)) * s.dC.col(pair_entry(c, c)).transpose();
+    for (int r = 0; r < 3; ++r)
+      row.noalias() -= (2.0 * w_B(r)) * s.dC.col(pair_entry(p, r)).transpose();
   }
   for (int p = 0; p < 3; ++p) {
     dqd.bottomRows(n).noalias() -= (2.0 * w_B(p)) * inv.phi_cross_phi[index_at(p)];

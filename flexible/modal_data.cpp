@@ -101,7 +101,8 @@ void check_modes(const ModalData& data) {
   for (int i = 0; i < data.mode_count(); ++i) {
     const double K = data.stiffness(i);
     if (!std::isfinite(K) || K < 0.0) {
-      fail(mode_label(data, i) + " has stiffness " + number_text(K) + "; expected a finite value ≥ 0");
+      fail(mode_label(data, i) + " has stiffness " + number_text(K) +
+           "; expected a finite value ≥ 0");
     }
     const double zeta = data.damping_ratio(i);
     if (!std::isfinite(zeta) || zeta < 0.0) {

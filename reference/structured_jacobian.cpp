@@ -207,7 +207,8 @@ void StructuredJacobian::evaluate(const core::LoadContext& context, const double
     const double h_unit = std::cbrt(std::numeric_limits<double>::epsilon());
     for (int c = 0; c < tangent_size_; ++c) {
       const TangentColumn& col = columns_[column_at(c)];
-      const double h = h_unit * std::max(1.0, std::abs(value_of(col, s.state[column_at(col.body)])));
+      const double h =
+          h_unit * std::max(1.0, std::abs(value_of(col, s.state[column_at(col.body)])));
       double power_plus = 0.0, power_minus = 0.0;
       for (const double sign : {1.0, -1.0}) {
         s.perturbed = s.state;

@@ -331,7 +331,8 @@ CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMat
 
   // 3: the modes at every row; rigid-body modes.
   const auto eigenvalue = [](const CalculixMode& mode) {
-    return mode.frequency_hz > 0.0 ? std::pow(kRadPerCycle * mode.frequency_hz, 2) : mode.eigenvalue;
+    return mode.frequency_hz > 0.0 ? std::pow(kRadPerCycle * mode.frequency_hz, 2)
+                                   : mode.eigenvalue;
   };
   std::vector<Eigen::VectorXd> rows_of_mode;
   std::vector<const CalculixMode*> elastic;
@@ -684,8 +685,8 @@ std::string format_calculix_import_report(const CalculixImport& r) {
   for (std::size_t i = 0; i < r.modes.size(); ++i) {
     const CalculixModeCheck& m = r.modes[i];
     std::snprintf(line, sizeof line, "  %-6zu %-9d %-16.10g %-16.10g %-+12.3e %-+12.1e %-10.7f\n",
-                  i + 1, m.ccx_mode, m.omega_ccx / kRadPerCycle, m.omega_body / kRadPerCycle, m.difference,
-                  m.rayleigh_difference, m.consistent_modal_mass);
+                  i + 1, m.ccx_mode, m.omega_ccx / kRadPerCycle, m.omega_body / kRadPerCycle,
+                  m.difference, m.rayleigh_difference, m.consistent_modal_mass);
     out << line;
   }
   std::snprintf(line, sizeof line, "  largest |difference| %.3e, tolerance %.3g: %s\n",

@@ -27,7 +27,6 @@
 namespace flexref::studies {
 namespace {
 
-
 // An error below this is at the level of accumulated round-off for the step counts studies
 // use (10³–10⁷ steps: √N·ε·|state| ≈ 1e-14…1e-12 for O(1) states, with the constant of the
 // error propagation of unstable motions such as the book toss on top); refining further

@@ -24,7 +24,6 @@
 namespace flexref::studies {
 namespace {
 
-
 int find_flexible_body(const core::Model& model, int requested) {
   if (requested >= 0) {
     if (requested >= model.num_bodies() || !model.body(requested).is_flexible() ||
@@ -379,7 +378,8 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   const core::Model scene_model = factory(truth_level, std::nullopt);
   result.base = lte_map_base(scene_model, options);
   const int body_index = find_flexible_body(scene_model, options.body);
-  const core::TrackedPoint point = find_deforming_point(scene_model.body(body_index), result.base.point);
+  const core::TrackedPoint point =
+      find_deforming_point(scene_model.body(body_index), result.base.point);
   const std::vector<double> times = core::output_times(options.end_time, options.output_step);
   // The frequency metric's window: the second half of the horizon.
   const auto second_half = static_cast<std::size_t>(
