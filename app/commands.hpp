@@ -46,6 +46,10 @@ scene::Scene load_scene(const std::string& path,
 /// grid is built.
 std::vector<double> limited_output_times(double end_time, double output_step,
                                          const WorkLimits& limits);
+/// The coarsest step of a study: --dt when given, else the default dt or the scene's output
+/// interval, the shorter (a step must divide the output interval: Andrews' squeezer writes every
+/// 1e-4 s, so the default 1e-2 s could not run it).
+double coarsest_step(double dt, bool dt_given, double output_step);
 /// lie::validate_step_grid plus the step-count limit; `what` names the option ("--dt") in the
 /// message. Returns the number of steps.
 long check_scheme_run(const core::Model& model, double dt, const std::vector<double>& times,
@@ -156,8 +160,9 @@ struct ConvergeOptions {
   int jobs = 0;  ///< 0: all cores
   std::string out_dir = "out/converge";
   WorkLimits limits;
-  bool schemes_given = false;     ///< --schemes was given (else none run beside --external/--runs)
-  std::string external;           ///< --external command template (docs/external.md)
+  bool schemes_given = false;  ///< --schemes was given (else none run beside --external/--runs)
+  bool dt_given = false;  ///< --dt was given (else the coarsest step is dt or the output interval)
+  std::string external;   ///< --external command template (docs/external.md)
   std::vector<std::string> runs;  ///< --runs DT=FILE ...
   std::string label;              ///< --label of the external method
   int claimed_order = 0;          ///< --order: the external method's claimed order

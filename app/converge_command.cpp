@@ -25,7 +25,7 @@ int converge_command(const ConvergeOptions& options) {
   const bool external = !options.external.empty() || !options.runs.empty();
   // Beside an external method the built-in schemes run only when asked for.
   study.schemes = external && !options.schemes_given ? std::vector<std::string>{} : options.schemes;
-  study.h0 = options.dt;
+  study.h0 = coarsest_step(options.dt, options.dt_given, scene.output_step);
   study.levels = options.levels;
   study.metric = options.metric;
   study.reference_solver =
@@ -89,7 +89,7 @@ int converge_command(const ConvergeOptions& options) {
   record.table("study")
       .set("kind", "converge")
       .set("schemes", study.schemes)
-      .set("dt", options.dt)
+      .set("dt", study.h0)
       .set("levels", options.levels)
       .set("reference_precision", precision_used)
       .set("reference_budget", options.reference_budget)

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -156,6 +157,10 @@ std::vector<double> limited_output_times(double end_time, double output_step,
         " rows per file: raise output_step, shorten the end time or raise --max-rows");
   }
   return core::output_times(end_time, output_step);
+}
+
+double coarsest_step(double dt, bool dt_given, double output_step) {
+  return dt_given ? dt : std::min(dt, output_step);
 }
 
 long check_scheme_run(const core::Model& model, double dt, const std::vector<double>& times,

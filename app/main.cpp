@@ -209,7 +209,9 @@ int run_command_line(int argc, char** argv) {
       ->delimiter(',')
       ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
-  conv_cmd->add_option("--dt", conv.dt, "coarsest step [s]")
+  conv_cmd
+      ->add_option("--dt", conv.dt,
+                   "coarsest step [s]; by default 0.01 or the scene's output interval, the shorter")
       ->check(positive_number())
       ->capture_default_str();
   conv_cmd
@@ -264,7 +266,9 @@ int run_command_line(int argc, char** argv) {
       ->delimiter(',')
       ->check(CLI::IsMember(flexref::lie::scheme_names()))
       ->capture_default_str();
-  wp_cmd->add_option("--dt", wp.dt, "coarsest step [s]")
+  wp_cmd
+      ->add_option("--dt", wp.dt,
+                   "coarsest step [s]; by default 0.01 or the scene's output interval, the shorter")
       ->check(positive_number())
       ->capture_default_str();
   wp_cmd->add_option("--levels", wp.levels, "number of steps: dt, dt/2, ..., dt/2^(levels-1)")
@@ -526,9 +530,13 @@ int run_command_line(int argc, char** argv) {
     if (*cmp_cmd) return compare_command(cmp);
     if (*conv_cmd) {
       conv.schemes_given = conv_cmd->count("--schemes") > 0;
+      conv.dt_given = conv_cmd->count("--dt") > 0;
       return converge_command(conv);
     }
-    if (*wp_cmd) return work_precision_command(wp);
+    if (*wp_cmd) {
+      wp.dt_given = wp_cmd->count("--dt") > 0;
+      return work_precision_command(wp);
+    }
     if (*stab_cmd) return stability_command(stab);
     if (*lte_cmd) return lte_map_command(lte);
     if (*fig_cmd) return figure_command(fig);

@@ -23,7 +23,7 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
 
   studies::WorkPrecisionOptions study;
   study.schemes = app_options.schemes;
-  study.h0 = app_options.dt;
+  study.h0 = coarsest_step(app_options.dt, app_options.dt_given, scene.output_step);
   study.levels = app_options.levels;
   study.solvers = app_options.solvers;
   study.tolerances = app_options.tolerances;

@@ -16,8 +16,9 @@ struct WorkPrecisionOptions {
   std::string scene;
   std::string model = core::to_string(kDefaultFormulation);  ///< --model coupled|lte
   std::vector<std::string> schemes = lie::default_scheme_names();
-  double dt = 1e-2;  ///< coarsest step [s]
-  int levels = 6;    ///< number of steps dt, dt/2, …
+  double dt = 1e-2;       ///< coarsest step [s]
+  bool dt_given = false;  ///< --dt was given (else dt or the output interval, the shorter)
+  int levels = 6;         ///< number of steps dt, dt/2, …
   std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};
   std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   int repeats = 3;  ///< CPU time: minimum over this many runs

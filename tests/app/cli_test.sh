@@ -358,6 +358,12 @@ sed 's/^end_time = .*/end_time = 0.003/' scenes/andrews_squeezer.toml >"$tmp/and
 expect 0 "genalpha on Andrews' squeezer" "run andrews_squeezer with genalpha" \
   "$flexref" run "$tmp/andrews_short.toml" --scheme genalpha --dt 1e-4 --rho-inf 0.5 \
   --perturbed-start -o "$tmp/andrews_ga.csv"
+# Without --dt a study starts from the scene's output interval when it is shorter than 0.01 s
+# (Andrews' squeezer writes every 1e-4 s): the issue's command runs and records the step used.
+expect 0 "converge andrews_squeezer without --dt" "genalpha claimed 2, observed 2.0" \
+  "$flexref" converge "$tmp/andrews_short.toml" --schemes genalpha --levels 3 --out "$tmp/andrews_conv"
+grep -q '^dt = 1e-04' "$tmp/andrews_conv/study.toml" ||
+  fail "converge without --dt: study.toml does not record dt = 1e-4"
 sed 's/^end_time = .*/end_time = 0.05/' scenes/flexible_spinner.toml >"$tmp/spinner_short.toml"
 expect 0 "genalpha on a flexible body (coupled model)" "with genalpha (coupled model)" \
   "$flexref" run "$tmp/spinner_short.toml" --scheme genalpha --model coupled -o "$tmp/fs_ga.csv"
