@@ -103,7 +103,8 @@ void require_hybrid_scheme_model(const core::Model& model, const char* scheme) {
     throw std::invalid_argument(
         std::string(scheme) + ": the scene has the ideal joint '" + joints.joint_name(0) +
         "'; C1, C2 and NMB step unconstrained bodies only (their rotation updates have no "
-        "multipliers). Compute a reference (flexref reference: CVODE, ARKODE, Odeint on the "
+        "multipliers). Step it with --scheme genalpha (the Lie-group generalized-alpha, index 3: "
+        "docs/schemes.md), compute a reference (flexref reference: CVODE, ARKODE, Odeint on the "
         "index-1 form, IDA on the stabilized index-2 form), or model the joint as a bushing "
         "(model = \"bushing\") to run these schemes (docs/joints.md)");
   }
