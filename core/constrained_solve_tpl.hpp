@@ -68,8 +68,12 @@ struct ConstraintSolveTpl {
   using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   ConstraintRowsTpl<S> rows;
   std::vector<int> active;  ///< the independent rows (indices into rows)
-  Matrix Y;                 ///< N × m_a: M⁻¹ J_aᵀ
-  Matrix A;                 ///< m_a × m_a: J_a M⁻¹ J_aᵀ
+  /// Per active row, the bodies it acts on (−1: the ground), cached by factor_constraints: A and
+  /// the crossing product are sparse — entry (i, j) is non-zero only where rows i and j share a
+  /// body.
+  std::vector<std::array<int, 2>> active_bodies;
+  Matrix Y;  ///< N × m_a: M⁻¹ J_aᵀ
+  Matrix A;  ///< m_a × m_a: J_a M⁻¹ J_aᵀ
   Eigen::LDLT<Matrix> ldlt;
   Vector rhs;            ///< m_a
   Vector lambda;         ///< m_a: the multipliers of the active rows
@@ -96,6 +100,7 @@ struct ConstraintSolveTpl {
   ConstraintSolveTpl(int rows_count, const VelocityLayout& layout, std::vector<int> active_rows) {
     rows.resize(rows_count, layout.size());
     active = std::move(active_rows);
+    active_bodies.assign(active.size(), {-1, -1});
     const auto m = static_cast<Eigen::Index>(active.size());
     const Eigen::Index n = layout.size();
     Y = Matrix::Zero(n, m);
@@ -136,6 +141,32 @@ std::vector<int> independent_rows(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::
 /// Y = M⁻¹ J_aᵀ, A = J_a Y and A's LDLᵀ for the active rows of s.rows.J. apply_inverse_mass(b,
 /// rhs, out) writes M_b⁻¹ rhs into out (body b's block width; the rows the body's motion fixes
 /// stay zero). Returns false (s.pivot_ratio set) when A is singular by kSingularPivotRatio.
+/// Σ over the bodies b of active row i of J_row,b · Y_b,j: entry (i, j) of J_rows M⁻¹ J_aᵀ for
+/// rows J_rows with the sparsity of the active rows (J_row is zero outside row i's bodies).
+template <typename S>
+S sparse_row_product(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J, int row,
+                     const std::array<int, 2>& bodies, const VelocityLayout& layout,
+                     const ConstraintSolveTpl<S>& s, Eigen::Index j) {
+  S sum = S(0);
+  for (std::size_t k = 0; k < bodies.size(); ++k) {
+    const int b = bodies[k];
+    if (b < 0 || (k == 1 && b == bodies[0])) continue;
+    const int offset = layout.offset(b);
+    const int width = layout.width(b);
+    sum += J.row(row).segment(offset, width).dot(s.Y.col(j).segment(offset, width));
+  }
+  return sum;
+}
+
+/// True when active rows i and j act on a common body (else A_ij = 0).
+inline bool share_body(const std::array<int, 2>& a, const std::array<int, 2>& b) {
+  return (a[0] >= 0 && (a[0] == b[0] || a[0] == b[1])) ||
+         (a[1] >= 0 && (a[1] == b[0] || a[1] == b[1]));
+}
+
+/// Y = M⁻¹ J_aᵀ, A = J_a Y and A's LDLᵀ for the active rows of s.rows.J. apply_inverse_mass(b,
+/// rhs, out) writes M_b⁻¹ rhs into out (body b's block width; the rows the body's motion fixes
+/// stay zero). Returns false (s.pivot_ratio set) when A is singular by kSingularPivotRatio.
 template <typename S, typename ApplyInverseMass>
 bool factor_constraints(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
                         ApplyInverseMass&& apply_inverse_mass, ConstraintSolveTpl<S>& s) {
@@ -144,8 +175,11 @@ bool factor_constraints(const ConstraintEquationsTpl<S>& equations, const Veloci
   s.Y.setZero();
   for (Eigen::Index i = 0; i < m; ++i) {
     const int row = s.active[static_cast<std::size_t>(i)];
-    for (const int b : equations.row_bodies(row)) {
-      if (b < 0) continue;
+    auto& bodies = s.active_bodies[static_cast<std::size_t>(i)];
+    bodies = equations.row_bodies(row);
+    for (std::size_t k = 0; k < bodies.size(); ++k) {
+      const int b = bodies[k];
+      if (b < 0 || (k == 1 && b == bodies[0])) continue;
       const int offset = layout.offset(b);
       const int width = layout.width(b);
       s.column.head(width) = s.rows.J.row(row).segment(offset, width).transpose();
@@ -153,17 +187,15 @@ bool factor_constraints(const ConstraintEquationsTpl<S>& equations, const Veloci
       s.Y.col(i).segment(offset, width) = s.out.head(width);
     }
   }
-  // A_ij = Σ over the bodies row i acts on of J_i,b · Y_b,j (J_i is zero elsewhere).
+  // A_ij = Σ over the bodies row i acts on of J_i,b · Y_b,j: zero unless rows i and j share a
+  // body (Y_b,j is zero outside row j's bodies).
   for (Eigen::Index i = 0; i < m; ++i) {
-    const int row = s.active[static_cast<std::size_t>(i)];
+    const auto& bodies_i = s.active_bodies[static_cast<std::size_t>(i)];
     for (Eigen::Index j = 0; j <= i; ++j) {
-      S sum = S(0);
-      for (const int b : equations.row_bodies(row)) {
-        if (b < 0) continue;
-        const int offset = layout.offset(b);
-        const int width = layout.width(b);
-        sum += s.rows.J.row(row).segment(offset, width).dot(s.Y.col(j).segment(offset, width));
-      }
+      const S sum = share_body(bodies_i, s.active_bodies[static_cast<std::size_t>(j)])
+                        ? sparse_row_product(s.rows.J, s.active[static_cast<std::size_t>(i)],
+                                             bodies_i, layout, s, j)
+                        : S(0);
       s.A(i, j) = sum;
       s.A(j, i) = sum;
     }
@@ -243,11 +275,18 @@ bool factor_or_reselect(const ConstraintEquationsTpl<S>& equations, const Veloci
 /// would flag it only within ~1e-6 of it), a singular value of J changes sign and the
 /// determinant with it. s factored at the current rows (s.Y = M⁻¹ J_aᵀ).
 template <typename S>
-bool kept_orientation(ConstraintSolveTpl<S>& s) {
+bool kept_orientation(const VelocityLayout& layout, ConstraintSolveTpl<S>& s) {
   const auto m = static_cast<Eigen::Index>(s.active.size());
   if (m == 0) return true;
   for (Eigen::Index i = 0; i < m; ++i) {
-    s.crossing.row(i).noalias() = s.J_previous.row(s.active[static_cast<std::size_t>(i)]) * s.Y;
+    const auto& bodies_i = s.active_bodies[static_cast<std::size_t>(i)];
+    for (Eigen::Index j = 0; j < m; ++j) {
+      s.crossing(i, j) =
+          share_body(bodies_i, s.active_bodies[static_cast<std::size_t>(j)])
+              ? sparse_row_product(s.J_previous, s.active[static_cast<std::size_t>(i)], bodies_i,
+                                   layout, s, j)
+              : S(0);
+    }
   }
   s.crossing_lu.compute(s.crossing);
   // The determinant's sign: the permutation's and the signs of U's diagonal (no product, which
@@ -314,7 +353,7 @@ void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
   if (!factor_or_reselect(equations, layout, apply_inverse_mass, s)) {
     throw_singular(equations, s, t);
   }
-  if (s.has_previous && !kept_orientation(s)) {
+  if (s.has_previous && !kept_orientation(layout, s)) {
     // Either the active rows alone passed a configuration where they are dependent while all
     // rows kept their rank — rows chosen at the current configuration then keep the orientation
     // — or the mechanism passed a singular configuration between the two solves.
@@ -326,7 +365,7 @@ void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
         throw_singular(equations, s, t);
       }
     }
-    if (!kept_orientation(s)) throw_singular_between(equations, s, s.previous_time, t);
+    if (!kept_orientation(layout, s)) throw_singular_between(equations, s, s.previous_time, t);
   }
   s.J_previous = s.rows.J;
   s.previous_time = t;

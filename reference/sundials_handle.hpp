@@ -24,6 +24,8 @@
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+#include <sunnonlinsol/sunnonlinsol_newton.h>
 
 #include <algorithm>
 #include <cmath>
@@ -57,6 +59,9 @@ struct MatrixDeleter {
 struct LinearSolverDeleter {
   void operator()(SUNLinearSolver s) const noexcept { SUNLinSolFree(s); }
 };
+struct NonlinearSolverDeleter {
+  void operator()(SUNNonlinearSolver s) const noexcept { SUNNonlinSolFree(s); }
+};
 struct IdaMemoryDeleter {
   void operator()(void* memory) const noexcept { IDAFree(&memory); }
 };
@@ -71,6 +76,8 @@ using Context = std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextDelete
 using Vector = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorDeleter>;
 using Matrix = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixDeleter>;
 using LinearSolver = std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, LinearSolverDeleter>;
+using NonlinearSolver =
+    std::unique_ptr<std::remove_pointer_t<SUNNonlinearSolver>, NonlinearSolverDeleter>;
 using IdaMemory = std::unique_ptr<void, IdaMemoryDeleter>;
 using CvodeMemory = std::unique_ptr<void, CvodeMemoryDeleter>;
 using ErkStepMemory = std::unique_ptr<void, ErkStepMemoryDeleter>;
@@ -200,6 +207,18 @@ inline Matrix make_dense_matrix(int n, SUNContext context) {
 
 inline LinearSolver make_dense_linear_solver(N_Vector y, SUNMatrix a, SUNContext context) {
   return LinearSolver(check_created(SUNLinSol_Dense(y, a, context), "SUNLinSol_Dense"));
+}
+
+/// Fixed-point (functional) iteration with Anderson acceleration over `depth` earlier iterates
+/// (0: plain fixed-point iteration).
+inline NonlinearSolver make_fixed_point_solver(N_Vector y, int depth, SUNContext context) {
+  return NonlinearSolver(
+      check_created(SUNNonlinSol_FixedPoint(y, depth, context), "SUNNonlinSol_FixedPoint"));
+}
+
+/// Newton iteration (CVODE's default corrector), for a solver that switches to it.
+inline NonlinearSolver make_newton_solver(N_Vector y, SUNContext context) {
+  return NonlinearSolver(check_created(SUNNonlinSol_Newton(y, context), "SUNNonlinSol_Newton"));
 }
 
 /// Raw data of a serial vector.

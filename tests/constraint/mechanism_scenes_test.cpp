@@ -240,8 +240,18 @@ TEST_CASE("four-bar: a parallelogram driven into its dead point is reported, not
     }
     INFO("message: " << message);
     REQUIRE(!message.empty());  // a trajectory through the dead point would be garbage
-    CHECK_THAT(message, Catch::Matchers::Contains("singular configuration passed between t = "));
     CHECK_THAT(message, Catch::Matchers::Contains("joint '"));
+    const auto near = message.find("singular configuration at t = ");
+    if (near != std::string::npos) {
+      // Stopped on the approach (CVODE: its fixed-point iteration stalls before the dead point,
+      // Newton restarts there and evaluates within the pivot test's reach of it, |Δt| ~ 1e-4
+      // measured): the time must be the dead point's to within the pivot test's ~1e-3.
+      double t = 0.0;
+      REQUIRE(std::sscanf(message.c_str() + near, "singular configuration at t = %lf", &t) == 1);
+      CHECK(std::abs(t - std::numbers::pi / 2.0) < 1e-3);
+      continue;
+    }
+    CHECK_THAT(message, Catch::Matchers::Contains("singular configuration passed between t = "));
     // The two solves the orientation test compares bracket the dead point: read them back.
     const auto at = message.find("between t = ");
     REQUIRE(at != std::string::npos);
