@@ -341,22 +341,15 @@ template <typename S>
           "motion are not determined");
 }
 
-/// Constrained accelerations: s.x holds the free accelerations M⁻¹ Q on entry (stacked, body
-/// blocks as in layout) and the constrained ones on exit; s.rows evaluated at the state; λ of
-/// the active rows in s.lambda and the generalized constraint force −J_aᵀ λ in s.force. Throws
-/// SingularConfigurationError at a singular configuration (t names the time).
+/// The singular-configuration test between two solves (kept_orientation) for s factored at t,
+/// then t's rows kept as the next solve's previous ones. Where the active rows alone turned —
+/// they passed a configuration where they are dependent while all rows kept their rank — rows
+/// chosen at the current configuration keep the orientation; otherwise the mechanism passed a
+/// singular configuration between the two solves: throws SingularConfigurationError.
 template <typename S, typename ApplyInverseMass>
-void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
-                                     const VelocityLayout& layout,
-                                     ApplyInverseMass&& apply_inverse_mass, double t,
-                                     ConstraintSolveTpl<S>& s) {
-  if (!factor_or_reselect(equations, layout, apply_inverse_mass, s)) {
-    throw_singular(equations, s, t);
-  }
+void check_orientation(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
+                       ApplyInverseMass&& apply_inverse_mass, double t, ConstraintSolveTpl<S>& s) {
   if (s.has_previous && !kept_orientation(layout, s)) {
-    // Either the active rows alone passed a configuration where they are dependent while all
-    // rows kept their rank — rows chosen at the current configuration then keep the orientation
-    // — or the mechanism passed a singular configuration between the two solves.
     std::vector<int> rows = independent_rows<S>(s.rows.J);
     rows.resize(std::min(rows.size(), s.active.size()));
     if (rows.size() == s.active.size() && rows != s.active) {
@@ -370,6 +363,21 @@ void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
   s.J_previous = s.rows.J;
   s.previous_time = t;
   s.has_previous = true;
+}
+
+/// Constrained accelerations: s.x holds the free accelerations M⁻¹ Q on entry (stacked, body
+/// blocks as in layout) and the constrained ones on exit; s.rows evaluated at the state; λ of
+/// the active rows in s.lambda and the generalized constraint force −J_aᵀ λ in s.force. Throws
+/// SingularConfigurationError at a singular configuration (t names the time).
+template <typename S, typename ApplyInverseMass>
+void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
+                                     const VelocityLayout& layout,
+                                     ApplyInverseMass&& apply_inverse_mass, double t,
+                                     ConstraintSolveTpl<S>& s) {
+  if (!factor_or_reselect(equations, layout, apply_inverse_mass, s)) {
+    throw_singular(equations, s, t);
+  }
+  check_orientation(equations, layout, apply_inverse_mass, t, s);
   const auto m = static_cast<Eigen::Index>(s.active.size());
   // A λ = J_a x_free − γ_a
   for (Eigen::Index i = 0; i < m; ++i) {

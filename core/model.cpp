@@ -530,6 +530,14 @@ void Model::factor_constraints_at(double t, const State& state, Workspace& ws) c
   }
 }
 
+void Model::check_singular_configuration(double t, const State& state, Workspace& ws) const {
+  factor_constraints_at(t, state, ws);
+  check_orientation(
+      *constraints_, layout_,
+      [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); }, t,
+      ws.constraint);
+}
+
 Model::RelativeViolation Model::relative_violation(ConstraintSolveTpl<double>& s,
                                                    const State& state) const {
   const ConstraintRows& rows = s.rows;

@@ -143,6 +143,11 @@ class Model {
   /// or rad/s) at a state.
   std::vector<std::array<double, 2>> constraint_violations(double t, const State& state,
                                                            Workspace& ws) const;
+  /// The singular-configuration tests of the constrained solve without the accelerations, for
+  /// integrators whose equations never factor J M⁻¹ Jᵀ (IDA's index-2 form): J M⁻¹ Jᵀ factored
+  /// at the state and its rows' orientation compared with the last call's in ws (docs/joints.md,
+  /// "Singular configurations"). Throws SingularConfigurationError naming the joint and time.
+  void check_singular_configuration(double t, const State& state, Workspace& ws) const;
   /// Per joint: the force and torque (about the joint point, world) it exerts on its first body,
   /// from the minimum-norm multipliers of all its rows at the state's accelerations (loads of
   /// the branch active at context.t_segment). Allocates: for outputs.

@@ -73,19 +73,38 @@ struct IdaData : sun::CallbackRecord {
   const StructuredJacobian* structured = nullptr;
   StructuredJacobian::Scratch structured_scratch;
   IdaNewtonSystem* newton = nullptr;
+  /// Ideal joints: the singular-configuration monitor's own workspace (the root function checks
+  /// every step's configuration, Model::check_singular_configuration), and the count of the
+  /// model's own switching functions before the monitor's entry.
+  bool monitors_joints = false;
+  core::Workspace monitor;
+  int switching_count = 0;
+  /// The callback whose exception failed the solve (failure_message).
+  const char* failed_callback = "residual";
 };
 
-/// The model's switching functions at (t, y); allocates nothing.
+/// The model's switching functions at (t, y), then with ideal joints the singular-configuration
+/// monitor: IDA evaluates the root functions after every step (and at the outputs and event
+/// searches between), and its GGL residual never factors J M⁻¹ Jᵀ, so this is where a dead point
+/// stepped over is seen (docs/joints.md). Its own entry is a constant 1 (never a root).
+/// Allocates nothing.
 int switching(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void* user_data) {
   auto& d = *static_cast<IdaData*>(user_data);
   try {
     d.form->unpack(t, sun::data(y), d.scratch.state);
     const core::Model& model = d.form->model();
-    model.switching_functions(
-        core::LoadContext{t, d.t_segment}, d.scratch.state, d.scratch.workspace,
-        std::span<double>(g, static_cast<std::size_t>(model.switching_function_count())));
+    if (d.switching_count > 0) {
+      model.switching_functions(core::LoadContext{t, d.t_segment}, d.scratch.state,
+                                d.scratch.workspace,
+                                std::span<double>(g, static_cast<std::size_t>(d.switching_count)));
+    }
+    if (d.monitors_joints) {
+      model.check_singular_configuration(t, d.scratch.state, d.monitor);
+      g[d.switching_count] = 1.0;
+    }
   } catch (...) {
     d.callback_error = std::current_exception();
+    d.failed_callback = "root function";
     return -1;
   }
   return 0;
@@ -257,8 +276,12 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         sun::check(IDASetId(ida, id.get()), "IDASetId");
         sun::check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg");
       }
-      if (model_->switching_function_count() > 0) {
-        sun::check(IDARootInit(ida, model_->switching_function_count(), switching), "IDARootInit");
+      data_.switching_count = model_->switching_function_count();
+      data_.monitors_joints = model_->has_constraints();
+      if (data_.monitors_joints) data_.monitor = model_->make_workspace();
+      const int root_functions = data_.switching_count + (data_.monitors_joints ? 1 : 0);
+      if (root_functions > 0) {
+        sun::check(IDARootInit(ida, root_functions, switching), "IDARootInit");
       }
       initialized_ = true;
     } else {
@@ -320,7 +343,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     return IDAGetNumSteps(ida_.get(), &steps) < 0 ? 0 : steps;
   }
   std::string failure_message(const std::string& what) const override {
-    return sun::failure_message(what, data_, "residual");
+    return sun::failure_message(what, data_, data_.failed_callback);
   }
 
  private:
