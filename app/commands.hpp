@@ -66,6 +66,9 @@ std::ostream& summary_stream(const std::string& output);
 
 struct CheckOptions {
   std::string scene;
+  /// The model the scene is built with: a scene with joints at a flexible body's nodes loads
+  /// only under the coupled model.
+  std::string model = core::to_string(kDefaultFormulation);
 };
 int check_command(const CheckOptions& options);
 

@@ -6,8 +6,8 @@
 namespace flexref::app {
 
 /// The model of flexible bodies' equations when no --model is given, for every command that
-/// takes --model (run, reference, converge, work-precision, modes) and every command that loads
-/// a scene without one: LTE, the model the hybrid schemes integrate, so that a run, the
+/// takes --model (check, run, reference, converge, work-precision, modes) and every command that
+/// loads a scene without one: LTE, the model the hybrid schemes integrate, so that a run, the
 /// reference it is compared with and the studies of both measure the same equations (the
 /// modelling error of LTE against the coupled model is lte-map's). Rigid bodies are the same in
 /// both. Its --model spelling is core::to_string(kDefaultFormulation).

@@ -131,6 +131,7 @@ int run_command_line(int argc, char** argv) {
   CheckOptions check;
   auto* check_cmd = app.add_subcommand("check", "validate a scene and print its model");
   check_cmd->add_option("scene", check.scene, "scene file (TOML)")->required();
+  add_model_option(check_cmd, check.model);
 
   RunOptions run;
   auto* run_cmd = app.add_subcommand("run", "integrate a scene with a Lie-group scheme");

@@ -58,6 +58,14 @@ out=$("$flexref" check scenes/flexible_spinner.toml 2>&1) || fail "check flexibl
 for scene in rotating_cantilever spin_up_beam spin_up_beam_4 spin_up_beam_6; do
   "$flexref" check "scenes/$scene.toml" >/dev/null 2>&1 || fail "check $scene failed"
 done
+# Joints at a flexible body's nodes need the coupled model: check takes --model like the
+# commands that integrate, and counts the rod's modes as the degrees of freedom left.
+out=$("$flexref" check scenes/slider_crank_flexible.toml --model coupled 2>&1) ||
+  fail "check slider_crank_flexible --model coupled: $out"
+[[ $out == *"in fact 22 - 18 = 4"* ]] || fail "check slider_crank_flexible: mobility: $out"
+out=$("$flexref" check scenes/slider_crank_flexible.toml 2>&1)
+[[ $? == 1 && $out == *"use --model coupled"* ]] ||
+  fail "check slider_crank_flexible under LTE: not refused with the remedy: $out"
 
 # 8. reference --model lte on flexible scenes: modal and drive-torque columns, model recorded.
 for scene in flexible_spinner spin_up_beam; do
