@@ -65,6 +65,11 @@ OdeForm::Scratch OdeForm::make_scratch() const {
 }
 
 void OdeForm::pack(const core::State& state, double* y) const {
+  pack_bodies(state, y);
+  for (int j = 0; j < integral_count_; ++j) y[work_index_ + j] = 0.0;
+}
+
+void OdeForm::pack_bodies(const core::State& state, double* y) const {
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Block& k = blocks_[i];
     const core::BodyState& s = state[i];
@@ -75,7 +80,6 @@ void OdeForm::pack(const core::State& state, double* y) const {
     MapX(y + k.q, k.n) = s.q_f;
     MapX(y + k.qd, k.n) = s.qd_f;
   }
-  for (int j = 0; j < integral_count_; ++j) y[work_index_ + j] = 0.0;
 }
 
 void OdeForm::unpack(double t, const double* y, core::State& state) const {
@@ -134,7 +138,7 @@ void OdeForm::project(double t, double* y, Scratch& scratch) const {
   }
   unpack(t, y, scratch.state);
   model_->project(t, scratch.state, scratch.workspace);
-  pack(scratch.state, y);
+  pack_bodies(scratch.state, y);
 }
 
 void OdeForm::normalize_euler_parameters(double* y) const {

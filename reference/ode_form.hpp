@@ -33,6 +33,7 @@ class OdeForm {
   const core::Model& model() const { return *model_; }
   Scratch make_scratch() const;
 
+  /// Packs the state into y, the integrals set to zero.
   void pack(const core::State& state, double* y) const;
   /// Unpacks the state at time t into a state sized for the model (pivot positions are the
   /// fixed pivots; prescribed bodies follow their law at t). θ is
@@ -46,6 +47,8 @@ class OdeForm {
   /// Ideal joints: projects the bodies' state in y onto Φ = 0 and J v + Φ_t = 0 at t
   /// (core::Model::project; θ unit); the integrals are left as they are.
   void project(double t, double* y, Scratch& scratch) const;
+  /// Packs the bodies' state into y, the integrals left as they are.
+  void pack_bodies(const core::State& state, double* y) const;
   /// Index of W_d in y, or −1 when not tracked.
   int work_index() const { return work_index_; }
   double dissipated_work(const double* y) const { return work_index_ < 0 ? 0.0 : y[work_index_]; }
