@@ -25,6 +25,9 @@ namespace flexref::studies {
 namespace {
 
 constexpr const char* kMetric = "rotation+points";
+/// A step budget for one output 10 s away on free_spin: CVODE takes 122 steps at rtol 1e-8 and
+/// more at 1e-10 (steps grow like rtol^(-1/q), q ≤ 12: ≥ 1.5× per 100× of rtol).
+constexpr long kFreeSpinStepBudget = 150;
 
 /// The run's true error in the metric, against the exact solution.
 double true_error(const core::Model& model, const std::vector<double>& times,
@@ -88,6 +91,43 @@ TEST_CASE("a check that repeats the run or agrees exactly is not an estimate", "
   StudyRecord record;
   add_reference(record, r);
   CHECK(record.to_toml().find("estimated_error = inf") != std::string::npos);
+}
+
+TEST_CASE("a check that fails is left out, with why, and the run stands", "[estimate]") {
+  // free_spin with one output interval of 10 s and a step budget between what CVODE needs at
+  // the run's rtol 1e-8 and at its check's 1e-10: the tighter check stops with too much work.
+  // Before, that failure ended the whole reference (IDA at rtol 1e-12 on Andrews' squeezer: its
+  // check at 1e-14 fails, and the run with it).
+  const core::Model model = testing::free_spin();
+  const std::vector<double> times = core::output_times(10.0, 10.0);
+  reference::SolverOptions options;
+  options.rtol = 1e-8;
+  options.max_steps = kFreeSpinStepBudget;
+  const CertifiedReference r =
+      certified_reference(model, times, "cvode", options, kMetric, {.use_exact_solution = false});
+  CAPTURE(r.run.stats.steps);
+  CHECK(r.run.stats.steps <= kFreeSpinStepBudget);
+  REQUIRE(r.estimate.checks.size() == 2);
+  const EstimateCheck& tighter = r.estimate.checks[0];
+  CAPTURE(tighter.note);
+  CHECK(tighter.role == "tighter");
+  CHECK_FALSE(tighter.used);
+  CHECK(tighter.note.find("the check failed: ") == 0);
+  CHECK(std::isnan(tighter.distance));
+  // The estimate rests on the other check alone, or is unknown when it failed too; never on
+  // the failed one.
+  const EstimateCheck& other = r.estimate.checks[1];
+  CAPTURE(other.solver, other.note, r.estimate.value);
+  if (other.used) {
+    CHECK(r.estimate.value == 2.0 * other.distance);
+  } else {
+    CHECK(std::isinf(r.estimate.value));
+  }
+  StudyRecord record;
+  add_reference(record, r);
+  const std::string toml = record.to_toml();
+  CHECK(toml.find("the check failed: ") != std::string::npos);
+  CHECK(toml.find("nan") == std::string::npos);  // no distance is written for the failed one
 }
 
 TEST_CASE("with an exact solution the estimate is the distance to it", "[estimate]") {
