@@ -1,6 +1,6 @@
 #pragma once
 /// \file work_limits.hpp
-/// The command line's work limits (issue 17).
+/// The command line's work limits: the largest output and step counts a command accepts.
 
 namespace flexref::app {
 

@@ -6,7 +6,7 @@
 /// time of the integration (solver_cpu_s, output excluded), and on free_spin the error against
 /// the exact solution (L∞ geodesic attitude angle, rad; computed once, outside the timed loop).
 ///
-/// For scale (issue 9): on free_spin Simbody's RK-Merson needs about 4 s of CPU for 4e-11 rad
+/// For scale: on free_spin Simbody's RK-Merson needs about 4 s of CPU for 4e-11 rad
 /// and its CPodes about 2.4 s for 7e-11 rad.
 #include <benchmark/benchmark.h>
 

@@ -1,7 +1,7 @@
 /// CPU time of the references on the stiff bundled scene flexible_spinner_64 (40 elements,
 /// 64 bending modes up to 1.8e4 rad/s; coupled model, 10 s, outputs every 0.01 s) against the
-/// 4-mode flexible_spinner with the same solver, method and rtol (issue 15's targets;
-/// docs/references.md, "Stiff oscillatory scenes"). Run from the source root (the scenes are
+/// 4-mode flexible_spinner with the same solver, method and rtol
+/// (docs/references.md, "Stiff oscillatory scenes"). Run from the source root (the scenes are
 /// read from scenes/):
 ///
 ///   BM_Stiff/<solver>/<method>/rtol:<r>   one run of the 64-mode scene per iteration, then

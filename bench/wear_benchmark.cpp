@@ -1,4 +1,4 @@
-/// Cost of contact at a deforming node (issue 13) on the tube of scenes/tube_support_impact.toml,
+/// Cost of contact at a deforming node on the tube of scenes/tube_support_impact.toml,
 /// built in code with the same parameters (clamped-clamped beam EI = 534, ρA = 0.743, 10
 /// elements, 6 bending modes, ζ = 1 %; harmonic forces at node4; gap support at node5, 1 mm
 /// clearance, Hunt–Crossley, μ = 0.3; fixed frame):

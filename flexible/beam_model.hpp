@@ -1,7 +1,7 @@
 #pragma once
 /// \file beam_model.hpp
-/// The built-in beam finite-element model that produces modal data (issue 3, "Modal data";
-/// docs/modal_data.md): a straight, uniform 3D beam along the body x axis, Euler–Bernoulli
+/// The built-in beam finite-element model that produces modal data
+/// (docs/modal_data.md): a straight, uniform 3D beam along the body x axis, Euler–Bernoulli
 /// bending in the planes xy and xz (Hermite cubics), axial extension and torsion (linear),
 /// 12 DOF per element, consistent stiffness and consistent mass. The four families of modes
 /// are uncoupled for a straight beam whose centroid and shear centre lie on its axis, so each

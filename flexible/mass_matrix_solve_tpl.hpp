@@ -154,7 +154,7 @@ struct MassSolveScratchTpl {
   Eigen::Matrix<S, Eigen::Dynamic, 1> b_f;     ///< the modal right-hand side, then b̂, x_f
   Small schur;
   /// Factored on an empty matrix until used: an Eigen::LLT never computed holds an
-  /// indeterminate ComputationInfo, and copying one reads it (UBSan: invalid enum load; issue 17).
+  /// indeterminate ComputationInfo, and copying one reads it (UBSan: invalid enum load).
   Eigen::LLT<Small> schur_llt{Small()};
   Eigen::Matrix<S, Eigen::Dynamic, 1, 0, 6, 1> b_u;
   int known = 0;          ///< known rows of the last factorization

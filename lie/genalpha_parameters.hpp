@@ -9,7 +9,7 @@
 namespace flexref::lie {
 
 /// Default ρ∞ of `genalpha`: 0.9, mild damping of the unresolved high frequencies with second
-/// order kept (the value issue 34 asks for; the paper's own default could not be checked here).
+/// order kept (the paper's own default could not be checked here).
 inline constexpr double kDefaultRhoInfinity = 0.9;
 
 struct GenAlphaParameters {

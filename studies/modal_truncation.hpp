@@ -1,6 +1,6 @@
 #pragma once
 /// \file modal_truncation.hpp
-/// The `modes` study (docs/design/studies.md; issue 15): how many modes a scene's flexible body
+/// The `modes` study (docs/design/studies.md): how many modes a scene's flexible body
 /// needs. The scene is integrated with the body's modal basis truncated to each of the given
 /// mode counts (a beam body, [body.beam], is solved again with `modes = m`: the m lowest modes of
 /// the same finite-element model; a body whose modes come from a file keeps the file's first m

@@ -1,6 +1,6 @@
 #pragma once
 /// \file progress.hpp
-/// The progress line of long work on standard error (issue 17), one mechanism for every
+/// The progress line of long work on standard error, one mechanism for every
 /// command and study: nothing while the work is shorter than `delay` (2 s); then, on a
 /// terminal, one line redrawn in place ("\r") every `redraw` (0.5 s), and without a terminal (a
 /// log file, CI) a new line every `interval` (5 s), so that a log shows the work advancing

@@ -64,10 +64,9 @@ const char* const kTargetSolverNames[] = {"cvode", "ida", "arkode", "odeint"};
 
 TEST_CASE("free_spin at rtol 1e-13: every reference within its target of the exact solution",
           "[reference][targets]") {
-  // Targets (issue 9): Odeint and ARKODE (explicit, order 8) ≤ 1e-11 rad, CVODE and IDA
+  // Targets: Odeint and ARKODE (explicit, order 8) ≤ 1e-11 rad, CVODE and IDA
   // ≤ 1e-10 rad over the 100 s scene. Measured: CVODE (Adams, chosen automatically) 3.1e-12,
-  // IDA (BDF) 9.1e-11, ARKODE 3.5e-13, Odeint 5.8e-12; before this work CVODE (BDF) 1.4e-10,
-  // IDA 2.2e-9.
+  // IDA (BDF) 9.1e-11, ARKODE 3.5e-13, Odeint 5.8e-12.
   const core::Model model = testing::free_spin();
   const std::vector<double> times = core::output_times(100.0, 0.1);
   const ReferenceRun exact = solve_exact(model, times);
@@ -120,10 +119,9 @@ TEST_CASE("book_toss: IDA and CVODE within 1e-7 of the tightest Odeint run",
           "[reference][targets][ida][cvode]") {
   // Near the separatrix a perturbation of 1e-12 in ω̄ grows to ~1e-7 in ω̄ and 1e-8 rad
   // (reference_cross_check_test.cpp): 1e-7 rad and 1e-7 m at the tracked corner (1 m from the
-  // centre) is the target (issue 9). Odeint at rtol 1e-14 is the tightest run (Odeint at 1e-13
+  // centre) is the target. Odeint at rtol 1e-14 is the tightest run (Odeint at 1e-13
   // differs from it by 1.8e-8 rad). Measured: CVODE (Adams) at 1e-12 3.7e-9 rad; IDA at 1e-13
-  // 5.0e-8 rad (at 1e-12 2.7e-7: IDA's BDF needs a decade more); before this work IDA stayed
-  // at 1.1e-4 rad.
+  // 5.0e-8 rad (at 1e-12 2.7e-7: IDA's BDF needs a decade more).
   const core::Model model = testing::book_toss();
   const std::vector<double> times = core::output_times(10.0, 0.01);
   const ReferenceRun odeint = solve_odeint(model, times, with_rtol(1e-14));

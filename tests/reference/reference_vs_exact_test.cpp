@@ -174,8 +174,8 @@ TEST_CASE("the reference solvers match the exact solutions",
     for (const auto& [run, rtol] : runs) {
       const RelativeError e = relative_error(run, exact_values);
       CAPTURE(run.solver, rtol, e.angular_velocity, e.attitude, e.attitude_rad);
-      // Acceptance: 2e-10 relative at the tight setting (before this work 1e-9, which IDA and
-      // CVODE needed). Measured (ω̄ relative, attitude relative, attitude in rad):
+      // Acceptance: 2e-10 relative at the tight setting. Measured (ω̄ relative, attitude relative,
+      // attitude in rad):
       //   max axis    IDA 7.9e-12 1.4e-13 2.8e-11  CVODE 8.5e-13 4.6e-14 9.4e-12
       //               ARKODE 4.6e-14 2.9e-15 6.0e-13  Odeint 2.7e-14 3.8e-15 7.7e-13
       //   min axis    IDA 2.7e-12 1.6e-13 3.2e-11  CVODE 6.0e-13 1.4e-13 2.8e-11
