@@ -102,6 +102,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   void start_segment(const sun::Segment& segment, const core::State& state,
                      std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
+    before_switch_ = SolverStats{};
     form_.pack(state, sun::data(y_.get()));
     // Ideal joints: every segment starts on the constraint manifold.
     form_.project(segment.start, sun::data(y_.get()), data_.scratch);
@@ -202,6 +203,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   /// From fixed-point to Newton iteration at t (advance), restarting from the state there.
   void switch_to_newton(double t) {
     void* cvode = cvode_.get();
+    SolverStats so_far;
+    add_counters(so_far);  // CVodeReInit below starts CVODE's counters again
+    before_switch_ = so_far;
     newton_solver_ = sun::make_newton_solver(y_.get(), context_.get());
     sun::check(CVodeSetNonlinearSolver(cvode, newton_solver_.get()), "CVodeSetNonlinearSolver");
     attach_newton(cvode);
@@ -212,6 +216,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   }
 
   void restart_at_root(double t, const sun::Segment& segment) override {
+    before_switch_ = SolverStats{};  // added to the run's by the driver before the restart
     // A new order-1 step sequence from the solution at the event; θ back on the sphere (BDF's
     // projection keeps it there already).
     if (method_ == CvodeMethod::kAdams || model_->has_constraints()) {
@@ -242,8 +247,10 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     sun::check(CVodeGetNumErrTestFails(cvode, &error_fails), "CVodeGetNumErrTestFails");
     sun::check(CVodeGetNumNonlinSolvConvFails(cvode, &convergence_fails),
                "CVodeGetNumNonlinSolvConvFails");
-    stats.steps += steps;
-    stats.rhs_evaluations += rhs_evaluations + jacobian_rhs;
+    stats.steps += steps + before_switch_.steps;
+    stats.rhs_evaluations += rhs_evaluations + jacobian_rhs + before_switch_.rhs_evaluations;
+    stats.error_test_failures += before_switch_.error_test_failures;
+    stats.nonlinear_failures += before_switch_.nonlinear_failures;
     stats.jacobian_evaluations += jacobians;
     stats.error_test_failures += error_fails;
     stats.nonlinear_failures += convergence_fails;
@@ -255,7 +262,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   }
   long current_steps() const override {
     long steps = 0;
-    return CVodeGetNumSteps(cvode_.get(), &steps) < 0 ? 0 : steps;
+    return (CVodeGetNumSteps(cvode_.get(), &steps) < 0 ? 0 : steps) + before_switch_.steps;
   }
   std::string failure_message(const std::string& what) const override {
     return sun::failure_message(what, data_, "right-hand side");
@@ -277,6 +284,8 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   sun::NonlinearSolver fixed_point_;    ///< set where uses_fixed_point (else CVODE's Newton)
   sun::NonlinearSolver newton_solver_;  ///< Newton after a switch from fixed-point iteration
   bool fixed_point_active_ = false;
+  /// The segment's counters up to a switch to Newton (add_counters adds them to CVODE's).
+  SolverStats before_switch_;
   double segment_end_ = 0.0;
   // Declared last so that it is freed first (as in SUNDIALS' examples).
   sun::CvodeMemory cvode_;
