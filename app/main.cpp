@@ -22,8 +22,8 @@
 #include "io/output_file.hpp"
 #include "lie/genalpha_parameters.hpp"
 #include "lie/stepper.hpp"
-#include "studies/distribution.hpp"
 #include "studies/error_metrics.hpp"
+#include "studies/mpi/distribution.hpp"
 #include "studies/study_refused.hpp"
 
 namespace {
@@ -575,7 +575,7 @@ int main(int argc, char** argv) {
   // First, before any thread exists: SIGINT, SIGTERM and SIGHUP remove the unfinished outputs
   // (io/interrupt_cleanup.hpp).
   flexref::io::install_interrupt_cleanup();
-  // One process, or a rank of an MPI job (studies/distribution.hpp, docs/mpi.md).
+  // One process, or a rank of an MPI job (studies/mpi/distribution.hpp, docs/mpi.md).
   flexref::studies::ProcessSession session(argc, argv);
   return session.finish(run_command_line(argc, argv));
 }

@@ -108,7 +108,7 @@ void append_bushing_modes(std::span<const core::Body> bodies, const BushingEnd& 
 
 }  // namespace detail
 
-template class SphericalBushingTpl<double>;
-template class RevoluteBushingTpl<double>;
+template class BushingTpl<double, false>;
+template class BushingTpl<double, true>;
 
 }  // namespace flexref::contact

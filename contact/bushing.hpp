@@ -92,72 +92,25 @@ void append_bushing_modes(std::span<const core::Body> bodies, const BushingEnd& 
 }  // namespace detail
 
 /// A point of body A held to a point of body B (or of the ground) by an isotropic
-/// spring–damper. Generic in the scalar type S (core/force_element.hpp); the definitions are
-/// bushing_impl.hpp's, the equations bushing_tpl.hpp's.
-template <typename S>
-class SphericalBushingTpl final : public core::ForceElementTpl<S> {
+/// spring–damper: the spherical bushing (kRevolute = false). The revolute bushing
+/// (kRevolute = true) adds the angular spring–damper that keeps the hinge axes a_A and a_B
+/// aligned; rotation about the hinge is free. Generic in the scalar type S
+/// (core/force_element.hpp); the definitions are bushing_impl.hpp's, the equations
+/// bushing_tpl.hpp's.
+template <typename S, bool kRevolute>
+class BushingTpl final : public core::ForceElementTpl<S> {
  public:
   using typename core::ForceElementTpl<S>::Context;
   using typename core::ForceElementTpl<S>::Kinematics;
 
   /// \throws std::invalid_argument when a.body < 0, a.body == b.body, b.body < kGround, a
-  /// stiffness or damping is negative or any input is not finite.
-  SphericalBushingTpl(const BushingEndTpl<S>& a, const BushingEndTpl<S>& b,
-                      const BushingParameters& parameters);
-  /// The same bushing in another scalar type.
+  /// stiffness or damping is negative or any input is not finite, and for a revolute bushing
+  /// when an axis is zero. A spherical bushing sets the angular stiffness and damping to 0.
+  BushingTpl(const BushingEndTpl<S>& a, const BushingEndTpl<S>& b,
+             const BushingParameters& parameters);
+  /// The same bushing in another scalar type (a revolute bushing's axes unit vectors of S).
   template <typename U>
-  explicit SphericalBushingTpl(const SphericalBushingTpl<U>& other);
-
-  void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
-                    std::span<core::WrenchTpl<S>> wrenches) const override;
-  S potential_energy(const Context& context, std::span<const Kinematics> bodies) const override;
-  S dissipated_power(const Context& context, std::span<const Kinematics> bodies) const override;
-  /// Its work is its springs' potential energy and its dampers' dissipated work.
-  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
-  /// The ends' motion once for the loads and the dissipated power.
-  void add_wrenches_and_rates(const Context& context, std::span<const Kinematics> bodies,
-                              std::span<core::WrenchTpl<S>> wrenches, S* dissipated,
-                              std::span<core::WearSampleTpl<S>> wear, std::span<S> gaps,
-                              std::span<S> clamps) const override;
-  bool depends_on_velocity() const override { return parameters_.damping > 0.0; }
-  int max_body_index() const override;
-  std::string describe() const override;
-  /// "joint" translational: the spring over the
-  /// smallest effective mass (inertia) of the two ends' added compliances (contact/compliance.hpp).
-  void append_penalty_modes(std::span<const core::Body> bodies,
-                            std::vector<core::PenaltyMode>& modes) const override;
-
-  const BushingEndTpl<S>& end_a() const { return a_; }
-  const BushingEndTpl<S>& end_b() const { return b_; }
-  double translational_stiffness() const { return parameters_.stiffness; }
-  double translational_damping() const { return parameters_.damping; }
-  const BushingParameters& parameters() const { return parameters_; }
-  /// Spherical bushings have no angular spring: 0.
-  double angular_stiffness() const { return 0.0; }
-
- private:
-  template <typename>
-  friend class SphericalBushingTpl;
-
-  BushingEndTpl<S> a_;
-  BushingEndTpl<S> b_;
-  BushingParameters parameters_;
-};
-
-/// The spherical bushing plus an angular spring–damper that keeps the hinge axes a_A and a_B
-/// aligned; rotation about the hinge is free.
-template <typename S>
-class RevoluteBushingTpl final : public core::ForceElementTpl<S> {
- public:
-  using typename core::ForceElementTpl<S>::Context;
-  using typename core::ForceElementTpl<S>::Kinematics;
-
-  /// \throws std::invalid_argument as SphericalBushing, and for a zero axis.
-  RevoluteBushingTpl(const BushingEndTpl<S>& a, const BushingEndTpl<S>& b,
-                     const BushingParameters& parameters);
-  /// The same bushing in another scalar type (its axes unit vectors of S).
-  template <typename U>
-  explicit RevoluteBushingTpl(const RevoluteBushingTpl<U>& other);
+  explicit BushingTpl(const BushingTpl<U, kRevolute>& other);
 
   void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
                     std::span<core::WrenchTpl<S>> wrenches) const override;
@@ -175,8 +128,9 @@ class RevoluteBushingTpl final : public core::ForceElementTpl<S> {
   }
   int max_body_index() const override;
   std::string describe() const override;
-  /// "joint" translational and angular (rotations perpendicular to the hinge): the spring over the
-  /// smallest effective mass (inertia) of the two ends' added compliances (contact/compliance.hpp).
+  /// "joint" translational, and for a revolute bushing angular (rotations perpendicular to the
+  /// hinge): the spring over the smallest effective mass (inertia) of the two ends' added
+  /// compliances (contact/compliance.hpp).
   void append_penalty_modes(std::span<const core::Body> bodies,
                             std::vector<core::PenaltyMode>& modes) const override;
 
@@ -184,22 +138,28 @@ class RevoluteBushingTpl final : public core::ForceElementTpl<S> {
   const BushingEndTpl<S>& end_b() const { return b_; }
   double translational_stiffness() const { return parameters_.stiffness; }
   double translational_damping() const { return parameters_.damping; }
+  /// 0 for a spherical bushing, which has no angular spring.
   double angular_stiffness() const { return parameters_.angular_stiffness; }
+  /// 0 for a spherical bushing.
   double angular_damping() const { return parameters_.angular_damping; }
   const BushingParameters& parameters() const { return parameters_; }
 
  private:
-  template <typename>
-  friend class RevoluteBushingTpl;
+  template <typename, bool>
+  friend class BushingTpl;
 
   BushingEndTpl<S> a_;
   BushingEndTpl<S> b_;
   BushingParameters parameters_;
 };
 
+template <typename S>
+using SphericalBushingTpl = BushingTpl<S, false>;
+template <typename S>
+using RevoluteBushingTpl = BushingTpl<S, true>;
 using SphericalBushing = SphericalBushingTpl<double>;
 using RevoluteBushing = RevoluteBushingTpl<double>;
-extern template class SphericalBushingTpl<double>;
-extern template class RevoluteBushingTpl<double>;
+extern template class BushingTpl<double, false>;
+extern template class BushingTpl<double, true>;
 
 }  // namespace flexref::contact

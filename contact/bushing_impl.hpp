@@ -64,168 +64,104 @@ void add_spherical(const BushingEndTpl<S>& a_end, const BushingEndTpl<S>& b_end,
 
 }  // namespace detail
 
-// ---------------------------------------------------------------------------------------------
-// SphericalBushingTpl
-
-template <typename S>
-SphericalBushingTpl<S>::SphericalBushingTpl(const BushingEndTpl<S>& a, const BushingEndTpl<S>& b,
-                                            const BushingParameters& parameters)
+template <typename S, bool kRevolute>
+BushingTpl<S, kRevolute>::BushingTpl(const BushingEndTpl<S>& a, const BushingEndTpl<S>& b,
+                                     const BushingParameters& parameters)
     : a_(a), b_(b), parameters_(parameters) {
   detail::validate_bushing(detail::end_in_double(a_), detail::end_in_double(b_), parameters_,
-                           false);
-  parameters_.angular_stiffness = 0.0;
-  parameters_.angular_damping = 0.0;
-}
-
-template <typename S>
-template <typename U>
-SphericalBushingTpl<S>::SphericalBushingTpl(const SphericalBushingTpl<U>& other)
-    : a_(detail::end_in<S>(other.a_)),
-      b_(detail::end_in<S>(other.b_)),
-      parameters_(other.parameters_) {}
-
-template <typename S>
-void SphericalBushingTpl<S>::add_wrenches(const Context& context,
-                                          std::span<const Kinematics> bodies,
-                                          std::span<core::WrenchTpl<S>> wrenches) const {
-  add_wrenches_and_rates(context, bodies, wrenches, nullptr, {}, {}, {});
-}
-
-template <typename S>
-S SphericalBushingTpl<S>::potential_energy(const Context& /*context*/,
-                                           std::span<const Kinematics> bodies) const {
-  return bushing::potential(detail::end_motion(a_, bodies), detail::end_motion(b_, bodies),
-                            parameters_, false);
-}
-
-template <typename S>
-S SphericalBushingTpl<S>::dissipated_power(const Context& /*context*/,
-                                           std::span<const Kinematics> bodies) const {
-  return bushing::dissipated_power(detail::end_motion(a_, bodies), detail::end_motion(b_, bodies),
-                                   parameters_, false);
-}
-
-template <typename S>
-void SphericalBushingTpl<S>::add_wrenches_and_rates(const Context& /*context*/,
-                                                    std::span<const Kinematics> bodies,
-                                                    std::span<core::WrenchTpl<S>> wrenches,
-                                                    S* dissipated,
-                                                    std::span<core::WearSampleTpl<S>> /*wear*/,
-                                                    std::span<S> /*gaps*/,
-                                                    std::span<S> /*clamps*/) const {
-  const bushing::EndMotion<S> a = detail::end_motion(a_, bodies);
-  const bushing::EndMotion<S> b = detail::end_motion(b_, bodies);
-  detail::add_spherical<S>(a_, b_, a, b, parameters_, wrenches);
-  if (dissipated != nullptr) *dissipated += bushing::dissipated_power(a, b, parameters_, false);
-}
-
-template <typename S>
-int SphericalBushingTpl<S>::max_body_index() const {
-  return std::max(a_.body, b_.body);
-}
-
-template <typename S>
-std::string SphericalBushingTpl<S>::describe() const {
-  std::ostringstream out;
-  out << "spherical bushing: "
-      << detail::bushing_ends_text(detail::end_in_double(a_), detail::end_in_double(b_))
-      << ", k = " << parameters_.stiffness << " N/m, c = " << parameters_.damping << " N·s/m";
-  return out.str();
-}
-
-template <typename S>
-void SphericalBushingTpl<S>::append_penalty_modes(std::span<const core::Body> bodies,
-                                                  std::vector<core::PenaltyMode>& modes) const {
-  detail::append_bushing_modes(bodies, detail::end_in_double(a_), detail::end_in_double(b_),
-                               parameters_, false, modes);
-}
-
-// ---------------------------------------------------------------------------------------------
-// RevoluteBushingTpl
-
-template <typename S>
-RevoluteBushingTpl<S>::RevoluteBushingTpl(const BushingEndTpl<S>& a, const BushingEndTpl<S>& b,
-                                          const BushingParameters& parameters)
-    : a_(a), b_(b), parameters_(parameters) {
-  detail::validate_bushing(detail::end_in_double(a_), detail::end_in_double(b_), parameters_, true);
-  a_.axis.normalize();
-  b_.axis.normalize();
-}
-
-template <typename S>
-template <typename U>
-RevoluteBushingTpl<S>::RevoluteBushingTpl(const RevoluteBushingTpl<U>& other)
-    : a_(detail::end_in<S>(other.a_)),
-      b_(detail::end_in<S>(other.b_)),
-      parameters_(other.parameters_) {}
-
-template <typename S>
-void RevoluteBushingTpl<S>::add_wrenches(const Context& context, std::span<const Kinematics> bodies,
-                                         std::span<core::WrenchTpl<S>> wrenches) const {
-  add_wrenches_and_rates(context, bodies, wrenches, nullptr, {}, {}, {});
-}
-
-template <typename S>
-void RevoluteBushingTpl<S>::add_wrenches_and_rates(const Context& /*context*/,
-                                                   std::span<const Kinematics> bodies,
-                                                   std::span<core::WrenchTpl<S>> wrenches,
-                                                   S* dissipated,
-                                                   std::span<core::WearSampleTpl<S>> /*wear*/,
-                                                   std::span<S> /*gaps*/,
-                                                   std::span<S> /*clamps*/) const {
-  using std::sqrt;
-  const bushing::EndMotion<S> a = detail::end_motion(a_, bodies);
-  const bushing::EndMotion<S> b = detail::end_motion(b_, bodies);
-  detail::add_spherical<S>(a_, b_, a, b, parameters_, wrenches);
-  if (dissipated != nullptr) *dissipated += bushing::dissipated_power(a, b, parameters_, true);
-  // τ_A = k_θ a_A × a_B + c_θ P (ω_B − ω_A), τ_B = −τ_A.
-  const Eigen::Matrix<S, 3, 1> tau_W = bushing::revolute_torque(a, b, parameters_);
-  const S tau_norm = sqrt(tau_W.squaredNorm());
-  wrenches[static_cast<std::size_t>(a_.body)].tau_Br_W += tau_W;
-  wrenches[static_cast<std::size_t>(a_.body)].torque_magnitude += tau_norm;
-  if (!b.ground) {
-    wrenches[static_cast<std::size_t>(b_.body)].tau_Br_W -= tau_W;
-    wrenches[static_cast<std::size_t>(b_.body)].torque_magnitude += tau_norm;
+                           kRevolute);
+  if constexpr (kRevolute) {
+    a_.axis.normalize();
+    b_.axis.normalize();
+  } else {
+    parameters_.angular_stiffness = 0.0;
+    parameters_.angular_damping = 0.0;
   }
 }
 
-template <typename S>
-S RevoluteBushingTpl<S>::potential_energy(const Context& /*context*/,
-                                          std::span<const Kinematics> bodies) const {
+template <typename S, bool kRevolute>
+template <typename U>
+BushingTpl<S, kRevolute>::BushingTpl(const BushingTpl<U, kRevolute>& other)
+    : a_(detail::end_in<S>(other.a_)),
+      b_(detail::end_in<S>(other.b_)),
+      parameters_(other.parameters_) {}
+
+template <typename S, bool kRevolute>
+void BushingTpl<S, kRevolute>::add_wrenches(const Context& context,
+                                            std::span<const Kinematics> bodies,
+                                            std::span<core::WrenchTpl<S>> wrenches) const {
+  add_wrenches_and_rates(context, bodies, wrenches, nullptr, {}, {}, {});
+}
+
+template <typename S, bool kRevolute>
+void BushingTpl<S, kRevolute>::add_wrenches_and_rates(const Context& /*context*/,
+                                                      std::span<const Kinematics> bodies,
+                                                      std::span<core::WrenchTpl<S>> wrenches,
+                                                      S* dissipated,
+                                                      std::span<core::WearSampleTpl<S>> /*wear*/,
+                                                      std::span<S> /*gaps*/,
+                                                      std::span<S> /*clamps*/) const {
+  const bushing::EndMotion<S> a = detail::end_motion(a_, bodies);
+  const bushing::EndMotion<S> b = detail::end_motion(b_, bodies);
+  detail::add_spherical<S>(a_, b_, a, b, parameters_, wrenches);
+  if (dissipated != nullptr) {
+    *dissipated += bushing::dissipated_power(a, b, parameters_, kRevolute);
+  }
+  if constexpr (kRevolute) {
+    using std::sqrt;
+    // τ_A = k_θ a_A × a_B + c_θ P (ω_B − ω_A), τ_B = −τ_A.
+    const Eigen::Matrix<S, 3, 1> tau_W = bushing::revolute_torque(a, b, parameters_);
+    const S tau_norm = sqrt(tau_W.squaredNorm());
+    wrenches[static_cast<std::size_t>(a_.body)].tau_Br_W += tau_W;
+    wrenches[static_cast<std::size_t>(a_.body)].torque_magnitude += tau_norm;
+    if (!b.ground) {
+      wrenches[static_cast<std::size_t>(b_.body)].tau_Br_W -= tau_W;
+      wrenches[static_cast<std::size_t>(b_.body)].torque_magnitude += tau_norm;
+    }
+  }
+}
+
+template <typename S, bool kRevolute>
+S BushingTpl<S, kRevolute>::potential_energy(const Context& /*context*/,
+                                             std::span<const Kinematics> bodies) const {
   return bushing::potential(detail::end_motion(a_, bodies), detail::end_motion(b_, bodies),
-                            parameters_, true);
+                            parameters_, kRevolute);
 }
 
-template <typename S>
-S RevoluteBushingTpl<S>::dissipated_power(const Context& /*context*/,
-                                          std::span<const Kinematics> bodies) const {
+template <typename S, bool kRevolute>
+S BushingTpl<S, kRevolute>::dissipated_power(const Context& /*context*/,
+                                             std::span<const Kinematics> bodies) const {
   return bushing::dissipated_power(detail::end_motion(a_, bodies), detail::end_motion(b_, bodies),
-                                   parameters_, true);
+                                   parameters_, kRevolute);
 }
 
-template <typename S>
-int RevoluteBushingTpl<S>::max_body_index() const {
+template <typename S, bool kRevolute>
+int BushingTpl<S, kRevolute>::max_body_index() const {
   return std::max(a_.body, b_.body);
 }
 
-template <typename S>
-std::string RevoluteBushingTpl<S>::describe() const {
+template <typename S, bool kRevolute>
+std::string BushingTpl<S, kRevolute>::describe() const {
   std::ostringstream out;
-  out << "revolute bushing: "
-      << detail::bushing_ends_text(detail::end_in_double(a_), detail::end_in_double(b_))
-      << ", hinge axis " << core::vector_text(a_.axis) << (b_.body == kGround ? " / world " : " / ")
-      << core::vector_text(b_.axis) << ", k = " << parameters_.stiffness
-      << " N/m, c = " << parameters_.damping
-      << " N·s/m, k_theta = " << parameters_.angular_stiffness
-      << " N·m/rad, c_theta = " << parameters_.angular_damping << " N·m·s/rad";
+  out << (kRevolute ? "revolute" : "spherical") << " bushing: "
+      << detail::bushing_ends_text(detail::end_in_double(a_), detail::end_in_double(b_));
+  if constexpr (kRevolute) {
+    out << ", hinge axis " << core::vector_text(a_.axis)
+        << (b_.body == kGround ? " / world " : " / ") << core::vector_text(b_.axis);
+  }
+  out << ", k = " << parameters_.stiffness << " N/m, c = " << parameters_.damping << " N·s/m";
+  if constexpr (kRevolute) {
+    out << ", k_theta = " << parameters_.angular_stiffness
+        << " N·m/rad, c_theta = " << parameters_.angular_damping << " N·m·s/rad";
+  }
   return out.str();
 }
 
-template <typename S>
-void RevoluteBushingTpl<S>::append_penalty_modes(std::span<const core::Body> bodies,
-                                                 std::vector<core::PenaltyMode>& modes) const {
+template <typename S, bool kRevolute>
+void BushingTpl<S, kRevolute>::append_penalty_modes(std::span<const core::Body> bodies,
+                                                    std::vector<core::PenaltyMode>& modes) const {
   detail::append_bushing_modes(bodies, detail::end_in_double(a_), detail::end_in_double(b_),
-                               parameters_, true, modes);
+                               parameters_, kRevolute, modes);
 }
 
 }  // namespace flexref::contact

@@ -1,7 +1,7 @@
 #pragma once
 /// \file bushing_tpl.hpp
-/// The bushing equations of contact/bushing.hpp written once for any scalar type S: the elements
-/// SphericalBushingTpl<S> and RevoluteBushingTpl<S> call them in every precision (double,
+/// The bushing equations of contact/bushing.hpp written once for any scalar type S: the element
+/// BushingTpl<S, kRevolute> (spherical and revolute) calls them in every precision (double,
 /// long double, float128; docs/precision.md). The stiffness and damping stay the scene's doubles.
 #include <Eigen/Core>
 #include <Eigen/Geometry>

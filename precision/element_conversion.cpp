@@ -27,10 +27,10 @@ template class PointChargePotentialTpl<boost::multiprecision::float128>;
 }  // namespace flexref::core
 
 namespace flexref::contact {
-template class SphericalBushingTpl<long double>;
-template class SphericalBushingTpl<boost::multiprecision::float128>;
-template class RevoluteBushingTpl<long double>;
-template class RevoluteBushingTpl<boost::multiprecision::float128>;
+template class BushingTpl<long double, false>;
+template class BushingTpl<boost::multiprecision::float128, false>;
+template class BushingTpl<long double, true>;
+template class BushingTpl<boost::multiprecision::float128, true>;
 template class GapSupportTpl<long double>;
 template class GapSupportTpl<boost::multiprecision::float128>;
 template class ContactElementTpl<long double>;

@@ -20,25 +20,11 @@
 #include "precision/element_conversion.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "reference/method_choice.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::precision {
-namespace detail {
-
-template <typename S>
-Eigen::Matrix<S, 3, 3> rotation_of(const Eigen::Matrix<S, 4, 1>& q) {
-  // A(θ/|θ|) for Euler parameters of any norm (model.md eq. (1)).
-  const S s = S(2) / q.squaredNorm();
-  const S e0 = q(0), e1 = q(1), e2 = q(2), e3 = q(3);
-  Eigen::Matrix<S, 3, 3> A;
-  A << S(1) - s * (e2 * e2 + e3 * e3), s * (e1 * e2 - e0 * e3), s * (e1 * e3 + e0 * e2),
-      s * (e1 * e2 + e0 * e3), S(1) - s * (e1 * e1 + e3 * e3), s * (e2 * e3 - e0 * e1),
-      s * (e1 * e3 - e0 * e2), s * (e2 * e3 + e0 * e1), S(1) - s * (e1 * e1 + e2 * e2);
-  return A;
-}
-
-}  // namespace detail
 
 template <typename S>
 MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
@@ -127,7 +113,7 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
       using std::sqrt;
       b.theta0 /= sqrt(b.theta0.squaredNorm());
     }
-    const Matrix3 A0 = detail::rotation_of<S>(b.theta0);
+    const Matrix3 A0 = rotation::rotation_matrix_of_any_norm<S>(b.theta0);
     const Vector3 w0 = init.w_WB_B.cast<S>();
     b.p_WBo0 = init.p_WBo.cast<S>();
     if (b.motion != core::MotionKind::kPrescribed) {
@@ -464,7 +450,7 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
       Quaternion q_axis;
       q_axis << cos(S(0.5) * phi), sin(S(0.5) * phi) * b.axis_W;
       x.theta_WB = reference::detail::quaternion_multiply<S>(q_axis, b.theta0);
-      k.R_WB = detail::rotation_of<S>(x.theta_WB);
+      k.R_WB = rotation::rotation_matrix_of_any_norm<S>(x.theta_WB);
       const Vector3 axis_B = k.R_WB.transpose() * b.axis_W;
       x.w_WB_B = b.prescribed.law.template angular_rate_in<S>(t) * axis_B;
       bs.alpha_B = b.prescribed.law.template angular_acceleration_in<S>(t) * axis_B;
@@ -473,7 +459,7 @@ void MultibodyModelTpl<S>::load_state(S t, const std::vector<S>& y) const {
     } else {
       x.p_WBr = Vector3(y[o], y[o + 1], y[o + 2]);
       x.theta_WB = Quaternion(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
-      k.R_WB = detail::rotation_of<S>(x.theta_WB);
+      k.R_WB = rotation::rotation_matrix_of_any_norm<S>(x.theta_WB);
       x.v_WBr = Vector3(y[o + 7], y[o + 8], y[o + 9]);
       x.w_WB_B = Vector3(y[o + 10], y[o + 11], y[o + 12]);
       o += 13;

@@ -14,6 +14,7 @@
 #include "reference/exact_heavy_top.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "reference/exact_torque_free_impl.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::reference {
 
@@ -121,7 +122,7 @@ HeavyTopExactTpl<S>::HeavyTopExactTpl(S mass, S com_distance, const Vector3& axi
   frame.row(2) = axis_B_.transpose();
   q_frame_ = detail::euler_parameters_from_matrix<S>(frame).normalized();
 
-  const Vector3 up_B = detail::rotation_matrix<S>(theta0_).transpose() * (-g_W / gravity);
+  const Vector3 up_B = rotation::rotation_matrix<S>(theta0_).transpose() * (-g_W / gravity);
   spin_ = axis_B_.dot(w0_B);
   a_ = j_axial * spin_ / j_perp;
   const Vector3 w_perp_B = w0_B - spin_ * axis_B_;

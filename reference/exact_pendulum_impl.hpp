@@ -10,6 +10,7 @@
 #include "reference/exact_pendulum.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "reference/exact_torque_free_impl.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::reference {
 
@@ -33,7 +34,7 @@ PendulumExactTpl<S>::PendulumExactTpl(S mass, const Vector3& c_B, const Matrix3&
   if ((j_pivot_B - j_pivot_B.transpose()).norm() > S(1e-12) * j_norm) {
     throw std::invalid_argument("PendulumExact: inertia about the pivot must be symmetric");
   }
-  const Matrix3 attitude0 = detail::rotation_matrix<S>(theta0_);
+  const Matrix3 attitude0 = rotation::rotation_matrix<S>(theta0_);
   const Vector3 c_W = attitude0 * c_B;
   const Vector3 cross = c_W.cross(g_W);
   if (cross(0) == S(0) && cross(1) == S(0) && cross(2) == S(0)) {

@@ -4,6 +4,7 @@
 /// (exact_torque_free_impl.hpp, exact_heavy_top_impl.hpp). The formulas are those of
 /// rotation/euler_parameters.cpp (docs/design/model.md, Shabana §2.7), which stays the double
 /// implementation the rest of flexref uses; with S = double these give the same numbers.
+/// A(θ) in S is rotation::rotation_matrix<S> (rotation/euler_parameters.hpp).
 /// Internal to the exact solutions: include only from their implementation headers.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -35,18 +36,6 @@ Quaternion<S> quaternion_multiply(const Quaternion<S>& p, const Quaternion<S>& q
 template <typename S>
 Quaternion<S> quaternion_conjugate(const Quaternion<S>& q) {
   return Quaternion<S>(q(0), -q(1), -q(2), -q(3));
-}
-
-/// A(θ) = (2e0² − 1) I + 2 (e eᵀ + e0 ẽ), body → global.
-template <typename S>
-Matrix3<S> rotation_matrix(const Quaternion<S>& theta) {
-  const S e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
-  const S d = S(2) * e0 * e0 - S(1);
-  Matrix3<S> a;
-  a << d + S(2) * e1 * e1, S(2) * (e1 * e2 - e0 * e3), S(2) * (e1 * e3 + e0 * e2),  //
-      S(2) * (e1 * e2 + e0 * e3), d + S(2) * e2 * e2, S(2) * (e2 * e3 - e0 * e1),   //
-      S(2) * (e1 * e3 - e0 * e2), S(2) * (e2 * e3 + e0 * e1), d + S(2) * e3 * e3;
-  return a;
 }
 
 /// exp(φ̃) as Euler parameters (cos(|φ|/2), sin(|φ|/2) φ/|φ|).

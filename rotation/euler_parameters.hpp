@@ -32,16 +32,36 @@ inline EulerParameters quaternion_conjugate(const EulerParameters& q) {
   return EulerParameters(q(0), -q(1), -q(2), -q(3));
 }
 
-/// A(θ), body → global (exact rotation for unit θ).
-inline Eigen::Matrix3d rotation_matrix(const EulerParameters& theta) {
+/// A(θ), body → global (exact rotation for unit θ), in any scalar type S (double, long double,
+/// float128: the exact solutions and the precision models use it in S).
+template <typename S>
+Eigen::Matrix<S, 3, 3> rotation_matrix(const Eigen::Matrix<S, 4, 1>& theta) {
   // A = (2e0² − 1) I + 2 (e eᵀ + e0 ẽ), written out entry by entry (this is on every
-  // evaluation's path).
-  const double e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
-  const double d = 2.0 * e0 * e0 - 1.0;
-  Eigen::Matrix3d a;
-  a << d + 2.0 * e1 * e1, 2.0 * (e1 * e2 - e0 * e3), 2.0 * (e1 * e3 + e0 * e2),  //
-      2.0 * (e1 * e2 + e0 * e3), d + 2.0 * e2 * e2, 2.0 * (e2 * e3 - e0 * e1),   //
-      2.0 * (e1 * e3 - e0 * e2), 2.0 * (e2 * e3 + e0 * e1), d + 2.0 * e3 * e3;
+  // evaluation's path). S(2) and S(1) are the literals 2.0 and 1.0 in double.
+  const S e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
+  const S d = S(2) * e0 * e0 - S(1);
+  Eigen::Matrix<S, 3, 3> a;
+  a << d + S(2) * e1 * e1, S(2) * (e1 * e2 - e0 * e3), S(2) * (e1 * e3 + e0 * e2),  //
+      S(2) * (e1 * e2 + e0 * e3), d + S(2) * e2 * e2, S(2) * (e2 * e3 - e0 * e1),   //
+      S(2) * (e1 * e3 - e0 * e2), S(2) * (e2 * e3 + e0 * e1), d + S(2) * e3 * e3;
+  return a;
+}
+/// A(θ) in double; also takes Eigen expressions (−θ, θ.normalized(), ...).
+inline Eigen::Matrix3d rotation_matrix(const EulerParameters& theta) {
+  return rotation_matrix<double>(theta);
+}
+/// A(θ/|θ|) for Euler parameters of any nonzero norm (model.md eq. (1)):
+/// I + (2/|θ|²)(e eᵀ + e0 ẽ − |e|² I) entry by entry, a rotation whatever |θ| an integrated state
+/// has (the precision models use it). For a unit θ it is A(θ) with other roundings, so it does
+/// not replace rotation_matrix where double output must stay bit for bit.
+template <typename S>
+Eigen::Matrix<S, 3, 3> rotation_matrix_of_any_norm(const Eigen::Matrix<S, 4, 1>& theta) {
+  const S s = S(2) / theta.squaredNorm();
+  const S e0 = theta(0), e1 = theta(1), e2 = theta(2), e3 = theta(3);
+  Eigen::Matrix<S, 3, 3> a;
+  a << S(1) - s * (e2 * e2 + e3 * e3), s * (e1 * e2 - e0 * e3), s * (e1 * e3 + e0 * e2),
+      s * (e1 * e2 + e0 * e3), S(1) - s * (e1 * e1 + e3 * e3), s * (e2 * e3 - e0 * e1),
+      s * (e1 * e3 - e0 * e2), s * (e2 * e3 + e0 * e1), S(1) - s * (e1 * e1 + e2 * e2);
   return a;
 }
 /// Ḡ(θ) (body-frame velocity transformation).

@@ -17,8 +17,8 @@
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
 #include "studies/accuracy_check.hpp"
-#include "studies/distribution.hpp"
 #include "studies/missing_value.hpp"
+#include "studies/mpi/distribution.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {

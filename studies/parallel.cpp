@@ -9,7 +9,7 @@
 #include <thread>
 #include <vector>
 
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 
 namespace flexref::studies {
 

@@ -8,11 +8,11 @@
 namespace flexref::studies {
 
 /// Threads for a process: its cores (affinity), and the machine's cores divided among the
-/// processes of an MPI run on this machine (studies/distribution.hpp); at least 1.
+/// processes of an MPI run on this machine (studies/mpi/distribution.hpp); at least 1.
 int default_jobs();
 
 /// Who runs a study's tasks, for its opening line: "4 threads", or on the ranks of an MPI job
-/// (studies/distribution.hpp) "2 processes x 1 thread each".
+/// (studies/mpi/distribution.hpp) "2 processes x 1 thread each".
 std::string workers_text(int jobs);
 
 /// Runs task(i) for i in [0, n) on min(jobs, n) threads; rethrows the first exception (by task

@@ -13,7 +13,7 @@
 #include "core/force_element.hpp"
 #include "core/invariants.hpp"
 #include "lie/stepper.hpp"
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 #include "studies/trajectory_table.hpp"
 
 namespace flexref::studies {

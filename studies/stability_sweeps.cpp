@@ -13,7 +13,7 @@
 #include "flexible/beam_model.hpp"
 #include "lie/stepper.hpp"
 #include "scene/build_model.hpp"
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
 #include "studies/stability.hpp"

@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "io/output_file.hpp"
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 #include "studies/progress.hpp"
 
 namespace flexref::studies {
@@ -52,7 +52,7 @@ void check_replaceable(const fs::path& dir) {
 }  // namespace
 
 StudyOutput::StudyOutput(fs::path dir) : dir_(std::move(dir)) {
-  // Only the root process of a distributed study writes (studies/distribution.hpp); its checks
+  // Only the root process of a distributed study writes (studies/mpi/distribution.hpp); its checks
   // are every process's outcome, and the other processes stage into a private temporary folder
   // that they drop.
   writer_ = distribution().is_root();

@@ -4,7 +4,7 @@
 /// never computes for minutes and then fails on its --out path); files are written into a
 /// hidden staging folder beside it and moved into place by commit(), so an interrupted study
 /// leaves either the previous folder untouched or the complete new one — never new CSVs beside
-/// old plots. In a study distributed over processes (studies/distribution.hpp) only the root
+/// old plots. In a study distributed over processes (studies/mpi/distribution.hpp) only the root
 /// writes: the others stage into a private temporary folder, draw no plot, and share the root's
 /// outcome of the checks and of commit().
 ///

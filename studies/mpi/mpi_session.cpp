@@ -1,5 +1,5 @@
 /// \file mpi_session.cpp
-/// The MPI distribution and process session (studies/distribution.hpp, docs/mpi.md). Compiled
+/// The MPI distribution and process session (studies/mpi/distribution.hpp, docs/mpi.md). Compiled
 /// only when CMake finds MPI (option FLEXREF_MPI); studies/mpi/serial_session.cpp replaces it
 /// otherwise. Only this file includes <mpi.h>.
 ///
@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 
 namespace flexref::studies {
 namespace {

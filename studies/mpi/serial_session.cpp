@@ -1,7 +1,7 @@
 /// \file serial_session.cpp
-/// The process session of a build without MPI (studies/distribution.hpp): this process alone.
+/// The process session of a build without MPI (studies/mpi/distribution.hpp): this process alone.
 /// studies/mpi/mpi_session.cpp replaces this file when CMake finds MPI.
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 
 namespace flexref::studies {
 

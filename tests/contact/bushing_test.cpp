@@ -337,6 +337,22 @@ TEST_CASE("Bushing parameters, validation and description") {
   CHECK(spherical.angular_stiffness() == 0.0);
   CHECK(spherical.describe().find("k = 1e+06 N/m") != std::string::npos);
 
+  // The two kinds of the one bushing class: the whole descriptions, and a spherical bushing
+  // given angular damping (a scene's revolute defaults) keeps none of it.
+  CHECK(revolute.describe() ==
+        "revolute bushing: body 0 point (0, 0, 0) to ground point (1, 2, 3), hinge axis (0, 1, 0) "
+        "/ world (0, 0, 1), k = 1e+06 N/m, c = 0 N·s/m, k_theta = 10000 N·m/rad, c_theta = 0 "
+        "N·m·s/rad");
+  CHECK(spherical.describe() ==
+        "spherical bushing: body 0 point (0, 0, 0) to body 3 point (0, 0, 0), k = 1e+06 N/m, c = 0 "
+        "N·s/m");
+  contact::BushingParameters angular_only;
+  angular_only.angular_damping = 5.0;
+  const contact::SphericalBushing undamped(a, ground, angular_only);
+  CHECK_FALSE(undamped.depends_on_velocity());
+  CHECK(undamped.parameters().angular_damping == 0.0);
+  CHECK(contact::RevoluteBushing(a, ground, angular_only).depends_on_velocity());
+
   // ω = √(k/m), the undamped leapfrog limit 2/ω, and a damped limit below it.
   // Tolerance: √(k/m) and 2/ω (and the damped factor √2 − 1): a few roundings of O(1)-relative
   // operations, each ≤ 2^-53 ≈ 1.1e-16: 1e-14 leaves a factor ~10 over them.

@@ -18,6 +18,7 @@
 #include "precision/multibody_model_tpl.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "reference/solve_reference.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/error_metrics.hpp"
@@ -118,8 +119,7 @@ std::vector<S> symmetric_top(const std::vector<S>& y0, S J1, S J3, S t) {
   using Vector3 = reference::detail::Vector3<S>;
   const Quaternion q0(y0[3], y0[4], y0[5], y0[6]);
   const Vector3 w0(y0[10], y0[11], y0[12]);
-  const Vector3 L =
-      reference::detail::rotation_matrix<S>(q0) * Vector3(J1 * w0(0), J1 * w0(1), J3 * w0(2));
+  const Vector3 L = rotation::rotation_matrix<S>(q0) * Vector3(J1 * w0(0), J1 * w0(1), J3 * w0(2));
   const S norm = L.norm();
   const S wp = norm / J1;
   const S wr = (J1 - J3) * w0(2) / J1;
@@ -129,7 +129,7 @@ std::vector<S> symmetric_top(const std::vector<S>& y0, S J1, S J3, S t) {
   const Quaternion q3(cos(hr), S(0), S(0), sin(hr));
   const Quaternion q = reference::detail::quaternion_multiply<S>(
       reference::detail::quaternion_multiply<S>(qL, q0), q3);
-  const Vector3 Lb = reference::detail::rotation_matrix<S>(q).transpose() * L;
+  const Vector3 Lb = rotation::rotation_matrix<S>(q).transpose() * L;
   return {q(0), q(1), q(2), q(3), Lb(0) / J1, Lb(1) / J1, Lb(2) / J1 + wr};
 }
 

@@ -111,6 +111,56 @@ TEST_CASE("rotation_matrix follows model.md and Eigen's Hamilton convention", "[
   }
 }
 
+TEST_CASE("rotation_matrix<long double> is a rotation and agrees with the double one", "[euler]") {
+  using Quaternion = Eigen::Matrix<long double, 4, 1>;
+  using Matrix3 = Eigen::Matrix<long double, 3, 3>;
+  constexpr long double kEpsExtended = std::numeric_limits<long double>::epsilon();
+  const auto max_abs = [](const Matrix3& m) { return m.cwiseAbs().maxCoeff(); };
+  std::vector<AttitudeSample> samples = attitude_samples();
+  std::mt19937 rng(5);
+  for (int i = 0; i < 20; ++i) samples.push_back({"random", random_unit_quaternion(rng)});
+  for (const AttitudeSample& sample : samples) {
+    INFO(sample.name << ", theta = " << sample.theta.transpose());
+    // θ unit to the extended ε: the double θ cast, normalized in long double.
+    const Quaternion theta = sample.theta.cast<long double>().normalized();
+    const Matrix3 a = rotation::rotation_matrix<long double>(theta);
+    // The double case's bound in the extended ε (entries ≲ 3 ulp, AᵀA sums three products,
+    // θᵀθ − 1 ≲ 2ε): 16ε_ext ≈ 1.7e-18.
+    CHECK(max_abs(a.transpose() * a - Matrix3::Identity()) <= 16.0L * kEpsExtended);
+    CHECK(std::abs(a.determinant() - 1.0L) <= 16.0L * kEpsExtended);
+    // Against A in double of the same double θ: the long double entries of that θ carry the
+    // double roundings only, each entry a sum of ≤ 3 rounded operations on values ≤ 2 in
+    // magnitude (2e0², −1, +2e_i²), ≲ 3 ulp of 1; plus |θ_double|² − 1 ≲ 2ε entering linearly
+    // through the normalization in long double: ≲ 5ε ≈ 1.1e-15, 8ε leaves margin. (1e-16 is
+    // below one ulp of an O(1) double entry, so no double A can meet it.)
+    const Matrix3 a_double = rotation::rotation_matrix(sample.theta).cast<long double>();
+    CHECK(max_abs(a - a_double) <= 8.0L * static_cast<long double>(kEps));
+  }
+}
+
+TEST_CASE("rotation_matrix_of_any_norm is A of the normalized parameters", "[euler]") {
+  using Quaternion = Eigen::Matrix<long double, 4, 1>;
+  using Matrix3 = Eigen::Matrix<long double, 3, 3>;
+  constexpr long double kEpsExtended = std::numeric_limits<long double>::epsilon();
+  const auto max_abs = [](const Matrix3& m) { return m.cwiseAbs().maxCoeff(); };
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> scale(0.25, 4.0);
+  for (int i = 0; i < 40; ++i) {
+    const rotation::EulerParameters unit = random_unit_quaternion(rng);
+    const Quaternion theta = unit.cast<long double>() * static_cast<long double>(scale(rng));
+    INFO("theta = " << unit.transpose() << ", |theta| = " << static_cast<double>(theta.norm()));
+    const Matrix3 a = rotation::rotation_matrix_of_any_norm<long double>(theta);
+    // Entries 1 − s(e_i² + e_j²) and s(e_i e_j ± e0 e_k) with s = 2/|θ|²: ≲ 4 roundings of O(1)
+    // values each, and the normalized θ of the reference ≲ 2ε: 16ε_ext.
+    CHECK(max_abs(a - rotation::rotation_matrix<long double>(theta.normalized())) <=
+          16.0L * kEpsExtended);
+    CHECK(max_abs(a.transpose() * a - Matrix3::Identity()) <= 16.0L * kEpsExtended);
+    // In double on a unit θ: the same map with other roundings, 16ε as for A against Eigen's.
+    check_close(rotation::rotation_matrix_of_any_norm<double>(unit),
+                rotation::rotation_matrix(unit), 16.0 * kEps);
+  }
+}
+
 TEST_CASE("G and G-bar satisfy the identities of model.md", "[euler]") {
   std::vector<AttitudeSample> samples = attitude_samples();
   std::mt19937 rng(4);

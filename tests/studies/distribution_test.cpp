@@ -1,7 +1,7 @@
-/// Tests of the distribution layer in one process (studies/distribution.hpp): the slot bytes,
+/// Tests of the distribution layer in one process (studies/mpi/distribution.hpp): the slot bytes,
 /// distributed_for's slots, progress and failures. tests/studies/mpi/distribution_mpi_test.cpp
 /// runs the same contract on two MPI ranks.
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 
 #include <atomic>
 #include <bit>

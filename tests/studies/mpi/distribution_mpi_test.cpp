@@ -1,4 +1,4 @@
-/// The distribution contract (studies/distribution.hpp) on the processes of an MPI job: run by
+/// The distribution contract (studies/mpi/distribution.hpp) on the processes of an MPI job: run by
 /// ctest as `mpirun -np 2 studies_distribution_mpi_test` and once without a launcher (one
 /// process). Every process runs the same test cases in the same order, so their collective
 /// steps match; each checks what it sees.
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 
 using namespace flexref;
 using namespace flexref::studies;

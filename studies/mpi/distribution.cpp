@@ -1,4 +1,4 @@
-#include "studies/distribution.hpp"
+#include "studies/mpi/distribution.hpp"
 
 #include <unistd.h>
 
