@@ -138,9 +138,11 @@ std::vector<int> independent_rows(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::
   return rows;
 }
 
-/// Y = M⁻¹ J_aᵀ, A = J_a Y and A's LDLᵀ for the active rows of s.rows.J. apply_inverse_mass(b,
-/// rhs, out) writes M_b⁻¹ rhs into out (body b's block width; the rows the body's motion fixes
-/// stay zero). Returns false (s.pivot_ratio set) when A is singular by kSingularPivotRatio.
+/// True for the bodies[k] a row acts on that count once: not the ground (−1), not a repeat.
+inline bool distinct_body(const std::array<int, 2>& bodies, std::size_t k) {
+  return bodies[k] >= 0 && !(k == 1 && bodies[1] == bodies[0]);
+}
+
 /// Σ over the bodies b of active row i of J_row,b · Y_b,j: entry (i, j) of J_rows M⁻¹ J_aᵀ for
 /// rows J_rows with the sparsity of the active rows (J_row is zero outside row i's bodies).
 template <typename S>
@@ -149,10 +151,9 @@ S sparse_row_product(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J, 
                      const ConstraintSolveTpl<S>& s, Eigen::Index j) {
   S sum = S(0);
   for (std::size_t k = 0; k < bodies.size(); ++k) {
-    const int b = bodies[k];
-    if (b < 0 || (k == 1 && b == bodies[0])) continue;
-    const int offset = layout.offset(b);
-    const int width = layout.width(b);
+    if (!distinct_body(bodies, k)) continue;
+    const int offset = layout.offset(bodies[k]);
+    const int width = layout.width(bodies[k]);
     sum += J.row(row).segment(offset, width).dot(s.Y.col(j).segment(offset, width));
   }
   return sum;
@@ -178,8 +179,8 @@ bool factor_constraints(const ConstraintEquationsTpl<S>& equations, const Veloci
     auto& bodies = s.active_bodies[static_cast<std::size_t>(i)];
     bodies = equations.row_bodies(row);
     for (std::size_t k = 0; k < bodies.size(); ++k) {
+      if (!distinct_body(bodies, k)) continue;
       const int b = bodies[k];
-      if (b < 0 || (k == 1 && b == bodies[0])) continue;
       const int offset = layout.offset(b);
       const int width = layout.width(b);
       s.column.head(width) = s.rows.J.row(row).segment(offset, width).transpose();

@@ -16,7 +16,7 @@
 /// Anderson acceleration (CVODE's recommendation for non-stiff problems, user guide 2.1): the
 /// difference-quotient Jacobian of the constrained right-hand side costs one constrained solve
 /// per state component (91 on Andrews' squeezer: 13 Jacobians were 1183 of 2099 evaluations,
-/// 107 ms at rtol 1e-10; 48 ms with fixed-point iteration, docs/references.md). Everything else
+/// 103 ms at rtol 1e-10; 41 ms with fixed-point iteration, docs/references.md). Everything else
 /// uses Newton iteration. The Newton systems (choose_newton_jacobian): a flexible model's
 /// StructuredJacobian (reference/structured_jacobian.hpp) with the structured Newton solve
 /// (reference/newton_linear_solver.hpp); SolverOptions::jacobian (reference/ode_jacobian.hpp)
@@ -30,7 +30,6 @@
 #include <cvode/cvode_proj.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <span>
@@ -85,7 +84,6 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
       // 13 ms with it, 19 ms without (more convergence failures, more steps); deeper histories
       // changed nothing on Andrews' squeezer.
       fixed_point_ = sun::make_fixed_point_solver(y_.get(), 1, context_.get());
-      fixed_point_active_ = true;
     }
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
@@ -115,7 +113,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
                  "CVodeSetErrHandlerFn");
       sun::check(CVodeSStolerances(cvode, options_.rtol, options_.absolute_tolerance()),
                  "CVodeSStolerances");
-      if (fixed_point_active_) {
+      if (iterates_fixed_point()) {
         sun::check(CVodeSetNonlinearSolver(cvode, fixed_point_.get()), "CVodeSetNonlinearSolver");
       } else {
         attach_newton(cvode);
@@ -128,7 +126,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
                    "CVodeSetProjFn");
       }
       if (method_ == CvodeMethod::kBdf2) sun::check(CVodeSetMaxOrd(cvode, 2), "CVodeSetMaxOrd");
-      sun::check(CVodeSetMaxNumSteps(cvode, fixed_point_active_
+      sun::check(CVodeSetMaxNumSteps(cvode, iterates_fixed_point()
                                                 ? std::min(options_.max_steps, kStiffnessWindow)
                                                 : options_.max_steps),
                  "CVodeSetMaxNumSteps");
@@ -158,7 +156,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   Advance advance(double tout, double /*next*/) override {
     Advance reached;
     int flag = 0;
-    if (!fixed_point_active_) {
+    if (!iterates_fixed_point()) {
       flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
     } else {
       // Fixed-point iteration in windows of kStiffnessWindow steps: where its corrector fails to
@@ -189,6 +187,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     return reached;
   }
 
+  /// True while the corrector iterates by fixed-point iteration (until a switch to Newton).
+  bool iterates_fixed_point() const { return fixed_point_ && !newton_solver_; }
+
   /// Newton iteration: CVODE's Newton solver on the chosen linear solver and Jacobian.
   void attach_newton(void* cvode) {
     sun::check(CVodeSetLinearSolver(cvode, linear_solver_.get(), jacobian_.get()),
@@ -209,7 +210,6 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     newton_solver_ = sun::make_newton_solver(y_.get(), context_.get());
     sun::check(CVodeSetNonlinearSolver(cvode, newton_solver_.get()), "CVodeSetNonlinearSolver");
     attach_newton(cvode);
-    fixed_point_active_ = false;
     sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
     sun::check(CVodeReInit(cvode, t, y_.get()), "CVodeReInit");
     sun::check(CVodeSetStopTime(cvode, segment_end_), "CVodeSetStopTime");
@@ -240,7 +240,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
          convergence_fails = 0;
     sun::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
     sun::check(CVodeGetNumRhsEvals(cvode, &rhs_evaluations), "CVodeGetNumRhsEvals");
-    if (!fixed_point_active_) {
+    if (!iterates_fixed_point()) {
       sun::check(CVodeGetNumLinRhsEvals(cvode, &jacobian_rhs), "CVodeGetNumLinRhsEvals");
       sun::check(CVodeGetNumJacEvals(cvode, &jacobians), "CVodeGetNumJacEvals");
     }
@@ -283,7 +283,6 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   sun::LinearSolver linear_solver_;
   sun::NonlinearSolver fixed_point_;    ///< set where uses_fixed_point (else CVODE's Newton)
   sun::NonlinearSolver newton_solver_;  ///< Newton after a switch from fixed-point iteration
-  bool fixed_point_active_ = false;
   /// The segment's counters up to a switch to Newton (add_counters adds them to CVODE's).
   SolverStats before_switch_;
   double segment_end_ = 0.0;

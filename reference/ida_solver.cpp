@@ -74,11 +74,8 @@ struct IdaData : sun::CallbackRecord {
   StructuredJacobian::Scratch structured_scratch;
   IdaNewtonSystem* newton = nullptr;
   /// Ideal joints: the singular-configuration monitor's own workspace (the root function checks
-  /// every step's configuration, Model::check_singular_configuration), and the count of the
-  /// model's own switching functions before the monitor's entry.
-  bool monitors_joints = false;
+  /// every step's configuration, Model::check_singular_configuration).
   core::Workspace monitor;
-  int switching_count = 0;
   /// The callback whose exception failed the solve (failure_message).
   const char* failed_callback = "residual";
 };
@@ -93,14 +90,15 @@ int switching(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void* 
   try {
     d.form->unpack(t, sun::data(y), d.scratch.state);
     const core::Model& model = d.form->model();
-    if (d.switching_count > 0) {
+    const int count = model.switching_function_count();
+    if (count > 0) {
       model.switching_functions(core::LoadContext{t, d.t_segment}, d.scratch.state,
                                 d.scratch.workspace,
-                                std::span<double>(g, static_cast<std::size_t>(d.switching_count)));
+                                std::span<double>(g, static_cast<std::size_t>(count)));
     }
-    if (d.monitors_joints) {
+    if (model.has_constraints()) {
       model.check_singular_configuration(t, d.scratch.state, d.monitor);
-      g[d.switching_count] = 1.0;
+      g[count] = 1.0;
     }
   } catch (...) {
     d.callback_error = std::current_exception();
@@ -276,10 +274,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         sun::check(IDASetId(ida, id.get()), "IDASetId");
         sun::check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg");
       }
-      data_.switching_count = model_->switching_function_count();
-      data_.monitors_joints = model_->has_constraints();
-      if (data_.monitors_joints) data_.monitor = model_->make_workspace();
-      const int root_functions = data_.switching_count + (data_.monitors_joints ? 1 : 0);
+      if (model_->has_constraints()) data_.monitor = model_->make_workspace();
+      const int root_functions =
+          model_->switching_function_count() + (model_->has_constraints() ? 1 : 0);
       if (root_functions > 0) {
         sun::check(IDARootInit(ida, root_functions, switching), "IDARootInit");
       }
