@@ -3,7 +3,7 @@
 /// The kinematics and the virtual work of a point attached to a body (core/node_attachment.hpp,
 /// docs/modal_data.md "Loads at nodes"), written once for any scalar type S: core's
 /// attached_position_W, attached_velocity_W and add_attached_force (core/node_attachment.hpp)
-/// call them in every precision, and precision::MultibodyModelTpl for its tracked points. A
+/// call them in every precision. A
 /// point at node k moves with the node,
 /// ū_P = x_P + Φ_k q_f (body frame, eq. 10); a hub point has no mode shape (phi_B = nullptr):
 ///   offset:    p_WP − p_WBr = A (x_P − p_BoBr + Φ_k q_f),

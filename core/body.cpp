@@ -7,12 +7,9 @@
 #include <string>
 #include <utility>
 
-namespace flexref::core {
+#include "core/body_impl.hpp"
 
-Eigen::Matrix3d shift_inertia_from_com(const Eigen::Matrix3d& I_cm, double mass,
-                                       const Eigen::Vector3d& d) {
-  return I_cm + mass * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
-}
+namespace flexref::core {
 
 std::string inertia_problem(const Eigen::Matrix3d& inertia) {
   if (!inertia.allFinite()) return "inertia has a non-finite entry";
@@ -35,14 +32,6 @@ std::string inertia_problem(const Eigen::Matrix3d& inertia) {
 }
 
 namespace {
-
-/// Adds a rigid part (mass m, centre of mass c from Br, inertia I_c about it) to invariants
-/// taken about Br: m, s0 = Σ m x and J0 = Σ m x xᵀ are the only invariants a rigid part
-/// changes (it has no mode shape).
-void add_rigid_part(flexible::ModalInvariants& inv, double mass, const Eigen::Vector3d& c,
-                    const Eigen::Matrix3d& I_c) {
-  flexible::add_rigid_part_tpl(inv, mass, c, I_c);
-}
 
 void check_flexible_part(const RigidBodyDescription& d) {
   const FlexiblePart& f = *d.flexible;
@@ -79,8 +68,7 @@ void check_flexible_part(const RigidBodyDescription& d) {
 
 }  // namespace
 
-Body::Body(RigidBodyDescription description) : description_(std::move(description)) {
-  const auto& d = description_;
+void validate_body_description(const RigidBodyDescription& d) {
   if (d.flexible) {
     check_flexible_part(d);
   } else {
@@ -137,73 +125,8 @@ Body::Body(RigidBodyDescription description) : description_(std::move(descriptio
   if (std::abs(d.initial.theta_WB.norm() - 1.0) > 1e-12) {
     throw std::invalid_argument("body '" + d.name + "': orientation is not a unit quaternion");
   }
-  const Eigen::Matrix3d I_sym = 0.5 * (d.I_Bcm_B + d.I_Bcm_B.transpose());
-
-  if (!d.flexible) {
-    mass_ = d.mass;
-    if (d.motion == MotionKind::kFree) {
-      p_BoBr_B_ = d.p_BoBcm_B;
-      p_BrBcm_B_.setZero();
-      I_Br_B_ = I_sym;
-    } else {
-      p_BoBr_B_ = d.motion == MotionKind::kPivot ? d.p_BoPivot_B : Eigen::Vector3d::Zero();
-      p_BrBcm_B_ = d.p_BoBcm_B - p_BoBr_B_;
-      I_Br_B_ = shift_inertia_from_com(I_sym, d.mass, p_BrBcm_B_);
-    }
-  } else {
-    // Invariants about Bo first (nodes, then the hub), to find the undeformed centre of mass.
-    flexible::ModalInvariants about_Bo = flexible::make_modal_invariants(d.flexible->modal);
-    add_rigid_part(about_Bo, d.mass, d.p_BoBcm_B, I_sym);
-    mass_ = about_Bo.mass;
-    const Eigen::Vector3d p_BoBcm_B = about_Bo.s0 / mass_;
-    switch (d.motion) {
-      case MotionKind::kFree:
-        p_BoBr_B_ = p_BoBcm_B;
-        break;
-      case MotionKind::kPivot:
-        p_BoBr_B_ = d.p_BoPivot_B;
-        break;
-      case MotionKind::kPrescribed:
-        p_BoBr_B_.setZero();
-        break;
-    }
-    p_BrBcm_B_ = p_BoBcm_B - p_BoBr_B_;
-    // Then about Br: the nodes shifted by −p_BoBr (mode shapes are unchanged by the shift).
-    flexible::ModalData shifted = d.flexible->modal;
-    shifted.p_BoNode_B.colwise() -= p_BoBr_B_;
-    if (shifted.geometric) shifted.geometric = shifted.geometric->shifted(p_BoBr_B_);
-    invariants_ = flexible::make_modal_invariants(shifted);
-    add_rigid_part(invariants_, d.mass, d.p_BoBcm_B - p_BoBr_B_, I_sym);
-    I_Br_B_ = invariants_.I0;
-    mode_count_ = invariants_.mode_count;
-    stiffness_ = d.flexible->modal.stiffness;
-    damping_ = flexible::modal_damping(d.flexible->modal);
-    frequencies_ = flexible::natural_frequencies(d.flexible->modal);
-    modal_mass_ = flexible::ModalMassFactor(invariants_);
-    if (d.motion != MotionKind::kPrescribed) {
-      if (const std::string problem = inertia_problem(I_Br_B_); !problem.empty()) {
-        throw std::invalid_argument("body '" + d.name + "': the undeformed inertia about the " +
-                                    (d.motion == MotionKind::kFree ? "centre of mass" : "pivot") +
-                                    " " + problem +
-                                    " (nodes on a line have no inertia about it: add a hub)");
-      }
-    }
-  }
-  if (d.motion == MotionKind::kPrescribed) {
-    I_Br_B_inverse_ = Eigen::Matrix3d::Zero();
-  } else {
-    I_Br_B_inverse_ = I_Br_B_.inverse();
-  }
-  if (!I_Br_B_.allFinite() || !I_Br_B_inverse_.allFinite() || !std::isfinite(1.0 / mass_)) {
-    throw InertiaRangeError("body '" + d.name +
-                            "': mass or inertia out of the representable range");
-  }
 }
 
-Eigen::Vector3d Body::p_BrP_B(const TrackedPoint& point, const Eigen::VectorXd& q_f) const {
-  Eigen::Vector3d p = point.p_BoP_B - p_BoBr_B_;
-  if (point.node >= 0) p.noalias() += description_.flexible->modal.mode_rows(point.node) * q_f;
-  return p;
-}
+template class BodyTpl<double>;
 
 }  // namespace flexref::core

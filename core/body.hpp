@@ -78,14 +78,25 @@ class InertiaRangeError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// The body the model integrates: data about the reference point Br, computed once.
-class Body {
+/// The body the model integrates: data about the reference point Br, computed once, in the
+/// model's scalar type S (double; long double and float128 for the precision references). The
+/// description is the scene's, in double; everything derived from it — Br, the inertia about
+/// it and its inverse, a flexible body's invariants, modal damping and m_ff's factor, the
+/// prescribed axis and the initial attitude as unit vectors — is formed in S, so a model in S
+/// solves the exact model of the scene's numbers (docs/precision.md).
+template <typename S>
+class BodyTpl {
  public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Matrix3 = Eigen::Matrix<S, 3, 3>;
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  using Quaternion = Eigen::Matrix<S, 4, 1>;
+
   /// Validates (mass > 0, inertia symmetric positive definite with the triangle inequality,
   /// unit attitude; a flexible body: valid modal data, a hub mass ≥ 0 with a physical or zero
   /// inertia, and a positive definite undeformed inertia unless prescribed) and throws
   /// std::invalid_argument naming the problem.
-  explicit Body(RigidBodyDescription description);
+  explicit BodyTpl(RigidBodyDescription description);
 
   const std::string& name() const { return description_.name; }
   const RigidBodyDescription& description() const { return description_; }
@@ -96,51 +107,69 @@ class Body {
   /// Number of modal coordinates n (0 for a rigid body).
   int mode_count() const { return mode_count_; }
   /// Total mass (hub and nodes for a flexible body).
-  double mass() const { return mass_; }
+  const S& mass() const { return mass_; }
 
   /// Br in the body frame (Bcm for free bodies, the pivot for pivot bodies).
-  const Eigen::Vector3d& p_BoBr_B() const { return p_BoBr_B_; }
+  const Vector3& p_BoBr_B() const { return p_BoBr_B_; }
   /// Centre of mass relative to Br (zero for free bodies).
-  const Eigen::Vector3d& p_BrBcm_B() const { return p_BrBcm_B_; }
+  const Vector3& p_BrBcm_B() const { return p_BrBcm_B_; }
   /// Inertia about Br, body frame (undeformed for a flexible body, hub included), and its
   /// inverse (not formed for a prescribed body, whose inertia may be singular).
-  const Eigen::Matrix3d& I_Br_B() const { return I_Br_B_; }
-  const Eigen::Matrix3d& I_Br_B_inverse() const { return I_Br_B_inverse_; }
+  const Matrix3& I_Br_B() const { return I_Br_B_; }
+  const Matrix3& I_Br_B_inverse() const { return I_Br_B_inverse_; }
   /// Position of a body point relative to Br, body frame.
-  Eigen::Vector3d p_BrP_B(const Eigen::Vector3d& p_BoP_B) const { return p_BoP_B - p_BoBr_B_; }
+  Vector3 p_BrP_B(const Eigen::Vector3d& p_BoP_B) const {
+    return p_BoP_B.template cast<S>() - p_BoBr_B_;
+  }
   /// Position of a tracked point relative to Br, body frame, deformed by q_f when it is a node:
   /// ū_P = x_P + Φ_P q_f (eq. 10).
-  Eigen::Vector3d p_BrP_B(const TrackedPoint& point, const Eigen::VectorXd& q_f) const;
+  Vector3 p_BrP_B(const TrackedPoint& point, const Vector& q_f) const;
+  /// A prescribed body's axis (world) and every body's initial attitude, unit in S.
+  const Vector3& axis_W() const { return axis_W_; }
+  const Quaternion& theta_WB0() const { return theta_WB0_; }
 
   /// Flexible bodies: invariants about Br (nodes and hub), modal stiffness K_i and damping
-  /// d_i = 2ζ_iω_iμ_i (diagonals), natural frequencies with the frame fixed (rad/s, ascending).
-  const flexible::ModalInvariants& invariants() const { return invariants_; }
-  const Eigen::VectorXd& modal_stiffness() const { return stiffness_; }
-  const Eigen::VectorXd& modal_damping() const { return damping_; }
+  /// d_i = 2ζ_iω_iμ_i (diagonals), natural frequencies with the frame fixed (rad/s, ascending,
+  /// in double: for step advice and `flexref check`).
+  const flexible::ModalInvariantsTpl<S>& invariants() const { return invariants_; }
+  const Vector& modal_stiffness() const { return stiffness_; }
+  const Vector& modal_damping() const { return damping_; }
   const Eigen::VectorXd& natural_frequencies() const { return frequencies_; }
   /// The constant modal mass matrix m_ff factored once (Cholesky, and L⁻¹ Sᵀ) for the
   /// structured solves of flexible/mass_matrix_solve.hpp.
-  const flexible::ModalMassFactor& modal_mass() const { return modal_mass_; }
+  const flexible::ModalMassFactorTpl<S>& modal_mass() const { return modal_mass_; }
 
  private:
   RigidBodyDescription description_;
-  double mass_ = 0.0;
+  S mass_ = S(0);
   int mode_count_ = 0;
-  flexible::ModalInvariants invariants_;
-  Eigen::VectorXd stiffness_;
-  Eigen::VectorXd damping_;
+  flexible::ModalInvariantsTpl<S> invariants_;
+  Vector stiffness_;
+  Vector damping_;
   Eigen::VectorXd frequencies_;
-  flexible::ModalMassFactor modal_mass_;
-  Eigen::Vector3d p_BoBr_B_;
-  Eigen::Vector3d p_BrBcm_B_;
-  Eigen::Matrix3d I_Br_B_;
-  Eigen::Matrix3d I_Br_B_inverse_;
+  flexible::ModalMassFactorTpl<S> modal_mass_;
+  Vector3 p_BoBr_B_;
+  Vector3 p_BrBcm_B_;
+  Matrix3 I_Br_B_;
+  Matrix3 I_Br_B_inverse_;
+  Vector3 axis_W_;
+  Quaternion theta_WB0_;
 };
+
+using Body = BodyTpl<double>;
+extern template class BodyTpl<double>;
+
+/// Validates a description (what BodyTpl's constructor promises), in double whatever the model's
+/// scalar type.
+void validate_body_description(const RigidBodyDescription& description);
 
 /// Parallel-axis theorem: inertia about a point displaced by d from the centre of mass,
 /// I_P = I_cm + m (|d|² I − d dᵀ).
-Eigen::Matrix3d shift_inertia_from_com(const Eigen::Matrix3d& I_cm, double mass,
-                                       const Eigen::Vector3d& d);
+template <typename S>
+Eigen::Matrix<S, 3, 3> shift_inertia_from_com(const Eigen::Matrix<S, 3, 3>& I_cm, const S& mass,
+                                              const Eigen::Matrix<S, 3, 1>& d) {
+  return I_cm + mass * (d.squaredNorm() * Eigen::Matrix<S, 3, 3>::Identity() - d * d.transpose());
+}
 
 /// Why an inertia tensor is not physical, or empty when it is: symmetric, positive definite
 /// and satisfying the triangle inequalities J_i + J_j ≥ J_k on its principal values.

@@ -33,7 +33,8 @@ struct LoadContextTpl {
 using LoadContext = LoadContextTpl<double>;
 
 /// Pose of one body at the evaluation, computed once and shared by all elements; in scalar type S
-/// (double: core::Model; extended and quad: precision/multibody_model_tpl.hpp).
+/// (core::ModelTpl<S>: double for the integrators, extended and quad for the precision
+/// references).
 template <typename S>
 struct BodyKinematicsTpl {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
@@ -90,7 +91,9 @@ struct WrenchTpl {
 
 using Wrench = WrenchTpl<double>;
 
-class Body;
+template <typename S>
+class BodyTpl;
+using Body = BodyTpl<double>;
 
 /// What a wear model consumes from one contact at a state (docs/output.md, "Wear outputs"):
 /// the normal force, the slip speed |v_t| of the contact point and the friction power

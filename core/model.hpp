@@ -20,9 +20,11 @@
 /// of the unknown rigid rows; LTE, by block forward substitution. Its inertia terms cost
 /// O(n²) (flexible/inertia_terms.hpp), independent of the number of nodes.
 #include <array>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/body.hpp"
@@ -37,28 +39,37 @@
 namespace flexref::core {
 
 /// Scratch of one flexible body's evaluation (sized once; never reallocated).
-struct FlexibleScratch {
-  flexible::InertiaTerms terms;      ///< M_rr, M_rf and Qv at the evaluated state
-  flexible::MassSolveScratch solve;  ///< the structured solve's scratch
-  Eigen::VectorXd rhs;               ///< Qe + Qv − [0; 0; K q + D q̇]
-  Eigen::VectorXd x;                 ///< (a, α̅, q̈_f)
-  Eigen::VectorXd residual;          ///< dynamics_residual's rows (6+n), for outputs
-  Eigen::VectorXd zero;              ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
+template <typename S>
+struct FlexibleScratchTpl {
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  flexible::InertiaTermsTpl<S> terms;      ///< M_rr, M_rf and Qv at the evaluated state
+  flexible::MassSolveScratchTpl<S> solve;  ///< the structured solve's scratch
+  Vector rhs;                              ///< Qe + Qv − [0; 0; K q + D q̇]
+  Vector x;                                ///< (a, α̅, q̈_f)
+  Vector residual;                         ///< dynamics_residual's rows (6+n), for outputs
+  Vector zero;                             ///< n zeros (LTE: q_f and q̇_f the inertia terms see)
 };
+using FlexibleScratch = FlexibleScratchTpl<double>;
 
 /// Per-evaluation scratch space; make one per thread with Model::make_workspace().
-struct Workspace {
-  std::vector<BodyKinematics> kinematics;
-  std::vector<Wrench> wrenches;
-  std::vector<FlexibleScratch> flexible;  ///< one per body (empty matrices for rigid bodies)
-  std::vector<WearSample> wear;           ///< one per wear channel (Model::wear_samples)
-  double time = 0.0;                      ///< t of the last compute_wrenches (prescribed α̅)
-  ConstraintSolveTpl<double> constraint;  ///< the ideal joints' solve (empty without joints)
+template <typename S>
+struct WorkspaceTpl {
+  std::vector<BodyKinematicsTpl<S>> kinematics;
+  std::vector<WrenchTpl<S>> wrenches;
+  std::vector<FlexibleScratchTpl<S>> flexible;  ///< one per body (empty matrices for rigid bodies)
+  std::vector<WearSampleTpl<S>> wear;           ///< one per wear channel (Model::wear_samples)
+  S time = S(0);                     ///< t of the last compute_wrenches (prescribed α̅)
+  ConstraintSolveTpl<S> constraint;  ///< the ideal joints' solve (empty without joints)
   /// Baumgarte's rate α (1/s) of the ideal joints in the accelerations: J v̇ = γ − 2α (J v + Φ_t)
   /// − α² Φ makes the constraint manifold attracting for integrators that cannot project
   /// (reference/ode_form.hpp); 0: the plain index-1 form. On the manifold it changes nothing.
-  double constraint_stabilization = 0.0;
+  S constraint_stabilization = S(0);
+  /// The prescribed bodies' α̅ at prescribed_time (Model::apply_prescribed_motion with ws); used
+  /// when ws.time equals it.
+  std::vector<Eigen::Matrix<S, 3, 1>> prescribed_alpha;
+  S prescribed_time = std::numeric_limits<S>::quiet_NaN();
 };
+using Workspace = WorkspaceTpl<double>;
 
 /// How a model with ideal joints treats a scene's initial state that violates its constraints
 /// (docs/joints.md, "Initial state").
@@ -68,6 +79,9 @@ struct ConstraintOptions {
   double initial_tolerance = 1e-6;
   /// Project whatever the violation (the scene's `project_initial_state = true`).
   bool project_initial_state = false;
+  /// The independent constraint rows to keep (empty: chosen at the initial configuration). A
+  /// model converted to another scalar type keeps the double model's, so both solve the same rows.
+  std::vector<int> independent_rows;
 };
 
 /// A scene's initial state that violates its ideal joints by more than the tolerance: names
@@ -89,17 +103,36 @@ struct InitialProjection {
   double velocity = 0.0;
 };
 
-class Model {
+/// The model in scalar type S (Pinocchio's ModelTpl): double for every integrator, long double
+/// and float128 for the precision references (precision/model_in_precision.hpp converts a double
+/// model). One class, so the equations, the state's layout and the joints are written once.
+template <typename S>
+class ModelTpl {
  public:
+  using Scalar = S;
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  using Body = BodyTpl<S>;
+  using BodyState = BodyStateTpl<S>;
+  using State = StateTpl<S>;
+  using BodyAcceleration = BodyAccelerationTpl<S>;
+  using Accelerations = AccelerationsTpl<S>;
+  using Workspace = WorkspaceTpl<S>;
+  using LoadContext = LoadContextTpl<S>;
+  using ForceElement = ForceElementTpl<S>;
+  using ConstraintEquations = ConstraintEquationsTpl<S>;
+  using JointReaction = JointReactionTpl<S>;
+  using FlexibleScratch = FlexibleScratchTpl<S>;
   /// With ideal joints (`constraints`), the initial state is made consistent here (positions by
   /// Newton projection, velocities by projection, in the mass metric): a violation beyond
   /// options.initial_tolerance throws InconsistentInitialStateError unless
   /// options.project_initial_state; a singular initial configuration throws
   /// SingularConfigurationError.
-  Model(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements,
-        FlexibleFormulation formulation = FlexibleFormulation::kCoupled,
-        std::unique_ptr<const ConstraintEquations> constraints = nullptr,
-        ConstraintOptions options = {});
+  ModelTpl(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements,
+           FlexibleFormulation formulation = FlexibleFormulation::kCoupled,
+           std::unique_ptr<const ConstraintEquations> constraints = nullptr,
+           ConstraintOptions options = {});
 
   int num_bodies() const { return static_cast<int>(bodies_.size()); }
   const Body& body(int i) const { return bodies_[static_cast<std::size_t>(i)]; }
@@ -134,20 +167,22 @@ class Model {
   /// Newton projection of the positions onto Φ(q, t) = 0 (mass metric; p_Br, θ by the body-frame
   /// rotation increment, q_f), then of the velocities onto J v + Φ_t = 0. Returns the largest
   /// relative violations before the projection.
-  InitialProjection project(double t, State& state, Workspace& ws) const;
+  InitialProjection project(S t, State& state, Workspace& ws) const;
   /// The stacked generalized velocities (v_WBr, ω̄, q̇_f) of a state.
-  void stack_velocities(const State& state, Eigen::VectorXd& v) const;
+  void stack_velocities(const State& state, Vector& v) const;
   /// The projection of the velocities alone (positions consistent).
-  void project_velocities(double t, State& state, Workspace& ws) const;
+  void project_velocities(S t, State& state, Workspace& ws) const;
+  /// The largest relative position violation of the joints at a state (length rows by the
+  /// joints' length scale ℓ, rotation rows as they are: project's measure); 0 without joints.
+  S relative_position_violation(S t, const State& state, Workspace& ws) const;
   /// Per joint: the largest |Φ| of its rows (m or rad) and of its velocity rows |J v + Φ_t| (m/s
   /// or rad/s) at a state.
-  std::vector<std::array<double, 2>> constraint_violations(double t, const State& state,
-                                                           Workspace& ws) const;
+  std::vector<std::array<S, 2>> constraint_violations(S t, const State& state, Workspace& ws) const;
   /// The singular-configuration tests of the constrained solve without the accelerations, for
   /// integrators whose equations never factor J M⁻¹ Jᵀ (IDA's index-2 form): J M⁻¹ Jᵀ factored
   /// at the state and its rows' orientation compared with the last call's in ws (docs/joints.md,
   /// "Singular configurations"). Throws SingularConfigurationError naming the joint and time.
-  void check_singular_configuration(double t, const State& state, Workspace& ws) const;
+  void check_singular_configuration(S t, const State& state, Workspace& ws) const;
   /// Per joint: the force and torque (about the joint point, world) it exerts on its first body,
   /// from the minimum-norm multipliers of all its rows at the state's accelerations (loads of
   /// the branch active at context.t_segment). Allocates: for outputs.
@@ -157,7 +192,11 @@ class Model {
   Accelerations make_accelerations() const;
   /// Sets the rigid part of every prescribed body to its angle law's at time t (p_WBr fixed,
   /// v_WBr = 0, θ and ω̄ of the law). Other bodies are untouched.
-  void apply_prescribed_motion(double t, State& state) const;
+  void apply_prescribed_motion(S t, State& state) const;
+  /// The same, keeping the laws' α̅ at t in ws for the accelerations evaluated at t (one
+  /// evaluation of each law instead of two: in quad its trigonometry is a large part of an
+  /// evaluation).
+  void apply_prescribed_motion(S t, State& state, Workspace& ws) const;
 
   /// Fills workspace.kinematics (A(θ) per body) and workspace.wrenches.
   void compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const;
@@ -173,34 +212,42 @@ class Model {
   /// the quasi-velocity variables (translation, rotation in the body frame, modes). The rows a
   /// pivot or prescribed body does not integrate are the reactions its constraint supplies.
   void dynamics_residual(int i, const BodyState& state, const BodyAcceleration& acc, Workspace& ws,
-                         Eigen::Ref<Eigen::VectorXd> out) const;
+                         Eigen::Ref<Vector> out) const;
   /// ∂(dynamics_residual)/∂(a_WBr, α̅, q̈_f) of flexible body i, (6+n)², from the terms of the
   /// last dynamics_residual call on ws: [M_rr M_rf; M_rfᵀ m_ff] (LTE: no M_rf in the rigid
   /// rows, so not symmetric). Allocates nothing when `out` is sized.
-  void residual_mass_matrix(int i, const Workspace& ws, Eigen::Ref<Eigen::MatrixXd> out) const;
+  void residual_mass_matrix(int i, const Workspace& ws, Eigen::Ref<Matrix> out) const;
   /// The modal rows of a flexible body solved for q̈_f with the rigid accelerations given
   /// (a_WBr, α̅; a prescribed body uses a = 0 and its law's α̅ at ws.time), the loads already
   /// in ws (compute_wrenches) and the state's q_f, q̇_f, ω̄. Under LTE this is the modal
   /// equation of docs/design/model.md, which the hybrid schemes integrate by central differences.
-  void modal_accelerations(int i, const BodyState& state, const Eigen::Vector3d& a_WBr,
-                           const Eigen::Vector3d& alpha_WB_B, Workspace& ws,
-                           Eigen::VectorXd& qdd_f) const;
+  void modal_accelerations(int i, const BodyState& state, const Vector3& a_WBr,
+                           const Vector3& alpha_WB_B, Workspace& ws, Vector& qdd_f) const;
   /// Torque about the axis that drives a prescribed body along its law (N·m): the axis
   /// component of the rotational reaction (dynamics_residual's rotation rows, to world).
-  double driving_torque(int i, const BodyState& state, const BodyAcceleration& acc,
-                        Workspace& ws) const;
+  S driving_torque(int i, const BodyState& state, const BodyAcceleration& acc, Workspace& ws) const;
 
-  double kinetic_energy(const State& state) const;
+  S kinetic_energy(const State& state) const;
   /// Potential energy of the force elements plus the elastic energy ½ q_fᵀ K q_f.
-  double potential_energy(const LoadContext& context, const State& state, Workspace& ws) const;
+  S potential_energy(const LoadContext& context, const State& state, Workspace& ws) const;
   /// Total number of switching functions of the force elements (contact gaps).
   int switching_function_count() const { return switching_count_; }
   /// All switching functions at a state, element by element (g has switching_function_count()
   /// entries). Allocates nothing.
   void switching_functions(const LoadContext& context, const State& state, Workspace& ws,
-                           std::span<double> g) const;
+                           std::span<S> g) const;
+  /// The force elements' clamp functions (ForceElementTpl::clamp_functions) in the layout of
+  /// switching_functions: where each switching function's law changes branch.
+  void clamp_functions(const LoadContext& context, const State& state, Workspace& ws,
+                       std::span<S> c) const;
+  /// compute_wrenches and, in the same pass over the elements, the rates of [W_d, extra
+  /// integrals] (integral_rates' layout; empty span: none) and the switching and clamp functions
+  /// (switching_function_count() each, or empty). For integrators that need all three at every
+  /// evaluation (the precision references' event location). Allocates nothing.
+  void compute_wrenches_and_rates(const LoadContext& context, const State& state, Workspace& ws,
+                                  std::span<S> rates, std::span<S> g, std::span<S> c) const;
   /// Power dissipated by the force elements and the modal damping (q̇_fᵀ D q̇_f), W.
-  double dissipated_power(const LoadContext& context, const State& state, Workspace& ws) const;
+  S dissipated_power(const LoadContext& context, const State& state, Workspace& ws) const;
   /// Wear channels (one per contact element, core/model_integrals.cpp): their count, names
   /// (the contacts' names) and, for each switching function, its channel (−1: none).
   int wear_channel_count() const { return static_cast<int>(wear_names_.size()); }
@@ -219,21 +266,21 @@ class Model {
   /// Rates of [W_d, extra integrals] at a state (1 + extra_integral_count() entries): the
   /// dissipated power, the applied power, each channel's |F_t·v_t|. Allocates nothing.
   void integral_rates(const LoadContext& context, const State& state, Workspace& ws,
-                      std::span<double> rates) const;
+                      std::span<S> rates) const;
   /// ½ Σ q_fᵀ K q_f over the flexible bodies.
-  double elastic_energy(const State& state) const;
+  S elastic_energy(const State& state) const;
   /// Total linear momentum, world.
-  Eigen::Vector3d linear_momentum_W(const State& state) const;
+  Vector3 linear_momentum_W(const State& state) const requires std::is_same_v<S, double>;
   /// Total angular momentum about the world origin, world.
-  Eigen::Vector3d angular_momentum_W(const State& state) const;
+  Vector3 angular_momentum_W(const State& state) const requires std::is_same_v<S, double>;
 
   /// Frame origin Bo of body i (the CSV's B.x, B.y, B.z) and its velocity.
-  Eigen::Vector3d p_WBo(int i, const BodyState& s) const;
-  Eigen::Vector3d v_WBo(int i, const BodyState& s) const;
+  Vector3 p_WBo(int i, const BodyState& s) const;
+  Vector3 v_WBo(int i, const BodyState& s) const;
   /// World position of a body point given from the frame origin.
-  Eigen::Vector3d p_WP(int i, const BodyState& s, const Eigen::Vector3d& p_BoP_B) const;
+  Vector3 p_WP(int i, const BodyState& s, const Eigen::Vector3d& p_BoP_B) const;
   /// World position of a tracked point, deformed when it is a node of a flexible body.
-  Eigen::Vector3d p_WP(int i, const BodyState& s, const TrackedPoint& point) const;
+  Vector3 p_WP(int i, const BodyState& s, const TrackedPoint& point) const;
 
  private:
   /// The scene's initial state as described (before any projection onto the joints).
@@ -244,30 +291,32 @@ class Model {
   /// Points ws.kinematics at the state (A(θ), and the q_f the loads see).
   void pose_bodies(const State& state, Workspace& ws) const;
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
-  /// α̅ of a prescribed body's angle law at t (zero for another body).
-  Eigen::Vector3d prescribed_alpha_WB_B(const Body& b, double t) const;
+  /// α̅ of body i's angle law at ws.time (zero for a body not prescribed).
+  Vector3 prescribed_alpha_WB_B(int i, const Workspace& ws) const;
+  /// apply_prescribed_motion, with the laws' α̅ into `alpha` when given.
+  void set_prescribed_motion(S t, State& state, std::vector<Vector3>* alpha) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
   /// Each body's accelerations from its loads alone (M⁻¹ Q), before the joints' reactions.
   void free_accelerations(const State& state, Workspace& ws, Accelerations& accelerations) const;
   /// M_b⁻¹ rhs for body b (rigid: its diag(m, I_Br) inverse; flexible: the structured solve
   /// factored by the last accelerations_from_wrenches), with the rows its motion fixes zero.
-  void apply_inverse_mass(int b, const Eigen::Ref<const Eigen::VectorXd>& rhs,
-                          Eigen::Ref<Eigen::VectorXd> out, Workspace& ws) const;
+  void apply_inverse_mass(int b, const Eigen::Ref<const Vector>& rhs, Eigen::Ref<Vector> out,
+                          Workspace& ws) const;
   /// The ideal joints' multipliers and constrained accelerations at the loads in ws.
-  void apply_constraints(double t, Workspace& ws, Accelerations& accelerations) const;
+  void apply_constraints(S t, Workspace& ws, Accelerations& accelerations) const;
   /// The rows at a state, and their factorization in the mass metric (flexible bodies' factors
   /// at the state); throws SingularConfigurationError at a singular configuration.
-  void factor_constraints_at(double t, const State& state, Workspace& ws) const;
+  void factor_constraints_at(S t, const State& state, Workspace& ws) const;
   /// Largest relative violation of the position rows (length rows by the joints' length scale)
   /// and of the velocity rows (by the bodies' speeds), and the joints where each is largest.
   struct RelativeViolation {
-    double position = 0.0;
-    double velocity = 0.0;
+    S position = S(0);
+    S velocity = S(0);
     int position_joint = 0;
     int velocity_joint = 0;
   };
   /// From s.rows at `state`; s.v and s.rate are its scratch.
-  RelativeViolation relative_violation(ConstraintSolveTpl<double>& s, const State& state) const;
+  RelativeViolation relative_violation(ConstraintSolveTpl<S>& s, const State& state) const;
 
   std::vector<Body> bodies_;
   std::vector<std::unique_ptr<const ForceElement>> elements_;
@@ -278,15 +327,19 @@ class Model {
   int switching_count_ = 0;
   bool dissipates_ = false;
   std::vector<std::string> wear_names_;
-  std::vector<int> wear_elements_;  ///< element index of each channel
+  std::vector<int> wear_elements_;     ///< element index of each channel
+  std::vector<int> element_channels_;  ///< the wear channel of each element (−1: none)
   std::vector<int> switching_channels_;
   bool applied_work_ = false;
   std::unique_ptr<const ConstraintEquations> constraints_;
   VelocityLayout layout_;
   std::vector<int> active_rows_;
-  double joint_length_scale_ = 1.0;  ///< the joints' largest arm from a body's Br (m)
+  S joint_length_scale_ = S(1);  ///< the joints' largest arm from a body's Br (m)
   State initial_state_;
   InitialProjection initial_projection_;
 };
+
+using Model = ModelTpl<double>;
+extern template class ModelTpl<double>;
 
 }  // namespace flexref::core

@@ -87,11 +87,34 @@ struct PrescribedRotation {
 };
 
 /// Attitude, body-frame angular velocity and acceleration at t, from the attitude at t = 0.
-struct PrescribedAttitude {
-  rotation::EulerParameters theta_WB;
-  Eigen::Vector3d w_WB_B;
-  Eigen::Vector3d alpha_WB_B;
+template <typename S>
+struct PrescribedAttitudeTpl {
+  Eigen::Matrix<S, 4, 1> theta_WB;
+  Eigen::Matrix<S, 3, 1> w_WB_B;
+  Eigen::Matrix<S, 3, 1> alpha_WB_B;
 };
+using PrescribedAttitude = PrescribedAttitudeTpl<double>;
+
+/// θ(t) = q(φ a_W) ⊗ θ0 (a rotation about a world axis composes on the left), ω̄ = φ̇ Aᵀ a_W,
+/// α̅ = φ̈ Aᵀ a_W, in any scalar type S with the axis and θ0 given in S.
+template <typename S>
+PrescribedAttitudeTpl<S> prescribed_attitude_in(const AngleLaw& law,
+                                                const Eigen::Matrix<S, 3, 1>& axis_W,
+                                                const Eigen::Matrix<S, 4, 1>& theta_WB0, S t) {
+  using std::cos;
+  using std::sin;
+  const S phi = law.angle_in<S>(t);
+  Eigen::Matrix<S, 4, 1> q_axis;
+  q_axis << cos(S(0.5) * phi), sin(S(0.5) * phi) * axis_W;
+  PrescribedAttitudeTpl<S> out;
+  out.theta_WB = rotation::quaternion_multiply<S>(q_axis, theta_WB0);
+  const Eigen::Matrix<S, 3, 1> axis_B =
+      rotation::rotation_matrix<S>(out.theta_WB).transpose() * axis_W;
+  out.w_WB_B = law.angular_rate_in<S>(t) * axis_B;
+  out.alpha_WB_B = law.angular_acceleration_in<S>(t) * axis_B;
+  return out;
+}
+
 PrescribedAttitude prescribed_attitude(const PrescribedRotation& rotation,
                                        const rotation::EulerParameters& theta_WB0, double t);
 

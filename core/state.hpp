@@ -14,7 +14,7 @@
 namespace flexref::core {
 
 /// One body's state in scalar type S: core::Model advances it in double, the extended and quad
-/// references (precision/multibody_model_tpl.hpp) evaluate their loads on it in S.
+/// references advance core::ModelTpl<S>'s (precision/ode_system.hpp).
 template <typename S>
 struct BodyStateTpl {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
@@ -29,16 +29,22 @@ struct BodyStateTpl {
 
 using BodyState = BodyStateTpl<double>;
 
-using State = std::vector<BodyState>;
+template <typename S>
+using StateTpl = std::vector<BodyStateTpl<S>>;
+using State = StateTpl<double>;
 
 /// Accelerations of one body: of Br (world) and the body-frame angular acceleration α̅.
-struct BodyAcceleration {
-  Eigen::Vector3d a_WBr = Eigen::Vector3d::Zero();
-  Eigen::Vector3d alpha_WB_B = Eigen::Vector3d::Zero();
-  Eigen::VectorXd qdd_f;  ///< modal accelerations (n)
+template <typename S>
+struct BodyAccelerationTpl {
+  Eigen::Matrix<S, 3, 1> a_WBr = Eigen::Matrix<S, 3, 1>::Zero();
+  Eigen::Matrix<S, 3, 1> alpha_WB_B = Eigen::Matrix<S, 3, 1>::Zero();
+  Eigen::Matrix<S, Eigen::Dynamic, 1> qdd_f;  ///< modal accelerations (n)
 };
+using BodyAcceleration = BodyAccelerationTpl<double>;
 
-using Accelerations = std::vector<BodyAcceleration>;
+template <typename S>
+using AccelerationsTpl = std::vector<BodyAccelerationTpl<S>>;
+using Accelerations = AccelerationsTpl<double>;
 
 /// States at output times, as every integrator returns them.
 struct Trajectory {

@@ -11,7 +11,7 @@
 #include <string>
 #include <utility>
 
-#include "precision/multibody_model_tpl.hpp"
+#include "precision/ode_system.hpp"
 #include "precision/parse_text.hpp"
 #include "reference/exact_heavy_top.hpp"
 #include "reference/exact_pendulum.hpp"
@@ -90,8 +90,8 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
   using std::isfinite;
   using std::sqrt;
   const auto start = std::chrono::steady_clock::now();
-  const MultibodyModelTpl<S> model(spec, core::FlexibleFormulation::kCoupled);
-  const typename MultibodyModelTpl<S>::MassProperties body = model.mass_properties(0);
+  const OdeSystemTpl<S> model(spec, core::FlexibleFormulation::kCoupled);
+  const typename OdeSystemTpl<S>::MassProperties body = model.mass_properties(0);
   const std::vector<S> y0 = model.initial_state();  // p_WBr, θ_WB (unit in S), v_WBr, ω̄
   const Quaternion<S> theta0(y0[3], y0[4], y0[5], y0[6]);
   const Vector3<S> w0_B(y0[10], y0[11], y0[12]);

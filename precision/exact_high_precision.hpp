@@ -4,7 +4,7 @@
 /// top) evaluated in extended or quad precision (docs/precision.md): the same closed forms as
 /// the double `--solver exact`, instantiated in the run's scalar type, with the principal-axes
 /// decomposition in that type too, tabulated in the columns and text format of
-/// solve_high_precision (per body p, θ, v, ω̄, tracked points, energy; MultibodyModelTpl<S>::
+/// solve_high_precision (per body p, θ, v, ω̄, tracked points, energy; OdeSystemTpl<S>::
 /// output_row), so that precision::distance compares the two in the runs' precision.
 #include <string>
 #include <vector>

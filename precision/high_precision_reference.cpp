@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
-#include "precision/multibody_model_tpl.hpp"
+#include "precision/ode_system.hpp"
 #include "precision/parse_text.hpp"
 #include "precision/precise_comparison.hpp"
 #include "precision/roundoff_scale.hpp"
@@ -217,7 +217,7 @@ HighPrecisionRun integrate(const scene::SceneSpec& spec, core::FlexibleFormulati
   // Ideal joints: Baumgarte's rate from the output spacing, as the double ODE references
   // (reference::constraint_stabilization_rate).
   return integrate_model<S>(
-      MultibodyModelTpl<S>(spec, formulation, reference::mean_output_spacing(output_times)), start,
+      OdeSystemTpl<S>(spec, formulation, reference::mean_output_spacing(output_times)), start,
       output_times, precision, rtol, type_name, subdivisions, budget);
 }
 
@@ -283,7 +283,7 @@ double smallest_rtol(Precision precision) {
 }
 
 void check_supported(const scene::SceneSpec& spec, core::FlexibleFormulation formulation) {
-  (void)MultibodyModelTpl<double>(spec, formulation);
+  (void)OdeSystemTpl<double>(spec, formulation);
 }
 
 HighPrecisionRun solve_high_precision(const scene::SceneSpec& spec,

@@ -1,7 +1,7 @@
 #pragma once
 /// \file high_precision_reference.hpp
-/// References beyond double precision (docs/precision.md): the model of
-/// precision/multibody_model_tpl.hpp integrated in extended or quad precision by Boost.Odeint's
+/// References beyond double precision (docs/precision.md): core::ModelTpl<S>
+/// (precision/ode_system.hpp) integrated in extended or quad precision by Boost.Odeint's
 /// Bulirsch–Stoer extrapolation (controlled, stepping exactly onto every output time and load
 /// switch, and locating every contact switch to the working precision), with its error
 /// estimated in the same precision.
@@ -57,7 +57,7 @@ void check_supported(const scene::SceneSpec& spec,
                      core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
 
 /// Solves the scene at output_times in `precision` (kExtended or kQuad) with rtol (= atol) by
-/// precision/multibody_model_tpl.hpp (its flexible bodies coupled or LTE, as `formulation`
+/// core::ModelTpl<S> (precision/ode_system.hpp; its flexible bodies coupled or LTE, as `formulation`
 /// says). Throws std::invalid_argument for a scene build_model refuses or an rtol out of range,
 /// core::SolverError when the
 /// integration fails or leaves a non-finite value.

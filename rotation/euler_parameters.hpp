@@ -10,6 +10,8 @@
 /// (docs/performance.md, "Build").
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
+#include <type_traits>
 
 namespace flexref::rotation {
 
@@ -26,6 +28,17 @@ inline EulerParameters quaternion_multiply(const EulerParameters& p, const Euler
   EulerParameters r;
   r(0) = p0 * q0 - pv.dot(qv);
   r.tail<3>() = p0 * qv + q0 * pv + pv.cross(qv);
+  return r;
+}
+/// The same product in any scalar type S (the same operations: double's calls agree bit for bit).
+template <typename S>
+Eigen::Matrix<S, 4, 1> quaternion_multiply(const Eigen::Matrix<S, 4, 1>& p,
+                                           const Eigen::Matrix<S, 4, 1>& q) {
+  const Eigen::Matrix<S, 3, 1> pv = p.template tail<3>();
+  const Eigen::Matrix<S, 3, 1> qv = q.template tail<3>();
+  Eigen::Matrix<S, 4, 1> r;
+  r(0) = p(0) * q(0) - pv.dot(qv);
+  r.template tail<3>() = p(0) * qv + q(0) * pv + pv.cross(qv);
   return r;
 }
 inline EulerParameters quaternion_conjugate(const EulerParameters& q) {
@@ -97,6 +110,24 @@ inline EulerParameters euler_parameter_rate(const EulerParameters& theta,
 
 /// Unit quaternion of the rotation exp(φ̃): (cos(|φ|/2), sin(|φ|/2) φ/|φ|).
 EulerParameters exp_quaternion(const Eigen::Vector3d& phi);
+/// exp(φ) in any scalar type S: double's is exp_quaternion (a Taylor series below |φ| = 2e-2,
+/// accurate to double's ε); another S takes sin(|φ|/2)/|φ| itself, exact to its own ε.
+template <typename S>
+Eigen::Matrix<S, 4, 1> exp_quaternion_in(const Eigen::Matrix<S, 3, 1>& phi) {
+  if constexpr (std::is_same_v<S, double>) {
+    return exp_quaternion(phi);
+  } else {
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    const S angle = sqrt(phi.squaredNorm());
+    Eigen::Matrix<S, 4, 1> q;
+    q(0) = cos(S(0.5) * angle);
+    q.template tail<3>() = angle > S(0) ? Eigen::Matrix<S, 3, 1>(sin(S(0.5) * angle) / angle * phi)
+                                        : Eigen::Matrix<S, 3, 1>(S(0.5) * phi);
+    return q;
+  }
+}
 /// Rotation vector of a unit quaternion, |φ| ≤ π (the shortest of ±θ).
 Eigen::Vector3d log_quaternion(const EulerParameters& theta);
 /// Euler parameters of a rotation matrix (Shepperd's method), e0 ≥ 0.

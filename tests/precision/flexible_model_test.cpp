@@ -1,5 +1,5 @@
 /// \file flexible_model_test.cpp
-/// The flexible body in extended/quad (precision/multibody_model_tpl.hpp):
+/// The flexible body in extended/quad (precision/ode_system.hpp):
 /// - against core::Model at random states, coupled and LTE, free, pivot and prescribed, with
 ///   geometric stiffening, gravity, modal damping and forces at nodes and hub points: the
 ///   accelerations, the integrals' rates and the output row. The equations are one code (the
@@ -22,7 +22,7 @@
 #include "contact/gap_support.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
-#include "precision/multibody_model_tpl.hpp"
+#include "precision/ode_system.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
 #include "tests/precision/model_agreement.hpp"

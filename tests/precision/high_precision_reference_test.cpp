@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "core/output_times.hpp"
-#include "precision/multibody_model_tpl.hpp"
+#include "precision/ode_system.hpp"
 #include "reference/exact_rotation_tpl.hpp"
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
@@ -61,14 +61,14 @@ scene::SceneSpec loaded_spec(bool pivot) {
 }
 
 TEST_CASE("the generic model agrees with core::Model at random states", "[precision]") {
-  // core::Model and MultibodyModelTpl<double> run the same elements and body rows on their own
+  // core::Model and OdeSystemTpl<double> run the same elements and body rows on their own
   // state layouts and body data (formed in S by the latter): a layout or data error shows up
   // as an O(1) difference. Tolerance: both are a few dozen flops from the same inputs, 1e-12
   // relative.
   for (const bool pivot : {false, true}) {
     const scene::SceneSpec spec = loaded_spec(pivot);
     const core::Model model = scene::build_model(spec);
-    const MultibodyModelTpl<double> tpl(spec, core::FlexibleFormulation::kCoupled);
+    const OdeSystemTpl<double> tpl(spec, core::FlexibleFormulation::kCoupled);
     core::Workspace ws = model.make_workspace();
     core::Accelerations acc = model.make_accelerations();
     std::vector<double> y = tpl.initial_state();
@@ -172,10 +172,10 @@ TEST_CASE("quad and extended against the closed-form symmetric top", "[precision
   // is the issue's bound (rtol 1e-28 leaves 1000× for the growth over 200 outputs); extended:
   // 1e-15 (rtol 1e-16, ε 5.4e-20).
   const HighPrecisionRun quad = solve_high_precision(spec, times, Precision::kQuad, 1e-28);
-  const MultibodyModelTpl<Quad> mq(spec, core::FlexibleFormulation::kCoupled);
+  const OdeSystemTpl<Quad> mq(spec, core::FlexibleFormulation::kCoupled);
   CHECK(worst_error<Quad>(quad, times, Quad(3), Quad(5), mq.initial_state()) < 1e-25);
   const HighPrecisionRun ext = solve_high_precision(spec, times, Precision::kExtended, 1e-16);
-  const MultibodyModelTpl<long double> me(spec, core::FlexibleFormulation::kCoupled);
+  const OdeSystemTpl<long double> me(spec, core::FlexibleFormulation::kCoupled);
   CHECK(worst_error<long double>(ext, times, 3.0L, 5.0L, me.initial_state()) < 1e-15);
 }
 
@@ -263,7 +263,7 @@ TEST_CASE("every scene is carried in extended/quad, a tolerance beyond it is ref
     CHECK(message(spec_of(file)) == "accepted");
   }
   // A flexible body with another body, a sphere–sphere pair between them and a joint
-  // (precision/multibody_model_tpl.hpp; multibody_model_test.cpp checks what it computes).
+  // (precision/ode_system.hpp; multibody_model_test.cpp checks what it computes).
   scene::SceneSpec two = spec_of("scenes/flexible_spinner.toml");
   two.bodies.push_back(spec_of("scenes/free_spin.toml").bodies.front());
   CHECK(message(two) == "accepted");

@@ -1,5 +1,5 @@
 /// \file jointed_high_precision_test.cpp
-/// Ideal joints in extended and quad precision (precision/multibody_model_tpl.hpp with
+/// Ideal joints in extended and quad precision (precision/ode_system.hpp with
 /// constraint::IdealJointsTpl<S>): the heavy top on its spherical joint against the exact
 /// Lagrange top, Andrews' squeezer against the double reference, its constraint violation at
 /// quad's round-off, and its joint reactions against double's.
@@ -15,7 +15,7 @@
 #include "core/output_times.hpp"
 #include "precision/exact_high_precision.hpp"
 #include "precision/high_precision_reference.hpp"
-#include "precision/multibody_model_tpl.hpp"
+#include "precision/ode_system.hpp"
 #include "reference/reference_solver.hpp"
 #include "scene/build_model.hpp"
 #include "studies/certified_reference.hpp"

@@ -1,12 +1,12 @@
 #pragma once
 /// \file model_agreement.hpp
-/// The extended/quad model (precision/multibody_model_tpl.hpp, instantiated in double) against
-/// core::Model at random states of a scene: the accelerations, the integrals' rates, the gaps
-/// and the output row. The force elements, the bodies' rows, the inertia terms and the solves are
-/// templates both models run; what each writes itself — the bodies' data (reference points and
-/// invariants formed in S), the state layout, the elements' conversion, the kinematics of the
-/// prescribed bodies and the outputs — is what this compares, so an error there shows up as an
-/// O(1) difference. The equations themselves are guarded by their own tests.
+/// The precision references' ODE (precision/ode_system.hpp over the double model converted by
+/// precision/model_conversion.hpp, instantiated in double) against core::Model at random states
+/// of a scene: the accelerations, the integrals' rates, the gaps and the output row. Both run
+/// core::ModelTpl's equations; what this compares is what the conversion and the flat state add —
+/// the bodies formed again from their descriptions, the elements' and joints' conversion, the
+/// state's packing, the prescribed bodies' kinematics and the output rows — so an error there
+/// shows up as an O(1) difference. The equations themselves are guarded by their own tests.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "core/model.hpp"
-#include "precision/multibody_model_tpl.hpp"
+#include "precision/ode_system.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
 #include "studies/trajectory_table.hpp"
@@ -47,7 +47,7 @@ inline int check_against_core_model(const scene::SceneSpec& spec,
   // whose cancellations leave accelerations of the size of the largest of them over the masses;
   // 1e-9 relative to each body's largest acceleration (a, α̅ or q̈_f; at least 1) is ~1e6 ε of it.
   const core::Model model = scene::build_model(spec, formulation);
-  const MultibodyModelTpl<double> tpl(spec, formulation);
+  const OdeSystemTpl<double> tpl(spec, formulation);
   core::Workspace ws = model.make_workspace();
   core::Accelerations acc = model.make_accelerations();
   REQUIRE(tpl.num_bodies() == model.num_bodies());

@@ -1,6 +1,6 @@
 /// \file multibody_model_test.cpp
 /// Several bodies, rigid and flexible, and what acts between them in extended/quad
-/// (precision/multibody_model_tpl.hpp):
+/// (precision/ode_system.hpp):
 /// - against core::Model at random states (model_agreement.hpp), coupled and LTE: a free
 ///   flexible body hinged to the ground by a revolute bushing, a rigid block on a spherical
 ///   bushing, a second flexible body on a pivot or prescribed, joined to the block; sphere–sphere

@@ -1,0 +1,125 @@
+#pragma once
+/// \file ode_system.hpp
+/// The precision references' ODE y' = f(t, y) on a flat vector of S (double, long double,
+/// boost::multiprecision::float128), for Boost.Odeint and the event location of
+/// switched_integration.hpp: core::ModelTpl<S> — the model every integrator uses, converted to S
+/// (model_conversion.hpp) — with the state packed body after body, the switching and clamp
+/// functions of its contacts interleaved, and the output rows of the trajectory's columns.
+///
+/// State, body after body: p_WBr (3), θ_WB (4), v_WBr (3), ω̄ (3) unless the body is
+/// prescribed (its attitude, ω̄ and α̅ are its angle law's at t), then q_f (n), q̇_f (n); then
+/// the integrals (W_d, W_a, each wear channel's work) when the model dissipates. Equations
+/// (docs/design/model.md, quasi-velocity form): ṗ = v, θ̇ = ½ θ ⊗ (0, ω̄), v̇ = a, ω̄̇ = α̅, q̈_f,
+/// with (a, α̅, q̈_f) from core::ModelTpl::accelerations_from_wrenches. The model sees θ/|θ|
+/// (an orthogonal A whatever drift the integrator leaves in |θ|); θ̇ uses y's θ, so the exact
+/// flow conserves |θ|.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+#include "scene/scene_spec.hpp"
+
+namespace flexref::precision {
+
+template <typename S>
+class OdeSystemTpl {
+ public:
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  using Matrix3 = Eigen::Matrix<S, 3, 3>;
+
+  /// Every scene scene::build_model builds (which validates it). Throws std::invalid_argument
+  /// for what build_model refuses and for an element or joint kind the conversion to S does not
+  /// know (model_conversion.hpp). With ideal joints, output_spacing (s, 0: none given) sets the
+  /// Baumgarte rate the double ODE references use (reference::constraint_stabilization_rate).
+  OdeSystemTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation,
+               double output_spacing = 0.0);
+
+  const core::ModelTpl<S>& model() const { return model_; }
+  int num_bodies() const { return model_.num_bodies(); }
+  /// The first slot of body i in the state.
+  int body_offset(int i) const { return offsets_[static_cast<std::size_t>(i)]; }
+  /// False for a prescribed body (no rigid slots: its law gives them).
+  bool integrates_rigid_motion(int i) const { return !model_.body(i).is_prescribed(); }
+  int mode_count(int i = 0) const { return model_.body(i).mode_count(); }
+  /// A body's mass, centre of mass from Br and inertia about Br (body frame), hub and nodes
+  /// included, formed in S (the exact solutions' data: exact_high_precision.cpp).
+  struct MassProperties {
+    S mass;
+    Vector3 c_B;
+    Matrix3 J_Br_B;
+  };
+  MassProperties mass_properties(int i) const {
+    const core::BodyTpl<S>& b = model_.body(i);
+    return {b.mass(), b.p_BrBcm_B(), b.I_Br_B()};
+  }
+  int state_size() const { return integrals_offset_ + integral_count_; }
+  /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
+  const std::vector<std::string>& columns() const { return columns_; }
+  /// Two per switching function of the force elements (a gap support's or contact pair's gap),
+  /// in the model's element order: the gap g (it pushes while g < 0; its sign change is an onset
+  /// or a release) and the unclamped law's value (NormalLaw::clamp_function).
+  int switching_function_count() const { return 2 * model_.switching_function_count(); }
+  void switching_functions(S t, const std::vector<S>& y, std::vector<S>& values) const;
+  int wear_channel_count() const { return model_.wear_channel_count(); }
+  /// The wear channel of a gap support or pair, −1 for an unnamed one.
+  int wear_channel_of_pair(int pair) const {
+    return model_.switching_channels()[static_cast<std::size_t>(pair)];
+  }
+  /// Times where a load profile switches, and the end of each spin-up law (φ⁗ jumps there: φ̈ =
+  /// (Ω/T)(1 − cos 2πt/T) before, 0 after; extrapolation's high orders need the stop).
+  const std::vector<double>& discontinuities() const { return discontinuities_; }
+
+  /// The model's initial state (consistent with its joints in S), the integrals at 0.
+  std::vector<S> initial_state() const;
+
+  bool has_constraints() const { return model_.has_constraints(); }
+  /// Baumgarte's rate α (1/s) in the accelerations (core::WorkspaceTpl::constraint_stabilization).
+  S constraint_stabilization() const { return ws_.constraint_stabilization; }
+  void set_constraint_stabilization(S alpha) { ws_.constraint_stabilization = alpha; }
+  /// Projects the bodies' state in y onto Φ(q, t) = 0 and J v + Φ_t = 0 (core::ModelTpl::project,
+  /// to S's round-off); the integrals are left as they are. Returns the largest relative position
+  /// violation before it.
+  S project(S t, std::vector<S>& y) const;
+  /// The largest relative position violation of the joints at (t, y) (as project's).
+  S relative_position_violation(S t, const std::vector<S>& y) const;
+  /// ẏ = f(t, y) on the load branch active at t_segment, with the switching values of the same
+  /// evaluation when `switching` is given. Uses the system's scratch: one evaluation at a time
+  /// (the integrators here are sequential).
+  void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment,
+                  std::vector<S>* switching = nullptr) const;
+  /// Kinetic + potential energy at (t, y) (the `energy` column).
+  S energy(S t, const std::vector<S>& y) const;
+  /// The trajectory_columns row at (t, y) after `t`: per body p_WBo, θ, v_WBo, ω̄, tracked points
+  /// (nodes deformed), q_f, q̇_f and a prescribed body's drive torque; per joint its reaction and
+  /// violations; the energy, and when the model dissipates W_d, (W_a), E − E(0) + W_d − W_a; per
+  /// wear channel Σ F_n, the slip speed of its most loaded support or pair, the wear work and
+  /// `impacts` (the caller's onset counts, one per channel; empty: none yet).
+  std::vector<S> output_row(S t, const std::vector<S>& y,
+                            const std::vector<double>& impacts = {}) const;
+
+ private:
+  OdeSystemTpl(const core::Model& built, const std::string& name, double output_spacing);
+  /// The bodies' state at (t, y) into state_ (θ normalized; prescribed bodies from their law).
+  void unpack(S t, const std::vector<S>& y) const;
+  /// state_'s bodies into y (the integrals left as they are).
+  void pack(std::vector<S>& y) const;
+  /// The gaps and clamps of the scratch interleaved into `values` (g_0, c_0, g_1, c_1, …).
+  void interleave_switching(std::vector<S>& values) const;
+  core::LoadContextTpl<S> context(S t, double t_segment) const { return {t, t_segment}; }
+
+  core::ModelTpl<S> model_;
+  std::vector<std::string> columns_;
+  std::vector<double> discontinuities_;
+  std::vector<int> offsets_;  ///< each body's first slot in y
+  int integrals_offset_ = 0;
+  int integral_count_ = 0;
+  bool has_prescribed_ = false;
+  S energy0_ = S(0);
+  mutable core::WorkspaceTpl<S> ws_;
+  mutable core::StateTpl<S> state_;
+  mutable core::AccelerationsTpl<S> accelerations_;
+  mutable std::vector<S> rates_, gaps_, clamps_;
+};
+
+}  // namespace flexref::precision

@@ -1,0 +1,261 @@
+#pragma once
+/// \file ode_system_impl.hpp
+/// OdeSystemTpl<S>'s definitions, included by the translation unit of each precision
+/// (model_instances_{double,extended,quad}.cpp).
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "precision/model_conversion.hpp"
+#include "precision/ode_system.hpp"
+#include "reference/method_choice.hpp"
+#include "scene/build_model.hpp"
+#include "studies/trajectory_table.hpp"
+
+namespace flexref::precision {
+
+template <typename S>
+OdeSystemTpl<S>::OdeSystemTpl(const scene::SceneSpec& spec, core::FlexibleFormulation formulation,
+                              double output_spacing)
+    : OdeSystemTpl(scene::build_model(spec, formulation), spec.name, output_spacing) {}
+
+template <typename S>
+OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
+                              double output_spacing)
+    : model_(model_in<S>(built, name)),
+      columns_(studies::trajectory_columns(built)),
+      discontinuities_(built.discontinuities()) {
+  int offset = 0;
+  for (int i = 0; i < model_.num_bodies(); ++i) {
+    const core::BodyTpl<S>& b = model_.body(i);
+    offsets_.push_back(offset);
+    offset += (b.is_prescribed() ? 0 : 13) + 2 * b.mode_count();
+    if (!b.is_prescribed()) continue;
+    has_prescribed_ = true;
+    const core::AngleLaw& law = b.description().prescribed.law;
+    if (law.kind == core::AngleLaw::Kind::kSpinUp) discontinuities_.push_back(law.spin_up_time);
+  }
+  std::sort(discontinuities_.begin(), discontinuities_.end());
+  discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
+                         discontinuities_.end());
+  integrals_offset_ = offset;
+  integral_count_ = model_.dissipates() ? 1 + model_.extra_integral_count() : 0;
+  ws_ = model_.make_workspace();
+  state_ = model_.initial_state();
+  accelerations_ = model_.make_accelerations();
+  rates_.assign(static_cast<std::size_t>(integral_count_), S(0));
+  gaps_.assign(static_cast<std::size_t>(model_.switching_function_count()), S(0));
+  clamps_ = gaps_;
+  if (model_.has_constraints()) {
+    // Baumgarte's rate of the double ODE references (reference/method_choice.hpp).
+    ws_.constraint_stabilization =
+        S(reference::constraint_stabilization_rate(built, output_spacing));
+  }
+  energy0_ = energy(S(0), initial_state());
+}
+
+template <typename S>
+std::vector<S> OdeSystemTpl<S>::initial_state() const {
+  std::vector<S> y(static_cast<std::size_t>(state_size()), S(0));  // the integrals start at 0
+  state_ = model_.initial_state();
+  pack(y);
+  return y;
+}
+
+template <typename S>
+void OdeSystemTpl<S>::unpack(S t, const std::vector<S>& y) const {
+  using std::sqrt;
+  for (int i = 0; i < model_.num_bodies(); ++i) {
+    core::BodyStateTpl<S>& x = state_[static_cast<std::size_t>(i)];
+    auto o = static_cast<std::size_t>(offsets_[static_cast<std::size_t>(i)]);
+    if (integrates_rigid_motion(i)) {
+      x.p_WBr = Vector3(y[o], y[o + 1], y[o + 2]);
+      x.theta_WB = Eigen::Matrix<S, 4, 1>(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
+      x.theta_WB /= sqrt(x.theta_WB.squaredNorm());
+      x.v_WBr = Vector3(y[o + 7], y[o + 8], y[o + 9]);
+      x.w_WB_B = Vector3(y[o + 10], y[o + 11], y[o + 12]);
+      o += 13;
+    }
+    const int n = mode_count(i);
+    for (int j = 0; j < n; ++j) {
+      x.q_f(j) = y[o + static_cast<std::size_t>(j)];
+      x.qd_f(j) = y[o + static_cast<std::size_t>(n + j)];
+    }
+  }
+  if (has_prescribed_) model_.apply_prescribed_motion(t, state_, ws_);
+}
+
+template <typename S>
+void OdeSystemTpl<S>::pack(std::vector<S>& y) const {
+  for (int i = 0; i < model_.num_bodies(); ++i) {
+    const core::BodyStateTpl<S>& x = state_[static_cast<std::size_t>(i)];
+    auto o = static_cast<std::size_t>(offsets_[static_cast<std::size_t>(i)]);
+    if (integrates_rigid_motion(i)) {
+      for (int j = 0; j < 3; ++j) y[o + static_cast<std::size_t>(j)] = x.p_WBr(j);
+      for (int j = 0; j < 4; ++j) y[o + 3 + static_cast<std::size_t>(j)] = x.theta_WB(j);
+      for (int j = 0; j < 3; ++j) y[o + 7 + static_cast<std::size_t>(j)] = x.v_WBr(j);
+      for (int j = 0; j < 3; ++j) y[o + 10 + static_cast<std::size_t>(j)] = x.w_WB_B(j);
+      o += 13;
+    }
+    const int n = mode_count(i);
+    for (int j = 0; j < n; ++j) {
+      y[o + static_cast<std::size_t>(j)] = x.q_f(j);
+      y[o + static_cast<std::size_t>(n + j)] = x.qd_f(j);
+    }
+  }
+}
+
+template <typename S>
+void OdeSystemTpl<S>::interleave_switching(std::vector<S>& values) const {
+  values.resize(2 * gaps_.size());
+  for (std::size_t i = 0; i < gaps_.size(); ++i) {
+    values[2 * i] = gaps_[i];
+    values[2 * i + 1] = clamps_[i];
+  }
+}
+
+template <typename S>
+void OdeSystemTpl<S>::switching_functions(S t, const std::vector<S>& y,
+                                          std::vector<S>& values) const {
+  unpack(t, y);
+  const core::LoadContextTpl<S> ctx = context(t, static_cast<double>(t));
+  model_.switching_functions(ctx, state_, ws_, gaps_);
+  model_.clamp_functions(ctx, state_, ws_, clamps_);
+  interleave_switching(values);
+}
+
+template <typename S>
+void OdeSystemTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, S t,
+                                 double t_segment, std::vector<S>* switching) const {
+  unpack(t, y);
+  // The loads, and in the same pass over the elements the integrals' rates and the switching
+  // values (they come along with every evaluation: switched_integration.hpp).
+  model_.compute_wrenches_and_rates(context(t, t_segment), state_, ws_, rates_, gaps_, clamps_);
+  model_.accelerations_from_wrenches(state_, ws_, accelerations_);
+  if (switching != nullptr) interleave_switching(*switching);
+  dydt.resize(y.size());
+  for (int i = 0; i < model_.num_bodies(); ++i) {
+    const core::BodyStateTpl<S>& x = state_[static_cast<std::size_t>(i)];
+    const core::BodyAccelerationTpl<S>& a = accelerations_[static_cast<std::size_t>(i)];
+    auto o = static_cast<std::size_t>(offsets_[static_cast<std::size_t>(i)]);
+    if (integrates_rigid_motion(i)) {
+      // ṗ = v; θ̇ = ½ θ ⊗ (0, ω̄) with y's θ; v̇ = a; ω̄̇ = α̅. A pivot's Br stays (v = 0).
+      const S h(0.5);
+      const S e0 = y[o + 3], e1 = y[o + 4], e2 = y[o + 5], e3 = y[o + 6];
+      const Vector3& w = x.w_WB_B;
+      const bool pivot = model_.body(i).motion() == core::MotionKind::kPivot;
+      for (std::size_t k = 0; k < 3; ++k) dydt[o + k] = pivot ? S(0) : y[o + 7 + k];
+      dydt[o + 3] = -h * (e1 * w(0) + e2 * w(1) + e3 * w(2));
+      dydt[o + 4] = h * (e0 * w(0) + e2 * w(2) - e3 * w(1));
+      dydt[o + 5] = h * (e0 * w(1) + e3 * w(0) - e1 * w(2));
+      dydt[o + 6] = h * (e0 * w(2) + e1 * w(1) - e2 * w(0));
+      for (int k = 0; k < 3; ++k) {
+        dydt[o + 7 + static_cast<std::size_t>(k)] = a.a_WBr(k);
+        dydt[o + 10 + static_cast<std::size_t>(k)] = a.alpha_WB_B(k);
+      }
+      o += 13;
+    }
+    const int n = mode_count(i);
+    for (int k = 0; k < n; ++k) {
+      dydt[o + static_cast<std::size_t>(k)] = y[o + static_cast<std::size_t>(n + k)];
+      dydt[o + static_cast<std::size_t>(n + k)] = a.qdd_f(k);
+    }
+  }
+  for (int k = 0; k < integral_count_; ++k) {
+    dydt[static_cast<std::size_t>(integrals_offset_ + k)] = rates_[static_cast<std::size_t>(k)];
+  }
+}
+
+template <typename S>
+S OdeSystemTpl<S>::energy(S t, const std::vector<S>& y) const {
+  unpack(t, y);
+  return model_.kinetic_energy(state_) +
+         model_.potential_energy(context(t, static_cast<double>(t)), state_, ws_);
+}
+
+template <typename S>
+S OdeSystemTpl<S>::relative_position_violation(S t, const std::vector<S>& y) const {
+  unpack(t, y);
+  return model_.relative_position_violation(t, state_, ws_);
+}
+
+template <typename S>
+S OdeSystemTpl<S>::project(S t, std::vector<S>& y) const {
+  if (!has_constraints()) return S(0);
+  const S before = relative_position_violation(t, y);
+  model_.project(t, state_, ws_);
+  pack(y);
+  return before;
+}
+
+template <typename S>
+std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
+                                           const std::vector<double>& impacts) const {
+  std::vector<S> row;
+  row.reserve(columns_.size());
+  const core::LoadContextTpl<S> ctx = context(t, static_cast<double>(t));
+  unpack(t, y);
+  // The drives' torques and the joints' reactions at the accelerations of (t, y), on the
+  // right-limit branch at t; the reactions from the plain index-1 form (no stabilization
+  // terms: core::ModelTpl::joint_reactions).
+  const S alpha = ws_.constraint_stabilization;
+  ws_.constraint_stabilization = S(0);
+  std::vector<core::JointReactionTpl<S>> reactions;
+  if (has_prescribed_) model_.compute_accelerations(ctx, state_, ws_, accelerations_);
+  if (has_constraints()) reactions = model_.joint_reactions(ctx, state_, ws_);
+  ws_.constraint_stabilization = alpha;
+  for (int i = 0; i < model_.num_bodies(); ++i) {
+    const core::BodyTpl<S>& b = model_.body(i);
+    const core::BodyStateTpl<S>& p = state_[static_cast<std::size_t>(i)];
+    const Vector3 p_WBo = model_.p_WBo(i, p);
+    const Vector3 v_WBo = model_.v_WBo(i, p);
+    row.insert(row.end(), {p_WBo(0), p_WBo(1), p_WBo(2), p.theta_WB(0), p.theta_WB(1),
+                           p.theta_WB(2), p.theta_WB(3), v_WBo(0), v_WBo(1), v_WBo(2), p.w_WB_B(0),
+                           p.w_WB_B(1), p.w_WB_B(2)});
+    for (const core::TrackedPoint& point : b.description().points) {
+      const Vector3 r = model_.p_WP(i, p, point);
+      row.insert(row.end(), {r(0), r(1), r(2)});
+    }
+    for (int k = 0; k < b.mode_count(); ++k) row.push_back(p.q_f(k));
+    for (int k = 0; k < b.mode_count(); ++k) row.push_back(p.qd_f(k));
+    if (b.is_prescribed()) {
+      row.push_back(model_.driving_torque(i, p, accelerations_[static_cast<std::size_t>(i)], ws_));
+    }
+  }
+  if (has_constraints()) {
+    // Per joint: its reaction on its first body (force, torque about the joint point; world)
+    // and its largest position and velocity violation (studies::tabulate's columns).
+    const std::vector<std::array<S, 2>> violations = model_.constraint_violations(t, state_, ws_);
+    for (std::size_t j = 0; j < reactions.size(); ++j) {
+      const core::JointReactionTpl<S>& r = reactions[j];
+      row.insert(row.end(), {r.f_W(0), r.f_W(1), r.f_W(2), r.tau_W(0), r.tau_W(1), r.tau_W(2),
+                             violations[j][0], violations[j][1]});
+    }
+  }
+  const S e = energy(t, y);
+  row.push_back(e);
+  const auto integrals = static_cast<std::size_t>(integrals_offset_);
+  const bool applied = model_.dissipates() && model_.tracks_applied_work();
+  if (model_.dissipates()) {
+    const S work = y[integrals];
+    const S applied_work = applied ? y[integrals + 1] : S(0);
+    row.push_back(work);
+    if (applied) row.push_back(applied_work);
+    row.push_back(e - energy0_ + work - applied_work);  // E(t) − E(0) + W_d(t) − W_a(t)
+  }
+  if (model_.wear_channel_count() > 0) {
+    // Per channel Σ F_n, the slip speed of its most loaded support or pair (the element's
+    // wear_samples), the wear work and the impacts counted by the caller.
+    model_.wear_samples(ctx, state_, ws_);
+    const std::size_t first_wear = integrals + (applied ? 2 : 1);
+    for (std::size_t k = 0; k < static_cast<std::size_t>(model_.wear_channel_count()); ++k) {
+      row.push_back(ws_.wear[k].normal_force);
+      row.push_back(ws_.wear[k].slip_speed);
+      row.push_back(y[first_wear + k]);
+      row.push_back(k < impacts.size() ? S(impacts[k]) : S(0));
+    }
+  }
+  return row;
+}
+
+}  // namespace flexref::precision
