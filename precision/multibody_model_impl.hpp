@@ -22,7 +22,7 @@
 #include "reference/method_choice.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 
@@ -154,7 +154,7 @@ MultibodyModelTpl<S>::MultibodyModelTpl(const scene::SceneSpec& spec,
       bodies_[i].points.push_back(attachment(static_cast<int>(i), p.p_BoP_B, p.node));
     }
   }
-  columns_ = studies::trajectory_columns(built);
+  columns_ = trajectory::trajectory_columns(built);
   dissipates_ = built.dissipates();
   applied_work_ = dissipates_ && built.tracks_applied_work();
   integral_count_ = dissipates_ ? 1 + built.extra_integral_count() : 0;
@@ -714,7 +714,7 @@ std::vector<S> MultibodyModelTpl<S>::output_row(S t, const std::vector<S>& y,
   if (joints_) {
     // Per joint: its reaction on its first body (force, torque about the joint point; world)
     // from the minimum-norm multipliers, and its largest position and velocity violation
-    // (studies::tabulate's columns).
+    // (trajectory::tabulate's columns).
     const std::vector<core::JointReactionTpl<S>> reactions =
         core::joint_reactions_from_solve<S>(*joints_, s.kinematics, layout_, s.constraint);
     const std::vector<std::array<S, 2>> violations =

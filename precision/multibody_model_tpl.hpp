@@ -84,7 +84,7 @@ class MultibodyModelTpl {
     return {inv.mass, inv.s0 / inv.mass, inv.I0};
   }
   int state_size() const { return integrals_offset_ + integral_count_; }
-  /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
+  /// The double model's trajectory::trajectory_columns ("t" first): output_row fills the rest.
   const std::vector<std::string>& columns() const { return columns_; }
   /// Two per switching function of the force elements (a gap support's or contact pair's gap),
   /// in the double model's element order: the gap g (it

@@ -15,7 +15,7 @@
 #include "reference/solve_reference.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
 
@@ -124,22 +124,23 @@ FigureResult run_trajectory_figure(const core::Model& model,
   if (settings.given_reference) {
     run = settings.given_reference->run;
     result.reference_estimate = settings.given_reference->estimate.estimate();
-    result.reference_estimate_method = describe_estimate(settings.given_reference->estimate);
+    result.reference_estimate_method =
+        trajectory::describe_estimate(settings.given_reference->estimate);
     result.reference_precision = settings.given_precision;
   } else {
     Progress progress("figure: reference (" + settings.solver + ")", 0, "", settings.progress);
     reference::SolveProgress solves(
-        settings.estimate ? reference_solve_count(model, settings.solver) : 1);
+        settings.estimate ? trajectory::reference_solve_count(model, settings.solver) : 1);
     options.progress = &solves;
     progress.follow(&solves);
     run = reference::solve_reference(settings.solver, model, output_times, options);
     if (settings.estimate) {
       reference::ReferenceRun reported = run;
       reported.options.progress = &solves;
-      const ReferenceEstimate estimate =
-          estimate_error(model, output_times, reported, tabulate(model, run.trajectory), "points");
+      const trajectory::ReferenceEstimate estimate = trajectory::estimate_error(
+          model, output_times, reported, trajectory::tabulate(model, run.trajectory), "points");
       result.reference_estimate = estimate.estimate();
-      result.reference_estimate_method = describe_estimate(estimate);
+      result.reference_estimate_method = trajectory::describe_estimate(estimate);
     }
   }
   result.reference.label =
@@ -150,7 +151,7 @@ FigureResult run_trajectory_figure(const core::Model& model,
   const core::TrackedPoint& point = points[static_cast<std::size_t>(settings.point)];
   if (settings.given_reference) {
     // A high-precision reference carries its table (rounded to double), not double states.
-    const TrajectoryTable& table = settings.given_reference->table;
+    const trajectory::TrajectoryTable& table = settings.given_reference->table;
     const std::string prefix = model.body(settings.body).name() + "." + point.name + ".";
     const int x = table.column(prefix + "x");
     if (x < 0 || table.size() != output_times.size()) {

@@ -1,4 +1,4 @@
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -12,10 +12,10 @@
 #include "core/error.hpp"
 #include "core/gravity.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/error_metrics.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "trajectory/error_metrics.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 core::Model pendulum_like_model() {
@@ -103,14 +103,14 @@ TEST_CASE("read_csv reports file, line and column of bad data", "[studies]") {
   const std::string path = table_temp_path("bad.csv");
   {
     std::ofstream out(path);
-    out << "t,a\n0,1\n0.1,x\n";
+    out << "t,energy\n0,1\n0.1,x\n";
   }
   try {
     read_csv(path);
     FAIL("expected an InputError");
   } catch (const core::InputError& e) {
     CHECK(e.line() == 3);
-    CHECK(e.key() == "a");
+    CHECK(e.key() == "energy");
     CHECK(std::string(e.what()).find(path) != std::string::npos);
   }
   std::filesystem::remove(path);
@@ -189,4 +189,4 @@ TEST_CASE("trajectory_units covers work and wear columns", "[studies]") {
 }
 
 }  // namespace
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory
