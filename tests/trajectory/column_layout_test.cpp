@@ -100,7 +100,7 @@ TEST_CASE("a column's component is the position of its suffix in its group", "[t
   }
 }
 
-TEST_CASE("names that are no column stay unknown; an out-of-range component is refused",
+TEST_CASE("names that are no column stay unknown, an out-of-range component is refused",
           "[trajectory]") {
   for (const std::string name : {"book.e4", "book.foo", "book.q", "book.qx1", "book.corner.e0",
                                  ".x", "iterations", "book.corner.x.y"}) {
