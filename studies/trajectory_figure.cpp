@@ -1,6 +1,7 @@
 #include "studies/trajectory_figure.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <iomanip>
@@ -15,6 +16,7 @@
 #include "reference/solve_reference.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
+#include "trajectory/column_layout.hpp"
 #include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
@@ -152,18 +154,23 @@ FigureResult run_trajectory_figure(const core::Model& model,
   if (settings.given_reference) {
     // A high-precision reference carries its table (rounded to double), not double states.
     const trajectory::TrajectoryTable& table = settings.given_reference->table;
-    const std::string prefix = model.body(settings.body).name() + "." + point.name + ".";
-    const int x = table.column(prefix + "x");
-    if (x < 0 || table.size() != output_times.size()) {
-      throw std::invalid_argument("figure: the given reference has no column " + prefix +
-                                  "x on the output times");
+    const std::string& body = model.body(settings.body).name();
+    const trajectory::ColumnLayout layout = trajectory::ColumnLayout::parse(table.columns);
+    std::array<int, 3> p{};
+    if (!layout.find_group(trajectory::ColumnKind::point, body, p, point.name) ||
+        table.size() != output_times.size()) {
+      throw std::invalid_argument(
+          "figure: the given reference has no column " +
+          trajectory::column_name(trajectory::ColumnKind::point, body, 0, point.name) +
+          " on the output times");
     }
     result.reference.times.clear();
     for (std::size_t r = 0; r < table.size(); ++r) {
-      const auto c = static_cast<std::size_t>(x);
+      const std::vector<double>& row = table.rows[r];
       result.reference.times.push_back(table.time(r));
-      result.reference.p_W.emplace_back(table.rows[r][c], table.rows[r][c + 1],
-                                        table.rows[r][c + 2]);
+      result.reference.p_W.emplace_back(row[static_cast<std::size_t>(p[0])],
+                                        row[static_cast<std::size_t>(p[1])],
+                                        row[static_cast<std::size_t>(p[2])]);
     }
   } else {
     for (const core::State& s : run.trajectory.states) {
