@@ -12,9 +12,9 @@
 #include "lie/stepper.hpp"
 #include "scene/scene.hpp"
 #include "studies/convergence.hpp"
-#include "studies/reference_sidecar.hpp"
 #include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
+#include "trajectory/reference_sidecar.hpp"
 
 namespace flexref::app {
 
@@ -79,7 +79,7 @@ core::FlexibleFormulation parse_formulation(const std::string& model);
 
 /// The reference solver to use for a scene: `solver` itself, except that a model with flexible
 /// bodies has no analytic solution — "exact" is refused (std::invalid_argument naming
-/// `option`). "auto" stays "auto" (studies::resolve_reference_solver resolves it: never exact
+/// `option`). "auto" stays "auto" (trajectory::resolve_reference_solver resolves it: never exact
 /// for a flexible model).
 std::string reference_solver_for(const core::Model& model, const std::string& solver,
                                  const std::string& option);
@@ -116,7 +116,7 @@ int high_precision_reference_command(const ReferenceOptions& options);
 /// A study's --reference-precision: nullptr for "double" and "auto", else the certified
 /// reference in that precision; throws std::invalid_argument when the scene, the metric or a
 /// --reference-solver rules it out, and precision::BudgetExceeded over budget_seconds (> 0).
-std::shared_ptr<const studies::CertifiedReference> high_precision_study_reference(
+std::shared_ptr<const trajectory::CertifiedReference> high_precision_study_reference(
     const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
     const std::string& metric, const std::string& reference_solver, const std::string& study,
     double budget_seconds = 0.0);
@@ -124,7 +124,7 @@ std::shared_ptr<const studies::CertifiedReference> high_precision_study_referenc
 /// (docs/precision.md, "Cost guard"): the certified quad reference, or nullptr with `refused`
 /// saying why when its projected wall time exceeds budget_seconds (0: no bound); the study then
 /// keeps its double reference. Call after quad_reference_possible.
-std::shared_ptr<const studies::CertifiedReference> automatic_quad_reference(
+std::shared_ptr<const trajectory::CertifiedReference> automatic_quad_reference(
     const scene::Scene& scene, const std::vector<double>& times, const std::string& metric,
     const std::string& study, double budget_seconds, std::string& refused);
 /// Whether "auto" may switch a study to a quad reference (supported scene, metric, no
@@ -137,18 +137,18 @@ struct CompareOptions {
   std::string reference;
   std::string metric = "rotation+points";
   bool json = false;              ///< machine-readable output
-  double time_tolerance = 1e-6;   ///< studies::ContractOptions
-  double euler_tolerance = 1e-6;  ///< studies::ContractOptions
+  double time_tolerance = 1e-6;   ///< trajectory::ContractOptions
+  double euler_tolerance = 1e-6;  ///< trajectory::ContractOptions
   /// Compare files whose sidecars name different scenes (refused otherwise, exit 1).
   bool allow_scene_mismatch = false;
 };
 int compare_command(const CompareOptions& options);
 
-/// Refuses (std::invalid_argument, exit 1) results of different scenes (studies::scene_mismatch)
+/// Refuses (std::invalid_argument, exit 1) results of different scenes (trajectory::scene_mismatch)
 /// unless `allow`; with `allow` a mismatch is a warning on standard error. Returns the mismatch
 /// ("" when none).
-std::string check_same_scene(const studies::SceneIdentity& a, const std::string& a_what,
-                             const studies::SceneIdentity& b, const std::string& b_what,
+std::string check_same_scene(const trajectory::SceneIdentity& a, const std::string& a_what,
+                             const trajectory::SceneIdentity& b, const std::string& b_what,
                              bool allow);
 
 struct ConvergeOptions {
@@ -194,14 +194,14 @@ struct ExternalOptions {
   /// The studied scene: a file whose sidecar (FILE.meta.toml) names another scene is refused
   /// (--runs: before any work, exit 1; --external: that level fails) unless
   /// allow_scene_mismatch (check_same_scene).
-  studies::SceneIdentity scene_identity;
+  trajectory::SceneIdentity scene_identity;
   bool allow_scene_mismatch = false;
 };
 std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& options,
                                                       const studies::StudyOutput& out);
 
 /// The identity a result of `scene` records in its sidecar (scene_record).
-studies::SceneIdentity scene_identity(const std::string& scene_file, const scene::Scene& scene);
+trajectory::SceneIdentity scene_identity(const std::string& scene_file, const scene::Scene& scene);
 
 /// A result record (studies/study_record.hpp) that starts with the [scene] table: the scene
 /// file, its name, the hash of its physics (scene/scene_identity.hpp), the creation time and

@@ -12,10 +12,10 @@
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "precision/precise_comparison.hpp"
-#include "studies/error_metrics.hpp"
-#include "studies/reference_sidecar.hpp"
-#include "studies/trajectory_contract.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/reference_sidecar.hpp"
+#include "trajectory/trajectory_contract.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 namespace {
@@ -60,7 +60,7 @@ struct Certification {
   std::string text;
 };
 
-Certification certify(const studies::ReferenceSidecar& sidecar, const std::string& metric,
+Certification certify(const trajectory::ReferenceSidecar& sidecar, const std::string& metric,
                       double value) {
   Certification c;
   std::ostringstream out;
@@ -82,13 +82,13 @@ Certification certify(const studies::ReferenceSidecar& sidecar, const std::strin
         << "): NOT CERTIFIED (make a reference whose estimate has a usable check)";
   } else {
     c.comparable = true;
-    c.certified = studies::is_certified(value, sidecar.estimate);
+    c.certified = trajectory::is_certified(value, sidecar.estimate);
     out << "reference estimated error " << sidecar.estimate << "; measured " << value;
     if (c.certified) {
       out << " is " << (sidecar.estimate > 0.0 ? value / sidecar.estimate : INFINITY)
           << "x above it: certified";
     } else {
-      out << " is NOT " << studies::kCertificationFactor
+      out << " is NOT " << trajectory::kCertificationFactor
           << "x above it: NOT CERTIFIED (the reference is not accurate enough to measure this "
              "error; use a tighter reference)";
     }
@@ -100,18 +100,19 @@ Certification certify(const studies::ReferenceSidecar& sidecar, const std::strin
 }  // namespace
 
 int compare_command(const CompareOptions& options) {
-  studies::ContractOptions contract;
+  trajectory::ContractOptions contract;
   contract.time_tolerance = options.time_tolerance;
   contract.euler_norm_tolerance = options.euler_tolerance;
   // The two files' scenes first (their sidecars), before any reading of values.
-  const studies::ReferenceSidecar sidecar = studies::read_reference_sidecar(options.reference);
+  const trajectory::ReferenceSidecar sidecar =
+      trajectory::read_reference_sidecar(options.reference);
   const std::string mismatch =
-      check_same_scene(studies::read_reference_sidecar(options.run).scene, options.run,
+      check_same_scene(trajectory::read_reference_sidecar(options.run).scene, options.run,
                        sidecar.scene, options.reference, options.allow_scene_mismatch);
-  const studies::RunData run = studies::read_run_csv(options.run);
-  const studies::TrajectoryTable ref =
-      studies::checked_reference(studies::read_run_csv(options.reference), contract);
-  studies::ComparisonReport report = studies::compare_run(run, ref, contract);
+  const trajectory::RunData run = trajectory::read_run_csv(options.run);
+  const trajectory::TrajectoryTable ref =
+      trajectory::checked_reference(trajectory::read_run_csv(options.reference), contract);
+  trajectory::ComparisonReport report = trajectory::compare_run(run, ref, contract);
   // An extended or quad file on the same columns and times: the norms again, in its precision
   // from the files' digits (docs/precision.md, "compare"); the contract's checks stand.
   std::string compared_in = "double";
@@ -119,7 +120,7 @@ int compare_command(const CompareOptions& options) {
     const precision::PreciseTable a = precision::read_precise_table(options.run);
     const precision::PreciseTable b = precision::read_precise_table(options.reference);
     if (precision::precisely_comparable(a, b)) {
-      studies::ComparisonReport precise = precision::compare_precisely(a, b);
+      trajectory::ComparisonReport precise = precision::compare_precisely(a, b);
       precise.ignored_columns = report.ignored_columns;
       precise.max_time_offset = report.max_time_offset;
       report = std::move(precise);
@@ -129,8 +130,8 @@ int compare_command(const CompareOptions& options) {
   double value = 0.0;
   std::vector<std::string> used;
   try {
-    used = studies::metric_quantities(report, options.metric);
-    value = studies::metric_value(report, options.metric);
+    used = trajectory::metric_quantities(report, options.metric);
+    value = trajectory::metric_value(report, options.metric);
   } catch (const std::invalid_argument& e) {
     throw core::InputError(options.run, 0, "", e.what());
   }

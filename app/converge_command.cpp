@@ -10,8 +10,9 @@
 #include "studies/convergence.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/reference_record.hpp"
 #include "studies/study_output.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 
@@ -107,7 +108,7 @@ int converge_command(const ConvergeOptions& options) {
   out.write("convergence.csv", studies::convergence_csv(result));
   out.write("convergence.txt", table);
   out.write_with("reference.csv", [&](const std::string& path) {
-    studies::write_csv(result.reference.table, path);
+    trajectory::write_csv(result.reference.table, path);
   });
   std::ostringstream limit;
   limit.precision(17);

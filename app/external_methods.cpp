@@ -12,7 +12,7 @@
 #include "core/error.hpp"
 #include "io/input_file.hpp"
 #include "studies/external_program.hpp"
-#include "studies/reference_sidecar.hpp"
+#include "trajectory/reference_sidecar.hpp"
 
 namespace flexref::app {
 
@@ -55,7 +55,7 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
       }
       // A program that writes a sidecar (flexref run, another code's own) says which scene it
       // integrated: refuse the level when that is not the studied one.
-      check_same_scene(studies::read_reference_sidecar(kept(level)).scene,
+      check_same_scene(trajectory::read_reference_sidecar(kept(level)).scene,
                        "the run of level " + std::to_string(level) + " (its sidecar)",
                        options.scene_identity, "the study", options.allow_scene_mismatch);
       return run;
@@ -80,13 +80,13 @@ std::vector<studies::ExternalMethod> external_methods(const ExternalOptions& opt
       if (!files->emplace(h, file).second) {
         throw std::invalid_argument("--runs: the step " + dt_text + " is given twice");
       }
-      check_same_scene(studies::read_reference_sidecar(file).scene, "--runs " + file,
+      check_same_scene(trajectory::read_reference_sidecar(file).scene, "--runs " + file,
                        options.scene_identity, "the study", options.allow_scene_mismatch);
       method.steps.push_back(h);
     }
     method.run = [files](double h, int) {
       studies::ExternalLevel level;
-      level.run = studies::read_run_csv(files->at(h));
+      level.run = trajectory::read_run_csv(files->at(h));
       // Only the program's own report is known of a run made earlier.
       level.cpu_reported = std::isfinite(level.run.reported_cpu_seconds);
       level.cpu_seconds = level.cpu_reported ? level.run.reported_cpu_seconds : std::nan("");

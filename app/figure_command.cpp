@@ -20,7 +20,7 @@
 #include "studies/plot.hpp"
 #include "studies/study_output.hpp"
 #include "studies/trajectory_figure.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 

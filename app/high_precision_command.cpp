@@ -10,9 +10,10 @@
 #include "precision/exact_high_precision.hpp"
 #include "precision/high_precision_reference.hpp"
 #include "reference/solve_progress.hpp"
-#include "studies/certified_reference.hpp"
 #include "studies/progress.hpp"
+#include "studies/reference_record.hpp"
 #include "studies/study_record.hpp"
+#include "trajectory/certified_reference.hpp"
 
 namespace flexref::app {
 namespace {
@@ -29,7 +30,7 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
       limited_output_times(scene.end_time, scene.output_step, options.limits);
   check_output_file(options.output, true);
   const precision::HighPrecisionRun run = precision::exact_high_precision(scene.spec, times, p);
-  studies::ReferenceEstimate estimate;
+  trajectory::ReferenceEstimate estimate;
   if (options.estimate) {
     studies::Progress progress(std::string("reference: exact solution's error estimate (odeint "
                                            "in ") +
@@ -64,7 +65,7 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
                                  << " s; wrote " << options.output << "\n";
   if (options.estimate) {
     summary_stream(options.output)
-        << "estimated error " << studies::describe_estimate(estimate) << "\n";
+        << "estimated error " << trajectory::describe_estimate(estimate) << "\n";
   }
   return kExitOk;
 }
@@ -96,7 +97,7 @@ int high_precision_reference_command(const ReferenceOptions& options) {
   check_output_file(options.output, true);
 
   precision::HighPrecisionRun run;
-  studies::CertifiedReference ref;
+  trajectory::CertifiedReference ref;
   {
     studies::Progress progress(std::string("reference: odeint in ") + precision::to_string(p) +
                                    " precision" +
@@ -152,12 +153,12 @@ int high_precision_reference_command(const ReferenceOptions& options) {
           << "): " << run.steps << " steps, " << run.evaluations << " evaluations, "
           << run.cpu_seconds << " s; wrote " << options.output << "\n";
   if (options.estimate) {
-    summary << "estimated error " << studies::describe_estimate(ref.estimate) << "\n";
+    summary << "estimated error " << trajectory::describe_estimate(ref.estimate) << "\n";
   }
   return kExitOk;
 }
 
-std::shared_ptr<const studies::CertifiedReference> high_precision_study_reference(
+std::shared_ptr<const trajectory::CertifiedReference> high_precision_study_reference(
     const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
     const std::string& metric, const std::string& reference_solver, const std::string& study,
     double budget_seconds) {
@@ -177,13 +178,13 @@ std::shared_ptr<const studies::CertifiedReference> high_precision_study_referenc
       study + ": reference (odeint, " + precision + " precision, with its error estimate)", 0, "");
   reference::SolveProgress solves(2);
   progress.follow(&solves);
-  return std::make_shared<const studies::CertifiedReference>(
+  return std::make_shared<const trajectory::CertifiedReference>(
       precision::certified_high_precision_reference(
           scene.spec, times, p, precision::default_rtol(p), metric, nullptr,
           scene.model->formulation(), budget_seconds, &solves));
 }
 
-std::shared_ptr<const studies::CertifiedReference> automatic_quad_reference(
+std::shared_ptr<const trajectory::CertifiedReference> automatic_quad_reference(
     const scene::Scene& scene, const std::vector<double>& times, const std::string& metric,
     const std::string& study, double budget_seconds, std::string& refused) {
   try {

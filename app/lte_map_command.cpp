@@ -8,12 +8,12 @@
 
 #include "app/commands.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/accuracy_check.hpp"
 #include "studies/lte_map.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
 #include "studies/study_output.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/accuracy_check.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 namespace {
@@ -109,7 +109,7 @@ int lte_map_command(const LteMapCommandOptions& options) {
            "point, body frame")
       .set("solver", study.solver)
       .set("rtol", study.rtol)
-      .set("estimate_rtol", studies::accuracy_check_rtol(study.rtol, study.estimate_factor))
+      .set("estimate_rtol", trajectory::accuracy_check_rtol(study.rtol, study.estimate_factor))
       .set("end_time", study.end_time)
       .set("output_step", study.output_step)
       .set("jobs", study.jobs);

@@ -22,9 +22,9 @@
 #include "io/output_file.hpp"
 #include "lie/genalpha_parameters.hpp"
 #include "lie/stepper.hpp"
-#include "studies/error_metrics.hpp"
 #include "studies/mpi/distribution.hpp"
-#include "studies/study_refused.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/study_refused.hpp"
 
 namespace {
 
@@ -97,7 +97,7 @@ void add_allow_scene_mismatch(CLI::App* command, bool& allow) {
                     "another version of the scene (refused otherwise)");
 }
 
-/// --estimate-factor of lte-map and modes: one meaning (studies/accuracy_check.hpp).
+/// --estimate-factor of lte-map and modes: one meaning (trajectory/accuracy_check.hpp).
 void add_estimate_factor(CLI::App* command, double& factor) {
   using flexref::app::number_in;
   command
@@ -110,7 +110,7 @@ void add_estimate_factor(CLI::App* command, double& factor) {
 
 std::string metric_help(const std::string& what) {
   std::string list;
-  for (const std::string& m : flexref::studies::metric_names())
+  for (const std::string& m : flexref::trajectory::metric_names())
     list += (list.empty() ? "" : " | ") + m;
   return what + ": " + list;
 }
@@ -188,7 +188,7 @@ int run_command_line(int argc, char** argv) {
   cmp_cmd->add_option("run", cmp.run, "CSV of the run")->required();
   cmp_cmd->add_option("reference", cmp.reference, "CSV of the reference")->required();
   cmp_cmd->add_option("--metric", cmp.metric, metric_help("metric for the summary line"))
-      ->check(CLI::IsMember(flexref::studies::metric_names()))
+      ->check(CLI::IsMember(flexref::trajectory::metric_names()))
       ->capture_default_str();
   cmp_cmd->add_flag("--json", cmp.json, "print the comparison as JSON");
   add_allow_scene_mismatch(cmp_cmd, cmp.allow_scene_mismatch);
@@ -222,7 +222,7 @@ int run_command_line(int argc, char** argv) {
       ->check(integer_in(3, 16))
       ->capture_default_str();
   conv_cmd->add_option("--metric", conv.metric, metric_help("error metric"))
-      ->check(CLI::IsMember(flexref::studies::metric_names()))
+      ->check(CLI::IsMember(flexref::trajectory::metric_names()))
       ->capture_default_str();
   conv_cmd
       ->add_option("--reference-solver", conv.reference_solver,
@@ -287,7 +287,7 @@ int run_command_line(int argc, char** argv) {
       ->check(integer_in(1, 100))
       ->capture_default_str();
   wp_cmd->add_option("--metric", wp.metric, metric_help("error metric"))
-      ->check(CLI::IsMember(flexref::studies::metric_names()))
+      ->check(CLI::IsMember(flexref::trajectory::metric_names()))
       ->capture_default_str();
   wp_cmd
       ->add_option("--reference-solver", wp.reference_solver,
@@ -549,7 +549,7 @@ int run_command_line(int argc, char** argv) {
   } catch (const flexref::core::SolverError& e) {
     std::fprintf(stderr, "flexref: solver error: %s\n", e.what());
     return kExitSolverError;
-  } catch (const flexref::studies::StudyRefused& e) {
+  } catch (const flexref::trajectory::StudyRefused& e) {
     std::fprintf(stderr, "flexref: refused: %s\n", e.what());
     return kExitRefused;
   } catch (const flexref::io::OutputError& e) {

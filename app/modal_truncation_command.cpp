@@ -7,10 +7,10 @@
 
 #include "app/commands.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/accuracy_check.hpp"
 #include "studies/modal_truncation.hpp"
 #include "studies/parallel.hpp"
 #include "studies/study_output.hpp"
+#include "trajectory/accuracy_check.hpp"
 
 namespace flexref::app {
 
@@ -59,7 +59,7 @@ int modal_truncation_command(const ModalTruncationCommandOptions& options) {
            "frame) and max_t geodesic angle between the body attitudes")
       .set("solver", study.solver)
       .set("rtol", study.rtol)
-      .set("estimate_rtol", studies::accuracy_check_rtol(study.rtol, study.estimate_factor))
+      .set("estimate_rtol", trajectory::accuracy_check_rtol(study.rtol, study.estimate_factor))
       .set("estimate", "difference to a run at estimate_rtol (same output times)")
       .set("end_time", study.end_time)
       .set("output_step", study.output_step)

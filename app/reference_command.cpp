@@ -10,9 +10,10 @@
 #include "reference/solve_progress.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/certified_reference.hpp"
 #include "studies/progress.hpp"
-#include "studies/trajectory_table.hpp"
+#include "studies/reference_record.hpp"
+#include "trajectory/certified_reference.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 namespace {
@@ -68,23 +69,24 @@ int reference_command(const ReferenceOptions& options) {
   solver_options.atol = options.atol;
   set_method(solver, options.method, solver_options);
 
-  studies::CertifiedReference ref;
+  trajectory::CertifiedReference ref;
   {
     studies::Progress progress(
         "reference: " + solver + (options.estimate ? " and its error estimate" : ""), 0, "");
-    reference::SolveProgress solves(options.estimate ? studies::reference_solve_count(model, solver)
-                                                     : 1);
+    reference::SolveProgress solves(
+        options.estimate ? trajectory::reference_solve_count(model, solver) : 1);
     solver_options.progress = &solves;
     progress.follow(&solves);
     if (options.estimate) {
-      ref = studies::certified_reference(model, times, solver, solver_options, "rotation+points");
+      ref =
+          trajectory::certified_reference(model, times, solver, solver_options, "rotation+points");
     } else {
       ref.run = reference::solve_reference(solver, model, times, solver_options);
-      ref.table = studies::tabulate(model, ref.run.trajectory);
+      ref.table = trajectory::tabulate(model, ref.run.trajectory);
     }
     solver_options.progress = nullptr;
   }
-  studies::write_csv(ref.table, options.output);
+  trajectory::write_csv(ref.table, options.output);
 
   const auto& st = ref.run.stats;
   studies::StudyRecord record = scene_record(options.scene, scene);
@@ -105,7 +107,7 @@ int reference_command(const ReferenceOptions& options) {
       .set("cpu_seconds", st.cpu_seconds)
       .set("events", ref.run.event_times.size())
       .set("event_times", ref.run.event_times);
-  const studies::BalancePeak balance = studies::largest_energy_balance(ref.table);
+  const trajectory::BalancePeak balance = trajectory::largest_energy_balance(ref.table);
   if (!std::isnan(balance.value)) {
     record.table("integrator")
         .set("largest_energy_balance", balance.value)
@@ -119,7 +121,7 @@ int reference_command(const ReferenceOptions& options) {
         .set("estimate", e.estimate())
         .set("method", e.method);
     if (!std::isnan(e.energy_balance)) {
-      // The balance next to the scale it is read against (studies/certified_reference.hpp).
+      // The balance next to the scale it is read against (trajectory/certified_reference.hpp).
       record.table("error_estimate")
           .set("energy_balance", e.energy_balance)
           .set("energy_balance_time", e.energy_balance_time)
@@ -129,7 +131,7 @@ int reference_command(const ReferenceOptions& options) {
   }
   record.table("columns")
       .set("names", ref.table.columns)
-      .set("units", studies::trajectory_units(model));
+      .set("units", trajectory::trajectory_units(model));
   studies::add_versions(record);
   write_sidecar(record, options.output);
 
@@ -160,9 +162,9 @@ int reference_command(const ReferenceOptions& options) {
   }
   if (options.estimate) {
     const auto& e = ref.estimate;
-    summary << "estimated error (" << e.metric << "): " << studies::describe_estimate(e) << "\n";
+    summary << "estimated error (" << e.metric << "): " << trajectory::describe_estimate(e) << "\n";
     if (!std::isnan(e.energy_balance)) {
-      summary << "energy balance: " << studies::describe_energy_balance(e) << "\n";
+      summary << "energy balance: " << trajectory::describe_energy_balance(e) << "\n";
     }
     for (const auto& c : e.checks) {
       summary << "  " << c.role << ": " << c.solver;

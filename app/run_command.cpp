@@ -18,7 +18,7 @@
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 namespace {
@@ -110,8 +110,8 @@ int run_command(const RunOptions& options) {
                             "the run is unstable: " + breach->describe() +
                                 step_advice(model, options.scheme, options.dt, times, spin_before));
   }
-  const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
-  studies::write_csv(table, options.output);
+  const trajectory::TrajectoryTable table = trajectory::tabulate(model, trajectory);
+  trajectory::write_csv(table, options.output);
 
   const int energy = table.column("energy");
   const double e_first = table.rows.front()[static_cast<std::size_t>(energy)];
@@ -125,7 +125,7 @@ int run_command(const RunOptions& options) {
       .set("cpu_seconds", cpu);
   record.table("columns")
       .set("names", table.columns)
-      .set("units", studies::trajectory_units(model));
+      .set("units", trajectory::trajectory_units(model));
   add_invariants(record, invariants, times[0]);
   studies::add_versions(record);
   write_sidecar(record, options.output);

@@ -25,16 +25,16 @@ std::string reference_solver_for(const core::Model& model, const std::string& so
   return solver;
 }
 
-studies::SceneIdentity scene_identity(const std::string& scene_file, const scene::Scene& scene) {
+trajectory::SceneIdentity scene_identity(const std::string& scene_file, const scene::Scene& scene) {
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(scene_file, ec);
   return {scene.name, scene.hash, ec ? scene_file : absolute.string()};
 }
 
-std::string check_same_scene(const studies::SceneIdentity& a, const std::string& a_what,
-                             const studies::SceneIdentity& b, const std::string& b_what,
+std::string check_same_scene(const trajectory::SceneIdentity& a, const std::string& a_what,
+                             const trajectory::SceneIdentity& b, const std::string& b_what,
                              bool allow) {
-  const std::string mismatch = studies::scene_mismatch(a, a_what, b, b_what);
+  const std::string mismatch = trajectory::scene_mismatch(a, a_what, b, b_what);
   if (mismatch.empty()) return mismatch;
   if (!allow) {
     throw std::invalid_argument(mismatch +
@@ -45,7 +45,7 @@ std::string check_same_scene(const studies::SceneIdentity& a, const std::string&
 }
 
 studies::StudyRecord scene_record(const std::string& scene_file, const scene::Scene& scene) {
-  const studies::SceneIdentity identity = scene_identity(scene_file, scene);
+  const trajectory::SceneIdentity identity = scene_identity(scene_file, scene);
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));

@@ -14,7 +14,7 @@
 #include "studies/stability.hpp"
 #include "studies/stability_sweeps.hpp"
 #include "studies/study_output.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 namespace {

@@ -10,9 +10,10 @@
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/reference_record.hpp"
 #include "studies/study_output.hpp"
-#include "studies/trajectory_table.hpp"
 #include "studies/work_precision.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 int work_precision_command(const WorkPrecisionOptions& app_options) {
@@ -115,7 +116,7 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   out.write("work_precision.csv", studies::work_precision_csv(result));
   out.write("work_precision.txt", table);
   out.write_with("reference.csv", [&](const std::string& path) {
-    studies::write_csv(result.reference.table, path);
+    trajectory::write_csv(result.reference.table, path);
   });
   const studies::PlotOutcome plot =
       out.plot("plot_work_precision.py", "work_precision.png",

@@ -199,18 +199,18 @@ HighPrecisionRun exact_high_precision(const scene::SceneSpec& spec,
   throw std::invalid_argument("exact_high_precision: unknown precision");
 }
 
-studies::ReferenceEstimate exact_high_precision_estimate(const scene::SceneSpec& spec,
-                                                         const std::vector<double>& output_times,
-                                                         const HighPrecisionRun& exact,
-                                                         const std::string& metric,
-                                                         reference::SolveProgress* progress) {
+trajectory::ReferenceEstimate exact_high_precision_estimate(const scene::SceneSpec& spec,
+                                                            const std::vector<double>& output_times,
+                                                            const HighPrecisionRun& exact,
+                                                            const std::string& metric,
+                                                            reference::SolveProgress* progress) {
   const double rtol = smallest_rtol(exact.precision);
   const HighPrecisionRun check = solve_high_precision(
       spec, output_times, exact.precision, rtol, core::FlexibleFormulation::kCoupled, progress);
-  studies::ReferenceEstimate e;
+  trajectory::ReferenceEstimate e;
   e.metric = metric;
   e.exact = true;
-  studies::EstimateCheck c;
+  trajectory::EstimateCheck c;
   c.role = "other";
   c.solver = "odeint";
   c.method = check.method;

@@ -25,12 +25,12 @@ HighPrecisionRun exact_high_precision(const scene::SceneSpec& spec,
                                       const std::vector<double>& output_times, Precision precision);
 
 /// The error estimate of an exact run (exact_high_precision), made as the double exact
-/// reference's (studies/certified_reference.hpp): the distance, in `metric` and computed in the
+/// reference's (trajectory/certified_reference.hpp): the distance, in `metric` and computed in the
 /// run's precision, to an independent numerical solution in the same precision (Bulirsch–Stoer
 /// at smallest_rtol, its tightest tolerance). It bounds the exact solution's error plus the
 /// numerical one's. A distance of exactly 0 is no check: the estimate is then +inf (unknown).
 /// `progress` (may be null) follows the numerical solve. Throws as solve_high_precision.
-studies::ReferenceEstimate exact_high_precision_estimate(
+trajectory::ReferenceEstimate exact_high_precision_estimate(
     const scene::SceneSpec& spec, const std::vector<double>& output_times,
     const HighPrecisionRun& exact, const std::string& metric,
     reference::SolveProgress* progress = nullptr);

@@ -305,13 +305,13 @@ double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std:
                                 "rotation, points)");
   }
   // compare's norms in the wider precision, each run parsed in its own (precise_comparison.hpp).
-  const studies::ComparisonReport report = compare_precisely(precise_table(a), precise_table(b));
+  const trajectory::ComparisonReport report = compare_precisely(precise_table(a), precise_table(b));
   if (metric == "rotation") return report.max_rotation_linf;
   if (metric == "points") return report.max_point_linf;
   return report.max_rotation_linf + report.max_point_linf;
 }
 
-studies::CertifiedReference certified_high_precision_reference(
+trajectory::CertifiedReference certified_high_precision_reference(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
     double rtol, const std::string& metric, HighPrecisionRun* run_out,
     core::FlexibleFormulation formulation, double budget_seconds,
@@ -323,7 +323,7 @@ studies::CertifiedReference certified_high_precision_reference(
   HighPrecisionRun run =
       solve_subdivided(spec, output_times, precision, rtol, formulation, 1,
                        {budget_seconds, 0.0, tight_rtol < rtol ? 3.0 : 1.0, progress});
-  studies::CertifiedReference result;
+  trajectory::CertifiedReference result;
   result.table = run.table;
   result.run.solver = "odeint";
   result.run.method = run.method;
@@ -334,9 +334,9 @@ studies::CertifiedReference certified_high_precision_reference(
   result.run.stats.rhs_evaluations = run.evaluations;
   result.run.stats.cpu_seconds = run.cpu_seconds;
   result.run.trajectory.times = output_times;
-  studies::ReferenceEstimate& e = result.estimate;
+  trajectory::ReferenceEstimate& e = result.estimate;
   e.metric = metric;
-  studies::EstimateCheck check;
+  trajectory::EstimateCheck check;
   check.role = "tighter";
   check.solver = "odeint";
   check.rtol = tight_rtol;

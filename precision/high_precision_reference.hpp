@@ -13,8 +13,8 @@
 #include "precision/reference_budget.hpp"
 #include "reference/solve_progress.hpp"
 #include "scene/scene_spec.hpp"
-#include "studies/certified_reference.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/certified_reference.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 
@@ -43,7 +43,7 @@ struct HighPrecisionRun {
   /// Per output time: every value after `t`, printed with significant_digits(precision)
   /// digits (they round-trip: distances are computed from them in the run's precision).
   std::vector<std::vector<std::string>> text;
-  studies::TrajectoryTable table;          ///< the same values rounded to double
+  trajectory::TrajectoryTable table;       ///< the same values rounded to double
   std::vector<HighPrecisionEvent> events;  ///< every located switch, in time order
   long steps = 0;
   long evaluations = 0;
@@ -72,13 +72,13 @@ HighPrecisionRun solve_high_precision(
 /// points), "rotation" or "points".
 double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std::string& metric);
 
-/// The run and its error estimate as a studies::CertifiedReference: 2 × the distance to a run
+/// The run and its error estimate as a trajectory::CertifiedReference: 2 × the distance to a run
 /// of the same precision at rtol/100 (a different step sequence; the checks are recorded).
 /// budget_seconds > 0 bounds the wall time of the whole (reference_budget.hpp): the runs
 /// project their cost from the simulated time reached and throw BudgetExceeded when it is over
 /// (0: no bound). `progress` (may be null) follows its solves: the run and its check (2; 3 when
 /// the check is repeated with shorter steps).
-studies::CertifiedReference certified_high_precision_reference(
+trajectory::CertifiedReference certified_high_precision_reference(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
     double rtol, const std::string& metric, HighPrecisionRun* run_out = nullptr,
     core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled,

@@ -54,7 +54,7 @@ class OdeSystemTpl {
     return {b.mass(), b.p_BrBcm_B(), b.I_Br_B()};
   }
   int state_size() const { return integrals_offset_ + integral_count_; }
-  /// The double model's studies::trajectory_columns ("t" first): output_row fills the rest.
+  /// The double model's trajectory::trajectory_columns ("t" first): output_row fills the rest.
   const std::vector<std::string>& columns() const { return columns_; }
   /// Two per switching function of the force elements (a gap support's or contact pair's gap),
   /// in the model's element order: the gap g (it pushes while g < 0; its sign change is an onset

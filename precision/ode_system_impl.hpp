@@ -10,7 +10,7 @@
 #include "precision/ode_system.hpp"
 #include "reference/method_choice.hpp"
 #include "scene/build_model.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 
@@ -23,7 +23,7 @@ template <typename S>
 OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
                               double output_spacing)
     : model_(model_in<S>(built, name)),
-      columns_(studies::trajectory_columns(built)),
+      columns_(trajectory::trajectory_columns(built)),
       discontinuities_(built.discontinuities()) {
   int offset = 0;
   for (int i = 0; i < model_.num_bodies(); ++i) {
@@ -224,7 +224,7 @@ std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
   }
   if (has_constraints()) {
     // Per joint: its reaction on its first body (force, torque about the joint point; world)
-    // and its largest position and velocity violation (studies::tabulate's columns).
+    // and its largest position and velocity violation (trajectory::tabulate's columns).
     const std::vector<std::array<S, 2>> violations = model_.constraint_violations(t, state_, ws_);
     for (std::size_t j = 0; j < reactions.size(); ++j) {
       const core::JointReactionTpl<S>& r = reactions[j];

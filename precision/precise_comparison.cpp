@@ -10,9 +10,9 @@
 #include "core/error.hpp"
 #include "io/input_file.hpp"
 #include "precision/parse_text.hpp"
-#include "studies/error_metrics_tpl.hpp"
-#include "studies/reference_sidecar.hpp"
-#include "studies/trajectory_contract.hpp"
+#include "trajectory/error_metrics_tpl.hpp"
+#include "trajectory/reference_sidecar.hpp"
+#include "trajectory/trajectory_contract.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -29,8 +29,8 @@ std::vector<std::string> split(const std::string& line) {
 }
 
 template <typename S>
-studies::ComparisonReport compare_in(const PreciseTable& run, const PreciseTable& reference) {
-  studies::TrajectoryTable shape;
+trajectory::ComparisonReport compare_in(const PreciseTable& run, const PreciseTable& reference) {
+  trajectory::TrajectoryTable shape;
   shape.columns = run.columns;
   for (double t : run.times) shape.rows.push_back({t});
   // Values parsed once, in S: cell(table, k, i) reads column i ≥ 1 of row k.
@@ -47,7 +47,7 @@ studies::ComparisonReport compare_in(const PreciseTable& run, const PreciseTable
   };
   const std::vector<std::vector<S>> a = parse_all(run);
   const std::vector<std::vector<S>> b = parse_all(reference);
-  return studies::detail::compare_cells<S>(shape, [&](int table, std::size_t k, std::size_t i) {
+  return trajectory::detail::compare_cells<S>(shape, [&](int table, std::size_t k, std::size_t i) {
     return table == 0 ? a[k][i - 1] : b[k][i - 1];
   });
 }
@@ -62,15 +62,15 @@ Precision precision_of(const std::string& name) {
 PreciseTable read_precise_table(const std::string& path) {
   PreciseTable table;
   table.path = path;
-  table.precision = precision_of(studies::read_reference_sidecar(path).precision);
+  table.precision = precision_of(trajectory::read_reference_sidecar(path).precision);
   io::InputFile in(path, "a trajectory CSV file");
   if (!in.is_open()) throw core::InputError(path, 0, "", in.error());
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
-    if (line_number == 1 && line.starts_with(studies::kUtf8ByteOrderMark)) {
-      line.erase(0, studies::kUtf8ByteOrderMark.size());
+    if (line_number == 1 && line.starts_with(trajectory::kUtf8ByteOrderMark)) {
+      line.erase(0, trajectory::kUtf8ByteOrderMark.size());
     }
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line.front() == '#') continue;
@@ -95,8 +95,8 @@ bool precisely_comparable(const PreciseTable& run, const PreciseTable& reference
          run.columns == reference.columns && run.times == reference.times;
 }
 
-studies::ComparisonReport compare_precisely(const PreciseTable& run,
-                                            const PreciseTable& reference) {
+trajectory::ComparisonReport compare_precisely(const PreciseTable& run,
+                                               const PreciseTable& reference) {
   if (run.columns != reference.columns || run.times != reference.times) {
     throw std::invalid_argument("compare_precisely: " + run.path + " and " + reference.path +
                                 " are not on the same columns and times");

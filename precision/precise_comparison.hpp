@@ -2,15 +2,15 @@
 /// \file precise_comparison.hpp
 /// `compare` beyond double (docs/precision.md, "compare"): trajectory files whose values carry
 /// more digits than a double (extended and quad references, 21 and 36 significant digits) are
-/// compared with studies/error_metrics.hpp's norms computed in the higher of the two files'
+/// compared with trajectory/error_metrics.hpp's norms computed in the higher of the two files'
 /// precisions, each value parsed from its text in its own file's precision, so that nothing is
 /// rounded to double before the subtraction.
 #include <string>
 #include <vector>
 
 #include "precision/precision.hpp"
-#include "studies/error_metrics.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 
@@ -33,9 +33,10 @@ PreciseTable read_precise_table(const std::string& path);
 /// have the same columns and the same output times.
 bool precisely_comparable(const PreciseTable& run, const PreciseTable& reference);
 
-/// studies::compare_trajectories of the two files in the higher of their precisions (a double
+/// trajectory::compare_trajectories of the two files in the higher of their precisions (a double
 /// file's values are its doubles, exactly representable there). Requires the same columns and
 /// times; throws std::invalid_argument otherwise.
-studies::ComparisonReport compare_precisely(const PreciseTable& run, const PreciseTable& reference);
+trajectory::ComparisonReport compare_precisely(const PreciseTable& run,
+                                               const PreciseTable& reference);
 
 }  // namespace flexref::precision

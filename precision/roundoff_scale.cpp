@@ -6,32 +6,23 @@
 #include <vector>
 
 #include "scene/scene_spec.hpp"
-#include "studies/certified_reference.hpp"
+#include "trajectory/certified_reference.hpp"
+#include "trajectory/column_layout.hpp"
 
 namespace flexref::precision {
 namespace {
 
-/// The columns `stem` + each suffix, or false when one is missing.
-bool find_columns(const studies::TrajectoryTable& table, const std::string& stem,
-                  const char* const (&suffixes)[3], int (&index)[3]) {
-  for (int k = 0; k < 3; ++k) {
-    index[k] = table.column(stem + suffixes[k]);
-    if (index[k] < 0) return false;
-  }
-  return true;
-}
-
-double value(const studies::TrajectoryTable& table, std::size_t row, int column) {
+double value(const trajectory::TrajectoryTable& table, std::size_t row, int column) {
   return table.rows[row][static_cast<std::size_t>(column)];
 }
 
-double norm_at(const studies::TrajectoryTable& table, std::size_t row, const int (&index)[3]) {
+double norm_at(const trajectory::TrajectoryTable& table, std::size_t row, const int (&index)[3]) {
   return std::hypot(value(table, row, index[0]), value(table, row, index[1]),
                     value(table, row, index[2]));
 }
 
 /// |a − b| of two column triples in one row.
-double distance_at(const studies::TrajectoryTable& table, std::size_t row, const int (&a)[3],
+double distance_at(const trajectory::TrajectoryTable& table, std::size_t row, const int (&a)[3],
                    const int (&b)[3]) {
   return std::hypot(value(table, row, a[0]) - value(table, row, b[0]),
                     value(table, row, a[1]) - value(table, row, b[1]),
@@ -39,7 +30,7 @@ double distance_at(const studies::TrajectoryTable& table, std::size_t row, const
 }
 
 /// |q̇_f| of a body at an output row from its columns qd_1 … (indices), 0 without them.
-double modal_rate_at(const studies::TrajectoryTable& table, std::size_t row,
+double modal_rate_at(const trajectory::TrajectoryTable& table, std::size_t row,
                      const std::vector<int>& qd) {
   double sum = 0.0;
   for (const int c : qd) sum += value(table, row, c) * value(table, row, c);
@@ -47,11 +38,11 @@ double modal_rate_at(const studies::TrajectoryTable& table, std::size_t row,
 }
 
 /// The columns <body>.qd1, <body>.qd2, … present in the table.
-std::vector<int> modal_rate_columns(const studies::TrajectoryTable& table,
+std::vector<int> modal_rate_columns(const trajectory::ColumnLayout& layout,
                                     const std::string& body) {
   std::vector<int> qd;
   for (int k = 1;; ++k) {
-    const int c = table.column(body + ".qd" + std::to_string(k));
+    const int c = layout.find(trajectory::ColumnKind::mode_rate, body, k);
     if (c < 0) return qd;
     qd.push_back(c);
   }
@@ -72,7 +63,7 @@ std::vector<NodePoint> node_points(const scene::SceneSpec& spec) {
   return nodes;
 }
 
-double roundoff_scale(const studies::TrajectoryTable& table, const std::string& metric,
+double roundoff_scale(const trajectory::TrajectoryTable& table, const std::string& metric,
                       std::span<const NodePoint> nodes) {
   const bool rotation = metric == "rotation" || metric == "rotation+points";
   const bool points = metric == "points" || metric == "rotation+points";
@@ -80,31 +71,31 @@ double roundoff_scale(const studies::TrajectoryTable& table, const std::string& 
   double largest_rate = 0.0;   // max |ω̄| of a body at an output
   double largest_speed = 0.0;  // max |v_WBo| + |ω̄| |p_WP − p_WBo| of a tracked point
   double longest_path = 0.0;   // the polyline through a point's outputs (no body columns)
-  for (const std::string& name : table.columns) {
+  using trajectory::ColumnKind;
+  const trajectory::ColumnLayout layout = trajectory::ColumnLayout::parse(table.columns);
+  for (const trajectory::Column& column : layout.columns()) {
     int w[3];
-    if (rotation && name.ends_with(".W1")) {
-      if (!find_columns(table, name.substr(0, name.size() - 3), {".W1", ".W2", ".W3"}, w)) continue;
+    if (rotation && column.kind == ColumnKind::angular_velocity && column.component == 0) {
+      if (!layout.find_group(ColumnKind::angular_velocity, column.owner, w)) continue;
       for (std::size_t k = 0; k < table.size(); ++k) {
         largest_rate = std::max(largest_rate, norm_at(table, k, w));
       }
     }
-    // Tracked points "<B>.<P>.x" (one dot before the suffix: a body's own B.x is its origin).
-    if (!points || !name.ends_with(".x") || std::count(name.begin(), name.end(), '.') != 2) {
-      continue;
-    }
-    const std::string stem = name.substr(0, name.size() - 2);
-    const std::string body = stem.substr(0, stem.find('.'));
+    // Tracked points, at their x column.
+    if (!points || column.kind != ColumnKind::point || column.component != 0) continue;
+    const std::string& body = column.owner;
+    const std::string stem = body + "." + column.point;
     int p[3], o[3], v[3];
-    if (!find_columns(table, stem, {".x", ".y", ".z"}, p)) continue;
-    if (find_columns(table, body, {".x", ".y", ".z"}, o) &&
-        find_columns(table, body, {".vx", ".vy", ".vz"}, v) &&
-        find_columns(table, body, {".W1", ".W2", ".W3"}, w)) {
+    if (!layout.find_group(ColumnKind::point, body, p, column.point)) continue;
+    if (layout.find_group(ColumnKind::position, body, o) &&
+        layout.find_group(ColumnKind::velocity, body, v) &&
+        layout.find_group(ColumnKind::angular_velocity, body, w)) {
       // A node's elastic speed ‖Φ_k‖_F |q̇_f| on top of its rigid-motion speed.
       const auto node = std::find_if(nodes.begin(), nodes.end(),
                                      [&](const NodePoint& n) { return n.stem == stem; });
       const double shape_norm = node != nodes.end() ? node->shape_norm : 0.0;
       const std::vector<int> qd =
-          shape_norm > 0.0 ? modal_rate_columns(table, body) : std::vector<int>{};
+          shape_norm > 0.0 ? modal_rate_columns(layout, body) : std::vector<int>{};
       for (std::size_t k = 0; k < table.size(); ++k) {
         largest_speed =
             std::max(largest_speed, norm_at(table, k, v) +
@@ -121,7 +112,7 @@ double roundoff_scale(const studies::TrajectoryTable& table, const std::string& 
       longest_path = std::max(longest_path, length);
     }
   }
-  return studies::solution_scale(table, metric) + duration * largest_rate +
+  return trajectory::solution_scale(table, metric) + duration * largest_rate +
          std::max(duration * largest_speed, longest_path);
 }
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::scene {
 struct SceneSpec;
@@ -24,7 +24,7 @@ struct NodePoint {
 /// The scene's tracked points at nodes (hub points and rigid bodies' points have none).
 std::vector<NodePoint> node_points(const scene::SceneSpec& spec);
 
-/// studies::solution_scale(table, metric) (π for the rotation, the tracked points' largest
+/// trajectory::solution_scale(table, metric) (π for the rotation, the tracked points' largest
 /// distance from the origin at t0) plus what the trajectory can sweep over its duration T: for
 /// the rotation, T max|ω̄| (the largest rate of a body at an output, B.W1..B.W3); for the
 /// points, T max(|v_WBo| + |ω̄| |p_WP − p_WBo|), a bound on a tracked point's rigid-motion
@@ -40,7 +40,7 @@ std::vector<NodePoint> node_points(const scene::SceneSpec& spec);
 /// body spinning at 200 rad/s for 10 s in extended lay 2.0e-13 rad from quad, above the estimate
 /// it gave, 1.47e-13 = 2 × 2.7e-14 (the distance to the tighter run) + u × 417 672 evaluations ×
 /// (π + 1) (tests/precision/roundoff_scale_test.cpp).
-double roundoff_scale(const studies::TrajectoryTable& table, const std::string& metric,
+double roundoff_scale(const trajectory::TrajectoryTable& table, const std::string& metric,
                       std::span<const NodePoint> nodes = {});
 
 }  // namespace flexref::precision

@@ -29,12 +29,12 @@
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/certified_reference.hpp"
 #include "studies/convergence.hpp"
-#include "studies/error_metrics.hpp"
-#include "studies/reference_sidecar.hpp"
-#include "studies/trajectory_contract.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/certified_reference.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/reference_sidecar.hpp"
+#include "trajectory/trajectory_contract.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace py = pybind11;
 using namespace flexref;
@@ -50,11 +50,11 @@ struct PyScene {
 
 /// A trajectory as columns; a reference also carries its error estimate.
 struct PyTrajectory {
-  studies::TrajectoryTable table;
+  trajectory::TrajectoryTable table;
   std::string integrator;  ///< scheme or solver
   double setting = 0.0;    ///< step or rtol
   bool has_estimate = false;
-  studies::CertifiedReference reference;  ///< valid when has_estimate (and for references)
+  trajectory::CertifiedReference reference;  ///< valid when has_estimate (and for references)
   bool is_reference = false;
 
   py::array_t<double> column(const std::string& name) const {
@@ -76,14 +76,14 @@ core::FlexibleFormulation formulation(const std::string& model) {
 }
 
 /// The run as the contract reads it: a PyTrajectory, or a mapping of column name to 1-D array.
-studies::RunData run_data(const py::handle& run, const std::string& source) {
+trajectory::RunData run_data(const py::handle& run, const std::string& source) {
   if (py::isinstance<PyTrajectory>(run)) {
     const auto& t = run.cast<const PyTrajectory&>();
     std::vector<std::vector<double>> columns(t.table.columns.size());
     for (const auto& row : t.table.rows) {
       for (std::size_t c = 0; c < row.size(); ++c) columns[c].push_back(row[c]);
     }
-    return studies::run_from_columns(source, t.table.columns, columns);
+    return trajectory::run_from_columns(source, t.table.columns, columns);
   }
   if (!py::isinstance<py::dict>(run)) {
     throw py::type_error(
@@ -100,7 +100,7 @@ studies::RunData run_data(const py::handle& run, const std::string& source) {
     }
     columns.emplace_back(a.data(), a.data() + a.size());
   }
-  return studies::run_from_columns(source, std::move(names), columns);
+  return trajectory::run_from_columns(source, std::move(names), columns);
 }
 
 const PyTrajectory& as_reference(const PyTrajectory& ref) {
@@ -111,7 +111,7 @@ const PyTrajectory& as_reference(const PyTrajectory& ref) {
 }
 
 struct PyComparison {
-  studies::ComparisonReport report;
+  trajectory::ComparisonReport report;
   std::string metric;
   double value = 0.0;
   std::vector<std::string> measured;
@@ -119,18 +119,18 @@ struct PyComparison {
   py::object certified = py::none();
 };
 
-PyComparison compare(const studies::RunData& run, const PyTrajectory& reference,
+PyComparison compare(const trajectory::RunData& run, const PyTrajectory& reference,
                      const std::string& metric) {
   const PyTrajectory& ref = as_reference(reference);
   PyComparison out;
-  out.report = studies::compare_run(run, ref.table);
+  out.report = trajectory::compare_run(run, ref.table);
   out.metric = metric;
-  out.measured = studies::metric_quantities(out.report, metric);
-  out.value = studies::metric_value(out.report, metric);
+  out.measured = trajectory::metric_quantities(out.report, metric);
+  out.value = trajectory::metric_value(out.report, metric);
   if (ref.has_estimate && ref.reference.estimate.metric == metric) {
     const double e = ref.reference.estimate.estimate();
     out.estimated_error = py::float_(e);
-    out.certified = py::bool_(studies::is_certified(out.value, e));
+    out.certified = py::bool_(trajectory::is_certified(out.value, e));
   }
   return out;
 }
@@ -174,7 +174,8 @@ PYBIND11_MODULE(flexref, m) {
                                return names;
                              })
       .def_property_readonly(
-          "columns", [](const PyScene& s) { return studies::trajectory_columns(*s.scene->model); })
+          "columns",
+          [](const PyScene& s) { return trajectory::trajectory_columns(*s.scene->model); })
       .def("__repr__", [](const PyScene& s) { return "<flexref.Scene '" + s.scene->name + "'>"; });
 
   py::class_<PyTrajectory>(m, "Trajectory",
@@ -213,7 +214,7 @@ PYBIND11_MODULE(flexref, m) {
                                d["method"] = e.method;
                                d["exact"] = e.exact;
                                py::list checks;
-                               for (const studies::EstimateCheck& c : e.checks) {
+                               for (const trajectory::EstimateCheck& c : e.checks) {
                                  py::dict check;
                                  check["role"] = c.role;
                                  check["solver"] = c.solver;
@@ -282,7 +283,7 @@ PYBIND11_MODULE(flexref, m) {
           throw std::invalid_argument("a model with flexible bodies has no exact solution");
         }
         const std::vector<double> times = s.times();
-        solver = studies::resolve_reference_solver(solver, model, times);
+        solver = trajectory::resolve_reference_solver(solver, model, times);
         reference::SolverOptions options;
         options.rtol = rtol;
         if (!atol.is_none()) options.atol = atol.cast<double>();
@@ -293,11 +294,11 @@ PYBIND11_MODULE(flexref, m) {
         {
           py::gil_scoped_release release;
           if (estimate) {
-            out.reference = studies::certified_reference(model, times, solver, options, metric);
+            out.reference = trajectory::certified_reference(model, times, solver, options, metric);
             out.has_estimate = true;
           } else {
             out.reference.run = reference::solve_reference(solver, model, times, options);
-            out.reference.table = studies::tabulate(model, out.reference.run.trajectory);
+            out.reference.table = trajectory::tabulate(model, out.reference.run.trajectory);
           }
         }
         out.table = out.reference.table;
@@ -320,7 +321,7 @@ PYBIND11_MODULE(flexref, m) {
         const std::vector<double> times = s.times();
         py::gil_scoped_release release;
         const auto stepper = lie::make_stepper(scheme, model);
-        out.table = studies::tabulate(model, lie::run_scheme(model, *stepper, dt, times));
+        out.table = trajectory::tabulate(model, lie::run_scheme(model, *stepper, dt, times));
         return out;
       },
       py::arg("scene"), py::arg("scheme"), py::arg("dt"),
@@ -365,7 +366,7 @@ PYBIND11_MODULE(flexref, m) {
           level.h = pair[0].cast<double>();
           if (!(level.h > 0.0)) throw std::invalid_argument("a step h must be positive");
           level.cpu_seconds = std::nan("");
-          const studies::RunData data =
+          const trajectory::RunData data =
               run_data(pair[1], "run at h = " + py::repr(pair[0]).cast<std::string>());
           const PyComparison c = compare(data, reference, metric);
           // Steps over the run's own time span (it may cover part of the scene's).

@@ -15,14 +15,14 @@
 #include "io/output_file.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
-#include "studies/error_metrics.hpp"
 #include "studies/missing_value.hpp"
 #include "studies/mpi/distribution.hpp"
 #include "studies/observed_order.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
-#include "studies/reference_sidecar.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/reference_sidecar.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -114,7 +114,7 @@ SchemeSummary summarize_levels(const std::string& method, int claimed_order,
       // failed or unstable: stays as it is
     } else if (stopped) {
       lv.status = "round-off";
-    } else if (lv.saturation >= kSaturationFraction) {
+    } else if (lv.saturation >= trajectory::kSaturationFraction) {
       // The error is a sizeable fraction of the largest the metric can give: it measures how
       // far the run strayed, not the scheme's order.
       lv.status = "saturated";
@@ -130,7 +130,7 @@ SchemeSummary summarize_levels(const std::string& method, int claimed_order,
     } else if (lv.error >= last_valid_error) {
       lv.status = "not decreasing";
       ++not_decreasing;
-    } else if (lv.error < kCertificationFactor * reference_estimate) {
+    } else if (lv.error < trajectory::kCertificationFactor * reference_estimate) {
       lv.status = "uncertified";
     }
     if (lv.status == "ok") last_valid_error = lv.error;
@@ -159,7 +159,8 @@ SchemeSummary summarize_levels(const std::string& method, int claimed_order,
       note << (k ? ", " : " ") << std::setprecision(3) << saturated[k];
     }
     note << "): errors up to " << std::fixed << std::setprecision(0) << 100.0 * saturation
-         << " % of the largest the metric can give (saturated from " << 100.0 * kSaturationFraction
+         << " % of the largest the metric can give (saturated from "
+         << 100.0 * trajectory::kSaturationFraction
          << " %) measure how far the run strayed from the reference, not the order";
     notes.push_back(note.str());
   }
@@ -280,15 +281,15 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
     reference::SolverOptions ref_options;
     ref_options.rtol = options.reference_rtol;
     const std::string solver =
-        resolve_reference_solver(options.reference_solver, model, output_times);
+        trajectory::resolve_reference_solver(options.reference_solver, model, output_times);
     if (options.progress) std::fprintf(stderr, "converge: reference (%s) ...\n", solver.c_str());
     Progress progress("converge: reference (" + solver + ", with its error estimate)", 0, "",
                       options.progress);
-    reference::SolveProgress solves(reference_solve_count(model, solver));
+    reference::SolveProgress solves(trajectory::reference_solve_count(model, solver));
     ref_options.progress = &solves;
     progress.follow(&solves);
     result.reference =
-        certified_reference(model, output_times, solver, ref_options, options.metric);
+        trajectory::certified_reference(model, output_times, solver, ref_options, options.metric);
   }
 
   const int n_runs = static_cast<int>(tasks.size());
@@ -304,13 +305,14 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
     const double t_span = output_times.back() - output_times.front();
     out.steps = std::lround(t_span / out.h);
     try {
-      ComparisonReport report;
+      trajectory::ComparisonReport report;
       if (block.external < 0) {
         auto stepper = lie::make_stepper(block.name, model);
         const double start = thread_cpu_seconds();
         const core::Trajectory trajectory = lie::run_scheme(model, *stepper, out.h, output_times);
         out.cpu_seconds = thread_cpu_seconds() - start;
-        report = compare_trajectories(tabulate(model, trajectory), result.reference.table);
+        report = trajectory::compare_trajectories(trajectory::tabulate(model, trajectory),
+                                                  result.reference.table);
         const core::InvariantCheck check = core::check_invariants(model, trajectory);
         if (check.breach) {
           measured[static_cast<std::size_t>(k)].instability = check.breach->describe();
@@ -321,15 +323,16 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         const ExternalLevel run = method.run(out.h, level);
         m.kept_bytes = kept_file_bytes(method, level);
         out.cpu_seconds = run.cpu_seconds;
-        ContractOptions contract;
+        trajectory::ContractOptions contract;
         contract.run_step = out.h;
-        report = compare_run(run.run, result.reference.table, contract);
-        m.used = metric_quantities(report, options.metric);
+        report = trajectory::compare_run(run.run, result.reference.table, contract);
+        m.used = trajectory::metric_quantities(report, options.metric);
         m.ignored = report.ignored_columns;
       }
-      out.error = metric_value(report, options.metric);
-      out.saturation = metric_saturation(report, options.metric);
-      measured[static_cast<std::size_t>(k)].bounds = metric_bounds_text(report, options.metric);
+      out.error = trajectory::metric_value(report, options.metric);
+      out.saturation = trajectory::metric_saturation(report, options.metric);
+      measured[static_cast<std::size_t>(k)].bounds =
+          trajectory::metric_bounds_text(report, options.metric);
       out.status = !std::isfinite(out.error) ? "failed: non-finite error"
                    : measured[static_cast<std::size_t>(k)].instability.empty() ? "ok"
                                                                                : "unstable";
@@ -392,7 +395,7 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
     result.notes.push_back(
         "saturation is measured against the largest values of the metric's "
         "quantities: " +
-        measured[k].bounds + " (studies/error_metrics.hpp)");
+        measured[k].bounds + " (trajectory/error_metrics.hpp)");
     break;
   }
   bool any_uncertified = false;
@@ -417,8 +420,8 @@ bool ConvergenceResult::refused() const {
 std::string format_convergence_table(const ConvergenceResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
-  out << "reference: " << describe_reference_run(r.reference.run) << ", estimated error "
-      << describe_estimate(est) << "\n";
+  out << "reference: " << trajectory::describe_reference_run(r.reference.run)
+      << ", estimated error " << trajectory::describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n\n";
   out << std::left << std::setw(7) << "scheme" << std::right << std::setw(12) << "h"
       << std::setw(10) << "steps" << std::setw(12) << "error" << std::setw(8) << "order"
@@ -473,10 +476,11 @@ std::string convergence_csv(const ConvergenceResult& r) {
   out.precision(17);
   out << "scheme,h,steps,error,order,cpu_seconds,status\n";
   for (const auto& lv : r.levels) {
-    const std::string status = csv_text(lv.status);
+    const std::string status = trajectory::csv_text(lv.status);
     // The first level has no pairwise order and a run made earlier no CPU time: empty cells.
     out << lv.scheme << ',' << lv.h << ',' << lv.steps << ',' << lv.error << ','
-        << csv_number(lv.order) << ',' << csv_number(lv.cpu_seconds) << ',' << status << '\n';
+        << trajectory::csv_number(lv.order) << ',' << trajectory::csv_number(lv.cpu_seconds) << ','
+        << status << '\n';
   }
   return out.str();
 }

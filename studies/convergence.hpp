@@ -7,7 +7,7 @@
 /// (core::explicit_step_limit: central differences on a mode or penalty element are unstable
 /// there), a run that breaks the scene's invariants ("unstable", core/invariants.hpp), an error
 /// that is a sizeable fraction of the largest the metric can give ("saturated",
-/// studies/error_metrics.hpp), an error that does not decrease from the previous valid level,
+/// trajectory/error_metrics.hpp), an error that does not decrease from the previous valid level,
 /// an error not at least 100× the reference's estimated error ("uncertified"), or an error at
 /// round-off (which also stops the refinement). No order is fitted from fewer than three valid
 /// levels (two points always lie on a line: their "order" verifies nothing).
@@ -19,15 +19,15 @@
 #include "core/model.hpp"
 #include "core/step_limit.hpp"
 #include "lie/stepper.hpp"
-#include "studies/certified_reference.hpp"
-#include "studies/trajectory_contract.hpp"
+#include "trajectory/certified_reference.hpp"
+#include "trajectory/trajectory_contract.hpp"
 
 namespace flexref::studies {
 
 /// One level of an integrator outside the method registry: its trajectory under the contract
 /// (docs/external.md) and the CPU time it took (NaN when unknown, e.g. a run made earlier).
 struct ExternalLevel {
-  RunData run;
+  trajectory::RunData run;
   double cpu_seconds = 0.0;
   /// cpu_seconds is the program's own report of its integration (`# cpu_seconds`), not the
   /// whole process's CPU time.
@@ -69,7 +69,7 @@ struct ConvergenceOptions {
   /// A reference computed by the caller (e.g. in extended or quad precision,
   /// precision/high_precision_reference.hpp) instead of reference_solver's; its estimate must
   /// be in `metric`.
-  std::shared_ptr<const CertifiedReference> given_reference;
+  std::shared_ptr<const trajectory::CertifiedReference> given_reference;
 };
 
 struct ConvergenceLevel {
@@ -82,7 +82,7 @@ struct ConvergenceLevel {
   /// "ok", "above step limit", "unstable", "saturated", "not decreasing", "uncertified",
   /// "round-off", or "failed: why".
   std::string status;
-  /// The error as a fraction of its bound (studies/error_metrics.hpp, metric_saturation): at
+  /// The error as a fraction of its bound (trajectory/error_metrics.hpp, metric_saturation): at
   /// kSaturationFraction or more the level is "saturated".
   double saturation = 0.0;
 };
@@ -99,7 +99,7 @@ struct SchemeSummary {
 
 struct ConvergenceResult {
   ConvergenceOptions options;
-  CertifiedReference reference;
+  trajectory::CertifiedReference reference;
   core::StepLimit step_limit;  ///< the model's explicit step limit (unbounded: rigid only)
   std::vector<ConvergenceLevel> levels;
   std::vector<SchemeSummary> summaries;

@@ -260,7 +260,7 @@ ExternalLevel run_external_level(const ExternalCommand& command, double dt,
     throw std::runtime_error(message);
   }
   ExternalLevel level;
-  level.run = read_run_csv(output);
+  level.run = trajectory::read_run_csv(output);
   level.cpu_seconds = outcome.cpu_seconds;
   const double reported = level.run.reported_cpu_seconds;
   if (std::isfinite(reported)) {

@@ -16,10 +16,10 @@
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
-#include "studies/accuracy_check.hpp"
 #include "studies/missing_value.hpp"
 #include "studies/mpi/distribution.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/accuracy_check.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -370,7 +370,7 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
   if (!(options.rtol > 0.0) || !(options.estimate_factor > 1.0)) {
     throw std::invalid_argument("lte-map: need rtol > 0 and an estimate factor > 1");
   }
-  check_accuracy_check_rtol("lte-map", options.rtol, options.estimate_factor);
+  trajectory::check_accuracy_check_rtol("lte-map", options.rtol, options.estimate_factor);
   LteMapResult result;
   result.options = options;
   const LteMapLevel truth_level =
@@ -408,7 +408,7 @@ LteMapResult run_lte_map(const LteModelFactory& factory, const LteMapOptions& op
     out.load_scale = scalings[uk].load_scale;
     try {
       // The accuracy check: the same run estimate_factor times tighter (accuracy_check_rtol).
-      const double tight = accuracy_check_rtol(options.rtol, options.estimate_factor);
+      const double tight = trajectory::accuracy_check_rtol(options.rtol, options.estimate_factor);
       const auto run = [&](LteMapLevel level, double rtol) {
         return integrate(factory(level, scalings[uk]), body_index, point, times, options.solver,
                          rtol);
@@ -553,8 +553,8 @@ std::string lte_map_csv(const LteMapResult& result) {
        "classical_frequency_shift,max_deflection,truth_frequency,truth_estimate,lte_estimate,"
        "classical_estimate,resolved,classical_resolved,status\n";
   for (const LteMapPoint& p : result.points) {
-    const std::string status = csv_text(p.status);
-    const auto n = [](double x) { return csv_number(x); };
+    const std::string status = trajectory::csv_text(p.status);
+    const auto n = [](double x) { return trajectory::csv_number(x); };
     s << n(p.spin_ratio) << ',' << n(p.inertia_ratio) << ',' << n(p.spin) << ',' << n(p.omega1)
       << ',' << n(p.hub_scale) << ',' << n(p.load_scale) << ',' << n(p.tip_error) << ','
       << n(p.envelope_error) << ',' << n(p.frequency_shift) << ',' << n(p.attitude_error) << ','

@@ -14,9 +14,9 @@
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
-#include "studies/accuracy_check.hpp"
 #include "studies/missing_value.hpp"
 #include "studies/mpi/distribution.hpp"
+#include "trajectory/accuracy_check.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -249,7 +249,7 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
   if (!(options.rtol > 0.0) || !(options.estimate_factor > 1.0)) {
     fail("need rtol > 0 and an estimate factor > 1");
   }
-  check_accuracy_check_rtol("modes", options.rtol, options.estimate_factor);
+  trajectory::check_accuracy_check_rtol("modes", options.rtol, options.estimate_factor);
   const int body_index = find_flexible_body(spec, options.body);
 
   // Every model first (the inputs are checked before any integration).
@@ -276,7 +276,8 @@ ModalTruncationResult run_modal_truncation(const scene::SceneSpec& spec,
       ModalResponse& out = responses[static_cast<std::size_t>(r)];
       out = integrate_modes(
           models[k], body_index, point, times, options.solver,
-          check ? accuracy_check_rtol(options.rtol, options.estimate_factor) : options.rtol);
+          check ? trajectory::accuracy_check_rtol(options.rtol, options.estimate_factor)
+                : options.rtol);
     } catch (const std::exception& e) {
       failures[static_cast<std::size_t>(r)] = e.what();
     }
@@ -369,8 +370,8 @@ std::string format_modal_truncation_table(const ModalTruncationResult& result) {
   std::ostringstream s;
   s << "body '" << result.body << "', point '" << result.point << "'; reference "
     << result.reference_modes << " modes; " << o.solver << " rtol " << o.rtol
-    << " (estimate: against rtol " << accuracy_check_rtol(o.rtol, o.estimate_factor) << "), "
-    << core::to_string(o.formulation) << " model, " << o.end_time << " s\n";
+    << " (estimate: against rtol " << trajectory::accuracy_check_rtol(o.rtol, o.estimate_factor)
+    << "), " << core::to_string(o.formulation) << " model, " << o.end_time << " s\n";
   s << "errors against the reference, max over the outputs (* = below 10x the integration error "
        "estimate)\n";
   s << std::setw(6) << "modes" << std::setw(14) << "omega_max" << std::setw(13) << "tip error"

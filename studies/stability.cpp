@@ -14,7 +14,7 @@
 #include "core/invariants.hpp"
 #include "lie/stepper.hpp"
 #include "studies/mpi/distribution.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -369,9 +369,9 @@ std::string stability_csv(const StabilityResult& result) {
   out << "scheme,parameter,value,h_max,h_max_times_spin,classification\n";
   for (const auto* points : {&result.sweep, &result.degenerate}) {
     for (const StabilityPoint& p : *points) {
-      out << p.scheme << ',' << csv_text(p.parameter) << ',' << csv_double(p.value) << ','
-          << csv_double(p.h_max) << ',' << csv_double(p.h_max * p.spin) << ','
-          << csv_text(p.classification) << '\n';
+      out << p.scheme << ',' << trajectory::csv_text(p.parameter) << ',' << csv_double(p.value)
+          << ',' << csv_double(p.h_max) << ',' << csv_double(p.h_max * p.spin) << ','
+          << trajectory::csv_text(p.classification) << '\n';
     }
   }
   return out.str();
@@ -383,7 +383,7 @@ std::string long_run_csv(const StabilityResult& result) {
   for (const LongRunSample& s : result.long_run) {
     out << s.scheme << ',' << s.step << ',' << csv_double(s.t) << ',' << csv_double(s.energy_drift)
         << ',' << csv_double(s.momentum_drift) << ',' << csv_double(s.quaternion_drift) << ','
-        << csv_text(s.status) << '\n';
+        << trajectory::csv_text(s.status) << '\n';
   }
   return out.str();
 }

@@ -17,7 +17,7 @@
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
 #include "studies/stability.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
 
@@ -186,7 +186,8 @@ std::string linear_sweep_csv(const std::string& parameter,
   out << "scheme,parameter,value,omega,h_max,h_theory,h_max_times_omega,classification\n";
   for (const LinearSweepPoint& p : points) {
     out << p.scheme << ',' << parameter << ',' << p.value << ',' << p.omega << ',' << p.h_max << ','
-        << p.h_theory << ',' << p.h_max * p.omega << ',' << csv_text(p.classification) << '\n';
+        << p.h_theory << ',' << p.h_max * p.omega << ',' << trajectory::csv_text(p.classification)
+        << '\n';
   }
   return out.str();
 }

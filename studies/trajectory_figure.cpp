@@ -1,6 +1,7 @@
 #include "studies/trajectory_figure.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <iomanip>
@@ -15,7 +16,8 @@
 #include "reference/solve_reference.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/column_layout.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
 
@@ -124,22 +126,23 @@ FigureResult run_trajectory_figure(const core::Model& model,
   if (settings.given_reference) {
     run = settings.given_reference->run;
     result.reference_estimate = settings.given_reference->estimate.estimate();
-    result.reference_estimate_method = describe_estimate(settings.given_reference->estimate);
+    result.reference_estimate_method =
+        trajectory::describe_estimate(settings.given_reference->estimate);
     result.reference_precision = settings.given_precision;
   } else {
     Progress progress("figure: reference (" + settings.solver + ")", 0, "", settings.progress);
     reference::SolveProgress solves(
-        settings.estimate ? reference_solve_count(model, settings.solver) : 1);
+        settings.estimate ? trajectory::reference_solve_count(model, settings.solver) : 1);
     options.progress = &solves;
     progress.follow(&solves);
     run = reference::solve_reference(settings.solver, model, output_times, options);
     if (settings.estimate) {
       reference::ReferenceRun reported = run;
       reported.options.progress = &solves;
-      const ReferenceEstimate estimate =
-          estimate_error(model, output_times, reported, tabulate(model, run.trajectory), "points");
+      const trajectory::ReferenceEstimate estimate = trajectory::estimate_error(
+          model, output_times, reported, trajectory::tabulate(model, run.trajectory), "points");
       result.reference_estimate = estimate.estimate();
-      result.reference_estimate_method = describe_estimate(estimate);
+      result.reference_estimate_method = trajectory::describe_estimate(estimate);
     }
   }
   result.reference.label =
@@ -150,19 +153,24 @@ FigureResult run_trajectory_figure(const core::Model& model,
   const core::TrackedPoint& point = points[static_cast<std::size_t>(settings.point)];
   if (settings.given_reference) {
     // A high-precision reference carries its table (rounded to double), not double states.
-    const TrajectoryTable& table = settings.given_reference->table;
-    const std::string prefix = model.body(settings.body).name() + "." + point.name + ".";
-    const int x = table.column(prefix + "x");
-    if (x < 0 || table.size() != output_times.size()) {
-      throw std::invalid_argument("figure: the given reference has no column " + prefix +
-                                  "x on the output times");
+    const trajectory::TrajectoryTable& table = settings.given_reference->table;
+    const std::string& body = model.body(settings.body).name();
+    const trajectory::ColumnLayout layout = trajectory::ColumnLayout::parse(table.columns);
+    std::array<int, 3> p{};
+    if (!layout.find_group(trajectory::ColumnKind::point, body, p, point.name) ||
+        table.size() != output_times.size()) {
+      throw std::invalid_argument(
+          "figure: the given reference has no column " +
+          trajectory::column_name(trajectory::ColumnKind::point, body, 0, point.name) +
+          " on the output times");
     }
     result.reference.times.clear();
     for (std::size_t r = 0; r < table.size(); ++r) {
-      const auto c = static_cast<std::size_t>(x);
+      const std::vector<double>& row = table.rows[r];
       result.reference.times.push_back(table.time(r));
-      result.reference.p_W.emplace_back(table.rows[r][c], table.rows[r][c + 1],
-                                        table.rows[r][c + 2]);
+      result.reference.p_W.emplace_back(row[static_cast<std::size_t>(p[0])],
+                                        row[static_cast<std::size_t>(p[1])],
+                                        row[static_cast<std::size_t>(p[2])]);
     }
   } else {
     for (const core::State& s : run.trajectory.states) {

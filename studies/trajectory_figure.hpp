@@ -17,7 +17,7 @@
 
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
-#include "studies/certified_reference.hpp"
+#include "trajectory/certified_reference.hpp"
 
 namespace flexref::studies {
 
@@ -32,7 +32,7 @@ struct FigureSettings {
   bool progress = false;  ///< "figure: k/N runs" on stderr (studies/progress.hpp)
   /// A reference computed elsewhere (an extended or quad precision one: docs/precision.md),
   /// used instead of solving with `solver`; its estimate (metric "points") certifies the curves.
-  std::shared_ptr<const CertifiedReference> given_reference;
+  std::shared_ptr<const trajectory::CertifiedReference> given_reference;
   std::string given_precision = "quad";  ///< the given reference's precision (for the table)
   /// Estimate the double reference's own error (metric "points": two more reference runs) so
   /// that each curve's error can be certified (≥ 100× the estimate).

@@ -15,12 +15,12 @@
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
-#include "studies/error_metrics.hpp"
 #include "studies/missing_value.hpp"
 #include "studies/mpi/distribution.hpp"
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -159,17 +159,17 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
     reference::SolverOptions ref_options;
     ref_options.rtol = options.reference_rtol;
     const std::string solver =
-        resolve_reference_solver(options.reference_solver, model, output_times);
+        trajectory::resolve_reference_solver(options.reference_solver, model, output_times);
     if (options.progress) {
       std::fprintf(stderr, "work-precision: reference (%s) ...\n", solver.c_str());
     }
     Progress progress("work-precision: reference (" + solver + ", with its error estimate)", 0, "",
                       options.progress);
-    reference::SolveProgress solves(reference_solve_count(model, solver));
+    reference::SolveProgress solves(trajectory::reference_solve_count(model, solver));
     ref_options.progress = &solves;
     progress.follow(&solves);
     result.reference =
-        certified_reference(model, output_times, solver, ref_options, options.metric);
+        trajectory::certified_reference(model, output_times, solver, ref_options, options.metric);
   }
 
   const int n_scheme_runs = static_cast<int>(options.schemes.size()) * options.levels;
@@ -201,7 +201,7 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
     WorkPrecisionRun& out = result.runs[static_cast<std::size_t>(k)];
     try {
       core::Trajectory trajectory;
-      ComparisonReport report;
+      trajectory::ComparisonReport report;
       if (k < n_scheme_runs) {
         out.method = options.schemes[static_cast<std::size_t>(k / options.levels)];
         out.kind = "scheme";
@@ -229,9 +229,9 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         }
         out.cpu_reported = run.cpu_reported;
         kept_bytes[static_cast<std::size_t>(k)] = kept_file_bytes(method, x.level);
-        ContractOptions contract;
+        trajectory::ContractOptions contract;
         contract.run_step = x.h;
-        report = compare_run(run.run, result.reference.table, contract);
+        report = trajectory::compare_run(run.run, result.reference.table, contract);
       } else {
         const int j = k - n_scheme_runs;
         out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];
@@ -247,18 +247,21 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         });
       }
       if (out.kind != "external") {
-        report = compare_trajectories(tabulate(model, trajectory), result.reference.table);
+        report = trajectory::compare_trajectories(trajectory::tabulate(model, trajectory),
+                                                  result.reference.table);
       }
       if (out.kind == "scheme") {
         // A scheme run that breaks the scene's invariants (core/invariants.hpp) is unstable.
         const core::InvariantCheck check = core::check_invariants(model, trajectory);
         if (check.breach) instability[static_cast<std::size_t>(k)] = check.breach->describe();
       }
-      out.error = metric_value(report, options.metric);
-      out.status = !std::isfinite(out.error)                           ? "failed: non-finite error"
-                   : !instability[static_cast<std::size_t>(k)].empty() ? "unstable"
-                   : metric_saturation(report, options.metric) >= kSaturationFraction ? "saturated"
-                                                                                      : "ok";
+      out.error = trajectory::metric_value(report, options.metric);
+      out.status =
+          !std::isfinite(out.error)                           ? "failed: non-finite error"
+          : !instability[static_cast<std::size_t>(k)].empty() ? "unstable"
+          : trajectory::metric_saturation(report, options.metric) >= trajectory::kSaturationFraction
+              ? "saturated"
+              : "ok";
     } catch (const std::exception& e) {
       out.error = kUnreached;
       out.cpu_seconds = kNaN;
@@ -316,8 +319,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
   if (!saturated.empty()) {
     std::ostringstream note;
     note << "runs marked 'saturated' (" << saturated << ") have an error of at least " << std::fixed
-         << std::setprecision(0) << 100.0 * kSaturationFraction
-         << " % of the largest the metric can give (studies/error_metrics.hpp): it measures how "
+         << std::setprecision(0) << 100.0 * trajectory::kSaturationFraction
+         << " % of the largest the metric can give (trajectory/error_metrics.hpp): it measures how "
             "far the run strayed, and they are left out of the cheapest-method table";
     result.notes.push_back(note.str());
   }
@@ -359,8 +362,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 std::string format_work_precision_table(const WorkPrecisionResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
-  out << "reference: " << describe_reference_run(r.reference.run) << ", estimated error "
-      << describe_estimate(est) << "\n";
+  out << "reference: " << trajectory::describe_reference_run(r.reference.run)
+      << ", estimated error " << trajectory::describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n";
 
   std::string current;
@@ -420,8 +423,8 @@ std::string work_precision_csv(const WorkPrecisionResult& r) {
   for (const auto& run : r.runs) {
     // A failed run's CPU time is not measured: an empty cell, not NaN.
     out << run.method << ',' << run.kind << ',' << run.setting << ',' << run.error << ','
-        << csv_number(run.cpu_seconds) << ',' << csv_text(run.status) << ',' << run.evaluations
-        << '\n';
+        << trajectory::csv_number(run.cpu_seconds) << ',' << trajectory::csv_text(run.status) << ','
+        << run.evaluations << '\n';
   }
   return out.str();
 }

@@ -19,8 +19,8 @@
 
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
-#include "studies/certified_reference.hpp"
 #include "studies/convergence.hpp"
+#include "trajectory/certified_reference.hpp"
 
 namespace flexref::studies {
 
@@ -41,7 +41,7 @@ struct WorkPrecisionOptions {
   std::vector<ExternalMethod> external;
   /// A reference computed by the caller (extended or quad precision,
   /// precision/high_precision_reference.hpp) instead of reference_solver's.
-  std::shared_ptr<const CertifiedReference> given_reference;
+  std::shared_ptr<const trajectory::CertifiedReference> given_reference;
 };
 
 /// One point of the work-precision diagram.
@@ -53,7 +53,7 @@ struct WorkPrecisionRun {
   double cpu_seconds = 0.0;  ///< minimum thread CPU time over the repeats (NaN when failed)
   /// "ok", "uncertified", "unstable" (a scheme run that breaks the scene's invariants,
   /// core/invariants.hpp), "saturated" (an error of kSaturationFraction of the metric's largest
-  /// value or more, studies/error_metrics.hpp), or "failed: why".
+  /// value or more, trajectory/error_metrics.hpp), or "failed: why".
   std::string status;
   /// Right-hand-side (residual) evaluations of a solver run, the cost that does not depend on
   /// the machine; 0 for a scheme.
@@ -71,7 +71,7 @@ struct CheapestMethod {
 
 struct WorkPrecisionResult {
   WorkPrecisionOptions options;
-  CertifiedReference reference;
+  trajectory::CertifiedReference reference;
   /// schemes × levels, then solvers × tolerances, then external methods × levels
   std::vector<WorkPrecisionRun> runs;
   std::vector<CheapestMethod> cheapest;

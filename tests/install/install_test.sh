@@ -20,7 +20,7 @@ cmake --install "$build" --prefix "$prefix" >"$tmp/install.log"
 [[ -f $prefix/include/flexref/core/model.hpp ]] || { echo "FAIL: no include/flexref/core"; exit 1; }
 [[ ! -e $prefix/include/flexref/reference/sundials_handle.hpp ]] ||
   { echo "FAIL: an internal header was installed"; exit 1; }
-if grep -rn '#include "\(io\|rotation\|flexible\|core\|contact\|lie\|reference\|scene\|studies\)/' \
+if grep -rn '#include "\(io\|rotation\|flexible\|core\|contact\|lie\|reference\|trajectory\|scene\|studies\|precision\)/' \
   "$prefix/include/flexref"; then
   echo "FAIL: installed headers include project paths without the flexref/ prefix"; exit 1
 fi

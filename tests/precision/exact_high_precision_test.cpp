@@ -17,10 +17,10 @@
 #include "reference/exact_solution.hpp"
 #include "reference/exact_torque_free.hpp"
 #include "scene/build_model.hpp"
-#include "studies/certified_reference.hpp"
-#include "studies/error_metrics.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/precision/precision_order.hpp"
+#include "trajectory/certified_reference.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -28,9 +28,9 @@ namespace {
 constexpr const char* kMetric = "rotation+points";
 
 /// distance(a, b) in the runs' precision over the solution's size (π + the largest point
-/// distance from the origin, studies::solution_scale).
+/// distance from the origin, trajectory::solution_scale).
 double relative_distance(const HighPrecisionRun& a, const HighPrecisionRun& b) {
-  return distance(a, b, kMetric) / studies::solution_scale(a.table, kMetric);
+  return distance(a, b, kMetric) / trajectory::solution_scale(a.table, kMetric);
 }
 
 scene::SceneSpec shortened(const std::string& file, double end_time) {
@@ -159,7 +159,7 @@ TEST_CASE("the asymmetric body near its separatrix in quad", "[precision][exact]
 
 TEST_CASE("quad exact solutions agree with the double exact solution", "[precision][exact]") {
   // reference::solve_exact (double, its own principal-axes code on core::Model, tabulated by
-  // studies::tabulate) against the quad run rounded to double. The double solution's accuracy
+  // trajectory::tabulate) against the quad run rounded to double. The double solution's accuracy
   // (exact_torque_free.hpp, exact_heavy_top.hpp): θ to 6e-14 and 9e-14 rad over the bundled
   // scenes, at most 3e-14 relative to a solution scale ≥ π; 1e-13 leaves a factor 3. Measured
   // 5.9e-15 (free_spin), 2.1e-14 (heavy_top), 1.7e-14 (free book), 2.5e-14 absolute (≈ 6e-15
@@ -171,12 +171,12 @@ TEST_CASE("quad exact solutions agree with the double exact solution", "[precisi
     const std::vector<double> times = times_of(spec);
     const HighPrecisionRun quad = exact_high_precision(spec, times, Precision::kQuad);
     const core::Model model = scene::build_model(spec);
-    const studies::TrajectoryTable dbl =
-        studies::tabulate(model, reference::solve_exact(model, times).trajectory);
+    const trajectory::TrajectoryTable dbl =
+        trajectory::tabulate(model, reference::solve_exact(model, times).trajectory);
     REQUIRE(dbl.columns == quad.table.columns);
     const double relative =
-        studies::metric_value(studies::compare_trajectories(dbl, quad.table), kMetric) /
-        studies::solution_scale(dbl, kMetric);
+        trajectory::metric_value(trajectory::compare_trajectories(dbl, quad.table), kMetric) /
+        trajectory::solution_scale(dbl, kMetric);
     CHECK(relative <= 1e-13);
     CHECK(relative > 0.0);  // two different computations: exactly equal would mean one is not run
   }

@@ -24,9 +24,9 @@
 #include "core/output_times.hpp"
 #include "precision/ode_system.hpp"
 #include "scene/build_model.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/precision/model_agreement.hpp"
 #include "tests/precision/precision_order.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -267,7 +267,7 @@ TEST_CASE("the tube in extended precision: impacts, wear work and energy balance
   const core::Model model = scene::build_model(spec);
   reference::SolverOptions o;
   o.rtol = 1e-12;
-  const studies::CertifiedReference d = studies::certified_reference(
+  const trajectory::CertifiedReference d = trajectory::certified_reference(
       model, times, "cvode", o, "rotation+points", {.use_exact_solution = false});
   const auto at = [&](const std::string& name) {
     const auto c = static_cast<std::size_t>(

@@ -19,9 +19,9 @@
 #include "core/output_times.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/precision/model_agreement.hpp"
 #include "tests/precision/precision_order.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 namespace {

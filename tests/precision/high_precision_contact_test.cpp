@@ -18,8 +18,8 @@
 #include "precision/high_precision_reference.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/build_model.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/precision/precision_order.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -226,8 +226,8 @@ TEST_CASE("quad carries the double model's contact outputs: energy balance and w
   reference::SolverOptions o;
   o.rtol = 1e-10;
   o.atol = 1e-12;
-  const studies::TrajectoryTable d =
-      studies::tabulate(model, reference::solve_reference("cvode", model, times, o).trajectory);
+  const trajectory::TrajectoryTable d =
+      trajectory::tabulate(model, reference::solve_reference("cvode", model, times, o).trajectory);
   REQUIRE(high.columns == d.columns);
   const auto at_end = [&](const std::string& name) {
     const std::size_t c = column(high, name);

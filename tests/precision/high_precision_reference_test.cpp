@@ -21,8 +21,8 @@
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/error_metrics.hpp"
 #include "tests/precision/precision_order.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -96,7 +96,7 @@ TEST_CASE("the generic model agrees with core::Model at random states", "[precis
       core::Trajectory trajectory;
       trajectory.times = {t};
       trajectory.states = {state};
-      const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
+      const trajectory::TrajectoryTable table = trajectory::tabulate(model, trajectory);
       const std::vector<double> row = tpl.output_row(t, y);
       REQUIRE(row.size() + 1 == table.columns.size());
       for (std::size_t c = 0; c < row.size(); ++c) {

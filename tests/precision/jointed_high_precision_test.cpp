@@ -18,9 +18,9 @@
 #include "precision/ode_system.hpp"
 #include "reference/reference_solver.hpp"
 #include "scene/build_model.hpp"
-#include "studies/certified_reference.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/precision/precision_order.hpp"
+#include "trajectory/certified_reference.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -100,7 +100,7 @@ struct JointedAndrews {
   std::vector<double> times;
   HighPrecisionRun quad;
   HighPrecisionRun extended;
-  studies::CertifiedReference double_reference;
+  trajectory::CertifiedReference double_reference;
 };
 
 const JointedAndrews& jointed_andrews() {
@@ -116,8 +116,8 @@ const JointedAndrews& jointed_andrews() {
     const core::Model model = scene::build_model(r.spec);
     reference::SolverOptions o;
     o.rtol = 1e-12;
-    r.double_reference = studies::certified_reference(model, r.times, "cvode", o, "rotation",
-                                                      {.use_exact_solution = false});
+    r.double_reference = trajectory::certified_reference(model, r.times, "cvode", o, "rotation",
+                                                         {.use_exact_solution = false});
     return r;
   }();
   return a;
@@ -129,12 +129,12 @@ TEST_CASE("Andrews' squeezer in extended and quad: agreement with double, joints
           "[precision][joints][long_quad]") {
   const JointedAndrews& a = jointed_andrews();
   SECTION("extended and quad agree with double within its estimate") {
-    const studies::CertifiedReference& d = a.double_reference;
+    const trajectory::CertifiedReference& d = a.double_reference;
     REQUIRE(std::isfinite(d.estimate.value));
-    const double double_vs_quad =
-        studies::metric_value(studies::compare_trajectories(d.table, a.quad.table), "rotation");
-    const double double_vs_extended =
-        studies::metric_value(studies::compare_trajectories(d.table, a.extended.table), "rotation");
+    const double double_vs_quad = trajectory::metric_value(
+        trajectory::compare_trajectories(d.table, a.quad.table), "rotation");
+    const double double_vs_extended = trajectory::metric_value(
+        trajectory::compare_trajectories(d.table, a.extended.table), "rotation");
     const double extended_vs_quad = distance(a.extended, a.quad, "rotation");
     INFO("double estimate " << d.estimate.value << ", double vs quad " << double_vs_quad
                             << ", double vs extended " << double_vs_extended
@@ -180,8 +180,8 @@ TEST_CASE("Andrews' squeezer in extended and quad: agreement with double, joints
   }
 
   SECTION("the joint reactions in quad agree with double's") {
-    const studies::TrajectoryTable& d = a.double_reference.table;
-    const studies::TrajectoryTable& q = a.quad.table;
+    const trajectory::TrajectoryTable& d = a.double_reference.table;
+    const trajectory::TrajectoryTable& q = a.quad.table;
     REQUIRE(d.columns == q.columns);
     double largest = 0.0;
     double worst = 0.0;

@@ -19,7 +19,7 @@
 #include "precision/ode_system.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/build_model.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
 
@@ -146,7 +146,7 @@ inline int check_against_core_model(const scene::SceneSpec& spec,
     core::Trajectory trajectory;
     trajectory.times = {t};
     trajectory.states = {state};
-    const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
+    const trajectory::TrajectoryTable table = trajectory::tabulate(model, trajectory);
     const std::vector<double> row = tpl.output_row(t, y);
     // The integrals are NaN in the double tabulation (no integrator), and so is the balance.
     REQUIRE(row.size() + 1 == table.columns.size());

@@ -61,7 +61,7 @@ TEST_CASE("compare measures a quad difference far below double's resolution", "[
   const Quad moved = Quad(reference.text[row][point_x]) + Quad(1e-25);
   shifted.text[row][point_x] = quad_text(moved);
   REQUIRE(static_cast<double>(moved) == static_cast<double>(Quad(reference.text[row][point_x])));
-  const studies::ComparisonReport precise = compare_precisely(shifted, reference);
+  const trajectory::ComparisonReport precise = compare_precisely(shifted, reference);
   // 1e-25 to the rounding of the decimal texts (36 digits of ~0.1: 1e-37) and of the double
   // 1e-25 itself in quad (1e-41): 1e-6 relative is loose.
   CHECK(std::abs(precise.max_point_linf - 1e-25) <= 1e-6 * 1e-25);
@@ -69,13 +69,13 @@ TEST_CASE("compare measures a quad difference far below double's resolution", "[
                    << precise.max_point_linf);
   CHECK(precise.max_rotation_linf == 0.0);
   // The same files through double: the difference is gone (what compare did before).
-  studies::TrajectoryTable a = run.table, b = run.table;
+  trajectory::TrajectoryTable a = run.table, b = run.table;
   a.rows[row][point_x + 1] = static_cast<double>(moved);
-  CHECK(studies::compare_trajectories(a, b).max_point_linf == 0.0);
+  CHECK(trajectory::compare_trajectories(a, b).max_point_linf == 0.0);
   // Extended against quad, each parsed in its own precision: the same as precision::distance
   // (which parses the same way), to the rounding of the reductions (1e-12 relative is loose).
   const HighPrecisionRun ext = solve_high_precision(spec, times, Precision::kExtended, 1e-16);
-  const studies::ComparisonReport mixed =
+  const trajectory::ComparisonReport mixed =
       compare_precisely(table_of(ext, Precision::kExtended), reference);
   const double expected = distance(ext, run, "rotation+points");
   INFO("compare " << std::setprecision(17) << mixed.default_metric() << ", distance " << expected);

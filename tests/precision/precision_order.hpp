@@ -11,7 +11,7 @@
 #include "precision/high_precision_reference.hpp"
 #include "scene/build_model.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/error_metrics.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::precision {
 
@@ -64,9 +64,9 @@ inline void check_precision_order(
   spec.end_time = std::min(spec.end_time, end_time);
   const std::vector<double> times = core::output_times(spec.end_time, spec.output_step);
   HighPrecisionRun quad, ext;
-  const studies::CertifiedReference q = certified_high_precision_reference(
+  const trajectory::CertifiedReference q = certified_high_precision_reference(
       spec, times, Precision::kQuad, 1e-26, "rotation+points", &quad, formulation);
-  const studies::CertifiedReference e = certified_high_precision_reference(
+  const trajectory::CertifiedReference e = certified_high_precision_reference(
       spec, times, Precision::kExtended, 1e-16, "rotation+points", &ext, formulation);
   const double ext_vs_quad = distance(ext, quad, "rotation+points");
   INFO("quad estimate " << q.estimate.value << ", extended estimate " << e.estimate.value
@@ -78,10 +78,10 @@ inline void check_precision_order(
   const core::Model model = scene::build_model(spec, formulation);
   reference::SolverOptions o;
   o.rtol = 1e-12;
-  const studies::CertifiedReference d = studies::certified_reference(
+  const trajectory::CertifiedReference d = trajectory::certified_reference(
       model, times, "cvode", o, "rotation+points", {.use_exact_solution = false});
-  const double double_vs_quad =
-      studies::metric_value(studies::compare_trajectories(d.table, q.table), "rotation+points");
+  const double double_vs_quad = trajectory::metric_value(
+      trajectory::compare_trajectories(d.table, q.table), "rotation+points");
   INFO("double estimate " << d.estimate.value << ", double vs quad " << double_vs_quad);
   CHECK(double_vs_quad <= d.estimate.value);
   CHECK(ext_vs_quad < double_vs_quad);

@@ -15,8 +15,8 @@
 #include "precision/high_precision_reference.hpp"
 #include "precision/precision.hpp"
 #include "scene/scene_spec.hpp"
-#include "studies/certified_reference.hpp"
 #include "tests/precision/precision_order.hpp"
+#include "trajectory/certified_reference.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -27,7 +27,7 @@ TEST_CASE("roundoff_scale adds the angle and the path the motion can sweep", "[p
   // the speed |v_WBo| + |ω̄| |p_WP − p_WBo|, 10 m/s for r, not the chords); body c turns at
   // 1 rad/s. Body c's point s has no body velocity columns, so its path is the polyline through
   // its outputs, 3 + 4 = 7 m.
-  studies::TrajectoryTable table;
+  trajectory::TrajectoryTable table;
   table.columns = {"t",     "b.x",   "b.y",  "b.z",  "b.e0", "b.e1",  "b.e2",  "b.e3",  "b.vx",
                    "b.vy",  "b.vz",  "b.W1", "b.W2", "b.W3", "b.p.x", "b.p.y", "b.p.z", "b.r.x",
                    "b.r.y", "b.r.z", "c.W1", "c.W2", "c.W3", "c.s.x", "c.s.y", "c.s.z"};
@@ -49,7 +49,7 @@ TEST_CASE("roundoff_scale adds the angle and the path the motion can sweep", "[p
         Approx(std::numbers::pi + 2.0 + sweep_angle + sweep_path).epsilon(1e-14));
   // Without b's velocity columns its points fall back to their polylines: r's two chords of
   // 2 × 2 sin(2.5) = 2.39 m each (4.79 m) are shorter than s's 7 m.
-  studies::TrajectoryTable no_velocity = table;
+  trajectory::TrajectoryTable no_velocity = table;
   for (const char* name : {"b.vx", "b.vy", "b.vz"}) {
     no_velocity.columns[static_cast<std::size_t>(no_velocity.column(name))] =
         std::string("b.") + (name + 2) + "_";
@@ -63,7 +63,7 @@ TEST_CASE("roundoff_scale adds a node's elastic speed", "[precision]") {
   // Body b stands still; its point n at 1 m is a node with ‖Φ_k‖_F = 2 whose modal rates are
   // (3, 4) at t = 1 s: |A Φ_k q̇_f| ≤ 2 × 5 = 10 m/s over T = 1 s. Without the node the point
   // sweeps nothing (its rigid-motion speed is 0): the scale is its t0 distance alone.
-  studies::TrajectoryTable table;
+  trajectory::TrajectoryTable table;
   table.columns = {"t",    "b.x",  "b.y",   "b.z",   "b.vx",  "b.vy",  "b.vz", "b.W1",
                    "b.W2", "b.W3", "b.n.x", "b.n.y", "b.n.z", "b.qd1", "b.qd2"};
   table.rows.push_back({0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0});
@@ -126,14 +126,14 @@ TEST_CASE("the extended estimate bounds a fast spin's round-off", "[precision]")
   const std::vector<double> times = core::output_times(spec.end_time, spec.output_step);
   const HighPrecisionRun exact = exact_high_precision(spec, times, Precision::kQuad);
   HighPrecisionRun ext;
-  const studies::CertifiedReference e = certified_high_precision_reference(
+  const trajectory::CertifiedReference e = certified_high_precision_reference(
       spec, times, Precision::kExtended, 1e-16, "rotation+points", &ext);
   const double error = distance(ext, exact, "rotation+points");
   REQUIRE(e.estimate.checks.size() == 1);
   const double old_bound = 2.0 * e.estimate.checks[0].distance +
                            unit_roundoff(Precision::kExtended) *
                                static_cast<double>(ext.evaluations) *
-                               studies::solution_scale(ext.table, "rotation+points");
+                               trajectory::solution_scale(ext.table, "rotation+points");
   INFO("error " << error << ", estimate " << e.estimate.value << ", t0-extent bound " << old_bound);
   CHECK(error <= e.estimate.value);
   // The case still tells the two bounds apart (else it no longer guards the sweep term).

@@ -11,9 +11,9 @@
 #include "core/step_limit.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/support/scene_error_checks.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 namespace {
@@ -486,7 +486,7 @@ TEST_CASE("the CSV of a dissipating model has dissipated work and the energy bal
   trajectory.states[1][0].p_WBr.z() = 0.9;
   trajectory.states[2][1].v_WBr.x() = 0.125;
   trajectory.dissipated_work = {0.0, 0.25, 1.0 / 3.0};
-  const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
+  const trajectory::TrajectoryTable table = trajectory::tabulate(model, trajectory);
   const int e = table.column("energy");
   const int w = table.column("dissipated_work");
   const int b = table.column("energy_balance");
@@ -507,8 +507,8 @@ TEST_CASE("the CSV of a dissipating model has dissipated work and the energy bal
 
   const testing::TempDir dir("contact-scene");
   const std::string path = (dir / "round_trip.csv").string();
-  studies::write_csv(table, path);
-  const studies::TrajectoryTable back = studies::read_csv(path);
+  trajectory::write_csv(table, path);
+  const trajectory::TrajectoryTable back = trajectory::read_csv(path);
   CHECK(back.columns == table.columns);
   REQUIRE(back.rows.size() == table.rows.size());
   for (std::size_t r = 0; r < table.rows.size(); ++r) CHECK(back.rows[r] == table.rows[r]);
@@ -516,7 +516,7 @@ TEST_CASE("the CSV of a dissipating model has dissipated work and the energy bal
   // Without W_d from the integrator the columns stay, as NaN: every file of a scene has the
   // same columns.
   trajectory.dissipated_work.clear();
-  const studies::TrajectoryTable untracked = studies::tabulate(model, trajectory);
+  const trajectory::TrajectoryTable untracked = trajectory::tabulate(model, trajectory);
   CHECK(untracked.columns == table.columns);
   CHECK(std::isnan(untracked.rows[1][static_cast<std::size_t>(w)]));
 }
@@ -524,7 +524,7 @@ TEST_CASE("the CSV of a dissipating model has dissipated work and the energy bal
 TEST_CASE("a conservative model has no dissipation columns", "[app][csv][contact]") {
   const scene::Scene s = scene::parse_scene(kHead, "t.toml");
   CHECK_FALSE(s.model->dissipates());
-  const std::vector<std::string> columns = studies::trajectory_columns(*s.model);
+  const std::vector<std::string> columns = trajectory::trajectory_columns(*s.model);
   CHECK(columns.back() == "energy");
 }
 

@@ -12,7 +12,7 @@
 #include "reference/reference_solver.hpp"
 #include "scene/build_model.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/certified_reference.hpp"
+#include "trajectory/certified_reference.hpp"
 
 namespace flexref {
 namespace {
@@ -37,19 +37,19 @@ TEST_CASE("contact references: the energy balance converges with the tolerance",
     const core::Model model = scene::build_model(spec);
     const std::vector<double> t = grid(slice.end_time, slice.output_step);
     for (const std::string solver : {"cvode", "ida", "arkode", "odeint"}) {
-      std::vector<studies::ReferenceEstimate> estimates;
+      std::vector<trajectory::ReferenceEstimate> estimates;
       for (const double rtol : {1e-9, 1e-11}) {
         reference::SolverOptions o;
         o.rtol = rtol;
-        const studies::CertifiedReference ref =
-            studies::certified_reference(model, t, solver, o, "rotation+points");
-        const studies::ReferenceEstimate& e = ref.estimate;
+        const trajectory::CertifiedReference ref =
+            trajectory::certified_reference(model, t, solver, o, "rotation+points");
+        const trajectory::ReferenceEstimate& e = ref.estimate;
         INFO(slice.scene << ", " << solver << " rtol " << rtol << ": "
-                         << studies::describe_energy_balance(e) << "; state "
-                         << studies::describe_estimate(e));
+                         << trajectory::describe_energy_balance(e) << "; state "
+                         << trajectory::describe_estimate(e));
         REQUIRE(std::isfinite(e.energy_balance));
         REQUIRE(std::isfinite(e.energy_estimate));
-        CHECK(e.energy_balance == studies::largest_energy_balance(ref.table).value);
+        CHECK(e.energy_balance == trajectory::largest_energy_balance(ref.table).value);
         // B_run − B_check = ΔE + ΔW_d − ΔW_a for each check, so |B_run| ≤ |B_check| + 3 max|Δ|
         // = |B_check| + 1.5 × energy_estimate; a check 100× tighter has |B_check| ≤ |B_run|/10
         // when B converges (below), so |B_run| ≤ 1.5/0.9 = 1.7 × energy_estimate when B is the

@@ -16,10 +16,10 @@
 #include "scene/build_model.hpp"
 #include "scene/modal_data_reader.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/support/flexible_models.hpp"
 #include "tests/support/scene_error_checks.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 namespace {
@@ -445,7 +445,7 @@ TEST_CASE("trajectory CSV of flexible and prescribed bodies: columns and round t
     trajectory.times.push_back(t);
     trajectory.states.push_back(state);
   }
-  const studies::TrajectoryTable table = studies::tabulate(model, trajectory);
+  const trajectory::TrajectoryTable table = trajectory::tabulate(model, trajectory);
   const std::vector<std::string> expected_tail = {
       "beam.W3",  "beam.tip.x", "beam.tip.y",        "beam.tip.z", "beam.q1",
       "beam.q2",  "beam.q3",    "beam.q4",           "beam.qd1",   "beam.qd2",
@@ -480,8 +480,8 @@ TEST_CASE("trajectory CSV of flexible and prescribed bodies: columns and round t
 
   const testing::TempDir dir("flexible-round-trip");
   const auto path = dir / "round_trip.csv";
-  studies::write_csv(table, path.string());
-  const studies::TrajectoryTable back = studies::read_csv(path.string());
+  trajectory::write_csv(table, path.string());
+  const trajectory::TrajectoryTable back = trajectory::read_csv(path.string());
   CHECK(back.columns == table.columns);
   CHECK(back.rows == table.rows);
 }

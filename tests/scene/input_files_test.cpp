@@ -22,10 +22,10 @@
 #include "scene/calculix_matrices.hpp"
 #include "scene/modal_data_reader.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/reference_sidecar.hpp"
-#include "studies/trajectory_contract.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "trajectory/reference_sidecar.hpp"
+#include "trajectory/trajectory_contract.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref {
 namespace {
@@ -85,8 +85,8 @@ TEST_CASE("every reader refuses a FIFO at once, naming it", "[scene][io]") {
        [](const std::string& p) { (void)scene::read_calculix_matrix(p, 3); }},
       {"read_calculix_node_set",
        [](const std::string& p) { (void)scene::read_calculix_node_set(p, "ROOT"); }},
-      {"read_csv", [](const std::string& p) { (void)studies::read_csv(p); }},
-      {"read_run_csv", [](const std::string& p) { (void)studies::read_run_csv(p); }},
+      {"read_csv", [](const std::string& p) { (void)trajectory::read_csv(p); }},
+      {"read_run_csv", [](const std::string& p) { (void)trajectory::read_run_csv(p); }},
   };
   for (const auto& [name, read] : readers) {
     INFO(name);
@@ -97,7 +97,7 @@ TEST_CASE("every reader refuses a FIFO at once, naming it", "[scene][io]") {
   std::ofstream(tmp.path() / "run.csv") << csv;
   const std::string message =
       message_on_fifo(tmp.path() / "run.csv.meta.toml", "[integrator]\n", [&](const std::string&) {
-        (void)studies::read_reference_sidecar((tmp.path() / "run.csv").string());
+        (void)trajectory::read_reference_sidecar((tmp.path() / "run.csv").string());
       });
   CHECK_THAT(message, Contains("run.csv.meta.toml") && Contains("FIFO"));
 }

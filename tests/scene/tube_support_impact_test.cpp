@@ -18,7 +18,7 @@
 #include "reference/reference_solver.hpp"
 #include "scene/build_model.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref {
 namespace {
@@ -36,7 +36,7 @@ struct Columns {
 };
 
 Columns columns(const core::Model& model, const reference::ReferenceRun& run) {
-  const studies::TrajectoryTable table = studies::tabulate(model, run.trajectory);
+  const trajectory::TrajectoryTable table = trajectory::tabulate(model, run.trajectory);
   Columns c;
   const int e = table.column("energy"), wd = table.column("dissipated_work"),
             wa = table.column("applied_work"), b = table.column("energy_balance"),
@@ -180,7 +180,7 @@ TEST_CASE("tube_support_impact: the schemes' wear work converges at second order
     for (const double h : {2.5e-5, 1.25e-5, 6.25e-6}) {
       const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(name, model);
       const core::Trajectory run = lie::run_scheme(model, *stepper, h, t);
-      const studies::TrajectoryTable table = studies::tabulate(model, run);
+      const trajectory::TrajectoryTable table = trajectory::tabulate(model, run);
       const double wear =
           table.rows.back()[static_cast<std::size_t>(table.column("support.wear_work"))];
       errors.push_back(std::abs(wear - reference_wear) / reference_wear);

@@ -10,9 +10,9 @@
 #include "contact/gap_support.hpp"
 #include "core/applied_load.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/error_metrics.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/support/scene_error_checks.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 namespace flexref {
 namespace {
@@ -65,7 +65,7 @@ TEST_CASE("gap supports, node forces and harmonic profiles are read") {
   REQUIRE(m.wear_channel_names() == std::vector<std::string>{"support"});
   CHECK(m.switching_function_count() == 1);
   CHECK(m.tracks_applied_work());
-  const std::vector<std::string> columns = studies::trajectory_columns(m);
+  const std::vector<std::string> columns = trajectory::trajectory_columns(m);
   for (const char* c : {"applied_work", "support.fn", "support.slip_speed", "support.wear_work",
                         "support.impacts"}) {
     CHECK(std::find(columns.begin(), columns.end(), c) != columns.end());
@@ -172,17 +172,18 @@ TEST_CASE("bad node, gap-support and profile keys are refused at their line and 
 }
 
 TEST_CASE("the wear metric is the relative error of each contact's final wear work") {
-  studies::TrajectoryTable a, b;
+  trajectory::TrajectoryTable a, b;
   a.columns = b.columns = {"t", "c.wear_work", "d.wear_work"};
   a.rows = {{0.0, 0.0, 0.0}, {1.0, 2.2, 3.0}};
   b.rows = {{0.0, 0.0, 0.0}, {1.0, 2.0, 3.0}};
-  const studies::ComparisonReport r = studies::compare_trajectories(a, b);
-  CHECK(studies::metric_value(r, "wear") == Approx(0.1).epsilon(1e-12));
-  studies::TrajectoryTable plain;
+  const trajectory::ComparisonReport r = trajectory::compare_trajectories(a, b);
+  CHECK(trajectory::metric_value(r, "wear") == Approx(0.1).epsilon(1e-12));
+  trajectory::TrajectoryTable plain;
   plain.columns = {"t"};
   plain.rows = {{0.0}, {1.0}};
-  CHECK_THROWS_WITH(studies::metric_value(studies::compare_trajectories(plain, plain), "wear"),
-                    Catch::Matchers::Contains("named contact"));
+  CHECK_THROWS_WITH(
+      trajectory::metric_value(trajectory::compare_trajectories(plain, plain), "wear"),
+      Catch::Matchers::Contains("named contact"));
 }
 
 }  // namespace

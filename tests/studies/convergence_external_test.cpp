@@ -9,8 +9,8 @@
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "studies/convergence.hpp"
-#include "studies/trajectory_contract.hpp"
 #include "tests/support/test_problems.hpp"
+#include "trajectory/trajectory_contract.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -19,7 +19,8 @@ namespace {
 /// parameters and the angular velocity, as columns in memory.
 ExternalLevel c2_as_external(const core::Model& model, const std::vector<double>& times, double h) {
   const auto stepper = lie::make_stepper("c2", model);
-  const TrajectoryTable table = tabulate(model, lie::run_scheme(model, *stepper, h, times));
+  const trajectory::TrajectoryTable table =
+      trajectory::tabulate(model, lie::run_scheme(model, *stepper, h, times));
   std::vector<std::string> names{"t"};
   for (const char* s : {".e0", ".e1", ".e2", ".e3", ".W1", ".W2", ".W3"}) {
     names.push_back("spinner" + std::string(s));
@@ -30,7 +31,7 @@ ExternalLevel c2_as_external(const core::Model& model, const std::vector<double>
       columns[c].push_back(row[static_cast<std::size_t>(table.column(names[c]))]);
     }
   }
-  return {run_from_columns("c2 at h", names, columns), 0.0};
+  return {trajectory::run_from_columns("c2 at h", names, columns), 0.0};
 }
 
 TEST_CASE("an external method is studied like a registered scheme", "[studies][convergence]") {

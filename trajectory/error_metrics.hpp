@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 struct ErrorNorms {
   double linf = 0.0;
@@ -63,7 +63,7 @@ struct ComparisonReport {
   int point_count = 0;             ///< tracked points measured
   int modal_count = 0;             ///< flexible bodies measured in their modal coordinates
   std::size_t rows = 0;            ///< output times compared
-  /// Set by the trajectory contract (studies/trajectory_contract.hpp) for files of other codes:
+  /// Set by the trajectory contract (trajectory/trajectory_contract.hpp) for files of other codes:
   /// run columns that no quantity measures (unknown to flexref, or not an error quantity such
   /// as `energy`), and the largest |t_run − t_ref| accepted when matching rows.
   std::vector<std::string> ignored_columns;
@@ -109,4 +109,4 @@ double metric_saturation(const ComparisonReport& report, const std::string& metr
 /// one; throws like metric_value.
 std::string metric_bounds_text(const ComparisonReport& report, const std::string& metric);
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -1,4 +1,4 @@
-#include "studies/trajectory_contract.hpp"
+#include "trajectory/trajectory_contract.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -13,8 +13,9 @@
 
 #include "core/error.hpp"
 #include "io/input_file.hpp"
+#include "trajectory/column_layout.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 std::string trim(const std::string& s) {
@@ -65,64 +66,9 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
-bool all_digits(const std::string& s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
-}
-
-/// The groups of the standard columns: a run is compared in a group only when it has all of
-/// its columns.
-const std::vector<std::pair<const char*, std::vector<std::string>>>& rigid_groups() {
-  static const std::vector<std::pair<const char*, std::vector<std::string>>> groups{
-      {"a position", {"x", "y", "z"}},
-      {"Euler parameters", {"e0", "e1", "e2", "e3"}},
-      {"a velocity", {"vx", "vy", "vz"}},
-      {"an angular velocity", {"W1", "W2", "W3"}},
-      // An ideal joint's reaction on its first body (docs/output.md, "Joints").
-      {"a reaction force", {"fx", "fy", "fz"}},
-      {"a reaction torque", {"tx", "ty", "tz"}}};
-  return groups;
-}
-
-/// What a column name means under the contract (names have no dots: scenes/README.md).
-struct ColumnName {
-  bool standard = false;  ///< looks like a state column `B.<suffix>` or `B.P.<x|y|z>`
-  std::string body;
-  std::string point;      ///< for `B.P.x`
-  std::string suffix;     ///< after the body (or the point)
-  bool measured = false;  ///< belongs to an error quantity (not qd, drive_torque)
-};
-
-ColumnName classify(const std::string& name) {
-  ColumnName c;
-  const auto dot = name.find('.');
-  if (dot == std::string::npos || dot == 0) return c;
-  c.body = name.substr(0, dot);
-  const std::string rest = name.substr(dot + 1);
-  const auto dot2 = rest.find('.');
-  if (dot2 != std::string::npos) {
-    c.point = rest.substr(0, dot2);
-    c.suffix = rest.substr(dot2 + 1);
-    c.standard = !c.point.empty() && (c.suffix == "x" || c.suffix == "y" || c.suffix == "z");
-    c.measured = c.standard;
-    return c;
-  }
-  c.suffix = rest;
-  for (const auto& [what, group] : rigid_groups()) {
-    if (std::find(group.begin(), group.end(), rest) != group.end()) c.standard = c.measured = true;
-  }
-  if (rest.size() > 1 && rest[0] == 'q' && all_digits(rest.substr(1)))
-    c.standard = c.measured = true;
-  if (rest.size() > 2 && rest.starts_with("qd") && all_digits(rest.substr(2))) c.standard = true;
-  if (rest == "drive_torque") c.standard = true;
-  // Named contacts' outputs (docs/output.md "Wear outputs"): the wear work is measured.
-  if (rest == "fn" || rest == "slip_speed" || rest == "impacts") c.standard = true;
-  if (rest == "wear_work") c.standard = c.measured = true;
-  // An ideal joint's position-constraint violation is measured (the `violation` metric), its
-  // velocity violation is known but not an error quantity.
-  if (rest == "phi") c.standard = c.measured = true;
-  if (rest == "phi_dot") c.standard = true;
-  return c;
-}
+/// A column of the contract (trajectory/column_layout.hpp): a body's, point's, joint's or
+/// named contact's known column (not `t`, not the energy columns).
+bool is_standard(const Column& c) { return c.kind != ColumnKind::unknown && !c.owner.empty(); }
 
 core::InputError error_at(const RunData& data, std::size_t row, const std::string& column,
                           const std::string& what) {
@@ -179,21 +125,21 @@ struct Group {
   bool euler = false;
 };
 std::vector<Group> measured_groups(const RunData& data) {
-  const auto& cols = data.table.columns;
+  const ColumnLayout layout = ColumnLayout::parse(data.table.columns);
   std::vector<Group> groups;
   std::set<std::string> done;
-  for (std::size_t i = 0; i < cols.size(); ++i) {
-    const ColumnName c = classify(cols[i]);
-    if (!c.measured) continue;
-    if (!c.point.empty()) {
-      const std::string stem = c.body + "." + c.point;
+  for (std::size_t i = 0; i < layout.size(); ++i) {
+    const Column& c = layout[i];
+    if (!is_measured(c.kind)) continue;
+    if (c.kind == ColumnKind::point) {
+      const std::string stem = c.owner + "." + c.point;
       if (!done.insert(stem).second) continue;
       Group g;
-      for (const char* s : {".x", ".y", ".z"}) {
-        const int j = data.table.column(stem + s);
+      for (int k = 0; k < group_size(c.kind); ++k) {
+        const int j = layout.find(c.kind, c.owner, k, c.point);
         if (j < 0) {
           throw core::InputError(
-              data.source, data.header_line, stem + s,
+              data.source, data.header_line, column_name(c.kind, c.owner, k, c.point),
               "missing: point " + stem + " is compared as the group " + stem + ".x, .y, .z");
         }
         g.columns.push_back(static_cast<std::size_t>(j));
@@ -201,29 +147,27 @@ std::vector<Group> measured_groups(const RunData& data) {
       groups.push_back(std::move(g));
       continue;
     }
-    if (c.suffix[0] == 'q' || c.suffix == "wear_work" || c.suffix == "phi") {
+    if (group_size(c.kind) == 1) {  // a mode, a joint's violation, a contact's wear work
       groups.push_back({{i}, false});
       continue;
     }
-    for (const auto& [what, group] : rigid_groups()) {
-      if (std::find(group.begin(), group.end(), c.suffix) == group.end()) continue;
-      if (!done.insert(c.body + "." + group[0]).second) break;
-      Group g;
-      g.euler = group[0] == "e0";
-      for (const std::string& s : group) {
-        const int j = data.table.column(c.body + "." + s);
-        if (j < 0) {
-          std::string all;
-          for (const std::string& t : group) all += (all.empty() ? "" : ", ") + c.body + "." + t;
-          throw core::InputError(data.source, data.header_line, c.body + "." + s,
-                                 std::string("missing: ") + what + " of " + c.body +
-                                     " are compared as the group " + all);
+    if (!done.insert(column_name(c.kind, c.owner, 0)).second) continue;
+    Group g;
+    g.euler = c.kind == ColumnKind::rotation;
+    for (int k = 0; k < group_size(c.kind); ++k) {
+      const int j = layout.find(c.kind, c.owner, k);
+      if (j < 0) {
+        std::string all;
+        for (int m = 0; m < group_size(c.kind); ++m) {
+          all += (all.empty() ? "" : ", ") + column_name(c.kind, c.owner, m);
         }
-        g.columns.push_back(static_cast<std::size_t>(j));
+        throw core::InputError(data.source, data.header_line, column_name(c.kind, c.owner, k),
+                               std::string("missing: ") + group_name(c.kind) + " of " + c.owner +
+                                   " are compared as the group " + all);
       }
-      groups.push_back(std::move(g));
-      break;
+      g.columns.push_back(static_cast<std::size_t>(j));
     }
+    groups.push_back(std::move(g));
   }
   return groups;
 }
@@ -402,31 +346,25 @@ ComparisonReport compare_run(const RunData& run, const TrajectoryTable& referenc
   const std::size_t t_col = time_column(run);
 
   // Columns: known ones are compared, unknown ones ignored, names of absent bodies refused.
-  std::vector<std::string> bodies;
-  for (const std::string& c : reference.columns) {
-    const ColumnName n = classify(c);
-    if (n.standard && std::find(bodies.begin(), bodies.end(), n.body) == bodies.end()) {
-      bodies.push_back(n.body);
-    }
-  }
+  const std::vector<std::string> bodies = ColumnLayout::parse(reference.columns).owners();
   std::vector<std::string> ignored;
   for (std::size_t c = 0; c < run.table.columns.size(); ++c) {
     const std::string& name = run.table.columns[c];
     if (c == t_col) continue;
-    const ColumnName n = classify(name);
+    const Column n = parse_column(name);
     const bool in_reference = reference.column(name) >= 0;
-    if (!in_reference && n.standard) {
-      if (std::find(bodies.begin(), bodies.end(), n.body) == bodies.end()) {
+    if (!in_reference && is_standard(n)) {
+      if (std::find(bodies.begin(), bodies.end(), n.owner) == bodies.end()) {
         throw core::InputError(run.source, run.header_line, name,
-                               "unknown body '" + n.body +
+                               "unknown body '" + n.owner +
                                    "' (the reference's bodies and joints: " + join(bodies) + ")");
       }
       throw core::InputError(run.source, run.header_line, name,
-                             "body " + n.body + " has no such " +
+                             "body " + n.owner + " has no such " +
                                  (n.point.empty() ? "column" : "point '" + n.point + "'") +
                                  " in the reference");
     }
-    if (!in_reference || !n.measured) ignored.push_back(name);
+    if (!in_reference || !is_measured(n.kind)) ignored.push_back(name);
   }
   const std::vector<Group> groups = measured_groups(run);
   if (groups.empty()) {
@@ -524,4 +462,4 @@ ComparisonReport compare_run(const RunData& run, const TrajectoryTable& referenc
   return report;
 }
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -1,4 +1,4 @@
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 #include <array>
 #include <cerrno>
@@ -14,8 +14,9 @@
 #include "core/error.hpp"
 #include "io/input_file.hpp"
 #include "io/output_file.hpp"
+#include "trajectory/column_layout.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 int TrajectoryTable::column(const std::string& name) const {
   for (std::size_t i = 0; i < columns.size(); ++i) {
@@ -25,75 +26,11 @@ int TrajectoryTable::column(const std::string& name) const {
 }
 
 std::vector<std::string> trajectory_columns(const core::Model& model) {
-  std::vector<std::string> names{"t"};
-  for (const core::Body& b : model.bodies()) {
-    const std::string& n = b.name();
-    for (const char* c :
-         {".x", ".y", ".z", ".e0", ".e1", ".e2", ".e3", ".vx", ".vy", ".vz", ".W1", ".W2", ".W3"}) {
-      names.push_back(n + c);
-    }
-    // Points right after the rigid block: the error metrics find them there
-    // (studies/error_metrics.cpp).
-    for (const core::TrackedPoint& p : b.description().points) {
-      for (const char* c : {".x", ".y", ".z"}) names.push_back(n + "." + p.name + c);
-    }
-    for (int k = 1; k <= b.mode_count(); ++k) names.push_back(n + ".q" + std::to_string(k));
-    for (int k = 1; k <= b.mode_count(); ++k) names.push_back(n + ".qd" + std::to_string(k));
-    if (b.is_prescribed()) names.push_back(n + ".drive_torque");
-  }
-  // Ideal joints: the reaction on the first body (force, torque about the joint point; world)
-  // and the largest position and velocity violation of the joint's rows (docs/output.md).
-  if (model.has_constraints()) {
-    const core::ConstraintEquations& joints = *model.constraints();
-    for (int j = 0; j < joints.joint_count(); ++j) {
-      for (const char* c : {".fx", ".fy", ".fz", ".tx", ".ty", ".tz", ".phi", ".phi_dot"}) {
-        names.push_back(joints.joint_name(j) + c);
-      }
-    }
-  }
-  names.emplace_back("energy");
-  if (model.dissipates()) {
-    names.emplace_back("dissipated_work");
-    if (model.tracks_applied_work()) names.emplace_back("applied_work");
-    names.emplace_back("energy_balance");
-  }
-  // Wear outputs per named contact (docs/output.md).
-  for (const std::string& c : model.wear_channel_names()) {
-    for (const char* q : {".fn", ".slip_speed", ".wear_work", ".impacts"}) names.push_back(c + q);
-  }
-  return names;
+  return ColumnLayout::of(model).names();
 }
 
 std::vector<std::string> trajectory_units(const core::Model& model) {
-  std::vector<std::string> units{"s"};
-  for (const core::Body& b : model.bodies()) {
-    for (const char* u :
-         {"m", "m", "m", "-", "-", "-", "-", "m/s", "m/s", "m/s", "rad/s", "rad/s", "rad/s"}) {
-      units.emplace_back(u);
-    }
-    units.insert(units.end(), 3 * b.description().points.size(), "m");
-    units.insert(units.end(), static_cast<std::size_t>(b.mode_count()), "modal");
-    units.insert(units.end(), static_cast<std::size_t>(b.mode_count()), "modal/s");
-    if (b.is_prescribed()) units.emplace_back("N*m");
-  }
-  if (model.has_constraints()) {
-    for (int j = 0; j < model.constraints()->joint_count(); ++j) {
-      for (const char* u : {"N", "N", "N", "N*m", "N*m", "N*m", "m|rad", "m/s|rad/s"}) {
-        units.emplace_back(u);
-      }
-    }
-  }
-  units.emplace_back("J");
-  if (model.dissipates()) {
-    units.emplace_back("J");
-    if (model.tracks_applied_work()) units.emplace_back("J");
-    units.emplace_back("J");
-  }
-  // Per named contact: normal force, slip speed, wear work, impacts (docs/output.md).
-  for (std::size_t c = 0; c < model.wear_channel_names().size(); ++c) {
-    for (const char* u : {"N", "m/s", "J", "-"}) units.emplace_back(u);
-  }
-  return units;
+  return ColumnLayout::of(model).units();
 }
 
 TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& trajectory) {
@@ -251,6 +188,16 @@ TrajectoryTable read_csv(const std::string& path) {
   if (table.columns.empty() || table.columns[0] != "t") {
     throw core::InputError(path, 1, "t", "the first column must be 't'");
   }
+  // Every column one of a trajectory's (trajectory/column_layout.hpp): a table this reads was
+  // written by write_csv.
+  const ColumnLayout layout = ColumnLayout::parse(table.columns);
+  for (const Column& c : layout.columns()) {
+    if (c.kind != ColumnKind::unknown) continue;
+    throw core::InputError(path, 1, c.name,
+                           "not a trajectory column (docs/output.md: t, B.x .. B.W3, B.P.x, "
+                           "B.q1, B.qd1, B.drive_torque, J.fx .. J.phi_dot, energy, "
+                           "dissipated_work, applied_work, energy_balance, C.fn .. C.impacts)");
+  }
   while (std::getline(in, line)) {
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -282,4 +229,4 @@ TrajectoryTable read_csv(const std::string& path) {
   return table;
 }
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

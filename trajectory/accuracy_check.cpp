@@ -1,9 +1,9 @@
-#include "studies/accuracy_check.hpp"
+#include "trajectory/accuracy_check.hpp"
 
 #include <sstream>
 #include <stdexcept>
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 void check_accuracy_check_rtol(const std::string& study, double rtol, double estimate_factor) {
   const double check = accuracy_check_rtol(rtol, estimate_factor);
@@ -19,4 +19,4 @@ void check_accuracy_check_rtol(const std::string& study, double rtol, double est
   throw std::invalid_argument(out.str());
 }
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -1,9 +1,9 @@
 /// \file certified_reference_test.cpp
-/// The error estimate of a reference (studies/certified_reference.hpp): never zero, never from
+/// The error estimate of a reference (trajectory/certified_reference.hpp): never zero, never from
 /// the run's own steps, never optimistic and at most 100× pessimistic (the numerical estimate
 /// against the exact error on short scenes here; on every exact scene, solver and tolerance in
 /// estimate_quality_study_test.cpp), and recorded with how it was made.
-#include "studies/certified_reference.hpp"
+#include "trajectory/certified_reference.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -16,12 +16,13 @@
 #include "reference/exact_solution.hpp"
 #include "reference/reference_solver.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/error_metrics.hpp"
-#include "studies/study_refused.hpp"
+#include "studies/reference_record.hpp"
 #include "tests/support/exact_scenes.hpp"
 #include "tests/support/test_problems.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/study_refused.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 constexpr const char* kMetric = "rotation+points";
@@ -88,8 +89,8 @@ TEST_CASE("a check that repeats the run or agrees exactly is not an estimate", "
   }
   CHECK(std::isinf(r.estimate.value));
   CHECK(r.estimate.method.find("none") == 0);
-  StudyRecord record;
-  add_reference(record, r);
+  studies::StudyRecord record;
+  studies::add_reference(record, r);
   CHECK(record.to_toml().find("estimated_error = inf") != std::string::npos);
 }
 
@@ -123,8 +124,8 @@ TEST_CASE("a check that fails is left out, with why, and the run stands", "[esti
   } else {
     CHECK(std::isinf(r.estimate.value));
   }
-  StudyRecord record;
-  add_reference(record, r);
+  studies::StudyRecord record;
+  studies::add_reference(record, r);
   const std::string toml = record.to_toml();
   CHECK(toml.find("the check failed: ") != std::string::npos);
   CHECK(toml.find("nan") == std::string::npos);  // no distance is written for the failed one
@@ -140,8 +141,8 @@ TEST_CASE("with an exact solution the estimate is the distance to it", "[estimat
   CHECK(r.estimate.checks[0].role == "exact");
   CHECK(r.estimate.value == r.estimate.checks[0].distance);
   CHECK(r.estimate.value == true_error(model, times, r));
-  StudyRecord record;
-  add_reference(record, r);
+  studies::StudyRecord record;
+  studies::add_reference(record, r);
   const std::string toml = record.to_toml();
   CHECK(toml.find("[[reference.check]]\nrole = \"exact\"") != std::string::npos);
   CHECK(toml.find("estimate_method = \"distance to the exact solution") != std::string::npos);
@@ -169,8 +170,8 @@ TEST_CASE("the estimate's text says what was computed", "[estimate]") {
   CHECK(exact.estimate.method.find("two") == std::string::npos);
   // The exact run carries SolverOptions' default rtol, which it never used: not printed.
   CHECK(describe_reference_run(exact.run) == "exact solution (analytic, no tolerance)");
-  StudyRecord record;
-  add_reference(record, exact);
+  studies::StudyRecord record;
+  studies::add_reference(record, exact);
   CHECK(record.to_toml().find("solver = \"exact\"\nmethod = \"analytic\"") != std::string::npos);
   CHECK(record.to_toml().find("\nrtol = 0.0\n") != std::string::npos);
 
@@ -251,4 +252,4 @@ TEST_CASE("a reference whose error estimate exceeds the solution itself is refus
   CHECK(ok.estimate.estimate() < 1e-3 * solution_scale(ok.table, "rotation+points"));
 }
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -6,7 +6,7 @@
 #include <limits>
 #include <string>
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 /// A measured error is certified when it is at least this many times the reference's
 /// estimated error (docs/design/schemes.md: the reference then contributes at most 1 %).
@@ -35,10 +35,10 @@ struct ReferenceSidecar {
   bool has_estimate = false;  ///< it has [error_estimate] (not --no-estimate)
   std::string metric;         ///< [error_estimate] metric
   /// [error_estimate] estimate; +inf when the reference found no usable check (its error is
-  /// unknown, studies/certified_reference.hpp) — then nothing is certified against it.
+  /// unknown, trajectory/certified_reference.hpp) — then nothing is certified against it.
   double estimate = 0.0;
   std::string estimate_method;  ///< [error_estimate] method: how it was made, "" when absent
-  /// [error_estimate] energy_balance and energy_estimate, J (studies/certified_reference.hpp):
+  /// [error_estimate] energy_balance and energy_estimate, J (trajectory/certified_reference.hpp):
   /// the largest |E − E0 + W_d − W_a| and the estimated error of its terms; NaN when absent
   /// (a model that does not dissipate, or a file written before they were recorded).
   double energy_balance = std::numeric_limits<double>::quiet_NaN();
@@ -63,4 +63,4 @@ ReferenceSidecar read_reference_sidecar(const std::string& csv_path);
 /// metric.
 bool is_certified(double error, double estimate);
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -31,10 +31,9 @@
 
 #include "core/model.hpp"
 #include "reference/reference_solver.hpp"
-#include "studies/study_record.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 /// One comparison solution behind an estimate.
 struct EstimateCheck {
@@ -83,17 +82,6 @@ std::string cross_check_solver(const std::string& solver);
 /// model, else "cvode").
 std::string resolve_reference_solver(const std::string& solver, const core::Model& model,
                                      const std::vector<double>& output_times);
-
-/// The `[reference]` table a study records next to its results: solver, method and why, the
-/// Newton systems (implicit solvers), tolerance (0 for the exact solution), the estimate and how it
-/// was made, and one
-/// `[[reference.check]]` per comparison solution.
-void add_reference(StudyRecord& record, const CertifiedReference& reference);
-
-/// One `[[<array>]]` table per check of an estimate (role, solver, method, rtol, steps,
-/// distance, used, note).
-void add_estimate_checks(StudyRecord& record, const std::string& array,
-                         const ReferenceEstimate& estimate);
 
 /// The reference itself in one phrase: "cvode rtol 1e-12", or "exact solution (analytic, no
 /// tolerance)" for the exact solution, whose run carries an rtol it never used.
@@ -151,4 +139,4 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
                                  const std::string& metric,
                                  const EstimateOptions& estimate_options = {});
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -1,6 +1,6 @@
 #pragma once
 /// \file error_metrics_tpl.hpp
-/// The error norms of studies/error_metrics.hpp written once for any scalar type S: the double
+/// The error norms of trajectory/error_metrics.hpp written once for any scalar type S: the double
 /// comparison (compare_trajectories) instantiates it with double, and precision/ with long
 /// double or float128 to compare references beyond double without rounding their values to
 /// double before subtracting (docs/precision.md, "compare"). Only the reduced norms are
@@ -13,9 +13,10 @@
 #include <vector>
 
 #include "rotation/euler_parameters.hpp"
-#include "studies/error_metrics.hpp"
+#include "trajectory/column_layout.hpp"
+#include "trajectory/error_metrics.hpp"
 
-namespace flexref::studies::detail {
+namespace flexref::trajectory::detail {
 
 /// A measured quantity: its kind and the column indices (same in both tables).
 struct Item {
@@ -226,7 +227,7 @@ ComparisonReport compare_cells(const TrajectoryTable& shape, Cell cell) {
   // what a wear model consumes; its history is monotone).
   const std::vector<std::string>& cols = shape.columns;
   for (std::size_t i = 1; i < cols.size() && shape.size() > 0; ++i) {
-    if (!cols[i].ends_with(".wear_work")) continue;
+    if (parse_column(cols[i]).kind != ColumnKind::wear_work) continue;
     const std::size_t last = shape.size() - 1;
     const S a = cell(0, last, i);
     const S b = cell(1, last, i);
@@ -239,4 +240,4 @@ ComparisonReport compare_cells(const TrajectoryTable& shape, Cell cell) {
   return report;
 }
 
-}  // namespace flexref::studies::detail
+}  // namespace flexref::trajectory::detail

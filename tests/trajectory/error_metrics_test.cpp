@@ -1,14 +1,14 @@
-#include "studies/error_metrics.hpp"
+#include "trajectory/error_metrics.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include "studies/trajectory_table.hpp"
 #include "tests/support/flexible_models.hpp"
+#include "trajectory/trajectory_table.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 TEST_CASE("the modes metric is the L-infinity modal-coordinate error", "[studies][metrics]") {
@@ -113,4 +113,4 @@ TEST_CASE("the norms neither overflow nor underflow where the error is represent
 }
 
 }  // namespace
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -5,11 +5,11 @@
 /// levels. The command line maps it to exit code 4 (docs/decisions.md, "Command line").
 #include <stdexcept>
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 class StudyRefused : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -1,4 +1,4 @@
-#include "studies/reference_sidecar.hpp"
+#include "trajectory/reference_sidecar.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -10,7 +10,7 @@
 #include "io/input_file.hpp"
 #include "io/output_file.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
   ReferenceSidecar out;
@@ -126,4 +126,4 @@ bool is_certified(double error, double estimate) {
   return error >= kCertificationFactor * estimate;
 }
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -2,7 +2,7 @@
 /// writes — including the +inf of an estimate without a usable check — is read as written, and
 /// a sidecar that could make a comparison look certified when it is not is refused naming the
 /// file and key.
-#include "studies/reference_sidecar.hpp"
+#include "trajectory/reference_sidecar.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -14,7 +14,7 @@
 #include "core/error.hpp"
 #include "tests/support/temp_dir.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 using Catch::Matchers::Contains;
@@ -123,4 +123,4 @@ TEST_CASE("sidecar: found beside the file a link points to, where flexref writes
 }
 
 }  // namespace
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -1,4 +1,4 @@
-#include "studies/trajectory_table.hpp"
+#include "trajectory/trajectory_table.hpp"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -12,10 +12,10 @@
 #include "core/error.hpp"
 #include "core/gravity.hpp"
 #include "scene/scene_reader.hpp"
-#include "studies/error_metrics.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "trajectory/error_metrics.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 core::Model pendulum_like_model() {
@@ -41,7 +41,7 @@ std::string table_temp_path(const std::string& name) {
   return (dir / name).string();
 }
 
-TEST_CASE("tabulate names the documented columns and recovers the frame origin", "[studies]") {
+TEST_CASE("tabulate names the documented columns and recovers the frame origin", "[trajectory]") {
   const core::Model model = pendulum_like_model();
   core::Trajectory trajectory;
   trajectory.times = {0.0};
@@ -66,7 +66,7 @@ TEST_CASE("tabulate names the documented columns and recovers the frame origin",
   CHECK(row.back() == Approx(energy).epsilon(1e-14));
 }
 
-TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero", "[studies]") {
+TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero", "[trajectory]") {
   const core::Model model = pendulum_like_model();
   core::Trajectory trajectory;
   for (int k = 0; k < 5; ++k) {
@@ -99,24 +99,24 @@ TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero"
   std::filesystem::remove(path);
 }
 
-TEST_CASE("read_csv reports file, line and column of bad data", "[studies]") {
+TEST_CASE("read_csv reports file, line and column of bad data", "[trajectory]") {
   const std::string path = table_temp_path("bad.csv");
   {
     std::ofstream out(path);
-    out << "t,a\n0,1\n0.1,x\n";
+    out << "t,energy\n0,1\n0.1,x\n";
   }
   try {
     read_csv(path);
     FAIL("expected an InputError");
   } catch (const core::InputError& e) {
     CHECK(e.line() == 3);
-    CHECK(e.key() == "a");
+    CHECK(e.key() == "energy");
     CHECK(std::string(e.what()).find(path) != std::string::npos);
   }
   std::filesystem::remove(path);
 }
 
-TEST_CASE("tabulate refuses a trajectory without one state per output time", "[studies]") {
+TEST_CASE("tabulate refuses a trajectory without one state per output time", "[trajectory]") {
   // A driver that stopped early (an overflowed step count) used to be read past its end.
   const core::Model model = pendulum_like_model();
   core::Trajectory trajectory;
@@ -125,7 +125,7 @@ TEST_CASE("tabulate refuses a trajectory without one state per output time", "[s
   CHECK_THROWS_AS(tabulate(model, trajectory), std::invalid_argument);
 }
 
-TEST_CASE("csv_text keeps a free-text field in one unquoted CSV cell", "[studies]") {
+TEST_CASE("csv_text keeps a free-text field in one unquoted CSV cell", "[trajectory]") {
   // numpy.genfromtxt splits on every comma, quoted or not: no comma, quote or line break may
   // reach a cell.
   CHECK(csv_text("failed: c2 failed at t = 1, step 3: \"no\"\nconvergence") ==
@@ -161,7 +161,7 @@ void check_units(const std::vector<std::string>& names, const std::vector<std::s
   }
 }
 
-TEST_CASE("trajectory_units gives one unit per column", "[studies]") {
+TEST_CASE("trajectory_units gives one unit per column", "[trajectory]") {
   const core::Model model = pendulum_like_model();
   check_units(
       trajectory_columns(model), trajectory_units(model),
@@ -175,7 +175,7 @@ TEST_CASE("trajectory_units gives one unit per column", "[studies]") {
        {"energy", [](const std::string& n) { return n == "energy"; }, "J"}});
 }
 
-TEST_CASE("trajectory_units covers work and wear columns", "[studies]") {
+TEST_CASE("trajectory_units covers work and wear columns", "[trajectory]") {
   // tube_support_impact: a dissipating model with applied work and a named contact, whose
   // columns end with energy, dissipated/applied work, balance and four wear outputs.
   const scene::Scene scene = scene::read_scene("scenes/tube_support_impact.toml");
@@ -189,4 +189,4 @@ TEST_CASE("trajectory_units covers work and wear columns", "[studies]") {
 }
 
 }  // namespace
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -21,7 +21,7 @@
 #include "core/model.hpp"
 #include "core/state.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 struct TrajectoryTable {
   std::vector<std::string> columns;
@@ -33,7 +33,7 @@ struct TrajectoryTable {
   double time(std::size_t row) const { return rows[row][0]; }
 };
 
-/// The column names for a model, in file order.
+/// The column names for a model, in file order (ColumnLayout::of, trajectory/column_layout.hpp).
 std::vector<std::string> trajectory_columns(const core::Model& model);
 /// The unit of each column of trajectory_columns(model), in the same order (docs/output.md):
 /// "s", "m", "-" (Euler parameters), "m/s", "rad/s", "N*m", "J"; modal coordinates carry the
@@ -56,4 +56,4 @@ std::string csv_number(double x);
 /// Reads a CSV written by write_csv; throws core::InputError naming file and line.
 TrajectoryTable read_csv(const std::string& path);
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -21,10 +21,10 @@
 #include <utility>
 #include <vector>
 
-#include "studies/error_metrics.hpp"
-#include "studies/trajectory_table.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/trajectory_table.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 
 struct ContractOptions {
   /// A run row at time t matches the reference's output time t_k when |t − t_k| ≤ this ×
@@ -91,4 +91,4 @@ TrajectoryTable checked_reference(const RunData& reference, const ContractOption
 ComparisonReport compare_run(const RunData& run, const TrajectoryTable& reference,
                              const ContractOptions& options = {});
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

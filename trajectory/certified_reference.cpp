@@ -1,4 +1,4 @@
-#include "studies/certified_reference.hpp"
+#include "trajectory/certified_reference.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,11 +11,12 @@
 #include "reference/exact_solution.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/solve_reference.hpp"
-#include "studies/accuracy_check.hpp"
-#include "studies/error_metrics.hpp"
-#include "studies/study_refused.hpp"
+#include "trajectory/accuracy_check.hpp"
+#include "trajectory/column_layout.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/study_refused.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -220,11 +221,13 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
 double solution_scale(const TrajectoryTable& table, const std::string& metric) {
   TrajectoryTable initial = table;
   TrajectoryTable rest = table;
+  const ColumnLayout layout = ColumnLayout::parse(table.columns);
   for (std::size_t k = 0; k < table.rows.size(); ++k) {
     initial.rows[k] = table.rows.front();
     initial.rows[k][0] = table.rows[k][0];
     for (std::size_t c = 1; c < table.columns.size(); ++c) {
-      rest.rows[k][c] = table.columns[c].ends_with(".e0") ? 1.0 : 0.0;
+      const bool e0 = layout[c].kind == ColumnKind::rotation && layout[c].component == 0;
+      rest.rows[k][c] = e0 ? 1.0 : 0.0;
     }
   }
   ComparisonReport report = compare_trajectories(initial, rest);
@@ -324,42 +327,4 @@ std::string describe_estimate(const ReferenceEstimate& e) {
   return out.str();
 }
 
-void add_estimate_checks(StudyRecord& record, const std::string& array,
-                         const ReferenceEstimate& estimate) {
-  for (const EstimateCheck& c : estimate.checks) {
-    auto& check = record.append(array);
-    check.set("role", c.role)
-        .set("solver", c.solver)
-        .set("method", c.method)
-        .set("rtol", c.rtol)
-        .set("steps", c.steps)
-        .set("used", c.used)
-        .set("note", c.note);
-    // No distance where there is none (a failed check): the note says why.
-    if (!std::isnan(c.distance)) check.set("distance", c.distance);
-    if (!std::isnan(c.energy_distance)) check.set("energy_distance", c.energy_distance);
-  }
-}
-
-void add_reference(StudyRecord& record, const CertifiedReference& reference) {
-  const ReferenceEstimate& e = reference.estimate;
-  record.table("reference")
-      .set("solver", reference.run.solver)
-      .set("method", reference.run.method)
-      .set("method_reason", reference.run.method_reason)
-      .set("jacobian", reference.run.jacobian)
-      // 0 for the exact solution, as its checks record it: it has no tolerance.
-      .set("rtol", reference.run.solver == "exact" ? 0.0 : reference.run.options.rtol)
-      .set("estimated_error", e.value)
-      .set("metric", e.metric)
-      .set("estimate_method", e.method);
-  if (!std::isnan(e.energy_balance)) {
-    record.table("reference")
-        .set("energy_balance", e.energy_balance)
-        .set("energy_balance_time", e.energy_balance_time)
-        .set("energy_estimate", e.energy_estimate);
-  }
-  add_estimate_checks(record, "reference.check", e);
-}
-
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -1,87 +1,69 @@
-#include "studies/error_metrics.hpp"
+#include "trajectory/error_metrics.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
 #include <stdexcept>
 
 #include "rotation/euler_parameters.hpp"
-#include "studies/error_metrics_tpl.hpp"
+#include "trajectory/column_layout.hpp"
+#include "trajectory/error_metrics_tpl.hpp"
 
-namespace flexref::studies {
-namespace {
-
-bool is_digits(const std::string& s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; });
-}
-
-}  // namespace
-
+namespace flexref::trajectory {
 namespace detail {
 
 std::vector<Item> find_items(const TrajectoryTable& table) {
-  const auto& cols = table.columns;
-  auto index = [&](const std::string& name) { return table.column(name); };
-  std::vector<std::string> bodies;
-  for (const std::string& c : cols) {
-    const auto dot = c.find('.');
-    if (dot == std::string::npos || dot == 0) continue;
-    const std::string body = c.substr(0, dot);
-    if (std::find(bodies.begin(), bodies.end(), body) == bodies.end()) bodies.push_back(body);
+  const ColumnLayout layout = ColumnLayout::parse(table.columns);
+  // Every name before a first dot, in the order of its first column (unknown columns too: the
+  // order of the quantities follows the table's).
+  std::vector<std::string> owners;
+  for (const Column& c : layout.columns()) {
+    if (c.owner.empty()) continue;
+    if (std::find(owners.begin(), owners.end(), c.owner) == owners.end()) owners.push_back(c.owner);
   }
   std::vector<Item> items;
-  for (const std::string& b : bodies) {
-    auto group = [&](const char* kind, const char* unit, std::initializer_list<const char*> sfx) {
+  auto add = [&](Item item, const std::string& name, const char* kind, const char* unit) {
+    item.quantity.name = name;
+    item.quantity.unit = unit;
+    item.quantity.kind = kind;
+    for (std::size_t i : item.columns) item.quantity.columns.push_back(table.columns[i]);
+    items.push_back(std::move(item));
+  };
+  for (const std::string& b : owners) {
+    auto group = [&](ColumnKind kind, const char* name, const char* unit) {
+      std::array<int, 4> found{};
+      const std::span<int> indices(found.data(), static_cast<std::size_t>(group_size(kind)));
+      if (!layout.find_group(kind, b, indices)) return;
       Item item;
-      for (const char* s : sfx) {
-        const int i = index(b + s);
-        if (i < 0) return;
-        item.columns.push_back(static_cast<std::size_t>(i));
-        item.quantity.columns.push_back(b + s);
-      }
-      item.quantity.name = b + "." + kind;
-      item.quantity.unit = unit;
-      item.quantity.kind = kind;
-      items.push_back(std::move(item));
+      for (int i : indices) item.columns.push_back(static_cast<std::size_t>(i));
+      add(std::move(item), b + "." + name, name, unit);
     };
-    group("position", "m", {".x", ".y", ".z"});
-    group("rotation", "rad", {".e0", ".e1", ".e2", ".e3"});
-    group("velocity", "m/s", {".vx", ".vy", ".vz"});
-    group("angular_velocity", "rad/s", {".W1", ".W2", ".W3"});
+    group(ColumnKind::position, "position", "m");
+    group(ColumnKind::rotation, "rotation", "rad");
+    group(ColumnKind::velocity, "velocity", "m/s");
+    group(ColumnKind::angular_velocity, "angular_velocity", "rad/s");
     // An ideal joint's reaction on its first body (docs/output.md, "Joints") and the run's own
     // position-constraint violation.
-    group("reaction_force", "N", {".fx", ".fy", ".fz"});
-    group("reaction_torque", "N*m", {".tx", ".ty", ".tz"});
-    group("violation", "m|rad", {".phi"});
-    // Points: "<B>.<P>.x" with ".y" and ".z" (names have no dots: scenes/README.md).
-    for (const std::string& c : cols) {
-      if (c.size() <= b.size() + 3 || !c.starts_with(b + ".") || !c.ends_with(".x")) continue;
-      const std::string point = c.substr(b.size() + 1, c.size() - b.size() - 3);
-      if (point.empty() || point.find('.') != std::string::npos) continue;
-      const std::string stem = b + "." + point;
-      const int ix = index(stem + ".x"), iy = index(stem + ".y"), iz = index(stem + ".z");
-      if (iy < 0 || iz < 0) continue;
+    group(ColumnKind::reaction_force, "reaction_force", "N");
+    group(ColumnKind::reaction_torque, "reaction_torque", "N*m");
+    group(ColumnKind::violation, "violation", "m|rad");
+    // Points, in the order of their x columns.
+    for (const Column& c : layout.columns()) {
+      if (c.kind != ColumnKind::point || c.component != 0 || c.owner != b) continue;
+      std::array<int, 3> p{};
+      if (!layout.find_group(ColumnKind::point, b, p, c.point)) continue;
       Item item;
-      item.quantity = {stem, "m", "point", {}, 0.0, {stem + ".x", stem + ".y", stem + ".z"}};
-      item.columns = {static_cast<std::size_t>(ix), static_cast<std::size_t>(iy),
-                      static_cast<std::size_t>(iz)};
-      items.push_back(std::move(item));
+      item.columns = {static_cast<std::size_t>(p[0]), static_cast<std::size_t>(p[1]),
+                      static_cast<std::size_t>(p[2])};
+      add(std::move(item), b + "." + c.point, "point", "m");
     }
-    // Modal coordinates "<B>.q<k>" (not the rates "<B>.qd<k>").
+    // Modal coordinates q<k> (not the rates qd<k>).
     Item modes;
-    for (std::size_t i = 0; i < cols.size(); ++i) {
-      if (cols[i].starts_with(b + ".q") && is_digits(cols[i].substr(b.size() + 2))) {
-        modes.columns.push_back(i);
-        modes.quantity.columns.push_back(cols[i]);
-      }
-    }
-    if (!modes.columns.empty()) {
-      modes.quantity.name = b + ".modes";
-      modes.quantity.unit = "-";
-      modes.quantity.kind = "modes";
-      items.push_back(std::move(modes));
-    }
+    modes.columns = layout.mode_columns(ColumnKind::mode, b);
+    if (!modes.columns.empty()) add(std::move(modes), b + ".modes", "modes", "-");
   }
   return items;
 }
@@ -201,4 +183,4 @@ std::string metric_bounds_text(const ComparisonReport& report, const std::string
   return out;
 }
 
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory

@@ -2,7 +2,7 @@
 /// name, in any column order, with comments, spaces, extra columns and a subset of the output
 /// times, giving the same error values as flexref's own file; everything that could fool the
 /// measurement is refused naming the file, row (line) and column.
-#include "studies/trajectory_contract.hpp"
+#include "trajectory/trajectory_contract.hpp"
 
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -19,12 +19,12 @@
 #include "core/output_times.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
-#include "studies/error_metrics.hpp"
-#include "studies/trajectory_table.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/test_problems.hpp"
+#include "trajectory/error_metrics.hpp"
+#include "trajectory/trajectory_table.hpp"
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 using Catch::Matchers::Contains;
@@ -369,9 +369,9 @@ TEST_CASE("contract: a program's CPU report is a comment line, read and checked"
 }
 
 }  // namespace
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory
 
-namespace flexref::studies {
+namespace flexref::trajectory {
 namespace {
 
 /// This test's own folder (tests/support/temp_dir.hpp).
@@ -413,4 +413,4 @@ TEST_CASE("contract: a joint's reaction and violation columns are measured, phi_
 }
 
 }  // namespace
-}  // namespace flexref::studies
+}  // namespace flexref::trajectory
