@@ -113,25 +113,6 @@ struct ReferenceOptions {
 int reference_command(const ReferenceOptions& options);
 /// `reference --precision extended|quad` (app/high_precision_command.cpp).
 int high_precision_reference_command(const ReferenceOptions& options);
-/// A study's --reference-precision: nullptr for "double" and "auto", else the certified
-/// reference in that precision; throws std::invalid_argument when the scene, the metric or a
-/// --reference-solver rules it out, and precision::BudgetExceeded over budget_seconds (> 0).
-std::shared_ptr<const studies::CertifiedReference> high_precision_study_reference(
-    const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
-    const std::string& metric, const std::string& reference_solver, const std::string& study,
-    double budget_seconds = 0.0);
-/// "auto"'s quad reference for a study whose double reference left something uncertified
-/// (docs/precision.md, "Cost guard"): the certified quad reference, or nullptr with `refused`
-/// saying why when its projected wall time exceeds budget_seconds (0: no bound); the study then
-/// keeps its double reference. Call after quad_reference_possible.
-std::shared_ptr<const studies::CertifiedReference> automatic_quad_reference(
-    const scene::Scene& scene, const std::vector<double>& times, const std::string& metric,
-    const std::string& study, double budget_seconds, std::string& refused);
-/// Whether "auto" may switch a study to a quad reference (supported scene, metric, no
-/// --reference-solver).
-bool quad_reference_possible(const scene::Scene& scene, const std::string& metric,
-                             const std::string& reference_solver);
-
 struct CompareOptions {
   std::string run;
   std::string reference;

@@ -6,10 +6,12 @@
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
+#include "precision/study_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/convergence.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/reference_policy.hpp"
 #include "studies/study_output.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -50,32 +52,14 @@ int converge_command(const ConvergeOptions& options) {
   // --reference-precision (docs/precision.md): a given precision, or "auto": the double
   // reference, and when it cannot certify every level and the scene is one the extended/quad
   // model carries, the study again with a quad reference.
-  const std::string& wanted = options.reference_precision;
-  study.given_reference = high_precision_study_reference(scene, times, wanted, options.metric,
-                                                         options.reference_solver, "converge");
-  studies::ConvergenceResult result = studies::run_convergence(model, times, study);
-  std::string precision_used = wanted == "auto" ? "double" : wanted;
-  std::string refused;  // why auto kept the double reference (the budget), when it did
-  if (wanted == "auto" &&
-      quad_reference_possible(scene, options.metric, options.reference_solver)) {
-    int uncertified = 0;
-    for (const auto& lv : result.levels) uncertified += lv.status == "uncertified" ? 1 : 0;
-    if (uncertified > 0) {
-      std::ostringstream note;
-      note << "the double reference (estimated error " << result.reference.estimate.estimate()
-           << ") could not certify " << uncertified << " level(s)";
-      study.given_reference = automatic_quad_reference(scene, times, options.metric, "converge",
-                                                       options.reference_budget, refused);
-      if (study.given_reference) {
-        note << ": the study was repeated with a quad-precision reference (docs/precision.md)";
-        result = studies::run_convergence(model, times, study);
-        precision_used = "quad";
-      } else {
-        note << "; " << refused;
-      }
-      result.notes.insert(result.notes.begin(), note.str());
-    }
-  }
+  const precision::StudyReferences references(scene, times, options.metric,
+                                              options.reference_solver, "converge");
+  studies::PolicyOutcome<studies::ConvergenceResult> outcome =
+      studies::run_convergence_under_policy(
+          model, times, study, studies::parse_reference_precision(options.reference_precision),
+          options.reference_budget, references);
+  const studies::ConvergenceResult& result = outcome.result;
+  const std::string& refused = outcome.refused;
   for (const auto& method : study.external) {
     if (options.external.empty()) break;
     for (std::size_t level = 0; level < result.levels.size(); ++level) {
@@ -91,7 +75,7 @@ int converge_command(const ConvergeOptions& options) {
       .set("schemes", study.schemes)
       .set("dt", study.h0)
       .set("levels", options.levels)
-      .set("reference_precision", precision_used)
+      .set("reference_precision", studies::to_string(outcome.precision_used))
       .set("reference_budget", options.reference_budget)
       .set("metric", options.metric)
       .set("jobs", study.jobs)

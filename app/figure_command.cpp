@@ -13,11 +13,13 @@
 #include "core/output_times.hpp"
 #include "io/input_file.hpp"
 #include "lie/stepper.hpp"
+#include "precision/study_reference.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "scene/scene_toml.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/reference_policy.hpp"
 #include "studies/study_output.hpp"
 #include "studies/trajectory_figure.hpp"
 #include "studies/trajectory_table.hpp"
@@ -135,34 +137,31 @@ int figure_command(const FigureCommandOptions& options) {
   // --reference-precision (docs/precision.md), as in converge: a given precision replaces the
   // reference; "auto" repeats the figure against a quad reference when the double one leaves a
   // curve uncertified and the scene allows it.
-  const std::string& wanted = options.reference_precision;
   // The schemes against the model before a high-precision reference (quad: minutes).
   for (const std::string& s : settings.schemes) (void)lie::make_stepper(s, model);
   // The study file's solver and rtol are the double reference's.
-  if (wanted == "extended" || wanted == "quad") {
-    settings.given_reference =
-        high_precision_study_reference(scene, times, wanted, "points", "auto", "figure");
-    settings.given_precision = wanted;
-  }
-  studies::FigureResult result = studies::run_trajectory_figure(model, times, settings);
-  std::string note;
-  std::string refused;  // why auto kept the double reference (the budget), when it did
-  if (wanted == "auto" && studies::figure_has_uncertified(result) &&
-      quad_reference_possible(scene, "points", "auto")) {
+  const precision::StudyReferences references(scene, times, "points", "auto", "figure");
+  studies::PolicyStudy<studies::FigureResult> policy_study;
+  policy_study.run = [&](std::shared_ptr<const studies::CertifiedReference> reference,
+                         studies::ReferencePrecision precision) {
+    settings.given_reference = std::move(reference);
+    if (settings.given_reference) settings.given_precision = studies::to_string(precision);
+    return studies::run_trajectory_figure(model, times, settings);
+  };
+  policy_study.uncertified = [](const studies::FigureResult& r) {
+    if (!studies::figure_has_uncertified(r)) return std::string();
     std::ostringstream why;
-    why << "the double reference (estimated error " << result.reference_estimate
+    why << "the double reference (estimated error " << r.reference_estimate
         << " m) could not certify every curve";
-    settings.given_reference = automatic_quad_reference(scene, times, "points", "figure",
-                                                        options.reference_budget, refused);
-    if (settings.given_reference) {
-      why << ": the figure was repeated against a quad-precision reference (docs/precision.md)";
-      settings.given_precision = "quad";
-      result = studies::run_trajectory_figure(model, times, settings);
-    } else {
-      why << "; " << refused;
-    }
-    note = why.str();
-  }
+    return why.str();
+  };
+  policy_study.repeated = "the figure was repeated against a quad-precision reference";
+  studies::PolicyOutcome<studies::FigureResult> outcome = studies::run_with_reference_policy(
+      studies::parse_reference_precision(options.reference_precision), options.reference_budget,
+      references, policy_study);
+  const studies::FigureResult& result = outcome.result;
+  const std::string& note = outcome.note;
+  const std::string& refused = outcome.refused;
 
   const std::string table =
       studies::figure_table(result) + (note.empty() ? "" : "note: " + note + "\n");

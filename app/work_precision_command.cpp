@@ -7,9 +7,11 @@
 
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
+#include "precision/study_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/reference_policy.hpp"
 #include "studies/study_output.hpp"
 #include "studies/trajectory_table.hpp"
 #include "studies/work_precision.hpp"
@@ -50,41 +52,22 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
                                     out);
   // --reference-precision (docs/precision.md), as in converge: "auto" repeats the study with a
   // quad reference when the double one leaves runs uncertified and the scene allows it.
-  const std::string& wanted = app_options.reference_precision;
   // The schemes against the model before a high-precision reference (quad: minutes).
   studies::check_work_precision_inputs(model, times, study);
-  study.given_reference = high_precision_study_reference(
-      scene, times, wanted, app_options.metric, app_options.reference_solver, "work-precision");
-  studies::WorkPrecisionResult result = studies::run_work_precision(model, times, study);
-  std::string precision_used = wanted == "auto" ? "double" : wanted;
-  std::string refused;  // why auto kept the double reference (the budget), when it did
-  if (wanted == "auto" &&
-      quad_reference_possible(scene, app_options.metric, app_options.reference_solver)) {
-    int uncertified = 0;
-    for (const auto& run : result.runs) uncertified += run.status == "uncertified" ? 1 : 0;
-    if (uncertified > 0) {
-      std::ostringstream note;
-      note << "the double reference (estimated error " << result.reference.estimate.estimate()
-           << ") could not certify " << uncertified << " run(s)";
-      study.given_reference =
-          automatic_quad_reference(scene, times, app_options.metric, "work-precision",
-                                   app_options.reference_budget, refused);
-      if (study.given_reference) {
-        note << ": the study was repeated with a quad-precision reference (docs/precision.md)";
-        result = studies::run_work_precision(model, times, study);
-        precision_used = "quad";
-      } else {
-        note << "; " << refused;
-      }
-      result.notes.insert(result.notes.begin(), note.str());
-    }
-  }
+  const precision::StudyReferences references(scene, times, app_options.metric,
+                                              app_options.reference_solver, "work-precision");
+  studies::PolicyOutcome<studies::WorkPrecisionResult> outcome =
+      studies::run_work_precision_under_policy(
+          model, times, study, studies::parse_reference_precision(app_options.reference_precision),
+          app_options.reference_budget, references);
+  const studies::WorkPrecisionResult& result = outcome.result;
+  const std::string& refused = outcome.refused;
 
   const std::string table = format_work_precision_table(result);
   studies::StudyRecord record = scene_record(app_options.scene, scene);
   record.table("study")
       .set("kind", "work-precision")
-      .set("reference_precision", precision_used)
+      .set("reference_precision", studies::to_string(outcome.precision_used))
       .set("reference_budget", app_options.reference_budget)
       .set("schemes", study.schemes)
       .set("dt", study.h0)

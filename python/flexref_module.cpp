@@ -8,6 +8,7 @@
 ///     flexref.compare({"t": t, "body.e0": e0, ...}, ref).value        # the contract's metric
 ///     flexref.convergence(ref, [(h, run), ...]).observed_order        # runs: dicts of arrays
 ///     flexref.run_scheme(scene, "c2", 1e-3)                          # any registered scheme
+///     flexref.converge(scene, ["c1", "nmb"], dt=1e-2, levels=6)        # the `converge` study
 ///
 /// flexref's errors become Python exceptions with flexref's messages: flexref.InputError (a
 /// ValueError: bad scene, bad arrays — naming the file or "run", row and column) and
@@ -27,11 +28,14 @@
 #include "lie/method_registry.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
+#include "precision/study_reference.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/convergence.hpp"
 #include "studies/error_metrics.hpp"
+#include "studies/parallel.hpp"
+#include "studies/reference_policy.hpp"
 #include "studies/reference_sidecar.hpp"
 #include "studies/trajectory_contract.hpp"
 #include "studies/trajectory_table.hpp"
@@ -422,4 +426,72 @@ PYBIND11_MODULE(flexref, m) {
       "100x above its estimated error marked 'uncertified', pairwise orders and the "
       "least-squares order over the certified levels (the `converge` study's analysis). "
       "Returns a dict: levels, observed_order, fitted_levels, notes, table.");
+
+  m.def(
+      "converge",
+      [](const PyScene& s, const std::vector<std::string>& schemes, double dt, int levels,
+         const std::string& metric, const std::string& reference_solver, double reference_rtol,
+         const std::string& precision, double reference_budget, int jobs) {
+        const core::Model& model = *s.scene->model;
+        if (model.has_flexible_bodies() && reference_solver == "exact") {
+          throw std::invalid_argument("a model with flexible bodies has no exact solution");
+        }
+        if (!(reference_budget >= 0.0)) {
+          throw std::invalid_argument("reference_budget must be 0 (no bound) or positive");
+        }
+        const studies::ReferencePrecision wanted = studies::parse_reference_precision(precision);
+        const std::vector<double> times = s.times();
+        studies::ConvergenceOptions options;
+        options.schemes = schemes;
+        options.h0 = dt;
+        options.levels = levels;
+        options.metric = metric;
+        options.reference_solver = reference_solver;
+        options.reference_rtol = reference_rtol;
+        options.jobs = jobs > 0 ? jobs : studies::default_jobs();
+        studies::check_convergence_inputs(model, times, options);
+        const precision::StudyReferences references(*s.scene, times, metric, reference_solver,
+                                                    "converge");
+        studies::PolicyOutcome<studies::ConvergenceResult> outcome;
+        {
+          py::gil_scoped_release release;
+          outcome = studies::run_convergence_under_policy(model, times, options, wanted,
+                                                          reference_budget, references);
+        }
+        const studies::ConvergenceResult& result = outcome.result;
+        py::list rows;
+        for (const auto& lv : result.levels) {
+          py::dict d;
+          d["scheme"] = lv.scheme;
+          d["h"] = lv.h;
+          d["error"] = lv.error;
+          d["order"] = lv.order;
+          d["status"] = lv.status;
+          rows.append(d);
+        }
+        py::dict orders;
+        for (const auto& summary : result.summaries) {
+          orders[py::str(summary.scheme)] = summary.fitted_order;
+        }
+        py::dict out;
+        out["levels"] = rows;
+        out["observed_orders"] = orders;
+        out["notes"] = result.notes;
+        out["table"] = studies::format_convergence_table(result);
+        out["reference_precision"] = studies::to_string(outcome.precision_used);
+        out["reference_estimate"] = result.reference.estimate.estimate();
+        out["reference_refused"] = outcome.refused;
+        return out;
+      },
+      py::arg("scene"), py::arg("schemes") = lie::default_scheme_names(), py::arg("dt") = 1e-2,
+      py::arg("levels") = 6, py::arg("metric") = "rotation+points",
+      py::arg("reference_solver") = "auto", py::arg("reference_rtol") = 1e-12,
+      py::arg("precision") = "auto", py::arg("reference_budget") = studies::kDefaultReferenceBudget,
+      py::arg("jobs") = 0,
+      "The `converge` study: each scheme at dt, dt/2, ..., dt/2^(levels-1) against a certified "
+      "reference, and the observed orders. precision: 'auto' (double; a quad-precision "
+      "reference when the double one cannot certify every level and the scene allows it, "
+      "within reference_budget seconds, 0: no bound), 'double', 'extended' or 'quad' "
+      "(docs/precision.md). Returns a dict: levels, observed_orders, notes, table, "
+      "reference_precision, reference_estimate, reference_refused.");
 }
