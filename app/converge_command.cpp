@@ -1,14 +1,20 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <utility>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
+#include "lie/stepper.hpp"
 #include "precision/study_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/convergence.hpp"
+#include "studies/error_metrics.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
 #include "studies/reference_policy.hpp"
@@ -125,6 +131,68 @@ int converge_command(const ConvergeOptions& options) {
     return kExitRefused;
   }
   return kExitOk;
+}
+
+RegisteredCommand register_converge_command(CLI::App& app) {
+  auto options = std::make_shared<ConvergeOptions>();
+  auto genalpha = std::make_shared<GenalphaCliOptions>();
+  CLI::App* cmd = app.add_subcommand("converge", "observed orders of convergence");
+  cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
+  cmd->add_option("--schemes", options->schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember(lie::scheme_names()))
+      ->capture_default_str();
+  cmd->add_option("--dt", options->dt,
+                  "coarsest step [s]; by default 0.01 or the scene's output interval, the shorter")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--levels", options->levels,
+                  "number of levels: steps dt, dt/2, ..., dt/2^(levels-1); an order is fitted "
+                  "from at least 3 valid levels")
+      ->check(integer_in(3, 16))
+      ->capture_default_str();
+  cmd->add_option("--metric", options->metric, metric_help("error metric"))
+      ->check(CLI::IsMember(studies::metric_names()))
+      ->capture_default_str();
+  cmd->add_option("--reference-solver", options->reference_solver,
+                  "auto | ida | cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
+      ->capture_default_str();
+  cmd->add_option("--reference-rtol", options->reference_rtol, "reference tolerance")
+      ->check(number_in(1e-14, 1e-4))
+      ->capture_default_str();
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_genalpha_options(cmd, *genalpha);
+  add_model_option(cmd, options->model);
+  cmd->add_option("--reference-precision", options->reference_precision,
+                  "auto (double; quad when double cannot certify every level and the scene "
+                  "allows it) | double | extended | quad (docs/precision.md)")
+      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
+      ->capture_default_str();
+  add_reference_budget(cmd, options->reference_budget);
+  add_limits(cmd, options->limits, true);
+  auto* conv_external =
+      cmd->add_option("--external", options->external,
+                      "another code's integrator: a command with {scene}, {dt}, {output}, "
+                      "run once per level (docs/external.md)");
+  cmd->add_option("--runs", options->runs, "runs already made, as DT=FILE pairs (docs/external.md)")
+      ->excludes(conv_external);
+  cmd->add_option("--label", options->label, "name of the external method in the table");
+  cmd->add_option("--order", options->claimed_order, "the external method's claimed order")
+      ->check(integer_in(1, 20));
+  cmd->add_option("--timeout", options->timeout, "seconds per external run (0: no limit)")
+      ->check(non_negative_number())
+      ->capture_default_str();
+  add_allow_scene_mismatch(cmd, options->allow_scene_mismatch);
+
+  return {cmd, [options, genalpha, cmd] {
+            genalpha->apply();
+            options->schemes_given = cmd->count("--schemes") > 0;
+            options->dt_given = cmd->count("--dt") > 0;
+            return converge_command(*options);
+          }};
 }
 
 }  // namespace flexref::app

@@ -3,11 +3,15 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <toml.hpp>
 #include <vector>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
@@ -194,6 +198,26 @@ int figure_command(const FigureCommandOptions& options) {
             << table << "wrote figure.csv, figure.txt, study.toml" << (plot.ok ? ", " : "\n")
             << plot.message << "\n";
   return kExitOk;
+}
+
+RegisteredCommand register_figure_command(CLI::App& app) {
+  auto options = std::make_shared<FigureCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "figure", "trajectory of a tracked point by each scheme and step, with the reference");
+  cmd->add_option("study", options->study, "study file (TOML), e.g. studies/paper/*.toml")
+      ->required();
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--reference-precision", options->reference_precision,
+                  "auto (quad when the double reference cannot certify a curve and the scene "
+                  "allows it) | double | extended | quad (docs/precision.md)")
+      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
+      ->capture_default_str();
+  add_reference_budget(cmd, options->reference_budget);
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_limits(cmd, options->limits, true);
+
+  return {cmd, [options] { return figure_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -3,9 +3,13 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/accuracy_check.hpp"
@@ -140,6 +144,69 @@ int lte_map_command(const LteMapCommandOptions& options) {
     return kExitRefused;
   }
   return kExitOk;
+}
+
+RegisteredCommand register_lte_map_command(CLI::App& app) {
+  auto options = std::make_shared<LteMapCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "lte-map", "LTE model error vs coupled model over spin ratio and inertia ratio");
+  cmd->add_option("scene", options->scene, "scene file with a free flexible body (TOML)")
+      ->required();
+  auto* lte_spins = cmd->add_option("--spin-ratios", options->spin_ratios,
+                                    "Omega0/omega1 values (comma-separated)")
+                        ->delimiter(',')
+                        ->check(positive_number());
+  cmd->add_option("--spin-min", options->spin_min, "log-spaced spin ratios: first")
+      ->check(positive_number())
+      ->excludes(lte_spins)
+      ->capture_default_str();
+  cmd->add_option("--spin-max", options->spin_max, "log-spaced spin ratios: last")
+      ->check(positive_number())
+      ->excludes(lte_spins)
+      ->capture_default_str();
+  cmd->add_option("--spin-count", options->spin_count, "log-spaced spin ratios: count")
+      ->excludes(lte_spins)
+      ->check(integer_in(1, 200))
+      ->capture_default_str();
+  auto* lte_inertias = cmd->add_option("--inertia-ratios", options->inertia_ratios,
+                                       "I_flex/I_rigid values (comma-separated)")
+                           ->delimiter(',')
+                           ->check(positive_number());
+  cmd->add_option("--inertia-min", options->inertia_min, "log-spaced inertia ratios: first")
+      ->check(positive_number())
+      ->excludes(lte_inertias)
+      ->capture_default_str();
+  cmd->add_option("--inertia-max", options->inertia_max, "log-spaced inertia ratios: last")
+      ->check(positive_number())
+      ->excludes(lte_inertias)
+      ->capture_default_str();
+  cmd->add_option("--inertia-count", options->inertia_count, "log-spaced inertia ratios: count")
+      ->excludes(lte_inertias)
+      ->check(integer_in(1, 200))
+      ->capture_default_str();
+  cmd->add_option("--solver", options->solver, "reference solver: cvode | ida | odeint")
+      ->check(CLI::IsMember({"cvode", "ida", "odeint"}))
+      ->capture_default_str();
+  cmd->add_option("--rtol", options->rtol, "reference tolerance (both models)")
+      ->check(number_in(1e-14, 1e-4))
+      ->capture_default_str();
+  add_estimate_factor(cmd, options->estimate_factor);
+  cmd->add_flag("!--no-scale-loads", options->scale_loads,
+                "keep the loads (default: scale them with spin and inertia)");
+  cmd->add_option("--truth", options->truth,
+                  "the truth: stiffened (coupled with geometric stiffening) | coupled (the "
+                  "classical coupled model) | auto (stiffened when the body can be)")
+      ->check(CLI::IsMember({"auto", "stiffened", "coupled"}))
+      ->capture_default_str();
+  cmd->add_option("--point", options->point, "tracked node point (default: farthest node)");
+  cmd->add_option("--end-time", options->end_time, "s (default: the scene's)")
+      ->check(positive_number());
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_limits(cmd, options->limits, false);
+
+  return {cmd, [options] { return lte_map_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -1,9 +1,12 @@
 #include <cmath>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
 #include "reference/method_choice.hpp"
@@ -172,6 +175,46 @@ int reference_command(const ReferenceOptions& options) {
     }
   }
   return kExitOk;
+}
+
+RegisteredCommand register_reference_command(CLI::App& app) {
+  auto options = std::make_shared<ReferenceOptions>();
+  CLI::App* cmd = app.add_subcommand("reference", "compute a reference solution");
+  cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
+  cmd->add_option("--solver", options->solver,
+                  "auto (arkode's ESDIRK on a stiff oscillatory scene, else cvode) | ida | "
+                  "cvode | arkode | odeint | exact")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
+      ->capture_default_str();
+  cmd->add_option("--method", options->method,
+                  "cvode: auto (from the scene's stiff elements) | adams | bdf | bdf2 (BDF "
+                  "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk")
+      ->check(CLI::IsMember({"auto", "adams", "bdf", "bdf2", "erk", "esdirk"}))
+      ->capture_default_str();
+  cmd->add_option("--rtol", options->rtol,
+                  "relative tolerance (double >= 1e-15; default for extended 1e-16, quad 1e-28)")
+      ->check(number_in(1e-32, 1e-1))
+      ->capture_default_str();
+  cmd->add_option("--atol", options->atol, "absolute tolerance (default: = rtol)")
+      ->check(number_in(1e-16, 1.0));
+  cmd->add_flag("!--no-estimate", options->estimate,
+                "skip the error estimate (rerun 100x tighter and a second solver)");
+  cmd->add_option("-o,--output", options->output, std::string("CSV ") + kOutputFileHelp)
+      ->required();
+  add_model_option(cmd, options->model);
+  cmd->add_option("--precision", options->precision,
+                  "double | extended (80-bit long double) | quad (binary128): the arithmetic of "
+                  "the reference (docs/precision.md; extended and quad carry every scene: "
+                  "rigid and flexible bodies, loads, potentials, contacts, gap supports and "
+                  "joints)")
+      ->check(CLI::IsMember({"double", "extended", "quad"}))
+      ->capture_default_str();
+  add_limits(cmd, options->limits, false);
+
+  return {cmd, [options, cmd] {
+            options->rtol_given = cmd->count("--rtol") > 0;
+            return reference_command(*options);
+          }};
 }
 
 }  // namespace flexref::app

@@ -3,11 +3,16 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
+#include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
@@ -232,6 +237,75 @@ int stability_command(const StabilityCommandOptions& options) {
   std::cout << "\n";
   for (const std::string& problem : plot_problems) std::cout << problem << "\n";
   return kExitOk;
+}
+
+RegisteredCommand register_stability_command(CLI::App& app) {
+  auto options = std::make_shared<StabilityCommandOptions>();
+  auto genalpha = std::make_shared<GenalphaCliOptions>();
+  CLI::App* cmd =
+      app.add_subcommand("stability",
+                         "largest stable step vs spin rate, inertia ratio, modal frequency or "
+                         "contact stiffness");
+  cmd->add_option("scene", options->scene,
+                  "optional scene: first free body's inertia and W0 direction");
+  cmd->add_option("--parameter", options->parameter,
+                  "spin | inertia_ratio | modal_frequency | contact_stiffness")
+      ->check(CLI::IsMember({"spin", "inertia_ratio", "modal_frequency", "contact_stiffness"}))
+      ->capture_default_str();
+  auto* values_opt =
+      cmd->add_option("--values", options->values,
+                      "swept values (comma-separated): spin rad/s > 0, inertia_ratio J3/J1 >= 1, "
+                      "modal_frequency rad/s > 0, contact_stiffness N/m > 0")
+          ->delimiter(',')
+          ->check(positive_number());
+  cmd->add_option("--min", options->min,
+                  "log-spaced range start (default: spin 0.1, inertia_ratio 1, modal_frequency "
+                  "10, contact_stiffness 1e3)")
+      ->check(positive_number())
+      ->excludes(values_opt);
+  cmd->add_option("--max", options->max,
+                  "log-spaced range end (default: spin 1000, inertia_ratio 1e6, "
+                  "modal_frequency 1e4, contact_stiffness 1e9)")
+      ->check(positive_number())
+      ->excludes(values_opt);
+  cmd->add_option("--count", options->count, "number of values")
+      ->check(integer_in(1, 200))
+      ->capture_default_str();
+  cmd->add_option("--schemes", options->schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember(lie::scheme_names()))
+      ->capture_default_str();
+  cmd->add_option("--spin", options->spin,
+                  "|W0| for the ratio sweep and degenerate set (0: the body's) [rad/s]")
+      ->check(non_negative_number());
+  cmd->add_option("--steps", options->steps, "steps per stability run")
+      ->check(integer_in(10L, 100000000L))
+      ->capture_default_str();
+  cmd->add_option("--energy-factor", options->energy_factor,
+                  "unstable when |dE| > f|E0| (and |dpi| > f|pi0|)")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--rtol", options->rtol, "bisection relative tolerance")
+      ->check(number_in(1e-8, 0.5))
+      ->capture_default_str();
+  cmd->add_flag("--degenerate,!--no-degenerate", options->degenerate,
+                "run the degenerate-body set");
+  cmd->add_option("--long-run-steps", options->long_run_steps, "0: no long run")
+      ->check(integer_in(0, 1000000000000L))
+      ->capture_default_str();
+  cmd->add_option("--long-run-dt", options->long_run_dt, "long-run step [s]")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_genalpha_options(cmd, *genalpha);
+  add_limits(cmd, options->limits, true);
+
+  return {cmd, [options, genalpha] {
+            genalpha->apply();
+            return stability_command(*options);
+          }};
 }
 
 }  // namespace flexref::app
