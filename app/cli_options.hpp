@@ -4,7 +4,9 @@
 /// help of output paths, genalpha's parameters, --model, the work limits, --reference-budget,
 /// --allow-scene-mismatch, --estimate-factor and the metric list.
 #include <CLI/CLI.hpp>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "app/work_limits.hpp"
 #include "lie/genalpha_parameters.hpp"
@@ -45,5 +47,20 @@ void add_estimate_factor(CLI::App* command, double& factor);
 
 /// "what: rotation+points | rotation | ...": the help of a --metric option.
 std::string metric_help(const std::string& what);
+
+/// An option whose value is one of `names`, stored in the enum `value` as CLI11 reads it
+/// (`parse`: name -> enum; `print`: enum -> name, for the default in the help). CLI11 binds it
+/// as text, so the help lists it as it does a text option ("TEXT:{a,b} [a]"), and refuses any
+/// other name (a usage error) before `parse` sees it.
+template <class Enum, class Parse, class Print>
+CLI::Option* add_enum_option(CLI::App* command, const std::string& name, Enum& value,
+                             const std::string& help, const std::vector<std::string>& names,
+                             Parse parse, Print print) {
+  auto text = std::make_shared<std::string>(print(value));
+  return command->add_option(name, *text, help)
+      ->check(CLI::IsMember(names))
+      ->capture_default_str()
+      ->each([text, &value, parse](const std::string& given) { value = parse(given); });
+}
 
 }  // namespace flexref::app

@@ -10,8 +10,10 @@
 #include "app/work_limits.hpp"
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
+#include "precision/precision.hpp"
 #include "scene/scene.hpp"
 #include "studies/convergence.hpp"
+#include "studies/reference_policy.hpp"
 #include "studies/reference_sidecar.hpp"
 #include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
@@ -108,7 +110,8 @@ struct ReferenceOptions {
   bool estimate = true;
   std::string output;
   WorkLimits limits;
-  std::string precision = "double";  ///< double | extended | quad (docs/precision.md)
+  /// double | extended | quad (docs/precision.md)
+  flexref::precision::Precision precision = flexref::precision::Precision::kDouble;
 };
 int reference_command(const ReferenceOptions& options);
 /// `reference --precision extended|quad` (app/high_precision_command.cpp).
@@ -153,7 +156,7 @@ struct ConvergeOptions {
   double timeout = 3600.0;        ///< --timeout per external run [s], 0: none
   /// auto | double | extended | quad (docs/precision.md): auto repeats the study with a quad
   /// reference when the double one cannot certify every level and the scene allows it.
-  std::string reference_precision = "auto";
+  studies::ReferencePrecision reference_precision = studies::ReferencePrecision::kAuto;
   /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
   double reference_budget = kDefaultReferenceBudget;
   /// --runs/--external files whose sidecars name another scene are used anyway.

@@ -61,9 +61,8 @@ int converge_command(const ConvergeOptions& options) {
   const precision::StudyReferences references(scene, times, options.metric,
                                               options.reference_solver, "converge");
   studies::PolicyOutcome<studies::ConvergenceResult> outcome =
-      studies::run_convergence_under_policy(
-          model, times, study, studies::parse_reference_precision(options.reference_precision),
-          options.reference_budget, references);
+      studies::run_convergence_under_policy(model, times, study, options.reference_precision,
+                                            options.reference_budget, references);
   const studies::ConvergenceResult& result = outcome.result;
   const std::string& refused = outcome.refused;
   for (const auto& method : study.external) {
@@ -166,11 +165,11 @@ RegisteredCommand register_converge_command(CLI::App& app) {
   cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
   add_genalpha_options(cmd, *genalpha);
   add_model_option(cmd, options->model);
-  cmd->add_option("--reference-precision", options->reference_precision,
+  add_enum_option(cmd, "--reference-precision", options->reference_precision,
                   "auto (double; quad when double cannot certify every level and the scene "
-                  "allows it) | double | extended | quad (docs/precision.md)")
-      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
-      ->capture_default_str();
+                  "allows it) | double | extended | quad (docs/precision.md)",
+                  {"auto", "double", "extended", "quad"}, studies::parse_reference_precision,
+                  [](studies::ReferencePrecision p) { return studies::to_string(p); });
   add_reference_budget(cmd, options->reference_budget);
   add_limits(cmd, options->limits, true);
   auto* conv_external =

@@ -161,8 +161,7 @@ int figure_command(const FigureCommandOptions& options) {
   };
   policy_study.repeated = "the figure was repeated against a quad-precision reference";
   studies::PolicyOutcome<studies::FigureResult> outcome = studies::run_with_reference_policy(
-      studies::parse_reference_precision(options.reference_precision), options.reference_budget,
-      references, policy_study);
+      options.reference_precision, options.reference_budget, references, policy_study);
   const studies::FigureResult& result = outcome.result;
   const std::string& note = outcome.note;
   const std::string& refused = outcome.refused;
@@ -208,11 +207,11 @@ RegisteredCommand register_figure_command(CLI::App& app) {
       ->required();
   cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
-  cmd->add_option("--reference-precision", options->reference_precision,
+  add_enum_option(cmd, "--reference-precision", options->reference_precision,
                   "auto (quad when the double reference cannot certify a curve and the scene "
-                  "allows it) | double | extended | quad (docs/precision.md)")
-      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
-      ->capture_default_str();
+                  "allows it) | double | extended | quad (docs/precision.md)",
+                  {"auto", "double", "extended", "quad"}, studies::parse_reference_precision,
+                  [](studies::ReferencePrecision p) { return studies::to_string(p); });
   add_reference_budget(cmd, options->reference_budget);
   cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
   add_limits(cmd, options->limits, true);

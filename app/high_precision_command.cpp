@@ -72,23 +72,22 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
 }  // namespace
 
 int high_precision_reference_command(const ReferenceOptions& options) {
-  const precision::Precision p = precision::parse_precision(options.precision);
+  const precision::Precision p = options.precision;
+  const std::string name = precision::to_string(p);
   const core::FlexibleFormulation formulation = parse_formulation(options.model);
   const scene::Scene scene = load_scene(options.scene, formulation);
   precision::check_supported(scene.spec, formulation);
   if (options.solver == "exact") return exact_reference_command(options, p, scene);
   if (options.solver != "auto" && options.solver != "odeint") {
-    throw std::invalid_argument("--solver " + options.solver + ": " + options.precision +
+    throw std::invalid_argument("--solver " + options.solver + ": " + name +
                                 " precision references are Odeint's (Bulirsch-Stoer) or the "
                                 "exact solution; omit --solver or give odeint or exact");
   }
   if (options.method != "auto") {
-    throw std::invalid_argument("--method: " + options.precision +
-                                " precision references take no --method");
+    throw std::invalid_argument("--method: " + name + " precision references take no --method");
   }
   if (options.atol >= 0.0 && options.atol != options.rtol) {
-    throw std::invalid_argument("--atol: " + options.precision +
-                                " precision references use atol = rtol");
+    throw std::invalid_argument("--atol: " + name + " precision references use atol = rtol");
   }
   const double rtol = options.rtol_given ? options.rtol : precision::default_rtol(p);
   const std::vector<double> times =

@@ -47,7 +47,9 @@ void set_method(const std::string& solver, const std::string& method,
 }  // namespace
 
 int reference_command(const ReferenceOptions& options) {
-  if (options.precision != "double") return high_precision_reference_command(options);
+  if (options.precision != precision::Precision::kDouble) {
+    return high_precision_reference_command(options);
+  }
   if (options.rtol < 1e-15) {
     throw std::invalid_argument("--rtol " + number_text(options.rtol) +
                                 ": double precision takes rtol >= 1e-15 (--precision extended or "
@@ -202,13 +204,15 @@ RegisteredCommand register_reference_command(CLI::App& app) {
   cmd->add_option("-o,--output", options->output, std::string("CSV ") + kOutputFileHelp)
       ->required();
   add_model_option(cmd, options->model);
-  cmd->add_option("--precision", options->precision,
-                  "double | extended (80-bit long double) | quad (binary128): the arithmetic of "
-                  "the reference (docs/precision.md; extended and quad carry every scene: "
-                  "rigid and flexible bodies, loads, potentials, contacts, gap supports and "
-                  "joints)")
-      ->check(CLI::IsMember({"double", "extended", "quad"}))
-      ->capture_default_str();
+  add_enum_option(
+      cmd, "--precision", options->precision,
+      "double | extended (80-bit long double) | quad (binary128): the arithmetic of "
+      "the reference (docs/precision.md; extended and quad carry every scene: "
+      "rigid and flexible bodies, loads, potentials, contacts, gap supports and "
+      "joints)",
+      {"double", "extended", "quad"},
+      [](const std::string& name) { return precision::parse_precision(name); },
+      [](precision::Precision p) { return precision::to_string(p); });
   add_limits(cmd, options->limits, false);
 
   return {cmd, [options, cmd] {

@@ -63,9 +63,8 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   const precision::StudyReferences references(scene, times, app_options.metric,
                                               app_options.reference_solver, "work-precision");
   studies::PolicyOutcome<studies::WorkPrecisionResult> outcome =
-      studies::run_work_precision_under_policy(
-          model, times, study, studies::parse_reference_precision(app_options.reference_precision),
-          app_options.reference_budget, references);
+      studies::run_work_precision_under_policy(model, times, study, app_options.reference_precision,
+                                               app_options.reference_budget, references);
   const studies::WorkPrecisionResult& result = outcome.result;
   const std::string& refused = outcome.refused;
 
@@ -179,11 +178,11 @@ RegisteredCommand register_work_precision_command(CLI::App& app) {
       ->capture_default_str();
   add_allow_scene_mismatch(cmd, options->allow_scene_mismatch);
   add_model_option(cmd, options->model);
-  cmd->add_option("--reference-precision", options->reference_precision,
+  add_enum_option(cmd, "--reference-precision", options->reference_precision,
                   "auto (double; quad when double cannot certify every run and the scene "
-                  "allows it) | double | extended | quad (docs/precision.md)")
-      ->check(CLI::IsMember({"auto", "double", "extended", "quad"}))
-      ->capture_default_str();
+                  "allows it) | double | extended | quad (docs/precision.md)",
+                  {"auto", "double", "extended", "quad"}, studies::parse_reference_precision,
+                  [](studies::ReferencePrecision p) { return studies::to_string(p); });
   add_reference_budget(cmd, options->reference_budget);
   add_limits(cmd, options->limits, true);
 

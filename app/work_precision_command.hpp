@@ -9,6 +9,7 @@
 #include "app/default_model.hpp"
 #include "app/work_limits.hpp"
 #include "lie/stepper.hpp"
+#include "studies/reference_policy.hpp"
 
 namespace flexref::app {
 
@@ -32,7 +33,7 @@ struct WorkPrecisionOptions {
   std::string label;        ///< --label of the external method
   double timeout = 3600.0;  ///< --timeout per external run [s], 0: none
   /// auto | double | extended | quad (docs/precision.md), as for converge.
-  std::string reference_precision = "auto";
+  studies::ReferencePrecision reference_precision = studies::ReferencePrecision::kAuto;
   /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
   double reference_budget = kDefaultReferenceBudget;
   /// --external files whose sidecars name another scene are used anyway.
