@@ -71,13 +71,14 @@ int lte_map_command(const LteMapCommandOptions& options) {
   const studies::LteMapBase base = studies::lte_map_base(*scene.model, study);
   study.body = scene.model->body_index(base.body);
   const bool can_stiffen = studies::lte_map_can_stiffen(scene.spec, study.body);
-  if (options.truth == "stiffened" && !can_stiffen) {
+  if (options.truth == LteMapTruth::kStiffened && !can_stiffen) {
     throw std::invalid_argument(
         "lte-map: --truth stiffened: body '" + base.body +
         "' has no geometric-stiffness data (a clamped-free [body.beam], or a modal-data file "
         "with [geometric_stiffness]; docs/geometric_stiffening.md); use --truth coupled");
   }
-  study.stiffened_truth = options.truth == "stiffened" || (options.truth == "auto" && can_stiffen);
+  study.stiffened_truth = options.truth == LteMapTruth::kStiffened ||
+                          (options.truth == LteMapTruth::kAuto && can_stiffen);
   const studies::LteModelFactory factory = studies::lte_map_factory(scene.spec, study.body);
 
   studies::StudyOutput out(options.out_dir);
@@ -146,6 +147,26 @@ int lte_map_command(const LteMapCommandOptions& options) {
   return kExitOk;
 }
 
+LteMapTruth parse_lte_map_truth(std::string_view name) {
+  if (name == "auto") return LteMapTruth::kAuto;
+  if (name == "stiffened") return LteMapTruth::kStiffened;
+  if (name == "coupled") return LteMapTruth::kCoupled;
+  throw std::invalid_argument("--truth '" + std::string(name) +
+                              "': expected auto, stiffened or coupled");
+}
+
+const char* to_string(LteMapTruth truth) {
+  switch (truth) {
+    case LteMapTruth::kAuto:
+      return "auto";
+    case LteMapTruth::kStiffened:
+      return "stiffened";
+    case LteMapTruth::kCoupled:
+      return "coupled";
+  }
+  return "auto";
+}
+
 RegisteredCommand register_lte_map_command(CLI::App& app) {
   auto options = std::make_shared<LteMapCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
@@ -193,11 +214,11 @@ RegisteredCommand register_lte_map_command(CLI::App& app) {
   add_estimate_factor(cmd, options->estimate_factor);
   cmd->add_flag("!--no-scale-loads", options->scale_loads,
                 "keep the loads (default: scale them with spin and inertia)");
-  cmd->add_option("--truth", options->truth,
+  add_enum_option(cmd, "--truth", options->truth,
                   "the truth: stiffened (coupled with geometric stiffening) | coupled (the "
-                  "classical coupled model) | auto (stiffened when the body can be)")
-      ->check(CLI::IsMember({"auto", "stiffened", "coupled"}))
-      ->capture_default_str();
+                  "classical coupled model) | auto (stiffened when the body can be)",
+                  {"auto", "stiffened", "coupled"}, parse_lte_map_truth,
+                  [](LteMapTruth t) { return to_string(t); });
   cmd->add_option("--point", options->point, "tracked node point (default: farthest node)");
   cmd->add_option("--end-time", options->end_time, "s (default: the scene's)")
       ->check(positive_number());
