@@ -15,6 +15,7 @@
 #include "studies/convergence.hpp"
 #include "studies/reference_policy.hpp"
 #include "studies/reference_sidecar.hpp"
+#include "studies/reference_solver_name.hpp"
 #include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
 
@@ -83,8 +84,9 @@ core::FlexibleFormulation parse_formulation(const std::string& model);
 /// bodies has no analytic solution — "exact" is refused (std::invalid_argument naming
 /// `option`). "auto" stays "auto" (studies::resolve_reference_solver resolves it: never exact
 /// for a flexible model).
-std::string reference_solver_for(const core::Model& model, const std::string& solver,
-                                 const std::string& option);
+studies::ReferenceSolver reference_solver_for(const core::Model& model,
+                                              studies::ReferenceSolver solver,
+                                              const std::string& option);
 
 struct RunOptions {
   std::string scene;
@@ -101,7 +103,7 @@ struct ReferenceOptions {
   std::string model = core::to_string(kDefaultFormulation);
   /// "auto": reference::choose_reference_solver (arkode's ESDIRK on a stiff oscillatory scene,
   /// else cvode; never the exact solution, which --solver exact asks for).
-  std::string solver = "auto";
+  studies::ReferenceSolver solver = studies::ReferenceSolver::kAuto;
   std::string method =
       "auto";  ///< cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
   double rtol = 1e-10;
@@ -142,7 +144,7 @@ struct ConvergeOptions {
   double dt = 1e-2;
   int levels = 6;
   std::string metric = "rotation+points";
-  std::string reference_solver = "auto";
+  studies::ReferenceSolver reference_solver = studies::ReferenceSolver::kAuto;
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores
   std::string out_dir = "out/converge";

@@ -36,8 +36,8 @@ int converge_command(const ConvergeOptions& options) {
   study.h0 = coarsest_step(options.dt, options.dt_given, scene.output_step);
   study.levels = options.levels;
   study.metric = options.metric;
-  study.reference_solver =
-      reference_solver_for(model, options.reference_solver, "--reference-solver");
+  study.reference_solver = studies::to_string(
+      reference_solver_for(model, options.reference_solver, "--reference-solver"));
   study.reference_rtol = options.reference_rtol;
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
   study.progress = true;
@@ -153,10 +153,11 @@ RegisteredCommand register_converge_command(CLI::App& app) {
   cmd->add_option("--metric", options->metric, metric_help("error metric"))
       ->check(CLI::IsMember(studies::metric_names()))
       ->capture_default_str();
-  cmd->add_option("--reference-solver", options->reference_solver,
-                  "auto | ida | cvode | arkode | odeint | exact")
-      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
-      ->capture_default_str();
+  add_enum_option(cmd, "--reference-solver", options->reference_solver,
+                  "auto | ida | cvode | arkode | odeint | exact",
+                  {"auto", "ida", "cvode", "arkode", "odeint", "exact"},
+                  studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
   cmd->add_option("--reference-rtol", options->reference_rtol, "reference tolerance")
       ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <toml.hpp>
@@ -24,6 +25,7 @@
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
 #include "studies/reference_policy.hpp"
+#include "studies/reference_solver_name.hpp"
 #include "studies/study_output.hpp"
 #include "studies/trajectory_figure.hpp"
 #include "studies/trajectory_table.hpp"
@@ -110,11 +112,17 @@ int figure_command(const FigureCommandOptions& options) {
     }
     if (settings.point < 0) f.fail("point", "no tracked point \"" + *point + "\" on the body");
   }
-  settings.solver = f.optional_string("solver", "a reference solver").value_or("cvode");
-  if (settings.solver != "cvode" && settings.solver != "ida" && settings.solver != "odeint" &&
-      settings.solver != "exact") {
+  std::optional<studies::ReferenceSolver> solver;
+  try {
+    solver = studies::parse_reference_solver(
+        f.optional_string("solver", "a reference solver").value_or("cvode"));
+  } catch (const std::invalid_argument&) {
+  }
+  if (!solver || *solver == studies::ReferenceSolver::kAuto ||
+      *solver == studies::ReferenceSolver::kArkode) {
     f.fail("solver", "expected cvode, ida, odeint or exact");
   }
+  settings.solver = studies::to_string(*solver);
   settings.rtol = f.number_or("rtol", 1e-10, scene::scene_toml::Sign::kPositive, "a tolerance");
   const double end_time = f.number_or("end_time", scene.end_time,
                                       scene::scene_toml::Sign::kPositive, "an end time [s]");
@@ -144,7 +152,8 @@ int figure_command(const FigureCommandOptions& options) {
   // The schemes against the model before a high-precision reference (quad: minutes).
   for (const std::string& s : settings.schemes) (void)lie::make_stepper(s, model);
   // The study file's solver and rtol are the double reference's.
-  const precision::StudyReferences references(scene, times, "points", "auto", "figure");
+  const precision::StudyReferences references(scene, times, "points",
+                                              studies::ReferenceSolver::kAuto, "figure");
   studies::PolicyStudy<studies::FigureResult> policy_study;
   policy_study.run = [&](std::shared_ptr<const studies::CertifiedReference> reference,
                          studies::ReferencePrecision precision) {

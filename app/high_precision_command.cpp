@@ -77,9 +77,13 @@ int high_precision_reference_command(const ReferenceOptions& options) {
   const core::FlexibleFormulation formulation = parse_formulation(options.model);
   const scene::Scene scene = load_scene(options.scene, formulation);
   precision::check_supported(scene.spec, formulation);
-  if (options.solver == "exact") return exact_reference_command(options, p, scene);
-  if (options.solver != "auto" && options.solver != "odeint") {
-    throw std::invalid_argument("--solver " + options.solver + ": " + name +
+  if (options.solver == studies::ReferenceSolver::kExact) {
+    return exact_reference_command(options, p, scene);
+  }
+  if (options.solver != studies::ReferenceSolver::kAuto &&
+      options.solver != studies::ReferenceSolver::kOdeint) {
+    throw std::invalid_argument(std::string("--solver ") + studies::to_string(options.solver) +
+                                ": " + name +
                                 " precision references are Odeint's (Bulirsch-Stoer) or the "
                                 "exact solution; omit --solver or give odeint or exact");
   }

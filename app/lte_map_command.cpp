@@ -60,7 +60,7 @@ int lte_map_command(const LteMapCommandOptions& options) {
   study.output_step = std::min(scene.output_step, study.end_time);
   limited_output_times(study.end_time, study.output_step, options.limits);
   check_scene_extremes(scene, study.end_time);
-  study.solver = reference_solver_for(*scene.model, options.solver, "--solver");
+  study.solver = studies::to_string(reference_solver_for(*scene.model, options.solver, "--solver"));
   study.rtol = options.rtol;
   study.estimate_factor = options.estimate_factor;
   study.scale_loads = options.scale_loads;
@@ -205,9 +205,9 @@ RegisteredCommand register_lte_map_command(CLI::App& app) {
       ->excludes(lte_inertias)
       ->check(integer_in(1, 200))
       ->capture_default_str();
-  cmd->add_option("--solver", options->solver, "reference solver: cvode | ida | odeint")
-      ->check(CLI::IsMember({"cvode", "ida", "odeint"}))
-      ->capture_default_str();
+  add_enum_option(cmd, "--solver", options->solver, "reference solver: cvode | ida | odeint",
+                  {"cvode", "ida", "odeint"}, studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
   cmd->add_option("--rtol", options->rtol, "reference tolerance (both models)")
       ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();

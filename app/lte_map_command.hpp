@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/work_limits.hpp"
+#include "studies/reference_solver_name.hpp"
 
 namespace flexref::app {
 
@@ -35,7 +36,7 @@ struct LteMapCommandOptions {
   double inertia_min = 1e-4;
   double inertia_max = 1.0;
   int inertia_count = 11;
-  std::string solver = "cvode";
+  studies::ReferenceSolver solver = studies::ReferenceSolver::kCvode;
   double rtol = 1e-10;
   double estimate_factor = 10.0;  ///< the accuracy check reruns at estimate_factor·rtol
   bool scale_loads = true;

@@ -25,7 +25,7 @@ int modal_truncation_command(const ModalTruncationCommandOptions& options) {
   study.mode_counts = options.modes;
   study.end_time = options.end_time > 0.0 ? options.end_time : scene.end_time;
   study.output_step = std::min(scene.output_step, study.end_time);
-  study.solver = reference_solver_for(*scene.model, options.solver, "--solver");
+  study.solver = studies::to_string(reference_solver_for(*scene.model, options.solver, "--solver"));
   study.rtol = options.rtol;
   study.estimate_factor = options.estimate_factor;
   study.formulation = formulation;
@@ -100,9 +100,9 @@ RegisteredCommand register_modal_truncation_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--body", options->body, "flexible body (default: the first)");
   cmd->add_option("--point", options->point, "tracked node point (default: farthest node)");
-  cmd->add_option("--solver", options->solver, "reference solver: odeint | cvode | ida")
-      ->check(CLI::IsMember({"odeint", "cvode", "ida"}))
-      ->capture_default_str();
+  add_enum_option(cmd, "--solver", options->solver, "reference solver: odeint | cvode | ida",
+                  {"odeint", "cvode", "ida"}, studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
   cmd->add_option("--rtol", options->rtol, "reference tolerance")
       ->check(number_in(1e-14, 1e-4))
       ->capture_default_str();

@@ -23,20 +23,21 @@ namespace {
 /// --method for the solver: CVODE's (auto, adams, bdf, bdf2), IDA's order cap (auto, bdf,
 /// bdf2), ARKODE's (auto, erk, esdirk); another solver takes only auto. Throws
 /// std::invalid_argument naming the option.
-void set_method(const std::string& solver, const std::string& method,
+void set_method(studies::ReferenceSolver solver, const std::string& method,
                 reference::SolverOptions& options) {
   const auto refuse = [&](const std::string& accepted) {
-    throw std::invalid_argument("--method " + method + ": " + solver + " takes " + accepted);
+    throw std::invalid_argument("--method " + method + ": " + studies::to_string(solver) +
+                                " takes " + accepted);
   };
-  if (solver == "cvode") {
+  if (solver == studies::ReferenceSolver::kCvode) {
     if (method != "auto" && method != "adams" && method != "bdf" && method != "bdf2") {
       refuse("auto, adams, bdf or bdf2");
     }
     options.cvode_method = reference::parse_cvode_method(method);
-  } else if (solver == "ida") {
+  } else if (solver == studies::ReferenceSolver::kIda) {
     if (method != "auto" && method != "bdf" && method != "bdf2") refuse("auto, bdf or bdf2");
     options.cvode_method = reference::parse_cvode_method(method);
-  } else if (solver == "arkode") {
+  } else if (solver == studies::ReferenceSolver::kArkode) {
     if (method != "auto" && method != "erk" && method != "esdirk") refuse("auto, erk or esdirk");
     options.arkode_method = reference::parse_arkode_method(method);
   } else if (method != "auto") {
@@ -59,19 +60,20 @@ int reference_command(const ReferenceOptions& options) {
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);
-  std::string solver = reference_solver_for(model, options.solver, "--solver");
+  studies::ReferenceSolver chosen = reference_solver_for(model, options.solver, "--solver");
   std::string solver_reason = "chosen with --solver";
-  if (solver == "auto") {
+  if (chosen == studies::ReferenceSolver::kAuto) {
     const reference::ReferenceSolverChoice choice =
         reference::choose_reference_solver(model, reference::mean_output_spacing(times));
-    solver = choice.solver;
+    chosen = studies::parse_reference_solver(choice.solver);
     solver_reason = choice.reason;
   }
+  const std::string solver = studies::to_string(chosen);
   check_output_file(options.output, true);
   reference::SolverOptions solver_options;
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
-  set_method(solver, options.method, solver_options);
+  set_method(chosen, options.method, solver_options);
 
   studies::CertifiedReference ref;
   {
@@ -154,7 +156,8 @@ int reference_command(const ReferenceOptions& options) {
     summary << ", " << ref.run.event_times.size() << " events located";
   }
   summary << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
-  if (options.solver == "auto") summary << "solver: " << solver_reason << "\n";
+  if (options.solver == studies::ReferenceSolver::kAuto)
+    summary << "solver: " << solver_reason << "\n";
   if (ref.run.solver == "cvode" || ref.run.solver == "ida" || ref.run.solver == "arkode") {
     summary << "method: " << ref.run.method_reason << "\n";
   }
@@ -183,11 +186,12 @@ RegisteredCommand register_reference_command(CLI::App& app) {
   auto options = std::make_shared<ReferenceOptions>();
   CLI::App* cmd = app.add_subcommand("reference", "compute a reference solution");
   cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
-  cmd->add_option("--solver", options->solver,
+  add_enum_option(cmd, "--solver", options->solver,
                   "auto (arkode's ESDIRK on a stiff oscillatory scene, else cvode) | ida | "
-                  "cvode | arkode | odeint | exact")
-      ->check(CLI::IsMember({"auto", "ida", "cvode", "arkode", "odeint", "exact"}))
-      ->capture_default_str();
+                  "cvode | arkode | odeint | exact",
+                  {"auto", "ida", "cvode", "arkode", "odeint", "exact"},
+                  studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
   cmd->add_option("--method", options->method,
                   "cvode: auto (from the scene's stiff elements) | adams | bdf | bdf2 (BDF "
                   "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk")

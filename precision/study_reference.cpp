@@ -19,12 +19,12 @@ bool measurable(const std::string& metric) {
 }  // namespace
 
 StudyReferences::StudyReferences(const scene::Scene& scene, const std::vector<double>& times,
-                                 std::string metric, std::string reference_solver,
+                                 std::string metric, studies::ReferenceSolver reference_solver,
                                  std::string study)
     : scene_(scene),
       times_(times),
       metric_(std::move(metric)),
-      reference_solver_(std::move(reference_solver)),
+      reference_solver_(reference_solver),
       study_(std::move(study)) {}
 
 std::shared_ptr<const studies::CertifiedReference> StudyReferences::compute(
@@ -42,7 +42,7 @@ std::shared_ptr<const studies::CertifiedReference> StudyReferences::solve(
                                 " precision references measure rotation+points, rotation or "
                                 "points");
   }
-  if (reference_solver_ != "auto") {
+  if (reference_solver_ != studies::ReferenceSolver::kAuto) {
     throw std::invalid_argument("--reference-solver: a " + name +
                                 " precision reference is Odeint's; omit --reference-solver");
   }
@@ -56,7 +56,7 @@ std::shared_ptr<const studies::CertifiedReference> StudyReferences::solve(
 }
 
 bool StudyReferences::quad_possible() const {
-  if (reference_solver_ != "auto" || !measurable(metric_)) return false;
+  if (reference_solver_ != studies::ReferenceSolver::kAuto || !measurable(metric_)) return false;
   try {
     check_supported(scene_.spec, scene_.model->formulation());
   } catch (const std::invalid_argument&) {

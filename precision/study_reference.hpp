@@ -10,6 +10,7 @@
 
 #include "scene/scene.hpp"
 #include "studies/reference_policy.hpp"
+#include "studies/reference_solver_name.hpp"
 
 namespace flexref::precision {
 
@@ -17,10 +18,10 @@ class StudyReferences final : public studies::HighPrecisionReferences {
  public:
   /// The references of the study `study` ("converge": the progress line's name) of `scene` at
   /// `times`, certified in `metric`; `reference_solver` is the study's --reference-solver
-  /// ("auto" unless one was named: a named solver rules out extended and quad). Keeps
+  /// (kAuto unless one was named: a named solver rules out extended and quad). Keeps
   /// references to scene and times: they must outlive this object.
   StudyReferences(const scene::Scene& scene, const std::vector<double>& times, std::string metric,
-                  std::string reference_solver, std::string study);
+                  studies::ReferenceSolver reference_solver, std::string study);
 
   /// Throws std::invalid_argument when the scene (precision::check_supported), the metric
   /// (rotation+points, rotation or points) or a named reference solver rules it out.
@@ -37,7 +38,7 @@ class StudyReferences final : public studies::HighPrecisionReferences {
   const scene::Scene& scene_;
   const std::vector<double>& times_;
   std::string metric_;
-  std::string reference_solver_;
+  studies::ReferenceSolver reference_solver_;
   std::string study_;
 };
 

@@ -37,6 +37,7 @@
 #include "studies/parallel.hpp"
 #include "studies/reference_policy.hpp"
 #include "studies/reference_sidecar.hpp"
+#include "studies/reference_solver_name.hpp"
 #include "studies/trajectory_contract.hpp"
 #include "studies/trajectory_table.hpp"
 
@@ -433,7 +434,8 @@ PYBIND11_MODULE(flexref, m) {
          const std::string& metric, const std::string& reference_solver, double reference_rtol,
          const std::string& precision, double reference_budget, int jobs) {
         const core::Model& model = *s.scene->model;
-        if (model.has_flexible_bodies() && reference_solver == "exact") {
+        const studies::ReferenceSolver solver = studies::parse_reference_solver(reference_solver);
+        if (model.has_flexible_bodies() && solver == studies::ReferenceSolver::kExact) {
           throw std::invalid_argument("a model with flexible bodies has no exact solution");
         }
         if (!(reference_budget >= 0.0)) {
@@ -446,12 +448,11 @@ PYBIND11_MODULE(flexref, m) {
         options.h0 = dt;
         options.levels = levels;
         options.metric = metric;
-        options.reference_solver = reference_solver;
+        options.reference_solver = studies::to_string(solver);
         options.reference_rtol = reference_rtol;
         options.jobs = jobs > 0 ? jobs : studies::default_jobs();
         studies::check_convergence_inputs(model, times, options);
-        const precision::StudyReferences references(*s.scene, times, metric, reference_solver,
-                                                    "converge");
+        const precision::StudyReferences references(*s.scene, times, metric, solver, "converge");
         studies::PolicyOutcome<studies::ConvergenceResult> outcome;
         {
           py::gil_scoped_release release;
