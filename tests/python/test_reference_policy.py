@@ -1,8 +1,9 @@
-"""The reference policy from Python (studies/reference_policy.hpp through flexref.converge):
-on book_toss the double reference cannot certify NMB's two finest of eight levels (estimated
-error 3.7e-8 against errors down to 8.1e-7), and precision="auto" repeats the study against a
-quad-precision reference, as `flexref converge` does. Run by ctest with PYTHONPATH=build/python
-from the repository root."""
+"""The reference policy from Python (studies/reference_policy.hpp, through flexref.converge
+and flexref.work_precision): on book_toss the double reference cannot certify NMB's two finest
+of eight levels (estimated error 3.7e-8 against errors down to 8.1e-7), and precision="auto"
+repeats the study against a quad-precision reference, as `flexref converge` and
+`flexref work-precision` do. Run by ctest with PYTHONPATH=build/python from the repository
+root."""
 import unittest
 
 import flexref
@@ -39,6 +40,17 @@ class ReferencePolicyTest(unittest.TestCase):
         self.assertEqual(out["reference_precision"], "double")
         self.assertIn("over its budget of 0.001 s", out["reference_refused"])
         self.assertIn(out["reference_refused"], out["notes"][0])
+
+    def test_work_precision_retries_too(self):
+        # The same two NMB levels are the uncertified runs of the work-precision study.
+        kwargs = dict(levels=8, solvers=["cvode"], tolerances=[1e-6], repeats=1, jobs=2)
+        double = flexref.work_precision(self.scene, ["nmb"], precision="double", **kwargs)
+        self.assertEqual([r["status"] for r in double["runs"]].count("uncertified"), 2)
+        auto = flexref.work_precision(self.scene, ["nmb"], precision="auto", **kwargs)
+        self.assertEqual(auto["reference_precision"], "quad")
+        self.assertIn("could not certify 2 run(s): the study was repeated with a "
+                      "quad-precision reference", auto["notes"][0])
+        self.assertEqual([r["status"] for r in auto["runs"]], ["ok"] * 9)
 
     def test_an_unknown_precision_is_refused_with_the_list(self):
         with self.assertRaises(ValueError) as c:
