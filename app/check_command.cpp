@@ -20,7 +20,7 @@
 namespace flexref::app {
 
 int check_command(const CheckOptions& options) {
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, options.model);
   const core::Model& model = *scene.model;
   std::cout << "scene " << scene.name << " (" << options.scene << "): OK\n";
   if (!scene.description.empty()) std::cout << "  " << scene.description << "\n";

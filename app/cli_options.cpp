@@ -3,6 +3,7 @@
 #include "app/cli_options.hpp"
 
 #include "app/cli_validators.hpp"
+#include "app/commands.hpp"
 #include "lie/genalpha_parameters.hpp"
 #include "studies/error_metrics.hpp"
 
@@ -40,13 +41,12 @@ void add_reference_budget(CLI::App* command, double& budget) {
       ->capture_default_str();
 }
 
-void add_model_option(CLI::App* command, std::string& model) {
-  command
-      ->add_option("--model", model,
-                   "flexible bodies' equations: coupled | lte (lte by default: the model the "
-                   "schemes integrate)")
-      ->check(CLI::IsMember({"coupled", "lte"}))
-      ->capture_default_str();
+void add_model_option(CLI::App* command, core::FlexibleFormulation& model) {
+  add_enum_option(command, "--model", model,
+                  "flexible bodies' equations: coupled | lte (lte by default: the model the "
+                  "schemes integrate)",
+                  {"coupled", "lte"}, parse_formulation,
+                  [](core::FlexibleFormulation f) { return core::to_string(f); });
 }
 
 void add_limits(CLI::App* command, WorkLimits& limits, bool steps) {

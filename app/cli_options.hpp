@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/work_limits.hpp"
+#include "core/flexible_formulation.hpp"
 #include "lie/genalpha_parameters.hpp"
 
 namespace flexref::app {
@@ -33,7 +34,7 @@ void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha);
 void add_reference_budget(CLI::App* command, double& budget);
 
 /// --model of every command that takes it, with the one default (app/default_model.hpp).
-void add_model_option(CLI::App* command, std::string& model);
+void add_model_option(CLI::App* command, core::FlexibleFormulation& model);
 
 /// --max-steps (when `steps`) and --max-rows (app::WorkLimits): counts, whole numbers.
 void add_limits(CLI::App* command, WorkLimits& limits, bool steps);

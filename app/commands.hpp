@@ -71,7 +71,7 @@ struct CheckOptions {
   std::string scene;
   /// The model the scene is built with: a scene with joints at a flexible body's nodes loads
   /// only under the coupled model.
-  std::string model = core::to_string(kDefaultFormulation);
+  core::FlexibleFormulation model = kDefaultFormulation;
 };
 int check_command(const CheckOptions& options);
 
@@ -90,7 +90,7 @@ studies::ReferenceSolver reference_solver_for(const core::Model& model,
 
 struct RunOptions {
   std::string scene;
-  std::string model = core::to_string(kDefaultFormulation);
+  core::FlexibleFormulation model = kDefaultFormulation;
   std::string scheme = "c2";
   double dt = 1e-3;
   std::string output;
@@ -100,7 +100,7 @@ int run_command(const RunOptions& options);
 
 struct ReferenceOptions {
   std::string scene;
-  std::string model = core::to_string(kDefaultFormulation);
+  core::FlexibleFormulation model = kDefaultFormulation;
   /// "auto": reference::choose_reference_solver (arkode's ESDIRK on a stiff oscillatory scene,
   /// else cvode; never the exact solution, which --solver exact asks for).
   studies::ReferenceSolver solver = studies::ReferenceSolver::kAuto;
@@ -139,7 +139,7 @@ std::string check_same_scene(const studies::SceneIdentity& a, const std::string&
 
 struct ConvergeOptions {
   std::string scene;
-  std::string model = core::to_string(kDefaultFormulation);
+  core::FlexibleFormulation model = kDefaultFormulation;
   std::vector<std::string> schemes = lie::default_scheme_names();
   double dt = 1e-2;
   int levels = 6;

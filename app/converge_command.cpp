@@ -24,7 +24,7 @@
 namespace flexref::app {
 
 int converge_command(const ConvergeOptions& options) {
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, options.model);
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);

@@ -74,7 +74,7 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
 int high_precision_reference_command(const ReferenceOptions& options) {
   const precision::Precision p = options.precision;
   const std::string name = precision::to_string(p);
-  const core::FlexibleFormulation formulation = parse_formulation(options.model);
+  const core::FlexibleFormulation formulation = options.model;
   const scene::Scene scene = load_scene(options.scene, formulation);
   precision::check_supported(scene.spec, formulation);
   if (options.solver == studies::ReferenceSolver::kExact) {

@@ -19,7 +19,7 @@
 namespace flexref::app {
 
 int modal_truncation_command(const ModalTruncationCommandOptions& options) {
-  const core::FlexibleFormulation formulation = parse_formulation(options.model);
+  const core::FlexibleFormulation formulation = options.model;
   const scene::Scene scene = scene::read_scene(options.scene, formulation);
   studies::ModalTruncationOptions study;
   study.mode_counts = options.modes;

@@ -18,9 +18,9 @@ struct ModalTruncationCommandOptions {
   studies::ReferenceSolver solver = studies::ReferenceSolver::kOdeint;
   double rtol = 1e-10;
   double estimate_factor = 10.0;
-  double end_time = 0.0;                                     ///< s (0: the scene's)
-  std::string model = core::to_string(kDefaultFormulation);  ///< --model coupled|lte
-  int jobs = 0;                                              ///< 0: all cores
+  double end_time = 0.0;                                  ///< s (0: the scene's)
+  core::FlexibleFormulation model = kDefaultFormulation;  ///< --model coupled|lte
+  int jobs = 0;                                           ///< 0: all cores
   std::string out_dir = "out/modes";
 };
 

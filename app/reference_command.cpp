@@ -56,7 +56,7 @@ int reference_command(const ReferenceOptions& options) {
                                 ": double precision takes rtol >= 1e-15 (--precision extended or "
                                 "quad for tighter references)");
   }
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, options.model);
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);

@@ -52,7 +52,7 @@ void add_invariants(studies::StudyRecord& record, const core::InvariantCheck& ch
 }  // namespace
 
 int run_command(const RunOptions& options) {
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, options.model);
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);

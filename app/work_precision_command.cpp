@@ -24,7 +24,7 @@
 
 namespace flexref::app {
 int work_precision_command(const WorkPrecisionOptions& app_options) {
-  const scene::Scene scene = load_scene(app_options.scene, parse_formulation(app_options.model));
+  const scene::Scene scene = load_scene(app_options.scene, app_options.model);
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, app_options.limits);

@@ -16,7 +16,7 @@ namespace flexref::app {
 
 struct WorkPrecisionOptions {
   std::string scene;
-  std::string model = core::to_string(kDefaultFormulation);  ///< --model coupled|lte
+  core::FlexibleFormulation model = kDefaultFormulation;  ///< --model coupled|lte
   std::vector<std::string> schemes = lie::default_scheme_names();
   double dt = 1e-2;       ///< coarsest step [s]
   bool dt_given = false;  ///< --dt was given (else dt or the output interval, the shorter)
