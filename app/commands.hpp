@@ -104,8 +104,8 @@ struct ReferenceOptions {
   /// "auto": reference::choose_reference_solver (arkode's ESDIRK on a stiff oscillatory scene,
   /// else cvode; never the exact solution, which --solver exact asks for).
   studies::ReferenceSolver solver = studies::ReferenceSolver::kAuto;
-  std::string method =
-      "auto";  ///< cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
+  /// cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
+  studies::ReferenceMethod method = studies::ReferenceMethod::kAuto;
   double rtol = 1e-10;
   bool rtol_given = false;  ///< else extended and quad use precision::default_rtol
   double atol = -1.0;

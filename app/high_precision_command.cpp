@@ -22,7 +22,8 @@ namespace {
 /// an independent numerical solution in the same precision, as for the double exact reference.
 int exact_reference_command(const ReferenceOptions& options, precision::Precision p,
                             const scene::Scene& scene) {
-  if (options.rtol_given || options.atol >= 0.0 || options.method != "auto") {
+  if (options.rtol_given || options.atol >= 0.0 ||
+      options.method != studies::ReferenceMethod::kAuto) {
     throw std::invalid_argument("--solver exact takes no --rtol, --atol or --method");
   }
   const std::vector<double> times =
@@ -87,7 +88,7 @@ int high_precision_reference_command(const ReferenceOptions& options) {
                                 " precision references are Odeint's (Bulirsch-Stoer) or the "
                                 "exact solution; omit --solver or give odeint or exact");
   }
-  if (options.method != "auto") {
+  if (options.method != studies::ReferenceMethod::kAuto) {
     throw std::invalid_argument("--method: " + name + " precision references take no --method");
   }
   if (options.atol >= 0.0 && options.atol != options.rtol) {

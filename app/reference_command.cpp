@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -23,24 +25,33 @@ namespace {
 /// --method for the solver: CVODE's (auto, adams, bdf, bdf2), IDA's order cap (auto, bdf,
 /// bdf2), ARKODE's (auto, erk, esdirk); another solver takes only auto. Throws
 /// std::invalid_argument naming the option.
-void set_method(studies::ReferenceSolver solver, const std::string& method,
+void set_method(studies::ReferenceSolver solver, studies::ReferenceMethod method,
                 reference::SolverOptions& options) {
+  using studies::ReferenceMethod;
   const auto refuse = [&](const std::string& accepted) {
-    throw std::invalid_argument("--method " + method + ": " + studies::to_string(solver) +
-                                " takes " + accepted);
+    throw std::invalid_argument(std::string("--method ") + studies::to_string(method) + ": " +
+                                studies::to_string(solver) + " takes " + accepted);
+  };
+  const auto one_of = [method](std::initializer_list<ReferenceMethod> accepted) {
+    return std::find(accepted.begin(), accepted.end(), method) != accepted.end();
   };
   if (solver == studies::ReferenceSolver::kCvode) {
-    if (method != "auto" && method != "adams" && method != "bdf" && method != "bdf2") {
+    if (!one_of({ReferenceMethod::kAuto, ReferenceMethod::kAdams, ReferenceMethod::kBdf,
+                 ReferenceMethod::kBdf2})) {
       refuse("auto, adams, bdf or bdf2");
     }
-    options.cvode_method = reference::parse_cvode_method(method);
+    options.cvode_method = reference::parse_cvode_method(studies::to_string(method));
   } else if (solver == studies::ReferenceSolver::kIda) {
-    if (method != "auto" && method != "bdf" && method != "bdf2") refuse("auto, bdf or bdf2");
-    options.cvode_method = reference::parse_cvode_method(method);
+    if (!one_of({ReferenceMethod::kAuto, ReferenceMethod::kBdf, ReferenceMethod::kBdf2})) {
+      refuse("auto, bdf or bdf2");
+    }
+    options.cvode_method = reference::parse_cvode_method(studies::to_string(method));
   } else if (solver == studies::ReferenceSolver::kArkode) {
-    if (method != "auto" && method != "erk" && method != "esdirk") refuse("auto, erk or esdirk");
-    options.arkode_method = reference::parse_arkode_method(method);
-  } else if (method != "auto") {
+    if (!one_of({ReferenceMethod::kAuto, ReferenceMethod::kErk, ReferenceMethod::kEsdirk})) {
+      refuse("auto, erk or esdirk");
+    }
+    options.arkode_method = reference::parse_arkode_method(studies::to_string(method));
+  } else if (method != ReferenceMethod::kAuto) {
     refuse("no --method");
   }
 }
@@ -192,11 +203,12 @@ RegisteredCommand register_reference_command(CLI::App& app) {
                   {"auto", "ida", "cvode", "arkode", "odeint", "exact"},
                   studies::parse_reference_solver,
                   [](studies::ReferenceSolver v) { return studies::to_string(v); });
-  cmd->add_option("--method", options->method,
+  add_enum_option(cmd, "--method", options->method,
                   "cvode: auto (from the scene's stiff elements) | adams | bdf | bdf2 (BDF "
-                  "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk")
-      ->check(CLI::IsMember({"auto", "adams", "bdf", "bdf2", "erk", "esdirk"}))
-      ->capture_default_str();
+                  "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk",
+                  {"auto", "adams", "bdf", "bdf2", "erk", "esdirk"},
+                  studies::parse_reference_method,
+                  [](studies::ReferenceMethod v) { return studies::to_string(v); });
   cmd->add_option("--rtol", options->rtol,
                   "relative tolerance (double >= 1e-15; default for extended 1e-16, quad 1e-28)")
       ->check(number_in(1e-32, 1e-1))

@@ -34,4 +34,33 @@ const char* to_string(ReferenceSolver solver) {
   return "auto";
 }
 
+ReferenceMethod parse_reference_method(std::string_view name) {
+  if (name == "auto") return ReferenceMethod::kAuto;
+  if (name == "adams") return ReferenceMethod::kAdams;
+  if (name == "bdf") return ReferenceMethod::kBdf;
+  if (name == "bdf2") return ReferenceMethod::kBdf2;
+  if (name == "erk") return ReferenceMethod::kErk;
+  if (name == "esdirk") return ReferenceMethod::kEsdirk;
+  throw std::invalid_argument("reference method '" + std::string(name) +
+                              "': expected auto, adams, bdf, bdf2, erk or esdirk");
+}
+
+const char* to_string(ReferenceMethod method) {
+  switch (method) {
+    case ReferenceMethod::kAuto:
+      return "auto";
+    case ReferenceMethod::kAdams:
+      return "adams";
+    case ReferenceMethod::kBdf:
+      return "bdf";
+    case ReferenceMethod::kBdf2:
+      return "bdf2";
+    case ReferenceMethod::kErk:
+      return "erk";
+    case ReferenceMethod::kEsdirk:
+      return "esdirk";
+  }
+  return "auto";
+}
+
 }  // namespace flexref::studies
