@@ -158,7 +158,7 @@ int figure_command(const FigureCommandOptions& options) {
   policy_study.run = [&](std::shared_ptr<const studies::CertifiedReference> reference,
                          studies::ReferencePrecision precision) {
     settings.given_reference = std::move(reference);
-    if (settings.given_reference) settings.given_precision = studies::to_string(precision);
+    if (settings.given_reference) settings.given_precision = precision;
     return studies::run_trajectory_figure(model, times, settings);
   };
   policy_study.uncertified = [](const studies::FigureResult& r) {
@@ -188,7 +188,7 @@ int figure_command(const FigureCommandOptions& options) {
       .set("end_time", end_time);
   auto&& reference_table = record.table("reference");
   reference_table.set("solver", settings.given_reference ? std::string("odeint") : settings.solver)
-      .set("precision", result.reference_precision)
+      .set("precision", studies::to_string(result.reference_precision))
       .set("estimate", result.reference_estimate)
       .set("estimate_method", result.reference_estimate_method);
   if (!settings.given_reference) reference_table.set("rtol", settings.rtol);

@@ -13,6 +13,7 @@
 #include "core/model.hpp"
 #include "studies/certified_reference.hpp"
 #include "studies/convergence.hpp"
+#include "studies/reference_precision.hpp"
 #include "studies/work_precision.hpp"
 
 namespace flexref::studies {
@@ -21,19 +22,6 @@ namespace flexref::studies {
 /// s: 10 minutes, two orders above what the bundled studies' quad references take (book_toss:
 /// seconds) and far below the hours of a stiff many-mode body (flexible_spinner_64).
 inline constexpr double kDefaultReferenceBudget = 600.0;
-
-/// The reference precision a study asks for.
-enum class ReferencePrecision {
-  kAuto,      ///< double, and quad when double cannot certify everything (the cost guard)
-  kDouble,    ///< the double reference alone
-  kExtended,  ///< an 80-bit extended reference
-  kQuad,      ///< a binary128 reference
-};
-
-/// "auto", "double", "extended" or "quad"; throws std::invalid_argument naming the accepted
-/// values.
-ReferencePrecision parse_reference_precision(std::string_view name);
-const char* to_string(ReferencePrecision precision);
 
 /// The references beyond double of one study (the scene, its output times, the metric, the
 /// --reference-solver), computed by the layer that has the extended/quad model
