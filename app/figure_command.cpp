@@ -117,6 +117,7 @@ int figure_command(const FigureCommandOptions& options) {
     solver = studies::parse_reference_solver(
         f.optional_string("solver", "a reference solver").value_or("cvode"));
   } catch (const std::invalid_argument&) {
+    // An unknown name: refused below with the study file's line and key.
   }
   if (!solver || *solver == studies::ReferenceSolver::kAuto ||
       *solver == studies::ReferenceSolver::kArkode) {
