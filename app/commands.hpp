@@ -13,7 +13,7 @@
 #include "precision/precision.hpp"
 #include "scene/scene.hpp"
 #include "studies/convergence.hpp"
-#include "studies/reference_policy.hpp"
+#include "studies/reference_precision.hpp"
 #include "studies/reference_sidecar.hpp"
 #include "studies/reference_solver_name.hpp"
 #include "studies/study_output.hpp"

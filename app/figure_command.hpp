@@ -8,7 +8,7 @@
 #include <string>
 
 #include "app/work_limits.hpp"
-#include "studies/reference_policy.hpp"
+#include "studies/reference_precision.hpp"
 
 namespace flexref::app {
 

@@ -9,7 +9,7 @@
 #include "app/default_model.hpp"
 #include "app/work_limits.hpp"
 #include "lie/stepper.hpp"
-#include "studies/reference_policy.hpp"
+#include "studies/reference_precision.hpp"
 #include "studies/reference_solver_name.hpp"
 
 namespace flexref::app {
