@@ -4,9 +4,13 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <string>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "constraint/mobility.hpp"
 #include "core/step_limit.hpp"
@@ -16,7 +20,7 @@
 namespace flexref::app {
 
 int check_command(const CheckOptions& options) {
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, options.model);
   const core::Model& model = *scene.model;
   std::cout << "scene " << scene.name << " (" << options.scene << "): OK\n";
   if (!scene.description.empty()) std::cout << "  " << scene.description << "\n";
@@ -133,6 +137,15 @@ int check_command(const CheckOptions& options) {
               << (exact.kind.empty() ? "none (" + exact.reason + ")" : exact.kind) << "\n";
   }
   return kExitOk;
+}
+
+RegisteredCommand register_check_command(CLI::App& app) {
+  auto options = std::make_shared<CheckOptions>();
+  CLI::App* cmd = app.add_subcommand("check", "validate a scene and print its model");
+  cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
+  add_model_option(cmd, options->model);
+
+  return {cmd, [options] { return check_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -10,8 +10,11 @@
 #include "app/work_limits.hpp"
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
+#include "precision/precision.hpp"
 #include "scene/scene.hpp"
 #include "studies/convergence.hpp"
+#include "studies/reference_precision.hpp"
+#include "studies/reference_solver_name.hpp"
 #include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
 #include "trajectory/reference_sidecar.hpp"
@@ -68,7 +71,7 @@ struct CheckOptions {
   std::string scene;
   /// The model the scene is built with: a scene with joints at a flexible body's nodes loads
   /// only under the coupled model.
-  std::string model = core::to_string(kDefaultFormulation);
+  core::FlexibleFormulation model = kDefaultFormulation;
 };
 int check_command(const CheckOptions& options);
 
@@ -81,12 +84,13 @@ core::FlexibleFormulation parse_formulation(const std::string& model);
 /// bodies has no analytic solution — "exact" is refused (std::invalid_argument naming
 /// `option`). "auto" stays "auto" (trajectory::resolve_reference_solver resolves it: never exact
 /// for a flexible model).
-std::string reference_solver_for(const core::Model& model, const std::string& solver,
-                                 const std::string& option);
+studies::ReferenceSolver reference_solver_for(const core::Model& model,
+                                              studies::ReferenceSolver solver,
+                                              const std::string& option);
 
 struct RunOptions {
   std::string scene;
-  std::string model = core::to_string(kDefaultFormulation);
+  core::FlexibleFormulation model = kDefaultFormulation;
   std::string scheme = "c2";
   double dt = 1e-3;
   std::string output;
@@ -96,42 +100,24 @@ int run_command(const RunOptions& options);
 
 struct ReferenceOptions {
   std::string scene;
-  std::string model = core::to_string(kDefaultFormulation);
+  core::FlexibleFormulation model = kDefaultFormulation;
   /// "auto": reference::choose_reference_solver (arkode's ESDIRK on a stiff oscillatory scene,
   /// else cvode; never the exact solution, which --solver exact asks for).
-  std::string solver = "auto";
-  std::string method =
-      "auto";  ///< cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
+  studies::ReferenceSolver solver = studies::ReferenceSolver::kAuto;
+  /// cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
+  studies::ReferenceMethod method = studies::ReferenceMethod::kAuto;
   double rtol = 1e-10;
   bool rtol_given = false;  ///< else extended and quad use precision::default_rtol
   double atol = -1.0;
   bool estimate = true;
   std::string output;
   WorkLimits limits;
-  std::string precision = "double";  ///< double | extended | quad (docs/precision.md)
+  /// double | extended | quad (docs/precision.md)
+  flexref::precision::Precision precision = flexref::precision::Precision::kDouble;
 };
 int reference_command(const ReferenceOptions& options);
 /// `reference --precision extended|quad` (app/high_precision_command.cpp).
 int high_precision_reference_command(const ReferenceOptions& options);
-/// A study's --reference-precision: nullptr for "double" and "auto", else the certified
-/// reference in that precision; throws std::invalid_argument when the scene, the metric or a
-/// --reference-solver rules it out, and precision::BudgetExceeded over budget_seconds (> 0).
-std::shared_ptr<const trajectory::CertifiedReference> high_precision_study_reference(
-    const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
-    const std::string& metric, const std::string& reference_solver, const std::string& study,
-    double budget_seconds = 0.0);
-/// "auto"'s quad reference for a study whose double reference left something uncertified
-/// (docs/precision.md, "Cost guard"): the certified quad reference, or nullptr with `refused`
-/// saying why when its projected wall time exceeds budget_seconds (0: no bound); the study then
-/// keeps its double reference. Call after quad_reference_possible.
-std::shared_ptr<const trajectory::CertifiedReference> automatic_quad_reference(
-    const scene::Scene& scene, const std::vector<double>& times, const std::string& metric,
-    const std::string& study, double budget_seconds, std::string& refused);
-/// Whether "auto" may switch a study to a quad reference (supported scene, metric, no
-/// --reference-solver).
-bool quad_reference_possible(const scene::Scene& scene, const std::string& metric,
-                             const std::string& reference_solver);
-
 struct CompareOptions {
   std::string run;
   std::string reference;
@@ -153,12 +139,12 @@ std::string check_same_scene(const trajectory::SceneIdentity& a, const std::stri
 
 struct ConvergeOptions {
   std::string scene;
-  std::string model = core::to_string(kDefaultFormulation);
+  core::FlexibleFormulation model = kDefaultFormulation;
   std::vector<std::string> schemes = lie::default_scheme_names();
   double dt = 1e-2;
   int levels = 6;
   std::string metric = "rotation+points";
-  std::string reference_solver = "auto";
+  studies::ReferenceSolver reference_solver = studies::ReferenceSolver::kAuto;
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores
   std::string out_dir = "out/converge";
@@ -172,7 +158,7 @@ struct ConvergeOptions {
   double timeout = 3600.0;        ///< --timeout per external run [s], 0: none
   /// auto | double | extended | quad (docs/precision.md): auto repeats the study with a quad
   /// reference when the double one cannot certify every level and the scene allows it.
-  std::string reference_precision = "auto";
+  studies::ReferencePrecision reference_precision = studies::ReferencePrecision::kAuto;
   /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
   double reference_budget = kDefaultReferenceBudget;
   /// --runs/--external files whose sidecars name another scene are used anyway.

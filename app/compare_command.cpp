@@ -6,9 +6,13 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "precision/precise_comparison.hpp"
@@ -223,6 +227,28 @@ int compare_command(const CompareOptions& options) {
   for (std::size_t i = 0; i < used.size(); ++i) std::cout << (i ? ", " : "") << used[i];
   std::cout << ")\n" << cert.text << "\n";
   return kExitOk;
+}
+
+RegisteredCommand register_compare_command(CLI::App& app) {
+  auto options = std::make_shared<CompareOptions>();
+  CLI::App* cmd = app.add_subcommand("compare", "error norms of a run against a reference");
+  cmd->add_option("run", options->run, "CSV of the run")->required();
+  cmd->add_option("reference", options->reference, "CSV of the reference")->required();
+  cmd->add_option("--metric", options->metric, metric_help("metric for the summary line"))
+      ->check(CLI::IsMember(trajectory::metric_names()))
+      ->capture_default_str();
+  cmd->add_flag("--json", options->json, "print the comparison as JSON");
+  add_allow_scene_mismatch(cmd, options->allow_scene_mismatch);
+  cmd->add_option("--time-tolerance", options->time_tolerance,
+                  "row times match output times within this x the output step")
+      ->check(number_in(0.0, 0.5))
+      ->capture_default_str();
+  cmd->add_option("--euler-tolerance", options->euler_tolerance,
+                  "largest accepted | |theta| - 1 | of Euler parameters")
+      ->check(number_in(0.0, 0.1))
+      ->capture_default_str();
+
+  return {cmd, [options] { return compare_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -1,23 +1,31 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <utility>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
+#include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/convergence.hpp"
+#include "studies/high_precision_references.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/reference_policy.hpp"
 #include "studies/reference_record.hpp"
 #include "studies/study_output.hpp"
+#include "trajectory/error_metrics.hpp"
 #include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 
 int converge_command(const ConvergeOptions& options) {
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, options.model);
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);
@@ -29,8 +37,8 @@ int converge_command(const ConvergeOptions& options) {
   study.h0 = coarsest_step(options.dt, options.dt_given, scene.output_step);
   study.levels = options.levels;
   study.metric = options.metric;
-  study.reference_solver =
-      reference_solver_for(model, options.reference_solver, "--reference-solver");
+  study.reference_solver = studies::to_string(
+      reference_solver_for(model, options.reference_solver, "--reference-solver"));
   study.reference_rtol = options.reference_rtol;
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
   study.progress = true;
@@ -51,32 +59,13 @@ int converge_command(const ConvergeOptions& options) {
   // --reference-precision (docs/precision.md): a given precision, or "auto": the double
   // reference, and when it cannot certify every level and the scene is one the extended/quad
   // model carries, the study again with a quad reference.
-  const std::string& wanted = options.reference_precision;
-  study.given_reference = high_precision_study_reference(scene, times, wanted, options.metric,
-                                                         options.reference_solver, "converge");
-  studies::ConvergenceResult result = studies::run_convergence(model, times, study);
-  std::string precision_used = wanted == "auto" ? "double" : wanted;
-  std::string refused;  // why auto kept the double reference (the budget), when it did
-  if (wanted == "auto" &&
-      quad_reference_possible(scene, options.metric, options.reference_solver)) {
-    int uncertified = 0;
-    for (const auto& lv : result.levels) uncertified += lv.status == "uncertified" ? 1 : 0;
-    if (uncertified > 0) {
-      std::ostringstream note;
-      note << "the double reference (estimated error " << result.reference.estimate.estimate()
-           << ") could not certify " << uncertified << " level(s)";
-      study.given_reference = automatic_quad_reference(scene, times, options.metric, "converge",
-                                                       options.reference_budget, refused);
-      if (study.given_reference) {
-        note << ": the study was repeated with a quad-precision reference (docs/precision.md)";
-        result = studies::run_convergence(model, times, study);
-        precision_used = "quad";
-      } else {
-        note << "; " << refused;
-      }
-      result.notes.insert(result.notes.begin(), note.str());
-    }
-  }
+  const studies::StudyReferences references(scene, times, options.metric, options.reference_solver,
+                                            "converge");
+  studies::PolicyOutcome<studies::ConvergenceResult> outcome =
+      studies::run_convergence_under_policy(model, times, study, options.reference_precision,
+                                            options.reference_budget, references);
+  const studies::ConvergenceResult& result = outcome.result;
+  const std::string& refused = outcome.refused;
   for (const auto& method : study.external) {
     if (options.external.empty()) break;
     for (std::size_t level = 0; level < result.levels.size(); ++level) {
@@ -92,7 +81,7 @@ int converge_command(const ConvergeOptions& options) {
       .set("schemes", study.schemes)
       .set("dt", study.h0)
       .set("levels", options.levels)
-      .set("reference_precision", precision_used)
+      .set("reference_precision", studies::to_string(outcome.precision_used))
       .set("reference_budget", options.reference_budget)
       .set("metric", options.metric)
       .set("jobs", study.jobs)
@@ -142,6 +131,69 @@ int converge_command(const ConvergeOptions& options) {
     return kExitRefused;
   }
   return kExitOk;
+}
+
+RegisteredCommand register_converge_command(CLI::App& app) {
+  auto options = std::make_shared<ConvergeOptions>();
+  auto genalpha = std::make_shared<GenalphaCliOptions>();
+  CLI::App* cmd = app.add_subcommand("converge", "observed orders of convergence");
+  cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
+  cmd->add_option("--schemes", options->schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember(lie::scheme_names()))
+      ->capture_default_str();
+  cmd->add_option("--dt", options->dt,
+                  "coarsest step [s]; by default 0.01 or the scene's output interval, the shorter")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--levels", options->levels,
+                  "number of levels: steps dt, dt/2, ..., dt/2^(levels-1); an order is fitted "
+                  "from at least 3 valid levels")
+      ->check(integer_in(3, 16))
+      ->capture_default_str();
+  cmd->add_option("--metric", options->metric, metric_help("error metric"))
+      ->check(CLI::IsMember(trajectory::metric_names()))
+      ->capture_default_str();
+  add_enum_option(cmd, "--reference-solver", options->reference_solver,
+                  "auto | ida | cvode | arkode | odeint | exact",
+                  {"auto", "ida", "cvode", "arkode", "odeint", "exact"},
+                  studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
+  cmd->add_option("--reference-rtol", options->reference_rtol, "reference tolerance")
+      ->check(number_in(1e-14, 1e-4))
+      ->capture_default_str();
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_genalpha_options(cmd, *genalpha);
+  add_model_option(cmd, options->model);
+  add_enum_option(cmd, "--reference-precision", options->reference_precision,
+                  "auto (double; quad when double cannot certify every level and the scene "
+                  "allows it) | double | extended | quad (docs/precision.md)",
+                  {"auto", "double", "extended", "quad"}, studies::parse_reference_precision,
+                  [](studies::ReferencePrecision p) { return studies::to_string(p); });
+  add_reference_budget(cmd, options->reference_budget);
+  add_limits(cmd, options->limits, true);
+  auto* conv_external =
+      cmd->add_option("--external", options->external,
+                      "another code's integrator: a command with {scene}, {dt}, {output}, "
+                      "run once per level (docs/external.md)");
+  cmd->add_option("--runs", options->runs, "runs already made, as DT=FILE pairs (docs/external.md)")
+      ->excludes(conv_external);
+  cmd->add_option("--label", options->label, "name of the external method in the table");
+  cmd->add_option("--order", options->claimed_order, "the external method's claimed order")
+      ->check(integer_in(1, 20));
+  cmd->add_option("--timeout", options->timeout, "seconds per external run (0: no limit)")
+      ->check(non_negative_number())
+      ->capture_default_str();
+  add_allow_scene_mismatch(cmd, options->allow_scene_mismatch);
+
+  return {cmd, [options, genalpha, cmd] {
+            genalpha->apply();
+            options->schemes_given = cmd->count("--schemes") > 0;
+            options->dt_given = cmd->count("--dt") > 0;
+            return converge_command(*options);
+          }};
 }
 
 }  // namespace flexref::app

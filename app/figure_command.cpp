@@ -3,11 +3,16 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <toml.hpp>
 #include <vector>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
@@ -16,8 +21,11 @@
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "scene/scene_toml.hpp"
+#include "studies/high_precision_references.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/reference_policy.hpp"
+#include "studies/reference_solver_name.hpp"
 #include "studies/study_output.hpp"
 #include "studies/trajectory_figure.hpp"
 #include "trajectory/trajectory_table.hpp"
@@ -104,11 +112,18 @@ int figure_command(const FigureCommandOptions& options) {
     }
     if (settings.point < 0) f.fail("point", "no tracked point \"" + *point + "\" on the body");
   }
-  settings.solver = f.optional_string("solver", "a reference solver").value_or("cvode");
-  if (settings.solver != "cvode" && settings.solver != "ida" && settings.solver != "odeint" &&
-      settings.solver != "exact") {
+  std::optional<studies::ReferenceSolver> solver;
+  try {
+    solver = studies::parse_reference_solver(
+        f.optional_string("solver", "a reference solver").value_or("cvode"));
+  } catch (const std::invalid_argument&) {
+    // An unknown name: refused below with the study file's line and key.
+  }
+  if (!solver || *solver == studies::ReferenceSolver::kAuto ||
+      *solver == studies::ReferenceSolver::kArkode) {
     f.fail("solver", "expected cvode, ida, odeint or exact");
   }
+  settings.solver = studies::to_string(*solver);
   settings.rtol = f.number_or("rtol", 1e-10, scene::scene_toml::Sign::kPositive, "a tolerance");
   const double end_time = f.number_or("end_time", scene.end_time,
                                       scene::scene_toml::Sign::kPositive, "an end time [s]");
@@ -135,34 +150,31 @@ int figure_command(const FigureCommandOptions& options) {
   // --reference-precision (docs/precision.md), as in converge: a given precision replaces the
   // reference; "auto" repeats the figure against a quad reference when the double one leaves a
   // curve uncertified and the scene allows it.
-  const std::string& wanted = options.reference_precision;
   // The schemes against the model before a high-precision reference (quad: minutes).
   for (const std::string& s : settings.schemes) (void)lie::make_stepper(s, model);
   // The study file's solver and rtol are the double reference's.
-  if (wanted == "extended" || wanted == "quad") {
-    settings.given_reference =
-        high_precision_study_reference(scene, times, wanted, "points", "auto", "figure");
-    settings.given_precision = wanted;
-  }
-  studies::FigureResult result = studies::run_trajectory_figure(model, times, settings);
-  std::string note;
-  std::string refused;  // why auto kept the double reference (the budget), when it did
-  if (wanted == "auto" && studies::figure_has_uncertified(result) &&
-      quad_reference_possible(scene, "points", "auto")) {
+  const studies::StudyReferences references(scene, times, "points", studies::ReferenceSolver::kAuto,
+                                            "figure");
+  studies::PolicyStudy<studies::FigureResult> policy_study;
+  policy_study.run = [&](std::shared_ptr<const trajectory::CertifiedReference> reference,
+                         studies::ReferencePrecision precision) {
+    settings.given_reference = std::move(reference);
+    if (settings.given_reference) settings.given_precision = precision;
+    return studies::run_trajectory_figure(model, times, settings);
+  };
+  policy_study.uncertified = [](const studies::FigureResult& r) {
+    if (!studies::figure_has_uncertified(r)) return std::string();
     std::ostringstream why;
-    why << "the double reference (estimated error " << result.reference_estimate
+    why << "the double reference (estimated error " << r.reference_estimate
         << " m) could not certify every curve";
-    settings.given_reference = automatic_quad_reference(scene, times, "points", "figure",
-                                                        options.reference_budget, refused);
-    if (settings.given_reference) {
-      why << ": the figure was repeated against a quad-precision reference (docs/precision.md)";
-      settings.given_precision = "quad";
-      result = studies::run_trajectory_figure(model, times, settings);
-    } else {
-      why << "; " << refused;
-    }
-    note = why.str();
-  }
+    return why.str();
+  };
+  policy_study.repeated = "the figure was repeated against a quad-precision reference";
+  studies::PolicyOutcome<studies::FigureResult> outcome = studies::run_with_reference_policy(
+      options.reference_precision, options.reference_budget, references, policy_study);
+  const studies::FigureResult& result = outcome.result;
+  const std::string& note = outcome.note;
+  const std::string& refused = outcome.refused;
 
   const std::string table =
       studies::figure_table(result) + (note.empty() ? "" : "note: " + note + "\n");
@@ -177,7 +189,7 @@ int figure_command(const FigureCommandOptions& options) {
       .set("end_time", end_time);
   auto&& reference_table = record.table("reference");
   reference_table.set("solver", settings.given_reference ? std::string("odeint") : settings.solver)
-      .set("precision", result.reference_precision)
+      .set("precision", studies::to_string(result.reference_precision))
       .set("estimate", result.reference_estimate)
       .set("estimate_method", result.reference_estimate_method);
   if (!settings.given_reference) reference_table.set("rtol", settings.rtol);
@@ -195,6 +207,26 @@ int figure_command(const FigureCommandOptions& options) {
             << table << "wrote figure.csv, figure.txt, study.toml" << (plot.ok ? ", " : "\n")
             << plot.message << "\n";
   return kExitOk;
+}
+
+RegisteredCommand register_figure_command(CLI::App& app) {
+  auto options = std::make_shared<FigureCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "figure", "trajectory of a tracked point by each scheme and step, with the reference");
+  cmd->add_option("study", options->study, "study file (TOML), e.g. studies/paper/*.toml")
+      ->required();
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  add_enum_option(cmd, "--reference-precision", options->reference_precision,
+                  "auto (quad when the double reference cannot certify a curve and the scene "
+                  "allows it) | double | extended | quad (docs/precision.md)",
+                  {"auto", "double", "extended", "quad"}, studies::parse_reference_precision,
+                  [](studies::ReferencePrecision p) { return studies::to_string(p); });
+  add_reference_budget(cmd, options->reference_budget);
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_limits(cmd, options->limits, true);
+
+  return {cmd, [options] { return figure_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "app/work_limits.hpp"
+#include "studies/reference_precision.hpp"
 
 namespace flexref::app {
 
@@ -18,7 +19,7 @@ struct FigureCommandOptions {
   WorkLimits limits;
   /// auto | double | extended | quad (docs/precision.md): "auto" repeats the figure against a quad
   /// reference when the double one cannot certify a curve and the scene allows it.
-  std::string reference_precision = "auto";
+  studies::ReferencePrecision reference_precision = studies::ReferencePrecision::kAuto;
   /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
   double reference_budget = kDefaultReferenceBudget;
 };

@@ -23,7 +23,8 @@ namespace {
 /// an independent numerical solution in the same precision, as for the double exact reference.
 int exact_reference_command(const ReferenceOptions& options, precision::Precision p,
                             const scene::Scene& scene) {
-  if (options.rtol_given || options.atol >= 0.0 || options.method != "auto") {
+  if (options.rtol_given || options.atol >= 0.0 ||
+      options.method != studies::ReferenceMethod::kAuto) {
     throw std::invalid_argument("--solver exact takes no --rtol, --atol or --method");
   }
   const std::vector<double> times =
@@ -73,23 +74,26 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
 }  // namespace
 
 int high_precision_reference_command(const ReferenceOptions& options) {
-  const precision::Precision p = precision::parse_precision(options.precision);
-  const core::FlexibleFormulation formulation = parse_formulation(options.model);
+  const precision::Precision p = options.precision;
+  const std::string name = precision::to_string(p);
+  const core::FlexibleFormulation formulation = options.model;
   const scene::Scene scene = load_scene(options.scene, formulation);
   precision::check_supported(scene.spec, formulation);
-  if (options.solver == "exact") return exact_reference_command(options, p, scene);
-  if (options.solver != "auto" && options.solver != "odeint") {
-    throw std::invalid_argument("--solver " + options.solver + ": " + options.precision +
+  if (options.solver == studies::ReferenceSolver::kExact) {
+    return exact_reference_command(options, p, scene);
+  }
+  if (options.solver != studies::ReferenceSolver::kAuto &&
+      options.solver != studies::ReferenceSolver::kOdeint) {
+    throw std::invalid_argument(std::string("--solver ") + studies::to_string(options.solver) +
+                                ": " + name +
                                 " precision references are Odeint's (Bulirsch-Stoer) or the "
                                 "exact solution; omit --solver or give odeint or exact");
   }
-  if (options.method != "auto") {
-    throw std::invalid_argument("--method: " + options.precision +
-                                " precision references take no --method");
+  if (options.method != studies::ReferenceMethod::kAuto) {
+    throw std::invalid_argument("--method: " + name + " precision references take no --method");
   }
   if (options.atol >= 0.0 && options.atol != options.rtol) {
-    throw std::invalid_argument("--atol: " + options.precision +
-                                " precision references use atol = rtol");
+    throw std::invalid_argument("--atol: " + name + " precision references use atol = rtol");
   }
   const double rtol = options.rtol_given ? options.rtol : precision::default_rtol(p);
   const std::vector<double> times =
@@ -156,59 +160,6 @@ int high_precision_reference_command(const ReferenceOptions& options) {
     summary << "estimated error " << trajectory::describe_estimate(ref.estimate) << "\n";
   }
   return kExitOk;
-}
-
-std::shared_ptr<const trajectory::CertifiedReference> high_precision_study_reference(
-    const scene::Scene& scene, const std::vector<double>& times, const std::string& precision,
-    const std::string& metric, const std::string& reference_solver, const std::string& study,
-    double budget_seconds) {
-  if (precision == "double" || precision == "auto") return nullptr;
-  const precision::Precision p = precision::parse_precision(precision);
-  precision::check_supported(scene.spec, scene.model->formulation());
-  if (metric != "rotation+points" && metric != "rotation" && metric != "points") {
-    throw std::invalid_argument("--metric " + metric + ": " + precision +
-                                " precision references measure rotation+points, rotation or "
-                                "points");
-  }
-  if (reference_solver != "auto") {
-    throw std::invalid_argument("--reference-solver: a " + precision +
-                                " precision reference is Odeint's; omit --reference-solver");
-  }
-  studies::Progress progress(
-      study + ": reference (odeint, " + precision + " precision, with its error estimate)", 0, "");
-  reference::SolveProgress solves(2);
-  progress.follow(&solves);
-  return std::make_shared<const trajectory::CertifiedReference>(
-      precision::certified_high_precision_reference(
-          scene.spec, times, p, precision::default_rtol(p), metric, nullptr,
-          scene.model->formulation(), budget_seconds, &solves));
-}
-
-std::shared_ptr<const trajectory::CertifiedReference> automatic_quad_reference(
-    const scene::Scene& scene, const std::vector<double>& times, const std::string& metric,
-    const std::string& study, double budget_seconds, std::string& refused) {
-  try {
-    return high_precision_study_reference(scene, times, "quad", metric, "auto", study,
-                                          budget_seconds);
-  } catch (const precision::BudgetExceeded& e) {
-    refused = std::string(e.what()) +
-              " (--reference-budget): the study keeps the double reference; give "
-              "--reference-precision quad to compute it anyway, a larger --reference-budget or a "
-              "shorter end_time";
-    return nullptr;
-  }
-}
-
-bool quad_reference_possible(const scene::Scene& scene, const std::string& metric,
-                             const std::string& reference_solver) {
-  if (reference_solver != "auto") return false;
-  if (metric != "rotation+points" && metric != "rotation" && metric != "points") return false;
-  try {
-    precision::check_supported(scene.spec, scene.model->formulation());
-  } catch (const std::invalid_argument&) {
-    return false;
-  }
-  return true;
 }
 
 }  // namespace flexref::app

@@ -2,11 +2,13 @@
 
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/error.hpp"
 #include "io/output_file.hpp"
@@ -34,40 +36,6 @@ std::string commented(const std::string& text) {
 }
 
 }  // namespace
-
-CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options) {
-  auto* cmd = app.add_subcommand(
-      "import-modes", "modal-data file of a flexible body from a CalculiX frequency step");
-  cmd->add_option("frd", options.frd, "CalculiX result file JOB.frd (ASCII)")->required();
-  cmd->add_option("-o,--output", options.output,
-                  "modal-data file to write (TOML; - for standard output; a link's target is "
-                  "written, docs/output.md)")
-      ->required();
-  cmd->add_option("--matrices", options.matrices,
-                  "base name of the .mas/.sti/.dof of the free solid (default: JOB)");
-  cmd->add_option("--dat", options.dat,
-                  "ccx .dat whose eigenvalue tables are checked (default: JOB.dat if present)");
-  cmd->add_option("--step", options.step, "frequency step of the .frd (1: the first)")
-      ->check(positive_number())
-      ->capture_default_str();
-  cmd->add_option("--modes", options.modes,
-                  "elastic modes to keep, 1-based after rigid-body modes: e.g. 1-4,7 "
-                  "(default: all)");
-  auto* nodes = cmd->add_option("--nodes", options.nodes,
-                                "ccx node numbers to keep, e.g. 1-20,31 (default: all)");
-  cmd->add_option("--node-set", options.node_set, "a *NSET of the deck: the nodes to keep")
-      ->excludes(nodes);
-  cmd->add_option("--inp", options.inp,
-                  "input deck: shell and beam nodes, --node-set (default: JOB.inp if present)");
-  cmd->add_option("--tolerance", options.tolerance,
-                  "frequency self-check, relative (default: " +
-                      number_text(scene::kDefaultFrequencyTolerance) + ")")
-      ->check(positive_number());
-  cmd->add_flag("--accept", options.accept,
-                "write the file even when the frequency self-check fails");
-  cmd->add_option("--description", options.description, "description in the modal-data file");
-  return cmd;
-}
 
 int import_modes_command(const ImportModesOptions& options) {
   check_output_file(options.output, false);
@@ -132,6 +100,41 @@ int import_modes_command(const ImportModesOptions& options) {
   summary << "wrote " << options.output << " (" << result.data.node_count() << " nodes, "
           << result.data.mode_count() << " modes)\n";
   return kExitOk;
+}
+
+RegisteredCommand register_import_modes_command(CLI::App& app) {
+  auto options = std::make_shared<ImportModesOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "import-modes", "modal-data file of a flexible body from a CalculiX frequency step");
+  cmd->add_option("frd", options->frd, "CalculiX result file JOB.frd (ASCII)")->required();
+  cmd->add_option("-o,--output", options->output,
+                  "modal-data file to write (TOML; - for standard output; a link's target is "
+                  "written, docs/output.md)")
+      ->required();
+  cmd->add_option("--matrices", options->matrices,
+                  "base name of the .mas/.sti/.dof of the free solid (default: JOB)");
+  cmd->add_option("--dat", options->dat,
+                  "ccx .dat whose eigenvalue tables are checked (default: JOB.dat if present)");
+  cmd->add_option("--step", options->step, "frequency step of the .frd (1: the first)")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--modes", options->modes,
+                  "elastic modes to keep, 1-based after rigid-body modes: e.g. 1-4,7 "
+                  "(default: all)");
+  auto* nodes = cmd->add_option("--nodes", options->nodes,
+                                "ccx node numbers to keep, e.g. 1-20,31 (default: all)");
+  cmd->add_option("--node-set", options->node_set, "a *NSET of the deck: the nodes to keep")
+      ->excludes(nodes);
+  cmd->add_option("--inp", options->inp,
+                  "input deck: shell and beam nodes, --node-set (default: JOB.inp if present)");
+  cmd->add_option("--tolerance", options->tolerance,
+                  "frequency self-check, relative (default: " +
+                      number_text(scene::kDefaultFrequencyTolerance) + ")")
+      ->check(positive_number());
+  cmd->add_flag("--accept", options->accept,
+                "write the file even when the frequency self-check fails");
+  cmd->add_option("--description", options->description, "description in the modal-data file");
+  return {cmd, [options] { return import_modes_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -4,7 +4,6 @@
 /// a modal-data file (scene/calculix_import.hpp, docs/calculix.md). Prints the import report
 /// (mass properties, removed rigid-body modes, frequency self-check) and records it as comments
 /// at the top of the file; writes nothing when a check fails (the self-check unless --accept).
-#include <CLI/CLI.hpp>
 #include <string>
 
 namespace flexref::app {
@@ -23,9 +22,6 @@ struct ImportModesOptions {
   bool accept = false;
   std::string description;
 };
-
-/// Adds the subcommand to `app` (options bound to `options`).
-CLI::App* add_import_modes_command(CLI::App& app, ImportModesOptions& options);
 
 int import_modes_command(const ImportModesOptions& options);
 

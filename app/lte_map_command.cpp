@@ -3,9 +3,13 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/lte_map.hpp"
@@ -56,7 +60,7 @@ int lte_map_command(const LteMapCommandOptions& options) {
   study.output_step = std::min(scene.output_step, study.end_time);
   limited_output_times(study.end_time, study.output_step, options.limits);
   check_scene_extremes(scene, study.end_time);
-  study.solver = reference_solver_for(*scene.model, options.solver, "--solver");
+  study.solver = studies::to_string(reference_solver_for(*scene.model, options.solver, "--solver"));
   study.rtol = options.rtol;
   study.estimate_factor = options.estimate_factor;
   study.scale_loads = options.scale_loads;
@@ -67,13 +71,14 @@ int lte_map_command(const LteMapCommandOptions& options) {
   const studies::LteMapBase base = studies::lte_map_base(*scene.model, study);
   study.body = scene.model->body_index(base.body);
   const bool can_stiffen = studies::lte_map_can_stiffen(scene.spec, study.body);
-  if (options.truth == "stiffened" && !can_stiffen) {
+  if (options.truth == LteMapTruth::kStiffened && !can_stiffen) {
     throw std::invalid_argument(
         "lte-map: --truth stiffened: body '" + base.body +
         "' has no geometric-stiffness data (a clamped-free [body.beam], or a modal-data file "
         "with [geometric_stiffness]; docs/geometric_stiffening.md); use --truth coupled");
   }
-  study.stiffened_truth = options.truth == "stiffened" || (options.truth == "auto" && can_stiffen);
+  study.stiffened_truth = options.truth == LteMapTruth::kStiffened ||
+                          (options.truth == LteMapTruth::kAuto && can_stiffen);
   const studies::LteModelFactory factory = studies::lte_map_factory(scene.spec, study.body);
 
   studies::StudyOutput out(options.out_dir);
@@ -140,6 +145,89 @@ int lte_map_command(const LteMapCommandOptions& options) {
     return kExitRefused;
   }
   return kExitOk;
+}
+
+LteMapTruth parse_lte_map_truth(std::string_view name) {
+  if (name == "auto") return LteMapTruth::kAuto;
+  if (name == "stiffened") return LteMapTruth::kStiffened;
+  if (name == "coupled") return LteMapTruth::kCoupled;
+  throw std::invalid_argument("--truth '" + std::string(name) +
+                              "': expected auto, stiffened or coupled");
+}
+
+const char* to_string(LteMapTruth truth) {
+  switch (truth) {
+    case LteMapTruth::kAuto:
+      return "auto";
+    case LteMapTruth::kStiffened:
+      return "stiffened";
+    case LteMapTruth::kCoupled:
+      return "coupled";
+  }
+  return "auto";
+}
+
+RegisteredCommand register_lte_map_command(CLI::App& app) {
+  auto options = std::make_shared<LteMapCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "lte-map", "LTE model error vs coupled model over spin ratio and inertia ratio");
+  cmd->add_option("scene", options->scene, "scene file with a free flexible body (TOML)")
+      ->required();
+  auto* lte_spins = cmd->add_option("--spin-ratios", options->spin_ratios,
+                                    "Omega0/omega1 values (comma-separated)")
+                        ->delimiter(',')
+                        ->check(positive_number());
+  cmd->add_option("--spin-min", options->spin_min, "log-spaced spin ratios: first")
+      ->check(positive_number())
+      ->excludes(lte_spins)
+      ->capture_default_str();
+  cmd->add_option("--spin-max", options->spin_max, "log-spaced spin ratios: last")
+      ->check(positive_number())
+      ->excludes(lte_spins)
+      ->capture_default_str();
+  cmd->add_option("--spin-count", options->spin_count, "log-spaced spin ratios: count")
+      ->excludes(lte_spins)
+      ->check(integer_in(1, 200))
+      ->capture_default_str();
+  auto* lte_inertias = cmd->add_option("--inertia-ratios", options->inertia_ratios,
+                                       "I_flex/I_rigid values (comma-separated)")
+                           ->delimiter(',')
+                           ->check(positive_number());
+  cmd->add_option("--inertia-min", options->inertia_min, "log-spaced inertia ratios: first")
+      ->check(positive_number())
+      ->excludes(lte_inertias)
+      ->capture_default_str();
+  cmd->add_option("--inertia-max", options->inertia_max, "log-spaced inertia ratios: last")
+      ->check(positive_number())
+      ->excludes(lte_inertias)
+      ->capture_default_str();
+  cmd->add_option("--inertia-count", options->inertia_count, "log-spaced inertia ratios: count")
+      ->excludes(lte_inertias)
+      ->check(integer_in(1, 200))
+      ->capture_default_str();
+  add_enum_option(cmd, "--solver", options->solver, "reference solver: cvode | ida | odeint",
+                  {"cvode", "ida", "odeint"}, studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
+  cmd->add_option("--rtol", options->rtol, "reference tolerance (both models)")
+      ->check(number_in(1e-14, 1e-4))
+      ->capture_default_str();
+  add_estimate_factor(cmd, options->estimate_factor);
+  cmd->add_flag("!--no-scale-loads", options->scale_loads,
+                "keep the loads (default: scale them with spin and inertia)");
+  add_enum_option(cmd, "--truth", options->truth,
+                  "the truth: stiffened (coupled with geometric stiffening) | coupled (the "
+                  "classical coupled model) | auto (stiffened when the body can be)",
+                  {"auto", "stiffened", "coupled"}, parse_lte_map_truth,
+                  [](LteMapTruth t) { return to_string(t); });
+  cmd->add_option("--point", options->point, "tracked node point (default: farthest node)");
+  cmd->add_option("--end-time", options->end_time, "s (default: the scene's)")
+      ->check(positive_number());
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_limits(cmd, options->limits, false);
+
+  return {cmd, [options] { return lte_map_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -4,11 +4,23 @@
 /// ratio Ω0/ω1 and flexible/rigid inertia ratio, on a scene with a free flexible body
 /// (studies/lte_map.hpp, docs/lte_map.md).
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/work_limits.hpp"
+#include "studies/reference_solver_name.hpp"
 
 namespace flexref::app {
+
+/// The model the LTE model is measured against (--truth).
+enum class LteMapTruth {
+  kAuto,       ///< stiffened when the body can be, else coupled
+  kStiffened,  ///< the coupled model with geometric stiffening
+  kCoupled,    ///< the classical coupled model
+};
+/// "auto", "stiffened" or "coupled"; throws std::invalid_argument naming the accepted values.
+LteMapTruth parse_lte_map_truth(std::string_view name);
+const char* to_string(LteMapTruth truth);
 
 struct LteMapCommandOptions {
   std::string scene;
@@ -24,12 +36,11 @@ struct LteMapCommandOptions {
   double inertia_min = 1e-4;
   double inertia_max = 1.0;
   int inertia_count = 11;
-  std::string solver = "cvode";
+  studies::ReferenceSolver solver = studies::ReferenceSolver::kCvode;
   double rtol = 1e-10;
   double estimate_factor = 10.0;  ///< the accuracy check reruns at estimate_factor·rtol
   bool scale_loads = true;
-  /// The truth: "auto" (stiffened when the body can be), "stiffened" or "coupled".
-  std::string truth = "auto";
+  LteMapTruth truth = LteMapTruth::kAuto;
   std::string point;      ///< tracked node point (empty: the node farthest from Br)
   double end_time = 0.0;  ///< s (0: the scene's)
   int jobs = 0;           ///< 0: all cores

@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/modal_truncation.hpp"
@@ -15,13 +19,13 @@
 namespace flexref::app {
 
 int modal_truncation_command(const ModalTruncationCommandOptions& options) {
-  const core::FlexibleFormulation formulation = parse_formulation(options.model);
+  const core::FlexibleFormulation formulation = options.model;
   const scene::Scene scene = scene::read_scene(options.scene, formulation);
   studies::ModalTruncationOptions study;
   study.mode_counts = options.modes;
   study.end_time = options.end_time > 0.0 ? options.end_time : scene.end_time;
   study.output_step = std::min(scene.output_step, study.end_time);
-  study.solver = reference_solver_for(*scene.model, options.solver, "--solver");
+  study.solver = studies::to_string(reference_solver_for(*scene.model, options.solver, "--solver"));
   study.rtol = options.rtol;
   study.estimate_factor = options.estimate_factor;
   study.formulation = formulation;
@@ -83,6 +87,34 @@ int modal_truncation_command(const ModalTruncationCommandOptions& options) {
   std::cout << "\n";
   if (!plot.ok) std::cout << plot.message << "\n";
   return kExitOk;
+}
+
+RegisteredCommand register_modal_truncation_command(CLI::App& app) {
+  auto options = std::make_shared<ModalTruncationCommandOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "modes", "reference tip deflection and attitude vs the number of retained modes");
+  cmd->add_option("scene", options->scene, "scene file with a flexible body (TOML)")->required();
+  cmd->add_option("--modes", options->modes, "mode counts (comma-separated; largest = reference)")
+      ->delimiter(',')
+      ->check(integer_in(1, 100000))
+      ->capture_default_str();
+  cmd->add_option("--body", options->body, "flexible body (default: the first)");
+  cmd->add_option("--point", options->point, "tracked node point (default: farthest node)");
+  add_enum_option(cmd, "--solver", options->solver, "reference solver: odeint | cvode | ida",
+                  {"odeint", "cvode", "ida"}, studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
+  cmd->add_option("--rtol", options->rtol, "reference tolerance")
+      ->check(number_in(1e-14, 1e-4))
+      ->capture_default_str();
+  add_estimate_factor(cmd, options->estimate_factor);
+  cmd->add_option("--end-time", options->end_time, "s (default: the scene's)")
+      ->check(positive_number());
+  add_model_option(cmd, options->model);
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+
+  return {cmd, [options] { return modal_truncation_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/default_model.hpp"
+#include "studies/reference_solver_name.hpp"
 
 namespace flexref::app {
 
@@ -14,12 +15,12 @@ struct ModalTruncationCommandOptions {
   std::vector<int> modes = {4, 8, 16, 32, 64};
   std::string body;   ///< empty: the first flexible body
   std::string point;  ///< empty: the node point farthest from Br
-  std::string solver = "odeint";
+  studies::ReferenceSolver solver = studies::ReferenceSolver::kOdeint;
   double rtol = 1e-10;
   double estimate_factor = 10.0;
-  double end_time = 0.0;                                     ///< s (0: the scene's)
-  std::string model = core::to_string(kDefaultFormulation);  ///< --model coupled|lte
-  int jobs = 0;                                              ///< 0: all cores
+  double end_time = 0.0;                                  ///< s (0: the scene's)
+  core::FlexibleFormulation model = kDefaultFormulation;  ///< --model coupled|lte
+  int jobs = 0;                                           ///< 0: all cores
   std::string out_dir = "out/modes";
 };
 

@@ -1,9 +1,14 @@
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
 #include "reference/method_choice.hpp"
@@ -21,23 +26,33 @@ namespace {
 /// --method for the solver: CVODE's (auto, adams, bdf, bdf2), IDA's order cap (auto, bdf,
 /// bdf2), ARKODE's (auto, erk, esdirk); another solver takes only auto. Throws
 /// std::invalid_argument naming the option.
-void set_method(const std::string& solver, const std::string& method,
+void set_method(studies::ReferenceSolver solver, studies::ReferenceMethod method,
                 reference::SolverOptions& options) {
+  using studies::ReferenceMethod;
   const auto refuse = [&](const std::string& accepted) {
-    throw std::invalid_argument("--method " + method + ": " + solver + " takes " + accepted);
+    throw std::invalid_argument(std::string("--method ") + studies::to_string(method) + ": " +
+                                studies::to_string(solver) + " takes " + accepted);
   };
-  if (solver == "cvode") {
-    if (method != "auto" && method != "adams" && method != "bdf" && method != "bdf2") {
+  const auto one_of = [method](std::initializer_list<ReferenceMethod> accepted) {
+    return std::find(accepted.begin(), accepted.end(), method) != accepted.end();
+  };
+  if (solver == studies::ReferenceSolver::kCvode) {
+    if (!one_of({ReferenceMethod::kAuto, ReferenceMethod::kAdams, ReferenceMethod::kBdf,
+                 ReferenceMethod::kBdf2})) {
       refuse("auto, adams, bdf or bdf2");
     }
-    options.cvode_method = reference::parse_cvode_method(method);
-  } else if (solver == "ida") {
-    if (method != "auto" && method != "bdf" && method != "bdf2") refuse("auto, bdf or bdf2");
-    options.cvode_method = reference::parse_cvode_method(method);
-  } else if (solver == "arkode") {
-    if (method != "auto" && method != "erk" && method != "esdirk") refuse("auto, erk or esdirk");
-    options.arkode_method = reference::parse_arkode_method(method);
-  } else if (method != "auto") {
+    options.cvode_method = reference::parse_cvode_method(studies::to_string(method));
+  } else if (solver == studies::ReferenceSolver::kIda) {
+    if (!one_of({ReferenceMethod::kAuto, ReferenceMethod::kBdf, ReferenceMethod::kBdf2})) {
+      refuse("auto, bdf or bdf2");
+    }
+    options.cvode_method = reference::parse_cvode_method(studies::to_string(method));
+  } else if (solver == studies::ReferenceSolver::kArkode) {
+    if (!one_of({ReferenceMethod::kAuto, ReferenceMethod::kErk, ReferenceMethod::kEsdirk})) {
+      refuse("auto, erk or esdirk");
+    }
+    options.arkode_method = reference::parse_arkode_method(studies::to_string(method));
+  } else if (method != ReferenceMethod::kAuto) {
     refuse("no --method");
   }
 }
@@ -45,29 +60,32 @@ void set_method(const std::string& solver, const std::string& method,
 }  // namespace
 
 int reference_command(const ReferenceOptions& options) {
-  if (options.precision != "double") return high_precision_reference_command(options);
+  if (options.precision != precision::Precision::kDouble) {
+    return high_precision_reference_command(options);
+  }
   if (options.rtol < 1e-15) {
     throw std::invalid_argument("--rtol " + number_text(options.rtol) +
                                 ": double precision takes rtol >= 1e-15 (--precision extended or "
                                 "quad for tighter references)");
   }
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, options.model);
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);
-  std::string solver = reference_solver_for(model, options.solver, "--solver");
+  studies::ReferenceSolver chosen = reference_solver_for(model, options.solver, "--solver");
   std::string solver_reason = "chosen with --solver";
-  if (solver == "auto") {
+  if (chosen == studies::ReferenceSolver::kAuto) {
     const reference::ReferenceSolverChoice choice =
         reference::choose_reference_solver(model, reference::mean_output_spacing(times));
-    solver = choice.solver;
+    chosen = studies::parse_reference_solver(choice.solver);
     solver_reason = choice.reason;
   }
+  const std::string solver = studies::to_string(chosen);
   check_output_file(options.output, true);
   reference::SolverOptions solver_options;
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
-  set_method(solver, options.method, solver_options);
+  set_method(chosen, options.method, solver_options);
 
   trajectory::CertifiedReference ref;
   {
@@ -151,7 +169,8 @@ int reference_command(const ReferenceOptions& options) {
     summary << ", " << ref.run.event_times.size() << " events located";
   }
   summary << ", " << st.cpu_seconds << " s CPU; wrote " << options.output << "\n";
-  if (options.solver == "auto") summary << "solver: " << solver_reason << "\n";
+  if (options.solver == studies::ReferenceSolver::kAuto)
+    summary << "solver: " << solver_reason << "\n";
   if (ref.run.solver == "cvode" || ref.run.solver == "ida" || ref.run.solver == "arkode") {
     summary << "method: " << ref.run.method_reason << "\n";
   }
@@ -174,6 +193,50 @@ int reference_command(const ReferenceOptions& options) {
     }
   }
   return kExitOk;
+}
+
+RegisteredCommand register_reference_command(CLI::App& app) {
+  auto options = std::make_shared<ReferenceOptions>();
+  CLI::App* cmd = app.add_subcommand("reference", "compute a reference solution");
+  cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
+  add_enum_option(cmd, "--solver", options->solver,
+                  "auto (arkode's ESDIRK on a stiff oscillatory scene, else cvode) | ida | "
+                  "cvode | arkode | odeint | exact",
+                  {"auto", "ida", "cvode", "arkode", "odeint", "exact"},
+                  studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
+  add_enum_option(cmd, "--method", options->method,
+                  "cvode: auto (from the scene's stiff elements) | adams | bdf | bdf2 (BDF "
+                  "orders 1-2); ida: auto | bdf | bdf2; arkode: auto | erk | esdirk",
+                  {"auto", "adams", "bdf", "bdf2", "erk", "esdirk"},
+                  studies::parse_reference_method,
+                  [](studies::ReferenceMethod v) { return studies::to_string(v); });
+  cmd->add_option("--rtol", options->rtol,
+                  "relative tolerance (double >= 1e-15; default for extended 1e-16, quad 1e-28)")
+      ->check(number_in(1e-32, 1e-1))
+      ->capture_default_str();
+  cmd->add_option("--atol", options->atol, "absolute tolerance (default: = rtol)")
+      ->check(number_in(1e-16, 1.0));
+  cmd->add_flag("!--no-estimate", options->estimate,
+                "skip the error estimate (rerun 100x tighter and a second solver)");
+  cmd->add_option("-o,--output", options->output, std::string("CSV ") + kOutputFileHelp)
+      ->required();
+  add_model_option(cmd, options->model);
+  add_enum_option(
+      cmd, "--precision", options->precision,
+      "double | extended (80-bit long double) | quad (binary128): the arithmetic of "
+      "the reference (docs/precision.md; extended and quad carry every scene: "
+      "rigid and flexible bodies, loads, potentials, contacts, gap supports and "
+      "joints)",
+      {"double", "extended", "quad"},
+      [](const std::string& name) { return precision::parse_precision(name); },
+      [](precision::Precision p) { return precision::to_string(p); });
+  add_limits(cmd, options->limits, false);
+
+  return {cmd, [options, cmd] {
+            options->rtol_given = cmd->count("--rtol") > 0;
+            return reference_command(*options);
+          }};
 }
 
 }  // namespace flexref::app

@@ -2,10 +2,14 @@
 #include <cmath>
 #include <ctime>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <tuple>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "app/step_advice.hpp"
 #include "core/error.hpp"
@@ -48,7 +52,7 @@ void add_invariants(studies::StudyRecord& record, const core::InvariantCheck& ch
 }  // namespace
 
 int run_command(const RunOptions& options) {
-  const scene::Scene scene = load_scene(options.scene, parse_formulation(options.model));
+  const scene::Scene scene = load_scene(options.scene, options.model);
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, options.limits);
@@ -139,6 +143,27 @@ int run_command(const RunOptions& options) {
                                  << " s CPU; energy " << e_first << " -> " << e_last << " J; wrote "
                                  << options.output << "\n";
   return kExitOk;
+}
+
+RegisteredCommand register_run_command(CLI::App& app) {
+  auto options = std::make_shared<RunOptions>();
+  auto genalpha = std::make_shared<GenalphaCliOptions>();
+  CLI::App* cmd = app.add_subcommand("run", "integrate a scene with a Lie-group scheme");
+  cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
+  cmd->add_option("--scheme", options->scheme, "c1 | c2 | nmb | genalpha")
+      ->check(CLI::IsMember(lie::scheme_names()))
+      ->capture_default_str();
+  cmd->add_option("--dt", options->dt, "step [s]")->check(positive_number())->capture_default_str();
+  cmd->add_option("-o,--output", options->output, std::string("CSV ") + kOutputFileHelp)
+      ->required();
+  add_model_option(cmd, options->model);
+  add_limits(cmd, options->limits, true);
+  add_genalpha_options(cmd, *genalpha);
+
+  return {cmd, [options, genalpha] {
+            genalpha->apply();
+            return run_command(*options);
+          }};
 }
 
 }  // namespace flexref::app

@@ -14,10 +14,11 @@ core::FlexibleFormulation parse_formulation(const std::string& model) {
   throw std::invalid_argument("unknown --model \"" + model + "\"; expected coupled or lte");
 }
 
-std::string reference_solver_for(const core::Model& model, const std::string& solver,
-                                 const std::string& option) {
+studies::ReferenceSolver reference_solver_for(const core::Model& model,
+                                              studies::ReferenceSolver solver,
+                                              const std::string& option) {
   if (!model.has_flexible_bodies()) return solver;
-  if (solver == "exact") {
+  if (solver == studies::ReferenceSolver::kExact) {
     throw std::invalid_argument(option +
                                 " exact: the scene has flexible bodies, which have no analytic "
                                 "solution; use cvode, ida or odeint");

@@ -3,11 +3,16 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
+#include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
@@ -34,15 +39,16 @@ std::vector<double> log_spaced(double lo, double hi, int count) {
 
 /// Refuses, before any work, a swept value the sweep cannot use, naming the parameter's domain
 /// (the studies' own checks would fail later with an internal message).
-void check_values(const std::string& parameter, const std::vector<double>& values) {
+void check_values(studies::StabilityParameter parameter, const std::vector<double>& values) {
   for (const double v : values) {
     std::ostringstream value;
     value << v;
     if (!(v > 0.0) || !std::isfinite(v)) {
-      throw std::invalid_argument("stability: --parameter " + parameter + ": the value " +
-                                  value.str() + " must be positive and finite");
+      throw std::invalid_argument(std::string("stability: --parameter ") +
+                                  studies::to_string(parameter) + ": the value " + value.str() +
+                                  " must be positive and finite");
     }
-    if (parameter == "inertia_ratio" && v < 1.0) {
+    if (parameter == studies::StabilityParameter::kInertiaRatio && v < 1.0) {
       throw std::invalid_argument(
           "stability: --parameter inertia_ratio: the value " + value.str() +
           " is below 1; the ratio J3/J1 of the slender rod diag(J1, J1, J3) is at least 1 "
@@ -64,7 +70,8 @@ void check_steps(const char* option, long steps, const WorkLimits& limits) {
 /// The modal-frequency and contact-stiffness sweeps (studies/stability_sweeps.hpp).
 int linear_stability_command(const StabilityCommandOptions& options) {
   if (!options.scene.empty()) {
-    throw std::invalid_argument("stability: --parameter " + options.parameter +
+    throw std::invalid_argument(std::string("stability: --parameter ") +
+                                studies::to_string(options.parameter) +
                                 " uses its built-in model (studies/stability_sweeps.hpp); give "
                                 "no scene");
   }
@@ -74,7 +81,7 @@ int linear_stability_command(const StabilityCommandOptions& options) {
   study.relative_tolerance = options.rtol;
   study.steps = options.steps;
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
-  const bool modal = options.parameter == "modal_frequency";
+  const bool modal = options.parameter == studies::StabilityParameter::kModalFrequency;
   if (!options.values.empty()) {
     study.values = options.values;
   } else {
@@ -87,7 +94,8 @@ int linear_stability_command(const StabilityCommandOptions& options) {
   study.progress = true;
   studies::StudyOutput out(options.out_dir);
   std::cerr << "stability: " << study.values.size() * study.schemes.size() << " bisections ("
-            << options.parameter << ") on " << studies::workers_text(study.jobs) << " ...\n";
+            << studies::to_string(options.parameter) << ") on " << studies::workers_text(study.jobs)
+            << " ...\n";
   const std::vector<studies::LinearSweepPoint> points = studies::run_linear_sweep(study);
 
   const std::string model =
@@ -100,7 +108,7 @@ int linear_stability_command(const StabilityCommandOptions& options) {
   studies::StudyRecord record;
   record.table("study")
       .set("kind", "stability")
-      .set("parameter", options.parameter)
+      .set("parameter", studies::to_string(options.parameter))
       .set("model", model)
       .set("values", study.values)
       .set("schemes", study.schemes)
@@ -114,7 +122,7 @@ int linear_stability_command(const StabilityCommandOptions& options) {
   const studies::PlotOutcome plot =
       out.plot("plot_stability.py", "stability.png",
                {"linear", out.staged("stability.csv"), out.staged("stability.png"),
-                "stability: " + options.parameter});
+                std::string("stability: ") + studies::to_string(options.parameter)});
   const std::string csv_path = out.final_path("stability.csv");
   out.commit(std::move(record));
   std::cout << "stability\n"
@@ -126,7 +134,7 @@ int linear_stability_command(const StabilityCommandOptions& options) {
 }  // namespace
 
 int stability_command(const StabilityCommandOptions& options) {
-  if (options.parameter == "modal_frequency" || options.parameter == "contact_stiffness") {
+  if (studies::is_linear_sweep(options.parameter)) {
     return linear_stability_command(options);
   }
   studies::StabilityOptions study;
@@ -156,7 +164,7 @@ int stability_command(const StabilityCommandOptions& options) {
                   " (torque-free: the scene's loads are not used)";
     record = scene_record(options.scene, scene);
   }
-  const bool spin_sweep = options.parameter == "spin";
+  const bool spin_sweep = options.parameter == studies::StabilityParameter::kSpin;
   if (!options.values.empty()) {
     study.values = options.values;
   } else {
@@ -190,7 +198,7 @@ int stability_command(const StabilityCommandOptions& options) {
   const std::string table = "body: " + body_source + "\n" + studies::format_stability_table(result);
   record.table("study")
       .set("kind", "stability")
-      .set("parameter", study.parameter)
+      .set("parameter", studies::to_string(study.parameter))
       .set("values", study.values)
       .set("schemes", study.schemes)
       .set("inertia_B",
@@ -213,7 +221,7 @@ int stability_command(const StabilityCommandOptions& options) {
   const studies::PlotOutcome plot =
       out.plot("plot_stability.py", "stability.png",
                {"sweep", out.staged("stability.csv"), out.staged("stability.png"),
-                "stability: " + study.parameter});
+                std::string("stability: ") + studies::to_string(study.parameter)});
   std::vector<std::string> written{out.final_path("stability.csv"), "stability.txt", "study.toml"};
   std::vector<std::string> plot_problems;
   (plot.ok ? written : plot_problems).push_back(plot.message);
@@ -232,6 +240,76 @@ int stability_command(const StabilityCommandOptions& options) {
   std::cout << "\n";
   for (const std::string& problem : plot_problems) std::cout << problem << "\n";
   return kExitOk;
+}
+
+RegisteredCommand register_stability_command(CLI::App& app) {
+  auto options = std::make_shared<StabilityCommandOptions>();
+  auto genalpha = std::make_shared<GenalphaCliOptions>();
+  CLI::App* cmd =
+      app.add_subcommand("stability",
+                         "largest stable step vs spin rate, inertia ratio, modal frequency or "
+                         "contact stiffness");
+  cmd->add_option("scene", options->scene,
+                  "optional scene: first free body's inertia and W0 direction");
+  add_enum_option(cmd, "--parameter", options->parameter,
+                  "spin | inertia_ratio | modal_frequency | contact_stiffness",
+                  {"spin", "inertia_ratio", "modal_frequency", "contact_stiffness"},
+                  studies::parse_stability_parameter,
+                  [](studies::StabilityParameter p) { return studies::to_string(p); });
+  auto* values_opt =
+      cmd->add_option("--values", options->values,
+                      "swept values (comma-separated): spin rad/s > 0, inertia_ratio J3/J1 >= 1, "
+                      "modal_frequency rad/s > 0, contact_stiffness N/m > 0")
+          ->delimiter(',')
+          ->check(positive_number());
+  cmd->add_option("--min", options->min,
+                  "log-spaced range start (default: spin 0.1, inertia_ratio 1, modal_frequency "
+                  "10, contact_stiffness 1e3)")
+      ->check(positive_number())
+      ->excludes(values_opt);
+  cmd->add_option("--max", options->max,
+                  "log-spaced range end (default: spin 1000, inertia_ratio 1e6, "
+                  "modal_frequency 1e4, contact_stiffness 1e9)")
+      ->check(positive_number())
+      ->excludes(values_opt);
+  cmd->add_option("--count", options->count, "number of values")
+      ->check(integer_in(1, 200))
+      ->capture_default_str();
+  cmd->add_option("--schemes", options->schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember(lie::scheme_names()))
+      ->capture_default_str();
+  cmd->add_option("--spin", options->spin,
+                  "|W0| for the ratio sweep and degenerate set (0: the body's) [rad/s]")
+      ->check(non_negative_number());
+  cmd->add_option("--steps", options->steps, "steps per stability run")
+      ->check(integer_in(10L, 100000000L))
+      ->capture_default_str();
+  cmd->add_option("--energy-factor", options->energy_factor,
+                  "unstable when |dE| > f|E0| (and |dpi| > f|pi0|)")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--rtol", options->rtol, "bisection relative tolerance")
+      ->check(number_in(1e-8, 0.5))
+      ->capture_default_str();
+  cmd->add_flag("--degenerate,!--no-degenerate", options->degenerate,
+                "run the degenerate-body set");
+  cmd->add_option("--long-run-steps", options->long_run_steps, "0: no long run")
+      ->check(integer_in(0, 1000000000000L))
+      ->capture_default_str();
+  cmd->add_option("--long-run-dt", options->long_run_dt, "long-run step [s]")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_genalpha_options(cmd, *genalpha);
+  add_limits(cmd, options->limits, true);
+
+  return {cmd, [options, genalpha] {
+            genalpha->apply();
+            return stability_command(*options);
+          }};
 }
 
 }  // namespace flexref::app

@@ -7,6 +7,7 @@
 
 #include "app/work_limits.hpp"
 #include "lie/stepper.hpp"
+#include "studies/stability_parameter.hpp"
 
 namespace flexref::app {
 
@@ -16,7 +17,7 @@ struct StabilityCommandOptions {
   /// "spin" (|W0|, rad/s), "inertia_ratio" (J3/J1), "modal_frequency" (ω_max, rad/s; default
   /// 10 … 1e4) or "contact_stiffness" (k, N/m; default 1e3 … 1e9) — the last two on built-in
   /// linear models with the limit 2/ω (studies/stability_sweeps.hpp).
-  std::string parameter = "spin";
+  studies::StabilityParameter parameter = studies::StabilityParameter::kSpin;
   /// Swept values; when empty, `count` values spaced logarithmically in [min, max]; min and
   /// max ≤ 0 mean the parameter's default range: spin 0.1 … 1000 rad/s, ratio 1 … 1e6.
   std::vector<double> values;

@@ -2,6 +2,8 @@
 /// \file work_limits.hpp
 /// The command line's work limits: the largest output and step counts a command accepts.
 
+#include "studies/reference_policy.hpp"
+
 namespace flexref::app {
 
 /// Work limits (docs/decisions.md, "Command line"): one scheme run of more steps, or a
@@ -13,9 +15,7 @@ struct WorkLimits {
   double max_rows = 1e6;
 };
 
-/// The default --reference-budget of the studies' automatic quad reference (docs/precision.md,
-/// "Cost guard"), s: 10 minutes, two orders above what the bundled studies' quad references take
-/// (book_toss: seconds) and far below the hours of a stiff many-mode body (flexible_spinner_64).
-inline constexpr double kDefaultReferenceBudget = 600.0;
+/// The default --reference-budget (docs/precision.md, "Cost guard"): the reference policy's.
+using studies::kDefaultReferenceBudget;
 
 }  // namespace flexref::app

@@ -3,21 +3,29 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
+#include "app/cli_options.hpp"
+#include "app/cli_validators.hpp"
+#include "app/command_registry.hpp"
 #include "app/commands.hpp"
 #include "core/output_times.hpp"
+#include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
+#include "studies/high_precision_references.hpp"
 #include "studies/parallel.hpp"
 #include "studies/plot.hpp"
+#include "studies/reference_policy.hpp"
 #include "studies/reference_record.hpp"
 #include "studies/study_output.hpp"
 #include "studies/work_precision.hpp"
+#include "trajectory/error_metrics.hpp"
 #include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
 int work_precision_command(const WorkPrecisionOptions& app_options) {
-  const scene::Scene scene = load_scene(app_options.scene, parse_formulation(app_options.model));
+  const scene::Scene scene = load_scene(app_options.scene, app_options.model);
   const core::Model& model = *scene.model;
   const std::vector<double> times =
       limited_output_times(scene.end_time, scene.output_step, app_options.limits);
@@ -30,8 +38,8 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   study.tolerances = app_options.tolerances;
   study.repeats = app_options.repeats;
   study.metric = app_options.metric;
-  study.reference_solver =
-      reference_solver_for(model, app_options.reference_solver, "--reference-solver");
+  study.reference_solver = studies::to_string(
+      reference_solver_for(model, app_options.reference_solver, "--reference-solver"));
   study.reference_rtol = app_options.reference_rtol;
   study.jobs = app_options.jobs > 0 ? app_options.jobs : studies::default_jobs();
   study.progress = true;
@@ -51,41 +59,21 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
                                     out);
   // --reference-precision (docs/precision.md), as in converge: "auto" repeats the study with a
   // quad reference when the double one leaves runs uncertified and the scene allows it.
-  const std::string& wanted = app_options.reference_precision;
   // The schemes against the model before a high-precision reference (quad: minutes).
   studies::check_work_precision_inputs(model, times, study);
-  study.given_reference = high_precision_study_reference(
-      scene, times, wanted, app_options.metric, app_options.reference_solver, "work-precision");
-  studies::WorkPrecisionResult result = studies::run_work_precision(model, times, study);
-  std::string precision_used = wanted == "auto" ? "double" : wanted;
-  std::string refused;  // why auto kept the double reference (the budget), when it did
-  if (wanted == "auto" &&
-      quad_reference_possible(scene, app_options.metric, app_options.reference_solver)) {
-    int uncertified = 0;
-    for (const auto& run : result.runs) uncertified += run.status == "uncertified" ? 1 : 0;
-    if (uncertified > 0) {
-      std::ostringstream note;
-      note << "the double reference (estimated error " << result.reference.estimate.estimate()
-           << ") could not certify " << uncertified << " run(s)";
-      study.given_reference =
-          automatic_quad_reference(scene, times, app_options.metric, "work-precision",
-                                   app_options.reference_budget, refused);
-      if (study.given_reference) {
-        note << ": the study was repeated with a quad-precision reference (docs/precision.md)";
-        result = studies::run_work_precision(model, times, study);
-        precision_used = "quad";
-      } else {
-        note << "; " << refused;
-      }
-      result.notes.insert(result.notes.begin(), note.str());
-    }
-  }
+  const studies::StudyReferences references(scene, times, app_options.metric,
+                                            app_options.reference_solver, "work-precision");
+  studies::PolicyOutcome<studies::WorkPrecisionResult> outcome =
+      studies::run_work_precision_under_policy(model, times, study, app_options.reference_precision,
+                                               app_options.reference_budget, references);
+  const studies::WorkPrecisionResult& result = outcome.result;
+  const std::string& refused = outcome.refused;
 
   const std::string table = format_work_precision_table(result);
   studies::StudyRecord record = scene_record(app_options.scene, scene);
   record.table("study")
       .set("kind", "work-precision")
-      .set("reference_precision", precision_used)
+      .set("reference_precision", studies::to_string(outcome.precision_used))
       .set("reference_budget", app_options.reference_budget)
       .set("schemes", study.schemes)
       .set("dt", study.h0)
@@ -137,6 +125,74 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
     return kExitRefused;
   }
   return kExitOk;
+}
+
+RegisteredCommand register_work_precision_command(CLI::App& app) {
+  auto options = std::make_shared<WorkPrecisionOptions>();
+  auto genalpha = std::make_shared<GenalphaCliOptions>();
+  CLI::App* cmd = app.add_subcommand("work-precision", "error against CPU time, cheapest method");
+  cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
+  cmd->add_option("--schemes", options->schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember(lie::scheme_names()))
+      ->capture_default_str();
+  cmd->add_option("--dt", options->dt,
+                  "coarsest step [s]; by default 0.01 or the scene's output interval, the shorter")
+      ->check(positive_number())
+      ->capture_default_str();
+  cmd->add_option("--levels", options->levels, "number of steps: dt, dt/2, ..., dt/2^(levels-1)")
+      ->check(integer_in(1, 16))
+      ->capture_default_str();
+  cmd->add_option("--solvers", options->solvers, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"ida", "cvode", "arkode", "odeint"}))
+      ->capture_default_str();
+  cmd->add_option("--tolerances", options->tolerances, "comma-separated relative tolerances")
+      ->delimiter(',')
+      ->check(number_in(1e-14, 1e-1))
+      ->capture_default_str();
+  cmd->add_option("--repeats", options->repeats, "CPU time: minimum over this many runs")
+      ->check(integer_in(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--metric", options->metric, metric_help("error metric"))
+      ->check(CLI::IsMember(trajectory::metric_names()))
+      ->capture_default_str();
+  add_enum_option(cmd, "--reference-solver", options->reference_solver,
+                  "auto | ida | cvode | arkode | odeint | exact",
+                  {"auto", "ida", "cvode", "arkode", "odeint", "exact"},
+                  studies::parse_reference_solver,
+                  [](studies::ReferenceSolver v) { return studies::to_string(v); });
+  cmd->add_option("--reference-rtol", options->reference_rtol, "reference tolerance")
+      ->check(number_in(1e-14, 1e-4))
+      ->capture_default_str();
+  cmd->add_option("--jobs", options->jobs,
+                  "parallel runs (0: all cores); timings are per-thread CPU time, cleanest "
+                  "with --jobs 1")
+      ->check(integer_in(0, 1024));
+  cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
+  add_genalpha_options(cmd, *genalpha);
+  cmd->add_option("--external", options->external,
+                  "another code's integrator: a command with {scene}, {dt}, {output}, run "
+                  "per step; its CPU time is the program's own (docs/external.md)");
+  cmd->add_option("--label", options->label, "name of the external method in the table");
+  cmd->add_option("--timeout", options->timeout, "seconds per external run (0: no limit)")
+      ->check(non_negative_number())
+      ->capture_default_str();
+  add_allow_scene_mismatch(cmd, options->allow_scene_mismatch);
+  add_model_option(cmd, options->model);
+  add_enum_option(cmd, "--reference-precision", options->reference_precision,
+                  "auto (double; quad when double cannot certify every run and the scene "
+                  "allows it) | double | extended | quad (docs/precision.md)",
+                  {"auto", "double", "extended", "quad"}, studies::parse_reference_precision,
+                  [](studies::ReferencePrecision p) { return studies::to_string(p); });
+  add_reference_budget(cmd, options->reference_budget);
+  add_limits(cmd, options->limits, true);
+
+  return {cmd, [options, genalpha, cmd] {
+            genalpha->apply();
+            options->dt_given = cmd->count("--dt") > 0;
+            return work_precision_command(*options);
+          }};
 }
 
 }  // namespace flexref::app

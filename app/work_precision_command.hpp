@@ -9,12 +9,14 @@
 #include "app/default_model.hpp"
 #include "app/work_limits.hpp"
 #include "lie/stepper.hpp"
+#include "studies/reference_precision.hpp"
+#include "studies/reference_solver_name.hpp"
 
 namespace flexref::app {
 
 struct WorkPrecisionOptions {
   std::string scene;
-  std::string model = core::to_string(kDefaultFormulation);  ///< --model coupled|lte
+  core::FlexibleFormulation model = kDefaultFormulation;  ///< --model coupled|lte
   std::vector<std::string> schemes = lie::default_scheme_names();
   double dt = 1e-2;       ///< coarsest step [s]
   bool dt_given = false;  ///< --dt was given (else dt or the output interval, the shorter)
@@ -23,7 +25,7 @@ struct WorkPrecisionOptions {
   std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   int repeats = 3;  ///< CPU time: minimum over this many runs
   std::string metric = "rotation+points";
-  std::string reference_solver = "auto";
+  studies::ReferenceSolver reference_solver = studies::ReferenceSolver::kAuto;
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores (timings are cleanest with 1)
   std::string out_dir = "out/work_precision";
@@ -32,7 +34,7 @@ struct WorkPrecisionOptions {
   std::string label;        ///< --label of the external method
   double timeout = 3600.0;  ///< --timeout per external run [s], 0: none
   /// auto | double | extended | quad (docs/precision.md), as for converge.
-  std::string reference_precision = "auto";
+  studies::ReferencePrecision reference_precision = studies::ReferencePrecision::kAuto;
   /// auto's wall-time bound on the quad reference, s (0: none; docs/precision.md, "Cost guard").
   double reference_budget = kDefaultReferenceBudget;
   /// --external files whose sidecars name another scene are used anyway.

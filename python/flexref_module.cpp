@@ -8,6 +8,8 @@
 ///     flexref.compare({"t": t, "body.e0": e0, ...}, ref).value        # the contract's metric
 ///     flexref.convergence(ref, [(h, run), ...]).observed_order        # runs: dicts of arrays
 ///     flexref.run_scheme(scene, "c2", 1e-3)                          # any registered scheme
+///     flexref.converge(scene, ["c1", "nmb"], dt=1e-2, levels=6)        # the `converge` study
+///     flexref.work_precision(scene, ["nmb"], solvers=["cvode"])        # `work-precision`
 ///
 /// flexref's errors become Python exceptions with flexref's messages: flexref.InputError (a
 /// ValueError: bad scene, bad arrays — naming the file or "run", row and column) and
@@ -30,6 +32,11 @@
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/convergence.hpp"
+#include "studies/high_precision_references.hpp"
+#include "studies/parallel.hpp"
+#include "studies/reference_policy.hpp"
+#include "studies/reference_solver_name.hpp"
+#include "studies/work_precision.hpp"
 #include "trajectory/certified_reference.hpp"
 #include "trajectory/error_metrics.hpp"
 #include "trajectory/reference_sidecar.hpp"
@@ -423,4 +430,144 @@ PYBIND11_MODULE(flexref, m) {
       "100x above its estimated error marked 'uncertified', pairwise orders and the "
       "least-squares order over the certified levels (the `converge` study's analysis). "
       "Returns a dict: levels, observed_order, fitted_levels, notes, table.");
+
+  m.def(
+      "converge",
+      [](const PyScene& s, const std::vector<std::string>& schemes, double dt, int levels,
+         const std::string& metric, const std::string& reference_solver, double reference_rtol,
+         const std::string& precision, double reference_budget, int jobs) {
+        const core::Model& model = *s.scene->model;
+        const studies::ReferenceSolver solver = studies::parse_reference_solver(reference_solver);
+        if (model.has_flexible_bodies() && solver == studies::ReferenceSolver::kExact) {
+          throw std::invalid_argument("a model with flexible bodies has no exact solution");
+        }
+        if (!(reference_budget >= 0.0)) {
+          throw std::invalid_argument("reference_budget must be 0 (no bound) or positive");
+        }
+        const studies::ReferencePrecision wanted = studies::parse_reference_precision(precision);
+        const std::vector<double> times = s.times();
+        studies::ConvergenceOptions options;
+        options.schemes = schemes;
+        options.h0 = dt;
+        options.levels = levels;
+        options.metric = metric;
+        options.reference_solver = studies::to_string(solver);
+        options.reference_rtol = reference_rtol;
+        options.jobs = jobs > 0 ? jobs : studies::default_jobs();
+        studies::check_convergence_inputs(model, times, options);
+        const studies::StudyReferences references(*s.scene, times, metric, solver, "converge");
+        studies::PolicyOutcome<studies::ConvergenceResult> outcome;
+        {
+          py::gil_scoped_release release;
+          outcome = studies::run_convergence_under_policy(model, times, options, wanted,
+                                                          reference_budget, references);
+        }
+        const studies::ConvergenceResult& result = outcome.result;
+        py::list rows;
+        for (const auto& lv : result.levels) {
+          py::dict d;
+          d["scheme"] = lv.scheme;
+          d["h"] = lv.h;
+          d["error"] = lv.error;
+          d["order"] = lv.order;
+          d["status"] = lv.status;
+          rows.append(d);
+        }
+        py::dict orders;
+        for (const auto& summary : result.summaries) {
+          orders[py::str(summary.scheme)] = summary.fitted_order;
+        }
+        py::dict out;
+        out["levels"] = rows;
+        out["observed_orders"] = orders;
+        out["notes"] = result.notes;
+        out["table"] = studies::format_convergence_table(result);
+        out["reference_precision"] = studies::to_string(outcome.precision_used);
+        out["reference_estimate"] = result.reference.estimate.estimate();
+        out["reference_refused"] = outcome.refused;
+        return out;
+      },
+      py::arg("scene"), py::arg("schemes") = lie::default_scheme_names(), py::arg("dt") = 1e-2,
+      py::arg("levels") = 6, py::arg("metric") = "rotation+points",
+      py::arg("reference_solver") = "auto", py::arg("reference_rtol") = 1e-12,
+      py::arg("precision") = "auto", py::arg("reference_budget") = studies::kDefaultReferenceBudget,
+      py::arg("jobs") = 0,
+      "The `converge` study: each scheme at dt, dt/2, ..., dt/2^(levels-1) against a certified "
+      "reference, and the observed orders. precision: 'auto' (double; a quad-precision "
+      "reference when the double one cannot certify every level and the scene allows it, "
+      "within reference_budget seconds, 0: no bound), 'double', 'extended' or 'quad' "
+      "(docs/precision.md). Returns a dict: levels, observed_orders, notes, table, "
+      "reference_precision, reference_estimate, reference_refused.");
+
+  m.def(
+      "work_precision",
+      [](const PyScene& s, const std::vector<std::string>& schemes, double dt, int levels,
+         const std::vector<std::string>& solvers, const std::vector<double>& tolerances,
+         int repeats, const std::string& metric, const std::string& reference_solver,
+         double reference_rtol, const std::string& precision, double reference_budget, int jobs) {
+        const core::Model& model = *s.scene->model;
+        const studies::ReferenceSolver solver = studies::parse_reference_solver(reference_solver);
+        if (model.has_flexible_bodies() && solver == studies::ReferenceSolver::kExact) {
+          throw std::invalid_argument("a model with flexible bodies has no exact solution");
+        }
+        if (!(reference_budget >= 0.0)) {
+          throw std::invalid_argument("reference_budget must be 0 (no bound) or positive");
+        }
+        const studies::ReferencePrecision wanted = studies::parse_reference_precision(precision);
+        const std::vector<double> times = s.times();
+        studies::WorkPrecisionOptions options;
+        options.schemes = schemes;
+        options.h0 = dt;
+        options.levels = levels;
+        options.solvers = solvers;
+        options.tolerances = tolerances;
+        options.repeats = repeats;
+        options.metric = metric;
+        options.reference_solver = studies::to_string(solver);
+        options.reference_rtol = reference_rtol;
+        options.jobs = jobs > 0 ? jobs : studies::default_jobs();
+        studies::check_work_precision_inputs(model, times, options);
+        const studies::StudyReferences references(*s.scene, times, metric, solver,
+                                                  "work-precision");
+        studies::PolicyOutcome<studies::WorkPrecisionResult> outcome;
+        {
+          py::gil_scoped_release release;
+          outcome = studies::run_work_precision_under_policy(model, times, options, wanted,
+                                                             reference_budget, references);
+        }
+        const studies::WorkPrecisionResult& result = outcome.result;
+        py::list rows;
+        for (const auto& run : result.runs) {
+          py::dict d;
+          d["method"] = run.method;
+          d["kind"] = run.kind;
+          d["setting"] = run.setting;
+          d["error"] = run.error;
+          d["cpu_seconds"] = run.cpu_seconds;
+          d["status"] = run.status;
+          rows.append(d);
+        }
+        py::dict out;
+        out["runs"] = rows;
+        out["notes"] = result.notes;
+        out["table"] = studies::format_work_precision_table(result);
+        out["reference_precision"] = studies::to_string(outcome.precision_used);
+        out["reference_estimate"] = result.reference.estimate.estimate();
+        out["reference_refused"] = outcome.refused;
+        return out;
+      },
+      py::arg("scene"), py::arg("schemes") = lie::default_scheme_names(), py::arg("dt") = 1e-2,
+      py::arg("levels") = 6,
+      py::arg("solvers") = std::vector<std::string>{"ida", "cvode", "arkode", "odeint"},
+      py::arg("tolerances") =
+          std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12},
+      py::arg("repeats") = 3, py::arg("metric") = "rotation+points",
+      py::arg("reference_solver") = "auto", py::arg("reference_rtol") = 1e-12,
+      py::arg("precision") = "auto", py::arg("reference_budget") = studies::kDefaultReferenceBudget,
+      py::arg("jobs") = 0,
+      "The `work-precision` study: error against CPU time of each scheme level and solver "
+      "tolerance, against a certified reference. precision: as flexref.converge's ('auto' "
+      "repeats the study against a quad-precision reference when the double one cannot "
+      "certify every run). Returns a dict: runs, notes, table, reference_precision, "
+      "reference_estimate, reference_refused.");
 }

@@ -284,9 +284,11 @@ std::vector<std::pair<std::string, Eigen::Matrix3d>> degenerate_bodies() {
 }
 
 StabilityResult run_stability(const StabilityOptions& options) {
-  if (options.parameter != "spin" && options.parameter != "inertia_ratio") {
-    throw std::invalid_argument("stability: parameter must be 'spin' or 'inertia_ratio', not '" +
-                                options.parameter + "'");
+  if (options.parameter != StabilityParameter::kSpin &&
+      options.parameter != StabilityParameter::kInertiaRatio) {
+    throw std::invalid_argument(
+        std::string("stability: parameter must be 'spin' or 'inertia_ratio', not '") +
+        to_string(options.parameter) + "'");
   }
   if (!(options.w_direction_B.norm() > 0.0) || !(options.spin > 0.0)) {
     throw std::invalid_argument("stability: the initial angular velocity must be non-zero");
@@ -319,12 +321,12 @@ StabilityResult run_stability(const StabilityOptions& options) {
       [&](int task) {
         const double value = options.values[static_cast<std::size_t>(task / n_schemes)];
         StabilityPoint point =
-            options.parameter == "spin"
+            options.parameter == StabilityParameter::kSpin
                 ? bisect_point(scheme_of(task), options.I_Bcm_B, value * direction,
                                options.criterion, options.relative_tolerance)
                 : bisect_point(scheme_of(task), rod_inertia(value), options.spin * direction,
                                options.criterion, options.relative_tolerance);
-        point.parameter = options.parameter;
+        point.parameter = to_string(options.parameter);
         point.value = value;
         result.sweep[static_cast<std::size_t>(task)] = std::move(point);
       },
@@ -396,8 +398,8 @@ std::string format_stability_table(const StabilityResult& result) {
       << o.criterion.momentum_factor << "|pi0|)\n";
   char line[512];
   std::snprintf(line, sizeof line, "%-6s %-24s %12s %10s %12s %12s  %s\n", "scheme",
-                o.parameter == "spin" ? "|W0| [rad/s]" : "J3/J1", "value", "|W0|", "h_max [s]",
-                "h_max*|W0|", "unstable above because");
+                o.parameter == StabilityParameter::kSpin ? "|W0| [rad/s]" : "J3/J1", "value",
+                "|W0|", "h_max [s]", "h_max*|W0|", "unstable above because");
   out << line;
   const auto print = [&](const StabilityPoint& p, bool with_near_pi) {
     std::snprintf(line, sizeof line, "%-6s %-24s %12.4g %10.4g %12.4g %12.4g  ", p.scheme.c_str(),

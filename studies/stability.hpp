@@ -30,6 +30,7 @@
 
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
+#include "studies/stability_parameter.hpp"
 
 namespace flexref::studies {
 
@@ -82,7 +83,7 @@ core::Model make_free_body_model(const Eigen::Matrix3d& I_Bcm_B, const Eigen::Ve
 Eigen::Matrix3d rod_inertia(double ratio);
 
 struct StabilityOptions {
-  std::string parameter = "spin";  ///< "spin" (|W0|, rad/s) or "inertia_ratio" (J3/J1)
+  StabilityParameter parameter = StabilityParameter::kSpin;  ///< or kInertiaRatio
   std::vector<double> values;
   std::vector<std::string> schemes = lie::default_scheme_names();
   /// The body: free_spin's J = diag(3, 4, 5) and W0 direction (0.2, 0.3, 2.0) by default.

@@ -84,11 +84,11 @@ scene::SceneSpec ball(double k) {
 
 }  // namespace
 
-core::Model make_linear_sweep_model(const std::string& parameter, double value, double& omega) {
+core::Model make_linear_sweep_model(StabilityParameter parameter, double value, double& omega) {
   if (!(value > 0.0) || !std::isfinite(value)) {
     throw std::invalid_argument("stability: swept values must be positive and finite");
   }
-  if (parameter == "modal_frequency") {
+  if (parameter == StabilityParameter::kModalFrequency) {
     // ω ∝ √EI: scale EI from the spinner's 3.2 N·m² to put ω_max at the swept value.
     const double omega_base =
         core::explicit_step_limit(scene::build_model(spinner(3.2), core::FlexibleFormulation::kLte))
@@ -99,22 +99,23 @@ core::Model make_linear_sweep_model(const std::string& parameter, double value, 
     omega = core::explicit_step_limit(model).frequency;
     return model;
   }
-  if (parameter == "contact_stiffness") {
+  if (parameter == StabilityParameter::kContactStiffness) {
     core::Model model = scene::build_model(ball(value));
     omega = core::explicit_step_limit(model).frequency;
     return model;
   }
-  throw std::invalid_argument("stability: unknown linear parameter '" + parameter +
+  throw std::invalid_argument(std::string("stability: unknown linear parameter '") +
+                              to_string(parameter) +
                               "'; expected modal_frequency or contact_stiffness");
 }
 
-std::string classify_linear_run(const core::Model& model, const std::string& parameter,
+std::string classify_linear_run(const core::Model& model, StabilityParameter parameter,
                                 const std::string& scheme, double h,
                                 const LinearSweepOptions& options) {
   const auto stepper = lie::make_stepper(scheme, model);
   const core::State s0 = model.initial_state();
   stepper->initialize(0.0, s0);
-  const bool modal = parameter == "modal_frequency";
+  const bool modal = parameter == StabilityParameter::kModalFrequency;
   // Amplitude measure and its initial value.
   double initial = 0.0;
   double z_rest = 0.0;
@@ -179,23 +180,24 @@ std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options
   return points;
 }
 
-std::string linear_sweep_csv(const std::string& parameter,
+std::string linear_sweep_csv(StabilityParameter parameter,
                              const std::vector<LinearSweepPoint>& points) {
   std::ostringstream out;
   out << std::setprecision(17);
   out << "scheme,parameter,value,omega,h_max,h_theory,h_max_times_omega,classification\n";
   for (const LinearSweepPoint& p : points) {
-    out << p.scheme << ',' << parameter << ',' << p.value << ',' << p.omega << ',' << p.h_max << ','
-        << p.h_theory << ',' << p.h_max * p.omega << ',' << trajectory::csv_text(p.classification)
-        << '\n';
+    out << p.scheme << ',' << to_string(parameter) << ',' << p.value << ',' << p.omega << ','
+        << p.h_max << ',' << p.h_theory << ',' << p.h_max * p.omega << ','
+        << trajectory::csv_text(p.classification) << '\n';
   }
   return out.str();
 }
 
-std::string format_linear_sweep_table(const std::string& parameter,
+std::string format_linear_sweep_table(StabilityParameter parameter,
                                       const std::vector<LinearSweepPoint>& points) {
   std::ostringstream out;
-  const std::string label = parameter == "modal_frequency" ? "w_max [rad/s]" : "k [N/m]";
+  const std::string label =
+      parameter == StabilityParameter::kModalFrequency ? "w_max [rad/s]" : "k [N/m]";
   out << std::left << std::setw(10) << "scheme" << std::setw(14) << label << std::setw(14)
       << "omega [rad/s]" << std::setw(13) << "h_max [s]" << std::setw(13) << "2/omega [s]"
       << std::setw(10) << "h*omega"

@@ -28,11 +28,12 @@
 
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
+#include "studies/stability_parameter.hpp"
 
 namespace flexref::studies {
 
 struct LinearSweepOptions {
-  std::string parameter = "modal_frequency";  ///< or "contact_stiffness"
+  StabilityParameter parameter = StabilityParameter::kModalFrequency;  ///< or kContactStiffness
   /// ω_max (rad/s) for modal_frequency, k (N/m) for contact_stiffness.
   std::vector<double> values;
   std::vector<std::string> schemes = lie::default_scheme_names();
@@ -52,18 +53,20 @@ struct LinearSweepPoint {
   std::string classification;  ///< why the first unstable step is unstable
 };
 
-/// The model of one sweep value (see the file comment) and its frequency ω (rad/s).
-core::Model make_linear_sweep_model(const std::string& parameter, double value, double& omega);
+/// The model of one sweep value (see the file comment) and its frequency ω (rad/s); throws
+/// std::invalid_argument for a parameter that is not a linear sweep's or a value that is not
+/// positive and finite.
+core::Model make_linear_sweep_model(StabilityParameter parameter, double value, double& omega);
 /// "stable", or why not (see the file comment).
-std::string classify_linear_run(const core::Model& model, const std::string& parameter,
+std::string classify_linear_run(const core::Model& model, StabilityParameter parameter,
                                 const std::string& scheme, double h,
                                 const LinearSweepOptions& options);
 /// The sweep, parallel over (value, scheme); the numbers do not depend on jobs.
 std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options);
 /// CSV: scheme,parameter,value,omega,h_max,h_theory,h_max_times_omega,classification.
-std::string linear_sweep_csv(const std::string& parameter,
+std::string linear_sweep_csv(StabilityParameter parameter,
                              const std::vector<LinearSweepPoint>& points);
-std::string format_linear_sweep_table(const std::string& parameter,
+std::string format_linear_sweep_table(StabilityParameter parameter,
                                       const std::vector<LinearSweepPoint>& points);
 
 }  // namespace flexref::studies

@@ -145,10 +145,11 @@ FigureResult run_trajectory_figure(const core::Model& model,
       result.reference_estimate_method = trajectory::describe_estimate(estimate);
     }
   }
-  result.reference.label =
-      "reference (" + run.solver +
-      (result.reference_precision == "double" ? std::string() : " " + result.reference_precision) +
-      ")";
+  result.reference.label = "reference (" + run.solver +
+                           (result.reference_precision == ReferencePrecision::kDouble
+                                ? std::string()
+                                : std::string(" ") + to_string(result.reference_precision)) +
+                           ")";
   result.reference.times = run.trajectory.times;
   const core::TrackedPoint& point = points[static_cast<std::size_t>(settings.point)];
   if (settings.given_reference) {
@@ -217,7 +218,7 @@ bool figure_has_uncertified(const FigureResult& result) {
 
 std::string figure_table(const FigureResult& result) {
   std::ostringstream out;
-  out << result.reference.label << " in " << result.reference_precision << " precision";
+  out << result.reference.label << " in " << to_string(result.reference_precision) << " precision";
   if (std::isnan(result.reference_estimate)) {
     out << ", error not estimated\n";
   } else {

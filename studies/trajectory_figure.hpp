@@ -17,6 +17,7 @@
 
 #include "core/model.hpp"
 #include "lie/stepper.hpp"
+#include "studies/reference_precision.hpp"
 #include "trajectory/certified_reference.hpp"
 
 namespace flexref::studies {
@@ -33,7 +34,8 @@ struct FigureSettings {
   /// A reference computed elsewhere (an extended or quad precision one: docs/precision.md),
   /// used instead of solving with `solver`; its estimate (metric "points") certifies the curves.
   std::shared_ptr<const trajectory::CertifiedReference> given_reference;
-  std::string given_precision = "quad";  ///< the given reference's precision (for the table)
+  /// The given reference's precision (for the table).
+  ReferencePrecision given_precision = ReferencePrecision::kQuad;
   /// Estimate the double reference's own error (metric "points": two more reference runs) so
   /// that each curve's error can be certified (≥ 100× the estimate).
   bool estimate = true;
@@ -58,7 +60,7 @@ struct FigureCurve {
 
 struct FigureResult {
   FigureCurve reference;
-  std::string reference_precision = "double";
+  ReferencePrecision reference_precision = ReferencePrecision::kDouble;
   /// The reference's estimated error in the "points" metric (m): NaN when not estimated.
   double reference_estimate = std::numeric_limits<double>::quiet_NaN();
   std::string reference_estimate_method;

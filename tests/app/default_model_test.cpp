@@ -12,12 +12,12 @@ TEST_CASE("every command that takes --model has the same default (lte)", "[app][
   // work-precision defaulted to coupled while run and converge defaulted to lte, so
   // `work-precision scenes/flexible_spinner.toml` was refused (issue 35); reference and modes
   // defaulted to coupled, so a run and "its" reference measured different equations. The
-  // command line binds --model to these members (app/main.cpp, add_model_option).
-  CHECK(RunOptions{}.model == "lte");
-  CHECK(ReferenceOptions{}.model == "lte");
-  CHECK(ConvergeOptions{}.model == "lte");
-  CHECK(WorkPrecisionOptions{}.model == "lte");
-  CHECK(ModalTruncationCommandOptions{}.model == "lte");
+  // command line binds --model to these members (app/cli_options.cpp, add_model_option).
+  CHECK(RunOptions{}.model == core::FlexibleFormulation::kLte);
+  CHECK(ReferenceOptions{}.model == core::FlexibleFormulation::kLte);
+  CHECK(ConvergeOptions{}.model == core::FlexibleFormulation::kLte);
+  CHECK(WorkPrecisionOptions{}.model == core::FlexibleFormulation::kLte);
+  CHECK(ModalTruncationCommandOptions{}.model == core::FlexibleFormulation::kLte);
   // Commands without --model (check, figure, stability, lte-map's scene) load the same one.
   CHECK(load_scene("scenes/flexible_spinner.toml").model->formulation() ==
         core::FlexibleFormulation::kLte);

@@ -117,7 +117,7 @@ TEST_CASE("every bundled scene runs with its defaults or the refusal names a ste
     // (slider_crank_flexible), and rigid bodies are the same in both models.
     if (scene::read_scene(options.scene).spec.ideal_joints.size() > 0) {
       options.dt = 1e-5;
-      options.model = "coupled";
+      options.model = core::FlexibleFormulation::kCoupled;
       CHECK_THROWS_WITH(run_command(options), Catch::Matchers::Contains("ideal joint") &&
                                                   Catch::Matchers::Contains("--scheme genalpha") &&
                                                   Catch::Matchers::Contains("flexref reference"));

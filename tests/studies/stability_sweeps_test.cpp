@@ -42,7 +42,7 @@ void check_limits(const LinearSweepOptions& options) {
 TEST_CASE("stability sweep: modal frequency limit 2/omega_max for every scheme",
           "[studies][stability]") {
   LinearSweepOptions options;
-  options.parameter = "modal_frequency";
+  options.parameter = StabilityParameter::kModalFrequency;
   options.values = {20.0, 200.0};
   options.steps = 1000;
   check_limits(options);
@@ -51,7 +51,7 @@ TEST_CASE("stability sweep: modal frequency limit 2/omega_max for every scheme",
 TEST_CASE("stability sweep: contact stiffness limit 2/sqrt(k/m) for every scheme",
           "[studies][stability]") {
   LinearSweepOptions options;
-  options.parameter = "contact_stiffness";
+  options.parameter = StabilityParameter::kContactStiffness;
   options.values = {1e4, 1e6};
   options.steps = 1000;
   check_limits(options);
@@ -59,8 +59,15 @@ TEST_CASE("stability sweep: contact stiffness limit 2/sqrt(k/m) for every scheme
 
 TEST_CASE("stability sweep: unknown parameter and bad values are refused", "[studies][stability]") {
   double omega = 0.0;
-  CHECK_THROWS_AS(make_linear_sweep_model("spin_rate", 1.0, omega), std::invalid_argument);
-  CHECK_THROWS_AS(make_linear_sweep_model("contact_stiffness", -1.0, omega), std::invalid_argument);
+  CHECK_THROWS_WITH(
+      parse_stability_parameter("spin_rate"),
+      Catch::Contains("'spin_rate'") &&
+          Catch::Contains("spin, inertia_ratio, modal_frequency or contact_stiffness"));
+  // Spin is a rigid body's sweep (studies/stability.hpp), not a linear oscillator's.
+  CHECK_THROWS_AS(make_linear_sweep_model(StabilityParameter::kSpin, 1.0, omega),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(make_linear_sweep_model(StabilityParameter::kContactStiffness, -1.0, omega),
+                  std::invalid_argument);
 }
 
 TEST_CASE("linear_sweep_csv keeps the classification in one unquoted cell",
@@ -68,7 +75,7 @@ TEST_CASE("linear_sweep_csv keeps the classification in one unquoted cell",
   LinearSweepPoint p;
   p.scheme = "c1";
   p.classification = "amplitude growth, x10";
-  const std::string csv = linear_sweep_csv("modal_frequency", {p});
+  const std::string csv = linear_sweep_csv(StabilityParameter::kModalFrequency, {p});
   CHECK(csv.find('"') == std::string::npos);
   CHECK(csv.find(",amplitude growth; x10\n") != std::string::npos);
 }

@@ -1,0 +1,88 @@
+/// \file cli_options.cpp
+/// Options that several `flexref` commands share, one definition each.
+#include "app/cli_options.hpp"
+
+#include "app/cli_validators.hpp"
+#include "app/commands.hpp"
+#include "lie/genalpha_parameters.hpp"
+#include "trajectory/error_metrics.hpp"
+
+namespace flexref::app {
+
+void GenalphaCliOptions::apply() const {
+  lie::set_genalpha_rho_inf(rho_inf);
+  lie::set_genalpha_perturbed_start(perturbed_start);
+}
+
+const char* const kOutputFileHelp =
+    "file to write; - for standard output; a symbolic link's target is written, a FIFO or "
+    "device directly (no .meta.toml sidecar then); docs/output.md";
+const char* const kOutputFolderHelp =
+    "output directory, replaced as a whole when the study completes (a link to a folder stays "
+    "a link; docs/output.md)";
+
+void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha) {
+  command
+      ->add_option("--rho-inf", genalpha.rho_inf,
+                   "genalpha's spectral radius at infinity, in [0, 1] (1: no numerical damping)")
+      ->check(number_in(0.0, 1.0))
+      ->capture_default_str();
+  command->add_flag("--perturbed-start", genalpha.perturbed_start,
+                    "genalpha: start from a_0 = dv/dt(t0 + (alpha_m - alpha_f) h) (Arnold's "
+                    "perturbed starting value) instead of a_0 = dv/dt(t0)");
+}
+
+void add_reference_budget(CLI::App* command, double& budget) {
+  command
+      ->add_option("--reference-budget", budget,
+                   "seconds of wall time auto may spend on a quad reference; over it (projected "
+                   "early), the study keeps the double one (0: no bound; docs/precision.md)")
+      ->check(non_negative_number())
+      ->capture_default_str();
+}
+
+void add_model_option(CLI::App* command, core::FlexibleFormulation& model) {
+  add_enum_option(command, "--model", model,
+                  "flexible bodies' equations: coupled | lte (lte by default: the model the "
+                  "schemes integrate)",
+                  {"coupled", "lte"}, parse_formulation,
+                  [](core::FlexibleFormulation f) { return core::to_string(f); });
+}
+
+void add_limits(CLI::App* command, WorkLimits& limits, bool steps) {
+  if (steps) {
+    command
+        ->add_option("--max-steps", limits.max_steps,
+                     "refuse a scheme run of more steps (raise it to allow longer runs)")
+        ->check(positive_integer())
+        ->capture_default_str();
+  }
+  command
+      ->add_option("--max-rows", limits.max_rows,
+                   "refuse a trajectory of more output rows (raise it to allow larger files)")
+      ->check(positive_integer())
+      ->capture_default_str();
+}
+
+void add_allow_scene_mismatch(CLI::App* command, bool& allow) {
+  command->add_flag("--allow-scene-mismatch", allow,
+                    "compare results whose sidecars (FILE.meta.toml) name different scenes or "
+                    "another version of the scene (refused otherwise)");
+}
+
+void add_estimate_factor(CLI::App* command, double& factor) {
+  command
+      ->add_option("--estimate-factor", factor,
+                   "accuracy check: every reference run is repeated at rtol divided by this "
+                   "factor (tighter); their distance estimates the run's error")
+      ->check(number_in(2.0, 1e6))
+      ->capture_default_str();
+}
+
+std::string metric_help(const std::string& what) {
+  std::string list;
+  for (const std::string& m : trajectory::metric_names()) list += (list.empty() ? "" : " | ") + m;
+  return what + ": " + list;
+}
+
+}  // namespace flexref::app
