@@ -1,6 +1,7 @@
 #pragma once
 /// \file model.hpp
-/// The immutable model every integrator sees (Pinocchio's Model/Data split): bodies and
+/// The immutable model every integrator sees (Pinocchio's Model/Data split), in any scalar type S
+/// (ModelTpl<S>; Model is the double one): bodies and
 /// force elements, and the one narrow interface integrators use — loads, accelerations,
 /// energy and momentum at a state. Scratch space lives in a separate Workspace, so no
 /// evaluation allocates.
@@ -104,7 +105,7 @@ struct InitialProjection {
 };
 
 /// The model in scalar type S (Pinocchio's ModelTpl): double for every integrator, long double
-/// and float128 for the precision references (precision/model_in_precision.hpp converts a double
+/// and float128 for the precision references (precision/model_conversion.hpp converts a double
 /// model). One class, so the equations, the state's layout and the joints are written once.
 template <typename S>
 class ModelTpl {

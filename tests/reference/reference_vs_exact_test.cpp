@@ -112,8 +112,8 @@ std::vector<Case> cases() {
     const Eigen::Vector3d inertia_cm(1e-3, 1e-3, 1e-3), com(1.0, 0.0, 0.0);
     all.push_back({"pendulum", [] { return pendulum(); },
                    [=] {
-                     const Eigen::Matrix3d j_pivot =
-                         core::shift_inertia_from_com(inertia_cm.asDiagonal(), 1.0, com);
+                     const Eigen::Matrix3d j_pivot = core::shift_inertia_from_com<double>(
+                         Eigen::Matrix3d(inertia_cm.asDiagonal()), 1.0, com);
                      const auto exact = std::make_shared<PendulumExact>(
                          1.0, com, j_pivot, kGravity_W, rotation::identity_euler_parameters());
                      return Exact([exact](double t) { return exact->at(t); });

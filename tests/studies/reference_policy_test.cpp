@@ -22,19 +22,20 @@ class RecordingReferences final : public HighPrecisionReferences {
   double cost_seconds = 1.0;  ///< what the quad reference would take
   mutable std::vector<std::string> calls;
 
-  std::shared_ptr<const CertifiedReference> compute(ReferencePrecision precision) const override {
+  std::shared_ptr<const trajectory::CertifiedReference> compute(
+      ReferencePrecision precision) const override {
     calls.push_back(std::string("compute ") + to_string(precision));
-    return std::make_shared<const CertifiedReference>();
+    return std::make_shared<const trajectory::CertifiedReference>();
   }
   bool quad_possible() const override { return possible; }
-  std::shared_ptr<const CertifiedReference> quad_within_budget(
+  std::shared_ptr<const trajectory::CertifiedReference> quad_within_budget(
       double budget_seconds, std::string& refused) const override {
     calls.push_back("quad within budget");
     if (budget_seconds > 0.0 && cost_seconds > budget_seconds) {
       refused = "over its budget";
       return nullptr;
     }
-    return std::make_shared<const CertifiedReference>();
+    return std::make_shared<const trajectory::CertifiedReference>();
   }
 };
 
@@ -48,8 +49,9 @@ struct Runs {
 PolicyStudy<Runs> recording_study(int uncertified_on_double) {
   auto runs = std::make_shared<Runs>();
   PolicyStudy<Runs> study;
-  study.run = [runs, uncertified_on_double](std::shared_ptr<const CertifiedReference> reference,
-                                            ReferencePrecision precision) {
+  study.run = [runs, uncertified_on_double](
+                  std::shared_ptr<const trajectory::CertifiedReference> reference,
+                  ReferencePrecision precision) {
     runs->against.push_back(reference ? to_string(precision) : "own double");
     runs->uncertified = reference ? 0 : uncertified_on_double;
     return *runs;
@@ -103,7 +105,7 @@ TEST_CASE("auto retries with a quad reference only when double leaves something 
   }
 }
 
-TEST_CASE("a given precision is computed before the one run; double never asks for one",
+TEST_CASE("a given precision is computed before the one run, and double never asks for one",
           "[studies][reference_policy]") {
   RecordingReferences references;
   for (ReferencePrecision p : {ReferencePrecision::kExtended, ReferencePrecision::kQuad}) {
