@@ -294,6 +294,10 @@ class ModelTpl {
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
   /// α̅ of body i's angle law at ws.time (zero for a body not prescribed).
   Vector3 prescribed_alpha_WB_B(int i, const Workspace& ws) const;
+  /// Calls evaluate(element, its span of `out`) for each element with switching functions, in
+  /// the order that numbers them (switching_functions' layout).
+  template <typename Evaluate>
+  void for_each_switching_element(std::span<S> out, Evaluate&& evaluate) const;
   /// apply_prescribed_motion, with the laws' α̅ into `alpha` when given.
   void set_prescribed_motion(S t, State& state, std::vector<Vector3>* alpha) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;

@@ -405,29 +405,33 @@ S ModelTpl<S>::potential_energy(const LoadContext& context, const State& state,
 }
 
 template <typename S>
-void ModelTpl<S>::switching_functions(const LoadContext& context, const State& state, Workspace& ws,
-                                      std::span<S> g) const {
-  pose_bodies(state, ws);
+template <typename Evaluate>
+void ModelTpl<S>::for_each_switching_element(std::span<S> out, Evaluate&& evaluate) const {
   std::size_t offset = 0;
   for (const auto& e : elements_) {
     const auto count = static_cast<std::size_t>(e->switching_function_count());
     if (count == 0) continue;
-    e->switching_functions(context, ws.kinematics, g.subspan(offset, count));
+    evaluate(*e, out.subspan(offset, count));
     offset += count;
   }
+}
+
+template <typename S>
+void ModelTpl<S>::switching_functions(const LoadContext& context, const State& state, Workspace& ws,
+                                      std::span<S> g) const {
+  pose_bodies(state, ws);
+  for_each_switching_element(g, [&](const ForceElement& e, std::span<S> values) {
+    e.switching_functions(context, ws.kinematics, values);
+  });
 }
 
 template <typename S>
 void ModelTpl<S>::clamp_functions(const LoadContext& context, const State& state, Workspace& ws,
                                   std::span<S> c) const {
   pose_bodies(state, ws);
-  std::size_t offset = 0;
-  for (const auto& e : elements_) {
-    const auto count = static_cast<std::size_t>(e->switching_function_count());
-    if (count == 0) continue;
-    e->clamp_functions(context, ws.kinematics, c.subspan(offset, count));
-    offset += count;
-  }
+  for_each_switching_element(c, [&](const ForceElement& e, std::span<S> values) {
+    e.clamp_functions(context, ws.kinematics, values);
+  });
 }
 
 template <typename S>

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -140,6 +141,21 @@ PyComparison compare(const trajectory::RunData& run, const PyTrajectory& referen
     out.certified = py::bool_(trajectory::is_certified(out.value, e));
   }
   return out;
+}
+
+/// A study's reference solver and precision from Python's strings (the CLI's parsers), checked
+/// against the model: no exact solution for flexible bodies, a budget ≥ 0.
+std::pair<studies::ReferenceSolver, studies::ReferencePrecision> reference_choice(
+    const core::Model& model, const std::string& reference_solver, const std::string& precision,
+    double reference_budget) {
+  const studies::ReferenceSolver solver = studies::parse_reference_solver(reference_solver);
+  if (model.has_flexible_bodies() && solver == studies::ReferenceSolver::kExact) {
+    throw std::invalid_argument("a model with flexible bodies has no exact solution");
+  }
+  if (!(reference_budget >= 0.0)) {
+    throw std::invalid_argument("reference_budget must be 0 (no bound) or positive");
+  }
+  return {solver, studies::parse_reference_precision(precision)};
 }
 
 }  // namespace
@@ -437,14 +453,8 @@ PYBIND11_MODULE(flexref, m) {
          const std::string& metric, const std::string& reference_solver, double reference_rtol,
          const std::string& precision, double reference_budget, int jobs) {
         const core::Model& model = *s.scene->model;
-        const studies::ReferenceSolver solver = studies::parse_reference_solver(reference_solver);
-        if (model.has_flexible_bodies() && solver == studies::ReferenceSolver::kExact) {
-          throw std::invalid_argument("a model with flexible bodies has no exact solution");
-        }
-        if (!(reference_budget >= 0.0)) {
-          throw std::invalid_argument("reference_budget must be 0 (no bound) or positive");
-        }
-        const studies::ReferencePrecision wanted = studies::parse_reference_precision(precision);
+        const auto [solver, wanted] =
+            reference_choice(model, reference_solver, precision, reference_budget);
         const std::vector<double> times = s.times();
         studies::ConvergenceOptions options;
         options.schemes = schemes;
@@ -506,14 +516,8 @@ PYBIND11_MODULE(flexref, m) {
          int repeats, const std::string& metric, const std::string& reference_solver,
          double reference_rtol, const std::string& precision, double reference_budget, int jobs) {
         const core::Model& model = *s.scene->model;
-        const studies::ReferenceSolver solver = studies::parse_reference_solver(reference_solver);
-        if (model.has_flexible_bodies() && solver == studies::ReferenceSolver::kExact) {
-          throw std::invalid_argument("a model with flexible bodies has no exact solution");
-        }
-        if (!(reference_budget >= 0.0)) {
-          throw std::invalid_argument("reference_budget must be 0 (no bound) or positive");
-        }
-        const studies::ReferencePrecision wanted = studies::parse_reference_precision(precision);
+        const auto [solver, wanted] =
+            reference_choice(model, reference_solver, precision, reference_budget);
         const std::vector<double> times = s.times();
         studies::WorkPrecisionOptions options;
         options.schemes = schemes;
