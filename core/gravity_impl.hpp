@@ -14,14 +14,14 @@
 
 namespace flexref::core {
 
-/// Uniform gravity's generalized loads and potential on a body given by its invariants about its
-/// reference point Br (a rigid body takes m g at its centre of mass). docs/design/model.md:
-///   Qe_R += m g,   Qe_θ += s̃_t Aᵀ g (τ_Br_W += A (s_t × Aᵀ g)),   Qe_f += Sᵀ Aᵀ g,
-/// with s_t = s0 + S q_f − ½ [q·E_c q]_c the first moment about Br (modal_invariants_tpl.hpp,
-/// GS-4), and under geometric stiffening the foreshortening's work Qe_f += ΔS(q_f)ᵀ Aᵀ g
-/// (docs/geometric_stiffening.md: a freely falling body carries no axial load). The potential is
-/// V = −g·Σ m_k r_k = −g·(m p_WBr + A s_t). q_f is what the loads see: the state's under the
-/// coupled model, zero under LTE.
+// Uniform gravity's generalized loads and potential on a body given by its invariants about its
+// reference point Br (a rigid body takes m g at its centre of mass). docs/design/model.md:
+//   Qe_R += m g,   Qe_θ += s̃_t Aᵀ g (τ_Br_W += A (s_t × Aᵀ g)),   Qe_f += Sᵀ Aᵀ g,
+// with s_t = s0 + S q_f − ½ [q·E_c q]_c the first moment about Br (modal_invariants_tpl.hpp,
+// GS-4), and under geometric stiffening the foreshortening's work Qe_f += ΔS(q_f)ᵀ Aᵀ g
+// (docs/geometric_stiffening.md: a freely falling body carries no axial load). The potential is
+// V = −g·Σ m_k r_k = −g·(m p_WBr + A s_t). q_f is what the loads see: the state's under the
+// coupled model, zero under LTE.
 
 /// Adds gravity's loads on one body to f_W, τ_Br_W (world) and Q_f. Allocates nothing.
 template <typename S>
