@@ -1,12 +1,12 @@
 #pragma once
 /// \file ideal_joints_impl.hpp
-/// IdealJointsTpl<S>'s definitions (ideal_joints_tpl.hpp), included by the units that
+/// IdealJointsTpl<S>'s definitions (ideal_joints.hpp), included by the units that
 /// instantiate it: constraint/ideal_joints.cpp (double) and precision/ (long double, float128).
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
-#include "constraint/ideal_joints_tpl.hpp"
+#include "constraint/ideal_joints.hpp"
 
 namespace flexref::constraint {
 namespace detail {

@@ -6,7 +6,7 @@
 #include <array>
 #include <stdexcept>
 
-#include "constraint/ideal_joints_tpl.hpp"
+#include "constraint/ideal_joints.hpp"
 
 namespace flexref::constraint {
 

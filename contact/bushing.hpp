@@ -95,8 +95,7 @@ void append_bushing_modes(std::span<const core::Body> bodies, const BushingEnd& 
 /// spring–damper: the spherical bushing (kRevolute = false). The revolute bushing
 /// (kRevolute = true) adds the angular spring–damper that keeps the hinge axes a_A and a_B
 /// aligned; rotation about the hinge is free. Generic in the scalar type S
-/// (core/force_element.hpp); the definitions are bushing_impl.hpp's, the equations
-/// bushing_tpl.hpp's.
+/// (core/force_element.hpp); the definitions and the equations are bushing_impl.hpp's.
 template <typename S, bool kRevolute>
 class BushingTpl final : public core::ForceElementTpl<S> {
  public:

@@ -20,7 +20,6 @@
 #include <vector>
 
 #include "contact/contact_laws.hpp"
-#include "contact/gap_support_tpl.hpp"
 #include "contact/penalty_load_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/node_attachment.hpp"
@@ -36,8 +35,19 @@ struct GapSupportGeometry {
   double clearance = 1e-3;                         ///< c, m (> 0)
 };
 
+/// The support's data in S (GapSupportGeometry's, unit axis and normal as it normalized them).
+template <typename S>
+struct GapGeometryTpl {
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  bool circular = true;
+  Vector3 p_WS = Vector3::Zero();
+  Vector3 a_W = Vector3::UnitX();
+  Vector3 m_W = Vector3::UnitZ();
+  S clearance = S(0);
+};
+
 /// The support, generic in the scalar type S (core/force_element.hpp); the definitions are
-/// gap_support_impl.hpp's, the formulas gap_support_tpl.hpp's and penalty_load_tpl.hpp's.
+/// gap_support_impl.hpp's (the geometry gap_point_tpl, the load penalty_load_tpl.hpp's).
 template <typename S>
 class GapSupportTpl final : public core::ForceElementTpl<S> {
  public:
@@ -115,7 +125,7 @@ class GapSupportTpl final : public core::ForceElementTpl<S> {
   Vector3 p_BoN_B_;
   core::NodeAttachmentTpl<S> node_;
   GapSupportGeometry geometry_;
-  GapGeometryTpl<S> geometry_in_s_;  ///< geometry_ in S (gap_support_tpl.hpp)
+  GapGeometryTpl<S> geometry_in_s_;  ///< geometry_ in S
   NormalLaw normal_;
   FrictionLaw friction_;
   double effective_mass_;

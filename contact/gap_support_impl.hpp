@@ -9,10 +9,40 @@
 #include <utility>
 
 #include "contact/gap_support.hpp"
-#include "contact/gap_support_tpl.hpp"
 #include "core/unit_vector_tpl.hpp"
 
 namespace flexref::contact {
+
+/// Gap and normal at the (deformed) point p_WN.
+template <typename S>
+struct GapPointTpl {
+  S gap = S(0);
+  Eigen::Matrix<S, 3, 1> n_W = Eigen::Matrix<S, 3, 1>::UnitZ();  ///< on the body, toward the axis
+};
+
+/// The gap and normal of gap_support.hpp's circular or planar support at p_WN.
+template <typename S>
+GapPointTpl<S> gap_point_tpl(const GapGeometryTpl<S>& geometry,
+                             const Eigen::Matrix<S, 3, 1>& p_WN) {
+  using std::abs;
+  using std::sqrt;
+  using Vector3 = Eigen::Matrix<S, 3, 1>;
+  GapPointTpl<S> c;
+  const Vector3 r = p_WN - geometry.p_WS;
+  if (geometry.circular) {
+    const Vector3 d = r - geometry.a_W.dot(r) * geometry.a_W;  // (I − a aᵀ) r
+    const S distance = sqrt(d.squaredNorm());
+    c.gap = geometry.clearance - distance;
+    // On the axis there is no direction, and no force (g = c > 0).
+    c.n_W = distance > S(0) ? Vector3(-d / distance) : geometry.m_W;
+  } else {
+    const S s = geometry.m_W.dot(r);
+    c.gap = geometry.clearance - abs(s);
+    c.n_W = s >= S(0) ? Vector3(-geometry.m_W) : geometry.m_W;
+  }
+  return c;
+}
+
 namespace detail {
 
 /// The checks of GapSupport's constructor (its \throws); normalizes the axis, and the planes'
@@ -26,7 +56,7 @@ void append_gap_support_modes(std::span<const core::Body> bodies, int body,
                               const FrictionLaw& friction, double effective_mass,
                               std::vector<core::PenaltyMode>& modes);
 
-/// The geometry in S (gap_support_tpl.hpp), its unit vectors normalized again in S.
+/// The geometry in S (GapGeometryTpl), its unit vectors normalized again in S.
 template <typename S>
 GapGeometryTpl<S> gap_geometry_in(const GapSupportGeometry& geometry) {
   GapGeometryTpl<S> g;

@@ -1,8 +1,8 @@
 #pragma once
 /// \file gravity.hpp
 /// Uniform gravity g_W on every body: f = m g at the centre of mass (docs/design/model.md:
-/// Qe_R += m g, Qe_θ += s̃ Aᵀ g), potential V = −Σ m g·p_WBcm; on a flexible body the loads of
-/// core/gravity_tpl.hpp on its invariants. Generic in the scalar type S (core/force_element.hpp);
+/// Qe_R += m g, Qe_θ += s̃ Aᵀ g), potential V = −Σ m g·p_WBcm; on a flexible body the loads on
+/// its invariants (add_gravity_loads_tpl). Generic in the scalar type S (core/force_element.hpp);
 /// the definitions are gravity_impl.hpp's.
 #include <limits>
 #include <string>

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "constraint/ideal_joints_tpl.hpp"
+#include "constraint/ideal_joints.hpp"
 #include "core/gravity.hpp"
 #include "rotation/euler_parameters.hpp"
 

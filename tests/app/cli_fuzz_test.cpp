@@ -1,5 +1,5 @@
 /// \file cli_fuzz_test.cpp
-/// Fuzz target of the command line (issue 17): random option values over every subcommand of
+/// Fuzz target of the command line: random option values over every subcommand of
 /// the `flexref` binary, which the test discovers from `flexref --help` and `flexref SUB --help`
 /// (so a new command or option is fuzzed without touching this file). Each case runs in its
 /// own process group; it must end by itself (a hang fails the test) with an exit code of the
@@ -233,7 +233,8 @@ std::vector<std::string> subcommands(const std::string& help) {
   return names;
 }
 
-/// Values that have broken command lines before (issue 17) and their neighbours.
+/// Values at the edges of what the options accept (overflow, zero, NaN spellings) and their
+/// neighbours.
 const std::vector<std::string> kNumbers = {
     "0",     "-1",        "1",     "2",     "3",     "16",     "0.5",   "1e-3",  "1e-2",
     "0.003", "1e-9",      "1e-12", "1e-19", "1e-20", "1e-300", "1e300", "1e308", "1e400",

@@ -85,8 +85,8 @@ grep -q '^model = "lte"' "$tmp/rc.csv.meta.toml" || fail "reference's default mo
 "$flexref" reference scenes/rotating_cantilever.toml --model coupled --rtol 1e-8 --no-estimate \
   -o "$tmp/rcc.csv" >/dev/null || fail "reference rotating_cantilever --model coupled failed"
 grep -q '^model = "coupled"' "$tmp/rcc.csv.meta.toml" || fail "--model coupled not recorded"
-# One default model for every command that takes --model (issue 35: work-precision defaulted to
-# coupled and refused flexible_spinner): the help says lte, and each command run without
+# One default model for every command that takes --model (a run and its reference solve the
+# same equations; work-precision accepts flexible_spinner): the help says lte, and each command run without
 # --model on a flexible scene records lte.
 for command in run reference converge work-precision modes; do
   "$flexref" "$command" --help | grep -qE -- '--model TEXT:\{coupled,lte\}=lte( |$)' ||
@@ -133,8 +133,8 @@ code=$?
 "$flexref" run scenes/spin_up_beam.toml --model rigid -o "$tmp/z.csv" >/dev/null 2>&1
 [[ $? -eq 2 ]] || fail "unknown --model: not a usage error (exit 2)"
 
-# A run that breaks its scene's invariants is refused (issue 35: C2 far past its rotational
-# stability limit raised free_spin's energy by half and exited 0): a warning before the run,
+# A run that breaks its scene's invariants is refused (C2 far past its rotational stability
+# limit raises free_spin's energy by half): a warning before the run,
 # exit 3 naming the time, the quantity and the step to use, nothing written.
 sed 's/^angular_velocity = .*/angular_velocity = [200.0, 300.0, 2000.0]/' scenes/free_spin.toml \
   >"$tmp/fast_spin.toml"
@@ -299,7 +299,7 @@ meta=$(cat "$tmp/s64c.csv.meta.toml")
 [[ $meta == *'solver_reason = "chosen with --solver"'* ]] ||
   fail "reference --solver cvode: not recorded as the user's choice: $meta"
 
-# Wear outputs (issue 13): the tube's run and reference have the wear columns, compare reports
+# Wear outputs: the tube's run and reference have the wear columns, compare reports
 # the wear metric; a scene without a named contact refuses it.
 sed 's/^end_time = 10.0 /end_time = 0.05 /' scenes/tube_support_impact.toml >"$tmp/tube.toml"
 "$flexref" run "$tmp/tube.toml" --scheme c2 --dt 1e-5 --model lte -o "$tmp/tube_run.csv" \
@@ -314,7 +314,7 @@ out=$("$flexref" compare "$tmp/tube_run.csv" "$tmp/tube_ref.csv" --metric wear 2
 "$flexref" compare "$tmp/run.csv" "$tmp/ref.csv" --metric wear >/dev/null 2>&1 &&
   fail "compare --metric wear accepted a scene without a named contact"
 
-# Exit codes (issue 17): one table, in --help, used by every command.
+# Exit codes: one table, in --help, used by every command.
 expect() { # expect CODE "description" FRAGMENT command...: exit code and a fragment of the output
   local want=$1 what=$2 fragment=$3
   shift 3
@@ -350,7 +350,7 @@ expect 1 "stability inertia_ratio 0.5" "is below 1" \
   "$flexref" stability --parameter inertia_ratio --values 0.5 --out "$tmp/stab_bad"
 [[ ! -e $tmp/stab_bad ]] || fail "refused stability study created its folder"
 
-# genalpha (issue 34): --rho-inf in [0, 1] on run, converge, work-precision and stability; a
+# genalpha: --rho-inf in [0, 1] on run, converge, work-precision and stability; a
 # jointed scene and a flexible one (coupled model) run with it.
 expect 2 "run --rho-inf 1.5" "--rho-inf: must lie in [0, 1], got 1.5" \
   "$flexref" run scenes/heavy_top.toml --rho-inf 1.5 -o "$tmp/e.csv"
@@ -400,7 +400,7 @@ code=$?
 [[ $code -eq 1 && $out == *"not on the step grid"* && $out != *"reference ("* ]] ||
   fail "converge --dt 0.003: exit $code: $out"
 
-# Extreme scene values: refused up front (they used to write inf or NaN with exit 0).
+# Extreme scene values: refused up front (accepted, they would write inf or NaN with exit 0).
 sed 's/^angular_velocity = .*/angular_velocity = [1e150, 1.0, 0.0]/' scenes/free_spin.toml >"$tmp/w.toml"
 expect 1 "angular_velocity 1e150" "body[1].angular_velocity" "$flexref" run "$tmp/w.toml" -o "$tmp/e.csv"
 sed 's/^stiffness = 1e6 /stiffness = 1e300 /' scenes/bouncing_ball.toml >"$tmp/k.toml"
@@ -740,7 +740,7 @@ for sig in INT TERM; do
     fail "SIG$sig changed the previous study"
   grep -q "interrupted" "$o/intr_$sig.txt" || fail "SIG$sig: no word on stderr: $(cat "$o/intr_$sig.txt")"
 done
-# Messages and identities (issue 35: items 7-10, 12-15). Short scenes: free_spin and
+# Messages and identities. Short scenes: free_spin and
 # coulomb_wall over 2 s.
 sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/free_spin.toml >"$tmp/id_fs.toml"
 sed 's/^end_time = 100.0 /end_time = 2.0 /' scenes/coulomb_wall.toml >"$tmp/id_cw.toml"

@@ -9,9 +9,8 @@ namespace flexref::app {
 namespace {
 
 TEST_CASE("every command that takes --model has the same default (lte)", "[app][model]") {
-  // work-precision defaulted to coupled while run and converge defaulted to lte, so
-  // `work-precision scenes/flexible_spinner.toml` was refused (issue 35); reference and modes
-  // defaulted to coupled, so a run and "its" reference measured different equations. The
+  // Every command defaults to the same model, so `work-precision scenes/flexible_spinner.toml`
+  // runs and a run and its reference solve the same equations. The
   // command line binds --model to these members (app/cli_options.cpp, add_model_option).
   CHECK(RunOptions{}.model == core::FlexibleFormulation::kLte);
   CHECK(ReferenceOptions{}.model == core::FlexibleFormulation::kLte);

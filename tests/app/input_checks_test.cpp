@@ -41,9 +41,9 @@ std::string refusal(const std::string& path) {
 
 TEST_CASE("scenes whose physics double precision cannot carry are refused up front",
           "[app][input_checks]") {
-  // Each used to be accepted and then to write inf or NaN (or nonsense) with exit 0 (issue 17).
-  // A spin of 1e150 rad/s turns by 2 rad in 2e-150 s, far below the 2.2e-8 s double
-  // precision resolves at t = 100 s (free_spin's end time).
+  // Each is refused before any output: accepted, it would write inf or NaN (or nonsense) with exit
+  // 0. A spin of 1e150 rad/s turns by 2 rad in 2e-150 s, far below the 2.2e-8 s double precision
+  // resolves at t = 100 s (free_spin's end time).
   std::string m = refusal(
       edited_scene("free_spin", "angular_velocity = .*", "angular_velocity = [1e150, 1.0, 0.0]"));
   CHECK(m.find("body[1].angular_velocity") != std::string::npos);

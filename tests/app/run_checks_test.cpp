@@ -70,7 +70,7 @@ std::string run_refusal(const RunOptions& options) {
 TEST_CASE(
     "run refuses a run that breaks the scene's invariants and names the step and writes nothing",
     "[app][run]") {
-  // Each used to exit 0 with a file and no word (issue 35): C2 far past its rotational limit
+  // Each must be refused with a message and no file: C2 far past its rotational limit
   // h|W| = 0.582 raises the energy of free_spin from 1.02e7 J to 1.56e7 J, doubles book_toss's.
   TempDir tmp;
   RunOptions options;
@@ -99,8 +99,8 @@ TEST_CASE(
 
 TEST_CASE("every bundled scene runs with its defaults or the refusal names a step that runs",
           "[app][run]") {
-  // tube_support_impact used to exit 3 with no suggested step at the default --dt 1e-3 (issue
-  // 35). Each scene is run briefly (its first 0.2 s: each refusal found at the default step
+  // A scene refused at the default --dt 1e-3 (tube_support_impact among them) must name a step
+  // to use. Each scene is run briefly (its first 0.2 s: each refusal found at the default step
   // comes before that) with every option at its default.
   TempDir tmp;
   for (const auto& entry : fs::directory_iterator("scenes")) {

@@ -1,9 +1,11 @@
 /// \file ideal_joints_test.cpp
-/// The rows of every ideal joint (constraint/ideal_joints_tpl.hpp) against finite differences of
+/// The rows of every ideal joint (constraint/ideal_joints.hpp) against finite differences of
 /// Φ along a motion: Φ̇ = J v + Φ_t and Φ̈ = J v̇ − γ, for each joint type, driven and not,
 /// between two rigid bodies, a body and the ground, and a rigid body and a node of a flexible
 /// body, at random states (positions, attitudes, velocities, modal coordinates, accelerations).
 /// A sign error in any column of J, in Φ_t or in any term of γ fails these checks.
+#include "constraint/ideal_joints.hpp"
+
 #include <Eigen/Core>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -12,7 +14,6 @@
 #include <string>
 #include <vector>
 
-#include "constraint/ideal_joints_tpl.hpp"
 #include "core/force_element.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "tests/support/flexible_models.hpp"

@@ -1,4 +1,4 @@
-/// Contacts at deforming points in motion, integrated by the references (issue 13 tests):
+/// Contacts at deforming points in motion, integrated by the references:
 ///  - rigid limit: a flexible body whose only node carries the contact and whose modes are very
 ///    stiff (and critically damped) reproduces the rigid body's bouncing ball and sliding block;
 ///  - friction work: the sliding block's wear work is μ m g cos α × the sliding distance;

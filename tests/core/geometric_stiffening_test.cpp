@@ -215,7 +215,7 @@ TEST_CASE("geometric stiffening: a freely falling body carries no axial load",
           "[core][flexible][geometric]") {
   // Equivalence principle: uniform gravity accelerates every node alike, so the modal
   // accelerations are those without gravity; only if gravity's foreshortening work ΔSᵀAᵀg
-  // (core/gravity_tpl.hpp) balances the mass matrix's coupling A ΔS(q_f) (GS-8's a0 term). 1e-10
+  // (core/gravity_impl.hpp) balances the mass matrix's coupling A ΔS(q_f) (GS-8's a0 term). 1e-10
   // relative: the two evaluations differ by the rounding of the g-terms (|g| ≈ 10 against
   // accelerations of O(10)) through the solve, ≈ 1e3 ε; without the balance q̈ changes by
   // |g| |E_x q_f| / μ ≈ 1.

@@ -1,5 +1,5 @@
 /// Tests of core/beam_model: frequencies against the analytic Euler–Bernoulli, bar and shaft
-/// values (issue 3: first three bending modes within 0.1 % at 20 elements), the O(h⁴) / O(h²)
+/// values (required: first three bending modes within 0.1 % at 20 elements), the O(h⁴) / O(h²)
 /// convergence with the element count, mode shapes, and the modal data built from the modes:
 /// orthonormality w.r.t. the point masses, exact beam integrals, free-free momentum, sign and
 /// normalization conventions, filters and bad parameters.
@@ -109,8 +109,9 @@ TEST_CASE("bending frequencies within 0.1 % of Euler-Bernoulli at 20 elements", 
         INFO(to_string(family) << (boundary == flexible::BeamBoundary::kFreeFree ? " free-free"
                                                                                  : " clamped")
                                << " mode " << i << ": relative error " << error);
-        // Issue 3's requirement. Measured: at most 6.2e-5 (free-free mode 3); the consistent
-        // mass matrix makes the error positive (Rayleigh quotient of an admissible field).
+        // The requirement (0.1 % at 20 elements). Measured: at most 6.2e-5 (free-free mode 3); the
+        // consistent mass matrix makes the error positive (Rayleigh quotient of an admissible
+        // field).
         CHECK(error >= 0.0);
         CHECK(error < 1e-3);
       }

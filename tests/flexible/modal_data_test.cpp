@@ -1,5 +1,5 @@
 /// Tests of core/modal_data: validation of user data, the modal mass matrix and its
-/// dependence check, natural frequencies and damping, and — issue 3's key requirement for
+/// dependence check, natural frequencies and damping, and — the key requirement for
 /// these quantities — the invariant-based s_t(q_f), Ī_θθ(q_f), Ī_θf(q_f) against the direct
 /// nodal sums at random states (fixed seeds), for generic data with a non-diagonal m_ff and for
 /// beams of 20 and 200 elements.

@@ -104,8 +104,8 @@ TEST_CASE("validate_step_grid refuses a step double precision cannot resolve",
   const core::Model model = testing::free_spin();
   const std::vector<double> grid = core::output_times(10.0, 0.1);
   // At t = 10 s times are rounded to ε·10 = 2.2e-15 s; a step must span 1e6 of them:
-  // 2.2e-9 s (core::smallest_resolved_step). 1e-19 s used to overflow the step count (a
-  // segfault in `flexref run --dt 1e-19`), 1e-12 s to start 1e13 silent steps.
+  // 2.2e-9 s (core::smallest_resolved_step). Unchecked, 1e-19 s would overflow the step
+  // count and 1e-12 s start 1e13 silent steps.
   for (const double dt : {1e-300, 1e-19, 1e-12, 2e-9}) {
     INFO("dt = " << dt);
     const std::string message = invalid_argument_message(model, dt, grid);

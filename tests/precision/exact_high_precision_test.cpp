@@ -106,10 +106,10 @@ std::vector<double> times_of(const scene::SceneSpec& spec) {
 
 TEST_CASE("quad exact solutions agree with the quad Bulirsch-Stoer reference",
           "[precision][exact]") {
-  // Issue 10's bound: 1e-25 relative. Bulirsch–Stoer at rtol 1e-28 over 200 outputs leaves
-  // 1000× for its global error growth; the exact solution's own error is ~ε_quad × the ~200
-  // ulp seen in extended, 2e-32, far below. Measured 4.4e-30, 1.4e-28 and, for the compound
-  // pendulum released horizontal, 9.1e-28 absolute over 10 s (≈ 2e-28 relative).
+  // The required bound for quad: 1e-25 relative (docs/precision.md). Bulirsch–Stoer at rtol 1e-28
+  // over 200 outputs leaves 1000× for its global error growth; the exact solution's own error is
+  // ~ε_quad × the ~200 ulp seen in extended, 2e-32, far below. Measured 4.4e-30, 1.4e-28 and, for
+  // the compound pendulum released horizontal, 9.1e-28 absolute over 10 s (≈ 2e-28 relative).
   for (const char* file :
        {"scenes/free_spin.toml", "scenes/heavy_top.toml", "scenes/pendulum.toml"}) {
     CAPTURE(file);
@@ -123,7 +123,7 @@ TEST_CASE("quad exact solutions agree with the quad Bulirsch-Stoer reference",
 }
 
 TEST_CASE("extended exact solutions agree with quad to 1e-15", "[precision][exact]") {
-  // Issue 10's bound for extended: 1e-15 relative, i.e. 2e4 u_ext; the closed forms are
+  // The required bound for extended: 1e-15 relative, i.e. 2e4 u_ext; the closed forms are
   // measured ~200 u_ext from quad (1.2e-17 worst), and extended's Bulirsch–Stoer at its default
   // rtol 1e-16 is itself 1.4e-15 from quad on the heavy top, so the exact solution is the
   // better extended reference there. Against quad Bulirsch–Stoer (an independent quad answer,

@@ -1,5 +1,5 @@
 /// \file reference_targets_test.cpp
-/// The accuracy targets of the references (issue 9, docs/references.md "Targets"), as
+/// The accuracy targets of the references (docs/references.md "Targets"), as
 /// properties: the error against an exact solution at the tightest tolerance, an error that
 /// falls with every decade of tolerance, the two BDF references against the tightest explicit
 /// one on the sensitive book toss, and IDA against CVODE on the coupled flexible spinner.
@@ -139,7 +139,7 @@ TEST_CASE("book_toss: IDA and CVODE within 1e-7 of the tightest Odeint run",
 TEST_CASE("coupled flexible_spinner: IDA and CVODE agree to 1e-8 at rtol 1e-12",
           "[reference][targets][ida][cvode][flexible]") {
   // The scene: 10 s, outputs every 0.01 s, spin-up torque on [0, 0.5). Target 1e-8 in the
-  // attitude (rad) and the beam tip (m) (issue 9: 2.1e-6 before this work at rtol 1e-10).
+  // attitude (rad) and the beam tip (m).
   // Measured: 1.9e-10 rad and 1.4e-9 m.
   const core::Model model = testing::flexible_spinner_model(core::FlexibleFormulation::kCoupled);
   const std::vector<double> times = core::output_times(10.0, 0.01);

@@ -1,4 +1,4 @@
-/// Tests of the implicit references on stiff flexible scenes (issue 15): the Jacobian that
+/// Tests of the implicit references on stiff flexible scenes: the Jacobian that
 /// CVODE's and ARKODE's callback (reference/sundials_ode_callbacks.hpp) hands the solver, on
 /// the bundled flexible_spinner_64 scene and on a rigid + flexible model, against differences
 /// of the right-hand side (a sign error in the rigid–modal coupling fails it); the choice of

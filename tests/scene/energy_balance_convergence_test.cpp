@@ -1,5 +1,5 @@
 /// The energy balance B = E − E(0) + W_d − W_a of a contact reference converges with the
-/// tolerance (issue 36; docs/references.md, "Energy balance"), on a rigid scene (bouncing_ball,
+/// tolerance (docs/references.md, "Energy balance"), on a rigid scene (bouncing_ball,
 /// its first 1 s: two impacts) and a flexible one (tube_support_impact, its first 0.1 s: about
 /// 40 contact events), for every solver, at rtol 1e-9 and 1e-11:
 ///  - B falls by at least 10× when the tolerance falls 100×;

@@ -1,5 +1,5 @@
-/// Label `study` (~1 min on one core): the bundled flexible_spinner_64 scene's fast reference
-/// (issue 15): the default reference solver (ARKODE's ESDIRK on this stiff oscillatory scene,
+/// Label `study` (~1 min on one core): the bundled flexible_spinner_64 scene's fast reference:
+/// the default reference solver (ARKODE's ESDIRK on this stiff oscillatory scene,
 /// structured Newton systems) over the whole 10 s at rtol 1e-8, its estimated error (the CLI's
 /// estimate: trajectory/certified_reference, twice the larger distance to ARKODE and Odeint at
 /// 100× tighter rtol) within the target 1e-6, and confirmed by a different solver run

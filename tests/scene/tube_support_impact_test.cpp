@@ -1,4 +1,4 @@
-/// scenes/tube_support_impact.toml (issue 13): the tube hits and rubs its support at a deforming
+/// scenes/tube_support_impact.toml: the tube hits and rubs its support at a deforming
 /// node. Checked on its first 0.3 s (24 forcing periods, the tube reaches the support within the
 /// first periods):
 ///  - the energy balance E − E₀ + W_d − W_a (W_a the harmonic forces' work, integrated with the

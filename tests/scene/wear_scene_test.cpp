@@ -1,6 +1,6 @@
-// Scene keys of issue 13 (scenes/README.md): loads, spheres and gap supports at nodes, contact
-// names and their wear columns, the harmonic profile, beam boundaries with a clamped tip — and
-// the errors each refuses, at the file, line and key.
+// Scene keys of the wear scenes (scenes/README.md): loads, spheres and gap supports at nodes,
+// contact names and their wear columns, the harmonic profile, beam boundaries with a clamped tip —
+// and the errors each refuses, at the file, line and key.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>

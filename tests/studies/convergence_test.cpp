@@ -43,7 +43,7 @@ bool has_note(const ConvergenceResult& r, const std::string& fragment) {
 
 TEST_CASE("converge leaves levels above the explicit step limit out of the fit",
           "[studies][convergence]") {
-  // The measured NMB errors of `converge scenes/bouncing_ball.toml --levels 5` (issue 17):
+  // The measured NMB errors of `converge scenes/bouncing_ball.toml --levels 5`:
   // h = 1e-2 and 5e-3 lie above the contact's limit 2/ω = 4.77e-3 s. Fitted over all five
   // levels they gave "observed 3.42"; only the three stable levels may enter the fit.
   const ConvergenceResult r = levels({312.6, 1.447, 0.1488, 0.04563, 0.01266}, 1e-2, 4.77e-3, 3e-8);

@@ -215,8 +215,8 @@ TEST_CASE("lte-map CSV and table", "[lte_map]") {
 TEST_CASE("lte-map: a frequency it cannot measure is a status and an empty cell and never NaN",
           "[lte_map]") {
   // Over 0.4 s the deflection (first period ~1 s: ω1 = 6.3 rad/s) cannot cross its mean three
-  // times in the second half: no dominant frequency. It used to be written as `nan` with
-  // status `ok`.
+  // times in the second half: no dominant frequency, which must not be written as `nan`
+  // with status `ok`.
   LteMapOptions options = small_grid(1);
   options.spin_ratios = {0.02, 0.05};
   options.inertia_ratios = {1e-4};

@@ -1,4 +1,4 @@
-/// Levels that must not count as measurements (issue 35): a run that breaks the scene's
+/// Levels that must not count as measurements: a run that breaks the scene's
 /// invariants is "unstable" in every study, a level whose error is a sizeable fraction of the
 /// largest the metric can give is "saturated", and no study file holds a NaN.
 #include <catch2/catch.hpp>
@@ -59,7 +59,7 @@ TEST_CASE("converge leaves saturated levels out of the fit and names them",
           "[studies][convergence]") {
   // book_toss over 10 s: C2 at h = 1e-2 … 1.25e-3 tumbles the wrong way (docs/schemes.md); its
   // errors 4.79, 4.21, 4.07, 4.07 are close to the largest the metric can give, π rad plus the
-  // corner's extent 2 m (it stays on the unit sphere about the book's centre), and used to
+  // corner's extent 2 m (it stays on the unit sphere about the book's centre), and must not
   // enter the fit as "ok".
   const core::Model model = testing::book_toss();
   const std::vector<double> times = core::output_times(10.0, 0.01);

@@ -233,8 +233,8 @@ TEST_CASE("a reference whose error estimate exceeds the solution itself is refus
           "[studies][reference]") {
   // spin_up_beam_6 under the coupled model: spun above its first bending frequency, the linear
   // floating-frame model diverges exponentially (docs/design/model.md) and CVODE and Odeint
-  // disagree by 2.6e34 m on a 10 m beam. `flexref reference` used to report that as an
-  // "estimated error" and exit 0.
+  // disagree by 2.6e34 m on a 10 m beam: that is no "estimated error", and the reference
+  // must be refused.
   const scene::Scene scene =
       scene::read_scene("scenes/spin_up_beam_6.toml", core::FlexibleFormulation::kCoupled);
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);

@@ -117,7 +117,7 @@ TEST_CASE("read_csv reports file, line and column of bad data", "[trajectory]") 
 }
 
 TEST_CASE("tabulate refuses a trajectory without one state per output time", "[trajectory]") {
-  // A driver that stopped early (an overflowed step count) used to be read past its end.
+  // A driver that stopped early (an overflowed step count) must not be read past its end.
   const core::Model model = pendulum_like_model();
   core::Trajectory trajectory;
   trajectory.times = {0.0, 0.1, 0.2};

@@ -1,5 +1,5 @@
 #pragma once
-/// \file ideal_joints_tpl.hpp
+/// \file ideal_joints.hpp
 /// The constraint rows of a scene's ideal joints in scalar type S (core::ConstraintEquationsTpl):
 /// double for core::Model, long double and float128 for the extended and quad references.
 /// Definitions in ideal_joints_impl.hpp; double is instantiated in ideal_joints.cpp, the others
