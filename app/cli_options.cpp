@@ -5,6 +5,7 @@
 #include "app/cli_validators.hpp"
 #include "app/commands.hpp"
 #include "lie/genalpha_parameters.hpp"
+#include "lie/stepper.hpp"
 #include "trajectory/error_metrics.hpp"
 
 namespace flexref::app {
@@ -68,6 +69,20 @@ void add_allow_scene_mismatch(CLI::App* command, bool& allow) {
   command->add_flag("--allow-scene-mismatch", allow,
                     "compare results whose sidecars (FILE.meta.toml) name different scenes or "
                     "another version of the scene (refused otherwise)");
+}
+
+void add_scheme_ladder(CLI::App* command, std::string& scene, std::vector<std::string>& schemes,
+                       double& dt) {
+  command->add_option("scene", scene, "scene file (TOML)")->required();
+  command->add_option("--schemes", schemes, "comma-separated list")
+      ->delimiter(',')
+      ->check(CLI::IsMember(lie::scheme_names()))
+      ->capture_default_str();
+  command
+      ->add_option("--dt", dt,
+                   "coarsest step [s]; by default 0.01 or the scene's output interval, the shorter")
+      ->check(positive_number())
+      ->capture_default_str();
 }
 
 void add_estimate_factor(CLI::App* command, double& factor) {

@@ -43,6 +43,11 @@ void add_limits(CLI::App* command, WorkLimits& limits, bool steps);
 /// (docs/decisions.md, "Scene identity").
 void add_allow_scene_mismatch(CLI::App* command, bool& allow);
 
+/// The scene, --schemes and --dt (the coarsest step) of the studies that step schemes down a
+/// ladder of steps (converge, work-precision).
+void add_scheme_ladder(CLI::App* command, std::string& scene, std::vector<std::string>& schemes,
+                       double& dt);
+
 /// --estimate-factor of lte-map and modes: one meaning (trajectory/accuracy_check.hpp).
 void add_estimate_factor(CLI::App* command, double& factor);
 

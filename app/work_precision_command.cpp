@@ -131,15 +131,7 @@ RegisteredCommand register_work_precision_command(CLI::App& app) {
   auto options = std::make_shared<WorkPrecisionOptions>();
   auto genalpha = std::make_shared<GenalphaCliOptions>();
   CLI::App* cmd = app.add_subcommand("work-precision", "error against CPU time, cheapest method");
-  cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
-  cmd->add_option("--schemes", options->schemes, "comma-separated list")
-      ->delimiter(',')
-      ->check(CLI::IsMember(lie::scheme_names()))
-      ->capture_default_str();
-  cmd->add_option("--dt", options->dt,
-                  "coarsest step [s]; by default 0.01 or the scene's output interval, the shorter")
-      ->check(positive_number())
-      ->capture_default_str();
+  add_scheme_ladder(cmd, options->scene, options->schemes, options->dt);
   cmd->add_option("--levels", options->levels, "number of steps: dt, dt/2, ..., dt/2^(levels-1)")
       ->check(integer_in(1, 16))
       ->capture_default_str();

@@ -2,7 +2,8 @@
 /// \file body_equations_tpl.hpp
 /// The right-hand sides of one body's equations from its loads, written once for any scalar
 /// type S: core::ModelTpl<S> evaluates them in double for the integrators, in extended and quad
-/// for the precision references. docs/design/model.md, quasi-velocity form about Br, v = (a_WBr, α̅, q̈_f):
+/// for the precision references. docs/design/model.md, quasi-velocity form about Br, v = (a_WBr, α̅,
+/// q̈_f):
 ///   rigid (the paper's eqs. 24–25):  I_Br α̅ = Aᵀ τ_Br − ω̄ × I_Br ω̄,
 ///   flexible:  M v = Qe + Qv − [0; 0; K q_f + D q̇_f],  Qe = (f_W, Aᵀ τ_Br_W, Q_f),
 /// with Qv the quadratic velocity terms of flexible/inertia_terms_tpl.hpp, and their solution for

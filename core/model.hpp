@@ -298,6 +298,10 @@ class ModelTpl {
   /// the order that numbers them (switching_functions' layout).
   template <typename Evaluate>
   void for_each_switching_element(std::span<S> out, Evaluate&& evaluate) const;
+  /// Σ q̇_fᵀ D q̇_f over the flexible bodies (the modal damping's part of dissipated_power).
+  S modal_dissipated_power(const State& state) const;
+  /// The elements' applied power at the bodies posed in ws (the rate of W_a).
+  S applied_power(const LoadContext& context, const Workspace& ws) const;
   /// apply_prescribed_motion, with the laws' α̅ into `alpha` when given.
   void set_prescribed_motion(S t, State& state, std::vector<Vector3>* alpha) const;
   void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;

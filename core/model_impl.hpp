@@ -442,7 +442,8 @@ void ModelTpl<S>::compute_wrenches_and_rates(const LoadContext& context, const S
   pose_bodies(state, ws);
   for (WrenchTpl<S>& w : ws.wrenches) w.set_zero();
   const bool with_rates = dissipates_ && !rates.empty();
-  S dissipation(0);
+  // Ẇ_d = Σ q̇_fᵀ D q̇_f + the elements' dissipation (dissipated_power's sum, in its order).
+  S dissipation = with_rates ? modal_dissipated_power(state) : S(0);
   std::size_t offset = 0;
   for (std::size_t j = 0; j < elements_.size(); ++j) {
     const ForceElementTpl<S>& e = *elements_[j];
@@ -456,20 +457,10 @@ void ModelTpl<S>::compute_wrenches_and_rates(const LoadContext& context, const S
     offset += count;
   }
   if (!with_rates) return;
-  // Ẇ_d = Σ q̇_fᵀ D q̇_f + the elements' dissipation; Ẇ_a = the applied power; each wear
-  // channel's |F_t·v_t| (integral_rates' layout).
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    if (bodies_[i].is_flexible()) {
-      dissipation += state[i].qd_f.dot(bodies_[i].modal_damping().cwiseProduct(state[i].qd_f));
-    }
-  }
+  // Then Ẇ_a = the applied power and each wear channel's |F_t·v_t| (integral_rates' layout).
   rates[0] = dissipation;
   std::size_t k = 1;
-  if (applied_work_) {
-    S p(0);
-    for (const auto& e : elements_) p += e->applied_power(context, ws.kinematics);
-    rates[k++] = p;
-  }
+  if (applied_work_) rates[k++] = applied_power(context, ws);
   for (std::size_t ch = 0; ch < ws.wear.size(); ++ch) rates[k++] = ws.wear[ch].wear_power;
 }
 
@@ -477,6 +468,13 @@ template <typename S>
 S ModelTpl<S>::dissipated_power(const LoadContext& context, const State& state,
                                 Workspace& ws) const {
   pose_bodies(state, ws);
+  S p = modal_dissipated_power(state);
+  for (const auto& e : elements_) p += e->dissipated_power(context, ws.kinematics);
+  return p;
+}
+
+template <typename S>
+S ModelTpl<S>::modal_dissipated_power(const State& state) const {
   S p = S(0);
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     if (bodies_[i].is_flexible()) {
@@ -484,7 +482,13 @@ S ModelTpl<S>::dissipated_power(const LoadContext& context, const State& state,
       p += state[i].qd_f.dot(bodies_[i].modal_damping().cwiseProduct(state[i].qd_f));
     }
   }
-  for (const auto& e : elements_) p += e->dissipated_power(context, ws.kinematics);
+  return p;
+}
+
+template <typename S>
+S ModelTpl<S>::applied_power(const LoadContext& context, const Workspace& ws) const {
+  S p = S(0);
+  for (const auto& e : elements_) p += e->applied_power(context, ws.kinematics);
   return p;
 }
 
@@ -863,9 +867,7 @@ void ModelTpl<S>::integral_rates(const LoadContext& context, const State& state,
   std::size_t k = 1;
   if (!dissipates_) return;
   if (applied_work_) {
-    S p = S(0);
-    for (const auto& e : elements_) p += e->applied_power(context, ws.kinematics);
-    rates[k++] = p;
+    rates[k++] = applied_power(context, ws);
   }
   if (wear_elements_.empty()) return;
   for (std::size_t c = 0; c < wear_elements_.size(); ++c) {

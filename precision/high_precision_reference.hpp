@@ -57,11 +57,10 @@ void check_supported(const scene::SceneSpec& spec,
                      core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled);
 
 /// Solves the scene at output_times in `precision` (kExtended or kQuad) with rtol (= atol) by
-/// core::ModelTpl<S> (precision/ode_system.hpp; its flexible bodies coupled or LTE, as `formulation`
-/// says). Throws std::invalid_argument for a scene build_model refuses or an rtol out of range,
-/// core::SolverError when the
-/// integration fails or leaves a non-finite value.
-/// `progress` (may be null) follows the solve (reference/solve_progress.hpp).
+/// core::ModelTpl<S> (precision/ode_system.hpp; its flexible bodies coupled or LTE, as
+/// `formulation` says). Throws std::invalid_argument for a scene build_model refuses or an rtol out
+/// of range, core::SolverError when the integration fails or leaves a non-finite value. `progress`
+/// (may be null) follows the solve (reference/solve_progress.hpp).
 HighPrecisionRun solve_high_precision(
     const scene::SceneSpec& spec, const std::vector<double>& output_times, Precision precision,
     double rtol, core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled,

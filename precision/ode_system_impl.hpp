@@ -232,7 +232,7 @@ std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
                              violations[j][0], violations[j][1]});
     }
   }
-  const S e = energy(t, y);
+  const S e = model_.kinetic_energy(state_) + model_.potential_energy(ctx, state_, ws_);
   row.push_back(e);
   const auto integrals = static_cast<std::size_t>(integrals_offset_);
   const bool applied = model_.dissipates() && model_.tracks_applied_work();
