@@ -14,10 +14,12 @@
 #include "app/step_advice.hpp"
 #include "core/error.hpp"
 #include "core/invariants.hpp"
+#include "core/joint_check.hpp"
 #include "core/output_times.hpp"
 #include "core/step_limit.hpp"
 #include "lie/rotational_stability.hpp"
 #include "lie/run_scheme.hpp"
+#include "lie/scheme_support.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
@@ -49,6 +51,64 @@ void add_invariants(studies::StudyRecord& record, const core::InvariantCheck& ch
   }
 }
 
+/// One run of the scheme at dt over the output times, with its checks: the step's own failures,
+/// the scene's invariants (core/invariants.hpp) and, with ideal joints, the joints at every output
+/// (core/joint_check.hpp: the position rows, which genalpha holds at index 3 to its Newton
+/// tolerance, kNewtonTolerance relative to the bodies' positions; its velocity rows drift at the
+/// scheme's own order and are reported, not bounded).
+RunAttempt attempt_run(const core::Model& model, const std::string& scheme, double dt,
+                       const std::vector<double>& times, bool progress_line) {
+  RunAttempt a;
+  auto stepper = lie::make_stepper(scheme, model);
+  try {
+    const long steps = std::lround((times.back() - times.front()) / dt);
+    std::optional<studies::Progress> progress;
+    if (progress_line) progress.emplace("run: " + scheme, steps, "steps");
+    a.trajectory = lie::run_scheme(model, *stepper, dt, times,
+                                   progress ? &progress->counter() : nullptr);
+  } catch (const core::SolverError& e) {
+    a.solver = e.solver();
+    a.time = e.time();
+    a.step = e.step();
+    a.why = e.why();
+    a.spin_until = e.time();
+    return a;
+  }
+  a.invariants = core::check_invariants(model, a.trajectory);
+  if (const std::optional<core::InvariantBreach>& breach = a.invariants.breach) {
+    a.solver = scheme;
+    a.time = breach->t;
+    a.step = std::lround((breach->t - times[0]) / dt);
+    a.why = "the run is unstable: " + breach->describe();
+    a.quantity = breach->quantity;
+    a.change = breach->relative();
+    a.spin_until = breach->t0;
+    return a;
+  }
+  if (model.has_constraints()) {
+    double extent = 0.0;
+    for (const core::State& state : a.trajectory.states) {
+      for (const core::BodyState& b : state) extent = std::max(extent, b.p_WBr.cwiseAbs().maxCoeff());
+    }
+    // The Newton test measures length rows against the bodies' positions (at least 1 cm).
+    const double scale = std::max(1.0, std::max(extent, 1e-2) / model.joint_length_scale());
+    const double bound =
+        core::joint_violation_bound(lie::detail::kNewtonTolerance * scale, 0.0,
+                                    model.joint_length_scale());
+    if (const std::optional<core::JointBreach> breach =
+            core::find_joint_breach(model, a.trajectory, bound, false)) {
+      a.solver = scheme;
+      a.time = breach->t;
+      a.step = std::lround((breach->t - times[0]) / dt);
+      a.why = breach->describe();
+      a.spin_until = breach->t;
+      return a;
+    }
+  }
+  a.passed = true;
+  return a;
+}
+
 }  // namespace
 
 int run_command(const RunOptions& options) {
@@ -58,7 +118,6 @@ int run_command(const RunOptions& options) {
       limited_output_times(scene.end_time, scene.output_step, options.limits);
   const long steps = check_scheme_run(model, options.dt, times, options.limits, "--dt");
   check_output_file(options.output, true);
-  auto stepper = lie::make_stepper(options.scheme, model);
   // Central differences are stable for h ω ≤ 2 on every elastic mode and penalty element
   // (core/step_limit.hpp): warn when the step exceeds one (implicit schemes stay stable but do
   // not resolve the mode).
@@ -78,16 +137,26 @@ int run_command(const RunOptions& options) {
       rotational_step_warning(model, options.scheme, options.dt, model.initial_state(), times[0]);
   if (!spin_warning.empty()) std::cerr << "flexref: warning: " << spin_warning << "\n";
   const double start = studies::thread_cpu_seconds();
-  core::Trajectory trajectory;
-  try {
-    studies::Progress progress("run: " + options.scheme, steps, "steps");
-    trajectory = lie::run_scheme(model, *stepper, options.dt, times, &progress.counter());
-  } catch (const core::SolverError& e) {
-    throw core::SolverError(
-        e.solver(), e.time(), e.step(),
-        e.why() + step_advice(model, options.scheme, options.dt, times, spin0.w));
-  }
+  RunAttempt run = attempt_run(model, options.scheme, options.dt, times, true);
   const double cpu = studies::thread_cpu_seconds() - start;
+  if (!run.passed) {
+    // The step to suggest from the spin before the failure (a run-away inflates the spin), run
+    // once before it is advised (step_advice.hpp: never a step that cannot help).
+    double spin_before = spin0.w;
+    for (std::size_t k = 0; k < run.trajectory.states.size() && times[k] <= run.spin_until; ++k) {
+      spin_before = std::max(spin_before, lie::largest_spin(model, run.trajectory.states[k]).w);
+    }
+    const auto retry = [&](double h) {
+      std::cerr << "flexref: checking a smaller step: " << options.scheme << " at --dt " << h
+                << "\n";
+      return attempt_run(model, options.scheme, h, times, false);
+    };
+    throw core::SolverError(
+        run.solver, run.time, run.step,
+        run.why + verified_step_advice(model, options.scheme, options.dt, times, spin_before, run,
+                                       retry));
+  }
+  core::Trajectory& trajectory = run.trajectory;
   // The spin the run reached (a pulse spins bodies up): warn when it crossed the limit later.
   lie::SpinRate spin = spin0;
   std::size_t spin_row = 0;
@@ -100,20 +169,7 @@ int run_command(const RunOptions& options) {
                                                      trajectory.states[spin_row], times[spin_row]);
     if (!late.empty()) std::cerr << "flexref: warning: " << late << "\n";
   }
-  // The scene's invariants (core/invariants.hpp): a run that breaks them is unstable and is
-  // refused like a failed one (exit 3), nothing written.
-  const core::InvariantCheck invariants = core::check_invariants(model, trajectory);
-  if (const std::optional<core::InvariantBreach>& breach = invariants.breach) {
-    // The step to suggest from the spin before the breach (a run-away inflates the spin).
-    double spin_before = spin0.w;
-    for (std::size_t k = 0; k < trajectory.states.size() && times[k] <= breach->t0; ++k) {
-      spin_before = std::max(spin_before, lie::largest_spin(model, trajectory.states[k]).w);
-    }
-    throw core::SolverError(options.scheme, breach->t,
-                            std::lround((breach->t - times[0]) / options.dt),
-                            "the run is unstable: " + breach->describe() +
-                                step_advice(model, options.scheme, options.dt, times, spin_before));
-  }
+  const core::InvariantCheck& invariants = run.invariants;
   const trajectory::TrajectoryTable table = trajectory::tabulate(model, trajectory);
   trajectory::write_csv(table, options.output);
 

@@ -87,6 +87,42 @@ double suggested_step(const core::Model& model, const std::string& scheme, doubl
   return 0.0;
 }
 
+std::string verified_step_advice(const core::Model& model, const std::string& scheme, double dt,
+                                 const std::vector<double>& times, double spin,
+                                 const RunAttempt& failed,
+                                 const std::function<RunAttempt(double)>& retry) {
+  double h = suggested_step(model, scheme, dt, times, spin);
+  double previous = dt;
+  std::string tried;
+  for (int attempt = 0; attempt < 2 && h > 0.0; ++attempt) {
+    const RunAttempt a = retry(h);
+    if (a.passed) {
+      return "; nothing was written: use --dt " + short_text(h) + " (at most " +
+             step_bound(model, scheme, previous, spin).why +
+             "; checked: a run at that step passes)";
+    }
+    const bool breach = !std::isnan(failed.change) && !std::isnan(a.change) &&
+                        a.quantity == failed.quantity;
+    if (breach && a.change > kUnshrunkChange * failed.change) {
+      return "; nothing was written; a smaller step does not help: at --dt " + short_text(h) +
+             " the " + a.quantity + " changed by " + short_text(100.0 * a.change) +
+             " % of its scale, against " + short_text(100.0 * failed.change) + " % at --dt " +
+             short_text(dt) +
+             " — the change does not shrink with the step, so the step is not its cause";
+    }
+    if (std::isnan(failed.change) && std::isnan(a.change) &&
+        std::abs(a.time - failed.time) <= 2.0 * dt) {
+      return "; nothing was written; a smaller step does not help: at --dt " + short_text(h) +
+             " the run fails at the same time (t = " + short_text(a.time) + " s): " + a.why;
+    }
+    tried += (tried.empty() ? "" : ", ") + short_text(h);
+    previous = h;
+    h = suggested_step(model, scheme, h, times, spin);
+  }
+  return tried.empty() ? std::string()
+                       : "; nothing was written; no smaller step passed (tried --dt " + tried + ")";
+}
+
 std::string step_advice(const core::Model& model, const std::string& scheme, double dt,
                         const std::vector<double>& times, double spin) {
   const double h = suggested_step(model, scheme, dt, times, spin);

@@ -3,9 +3,12 @@
 /// What `run` says about its step: a warning when h·|W| exceeds the scheme's measured
 /// rotational stability limit (lie/rotational_stability.hpp), and the step to use when a run
 /// fails or breaks the scene's invariants (core/invariants.hpp).
+#include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include "core/invariants.hpp"
 #include "core/model.hpp"
 #include "core/state.hpp"
 
@@ -29,5 +32,39 @@ double suggested_step(const core::Model& model, const std::string& scheme, doubl
 /// friction)", naming what limits the suggested step; "" when there is none.
 std::string step_advice(const core::Model& model, const std::string& scheme, double dt,
                         const std::vector<double>& times, double spin);
+
+/// What one run of a scheme did: passed (its trajectory and invariants), or where and why it
+/// failed — a failed step, a broken invariant, or its joints left.
+struct RunAttempt {
+  bool passed = false;
+  core::Trajectory trajectory;
+  core::InvariantCheck invariants;
+  std::string solver;       ///< who failed
+  double time = 0.0;        ///< when, s
+  long step = -1;           ///< at which step (−1: not known)
+  std::string why;          ///< why, without advice
+  double spin_until = 0.0;  ///< the spin before this time sets the step to suggest
+  /// A broken invariant: its quantity and relative change (of its scale); NaN otherwise.
+  std::string quantity;
+  double change = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// A broken invariant whose change at the smaller step is above this fraction of the change at
+/// the failed one did not shrink with the step: a consistent scheme's error falls at least by
+/// the step ratio (order 1; by its square at order 2), and the suggested steps are at most half
+/// the failed one, so a change the step causes falls to ≤ 0.5 of itself; 0.8 leaves room for the
+/// breach being seen at another output time.
+inline constexpr double kUnshrunkChange = 0.8;
+
+/// The advice for a run that failed at dt, never a step that cannot help: the suggested step
+/// (suggested_step) is run once (`retry`); "; nothing was written: use --dt H (…; checked: a run
+/// at that step passes)" when it passes; "; nothing was written; a smaller step does not help:
+/// …" when it fails alike (an invariant whose change does not shrink, kUnshrunkChange; a step
+/// that fails at the same time: a dead point or a discontinuity the scheme cannot cross); else
+/// one more suggested step, then "; nothing was written; no step down to H passed".
+std::string verified_step_advice(const core::Model& model, const std::string& scheme, double dt,
+                                 const std::vector<double>& times, double spin,
+                                 const RunAttempt& failed,
+                                 const std::function<RunAttempt(double)>& retry);
 
 }  // namespace flexref::app

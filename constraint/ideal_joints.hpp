@@ -61,6 +61,9 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
                                      const core::VelocityLayout& layout,
                                      const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynamic, 1>>&
                                          generalized_force) const override;
+  bool driven(int joint) const override {
+    return specs_[static_cast<std::size_t>(joint)].drive.active;
+  }
   std::string describe(int joint) const override;
   void append_discontinuities(std::vector<double>& times) const override;
 

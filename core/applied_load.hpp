@@ -17,7 +17,7 @@ enum class LoadFrame { kWorld, kBody };
 
 /// f(t) = profile(t) · value, applied at the body point p_BoP_B — at a node of a flexible body
 /// when `node` deforms (core/node_attachment.hpp: the deformed point, Φ_kᵀ Aᵀ f in the modal
-/// rows). A harmonic force's work is tracked (applied_work, docs/output.md).
+/// rows). Its work is tracked (applied_work, docs/output.md).
 template <typename S>
 class AppliedForceTpl final : public ForceElementTpl<S> {
  public:
@@ -33,16 +33,13 @@ class AppliedForceTpl final : public ForceElementTpl<S> {
 
   void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
                     std::span<WrenchTpl<S>> wrenches) const override;
-  bool tracks_applied_work() const override {
-    return profile_.shape() == TimeProfile::Shape::kHarmonic;
-  }
+  /// A prescribed force does work whatever its profile (constant, pulse, harmonic): tracked as
+  /// W_a wherever the model tracks work (Model::tracks_applied_work).
+  bool tracks_applied_work() const override { return true; }
   /// f · v_P, v_P the velocity of the (deformed) point.
   S applied_power(const Context& context, std::span<const Kinematics> bodies) const override;
-  /// A tracked (harmonic) force's work is in the balance throughout; another force's only
-  /// once its profile has ended.
-  double energy_balanced_from() const override {
-    return tracks_applied_work() ? -std::numeric_limits<double>::infinity() : profile_.end();
-  }
+  /// Its work is in the balance throughout (a model that does not track work uses loads_end).
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   double loads_end() const override { return profile_.end(); }
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
@@ -78,7 +75,10 @@ class AppliedTorqueTpl final : public ForceElementTpl<S> {
   void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
                     std::span<WrenchTpl<S>> wrenches) const override;
   /// A torque's work is never tracked: in the balance only once its profile has ended.
-  double energy_balanced_from() const override { return profile_.end(); }
+  /// Tracked like a force's (W_a): Γ · ω.
+  bool tracks_applied_work() const override { return true; }
+  S applied_power(const Context& context, std::span<const Kinematics> bodies) const override;
+  double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   double loads_end() const override { return profile_.end(); }
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;

@@ -103,6 +103,17 @@ void AppliedTorqueTpl<S>::add_wrenches(const Context& context, std::span<const K
 }
 
 template <typename S>
+S AppliedTorqueTpl<S>::applied_power(const Context& context,
+                                     std::span<const Kinematics> bodies) const {
+  const Kinematics& body = bodies[static_cast<std::size_t>(body_)];
+  const S scale = profile_.value_in(context.t, context.t_segment);
+  const Vector3 tau_W = frame_ == LoadFrame::kWorld ? Vector3(scale * value_)
+                                                    : Vector3(body.R_WB * (scale * value_));
+  // Γ · ω, ω = A ω̄ in the world.
+  return tau_W.dot(body.R_WB * body.state->w_WB_B);
+}
+
+template <typename S>
 void AppliedTorqueTpl<S>::append_discontinuities(std::vector<double>& times) const {
   profile_.append_discontinuities(times);
 }

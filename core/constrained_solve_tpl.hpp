@@ -60,6 +60,25 @@ inline constexpr double kRedundantRowTolerance = 1e-10;
 /// while the whole set keeps its rank (a planar loop in 3D: which out-of-plane rows are
 /// independent depends on the pose), and an ill-conditioned A loses ~log10(1/ratio) digits of λ.
 inline constexpr double kReselectPivotRatio = 1e-8;
+/// Fall of the pivot ratio since the rows were chosen beyond which they are chosen again: the
+/// rows set aside follow the enforced ones through the dependency, their drift the enforced rows'
+/// amplified by ~1/√(fall) (the pivots are squares of J_a's singular values), and a fall of 10
+/// keeps that at ~3. A Bricard linkage's set-aside row loses its share in the dependency in the
+/// motion (t ≈ 1.2 s): the enforced rows' ratio falls from 6e-4 to 1e-5 there. With a fall of
+/// 1e2 allowed, the set-aside row's drift reached 11 times the enforced rows' (5e-9 m at rtol
+/// 1e-11) before the rows were chosen again, and its velocity drift, integrated afterwards,
+/// carried the position drift to 2.9e-8 m, beyond the output check's bound (1e3 rtol relative,
+/// core/joint_check.hpp). Where the rows chosen anew are the same, the reference is the current
+/// ratio, so a mechanism whose conditioning merely varies pays one rank-revealing QR per tenfold
+/// fall.
+inline constexpr double kReselectPivotFall = 1e-1;
+/// Cosine of the largest angle the active rows may turn through between two solves for the
+/// orientation test to apply (rows_turned_little): 0.5 rad. The test reads the sign of
+/// det(J_a,prev M⁻¹ J_aᵀ), which a dead point crossed flips; rows that turned by more can flip it
+/// without one (Odeint's 0.4 s steps on a driven hinge were read as "passed between t = 0.2 and
+/// t = 0.6"). The crossings the test exists for are stepped over by a few hundredths of a
+/// radian (CVODE's step across the driven parallelogram's change point: 0.08 rad).
+inline constexpr double kOrientationTestCosine = 0.87758256189037276;  // cos 0.5
 
 /// Scratch of the constrained solve, sized once (allocation-free evaluations).
 template <typename S>
@@ -84,6 +103,8 @@ struct ConstraintSolveTpl {
   Vector column;         ///< widest body block
   Vector out;            ///< widest body block
   S pivot_ratio = S(1);  ///< smallest/largest |pivot| of the last factorization
+  /// The pivot ratio when the rows were last chosen (kReselectPivotFall); 0: not yet factored.
+  S selection_ratio = S(0);
   /// The rows at the last constrained solve (all rows, m × N), its time, and whether there was
   /// one: a singular configuration passed between two solves turns the orientation of the rows
   /// (crossed_singularity).
@@ -124,17 +145,63 @@ struct ConstraintSolveTpl {
   }
 };
 
-/// The independent rows of J (ascending): the columns a column-pivoted Householder QR of Jᵀ keeps
-/// (rank decided with kRedundantRowTolerance relative to the largest pivot).
+/// Jᵀ with each row of J scaled to unit length (a zero row stays zero): rank decisions on it are
+/// relative to each row's own scale, not to the largest row's — a joint whose arm is 1e3 times
+/// another's does not make the other's rows look dependent, and a row is dependent when its
+/// direction is, whatever its size. Allocates.
+template <typename S>
+Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> row_normalized_transpose(
+    const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J) {
+  Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> Jt = J.transpose();
+  for (Eigen::Index r = 0; r < Jt.cols(); ++r) {
+    const S norm = Jt.col(r).norm();
+    if (norm > S(0)) Jt.col(r) /= norm;
+  }
+  return Jt;
+}
+
+/// The independent rows of J (ascending). The rank r is a column-pivoted Householder QR's of Jᵀ
+/// with each row scaled to unit length first (row_normalized_transpose), decided with
+/// kRedundantRowTolerance relative to the largest pivot (~1 for unit columns). Which m − r rows
+/// are set aside is not left to the pivoting order (in exact arithmetic every row of a dependency
+/// is equally dependent, so round-off would choose): the dependencies C (m × k, k = m − r, the
+/// null space of the scaled Jᵀ from the QR, orthonormalized) are kept by the rows that set aside
+/// leave the best-conditioned rest — the k rows where C's k × k block is best conditioned, a
+/// column-pivoted QR of Cᵀ's first k pivots (the rows left are independent exactly when that
+/// block is invertible, and as far from dependent as it is from singular). A Bricard linkage's
+/// single dependency thus sets aside the row with the largest share in it, not one whose share
+/// passes through zero later in the motion. Allocates.
 template <typename S>
 std::vector<int> independent_rows(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J) {
+  using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
   std::vector<int> rows;
   if (J.rows() == 0) return rows;
-  Eigen::ColPivHouseholderQR<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>> qr(J.transpose());
+  Eigen::ColPivHouseholderQR<Matrix> qr(row_normalized_transpose<S>(J));
   qr.setThreshold(S(kRedundantRowTolerance));
+  const Eigen::Index m = J.rows();
   const Eigen::Index rank = qr.rank();
-  for (Eigen::Index k = 0; k < rank; ++k) rows.push_back(qr.colsPermutation().indices()(k));
-  std::sort(rows.begin(), rows.end());
+  if (rank == m) {
+    for (Eigen::Index k = 0; k < m; ++k) rows.push_back(static_cast<int>(k));
+    return rows;
+  }
+  // Jᵀ P = Q [R11 R12; 0 0]: the null space is P [−R11⁻¹ R12; I].
+  const Eigen::Index k = m - rank;
+  const Matrix R = qr.matrixR().topRows(rank);
+  Matrix Y(m, k);
+  Y.topRows(rank) = -R.leftCols(rank).template triangularView<Eigen::Upper>().solve(
+      R.rightCols(k));
+  Y.bottomRows(k).setIdentity();
+  const Matrix C = qr.colsPermutation() * Y;
+  const Matrix C_orthonormal =
+      Eigen::HouseholderQR<Matrix>(C).householderQ() * Matrix::Identity(m, k);
+  const Eigen::ColPivHouseholderQR<Matrix> pick(C_orthonormal.transpose());
+  std::vector<bool> set_aside(static_cast<std::size_t>(m), false);
+  for (Eigen::Index i = 0; i < k; ++i) {
+    set_aside[static_cast<std::size_t>(pick.colsPermutation().indices()(i))] = true;
+  }
+  for (Eigen::Index i = 0; i < m; ++i) {
+    if (!set_aside[static_cast<std::size_t>(i)]) rows.push_back(static_cast<int>(i));
+  }
   return rows;
 }
 
@@ -251,7 +318,8 @@ template <typename S>
           "motion are not determined");
 }
 
-/// factor_constraints, and when A is singular or ill-conditioned (kReselectPivotRatio) the
+/// factor_constraints, and when A is singular or ill-conditioned (kReselectPivotRatio), or its
+/// pivot ratio fell by kReselectPivotFall since the rows were chosen, the
 /// independent rows chosen again at the current configuration (a column-pivoted QR of all rows,
 /// allocating: the rare path) and A factored anew. Returns false when the rows have lost rank
 /// (fewer independent rows than before: a singular configuration) or A is still singular.
@@ -259,13 +327,22 @@ template <typename S, typename ApplyInverseMass>
 bool factor_or_reselect(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
                         ApplyInverseMass&& apply_inverse_mass, ConstraintSolveTpl<S>& s) {
   const bool ok = factor_constraints(equations, layout, apply_inverse_mass, s);
-  if (ok && s.pivot_ratio >= S(kReselectPivotRatio)) return true;
+  if (!(s.selection_ratio > S(0))) s.selection_ratio = s.pivot_ratio;
+  if (ok && s.pivot_ratio >= S(kReselectPivotRatio) &&
+      s.pivot_ratio >= S(kReselectPivotFall) * s.selection_ratio) {
+    return true;
+  }
   std::vector<int> rows = independent_rows<S>(s.rows.J);
   if (rows.size() < s.active.size()) return false;
   rows.resize(s.active.size());  // the rank cannot grow for a mechanism that moves continuously
-  if (rows == s.active) return ok;
+  if (rows == s.active) {
+    s.selection_ratio = s.pivot_ratio;
+    return ok;
+  }
   s.active = std::move(rows);
-  return factor_constraints(equations, layout, apply_inverse_mass, s);
+  const bool factored = factor_constraints(equations, layout, apply_inverse_mass, s);
+  s.selection_ratio = s.pivot_ratio;
+  return factored;
 }
 
 /// True when the active rows kept their orientation since the last solve: det(J_a,prev M⁻¹ J_aᵀ)
@@ -342,6 +419,31 @@ template <typename S>
           "motion are not determined");
 }
 
+/// The largest angle the active rows turned through between the last solve and this one (each
+/// row's direction on the bodies it acts on, previous against current): where it exceeds
+/// kOrientationTestAngle the orientation test is not conclusive.
+template <typename S>
+bool rows_turned_little(const VelocityLayout& layout, const ConstraintSolveTpl<S>& s) {
+  for (std::size_t i = 0; i < s.active.size(); ++i) {
+    const int row = s.active[i];
+    const std::array<int, 2>& bodies = s.active_bodies[i];
+    S dot = S(0), previous = S(0), current = S(0);
+    for (std::size_t k = 0; k < bodies.size(); ++k) {
+      if (!distinct_body(bodies, k)) continue;
+      const int offset = layout.offset(bodies[k]);
+      const int width = layout.width(bodies[k]);
+      const auto a = s.J_previous.row(row).segment(offset, width);
+      const auto b = s.rows.J.row(row).segment(offset, width);
+      dot += a.dot(b);
+      previous += a.squaredNorm();
+      current += b.squaredNorm();
+    }
+    using std::sqrt;
+    if (dot < S(kOrientationTestCosine) * sqrt(previous * current)) return false;
+  }
+  return true;
+}
+
 /// The singular-configuration test between two solves (kept_orientation) for s factored at t,
 /// then t's rows kept as the next solve's previous ones. Where the active rows alone turned —
 /// they passed a configuration where they are dependent while all rows kept their rank — rows
@@ -350,7 +452,10 @@ template <typename S>
 template <typename S, typename ApplyInverseMass>
 void check_orientation(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
                        ApplyInverseMass&& apply_inverse_mass, double t, ConstraintSolveTpl<S>& s) {
-  if (s.has_previous && !kept_orientation(layout, s)) {
+  // The test assumes the small changes between a solver's evaluations; where the rows turned
+  // through more (an explicit solver's long steps on a smooth driven motion), it would read the
+  // turn for a crossing: it is skipped, and the rows are the next solve's previous ones.
+  if (s.has_previous && rows_turned_little(layout, s) && !kept_orientation(layout, s)) {
     std::vector<int> rows = independent_rows<S>(s.rows.J);
     rows.resize(std::min(rows.size(), s.active.size()));
     if (rows.size() == s.active.size() && rows != s.active) {
@@ -495,16 +600,52 @@ std::vector<std::array<S, 2>> joint_violations(const ConstraintEquationsTpl<S>& 
   return out;
 }
 
+/// The multipliers on `rows` that give the generalized constraint force F = −Σ_r λ_r J_rᵀ: the
+/// same reactions on another basis of the rows' span (any two independent row sets of the same
+/// rank span it), from the normal equations (J_r J_rᵀ) λ = −J_r F. For integrators that carry
+/// multipliers of their own rows across a solve that chose others (a restart, rows chosen again
+/// in motion). Allocates: those rare paths only.
+template <typename S>
+Eigen::Matrix<S, Eigen::Dynamic, 1> multipliers_on_rows(
+    const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J, const std::vector<int>& rows,
+    const Eigen::Matrix<S, Eigen::Dynamic, 1>& force) {
+  Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> J_r(static_cast<Eigen::Index>(rows.size()),
+                                                       J.cols());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    J_r.row(static_cast<Eigen::Index>(i)) = J.row(rows[i]);
+  }
+  return (J_r * J_r.transpose()).ldlt().solve(-(J_r * force));
+}
+
 /// The minimum-norm multipliers of all rows (redundant ones included) that give the generalized
 /// constraint force F = −J_aᵀ λ_a: λ = argmin |λ| subject to −Jᵀ λ = F (a complete orthogonal
-/// decomposition of Jᵀ). Allocates: for outputs, not for evaluations.
+/// decomposition of Jᵀ), at the rank the solve enforced (`rank`, its independent rows' count).
+/// The rank is not decided again here: off the configurations where the set-aside rows depend
+/// exactly on the others (a solution's drift, ~1e-10), their pivots sit at the drift's size,
+/// where a fixed threshold took them for independent and gave a Bricard linkage's rods reactions
+/// of 241 N beside a 9.81 N weight; the threshold is the geometric mean of the QR's pivots
+/// number rank and rank + 1 instead. Allocates: for outputs, not for evaluations.
 template <typename S>
 Eigen::Matrix<S, Eigen::Dynamic, 1> minimum_norm_multipliers(
     const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J,
-    const Eigen::Matrix<S, Eigen::Dynamic, 1>& force) {
-  Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>> cod(
-      J.transpose());
-  cod.setThreshold(S(kRedundantRowTolerance));
+    const Eigen::Matrix<S, Eigen::Dynamic, 1>& force, Eigen::Index rank) {
+  using std::abs;
+  using std::sqrt;
+  using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
+  Eigen::CompleteOrthogonalDecomposition<Matrix> cod(J.rows(), J.cols());
+  S threshold = S(kRedundantRowTolerance);
+  const Eigen::Index pivots = std::min(J.rows(), J.cols());
+  if (rank > 0 && rank < pivots) {
+    const Eigen::ColPivHouseholderQR<Matrix> qr(J.transpose());
+    const auto d = qr.matrixR().diagonal();
+    const S largest = abs(d(0));
+    if (largest > S(0)) {
+      threshold = std::max<S>(sqrt(abs(d(rank - 1)) * abs(d(rank))) / largest,
+                              S(16) * std::numeric_limits<S>::epsilon());
+    }
+  }
+  cod.setThreshold(threshold);
+  cod.compute(J.transpose());
   return cod.solve(Eigen::Matrix<S, Eigen::Dynamic, 1>(-force));
 }
 
@@ -517,7 +658,8 @@ std::vector<JointReactionTpl<S>> joint_reactions_from_solve(
     const ConstraintEquationsTpl<S>& equations, std::span<const BodyKinematicsTpl<S>> bodies,
     const VelocityLayout& layout, const ConstraintSolveTpl<S>& s) {
   using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
-  const Vector lambda = minimum_norm_multipliers<S>(s.rows.J, s.force);
+  const Vector lambda = minimum_norm_multipliers<S>(
+      s.rows.J, s.force, static_cast<Eigen::Index>(s.active.size()));
   Vector force(layout.size());
   std::vector<JointReactionTpl<S>> out;
   for (int j = 0; j < equations.joint_count(); ++j) {

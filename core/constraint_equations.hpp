@@ -92,6 +92,11 @@ class ConstraintEquationsTpl {
   virtual JointReactionTpl<S> reaction(
       int joint, std::span<const Kinematics> bodies, const VelocityLayout& layout,
       const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynamic, 1>>& generalized_force) const = 0;
+  /// True when the joint is driven (a rheonomic row: its reaction does work, W_drive).
+  virtual bool driven(int joint) const {
+    (void)joint;
+    return false;
+  }
   /// One line per joint for `flexref check`.
   virtual std::string describe(int joint) const = 0;
   /// Known times where a drive law's derivatives jump.

@@ -198,8 +198,8 @@ class ForceElementTpl {
     (void)bodies;
     (void)samples;
   }
-  /// True when the element's work is tracked as an integral (applied_work): loads that keep
-  /// doing work, such as a harmonic force.
+  /// True when the element's work is tracked as an integral (applied_work): prescribed loads,
+  /// which do work that no potential or dissipation accounts for.
   virtual bool tracks_applied_work() const { return false; }
   /// Power the element's loads put into the bodies, W (tracked elements only).
   virtual S applied_power(const Context& context, std::span<const Kinematics> bodies) const {

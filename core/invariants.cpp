@@ -56,12 +56,27 @@ ModelInvariants model_invariants(const Model& model) {
                 (body.is_prescribed() ? "prescribed frame" : "pivot") + " (a load from outside)");
     }
   }
+  if (const ConstraintEquations* joints = model.constraints()) {
+    // An ideal joint to the ground (or to a body held from outside, already counted above) is a
+    // load from outside; a joint between two free bodies exerts equal and opposite reactions
+    // whose rows are invariant under a rigid motion of the whole: momentum is kept. A drive does
+    // work, which the integrals track as W_drive (Model::tracks_drive_work).
+    for (int j = 0; j < joints->joint_count(); ++j) {
+      const std::array<int, 2> ends = joints->row_bodies(joints->joint_rows(j)[0]);
+      if (ends[0] < 0 || ends[1] < 0) {
+        const int body = ends[0] >= 0 ? ends[0] : ends[1];
+        never(out.momentum_from, out.momentum_reason,
+              "ideal joint '" + joints->joint_name(j) + "' holds body '" +
+                  model.body(body).name() + "' to the ground (a load from outside)");
+      }
+    }
+  }
   const auto elements = model.elements();
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const ForceElement& element = *elements[i];
     // A load whose work the element would track is integrated only by a dissipating model
     // (Model::extra_integral_count); otherwise its work is in the balance only after its end.
-    const bool untracked = element.tracks_applied_work() && !model.dissipates();
+    const bool untracked = element.tracks_applied_work() && !model.tracks_applied_work();
     const double energy = untracked ? element.loads_end() : element.energy_balanced_from();
     if (energy == kNever) {
       never(out.energy_from, out.energy_reason,
@@ -82,7 +97,8 @@ ModelInvariants model_invariants(const Model& model) {
 
 std::string InvariantBreach::describe() const {
   std::ostringstream out;
-  out << quantity << (quantity == "energy balance" ? " E + W_d - W_a" : "") << " changed by "
+  out << quantity << (quantity == "energy balance" ? " E + W_d - W_a - W_drive" : "")
+      << " changed by "
       << short_number(change) << " " << unit << " since t = " << short_number(t0) << " s, "
       << short_number(100.0 * relative()) << " % of its scale " << short_number(scale) << " "
       << unit << ", at t = " << short_number(t) << " s (tolerance "
@@ -95,9 +111,10 @@ InvariantMonitor::InvariantMonitor(const Model& model, double tolerance, bool wo
       tolerance_(tolerance),
       invariants_(model_invariants(model)),
       ws_(model.make_workspace()) {
-  if (work_untracked && model.dissipates() && invariants_.energy()) {
+  if (work_untracked && model.tracks_work() && invariants_.energy()) {
     invariants_.energy_from = kNever;
-    invariants_.energy_reason = "the run does not integrate the work the model dissipates";
+    invariants_.energy_reason =
+        "the run does not integrate the work the model dissipates or its drives do";
   }
 }
 
@@ -161,11 +178,17 @@ InvariantCheck check_invariants(const Model& model, const Trajectory& trajectory
   const bool dissipated = !trajectory.dissipated_work.empty();
   const std::size_t extra =
       trajectory.extra_work.empty() ? 0 : static_cast<std::size_t>(model.extra_integral_count());
-  const bool applied = extra > 0 && model.dissipates() && model.tracks_applied_work();
+  const IntegralLayout& integrals = model.integral_layout();
+  // Integral i ≥ 1 of the layout at output k (extra_work omits W_d).
+  const auto integral = [&](std::size_t k, int i) {
+    return extra > 0 && i > 0 ? trajectory.extra_work[k * extra + static_cast<std::size_t>(i - 1)]
+                              : 0.0;
+  };
   for (std::size_t k = 0; k < trajectory.states.size(); ++k) {
     const double w_d = dissipated ? trajectory.dissipated_work[k] : 0.0;
-    const double w_a = applied ? trajectory.extra_work[k * extra] : 0.0;
-    if (monitor.observe(trajectory.times[k], trajectory.states[k], w_d, w_a)) break;
+    // The work fed in from outside: the applied loads' and the drives'.
+    const double w_in = integral(k, integrals.applied) + integral(k, integrals.drive);
+    if (monitor.observe(trajectory.times[k], trajectory.states[k], w_d, w_in)) break;
   }
   return {monitor.invariants(), monitor.breach(), monitor.worst_relative(),
           monitor.worst_quantity()};

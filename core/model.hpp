@@ -59,6 +59,8 @@ struct WorkspaceTpl {
   std::vector<WrenchTpl<S>> wrenches;
   std::vector<FlexibleScratchTpl<S>> flexible;  ///< one per body (empty matrices for rigid bodies)
   std::vector<WearSampleTpl<S>> wear;           ///< one per wear channel (Model::wear_samples)
+  /// The accelerations integral_rates solves for when it needs the drives' power on its own.
+  std::vector<BodyAccelerationTpl<S>> integral_accelerations;
   S time = S(0);                     ///< t of the last compute_wrenches (prescribed α̅)
   ConstraintSolveTpl<S> constraint;  ///< the ideal joints' solve (empty without joints)
   /// Baumgarte's rate α (1/s) of the ideal joints in the accelerations: J v̇ = γ − 2α (J v + Φ_t)
@@ -71,6 +73,16 @@ struct WorkspaceTpl {
   S prescribed_time = std::numeric_limits<S>::quiet_NaN();
 };
 using Workspace = WorkspaceTpl<double>;
+
+/// Where each tracked integral sits in [W_d, extra integrals] (Model::integral_rates): W_d at 0,
+/// then the applied work W_a, the drives' work W_drive, each wear channel's work. −1: absent;
+/// count 0: the model tracks no work.
+struct IntegralLayout {
+  int count = 0;
+  int applied = -1;
+  int drive = -1;
+  int first_wear = -1;
+};
 
 /// How a model with ideal joints treats a scene's initial state that violates its constraints
 /// (docs/joints.md, "Initial state").
@@ -96,6 +108,37 @@ class InconsistentInitialStateError : public std::invalid_argument {
  private:
   int joint_;
 };
+
+/// Joint data that double precision cannot resolve (docs/joints.md, "What a jointed solution
+/// promises"): a joint point so far from its body that the body's rotation and translation no
+/// longer both enter its rows, or rows that evaluate to inf or NaN. Names the joint and the end
+/// (0: body_a's point, 1: body_b's).
+class JointDataError : public std::invalid_argument {
+ public:
+  JointDataError(int joint, int end, const std::string& what)
+      : std::invalid_argument(what), joint_(joint), end_(end) {}
+  int joint() const { return joint_; }
+  int end() const { return end_; }
+
+ private:
+  int joint_;
+  int end_;
+};
+
+/// The largest relative violations of the joints' rows at a state (length rows by the joints'
+/// length scale ℓ, rotation rows as they are; velocity rows by the bodies' speeds), their sizes
+/// and the rows where they are.
+template <typename S>
+struct RelativeJointViolationTpl {
+  S position = S(0);
+  S velocity = S(0);
+  S position_absolute = S(0);  ///< |Φ| of that row (m, or the sine of an angle)
+  S velocity_absolute = S(0);  ///< |J v + Φ_t| of that row (m/s or rad/s)
+  int position_row = 0;
+  int velocity_row = 0;
+  S speed = S(0);  ///< the velocity scale the velocity rows are relative to (m/s)
+};
+using RelativeJointViolation = RelativeJointViolationTpl<double>;
 
 /// What the consistent initial state moved from the scene's: the largest relative position and
 /// velocity violations before projection (0 without joints).
@@ -176,6 +219,15 @@ class ModelTpl {
   /// The largest relative position violation of the joints at a state (length rows by the
   /// joints' length scale ℓ, rotation rows as they are: project's measure); 0 without joints.
   S relative_position_violation(S t, const State& state, Workspace& ws) const;
+  /// The largest relative violations of all rows (the redundant ones included) at a state.
+  RelativeJointViolationTpl<S> relative_joint_violation(S t, const State& state,
+                                                        Workspace& ws) const;
+  /// The rank of all the rows at a state (each row's rank decision relative to its own scale:
+  /// independent_rows, at relative threshold `tolerance`); 0 without joints.
+  int constraint_rank(S t, const State& state, Workspace& ws,
+                      double tolerance = kRedundantRowTolerance) const;
+  /// The joints' length scale ℓ (m): the largest arm from a body's Br to a joint point.
+  S joint_length_scale() const { return joint_length_scale_; }
   /// Per joint: the largest |Φ| of its rows (m or rad) and of its velocity rows |J v + Φ_t| (m/s
   /// or rad/s) at a state.
   std::vector<std::array<S, 2>> constraint_violations(S t, const State& state, Workspace& ws) const;
@@ -184,6 +236,14 @@ class ModelTpl {
   /// at the state and its rows' orientation compared with the last call's in ws (docs/joints.md,
   /// "Singular configurations"). Throws SingularConfigurationError naming the joint and time.
   void check_singular_configuration(S t, const State& state, Workspace& ws) const;
+  /// Whether the motion from `state` at t runs into a singular configuration of the joints within
+  /// a short time: the positions advanced along the state's velocities (v, ω̄, q̇_f; prescribed
+  /// motion and drives at the later times) by 1e-4, 1e-3, 1e-2 and 1e-1 of the mechanism's own time
+  /// ℓ/|v| and by `step`, each tested against the last as a solver's evaluations are
+  /// (check_singular_configuration: a rank drop or the rows' orientation turning). Returns the
+  /// SingularConfigurationError's message naming the joint, or "" when none is ahead. For the
+  /// messages of integrators that fail at a dead point (IDA, genalpha). Allocates.
+  std::string singular_configuration_ahead(S t, const State& state, S step) const;
   /// Per joint: the force and torque (about the joint point, world) it exerts on its first body,
   /// from the minimum-norm multipliers of all its rows at the state's accelerations (loads of
   /// the branch active at context.t_segment). Allocates: for outputs.
@@ -242,7 +302,7 @@ class ModelTpl {
   void clamp_functions(const LoadContext& context, const State& state, Workspace& ws,
                        std::span<S> c) const;
   /// compute_wrenches and, in the same pass over the elements, the rates of [W_d, extra
-  /// integrals] (integral_rates' layout; empty span: none) and the switching and clamp functions
+  /// integrals] (but the drives' power, which needs the accelerations: the caller adds it) (integral_rates' layout; empty span: none) and the switching and clamp functions
   /// (switching_function_count() each, or empty). For integrators that need all three at every
   /// evaluation (the precision references' event location). Allocates nothing.
   void compute_wrenches_and_rates(const LoadContext& context, const State& state, Workspace& ws,
@@ -256,18 +316,33 @@ class ModelTpl {
   const std::vector<int>& switching_channels() const { return switching_channels_; }
   /// Normal force, slip speed and friction power of every channel at a state (into ws.wear).
   void wear_samples(const LoadContext& context, const State& state, Workspace& ws) const;
-  /// True when a dissipating model also integrates the work of loads that keep doing work
-  /// (ForceElement::tracks_applied_work: harmonic forces).
-  bool tracks_applied_work() const { return applied_work_; }
-  /// Integrals every integrator tracks after W_d when the model dissipates (0 otherwise):
-  /// [applied work W_a (when tracked), wear work of each channel].
-  int extra_integral_count() const {
-    return dissipates_ ? (applied_work_ ? 1 : 0) + wear_channel_count() : 0;
-  }
-  /// Rates of [W_d, extra integrals] at a state (1 + extra_integral_count() entries): the
-  /// dissipated power, the applied power, each channel's |F_t·v_t|. Allocates nothing.
+  /// True when the model integrates the work of its applied loads (ForceElement::
+  /// tracks_applied_work: every prescribed force) — when it tracks work at all (tracks_work).
+  bool tracks_applied_work() const { return tracks_work() && applied_work_; }
+  /// True when an ideal joint is driven (its drive does work: W_drive) and the model tracks it.
+  bool tracks_drive_work() const { return drive_work_; }
+  /// True when every integrator tracks [W_d, extra integrals]: the model dissipates, or a drive
+  /// does work (docs/output.md, "Energy balance"). The balance E + W_d − W_a − W_drive is then
+  /// in the outputs and, where nothing else feeds energy in, constant.
+  bool tracks_work() const { return dissipates_ || drive_work_; }
+  /// Integrals every integrator tracks after W_d when the model tracks work (0 otherwise), in
+  /// integral_layout()'s order.
+  int extra_integral_count() const { return integral_layout_.count > 0 ? integral_layout_.count - 1 : 0; }
+  /// Where each tracked integral sits in integral_rates' [W_d, extra integrals]: the one
+  /// description every integrator, output and monitor reads.
+  const IntegralLayout& integral_layout() const { return integral_layout_; }
+  /// Rates of [W_d, extra integrals] at a state (integral_layout().count entries): the
+  /// dissipated power, the applied power, the drives' power, each channel's |F_t·v_t|.
+  /// `constraint_force`: the stacked generalized force of the ideal joints −J_aᵀλ at this state
+  /// from the caller's own constrained solve (ConstraintSolveTpl::force after
+  /// compute_accelerations), or null to solve for it here (one more evaluation). Allocates
+  /// nothing.
   void integral_rates(const LoadContext& context, const State& state, Workspace& ws,
-                      std::span<S> rates) const;
+                      std::span<S> rates, const Vector* constraint_force = nullptr) const;
+  /// Power of the ideal joints' reactions on the bodies, F_cᵀ v (W), F_c the stacked
+  /// generalized constraint force: the drives' power (the other rows do no work on their
+  /// manifold; off it, the reactions' work on the drift).
+  S constraint_power(const State& state, const Vector& constraint_force, Workspace& ws) const;
   /// ½ Σ q_fᵀ K q_f over the flexible bodies.
   S elastic_energy(const State& state) const;
   /// Total linear momentum, world.
@@ -317,15 +392,27 @@ class ModelTpl {
   /// at the state); throws SingularConfigurationError at a singular configuration.
   void factor_constraints_at(S t, const State& state, Workspace& ws) const;
   /// Largest relative violation of the position rows (length rows by the joints' length scale)
-  /// and of the velocity rows (by the bodies' speeds), and the joints where each is largest.
-  struct RelativeViolation {
-    S position = S(0);
-    S velocity = S(0);
-    int position_joint = 0;
-    int velocity_joint = 0;
-  };
-  /// From s.rows at `state`; s.v and s.rate are its scratch.
-  RelativeViolation relative_violation(ConstraintSolveTpl<S>& s, const State& state) const;
+  /// and of the velocity rows (by the bodies' speeds), from s.rows at `state`; s.v and s.rate
+  /// are its scratch.
+  RelativeJointViolationTpl<S> relative_violation(ConstraintSolveTpl<S>& s,
+                                                  const State& state) const;
+  /// Adds the stacked increment δ = (δp_Br, δφ_B, δq_f) to the positions: p ← p + δp, θ ← θ ⊗
+  /// exp(δφ) (renormalized), q_f ← q_f + δq_f; bodies whose motion is prescribed keep theirs.
+  void apply_position_increment(const Vector& delta, State& state) const;
+  /// The rows at the scene's initial configuration refused when double cannot resolve them
+  /// (JointDataError): not finite, or a joint point beyond kJointArmLimit radii of gyration of
+  /// its body.
+  void check_joint_data(const ConstraintRowsTpl<S>& rows) const;
+  /// After the projection of the initial state: every row (the redundant ones included)
+  /// reached, positions (and with `velocities` the velocity rows), else
+  /// InconsistentInitialStateError with each joint's residual.
+  void check_projection_reached(const State& state, Workspace& ws, double tolerance,
+                                bool velocities) const;
+  /// With rows set aside as dependent at the initial configuration: that they stay dependent and
+  /// satisfied a small motion away (structural redundancy, as a planar loop's out-of-plane rows)
+  /// rather than gaining rank (a singular start: a dead centre, a tangency), which throws
+  /// SingularConfigurationError naming the joint.
+  void check_singular_start(const State& state, Workspace& ws) const;
 
   std::vector<Body> bodies_;
   std::vector<std::unique_ptr<const ForceElement>> elements_;
@@ -340,6 +427,8 @@ class ModelTpl {
   std::vector<int> element_channels_;  ///< the wear channel of each element (−1: none)
   std::vector<int> switching_channels_;
   bool applied_work_ = false;
+  bool drive_work_ = false;
+  IntegralLayout integral_layout_;
   std::unique_ptr<const ConstraintEquations> constraints_;
   VelocityLayout layout_;
   std::vector<int> active_rows_;

@@ -76,7 +76,22 @@ ModelTpl<S>::ModelTpl(std::vector<Body> bodies,
   }
   layout_.offsets.push_back(0);
   for (const Body& b : bodies_) layout_.offsets.push_back(layout_.size() + 6 + b.mode_count());
-  if (constraints_) constraints_->append_discontinuities(discontinuities_);
+  if (constraints_) {
+    constraints_->append_discontinuities(discontinuities_);
+    for (int j = 0; j < constraints_->joint_count(); ++j) {
+      drive_work_ = drive_work_ || constraints_->driven(j);
+    }
+  }
+  if (tracks_work()) {
+    IntegralLayout& k = integral_layout_;
+    k.count = 1;
+    if (applied_work_) k.applied = k.count++;
+    if (drive_work_) k.drive = k.count++;
+    if (!wear_names_.empty()) {
+      k.first_wear = k.count;
+      k.count += static_cast<int>(wear_names_.size());
+    }
+  }
   std::sort(discontinuities_.begin(), discontinuities_.end());
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());
@@ -171,6 +186,7 @@ typename ModelTpl<S>::Workspace ModelTpl<S>::make_workspace() const {
   ws.wrenches.resize(bodies_.size());
   ws.flexible.resize(bodies_.size());
   ws.wear.resize(wear_names_.size());
+  if (drive_work_) ws.integral_accelerations = make_accelerations();
   if (constraints_) {
     ws.constraint = ConstraintSolveTpl<S>(constraints_->row_count(), layout_, active_rows_);
   }
@@ -441,7 +457,7 @@ void ModelTpl<S>::compute_wrenches_and_rates(const LoadContext& context, const S
   ws.time = context.t;
   pose_bodies(state, ws);
   for (WrenchTpl<S>& w : ws.wrenches) w.set_zero();
-  const bool with_rates = dissipates_ && !rates.empty();
+  const bool with_rates = tracks_work() && !rates.empty();
   // Ẇ_d = Σ q̇_fᵀ D q̇_f + the elements' dissipation (dissipated_power's sum, in its order).
   S dissipation = with_rates ? modal_dissipated_power(state) : S(0);
   std::size_t offset = 0;
@@ -458,10 +474,13 @@ void ModelTpl<S>::compute_wrenches_and_rates(const LoadContext& context, const S
   }
   if (!with_rates) return;
   // Then Ẇ_a = the applied power and each wear channel's |F_t·v_t| (integral_rates' layout).
+  const IntegralLayout& k = integral_layout_;
   rates[0] = dissipation;
-  std::size_t k = 1;
-  if (applied_work_) rates[k++] = applied_power(context, ws);
-  for (std::size_t ch = 0; ch < ws.wear.size(); ++ch) rates[k++] = ws.wear[ch].wear_power;
+  if (k.applied >= 0) rates[static_cast<std::size_t>(k.applied)] = applied_power(context, ws);
+  if (k.drive >= 0) rates[static_cast<std::size_t>(k.drive)] = S(0);
+  for (std::size_t ch = 0; ch < ws.wear.size(); ++ch) {
+    rates[static_cast<std::size_t>(k.first_wear) + ch] = ws.wear[ch].wear_power;
+  }
 }
 
 template <typename S>
@@ -574,279 +593,6 @@ typename ModelTpl<S>::Vector3 ModelTpl<S>::p_WP(int i, const BodyState& s,
   return s.p_WBr + rotation::rotation_matrix<S>(s.theta_WB) * body(i).p_BrP_B(point, s.q_f);
 }
 
-// --- Ideal joints (docs/joints.md, "Ideal joints") ----------------------------------------
-
-template <typename S>
-void ModelTpl<S>::apply_inverse_mass(int b, const Eigen::Ref<const Vector>& rhs,
-                                     Eigen::Ref<Vector> out, Workspace& ws) const {
-  const auto k = static_cast<std::size_t>(b);
-  const Body& body = bodies_[k];
-  if (body.is_flexible()) {
-    FlexibleScratch& fs = ws.flexible[k];
-    fs.x.template head<6>().setZero();  // the known rows take no constraint force
-    if (formulation_ == FlexibleFormulation::kCoupled) {
-      flexible::apply_coupled_tpl<S>(body.modal_mass(), fs.terms, rhs, fs.solve, fs.x);
-    } else {
-      flexible::apply_lte_tpl<S>(body.modal_mass(), fs.terms, rhs, fs.solve, fs.x);
-    }
-    out = fs.x;
-    return;
-  }
-  // Rigid, about Br: M = diag(m 1, I_Br) on (v_WBr, ω̄); a pivot's translation and a prescribed
-  // body's motion are fixed.
-  out.setZero();
-  if (body.is_prescribed()) return;
-  if (body.is_free()) out.template head<3>() = rhs.template head<3>() / body.mass();
-  out.template segment<3>(3).noalias() = body.I_Br_B_inverse() * rhs.template segment<3>(3);
-}
-
-template <typename S>
-void ModelTpl<S>::stack_velocities(const State& state, Vector& v) const {
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const int o = layout_.offset(static_cast<int>(b));
-    v.template segment<3>(o) = state[b].v_WBr;
-    v.template segment<3>(o + 3) = state[b].w_WB_B;
-    v.segment(o + 6, bodies_[b].mode_count()) = state[b].qd_f;
-  }
-}
-
-template <typename S>
-void ModelTpl<S>::apply_constraints(S t, Workspace& ws, Accelerations& accelerations) const {
-  ConstraintSolveTpl<S>& s = ws.constraint;
-  constraints_->evaluate(t, ws.kinematics, layout_, s.rows);
-  if (ws.constraint_stabilization > S(0)) {
-    // Baumgarte: γ − 2α (J v + Φ_t) − α² Φ (critically damped drift at the rate α).
-    const S alpha = ws.constraint_stabilization;
-    for (std::size_t b = 0; b < bodies_.size(); ++b) {
-      const int o = layout_.offset(static_cast<int>(b));
-      const BodyState& x = *ws.kinematics[b].state;
-      s.v.template segment<3>(o) = x.v_WBr;
-      s.v.template segment<3>(o + 3) = x.w_WB_B;
-      s.v.segment(o + 6, bodies_[b].mode_count()) = x.qd_f;
-    }
-    add_baumgarte(alpha, s);
-  }
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const int o = layout_.offset(static_cast<int>(b));
-    s.x.template segment<3>(o) = accelerations[b].a_WBr;
-    s.x.template segment<3>(o + 3) = accelerations[b].alpha_WB_B;
-    s.x.segment(o + 6, bodies_[b].mode_count()) = accelerations[b].qdd_f;
-  }
-  solve_constrained_accelerations(
-      *constraints_, layout_,
-      [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); },
-      static_cast<double>(t), s);
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const int o = layout_.offset(static_cast<int>(b));
-    accelerations[b].a_WBr = s.x.template segment<3>(o);
-    accelerations[b].alpha_WB_B = s.x.template segment<3>(o + 3);
-    accelerations[b].qdd_f = s.x.segment(o + 6, bodies_[b].mode_count());
-  }
-}
-
-template <typename S>
-void ModelTpl<S>::factor_constraints_at(S t, const State& state, Workspace& ws) const {
-  ws.time = t;
-  pose_bodies(state, ws);
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    const Body& b = bodies_[i];
-    if (!b.is_flexible()) continue;
-    // The mass matrix at the state (its loads do not enter the factors).
-    flexible_system(static_cast<int>(i), state[i], ws);
-    FlexibleScratch& fs = ws.flexible[i];
-    if (formulation_ == FlexibleFormulation::kCoupled) {
-      flexible::factor_coupled_tpl<S>(b.modal_mass(), fs.terms, known_rows(b.motion()), fs.solve);
-    } else {
-      flexible::factor_lte_tpl<S>(fs.terms, known_rows(b.motion()), fs.solve);
-    }
-  }
-  ConstraintSolveTpl<S>& s = ws.constraint;
-  constraints_->evaluate(t, ws.kinematics, layout_, s.rows);
-  if (!factor_or_reselect(
-          *constraints_, layout_,
-          [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); }, s)) {
-    throw_singular(*constraints_, s, static_cast<double>(t));
-  }
-}
-
-template <typename S>
-void ModelTpl<S>::check_singular_configuration(S t, const State& state, Workspace& ws) const {
-  factor_constraints_at(t, state, ws);
-  check_orientation(
-      *constraints_, layout_,
-      [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); },
-      static_cast<double>(t), ws.constraint);
-}
-
-template <typename S>
-typename ModelTpl<S>::RelativeViolation ModelTpl<S>::relative_violation(ConstraintSolveTpl<S>& s,
-                                                                        const State& state) const {
-  const ConstraintRowsTpl<S>& rows = s.rows;
-  stack_velocities(state, s.v);
-  s.rate.noalias() = rows.J * s.v;
-  s.rate += rows.phi_t;
-  const Vector& rate = s.rate;
-  // Velocity scale: the bodies' speeds (|v_Br| + |ω̄| ℓ) and the drives' rates.
-  using std::abs;
-  using std::max;
-  S speed = S(0);
-  for (const BodyState& b : state) {
-    speed = max(speed, b.v_WBr.norm() + b.w_WB_B.norm() * joint_length_scale_);
-  }
-  for (Eigen::Index r = 0; r < rows.phi_t.size(); ++r) {
-    const S scale = constraints_->is_length_row(static_cast<int>(r)) ? S(1) : joint_length_scale_;
-    speed = max(speed, S(abs(rows.phi_t(r)) * scale));
-  }
-  RelativeViolation out;
-  for (Eigen::Index r = 0; r < rows.phi.size(); ++r) {
-    const int row = static_cast<int>(r);
-    const bool length = constraints_->is_length_row(row);
-    const S position = abs(rows.phi(r)) / (length ? joint_length_scale_ : S(1));
-    const S velocity =
-        speed > S(0) ? S(abs(rate(r)) * (length ? S(1) : joint_length_scale_) / speed) : S(0);
-    if (position > out.position) {
-      out.position = position;
-      out.position_joint = constraints_->joint_of_row(row);
-    }
-    if (velocity > out.velocity) {
-      out.velocity = velocity;
-      out.velocity_joint = constraints_->joint_of_row(row);
-    }
-  }
-  return out;
-}
-
-template <typename S>
-InitialProjection ModelTpl<S>::project(S t, State& state, Workspace& ws) const {
-  InitialProjection before;
-  if (!constraints_) return before;
-  ConstraintSolveTpl<S>& s = ws.constraint;
-  factor_constraints_at(t, state, ws);
-  const RelativeViolation first = relative_violation(s, state);
-  before.position = static_cast<double>(first.position);
-  // Newton on Φ = 0 in the mass metric: converged when the relative violation is a few ε (the
-  // round-off of Φ itself, a sum of products of lengths of size ℓ).
-  project_positions<S>(
-      [&] { factor_constraints_at(t, state, ws); },
-      [&] {
-        return core::relative_position_violation<S>(*constraints_, s.rows.phi, joint_length_scale_);
-      },
-      [&](const Vector& delta) {
-        for (std::size_t b = 0; b < bodies_.size(); ++b) {
-          const Body& body = bodies_[b];
-          if (body.is_prescribed() && !body.is_flexible()) continue;
-          const int o = layout_.offset(static_cast<int>(b));
-          BodyState& x = state[b];
-          if (!body.is_prescribed()) {
-            x.p_WBr += delta.template segment<3>(o);
-            // A ← A exp(δφ̃): θ ← θ ⊗ exp(δφ), renormalized.
-            x.theta_WB = rotation::quaternion_multiply<S>(
-                x.theta_WB,
-                rotation::exp_quaternion_in<S>(Vector3(delta.template segment<3>(o + 3))));
-            x.theta_WB.normalize();
-          }
-          x.q_f += delta.segment(o + 6, body.mode_count());
-        }
-      },
-      S(8) * std::numeric_limits<S>::epsilon(), s);
-  before.velocity = static_cast<double>(relative_violation(s, state).velocity);
-  project_velocities(t, state, ws);
-  return before;
-}
-
-template <typename S>
-void ModelTpl<S>::project_velocities(S t, State& state, Workspace& ws) const {
-  if (!constraints_) return;
-  ConstraintSolveTpl<S>& s = ws.constraint;
-  factor_constraints_at(t, state, ws);
-  stack_velocities(state, s.v);
-  s.rate.noalias() = s.rows.J * s.v;
-  s.rate += s.rows.phi_t;
-  constraint_correction<S>(s.rate, s);
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const Body& body = bodies_[b];
-    const int o = layout_.offset(static_cast<int>(b));
-    BodyState& x = state[b];
-    if (!body.is_prescribed()) {
-      if (body.is_free()) x.v_WBr += s.x.template segment<3>(o);
-      x.w_WB_B += s.x.template segment<3>(o + 3);
-    }
-    x.qd_f += s.x.segment(o + 6, body.mode_count());
-  }
-}
-
-template <typename S>
-void ModelTpl<S>::assemble_initial_state(const ConstraintOptions& options) {
-  Workspace ws = make_workspace();
-  pose_bodies(initial_state_, ws);
-  ConstraintRowsTpl<S> rows;
-  rows.resize(constraints_->row_count(), layout_.size());
-  constraints_->evaluate(S(0), ws.kinematics, layout_, rows);
-  active_rows_ = options.independent_rows.empty() ? core::independent_rows<S>(rows.J)
-                                                  : options.independent_rows;
-  // The joints' length scale ℓ: the largest arm from a body's Br to a joint point.
-  joint_length_scale_ = core::joint_length_scale<S>(*constraints_, layout_, rows.J);
-  ws = make_workspace();
-  State state = initial_state_;
-  ws.constraint.rows = rows;
-  const RelativeViolation before = relative_violation(ws.constraint, state);
-  const auto refuse = [&](int joint, const char* level, double value) {
-    throw InconsistentInitialStateError(
-        joint, "the initial state violates joint '" + constraints_->joint_name(joint) + "' at " +
-                   level + " level by " + std::to_string(value) +
-                   " (relative), more than the accepted " +
-                   std::to_string(options.initial_tolerance) +
-                   "; correct the bodies' initial positions and velocities, or set "
-                   "project_initial_state = true in [scene] to project them onto the joints");
-  };
-  if (!options.project_initial_state && before.position > S(options.initial_tolerance)) {
-    refuse(before.position_joint, "position", static_cast<double>(before.position));
-  }
-  initial_projection_ = project(S(0), state, ws);
-  if (!options.project_initial_state && initial_projection_.velocity > options.initial_tolerance) {
-    refuse(before.velocity_joint, "velocity", initial_projection_.velocity);
-  }
-  initial_state_ = std::move(state);
-}
-
-template <typename S>
-S ModelTpl<S>::relative_position_violation(S t, const State& state, Workspace& ws) const {
-  if (!constraints_) return S(0);
-  ws.time = t;
-  pose_bodies(state, ws);
-  constraints_->evaluate(t, ws.kinematics, layout_, ws.constraint.rows);
-  return core::relative_position_violation<S>(*constraints_, ws.constraint.rows.phi,
-                                              joint_length_scale_);
-}
-
-template <typename S>
-std::vector<std::array<S, 2>> ModelTpl<S>::constraint_violations(S t, const State& state,
-                                                                 Workspace& ws) const {
-  std::vector<std::array<S, 2>> out;
-  if (!constraints_) return out;
-  ws.time = t;
-  pose_bodies(state, ws);
-  ConstraintRowsTpl<S>& rows = ws.constraint.rows;
-  constraints_->evaluate(t, ws.kinematics, layout_, rows);
-  Vector v(layout_.size());
-  stack_velocities(state, v);
-  return joint_violations<S>(*constraints_, rows, v);
-}
-
-template <typename S>
-std::vector<JointReactionTpl<S>> ModelTpl<S>::joint_reactions(const LoadContext& context,
-                                                              const State& state,
-                                                              Workspace& ws) const {
-  std::vector<JointReaction> out;
-  if (!constraints_) return out;
-  Accelerations accelerations = make_accelerations();
-  // Outputs come at any spacing: the rows' orientation test (core/constrained_solve_tpl.hpp),
-  // which assumes the small state changes between a solver's evaluations, does not apply.
-  ws.constraint.has_previous = false;
-  compute_accelerations(context, state, ws, accelerations);
-  return joint_reactions_from_solve<S>(*constraints_, ws.kinematics, layout_, ws.constraint);
-}
-
 // --- Wear channels and tracked integrals (docs/output.md): W_d, the applied work W_a of loads
 // that keep doing work, and each contact's wear work ∫ |F_t·v_t| dt. -----------------------
 
@@ -862,19 +608,36 @@ void ModelTpl<S>::wear_samples(const LoadContext& context, const State& state,
 
 template <typename S>
 void ModelTpl<S>::integral_rates(const LoadContext& context, const State& state, Workspace& ws,
-                                 std::span<S> rates) const {
-  rates[0] = dissipated_power(context, state, ws);  // poses the bodies
-  std::size_t k = 1;
-  if (!dissipates_) return;
-  if (applied_work_) {
-    rates[k++] = applied_power(context, ws);
+                                 std::span<S> rates, const Vector* constraint_force) const {
+  const IntegralLayout& k = integral_layout_;
+  if (k.drive >= 0) {
+    // The joints' power first (a constrained solve of its own when the caller has none: it
+    // overwrites the loads in ws, which the rates below evaluate again).
+    if (constraint_force == nullptr) {
+      compute_wrenches(context, state, ws);
+      free_accelerations(state, ws, ws.integral_accelerations);
+      apply_constraints(context.t, ws, ws.integral_accelerations);
+      constraint_force = &ws.constraint.force;
+    }
+    rates[static_cast<std::size_t>(k.drive)] = constraint_power(state, *constraint_force, ws);
   }
-  if (wear_elements_.empty()) return;
+  rates[0] = dissipated_power(context, state, ws);  // poses the bodies
+  if (k.count == 0) return;
+  if (k.applied >= 0) rates[static_cast<std::size_t>(k.applied)] = applied_power(context, ws);
   for (std::size_t c = 0; c < wear_elements_.size(); ++c) {
     const ForceElementTpl<S>& element = *elements_[static_cast<std::size_t>(wear_elements_[c])];
     element.wear_samples(context, ws.kinematics, std::span<WearSampleTpl<S>>(&ws.wear[c], 1));
-    rates[k++] = ws.wear[c].wear_power;
+    rates[static_cast<std::size_t>(k.first_wear) + c] = ws.wear[c].wear_power;
   }
 }
 
+template <typename S>
+S ModelTpl<S>::constraint_power(const State& state, const Vector& constraint_force,
+                                Workspace& ws) const {
+  stack_velocities(state, ws.constraint.v);
+  return ws.constraint.v.dot(constraint_force);
+}
+
 }  // namespace flexref::core
+
+#include "core/model_joints_impl.hpp"

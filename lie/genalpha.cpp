@@ -18,15 +18,18 @@ GenAlphaStepper::GenAlphaStepper(const core::Model& model, const GenAlphaParamet
       state_(model.initial_state()),
       next_(state_),
       ws_(model.make_workspace()),
+      tracker_(model.make_workspace()),
       acc_(model.make_accelerations()),
       vdot_(Eigen::VectorXd::Zero(system_.body_unknowns())),
       a_(vdot_),
       vdot_next_(vdot_),
       a_next_(vdot_),
       lambda_hat_(Eigen::VectorXd::Zero(system_.multiplier_count())),
+      lambda_saved_(lambda_hat_),
       z_(Eigen::VectorXd::Zero(system_.size())),
       r_(z_),
       dz_(z_),
+      z_base_(z_),
       S_(Eigen::MatrixXd::Identity(system_.size(), system_.size())),
       lu_(S_) {}
 
@@ -46,6 +49,12 @@ void GenAlphaStepper::initialize(double t0, const core::State& state) {
   next_ = state;
   last_h_ = 0.0;
   initialized_ = false;
+  if (system_.multiplier_count() > 0) {
+    tracker_ = model_.make_workspace();
+    system_.set_active_rows(model_.independent_rows());
+    const std::string singular = track_joints(t0, state_);
+    if (!singular.empty()) throw core::SingularConfigurationError("", t0, singular);
+  }
   restart();
   // t_segment = t0 evaluated the branch on the right of t0, the first step's own; a load
   // discontinuity at t0 itself restarts there (starts_on_discontinuity). The perturbed start
@@ -81,7 +90,11 @@ void GenAlphaStepper::restart() {
   model_.compute_accelerations(core::LoadContext{time_, segment}, state_, ws_, acc_);
   system_.stack_accelerations(acc_, vdot_);
   if (system_.multiplier_count() > 0) {
-    lambda_hat_ = ws_.constraint.lambda;  // λ_n: scaled to β h² λ_n by the next step
+    // λ_n on the Newton system's rows (the solve may have chosen others: the same reactions,
+    // F = −J_aᵀ λ_a, on the system's basis of the rows' span); scaled to β h² λ_n by the next
+    // step.
+    lambda_hat_ = core::multipliers_on_rows<double>(ws_.constraint.rows.J, system_.active_rows(),
+                                                    ws_.constraint.force);
     lambda_unscaled_ = true;
   }
   if (!initialized_) {
@@ -160,12 +173,29 @@ StepStatus GenAlphaStepper::step(double h) {
   bool assembled = matrix_valid_ && matrix_h_ == h;
   int reassemblies = 0;
   int iterations = 0;
+  int backtracks = 0;
   double previous = std::numeric_limits<double>::infinity();
+  double merit_base = std::numeric_limits<double>::infinity();  // ‖r(z_base_)‖²
+  double fraction = 1.0;                                        // of dz_ taken from z_base_
+  bool fresh = false;  // dz_ was computed with a matrix assembled at z_base_
   detail::GenAlphaResidualNorm norm;
-  for (; iterations < kMaxNewtonIterations; ++iterations) {
+  while (iterations < kMaxNewtonIterations) {
     norm = system_.residual(z_, r_);
+    const double merit = r_.squaredNorm();
+    // The line search: a fresh correction that does not decrease ‖r‖² enough (or leaves the
+    // model's domain) is halved, from the iterate it was computed at.
+    const bool insufficient =
+        !norm.finite || !(merit <= (1.0 - 2.0 * kArmijo * fraction) * merit_base);
+    if (fresh && insufficient && norm.relative > detail::kNewtonTolerance &&
+        backtracks < kMaxBacktracks) {
+      ++backtracks;
+      fraction *= 0.5;
+      z_ = z_base_ - fraction * dz_;
+      continue;
+    }
     if (!norm.finite) return fail(detail::non_finite_failure("genalpha", t_n, h));
     const bool slow = assembled && norm.relative > kSlowContraction * previous;
+    fresh = false;
     if (!assembled || (slow && reassemblies < kMaxReassemblies &&
                        !detail::newton_stagnated(norm.relative, previous))) {
       reassemblies += assembled ? 1 : 0;
@@ -173,12 +203,17 @@ StepStatus GenAlphaStepper::step(double h) {
       if (!std::isfinite(S_.sum())) return fail(detail::non_finite_failure("genalpha", t_n, h));
       lu_.compute(S_);
       assembled = true;
+      fresh = true;
       matrix_valid_ = true;
       matrix_h_ = h;
     }
     // z ← z − S⁻¹ r   (also after the test has passed: the last correction costs no evaluation)
     dz_.noalias() = lu_.solve(r_);
+    z_base_ = z_;
+    merit_base = merit;
+    fraction = 1.0;
     z_ -= dz_;
+    ++iterations;
     // A residual that repeats bit for bit is at the round-off floor of its own terms: the
     // corrections no longer change what it resolves (a flexible body near rest, whose modal
     // rows' terms cancel to below any scale the test knows of: 7e-10 relative on
@@ -187,29 +222,77 @@ StepStatus GenAlphaStepper::step(double h) {
     if (norm.relative <= detail::kNewtonTolerance ||
         detail::newton_stagnated(norm.relative, previous) || repeated) {
       converged = true;
-      ++iterations;
       break;
     }
     previous = norm.relative;
   }
   if (!converged) {
-    return fail(
-        detail::newton_failure("genalpha", t_n, h, norm.relative, iterations, norm.worst_body));
+    return fail(newton_failure_message(t_n, h, norm.relative, iterations, norm.worst_body));
   }
   system_.state_at(z_, next_, vdot_next_, a_next_);
   if (!detail::all_finite(next_) || !std::isfinite(z_.sum())) {
     return fail(detail::non_finite_failure("genalpha", t_n, h));
   }
+  if (system_.multiplier_count() > 0) {
+    // λ̂_{n+1} on the rows the system solved them for, then the joints at the new state (λ̂_n
+    // kept for a failure, which leaves the stepper at the start of the step).
+    lambda_saved_ = lambda_hat_;
+    lambda_hat_ = z_.tail(system_.multiplier_count());
+    const std::string singular = track_joints(t_n + h, next_);
+    if (!singular.empty()) {
+      lambda_hat_ = lambda_saved_;
+      return fail("genalpha: " + singular);
+    }
+  }
   std::swap(state_, next_);
   std::swap(vdot_, vdot_next_);
   std::swap(a_, a_next_);
-  if (system_.multiplier_count() > 0) lambda_hat_ = z_.tail(system_.multiplier_count());
   time_ = t_n + h;
   last_h_ = h;
   newton_iterations_ += iterations;
   max_newton_iterations_ = std::max(max_newton_iterations_, iterations);
   ++steps_;
   return {};
+}
+
+std::string GenAlphaStepper::track_joints(double t, const core::State& next) {
+  try {
+    model_.check_singular_configuration(t, next, tracker_);
+  } catch (const core::SingularConfigurationError& e) {
+    return e.what();
+  }
+  const std::vector<int>& chosen = tracker_.constraint.active;
+  if (chosen != system_.active_rows()) {
+    // The rows chosen again at `next`: λ̂ on the old rows gives the generalized reaction
+    // F̂ = −J_oldᵀ λ̂ (the rows at `next`, where both sets span the same space), carried over to
+    // the new rows by multipliers_on_rows; the next Newton system solves for them.
+    const Eigen::MatrixXd& J = tracker_.constraint.rows.J;
+    Eigen::VectorXd force = Eigen::VectorXd::Zero(J.cols());
+    const std::vector<int>& old_rows = system_.active_rows();
+    for (std::size_t i = 0; i < old_rows.size(); ++i) {
+      force -= lambda_hat_(static_cast<Eigen::Index>(i)) * J.row(old_rows[i]).transpose();
+    }
+    lambda_hat_ = core::multipliers_on_rows<double>(J, chosen, force);
+    system_.set_active_rows(chosen);
+    matrix_valid_ = false;
+  }
+  return {};
+}
+
+std::string GenAlphaStepper::newton_failure_message(double t_n, double h, double residual,
+                                                    int iterations, int body) const {
+  std::string message = detail::newton_failure("genalpha", t_n, h, residual, iterations, body);
+  if (model_.has_constraints()) {
+    // A Newton iteration that fails where the joints' rows lose rank ahead cannot be helped by a
+    // smaller step: the singular configuration is named instead.
+    const std::string ahead = model_.singular_configuration_ahead(t_n, state_, 2.0 * h);
+    if (!ahead.empty()) {
+      message +=
+          ": the mechanism is at a singular configuration, which no smaller step crosses — " +
+          ahead;
+    }
+  }
+  return message;
 }
 
 }  // namespace flexref::lie

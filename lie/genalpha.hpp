@@ -15,7 +15,12 @@
 /// matrix S of genalpha_newton.hpp, LU-factored, and kept across iterations and steps of the
 /// same length while the residual contracts by kSlowContraction or better per iteration
 /// (modified Newton); reassembled at the current iterate when it does not, and after a restart
-/// or a change of h. Assembly costs 6 evaluations per body and an O(n³) factorization, an
+/// or a change of h. A correction computed with a matrix assembled at its own iterate is a
+/// descent direction of ‖r‖² (its directional derivative is −2‖r‖²); where the full correction
+/// does not decrease ‖r‖² enough (kArmijo) it is halved (a backtracking line search): the
+/// Newton iteration then follows the residual down instead of cycling across a contact's onset
+/// or a regularized friction's steep slope, where the linear model holds over less than a full
+/// correction. Assembly costs 6 evaluations per body and an O(n³) factorization, an
 /// iteration one evaluation and an O(n²) solve. Converged when every component is ≤
 /// kNewtonTolerance (1e-14) of the size of its terms, or at the round-off floor
 /// (newton_stagnated); the last correction is applied as well. At a known load discontinuity
@@ -45,6 +50,13 @@ class GenAlphaStepper final : public Stepper {
   static constexpr double kRepeatedResidualFloor = 1e-8;
   /// Reassemblies of the iteration matrix allowed in one step beyond the first.
   static constexpr int kMaxReassemblies = 4;
+  /// Halvings of a correction allowed in one step (the line search: a fraction 2⁻¹⁰ of a
+  /// correction that still raises the residual is no longer a Newton step worth following).
+  static constexpr int kMaxBacktracks = 10;
+  /// Sufficient decrease of the line search (Armijo): ‖r(z − s Δz)‖² ≤ (1 − 2 c s) ‖r(z)‖², with
+  /// c = 1e-4 (Dennis & Schnabel's choice, "Numerical Methods for Unconstrained Optimization",
+  /// §6.3: any decrease a small multiple of the one the linear model predicts).
+  static constexpr double kArmijo = 1e-4;
 
   /// The model must outlive the stepper.
   GenAlphaStepper(const core::Model& model, const GenAlphaParameters& parameters);
@@ -66,8 +78,11 @@ class GenAlphaStepper final : public Stepper {
   /// v̇_n (stacked: per body a_WBr, α̅, q̈_f) and the auxiliary a_n.
   const Eigen::VectorXd& accelerations() const { return vdot_; }
   const Eigen::VectorXd& auxiliary_accelerations() const { return a_; }
-  /// The multipliers λ_n of the independent joint rows (M v̇ + Jᵀ λ = Q).
+  /// The multipliers λ_n of the independent joint rows (M v̇ + Jᵀ λ = Q), and the rows they
+  /// belong to (the model's independent rows at the start, chosen again in motion where they
+  /// become dependent among themselves: track_joints).
   Eigen::VectorXd multipliers() const;
+  const std::vector<int>& multiplier_rows() const { return system_.active_rows(); }
 
   long newton_iterations() const { return newton_iterations_; }
   int max_newton_iterations() const { return max_newton_iterations_; }
@@ -78,6 +93,16 @@ class GenAlphaStepper final : public Stepper {
   void restart();
   /// a_0 = v̇(t_0 + (α_m − α_f) h) (GenAlphaParameters::perturbed_start); segment: the branch.
   void perturbed_start(double segment);
+  /// The joints at an accepted state (t, next): a singular configuration reached or passed since
+  /// the last accepted one (the orientation test of core/constrained_solve_tpl.hpp, on
+  /// tracker_'s rows and history) is the failure's message; rows the tracker chose again (they
+  /// became dependent among themselves) become the Newton system's, λ̂ carried over to them.
+  /// Returns "" when the step may be accepted.
+  std::string track_joints(double t, const core::State& next);
+  /// The failure message of a step whose Newton iteration did not converge: with joints, a
+  /// singular configuration ahead (Model::singular_configuration_ahead) is named.
+  std::string newton_failure_message(double t_n, double h, double residual, int iterations,
+                                     int body) const;
 
   const core::Model& model_;
   detail::GenAlphaSystem system_;
@@ -89,16 +114,21 @@ class GenAlphaStepper final : public Stepper {
   core::State state_;
   core::State next_;
   core::Workspace ws_;
+  /// The joints' rows and their history (the rows' orientation at the last accepted state):
+  /// advanced only on accepted steps (track_joints).
+  core::Workspace tracker_;
   core::Accelerations acc_;
-  Eigen::VectorXd vdot_;        ///< v̇_n
-  Eigen::VectorXd a_;           ///< a_n
-  Eigen::VectorXd vdot_next_;   ///< v̇_{n+1}
-  Eigen::VectorXd a_next_;      ///< a_{n+1}
-  Eigen::VectorXd lambda_hat_;  ///< β h² λ_n
-  Eigen::VectorXd z_;           ///< Newton unknowns
-  Eigen::VectorXd r_;           ///< residual
-  Eigen::VectorXd dz_;          ///< correction
-  Eigen::MatrixXd S_;           ///< iteration matrix
+  Eigen::VectorXd vdot_;          ///< v̇_n
+  Eigen::VectorXd a_;             ///< a_n
+  Eigen::VectorXd vdot_next_;     ///< v̇_{n+1}
+  Eigen::VectorXd a_next_;        ///< a_{n+1}
+  Eigen::VectorXd lambda_hat_;    ///< β h² λ_n
+  Eigen::VectorXd lambda_saved_;  ///< λ̂_n while a step's joints are checked
+  Eigen::VectorXd z_;             ///< Newton unknowns
+  Eigen::VectorXd r_;             ///< residual
+  Eigen::VectorXd dz_;            ///< correction
+  Eigen::VectorXd z_base_;        ///< the iterate a fresh correction was computed at
+  Eigen::MatrixXd S_;             ///< iteration matrix
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   bool matrix_valid_ = false;  ///< lu_ holds a factored matrix of step length matrix_h_
   double matrix_h_ = 0.0;

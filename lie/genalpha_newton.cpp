@@ -45,6 +45,7 @@ GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameter
   const Eigen::Index n = offsets_.back();
   if (model.has_constraints()) {
     n_multipliers_ = static_cast<int>(model.independent_rows().size());
+    active_ = model.independent_rows();
     const int rows = model.constraints()->row_count();
     if (model.velocity_layout().offsets != offsets_) {
       throw std::invalid_argument("genalpha: the joints' velocity layout is not the bodies' own");
@@ -62,6 +63,7 @@ GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameter
   v_ = Eigen::VectorXd::Zero(n);
   diagonal_ = Eigen::VectorXd::Zero(n);
   jt_lambda_ = Eigen::VectorXd::Zero(n);
+  jt_lambda_terms_ = Eigen::VectorXd::Zero(n);
   jt_lambda_perturbed_ = Eigen::VectorXd::Zero(n);
   // m̂ = β h² M_kk β' = M_kk (1 − α_m)/(1 − α_f): independent of h (modal rows: the diagonal of
   // the modal mass m_ff).
@@ -215,12 +217,15 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
   }
   const Eigen::Index n = offsets_.back();
   jt_lambda_.setZero();
+  jt_lambda_terms_.setZero();
   if (n_multipliers_ > 0) {
     model_.constraints()->evaluate(t_np1, ws_.kinematics, model_.velocity_layout(), rows_);
-    const std::vector<int>& active = model_.independent_rows();
+    const std::vector<int>& active = active_;
     for (int a = 0; a < n_multipliers_; ++a) {
       // J_aᵀ λ̂ (λ̂ = β h² λ)
-      jt_lambda_ += rows_.J.row(active[static_cast<std::size_t>(a)]).transpose() * z(n + a);
+      const auto row = rows_.J.row(active[static_cast<std::size_t>(a)]);
+      jt_lambda_ += row.transpose() * z(n + a);
+      jt_lambda_terms_ += row.transpose().cwiseAbs() * std::abs(z(n + a));
     }
   }
   const double bh2 = p_.beta * h_ * h_;
@@ -271,7 +276,7 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
                     std::abs(body.modal_damping()(m) * s1.qd_f(m));
         }
         body_scale =
-            std::max(body_scale, bh2 * (inertia_terms + forces) + std::abs(jt_lambda_(o + i)) +
+            std::max(body_scale, bh2 * (inertia_terms + forces) + jt_lambda_terms_(o + i) +
                                      std::abs(diagonal_(o + i) * z(o + i)));
       }
       for (Eigen::Index i = 0; i < width; ++i) {
@@ -294,10 +299,10 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
     r.segment<3>(o) = bh2 * (inertia_T - w.f_W) + jt_lambda_.segment<3>(o);
     r.segment<3>(o + 3) = bh2 * (inertia_R + gyroscopic - torque_B) + jt_lambda_.segment<3>(o + 3);
     const double scale_T = bh2 * (max_abs(inertia_T) + max_abs(w.f_W)) +
-                           max_abs(jt_lambda_.segment<3>(o)) + max_abs(inertia_x_T);
+                           max_abs(jt_lambda_terms_.segment<3>(o)) + max_abs(inertia_x_T);
     const double scale_R =
         bh2 * (max_abs(inertia_R) + max_abs(gyroscopic) + max_abs(torque_B) + w.torque_magnitude) +
-        max_abs(jt_lambda_.segment<3>(o + 3)) + max_abs(inertia_x_R);
+        max_abs(jt_lambda_terms_.segment<3>(o + 3)) + max_abs(inertia_x_R);
     for (int k = 0; k < 6; ++k) {
       if (!integrated_row(b, k)) {
         r(o + k) = diagonal_(o + k) * z(o + k);  // keeps x_k = 0
@@ -311,7 +316,7 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
     // (sines of angles) as they are.
     double length = 1e-2;
     for (const core::BodyState& s : next_) length = std::max(length, max_abs(s.p_WBr));
-    const std::vector<int>& active = model_.independent_rows();
+    const std::vector<int>& active = active_;
     for (int a = 0; a < n_multipliers_; ++a) {
       const int row = active[static_cast<std::size_t>(a)];
       r(n + a) = rows_.phi(row);
@@ -362,7 +367,7 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd&
   // The loads' K T + C γ' (a flexible body: its whole residual at fixed v̇; and the joints'
   // ∂(Jᵀλ̂)/∂x): one directional forward difference per integrated unknown.
   const core::LoadContext context{t_n_ + h_, t_n_ + 0.5 * h_};
-  const std::vector<int>* active = n_multipliers_ > 0 ? &model_.independent_rows() : nullptr;
+  const std::vector<int>* active = n_multipliers_ > 0 ? &active_ : nullptr;
   const double eps = kDirectionalStep;
   for (int j = 0; j < n_bodies_; ++j) {
     const auto oj = static_cast<Eigen::Index>(offset(j));

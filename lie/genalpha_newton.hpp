@@ -61,6 +61,10 @@ class GenAlphaSystem {
   int body_unknowns() const { return offsets_.back(); }
   int offset(int body) const { return offsets_[static_cast<std::size_t>(body)]; }
   int multiplier_count() const { return n_multipliers_; }
+  /// The joint rows the multipliers λ̂ belong to (the model's independent rows at the start;
+  /// chosen again in motion by the stepper, same count: set_active_rows).
+  const std::vector<int>& active_rows() const { return active_; }
+  void set_active_rows(const std::vector<int>& rows) { active_ = rows; }
   const GenAlphaParameters& parameters() const { return p_; }
 
   /// Starts a step from t_n with the state, v̇_n and a_n (stacked). Must be called
@@ -99,6 +103,7 @@ class GenAlphaSystem {
   Eigen::Index z_size_ = 0;
   int integrated_unknowns_ = 0;
   std::vector<int> offsets_;  ///< body b: [offsets_[b], offsets_[b + 1]); last: the total
+  std::vector<int> active_;   ///< the rows of the multipliers (active_rows)
   double t_n_ = 0.0;
   double h_ = 0.0;
   const core::State* state_n_ = nullptr;
@@ -122,6 +127,9 @@ class GenAlphaSystem {
   core::ConstraintRows rows_;                        ///< the joints' rows at next_
   core::ConstraintRows rows_perturbed_;              ///< and at a perturbed configuration
   Eigen::VectorXd jt_lambda_;                        ///< J_aᵀ λ̂ at next_ (6N)
+  /// Σ_a |J_a| |λ̂_a| at next_: the sizes of the rows' reactions before they cancel in J_aᵀ λ̂
+  /// (a prismatic guide's torques about a point off its line do), the residual's scale.
+  Eigen::VectorXd jt_lambda_terms_;
   Eigen::VectorXd jt_lambda_perturbed_;              ///< and at a perturbed configuration
   long evaluations_ = 0;
 };

@@ -114,7 +114,7 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
   // Dissipated work, applied work and wear work by the trapezoidal rule on the step's end
   // rates (second order, like the schemes); one extra evaluation of the dissipative loads per
   // step, only when they exist. Impacts are counted from the gaps after every step.
-  const bool track_work = model.dissipates();
+  const bool track_work = model.tracks_work();
   core::Workspace ws = model.make_workspace();
   const auto count = static_cast<std::size_t>(track_work ? 1 + model.extra_integral_count() : 0);
   std::vector<double> work(count, 0.0);

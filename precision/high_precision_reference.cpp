@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/joint_check.hpp"
 #include "precision/ode_system.hpp"
 #include "precision/parse_text.hpp"
 #include "precision/precise_comparison.hpp"
@@ -96,7 +97,30 @@ HighPrecisionRun integrate_model(const Model& model, std::chrono::steady_clock::
 
   State y = model.initial_state();
   std::vector<double> impacts(static_cast<std::size_t>(model.wear_channel_count()), 0.0);
+  // The joints at every output, the rows set aside as redundant included (core/joint_check.hpp:
+  // the same bound in the run's precision, its floor the round-off of S).
+  const double joint_bound =
+      std::max(core::kJointDriftFactor * rtol,
+               1e4 * static_cast<double>(std::numeric_limits<S>::epsilon()));
   const auto record = [&](double t, const State& x) {
+    if (model.has_constraints()) {
+      const core::RelativeJointViolationTpl<S> v = model.relative_joint_violation(S(t), x);
+      const bool position = !(v.position <= S(joint_bound));
+      if (position || !(v.velocity <= S(joint_bound))) {
+        const core::ConstraintEquationsTpl<S>& joints = *model.model().constraints();
+        const int joint = joints.joint_of_row(position ? v.position_row : v.velocity_row);
+        std::ostringstream out;
+        out.precision(3);
+        out << "joint '" << joints.joint_name(joint) << "' is violated "
+            << (position ? "" : "in velocity ") << "by "
+            << static_cast<double>(position ? v.position : v.velocity)
+            << " (relative), more than the bound " << joint_bound
+            << " its tolerance allows: the rows set aside as redundant at t = 0 are not "
+               "enforced, or the joints cannot all hold together";
+        throw core::SolverError("odeint-" + std::string(to_string(precision)), t, -1,
+                                out.str());
+      }
+    }
     const std::vector<S> row = model.output_row(S(t), x, impacts);
     if (row.size() + 1 != run.columns.size()) {
       throw std::logic_error("solve_high_precision: a row of " + std::to_string(row.size() + 1) +

@@ -83,6 +83,9 @@ class OdeSystemTpl {
   S project(S t, std::vector<S>& y) const;
   /// The largest relative position violation of the joints at (t, y) (as project's).
   S relative_position_violation(S t, const std::vector<S>& y) const;
+  /// The largest relative position and velocity violations of all rows at (t, y) and their rows
+  /// (core::ModelTpl::relative_joint_violation).
+  core::RelativeJointViolationTpl<S> relative_joint_violation(S t, const std::vector<S>& y) const;
   /// ẏ = f(t, y) on the load branch active at t_segment, with the switching values of the same
   /// evaluation when `switching` is given. Uses the system's scratch: one evaluation at a time
   /// (the integrators here are sequential).

@@ -39,7 +39,7 @@ OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());
   integrals_offset_ = offset;
-  integral_count_ = model_.dissipates() ? 1 + model_.extra_integral_count() : 0;
+  integral_count_ = model_.integral_layout().count;
   ws_ = model_.make_workspace();
   state_ = model_.initial_state();
   accelerations_ = model_.make_accelerations();
@@ -132,6 +132,11 @@ void OdeSystemTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, 
   // values (they come along with every evaluation: switched_integration.hpp).
   model_.compute_wrenches_and_rates(context(t, t_segment), state_, ws_, rates_, gaps_, clamps_);
   model_.accelerations_from_wrenches(state_, ws_, accelerations_);
+  if (const int drive = model_.integral_layout().drive; drive >= 0) {
+    // The drives' power from this evaluation's constrained solve.
+    rates_[static_cast<std::size_t>(drive)] =
+        model_.constraint_power(state_, ws_.constraint.force, ws_);
+  }
   if (switching != nullptr) interleave_switching(*switching);
   dydt.resize(y.size());
   for (int i = 0; i < model_.num_bodies(); ++i) {
@@ -177,6 +182,13 @@ template <typename S>
 S OdeSystemTpl<S>::relative_position_violation(S t, const std::vector<S>& y) const {
   unpack(t, y);
   return model_.relative_position_violation(t, state_, ws_);
+}
+
+template <typename S>
+core::RelativeJointViolationTpl<S> OdeSystemTpl<S>::relative_joint_violation(
+    S t, const std::vector<S>& y) const {
+  unpack(t, y);
+  return model_.relative_joint_violation(t, state_, ws_);
 }
 
 template <typename S>
@@ -235,19 +247,24 @@ std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
   const S e = model_.kinetic_energy(state_) + model_.potential_energy(ctx, state_, ws_);
   row.push_back(e);
   const auto integrals = static_cast<std::size_t>(integrals_offset_);
-  const bool applied = model_.dissipates() && model_.tracks_applied_work();
-  if (model_.dissipates()) {
+  const core::IntegralLayout& layout = model_.integral_layout();
+  if (layout.count > 0) {
     const S work = y[integrals];
-    const S applied_work = applied ? y[integrals + 1] : S(0);
+    const S applied_work =
+        layout.applied >= 0 ? y[integrals + static_cast<std::size_t>(layout.applied)] : S(0);
+    const S drive_work =
+        layout.drive >= 0 ? y[integrals + static_cast<std::size_t>(layout.drive)] : S(0);
     row.push_back(work);
-    if (applied) row.push_back(applied_work);
-    row.push_back(e - energy0_ + work - applied_work);  // E(t) − E(0) + W_d(t) − W_a(t)
+    if (layout.applied >= 0) row.push_back(applied_work);
+    if (layout.drive >= 0) row.push_back(drive_work);
+    // E(t) − E(0) + W_d(t) − W_a(t) − W_drive(t)
+    row.push_back(e - energy0_ + work - applied_work - drive_work);
   }
   if (model_.wear_channel_count() > 0) {
     // Per channel Σ F_n, the slip speed of its most loaded support or pair (the element's
     // wear_samples), the wear work and the impacts counted by the caller.
     model_.wear_samples(ctx, state_, ws_);
-    const std::size_t first_wear = integrals + (applied ? 2 : 1);
+    const std::size_t first_wear = integrals + static_cast<std::size_t>(layout.first_wear);
     for (std::size_t k = 0; k < static_cast<std::size_t>(model_.wear_channel_count()); ++k) {
       row.push_back(ws_.wear[k].normal_force);
       row.push_back(ws_.wear[k].slip_speed);

@@ -46,7 +46,7 @@ DaeForm::DaeForm(const core::Model& model) : model_(&model), fixed_(model.initia
     size_ = k.end;
     max_rows_ = std::max(max_rows_, 6 + k.n);
   }
-  if (model.dissipates()) {
+  if (model.tracks_work()) {
     work_index_ = size_;
     integral_count_ = 1 + model.extra_integral_count();
     size_ += integral_count_;
@@ -54,6 +54,7 @@ DaeForm::DaeForm(const core::Model& model) : model_(&model), fixed_(model.initia
   if (model.has_constraints()) {
     multiplier_index_ = size_;
     multiplier_count_ = static_cast<int>(model.independent_rows().size());
+    active_ = model.independent_rows();
     size_ += 2 * multiplier_count_;
   }
 }
@@ -80,6 +81,7 @@ DaeForm::Scratch DaeForm::make_scratch() const {
   if (model_->has_constraints()) {
     s.velocities = Eigen::VectorXd::Zero(model_->velocity_layout().size());
     s.multipliers = Eigen::VectorXd::Zero(2 * model_->velocity_layout().size());
+    s.constraint_force = Eigen::VectorXd::Zero(model_->velocity_layout().size());
   }
   return s;
 }
@@ -117,12 +119,17 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
     for (int j = 0; j < integral_count_; ++j) y[work_index_ + j] = 0.0;
     model_->integral_rates(
         context, state, ws,
-        std::span<double>(yp + work_index_, static_cast<std::size_t>(integral_count_)));
+        std::span<double>(yp + work_index_, static_cast<std::size_t>(integral_count_)),
+        model_->has_constraints() ? &ws.constraint.force : nullptr);
   }
   if (multiplier_index_ >= 0) {
-    // λ of the constrained accelerations (the same sign: M v̇ = Q − Jᵀ λ), μ = 0; both algebraic.
+    // λ of the constrained accelerations (the same sign: M v̇ = Q − Jᵀ λ) on the DAE's rows (the
+    // solve may have chosen others at this state: the same reactions on the DAE's basis), μ = 0;
+    // both algebraic.
+    const Eigen::VectorXd lambda = core::multipliers_on_rows<double>(
+        ws.constraint.rows.J, active_, ws.constraint.force);
     for (int j = 0; j < multiplier_count_; ++j) {
-      y[multiplier_index_ + j] = ws.constraint.lambda(j);
+      y[multiplier_index_ + j] = lambda(j);
       y[multiplier_index_ + multiplier_count_ + j] = 0.0;
       yp[multiplier_index_ + j] = 0.0;
       yp[multiplier_index_ + multiplier_count_ + j] = 0.0;
@@ -221,7 +228,7 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
     // Jᵀ λ and Jᵀ μ over the independent rows, stacked like the generalized velocities.
     core::ConstraintRows& rows = scratch.workspace.constraint.rows;
     model_->constraints()->evaluate(context.t, scratch.workspace.kinematics, layout, rows);
-    const std::vector<int>& active = model_->independent_rows();
+    const std::vector<int>& active = active_;
     const auto n_v = static_cast<Eigen::Index>(layout.size());
     auto force = scratch.multipliers.head(n_v);
     auto shift = scratch.multipliers.tail(n_v);
@@ -269,10 +276,13 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
     if (joints) MapX(res + k.q, k.n) += scratch.multipliers.segment(layout.size() + o + 6, k.n);
   }
   if (work_index_ >= 0) {
-    // W_d' − P = 0, and each extra integral's W' − rate = 0 (rates into res, then subtracted)
+    // W_d' − P = 0, and each extra integral's W' − rate = 0 (rates into res, then subtracted);
+    // the drives' power from the DAE's own multipliers, F_c = −Jᵀλ.
+    if (joints) scratch.constraint_force = -scratch.multipliers.head(layout.size());
     model_->integral_rates(
         context, state, scratch.workspace,
-        std::span<double>(res + work_index_, static_cast<std::size_t>(integral_count_)));
+        std::span<double>(res + work_index_, static_cast<std::size_t>(integral_count_)),
+        joints ? &scratch.constraint_force : nullptr);
     for (int j = 0; j < integral_count_; ++j) {
       res[work_index_ + j] = yp[work_index_ + j] - res[work_index_ + j];
     }

@@ -51,6 +51,7 @@ class DaeForm {
     std::vector<Eigen::MatrixXd> body_mass;  ///< mass_rows: a flexible body's (6+n)² matrix
     Eigen::VectorXd velocities;              ///< ideal joints: the stacked (v_Br, ω̄, q̇_f)
     Eigen::VectorXd multipliers;             ///< ideal joints: Jᵀ λ, then Jᵀ μ (stacked)
+    Eigen::VectorXd constraint_force;        ///< ideal joints: −Jᵀ λ, for the drives' power
   };
 
   int size() const { return size_; }
@@ -94,6 +95,10 @@ class DaeForm {
   /// (each), −1 and 0 without joints.
   int multiplier_index() const { return multiplier_index_; }
   int multiplier_count() const { return multiplier_count_; }
+  /// The joint rows λ and μ belong to: the model's independent rows at the start, chosen again
+  /// in motion (the IDA driver's row switch, at a restart: initial_values maps λ to them).
+  const std::vector<int>& active_rows() const { return active_; }
+  void set_active_rows(const std::vector<int>& rows) { active_ = rows; }
   /// 1 for a differential component of y, 0 for an algebraic one (IDASetId).
   std::vector<double> differential_ids() const;
 
@@ -116,6 +121,7 @@ class DaeForm {
   int integral_count_ = 0;
   int multiplier_index_ = -1;
   int multiplier_count_ = 0;
+  std::vector<int> active_;
 };
 
 }  // namespace flexref::reference

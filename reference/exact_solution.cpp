@@ -39,6 +39,11 @@ const core::UniformGravity* only_gravity(const core::Model& model) {
 
 ExactSolutionKind classify_exact_solution(const core::Model& model) {
   if (model.num_bodies() != 1) return {"", "exact solutions exist for one body only"};
+  if (model.has_constraints()) {
+    // The closed forms are for a free or a pivot body: a body on ideal joints (a driven slide
+    // included) moves as its joints say, which they do not know.
+    return {"", "the body is on ideal joints (the exact solutions are for a free or a pivot body)"};
+  }
   const core::Body& body = model.body(0);
   if (body.is_flexible()) {
     return {"", "no exact solution for a flexible body (its references are the solvers)"};

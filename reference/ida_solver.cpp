@@ -83,8 +83,10 @@ struct IdaData : sun::CallbackRecord {
 /// The model's switching functions at (t, y), then with ideal joints the singular-configuration
 /// monitor: IDA evaluates the root functions after every step (and at the outputs and event
 /// searches between), and its GGL residual never factors J M⁻¹ Jᵀ, so this is where a dead point
-/// stepped over is seen (docs/joints.md). Its own entry is a constant 1 (never a root).
-/// Allocates nothing.
+/// stepped over is seen (docs/joints.md). Its own entry is 1 while the monitor's independent rows
+/// are the DAE's and −1 once it chose others (the DAE's became dependent among themselves, or ill
+/// conditioned: core::factor_or_reselect): a root where the driver switches the DAE's rows.
+/// Allocates nothing but on a row change.
 int switching(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void* user_data) {
   auto& d = *static_cast<IdaData*>(user_data);
   try {
@@ -98,7 +100,7 @@ int switching(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void* 
     }
     if (model.has_constraints()) {
       model.check_singular_configuration(t, d.scratch.state, d.monitor);
-      g[count] = 1.0;
+      g[count] = d.monitor.constraint.active == d.form->active_rows() ? 1.0 : -1.0;
     }
   } catch (...) {
     d.callback_error = std::current_exception();
@@ -219,6 +221,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   void start_segment(const sun::Segment& segment, const core::State& state,
                      std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
+    segment_ = segment;
     // Consistent (y, y') on the new load branch: y' from the quasi-velocity accelerations.
     form_.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
                          sun::data(y_.get()), sun::data(yp_.get()));
@@ -280,6 +283,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       if (root_functions > 0) {
         sun::check(IDARootInit(ida, root_functions, switching), "IDARootInit");
       }
+      roots_.assign(static_cast<std::size_t>(root_functions), 0);
       initialized_ = true;
     } else {
       sun::check(IDAReInit(ida, segment.start, y_.get(), yp_.get()), "IDAReInit");
@@ -289,10 +293,25 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
 
   Advance advance(double tout, double /*next*/) override {
     Advance reached;
-    const int flag = IDASolve(ida_.get(), tout, &reached.t, y_.get(), yp_.get(), IDA_NORMAL);
-    sun::check(flag, "IDASolve");
-    reached.root = flag == IDA_ROOT_RETURN;
-    return reached;
+    for (;;) {
+      const int flag = IDASolve(ida_.get(), tout, &reached.t, y_.get(), yp_.get(), IDA_NORMAL);
+      sun::check(flag, "IDASolve");
+      reached.root = flag == IDA_ROOT_RETURN;
+      if (!reached.root || !model_->has_constraints()) return reached;
+      // The joints' entry alone: the DAE takes the monitor's rows there and goes on (no event);
+      // with a contact's root too, the driver's restart takes them.
+      const int count = model_->switching_function_count();
+      sun::check(IDAGetRootInfo(ida_.get(), roots_.data()), "IDAGetRootInfo");
+      bool contact = false;
+      for (int k = 0; k < count; ++k) contact = contact || roots_[static_cast<std::size_t>(k)] != 0;
+      if (roots_[static_cast<std::size_t>(count)] != 0) {
+        form_.set_active_rows(data_.monitor.constraint.active);
+        if (!contact) restart_at_root(reached.t, segment_);
+      }
+      if (contact) return reached;
+      reached.root = false;
+      if (!(reached.t < tout)) return reached;
+    }
   }
 
   void restart_at_root(double t, const sun::Segment& segment) override {
@@ -340,7 +359,24 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     return IDAGetNumSteps(ida_.get(), &steps) < 0 ? 0 : steps;
   }
   std::string failure_message(const std::string& what) const override {
-    return sun::failure_message(what, data_, data_.failed_callback);
+    std::string message = sun::failure_message(what, data_, data_.failed_callback);
+    if (model_->has_constraints() && initialized_) {
+      // A corrector that fails with steps collapsing to nothing at a dead point: the state IDA
+      // returned (its last step's) and the motion from it name the singular configuration.
+      double t = 0.0;
+      double h = 0.0;
+      if (IDAGetCurrentTime(ida_.get(), &t) >= 0 && IDAGetLastStep(ida_.get(), &h) >= 0) {
+        core::State state = model_->initial_state();
+        form_.unpack(t, sun::data(y_.get()), state);
+        const std::string ahead = model_->singular_configuration_ahead(t, state, 2.0 * h);
+        if (!ahead.empty()) {
+          message += "; the mechanism is at a singular configuration, which no smaller step "
+                     "crosses: " +
+                     ahead;
+        }
+      }
+    }
+    return message;
   }
 
  private:
@@ -356,6 +392,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   }
 
   const core::Model* model_;
+  sun::Segment segment_;    ///< the segment being integrated (a row switch restarts in it)
+  std::vector<int> roots_;  ///< IDAGetRootInfo's flags
   SolverOptions options_;
   int max_order_;
   NewtonJacobian newton_kind_;

@@ -49,7 +49,7 @@ OdeForm::OdeForm(const core::Model& model) : model_(&model), fixed_(model.initia
     if (k.theta >= 0) theta_offsets_.push_back(k.theta);
     size_ = k.end;
   }
-  if (model.dissipates()) {
+  if (model.tracks_work()) {
     work_index_ = size_;
     integral_count_ = 1 + model.extra_integral_count();
     size_ += integral_count_;
@@ -125,9 +125,11 @@ void OdeForm::rhs(const core::LoadContext& context, const double* y, double* ydo
   }
   if (work_index_ >= 0) {
     // W_d' = dissipated power at the same state, and the extra integrals' rates
+    // The drives' power from the constrained solve just made at this state.
     model_->integral_rates(
         context, scratch.state, scratch.workspace,
-        std::span<double>(ydot + work_index_, static_cast<std::size_t>(integral_count_)));
+        std::span<double>(ydot + work_index_, static_cast<std::size_t>(integral_count_)),
+        &scratch.workspace.constraint.force);
   }
 }
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/joint_check.hpp"
 #include "reference/exact_solution.hpp"
 #include "reference/solve_progress.hpp"
 
@@ -74,6 +75,16 @@ void check_finite(const ReferenceRun& run, const core::Model& model) {
   }
 }
 
+void check_joints(const ReferenceRun& run, const core::Model& model) {
+  if (!model.has_constraints()) return;
+  const double bound = core::joint_violation_bound(
+      run.options.rtol, run.options.absolute_tolerance(), model.joint_length_scale());
+  if (const std::optional<core::JointBreach> breach =
+          core::find_joint_breach(model, run.trajectory, bound)) {
+    throw core::SolverError(run.solver, breach->t, -1, breach->describe());
+  }
+}
+
 ReferenceRun solve_reference(const std::string& solver, const core::Model& model,
                              const std::vector<double>& output_times,
                              const SolverOptions& options) {
@@ -88,6 +99,7 @@ ReferenceRun solve_reference(const std::string& solver, const core::Model& model
   // The progress channel belongs to the caller's progress line, which may end before the run.
   run.options.progress = nullptr;
   check_finite(run, model);
+  check_joints(run, model);
   return run;
 }
 

@@ -16,8 +16,14 @@ std::vector<std::string> reference_solver_names();
 /// state per output time: no reference with an inf or a NaN reaches a file or a study.
 void check_finite(const ReferenceRun& run, const core::Model& model);
 
-/// Runs the named solver and check_finite on its result; throws std::invalid_argument for an
-/// unknown name, core::SolverError when the solver fails or its result is not finite.
+/// Throws core::SolverError(solver, t, −1, why) at the first output time where a joint row — a
+/// row set aside as redundant included — is violated beyond the bound the run's tolerances imply
+/// (core/joint_check.hpp): no reference off its joints reaches a file or a study.
+void check_joints(const ReferenceRun& run, const core::Model& model);
+
+/// Runs the named solver, check_finite and check_joints on its result; throws
+/// std::invalid_argument for an unknown name, core::SolverError when the solver fails, its result
+/// is not finite or off its joints.
 ReferenceRun solve_reference(const std::string& solver, const core::Model& model,
                              const std::vector<double>& output_times, const SolverOptions& options);
 

@@ -28,7 +28,7 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
   run.trajectory.times = output_times;
   run.trajectory.states.reserve(output_times.size());
   core::State state = model.initial_state();
-  const bool track_work = model.dissipates();
+  const bool track_work = model.tracks_work();
   // W_d and the extra integrals (applied work, wear work), carried across restarts.
   std::vector<double> integrals(
       track_work ? static_cast<std::size_t>(1 + model.extra_integral_count()) : 0, 0.0);

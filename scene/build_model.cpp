@@ -250,7 +250,8 @@ std::vector<SpecSource> element_sources(const SceneSpec& spec) {
   return sources;
 }
 
-core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formulation) {
+core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formulation,
+                        const std::vector<int>& independent_rows) {
   std::vector<core::Body> bodies;
   bodies.reserve(spec.bodies.size());
   for (const BodySpec& b : spec.bodies) bodies.push_back(build_body(b));
@@ -306,11 +307,17 @@ core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formula
       build_ideal_joints(spec, bodies, formulation);
   core::ConstraintOptions options;
   options.project_initial_state = spec.project_initial_state;
+  options.independent_rows = independent_rows;
   try {
     return core::Model(std::move(bodies), std::move(elements), formulation, std::move(joints),
                        options);
   } catch (const core::InconsistentInitialStateError& e) {
     throw SpecError(spec.ideal_joints[static_cast<std::size_t>(e.joint())].source, "", e.what());
+  } catch (const core::JointDataError& e) {
+    const IdealJointSceneSpec& j = spec.ideal_joints[static_cast<std::size_t>(e.joint())];
+    const bool node = (e.end() == 0 ? j.joint.a.node : j.joint.b.node) >= 0;
+    throw SpecError(j.source, std::string(node ? "node_" : "point_") + (e.end() == 0 ? "a" : "b"),
+                    e.what());
   } catch (const core::SingularConfigurationError& e) {
     for (const IdealJointSceneSpec& j : spec.ideal_joints) {
       if (j.joint.name == e.joint()) throw SpecError(j.source, "", e.what());

@@ -5,6 +5,7 @@
 /// and for scenes built or varied in code.
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "core/model.hpp"
 #include "scene/scene_spec.hpp"
@@ -25,9 +26,13 @@ class SpecError : public std::invalid_argument {
   std::string key_;
 };
 
-/// Builds the bodies and force elements of the spec. Throws SpecError.
-core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formulation =
-                                                   core::FlexibleFormulation::kCoupled);
+/// Builds the bodies and force elements of the spec. Throws SpecError. `independent_rows`: the
+/// ideal joints' rows to keep (core::ConstraintOptions; empty: chosen at the initial
+/// configuration), for a model that must solve the rows another one chose, or a test that
+/// starts a mechanism on rows it will have to choose again in motion.
+core::Model build_model(const SceneSpec& spec,
+                        core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled,
+                        const std::vector<int>& independent_rows = {});
 
 /// Where each force element of build_model(spec) comes from, in the model's order: gravity
 /// (path "scene", line 0: SceneSpec keeps no line for it), then every load, potential, contact

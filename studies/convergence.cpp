@@ -33,6 +33,26 @@ namespace {
 // measures round-off, not the scheme.
 constexpr double kRoundOffFloor = 1e-11;
 
+/// The degrees of freedom the joints leave the bodies: the velocity unknowns of the motion the
+/// model integrates (6 per free body, the 3 rotations of a pivot, none for a prescribed rigid
+/// motion; the modes of every flexible body) less the independent joint rows. 0: the motion is
+/// kinematic, set at every instant by the joints and their drives.
+int degrees_of_freedom(const core::Model& model) {
+  int unknowns = 0;
+  for (const core::Body& body : model.bodies()) {
+    unknowns += (body.is_free()                              ? 6
+                 : body.motion() == core::MotionKind::kPivot ? 3
+                                                             : 0) +
+                body.mode_count();
+  }
+  return unknowns - static_cast<int>(model.independent_rows().size());
+}
+
+bool measures_positions(const std::string& metric) {
+  return metric == "rotation+points" || metric == "rotation" || metric == "points" ||
+         metric == "position";
+}
+
 /// External levels: the quantities the metric measured and the run's columns it ignored.
 struct Measured {
   std::vector<std::string> used, ignored;
@@ -387,6 +407,18 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
     note << lv.scheme << ": level h = " << std::setprecision(3) << lv.h
          << " unstable, left out of the fit: " << measured[k].instability;
     result.notes.push_back(note.str());
+  }
+  bool any_round_off = false;
+  for (const auto& lv : result.levels) any_round_off |= lv.status == "round-off";
+  if (any_round_off && measures_positions(options.metric) && model.has_constraints() &&
+      degrees_of_freedom(model) == 0) {
+    result.notes.push_back(
+        "the joints leave the scene's bodies no degree of freedom: their positions follow from "
+        "the joints and drives alone at every step, exactly for any scheme that holds the "
+        "joints, so the " +
+        options.metric +
+        " metric measures round-off; a scheme's error is in the velocities and the reactions "
+        "(--metric velocity, angular_velocity, reaction_force or reaction_torque)");
   }
   bool any_saturated = false;
   for (const auto& lv : result.levels) any_saturated |= lv.status == "saturated";

@@ -44,7 +44,7 @@ FigureCurve run_scheme_curve(const core::Model& model, const std::string& scheme
       model.body(settings.body).description().points[static_cast<std::size_t>(settings.point)];
   // This loop does not integrate the dissipated work: the energy balance is monitored only on
   // a model that dissipates nothing.
-  core::InvariantMonitor monitor(model, core::kInvariantTolerance, model.dissipates());
+  core::InvariantMonitor monitor(model, core::kInvariantTolerance, model.tracks_work());
   const auto record = [&] {
     curve.times.push_back(stepper->time());
     curve.p_W.push_back(model.p_WP(

@@ -40,6 +40,7 @@ const std::vector<KindDescription>& description() {
       {K::energy, O::none, {"energy"}, {}, "J", "the energy", false},
       {K::dissipated_work, O::none, {"dissipated_work"}, {}, "J", "the dissipated work", false},
       {K::applied_work, O::none, {"applied_work"}, {}, "J", "the applied work", false},
+      {K::drive_work, O::none, {"drive_work"}, {}, "J", "the drives' work", false},
       {K::energy_balance, O::none, {"energy_balance"}, {}, "J", "the energy balance", false},
       {K::normal_force, O::contact, {"fn"}, {}, "N", "a normal force", false},
       {K::slip_speed, O::contact, {"slip_speed"}, {}, "m/s", "a slip speed", false},
@@ -192,9 +193,10 @@ ColumnLayout ColumnLayout::of(const core::Model& model) {
     }
   }
   add(ColumnKind::energy, {});
-  if (model.dissipates()) {
+  if (model.tracks_work()) {
     add(ColumnKind::dissipated_work, {});
     if (model.tracks_applied_work()) add(ColumnKind::applied_work, {});
+    if (model.tracks_drive_work()) add(ColumnKind::drive_work, {});
     add(ColumnKind::energy_balance, {});
   }
   for (const std::string& c : model.wear_channel_names()) {

@@ -39,7 +39,8 @@ enum class ColumnKind {
   energy,            ///< E, J
   dissipated_work,   ///< W_d, J
   applied_work,      ///< W_a, J
-  energy_balance,    ///< E − E(0) + W_d − W_a, J
+  drive_work,        ///< W_drive, J: the work the joints' drives did
+  energy_balance,    ///< E − E(0) + W_d − W_a − W_drive, J
   normal_force,      ///< a named contact's normal force, N
   slip_speed,        ///< its slip speed, m/s
   wear_work,         ///< its wear work, J

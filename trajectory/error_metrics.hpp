@@ -54,6 +54,14 @@ struct QuantityError {
 /// below π but its L∞ over time is capped there, so the same fraction is used for rotations.
 inline constexpr double kSaturationFraction = 1.0 / 3.0;
 
+/// A quantity whose extent in the reference is below this fraction of the largest extent of
+/// the same kind (position, point, velocity, angular velocity, modes) is held constant by the
+/// model, its bound +∞: 1e-6 lies far above the noise of a held quantity in a reference (its
+/// tolerance, 1e-14…1e-8 relative to the motion's scale in the studies) and far below the
+/// extent of any quantity that moves with the scene (a point near an axis of rotation at a
+/// millionth of the largest arm).
+inline constexpr double kHeldFraction = 1e-6;
+
 struct ComparisonReport {
   std::vector<QuantityError> quantities;
   double max_rotation_linf = 0.0;  ///< max over bodies, rad

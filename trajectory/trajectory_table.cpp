@@ -93,38 +93,40 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
     const core::LoadContext context{t, t};
     const double energy = model.kinetic_energy(state) + model.potential_energy(context, state, ws);
     row.push_back(energy);
-    if (model.dissipates()) {
-      // W_d(t) and the balance E(t) − E(0) + W_d(t) (0 up to the integration error when no
-      // prescribed load or drive does work). NaN when the integrator did not track W_d.
+    const core::IntegralLayout& integrals = model.integral_layout();
+    const auto extra = static_cast<std::size_t>(model.extra_integral_count());
+    const bool tracked =
+        extra > 0 && trajectory.extra_work.size() == extra * trajectory.times.size();
+    // Integral i ≥ 1 of integral_layout at output k; NaN when the integrator did not track it.
+    const auto integral = [&](int i) {
+      return tracked ? trajectory.extra_work[k * extra + static_cast<std::size_t>(i - 1)]
+                     : std::numeric_limits<double>::quiet_NaN();
+    };
+    if (model.tracks_work()) {
+      // W_d(t) and the balance E(t) − E(0) + W_d(t) − W_a(t) − W_drive(t) (0 up to the
+      // integration error when every joule is accounted for). NaN when the integrator did not
+      // track the integrals.
       const double work = trajectory.dissipated_work.size() == trajectory.times.size()
                               ? trajectory.dissipated_work[k]
                               : std::numeric_limits<double>::quiet_NaN();
       if (k == 0) energy0 = energy;
       row.push_back(work);
-      // E(t) − E(0) + W_d(t) − W_a(t) with the applied work W_a of harmonic loads.
-      const auto extra = static_cast<std::size_t>(model.extra_integral_count());
-      const bool tracked = trajectory.extra_work.size() == extra * trajectory.times.size();
-      double applied = 0.0;
-      if (model.tracks_applied_work()) {
-        applied =
-            tracked ? trajectory.extra_work[k * extra] : std::numeric_limits<double>::quiet_NaN();
-        row.push_back(applied);
-      }
-      row.push_back(energy - energy0 + work - applied);
+      const double applied = integrals.applied >= 0 ? integral(integrals.applied) : 0.0;
+      if (integrals.applied >= 0) row.push_back(applied);
+      const double driven = integrals.drive >= 0 ? integral(integrals.drive) : 0.0;
+      if (integrals.drive >= 0) row.push_back(driven);
+      row.push_back(energy - energy0 + work - applied - driven);
     }
     const auto channels = static_cast<std::size_t>(model.wear_channel_count());
     if (channels > 0) {
       model.wear_samples(context, state, ws);
-      const auto extra = static_cast<std::size_t>(model.extra_integral_count());
-      const std::size_t first_wear = model.tracks_applied_work() ? 1 : 0;
-      const bool tracked =
-          extra > 0 && trajectory.extra_work.size() == extra * trajectory.times.size();
       const bool counted = trajectory.impacts.size() == channels * trajectory.times.size();
       for (std::size_t c = 0; c < channels; ++c) {
         row.push_back(ws.wear[c].normal_force);
         row.push_back(ws.wear[c].slip_speed);
-        row.push_back(tracked ? trajectory.extra_work[k * extra + first_wear + c]
-                              : std::numeric_limits<double>::quiet_NaN());
+        row.push_back(integrals.first_wear >= 0
+                          ? integral(integrals.first_wear + static_cast<int>(c))
+                          : std::numeric_limits<double>::quiet_NaN());
         row.push_back(counted ? trajectory.impacts[k * channels + c]
                               : std::numeric_limits<double>::quiet_NaN());
       }

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 #include <string>
+#include <vector>
 
 #include "tests/support/test_problems.hpp"
 
@@ -23,6 +24,69 @@ TEST_CASE("run warns when h|W| exceeds the scheme's measured rotational stabilit
   // on the output grid of 0.1 s: 0.02.
   CHECK(suggested_step(model, "c2", 0.5, {0.0, 0.1, 0.2}, model.initial_state()[0].w_WB_B.norm()) ==
         0.02);
+}
+
+TEST_CASE("run advises a smaller step only after a run at it passed", "[app][run]") {
+  const core::Model model = testing::free_spin();
+  const std::vector<double> times{0.0, 0.1, 0.2};
+  const double spin = model.initial_state()[0].w_WB_B.norm();
+  // The step it tries first: 0.02 (above).
+  const double h = suggested_step(model, "c2", 0.5, times, spin);
+  RunAttempt broke;
+  broke.quantity = "energy balance";
+  broke.change = 0.4;
+  broke.time = 0.2;
+  std::vector<double> tried;
+  SECTION("the smaller step passes: advised, and said to be checked") {
+    const std::string advice = verified_step_advice(model, "c2", 0.5, times, spin, broke,
+                                                    [&](double dt) {
+                                                      tried.push_back(dt);
+                                                      RunAttempt a;
+                                                      a.passed = true;
+                                                      return a;
+                                                    });
+    CHECK(tried == std::vector<double>{h});
+    CHECK_THAT(advice, Catch::Matchers::Contains("use --dt 0.02"));
+    CHECK_THAT(advice, Catch::Matchers::Contains("checked: a run at that step passes"));
+  }
+  SECTION("the change does not shrink with the step: no step advised") {
+    const std::string advice = verified_step_advice(model, "c2", 0.5, times, spin, broke,
+                                                    [&](double dt) {
+                                                      tried.push_back(dt);
+                                                      RunAttempt a = broke;
+                                                      a.change = 0.39;  // the motion's, not h's
+                                                      return a;
+                                                    });
+    CHECK(tried.size() == 1);
+    CHECK_THAT(advice, Catch::Matchers::Contains("a smaller step does not help"));
+    CHECK(advice.find("use --dt") == std::string::npos);
+  }
+  SECTION("a step that fails at the same time: a dead point no smaller step crosses") {
+    RunAttempt failed;
+    failed.time = 0.15;
+    failed.why = "Newton did not converge";
+    const std::string advice = verified_step_advice(model, "c2", 0.5, times, spin, failed,
+                                                    [&](double dt) {
+                                                      tried.push_back(dt);
+                                                      RunAttempt a = failed;
+                                                      a.time = 0.15 + dt;
+                                                      return a;
+                                                    });
+    CHECK_THAT(advice, Catch::Matchers::Contains("fails at the same time"));
+    CHECK(advice.find("use --dt") == std::string::npos);
+  }
+  SECTION("a change that shrinks but not enough: one more step, then no advice") {
+    const std::string advice = verified_step_advice(model, "c2", 0.5, times, spin, broke,
+                                                    [&](double dt) {
+                                                      tried.push_back(dt);
+                                                      RunAttempt a = broke;
+                                                      a.change = 0.3 * broke.change;
+                                                      return a;
+                                                    });
+    CHECK(tried.size() == 2);
+    CHECK(tried[1] < tried[0]);
+    CHECK_THAT(advice, Catch::Matchers::Contains("no smaller step passed"));
+  }
 }
 
 }  // namespace
