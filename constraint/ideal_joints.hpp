@@ -61,7 +61,7 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
                                      const core::VelocityLayout& layout,
                                      const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynamic, 1>>&
                                          generalized_force) const override;
-  std::string describe(int joint) const override;
+  std::string describe(int joint, std::span<const core::Body> bodies) const override;
   void append_discontinuities(std::vector<double>& times) const override;
 
   /// One end's data in S.
