@@ -906,6 +906,10 @@ sed 's/^stiffness = 4530.0 .*/&\nname = "c0"/' scenes/andrews_squeezer.toml >"$t
 out=$("$flexref" check "$tmp/andrews_named.toml" 2>&1)
 [[ $out == *"spring 'c0': omega"*"of spring 'c0', the stiffest"* ]] ||
   fail "check: a named spring is not called spring 'c0': $out"
+# A spring too stiff for double precision: refused at its own table (it was "joint[1]", no line).
+sed 's/^stiffness = 4530.0 /stiffness = 1e300 /' scenes/andrews_squeezer.toml >"$tmp/andrews_stiff.toml"
+expect 1 "andrews spring stiffness 1e300" "andrews_stiff.toml:194: key 'spring[1]': omega = 7.72e+150 rad/s" \
+  "$flexref" check "$tmp/andrews_stiff.toml"
 out=$("$flexref" check scenes/slider_crank.toml 2>&1) || fail "check slider_crank: $out"
 [[ $out == *"driven: constant rate 150 rad/s"* ]] || fail "check slider_crank: drive: $out"
 [[ $out == *"genalpha step (implicit, no stability limit): use --dt 0.001 or less"*"omega = 150 rad/s of |W| of body 'crank' at t0"* ]] ||
