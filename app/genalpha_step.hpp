@@ -12,8 +12,8 @@
 ///
 /// the trapezoidal rule's 1/12 at ρ∞ = 1, plus the price of the numerical damping
 /// (α_f − α_m = (1 − ρ∞)/(1 + ρ∞), lie/genalpha_parameters.hpp); 0.0844 at the default
-/// ρ∞ = 0.9. tests/app/genalpha_step_test.cpp checks it against the eigenvalues of the scheme's
-/// one-step map. The advice keeps it at most kGenalphaPeriodError (1 %) on the fastest rate the
+/// ρ∞ = 0.9 (read off the eigenvalues of the scheme's one-step map; tests/app/genalpha_step_test.cpp
+/// checks it on the stepper itself). The advice keeps it at most kGenalphaPeriodError (1 %) on the fastest rate the
 /// scene shows at t0: h ω ≤ √(0.01 / c(ρ∞)), 0.344 at ρ∞ = 0.9, about 18 steps per period.
 ///
 /// The rates (rad/s or 1/s), each as `check` names it:
@@ -26,7 +26,7 @@
 ///    enters only through the motion it causes, which the next item sees;
 ///  - the linearized motion at t0: the largest |λ| of the ODE Jacobian's lightly damped modes and
 ///    its growth rates (reference::summarize_stiffness, the reference solvers' own analysis: a
-///    pendulum's √(g/L) on its joints, Andrews' squeezer's growth rate 471/s);
+///    compound pendulum's √(m g d/I_O) on its joint, Andrews' squeezer's growth rate 471/s);
 ///  - each flexible body's highest natural frequency at most kStiffnessRatio × the accuracy rate
 ///    ω_acc = max(π/Δt_out, |W|) — the cut below which the references resolve a mode
 ///    (reference/method_choice.hpp): a faster lightly damped mode carries nothing the outputs

@@ -91,7 +91,9 @@ std::string stiff_mode_warning(const std::string& scheme, double dt, const core:
     out << "genalpha is implicit and stays stable, but " << what
         << " not resolved (numerically damped at rho_inf < 1)";
   } else {
-    out << "an explicit method is unstable above this step, and " << what << " not resolved";
+    out << "flexref does not know whether " << scheme
+        << " is explicit: an explicit method is unstable above this step, an implicit one does "
+           "not resolve it";
   }
   return out.str();
 }

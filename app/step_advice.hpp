@@ -22,8 +22,8 @@ std::string rotational_step_warning(const core::Model& model, const std::string&
 /// flexible body's highest mode, a contact, bushing or spring), in words true for the scheme: C1,
 /// C2 and NMB integrate translation and modes by explicit central differences, unstable there;
 /// genalpha is implicit, stable but the mode not resolved (h omega > 2: a period error beyond
-/// 27 %, app/genalpha_step.hpp); of another registered method flexref knows neither. Empty when
-/// dt is within the limit.
+/// 27 %, app/genalpha_step.hpp); of another registered method flexref knows neither, and says
+/// both. Empty when dt is within the limit.
 std::string stiff_mode_warning(const std::string& scheme, double dt, const core::PenaltyMode& mode);
 
 /// The largest step of the form {1, 2, 5}·10^k, as printed with three digits, that is at most

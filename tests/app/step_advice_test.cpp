@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <string>
 
+#include "core/force_element.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::app {
@@ -23,6 +24,33 @@ TEST_CASE("run warns when h|W| exceeds the scheme's measured rotational stabilit
   // on the output grid of 0.1 s: 0.02.
   CHECK(suggested_step(model, "c2", 0.5, {0.0, 0.1, 0.2}, model.initial_state()[0].w_WB_B.norm()) ==
         0.02);
+}
+
+TEST_CASE("run's stiff-mode warning says what is true for the scheme", "[app][run]") {
+  core::PenaltyMode spring;
+  spring.label = "spring 'c0'";
+  spring.kind = "spring";
+  spring.frequency = 100.0;
+  spring.step_limit = 0.02;
+  CHECK(stiff_mode_warning("c1", 0.02, spring).empty());  // at the limit: no warning
+  const std::string c1 = stiff_mode_warning("c1", 0.05, spring);
+  CHECK(c1.find("exceeds 2/omega = 0.02 s of spring 'c0' (omega = 100 rad/s, h omega = 5)") !=
+        std::string::npos);
+  CHECK(c1.find("c1 integrates translation and modes by explicit central differences, unstable "
+                "above this step, and spring 'c0' is not resolved") != std::string::npos);
+  // genalpha is implicit: before issue 46 its warning spoke of explicit central differences.
+  const std::string genalpha = stiff_mode_warning("genalpha", 0.05, spring);
+  CHECK(genalpha.find("genalpha is implicit and stays stable, but spring 'c0' is not resolved") !=
+        std::string::npos);
+  CHECK(genalpha.find("central differences") == std::string::npos);
+  CHECK(stiff_mode_warning("mine", 0.05, spring).find("does not know whether mine is explicit") !=
+        std::string::npos);
+  core::PenaltyMode beam = spring;
+  beam.label = "beam";
+  beam.kind = "flexible body";
+  CHECK(stiff_mode_warning("nmb", 0.05, beam)
+            .find("the highest modes of flexible body beam are "
+                  "not resolved") != std::string::npos);
 }
 
 }  // namespace
