@@ -12,9 +12,10 @@
 ///
 /// the trapezoidal rule's 1/12 at ρ∞ = 1, plus the price of the numerical damping
 /// (α_f − α_m = (1 − ρ∞)/(1 + ρ∞), lie/genalpha_parameters.hpp); 0.0844 at the default
-/// ρ∞ = 0.9 (read off the eigenvalues of the scheme's one-step map; tests/app/genalpha_step_test.cpp
-/// checks it on the stepper itself). The advice keeps it at most kGenalphaPeriodError (1 %) on the fastest rate the
-/// scene shows at t0: h ω ≤ √(0.01 / c(ρ∞)), 0.344 at ρ∞ = 0.9, about 18 steps per period.
+/// ρ∞ = 0.9 (read off the eigenvalues of the scheme's one-step map;
+/// tests/app/genalpha_step_test.cpp checks it on the stepper itself). The advice keeps it at most
+/// kGenalphaPeriodError (1 %) on the fastest rate the scene shows at t0: h ω ≤ √(0.01 / c(ρ∞)),
+/// 0.344 at ρ∞ = 0.9, about 18 steps per period.
 ///
 /// The rates (rad/s or 1/s), each as `check` names it:
 ///  - every penalty mode but the friction dampers: a spring's, a bushing's, a contact's

@@ -130,8 +130,8 @@ void refuse_ground_first_end(const Table& t, const std::string& what) {
   }
   const std::string why = what == "joint" ? " (its reactions are reported on it)" : "";
   t.fail("body_a", "the first end of a " + what + " must be a body" + why +
-                       "; the ground can only be the second end: swap the ends, body_a = " +
-                       other + " and body_b = \"ground\", exchanging " + swapped);
+                       "; the ground can only be the second end: swap the ends, body_a = " + other +
+                       " and body_b = \"ground\", exchanging " + swapped);
 }
 
 int read_node(const Table& t, std::string_view key, const BodySpec& body) {
