@@ -6,15 +6,20 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <span>
 #include <string>
 
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
 #include "app/commands.hpp"
+#include "app/genalpha_step.hpp"
 #include "constraint/mobility.hpp"
+#include "core/output_times.hpp"
 #include "core/step_limit.hpp"
+#include "lie/genalpha_parameters.hpp"
 #include "reference/exact_solution.hpp"
+#include "scene/build_model.hpp"
 #include "scene/scene_reader.hpp"
 
 namespace flexref::app {
@@ -27,6 +32,7 @@ int check_command(const CheckOptions& options) {
   std::cout << "  end time " << scene.end_time << " s, output every " << scene.output_step
             << " s\n";
   const constraint::Mobility mobility = constraint::mobility(model);
+  const std::span<const core::Body> bodies(model.bodies());
   std::cout << "  " << model.num_bodies() << " bodies, " << mobility.coordinates
             << " degrees of freedom" << (model.has_constraints() ? " before the ideal joints" : "")
             << "\n";
@@ -67,8 +73,14 @@ int check_command(const CheckOptions& options) {
   if (const core::ConstraintEquations* joints = model.constraints(); joints != nullptr) {
     // Ideal joints (docs/joints.md): the mobility by counting and in fact, and the rows the
     // model left out as redundant (their reactions are the minimum-norm ones).
-    for (int j = 0; j < joints->joint_count(); ++j)
-      std::cout << "  " << joints->describe(j) << "\n";
+    for (int j = 0; j < joints->joint_count(); ++j) {
+      const auto uj = static_cast<std::size_t>(j);
+      std::cout << "  " << joints->describe(j, bodies)
+                << (uj < scene.spec.ideal_joints.size()
+                        ? " [line " + std::to_string(scene.spec.ideal_joints[uj].source.line) + "]"
+                        : std::string())
+                << "\n";
+    }
     std::cout << "  ideal joints: " << joints->joint_count() << " joints, " << mobility.rows
               << " rows of rank " << mobility.rank << " at the initial configuration; degrees of "
               << "freedom by counting " << mobility.coordinates << " - " << mobility.rows << " = "
@@ -90,7 +102,18 @@ int check_command(const CheckOptions& options) {
     std::cout << "  initial state: relative violation " << p.position << " (positions), "
               << p.velocity << " (velocities) before the projection onto the joints\n";
   }
-  for (const auto& e : model.elements()) std::cout << "  " << e->describe() << "\n";
+  // Each element with the table it comes from, so that a label below ("spring[1]", "joint
+  // 'O'") leads back to the file.
+  const std::vector<scene::SpecSource> sources = scene::element_sources(scene.spec);
+  const auto elements = model.elements();
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    std::cout << "  " << elements[e]->describe_with_names(bodies);
+    const std::string& label = elements[e]->label();
+    if (!label.empty() && e < sources.size() && sources[e].line > 0) {
+      std::cout << " [" << label << ", line " << sources[e].line << "]";
+    }
+    std::cout << "\n";
+  }
   // Penalty elements: each contact's and joint's stiffest mode (docs/contact.md,
   // docs/joints.md) and the explicit step it allows.
   for (const core::PenaltyMode& m : core::penalty_modes(model)) {
@@ -105,7 +128,8 @@ int check_command(const CheckOptions& options) {
               << ") = sqrt(" << m.stiffness << (angular ? " N·m/rad / " : " N/m / ") << m.inertia
               << (angular ? " kg·m²" : " kg") << ") = " << m.frequency
               << " rad/s, explicit step limit 2/omega = " << m.step_limit << " s"
-              << (m.kind == "joint" ? " (damping, if any, included)" : "") << "\n";
+              << (m.kind == "joint" || m.kind == "spring" ? " (damping, if any, included)" : "")
+              << "\n";
   }
   const core::StepLimit limit = core::explicit_step_limit(model);
   if (!model.discontinuities().empty()) {
@@ -128,6 +152,38 @@ int check_command(const CheckOptions& options) {
   } else {
     std::cout << "  explicit step limit: none from elastic modes or penalty elements (rigid "
                  "bodies only); the rotation schemes' accuracy is governed by |W| h\n";
+  }
+  // genalpha is implicit: no stability limit, a step that resolves the fastest rate at t0
+  // (app/genalpha_step.hpp).
+  const double rho_inf = lie::kDefaultRhoInfinity;
+  const GenalphaStepAdvice ga =
+      genalpha_step_advice(model, core::output_times(scene.end_time, scene.output_step), rho_inf);
+  if (ga.rate > 0.0) {
+    const double c = genalpha_period_error_coefficient(rho_inf);
+    std::cout << "  genalpha step (implicit, no stability limit): ";
+    if (ga.step > 0.0) {
+      std::cout << "use --dt " << ga.step << " or less";
+    } else {
+      std::cout << "no step of the form {1, 2, 5}·10^k below the bound is on the output grid";
+    }
+    std::cout << "; h <= " << ga.bound
+              << " s keeps h omega <= " << std::sqrt(kGenalphaPeriodError / c)
+              << ", a period error within " << 100.0 * kGenalphaPeriodError
+              << " % at rho_inf = " << rho_inf << ", on the fastest rate at t0, omega = " << ga.rate
+              << " rad/s of " << ga.what << "\n";
+    if (ga.step > 0.0) {
+      // ΔT/T = c (h ω)² per period accumulates over the ωT/2π periods of the run as a phase
+      // error ΔT/T · ωT (rad), for a motion that keeps this rate.
+      const double h_omega = ga.step * ga.rate;
+      const double turns = ga.rate * scene.end_time;
+      std::cout << "    at that step, a motion that kept this rate over the whole run (omega T = "
+                << turns << " rad) would drift in phase by about " << c * h_omega * h_omega * turns
+                << " rad; `converge --schemes genalpha` measures the error\n";
+    }
+  } else {
+    std::cout << "  genalpha step (implicit, no stability limit): no rate at t0 (bodies at rest, "
+                 "no stiffness, no drive, no force that moves them); the motion the run develops "
+                 "sets it\n";
   }
   if (model.has_flexible_bodies()) {
     std::cout << "  exact solution: none (flexible bodies)\n";

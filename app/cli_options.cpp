@@ -2,6 +2,8 @@
 /// Options that several `flexref` commands share, one definition each.
 #include "app/cli_options.hpp"
 
+#include <algorithm>
+
 #include "app/cli_validators.hpp"
 #include "app/commands.hpp"
 #include "lie/genalpha_parameters.hpp"
@@ -22,15 +24,38 @@ const char* const kOutputFolderHelp =
     "output directory, replaced as a whole when the study completes (a link to a folder stays "
     "a link; docs/output.md)";
 
-void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha) {
+void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha,
+                          std::function<std::vector<std::string>()> schemes,
+                          const std::string& scheme_option) {
   command
       ->add_option("--rho-inf", genalpha.rho_inf,
-                   "genalpha's spectral radius at infinity, in [0, 1] (1: no numerical damping)")
+                   "genalpha's spectral radius at infinity, in [0, 1] (1: no numerical damping); "
+                   "only with genalpha among the schemes")
       ->check(number_in(0.0, 1.0))
       ->capture_default_str();
   command->add_flag("--perturbed-start", genalpha.perturbed_start,
                     "genalpha: start from a_0 = dv/dt(t0 + (alpha_m - alpha_f) h) (Arnold's "
-                    "perturbed starting value) instead of a_0 = dv/dt(t0)");
+                    "perturbed starting value) instead of a_0 = dv/dt(t0); only with genalpha "
+                    "among the schemes");
+  // After every option is read (the final callback runs inside CLI::App::parse, so the error
+  // is a parse error: exit 2, nothing run). Accepted silently, the option would change nothing
+  // and the user would believe it did.
+  command->final_callback([command, schemes = std::move(schemes), scheme_option] {
+    const std::vector<std::string> chosen = schemes();
+    if (std::find(chosen.begin(), chosen.end(), "genalpha") != chosen.end()) return;
+    for (const char* option : {"--rho-inf", "--perturbed-start"}) {
+      if (command->count(option) == 0) continue;
+      std::string list;
+      for (const std::string& s : chosen) list += (list.empty() ? "" : ",") + s;
+      throw CLI::ValidationError(
+          option, std::string("applies only to genalpha, and ") + scheme_option + " is " +
+                      (list.empty() ? std::string("empty") : list) +
+                      (command->count(scheme_option) == 0 ? " (the default)" : "") + ": " +
+                      (scheme_option == "--schemes" ? "add genalpha to --schemes"
+                                                    : "give --scheme genalpha") +
+                      " or leave " + option + " out");
+    }
+  });
 }
 
 void add_reference_budget(CLI::App* command, double& budget) {

@@ -4,6 +4,7 @@
 /// help of output paths, genalpha's parameters, --model, the work limits, --reference-budget,
 /// --allow-scene-mismatch, --estimate-factor and the metric list.
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,14 +22,20 @@ extern const char* const kOutputFolderHelp;
 
 /// genalpha's options (lie/genalpha_parameters.hpp, docs/schemes.md "Lie-group generalized-α"):
 /// --rho-inf, its spectral radius at infinity, and --perturbed-start, Arnold's starting value
-/// a_0 = v̇(t_0 + (α_m − α_f) h). Other schemes ignore them.
+/// a_0 = v̇(t_0 + (α_m − α_f) h). Given when the command runs no genalpha, they are a usage error.
 struct GenalphaCliOptions {
   double rho_inf = lie::kDefaultRhoInfinity;
   bool perturbed_start = false;
   /// Sets them for the registry's `genalpha` (lie::set_genalpha_rho_inf, ...).
   void apply() const;
 };
-void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha);
+/// Adds --rho-inf and --perturbed-start to `command`, and the rule that they need genalpha: when
+/// either is given and `schemes` — the schemes the command runs, read once parsing is complete —
+/// does not include "genalpha", the parse fails with a CLI::ValidationError (exit 2) naming the
+/// option, `scheme_option` ("--scheme", "--schemes") and its value.
+void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha,
+                          std::function<std::vector<std::string>()> schemes,
+                          const std::string& scheme_option);
 
 /// A study's --reference-budget (docs/precision.md, "Cost guard").
 void add_reference_budget(CLI::App* command, double& budget);

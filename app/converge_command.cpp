@@ -157,7 +157,8 @@ RegisteredCommand register_converge_command(CLI::App& app) {
   cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
   cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
-  add_genalpha_options(cmd, *genalpha);
+  add_genalpha_options(
+      cmd, *genalpha, [options] { return options->schemes; }, "--schemes");
   add_model_option(cmd, options->model);
   add_enum_option(cmd, "--reference-precision", options->reference_precision,
                   "auto (double; quad when double cannot certify every level and the scene "

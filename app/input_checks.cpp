@@ -10,6 +10,7 @@
 #include "core/output_times.hpp"
 #include "core/step_limit.hpp"
 #include "lie/run_scheme.hpp"
+#include "scene/build_model.hpp"
 #include "scene/initial_energy.hpp"
 #include "scene/scene_reader.hpp"
 
@@ -23,16 +24,16 @@ std::string text(double x) {
   return out.str();
 }
 
-/// The 0-based index in "contact[3] friction", "joint[2] angular" after `prefix` ("contact["),
-/// or −1.
-int table_index(const std::string& label, const std::string& prefix) {
-  if (!label.starts_with(prefix)) return -1;
-  return std::atoi(label.c_str() + prefix.size()) - 1;
+/// The 0-based index in the table path "contact[3]" after `prefix` ("contact["), or −1.
+int table_index(const std::string& path, const std::string& prefix) {
+  if (!path.starts_with(prefix)) return -1;
+  return std::atoi(path.c_str() + prefix.size()) - 1;
 }
 
-/// Where a penalty mode comes from in the scene: its table's line and, for a contact whose
-/// effective mass the scene does not give, the body whose mass it takes ("" otherwise).
+/// Where a penalty mode comes from in the scene: its table's path and line and, for a contact
+/// whose effective mass the scene does not give, the body whose mass it takes ("" otherwise).
 struct ModeOrigin {
+  std::string path;  ///< "contact[1]", "spring[2]", "body[3]" (a flexible body)
   int line = 0;
   std::string mass;  ///< e.g. "the mass of body[1] 'ball' (line 14)"
 };
@@ -47,11 +48,20 @@ ModeOrigin mode_origin(const scene::Scene& scene, const core::PenaltyMode& m) {
   };
   if (m.kind == "flexible body") {
     const int b = scene.model->body_index(m.label);
+    origin.path = "body[" + std::to_string(b + 1) + "]";
     if (b >= 0) origin.line = spec.bodies[static_cast<std::size_t>(b)].source.line;
-  } else if (const int c = table_index(m.label, "contact[");
-             c >= 0 && static_cast<std::size_t>(c) < spec.contacts.size()) {
+    return origin;
+  }
+  // The element's table (scene::element_sources lists them in the model's order).
+  const std::vector<scene::SpecSource> sources = scene::element_sources(spec);
+  if (m.element >= 0 && static_cast<std::size_t>(m.element) < sources.size()) {
+    const scene::SpecSource& source = sources[static_cast<std::size_t>(m.element)];
+    origin.path = source.path;
+    origin.line = source.line;
+  }
+  if (const int c = table_index(origin.path, "contact[");
+      c >= 0 && static_cast<std::size_t>(c) < spec.contacts.size()) {
     const scene::ContactSpec& contact = spec.contacts[static_cast<std::size_t>(c)];
-    origin.line = contact.source.line;
     if (contact.effective_mass == 0.0) {
       // scene::build_contact's default: the pairs' body (reduced with the other body's).
       if (contact.gap) {
@@ -63,9 +73,6 @@ ModeOrigin mode_origin(const scene::Scene& scene, const core::PenaltyMode& m) {
                                     : "the mass of " + body_mass(p.body_b);
       }
     }
-  } else if (const int j = table_index(m.label, "joint[");
-             j >= 0 && static_cast<std::size_t>(j) < spec.joints.size()) {
-    origin.line = spec.joints[static_cast<std::size_t>(j)].source.line;
   }
   return origin;
 }
@@ -82,13 +89,13 @@ void check_scene_extremes(const scene::Scene& scene, double end_time) {
   // period below h_min cannot be followed by any integrator, fixed-step or adaptive.
   const auto resolvable = [&](double omega) { return 2.0 / omega >= h_min; };
   for (const core::PenaltyMode& m : core::stiff_modes(model)) {
-    const bool flexible = m.kind == "flexible body";
-    const std::string key =
-        flexible ? "body[" + std::to_string(model.body_index(m.label) + 1) + "]" : m.label;
+    const ModeOrigin origin = mode_origin(scene, m);
+    // The table's path is the key; a mode without one (a model built in code) is named by its
+    // label.
+    const std::string key = origin.path.empty() ? m.label : origin.path;
     // A friction mode is a damper (stiffness 0, rate c/m: contact/gap_support.cpp); every
     // other mode is a spring and needs a positive stiffness.
     const bool damper = m.label.ends_with(" friction");
-    const ModeOrigin origin = mode_origin(scene, m);
     // The inertia the mode sees, and where it comes from when the scene takes it from a body.
     const std::string inertia = text(m.inertia) + (origin.mass.empty() ? "" : ", " + origin.mass);
     if (!(m.frequency > 0.0) || !std::isfinite(m.frequency) || !std::isfinite(m.stiffness) ||

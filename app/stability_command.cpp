@@ -303,7 +303,8 @@ RegisteredCommand register_stability_command(CLI::App& app) {
   cmd->add_option("--jobs", options->jobs, "parallel runs (0: all cores)")
       ->check(integer_in(0, 1024));
   cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
-  add_genalpha_options(cmd, *genalpha);
+  add_genalpha_options(
+      cmd, *genalpha, [options] { return options->schemes; }, "--schemes");
   add_limits(cmd, options->limits, true);
 
   return {cmd, [options, genalpha] {

@@ -1,5 +1,6 @@
 #include "app/step_advice.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -8,6 +9,7 @@
 #include "core/step_limit.hpp"
 #include "lie/rotational_stability.hpp"
 #include "lie/run_scheme.hpp"
+#include "lie/stepper.hpp"
 
 namespace flexref::app {
 namespace {
@@ -71,9 +73,33 @@ std::string rotational_step_warning(const core::Model& model, const std::string&
   return out.str();
 }
 
-double suggested_step(const core::Model& model, const std::string& scheme, double dt,
-                      const std::vector<double>& times, double spin) {
-  const double bound = step_bound(model, scheme, dt, spin).h;
+std::string stiff_mode_warning(const std::string& scheme, double dt, const core::PenaltyMode& m) {
+  if (dt <= m.step_limit) return {};
+  const bool flexible = m.kind == "flexible body";
+  const std::string what =
+      flexible ? "the highest modes of flexible body " + m.label + " are" : m.label + " is";
+  std::ostringstream out;
+  out << "step " << dt << " s exceeds 2/omega" << (flexible ? "_max" : "") << " = " << m.step_limit
+      << " s of " << (flexible ? "flexible body " : "") << m.label << " (omega"
+      << (flexible ? "_max" : "") << " = " << m.frequency
+      << " rad/s, h omega = " << short_text(dt * m.frequency) << "): ";
+  const std::vector<std::string> hybrid = lie::builtin_scheme_names();
+  if (std::find(hybrid.begin(), hybrid.end(), scheme) != hybrid.end()) {
+    out << scheme << " integrates translation and modes by explicit central differences, "
+        << "unstable above this step, and " << what << " not resolved";
+  } else if (scheme == "genalpha") {
+    out << "genalpha is implicit and stays stable, but " << what
+        << " not resolved (numerically damped at rho_inf < 1)";
+  } else {
+    out << "flexref does not know whether " << scheme
+        << " is explicit: an explicit method is unstable above this step, an implicit one does "
+           "not resolve it";
+  }
+  return out.str();
+}
+
+double round_step(const core::Model& model, double bound, const std::vector<double>& times,
+                  double smallest) {
   if (!(bound > 0.0) || !std::isfinite(bound)) return 0.0;
   // {5, 2, 1}·10^k from the decade of the bound downward.
   double decade = std::pow(10.0, std::floor(std::log10(bound)));
@@ -81,10 +107,15 @@ double suggested_step(const core::Model& model, const std::string& scheme, doubl
     for (const double m : {5.0, 2.0, 1.0}) {
       // The value as printed, so that the step the user types is the one checked here.
       const double h = std::stod(short_text(m * decade));
-      if (h <= bound && h >= 1e-6 * dt && on_grid(model, h, times)) return h;
+      if (h <= bound && h >= smallest && on_grid(model, h, times)) return h;
     }
   }
   return 0.0;
+}
+
+double suggested_step(const core::Model& model, const std::string& scheme, double dt,
+                      const std::vector<double>& times, double spin) {
+  return round_step(model, step_bound(model, scheme, dt, spin).h, times, 1e-6 * dt);
 }
 
 std::string verified_step_advice(const core::Model& model, const std::string& scheme, double dt,

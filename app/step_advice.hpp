@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/force_element.hpp"
 #include "core/invariants.hpp"
 #include "core/model.hpp"
 #include "core/state.hpp"
@@ -19,6 +20,20 @@ namespace flexref::app {
 /// scheme has no measured limit.
 std::string rotational_step_warning(const core::Model& model, const std::string& scheme, double dt,
                                     const core::State& state, double t);
+
+/// The warning for a step above a stiff mode's explicit limit 2/omega (core/step_limit.hpp: a
+/// flexible body's highest mode, a contact, bushing or spring), in words true for the scheme: C1,
+/// C2 and NMB integrate translation and modes by explicit central differences, unstable there;
+/// genalpha is implicit, stable but the mode not resolved (h omega > 2: a period error beyond
+/// 27 %, app/genalpha_step.hpp); of another registered method flexref knows neither, and says
+/// both. Empty when dt is within the limit.
+std::string stiff_mode_warning(const std::string& scheme, double dt, const core::PenaltyMode& mode);
+
+/// The largest step of the form {1, 2, 5}·10^k, as printed with three digits, that is at most
+/// `bound`, at least `smallest` and on the output grid (`times`) and the load discontinuities;
+/// 0 when there is none.
+double round_step(const core::Model& model, double bound, const std::vector<double>& times,
+                  double smallest);
 
 /// The step to suggest: the largest step of the form {1, 2, 5}·10^k that is on the output grid
 /// (`times`) and the load discontinuities, at most half the model's explicit step limit and a

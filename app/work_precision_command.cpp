@@ -162,7 +162,8 @@ RegisteredCommand register_work_precision_command(CLI::App& app) {
                   "with --jobs 1")
       ->check(integer_in(0, 1024));
   cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
-  add_genalpha_options(cmd, *genalpha);
+  add_genalpha_options(
+      cmd, *genalpha, [options] { return options->schemes; }, "--schemes");
   cmd->add_option("--external", options->external,
                   "another code's integrator: a command with {scene}, {dt}, {output}, run "
                   "per step; its CPU time is the program's own (docs/external.md)");

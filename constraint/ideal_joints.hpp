@@ -64,7 +64,7 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
   bool driven(int joint) const override {
     return specs_[static_cast<std::size_t>(joint)].drive.active;
   }
-  std::string describe(int joint) const override;
+  std::string describe(int joint, std::span<const core::Body> bodies) const override;
   void append_discontinuities(std::vector<double>& times) const override;
 
   /// One end's data in S.

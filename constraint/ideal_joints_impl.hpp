@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "constraint/ideal_joints.hpp"
+#include "core/element_text.hpp"
 
 namespace flexref::constraint {
 namespace detail {
@@ -324,22 +325,13 @@ core::JointReactionTpl<S> IdealJointsTpl<S>::reaction(
 }
 
 template <typename S>
-std::string IdealJointsTpl<S>::describe(int joint) const {
+std::string IdealJointsTpl<S>::describe(int joint, std::span<const core::Body> bodies) const {
   const IdealJointSpec& s = specs_[static_cast<std::size_t>(joint)];
   std::ostringstream out;
   const auto end = [&](const JointEnd& e) {
-    std::ostringstream o;
-    if (e.body == kGround) {
-      o << "ground";
-    } else {
-      o << "body " << e.body;
-    }
-    if (e.node >= 0) {
-      o << " node " << e.node;
-    } else {
-      o << " point (" << e.p_BoP_B.x() << ", " << e.p_BoP_B.y() << ", " << e.p_BoP_B.z() << ")";
-    }
-    return o.str();
+    return core::body_text(e.body, bodies) + " " +
+           (e.node >= 0 ? core::node_text(e.body, e.node, bodies)
+                        : "point " + core::vector_text(e.p_BoP_B));
   };
   out << "ideal " << to_string(s.type) << " joint '" << s.name << "': " << end(s.a) << " to "
       << end(s.b);
@@ -347,9 +339,14 @@ std::string IdealJointsTpl<S>::describe(int joint) const {
     out << ", length " << s.length << " m";
   } else if (s.type != JointType::kSpherical) {
     const Eigen::Vector3d z = s.a.R_BJ.col(2);
-    out << ", axis (" << z.x() << ", " << z.y() << ", " << z.z() << ") in body " << s.a.body;
+    out << ", axis " << core::vector_text(z) << " in the frame of "
+        << core::body_text(s.a.body, bodies);
   }
-  if (s.drive.active) out << ", driven: " << s.drive.law.describe();
+  // The drive's coordinate is the relative angle of a revolute joint (rad) and the relative
+  // displacement of a prismatic one (m).
+  if (s.drive.active) {
+    out << ", driven: " << s.drive.law.describe(s.type == JointType::kPrismatic ? "m/s" : "rad/s");
+  }
   out << " (" << constraint::row_count(s.type, s.drive.active) << " rows)";
   return out.str();
 }

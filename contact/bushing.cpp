@@ -9,6 +9,7 @@
 #include "contact/bushing_impl.hpp"
 #include "contact/compliance.hpp"
 #include "core/body.hpp"
+#include "core/element_text.hpp"
 #include "rotation/euler_parameters.hpp"
 
 namespace flexref::contact {
@@ -78,15 +79,10 @@ void validate_bushing(const BushingEnd& a, const BushingEnd& b, const BushingPar
   }
 }
 
-std::string bushing_ends_text(const BushingEnd& a, const BushingEnd& b) {
-  std::ostringstream out;
-  out << "body " << a.body << " point " << core::vector_text(a.point) << " to ";
-  if (b.body == kGround) {
-    out << "ground point " << core::vector_text(b.point);
-  } else {
-    out << "body " << b.body << " point " << core::vector_text(b.point);
-  }
-  return out.str();
+std::string bushing_ends_text(const BushingEnd& a, const BushingEnd& b,
+                              std::span<const core::Body> bodies) {
+  return core::body_text(a.body, bodies) + " point " + core::vector_text(a.point) + " to " +
+         core::body_text(b.body, bodies) + " point " + core::vector_text(b.point);
 }
 
 void append_bushing_modes(std::span<const core::Body> bodies, const BushingEnd& a,

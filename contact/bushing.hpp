@@ -82,7 +82,8 @@ namespace detail {
 void validate_bushing(const BushingEnd& a, const BushingEnd& b, const BushingParameters& p,
                       bool revolute);
 /// "body i point (x, y, z) to ground point (...)" / "... to body j point (...)".
-std::string bushing_ends_text(const BushingEnd& a, const BushingEnd& b);
+std::string bushing_ends_text(const BushingEnd& a, const BushingEnd& b,
+                              std::span<const core::Body> bodies);
 /// The joint's translational mode, and for a revolute bushing its angular mode, at the bodies'
 /// initial state (append_penalty_modes).
 void append_bushing_modes(std::span<const core::Body> bodies, const BushingEnd& a,
@@ -127,6 +128,7 @@ class BushingTpl final : public core::ForceElementTpl<S> {
   }
   int max_body_index() const override;
   std::string describe() const override;
+  std::string describe_with_names(std::span<const core::Body> bodies) const override;
   /// "joint" translational, and for a revolute bushing angular (rotations perpendicular to the
   /// hinge): the spring over the smallest effective mass (inertia) of the two ends' added
   /// compliances (contact/compliance.hpp).

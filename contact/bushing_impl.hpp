@@ -226,9 +226,15 @@ int BushingTpl<S, kRevolute>::max_body_index() const {
 
 template <typename S, bool kRevolute>
 std::string BushingTpl<S, kRevolute>::describe() const {
+  return describe_with_names(std::span<const core::Body>{});
+}
+
+template <typename S, bool kRevolute>
+std::string BushingTpl<S, kRevolute>::describe_with_names(
+    std::span<const core::Body> bodies) const {
   std::ostringstream out;
   out << (kRevolute ? "revolute" : "spherical") << " bushing: "
-      << detail::bushing_ends_text(detail::end_in_double(a_), detail::end_in_double(b_));
+      << detail::bushing_ends_text(detail::end_in_double(a_), detail::end_in_double(b_), bodies);
   if constexpr (kRevolute) {
     out << ", hinge axis " << core::vector_text(a_.axis)
         << (b_.body == kGround ? " / world " : " / ") << core::vector_text(b_.axis);

@@ -108,6 +108,7 @@ class GapSupportTpl final : public core::ForceElementTpl<S> {
                     std::span<core::WearSampleTpl<S>> samples) const override;
   int max_body_index() const override { return body_; }
   std::string describe() const override;
+  std::string describe_with_names(std::span<const core::Body> bodies) const override;
   void append_penalty_modes(std::span<const core::Body> bodies,
                             std::vector<core::PenaltyMode>& modes) const override;
 

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "contact/gap_support.hpp"
+#include "core/element_text.hpp"
 #include "core/unit_vector_tpl.hpp"
 
 namespace flexref::contact {
@@ -209,14 +210,19 @@ void GapSupportTpl<S>::wear_samples(const Context& /*context*/, std::span<const 
 
 template <typename S>
 std::string GapSupportTpl<S>::describe() const {
+  return describe_with_names(std::span<const core::Body>{});
+}
+
+template <typename S>
+std::string GapSupportTpl<S>::describe_with_names(std::span<const core::Body> bodies) const {
   std::ostringstream out;
   const bool circular = geometry_.kind == GapSupportGeometry::Kind::kCircular;
   out << "gap support: " << (circular ? "circular" : "planar") << " clearance "
       << geometry_.clearance << " m around the axis through (" << geometry_.p_WS.transpose()
       << ") along (" << geometry_.a_W.transpose() << ")";
   if (!circular) out << ", planes normal to (" << geometry_.m_W.transpose() << ")";
-  out << (node_.deforms() ? ", at node " + std::to_string(node_.node)
-                          : std::string(", at a body point"))
+  out << ", at " << core::body_text(body_, bodies) << " "
+      << (node_.deforms() ? core::node_text(body_, node_.node, bodies) : std::string("point"))
       << ", " << normal_.describe() << ", friction mu = " << friction_.mu
       << ", v_reg = " << friction_.v_reg << " m/s";
   if (!name_.empty()) out << ", wear outputs '" << name_ << "'";

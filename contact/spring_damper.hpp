@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "contact/bushing.hpp"
+#include "core/element_text.hpp"
 #include "core/force_element.hpp"
 
 namespace flexref::contact {
@@ -91,19 +92,18 @@ class SpringDamperTpl final : public core::ForceElementTpl<S> {
   bool depends_on_velocity() const override { return parameters_.damping > 0.0; }
   int max_body_index() const override { return std::max(body_a_, body_b_); }
   std::string describe() const override {
+    return describe_with_names(std::span<const core::Body>{});
+  }
+  std::string describe_with_names(std::span<const core::Body> bodies) const override {
     std::ostringstream out;
-    const auto point = [&](int body, const Eigen::Vector3d& p) {
-      std::ostringstream o;
-      o << (body == kGround ? std::string("ground") : "body " + std::to_string(body)) << " point ("
-        << p.x() << ", " << p.y() << ", " << p.z() << ")";
-      return o.str();
-    };
-    out << "spring-damper: " << point(body_a_, point_a()) << " to " << point(body_b_, point_b())
-        << ", k = " << parameters_.stiffness << " N/m, c = " << parameters_.damping
-        << " N*s/m, rest length " << parameters_.rest_length << " m";
+    out << "spring-damper: " << core::body_text(body_a_, bodies) << " point "
+        << core::vector_text(point_a()) << " to " << core::body_text(body_b_, bodies) << " point "
+        << core::vector_text(point_b()) << ", k = " << parameters_.stiffness
+        << " N/m, c = " << parameters_.damping << " N*s/m, rest length " << parameters_.rest_length
+        << " m";
     return out.str();
   }
-  /// "spring": its stiffness over the smallest effective mass of the two ends (the same added
+  /// Kind "spring": its stiffness over the smallest effective mass of the two ends (the same added
   /// compliance as a bushing's translational mode, contact/compliance.hpp).
   void append_penalty_modes(std::span<const core::Body> bodies,
                             std::vector<core::PenaltyMode>& modes) const override {
@@ -117,6 +117,7 @@ class SpringDamperTpl final : public core::ForceElementTpl<S> {
     detail::append_bushing_modes(bodies, a, b, p, false, bushing_modes);
     for (core::PenaltyMode& m : bushing_modes) {
       m.label = "";
+      m.kind = "spring";
       modes.push_back(m);
     }
   }

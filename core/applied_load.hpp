@@ -43,6 +43,7 @@ class AppliedForceTpl final : public ForceElementTpl<S> {
   double loads_end() const override { return profile_.end(); }
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
+  std::string describe_with_names(std::span<const Body> bodies) const override;
   int max_body_index() const override { return body_; }
 
  private:
@@ -82,6 +83,7 @@ class AppliedTorqueTpl final : public ForceElementTpl<S> {
   double loads_end() const override { return profile_.end(); }
   void append_discontinuities(std::vector<double>& times) const override;
   std::string describe() const override;
+  std::string describe_with_names(std::span<const Body> bodies) const override;
   int max_body_index() const override { return body_; }
 
  private:

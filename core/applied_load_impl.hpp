@@ -70,11 +70,17 @@ void AppliedForceTpl<S>::append_discontinuities(std::vector<double>& times) cons
 
 template <typename S>
 std::string AppliedForceTpl<S>::describe() const {
+  return describe_with_names(std::span<const Body>{});
+}
+
+template <typename S>
+std::string AppliedForceTpl<S>::describe_with_names(std::span<const Body> bodies) const {
   return "force " + vector_text(value_) + " N (" +
-         (frame_ == LoadFrame::kWorld ? "world" : "body") + " frame) at body point " +
-         vector_text(p_BoP_B_) +
-         (node_.deforms() ? " (node " + std::to_string(node_.node) + ")" : "") + ", " +
-         profile_text(profile_);
+         (frame_ == LoadFrame::kWorld ? "world" : "body") + " frame) on " +
+         body_text(body_, bodies) + " at " +
+         (node_.deforms() ? node_text(body_, node_.node, bodies) + ", undeformed at point "
+                          : std::string("point ")) +
+         vector_text(p_BoP_B_) + ", " + profile_text(profile_);
 }
 
 template <typename S>
@@ -120,8 +126,14 @@ void AppliedTorqueTpl<S>::append_discontinuities(std::vector<double>& times) con
 
 template <typename S>
 std::string AppliedTorqueTpl<S>::describe() const {
+  return describe_with_names(std::span<const Body>{});
+}
+
+template <typename S>
+std::string AppliedTorqueTpl<S>::describe_with_names(std::span<const Body> bodies) const {
   return "torque " + vector_text(value_) + " N·m (" +
-         (frame_ == LoadFrame::kWorld ? "world" : "body") + " frame), " + profile_text(profile_);
+         (frame_ == LoadFrame::kWorld ? "world" : "body") + " frame) on " +
+         body_text(body_, bodies) + ", " + profile_text(profile_);
 }
 
 }  // namespace flexref::core

@@ -97,8 +97,9 @@ class ConstraintEquationsTpl {
     (void)joint;
     return false;
   }
-  /// One line per joint for `flexref check`.
-  virtual std::string describe(int joint) const = 0;
+  /// One line per joint for `flexref check`, naming its ends' bodies and nodes by their names in
+  /// `bodies` (the model's; core/element_text.hpp).
+  virtual std::string describe(int joint, std::span<const Body> bodies) const = 0;
   /// Known times where a drive law's derivatives jump.
   virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
 };

@@ -14,6 +14,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/state.hpp"
@@ -112,8 +113,11 @@ using WearSample = WearSampleTpl<double>;
 /// allows, 2/ω (a damped mode's (2/ω)(√(1 + ζ²) − ζ)). docs/contact.md and docs/joints.md
 /// derive the effective stiffnesses and masses.
 struct PenaltyMode {
-  std::string label;        ///< "contact[1]", "joint[2] translational", "joint[2] angular"
-  std::string kind;         ///< "contact", "joint"
+  /// The element's label and the mode's suffix: "contact 'support' friction", "joint[2]
+  /// translational", "spring 'S1'" (core::penalty_modes).
+  std::string label;
+  std::string kind;         ///< "contact", "joint", "spring"
+  int element = -1;         ///< its element's index in Model::elements() (−1: a flexible body)
   double stiffness = 0.0;   ///< effective k (N/m) or k_θ (N·m/rad)
   double inertia = 0.0;     ///< effective mass (kg) or inertia (kg·m²) the mode sees
   double frequency = 0.0;   ///< rad/s
@@ -222,16 +226,31 @@ class ForceElementTpl {
   virtual bool depends_on_velocity() const { return false; }
   /// Largest body index the element refers to (−1 for none); the model checks it.
   virtual int max_body_index() const = 0;
-  /// One line for `flexref check`.
+  /// One line saying what the element is, for messages; a body it acts on is named by its
+  /// [[body]] table, "body[2]" (core::body_text without the bodies).
   virtual std::string describe() const = 0;
+  /// The same line naming the bodies and nodes by their names in `bodies` (the model's; what
+  /// `flexref check` prints). By default describe(), for elements that name no body.
+  virtual std::string describe_with_names(std::span<const Body> bodies) const {
+    (void)bodies;
+    return describe();
+  }
+  /// How messages name the element, as its scene table does: "spring 'S1'" (kind and name),
+  /// "joint[2]" (the table, counted from 1, when it has no name); empty for an element built in
+  /// code, which core::penalty_modes numbers by kind instead (scene::build_model sets it).
+  const std::string& label() const { return label_; }
+  void set_label(std::string label) { label_ = std::move(label); }
   /// Appends the element's stiff modes at the bodies' initial state (core/step_limit.hpp),
   /// labelled "" or by a suffix (" translational", " angular"); the model prefixes the
-  /// element's kind and number. Elements without stiffness add nothing.
+  /// element's label (or kind and number). Elements without stiffness add nothing.
   virtual void append_penalty_modes(std::span<const Body> bodies,
                                     std::vector<PenaltyMode>& modes) const {
     (void)bodies;
     (void)modes;
   }
+
+ private:
+  std::string label_;
 };
 
 using ForceElement = ForceElementTpl<double>;

@@ -11,12 +11,12 @@ double AngleLaw::angular_rate(double t) const { return angular_rate_in<double>(t
 
 double AngleLaw::angular_acceleration(double t) const { return angular_acceleration_in<double>(t); }
 
-std::string AngleLaw::describe() const {
+std::string AngleLaw::describe(std::string_view rate_unit) const {
   std::ostringstream out;
   if (kind == Kind::kConstantRate) {
-    out << "constant rate " << rate << " rad/s";
+    out << "constant rate " << rate << " " << rate_unit;
   } else {
-    out << "spin-up to " << rate << " rad/s over " << spin_up_time << " s";
+    out << "spin-up to " << rate << " " << rate_unit << " over " << spin_up_time << " s";
   }
   return out.str();
 }

@@ -13,6 +13,7 @@
 #include <boost/math/constants/constants.hpp>
 #include <cmath>
 #include <string>
+#include <string_view>
 
 #include "rotation/euler_parameters.hpp"
 
@@ -27,7 +28,7 @@ struct AngleLaw {
     kSpinUp,
   };
   Kind kind = Kind::kConstantRate;
-  double rate = 0.0;          ///< Ω (constant rate) or Ω_s (spin-up), rad/s
+  double rate = 0.0;  ///< Ω (constant rate) or Ω_s (spin-up), rad/s (a prismatic drive: m/s)
   double spin_up_time = 1.0;  ///< T_s, s (spin-up only)
 
   double angle(double t) const;
@@ -41,8 +42,9 @@ struct AngleLaw {
   S angular_rate_in(S t) const;
   template <typename S>
   S angular_acceleration_in(S t) const;
-  /// "constant rate 2 rad/s" / "spin-up to 2 rad/s over 15 s".
-  std::string describe() const;
+  /// "constant rate 2 rad/s" / "spin-up to 2 rad/s over 15 s", the rate in `rate_unit`: rad/s
+  /// for an angle, m/s for a prismatic drive's displacement (constraint::JointDrive).
+  std::string describe(std::string_view rate_unit = "rad/s") const;
 };
 
 template <typename S>

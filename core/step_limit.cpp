@@ -10,10 +10,19 @@ std::vector<PenaltyMode> penalty_modes(const Model& model) {
   std::vector<PenaltyMode> modes;
   std::vector<std::pair<std::string, int>> counts;
   const std::span<const Body> bodies(model.bodies());
-  for (const auto& element : model.elements()) {
+  const auto elements = model.elements();
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const ForceElement& element = *elements[e];
     const std::size_t first = modes.size();
-    element->append_penalty_modes(bodies, modes);
+    element.append_penalty_modes(bodies, modes);
     if (modes.size() == first) continue;
+    for (std::size_t i = first; i < modes.size(); ++i) modes[i].element = static_cast<int>(e);
+    if (!element.label().empty()) {
+      for (std::size_t i = first; i < modes.size(); ++i) {
+        modes[i].label = element.label() + modes[i].label;
+      }
+      continue;
+    }
     const std::string& kind = modes[first].kind;
     int number = 1;
     bool found = false;

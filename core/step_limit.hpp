@@ -14,9 +14,10 @@
 
 namespace flexref::core {
 
-/// The penalty modes of the model's elements in element order, labelled "<kind>[<n>]" with n
-/// counting the elements of that kind from 1 (the order of [[contact]] and [[joint]] tables in
-/// a scene file).
+/// The penalty modes of the model's elements in element order, each with its element's index,
+/// labelled by the element's label (ForceElement::label: "spring 'S1'", "joint[2]" as the scene
+/// names it) or, for an element built in code without one, "<kind>[<n>]" with n counting the
+/// elements of that kind that have modes, from 1.
 std::vector<PenaltyMode> penalty_modes(const Model& model);
 
 /// Every mode that bounds an explicit step: each flexible body's highest natural frequency

@@ -170,7 +170,22 @@ std::unique_ptr<const core::ConstraintEquations> build_ideal_joints(
   }
 }
 
+/// The element built from one table, labelled as messages name it (ForceElement::label).
+template <class Element>
+std::unique_ptr<const core::ForceElement> labelled(std::unique_ptr<Element> element,
+                                                   const SpecSource& source,
+                                                   const std::string& kind,
+                                                   const std::string& name) {
+  element->set_label(element_label(source, kind, name));
+  return element;
+}
+
 }  // namespace
+
+std::string element_label(const SpecSource& source, const std::string& kind,
+                          const std::string& name) {
+  return name.empty() ? source.path : kind + " '" + name + "'";
+}
 
 void regenerate_beam_modes(BodySpec& body) {
   if (!body.beam) throw std::invalid_argument("body " + body.description.name + " has no beam");
@@ -222,9 +237,11 @@ std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
   try {
     if (spec.gap) {
       const GapSupportSpec& g = *spec.gap;
-      return std::make_unique<contact::GapSupport>(
-          g.body, g.p_BoN_B, attachment(bodies, g.body, g.node, spec.source, "node"), g.geometry,
-          *law, spec.friction, m_eff, spec.name);
+      return labelled(
+          std::make_unique<contact::GapSupport>(
+              g.body, g.p_BoN_B, attachment(bodies, g.body, g.node, spec.source, "node"),
+              g.geometry, *law, spec.friction, m_eff, spec.name),
+          spec.source, "contact", spec.name);
     }
     std::vector<contact::ContactPair> pairs = spec.pairs;
     for (contact::ContactPair& p : pairs) {
@@ -232,8 +249,9 @@ std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
       p.node_b = attachment(bodies, p.body_b, p.node_b.node, spec.source,
                             p.body_a >= 0 ? "node_b" : "node");
     }
-    return std::make_unique<contact::ContactElement>(std::move(pairs), *law, spec.friction, m_eff,
-                                                     spec.name);
+    return labelled(std::make_unique<contact::ContactElement>(std::move(pairs), *law, spec.friction,
+                                                              m_eff, spec.name),
+                    spec.source, "contact", spec.name);
   } catch (const std::invalid_argument& e) {
     throw SpecError(spec.source, "", e.what());
   }
@@ -247,6 +265,7 @@ std::vector<SpecSource> element_sources(const SceneSpec& spec) {
   for (const PotentialSpec& p : spec.potentials) sources.push_back(p.source);
   for (const ContactSpec& c : spec.contacts) sources.push_back(c.source);
   for (const JointSpec& j : spec.joints) sources.push_back(j.source);
+  for (const SpringSpec& s : spec.springs) sources.push_back(s.source);
   return sources;
 }
 
@@ -269,24 +288,31 @@ core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formula
   for (const LoadSpec& l : spec.loads) {
     if (l.torque) {
       elements.push_back(
-          std::make_unique<core::AppliedTorque>(l.body, l.value, l.frame, l.profile));
+          labelled(std::make_unique<core::AppliedTorque>(l.body, l.value, l.frame, l.profile),
+                   l.source, "load", ""));
     } else {
-      elements.push_back(std::make_unique<core::AppliedForce>(
-          l.body, l.value, l.frame, l.p_BoP_B, l.profile,
-          attachment(bodies, l.body, l.node, l.source, "node")));
+      elements.push_back(labelled(std::make_unique<core::AppliedForce>(
+                                      l.body, l.value, l.frame, l.p_BoP_B, l.profile,
+                                      attachment(bodies, l.body, l.node, l.source, "node")),
+                                  l.source, "load", ""));
     }
   }
   for (const PotentialSpec& p : spec.potentials) {
     elements.push_back(
-        std::make_unique<core::PointChargePotential>(p.alpha, p.beta, p.p_WM, p.charges));
+        labelled(std::make_unique<core::PointChargePotential>(p.alpha, p.beta, p.p_WM, p.charges),
+                 p.source, "potential", ""));
   }
   for (const ContactSpec& c : spec.contacts) elements.push_back(build_contact(c, bodies));
   for (const JointSpec& j : spec.joints) {
     try {
       if (j.revolute) {
-        elements.push_back(std::make_unique<contact::RevoluteBushing>(j.a, j.b, j.parameters));
+        elements.push_back(
+            labelled(std::make_unique<contact::RevoluteBushing>(j.a, j.b, j.parameters), j.source,
+                     "joint", j.name));
       } else {
-        elements.push_back(std::make_unique<contact::SphericalBushing>(j.a, j.b, j.parameters));
+        elements.push_back(
+            labelled(std::make_unique<contact::SphericalBushing>(j.a, j.b, j.parameters), j.source,
+                     "joint", j.name));
       }
     } catch (const std::invalid_argument& e) {
       throw SpecError(j.source, "", e.what());
@@ -294,8 +320,9 @@ core::Model build_model(const SceneSpec& spec, core::FlexibleFormulation formula
   }
   for (const SpringSpec& sp : spec.springs) {
     try {
-      elements.push_back(std::make_unique<contact::SpringDamper>(sp.body_a, sp.point_a, sp.body_b,
-                                                                 sp.point_b, sp.parameters));
+      elements.push_back(labelled(std::make_unique<contact::SpringDamper>(
+                                      sp.body_a, sp.point_a, sp.body_b, sp.point_b, sp.parameters),
+                                  sp.source, "spring", sp.name));
     } catch (const std::invalid_argument& e) {
       throw SpecError(sp.source, "", e.what());
     }

@@ -1,7 +1,8 @@
 #pragma once
 /// \file build_model.hpp
 /// SceneSpec → core::Model: the one place where a scene's bodies and force elements are made
-/// (gravity, loads, potentials, contacts, joints, in that order), for scenes read from files
+/// (gravity, loads, potentials, contacts, bushing joints, springs, in that order; then the
+/// ideal joints), for scenes read from files
 /// and for scenes built or varied in code.
 #include <stdexcept>
 #include <string>
@@ -35,9 +36,15 @@ core::Model build_model(const SceneSpec& spec,
                         const std::vector<int>& independent_rows = {});
 
 /// Where each force element of build_model(spec) comes from, in the model's order: gravity
-/// (path "scene", line 0: SceneSpec keeps no line for it), then every load, potential, contact
-/// and joint with its table's source.
+/// (path "scene", line 0: SceneSpec keeps no line for it), then every load, potential, contact,
+/// bushing joint and spring with its table's source.
 std::vector<SpecSource> element_sources(const SceneSpec& spec);
+
+/// How messages name the element of a table (core::ForceElement::label): "spring 'S1'" (the
+/// table's kind and name) or, without a name, the table's path ("spring[2]", counted from 1
+/// as in the file); "" for a part built in code without a source.
+std::string element_label(const SpecSource& source, const std::string& kind,
+                          const std::string& name);
 
 /// The contact element of one [[contact]] spec, given the bodies it acts on (for the default
 /// effective mass). Throws SpecError.

@@ -203,11 +203,12 @@ ContactSpec read_contact(const Table& t, const BodyNames& names,
 // --- [[joint]] -----------------------------------------------------------------------------
 
 JointSpec read_joint(const Table& t, const BodyNames& names) {
-  t.check_keys({"model", "kind", "body_a", "body_b", "point_a", "point_b", "axis_a", "axis_b",
-                "stiffness", "damping", "angular_stiffness", "angular_damping"});
+  t.check_keys({"model", "name", "kind", "body_a", "body_b", "point_a", "point_b", "axis_a",
+                "axis_b", "stiffness", "damping", "angular_stiffness", "angular_damping"});
   const bool revolute = t.choice("kind", {"spherical", "revolute"}, -1) == 1;
   contact::BushingEnd a;
   contact::BushingEnd b;
+  refuse_ground_first_end(t, "joint");
   a.body = names.resolve(t, "body_a");
   const toml::value* vb = t.find("body_b");
   if (vb != nullptr && vb->is_string() && vb->as_string() == "ground") {
@@ -245,6 +246,7 @@ JointSpec read_joint(const Table& t, const BodyNames& names) {
   }
 
   JointSpec spec;
+  if (t.has("name")) spec.name = t.name("name", "the joint's name (how messages name it)");
   spec.revolute = revolute;
   spec.a = a;
   spec.b = b;

@@ -21,6 +21,7 @@ constraint::JointEnd read_end(const Table& t, const BodyNames& names,
   const std::string node_key = "node_" + suffix;
   constraint::JointEnd end;
   const toml::value* body = t.find(body_key);
+  if (first) refuse_ground_first_end(t, "joint");
   const bool ground =
       !first && body != nullptr && body->is_string() && body->as_string() == "ground";
   if (!ground) end.body = names.resolve(t, body_key);
@@ -113,9 +114,12 @@ IdealJointSceneSpec read_ideal_joint(const Table& t, const BodyNames& names,
 }
 
 SpringSpec read_spring(const Table& t, const BodyNames& names) {
-  t.check_keys({"body_a", "body_b", "point_a", "point_b", "stiffness", "damping", "rest_length"});
+  t.check_keys(
+      {"name", "body_a", "body_b", "point_a", "point_b", "stiffness", "damping", "rest_length"});
   SpringSpec spec;
   spec.source = source_of(t);
+  if (t.has("name")) spec.name = t.name("name", "the spring's name (how messages name it)");
+  refuse_ground_first_end(t, "spring");
   spec.body_a = names.resolve(t, "body_a");
   const toml::value* b = t.find("body_b");
   const bool ground = b != nullptr && b->is_string() && b->as_string() == "ground";

@@ -78,6 +78,11 @@ void reject_keys(const Table& t, std::initializer_list<std::string_view> keys,
 /// The table's file, line and path, for specs.
 SpecSource source_of(const Table& t);
 
+/// Refuses body_a = "ground" in a [[joint]] or [[spring]] table (`what`: "joint", "spring"):
+/// the first end is always a body (a joint's reactions are reported on it), and "ground" names
+/// the world only as the second end. The message says to swap the ends.
+void refuse_ground_first_end(const Table& t, const std::string& what);
+
 /// The node of `body`'s modal data that `key` names (a node name), failing at the key when the
 /// body is rigid or has no such node.
 int read_node(const Table& t, std::string_view key, const BodySpec& body);

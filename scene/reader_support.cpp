@@ -116,6 +116,24 @@ void reject_keys(const Table& t, std::initializer_list<std::string_view> keys,
 
 SpecSource source_of(const Table& t) { return SpecSource{t.file(), t.line(), t.path()}; }
 
+void refuse_ground_first_end(const Table& t, const std::string& what) {
+  const toml::value* a = t.find("body_a");
+  if (a == nullptr || !a->is_string() || a->as_string() != "ground") return;
+  const toml::value* b = t.find("body_b");
+  const std::string other =
+      b != nullptr && b->is_string() ? "\"" + std::string(b->as_string()) + "\"" : "the body";
+  std::string swapped = "point_a and point_b";
+  for (const char* key : {"node", "axis"}) {
+    if (t.has(std::string(key) + "_a") || t.has(std::string(key) + "_b")) {
+      swapped += std::string(", ") + key + "_a and " + key + "_b";
+    }
+  }
+  const std::string why = what == "joint" ? " (its reactions are reported on it)" : "";
+  t.fail("body_a", "the first end of a " + what + " must be a body" + why +
+                       "; the ground can only be the second end: swap the ends, body_a = " + other +
+                       " and body_b = \"ground\", exchanging " + swapped);
+}
+
 int read_node(const Table& t, std::string_view key, const BodySpec& body) {
   const std::optional<core::FlexiblePart>& part = body.description.flexible;
   if (!part) {

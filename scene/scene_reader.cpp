@@ -1,6 +1,7 @@
 #include "scene/scene_reader.hpp"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <memory>
@@ -159,6 +160,18 @@ SceneSpec read_spec(const toml::value& document, const std::string& file) {
       }
     }
   }
+  // Joint names (ideal and bushing) are unique among the [[joint]] tables, spring names among
+  // the [[spring]] tables: messages name each element by its kind and name.
+  const auto unique = [](const Table& t, std::vector<std::string>& taken, const std::string& name,
+                         const char* what) {
+    if (name.empty()) return;
+    if (std::find(taken.begin(), taken.end(), name) != taken.end()) {
+      t.fail("name",
+             std::string("duplicate ") + what + " name \"" + name + "\"; expected a unique name");
+    }
+    taken.push_back(name);
+  };
+  std::vector<std::string> joint_names;
   int joint_index = 0;
   for (const Table& t : root.tables("joint", "[[joint]] tables")) {
     ++joint_index;
@@ -166,21 +179,19 @@ SceneSpec read_spec(const toml::value& document, const std::string& file) {
         t.optional_string("model", "\"bushing\" (a compliant joint) or \"ideal\" (a constraint)");
     if (model && *model == "ideal") {
       spec.ideal_joints.push_back(read_ideal_joint(t, names, spec.bodies, joint_index));
-      const std::string& name = spec.ideal_joints.back().joint.name;
-      for (std::size_t j = 0; j + 1 < spec.ideal_joints.size(); ++j) {
-        if (spec.ideal_joints[j].joint.name == name) {
-          t.fail("name", "duplicate joint name \"" + name + "\"; expected a unique name");
-        }
-      }
+      unique(t, joint_names, spec.ideal_joints.back().joint.name, "joint");
     } else {
       if (model && *model != "bushing") {
         t.fail("model", "expected \"bushing\" or \"ideal\", got \"" + *model + "\"");
       }
       spec.joints.push_back(read_joint(t, names));
+      unique(t, joint_names, spec.joints.back().name, "joint");
     }
   }
+  std::vector<std::string> spring_names;
   for (const Table& t : root.tables("spring", "[[spring]] tables")) {
     spec.springs.push_back(read_spring(t, names));
+    unique(t, spring_names, spec.springs.back().name, "spring");
   }
   return spec;
 }

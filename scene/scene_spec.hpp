@@ -117,6 +117,7 @@ struct ContactSpec {
 
 /// [[joint]]: a spherical or revolute bushing.
 struct JointSpec {
+  std::string name;  ///< optional: how messages name it ("joint 'NAME'"; else "joint[k]")
   bool revolute = false;
   contact::BushingEnd a;
   contact::BushingEnd b;
@@ -137,6 +138,7 @@ struct IdealJointSceneSpec {
 
 /// [[spring]]: a linear spring–damper between two points (contact/spring_damper.hpp).
 struct SpringSpec {
+  std::string name;  ///< optional: how messages name it ("spring 'NAME'"; else "spring[k]")
   int body_a = 0;
   int body_b = contact::kGround;
   Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< body_a frame, from Bo

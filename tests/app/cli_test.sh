@@ -887,6 +887,112 @@ estimate=$(grep -o 'estimated error [0-9.e+-]*' <<<"$out" | head -1 | awk '{ pri
 grep -q "book_toss in quad: [0-9.]* s, estimated error $estimate[^0-9]" README.md ||
   fail "README's quad book_toss estimate is not a run's ($estimate): $out"
 
+# Joints and springs in check, run and the scene reader (issue 46): every element named by its
+# scene name and kind, bodies and nodes by their names, a drive's rate in its joint's unit, a
+# step advised for genalpha; genalpha's options refused without genalpha; run's stiff-mode
+# warning true for the scheme; the ground as a first end refused with what to do.
+out=$("$flexref" check scenes/andrews_squeezer.toml 2>&1) || fail "check andrews_squeezer: $out"
+[[ $out == *"spring-damper: body 'K3' point (0.02, -0.018, 0) to ground point"*"[spring[1], line "* ]] ||
+  fail "check andrews_squeezer: the spring is not described with its body's name and table: $out"
+[[ $out == *"spring[1]: omega = sqrt(k/m_eff)"* && $out == *"of spring[1], the stiffest"* ]] ||
+  fail "check andrews_squeezer: the spring's mode is not labelled spring[1]: $out"
+[[ $out != *"joint[1]"* ]] || fail "check andrews_squeezer: a spring is called a joint: $out"
+[[ $out == *"ideal revolute joint 'O': body 'K1' point (0, 0, 0) to ground point (0, 0, 0), axis (0, 0, 1) in the frame of body 'K1'"* ]] ||
+  fail "check andrews_squeezer: joint O does not name its body: $out"
+[[ $out != *"body 0 "* && $out != *"body 1 "* ]] || fail "check andrews_squeezer: a body by index: $out"
+[[ $out == *"genalpha step (implicit, no stability limit):"*"use --dt 0.0001 or less"* ]] ||
+  fail "check andrews_squeezer: no genalpha step advice: $out"
+sed 's/^stiffness = 4530.0 .*/&\nname = "c0"/' scenes/andrews_squeezer.toml >"$tmp/andrews_named.toml"
+out=$("$flexref" check "$tmp/andrews_named.toml" 2>&1)
+[[ $out == *"spring 'c0': omega"*"of spring 'c0', the stiffest"* ]] ||
+  fail "check: a named spring is not called spring 'c0': $out"
+# A spring too stiff for double precision: refused at its own table (it was "joint[1]", no line).
+sed 's/^stiffness = 4530.0 /stiffness = 1e300 /' scenes/andrews_squeezer.toml >"$tmp/andrews_stiff.toml"
+expect 1 "andrews spring stiffness 1e300" "andrews_stiff.toml:194: key 'spring[1]': omega = 7.72e+150 rad/s" \
+  "$flexref" check "$tmp/andrews_stiff.toml"
+out=$("$flexref" check scenes/slider_crank.toml 2>&1) || fail "check slider_crank: $out"
+[[ $out == *"driven: constant rate 150 rad/s"* ]] || fail "check slider_crank: drive: $out"
+[[ $out == *"genalpha step (implicit, no stability limit): use --dt 0.001 or less"*"omega = 150 rad/s of |W| of body 'crank' at t0"* ]] ||
+  fail "check slider_crank: no genalpha step advice from the crank's 150 rad/s: $out"
+out=$("$flexref" check scenes/slider_crank_flexible.toml --model coupled 2>&1)
+[[ $out == *"ideal revolute joint 'P': body 'rod' node 'node0' to body 'crank' point (0.15, 0, 0)"* ]] ||
+  fail "check slider_crank_flexible: the node is not named: $out"
+cat >"$tmp/slide.toml" <<'TOML'
+[scene]
+name = "slide"
+end_time = 1.0
+output_step = 0.01
+[[body]]
+name = "block"
+mass = 1.0
+inertia = [0.1, 0.1, 0.1]
+[[joint]]
+name = "rail"
+model = "ideal"
+kind = "prismatic"
+body_a = "block"
+point_a = [0.0, 0.0, 0.0]
+body_b = "ground"
+point_b = [0.0, 0.0, 0.0]
+axis_a = [1.0, 0.0, 0.0]
+axis_b = [1.0, 0.0, 0.0]
+drive = { law = "spin-up", rate = 0.5, spin_up_time = 0.5 }
+TOML
+out=$("$flexref" check "$tmp/slide.toml" 2>&1) || fail "check slide: $out"
+[[ $out == *"driven: spin-up to 0.5 m/s over 0.5 s"* ]] ||
+  fail "check: a prismatic drive's rate is not in m/s: $out"
+[[ $out == *"genalpha step (implicit, no stability limit):"*"2 pi/T_s of the spin-up of the drive of joint 'rail'"* ]] ||
+  fail "check slide: the genalpha advice does not come from the spin-up: $out"
+for opt in "--rho-inf 0.5" --perturbed-start; do
+  expect 2 "run --scheme c1 $opt" "${opt%% *}: applies only to genalpha, and --scheme is c1: give --scheme genalpha or leave ${opt%% *} out" \
+    "$flexref" run scenes/free_spin.toml --scheme c1 $opt -o "$tmp/ga_c1.csv"
+  expect 2 "run $opt (default scheme)" "--scheme is c2 (the default)" \
+    "$flexref" run scenes/free_spin.toml $opt -o "$tmp/ga_c1.csv"
+  for cmd in converge work-precision; do
+    expect 2 "$cmd --schemes c1,nmb $opt" "applies only to genalpha, and --schemes is c1,nmb: add genalpha to --schemes" \
+      "$flexref" $cmd scenes/free_spin.toml --schemes c1,nmb $opt --out "$tmp/ga_study"
+    expect 2 "$cmd $opt (default schemes)" "--schemes is c1,c2,nmb (the default)" \
+      "$flexref" $cmd scenes/free_spin.toml $opt --out "$tmp/ga_study"
+  done
+  expect 2 "stability $opt (default schemes)" "--schemes is c1,c2,nmb (the default)" \
+    "$flexref" stability --values 1 $opt --out "$tmp/ga_study"
+done
+[[ ! -e $tmp/ga_c1.csv && ! -e $tmp/ga_study ]] || fail "a refused genalpha option wrote output"
+cat >"$tmp/spring.toml" <<'TOML'
+[scene]
+name = "spring"
+end_time = 0.2
+output_step = 0.05
+[[body]]
+name = "m"
+mass = 1.0
+inertia = [1.0, 1.0, 1.0]
+position = [1.1, 0.0, 0.0]
+[[spring]]
+body_a = "m"
+point_a = [0.0, 0.0, 0.0]
+body_b = "ground"
+point_b = [0.0, 0.0, 0.0]
+stiffness = 1e4
+rest_length = 1.0
+TOML
+# omega = 100 rad/s, 2/omega = 0.02 s; --dt 0.05.
+out=$("$flexref" run "$tmp/spring.toml" --scheme genalpha --dt 0.05 -o "$tmp/spring_ga.csv" 2>&1)
+[[ $out == *"exceeds 2/omega = 0.02 s of spring[1]"*"genalpha is implicit and stays stable, but spring[1] is not resolved"* &&
+  $out != *"central differences"* ]] || fail "run genalpha: the stiff-mode warning: $out"
+out=$("$flexref" run "$tmp/spring.toml" --scheme nmb --dt 0.05 -o "$tmp/spring_nmb.csv" 2>&1)
+[[ $out == *"nmb integrates translation and modes by explicit central differences, unstable above this step"* ]] ||
+  fail "run nmb: the stiff-mode warning: $out"
+sed -e 's/^body_a = "m"/body_a = "ground"/' -e 's/^body_b = "ground"/body_b = "m"/' \
+  "$tmp/spring.toml" >"$tmp/spring_swapped.toml"
+expect 1 "spring body_a = ground" "spring_swapped.toml:11: key 'spring[1].body_a': the first end of a spring must be a body; the ground can only be the second end: swap the ends" \
+  "$flexref" check "$tmp/spring_swapped.toml"
+sed -e 's/^body_a = "block"/body_a = "ground"/' -e 's/^body_b = "ground"/body_b = "block"/' \
+  "$tmp/slide.toml" >"$tmp/slide_swapped.toml"
+expect 1 "joint body_a = ground" "slide_swapped.toml:13: key 'joint[1].body_a': the first end of a joint must be a body (its reactions are reported on it); the ground can only be the second end: swap the ends, body_a = \"block\" and body_b = \"ground\", exchanging point_a and point_b, axis_a and axis_b" \
+  "$flexref" run "$tmp/slide_swapped.toml" --scheme genalpha -o "$tmp/slide.csv"
+[[ ! -e $tmp/slide.csv ]] || fail "a refused scene wrote output"
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/force_element.hpp"
 #include "tests/support/test_problems.hpp"
 
 namespace flexref::app {
@@ -87,6 +88,33 @@ TEST_CASE("run advises a smaller step only after a run at it passed", "[app][run
     CHECK(tried[1] < tried[0]);
     CHECK_THAT(advice, Catch::Matchers::Contains("no smaller step passed"));
   }
+}
+
+TEST_CASE("run's stiff-mode warning says what is true for the scheme", "[app][run]") {
+  core::PenaltyMode spring;
+  spring.label = "spring 'c0'";
+  spring.kind = "spring";
+  spring.frequency = 100.0;
+  spring.step_limit = 0.02;
+  CHECK(stiff_mode_warning("c1", 0.02, spring).empty());  // at the limit: no warning
+  const std::string c1 = stiff_mode_warning("c1", 0.05, spring);
+  CHECK(c1.find("exceeds 2/omega = 0.02 s of spring 'c0' (omega = 100 rad/s, h omega = 5)") !=
+        std::string::npos);
+  CHECK(c1.find("c1 integrates translation and modes by explicit central differences, unstable "
+                "above this step, and spring 'c0' is not resolved") != std::string::npos);
+  // genalpha is implicit: before issue 46 its warning spoke of explicit central differences.
+  const std::string genalpha = stiff_mode_warning("genalpha", 0.05, spring);
+  CHECK(genalpha.find("genalpha is implicit and stays stable, but spring 'c0' is not resolved") !=
+        std::string::npos);
+  CHECK(genalpha.find("central differences") == std::string::npos);
+  CHECK(stiff_mode_warning("mine", 0.05, spring).find("does not know whether mine is explicit") !=
+        std::string::npos);
+  core::PenaltyMode beam = spring;
+  beam.label = "beam";
+  beam.kind = "flexible body";
+  CHECK(stiff_mode_warning("nmb", 0.05, beam)
+            .find("the highest modes of flexible body beam are "
+                  "not resolved") != std::string::npos);
 }
 
 }  // namespace

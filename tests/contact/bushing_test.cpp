@@ -329,7 +329,8 @@ TEST_CASE("Bushing parameters, validation and description") {
   CHECK(revolute.end_b().axis.isApprox(Vector3d::UnitZ()));
   CHECK_FALSE(revolute.depends_on_velocity());
   CHECK(revolute.max_body_index() == 0);
-  CHECK(revolute.describe().find("revolute bushing: body 0") == 0);
+  // Without the model's bodies, a body is named by its [[body]] table, counted from 1.
+  CHECK(revolute.describe().find("revolute bushing: body[1]") == 0);
   CHECK(revolute.describe().find("ground point (1, 2, 3)") != std::string::npos);
 
   const contact::SphericalBushing spherical(a, contact::BushingEnd{3, Vector3d::Zero()}, defaults);
@@ -340,12 +341,13 @@ TEST_CASE("Bushing parameters, validation and description") {
   // The two kinds of the one bushing class: the whole descriptions, and a spherical bushing
   // given angular damping (a scene's revolute defaults) keeps none of it.
   CHECK(revolute.describe() ==
-        "revolute bushing: body 0 point (0, 0, 0) to ground point (1, 2, 3), hinge axis (0, 1, 0) "
+        "revolute bushing: body[1] point (0, 0, 0) to ground point (1, 2, 3), hinge axis (0, 1, 0) "
         "/ world (0, 0, 1), k = 1e+06 N/m, c = 0 N·s/m, k_theta = 10000 N·m/rad, c_theta = 0 "
         "N·m·s/rad");
-  CHECK(spherical.describe() ==
-        "spherical bushing: body 0 point (0, 0, 0) to body 3 point (0, 0, 0), k = 1e+06 N/m, c = 0 "
-        "N·s/m");
+  CHECK(
+      spherical.describe() ==
+      "spherical bushing: body[1] point (0, 0, 0) to body[4] point (0, 0, 0), k = 1e+06 N/m, c = 0 "
+      "N·s/m");
   contact::BushingParameters angular_only;
   angular_only.angular_damping = 5.0;
   const contact::SphericalBushing undamped(a, ground, angular_only);

@@ -348,6 +348,19 @@ TEST_CASE("every joint key is read", "[app][scene][joint]") {
           Approx(contact::bushing_stable_step(1e5, 30.0, 1.0 / 4.5)).epsilon(1e-14));
     CHECK(core::penalty_modes(*s.model)[0].step_limit < 2.0 / std::sqrt(1e5 * 4.5));
   }
+  SECTION("a named bushing: its modes and description name it and its bodies") {
+    const scene::Scene s = scene::parse_scene(kHead + kRevolute + "name = \"hinge\"\n", "t.toml");
+    REQUIRE(core::penalty_modes(*s.model).size() == 2);
+    CHECK(core::penalty_modes(*s.model)[0].label == "joint 'hinge' translational");
+    CHECK(core::penalty_modes(*s.model)[1].label == "joint 'hinge' angular");
+    CHECK(core::penalty_modes(*s.model)[1].element == 1);  // after the gravity element
+    const auto& j = element<contact::RevoluteBushing>(s, 1);
+    CHECK(j.label() == "joint 'hinge'");
+    CHECK(j.describe_with_names(s.model->bodies())
+              .starts_with(
+                  "revolute bushing: body 'b' point (0, 0, -1) to body 'a' point (0, 0, 1)"));
+    CHECK(j.describe().starts_with("revolute bushing: body[2] point (0, 0, -1) to body[1]"));
+  }
   SECTION("spherical to the ground") {
     const scene::Scene s =
         scene::parse_scene(kHead +
@@ -374,8 +387,19 @@ TEST_CASE("joint errors name file, line and key", "[app][scene][joint]") {
                       "unknown key");
   require_scene_error(kHead + "[[joint]]\nkind = \"prismatic\"\n", l + 1, "joint[1].kind",
                       "revolute");
-  require_scene_error(kHead + "[[joint]]\nkind = \"spherical\"\nbody_a = \"ground\"\n", l + 2,
-                      "joint[1].body_a", "no [[body]] named \"ground\"");
+  // The ground as the first end: refused with what to do (it said "no [[body]] named ground").
+  require_scene_error(kHead +
+                          "[[joint]]\nkind = \"spherical\"\nbody_a = \"ground\"\n"
+                          "body_b = \"a\"\n",
+                      l + 2, "joint[1].body_a",
+                      "the first end of a joint must be a body (its reactions are reported on "
+                      "it); the ground can only be the second end: swap the ends, body_a = "
+                      "\"a\" and body_b = \"ground\", exchanging point_a and point_b");
+  require_scene_error(kHead + kRevolute + "[[joint]]\nname = \"j\"\n" +
+                          kRevolute.substr(std::string("[[joint]]\n").size()) +
+                          "[[joint]]\nname = \"j\"\n" +
+                          kRevolute.substr(std::string("[[joint]]\n").size()),
+                      l + 18, "joint[3].name", "duplicate joint name \"j\"");
   require_scene_error(kHead + "[[joint]]\nkind = \"spherical\"\nbody_a = \"a\"\nbody_b = \"a\"\n",
                       l + 3, "joint[1].body_b", "two different bodies");
   require_scene_error(

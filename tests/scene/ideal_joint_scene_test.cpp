@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/step_limit.hpp"
 #include "scene/scene_reader.hpp"
 #include "tests/support/scene_error_checks.hpp"
 
@@ -79,6 +80,16 @@ TEST_CASE("ideal joints: bad input names file, line and key", "[scene][joints]")
     require_scene_error(replace_first(kIdealJointScene, "body_b = \"ground\"", "body_b = \"grnd\""),
                         15, "joint[1].body_b", "no [[body]] named \"grnd\"");
   }
+  SECTION("the ground as the first end: refused with what to do") {
+    // Before: "no [[body]] named \"ground\"", as if a body were missing.
+    std::string swapped = replace_first(kIdealJointScene, "body_a = \"a\"", "body_a = \"ground\"");
+    swapped = replace_first(swapped, "body_b = \"ground\"", "body_b = \"a\"");
+    require_scene_error(swapped, 13, "joint[1].body_a",
+                        "the first end of a joint must be a body (its reactions are reported on "
+                        "it); the ground can only be the second end: swap the ends, body_a = "
+                        "\"a\" and body_b = \"ground\", exchanging point_a and point_b, "
+                        "axis_a and axis_b");
+  }
   SECTION("an end on a node of a rigid body, or on an unknown node") {
     require_scene_error(
         replace_first(kIdealJointScene, "point_a = [0.0, 0.0, 0.0]", "node_a = \"tip\""), 14,
@@ -127,4 +138,56 @@ TEST_CASE("ideal joints: a violation within 1e-6 is projected, a larger one when
   CHECK(projected.model->initial_projection().position > 0.9e-3);
 }
 
+}  // namespace flexref::scene
+
+namespace flexref::scene {
+namespace {
+
+// [[spring]] tables after the joint scene (lines 19-25, then 26-32).
+const std::string kSpring =
+    "[[spring]]\n"
+    "body_a = \"a\"\n"
+    "point_a = [1.0, 0.0, 0.0]\n"
+    "body_b = \"ground\"\n"
+    "point_b = [2.0, 0.0, 0.0]\n"
+    "stiffness = 100.0\n"
+    "rest_length = 1.0\n";
+
+TEST_CASE("springs are named as springs, by their name or their table", "[scene][joints]") {
+  SECTION("unnamed: spring[k] of its [[spring]] table, never joint[k]") {
+    // Before: the spring's mode was labelled "joint[1]", which in a scene with joints named
+    // another table (Andrews' squeezer: "of joint[1]" was its revolute joint O).
+    const Scene s = parse_scene(kIdealJointScene + kSpring + kSpring, "springs.toml");
+    const std::vector<core::PenaltyMode> modes = core::penalty_modes(*s.model);
+    REQUIRE(modes.size() == 2);
+    CHECK(modes[0].label == "spring[1]");
+    CHECK(modes[0].kind == "spring");
+    CHECK(modes[1].label == "spring[2]");
+    CHECK(modes[1].element == 1);
+    CHECK(core::explicit_step_limit(*s.model).what == "spring[1]");
+    CHECK(s.model->elements()[0]->describe_with_names(s.model->bodies()) ==
+          "spring-damper: body 'a' point (1, 0, 0) to ground point (2, 0, 0), k = 100 N/m, c = 0 "
+          "N*s/m, rest length 1 m");
+  }
+  SECTION("named: spring 'NAME'") {
+    const Scene s = parse_scene(kIdealJointScene + kSpring + "name = \"c0\"\n", "springs.toml");
+    CHECK(core::penalty_modes(*s.model).at(0).label == "spring 'c0'");
+  }
+  SECTION("bad names and the ground as the first end") {
+    require_scene_error(
+        kIdealJointScene + kSpring + "name = \"c0\"\n" + kSpring + "name = \"c0\"\n", 34,
+        "spring[2].name", "duplicate spring name \"c0\"");
+    require_scene_error(kIdealJointScene + kSpring + "name = \"c 0\"\n", 26, "spring[1].name");
+    require_scene_error(
+        replace_first(replace_first(kIdealJointScene + kSpring, "body_a = \"a\"\npoint_a = [1.0",
+                                    "body_a = \"ground\"\npoint_a = [1.0"),
+                      "body_b = \"ground\"\npoint_b = [2.0", "body_b = \"a\"\npoint_b = [2.0"),
+        20, "spring[1].body_a",
+        "the first end of a spring must be a body; the ground can only be the "
+        "second end: swap the ends, body_a = "
+        "\"a\" and body_b = \"ground\", exchanging point_a and point_b");
+  }
+}
+
+}  // namespace
 }  // namespace flexref::scene
