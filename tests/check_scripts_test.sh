@@ -13,24 +13,34 @@ fail() {
   status=1
 }
 
-# case CHECK EXPECTED NAME FILE TEXT: CHECK on a folder holding FILE with TEXT must exit 1
-# (EXPECTED = fails) with NAME's line reported, or 0 (EXPECTED = passes).
+# case_of CHECK EXPECTED NAME FILE TEXT: FILE (under its own folder, case<n>/) with TEXT joins
+# the tests folder of CHECK's cases that must fail (EXPECTED = fails: the check must report
+# that file) or pass (EXPECTED = passes: the check must report nothing). Each check then runs
+# once on each folder.
 n=0
+declare -A names
 case_of() {
   local check=$1 expected=$2 name=$3 file=$4 text=$5
   n=$((n + 1))
-  local dir="$tmp/case$n"
+  local dir="$tmp/$check.$expected/case$n"
   mkdir -p "$dir/$(dirname "$file")"
   printf '%s\n' "$text" >"$dir/$file"
-  local out code
-  out=$(bash "$checks/$check" "$dir" 2>&1)
+  names["$check.$expected/case$n/$file"]=$name
+}
+
+verify() {
+  local check=$1 out code key
+  out=$(bash "$checks/$check" "$tmp/$check.fails" 2>&1)
   code=$?
-  if [[ $expected == fails ]]; then
-    [[ $code -eq 1 && $out == *"FAIL: "* && $out == *"$file"* ]] ||
-      fail "$check does not catch $name (exit $code): $out"
-  else
-    [[ $code -eq 0 && -z $out ]] || fail "$check refuses $name (exit $code): $out"
-  fi
+  [[ $code -eq 1 ]] || fail "$check passes a folder of refused forms (exit $code): $out"
+  for key in "${!names[@]}"; do
+    [[ $key == "$check.fails/"* ]] || continue
+    [[ $out == *"FAIL: $tmp/$key:"* || $out == *"FAIL: $tmp/$key "* ]] ||
+      fail "$check does not catch ${names[$key]}"
+  done
+  out=$(bash "$checks/$check" "$tmp/$check.passes" 2>&1)
+  code=$?
+  [[ $code -eq 0 && -z $out ]] || fail "$check refuses a repaired form (exit $code): $out"
 }
 
 cpp() {  # a test case around the lines given
@@ -91,5 +101,7 @@ trap '"'"'rm -rf "$tmp"'"'"' EXIT
 grep -o "use --dt [0-9.]*" "$tmp/err.txt" >"$tmp/dt.txt"
 ls "${TMPDIR:-/tmp}" | grep -q "^flexref-" && echo left'
 
+verify approx_check.sh
+verify test_paths_check.sh
 [[ $status -eq 0 ]] && echo "ok: $n cases"
 exit $status
