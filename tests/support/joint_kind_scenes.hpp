@@ -9,10 +9,10 @@
 ///                      and the torque (p_C − p_P) × f that keeps it from turning (closed form).
 ///   driven_prismatic   the same guide driven by the Kane–Ryan–Banerjee law s(t): the position
 ///                      is the law, the force m (s̈ u − g) (the drive's share m s̈ − m g·u).
-///   cylindrical        a body spinning at constant rate ω about a guide through its centre of
-///                      mass that is not a principal axis, while it slides down the guide: the
-///                      spin stays constant (no torque along the axis), the reaction torque
-///                      about the centre of mass is ω × (I_W ω) (Euler's equations with ω̇ = 0).
+///   cylindrical        a body spinning at constant rate ω about a vertical guide that is not a
+///                      principal axis and misses its centre of mass, while it falls along it:
+///                      the spin stays constant (no moment about the axis), the centre of mass
+///                      circles the axis (force −m ω² ρ), the torque about it is ω × (I_W ω).
 ///   universal          a Hooke joint between two shafts at β = 30°, the input driven at Ω:
 ///                      tan φ2 = cos β tan φ1 for yokes perpendicular at φ1 = φ2 = 0, and the
 ///                      driving torque from the power balance Ω τ = d/dt(½ I2 φ̇2²).
@@ -229,33 +229,43 @@ inline JointKindScene prismatic_guide_scene(bool driven) {
   return s;
 }
 
-/// A spindle on a cylindrical joint to the ground along u = (1, 2, 2)/3 (world and, at t = 0,
-/// body: the attitude starts at the identity), through its centre of mass but not along a
-/// principal axis of its inertia diag(0.02, 0.05, 0.06); spinning at 6 rad/s and thrown down the
-/// guide at 0.3 m/s, gravity −9.81 z.
+/// A spindle on a cylindrical joint to the ground along the vertical u = z, spinning about it at
+/// 6 rad/s and thrown up at 0.3 m/s under gravity −9.81 z. The axis is not a principal axis of
+/// the spindle's inertia diag(0.02, 0.05, 0.06) (it is (1, 2, 2)/3 in the body frame), and the
+/// centre of mass is 0.1 m off it. Neither gravity (along the axis) nor the joint (its forces
+/// act on the axis, its torques across it) has a moment about the axis, and the angular
+/// momentum about it is ω (u_Bᵀ I u_B + m ρ²): ω stays constant. The centre of mass circles the
+/// axis while the axis point falls freely; the joint supplies the centripetal force −m ω² ρ and,
+/// about the centre of mass, ω × (I_W ω) (Euler's equations with ω̇ = 0).
 inline JointKindScene cylindrical_spindle_scene() {
   namespace d = joint_scene_detail;
   const Eigen::Vector3d g(0.0, 0.0, -9.81);
-  const Eigen::Vector3d u = Eigen::Vector3d(1.0, 2.0, 2.0) / 3.0;
-  const double omega = 6.0, v0 = -0.3;
+  const Eigen::Vector3d u = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d u_B = Eigen::Vector3d(1.0, 2.0, 2.0) / 3.0;
+  const double omega = 6.0, v0 = 0.3;
+  const Eigen::Vector3d rho0(0.1, 0.0, 0.0);   // from the axis to the centre of mass
+  const Eigen::Vector3d axis0(0.0, 0.0, 0.5);  // the axis point level with it at t = 0
   d::SceneBody spindle;
   spindle.name = "spindle";
   spindle.mass = 1.5;
   spindle.I_C_B = Eigen::Vector3d(0.02, 0.05, 0.06).asDiagonal();
-  spindle.initial.p_WC = Eigen::Vector3d(0.0, 0.0, 0.5);
-  spindle.initial.v_WC = v0 * u;
+  spindle.initial.R_WB = Eigen::Quaterniond::FromTwoVectors(u_B, u).toRotationMatrix();
+  spindle.initial.p_WC = axis0 + rho0;
   spindle.initial.w_W = omega * u;
-  const Eigen::Vector3d p_WP0 = spindle.initial.p_WC + 0.2 * u;  // on the axis, 0.2 m from C
+  spindle.initial.v_WC = v0 * u + spindle.initial.w_W.cross(rho0);
+  const Eigen::Vector3d p_WP0 = axis0 + 0.2 * u;  // on the axis, 0.2 m above
   JointKindScene s;
   s.kind = "cylindrical";
-  s.oracle = "constant spin about the guide, free fall along it; torque about C = w x (I_W w)";
+  s.oracle =
+      "constant spin about the guide, free fall along it, the centre of mass circling it; "
+      "force -m w^2 rho, torque about C w x (I_W w)";
   s.toml = d::header("cylindrical", 1.0, 0.01, g) + spindle.toml() +
            d::joint("sleeve", "cylindrical", "spindle", spindle.point(p_WP0), "ground", p_WP0,
                     d::axes(spindle.axis(u), u));
-  s.length = 3.0;
-  s.speed = 6.0;
+  s.length = 5.0;  // the fall: 0.3 − 4.9 m
+  s.speed = 10.0;
   s.rate = omega;
-  s.force = spindle.mass * 9.81;
+  s.force = spindle.mass * omega * omega * rho0.norm();
   s.torque = omega * omega * 0.06;
   const double m = spindle.mass;
   const Eigen::Matrix3d I_B = spindle.I_C_B;
@@ -265,16 +275,19 @@ inline JointKindScene cylindrical_spindle_scene() {
     for (const double t : times) {
       OracleSample sample;
       OracleBody b = start;
-      // u is fixed in the body and in the world, and the torque along it vanishes (the free
-      // coordinate): u·H = ω uᵀ I_W u with uᵀ I_W u constant, so ω stays constant.
-      b.R_WB = d::rotation(u, omega * t);
-      b.p_WC += (v0 * t + 0.5 * g.dot(u) * t * t) * u;
-      b.v_WC = (v0 + g.dot(u) * t) * u;
+      const Eigen::Matrix3d turn = d::rotation(u, omega * t);
+      const Eigen::Vector3d rho = turn * rho0;
+      const double fall = v0 * t + 0.5 * g.dot(u) * t * t;
+      const Eigen::Vector3d axis = axis0 + fall * u;
+      b.R_WB = turn * start.R_WB;
+      b.p_WC = axis + rho;
+      b.v_WC = (v0 + g.dot(u) * t) * u + b.w_W.cross(rho);
       sample.bodies.push_back(b);
-      const Eigen::Vector3d f = m * (g.dot(u) * u - g);  // m a = m g + f
+      const Eigen::Vector3d f = -m * omega * omega * rho;  // m a = m g + f, a = g − ω² ρ
       const Eigen::Matrix3d I_W = b.R_WB * I_B * b.R_WB.transpose();
       const Eigen::Vector3d tau_C = b.w_W.cross(I_W * b.w_W);  // dH/dt with ω̇ = 0
-      d::add_reaction(sample, "sleeve", f, tau_C - (0.2 * u).cross(f));
+      const Eigen::Vector3d p_WP = axis + 0.2 * u;
+      d::add_reaction(sample, "sleeve", f, tau_C - (p_WP - b.p_WC).cross(f));
       out.push_back(std::move(sample));
     }
     return out;
