@@ -99,6 +99,7 @@ case_of $p passes "outputs under the test's folder" x/t.sh 'tmp=$(mktemp -d)
 trap '"'"'rm -rf "$tmp"'"'"' EXIT
 "$flexref" run s.toml -o "$tmp/run.csv" >/dev/null 2>"$tmp/err.txt"
 grep -o "use --dt [0-9.]*" "$tmp/err.txt" >"$tmp/dt.txt"
+find "$tmp" \( -name "*.csv" -o -name "*.txt" \) | sort >"$tmp/list.txt"
 ls "${TMPDIR:-/tmp}" | grep -q "^flexref-" && echo left'
 
 verify approx_check.sh

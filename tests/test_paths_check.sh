@@ -127,7 +127,7 @@ for directory, _, names in os.walk(root):
                         not target.startswith('$') and re.search(r'[A-Za-z]', target) and \
                         ('/' in target or '.' in target or target == 'Q'):
                     fail(path, k, line, 'writes outside the test\'s folder')
-            for command in re.split(r'[|;(]|&&', plain):
+            for command in re.split(r'[|;]|&&|(?<!\\)\(', plain):
                 if re.match(r'\s*(?:grep|egrep|zgrep|find)\b', command):
                     continue  # grep -o: the matching part; find -o: or
                 for target in re.findall(r'(?:^|\s)(?:-o|--out|--output)(?:=|\s+)([^\s)]+)',
