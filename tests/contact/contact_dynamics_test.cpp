@@ -90,7 +90,13 @@ Run simulate(const Model& model, double t_end, const std::vector<double>& output
   Vector g_old(count), g_new(count), x(y.size());
   ev.gaps(0.0, y, g_old);
   std::size_t next_output = 0;
+  // A step budget, so that a stepper whose steps collapse fails here instead of running on:
+  // the runs below take at most 3.6e3 steps (measured: the block on the incline), so 1e6 is far
+  // above any of them and reached in seconds.
+  constexpr long kMaxSteps = 1'000'000;
+  long steps = 0;
   while (stepper.current_time() < t_end) {
+    REQUIRE(++steps <= kMaxSteps);
     const auto [t0, t1] = stepper.do_step(system);
     ev.gaps(t1, stepper.current_state(), g_new);
     for (std::size_t k = 0; k < count; ++k) {

@@ -447,6 +447,8 @@ TEST_CASE("contact parameters: frequency, step limit and validation", "[core][co
       {contact::ContactPair::point_plane(0, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
                                          Eigen::Vector3d::UnitZ())},
       contact::NormalLaw::linear(1e4, 0.0), contact::FrictionLaw{}, 4.0);
+  // √(k/m) = √(1e4/4) = 50 and 2/ω = 0.04: one or two correctly rounded operations each,
+  // ≤ 2 ε = 4.4e-16 relative.
   CHECK(linear.frequency(4.0) == Approx(50.0).epsilon(1e-15));
   CHECK(linear.explicit_step_limit(4.0) == Approx(0.04).epsilon(1e-15));
   CHECK_THAT(linear.describe(), Catch::Contains("omega = 50 rad/s"));

@@ -246,6 +246,8 @@ TEST_CASE("the attached point's velocity is the time derivative of its deformed 
   m.compute_wrenches(core::LoadContext{0.0, 0.0}, s, ws);
   const Eigen::Vector3d x_P = b[0].description().flexible->modal.p_BoNode_B.col(kNode);
   const Eigen::Vector3d p = core::attached_position_W(ws.kinematics[0], x_P, node);
+  // The same point by two routes (the attachment's and the model's): a rotation and two sums,
+  // a few roundings of ε |p| each; 10 × 1e-15 |p| ≈ 45 ε |p| bounds them.
   CHECK((p - node_position(m, s)).norm() <= 1e-15 * p.norm() * 10);
   const Eigen::Vector3d v = core::attached_velocity_W(ws.kinematics[0], p, node);
   // Move along the state's velocities by ±h: p_WBr + h v, θ ⊗ exp(h ω̄), q + h q̇.

@@ -11,6 +11,9 @@ namespace {
 
 TEST_CASE("sin2 pulse is sin²(π t / d) inside, zero outside, branch by segment", "[core]") {
   const TimeProfile p = TimeProfile::sin2_pulse(0.0, 0.1);
+  // At the peak sin² is stationary, so the argument's rounding enters squared: sin and the
+  // square round once each, ≤ 2 ε < 1e-15. At π/4 the slope of sin² is 1: the argument's
+  // rounding (≤ 2 ε of π/4) and two more add up to ~5 ε of 0.5 = 1.1e-15; 1e-14 bounds it.
   CHECK(p.value(0.05, 0.05) == Approx(1.0).epsilon(1e-15));
   CHECK(p.value(0.025, 0.025) == Approx(0.5).epsilon(1e-14));
   CHECK(p.value(0.2, 0.2) == 0.0);

@@ -397,6 +397,8 @@ TEST_CASE("sign and normalization conventions", "[core][beam]") {
     REQUIRE(unit_mass.node_names[static_cast<std::size_t>(tip)] == "node20");
     CHECK(unit_mass.node_names[0] == "node0");
     CHECK(unit_mass.node_names[1] == "e0_q1");
+    // The tip at origin + (20 × L/20) x: the division, the product and the sum round once
+    // each, ≤ 3 ε of the positions.
     CHECK(unit_mass.p_BoNode_B.col(tip).isApprox(p.origin + p.length * Eigen::Vector3d::UnitX(),
                                                  4 * kEps));
     const Eigen::VectorXd omega_mass = natural_frequencies(unit_mass);

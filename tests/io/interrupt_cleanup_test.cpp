@@ -23,6 +23,11 @@ namespace fs = std::filesystem;
 /// This test's own folder (tests/support/temp_dir.hpp).
 using InterruptTempDir = testing::TempDir;
 
+/// Seconds after which a child that the signal under test did not end ends by SIGALRM: the
+/// signal's path takes milliseconds (the watcher thread's cleanup, a few file removals), and
+/// the sanitizer builds run it ~5× slower; 30 s is far above both.
+constexpr unsigned kChildCeiling = 30;
+
 /// Runs `body` in a child process with the cleanup installed and its stderr in `log`, and
 /// returns the child's wait status. The child starts as a program does, with the signals at
 /// their defaults (not Catch2's handlers) or as `ignored` leaves them, sends itself the signal
@@ -37,7 +42,10 @@ int in_child(const fs::path& log, const std::function<void()>& body, int ignored
     for (const int s : {SIGINT, SIGTERM, SIGHUP}) ::signal(s, s == ignored ? SIG_IGN : SIG_DFL);
     install_interrupt_cleanup();
     body();
-    // The signal ends the process in the watcher; this thread only waits.
+    // The signal ends the process in the watcher; this thread only waits. Should the cleanup
+    // not end it (a regression), SIGALRM does after kChildCeiling, and the checks on the
+    // status fail instead of waitpid waiting for ever.
+    ::alarm(kChildCeiling);
     for (;;) ::pause();
   }
   int status = 0;
@@ -104,6 +112,9 @@ TEST_CASE("a signal is forwarded to the registered child programs", "[io][signal
       if (grandchild == 0) {
         ::close(fds[0]);
         pthread_sigmask(SIG_SETMASK, &mask, nullptr);
+        // Unless the forwarded SIGTERM ends it first (the read below then returns at once),
+        // SIGALRM ends it, closing the pipe: the read never waits for ever.
+        ::alarm(kChildCeiling);
         for (;;) ::pause();
       }
       return grandchild;

@@ -31,6 +31,7 @@ double max_residual(const Model& model, double t) {
 }
 
 TEST_CASE("DAE residual vanishes at consistent values from the ODE form", "[core]") {
+  // max_residual's round-off, derived above it: 1e-12 of the rows' scale.
   CHECK(max_residual(testing::coulomb_wall_model(), 0.0) < 1e-12);
   CHECK(max_residual(testing::loaded_free_body_model(), 0.05) < 1e-12);
   // Heavy top: angular-momentum rows of size I·ω² ≈ 15·150·4.6 ≈ 1e4.

@@ -59,6 +59,7 @@ std::vector<double> errors_through_onset(const core::Model& model, const std::ve
         reference::solve_reference(solver, model, times, reference::SolverOptions{rtol, -1.0});
     CAPTURE(rtol);
     REQUIRE(run.event_times.size() == truth.event_times.size());
+    // onset_bound is derived where each caller gives it.
     CHECK(std::abs(run.event_times.front() - truth.event_times.front()) < onset_bound(rtol));
     errors.push_back(largest_difference(run.trajectory, truth.trajectory));
   }

@@ -114,6 +114,7 @@ TEST_CASE("every contact key is read", "[app][scene][contact]") {
     CHECK(c.pairs()[1].p_BoCb_B == Eigen::Vector3d(-0.1, 0, 0));
     CHECK(c.pairs()[2].radius_b == 0.01);
     CHECK(c.pairs()[0].p_WQ == Eigen::Vector3d(0, 0, -1));
+    // (0, 3, 4) normalized: a square root and three divisions, ≤ 2 ε = 4.4e-16 each.
     CHECK(c.pairs()[0].n_W.isApprox(Eigen::Vector3d(0, 0.6, 0.8), 1e-15));
     CHECK(c.normal_law().stiffness() == 2e7);
     CHECK(c.normal_law().exponent() == 1.2);
@@ -435,6 +436,7 @@ TEST_CASE("bundled contact scenes read into the expected elements", "[app][scene
     CHECK(c.pairs()[0].radius_b == 0.1);
     CHECK(c.normal_law().kind() == contact::NormalLaw::Kind::kHuntCrossley);
     CHECK(c.normal_law().restitution() == 0.5);
+    // √(2 g h), h = 0.9 m: the same three roundings in any order, ≤ 3 ε = 6.7e-16.
     CHECK(c.normal_law().reference_speed() == Approx(std::sqrt(2 * 9.81 * 0.9)).epsilon(1e-15));
     CHECK(s.model->body(0).mass() == 1.0);
     CHECK(s.model->initial_state()[0].p_WBr.z() == 1.0);

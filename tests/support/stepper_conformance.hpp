@@ -115,6 +115,7 @@ inline void check_run_scheme_reports_failure(const std::string& name) {
   } catch (const core::SolverError& e) {
     CHECK(e.solver() == name);
     CHECK(e.step() == 5);
+    // t_5 = 5 × 0.1 (run_scheme multiplies, never accumulates): one rounding of 0.5, ≤ 5.6e-17.
     CHECK(e.time() == Approx(0.5).margin(1e-15));
   }
 }
