@@ -30,7 +30,7 @@ void SimbodyEngine::simulate(const scene::Scene& scene, const StepPlan& plan,
   options.integrator = integrator;
   options.accuracy = accuracy_;
   try {
-    run_simbody(rigid_scene(scene), plan, options, record);
+    run_simbody(rigid_scene(scene, simbody_joint_support()), plan, options, record);
   } catch (const SimbodyFailure& e) {
     throw core::SolverError(version() + " " + integrator, e.time(), e.step(), e.what());
   }
