@@ -156,8 +156,12 @@ JointCheck check_joints(const CompareOptions& options, const trajectory::Referen
   }
   check.measured = true;
   check.joints = trajectory::measure_joints(*scene->model, run.table);
-  check.verdict = trajectory::judge_joints(*scene->model, check.joints,
-                                           trajectory::measure_joints(*scene->model, ref), report);
+  // The reference's estimated error bounds what can be told apart from it (+inf or absent:
+  // nothing known, 0).
+  const double noise =
+      sidecar.has_estimate && std::isfinite(sidecar.estimate) ? sidecar.estimate : 0.0;
+  check.verdict = trajectory::judge_joints(
+      *scene->model, check.joints, trajectory::measure_joints(*scene->model, ref), report, noise);
   return check;
 }
 
@@ -221,7 +225,8 @@ int compare_command(const CompareOptions& options) {
   if (joints.verdict.off) {
     // A run off its joints is a run of another system: its error certifies nothing.
     cert.certified = false;
-    cert.text += "; the run is OFF ITS JOINTS, NOT CERTIFIED: " + joints.verdict.why;
+    cert.text = "NOT CERTIFIED: the run is OFF ITS JOINTS: " + joints.verdict.why +
+                " (reference: " + cert.text + ")";
   }
 
   if (options.json) {

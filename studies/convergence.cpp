@@ -353,7 +353,9 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         m.ignored = report.ignored_columns;
         // Its joints from its positions (a scheme's are held by its own invariant monitor).
         joints = trajectory::measure_joints(model, run.run.table);
-        m.off_joints = trajectory::judge_joints(model, joints, reference_joints, report).why;
+        m.off_joints = trajectory::judge_joints(model, joints, reference_joints, report,
+                                                result.reference.estimate.estimate())
+                           .why;
       }
       record_joints(joints, out);
       out.error = trajectory::metric_value(report, options.metric);

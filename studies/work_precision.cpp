@@ -254,7 +254,9 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
             trajectory::measure_joints(model, run.run.table);
         out.violation = largest_violation(joints);
         off_joints[static_cast<std::size_t>(k)] =
-            trajectory::judge_joints(model, joints, reference_joints, report).why;
+            trajectory::judge_joints(model, joints, reference_joints, report,
+                                     result.reference.estimate.estimate())
+                .why;
       } else {
         const int j = k - n_scheme_runs;
         out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];

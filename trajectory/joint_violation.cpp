@@ -157,7 +157,7 @@ std::vector<JointViolation> measure_joints(const core::Model& model, const Traje
 
 JointVerdict judge_joints(const core::Model& model, const std::vector<JointViolation>& run,
                           const std::vector<JointViolation>& reference,
-                          const ComparisonReport& report) {
+                          const ComparisonReport& report, double noise) {
   JointVerdict verdict;
   const core::ConstraintEquations* constraints = model.constraints();
   std::ostringstream why;
@@ -181,8 +181,10 @@ JointVerdict judge_joints(const core::Model& model, const std::vector<JointViola
     const double ref_angle = j < reference.size() ? reference[j].angle : 0.0;
     const double excess_length = v.length - ref_length;
     const double excess_angle = v.angle - ref_angle;
-    const bool off_length = !(excess_length <= kJointViolationFraction * scale_length);
-    const bool off_angle = !(excess_angle <= kJointViolationFraction * scale_angle);
+    const bool off_length =
+        !(excess_length <= std::max(kJointViolationFraction * scale_length, noise));
+    const bool off_angle =
+        !(excess_angle <= std::max(kJointViolationFraction * scale_angle, noise));
     if (!off_length && !off_angle) continue;
     why << (verdict.off ? "; " : "") << "joint " << v.name << " violated by ";
     if (off_length) {

@@ -63,9 +63,11 @@ struct JointVerdict {
   std::string why;
 };
 
+/// `noise`: the reference's estimated error (0 when unknown); a violation within it is not
+/// measured, whatever the run's error (a level that close to the reference is uncertified).
 JointVerdict judge_joints(const core::Model& model, const std::vector<JointViolation>& run,
                           const std::vector<JointViolation>& reference,
-                          const ComparisonReport& report);
+                          const ComparisonReport& report, double noise = 0.0);
 
 /// "O 1.2e-03 m, 3.4e-05 rad (t = 0.25)": one joint's line for messages and tables.
 std::string describe_violation(const JointViolation& joint);

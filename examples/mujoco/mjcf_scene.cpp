@@ -159,8 +159,9 @@ class MjcfWriter {
 
 }  // namespace
 
-std::string ConstraintSoftness::attributes() const {
-  return "solref=\"" + number(solref[0]) + " " + number(solref[1]) + "\" solimp=\"" +
+std::string ConstraintSoftness::attributes(double dt) const {
+  const double timeconst = solref[0] == 0.0 ? 2.0 * dt : solref[0];
+  return "solref=\"" + number(timeconst) + " " + number(solref[1]) + "\" solimp=\"" +
          number(solimp[0]) + " " + number(solimp[1]) + " " + number(solimp[2]) + " " +
          number(solimp[3]) + " " + number(solimp[4]) + "\"";
 }
@@ -292,7 +293,7 @@ std::string scene_mjcf(const std::string& name, const RigidScene& scene, double 
   }
   if (!scene.loops.empty()) {
     const double arm = joint_arm(scene);
-    const std::string soft = " " + softness.attributes();
+    const std::string soft = " " + softness.attributes(dt);
     x << "  <equality>\n";
     for (int l : scene.loops) {
       const IdealJointInput& j = scene.ideal_joints[static_cast<std::size_t>(l)];

@@ -55,18 +55,20 @@ namespace flexref::engines {
 /// damping ratio ζ give b = 2/(dmax τ), k = 1/(dmax² τ² ζ²); negative values (−k, −b) give them
 /// directly. MuJoCo raises τ to 2·timestep when it is smaller (its `refsafe` flag).
 struct ConstraintSoftness {
-  std::array<double, 2> solref{kDefaultTimeconst, 1.0};
-  std::array<double, 5> solimp{kDefaultImpedance, kDefaultImpedance, 0.001, 0.5, 2.0};
-  /// The adapter's default: the hardest constraint MuJoCo allows (impedance 0.9999, its
-  /// mjMAXIMP; MuJoCo's own default 0.9–0.95 leaves 5–10 % of the unconstrained acceleration
-  /// in the joint) and τ = 2e-4 s. The joint then stays off by about (1 − d)/d × a τ² per
-  /// acceleration a (the reference acceleration's equilibrium): 4e-12 m per m/s², a floor
-  /// below the errors the table of docs/engines.md measures; τ is raised to 2·timestep for
-  /// steps above 1e-4 s. docs/engines.md measures how the floor moves with it.
-  static constexpr double kDefaultTimeconst = 2e-4;
-  static constexpr double kDefaultImpedance = 0.9999;
-  /// "solref=\"…\" solimp=\"…\"".
-  std::string attributes() const;
+  /// TIMECONST DAMPRATIO; TIMECONST 0 (the adapter's default) stands for 2 × the step, the
+  /// stiffest constraint MuJoCo integrates (it raises a smaller time constant to that).
+  std::array<double, 2> solref{0.0, 1.0};
+  /// The adapter's default impedance is the largest MuJoCo allows (0.9999, its mjMAXIMP);
+  /// MuJoCo's own default, 0.9 to 0.95, leaves 5–10 % of the unconstrained acceleration in
+  /// the joint.
+  std::array<double, 5> solimp{kMaxImpedance, kMaxImpedance, 0.001, 0.5, 2.0};
+  static constexpr double kMaxImpedance = 0.9999;
+  /// "solref=\"…\" solimp=\"…\"" at the step dt. With the default solref a joint stays off by
+  /// about (1 − d)/d² × a / k per acceleration a that the constraint holds against (the
+  /// reference acceleration's equilibrium) with k ∝ 1/τ² = 1/(2 dt)²: the violation shrinks
+  /// as dt² instead of leaving a floor; a fixed TIMECONST leaves the floor docs/engines.md
+  /// measures.
+  std::string attributes(double dt) const;
 };
 
 /// Throws MappingError for the first part of the scene MuJoCo cannot carry exactly.

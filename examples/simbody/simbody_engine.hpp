@@ -19,6 +19,7 @@ class SimbodyEngine final : public Engine {
 
  private:
   double accuracy_ = 0.0;  ///< 0: Simbody's default
+  double constraint_tolerance_ = 0.0;  ///< 0: Simbody's default
 };
 
 }  // namespace flexref::engines

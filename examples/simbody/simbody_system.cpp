@@ -237,6 +237,10 @@ void run_simbody(const RigidScene& scene, const StepPlan& plan, const SimbodyOpt
     integ->setFixedStepSize(plan.dt);
     integ->setAllowInterpolation(false);
     if (options.accuracy > 0.0) integ->setAccuracy(options.accuracy);
+    if (options.constraint_tolerance > 0.0) {
+      integ->setConstraintTolerance(options.constraint_tolerance);
+      integ->setProjectEveryStep(true);
+    }
     integ->initialize(model.initial_state());
 
     std::vector<BodySample> samples(scene.bodies.size());
