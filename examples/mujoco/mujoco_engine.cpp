@@ -139,7 +139,8 @@ std::vector<std::pair<std::string, std::string>> MujocoEngine::integrators() con
       {"rk4",
        "classical 4th-order Runge-Kutta; positions by quaternion exponential of the "
        "combined stage velocities"},
-      {"euler", "semi-implicit Euler (MuJoCo's own default): velocity first, then position with it"},
+      {"euler",
+       "semi-implicit Euler (MuJoCo's own default): velocity first, then position with it"},
       {"implicit", "implicit in velocity (the derivative of the smooth forces), then position"},
       {"implicitfast",
        "implicit in velocity without Coriolis derivatives (MuJoCo 2.3.3 and later)"},

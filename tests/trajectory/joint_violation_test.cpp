@@ -81,7 +81,8 @@ void turn_all(TrajectoryTable& t, const std::vector<std::string>& bodies, double
         row[c + 2] = r.z();
       }
       const auto e = static_cast<std::size_t>(t.column(b + ".e0"));
-      const Eigen::Quaterniond a = q * Eigen::Quaterniond(row[e], row[e + 1], row[e + 2], row[e + 3]);
+      const Eigen::Quaterniond a =
+          q * Eigen::Quaterniond(row[e], row[e + 1], row[e + 2], row[e + 3]);
       row[e] = a.w();
       row[e + 1] = a.x();
       row[e + 2] = a.y();
@@ -145,7 +146,8 @@ TEST_CASE("a joint pulled apart is seen by name and size; a tilted hinge by its 
   const auto e = static_cast<std::size_t>(tilted.column("rod2.e0"));
   for (auto& row : tilted.rows) {
     const Eigen::Quaterniond a(row[e], row[e + 1], row[e + 2], row[e + 3]);
-    const Eigen::Quaterniond b = a * Eigen::Quaterniond(Eigen::AngleAxisd(delta, Eigen::Vector3d::UnitX()));
+    const Eigen::Quaterniond b =
+        a * Eigen::Quaterniond(Eigen::AngleAxisd(delta, Eigen::Vector3d::UnitX()));
     row[e] = b.w();
     row[e + 1] = b.x();
     row[e + 2] = b.y();
@@ -177,8 +179,9 @@ TEST_CASE("a body's missing pose columns leave its joints unmeasured and the run
   CHECK(joint_named(joints, "O").measured);
   CHECK_FALSE(joint_named(joints, "E").measured);
   CHECK_THAT(joint_named(joints, "E").missing, Contains("rod2.x..rod2.z") && Contains("rod2.e0"));
-  const JointVerdict verdict = judge_joints(run.model(), joints, measure_joints(run.model(), run.table),
-                                            compare_tables(partial, run.table));
+  const JointVerdict verdict =
+      judge_joints(run.model(), joints, measure_joints(run.model(), run.table),
+                   compare_tables(partial, run.table));
   CHECK(verdict.off);
   CHECK_THAT(verdict.why, Contains("joint E cannot be measured"));
 }
