@@ -128,7 +128,7 @@ TEST_CASE("a run's joints from its positions equal the model's own J.phi", "[joi
   }
 }
 
-TEST_CASE("a joint pulled apart is seen by name and size; a tilted hinge by its sine",
+TEST_CASE("a joint pulled apart is seen by name and size, a tilted hinge by its sine",
           "[joint_violation]") {
   const PendulumRun run;
   TrajectoryTable pulled = without_joint_columns(run.table);
