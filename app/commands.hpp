@@ -127,6 +127,9 @@ struct CompareOptions {
   double euler_tolerance = 1e-6;  ///< trajectory::ContractOptions
   /// Compare files whose sidecars name different scenes (refused otherwise, exit 1).
   bool allow_scene_mismatch = false;
+  /// The scene whose ideal joints are measured in the run (trajectory/joint_violation.hpp);
+  /// "": the reference's sidecar's [scene] file, when it still holds the reference's physics.
+  std::string scene;
 };
 int compare_command(const CompareOptions& options);
 

@@ -1,12 +1,16 @@
 /// \file compare_command.cpp
 /// `flexref compare RUN REF`: a run of any code against a reference under the trajectory
 /// contract (docs/external.md), the measured error beside the reference's own estimated error
-/// (its sidecar REF.meta.toml), as a table or as JSON for scripts.
+/// (its sidecar REF.meta.toml), as a table or as JSON for scripts; with the scene known (--scene,
+/// or the reference's sidecar), each ideal joint's violation measured from the run's positions
+/// and whether the run is off its joints (trajectory/joint_violation.hpp).
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -17,6 +21,7 @@
 #include "core/error.hpp"
 #include "precision/precise_comparison.hpp"
 #include "trajectory/error_metrics.hpp"
+#include "trajectory/joint_violation.hpp"
 #include "trajectory/reference_sidecar.hpp"
 #include "trajectory/trajectory_contract.hpp"
 #include "trajectory/trajectory_table.hpp"
@@ -101,6 +106,65 @@ Certification certify(const trajectory::ReferenceSidecar& sidecar, const std::st
   return c;
 }
 
+/// The joints of the run measured on the scene: --scene, else the file the reference's sidecar
+/// names when it still holds the reference's physics (the same hash). `note` says why they
+/// were not measured.
+struct JointCheck {
+  bool measured = false;
+  std::vector<trajectory::JointViolation> joints;
+  trajectory::JointVerdict verdict;
+  std::string note;
+};
+
+JointCheck check_joints(const CompareOptions& options, const trajectory::ReferenceSidecar& sidecar,
+                        const trajectory::RunData& run, const trajectory::TrajectoryTable& ref,
+                        const trajectory::ComparisonReport& report) {
+  JointCheck check;
+  const core::FlexibleFormulation formulation =
+      sidecar.scene.model.empty() ? kDefaultFormulation : parse_formulation(sidecar.scene.model);
+  std::optional<scene::Scene> scene;
+  if (!options.scene.empty()) {
+    scene = load_scene(options.scene, formulation);
+    check_same_scene(scene_identity(options.scene, *scene), "--scene " + options.scene,
+                     sidecar.scene, options.reference, options.allow_scene_mismatch);
+  } else if (sidecar.scene.file.empty()) {
+    check.note = "not measured: the scene is unknown (" +
+                 std::string(sidecar.found ? "the reference's sidecar names no scene file"
+                                           : "the reference has no sidecar") +
+                 "); give --scene SCENE to measure its ideal joints in the run";
+    return check;
+  } else {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(sidecar.scene.file, ec)) {
+      check.note = "not measured: the reference's scene file " + sidecar.scene.file +
+                   " is not there any more; give --scene SCENE";
+      return check;
+    }
+    try {
+      scene = load_scene(sidecar.scene.file, formulation);
+    } catch (const std::exception& e) {
+      check.note = "not measured: the reference's scene file " + sidecar.scene.file +
+                   " cannot be read now (" + e.what() + "); give --scene SCENE";
+      return check;
+    }
+    if (!sidecar.scene.hash.empty() && scene->hash != sidecar.scene.hash) {
+      check.note = "not measured: the reference's scene file " + sidecar.scene.file +
+                   " has changed since the reference was made (hash " + scene->hash + ", not " +
+                   sidecar.scene.hash + "); give --scene SCENE";
+      return check;
+    }
+  }
+  check.measured = true;
+  check.joints = trajectory::measure_joints(*scene->model, run.table);
+  // The reference's estimated error bounds what can be told apart from it (+inf or absent:
+  // nothing known, 0).
+  const double noise =
+      sidecar.has_estimate && std::isfinite(sidecar.estimate) ? sidecar.estimate : 0.0;
+  check.verdict = trajectory::judge_joints(
+      *scene->model, check.joints, trajectory::measure_joints(*scene->model, ref), report, noise);
+  return check;
+}
+
 }  // namespace
 
 int compare_command(const CompareOptions& options) {
@@ -156,7 +220,14 @@ int compare_command(const CompareOptions& options) {
     throw std::overflow_error("the metric " + options.metric +
                               " is not finite: its sum overflows double precision");
   }
-  const Certification cert = certify(sidecar, options.metric, value);
+  const JointCheck joints = check_joints(options, sidecar, run, ref, report);
+  Certification cert = certify(sidecar, options.metric, value);
+  if (joints.verdict.off) {
+    // A run off its joints is a run of another system: its error certifies nothing.
+    cert.certified = false;
+    cert.text = "NOT CERTIFIED: the run is OFF ITS JOINTS: " + joints.verdict.why +
+                " (reference: " + cert.text + ")";
+  }
 
   if (options.json) {
     std::ostringstream out;
@@ -192,7 +263,24 @@ int compare_command(const CompareOptions& options) {
         << (cert.comparable ? (cert.certified ? "true" : "false") : "null")
         << ",\n  \"note\": " << json_string(cert.text)
         << ",\n  \"scene_mismatch\": " << (mismatch.empty() ? "null" : json_string(mismatch))
-        << "\n}\n";
+        << ",\n  \"joints\": [";
+    for (std::size_t i = 0; i < joints.joints.size(); ++i) {
+      const trajectory::JointViolation& j = joints.joints[i];
+      out << (i ? "," : "") << "\n    {\"name\": " << json_string(j.name)
+          << ", \"measured\": " << (j.measured ? "true" : "false");
+      if (j.measured) {
+        out << ", \"violation\": " << json_number(j.value())
+            << ", \"length\": " << json_number(j.length) << ", \"angle\": " << json_number(j.angle)
+            << ", \"time\": " << json_number(j.time);
+      } else {
+        out << ", \"missing\": " << json_string(j.missing);
+      }
+      out << "}";
+    }
+    out << (joints.joints.empty() ? "]" : "\n  ]") << ",\n  \"off_joints\": "
+        << (joints.measured ? (joints.verdict.off ? "true" : "false") : "null")
+        << ",\n  \"joints_note\": "
+        << json_string(joints.measured ? joints.verdict.why : joints.note) << "\n}\n";
     std::cout << out.str();
     return kExitOk;
   }
@@ -225,7 +313,24 @@ int compare_command(const CompareOptions& options) {
   std::cout << "metric " << options.metric << ": " << std::scientific << std::setprecision(6)
             << value << "  (";
   for (std::size_t i = 0; i < used.size(); ++i) std::cout << (i ? ", " : "") << used[i];
-  std::cout << ")\n" << cert.text << "\n";
+  std::cout << ")\n";
+  if (!joints.joints.empty()) {
+    std::cout << "joint violations |Phi| from the run's positions (largest over its rows; "
+                 "length rows in m, rotation rows as the sine of an angle):\n";
+    for (const trajectory::JointViolation& j : joints.joints) {
+      std::cout << "  joint " << std::left << std::setw(14) << j.name << std::right;
+      if (!j.measured) {
+        std::cout << "not measured: the run has no " << j.missing << "\n";
+        continue;
+      }
+      std::cout << "violation " << std::scientific << std::setprecision(4) << j.value() << " ("
+                << j.length << " m, " << j.angle << " rad) at t = " << std::defaultfloat
+                << std::setprecision(6) << j.time << "\n";
+    }
+  } else if (!joints.measured) {
+    std::cout << "joints: " << joints.note << "\n";
+  }
+  std::cout << cert.text << "\n";
   return kExitOk;
 }
 
@@ -239,6 +344,9 @@ RegisteredCommand register_compare_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--json", options->json, "print the comparison as JSON");
   add_allow_scene_mismatch(cmd, options->allow_scene_mismatch);
+  cmd->add_option("--scene", options->scene,
+                  "the scene whose ideal joints are measured in the run (default: the "
+                  "reference's sidecar's scene file, when it is unchanged)");
   cmd->add_option("--time-tolerance", options->time_tolerance,
                   "row times match output times within this x the output step")
       ->check(number_in(0.0, 0.5))

@@ -29,7 +29,8 @@ studies::ReferenceSolver reference_solver_for(const core::Model& model,
 trajectory::SceneIdentity scene_identity(const std::string& scene_file, const scene::Scene& scene) {
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(scene_file, ec);
-  return {scene.name, scene.hash, ec ? scene_file : absolute.string()};
+  return {scene.name, scene.hash, ec ? scene_file : absolute.string(),
+          core::to_string(scene.model->formulation())};
 }
 
 std::string check_same_scene(const trajectory::SceneIdentity& a, const std::string& a_what,

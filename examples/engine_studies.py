@@ -19,6 +19,7 @@ each target error.
                                [--scene-dir scenes]
                                [--engines mujoco,simbody] [--integrators rk4,...]
                                [--dt H --levels N] [--work-precision [--repeats 3]]
+                               [--jointed] [--adapter-options "--solref 0.02 1"]
 
 Run it with `nice` on a shared machine. Needs build/app/flexref and the adapters
 (build/examples/mujoco/flexref_mujoco, build/examples/simbody/flexref_simbody).
@@ -52,7 +53,17 @@ SCENES = {
     "book_toss": (0.01, 0.01, 6, ("mujoco", "simbody")),
     "pendulum": (0.01, 0.01, 6, ("mujoco", "simbody")),
     "bouncing_ball": (0.001, 0.001, 6, ("simbody",)),
+    # The jointed benchmarks (--jointed): steps dividing their output steps (1e-3 s; Andrews'
+    # 1e-4 s), coarsest where the engines' explicit methods still run (Andrews' squeezer turns
+    # K1 at up to 1.5e3 rad/s). MuJoCo cannot drive the slider-crank's crank and refuses it.
+    "heavy_top_spherical": (0.002, 0.0025, 6, ("mujoco", "simbody")),
+    "double_pendulum_ideal": (0.001, 0.001, 6, ("mujoco", "simbody")),
+    "four_bar": (0.001, 0.001, 6, ("mujoco", "simbody")),
+    "andrews_squeezer": (2e-5, 2e-5, 6, ("mujoco", "simbody")),
+    "slider_crank": (0.001, 0.001, 6, ("simbody",)),
 }
+JOINTED = ("heavy_top_spherical", "double_pendulum_ideal", "four_bar", "andrews_squeezer",
+           "slider_crank")
 METRICS = ("rotation", "angular_velocity", "points")
 
 
@@ -94,10 +105,22 @@ def main():
     parser.add_argument("--reuse", action="store_true",
                         help="tabulate the studies already in OUT instead of running them again")
     parser.add_argument("--work-precision", action="store_true")
+    parser.add_argument("--jointed", action="store_true",
+                        help="the jointed benchmarks: one rotation+points study per scene and "
+                             "integrator with each level's joint violation (OUT/jointed.md)")
+    parser.add_argument("--adapter-options", default="",
+                        help="appended to every adapter command (--solref 0.02 1, say)")
     parser.add_argument("--repeats", default="3")
+    parser.add_argument("--schemes", default="c1,c2,nmb",
+                        help="flexref's schemes beside the engines in --work-precision "
+                             "(genalpha on scenes with ideal joints, which the others refuse)")
+    parser.add_argument("--solvers", default="cvode",
+                        help="flexref's reference solvers beside them in --work-precision")
     args = parser.parse_args()
     if args.work_precision:
         return work_precision(args)
+    if args.jointed:
+        return jointed(args)
     rows = []
     for scene in args.scenes.split(","):
         scene_file = os.path.join(args.scene_dir, scene + ".toml")
@@ -183,7 +206,8 @@ def methods(args, scene):
                    args.dt or (dt_low if claimed <= 2 else dt_high),
                    args.levels or scene_levels,
                    "%s_%s" % (engine, integrator.replace("-", "_")),
-                   "%s {scene} {dt} {output} --integrator %s" % (ADAPTERS[engine], integrator))
+                   ("%s {scene} {dt} {output} --integrator %s %s" % (
+                       ADAPTERS[engine], integrator, args.adapter_options)).strip())
 
 
 def work_precision(args):
@@ -199,7 +223,7 @@ def work_precision(args):
             code, text = run([args.flexref, "work-precision",
                               os.path.join(args.scene_dir, scene + ".toml"),
                               "--external", command, "--label", label, "--schemes",
-                              "c1,c2,nmb", "--solvers", "cvode", "--tolerances",
+                              args.schemes, "--solvers", args.solvers, "--tolerances",
                               "1e-6,1e-9", "--dt", str(dt), "--levels", str(levels),
                               "--repeats", args.repeats, "--jobs", args.jobs, "--out",
                               study])
@@ -231,6 +255,70 @@ def work_precision(args):
     with open(os.path.join(args.out, "work_precision.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
+
+
+def level_rows(study_dir, label):
+    """The levels of one method in a converge study: (h, error, violation, status) from its
+    convergence.txt table (the violation column is there for scenes with ideal joints)."""
+    rows = []
+    for line in open(os.path.join(study_dir, "convergence.txt")):
+        cells = line.split()
+        if len(cells) >= 8 and cells[0] == label and re.match(r"^[0-9.e+-]+$", cells[1]):
+            rows.append((float(cells[1]), float(cells[3]), cells[6], " ".join(cells[7:])))
+    return rows
+
+
+def jointed(args):
+    """One `converge --external` per jointed scene and integrator (metric rotation+points):
+    the observed order, the levels off their joints, the finest level's error and joint
+    violation; OUT/jointed.md and OUT/jointed.csv with each study's command."""
+    rows = []
+    scenes = args.scenes if args.scenes != ",".join(SCENES) else ",".join(JOINTED)
+    for scene in scenes.split(","):
+        scene_file = os.path.join(args.scene_dir, scene + ".toml")
+        for engine, integrator, claimed, dt, levels, label, command in methods(args, scene):
+            study = os.path.join(args.out, scene, label)
+            cmd = [args.flexref, "converge", scene_file, "--external", command, "--label",
+                   label, "--order", str(claimed), "--dt", "%g" % dt, "--levels",
+                   str(levels), "--reference-solver", "cvode", "--jobs", args.jobs,
+                   "--out", study]
+            if not (args.reuse and os.path.exists(os.path.join(study, "convergence.txt"))):
+                code, text = run(cmd)
+            if not os.path.exists(os.path.join(study, "convergence.txt")):
+                print("%s %s: converge failed:\n%s" % (scene, label, text), file=sys.stderr)
+                continue
+            fit = observed(study, label)
+            levels_of = level_rows(study, label)
+            off = sum(1 for r in levels_of if r[3] == "off-joints")
+            finest = next((r for r in reversed(levels_of) if not r[3].startswith("failed")),
+                          None)
+            row = {"scene": scene, "engine": engine, "integrator": integrator,
+                   "claimed": claimed, "order": fit, "off_joints": off,
+                   "levels": len(levels_of),
+                   "finest_h": "%.3g" % finest[0] if finest else "-",
+                   "finest_error": "%.3g" % finest[1] if finest else "-",
+                   "finest_violation": finest[2] if finest else "-",
+                   "statuses": ",".join(r[3].replace(" ", "_") for r in levels_of),
+                   "command": " ".join(c if " " not in c else '"%s"' % c for c in cmd)}
+            rows.append(row)
+            print("%-22s %-20s order %-14s off-joints %d/%d  finest h %s error %s violation %s"
+                  % (scene, label, fit, off, len(levels_of), row["finest_h"],
+                     row["finest_error"], row["finest_violation"]), flush=True)
+    os.makedirs(args.out, exist_ok=True)
+    fields = ["scene", "engine", "integrator", "claimed", "order", "off_joints", "levels",
+              "finest_h", "finest_error", "finest_violation", "statuses", "command"]
+    with open(os.path.join(args.out, "jointed.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+    with open(os.path.join(args.out, "jointed.md"), "w") as f:
+        f.write("| scene | integrator | claimed | observed | off-joints | finest h | error | "
+                "violation |\n|---|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            f.write("| %s | %s %s | %d | %s | %d of %d | %s | %s | %s |\n" % (
+                r["scene"], r["engine"], r["integrator"], r["claimed"], r["order"],
+                r["off_joints"], r["levels"], r["finest_h"], r["finest_error"],
+                r["finest_violation"]))
 
 
 if __name__ == "__main__":

@@ -21,6 +21,7 @@
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
 #include "trajectory/error_metrics.hpp"
+#include "trajectory/joint_violation.hpp"
 #include "trajectory/reference_sidecar.hpp"
 #include "trajectory/trajectory_table.hpp"
 
@@ -59,12 +60,14 @@ struct Measured {
   std::string kept_bytes;   ///< the level's output file, from a rank other than 0
   std::string instability;  ///< an unstable level: the invariant it broke (InvariantBreach)
   std::string bounds;       ///< metric_bounds_text of the level's comparison
+  std::string off_joints;   ///< an external level off its joints: why (judge_joints)
 };
 
 SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measured>& measured) {
-  require_codec_size<ConvergenceLevel, 112>();
+  require_codec_size<ConvergenceLevel, 152>();
   const auto fields = [](auto& io, auto& l) {
-    io(l.scheme, l.h, l.steps, l.error, l.order, l.cpu_seconds, l.status, l.saturation);
+    io(l.scheme, l.h, l.steps, l.error, l.order, l.cpu_seconds, l.status, l.saturation, l.violation,
+       l.joints);
   };
   return {[&levels, &measured, fields](int i, SlotWriter& w) {
             auto put = [&w](const auto&... x) { (w.put(x), ...); };
@@ -77,6 +80,7 @@ SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measure
             w.put(measured[k].kept_bytes);
             w.put(measured[k].instability);
             w.put(measured[k].bounds);
+            w.put(measured[k].off_joints);
           },
           [&levels, &measured, fields](int i, SlotReader& r) {
             auto get = [&r](auto&... x) { (r.get(x), ...); };
@@ -89,7 +93,19 @@ SlotCodec level_codec(std::vector<ConvergenceLevel>& levels, std::vector<Measure
             measured[k].kept_bytes = r.get_string();
             measured[k].instability = r.get_string();
             measured[k].bounds = r.get_string();
+            measured[k].off_joints = r.get_string();
           }};
+}
+
+/// A level's largest joint violation and each joint's (trajectory/joint_violation.hpp).
+void record_joints(const std::vector<trajectory::JointViolation>& joints, ConvergenceLevel& out) {
+  if (joints.empty()) return;
+  double largest = 0.0;
+  for (const trajectory::JointViolation& j : joints) {
+    out.joints += (out.joints.empty() ? "" : "; ") + trajectory::describe_violation(j);
+    largest = j.measured ? std::max(largest, j.value()) : kNaN;
+  }
+  out.violation = largest;
 }
 
 }  // namespace
@@ -312,6 +328,11 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         trajectory::certified_reference(model, output_times, solver, ref_options, options.metric);
   }
 
+  // The reference's own joint violations: a run is judged by what it adds to them.
+  result.joints = model.has_constraints();
+  const std::vector<trajectory::JointViolation> reference_joints =
+      trajectory::measure_joints(model, result.reference.table);
+
   const int n_runs = static_cast<int>(tasks.size());
   result.levels.resize(tasks.size());
   std::vector<Measured> measured(tasks.size());
@@ -326,13 +347,15 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
     out.steps = std::lround(t_span / out.h);
     try {
       trajectory::ComparisonReport report;
+      std::vector<trajectory::JointViolation> joints;
       if (block.external < 0) {
         auto stepper = lie::make_stepper(block.name, model);
         const double start = thread_cpu_seconds();
         const core::Trajectory trajectory = lie::run_scheme(model, *stepper, out.h, output_times);
         out.cpu_seconds = thread_cpu_seconds() - start;
-        report = trajectory::compare_trajectories(trajectory::tabulate(model, trajectory),
-                                                  result.reference.table);
+        const trajectory::TrajectoryTable table = trajectory::tabulate(model, trajectory);
+        report = trajectory::compare_trajectories(table, result.reference.table);
+        joints = trajectory::measure_joints(model, table);
         const core::InvariantCheck check = core::check_invariants(model, trajectory);
         if (check.breach) {
           measured[static_cast<std::size_t>(k)].instability = check.breach->describe();
@@ -348,14 +371,22 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
         report = trajectory::compare_run(run.run, result.reference.table, contract);
         m.used = trajectory::metric_quantities(report, options.metric);
         m.ignored = report.ignored_columns;
+        // Its joints from its positions (a scheme's are held by its own invariant monitor).
+        joints = trajectory::measure_joints(model, run.run.table);
+        m.off_joints = trajectory::judge_joints(model, joints, reference_joints, report,
+                                                result.reference.estimate.estimate())
+                           .why;
       }
+      record_joints(joints, out);
       out.error = trajectory::metric_value(report, options.metric);
       out.saturation = trajectory::metric_saturation(report, options.metric);
       measured[static_cast<std::size_t>(k)].bounds =
           trajectory::metric_bounds_text(report, options.metric);
+      const Measured& m = measured[static_cast<std::size_t>(k)];
       out.status = !std::isfinite(out.error) ? "failed: non-finite error"
-                   : measured[static_cast<std::size_t>(k)].instability.empty() ? "ok"
-                                                                               : "unstable";
+                   : !m.instability.empty()  ? "unstable"
+                   : !m.off_joints.empty()   ? "off-joints"
+                                             : "ok";
     } catch (const std::exception& e) {
       out.error = std::numeric_limits<double>::infinity();
       out.status = std::string("failed: ") + e.what();
@@ -408,6 +439,14 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
          << " unstable, left out of the fit: " << measured[k].instability;
     result.notes.push_back(note.str());
   }
+  for (std::size_t k = 0; k < result.levels.size(); ++k) {
+    const ConvergenceLevel& lv = result.levels[k];
+    if (lv.status != "off-joints") continue;
+    std::ostringstream note;
+    note << lv.scheme << ": level h = " << std::setprecision(3) << lv.h
+         << " off its joints, left out of the fit: " << measured[k].off_joints;
+    result.notes.push_back(note.str());
+  }
   bool any_round_off = false;
   for (const auto& lv : result.levels) any_round_off |= lv.status == "round-off";
   if (any_round_off && measures_positions(options.metric) && model.has_constraints() &&
@@ -457,8 +496,10 @@ std::string format_convergence_table(const ConvergenceResult& r) {
   out << "metric: " << r.options.metric << "\n\n";
   out << std::left << std::setw(7) << "scheme" << std::right << std::setw(12) << "h"
       << std::setw(10) << "steps" << std::setw(12) << "error" << std::setw(8) << "order"
-      << std::setw(11) << "cpu [s]"
-      << "  status\n";
+      << std::setw(11) << "cpu [s]";
+  // With ideal joints, each level's largest joint violation from its positions.
+  if (r.joints) out << std::setw(12) << "violation";
+  out << "  status\n";
   for (const auto& lv : r.levels) {
     out << std::left << std::setw(7) << lv.scheme << std::right << std::scientific
         << std::setprecision(3) << std::setw(12) << lv.h << std::setw(10) << lv.steps
@@ -469,8 +510,16 @@ std::string format_convergence_table(const ConvergenceResult& r) {
     } else {
       out << lv.order;
     }
-    out << std::scientific << std::setprecision(2) << std::setw(11) << lv.cpu_seconds << "  "
-        << lv.status << "\n";
+    out << std::scientific << std::setprecision(2) << std::setw(11) << lv.cpu_seconds;
+    if (r.joints) {
+      out << std::setw(12);
+      if (std::isnan(lv.violation)) {
+        out << "-";
+      } else {
+        out << lv.violation;
+      }
+    }
+    out << "  " << lv.status << "\n";
   }
   if (r.step_limit.bounded()) {
     out << "explicit step limit: " << std::scientific << std::setprecision(3) << r.step_limit.h
@@ -500,6 +549,14 @@ std::string format_convergence_table(const ConvergenceResult& r) {
     out << " over " << s.fitted_levels << " levels\n";
   }
   for (const auto& n : r.notes) out << "note: " << n << "\n";
+  if (r.joints) {
+    out << "\njoint violations |Phi| from each level's positions (length rows m, rotation rows "
+           "rad; trajectory/joint_violation.hpp):\n";
+    for (const auto& lv : r.levels) {
+      out << "  " << lv.scheme << " h = " << std::scientific << std::setprecision(3) << lv.h << ": "
+          << (lv.joints.empty() ? "not measured" : lv.joints) << "\n";
+    }
+  }
   return out.str();
 }
 

@@ -8,10 +8,14 @@
 /// there), a run that breaks the scene's invariants ("unstable", core/invariants.hpp), an error
 /// that is a sizeable fraction of the largest the metric can give ("saturated",
 /// trajectory/error_metrics.hpp), an error that does not decrease from the previous valid level,
-/// an error not at least 100× the reference's estimated error ("uncertified"), or an error at
-/// round-off (which also stops the refinement). No order is fitted from fewer than three valid
-/// levels (two points always lie on a line: their "order" verifies nothing).
+/// an error not at least 100× the reference's estimated error ("uncertified"), an error at
+/// round-off (which also stops the refinement), or an external run that is off its scene's
+/// ideal joints ("off-joints", trajectory/joint_violation.hpp: a joint violated by more than a
+/// small fraction of the run's own error at it, or a jointed body without pose columns). No order
+/// is fitted from fewer than three valid levels (two points always lie on a line: their "order"
+/// verifies nothing).
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -85,6 +89,11 @@ struct ConvergenceLevel {
   /// The error as a fraction of its bound (trajectory/error_metrics.hpp, metric_saturation): at
   /// kSaturationFraction or more the level is "saturated".
   double saturation = 0.0;
+  /// With ideal joints: the largest violation Φ of a joint (m or rad, trajectory/
+  /// joint_violation.hpp) measured from the run's positions, NaN when not measured (no joints,
+  /// a failed run, or a run without a jointed body's pose columns); each joint's in `joints`.
+  double violation = std::numeric_limits<double>::quiet_NaN();
+  std::string joints;
 };
 
 struct SchemeSummary {
@@ -104,6 +113,8 @@ struct ConvergenceResult {
   std::vector<ConvergenceLevel> levels;
   std::vector<SchemeSummary> summaries;
   std::vector<std::string> notes;
+  /// The scene has ideal joints: every level's violation is measured (the table shows it).
+  bool joints = false;
   /// True when a scheme has no fitted order (fewer than three valid levels): the study
   /// refuses to report an order for it (exit code 4).
   bool refused() const;

@@ -20,6 +20,7 @@
 #include "studies/parallel.hpp"
 #include "studies/progress.hpp"
 #include "trajectory/error_metrics.hpp"
+#include "trajectory/joint_violation.hpp"
 #include "trajectory/trajectory_table.hpp"
 
 namespace flexref::studies {
@@ -48,24 +49,36 @@ core::Trajectory timed_min(int repeats, double& cpu_seconds, Integrate&& integra
 
 /// Every field of a run, an external run's output file from a rank other than 0, and what an
 /// unstable run broke (core::InvariantBreach::describe).
+/// The largest violation of the measured joints (NaN when none is, or one is not).
+double largest_violation(const std::vector<trajectory::JointViolation>& joints) {
+  if (joints.empty()) return kNaN;
+  double largest = 0.0;
+  for (const trajectory::JointViolation& j : joints) {
+    largest = j.measured ? std::max(largest, j.value()) : kNaN;
+  }
+  return largest;
+}
+
 SlotCodec run_codec(std::vector<WorkPrecisionRun>& runs, std::vector<std::string>& kept_bytes,
-                    std::vector<std::string>& instability) {
-  require_codec_size<WorkPrecisionRun, 136>();
+                    std::vector<std::string>& instability, std::vector<std::string>& off_joints) {
+  require_codec_size<WorkPrecisionRun, 144>();
   const auto fields = [](auto& io, auto& r) {
-    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations,
-       r.cpu_reported);
+    io(r.method, r.kind, r.setting, r.error, r.cpu_seconds, r.status, r.evaluations, r.cpu_reported,
+       r.violation);
   };
-  return {[&runs, &kept_bytes, &instability, fields](int i, SlotWriter& w) {
+  return {[&runs, &kept_bytes, &instability, &off_joints, fields](int i, SlotWriter& w) {
             auto put = [&w](const auto&... x) { (w.put(x), ...); };
             fields(put, runs[static_cast<std::size_t>(i)]);
             w.put(kept_bytes[static_cast<std::size_t>(i)]);
             w.put(instability[static_cast<std::size_t>(i)]);
+            w.put(off_joints[static_cast<std::size_t>(i)]);
           },
-          [&runs, &kept_bytes, &instability, fields](int i, SlotReader& r) {
+          [&runs, &kept_bytes, &instability, &off_joints, fields](int i, SlotReader& r) {
             auto get = [&r](auto&... x) { (r.get(x), ...); };
             fields(get, runs[static_cast<std::size_t>(i)]);
             kept_bytes[static_cast<std::size_t>(i)] = r.get_string();
             instability[static_cast<std::size_t>(i)] = r.get_string();
+            off_joints[static_cast<std::size_t>(i)] = r.get_string();
           }};
 }
 
@@ -196,6 +209,10 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
   result.runs.resize(static_cast<std::size_t>(n_runs));
   std::vector<std::string> kept_bytes(static_cast<std::size_t>(n_runs));
   std::vector<std::string> instability(static_cast<std::size_t>(n_runs));
+  std::vector<std::string> off_joints(static_cast<std::size_t>(n_runs));
+  // The reference's own joint violations: an external run is judged by what it adds to them.
+  const std::vector<trajectory::JointViolation> reference_joints =
+      trajectory::measure_joints(model, result.reference.table);
   ProgressLine progress("work-precision", "runs", options.progress);
   const auto task = [&](int k) {
     WorkPrecisionRun& out = result.runs[static_cast<std::size_t>(k)];
@@ -232,6 +249,14 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         trajectory::ContractOptions contract;
         contract.run_step = x.h;
         report = trajectory::compare_run(run.run, result.reference.table, contract);
+        // Its joints from its positions (trajectory/joint_violation.hpp).
+        const std::vector<trajectory::JointViolation> joints =
+            trajectory::measure_joints(model, run.run.table);
+        out.violation = largest_violation(joints);
+        off_joints[static_cast<std::size_t>(k)] =
+            trajectory::judge_joints(model, joints, reference_joints, report,
+                                     result.reference.estimate.estimate())
+                .why;
       } else {
         const int j = k - n_scheme_runs;
         out.method = options.solvers[static_cast<std::size_t>(j / n_tolerances)];
@@ -247,8 +272,9 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         });
       }
       if (out.kind != "external") {
-        report = trajectory::compare_trajectories(trajectory::tabulate(model, trajectory),
-                                                  result.reference.table);
+        const trajectory::TrajectoryTable table = trajectory::tabulate(model, trajectory);
+        report = trajectory::compare_trajectories(table, result.reference.table);
+        out.violation = largest_violation(trajectory::measure_joints(model, table));
       }
       if (out.kind == "scheme") {
         // A scheme run that breaks the scene's invariants (core/invariants.hpp) is unstable.
@@ -259,6 +285,7 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
       out.status =
           !std::isfinite(out.error)                           ? "failed: non-finite error"
           : !instability[static_cast<std::size_t>(k)].empty() ? "unstable"
+          : !off_joints[static_cast<std::size_t>(k)].empty()  ? "off-joints"
           : trajectory::metric_saturation(report, options.metric) >= trajectory::kSaturationFraction
               ? "saturated"
               : "ok";
@@ -268,8 +295,8 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
       out.status = std::string("failed: ") + e.what();
     }
   };
-  distributed_for(n_runs, options.jobs, task, run_codec(result.runs, kept_bytes, instability),
-                  progress.callback());
+  distributed_for(n_runs, options.jobs, task,
+                  run_codec(result.runs, kept_bytes, instability, off_joints), progress.callback());
   progress.finish();
   for (std::size_t x = 0; x < external_runs.size(); ++x) {
     const auto k = static_cast<std::size_t>(n_scheme_runs + n_solver_runs) + x;
@@ -307,6 +334,14 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
     std::ostringstream note;
     note << run.method << " at h = " << std::setprecision(3) << run.setting
          << " is unstable and left out: " << instability[k];
+    result.notes.push_back(note.str());
+  }
+  for (std::size_t k = 0; k < result.runs.size(); ++k) {
+    const WorkPrecisionRun& run = result.runs[k];
+    if (run.status != "off-joints") continue;
+    std::ostringstream note;
+    note << run.method << " at h = " << std::setprecision(3) << run.setting
+         << " is off its joints and left out: " << off_joints[k];
     result.notes.push_back(note.str());
   }
   std::string saturated;
@@ -366,6 +401,9 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
       << ", estimated error " << trajectory::describe_estimate(est) << "\n";
   out << "metric: " << r.options.metric << "\n";
 
+  // With ideal joints, each run's largest joint violation from its positions.
+  bool joints = false;
+  for (const auto& run : r.runs) joints = joints || !std::isnan(run.violation);
   std::string current;
   for (const auto& run : r.runs) {
     if (run.method + run.kind != current) {
@@ -373,8 +411,9 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
       out << "\n"
           << run.method << " (" << run.kind << ")\n"
           << std::right << std::setw(12) << (run.kind == "solver" ? "rtol" : "h [s]")
-          << std::setw(12) << "error" << std::setw(11) << "cpu [s]"
-          << "  status\n";
+          << std::setw(12) << "error" << std::setw(11) << "cpu [s]";
+      if (joints) out << std::setw(12) << "violation";
+      out << "  status\n";
     }
     out << std::scientific << std::setprecision(3) << std::setw(12) << run.setting << std::setw(12)
         << run.error << std::setprecision(2) << std::setw(11);
@@ -382,6 +421,14 @@ std::string format_work_precision_table(const WorkPrecisionResult& r) {
       out << "-";
     } else {
       out << run.cpu_seconds;
+    }
+    if (joints) {
+      out << std::setw(12);
+      if (std::isnan(run.violation)) {
+        out << "-";
+      } else {
+        out << run.violation;
+      }
     }
     out << "  " << run.status << "\n";
   }

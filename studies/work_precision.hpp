@@ -13,6 +13,7 @@
 ///
 /// Errors below 100× the reference's estimated error cannot be measured: those runs are
 /// "uncertified" and take no part in the cheapest-method summary.
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,7 +52,8 @@ struct WorkPrecisionRun {
   double setting = 0.0;      ///< step h [s] for a scheme, relative tolerance for a solver
   double error = 0.0;        ///< metric against the reference (+inf when failed)
   double cpu_seconds = 0.0;  ///< minimum thread CPU time over the repeats (NaN when failed)
-  /// "ok", "uncertified", "unstable" (a scheme run that breaks the scene's invariants,
+  /// "ok", "uncertified", "off-joints" (an external run off its scene's ideal joints), "unstable"
+  /// (a scheme run that breaks the scene's invariants,
   /// core/invariants.hpp), "saturated" (an error of kSaturationFraction of the metric's largest
   /// value or more, trajectory/error_metrics.hpp), or "failed: why".
   std::string status;
@@ -60,6 +62,10 @@ struct WorkPrecisionRun {
   long evaluations = 0;
   /// An external run's cpu_seconds is the program's own report of its integration.
   bool cpu_reported = false;
+  /// With ideal joints: the run's largest joint violation from its positions (m or rad,
+  /// trajectory/joint_violation.hpp); NaN when not measured. An external run off its joints
+  /// has the status "off-joints" and is left out of the cheapest-method table.
+  double violation = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The cheapest run reaching a target error (see cheapest_methods).

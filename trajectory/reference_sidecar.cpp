@@ -40,7 +40,7 @@ ReferenceSidecar read_reference_sidecar(const std::string& csv_path) {
     const auto& t = it->second.as_table();
     for (auto [key, field] :
          {std::pair{"name", &out.scene.name}, std::pair{"hash", &out.scene.hash},
-          std::pair{"file", &out.scene.file}}) {
+          std::pair{"file", &out.scene.file}, std::pair{"model", &out.scene.model}}) {
       if (const auto v = t.find(key); v != t.end() && v->second.is_string()) {
         *field = v->second.as_string().str;
       }

@@ -18,7 +18,8 @@ struct SceneIdentity {
   std::string name;  ///< [scene] name; "" when unknown (no sidecar, or one without [scene])
   /// [scene] hash (scene/scene_identity.hpp); "" when unknown (a sidecar of an older flexref)
   std::string hash;
-  std::string file;  ///< [scene] file, for messages
+  std::string file;   ///< [scene] file, for messages
+  std::string model;  ///< [scene] model ("lte", "coupled"); "" when absent
 };
 
 /// "" when `a` and `b` may be of the same scene: equal hashes; equal names when either hash is

@@ -82,11 +82,76 @@ struct SpringInput {
   double stiffness = 0.0;
 };
 
+/// A linear spring–damper with a rest length between two points ([[spring]],
+/// contact/spring_damper.hpp): axial force (k (ℓ − ℓ0) + c ℓ̇) along the line of the points.
+struct LinearSpringInput {
+  int body_a = 0;
+  Eigen::Vector3d point_a = Eigen::Vector3d::Zero();  ///< body_a frame, from Bo
+  int body_b = -1;                                    ///< −1: the ground
+  Eigen::Vector3d point_b = Eigen::Vector3d::Zero();  ///< body_b frame, or world
+  double stiffness = 0.0;                             ///< k, N/m
+  double damping = 0.0;                               ///< c, N·s/m
+  double rest_length = 0.0;                           ///< ℓ0, m
+};
+
+/// The kinds of ideal joint (constraint::JointType, docs/joints.md "Ideal joints").
+enum class IdealJointKind {
+  kSpherical,
+  kRevolute,
+  kPrismatic,
+  kCylindrical,
+  kUniversal,
+  kFixed,
+  kDistance
+};
+
+/// One end of an ideal joint: its body (−1: the ground), its point from Bo and its joint frame J
+/// (columns x, y, z; z the joint axis), both in the body frame (ground: world). The two ends'
+/// frames coincide in the assembled initial configuration.
+struct JointEndInput {
+  int body = -1;
+  Eigen::Vector3d p_BoP_B = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d R_BJ = Eigen::Matrix3d::Identity();
+};
+
+/// A drive's law: the relative coordinate of the first body about (revolute, rad) or along
+/// (prismatic, m) the axis from the initial configuration, and its first two derivatives.
+struct DriveValue {
+  double q = 0.0, qd = 0.0, qdd = 0.0;
+};
+using DriveLaw = std::function<DriveValue(double t)>;
+
+/// An ideal joint as an engine maps it.
+struct IdealJointInput {
+  std::string name;
+  IdealJointKind kind = IdealJointKind::kSpherical;
+  JointEndInput a;  ///< the first end: always a body
+  JointEndInput b;
+  double length = 0.0;  ///< distance joints, m
+  DriveLaw drive;       ///< empty: not driven
+};
+
+/// How a body hangs in the engine's tree of bodies: below its parent by a tree joint (the
+/// engine's mobilizer), or a root (free, or the scene's pivot to the ground).
+struct TreeLink {
+  int parent = -1;         ///< the parent body, −1 the ground
+  int joint = -1;          ///< the ideal joint that is the body's mobilizer; −1: a root
+  bool child_is_a = true;  ///< the body is the joint's first end (else its second)
+};
+
 struct RigidScene {
   Eigen::Vector3d g_W = Eigen::Vector3d::Zero();
   std::vector<RigidBodyInput> bodies;
   std::vector<SpherePlaneInput> contacts;
   std::vector<SpringInput> springs;
+  std::vector<LinearSpringInput> linear_springs;
+  /// Ideal joints: tree[b] places body b (empty when the scene has no ideal joint, every body
+  /// then a root); tree_order lists the bodies parents first; loops are the joints that close
+  /// loops of the tree (constraints in the engine).
+  std::vector<IdealJointInput> ideal_joints;
+  std::vector<TreeLink> tree;
+  std::vector<int> tree_order;
+  std::vector<int> loops;
   bool has_loads = false;
   /// The loads on body b at time t, branch of piecewise profiles from t_segment, moment about
   /// the world point p_WR.

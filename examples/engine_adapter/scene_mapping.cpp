@@ -1,6 +1,7 @@
 #include "examples/engine_adapter/scene_mapping.hpp"
 
 #include "contact/contact_laws.hpp"
+#include "examples/engine_adapter/joint_tree.hpp"
 
 namespace flexref::engines {
 
@@ -51,7 +52,70 @@ bool has_load_jumps(const scene::SceneSpec& spec) {
   return false;
 }
 
-RigidScene rigid_scene(const scene::Scene& scene) {
+namespace {
+
+IdealJointKind kind_of(constraint::JointType type) {
+  switch (type) {
+    case constraint::JointType::kSpherical:
+      return IdealJointKind::kSpherical;
+    case constraint::JointType::kRevolute:
+      return IdealJointKind::kRevolute;
+    case constraint::JointType::kPrismatic:
+      return IdealJointKind::kPrismatic;
+    case constraint::JointType::kCylindrical:
+      return IdealJointKind::kCylindrical;
+    case constraint::JointType::kUniversal:
+      return IdealJointKind::kUniversal;
+    case constraint::JointType::kFixed:
+      return IdealJointKind::kFixed;
+    case constraint::JointType::kDistance:
+      return IdealJointKind::kDistance;
+  }
+  throw std::logic_error("unknown joint type");
+}
+
+JointEndInput end_of(const constraint::JointEnd& end) {
+  return JointEndInput{end.body, end.p_BoP_B, end.R_BJ};
+}
+
+/// The ideal joints, their tree and the model's consistent initial state.
+void add_ideal_joints(const scene::Scene& scene, const JointSupport& support, RigidScene& out) {
+  const JointTree tree = plan_joint_tree(scene, support);
+  out.tree = tree.links;
+  out.tree_order = tree.order;
+  out.loops = tree.loops;
+  for (const constraint::IdealJointSpec& j : built_ideal_joints(scene)) {
+    IdealJointInput joint;
+    joint.name = j.name;
+    joint.kind = kind_of(j.type);
+    joint.a = end_of(j.a);
+    joint.b = end_of(j.b);
+    joint.length = j.length;
+    if (j.drive.active) {
+      // The relative coordinate from the initial configuration: the law itself (a prismatic
+      // joint's offset is its initial Z_b · d, which the engine's initial pose already has).
+      const core::AngleLaw law = j.drive.law;
+      joint.drive = [law](double t) {
+        return DriveValue{law.angle(t), law.angular_rate(t), law.angular_acceleration(t)};
+      };
+    }
+    out.ideal_joints.push_back(std::move(joint));
+  }
+  const core::Model& model = *scene.model;
+  const core::State state = model.initial_state();
+  for (std::size_t i = 0; i < out.bodies.size(); ++i) {
+    const core::BodyState& s = state[i];
+    RigidBodyInput& b = out.bodies[i];
+    b.p_WBo = model.p_WBo(static_cast<int>(i), s);
+    b.e_WB = s.theta_WB;
+    b.v_WBo = model.v_WBo(static_cast<int>(i), s);
+    b.w_WB_B = s.w_WB_B;
+  }
+}
+
+}  // namespace
+
+RigidScene rigid_scene(const scene::Scene& scene, const JointSupport& support) {
   const scene::SceneSpec& spec = scene.spec;
   RigidScene out;
   out.g_W = spec.g_W;
@@ -91,6 +155,12 @@ RigidScene rigid_scene(const scene::Scene& scene) {
     out.springs.push_back(SpringInput{joint.a.body, joint.a.point, joint.b.body, joint.b.point,
                                       joint.parameters.stiffness});
   }
+  for (const scene::SpringSpec& sp : spec.springs) {
+    out.linear_springs.push_back(LinearSpringInput{sp.body_a, sp.point_a, sp.body_b, sp.point_b,
+                                                   sp.parameters.stiffness, sp.parameters.damping,
+                                                   sp.parameters.rest_length});
+  }
+  if (!spec.ideal_joints.empty()) add_ideal_joints(scene, support, out);
   out.has_loads = !spec.loads.empty();
   out.loads = [&spec](int b, double t, double t_segment, const LoadPose& pose,
                       const Eigen::Vector3d& p_WR) {

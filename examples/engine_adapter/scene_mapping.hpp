@@ -8,6 +8,7 @@
 #include <string>
 
 #include "examples/engine_adapter/engine.hpp"
+#include "examples/engine_adapter/joint_tree.hpp"
 #include "scene/scene.hpp"
 
 namespace flexref::engines {
@@ -31,8 +32,12 @@ LoadWrench body_load_wrench(const scene::SceneSpec& spec, int body, double t, do
 bool has_load_jumps(const scene::SceneSpec& spec);
 
 /// The scene as plain data for an engine's own translation unit. Call after the engine's
-/// checks: contacts become SpherePlaneInput (sphere-plane pairs with the Hunt–Crossley law)
-/// and joints SpringInput (their stiffness), whatever else they say.
-RigidScene rigid_scene(const scene::Scene& scene);
+/// checks: contacts become SpherePlaneInput (sphere-plane pairs with the Hunt–Crossley law),
+/// bushings SpringInput (their stiffness), whatever else they say; springs LinearSpringInput;
+/// ideal joints IdealJointInput placed by plan_joint_tree(scene, support) (which throws
+/// MappingError for a joint the engine cannot carry). With ideal joints the bodies' initial
+/// state is the model's, consistent with the joints (core::Model projects the scene's), so that
+/// the engine starts on the manifold flexref's references start on.
+RigidScene rigid_scene(const scene::Scene& scene, const JointSupport& support);
 
 }  // namespace flexref::engines

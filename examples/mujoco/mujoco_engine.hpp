@@ -18,8 +18,14 @@
 ///   its initial state* with a warning and carry on; the adapter turns that warning into a
 ///   solver failure (exit 3) instead of writing the restarted trajectory;
 /// - warnings and errors go to flexref's messages, not to MuJoCo's MUJOCO_LOG.TXT in the
-///   current directory.
+///   current directory;
+/// - with ideal joints the initial joint velocities are the least-squares fit of the bodies'
+///   initial velocities through MuJoCo's body Jacobians (mj_jacBody at the initial
+///   configuration); the model's state is consistent with the joints, so the fit is exact to
+///   round-off, and a residual above 1e-9 of the velocities' size is a failure, never a start
+///   from other velocities.
 #include "examples/engine_adapter/engine.hpp"
+#include "examples/mujoco/mjcf_scene.hpp"
 
 namespace flexref::engines {
 
@@ -28,9 +34,15 @@ class MujocoEngine final : public Engine {
   std::string program() const override { return "flexref_mujoco"; }
   std::string version() const override;
   std::vector<std::pair<std::string, std::string>> integrators() const override;
+  /// --solref and --solimp (ConstraintSoftness) for the equality constraints of loops.
+  void add_options(CLI::App& app) override;
   void check_mappable(const scene::Scene& scene, const std::string& integrator) const override;
   void simulate(const scene::Scene& scene, const StepPlan& plan, const std::string& integrator,
                 const Recorder& record) override;
+
+ private:
+  ConstraintSoftness softness_;
+  std::vector<double> solref_, solimp_;  ///< as given on the command line
 };
 
 }  // namespace flexref::engines

@@ -1,8 +1,8 @@
 /// \file flexref_simbody.cpp
-/// `flexref_simbody SCENE DT OUTPUT [--integrator NAME] [--accuracy A]`: a flexref scene
-/// integrated by one of Simbody's integrators at a fixed step, written under flexref's
-/// trajectory contract, so that `flexref converge --external` and `work-precision --external`
-/// can verify them (docs/engines.md).
+/// `flexref_simbody SCENE DT OUTPUT [--integrator NAME] [--accuracy A]
+/// [--constraint-tolerance T]`: a flexref scene integrated by one of Simbody's integrators at a
+/// fixed step, written under flexref's trajectory contract, so that `flexref converge
+/// --external` and `work-precision --external` can verify them (docs/engines.md).
 #include "examples/engine_adapter/adapter_main.hpp"
 #include "examples/simbody/simbody_engine.hpp"
 

@@ -18,6 +18,11 @@ void SimbodyEngine::add_options(CLI::App& app) {
                  "Simbody's setAccuracy (default: Simbody's 1e-3); in fixed-step mode it still "
                  "decides projection and Verlet's velocity iteration (docs/engines.md)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--constraint-tolerance", constraint_tolerance_,
+                 "Simbody's setConstraintTolerance, projecting the loop closures after every "
+                 "step (default: Simbody's accuracy/10, projected only beyond it; "
+                 "docs/engines.md)")
+      ->check(CLI::PositiveNumber);
 }
 
 void SimbodyEngine::check_mappable(const scene::Scene& scene, const std::string&) const {
@@ -29,8 +34,9 @@ void SimbodyEngine::simulate(const scene::Scene& scene, const StepPlan& plan,
   SimbodyOptions options;
   options.integrator = integrator;
   options.accuracy = accuracy_;
+  options.constraint_tolerance = constraint_tolerance_;
   try {
-    run_simbody(rigid_scene(scene), plan, options, record);
+    run_simbody(rigid_scene(scene, simbody_joint_support()), plan, options, record);
   } catch (const SimbodyFailure& e) {
     throw core::SolverError(version() + " " + integrator, e.time(), e.step(), e.what());
   }

@@ -18,7 +18,8 @@ class SimbodyEngine final : public Engine {
                 const Recorder& record) override;
 
  private:
-  double accuracy_ = 0.0;  ///< 0: Simbody's default
+  double accuracy_ = 0.0;              ///< 0: Simbody's default
+  double constraint_tolerance_ = 0.0;  ///< 0: Simbody's default
 };
 
 }  // namespace flexref::engines

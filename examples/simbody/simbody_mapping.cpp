@@ -46,6 +46,27 @@ void check_simbody_mappable(const scene::Scene& scene) {
                          "damping = 0 is mapped");
     }
   }
+  (void)plan_joint_tree(scene, simbody_joint_support());
+}
+
+JointSupport simbody_joint_support() {
+  JointSupport support;
+  support.engine = "Simbody";
+  support.as_tree = [](const constraint::IdealJointSpec& j) -> std::string {
+    if (j.type == constraint::JointType::kDistance) {
+      return "a distance joint leaves 5 degrees of freedom that no Simbody mobilizer has";
+    }
+    return "";
+  };
+  support.as_loop = [](const constraint::IdealJointSpec& j) -> std::string {
+    if (j.drive.active) {
+      return "a drive is a Simbody Motion, which prescribes a mobilizer's coordinate; this "
+             "driven joint cannot be a mobilizer of the tree (its two bodies are joined "
+             "already by other driven or tree-only joints)";
+    }
+    return "";
+  };
+  return support;
 }
 
 }  // namespace flexref::engines

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <memory>
 
+#include "examples/simbody/simbody_joints.hpp"
+
 namespace flexref::engines {
 namespace {
 
@@ -73,19 +75,33 @@ class SimbodySystem {
   SimbodySystem(const RigidScene& scene, const double* t_segment)
       : scene_(scene), matter_(system_), forces_(system_), contacts_(system_) {
     SimTK::MobilizedBody& ground = matter_.updGround();
-    for (const RigidBodyInput& b : scene.bodies) {
+    bodies_.resize(scene.bodies.size());
+    // Without ideal joints every body is a root, in the scene's order; with them, parents first
+    // (simbody_joints.hpp).
+    std::vector<int> order(scene.bodies.size());
+    for (std::size_t b = 0; b < order.size(); ++b) order[b] = static_cast<int>(b);
+    if (!scene.tree.empty()) order = scene.tree_order;
+    for (int i : order) {
+      const RigidBodyInput& b = scene.bodies[static_cast<std::size_t>(i)];
       const SimTK::Body::Rigid info(mass_properties(b));
-      if (!b.pivot) {
-        bodies_.push_back(
-            SimTK::MobilizedBody::Free(ground, SimTK::Transform(), info, SimTK::Transform()));
+      SimTK::MobilizedBody& mobod = bodies_[static_cast<std::size_t>(i)];
+      const TreeLink link =
+          scene.tree.empty() ? TreeLink{} : scene.tree[static_cast<std::size_t>(i)];
+      if (link.joint >= 0) {
+        SimTK::MobilizedBody& parent =
+            link.parent < 0 ? ground : bodies_[static_cast<std::size_t>(link.parent)];
+        mobod = add_tree_body(parent, info, scene, i);
+      } else if (!b.pivot) {
+        mobod = SimTK::MobilizedBody::Free(ground, SimTK::Transform(), info, SimTK::Transform());
       } else {
         const Eigen::Vector3d p_WPivot =
             b.p_WBo +
             Eigen::Quaterniond(b.e_WB[0], b.e_WB[1], b.e_WB[2], b.e_WB[3]) * b.p_BoPivot_B;
-        bodies_.push_back(SimTK::MobilizedBody::Ball(ground, SimTK::Transform(vec3(p_WPivot)), info,
-                                                     SimTK::Transform(vec3(b.p_BoPivot_B))));
+        mobod = SimTK::MobilizedBody::Ball(ground, SimTK::Transform(vec3(p_WPivot)), info,
+                                           SimTK::Transform(vec3(b.p_BoPivot_B)));
       }
     }
+    for (int l : scene.loops) add_loop_closure(matter_, bodies_, scene, l);
     if (scene.g_W != Eigen::Vector3d::Zero()) {
       SimTK::Force::UniformGravity(forces_, matter_, vec3(scene.g_W));
     }
@@ -119,6 +135,17 @@ class SimbodySystem {
                                   SimTK::Transform(vec3(s.point_a)), SimTK::Vec6(0, 0, 0, k, k, k),
                                   SimTK::Vec6(0));
     }
+    for (const LinearSpringInput& s : scene.linear_springs) {
+      const SimTK::MobilizedBody& a = bodies_[static_cast<std::size_t>(s.body_a)];
+      const SimTK::MobilizedBody& b =
+          s.body_b < 0 ? ground : bodies_[static_cast<std::size_t>(s.body_b)];
+      SimTK::Force::TwoPointLinearSpring(forces_, a, vec3(s.point_a), b, vec3(s.point_b),
+                                         s.stiffness, s.rest_length);
+      if (s.damping != 0.0) {
+        SimTK::Force::TwoPointLinearDamper(forces_, a, vec3(s.point_a), b, vec3(s.point_b),
+                                           s.damping);
+      }
+    }
     system_.realizeTopology();
   }
   SimbodySystem(const SimbodySystem&) = delete;
@@ -134,7 +161,11 @@ class SimbodySystem {
       const RigidBodyInput& b = scene_.bodies[i];
       const SimTK::Rotation R_WB = rotation(b.e_WB);
       const SimTK::Vec3 w_WB_W = R_WB * vec3(b.w_WB_B);
-      if (!b.pivot) {
+      const bool jointed = !scene_.tree.empty() && scene_.tree[i].joint >= 0;
+      if (jointed) {
+        // q = 0 is the initial configuration (simbody_joints.hpp); the u's fit the velocities.
+        set_tree_velocity(state, bodies_[i], scene_, static_cast<int>(i));
+      } else if (!b.pivot) {
         bodies_[i].setQToFitTransform(state, SimTK::Transform(R_WB, vec3(b.p_WBo)));
         bodies_[i].setUToFitVelocity(state, SimTK::SpatialVec(w_WB_W, vec3(b.v_WBo)));
       } else {
@@ -206,6 +237,10 @@ void run_simbody(const RigidScene& scene, const StepPlan& plan, const SimbodyOpt
     integ->setFixedStepSize(plan.dt);
     integ->setAllowInterpolation(false);
     if (options.accuracy > 0.0) integ->setAccuracy(options.accuracy);
+    if (options.constraint_tolerance > 0.0) {
+      integ->setConstraintTolerance(options.constraint_tolerance);
+      integ->setProjectEveryStep(true);
+    }
     integ->initialize(model.initial_state());
 
     std::vector<BodySample> samples(scene.bodies.size());

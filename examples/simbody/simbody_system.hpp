@@ -33,6 +33,10 @@
 ///   exceeds 2^p × accuracy is not projected (its quaternions are then not renormalized), the
 ///   constraint tolerance defaults to accuracy/10, and Verlet iterates its velocities only to
 ///   min(1e-4, accuracy/10);
+/// - loop closures (constraints) are projected after a step only when its error estimate is
+///   within 2^p × accuracy and their violation exceeds the constraint tolerance (accuracy/10
+///   by default); --constraint-tolerance projects after every step to the tolerance given
+///   (docs/engines.md measures both);
 /// - the attitude written is the body's rotation as Simbody computes it, from the quaternion
 ///   normalized internally; the stored quaternion itself may be off unit length by up to the
 ///   constraint tolerance between projections;
@@ -49,6 +53,9 @@ namespace flexref::engines {
 struct SimbodyOptions {
   std::string integrator = "merson";
   double accuracy = 0.0;  ///< setAccuracy; 0: Simbody's default (1e-3)
+  /// setConstraintTolerance with setProjectEveryStep(true); 0: Simbody's default (the
+  /// accuracy / 10, projected only when the violation exceeds it).
+  double constraint_tolerance = 0.0;
 };
 
 /// Simbody failed: at which time and step, and its message.

@@ -993,6 +993,43 @@ expect 1 "joint body_a = ground" "slide_swapped.toml:13: key 'joint[1].body_a': 
   "$flexref" run "$tmp/slide_swapped.toml" --scheme genalpha -o "$tmp/slide.csv"
 [[ ! -e $tmp/slide.csv ]] || fail "a refused scene wrote output"
 
+# compare measures a run's ideal joints from its positions (trajectory/joint_violation.hpp): the
+# double pendulum's reference over 0.2 s, its joints' columns removed (a run need not write
+# them), rod2 pulled 0.1 m along x: compare names joint E and its 0.1 m, finds the run off its
+# joints and does not certify it; the same file unmoved keeps E at the reference's own drift.
+sed 's/^end_time = .*/end_time = 0.2/' scenes/double_pendulum_ideal.toml >"$tmp/dp.toml"
+"$flexref" reference "$tmp/dp.toml" --solver cvode --rtol 1e-12 -o "$tmp/dp_ref.csv" >/dev/null ||
+  fail "double pendulum reference"
+/usr/bin/python3 - "$tmp/dp_ref.csv" "$tmp" <<'PY'
+import csv, sys
+rows = list(csv.reader(line for line in open(sys.argv[1]) if not line.startswith("#")))
+keep = [i for i, c in enumerate(rows[0]) if not c.startswith(("O.", "E."))]
+for name, dx in (("dp_intact.csv", 0.0), ("dp_pulled.csv", 0.1)):
+    with open(sys.argv[2] + "/" + name, "w") as f:
+        f.write(",".join(rows[0][i] for i in keep) + "\n")
+        for row in rows[1:]:
+            cells = [repr(float(row[i]) + (dx if rows[0][i] in ("rod2.x", "rod2.tip.x") else 0))
+                     for i in keep]
+            f.write(",".join(cells) + "\n")
+PY
+out=$("$flexref" compare "$tmp/dp_pulled.csv" "$tmp/dp_ref.csv" 2>&1) || fail "compare pulled: $out"
+[[ $out == *"joint E"*"violation 1.0000e-01"* && $out == *"OFF ITS JOINTS"* ]] ||
+  fail "compare of a run with joint E pulled 0.1 m apart: $out"
+json=$("$flexref" compare --json "$tmp/dp_intact.csv" "$tmp/dp_ref.csv")
+# CVODE at rtol 1e-12 holds the joints to 1e-9 m (docs/joints.md at 1e-10: 1.2e-9).
+/usr/bin/python3 -c '
+import json, sys
+d = json.loads(sys.argv[1])
+v = {j["name"]: j["violation"] for j in d["joints"]}
+sys.exit(not (d["off_joints"] is False and max(v.values()) <= 1e-9 and set(v) == {"O", "E"}))' \
+  "$json" || fail "compare of the intact run: $json"
+# Without a sidecar the scene is unknown until --scene names it.
+cp "$tmp/dp_ref.csv" "$tmp/dp_bare.csv"
+out=$("$flexref" compare "$tmp/dp_pulled.csv" "$tmp/dp_bare.csv" 2>&1)
+[[ $out == *"joints: not measured: the scene is unknown"* ]] || fail "compare without a scene: $out"
+out=$("$flexref" compare "$tmp/dp_pulled.csv" "$tmp/dp_bare.csv" --scene "$tmp/dp.toml" 2>&1)
+[[ $out == *"joint E"*"violation 1.0000e-01"* ]] || fail "compare --scene: $out"
+
 if ((failures)); then
   echo "$failures CLI checks failed"
   exit 1
