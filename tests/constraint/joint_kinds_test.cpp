@@ -154,13 +154,8 @@ TEST_CASE("joint kinds: prismatic, free fall along an inclined guide, by every r
   check_joint_kind_references(testing::prismatic_guide_scene(false));
 }
 
-// [!mayfail] until genalpha's Newton measures a body's rotation rows against the size of each
-// joint row's torque, not of their sum (lie/genalpha_newton.cpp, GenAlphaSystem::residual's
-// scale_R: a prismatic joint whose point is off the centre of mass holds the body's turn with
-// reaction torques that cancel, the scale falls to round-off and Newton never converges — "did
-// not converge at t = 0, residual 5.5e-05 (relative) after 30 iterations" at h = 1e-3).
 TEST_CASE("joint kinds: prismatic, free fall along an inclined guide, by genalpha",
-          "[constraint][joint_kinds][genalpha][!mayfail]") {
+          "[constraint][joint_kinds][genalpha]") {
   check_joint_kind_genalpha(testing::prismatic_guide_scene(false));
 }
 
@@ -169,9 +164,8 @@ TEST_CASE("joint kinds: driven prismatic, the spin-up law along a guide, by ever
   check_joint_kind_references(testing::prismatic_guide_scene(true));
 }
 
-// [!mayfail]: the defect of the free prismatic guide's genalpha case above.
 TEST_CASE("joint kinds: driven prismatic, the spin-up law along a guide, by genalpha",
-          "[constraint][joint_kinds][genalpha][!mayfail]") {
+          "[constraint][joint_kinds][genalpha]") {
   check_joint_kind_genalpha(testing::prismatic_guide_scene(true));
 }
 
@@ -215,14 +209,8 @@ TEST_CASE("joint kinds: distance, a spherical pendulum on a massless rod, by gen
   check_joint_kind_genalpha(testing::spherical_pendulum_scene());
 }
 
-// [!mayfail] until the singular-configuration test of the constrained solve stops comparing the
-// rows' orientation across large steps (core/constrained_solve_tpl.hpp; docs/joints.md,
-// "Singular configurations": det(J_a,prev M⁻¹ J_aᵀ) keeps its sign only for small state changes
-// between evaluations): Odeint's RKF7(8) steps through this smooth spin-up in ~0.4 s, the rod
-// turns ~0.9 rad between two solves, and it stops with "singular configuration passed between
-// t = 0.2 and t = 0.6 … joint 'hinge'" on a single hinge that is never singular.
 TEST_CASE("joint kinds: driven revolute, a hinge under the spin-up law, by every reference",
-          "[constraint][joint_kinds][!mayfail]") {
+          "[constraint][joint_kinds]") {
   check_joint_kind_references(testing::driven_hinge_scene());
 }
 

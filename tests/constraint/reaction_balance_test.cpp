@@ -82,16 +82,8 @@ TEST_CASE("reactions balance Newton-Euler's equations: double pendulum",
   check_bundled_balance({"double_pendulum_ideal", 0.5, 2e-3, 8.0});
 }
 
-// [!mayfail] until the minimum-norm reactions' rank decision is relative to the rows' scale
-// (issue 46, "Rank decisions are relative to each row's scale"; core/constrained_solve_tpl.hpp,
-// minimum_norm_multipliers: a complete orthogonal decomposition of Jᵀ with the fixed relative
-// threshold 1e-10). Off the special pose by the solver's drift the Bricard loop's redundant
-// row's singular value is near that threshold: at t = 0.005 the decomposition takes it as
-// independent, the multipliers grow along it and the joints' reactions no longer add up to the
-// bodies' generalized constraint forces — rod5's force balance is off by 241 N (its weight is
-// 9.81 N) in the written J.fx … J.tz, at t = 0 and t = 0.01 by round-off.
 TEST_CASE("reactions balance Newton-Euler's equations: Bricard mechanism",
-          "[constraint][reactions][!mayfail]") {
+          "[constraint][reactions]") {
   check_bundled_balance({"bricard", 1.0, 5e-3, 3.0});
 }
 
