@@ -17,6 +17,7 @@
 #include "studies/reference_solver_name.hpp"
 #include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
+#include "trajectory/error_metrics.hpp"
 #include "trajectory/reference_sidecar.hpp"
 
 namespace flexref::app {
@@ -121,7 +122,7 @@ int high_precision_reference_command(const ReferenceOptions& options);
 struct CompareOptions {
   std::string run;
   std::string reference;
-  std::string metric = "rotation+points";
+  std::string metric = trajectory::kDefaultMetric;
   bool json = false;              ///< machine-readable output
   double time_tolerance = 1e-6;   ///< trajectory::ContractOptions
   double euler_tolerance = 1e-6;  ///< trajectory::ContractOptions
@@ -146,7 +147,7 @@ struct ConvergeOptions {
   std::vector<std::string> schemes = lie::default_scheme_names();
   double dt = 1e-2;
   int levels = 6;
-  std::string metric = "rotation+points";
+  std::string metric = trajectory::kDefaultMetric;
   studies::ReferenceSolver reference_solver = studies::ReferenceSolver::kAuto;
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores

@@ -219,6 +219,8 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
 }
 
 double solution_scale(const TrajectoryTable& table, const std::string& metric) {
+  // Each quantity's error as a fraction of its whole range: the whole solution is 1.
+  if (metric == kDefaultMetric) return 1.0;
   TrajectoryTable initial = table;
   TrajectoryTable rest = table;
   const ColumnLayout layout = ColumnLayout::parse(table.columns);
@@ -263,7 +265,10 @@ CertifiedReference certified_reference(const core::Model& model,
         "the reference (" + result.run.solver + ") has the estimated error " +
         describe_estimate(result.estimate) + " in " + metric +
         ", larger than the solution itself (" + number(scale) +
-        " in that metric: pi rad + the scene's extent at t0): it certifies nothing. The solvers "
+        " in that metric: " +
+        (metric == kDefaultMetric ? std::string("each quantity's whole range")
+                                  : std::string("pi rad + the scene's extent at t0")) +
+        "): it certifies nothing. The solvers "
         "disagree entirely, or the solution diverges (a model without geometric stiffening spun "
         "above its first frequency grows exponentially: docs/design/model.md)");
   }

@@ -117,7 +117,8 @@ int reference_solve_count(const core::Model& model, const std::string& solver,
 /// The size of a solution in `metric`, the yardstick of its error estimate: the metric of the
 /// table's first row (held over every time) against a body at rest at the world origin with the
 /// identity rotation, with the rotation part taken as π (the largest geodesic angle). For
-/// "rotation+points": π + the largest distance of a tracked point from the origin at t0.
+/// "rotation+points": π + the largest distance of a tracked point from the origin at t0. For
+/// the default metric, whose errors are fractions of each quantity's range: 1.
 double solution_scale(const TrajectoryTable& table, const std::string& metric);
 
 /// Runs the reference and its checks; throws like the solvers do (core::SolverError, also when
