@@ -22,7 +22,8 @@
 
 namespace flexref::app {
 
-/// Exit codes: the one table of docs/decisions.md ("Command line") and `flexref --help`.
+/// Exit codes: the one table of docs/cli.md ("Exit codes", the reasons in docs/decisions.md,
+/// "Command line") and `flexref --help`.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitInputError = 1;   ///< bad scene, CSV, study file or option value
 inline constexpr int kExitUsage = 2;        ///< command-line syntax (CLI11 parse errors)

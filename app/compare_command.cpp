@@ -254,8 +254,8 @@ int compare_command(const CompareOptions& options) {
           << ", \"linf_time\": " << json_number(q.linf_time) << "}";
     }
     out << "\n  ],\n  \"metric\": {\"name\": " << json_string(options.metric)
-        << ", \"value\": " << json_number(value) << ", \"unit\": " << json_string(unit) << ", \"terms\": " << json_string(terms)
-        << ", \"quantities\": " << json_strings(used)
+        << ", \"value\": " << json_number(value) << ", \"unit\": " << json_string(unit)
+        << ", \"terms\": " << json_string(terms) << ", \"quantities\": " << json_strings(used)
         << "},\n  \"reference_estimate\": ";
     if (sidecar.has_estimate) {
       out << "{\"metric\": " << json_string(sidecar.metric)

@@ -120,11 +120,10 @@ int converge_command(const ConvergeOptions& options) {
       orders << summary.fitted_order;
     }
   }
-  const studies::PlotOutcome plot =
-      out.plot("plot_convergence.py", "convergence.png",
-               {out.staged("convergence.csv"), out.staged("convergence.png"),
-                "convergence: " + scene.name, limit.str(), result.step_limit.what, orders.str(),
-                study.metric, unit, terms});
+  const studies::PlotOutcome plot = out.plot(
+      "plot_convergence.py", "convergence.png",
+      {out.staged("convergence.csv"), out.staged("convergence.png"), "convergence: " + scene.name,
+       limit.str(), result.step_limit.what, orders.str(), study.metric, unit, terms});
   const std::string csv_path = out.final_path("convergence.csv");
   out.commit(std::move(record));
 

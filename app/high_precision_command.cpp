@@ -40,8 +40,8 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
                                0, "");
     reference::SolveProgress solves(1);
     progress.follow(&solves);
-    estimate = precision::exact_high_precision_estimate(scene.spec, times, run, trajectory::kDefaultMetric,
-                                                        &solves);
+    estimate = precision::exact_high_precision_estimate(scene.spec, times, run,
+                                                        trajectory::kDefaultMetric, &solves);
   }
   io::write_output_file(options.output, precision::high_precision_csv(run));
   studies::StudyRecord record = scene_record(options.scene, scene);
@@ -66,9 +66,9 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
                                  << run.steps << " output times, " << run.cpu_seconds
                                  << " s; wrote " << options.output << "\n";
   if (options.estimate) {
-    summary_stream(options.output)
-        << "estimated error (" << estimate.metric << " [" << trajectory::metric_unit(estimate.metric)
-        << "]): " << trajectory::describe_estimate(estimate) << "\n";
+    summary_stream(options.output) << "estimated error (" << estimate.metric << " ["
+                                   << trajectory::metric_unit(estimate.metric)
+                                   << "]): " << trajectory::describe_estimate(estimate) << "\n";
   }
   return kExitOk;
 }

@@ -97,8 +97,8 @@ int reference_command(const ReferenceOptions& options) {
     solver_options.progress = &solves;
     progress.follow(&solves);
     if (options.estimate) {
-      ref =
-          trajectory::certified_reference(model, times, solver, solver_options, trajectory::kDefaultMetric);
+      ref = trajectory::certified_reference(model, times, solver, solver_options,
+                                            trajectory::kDefaultMetric);
     } else {
       ref.run = reference::solve_reference(solver, model, times, solver_options);
       ref.table = trajectory::tabulate(model, ref.run.trajectory);

@@ -17,8 +17,8 @@
 #include "precision/precise_comparison.hpp"
 #include "precision/roundoff_scale.hpp"
 #include "precision/switched_integration.hpp"
-#include "trajectory/error_metrics.hpp"
 #include "reference/method_choice.hpp"
+#include "trajectory/error_metrics.hpp"
 
 // Boost 1.74's odeint cannot deduce the value type of a multiprecision number for its
 // controlled steppers; this is the specialisation its documentation gives for such types.
@@ -300,8 +300,8 @@ double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std:
   if (a.columns != b.columns || a.text.size() != b.text.size()) {
     throw std::invalid_argument("distance: runs of different scenes or output times");
   }
-  if (metric != trajectory::kDefaultMetric && metric != "rotation+points" &&
-      metric != "rotation" && metric != "points") {
+  if (metric != trajectory::kDefaultMetric && metric != "rotation+points" && metric != "rotation" &&
+      metric != "points") {
     throw std::invalid_argument("metric '" + metric +
                                 "' is not available for extended/quad references (relative, "
                                 "rotation+points, rotation, points)");

@@ -123,6 +123,8 @@ struct PyComparison {
   std::string metric;
   double value = 0.0;
   std::vector<std::string> measured;
+  std::string unit;   ///< trajectory::metric_unit
+  std::string terms;  ///< trajectory::metric_terms
   py::object estimated_error = py::none();
   py::object certified = py::none();
 };
@@ -135,6 +137,8 @@ PyComparison compare(const trajectory::RunData& run, const PyTrajectory& referen
   out.metric = metric;
   out.measured = trajectory::metric_quantities(out.report, metric);
   out.value = trajectory::metric_value(out.report, metric);
+  out.unit = trajectory::metric_unit(metric);
+  out.terms = trajectory::metric_terms(out.report, metric);
   if (ref.has_estimate && ref.reference.estimate.metric == metric) {
     const double e = ref.reference.estimate.estimate();
     out.estimated_error = py::float_(e);
@@ -261,6 +265,10 @@ PYBIND11_MODULE(flexref, m) {
       .def_readonly("metric", &PyComparison::metric)
       .def_readonly("value", &PyComparison::value, "the metric's value")
       .def_readonly("measured", &PyComparison::measured, "the quantities the metric used")
+      .def_readonly("unit", &PyComparison::unit, "the value's unit: '1' for the default metric")
+      .def_readonly("terms", &PyComparison::terms,
+                    "what the value is taken from: the default metric's ranges, e.g. 'largest "
+                    "of body.rotation / pi rad, body.corner / 2 m'")
       .def_readonly("estimated_error", &PyComparison::estimated_error,
                     "the reference's estimated error in this metric (None if unknown)")
       .def_readonly("certified", &PyComparison::certified,

@@ -103,9 +103,9 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
 }
 
 std::vector<std::string> metric_names() {
-  return {kDefaultMetric,   "rotation+points", "rotation",       "points",
-          "modes",          "position",        "velocity",       "angular_velocity",
-          "wear",           "reaction_force",  "reaction_torque", "violation"};
+  return {kDefaultMetric, "rotation+points", "rotation",        "points",
+          "modes",        "position",        "velocity",        "angular_velocity",
+          "wear",         "reaction_force",  "reaction_torque", "violation"};
 }
 
 std::vector<std::string> metric_quantities(const ComparisonReport& report,
@@ -121,19 +121,19 @@ std::vector<std::string> metric_quantities(const ComparisonReport& report,
   for (const QuantityError& q : report.quantities) {
     const bool take = metric == kDefaultMetric || metric == "rotation+points"
                           ? (q.kind == "rotation" || q.kind == "point")
-                      : metric == "points"        ? q.kind == "point"
-                                                  : q.kind == metric;
+                      : metric == "points" ? q.kind == "point"
+                                           : q.kind == metric;
     if (take) used.push_back(q.name);
   }
   if (used.empty()) {
     const char* needs = metric == kDefaultMetric || metric == "rotation+points"
                             ? "Euler-parameter or tracked-point columns"
-                        : metric == "rotation"      ? "Euler-parameter columns B.e0..B.e3"
-                        : metric == "points"        ? "tracked-point columns B.P.x..B.P.z"
-                        : metric == "modes"         ? "modal-coordinate columns B.q1.."
-                        : metric == "position"      ? "position columns B.x..B.z"
-                        : metric == "velocity"      ? "velocity columns B.vx..B.vz"
-                        : metric == "wear" ? "wear-work columns C.wear_work of a named contact"
+                        : metric == "rotation" ? "Euler-parameter columns B.e0..B.e3"
+                        : metric == "points"   ? "tracked-point columns B.P.x..B.P.z"
+                        : metric == "modes"    ? "modal-coordinate columns B.q1.."
+                        : metric == "position" ? "position columns B.x..B.z"
+                        : metric == "velocity" ? "velocity columns B.vx..B.vz"
+                        : metric == "wear"     ? "wear-work columns C.wear_work of a named contact"
                         : metric == "reaction_force"  ? "joint reaction columns J.fx..J.fz"
                         : metric == "reaction_torque" ? "joint reaction columns J.tx..J.tz"
                         : metric == "violation"       ? "constraint-violation columns J.phi"
@@ -242,8 +242,13 @@ std::string metric_terms(const ComparisonReport& report, const std::string& metr
 }
 
 std::string describe_metric(const TrajectoryTable& reference, const std::string& metric) {
-  const ComparisonReport self = compare_trajectories(reference, reference);
-  return metric + " [" + metric_unit(metric) + "]: " + metric_terms(self, metric);
+  const std::string named = metric + " [" + metric_unit(metric) + "]";
+  // A reference that has nothing the metric measures (or no rows yet) still names the unit.
+  try {
+    return named + ": " + metric_terms(compare_trajectories(reference, reference), metric);
+  } catch (const std::invalid_argument&) {
+    return named;
+  }
 }
 
 }  // namespace flexref::trajectory

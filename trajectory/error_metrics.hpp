@@ -119,7 +119,8 @@ std::string metric_unit(const std::string& metric);
 std::string metric_terms(const ComparisonReport& report, const std::string& metric);
 /// "relative [1]: largest of book.rotation / pi rad, book.corner / 2 m": the metric, its unit
 /// and its terms in a comparison against `reference` (the ranges are the reference's own), as a
-/// study states them for every error it measures against that reference.
+/// study states them for every error it measures against that reference; "relative [1]" alone
+/// when the reference has nothing the metric measures.
 std::string describe_metric(const TrajectoryTable& reference, const std::string& metric);
 
 /// The largest L∞ / bound over the quantities metric_value(report, metric) takes its value

@@ -45,6 +45,38 @@ code=$?
 [[ $code -eq 1 ]] || fail "corrupt CSV: exit code $code"
 [[ $out == *"corrupt.csv:5"* ]] || fail "corrupt CSV: message lacks file:line: $out"
 
+# 5b. The metric's unit (docs/decisions.md, "The default metric"): compare on a run of free_spin
+# states it for the value, the reference's estimate and the quantities it is taken from, and
+# the value is the larger fraction of range (never radians plus metres); another metric's value
+# is never checked against an estimate made in the default one.
+"$flexref" run scenes/free_spin.toml --scheme nmb --dt 0.01 -o "$tmp/u_run.csv" >/dev/null &&
+  "$flexref" reference scenes/free_spin.toml -o "$tmp/u_ref.csv" >/dev/null ||
+  fail "free_spin run or reference failed"
+out=$("$flexref" compare "$tmp/u_run.csv" "$tmp/u_ref.csv" 2>&1) || fail "compare free_spin: $out"
+grep -qE '^metric relative \[1\]: [0-9.]+e-[0-9]+  \(largest of body.rotation / pi rad, body.corner / 2 m\)$' \
+  <<<"$out" || fail "compare does not state the metric's unit and ranges: $out"
+grep -qE '^reference estimated error [0-9.e+-]+ \[1\]; measured [0-9.e+-]+ \[1\] is .*: certified$' \
+  <<<"$out" || fail "compare's certification line does not state the unit: $out"
+out=$("$flexref" compare "$tmp/u_run.csv" "$tmp/u_ref.csv" --json 2>&1)
+/usr/bin/python3 -c '
+import json, math, re, sys
+d = json.loads(sys.argv[1])
+m = d["metric"]
+q = {x["name"]: x for x in d["quantities"]}
+extent = float(re.search(r"body.corner / ([0-9.e+]+) m", m["terms"]).group(1))
+expected = max(q["body.rotation"]["linf"] / math.pi, q["body.corner"]["linf"] / extent)
+# The extent is printed to 3 significant digits: 0.5 % covers its rounding.
+sys.exit(not (m["unit"] == "1" and q["body.rotation"]["unit"] == "rad" and
+              q["body.corner"]["unit"] == "m" and abs(m["value"] / expected - 1) < 5e-3 and
+              d["reference_estimate"]["metric"] == "relative"))' "$out" ||
+  fail "compare --json: the metric is not the larger fraction of range in unit 1: $out"
+out=$("$flexref" compare "$tmp/u_run.csv" "$tmp/u_ref.csv" --metric rotation+points 2>&1)
+[[ $out == *"metric rotation+points [rad + m]: "*"(body.rotation, body.corner)"* &&
+  $out == *"is in metric relative, not rotation+points: not checked"* ]] ||
+  fail "compare --metric rotation+points: unit or estimate check: $out"
+out=$("$flexref" compare "$tmp/u_run.csv" "$tmp/u_ref.csv" --metric rotation 2>&1)
+[[ $out == *"metric rotation [rad]: "* ]] || fail "compare --metric rotation: unit: $out"
+
 # 6. Unknown option value: a usage error, exit 2 (CLI11's own codes 105, 106 are mapped).
 "$flexref" run scenes/book_toss.toml --scheme rk4 --dt 1e-3 -o "$tmp/y.csv" >/dev/null 2>&1
 code=$?
@@ -883,7 +915,8 @@ present=$(ls scenes/*.toml | xargs -n1 basename | sed 's/\.toml$//' | sort)
 [[ $listed == "$present" ]] ||
   fail "README's bundled scenes differ from scenes/*.toml: $(diff <(echo "$listed") <(echo "$present"))"
 out=$("$flexref" reference scenes/book_toss.toml --precision quad -o "$tmp/id_bq.csv" 2>&1)
-estimate=$(grep -o 'estimated error [0-9.e+-]*' <<<"$out" | head -1 | awk '{ printf "%.1e", $3 }')
+estimate=$(grep -o 'estimated error ([a-z+]* \[[^]]*\]): [0-9.e+-]*' <<<"$out" | head -1 |
+  awk '{ printf "%.1e", $NF }')
 grep -q "book_toss in quad: [0-9.]* s, estimated error $estimate[^0-9]" README.md ||
   fail "README's quad book_toss estimate is not a run's ($estimate): $out"
 
