@@ -357,6 +357,13 @@ expect() { # expect CODE "description" FRAGMENT command...: exit code and a frag
   [[ -z $fragment || $out == *"$fragment"* ]] || fail "$what: output lacks '$fragment': $out"
 }
 expect 0 "--help epilogue" "Exit codes: 0 success, 1 bad input" "$flexref" --help
+# The documented table (docs/cli.md, "Exit codes", linked from the README) lists the codes
+# --help names, and the signals' shell statuses.
+documented=$(sed -n '/^## Exit codes/,/^## /p' docs/cli.md | grep -oE '^\| [0-9] \|' | tr -dc '0-9')
+helped=$("$flexref" --help | grep -o 'Exit codes:.*' | grep -oE '(: |, )[0-9] [a-z]' | tr -dc '0-9')
+[[ -n $documented && $documented == "$helped" ]] ||
+  fail "docs/cli.md's exit codes ($documented) are not those of --help ($helped)"
+grep -q 'shell status 130, 143, 129' docs/cli.md || fail "docs/cli.md lacks the signals' statuses"
 expect 0 "top-level help names flexible bodies" "rigid and flexible bodies" "$flexref" --help
 expect 0 "subcommand help epilogue" "5 an output file or folder" "$flexref" converge --help
 expect 0 "--version" "flexref" "$flexref" --version
@@ -885,6 +892,38 @@ printf 'scheme,h,steps,error,order,cpu_seconds,status\nc1,0.01,100,inf,nan,0.1,f
   >"$tmp/id_failed.csv"
 out=$(/usr/bin/python3 studies/plot_convergence.py "$tmp/id_failed.csv" "$tmp/id_failed.png" t 2>&1)
 [[ $? == 0 && -z $out ]] || fail "plot_convergence.py with every level failed printed: $out"
+# The plots tell the levels left out apart (studies/plot_status.py): saturated, unstable and
+# uncertified each with a marker of its own and a legend entry, the other reasons named in one;
+# the error axis states the metric and its unit.
+printf '%s\n' 'scheme,h,steps,error,order,cpu_seconds,status' \
+  'a,0.04,25,0.9,,1e-3,saturated' 'a,0.02,50,2e-2,5.5,1e-3,unstable' 'a,0.01,100,5e-3,2,1e-3,ok' \
+  'a,0.005,200,1.2e-3,2,1e-3,ok' 'a,0.0025,400,3e-4,2,1e-3,ok' \
+  'a,0.00125,800,7.6e-5,2,1e-3,uncertified' 'a,0.000625,1600,7.6e-5,0,1e-3,not decreasing' \
+  >"$tmp/id_status.csv"
+out=$(/usr/bin/python3 - "$tmp/id_status.csv" "$tmp/id_status.png" <<'PY' 2>&1
+import sys
+sys.path.insert(0, "studies")
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import plot_convergence
+assert plot_convergence.main(["plot", sys.argv[1], sys.argv[2], "t", "inf", "", "a=2.0",
+                              "relative", "1", "largest of b.rotation / pi rad"]) == 0
+ax = plt.gcf().axes[0]
+legend = ax.get_legend()
+handles = getattr(legend, "legend_handles", None) or legend.legendHandles
+marks = {t.get_text().split(":")[0]: (h.get_marker(), h.get_markeredgecolor())
+         for t, h in zip(legend.get_texts(), handles)}
+for reason in ("saturated", "unstable", "uncertified", "not counted"):
+    assert reason in marks, (reason, marks)
+reasons = [marks[r] for r in ("saturated", "unstable", "uncertified", "not counted")]
+assert len(set(m for m, _ in reasons)) == 4, reasons
+assert any(t.get_text() == "not counted: not decreasing (see status)"
+           for t in legend.get_texts()), [t.get_text() for t in legend.get_texts()]
+assert ax.get_ylabel() == "relative error [1]\nlargest of b.rotation / π rad", ax.get_ylabel()
+PY
+)
+[[ $? == 0 ]] || fail "plot_convergence.py does not tell saturated, unstable and uncertified levels apart: $out"
 # The estimate says what was computed; the exact solution has no tolerance to print.
 out=$("$flexref" converge "$tmp/id_fs.toml" --reference-rtol 1e-4 --schemes c1 --levels 3 \
   --dt 0.02 --out "$tmp/id_conv" 2>/dev/null)
