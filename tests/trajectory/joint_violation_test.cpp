@@ -153,7 +153,8 @@ TEST_CASE("a joint pulled apart is seen by name and size, a tilted hinge by its 
     row[e + 2] = b.y();
     row[e + 3] = b.z();
   }
-  const JointViolation& E = joint_named(measure_joints(run.model(), tilted), "E");
+  const std::vector<JointViolation> tilted_joints = measure_joints(run.model(), tilted);
+  const JointViolation& E = joint_named(tilted_joints, "E");
   CHECK(std::abs(E.angle - std::sin(delta)) <= 1e-9);
   CHECK(E.length <= 1e-9);  // the turn is about the joint point's own line: no separation
 }
