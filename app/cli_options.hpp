@@ -58,7 +58,7 @@ void add_scheme_ladder(CLI::App* command, std::string& scene, std::vector<std::s
 /// --estimate-factor of lte-map and modes: one meaning (trajectory/accuracy_check.hpp).
 void add_estimate_factor(CLI::App* command, double& factor);
 
-/// "what: rotation+points | rotation | ...": the help of a --metric option.
+/// "what: relative | rotation+points | ...": the help of a --metric option.
 std::string metric_help(const std::string& what);
 
 /// An option whose value is one of `names`, stored in the enum `value` as CLI11 reads it

@@ -17,11 +17,13 @@
 #include "studies/reference_solver_name.hpp"
 #include "studies/study_output.hpp"
 #include "studies/study_record.hpp"
+#include "trajectory/error_metrics.hpp"
 #include "trajectory/reference_sidecar.hpp"
 
 namespace flexref::app {
 
-/// Exit codes: the one table of docs/decisions.md ("Command line") and `flexref --help`.
+/// Exit codes: the one table of docs/cli.md ("Exit codes", the reasons in docs/decisions.md,
+/// "Command line") and `flexref --help`.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitInputError = 1;   ///< bad scene, CSV, study file or option value
 inline constexpr int kExitUsage = 2;        ///< command-line syntax (CLI11 parse errors)
@@ -121,7 +123,7 @@ int high_precision_reference_command(const ReferenceOptions& options);
 struct CompareOptions {
   std::string run;
   std::string reference;
-  std::string metric = "rotation+points";
+  std::string metric = trajectory::kDefaultMetric;
   bool json = false;              ///< machine-readable output
   double time_tolerance = 1e-6;   ///< trajectory::ContractOptions
   double euler_tolerance = 1e-6;  ///< trajectory::ContractOptions
@@ -146,7 +148,7 @@ struct ConvergeOptions {
   std::vector<std::string> schemes = lie::default_scheme_names();
   double dt = 1e-2;
   int levels = 6;
-  std::string metric = "rotation+points";
+  std::string metric = trajectory::kDefaultMetric;
   studies::ReferenceSolver reference_solver = studies::ReferenceSolver::kAuto;
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores

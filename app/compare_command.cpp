@@ -92,7 +92,9 @@ Certification certify(const trajectory::ReferenceSidecar& sidecar, const std::st
   } else {
     c.comparable = true;
     c.certified = trajectory::is_certified(value, sidecar.estimate);
-    out << "reference estimated error " << sidecar.estimate << "; measured " << value;
+    const std::string unit = " [" + trajectory::metric_unit(metric) + "]";
+    out << "reference estimated error " << sidecar.estimate << unit << "; measured " << value
+        << unit;
     if (c.certified) {
       out << " is " << (sidecar.estimate > 0.0 ? value / sidecar.estimate : INFINITY)
           << "x above it: certified";
@@ -197,9 +199,12 @@ int compare_command(const CompareOptions& options) {
   }
   double value = 0.0;
   std::vector<std::string> used;
+  std::string unit, terms;
   try {
     used = trajectory::metric_quantities(report, options.metric);
     value = trajectory::metric_value(report, options.metric);
+    unit = trajectory::metric_unit(options.metric);
+    terms = trajectory::metric_terms(report, options.metric);
   } catch (const std::invalid_argument& e) {
     throw core::InputError(options.run, 0, "", e.what());
   }
@@ -249,7 +254,8 @@ int compare_command(const CompareOptions& options) {
           << ", \"linf_time\": " << json_number(q.linf_time) << "}";
     }
     out << "\n  ],\n  \"metric\": {\"name\": " << json_string(options.metric)
-        << ", \"value\": " << json_number(value) << ", \"quantities\": " << json_strings(used)
+        << ", \"value\": " << json_number(value) << ", \"unit\": " << json_string(unit)
+        << ", \"terms\": " << json_string(terms) << ", \"quantities\": " << json_strings(used)
         << "},\n  \"reference_estimate\": ";
     if (sidecar.has_estimate) {
       out << "{\"metric\": " << json_string(sidecar.metric)
@@ -310,10 +316,8 @@ int compare_command(const CompareOptions& options) {
     for (const auto& c : report.ignored_columns) std::cout << " " << c;
     std::cout << "\n";
   }
-  std::cout << "metric " << options.metric << ": " << std::scientific << std::setprecision(6)
-            << value << "  (";
-  for (std::size_t i = 0; i < used.size(); ++i) std::cout << (i ? ", " : "") << used[i];
-  std::cout << ")\n";
+  std::cout << "metric " << options.metric << " [" << unit << "]: " << std::scientific
+            << std::setprecision(6) << value << "  (" << terms << ")\n";
   if (!joints.joints.empty()) {
     std::cout << "joint violations |Phi| from the run's positions (largest over its rows; "
                  "length rows in m, rotation rows as the sine of an angle):\n";

@@ -75,6 +75,11 @@ int converge_command(const ConvergeOptions& options) {
   }
 
   const std::string table = format_convergence_table(result);
+  // The metric's unit and what it is taken from, against this reference.
+  const trajectory::ComparisonReport self =
+      trajectory::compare_trajectories(result.reference.table, result.reference.table);
+  const std::string unit = trajectory::metric_unit(study.metric);
+  const std::string terms = trajectory::metric_terms(self, study.metric);
   studies::StudyRecord record = scene_record(options.scene, scene);
   record.table("study")
       .set("kind", "converge")
@@ -84,6 +89,8 @@ int converge_command(const ConvergeOptions& options) {
       .set("reference_precision", studies::to_string(outcome.precision_used))
       .set("reference_budget", options.reference_budget)
       .set("metric", options.metric)
+      .set("metric_unit", unit)
+      .set("metric_terms", terms)
       .set("jobs", study.jobs)
       .set("explicit_step_limit", result.step_limit.h)
       .set("explicit_step_limit_of", result.step_limit.what);
@@ -113,10 +120,10 @@ int converge_command(const ConvergeOptions& options) {
       orders << summary.fitted_order;
     }
   }
-  const studies::PlotOutcome plot =
-      out.plot("plot_convergence.py", "convergence.png",
-               {out.staged("convergence.csv"), out.staged("convergence.png"),
-                "convergence: " + scene.name, limit.str(), result.step_limit.what, orders.str()});
+  const studies::PlotOutcome plot = out.plot(
+      "plot_convergence.py", "convergence.png",
+      {out.staged("convergence.csv"), out.staged("convergence.png"), "convergence: " + scene.name,
+       limit.str(), result.step_limit.what, orders.str(), study.metric, unit, terms});
   const std::string csv_path = out.final_path("convergence.csv");
   out.commit(std::move(record));
 

@@ -14,6 +14,7 @@
 #include "studies/reference_record.hpp"
 #include "studies/study_record.hpp"
 #include "trajectory/certified_reference.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::app {
 namespace {
@@ -39,8 +40,8 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
                                0, "");
     reference::SolveProgress solves(1);
     progress.follow(&solves);
-    estimate = precision::exact_high_precision_estimate(scene.spec, times, run, "rotation+points",
-                                                        &solves);
+    estimate = precision::exact_high_precision_estimate(scene.spec, times, run,
+                                                        trajectory::kDefaultMetric, &solves);
   }
   io::write_output_file(options.output, precision::high_precision_csv(run));
   studies::StudyRecord record = scene_record(options.scene, scene);
@@ -65,8 +66,9 @@ int exact_reference_command(const ReferenceOptions& options, precision::Precisio
                                  << run.steps << " output times, " << run.cpu_seconds
                                  << " s; wrote " << options.output << "\n";
   if (options.estimate) {
-    summary_stream(options.output)
-        << "estimated error " << trajectory::describe_estimate(estimate) << "\n";
+    summary_stream(options.output) << "estimated error (" << estimate.metric << " ["
+                                   << trajectory::metric_unit(estimate.metric)
+                                   << "]): " << trajectory::describe_estimate(estimate) << "\n";
   }
   return kExitOk;
 }
@@ -111,7 +113,7 @@ int high_precision_reference_command(const ReferenceOptions& options) {
     progress.follow(&solves);
     if (options.estimate) {
       ref = precision::certified_high_precision_reference(
-          scene.spec, times, p, rtol, "rotation+points", &run, formulation, 0.0, &solves);
+          scene.spec, times, p, rtol, trajectory::kDefaultMetric, &run, formulation, 0.0, &solves);
     } else {
       run = precision::solve_high_precision(scene.spec, times, p, rtol, formulation, &solves);
     }
@@ -157,7 +159,9 @@ int high_precision_reference_command(const ReferenceOptions& options) {
           << "): " << run.steps << " steps, " << run.evaluations << " evaluations, "
           << run.cpu_seconds << " s; wrote " << options.output << "\n";
   if (options.estimate) {
-    summary << "estimated error " << trajectory::describe_estimate(ref.estimate) << "\n";
+    summary << "estimated error (" << ref.estimate.metric << " ["
+            << trajectory::metric_unit(ref.estimate.metric)
+            << "]): " << trajectory::describe_estimate(ref.estimate) << "\n";
   }
   return kExitOk;
 }

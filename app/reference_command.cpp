@@ -18,6 +18,7 @@
 #include "studies/progress.hpp"
 #include "studies/reference_record.hpp"
 #include "trajectory/certified_reference.hpp"
+#include "trajectory/error_metrics.hpp"
 #include "trajectory/trajectory_table.hpp"
 
 namespace flexref::app {
@@ -96,8 +97,8 @@ int reference_command(const ReferenceOptions& options) {
     solver_options.progress = &solves;
     progress.follow(&solves);
     if (options.estimate) {
-      ref =
-          trajectory::certified_reference(model, times, solver, solver_options, "rotation+points");
+      ref = trajectory::certified_reference(model, times, solver, solver_options,
+                                            trajectory::kDefaultMetric);
     } else {
       ref.run = reference::solve_reference(solver, model, times, solver_options);
       ref.table = trajectory::tabulate(model, ref.run.trajectory);
@@ -181,7 +182,8 @@ int reference_command(const ReferenceOptions& options) {
   }
   if (options.estimate) {
     const auto& e = ref.estimate;
-    summary << "estimated error (" << e.metric << "): " << trajectory::describe_estimate(e) << "\n";
+    summary << "estimated error (" << e.metric << " [" << trajectory::metric_unit(e.metric)
+            << "]): " << trajectory::describe_estimate(e) << "\n";
     if (!std::isnan(e.energy_balance)) {
       summary << "energy balance: " << trajectory::describe_energy_balance(e) << "\n";
     }

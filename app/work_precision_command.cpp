@@ -70,6 +70,11 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   const std::string& refused = outcome.refused;
 
   const std::string table = format_work_precision_table(result);
+  // The metric's unit and what it is taken from, against this reference.
+  const trajectory::ComparisonReport self =
+      trajectory::compare_trajectories(result.reference.table, result.reference.table);
+  const std::string unit = trajectory::metric_unit(study.metric);
+  const std::string terms = trajectory::metric_terms(self, study.metric);
   studies::StudyRecord record = scene_record(app_options.scene, scene);
   record.table("study")
       .set("kind", "work-precision")
@@ -82,6 +87,8 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
       .set("tolerances", study.tolerances)
       .set("repeats", study.repeats)
       .set("metric", study.metric)
+      .set("metric_unit", unit)
+      .set("metric_terms", terms)
       .set("jobs", study.jobs)
       .set("cpu_time", "thread CPU time of the integration only, minimum over repeats")
       .set("target_errors", studies::default_target_errors());
@@ -109,7 +116,7 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
   const studies::PlotOutcome plot =
       out.plot("plot_work_precision.py", "work_precision.png",
                {out.staged("work_precision.csv"), out.staged("work_precision.png"),
-                "work-precision: " + scene.name, study.metric});
+                "work-precision: " + scene.name, study.metric, unit, terms});
   const std::string csv_path = out.final_path("work_precision.csv");
   out.commit(std::move(record));
 

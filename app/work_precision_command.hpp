@@ -11,6 +11,7 @@
 #include "lie/stepper.hpp"
 #include "studies/reference_precision.hpp"
 #include "studies/reference_solver_name.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::app {
 
@@ -24,7 +25,7 @@ struct WorkPrecisionOptions {
   std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};
   std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   int repeats = 3;  ///< CPU time: minimum over this many runs
-  std::string metric = "rotation+points";
+  std::string metric = trajectory::kDefaultMetric;
   studies::ReferenceSolver reference_solver = studies::ReferenceSolver::kAuto;
   double reference_rtol = 1e-12;
   int jobs = 0;  ///< 0: all cores (timings are cleanest with 1)

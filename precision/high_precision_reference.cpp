@@ -19,6 +19,7 @@
 #include "precision/roundoff_scale.hpp"
 #include "precision/switched_integration.hpp"
 #include "reference/method_choice.hpp"
+#include "trajectory/error_metrics.hpp"
 
 // Boost 1.74's odeint cannot deduce the value type of a multiprecision number for its
 // controlled steppers; this is the specialisation its documentation gives for such types.
@@ -323,16 +324,14 @@ double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std:
   if (a.columns != b.columns || a.text.size() != b.text.size()) {
     throw std::invalid_argument("distance: runs of different scenes or output times");
   }
-  if (metric != "rotation+points" && metric != "rotation" && metric != "points") {
+  if (metric != trajectory::kDefaultMetric && metric != "rotation+points" && metric != "rotation" &&
+      metric != "points") {
     throw std::invalid_argument("metric '" + metric +
-                                "' is not available for extended/quad references (rotation+points, "
-                                "rotation, points)");
+                                "' is not available for extended/quad references (relative, "
+                                "rotation+points, rotation, points)");
   }
   // compare's norms in the wider precision, each run parsed in its own (precise_comparison.hpp).
-  const trajectory::ComparisonReport report = compare_precisely(precise_table(a), precise_table(b));
-  if (metric == "rotation") return report.max_rotation_linf;
-  if (metric == "points") return report.max_point_linf;
-  return report.max_rotation_linf + report.max_point_linf;
+  return trajectory::metric_value(compare_precisely(precise_table(a), precise_table(b)), metric);
 }
 
 trajectory::CertifiedReference certified_high_precision_reference(

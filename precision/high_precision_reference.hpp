@@ -66,7 +66,8 @@ HighPrecisionRun solve_high_precision(
     double rtol, core::FlexibleFormulation formulation = core::FlexibleFormulation::kCoupled,
     reference::SolveProgress* progress = nullptr);
 
-/// metric(a, b) computed in the runs' precision (both of the same precision and columns):
+/// metric(a, b) computed in the runs' precision (both of the same precision and columns), b the
+/// reference whose ranges scale the default metric: "relative" (trajectory::kDefaultMetric),
 /// "rotation+points" (L∞ geodesic angle + L∞ tracked-point distance, max over bodies and
 /// points), "rotation" or "points".
 double distance(const HighPrecisionRun& a, const HighPrecisionRun& b, const std::string& metric);

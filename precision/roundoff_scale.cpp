@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include "scene/scene_spec.hpp"
 #include "trajectory/certified_reference.hpp"
 #include "trajectory/column_layout.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -65,6 +68,23 @@ std::vector<NodePoint> node_points(const scene::SceneSpec& spec) {
 
 double roundoff_scale(const trajectory::TrajectoryTable& table, const std::string& metric,
                       std::span<const NodePoint> nodes) {
+  if (metric == trajectory::kDefaultMetric) {
+    // The default metric's errors are fractions of each quantity's range: the rotation's
+    // round-off over π, the points' over the smallest extent of a point (which bounds every
+    // point's fraction). Summed: a bound on the larger of the two.
+    double smallest_extent = std::numeric_limits<double>::infinity();
+    bool rotation = false;
+    for (const trajectory::QuantityError& q :
+         trajectory::compare_trajectories(table, table).quantities) {
+      rotation |= q.kind == "rotation";
+      if (q.kind == "point") smallest_extent = std::min(smallest_extent, q.bound);
+    }
+    double scale = rotation ? roundoff_scale(table, "rotation", nodes) / std::numbers::pi : 0.0;
+    if (std::isfinite(smallest_extent)) {
+      scale += roundoff_scale(table, "points", nodes) / smallest_extent;
+    }
+    return scale;
+  }
   const bool rotation = metric == "rotation" || metric == "rotation+points";
   const bool points = metric == "points" || metric == "rotation+points";
   const double duration = table.size() > 1 ? table.time(table.size() - 1) - table.time(0) : 0.0;

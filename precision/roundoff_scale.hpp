@@ -40,6 +40,10 @@ std::vector<NodePoint> node_points(const scene::SceneSpec& spec);
 /// body spinning at 200 rad/s for 10 s in extended lay 2.0e-13 rad from quad, above the estimate
 /// it gave, 1.47e-13 = 2 × 2.7e-14 (the distance to the tighter run) + u × 417 672 evaluations ×
 /// (π + 1) (tests/precision/roundoff_scale_test.cpp).
+///
+/// For the default metric (trajectory::kDefaultMetric), whose errors are fractions of each
+/// quantity's range: the rotation's scale over π plus the points' over the smallest extent of a
+/// tracked point in `table`.
 double roundoff_scale(const trajectory::TrajectoryTable& table, const std::string& metric,
                       std::span<const NodePoint> nodes = {});
 

@@ -123,6 +123,8 @@ struct PyComparison {
   std::string metric;
   double value = 0.0;
   std::vector<std::string> measured;
+  std::string unit;   ///< trajectory::metric_unit
+  std::string terms;  ///< trajectory::metric_terms
   py::object estimated_error = py::none();
   py::object certified = py::none();
 };
@@ -135,6 +137,8 @@ PyComparison compare(const trajectory::RunData& run, const PyTrajectory& referen
   out.metric = metric;
   out.measured = trajectory::metric_quantities(out.report, metric);
   out.value = trajectory::metric_value(out.report, metric);
+  out.unit = trajectory::metric_unit(metric);
+  out.terms = trajectory::metric_terms(out.report, metric);
   if (ref.has_estimate && ref.reference.estimate.metric == metric) {
     const double e = ref.reference.estimate.estimate();
     out.estimated_error = py::float_(e);
@@ -261,6 +265,10 @@ PYBIND11_MODULE(flexref, m) {
       .def_readonly("metric", &PyComparison::metric)
       .def_readonly("value", &PyComparison::value, "the metric's value")
       .def_readonly("measured", &PyComparison::measured, "the quantities the metric used")
+      .def_readonly("unit", &PyComparison::unit, "the value's unit: '1' for the default metric")
+      .def_readonly("terms", &PyComparison::terms,
+                    "what the value is taken from: the default metric's ranges, e.g. 'largest "
+                    "of body.rotation / pi rad, body.corner / 2 m'")
       .def_readonly("estimated_error", &PyComparison::estimated_error,
                     "the reference's estimated error in this metric (None if unknown)")
       .def_readonly("certified", &PyComparison::certified,
@@ -329,7 +337,7 @@ PYBIND11_MODULE(flexref, m) {
       },
       py::arg("scene"), py::arg("solver") = "auto", py::arg("rtol") = 1e-10,
       py::arg("atol") = py::none(), py::arg("precision") = "double", py::arg("estimate") = true,
-      py::arg("metric") = "rotation+points",
+      py::arg("metric") = trajectory::kDefaultMetric,
       "Computes a reference: solver 'auto' (exact when the scene has an exact solution, else "
       "cvode), 'ida', 'cvode', 'odeint' or 'exact'; with estimate=True its error is estimated "
       "in `metric` (a 100x tighter run and a second solver). precision: only 'double' for now.");
@@ -366,7 +374,7 @@ PYBIND11_MODULE(flexref, m) {
       [](const py::handle& run, const PyTrajectory& ref, const std::string& metric) {
         return compare(run_data(run, "run"), ref, metric);
       },
-      py::arg("run"), py::arg("reference"), py::arg("metric") = "rotation+points",
+      py::arg("run"), py::arg("reference"), py::arg("metric") = trajectory::kDefaultMetric,
       "Measures a run (a dict of column name -> 1-D array with 't', any subset of the standard "
       "columns, rows at any subset of the output times; or a flexref.Trajectory) against a "
       "reference under the trajectory contract (docs/external.md).");
@@ -440,7 +448,7 @@ PYBIND11_MODULE(flexref, m) {
         out["table"] = studies::format_convergence_table(result);
         return out;
       },
-      py::arg("reference"), py::arg("runs"), py::arg("metric") = "rotation+points",
+      py::arg("reference"), py::arg("runs"), py::arg("metric") = trajectory::kDefaultMetric,
       py::arg("label") = "mine", py::arg("claimed_order") = 0,
       "Observed order from (h, run) pairs: each run measured against the reference, levels not "
       "100x above its estimated error marked 'uncertified', pairwise orders and the "
@@ -498,7 +506,7 @@ PYBIND11_MODULE(flexref, m) {
         return out;
       },
       py::arg("scene"), py::arg("schemes") = lie::default_scheme_names(), py::arg("dt") = 1e-2,
-      py::arg("levels") = 6, py::arg("metric") = "rotation+points",
+      py::arg("levels") = 6, py::arg("metric") = trajectory::kDefaultMetric,
       py::arg("reference_solver") = "auto", py::arg("reference_rtol") = 1e-12,
       py::arg("precision") = "auto", py::arg("reference_budget") = studies::kDefaultReferenceBudget,
       py::arg("jobs") = 0,
@@ -565,7 +573,7 @@ PYBIND11_MODULE(flexref, m) {
       py::arg("solvers") = std::vector<std::string>{"ida", "cvode", "arkode", "odeint"},
       py::arg("tolerances") =
           std::vector<double>{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12},
-      py::arg("repeats") = 3, py::arg("metric") = "rotation+points",
+      py::arg("repeats") = 3, py::arg("metric") = trajectory::kDefaultMetric,
       py::arg("reference_solver") = "auto", py::arg("reference_rtol") = 1e-12,
       py::arg("precision") = "auto", py::arg("reference_budget") = studies::kDefaultReferenceBudget,
       py::arg("jobs") = 0,

@@ -50,8 +50,8 @@ int degrees_of_freedom(const core::Model& model) {
 }
 
 bool measures_positions(const std::string& metric) {
-  return metric == "rotation+points" || metric == "rotation" || metric == "points" ||
-         metric == "position";
+  return metric == "relative" || metric == "rotation+points" || metric == "rotation" ||
+         metric == "points" || metric == "position";
 }
 
 /// External levels: the quantities the metric measured and the run's columns it ignored.
@@ -491,9 +491,10 @@ bool ConvergenceResult::refused() const {
 std::string format_convergence_table(const ConvergenceResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
+  // The metric first: every error below, the reference's included, is in its unit.
+  out << "metric: " << trajectory::describe_metric(r.reference.table, r.options.metric) << "\n";
   out << "reference: " << trajectory::describe_reference_run(r.reference.run)
-      << ", estimated error " << trajectory::describe_estimate(est) << "\n";
-  out << "metric: " << r.options.metric << "\n\n";
+      << ", estimated error " << trajectory::describe_estimate(est) << "\n\n";
   out << std::left << std::setw(7) << "scheme" << std::right << std::setw(12) << "h"
       << std::setw(10) << "steps" << std::setw(12) << "error" << std::setw(8) << "order"
       << std::setw(11) << "cpu [s]";

@@ -24,6 +24,7 @@
 #include "core/step_limit.hpp"
 #include "lie/stepper.hpp"
 #include "trajectory/certified_reference.hpp"
+#include "trajectory/error_metrics.hpp"
 #include "trajectory/trajectory_contract.hpp"
 
 namespace flexref::studies {
@@ -64,7 +65,7 @@ struct ConvergenceOptions {
   std::vector<std::string> schemes = lie::default_scheme_names();
   double h0 = 1e-2;
   int levels = 6;
-  std::string metric = "rotation+points";
+  std::string metric = trajectory::kDefaultMetric;
   std::string reference_solver = "auto";
   double reference_rtol = 1e-12;
   int jobs = 1;

@@ -7,13 +7,15 @@
 #include "precision/reference_budget.hpp"
 #include "reference/solve_progress.hpp"
 #include "studies/progress.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::studies {
 namespace {
 
 /// The metrics an extended or quad reference measures (its run keeps rotations and points).
 bool measurable(const std::string& metric) {
-  return metric == "rotation+points" || metric == "rotation" || metric == "points";
+  return metric == trajectory::kDefaultMetric || metric == "rotation+points" ||
+         metric == "rotation" || metric == "points";
 }
 
 }  // namespace
@@ -39,8 +41,8 @@ std::shared_ptr<const trajectory::CertifiedReference> StudyReferences::solve(
   precision::check_supported(scene_.spec, scene_.model->formulation());
   if (!measurable(metric_)) {
     throw std::invalid_argument("--metric " + metric_ + ": " + name +
-                                " precision references measure rotation+points, rotation or "
-                                "points");
+                                " precision references measure relative, rotation+points, "
+                                "rotation or points");
   }
   if (reference_solver_ != ReferenceSolver::kAuto) {
     throw std::invalid_argument("--reference-solver: a " + name +

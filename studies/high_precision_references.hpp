@@ -24,7 +24,7 @@ class StudyReferences final : public HighPrecisionReferences {
                   ReferenceSolver reference_solver, std::string study);
 
   /// Throws std::invalid_argument when the scene (precision::check_supported), the metric
-  /// (rotation+points, rotation or points) or a named reference solver rules it out.
+  /// (relative, rotation+points, rotation or points) or a named reference solver rules it out.
   std::shared_ptr<const trajectory::CertifiedReference> compute(
       ReferencePrecision wanted) const override;
   bool quad_possible() const override;

@@ -2,13 +2,15 @@
 """Log-log convergence plot of a `flexref converge` study.
 
 Usage: plot_convergence.py convergence.csv out.png "title" [step_limit "what limits it"
-                           ["orders"]]
+                           ["orders" ["metric" "unit" "terms"]]]
 Reads the CSV written by the study (scheme,h,steps,error,order,cpu_seconds,status), draws the
-error of each scheme against its step, marks levels that were not used in the fit (a legend
-entry says so), adds reference slopes 1 and 2 a factor 3 below every drawn level (so that no
-curve hides them), and draws the scene's explicit step limit 2/omega when one is given (a
-number; "inf": none). `orders` is "scheme=observed" pairs separated by commas (observed: the
-fitted order, or why there is none), shown in the legend.
+error of each scheme against its step, marks the levels that were not used in the fit with one
+marker per reason (saturated, unstable, uncertified, other: plot_status.py) and a legend entry
+for each, adds reference slopes 1 and 2 a factor 3 below every drawn level (so that no curve
+hides them), and draws the scene's explicit step limit 2/omega when one is given (a number;
+"inf": none). `orders` is "scheme=observed" pairs separated by commas (observed: the fitted
+order, or why there is none), shown in the legend. `metric`, `unit` and `terms` (the study's
+metric, its unit and what it is taken from: trajectory/error_metrics.hpp) label the error axis.
 """
 import csv
 import math
@@ -18,6 +20,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import plot_status  # noqa: E402  (beside this script)
 
 # The guides lie at least this factor below every drawn level.
 GUIDE_OFFSET = 3.0
@@ -41,11 +45,11 @@ def legend(ax, **kwargs):
 
 
 def main(argv):
-    if len(argv) not in (4, 6, 7):
+    if len(argv) not in (4, 6, 7, 10):
         sys.stderr.write(__doc__)
         return 2
     rows = list(csv.DictReader(open(argv[1], newline="")))
-    orders = parse_orders(argv[6]) if len(argv) == 7 else {}
+    orders = parse_orders(argv[6]) if len(argv) >= 7 else {}
     schemes = []
     for r in rows:
         if r["scheme"] not in schemes:
@@ -53,7 +57,7 @@ def main(argv):
     fig, ax = plt.subplots(figsize=(8.8, 4.8), dpi=120)
     markers = "osD^v<>"
     drawn = []  # (h, error) of every level drawn
-    unused = False
+    present = {}  # the reasons of the levels left out of the fit (plot_status.mark)
     for k, s in enumerate(schemes):
         pts = [(float(r["h"]), float(r["error"]), r["status"]) for r in rows if r["scheme"] == s]
         pts = [p for p in pts if math.isfinite(p[1]) and p[1] > 0]
@@ -68,15 +72,9 @@ def main(argv):
                 label += f" ({observed})"
         ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=markers[k % len(markers)],
                   label=label)
-        bad = [(p[0], p[1]) for p in pts if p[2] != "ok"]
-        if bad:
-            ax.loglog([b[0] for b in bad], [b[1] for b in bad], linestyle="none", marker="x",
-                      color="k", markersize=9)
-            unused = True
+        plot_status.merge(present, plot_status.mark(ax, pts))
         drawn += [(p[0], p[1]) for p in pts]
-    if unused:
-        ax.plot([], [], linestyle="none", marker="x", color="k", markersize=9,
-                label="not in the fit (see status)")
+    plot_status.legend_entries(ax, present)
     if drawn:
         hs = sorted({h for h, _ in drawn})
         for p, style in ((1, ":"), (2, "--")):
@@ -93,7 +91,7 @@ def main(argv):
         else:  # far outside the steps: say it without stretching the axis
             ax.plot([], [], " ", label=label)
     ax.set_xlabel("step h [s]")
-    ax.set_ylabel("error (L∞ rotation [rad] + L∞ tracked points [m])")
+    ax.set_ylabel(plot_status.error_label(*argv[7:10]) if len(argv) == 10 else "error")
     ax.set_title(argv[3])
     ax.grid(True, which="both", alpha=0.3)
     # Beside the axes: inside, it hides a curve wherever it is put.

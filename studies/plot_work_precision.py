@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Log-log work-precision plot of a `flexref work-precision` study.
 
-Usage: plot_work_precision.py work_precision.csv out.png "title" metric
+Usage: plot_work_precision.py work_precision.csv out.png "title" metric "unit" "terms"
 Reads the CSV written by the study (method,kind,setting,error,cpu_seconds,status) and draws,
 for each scheme (solid, one point per step) and each reference solver (dashed, one point per
-tolerance), the error against the CPU time; runs whose error is below what the reference can
-certify are crossed out, failed runs are left out, and the target errors of the summary table
-are dotted horizontal lines.
+tolerance), the error against the CPU time; runs the cheapest-method table does not count are
+marked with one marker per reason (saturated, unstable, uncertified, other: plot_status.py),
+failed runs are left out, and the target errors of the summary table are dotted horizontal
+lines. `metric`, `unit` and `terms` (trajectory/error_metrics.hpp: metric_unit, metric_terms)
+label the error axis.
 """
 import csv
 import math
@@ -16,6 +18,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import plot_status  # noqa: E402  (beside this script)
 
 
 def legend(ax, **kwargs):
@@ -27,18 +31,10 @@ def legend(ax, **kwargs):
     return ax.legend(**kwargs)
 
 TARGETS = (1e-2, 1e-4, 1e-6, 1e-8)
-METRIC_LABELS = {
-    "rotation+points": "error (L∞ rotation [rad] + L∞ tracked points [m])",
-    "rotation": "L∞ rotation error [rad]",
-    "points": "L∞ tracked-point error [m]",
-    "position": "L∞ position error [m]",
-    "velocity": "L∞ velocity error [m/s]",
-    "angular_velocity": "L∞ angular-velocity error [rad/s]",
-}
 
 
 def main(argv):
-    if len(argv) != 5:
+    if len(argv) != 7:
         sys.stderr.write(__doc__)
         return 2
     rows = list(csv.DictReader(open(argv[1], newline="")))
@@ -49,7 +45,7 @@ def main(argv):
             methods.append(key)
     fig, ax = plt.subplots(figsize=(7.2, 5.4), dpi=120)
     markers = "osD^v<>ph"
-    crossed = False
+    present = {}  # the reasons of the runs not counted (plot_status.mark)
     for k, (method, kind) in enumerate(methods):
         pts = []
         for r in rows:
@@ -63,18 +59,13 @@ def main(argv):
         label = method.upper() if kind != "solver" else f"{method} (rtol sweep)"
         ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker=markers[k % len(markers)],
                   linestyle="-" if kind != "solver" else "--", label=label)
-        bad = [p for p in pts if p[2] != "ok"]
-        if bad:
-            ax.loglog([b[0] for b in bad], [b[1] for b in bad], linestyle="none", marker="x",
-                      color="k", markersize=9,
-                      label=None if crossed else "not counted: uncertified, unstable or "
-                      "saturated (see status)")
-            crossed = True
+        plot_status.merge(present, plot_status.mark(ax, pts))
+    plot_status.legend_entries(ax, present)
     for i, t in enumerate(TARGETS):
         ax.axhline(t, linestyle=":", color="gray", linewidth=0.8,
                    label="target errors" if i == 0 else None)
     ax.set_xlabel("CPU time [s] (thread CPU time of the integration, min over repeats)")
-    ax.set_ylabel(METRIC_LABELS.get(argv[4], f"error ({argv[4]})"))
+    ax.set_ylabel(plot_status.error_label(*argv[4:7]))
     ax.set_title(argv[3])
     ax.grid(True, which="both", alpha=0.3)
     legend(ax, fontsize="small")

@@ -222,7 +222,8 @@ std::string figure_table(const FigureResult& result) {
   if (std::isnan(result.reference_estimate)) {
     out << ", error not estimated\n";
   } else {
-    out << ", estimated error " << result.reference_estimate_method << "\n";
+    // The tracked point's distance, as the table's errors.
+    out << ", estimated error (points [m]): " << result.reference_estimate_method << "\n";
   }
   out << std::left << std::setw(8) << "scheme" << std::setw(12) << "step [s]" << std::setw(16)
       << "max |dp| [m]" << std::setw(11) << "certified"

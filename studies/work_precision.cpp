@@ -397,9 +397,10 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
 std::string format_work_precision_table(const WorkPrecisionResult& r) {
   std::ostringstream out;
   const auto& est = r.reference.estimate;
+  // The metric first: every error below, the reference's included, is in its unit.
+  out << "metric: " << trajectory::describe_metric(r.reference.table, r.options.metric) << "\n";
   out << "reference: " << trajectory::describe_reference_run(r.reference.run)
       << ", estimated error " << trajectory::describe_estimate(est) << "\n";
-  out << "metric: " << r.options.metric << "\n";
 
   // With ideal joints, each run's largest joint violation from its positions.
   bool joints = false;

@@ -22,6 +22,7 @@
 #include "lie/stepper.hpp"
 #include "studies/convergence.hpp"
 #include "trajectory/certified_reference.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::studies {
 
@@ -32,7 +33,7 @@ struct WorkPrecisionOptions {
   std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};
   std::vector<double> tolerances{1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12};
   int repeats = 3;  ///< CPU time is the minimum over this many runs
-  std::string metric = "rotation+points";
+  std::string metric = trajectory::kDefaultMetric;
   std::string reference_solver = "auto";
   double reference_rtol = 1e-12;
   int jobs = 1;

@@ -73,7 +73,11 @@ EstimateCheck compare(const core::Model& model, const std::vector<double>& outpu
   c.method = check.method;
   c.steps = check.stats.steps;
   const TrajectoryTable check_table = tabulate(model, check.trajectory);
-  c.distance = metric_value(compare_trajectories(table, check_table), metric);
+  const ComparisonReport report = compare_trajectories(table, check_table);
+  c.distance = metric_value(report, metric);
+  if (report.rotation_count + report.point_count > 0) {
+    c.absolute_distance = metric_value(report, "rotation+points");
+  }
   c.energy_distance = energy_distance(table, check_table);
   c.used = true;
   if (!(c.distance > 0.0)) {
@@ -150,6 +154,7 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
         closest = &c;
       }
     }
+    e.absolute_value = closest == nullptr ? kInf : closest->absolute_distance;
     // Say what was computed: which solutions, which one gave the value.
     e.method = closest == nullptr
                    ? "none: no independent numerical solution is a usable check (" + checked + ")"
@@ -167,6 +172,7 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
     exact_options.progress = run.options.progress;
     EstimateCheck c = compare(model, output_times, table, metric, "exact", "exact", exact_options);
     e.value = c.used ? c.distance : kInf;
+    e.absolute_value = c.used ? c.absolute_distance : kInf;
     e.checks.push_back(c);
     e.method =
         "distance to the exact solution (the run's true error, up to the exact "
@@ -187,15 +193,21 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
   e.checks.push_back(
       compare(model, output_times, table, metric, "other", cross_check_solver(run.solver), tight));
   double largest = 0.0;
+  double largest_absolute = 0.0;
   std::string used;
   int used_count = 0;
   for (const EstimateCheck& c : e.checks) {
     if (!c.used) continue;
     largest = std::max(largest, c.distance);
+    // NaN (nothing absolute measured) stays NaN: the guard then has nothing to hold.
+    largest_absolute = std::isnan(c.absolute_distance)
+                           ? c.absolute_distance
+                           : std::max(largest_absolute, c.absolute_distance);
     used += (used.empty() ? "" : " and ") + c.solver + " rtol " + number(c.rtol);
     ++used_count;
   }
   e.value = used.empty() ? kInf : kSafetyFactor * largest;
+  e.absolute_value = used.empty() ? kInf : kSafetyFactor * largest_absolute;
   const BalancePeak peak = largest_energy_balance(table);
   e.energy_balance = peak.value;
   e.energy_balance_time = peak.time;
@@ -219,6 +231,8 @@ ReferenceEstimate estimate_error(const core::Model& model, const std::vector<dou
 }
 
 double solution_scale(const TrajectoryTable& table, const std::string& metric) {
+  // Each quantity's error as a fraction of its whole range: the whole solution is 1.
+  if (metric == kDefaultMetric) return 1.0;
   TrajectoryTable initial = table;
   TrajectoryTable rest = table;
   const ColumnLayout layout = ColumnLayout::parse(table.columns);
@@ -256,16 +270,26 @@ CertifiedReference certified_reference(const core::Model& model,
         "the error estimate is not a number (" + describe_estimate(result.estimate) + ")");
   }
   // +inf means no usable check (certifies nothing; the studies refuse it). A finite estimate
-  // larger than the solution itself is refused here.
-  const double scale = solution_scale(result.table, metric);
-  if (std::isfinite(estimate) && scale > 0.0 && estimate > scale) {
-    throw StudyRefused(
-        "the reference (" + result.run.solver + ") has the estimated error " +
-        describe_estimate(result.estimate) + " in " + metric +
-        ", larger than the solution itself (" + number(scale) +
-        " in that metric: pi rad + the scene's extent at t0): it certifies nothing. The solvers "
-        "disagree entirely, or the solution diverges (a model without geometric stiffening spun "
-        "above its first frequency grows exponentially: docs/design/model.md)");
+  // larger than the solution itself is refused here: under the default metric in absolute
+  // terms, rad + m against π rad + the scene's extent at t0, since a fraction of the
+  // reference's own range does not grow with a solution that diverges.
+  const bool absolute = metric == kDefaultMetric;
+  const std::string guard_metric = absolute ? "rotation+points" : metric;
+  const double guarded = absolute ? result.estimate.absolute_value : estimate;
+  const double scale = std::isnan(guarded) ? 0.0 : solution_scale(result.table, guard_metric);
+  const bool beyond_range = absolute && std::isfinite(estimate) && estimate > 1.0;
+  const bool beyond_size = std::isfinite(guarded) && scale > 0.0 && guarded > scale;
+  if (beyond_range || beyond_size) {
+    const std::string size =
+        beyond_size ? (absolute ? ", " + number(guarded) + " in rotation+points (rad + m)," : "") +
+                          std::string(" larger than the solution itself (") + number(scale) +
+                          " in " + guard_metric + ": pi rad + the scene's extent at t0)"
+                    : std::string(" larger than 1, each quantity's whole range");
+    throw StudyRefused("the reference (" + result.run.solver + ") has the estimated error " +
+                       describe_estimate(result.estimate) + " in " + metric + size +
+                       ": it certifies nothing. The solvers disagree entirely, or the solution "
+                       "diverges (a model without geometric stiffening spun above its first "
+                       "frequency grows exponentially: docs/design/model.md)");
   }
   return result;
 }

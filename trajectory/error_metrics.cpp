@@ -103,9 +103,9 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run,
 }
 
 std::vector<std::string> metric_names() {
-  return {"rotation+points", "rotation",        "points",           "modes",
-          "position",        "velocity",        "angular_velocity", "wear",
-          "reaction_force",  "reaction_torque", "violation"};
+  return {kDefaultMetric, "rotation+points", "rotation",        "points",
+          "modes",        "position",        "velocity",        "angular_velocity",
+          "wear",         "reaction_force",  "reaction_torque", "violation"};
 }
 
 std::vector<std::string> metric_quantities(const ComparisonReport& report,
@@ -113,25 +113,27 @@ std::vector<std::string> metric_quantities(const ComparisonReport& report,
   const std::vector<std::string> names = metric_names();
   if (std::find(names.begin(), names.end(), metric) == names.end()) {
     throw std::invalid_argument("unknown metric '" + metric +
-                                "' (rotation+points, rotation, points, modes, position, "
+                                "' (relative, rotation+points, rotation, points, modes, position, "
                                 "velocity, angular_velocity, wear, reaction_force, "
                                 "reaction_torque, violation)");
   }
   std::vector<std::string> used;
   for (const QuantityError& q : report.quantities) {
-    const bool take = metric == "rotation+points" ? (q.kind == "rotation" || q.kind == "point")
-                      : metric == "points"        ? q.kind == "point"
-                                                  : q.kind == metric;
+    const bool take = metric == kDefaultMetric || metric == "rotation+points"
+                          ? (q.kind == "rotation" || q.kind == "point")
+                      : metric == "points" ? q.kind == "point"
+                                           : q.kind == metric;
     if (take) used.push_back(q.name);
   }
   if (used.empty()) {
-    const char* needs = metric == "rotation+points" ? "Euler-parameter or tracked-point columns"
-                        : metric == "rotation"      ? "Euler-parameter columns B.e0..B.e3"
-                        : metric == "points"        ? "tracked-point columns B.P.x..B.P.z"
-                        : metric == "modes"         ? "modal-coordinate columns B.q1.."
-                        : metric == "position"      ? "position columns B.x..B.z"
-                        : metric == "velocity"      ? "velocity columns B.vx..B.vz"
-                        : metric == "wear" ? "wear-work columns C.wear_work of a named contact"
+    const char* needs = metric == kDefaultMetric || metric == "rotation+points"
+                            ? "Euler-parameter or tracked-point columns"
+                        : metric == "rotation" ? "Euler-parameter columns B.e0..B.e3"
+                        : metric == "points"   ? "tracked-point columns B.P.x..B.P.z"
+                        : metric == "modes"    ? "modal-coordinate columns B.q1.."
+                        : metric == "position" ? "position columns B.x..B.z"
+                        : metric == "velocity" ? "velocity columns B.vx..B.vz"
+                        : metric == "wear"     ? "wear-work columns C.wear_work of a named contact"
                         : metric == "reaction_force"  ? "joint reaction columns J.fx..J.fz"
                         : metric == "reaction_torque" ? "joint reaction columns J.tx..J.tz"
                         : metric == "violation"       ? "constraint-violation columns J.phi"
@@ -142,9 +144,33 @@ std::vector<std::string> metric_quantities(const ComparisonReport& report,
   return used;
 }
 
+namespace {
+
+/// The default metric: the largest L∞ / bound over the rotations and tracked points.
+double relative_metric(const ComparisonReport& report) {
+  double worst = 0.0;
+  for (const QuantityError& q : report.quantities) {
+    if (q.kind != "rotation" && q.kind != "point") continue;
+    if (!std::isfinite(q.bound)) {
+      throw std::invalid_argument(
+          "metric '" + std::string(kDefaultMetric) + "' cannot scale " + q.name +
+          ": the reference holds it still (its extent 0, or below kHeldFraction = 1e-6 of the "
+          "largest point's), so its error is a fraction of no range; "
+          "name the metric 'points' (m) or 'rotation' (rad)");
+    }
+    // A non-finite error (a diverged run) stays infinite, never a fraction.
+    worst = std::max(worst, std::isfinite(q.norms.linf) ? q.norms.linf / q.bound
+                                                        : std::numeric_limits<double>::infinity());
+  }
+  return worst;
+}
+
+}  // namespace
+
 double metric_value(const ComparisonReport& report, const std::string& metric) {
   (void)metric_quantities(report, metric);  // validates the name and that something is measured
-  if (metric == "rotation+points") return report.default_metric();
+  if (metric == kDefaultMetric) return relative_metric(report);
+  if (metric == "rotation+points") return report.max_rotation_linf + report.max_point_linf;
   if (metric == "rotation") return report.max_rotation_linf;
   if (metric == "points") return report.max_point_linf;
   if (metric == "modes") return report.max_modal_linf;
@@ -181,6 +207,49 @@ std::string metric_bounds_text(const ComparisonReport& report, const std::string
            (q.kind == "rotation" ? std::string("pi rad") : std::string(value));
   }
   return out;
+}
+
+std::string metric_unit(const std::string& metric) {
+  if (metric == kDefaultMetric || metric == "wear") return "1";
+  if (metric == "rotation+points") return "rad + m";
+  if (metric == "rotation") return "rad";
+  if (metric == "points" || metric == "position") return "m";
+  if (metric == "velocity") return "m/s";
+  if (metric == "angular_velocity") return "rad/s";
+  if (metric == "modes") return "-";
+  if (metric == "reaction_force") return "N";
+  if (metric == "reaction_torque") return "N*m";
+  if (metric == "violation") return "m|rad";
+  throw std::invalid_argument("unknown metric '" + metric + "'");
+}
+
+std::string metric_terms(const ComparisonReport& report, const std::string& metric) {
+  const std::vector<std::string> used = metric_quantities(report, metric);
+  if (metric != kDefaultMetric) {
+    std::string names;
+    for (const std::string& name : used) names += (names.empty() ? "" : ", ") + name;
+    return names;
+  }
+  (void)relative_metric(report);  // every range is known
+  std::string ranges;
+  for (const QuantityError& q : report.quantities) {
+    if (std::find(used.begin(), used.end(), q.name) == used.end()) continue;
+    char value[48];
+    std::snprintf(value, sizeof value, "%.3g %s", q.bound, q.unit.c_str());
+    ranges += (ranges.empty() ? "" : ", ") + q.name + " / " +
+              (q.kind == "rotation" ? std::string("pi rad") : std::string(value));
+  }
+  return "largest of " + ranges;
+}
+
+std::string describe_metric(const TrajectoryTable& reference, const std::string& metric) {
+  const std::string named = metric + " [" + metric_unit(metric) + "]";
+  // A reference that has nothing the metric measures (or no rows yet) still names the unit.
+  try {
+    return named + ": " + metric_terms(compare_trajectories(reference, reference), metric);
+  } catch (const std::invalid_argument&) {
+    return named;
+  }
 }
 
 }  // namespace flexref::trajectory

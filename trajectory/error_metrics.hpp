@@ -79,17 +79,25 @@ struct ComparisonReport {
   /// Named contacts' final wear work: max over contacts of |W − W_ref|/|W_ref| at the last
   /// output (|W| when W_ref = 0); −1 when the tables have no `C.wear_work` column.
   double max_wear_relative = -1.0;
-  /// Default study metric: L∞ geodesic rotation angle + L∞ tracked-point position (max over
-  /// bodies and points). Named "rotation+points".
-  double default_metric() const { return max_rotation_linf + max_point_linf; }
 };
+
+/// The default metric of every study, of `compare` and of a reference's error estimate
+/// (docs/decisions.md, "The default metric"): each body's L∞ geodesic rotation angle and each
+/// tracked point's L∞ position error, divided by the largest value that quantity can take
+/// (QuantityError::bound: π rad for a rotation, the reference's extent for a point), the
+/// largest of these fractions. Dimensionless: an error of 1e-4 is 1e-4 of the quantity's range
+/// whatever its unit, and a value of kSaturationFraction or more is a saturated level. Radians
+/// and metres are never added.
+inline constexpr const char* kDefaultMetric = "relative";
 
 /// Compares two tables with the same columns on the same times (to 1e-9 relative); throws
 /// std::invalid_argument naming the first mismatch. Non-finite differences make the norms
 /// infinite (a diverged run is never silently small).
 ComparisonReport compare_trajectories(const TrajectoryTable& run, const TrajectoryTable& reference);
 
-/// The metrics a study may name: "rotation+points" (default), "rotation", "points", "modes"
+/// The metrics a study may name: "relative" (the default, kDefaultMetric), "rotation+points"
+/// (L∞ rotation angle in rad plus L∞ tracked-point error in m: mixed units, kept to read results
+/// made with it, e.g. docs/engines.md), "rotation", "points", "modes"
 /// (L∞ over time of max_i |q_i − q_i,ref| over the flexible bodies' modal coordinates),
 /// "position", "velocity", "angular_velocity", "wear" (max_wear_relative: the final wear work of
 /// the named contacts, docs/output.md "Wear outputs"), "reaction_force" and "reaction_torque"
@@ -97,7 +105,8 @@ ComparisonReport compare_trajectories(const TrajectoryTable& run, const Trajecto
 /// "violation" (L∞ over time and the joints of the run's own |J.phi|). Throws std::invalid_argument
 /// for any other name, and when the report has no quantity the metric measures (e.g. "rotation"
 /// without Euler-parameter columns, "modes" on a rigid scene, "wear" without a named contact): an
-/// absent quantity is not an error of 0.
+/// absent quantity is not an error of 0, and for "relative" when a tracked point has no extent
+/// in the reference (it does not move: its error has no range to be a fraction of).
 double metric_value(const ComparisonReport& report, const std::string& metric);
 /// The names metric_value accepts, the default first.
 std::vector<std::string> metric_names();
@@ -107,8 +116,20 @@ std::vector<std::string> metric_names();
 std::vector<std::string> metric_quantities(const ComparisonReport& report,
                                            const std::string& metric);
 
-/// The metric names metric_value accepts.
-std::vector<std::string> metric_names();
+/// The unit of a metric's value, stated wherever one is printed: "1" for the default metric (a
+/// fraction of range) and for wear (relative), "rad + m" for rotation+points, its quantities'
+/// unit for the others ("rad", "m", "m/s", "rad/s", "-" for modal coordinates, "N", "N*m",
+/// "m|rad" for a violation). Throws std::invalid_argument for an unknown name.
+std::string metric_unit(const std::string& metric);
+/// What metric_value(report, metric) is taken from, printed beside it: for the default metric
+/// the ranges it divides by, "largest of book.rotation / pi rad, book.corner / 2 m"; for the
+/// others the quantities, "book.rotation, book.corner"; throws like metric_value.
+std::string metric_terms(const ComparisonReport& report, const std::string& metric);
+/// "relative [1]: largest of book.rotation / pi rad, book.corner / 2 m": the metric, its unit
+/// and its terms in a comparison against `reference` (the ranges are the reference's own), as a
+/// study states them for every error it measures against that reference; "relative [1]" alone
+/// when the reference has nothing the metric measures.
+std::string describe_metric(const TrajectoryTable& reference, const std::string& metric);
 
 /// The largest L∞ / bound over the quantities metric_value(report, metric) takes its value
 /// from (0 when every bound is +∞); throws like metric_value.

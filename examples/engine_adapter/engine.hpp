@@ -4,7 +4,7 @@
 /// flexref scene onto the engine and a fixed-step run on flexref's output grid. The shared
 /// program around it (adapter_main.hpp) reads the scene with flexref's own reader, checks the
 /// step, writes the trajectory contract (docs/external.md) and turns failures into the exit
-/// codes of flexref's README.
+/// codes of flexref's command line (docs/cli.md, "Exit codes").
 #include <stdexcept>
 #include <string>
 #include <vector>

@@ -37,10 +37,11 @@ fi
 # joints on it).
 reference() { "$flexref" reference "$1" --solver cvode --rtol 1e-12 --no-estimate -o "$2" >/dev/null; }
 
-# compare --json of a run: "error off_joints tree_violation loop_violation", the largest
+# compare --json of a run: "error off_joints tree_violation loop_violation" (the error in
+# rotation+points, rad + m: the bounds below are in metres and radians), the largest
 # violations of the tree's joints (those in $3, a comma-separated list) and of the others.
 measure() {
-  "$flexref" compare --json "$1" "$2" | /usr/bin/python3 -c '
+  "$flexref" compare --json --metric rotation+points "$1" "$2" | /usr/bin/python3 -c '
 import json, sys
 d = json.load(sys.stdin)
 tree = sys.argv[1].split(",")

@@ -45,6 +45,38 @@ code=$?
 [[ $code -eq 1 ]] || fail "corrupt CSV: exit code $code"
 [[ $out == *"corrupt.csv:5"* ]] || fail "corrupt CSV: message lacks file:line: $out"
 
+# 5b. The metric's unit (docs/decisions.md, "The default metric"): compare on a run of free_spin
+# states it for the value, the reference's estimate and the quantities it is taken from, and
+# the value is the larger fraction of range (never radians plus metres); another metric's value
+# is never checked against an estimate made in the default one.
+"$flexref" run scenes/free_spin.toml --scheme nmb --dt 0.01 -o "$tmp/u_run.csv" >/dev/null &&
+  "$flexref" reference scenes/free_spin.toml -o "$tmp/u_ref.csv" >/dev/null ||
+  fail "free_spin run or reference failed"
+out=$("$flexref" compare "$tmp/u_run.csv" "$tmp/u_ref.csv" 2>&1) || fail "compare free_spin: $out"
+grep -qE '^metric relative \[1\]: [0-9.]+e-[0-9]+  \(largest of body.rotation / pi rad, body.corner / 2 m\)$' \
+  <<<"$out" || fail "compare does not state the metric's unit and ranges: $out"
+grep -qE '^reference estimated error [0-9.e+-]+ \[1\]; measured [0-9.e+-]+ \[1\] is .*: certified$' \
+  <<<"$out" || fail "compare's certification line does not state the unit: $out"
+out=$("$flexref" compare "$tmp/u_run.csv" "$tmp/u_ref.csv" --json 2>&1)
+/usr/bin/python3 -c '
+import json, math, re, sys
+d = json.loads(sys.argv[1])
+m = d["metric"]
+q = {x["name"]: x for x in d["quantities"]}
+extent = float(re.search(r"body.corner / ([0-9.e+]+) m", m["terms"]).group(1))
+expected = max(q["body.rotation"]["linf"] / math.pi, q["body.corner"]["linf"] / extent)
+# The extent is printed to 3 significant digits: 0.5 % covers its rounding.
+sys.exit(not (m["unit"] == "1" and q["body.rotation"]["unit"] == "rad" and
+              q["body.corner"]["unit"] == "m" and abs(m["value"] / expected - 1) < 5e-3 and
+              d["reference_estimate"]["metric"] == "relative"))' "$out" ||
+  fail "compare --json: the metric is not the larger fraction of range in unit 1: $out"
+out=$("$flexref" compare "$tmp/u_run.csv" "$tmp/u_ref.csv" --metric rotation+points 2>&1)
+[[ $out == *"metric rotation+points [rad + m]: "*"(body.rotation, body.corner)"* &&
+  $out == *"is in metric relative, not rotation+points: not checked"* ]] ||
+  fail "compare --metric rotation+points: unit or estimate check: $out"
+out=$("$flexref" compare "$tmp/u_run.csv" "$tmp/u_ref.csv" --metric rotation 2>&1)
+[[ $out == *"metric rotation [rad]: "* ]] || fail "compare --metric rotation: unit: $out"
+
 # 6. Unknown option value: a usage error, exit 2 (CLI11's own codes 105, 106 are mapped).
 "$flexref" run scenes/book_toss.toml --scheme rk4 --dt 1e-3 -o "$tmp/y.csv" >/dev/null 2>&1
 code=$?
@@ -325,6 +357,13 @@ expect() { # expect CODE "description" FRAGMENT command...: exit code and a frag
   [[ -z $fragment || $out == *"$fragment"* ]] || fail "$what: output lacks '$fragment': $out"
 }
 expect 0 "--help epilogue" "Exit codes: 0 success, 1 bad input" "$flexref" --help
+# The documented table (docs/cli.md, "Exit codes", linked from the README) lists the codes
+# --help names, and the signals' shell statuses.
+documented=$(sed -n '/^## Exit codes/,/^## /p' docs/cli.md | grep -oE '^\| [0-9] \|' | tr -dc '0-9')
+helped=$("$flexref" --help | grep -o 'Exit codes:.*' | grep -oE '(: |, )[0-9] [a-z]' | tr -dc '0-9')
+[[ -n $documented && $documented == "$helped" ]] ||
+  fail "docs/cli.md's exit codes ($documented) are not those of --help ($helped)"
+grep -q 'shell status 130, 143, 129' docs/cli.md || fail "docs/cli.md lacks the signals' statuses"
 expect 0 "top-level help names flexible bodies" "rigid and flexible bodies" "$flexref" --help
 expect 0 "subcommand help epilogue" "5 an output file or folder" "$flexref" converge --help
 expect 0 "--version" "flexref" "$flexref" --version
@@ -853,6 +892,38 @@ printf 'scheme,h,steps,error,order,cpu_seconds,status\nc1,0.01,100,inf,nan,0.1,f
   >"$tmp/id_failed.csv"
 out=$(/usr/bin/python3 studies/plot_convergence.py "$tmp/id_failed.csv" "$tmp/id_failed.png" t 2>&1)
 [[ $? == 0 && -z $out ]] || fail "plot_convergence.py with every level failed printed: $out"
+# The plots tell the levels left out apart (studies/plot_status.py): saturated, unstable and
+# uncertified each with a marker of its own and a legend entry, the other reasons named in one;
+# the error axis states the metric and its unit.
+printf '%s\n' 'scheme,h,steps,error,order,cpu_seconds,status' \
+  'a,0.04,25,0.9,,1e-3,saturated' 'a,0.02,50,2e-2,5.5,1e-3,unstable' 'a,0.01,100,5e-3,2,1e-3,ok' \
+  'a,0.005,200,1.2e-3,2,1e-3,ok' 'a,0.0025,400,3e-4,2,1e-3,ok' \
+  'a,0.00125,800,7.6e-5,2,1e-3,uncertified' 'a,0.000625,1600,7.6e-5,0,1e-3,not decreasing' \
+  >"$tmp/id_status.csv"
+out=$(/usr/bin/python3 - "$tmp/id_status.csv" "$tmp/id_status.png" <<'PY' 2>&1
+import sys
+sys.path.insert(0, "studies")
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import plot_convergence
+assert plot_convergence.main(["plot", sys.argv[1], sys.argv[2], "t", "inf", "", "a=2.0",
+                              "relative", "1", "largest of b.rotation / pi rad"]) == 0
+ax = plt.gcf().axes[0]
+legend = ax.get_legend()
+handles = getattr(legend, "legend_handles", None) or legend.legendHandles
+marks = {t.get_text().split(":")[0]: (h.get_marker(), h.get_markeredgecolor())
+         for t, h in zip(legend.get_texts(), handles)}
+for reason in ("saturated", "unstable", "uncertified", "not counted"):
+    assert reason in marks, (reason, marks)
+reasons = [marks[r] for r in ("saturated", "unstable", "uncertified", "not counted")]
+assert len(set(m for m, _ in reasons)) == 4, reasons
+assert any(t.get_text() == "not counted: not decreasing (see status)"
+           for t in legend.get_texts()), [t.get_text() for t in legend.get_texts()]
+assert ax.get_ylabel() == "relative error [1]\nlargest of b.rotation / π rad", ax.get_ylabel()
+PY
+)
+[[ $? == 0 ]] || fail "plot_convergence.py does not tell saturated, unstable and uncertified levels apart: $out"
 # The estimate says what was computed; the exact solution has no tolerance to print.
 out=$("$flexref" converge "$tmp/id_fs.toml" --reference-rtol 1e-4 --schemes c1 --levels 3 \
   --dt 0.02 --out "$tmp/id_conv" 2>/dev/null)
@@ -883,7 +954,8 @@ present=$(ls scenes/*.toml | xargs -n1 basename | sed 's/\.toml$//' | sort)
 [[ $listed == "$present" ]] ||
   fail "README's bundled scenes differ from scenes/*.toml: $(diff <(echo "$listed") <(echo "$present"))"
 out=$("$flexref" reference scenes/book_toss.toml --precision quad -o "$tmp/id_bq.csv" 2>&1)
-estimate=$(grep -o 'estimated error [0-9.e+-]*' <<<"$out" | head -1 | awk '{ printf "%.1e", $3 }')
+estimate=$(grep -o 'estimated error ([a-z+]* \[[^]]*\]): [0-9.e+-]*' <<<"$out" | head -1 |
+  awk '{ printf "%.1e", $NF }')
 grep -q "book_toss in quad: [0-9.]* s, estimated error $estimate[^0-9]" README.md ||
   fail "README's quad book_toss estimate is not a run's ($estimate): $out"
 

@@ -130,12 +130,16 @@ status=$(awk -F, '$1 == "drifted" && $2 == 1.0000000000000001e-05 {print $7; exi
   fail "reference"
 out=$("$flexref" compare --json "$tmp/c1/run_euler_0.csv" "$tmp/ref.csv" 2>&1) || fail "compare --json: $out"
 echo "$out" | /usr/bin/python3 -c '
-import json, sys
+import json, math, sys
 d = json.load(sys.stdin)
 assert d["metric"]["quantities"] == ["body.rotation"], d
 assert d["ignored_columns"] == ["step_count"], d
 assert d["certified"] is True and d["reference_estimate"]["value"] > 0, d
-assert abs(d["metric"]["value"] - 1.669e-2) < 1e-4, d["metric"]
+# The default metric over the one quantity of the run: 1.669e-2 rad over pi rad, unit 1.
+rotation = d["quantities"][0]
+assert rotation["name"] == "body.rotation" and abs(rotation["linf"] - 1.669e-2) < 1e-4, d
+assert d["metric"]["unit"] == "1" and d["metric"]["terms"] == "largest of body.rotation / pi rad"
+assert abs(d["metric"]["value"] - rotation["linf"] / math.pi) <= 1e-15, d["metric"]
 ' && ok || fail "compare --json: $out"
 out=$("$flexref" compare "$tmp/c1/run_euler_0.csv" "$tmp/ref.csv" 2>&1)
 [[ $out == *"reference estimated error"*"certified"* ]] && ok || fail "compare text lacks the estimate: $out"

@@ -4,6 +4,7 @@
 /// spin in extended against the exact torque-free solution in quad.
 #include "precision/roundoff_scale.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
@@ -17,6 +18,7 @@
 #include "scene/scene_spec.hpp"
 #include "tests/precision/precision_order.hpp"
 #include "trajectory/certified_reference.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::precision {
 namespace {
@@ -47,6 +49,23 @@ TEST_CASE("roundoff_scale adds the angle and the path the motion can sweep", "[p
   CHECK(roundoff_scale(table, "points") == Approx(2.0 + sweep_path).epsilon(1e-14));
   CHECK(roundoff_scale(table, "rotation+points") ==
         Approx(std::numbers::pi + 2.0 + sweep_angle + sweep_path).epsilon(1e-14));
+  // The default metric's fractions of range: the rotation's scale over π, the points' over the
+  // smallest extent of a point, p's: twice the largest distance of its three positions from
+  // the centre of their bounding box (r's is twice that, s's 5 m).
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const double t : {0.0, 1.0, 2.0}) {
+    const double p[2] = {std::cos(5.0 * t), std::sin(5.0 * t)};
+    for (int i = 0; i < 2; ++i) lo[i] = std::min(lo[i], p[i]), hi[i] = std::max(hi[i], p[i]);
+  }
+  double extent_p = 0.0;
+  for (const double t : {0.0, 1.0, 2.0}) {
+    extent_p = std::max(extent_p, 2.0 * std::hypot(std::cos(5.0 * t) - 0.5 * (lo[0] + hi[0]),
+                                                   std::sin(5.0 * t) - 0.5 * (lo[1] + hi[1])));
+  }
+  // Tolerance: as above, and the extent's few roundings (1e-14 still leaves a factor ~10).
+  CHECK(roundoff_scale(table, trajectory::kDefaultMetric) ==
+        Approx((std::numbers::pi + sweep_angle) / std::numbers::pi + (2.0 + sweep_path) / extent_p)
+            .epsilon(1e-14));
   // Without b's velocity columns its points fall back to their polylines: r's two chords of
   // 2 × 2 sin(2.5) = 2.39 m each (4.79 m) are shorter than s's 7 m.
   trajectory::TrajectoryTable no_velocity = table;

@@ -34,7 +34,7 @@ class ModuleTest(unittest.TestCase):
         # The estimate exists, is not 0 and is small (exact solution vs Odeint at 1e-13).
         self.assertGreater(self.ref.estimated_error, 0.0)
         self.assertLess(self.ref.estimated_error, 1e-9)
-        self.assertEqual(self.ref.estimate["metric"], "rotation+points")
+        self.assertEqual(self.ref.estimate["metric"], "relative")
 
     def test_compare_a_scheme_run_and_its_subset(self):
         run = flexref.run_scheme(self.scene, "c2", 1e-2)
@@ -48,8 +48,12 @@ class ModuleTest(unittest.TestCase):
         self.assertEqual(sub.measured, ["body.rotation"])
         self.assertEqual(sub.rows, 26)
         rot = [q for q in full.quantities if q["name"] == "body.rotation"][0]
-        self.assertLessEqual(sub.value, rot["linf"])
-        self.assertGreater(sub.value, 0.5 * rot["linf"])
+        # The default metric: the rotation's angle over pi rad, dimensionless.
+        self.assertEqual(sub.unit, "1")
+        self.assertEqual(sub.terms, "largest of body.rotation / pi rad")
+        self.assertEqual(full.unit, "1")
+        self.assertLessEqual(sub.value, rot["linf"] / math.pi)
+        self.assertGreater(sub.value, 0.5 * rot["linf"] / math.pi)
 
     def test_errors_are_python_exceptions_with_flexrefs_messages(self):
         with self.assertRaises(flexref.InputError) as c:

@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "studies/trajectory_figure.hpp"
 #include "studies/work_precision.hpp"
 #include "tests/support/test_problems.hpp"
+#include "trajectory/error_metrics.hpp"
 
 namespace flexref::studies {
 namespace {
@@ -58,9 +58,9 @@ TEST_CASE("converge marks a level whose run breaks the invariants unstable and o
 TEST_CASE("converge leaves saturated levels out of the fit and names them",
           "[studies][convergence]") {
   // book_toss over 10 s: C2 at h = 1e-2 … 1.25e-3 tumbles the wrong way (docs/schemes.md); its
-  // errors 4.79, 4.21, 4.07, 4.07 are close to the largest the metric can give, π rad plus the
-  // corner's extent 2 m (it stays on the unit sphere about the book's centre), and must not
-  // enter the fit as "ok".
+  // errors 1.00, 1.00, 0.997, 0.995 are close to the largest the default metric can give, 1
+  // (the whole range: π rad for the rotation, the corner's extent 2 m, as it stays on the unit
+  // sphere about the book's centre), and must not enter the fit as "ok".
   const core::Model model = testing::book_toss();
   const std::vector<double> times = core::output_times(10.0, 0.01);
   ConvergenceOptions options;
@@ -71,8 +71,8 @@ TEST_CASE("converge leaves saturated levels out of the fit and names them",
   REQUIRE(r.levels.size() == 4);
   for (const ConvergenceLevel& lv : r.levels) {
     INFO("h = " << lv.h << ", error " << lv.error);
-    // The bound: π + 2 = 5.14; a third of it is 1.71.
-    CHECK(lv.error > (std::numbers::pi + 2.0) / 3.0);
+    // The bound of every fraction of range: 1; saturated from a third of it.
+    CHECK(lv.error >= trajectory::kSaturationFraction);
     CHECK(lv.status == "saturated");
   }
   CHECK(r.summaries.at(0).refused());

@@ -227,6 +227,8 @@ TEST_CASE("solution_scale is pi plus the scene's extent at t0", "[studies][refer
   CHECK(solution_scale(table, "rotation+points") == Approx(std::numbers::pi + 1.0).epsilon(1e-14));
   CHECK(solution_scale(table, "points") == Approx(1.0).epsilon(1e-14));
   CHECK(solution_scale(table, "rotation") == Approx(std::numbers::pi).epsilon(1e-14));
+  // The default metric's errors are fractions of each quantity's range: the whole is 1.
+  CHECK(solution_scale(table, kDefaultMetric) == 1.0);
 }
 
 TEST_CASE("a reference whose error estimate exceeds the solution itself is refused",
@@ -238,18 +240,27 @@ TEST_CASE("a reference whose error estimate exceeds the solution itself is refus
   const scene::Scene scene =
       scene::read_scene("scenes/spin_up_beam_6.toml", core::FlexibleFormulation::kCoupled);
   const std::vector<double> times = core::output_times(scene.end_time, scene.output_step);
-  try {
-    certified_reference(*scene.model, times, "cvode", {}, "rotation+points");
-    FAIL("no exception");
-  } catch (const StudyRefused& e) {
-    CHECK(std::string(e.what()).find("certifies nothing") != std::string::npos);
+  // Under the default metric too, although 1e34 m are only 1.9e-7 of the diverging tip's own
+  // range: its guard is absolute (the checks' distance in rad + m against π rad + the extent at
+  // t0).
+  for (const char* metric : {"rotation+points", kDefaultMetric}) {
+    INFO(metric);
+    try {
+      certified_reference(*scene.model, times, "cvode", {}, metric);
+      FAIL("no exception");
+    } catch (const StudyRefused& e) {
+      CHECK(std::string(e.what()).find("certifies nothing") != std::string::npos);
+    }
   }
   // The LTE model of the same scene stays bounded: certified.
   const scene::Scene lte =
       scene::read_scene("scenes/spin_up_beam_6.toml", core::FlexibleFormulation::kLte);
-  const CertifiedReference ok =
-      certified_reference(*lte.model, times, "cvode", {}, "rotation+points");
-  CHECK(ok.estimate.estimate() < 1e-3 * solution_scale(ok.table, "rotation+points"));
+  for (const char* metric : {"rotation+points", kDefaultMetric}) {
+    INFO(metric);
+    const CertifiedReference ok = certified_reference(*lte.model, times, "cvode", {}, metric);
+    CHECK(ok.estimate.estimate() < 1e-3 * solution_scale(ok.table, metric));
+    CHECK(ok.estimate.absolute_value < 1e-3 * solution_scale(ok.table, "rotation+points"));
+  }
 }
 
 }  // namespace flexref::trajectory

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include "tests/support/flexible_models.hpp"
@@ -43,6 +44,66 @@ TEST_CASE("a metric with nothing to measure is an error, never 0", "[studies][me
   CHECK_THROWS_WITH(metric_value(empty, "modes"), Catch::Matchers::Contains("nothing to measure"));
   CHECK_THROWS_WITH(metric_value(empty, "rotation+points"),
                     Catch::Matchers::Contains("nothing to measure"));
+  CHECK_THROWS_WITH(metric_value(empty, kDefaultMetric),
+                    Catch::Matchers::Contains("nothing to measure"));
+}
+
+/// Body b turning about z through a full circle (φ = 0, π/2, π, 3π/2, 2π) about the world
+/// origin, its point p at `radius` on its x axis: the point's extent is 2 radius exactly (the
+/// bounding box of the five positions is centred on the origin). The run (`run` true) is turned
+/// a further `angle` about z at every time and its point moved `shift` along z.
+TrajectoryTable turning_body(double radius, bool run, double angle, double shift) {
+  TrajectoryTable table;
+  table.columns = {"t", "b.e0", "b.e1", "b.e2", "b.e3", "b.p.x", "b.p.y", "b.p.z"};
+  for (int k = 0; k <= 4; ++k) {
+    const double phi = 0.5 * std::numbers::pi * k + (run ? angle : 0.0);
+    table.rows.push_back({0.1 * k, std::cos(0.5 * phi), 0.0, 0.0, std::sin(0.5 * phi),
+                          radius * std::cos(0.5 * std::numbers::pi * k),
+                          radius * std::sin(0.5 * std::numbers::pi * k), run ? shift : 0.0});
+  }
+  return table;
+}
+
+TEST_CASE("the default metric is dimensionless: each quantity over its range, the largest",
+          "[studies][metrics]") {
+  // Rotation error 1e-3 rad (range π), point error 2e-4 m (range 1 m, radius 0.5 m): the
+  // fractions 3.18e-4 and 2e-4, the larger taken.
+  const double angle = 1e-3;
+  const ComparisonReport m =
+      compare_trajectories(turning_body(0.5, true, angle, 2e-4), turning_body(0.5, false, 0, 0));
+  // Tolerance: the geodesic angle of two unit quaternions 1e-3 apart is exact to a few ε
+  // relative (atan2 of a difference of products, ~1e-16 absolute on 1e-3: 1e-13 relative),
+  // the shift 2e-4 is a difference of two doubles (exact); 1e-9 is far above both.
+  CHECK(metric_value(m, kDefaultMetric) == Approx(angle / std::numbers::pi).epsilon(1e-9));
+  CHECK(metric_value(m, "rotation+points") == Approx(angle + 2e-4).epsilon(1e-9));
+  CHECK(metric_unit(kDefaultMetric) == "1");
+  CHECK(metric_unit("rotation+points") == "rad + m");
+  CHECK(metric_terms(m, kDefaultMetric) == "largest of b.rotation / pi rad, b.p / 1 m");
+  // The point's fraction when it is the larger: 5e-4 m over 1 m, not the sum of the two (8.2e-4).
+  const ComparisonReport p =
+      compare_trajectories(turning_body(0.5, true, angle, 5e-4), turning_body(0.5, false, 0, 0));
+  CHECK(metric_value(p, kDefaultMetric) == Approx(5e-4).epsilon(1e-9));
+
+  // The same motion in millimetres: the default metric is unchanged (it never adds radians to
+  // a length), where rotation+points grows by the point's 0.2 (its error now 0.2 "mm").
+  const ComparisonReport mm =
+      compare_trajectories(turning_body(500.0, true, angle, 0.2), turning_body(500.0, false, 0, 0));
+  // Tolerance: the two differ only by the rounding of positions 1000× larger (a few ε).
+  CHECK(metric_value(mm, kDefaultMetric) == Approx(metric_value(m, kDefaultMetric)).epsilon(1e-12));
+  CHECK(metric_value(p, kDefaultMetric) ==
+        Approx(metric_value(compare_trajectories(turning_body(500.0, true, angle, 0.5),
+                                                 turning_body(500.0, false, 0, 0)),
+                            kDefaultMetric))
+            .epsilon(1e-12));
+  CHECK(metric_value(mm, "rotation+points") == Approx(angle + 0.2).epsilon(1e-9));
+  CHECK(metric_terms(mm, kDefaultMetric) == "largest of b.rotation / pi rad, b.p / 1e+03 m");
+
+  // A point the reference holds still has no range: refused by name, never a fraction of 0.
+  const ComparisonReport still =
+      compare_trajectories(turning_body(0.0, true, angle, 1e-4), turning_body(0.0, false, 0, 0));
+  CHECK_THROWS_WITH(metric_value(still, kDefaultMetric),
+                    Catch::Matchers::Contains("cannot scale b.p"));
+  CHECK(metric_value(still, "points") == Approx(1e-4).epsilon(1e-12));
 }
 
 /// A table with one body's position columns only.

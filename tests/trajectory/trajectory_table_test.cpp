@@ -83,7 +83,7 @@ TEST_CASE("CSV round trip is exact and comparison of a file with itself is zero"
   REQUIRE(back.rows.size() == table.rows.size());
   for (std::size_t k = 0; k < table.rows.size(); ++k) CHECK(back.rows[k] == table.rows[k]);
   const ComparisonReport self = compare_trajectories(back, table);
-  CHECK(self.default_metric() == 0.0);
+  CHECK(metric_value(self, kDefaultMetric) == 0.0);
 
   // A rotation of 1e-3 rad about z at every time shows as a geodesic error of 1e-3.
   TrajectoryTable rotated = table;
