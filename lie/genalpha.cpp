@@ -196,7 +196,9 @@ StepStatus GenAlphaStepper::step(double h) {
     if (!norm.finite) return fail(detail::non_finite_failure("genalpha", t_n, h));
     const bool slow = assembled && norm.relative > kSlowContraction * previous;
     fresh = false;
-    if (!assembled || (slow && reassemblies < kMaxReassemblies &&
+    // Past kMaxReassemblies a matrix is still assembled where the iteration makes no progress at
+    // all: a stale matrix then cycles (a contact's onset or release between two iterates).
+    if (!assembled || (slow && (reassemblies < kMaxReassemblies || !(norm.relative < previous)) &&
                        !detail::newton_stagnated(norm.relative, previous))) {
       reassemblies += assembled ? 1 : 0;
       system_.iteration_matrix(z_, S_);
@@ -212,6 +214,7 @@ StepStatus GenAlphaStepper::step(double h) {
     z_base_ = z_;
     merit_base = merit;
     fraction = 1.0;
+    backtracks = 0;
     z_ -= dz_;
     ++iterations;
     // A residual that repeats bit for bit is at the round-off floor of its own terms: the

@@ -14,7 +14,9 @@ std::size_t at(int i) { return static_cast<std::size_t>(i); }
 }  // namespace
 
 NewtonMatrixSolver::NewtonMatrixSolver(const OdeForm& form)
-    : size_(form.size()), work_(form.work_index()) {
+    : size_(form.size()),
+      work_(form.work_index()),
+      integrals_(form.work_index() >= 0 ? form.integral_count() : 0) {
   kind_.assign(at(size_), 2);
   reduced_.assign(at(size_), -1);
   const auto add_position = [&](int y) {
@@ -58,8 +60,9 @@ NewtonMatrixSolver::NewtonMatrixSolver(const OdeForm& form)
   const auto nv = static_cast<Eigen::Index>(velocity_.size());
   const auto np = static_cast<Eigen::Index>(position_.size());
   A_VP = Eigen::MatrixXd::Zero(nv, np);
-  A_WP = Eigen::RowVectorXd::Zero(np);
-  A_WV = Eigen::RowVectorXd::Zero(nv);
+  A_WP = Eigen::MatrixXd::Zero(integrals_, np);
+  A_WV = Eigen::MatrixXd::Zero(integrals_, nv);
+  A_WW = Eigen::VectorXd::Ones(integrals_);
   S = Eigen::MatrixXd::Zero(nv, nv);
   lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(nv);
   z_P_ = Eigen::VectorXd::Zero(np);
@@ -88,12 +91,13 @@ bool NewtonMatrixSolver::factor(const double* A_data, int ld) {
   for (const ScalarPair& p : pairs_) {
     if (A(p.position, p.position) != 1.0) return false;
   }
-  if (work_ >= 0) {
+  for (int k = 0; k < integrals_; ++k) {
+    const int w = work_ + k;
     for (int row = 0; row < size_; ++row) {
-      if (row != work_ && A(row, work_) != 0.0) return false;
+      if (row != w && A(row, w) != 0.0) return false;
     }
-    A_WW = A(work_, work_);
-    if (!(A_WW != 0.0) || !std::isfinite(A_WW)) return false;
+    A_WW(k) = A(w, w);
+    if (!(A_WW(k) != 0.0) || !std::isfinite(A_WW(k))) return false;
   }
 
   // Gather A(V, V), A(V, P) and row W.
@@ -108,9 +112,13 @@ bool NewtonMatrixSolver::factor(const double* A_data, int ld) {
       A_VP(i, j) = A(velocity_[at(static_cast<int>(i))], position_[at(static_cast<int>(j))]);
     }
   }
-  if (work_ >= 0) {
-    for (Eigen::Index j = 0; j < np; ++j) A_WP(j) = A(work_, position_[at(static_cast<int>(j))]);
-    for (Eigen::Index j = 0; j < nv; ++j) A_WV(j) = A(work_, velocity_[at(static_cast<int>(j))]);
+  for (int k = 0; k < integrals_; ++k) {
+    for (Eigen::Index j = 0; j < np; ++j) {
+      A_WP(k, j) = A(work_ + k, position_[at(static_cast<int>(j))]);
+    }
+    for (Eigen::Index j = 0; j < nv; ++j) {
+      A_WV(k, j) = A(work_ + k, velocity_[at(static_cast<int>(j))]);
+    }
   }
 
   // S = A_VV − A_VP A_PP⁻¹ A_PV.
@@ -165,12 +173,12 @@ void NewtonMatrixSolver::solve(double* x) const {
     for (int m = 0; m < 4; ++m) x[t.theta + m] = x_theta(m);
   }
   // x_W = (b_W − A_WP x_P − A_WV x_V) / A_WW
-  if (work_ >= 0) {
-    double r = x[work_];
+  for (int k = 0; k < integrals_; ++k) {
+    double r = x[work_ + k];
     for (std::size_t j = 0; j < position_.size(); ++j)
-      r -= A_WP(static_cast<Eigen::Index>(j)) * x[position_[j]];
-    r -= A_WV.dot(x_V_);
-    x[work_] = r / A_WW;
+      r -= A_WP(k, static_cast<Eigen::Index>(j)) * x[position_[j]];
+    r -= A_WV.row(k).dot(x_V_);
+    x[work_ + k] = r / A_WW(k);
   }
 }
 

@@ -3,16 +3,17 @@
 /// Solves with the Newton matrix of an implicit method on the ODE form (reference/ode_form.hpp),
 /// A = I − γ J with J = ∂f/∂y (reference/structured_jacobian.hpp), by eliminating the positions:
 /// y splits into positions P (p, θ, q_f of every body), velocities V (v, ω̄, q̇_f) and the
-/// dissipated work W, and the kinematic rows make A_PP and A_PV block diagonal:
+/// the integrals W (W_d, then the applied and drives' work and the wear work: ode_form.hpp), and
+/// the kinematic rows make A_PP and A_PV block diagonal:
 ///
 ///     A_PP = I except the 4×4 blocks I − (γ/2) [0 −ω̄ᵀ; ω̄ −ω̄̃] of θ,
 ///     A_PV: −γ I from p to v and from q_f to q̇_f, −(γ/2) Ḡ(θ)ᵀ from θ to ω̄ (4×3),
-///     A(:, W) = e_W (nothing depends on W_d).
+///     A(:, W) = e_W for each integral's column (nothing depends on an integral).
 ///
 /// So A x = b reduces to the velocities:
 ///
 ///     S x_V = b_V − A_VP A_PP⁻¹ b_P,   S = A_VV − A_VP A_PP⁻¹ A_PV     (dim V = Σ (6 + n))
-///     x_P = A_PP⁻¹ (b_P − A_PV x_V),   x_W = (b_W − A_WP x_P − A_WV x_V) / A_WW,
+///     x_P = A_PP⁻¹ (b_P − A_PV x_V),   x_W = (b_W − A_WP x_P − A_WV x_V) / A_WW per integral,
 ///
 /// with S factored by LU with partial pivoting: (6 + n)³ against (13 + 2n + 1)³ for the dense
 /// LU of A (≈ 8× fewer operations for a 64-mode body), and a solve of O((6 + n)²). This is
@@ -60,19 +61,20 @@ class NewtonMatrixSolver {
   };
 
   int size_ = 0;
-  int work_ = -1;                  ///< W_d's index in y, or −1
+  int work_ = -1;                  ///< the first integral's (W_d's) index in y, or −1
+  int integrals_ = 0;              ///< the integrals' count, from work_
   std::vector<int> velocity_;      ///< V: indices in y
   std::vector<int> position_;      ///< P: indices in y
   std::vector<ScalarPair> pairs_;  ///< p ↔ v, q_f ↔ q̇_f
   std::vector<ThetaBlock> thetas_;
-  std::vector<int> kind_;         ///< per y index: 0 position, 1 velocity, 2 work
-  std::vector<int> reduced_;      ///< per y index: its index within P or V
-  std::vector<int> partner_;      ///< per y index: the velocity of a p or q_f, or −1
-  std::vector<int> theta_of_;     ///< per y index: its θ block in thetas_, or −1
-  Eigen::MatrixXd A_VP;           ///< gathered A(V, P)
-  Eigen::RowVectorXd A_WP, A_WV;  ///< row W (when tracked)
-  double A_WW = 1.0;
-  Eigen::MatrixXd S;  ///< the reduced matrix
+  std::vector<int> kind_;      ///< per y index: 0 position, 1 velocity, 2 work
+  std::vector<int> reduced_;   ///< per y index: its index within P or V
+  std::vector<int> partner_;   ///< per y index: the velocity of a p or q_f, or −1
+  std::vector<int> theta_of_;  ///< per y index: its θ block in thetas_, or −1
+  Eigen::MatrixXd A_VP;        ///< gathered A(V, P)
+  Eigen::MatrixXd A_WP, A_WV;  ///< the integrals' rows (when tracked)
+  Eigen::VectorXd A_WW;        ///< their diagonal
+  Eigen::MatrixXd S;           ///< the reduced matrix
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   mutable Eigen::VectorXd z_P_, x_V_, rhs_V_;
 };

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <span>
 
 #include "rotation/euler_parameters.hpp"
 #include "rotation/so3.hpp"
@@ -80,7 +81,9 @@ StructuredJacobian::Scratch StructuredJacobian::make_scratch() const {
   s.perturbed = base.state;
   s.workspace = std::move(base.workspace);
   s.accelerations = std::move(base.accelerations);
-  s.work_row = Eigen::VectorXd::Zero(tangent_size_);
+  s.work_rows = Eigen::MatrixXd::Zero(form_->integral_count(), tangent_size_);
+  s.rates_plus.assign(static_cast<std::size_t>(form_->integral_count()), 0.0);
+  s.rates_minus = s.rates_plus;
   for (const core::Body& b : model.bodies()) {
     const int n = b.mode_count();
     BodyScratch bs;
@@ -209,21 +212,24 @@ void StructuredJacobian::evaluate(const core::LoadContext& context, const double
       const TangentColumn& col = columns_[column_at(c)];
       const double h =
           h_unit * std::max(1.0, std::abs(value_of(col, s.state[column_at(col.body)])));
-      double power_plus = 0.0, power_minus = 0.0;
       for (const double sign : {1.0, -1.0}) {
         s.perturbed = s.state;
         perturb(col, sign * h, s.perturbed);
+        if (track_work) {
+          model.integral_rates(
+              context, s.perturbed, s.workspace,
+              sign > 0.0 ? std::span<double>(s.rates_plus) : std::span<double>(s.rates_minus));
+        }
         model.compute_wrenches(context, s.perturbed, s.workspace);
         store_loads(s.workspace, sign > 0.0, s);
-        if (track_work) {
-          (sign > 0.0 ? power_plus : power_minus) =
-              model.dissipated_power(context, s.perturbed, s.workspace);
-        }
       }
       for (BodyScratch& b : s.bodies) {
         b.dR.col(c) -= (b.load_plus - b.load_minus) / (2.0 * h);
       }
-      s.work_row(c) = (power_plus - power_minus) / (2.0 * h);
+      for (std::size_t j = 0; j < s.rates_plus.size(); ++j) {
+        s.work_rows(static_cast<Eigen::Index>(j), c) =
+            (s.rates_plus[j] - s.rates_minus[j]) / (2.0 * h);
+      }
     }
   }
 
@@ -273,8 +279,11 @@ void StructuredJacobian::evaluate(const core::LoadContext& context, const double
     }
   }
   if (track_work) {
-    for (int c = 0; c < tangent_size_; ++c)
-      put(form_->work_index(), columns_[column_at(c)], s.work_row(c));
+    for (Eigen::Index j = 0; j < s.work_rows.rows(); ++j) {
+      for (int c = 0; c < tangent_size_; ++c) {
+        put(form_->work_index() + static_cast<int>(j), columns_[column_at(c)], s.work_rows(j, c));
+      }
+    }
   }
 
   // Kinematic rows.

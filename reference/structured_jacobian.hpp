@@ -16,7 +16,8 @@
 ///   costs O(elements + n), not the O(n²) of the inertia terms — and M_UU⁻¹ applied with the
 ///   structured factorization of flexible/mass_matrix_solve.hpp (one factorization per body,
 ///   n² per column);
-/// - the dissipated-work row W_d' = dissipated power, by central differences.
+/// - the integrals' rows (W_d' = dissipated power, the applied and drives' power, wear work),
+///   by central differences of Model::integral_rates.
 ///
 /// Rows and columns are those of y. The accelerations depend on θ only through θ̂ = θ/|θ|
 /// (OdeForm::unpack normalizes), so their θ columns are taken in a body-frame rotation π̄
@@ -86,7 +87,10 @@ class StructuredJacobian {
     core::Workspace workspace;
     core::Accelerations accelerations;
     std::vector<BodyScratch> bodies;
-    Eigen::VectorXd work_row;  ///< ∂W_d'/∂(tangent state) (T)
+    /// ∂(integral rates)/∂(tangent state): one row per tracked integral (W_d, W_a, W_drive, wear
+    /// work per channel: Model::integral_rates), integral_count × T.
+    Eigen::MatrixXd work_rows;
+    std::vector<double> rates_plus, rates_minus;  ///< integral_rates at ±h
   };
 
   int size() const { return form_->size(); }

@@ -87,7 +87,8 @@ TEST_CASE("the ODE Jacobian allocates nothing", "[reference][jacobian]") {
   jacobian.evaluate(context, y.data(), J, scratch);
   CHECK(testing::count_allocations([&] { jacobian.evaluate(context, y.data(), J, scratch); }) == 0);
   CHECK(J.allFinite());
-  CHECK(jacobian.tangent_size() == form.size() - 2 - 1);  // two θ (4 → 3), no W_d column
+  // Two θ (4 → 3), no column for the integrals (W_d, and W_a of the block's applied force).
+  CHECK(jacobian.tangent_size() == form.size() - 2 - form.integral_count());
 }
 
 }  // namespace

@@ -94,7 +94,12 @@ TEST_CASE("tube_support_impact: energy balance, wear outputs and impacts in ever
     // The tube reaches the support and rubs it.
     CHECK(c.impacts.back() >= 5.0);
     CHECK(c.wear.back() > 0.0);
-    for (std::size_t k = 1; k < c.wear.size(); ++k) CHECK(c.wear[k] >= c.wear[k - 1]);
+    // The wear work never decreases by more than its own tolerance: its rate |F_t·v_t| ≥ 0, but
+    // a BDF solution (IDA's, whose Newton matrix couples the integrals to the state) is not
+    // monotone to the last digit where the rate vanishes: rtol 1e-10 of the value bounds it.
+    for (std::size_t k = 1; k < c.wear.size(); ++k) {
+      CHECK(c.wear[k] >= c.wear[k - 1] - 1e-10 * std::abs(c.wear[k - 1]));
+    }
     all.push_back(c);
   }
   // The four references agree on the wear work and the impact count: each integrates W_wear'

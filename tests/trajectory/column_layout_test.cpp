@@ -17,10 +17,11 @@ namespace {
 
 /// Bundled scenes that between them have every kind of column: tracked points (book_toss),
 /// modes and a drive torque (rotating_cantilever), ideal joints (double_pendulum_ideal),
-/// dissipation with applied work and named contacts (tube_support_impact).
+/// dissipation with applied work and named contacts (tube_support_impact), a driven joint's work
+/// (slider_crank).
 const std::vector<std::string> kLayoutScenes = {
     "scenes/book_toss.toml", "scenes/rotating_cantilever.toml", "scenes/double_pendulum_ideal.toml",
-    "scenes/tube_support_impact.toml"};
+    "scenes/tube_support_impact.toml", "scenes/slider_crank.toml"};
 
 core::Model layout_scene_model(const std::string& path) {
   const scene::Scene scene = scene::read_scene(path);
