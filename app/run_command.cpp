@@ -64,8 +64,8 @@ RunAttempt attempt_run(const core::Model& model, const std::string& scheme, doub
     const long steps = std::lround((times.back() - times.front()) / dt);
     std::optional<studies::Progress> progress;
     if (progress_line) progress.emplace("run: " + scheme, steps, "steps");
-    a.trajectory = lie::run_scheme(model, *stepper, dt, times,
-                                   progress ? &progress->counter() : nullptr);
+    a.trajectory =
+        lie::run_scheme(model, *stepper, dt, times, progress ? &progress->counter() : nullptr);
   } catch (const core::SolverError& e) {
     a.solver = e.solver();
     a.time = e.time();
@@ -88,13 +88,13 @@ RunAttempt attempt_run(const core::Model& model, const std::string& scheme, doub
   if (model.has_constraints()) {
     double extent = 0.0;
     for (const core::State& state : a.trajectory.states) {
-      for (const core::BodyState& b : state) extent = std::max(extent, b.p_WBr.cwiseAbs().maxCoeff());
+      for (const core::BodyState& b : state)
+        extent = std::max(extent, b.p_WBr.cwiseAbs().maxCoeff());
     }
     // The Newton test measures length rows against the bodies' positions (at least 1 cm).
     const double scale = std::max(1.0, std::max(extent, 1e-2) / model.joint_length_scale());
-    const double bound =
-        core::joint_violation_bound(lie::detail::kNewtonTolerance * scale, 0.0,
-                                    model.joint_length_scale());
+    const double bound = core::joint_violation_bound(lie::detail::kNewtonTolerance * scale, 0.0,
+                                                     model.joint_length_scale());
     if (const std::optional<core::JointBreach> breach =
             core::find_joint_breach(model, a.trajectory, bound, false)) {
       a.solver = scheme;
@@ -143,10 +143,9 @@ int run_command(const RunOptions& options) {
                 << "\n";
       return attempt_run(model, options.scheme, h, times, false);
     };
-    throw core::SolverError(
-        run.solver, run.time, run.step,
-        run.why + verified_step_advice(model, options.scheme, options.dt, times, spin_before, run,
-                                       retry));
+    throw core::SolverError(run.solver, run.time, run.step,
+                            run.why + verified_step_advice(model, options.scheme, options.dt, times,
+                                                           spin_before, run, retry));
   }
   core::Trajectory& trajectory = run.trajectory;
   // The spin the run reached (a pulse spins bodies up): warn when it crossed the limit later.

@@ -132,8 +132,8 @@ std::string verified_step_advice(const core::Model& model, const std::string& sc
              step_bound(model, scheme, previous, spin).why +
              "; checked: a run at that step passes)";
     }
-    const bool breach = !std::isnan(failed.change) && !std::isnan(a.change) &&
-                        a.quantity == failed.quantity;
+    const bool breach =
+        !std::isnan(failed.change) && !std::isnan(a.change) && a.quantity == failed.quantity;
     if (breach && a.change > kUnshrunkChange * failed.change) {
       return "; nothing was written; a smaller step does not help: at --dt " + short_text(h) +
              " the " + a.quantity + " changed by " + short_text(100.0 * a.change) +

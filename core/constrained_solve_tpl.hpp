@@ -188,8 +188,7 @@ std::vector<int> independent_rows(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::
   const Eigen::Index k = m - rank;
   const Matrix R = qr.matrixR().topRows(rank);
   Matrix Y(m, k);
-  Y.topRows(rank) = -R.leftCols(rank).template triangularView<Eigen::Upper>().solve(
-      R.rightCols(k));
+  Y.topRows(rank) = -R.leftCols(rank).template triangularView<Eigen::Upper>().solve(R.rightCols(k));
   Y.bottomRows(k).setIdentity();
   const Matrix C = qr.colsPermutation() * Y;
   const Matrix C_orthonormal =
@@ -658,8 +657,8 @@ std::vector<JointReactionTpl<S>> joint_reactions_from_solve(
     const ConstraintEquationsTpl<S>& equations, std::span<const BodyKinematicsTpl<S>> bodies,
     const VelocityLayout& layout, const ConstraintSolveTpl<S>& s) {
   using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
-  const Vector lambda = minimum_norm_multipliers<S>(
-      s.rows.J, s.force, static_cast<Eigen::Index>(s.active.size()));
+  const Vector lambda =
+      minimum_norm_multipliers<S>(s.rows.J, s.force, static_cast<Eigen::Index>(s.active.size()));
   Vector force(layout.size());
   std::vector<JointReactionTpl<S>> out;
   for (int j = 0; j < equations.joint_count(); ++j) {

@@ -66,8 +66,8 @@ ModelInvariants model_invariants(const Model& model) {
       if (ends[0] < 0 || ends[1] < 0) {
         const int body = ends[0] >= 0 ? ends[0] : ends[1];
         never(out.momentum_from, out.momentum_reason,
-              "ideal joint '" + joints->joint_name(j) + "' holds body '" +
-                  model.body(body).name() + "' to the ground (a load from outside)");
+              "ideal joint '" + joints->joint_name(j) + "' holds body '" + model.body(body).name() +
+                  "' to the ground (a load from outside)");
       }
     }
   }
@@ -98,10 +98,9 @@ ModelInvariants model_invariants(const Model& model) {
 std::string InvariantBreach::describe() const {
   std::ostringstream out;
   out << quantity << (quantity == "energy balance" ? " E + W_d - W_a - W_drive" : "")
-      << " changed by "
-      << short_number(change) << " " << unit << " since t = " << short_number(t0) << " s, "
-      << short_number(100.0 * relative()) << " % of its scale " << short_number(scale) << " "
-      << unit << ", at t = " << short_number(t) << " s (tolerance "
+      << " changed by " << short_number(change) << " " << unit << " since t = " << short_number(t0)
+      << " s, " << short_number(100.0 * relative()) << " % of its scale " << short_number(scale)
+      << " " << unit << ", at t = " << short_number(t) << " s (tolerance "
       << short_number(100.0 * tolerance) << " %)";
   return out.str();
 }

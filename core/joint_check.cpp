@@ -66,8 +66,7 @@ std::optional<JointBreach> find_joint_breach(const Model& model, const Trajector
     breach.absolute = at_position ? v.position_absolute : v.velocity_absolute;
     breach.length = equations.is_length_row(row);
     breach.bound = at_position ? bound : bound * (kJointRateDriftFactor / kJointDriftFactor);
-    breach.redundant =
-        std::find(independent.begin(), independent.end(), row) == independent.end();
+    breach.redundant = std::find(independent.begin(), independent.end(), row) == independent.end();
     breach.rank0 = static_cast<int>(independent.size());
     // The rank at the breach decided above the state's own distance from the joints: rows that
     // depend on the others on the manifold are independent by about that distance off it.

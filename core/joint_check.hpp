@@ -41,14 +41,14 @@ double joint_violation_bound(double rtol, double atol, double length_scale);
 
 /// A row of an output that violates a joint beyond the bound.
 struct JointBreach {
-  std::string joint;      ///< the joint's name
-  double t = 0.0;         ///< the output time, s
-  bool velocity = false;  ///< the velocity rows J v + Φ_t (else the position rows Φ)
-  double relative = 0.0;  ///< the relative violation
-  double absolute = 0.0;  ///< |Φ| (m for a length row, the sine of an angle for a rotation row)
-                          ///< or |J v + Φ_t| (m/s or rad/s)
-  bool length = true;     ///< a length row (else a rotation row)
-  double bound = 0.0;     ///< the bound it exceeds
+  std::string joint;       ///< the joint's name
+  double t = 0.0;          ///< the output time, s
+  bool velocity = false;   ///< the velocity rows J v + Φ_t (else the position rows Φ)
+  double relative = 0.0;   ///< the relative violation
+  double absolute = 0.0;   ///< |Φ| (m for a length row, the sine of an angle for a rotation row)
+                           ///< or |J v + Φ_t| (m/s or rad/s)
+  bool length = true;      ///< a length row (else a rotation row)
+  double bound = 0.0;      ///< the bound it exceeds
   bool redundant = false;  ///< the row was set aside as redundant at t = 0
   /// The rows' rank at the breach and at t = 0: a rank that grew means the rows set aside are
   /// independent of the enforced ones there (rows lost: the mechanism started at, or passed, a

@@ -302,7 +302,8 @@ class ModelTpl {
   void clamp_functions(const LoadContext& context, const State& state, Workspace& ws,
                        std::span<S> c) const;
   /// compute_wrenches and, in the same pass over the elements, the rates of [W_d, extra
-  /// integrals] (but the drives' power, which needs the accelerations: the caller adds it) (integral_rates' layout; empty span: none) and the switching and clamp functions
+  /// integrals] (but the drives' power, which needs the accelerations: the caller adds it)
+  /// (integral_rates' layout; empty span: none) and the switching and clamp functions
   /// (switching_function_count() each, or empty). For integrators that need all three at every
   /// evaluation (the precision references' event location). Allocates nothing.
   void compute_wrenches_and_rates(const LoadContext& context, const State& state, Workspace& ws,
@@ -327,7 +328,9 @@ class ModelTpl {
   bool tracks_work() const { return dissipates_ || drive_work_; }
   /// Integrals every integrator tracks after W_d when the model tracks work (0 otherwise), in
   /// integral_layout()'s order.
-  int extra_integral_count() const { return integral_layout_.count > 0 ? integral_layout_.count - 1 : 0; }
+  int extra_integral_count() const {
+    return integral_layout_.count > 0 ? integral_layout_.count - 1 : 0;
+  }
   /// Where each tracked integral sits in integral_rates' [W_d, extra integrals]: the one
   /// description every integrator, output and monitor reads.
   const IntegralLayout& integral_layout() const { return integral_layout_; }

@@ -4,10 +4,10 @@
 /// the projections onto the joints, the consistent initial state and its checks (redundant rows
 /// told apart from a singular start, joints that cannot all hold), violations and reactions.
 /// Included by model_impl.hpp.
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <Eigen/Eigenvalues>
 #include <random>
 #include <sstream>
 #include <string>
@@ -174,8 +174,7 @@ RelativeJointViolationTpl<S> ModelTpl<S>::relative_joint_violation(S t, const St
 }
 
 template <typename S>
-int ModelTpl<S>::constraint_rank(S t, const State& state, Workspace& ws,
-                                  double tolerance) const {
+int ModelTpl<S>::constraint_rank(S t, const State& state, Workspace& ws, double tolerance) const {
   if (!constraints_) return 0;
   ws.time = t;
   pose_bodies(state, ws);
@@ -213,13 +212,13 @@ InitialProjection ModelTpl<S>::project(S t, State& state, Workspace& ws) const {
   before.position = static_cast<double>(first.position);
   // Newton on Φ = 0 in the mass metric: converged when the relative violation is a few ε (the
   // round-off of Φ itself, a sum of products of lengths of size ℓ).
-  project_positions<S>(
-      [&] { factor_constraints_at(t, state, ws); },
-      [&] {
-        return core::relative_position_violation<S>(*constraints_, s.rows.phi, joint_length_scale_);
-      },
-      [&](const Vector& delta) { apply_position_increment(delta, state); },
-      S(8) * std::numeric_limits<S>::epsilon(), s);
+  project_positions<S>([&] { factor_constraints_at(t, state, ws); },
+                       [&] {
+                         return core::relative_position_violation<S>(*constraints_, s.rows.phi,
+                                                                     joint_length_scale_);
+                       },
+                       [&](const Vector& delta) { apply_position_increment(delta, state); },
+                       S(8) * std::numeric_limits<S>::epsilon(), s);
   before.velocity = static_cast<double>(relative_violation(s, state).velocity);
   project_velocities(t, state, ws);
   return before;
@@ -290,9 +289,10 @@ void ModelTpl<S>::check_joint_data(const ConstraintRowsTpl<S>& rows) const {
         std::ostringstream out;
         out.precision(3);
         out << "joint '" << constraints_->joint_name(joint) << "': its point on body '"
-            << body.name() << "' is " << arm << " m from the body's reference point, "
-            << arm / rho << " times the body's smallest radius of gyration " << rho
-            << " m: beyond what double precision resolves beside the body's own size (" << kJointArmLimit
+            << body.name() << "' is " << arm << " m from the body's reference point, " << arm / rho
+            << " times the body's smallest radius of gyration " << rho
+            << " m: beyond what double precision resolves beside the body's own size ("
+            << kJointArmLimit
             << " radii: the body's translation no longer enters the joint's rows beside its "
                "rotation); give the point in the body's frame near the body";
         throw JointDataError(joint, ends[k] == ends[0] ? 0 : 1, out.str());
@@ -315,7 +315,7 @@ void ModelTpl<S>::check_projection_reached(const State& state, Workspace& ws, do
   std::ostringstream out;
   out.precision(3);
   const int worst = constraints_->joint_of_row(after.position > S(tolerance) ? after.position_row
-                                                                              : after.velocity_row);
+                                                                             : after.velocity_row);
   out << "joint '" << constraints_->joint_name(worst)
       << "' is not reached by the projection of the initial state onto the joints, which cannot "
          "reach them all; each joint's residual after projecting: ";
@@ -333,8 +333,7 @@ void ModelTpl<S>::check_projection_reached(const State& state, Workspace& ws, do
         << static_cast<double>(largest) << (length ? " m" : " (sine of an angle)");
   }
   out << " after projecting (largest relative violation "
-      << static_cast<double>(std::max(after.position, after.velocity)) << ", accepted "
-      << tolerance
+      << static_cast<double>(std::max(after.position, after.velocity)) << ", accepted " << tolerance
       << "): the joints cannot all hold at once — check their points, axes and lengths";
   throw InconsistentInitialStateError(worst, out.str());
 }
@@ -414,9 +413,8 @@ void ModelTpl<S>::check_singular_start(const State& state, Workspace& ws) const 
         [&] {
           S worst = S(0);
           for (int row : s.active) {
-            worst = max(worst, S(abs(s.rows.phi(row)) / (constraints_->is_length_row(row)
-                                                             ? joint_length_scale_
-                                                             : S(1))));
+            worst = max(worst, S(abs(s.rows.phi(row)) /
+                                 (constraints_->is_length_row(row) ? joint_length_scale_ : S(1))));
           }
           return worst;
         },
@@ -464,8 +462,8 @@ void ModelTpl<S>::check_singular_start(const State& state, Workspace& ws) const 
     for (std::size_t i = 0; i < active.size(); ++i) {
       J_a.row(static_cast<Eigen::Index>(i)) = J0.row(active[i]);
     }
-    const Vector c = J_a.transpose().colPivHouseholderQr().solve(
-        Vector(J0.row(worst_row).transpose()));
+    const Vector c =
+        J_a.transpose().colPivHouseholderQr().solve(Vector(J0.row(worst_row).transpose()));
     const S largest = c.cwiseAbs().maxCoeff();
     std::vector<int> joints;
     for (std::size_t i = 0; i < active.size(); ++i) {
@@ -483,8 +481,7 @@ void ModelTpl<S>::check_singular_start(const State& state, Workspace& ws) const 
   out.precision(3);
   out << "joint '" << name << "' starts at a singular configuration: at t = 0 its constraints "
       << "depend on the others" << (partners.empty() ? "" : " (joints " + partners + ")")
-      << ", but a motion of "
-      << kSingularStartStep << " of the joints' length scale away they "
+      << ", but a motion of " << kSingularStartStep << " of the joints' length scale away they "
       << (worst_independence > S(kRedundantRowTolerance) ? "are independent of them"
                                                          : "are no longer satisfied with them")
       << " (independence " << static_cast<double>(worst_independence) << ", violation "
@@ -555,8 +552,7 @@ std::string ModelTpl<S>::singular_configuration_ahead(S t, const State& state, S
   Workspace ws = make_workspace();
   S speed = S(0);
   for (const BodyState& b : state) {
-    speed = max(speed, S(b.v_WBr.norm() + b.w_WB_B.norm() * joint_length_scale_ +
-                         b.qd_f.norm()));
+    speed = max(speed, S(b.v_WBr.norm() + b.w_WB_B.norm() * joint_length_scale_ + b.qd_f.norm()));
   }
   std::vector<S> spans;
   if (step > S(0)) spans.push_back(step);

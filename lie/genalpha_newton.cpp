@@ -275,9 +275,8 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
           forces += std::abs(w.Q_f(m)) + std::abs(body.modal_stiffness()(m) * s1.q_f(m)) +
                     std::abs(body.modal_damping()(m) * s1.qd_f(m));
         }
-        body_scale =
-            std::max(body_scale, bh2 * (inertia_terms + forces) + jt_lambda_terms_(o + i) +
-                                     std::abs(diagonal_(o + i) * z(o + i)));
+        body_scale = std::max(body_scale, bh2 * (inertia_terms + forces) + jt_lambda_terms_(o + i) +
+                                              std::abs(diagonal_(o + i) * z(o + i)));
       }
       for (Eigen::Index i = 0; i < width; ++i) {
         if (!integrated_row(b, static_cast<int>(i))) {

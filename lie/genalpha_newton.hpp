@@ -130,7 +130,7 @@ class GenAlphaSystem {
   /// Σ_a |J_a| |λ̂_a| at next_: the sizes of the rows' reactions before they cancel in J_aᵀ λ̂
   /// (a prismatic guide's torques about a point off its line do), the residual's scale.
   Eigen::VectorXd jt_lambda_terms_;
-  Eigen::VectorXd jt_lambda_perturbed_;              ///< and at a perturbed configuration
+  Eigen::VectorXd jt_lambda_perturbed_;  ///< and at a perturbed configuration
   long evaluations_ = 0;
 };
 

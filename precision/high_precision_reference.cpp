@@ -100,9 +100,8 @@ HighPrecisionRun integrate_model(const Model& model, std::chrono::steady_clock::
   std::vector<double> impacts(static_cast<std::size_t>(model.wear_channel_count()), 0.0);
   // The joints at every output, the rows set aside as redundant included (core/joint_check.hpp:
   // the same bound in the run's precision, its floor the round-off of S).
-  const double joint_bound =
-      std::max(core::kJointDriftFactor * rtol,
-               1e4 * static_cast<double>(std::numeric_limits<S>::epsilon()));
+  const double joint_bound = std::max(core::kJointDriftFactor * rtol,
+                                      1e4 * static_cast<double>(std::numeric_limits<S>::epsilon()));
   const auto record = [&](double t, const State& x) {
     if (model.has_constraints()) {
       const core::RelativeJointViolationTpl<S> v = model.relative_joint_violation(S(t), x);
@@ -118,8 +117,7 @@ HighPrecisionRun integrate_model(const Model& model, std::chrono::steady_clock::
             << " (relative), more than the bound " << joint_bound
             << " its tolerance allows: the rows set aside as redundant at t = 0 are not "
                "enforced, or the joints cannot all hold together";
-        throw core::SolverError("odeint-" + std::string(to_string(precision)), t, -1,
-                                out.str());
+        throw core::SolverError("odeint-" + std::string(to_string(precision)), t, -1, out.str());
       }
     }
     const std::vector<S> row = model.output_row(S(t), x, impacts);

@@ -126,8 +126,8 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
     // λ of the constrained accelerations (the same sign: M v̇ = Q − Jᵀ λ) on the DAE's rows (the
     // solve may have chosen others at this state: the same reactions on the DAE's basis), μ = 0;
     // both algebraic.
-    const Eigen::VectorXd lambda = core::multipliers_on_rows<double>(
-        ws.constraint.rows.J, active_, ws.constraint.force);
+    const Eigen::VectorXd lambda =
+        core::multipliers_on_rows<double>(ws.constraint.rows.J, active_, ws.constraint.force);
     for (int j = 0; j < multiplier_count_; ++j) {
       y[multiplier_index_ + j] = lambda(j);
       y[multiplier_index_ + multiplier_count_ + j] = 0.0;

@@ -370,9 +370,10 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         form_.unpack(t, sun::data(y_.get()), state);
         const std::string ahead = model_->singular_configuration_ahead(t, state, 2.0 * h);
         if (!ahead.empty()) {
-          message += "; the mechanism is at a singular configuration, which no smaller step "
-                     "crosses: " +
-                     ahead;
+          message +=
+              "; the mechanism is at a singular configuration, which no smaller step "
+              "crosses: " +
+              ahead;
         }
       }
     }

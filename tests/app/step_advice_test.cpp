@@ -39,25 +39,25 @@ TEST_CASE("run advises a smaller step only after a run at it passed", "[app][run
   broke.time = 0.2;
   std::vector<double> tried;
   SECTION("the smaller step passes: advised, and said to be checked") {
-    const std::string advice = verified_step_advice(model, "c2", 0.5, times, spin, broke,
-                                                    [&](double dt) {
-                                                      tried.push_back(dt);
-                                                      RunAttempt a;
-                                                      a.passed = true;
-                                                      return a;
-                                                    });
+    const std::string advice =
+        verified_step_advice(model, "c2", 0.5, times, spin, broke, [&](double dt) {
+          tried.push_back(dt);
+          RunAttempt a;
+          a.passed = true;
+          return a;
+        });
     CHECK(tried == std::vector<double>{h});
     CHECK_THAT(advice, Catch::Matchers::Contains("use --dt 0.02"));
     CHECK_THAT(advice, Catch::Matchers::Contains("checked: a run at that step passes"));
   }
   SECTION("the change does not shrink with the step: no step advised") {
-    const std::string advice = verified_step_advice(model, "c2", 0.5, times, spin, broke,
-                                                    [&](double dt) {
-                                                      tried.push_back(dt);
-                                                      RunAttempt a = broke;
-                                                      a.change = 0.39;  // the motion's, not h's
-                                                      return a;
-                                                    });
+    const std::string advice =
+        verified_step_advice(model, "c2", 0.5, times, spin, broke, [&](double dt) {
+          tried.push_back(dt);
+          RunAttempt a = broke;
+          a.change = 0.39;  // the motion's, not h's
+          return a;
+        });
     CHECK(tried.size() == 1);
     CHECK_THAT(advice, Catch::Matchers::Contains("a smaller step does not help"));
     CHECK(advice.find("use --dt") == std::string::npos);
@@ -66,24 +66,24 @@ TEST_CASE("run advises a smaller step only after a run at it passed", "[app][run
     RunAttempt failed;
     failed.time = 0.15;
     failed.why = "Newton did not converge";
-    const std::string advice = verified_step_advice(model, "c2", 0.5, times, spin, failed,
-                                                    [&](double dt) {
-                                                      tried.push_back(dt);
-                                                      RunAttempt a = failed;
-                                                      a.time = 0.15 + dt;
-                                                      return a;
-                                                    });
+    const std::string advice =
+        verified_step_advice(model, "c2", 0.5, times, spin, failed, [&](double dt) {
+          tried.push_back(dt);
+          RunAttempt a = failed;
+          a.time = 0.15 + dt;
+          return a;
+        });
     CHECK_THAT(advice, Catch::Matchers::Contains("fails at the same time"));
     CHECK(advice.find("use --dt") == std::string::npos);
   }
   SECTION("a change that shrinks but not enough: one more step, then no advice") {
-    const std::string advice = verified_step_advice(model, "c2", 0.5, times, spin, broke,
-                                                    [&](double dt) {
-                                                      tried.push_back(dt);
-                                                      RunAttempt a = broke;
-                                                      a.change = 0.3 * broke.change;
-                                                      return a;
-                                                    });
+    const std::string advice =
+        verified_step_advice(model, "c2", 0.5, times, spin, broke, [&](double dt) {
+          tried.push_back(dt);
+          RunAttempt a = broke;
+          a.change = 0.3 * broke.change;
+          return a;
+        });
     CHECK(tried.size() == 2);
     CHECK(tried[1] < tried[0]);
     CHECK_THAT(advice, Catch::Matchers::Contains("no smaller step passed"));

@@ -75,8 +75,8 @@ void require_joint_refusal(const std::string& text, const std::string& fragment)
 reference::ReferenceRun trust_reference(const scene::Scene& scene, const std::string& solver,
                                         double rtol) {
   return reference::solve_reference(solver, *scene.model,
-                                     core::output_times(scene.end_time, scene.output_step),
-                                     testing::with_rtol(rtol));
+                                    core::output_times(scene.end_time, scene.output_step),
+                                    testing::with_rtol(rtol));
 }
 
 }  // namespace
@@ -132,12 +132,11 @@ TEST_CASE("joint trust: a projection that cannot reach the joints names each joi
       "[[body]]\nname = \"box\"\nmass = 1.0\ninertia = [0.01, 0.01, 0.01]\n"
       "position = [0.0, 0.0, -1.0]\n";
   SECTION("a body fixed to the ground at two places") {
-    const std::string text =
-        head +
-        testing::ideal_joint_text("F", "fixed", "box", "[0.0, 0.0, 0.0]", "ground",
-                                  "[0.0, 0.0, -1.0]") +
-        testing::ideal_joint_text("K", "fixed", "box", "[0.0, 0.0, 0.0]", "ground",
-                                  "[1.0, 0.0, -1.0]");
+    const std::string text = head +
+                             testing::ideal_joint_text("F", "fixed", "box", "[0.0, 0.0, 0.0]",
+                                                       "ground", "[0.0, 0.0, -1.0]") +
+                             testing::ideal_joint_text("K", "fixed", "box", "[0.0, 0.0, 0.0]",
+                                                       "ground", "[1.0, 0.0, -1.0]");
     // K's six rows repeat F's: set aside, never reached by the projection onto F.
     require_joint_refusal(text, "joint 'K' 1 m");
     require_joint_refusal(text, "cannot reach them all");
@@ -177,9 +176,8 @@ TEST_CASE("joint trust: every output row is checked, redundant rows included", "
   const core::Model& model = *scene.model;
   const double rtol = 1e-10;
   reference::ReferenceRun run = trust_reference(scene, "cvode", rtol);
-  const double bound =
-      core::joint_violation_bound(rtol, run.options.absolute_tolerance(),
-                                  model.joint_length_scale());
+  const double bound = core::joint_violation_bound(rtol, run.options.absolute_tolerance(),
+                                                   model.joint_length_scale());
   // 1e3 × max(rtol, atol/ℓ), atol = rtol and ℓ = 0.15 m (the crank's arm to P): 6.7e-7 relative,
   // exact up to the rounding of the quotient.
   CHECK(bound == Approx(1e3 * 1e-10 / 0.15).epsilon(1e-12));
@@ -270,10 +268,10 @@ TEST_CASE("joint trust: no exact solution is claimed for a body on joints", "[co
       "[scene]\nname = \"slide\"\nend_time = 1.0\noutput_step = 0.01\n"
       "[[body]]\nname = \"block\"\nmass = 1.0\ninertia = [0.01, 0.01, 0.01]\n"
       "position = [0.0, 0.0, 0.0]\n" +
-      testing::ideal_joint_text(
-          "S", "prismatic", "block", "[0.0, 0.0, 0.0]", "ground", "[0.0, 0.0, 0.0]",
-          "axis_a = [1.0, 0.0, 0.0]\naxis_b = [1.0, 0.0, 0.0]\n"
-          "drive = { law = \"spin-up\", rate = 0.5, spin_up_time = 0.5 }\n");
+      testing::ideal_joint_text("S", "prismatic", "block", "[0.0, 0.0, 0.0]", "ground",
+                                "[0.0, 0.0, 0.0]",
+                                "axis_a = [1.0, 0.0, 0.0]\naxis_b = [1.0, 0.0, 0.0]\n"
+                                "drive = { law = \"spin-up\", rate = 0.5, spin_up_time = 0.5 }\n");
   const scene::Scene s = scene::parse_scene(text, "slide.toml");
   const reference::ExactSolutionKind kind = reference::classify_exact_solution(*s.model);
   CHECK(kind.kind.empty());

@@ -26,8 +26,7 @@ inline std::string ideal_joint_text(const std::string& name, const std::string& 
 /// mechanism's change point, where J M⁻¹ Jᵀ loses rank) at t = π/2.
 inline std::string parallelogram_scene_text(double end_time = 2.0) {
   std::ostringstream text;
-  text << "[scene]\nname = \"parallelogram\"\nend_time = " << end_time
-       << "\noutput_step = 0.01\n";
+  text << "[scene]\nname = \"parallelogram\"\nend_time = " << end_time << "\noutput_step = 0.01\n";
   const auto rod = [](const std::string& name, const std::string& at, bool upright) {
     // Upright: turned by π/2 about +z, θ = (cos π/4, 0, 0, sin π/4) to 17 digits.
     return "[[body]]\nname = \"" + name + "\"\nmass = 1.0\ninertia = [1e-4, 0.0833333333333, " +
@@ -41,12 +40,12 @@ inline std::string parallelogram_scene_text(double end_time = 2.0) {
   const std::string axes = "axis_a = [0.0, 0.0, 1.0]\naxis_b = [0.0, 0.0, 1.0]\n";
   text << ideal_joint_text("A", "revolute", "left", "[0.0, 0.0, 0.0]", "ground", "[0.0, 0.0, 0.0]",
                            axes + "drive = { law = \"constant-rate\", rate = -1.0 }\n");
-  text << ideal_joint_text("B", "revolute", "coupler", "[0.0, 0.0, 0.0]", "left",
-                           "[1.0, 0.0, 0.0]", axes);
+  text << ideal_joint_text("B", "revolute", "coupler", "[0.0, 0.0, 0.0]", "left", "[1.0, 0.0, 0.0]",
+                           axes);
   text << ideal_joint_text("C", "revolute", "coupler", "[1.0, 0.0, 0.0]", "right",
                            "[1.0, 0.0, 0.0]", axes);
-  text << ideal_joint_text("D", "revolute", "right", "[0.0, 0.0, 0.0]", "ground",
-                           "[1.0, 0.0, 0.0]", axes);
+  text << ideal_joint_text("D", "revolute", "right", "[0.0, 0.0, 0.0]", "ground", "[1.0, 0.0, 0.0]",
+                           axes);
   return text.str();
 }
 
@@ -82,8 +81,8 @@ inline std::string driven_slider_scene_text(double crank_angle, double slider_ra
           "position = ["
        << x3 << ", 0.0, 0.0]\n";
   const std::string z = "axis_a = [0.0, 0.0, 1.0]\naxis_b = [0.0, 0.0, 1.0]\n";
-  text << ideal_joint_text("O", "revolute", "crank", "[0.0, 0.0, 0.0]", "ground",
-                           "[0.0, 0.0, 0.0]", z);
+  text << ideal_joint_text("O", "revolute", "crank", "[0.0, 0.0, 0.0]", "ground", "[0.0, 0.0, 0.0]",
+                           z);
   text << ideal_joint_text("P", "revolute", "rod", "[0.0, 0.0, 0.0]", "crank", "[0.15, 0.0, 0.0]",
                            z);
   text << ideal_joint_text("Q", "revolute", "slider", "[0.0, 0.0, 0.0]", "rod", "[0.3, 0.0, 0.0]",
@@ -108,8 +107,7 @@ inline std::string tangent_distances_scene_text() {
          "position = [0.0, 0.0, 0.0]\n" +
          ideal_joint_text("D1", "distance", "ball", "[0.0, 0.0, 0.0]", "ground",
                           "[-1.0, 0.0, 0.0]") +
-         ideal_joint_text("D2", "distance", "ball", "[0.0, 0.0, 0.0]", "ground",
-                          "[1.0, 0.0, 0.0]");
+         ideal_joint_text("D2", "distance", "ball", "[0.0, 0.0, 0.0]", "ground", "[1.0, 0.0, 0.0]");
 }
 
 }  // namespace flexref::testing
