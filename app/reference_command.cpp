@@ -177,7 +177,7 @@ int reference_command(const ReferenceOptions& options) {
   }
   if (!ref.run.jacobian.empty()) summary << "newton systems: " << ref.run.jacobian << "\n";
   if (!options.estimate && !std::isnan(balance.value)) {
-    summary << "energy balance: largest |E - E0 + W_d - W_a| " << balance.value
+    summary << "energy balance: largest |E - E0 + W_d - W_a - W_drive| " << balance.value
             << " J at t = " << balance.time << " s\n";
   }
   if (options.estimate) {

@@ -333,7 +333,7 @@ std::string describe_energy_balance(const ReferenceEstimate& e) {
   if (std::isnan(e.energy_balance)) return "";
   std::ostringstream out;
   out.precision(2);
-  out << "largest |E - E0 + W_d - W_a| " << e.energy_balance
+  out << "largest |E - E0 + W_d - W_a - W_drive| " << e.energy_balance
       << " J at t = " << e.energy_balance_time << " s";
   if (std::isfinite(e.energy_estimate) && e.energy_estimate > 0.0) {
     out << ", " << e.energy_balance / e.energy_estimate << " x the estimated error of its terms ("
