@@ -14,13 +14,6 @@
 namespace flexref::app {
 namespace {
 
-std::string short_text(double x) {
-  std::ostringstream out;
-  out.precision(3);
-  out << x;
-  return out.str();
-}
-
 /// Keeps the fastest rate and what sets it.
 struct Fastest {
   double rate = 0.0;

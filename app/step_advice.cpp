@@ -12,7 +12,6 @@
 #include "lie/stepper.hpp"
 
 namespace flexref::app {
-namespace {
 
 std::string short_text(double x) {
   std::ostringstream out;
@@ -20,6 +19,8 @@ std::string short_text(double x) {
   out << x;
   return out.str();
 }
+
+namespace {
 
 /// The bound a suggested step keeps to, and what sets it.
 struct Bound {

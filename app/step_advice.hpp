@@ -15,6 +15,10 @@
 
 namespace flexref::app {
 
+/// A number as the messages print it (3 significant digits): the step the user types is the
+/// one the advice checked.
+std::string short_text(double x);
+
 /// The warning for a step whose h·|W| (|W| the largest spin of a body the scheme integrates, in
 /// `state` at time t) exceeds the scheme's measured limit; empty when it does not, or when the
 /// scheme has no measured limit.

@@ -104,8 +104,8 @@ struct BalancePeak {
 };
 BalancePeak largest_energy_balance(const TrajectoryTable& table);
 
-/// "largest |E - E0 + W_d - W_a - W_drive| 2.4e-05 J, 1.1 x the estimated error of its terms (2.2e-05 J)",
-/// one line; empty when the model does not dissipate.
+/// "largest |E - E0 + W_d - W_a - W_drive| 2.4e-05 J, 1.1 x the estimated error of its terms
+/// (2.2e-05 J)", one line; empty when the model does not dissipate.
 std::string describe_energy_balance(const ReferenceEstimate& estimate);
 
 struct EstimateOptions {
