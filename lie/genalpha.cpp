@@ -18,6 +18,7 @@ GenAlphaStepper::GenAlphaStepper(const core::Model& model, const GenAlphaParamet
       state_(model.initial_state()),
       next_(state_),
       ws_(model.make_workspace()),
+      wear_(model),
       acc_(model.make_accelerations()),
       vdot_(Eigen::VectorXd::Zero(system_.body_unknowns())),
       a_(vdot_),
@@ -79,6 +80,7 @@ void GenAlphaStepper::restart() {
   // starts there), and a_n = v̇_n; with joints, λ_n from the index-1 solve as the predictor.
   const double segment = time_ + (last_h_ > 0.0 ? 0.5 * last_h_ : 0.0);
   model_.compute_accelerations(core::LoadContext{time_, segment}, state_, ws_, acc_);
+  wear_.start(core::LoadContext{time_, segment}, state_, ws_);
   system_.stack_accelerations(acc_, vdot_);
   if (system_.multiplier_count() > 0) {
     lambda_hat_ = ws_.constraint.lambda;  // λ_n: scaled to β h² λ_n by the next step
@@ -151,6 +153,9 @@ StepStatus GenAlphaStepper::step(double h) {
       lambda_hat_ *= bh2 / previous;
     }
   }
+  // The worn depths the step's loads see: h_n + Δt ḣ_n.
+  wear_.predict(state_, h, next_);
+  system_.set_wear_depth(next_.wear_depth);
   system_.begin_step(t_n, h, state_, vdot_, a_);
   system_.predictor(lambda_hat_, z_);
 
@@ -200,7 +205,9 @@ StepStatus GenAlphaStepper::step(double h) {
   if (!detail::all_finite(next_) || !std::isfinite(z_.sum())) {
     return fail(detail::non_finite_failure("genalpha", t_n, h));
   }
+  wear_.correct(core::LoadContext{t_n + h, t_n + 0.5 * h}, state_, h, next_, ws_);
   std::swap(state_, next_);
+  wear_.accept();
   std::swap(vdot_, vdot_next_);
   std::swap(a_, a_next_);
   if (system_.multiplier_count() > 0) lambda_hat_ = z_.tail(system_.multiplier_count());

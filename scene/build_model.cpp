@@ -224,7 +224,7 @@ std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
       const GapSupportSpec& g = *spec.gap;
       return std::make_unique<contact::GapSupport>(
           g.body, g.p_BoN_B, attachment(bodies, g.body, g.node, spec.source, "node"), g.geometry,
-          *law, spec.friction, m_eff, spec.name);
+          *law, spec.friction, m_eff, spec.name, spec.wear);
     }
     std::vector<contact::ContactPair> pairs = spec.pairs;
     for (contact::ContactPair& p : pairs) {
@@ -233,9 +233,10 @@ std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
                             p.body_a >= 0 ? "node_b" : "node");
     }
     return std::make_unique<contact::ContactElement>(std::move(pairs), *law, spec.friction, m_eff,
-                                                     spec.name);
+                                                     spec.name, spec.wear);
   } catch (const std::invalid_argument& e) {
-    throw SpecError(spec.source, "", e.what());
+    throw SpecError(spec.source, std::string(e.what()).starts_with("wear law") ? "wear" : "",
+                    e.what());
   }
 }
 
