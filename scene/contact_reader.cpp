@@ -55,7 +55,8 @@ GapSupportSpec read_gap_support(const Table& t, int body, const std::vector<Body
 /// The `wear` table of a [[contact]] (docs/wear.md): the law and its parameters, checked against
 /// the contact's kind. `gap` is the contact's gap support (nullopt for point and sphere
 /// contacts).
-core::WearLaw read_wear(const Table& contact, const std::optional<GapSupportSpec>& gap) {
+core::WearLaw read_wear(const Table& contact, const std::optional<GapSupportSpec>& gap,
+                        std::size_t points) {
   const std::optional<Table> table = contact.table(
       "wear", "a wear law { law = \"archard\" | \"work-rate\", coefficient = ..., ... }");
   const Table& t = *table;
@@ -64,8 +65,8 @@ core::WearLaw read_wear(const Table& contact, const std::optional<GapSupportSpec
                  "a wear law needs a named contact (its depths are written as C.depth1, ...); "
                  "expected a name = \"...\" key");
   }
-  t.check_keys(
-      {"law", "coefficient", "hardness", "area", "acceleration", "sectors", "thickness", "radius"});
+  t.check_keys({"law", "coefficient", "hardness", "area", "acceleration", "sectors", "thickness",
+                "radius", "depth"});
   core::WearLaw law;
   law.kind = t.choice("law", {"archard", "work-rate"}, -1) == 0 ? core::WearLaw::Kind::kArchard
                                                                 : core::WearLaw::Kind::kWorkRate;
@@ -101,6 +102,19 @@ core::WearLaw read_wear(const Table& contact, const std::optional<GapSupportSpec
     reject_keys(t, {"sectors", "thickness", "radius"}, "applies only to a gap support");
     law.area =
         t.number("area", Sign::kPositive, "the positive area of each contact point's pin in m^2");
+  }
+  if (t.has("depth")) {
+    // The worn depths at t = 0 (the support or pins as inspected), one per sector or point.
+    const std::size_t n = gap ? static_cast<std::size_t>(law.sectors) : points;
+    const std::string expected = "an array of " + std::to_string(n) +
+                                 " worn depths >= 0 in m, one per " + (gap ? "sector" : "point");
+    const toml::value* v = t.find("depth");
+    if (!v->is_array() || v->as_array().size() != n) {
+      t.fail("depth", "expected " + expected + ", got " + scene_toml::describe(*v));
+    }
+    for (const toml::value& x : v->as_array()) {
+      law.initial_depth.push_back(t.to_number(x, "depth", Sign::kNonNegative, expected));
+    }
   }
   return law;
 }
@@ -251,7 +265,7 @@ ContactSpec read_contact(const Table& t, const BodyNames& names,
                                  "a friction coefficient mu >= 0 (0: frictionless)");
   spec.friction.v_reg = t.number_or("regularization_speed", 1e-3, Sign::kPositive,
                                     "a positive regularization speed in m/s");
-  if (t.has("wear")) spec.wear = read_wear(t, spec.gap);
+  if (t.has("wear")) spec.wear = read_wear(t, spec.gap, spec.pairs.size());
   return spec;
 }
 
