@@ -49,6 +49,9 @@ std::string summary(const studies::CycleJumpResult& r, const std::string& scene)
   for (const std::string& change : r.regime_changes) {
     out << "note: the contact regime changes inside " << change << "\n";
   }
+  if (!r.slow_instability.empty()) {
+    out << "note: unstable in slow time, " << r.slow_instability << "\n";
+  }
   return out.str();
 }
 

@@ -66,6 +66,7 @@ int wear_jump_command(const WearJumpCommandOptions& options) {
       .set("estimate_rtol", base.rtol / study.estimate_factor)
       .set("metric", "max_j |h_j - h_ref,j| / max_j h_ref,j of the final worn profile")
       .set("speedup", "reference CPU / multi-scale CPU (same solver and rtol)")
+      .set("order", "from the distances between the final profiles of successive ok levels")
       .set("jobs", study.jobs);
   record.table("reference")
       .set("cpu_seconds", result.reference_cpu)
@@ -77,6 +78,7 @@ int wear_jump_command(const WearJumpCommandOptions& options) {
   const std::string table = studies::format_wear_jump(result);
   out.write("wear_jump.csv", studies::wear_jump_csv(result));
   out.write("wear_jump.txt", table);
+  out.write("wear_jump_distances.csv", studies::wear_jump_distances_csv(result));
   // The worn profile of the level closest to the reference beside the reference's.
   const studies::WearJumpRow* shown = nullptr;
   for (const studies::WearJumpRow& r : result.rows) {
@@ -90,7 +92,8 @@ int wear_jump_command(const WearJumpCommandOptions& options) {
   const std::string title = scene.name + ": multi-scale wear against the fully coupled reference";
   const studies::PlotOutcome plot =
       out.plot("plot_wear.py", "wear_jump.png",
-               {"jump", out.staged("wear_jump.csv"), out.staged("wear_jump.png"), title});
+               {"jump", out.staged("wear_jump.csv"), out.staged("wear_jump.png"), title,
+                out.staged("wear_jump_distances.csv")});
   studies::PlotOutcome profile_plot{false, ""};
   if (shown != nullptr) {
     const std::string profile_title = scene.name + ": worn profile, " + shown->slow + " with " +
@@ -102,7 +105,8 @@ int wear_jump_command(const WearJumpCommandOptions& options) {
   const std::string csv_path = out.final_path("wear_jump.csv");
   out.commit(std::move(record));
 
-  std::cout << table << "wrote " << csv_path << ", wear_jump.txt, study.toml";
+  std::cout << table << "wrote " << csv_path
+            << ", wear_jump.txt, wear_jump_distances.csv, study.toml";
   if (plot.ok) std::cout << ", " << plot.message;
   if (profile_plot.ok) std::cout << ", " << profile_plot.message;
   std::cout << "\n";

@@ -9,16 +9,20 @@ Usage:
       the worn profile at the end: for a gap support a polar plot of the depth around the hole
       (angle about the support's axis, docs/wear.md), for point contacts a bar per point; a
       reference_depth column is drawn dashed.
-  plot_wear.py jump wear_jump.csv out.png "title"
-      `flexref wear-jump`: the final profile's error (left) and the speed-up (right) against the
-      jump, one line per slow-time integrator and window; open markers for levels that are not
-      `ok` (unresolved, regime change), failed levels left out.
+  plot_wear.py jump wear_jump.csv out.png "title" [wear_jump_distances.csv]
+      `flexref wear-jump`: the final profile's error against the reference (left, solid) and the
+      speed-up (right) against the jump, one line per slow-time integrator and window; open
+      markers for levels that are not `ok` (unresolved, regime change, unstable), failed levels
+      left out. The distances file adds the distances between successive levels (dashed, at the
+      coarser jump; open markers where left out of the order) and each integrator's averaging
+      error, its limit's distance to the reference (dotted horizontal).
 """
 import csv
 import math
 import sys
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -89,7 +93,14 @@ def profile_figure(rows, png, title):
     fig.savefig(png, dpi=110)
 
 
-def jump_figure(rows, png, title):
+def log_axes_plain(ax):
+    """Jumps and speed-ups as plain numbers on the log axes (not 2x10^0)."""
+    fmt = matplotlib.ticker.FuncFormatter(lambda v, _: "%g" % v)
+    ax.xaxis.set_major_formatter(fmt)
+    ax.xaxis.set_minor_formatter(fmt)
+
+
+def jump_figure(rows, png, title, distances):
     rows = [r for r in rows if not r["status"].startswith("failed")]
     if not rows:
         sys.stderr.write("plot_wear.py: no successful level\n")
@@ -114,6 +125,28 @@ def jump_figure(rows, png, title):
                 mfc=line.get_color() if filled else "none",
             )
         right.loglog(d, [float(r["speedup"]) for r in rs], "o-", color=line.get_color(), label=label)
+        mine = [x for x in distances if x["slow"] == slow and x["window"] == window]
+        if mine:
+            mine.sort(key=lambda x: float(x["coarse"]))
+            left.loglog(
+                [float(x["coarse"]) for x in mine],
+                [float(x["distance"]) for x in mine],
+                "--",
+                color=line.get_color(),
+                lw=1,
+                label=label + ": distance to the next level",
+            )
+            for x in mine:
+                left.loglog(
+                    float(x["coarse"]),
+                    float(x["distance"]),
+                    "s",
+                    ms=4,
+                    color=line.get_color(),
+                    mfc=line.get_color() if x["used"] == "1" else "none",
+                )
+            if mine[0]["limit_error"]:
+                left.axhline(float(mine[0]["limit_error"]), color=line.get_color(), ls=":", lw=0.8)
     d_all = sorted({float(r["jump"]) for r in rows})
     for order, style in ((1, ":"), (2, "-.")):
         anchor = min(float(r["error"]) for r in rows if float(r["jump"]) == d_all[-1])
@@ -126,7 +159,8 @@ def jump_figure(rows, png, title):
     right.set_ylabel("speed-up (reference CPU / multi-scale CPU)")
     for ax in (left, right):
         ax.grid(alpha=0.3, which="both")
-        legend(ax, fontsize=8)
+        log_axes_plain(ax)
+        legend(ax, fontsize=7)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     fig.savefig(png, dpi=110)
@@ -150,7 +184,8 @@ def main(argv):
         profile_figure(rows, png, title)
         return 0
     if mode == "jump":
-        return jump_figure(rows, png, title)
+        distances = list(csv.DictReader(open(argv[5], newline=""))) if len(argv) > 5 else []
+        return jump_figure(rows, png, title, distances)
     sys.stderr.write(__doc__)
     return 2
 

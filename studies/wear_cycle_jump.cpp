@@ -128,6 +128,10 @@ std::string regime_difference(const WearWindow& a, const WearWindow& b, double w
   return out.str();
 }
 
+/// The windows' rate noise below which an oscillation is not reported, relative to the largest
+/// rate: at rtol 1e-8 a window's averaged rate is repeatable to ~1e-5 (docs/wear.md).
+double oscillation_floor(double rtol) { return std::max(1e-3, 100.0 * rtol); }
+
 void check_options(const CycleJumpOptions& o) {
   const auto positive = [](double x) { return x > 0.0 && std::isfinite(x); };
   if (!positive(o.window)) throw std::invalid_argument("wear: the window must be positive");
@@ -166,6 +170,29 @@ SlowIntegrator parse_slow_integrator(const std::string& name) {
 }
 
 int claimed_order(SlowIntegrator slow) { return slow == SlowIntegrator::kEuler ? 1 : 2; }
+
+std::string slow_instability(const std::vector<Eigen::VectorXd>& rates,
+                             const std::vector<double>& slow_times, double rtol) {
+  double top = 0.0;
+  for (const Eigen::VectorXd& r : rates) top = std::max(top, r.cwiseAbs().maxCoeff());
+  const double floor = oscillation_floor(rtol) * top;
+  // Δr_k = r_k − r_{k−1}; reversals at k and k−1, and |Δr_k| ≥ |Δr_{k−2}| > floor.
+  for (std::size_t k = 3; k < rates.size(); ++k) {
+    const Eigen::VectorXd d0 = rates[k] - rates[k - 1];
+    const Eigen::VectorXd d1 = rates[k - 1] - rates[k - 2];
+    const Eigen::VectorXd d2 = rates[k - 2] - rates[k - 3];
+    if (d0.dot(d1) < 0.0 && d1.dot(d2) < 0.0 && d0.norm() >= d2.norm() && d0.norm() > floor) {
+      std::ostringstream out;
+      out.precision(3);
+      out << "jumps " << k - 3 << "-" << k << " (t = " << slow_times[k - 3] << " -> "
+          << slow_times[k] << " s): the averaged rates oscillate without decaying (their change "
+          << d2.norm() << " -> " << d0.norm()
+          << " m/s): the jump is beyond the slow-time integrator's stability limit";
+      return out.str();
+    }
+  }
+  return {};
+}
 
 scene::SceneSpec with_wear_geometry(const scene::SceneSpec& spec, const Eigen::VectorXd& depth,
                                     bool frozen) {
@@ -284,6 +311,14 @@ CycleJumpResult run_cycle_jump(const scene::SceneSpec& spec, const CycleJumpOpti
     result.path.push_back({tau, h});
   }
   result.jumps = k;
+  std::vector<Eigen::VectorXd> rates;
+  std::vector<double> times;
+  for (const WearWindow& w : result.windows) {
+    if (w.role != "start") continue;
+    rates.push_back(w.rate);
+    times.push_back(w.slow_time);
+  }
+  result.slow_instability = slow_instability(rates, times, options.rtol);
   return result;
 }
 

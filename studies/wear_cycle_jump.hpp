@@ -28,6 +28,15 @@
 /// and more than 2, a point or sector changing between worn (above 20 % of the largest rate)
 /// and unworn (below 5 %), wear starting or stopping — is named in
 /// CycleJumpResult::regime_changes.
+///
+/// A slow-time integrator outside its stability interval (the slow system's own decay rate λ
+/// times D beyond −2 for Euler and Heun, −1 for AB2) makes the geometry overshoot at every jump:
+/// the averaged rates of successive jumps oscillate and do not decay. That is named in
+/// CycleJumpResult::slow_instability (Mukras et al. 2009 report it as the instability of the
+/// geometry-update interval): over three successive jumps the change of the start windows'
+/// rates Δr_k = r_k − r_{k−1} reverses its direction each time (Δr_k · Δr_{k−1} < 0) and its
+/// size after the full oscillation has not decreased (|Δr_k| ≥ |Δr_{k−2}|), with |Δr_k| above
+/// the windows' noise: max(1e-3, 100 rtol) of the largest rate.
 #include <Eigen/Core>
 #include <functional>
 #include <string>
@@ -93,7 +102,15 @@ struct CycleJumpResult {
   double cpu_seconds = 0.0;                 ///< every window's
   std::vector<std::string> regime_changes;  ///< "jump 3 (t = 30 → 40 s): …"
   std::vector<int> regime_change_jumps;     ///< their jump indices
+  /// The first non-decaying oscillation of the slow path (empty: none), "jumps 1-4 (t = 10 ->
+  /// 40 s): …".
+  std::string slow_instability;
 };
+
+/// The slow-time instability test above on the averaged rates of successive jumps (their start
+/// windows, jump order), for the jumps' slow times; empty when the path does not oscillate.
+std::string slow_instability(const std::vector<Eigen::VectorXd>& rates,
+                             const std::vector<double>& slow_times, double rtol);
 
 /// The scene on a worn geometry: each contact with a wear law starts from its slice of `depth`
 /// (the model's depth layout: contacts in file order), with `frozen` geometry or not.

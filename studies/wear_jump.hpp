@@ -11,20 +11,32 @@
 /// (the largest depth difference relative to the reference's largest depth), with its cost
 /// (CPU of its windows, model builds included) and its speed-up, the reference's CPU over it
 /// (the same solver and tolerance for both, so the speed-up is what the scheme saves by
-/// simulating less dynamics). The observed slow-time order of each integrator is the
-/// least-squares slope of log error against log D over its levels (studies/observed_order.hpp)
-/// whose error is at least 10× the reference's estimated error (an `unresolved` level measures
-/// the reference, not the scheme) and whose runs saw no change of the contact regime inside a
-/// jump (a `regime-change` level: extrapolation across the change is outside the integrators'
-/// asymptotic range, which their order describes). Levels whose runs saw
-/// the contact regime change inside a jump (CycleJumpResult::regime_changes) are named: the
-/// breakdown map.
+/// simulating less dynamics).
+///
+/// As D → 0 the scheme converges to the averaged dynamics, not to the coupled one: a window on
+/// a frozen geometry wears at the rate of that geometry's settled motion, while the coupled
+/// motion lags its changing geometry (and its contacts see the surfaces recede). That limit's
+/// distance to the reference, the averaging error, is the same for every integrator and jump;
+/// the slow-time integrators' error is the distance to it. So the observed slow-time order of
+/// each integrator is measured from the distances between the final profiles of its successive
+/// levels (studies/observed_order.hpp, distance_order), in which that limit cancels; the error
+/// against the reference and its least-squares slope are reported beside it, and the limit
+/// itself (Richardson's extrapolation of the two finest levels at the observed order) is named
+/// with its distance to the reference. A level enters the orders when its run is `ok`: no
+/// change of the contact regime inside a jump (`regime-change`, CycleJumpResult::
+/// regime_changes: extrapolation across it is outside the integrators' asymptotic range) and no
+/// slow-time instability (`unstable`, CycleJumpResult::slow_instability); both are named, the
+/// breakdown map. A distance enters when it is at least 10× the reference's estimated error (the
+/// windows solve with the reference's solver and tolerance: below that it measures their
+/// solves), an error against the reference likewise (`unresolved` below). No order is fitted
+/// from fewer than three distances (or three levels against the reference).
 ///
 /// The reference's error is estimated by a second solve at rtol/estimate_factor (the difference
 /// of the final profiles, in the error's units).
 #include <string>
 #include <vector>
 
+#include "studies/observed_order.hpp"
 #include "studies/wear_cycle_jump.hpp"
 
 namespace flexref::studies {
@@ -48,8 +60,8 @@ struct WearJumpRow {
   double error = 0.0;
   double cpu = 0.0;  ///< s
   double speedup = 0.0;
-  /// "ok", "unresolved" (error below 10× the reference's estimate), "regime-change" (named in
-  /// the notes; both out of the fit), "failed: …".
+  /// "ok", "unresolved" (error below 10× the reference's estimate), "regime-change" or
+  /// "unstable" (named in the notes; out of the fits), "failed: …".
   std::string status = "ok";
   int window_count = 0;
   double fast_time = 0.0;
@@ -59,9 +71,20 @@ struct WearJumpRow {
 struct WearJumpFit {
   std::string slow;
   int claimed = 0;
-  double observed = 0.0;  ///< NaN when fewer than three levels are usable
-  int levels = 0;
   double window = 0.0;
+  /// The slow-time order from the distances between successive `ok` levels (NaN from fewer
+  /// than three resolved distances), and the levels they join.
+  double observed = 0.0;
+  int levels = 0;
+  std::vector<LevelDistance> distances;  ///< every distance between successive `ok` levels
+  std::vector<bool> distance_used;       ///< resolved: at least 10× the reference's estimate
+  /// The least-squares slope of the error against the reference over the `ok` levels (NaN
+  /// from fewer than three), and their count.
+  double observed_reference = 0.0;
+  int reference_levels = 0;
+  /// The limit D → 0 by Richardson's extrapolation of the two finest levels of the distances
+  /// used, at the observed order, and its error against the reference (NaN without an order).
+  double limit_error = 0.0;
 };
 
 struct WearJumpResult {
@@ -89,6 +112,10 @@ double profile_error(const Eigen::VectorXd& depth, const Eigen::VectorXd& refere
 
 /// CSV columns: slow,jump,window,error,cpu,speedup,status.
 std::string wear_jump_csv(const WearJumpResult& result);
+/// The distances between successive levels and the limits: one row per distance,
+/// slow,window,coarse,fine,distance,used (1 when it entered the order), and the integrator's
+/// limit_error (its averaging error estimate, empty without an order) on every row.
+std::string wear_jump_distances_csv(const WearJumpResult& result);
 /// The table, the notes, and last one line per slow-time integrator,
 /// "  NAME claimed P, observed X over N levels".
 std::string format_wear_jump(const WearJumpResult& result);

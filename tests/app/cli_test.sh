@@ -901,6 +901,8 @@ out=$("$flexref" wear scenes/wear_block.toml --slow rk4 --out "$tmp/wear_bad" 2>
   fail "wear_jump.csv's header: $(head -1 "$tmp/wear_jump/wear_jump.csv")"
 [[ $(tail -1 "$tmp/wear_jump/wear_jump.txt") == "  heun claimed 2, observed "*" over "*" levels" ]] ||
   fail "wear_jump.txt does not end with the order lines: $(tail -2 "$tmp/wear_jump/wear_jump.txt")"
+[[ $(head -1 "$tmp/wear_jump/wear_jump_distances.csv") == "slow,window,coarse,fine,distance,used,limit_error" ]] ||
+  fail "wear_jump_distances.csv's header: $(head -1 "$tmp/wear_jump/wear_jump_distances.csv")"
 # The README's scene list is the folder's content, and its quad figure is a run's.
 listed=$(sed -n '/^## Bundled scenes/,/^## Layout/p' README.md | grep -o '`[a-z][a-z0-9_]*`' |
   tr -d '`' | sort -u)

@@ -7,6 +7,7 @@
 /// slow-time integrator's alone: Euler's is O(D), Heun's and AB2's O(D²).
 #include "studies/wear_cycle_jump.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
@@ -119,6 +120,39 @@ TEST_CASE("cycle jump: the worn geometry of a window and the scene's depth layou
   CHECK(profile.starts_with("contact,index,angle_deg,depth\npin,1,,"));
 }
 
+TEST_CASE("cycle jump: a slow path that oscillates without decaying is named unstable") {
+  // The linear slow system ḣ = λ h + b integrated by Euler: h_{k+1} − h* = (1 + λD)(h_k − h*),
+  // and the rates r_k = λ (h_k − h*) alternate when 1 + λD < 0; |1 + λD| ≥ 1 is Euler's
+  // instability (λD ≤ −2), below it the oscillation decays.
+  const auto euler_rates = [](double lambda_d) {
+    std::vector<Eigen::VectorXd> rates;
+    std::vector<double> times;
+    double x = 1e-5;  // h_0 − h*, m
+    for (int k = 0; k < 8; ++k) {
+      rates.push_back(Eigen::VectorXd::Constant(2, -0.1 * x));  // λ = −0.1 1/s
+      times.push_back(10.0 * k);
+      x *= 1.0 + lambda_d;
+    }
+    return std::make_pair(rates, times);
+  };
+  const auto [unstable, t_unstable] = euler_rates(-2.2);
+  const std::string named = slow_instability(unstable, t_unstable, 1e-8);
+  CHECK_THAT(named, Catch::Contains("jumps 0-3 (t = 0 -> 30 s)"));
+  CHECK_THAT(named, Catch::Contains("oscillate without decaying"));
+  // At λD = −2 exactly the oscillation neither grows nor decays: the edge is unstable too.
+  CHECK_FALSE(slow_instability(euler_rates(-2.0).first, t_unstable, 1e-8).empty());
+  CHECK(slow_instability(euler_rates(-1.5).first, t_unstable, 1e-8).empty());  // decays
+  CHECK(slow_instability(euler_rates(-0.5).first, t_unstable, 1e-8).empty());  // monotone
+  // An alternation below max(1e-3, 100 rtol) of the rate is the windows' noise.
+  std::vector<Eigen::VectorXd> noisy;
+  for (int k = 0; k < 8; ++k) {
+    noisy.push_back(Eigen::VectorXd::Constant(2, 1e-6 * (1.0 + (k % 2 == 0 ? 1e-5 : -1e-5) * k)));
+  }
+  CHECK(slow_instability(noisy, t_unstable, 1e-8).empty());
+  noisy[7](0) += 1e-8;  // a jump of 1 % of the rate: above the noise, but not an oscillation
+  CHECK(slow_instability(noisy, t_unstable, 1e-8).empty());
+}
+
 TEST_CASE("cycle jump: options out of range and a scene without a wear law are refused") {
   const scene::Scene scene = scene::parse_scene(kPinScene, "pin.toml");
   CycleJumpOptions o = pin_options(SlowIntegrator::kEuler, 4);
@@ -138,14 +172,14 @@ TEST_CASE("cycle jump: options out of range and a scene without a wear law are r
 TEST_CASE("wear-jump: the study observes each integrator's order against the coupled reference") {
   const scene::Scene scene = scene::parse_scene(kPinScene, "pin.toml");
   WearJumpOptions o;
-  o.jump_counts = {4, 8, 16};
+  o.jump_counts = {4, 8, 16, 32};
   o.base = pin_options(SlowIntegrator::kEuler, 4);
   const WearJumpResult r = run_wear_jump(scene.spec, o);
   // The coupled reference integrates ḣ = λ (δ0 − h) with the (here static) dynamics.
   // To its tolerance: atol = rtol = 1e-10 m on the depths (SI), 10 atol as the margin (measured
   // 2.8e-11 m).
   CHECK(r.reference_depth(0) == Approx(exact_depth(kHorizon)).margin(1e-9));
-  REQUIRE(r.rows.size() == 9);
+  REQUIRE(r.rows.size() == 12);
   for (const WearJumpRow& row : r.rows) {
     INFO(row.slow << " " << row.jumps << ": " << row.status);
     CHECK(row.status == "ok");
@@ -157,19 +191,39 @@ TEST_CASE("wear-jump: the study observes each integrator's order against the cou
   REQUIRE(r.fits.size() == 3);
   for (const WearJumpFit& f : r.fits) {
     INFO(f.slow);
-    CHECK(f.levels == 3);
-    // As the closed-form case above, over three halvings: within 0.2 of the claimed order.
+    CHECK(f.levels == 4);
+    CHECK(f.reference_levels == 4);
+    // As the closed-form case above, over three halvings: within 0.2 of the claimed order,
+    // from the distances between levels and from the errors against the reference alike (the
+    // windows are steady: the scheme's limit D → 0 is the reference).
     CHECK(f.observed == Approx(f.claimed).margin(0.2));
+    CHECK(f.observed_reference == Approx(f.claimed).margin(0.2));
+    // That limit, extrapolated from the two finest levels at the observed order p̂, is closer
+    // to the reference than the finest level: with errors e = C D^p, extrapolating at p̂
+    // leaves |(2^p − 1)/(2^p̂ − 1) − 1| of the finest error, ≤ 0.23 for |p̂ − p| ≤ 0.2 (the
+    // margin above), plus the next term, O(λD) ≤ 0.03 of it. An extrapolation of the wrong
+    // sign would leave 2 to 1.7 times the finest error.
+    double finest = 0.0;
+    for (const WearJumpRow& row : r.rows) {
+      if (row.slow == f.slow && row.jumps == 32) finest = row.error;
+    }
+    CHECK(f.limit_error < 0.3 * finest);
   }
   const std::string csv = wear_jump_csv(r);
   CHECK(csv.starts_with("slow,jump,window,error,cpu,speedup,status\n"));
+  // Three distances per integrator (four levels), all used.
+  const std::string distances = wear_jump_distances_csv(r);
+  CHECK(
+      distances.starts_with("slow,window,coarse,fine,distance,used,limit_error\neuler,0.01,2.5,"
+                            "1.25,"));
+  CHECK(std::count(distances.begin(), distances.end(), '\n') == 1 + 3 * 3);
   const std::string text = format_wear_jump(r);
   CHECK_THAT(text, Catch::Contains("  euler claimed 1, observed "));
   CHECK_THAT(text, Catch::EndsWith("  ab2 claimed 2, observed " + [&] {
                char b[16];
                std::snprintf(b, sizeof b, "%.2f", r.fits[2].observed);
                return std::string(b);
-             }() + " over 3 levels\n"));
+             }() + " over 4 levels\n"));
 }
 
 }  // namespace flexref::studies
