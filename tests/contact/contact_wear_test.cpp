@@ -101,6 +101,55 @@ TEST_CASE("worn pins: a pin worn through its penetration no longer touches") {
   CHECK(rates[1] == 0.0);
 }
 
+TEST_CASE("worn spheres: sphere-plane and sphere-sphere gaps widen by the depth") {
+  // Body 0 slides over the plane z = 0 with a 2 cm sphere 1e-4 m into it; body 1 carries a
+  // 3 cm sphere 5e-5 m into body 0's second sphere; work-rate wear on both pairs.
+  core::BodyState s0, s1;
+  s0.p_WBr = Eigen::Vector3d(0.0, 0.0, 0.02 - 1e-4);
+  s0.v_WBr = Eigen::Vector3d(0.5, 0.0, 0.0);
+  s1.p_WBr = Eigen::Vector3d(0.0, 0.0, 0.02 - 1e-4 + 0.5 + 0.05 - 5e-5);
+  s1.v_WBr = Eigen::Vector3d(-0.2, 0.1, 0.0);
+  std::array<core::BodyKinematics, 2> k;
+  k[0].state = &s0;
+  k[1].state = &s1;
+  const std::span<const core::BodyKinematics> bodies(k);
+  const auto spheres = [](std::optional<core::WearLaw> law) {
+    std::vector<ContactPair> p{
+        ContactPair::sphere_plane(0, Eigen::Vector3d::Zero(), 0.02, Eigen::Vector3d::Zero(),
+                                  Eigen::Vector3d::UnitZ()),
+        ContactPair::sphere_sphere(0, Eigen::Vector3d(0.0, 0.0, 0.5), 0.02, 1,
+                                   Eigen::Vector3d::Zero(), 0.03)};
+    return ContactElement(std::move(p), NormalLaw::linear(1e5, 0.0), FrictionLaw{0.3, 1e-3}, 0.25,
+                          "balls", std::move(law));
+  };
+  core::WearLaw law;
+  law.kind = core::WearLaw::Kind::kWorkRate;
+  law.coefficient = 2e-14;
+  law.area = 1e-6;
+  law.acceleration = 1e4;
+  const ContactElement worn = spheres(law);
+  const ContactElement plain = spheres(std::nullopt);
+  const std::vector<double> depth{3e-5, 2e-5};
+  const core::LoadContext context{0.0, 0.0, depth};
+  std::array<double, 2> g_worn{}, g_plain{}, rates{};
+  worn.switching_functions(context, bodies, g_worn);
+  plain.switching_functions(core::LoadContext{}, bodies, g_plain);
+  worn.wear_depth_rates(context, bodies, rates);
+  for (int i = 0; i < 2; ++i) {
+    const auto j = static_cast<std::size_t>(i);
+    INFO("pair " << i);
+    // g + h: the worn sphere's radius is r − h (the gaps are −1e-4 and −5e-5 m unworn; both
+    // are one subtraction from numbers of order 0.5 m, so 1e-15 m covers their round-off).
+    CHECK(g_plain[j] == Approx(i == 0 ? -1e-4 : -5e-5).margin(1e-15));
+    CHECK(g_worn[j] == Approx(g_plain[j] + depth[j]).margin(1e-15));
+    // ḣ = F K_w |F_t · v_t| / A: 1e4 · 2e-14 / 1e-6 = 2e-4 per watt of friction power.
+    const ContactEvaluation e = worn.evaluate(context, i, bodies);
+    REQUIRE(e.normal.total > 0.0);
+    CHECK(rates[j] == Approx(2e-4 * std::abs(e.f_friction_W.dot(e.v_t_W))).epsilon(1e-14));
+    CHECK(rates[j] > 0.0);
+  }
+}
+
 TEST_CASE("a model with a wear law refuses a state without its depths") {
   std::vector<core::Body> bodies;
   core::RigidBodyDescription d;
