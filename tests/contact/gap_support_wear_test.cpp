@@ -172,7 +172,7 @@ TEST_CASE("worn gap support: a frozen geometry sees its initial depths, not the 
   CHECK(e.volume_rate > 0.0);
 }
 
-TEST_CASE("gap support: a wear law needs a name and a circular support; bad laws are refused") {
+TEST_CASE("gap support: a wear law needs a name and a circular support, bad laws are refused") {
   GapSupportGeometry g;
   g.clearance = 1e-3;
   const auto make = [&](std::string name, GapSupportGeometry geometry, core::WearLaw law) {

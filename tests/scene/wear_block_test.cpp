@@ -92,7 +92,7 @@ TEST_CASE("wear_block: the schemes give the closed-form depth and sinking at h =
   }
 }
 
-TEST_CASE("wear_block: outputs carry the depths, volume and largest depth; the balance holds") {
+TEST_CASE("wear_block: outputs carry the depths, volume and largest depth, and the balance holds") {
   const scene::Scene scene = scene::read_scene(kBlockScene);
   const core::Model& model = *scene.model;
   const std::vector<double> t = block_grid(scene.end_time, 0.5);

@@ -85,7 +85,7 @@ TEST_CASE("the distance order recovers p from solutions with a floor, at any ste
   }
 }
 
-TEST_CASE("the distance order of halving steps is the slope; too few pairs give NaN", "[studies]") {
+TEST_CASE("the distance order of halving steps is the slope, too few pairs give NaN", "[studies]") {
   // Halving: d_i = C h_i^p (1 − 2^−p), the slope of log d against log h (to round-off).
   std::vector<LevelDistance> pairs;
   for (int k = 0; k < 3; ++k) {
