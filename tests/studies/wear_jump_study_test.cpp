@@ -1,5 +1,5 @@
 /// \file wear_jump_study_test.cpp
-/// Label `study` (long: ~15 min on two busy cores): issue 48's targets for the multi-scale wear
+/// Label `study` (long: ~14 min on two busy cores): issue 48's targets for the multi-scale wear
 /// scheme on scenes/tube_support_wear.toml against its fully coupled reference (docs/wear.md,
 /// "What it found on the tube"), with the options of the two studies docs/wear.md reports:
 ///   - the slow-time orders (windows settled by a 0.2 s transient, jumps 10 to 1.25 s, rtol
@@ -66,7 +66,7 @@ TEST_CASE("tube_support_wear: wear-jump is within 1 % of the reference at a 100x
           "[wear]") {
   const scene::Scene scene = scene::read_scene(kTubeWear);
   WearJumpOptions o;
-  o.jump_counts = {4, 8, 16, 32};
+  o.jump_counts = {8, 16, 32, 64};
   o.base.window = 0.025;
   o.base.transient = 0.05;
   o.base.until = scene.end_time;
