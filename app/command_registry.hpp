@@ -26,5 +26,7 @@ RegisteredCommand register_figure_command(CLI::App& app);
 RegisteredCommand register_lte_map_command(CLI::App& app);
 RegisteredCommand register_import_modes_command(CLI::App& app);
 RegisteredCommand register_modal_truncation_command(CLI::App& app);
+RegisteredCommand register_wear_command(CLI::App& app);
+RegisteredCommand register_wear_jump_command(CLI::App& app);
 
 }  // namespace flexref::app

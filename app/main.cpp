@@ -44,6 +44,8 @@ int run_command_line(int argc, char** argv) {
       register_lte_map_command(app),
       register_import_modes_command(app),
       register_modal_truncation_command(app),
+      register_wear_command(app),
+      register_wear_jump_command(app),
   };
 
   // An unknown command is a usage error that names it (CLI11 would say "A subcommand is

@@ -60,6 +60,25 @@ studies::StudyRecord scene_record(const std::string& scene_file, const scene::Sc
   table.set("created", std::string(stamp))
       .set("model", core::to_string(scene.model->formulation()))
       .set("flexible_bodies", flexible_bodies);
+  // Each contact's wear law (docs/wear.md): what its depths mean and the acceleration factor
+  // that multiplies the laboratory coefficient, never hidden.
+  const core::Model& model = *scene.model;
+  for (int c = 0; c < model.wear_channel_count(); ++c) {
+    const core::WearLaw* law = model.channel_wear_law(c);
+    if (law == nullptr) continue;
+    studies::StudyRecord::Table& wear = record.append("wear");
+    wear.set("contact", model.wear_channel_names()[static_cast<std::size_t>(c)])
+        .set("law", std::string(law->name()))
+        .set("coefficient", law->coefficient)
+        .set("acceleration", law->acceleration);
+    if (law->kind == core::WearLaw::Kind::kArchard) wear.set("hardness", law->hardness);
+    if (law->sectors > 0) {
+      wear.set("sectors", law->sectors).set("radius", law->radius).set("thickness", law->thickness);
+    } else {
+      wear.set("area", law->area);
+    }
+    wear.set("depths", model.channel_depth_count(c));
+  }
   return record;
 }
 

@@ -17,8 +17,19 @@
 /// or to a node of a flexible body (core/node_attachment.hpp): its centre is then the deformed
 /// node x_k + Φ_k q_f, the velocity of its material point at P gains A Φ_k q̇_f, and the force
 /// adds Φ_kᵀ Aᵀ f to the modal rows. A named contact has a wear channel (docs/output.md).
+///
+/// Wear (docs/wear.md): with a wear law, each pair i has a worn depth h_i (a state of the model,
+/// LoadContextTpl::wear_depth) by which b's sphere is worn: its radius is r_b − h_i, so the gap
+/// grows by h_i and the contact point recedes along the normal into b. Each pair is a flat pin
+/// of area A: ḣ_i = V̇_i / A with V̇_i the law's volume rate (core/wear_law.hpp) at the pair's
+/// F_n, |v_t| and |F_t·v_t|, and the law's damping sees the penetration rate of the worn
+/// surfaces, δ̇ = −n·v_rel − ḣ_i (penalty_load_tpl.hpp, worn_penalty_load_tpl): a pin that wears
+/// at a steady rate while its body sinks with it is not damped. The spring's energy V_law(δ)
+/// with δ = −(g + h_i) changes by −F_e ḣ_i when the depth grows: that power, F_e ḣ_i, is in
+/// dissipated_power, so that the energy balance E + W_d − W_a still accounts for every joule.
 /// The element is generic in the scalar type S (core/force_element.hpp).
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -68,7 +79,7 @@ ContactPoint contact_point(const ContactPair& pair, std::span<const core::BodyKi
 /// Everything one pair contributes at a state.
 /// δ̇, v_t, F_n, F_t and the dissipated power F_nc δ̇ − F_t·v_t ≥ 0 are penalty_load_tpl's.
 template <typename S>
-struct ContactEvaluationTpl : PenaltyLoadTpl<S> {
+struct ContactEvaluationTpl : WornPenaltyLoadTpl<S> {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
   ContactPointTpl<S> point;
   Vector3 v_rel_W = Vector3::Zero();  ///< b's point at P minus a's, m/s
@@ -109,8 +120,10 @@ class ContactElementTpl final : public core::ForceElementTpl<S> {
   /// effective_mass (kg, > 0 or 0 for unknown) is used only for describe()'s frequency and
   /// explicit step limit.
   /// A non-empty name gives the element a wear channel with that name.
+  /// A wear law (core::validate_wear_law; one depth per pair) needs a name (std::invalid_argument).
   ContactElementTpl(std::vector<ContactPair> pairs, NormalLaw normal, FrictionLaw friction,
-                    double effective_mass = 0.0, std::string name = {});
+                    double effective_mass = 0.0, std::string name = {},
+                    std::optional<core::WearLaw> wear = std::nullopt);
   /// The same contacts in another scalar type.
   template <typename U>
   explicit ContactElementTpl(const ContactElementTpl<U>& other);
@@ -149,8 +162,18 @@ class ContactElementTpl final : public core::ForceElementTpl<S> {
   void append_penalty_modes(std::span<const core::Body> bodies,
                             std::vector<core::PenaltyMode>& modes) const override;
 
-  /// One pair's contribution at a state.
+  /// One pair's contribution at a state, on the contact's initial geometry (its law's initial
+  /// depths) or on the worn geometry of a context.
   ContactEvaluationTpl<S> evaluate(int pair, std::span<const Kinematics> bodies) const;
+  ContactEvaluationTpl<S> evaluate(const Context& context, int pair,
+                                   std::span<const Kinematics> bodies) const;
+
+  int wear_depth_count() const override { return wear_ ? static_cast<int>(pairs_.size()) : 0; }
+  /// ḣ_i = V̇_i / A of every pair (0 while separated).
+  void wear_depth_rates(const Context& context, std::span<const Kinematics> bodies,
+                        std::span<S> rates) const override;
+  double wear_depth_area(int) const override { return wear_ ? wear_->area : 0.0; }
+  const core::WearLaw* wear_law() const override { return wear_ ? &*wear_ : nullptr; }
 
   /// Stiffness the explicit step sees with a mass m_eff (N/m): k for the linear law; for
   /// Hunt–Crossley the linearized n k δⁿ⁻¹ at the largest penetration of an undamped impact
@@ -176,6 +199,14 @@ class ContactElementTpl final : public core::ForceElementTpl<S> {
   FrictionLaw friction_;
   double effective_mass_;
   std::string name_;
+  std::optional<core::WearLaw> wear_;
+
+  /// The worn depth pair i's geometry sees: the context's (its state), or the law's initial
+  /// depth when the geometry is frozen or no depths are given; 0 without a wear law.
+  S worn_depth(const Context& context, std::size_t pair) const;
+  /// Pair i's load at its point and relative velocity: penalty_load_tpl's, or with a wear law
+  /// worn_penalty_load_tpl's.
+  void set_load(const ContactPointTpl<S>& point, ContactEvaluationTpl<S>& e) const;
 
   /// Relative velocity of b's material point at P minus a's.
   Vector3 relative_velocity(const ContactPairTpl<S>& pair, std::span<const Kinematics> bodies,

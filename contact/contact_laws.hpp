@@ -68,6 +68,15 @@ class NormalLaw {
   /// potential() in any precision S.
   template <typename S>
   S potential_in(const S& delta) const;
+  /// The force of a wearing contact (docs/wear.md), whose worn surface recedes at β F while the
+  /// bodies approach at u: the penetration rate is δ̇ = u − β F, with β ≥ 0 (m/(N·s)). The law
+  /// is affine in δ̇, F = F_e + D δ̇ (D = c, or α F_e for Hunt–Crossley), so
+  ///   F = (F_e + D u) / (1 + D β),   clamped at ≥ 0,
+  /// which is force_in(δ, u) at β = 0. Its clamp switches where F_e + D u does, as
+  /// clamp_function(δ, u) says.
+  template <typename S>
+  NormalForceTpl<S> force_with_recession_in(const S& delta, const S& approach_rate,
+                                            const S& beta) const;
   /// The unclamped law's value, whose sign change is the clamp's switch inside a contact:
   /// k δ + c δ̇ (linear), 1 + α δ̇ (Hunt–Crossley; the clamp acts where it is ≤ 0).
   template <typename S>
@@ -120,6 +129,20 @@ NormalForceTpl<S> NormalLaw::force_in(const S& delta, const S& delta_dot) const 
     f.elastic = k_ * pow(delta, S(n_));
     unclamped = f.elastic * (S(1) + alpha_ * delta_dot);
   }
+  f.total = unclamped > S(0) ? unclamped : S(0);  // the contact never pulls
+  return f;
+}
+
+template <typename S>
+NormalForceTpl<S> NormalLaw::force_with_recession_in(const S& delta, const S& approach_rate,
+                                                     const S& beta) const {
+  using std::pow;
+  if (beta == S(0)) return force_in(delta, approach_rate);
+  if (!(delta > S(0))) return {};
+  NormalForceTpl<S> f;
+  f.elastic = kind_ == Kind::kLinear ? S(k_ * delta) : S(k_ * pow(delta, S(n_)));
+  const S damping = kind_ == Kind::kLinear ? S(c_) : S(alpha_ * f.elastic);  // D = ∂F/∂δ̇
+  const S unclamped = (f.elastic + damping * approach_rate) / (S(1) + damping * beta);
   f.total = unclamped > S(0) ? unclamped : S(0);  // the contact never pulls
   return f;
 }

@@ -42,6 +42,14 @@ void validate_gap_support(int body, const Eigen::Vector3d& p_BoN_B, GapSupportGe
                   "gap support effective mass must be >= 0");
 }
 
+void validate_gap_support_wear(const core::WearLaw& wear, const GapSupportGeometry& geometry,
+                               const std::string& name) {
+  require_support(!name.empty(), "a gap support with a wear law needs a name");
+  require_support(geometry.kind == GapSupportGeometry::Kind::kCircular,
+                  "a wear law applies to a circular gap support only");
+  core::validate_wear_law(wear, true, wear.sectors);
+}
+
 void append_gap_support_modes(std::span<const core::Body> bodies, int body,
                               const GapSupportGeometry& geometry, const NormalLaw& normal,
                               const FrictionLaw& friction, double effective_mass,

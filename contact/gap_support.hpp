@@ -12,15 +12,34 @@
 /// is fixed), the normal force F_n n and the friction −μ F_n tanh(|v_t|/v_reg) v_t/|v_t| on the
 /// slip velocity v_t = v_N − (n·v_N) n (axial and circumferential sliding) at the point N.
 /// The normal force is −∇V of V = V_law(δ): δ = |d| − c has gradient d/|d| = −n.
+///
+/// Wear (docs/wear.md, circular supports): with a wear law the hole's circumference is cut into
+/// S sectors around the axis, each with a worn depth h_j (states of the model,
+/// LoadContextTpl::wear_depth), and the clearance at the angle φ of d is c + h(φ), h the
+/// periodic C¹ profile through the sector depths (worn_profile_tpl.hpp). φ is measured about a
+/// from e1, the first world axis of (x, y, z) least aligned with a, projected normal to a, toward
+/// e2 = a × e1. Then
+///   δ = |d| − c − h(φ),   ∇δ = e_r − (h'(φ)/|d|) e_φ   (e_r = d/|d|, e_φ = a × e_r),
+///   load on N: −F_n ∇δ (F_n = NormalLaw(δ, δ̇), δ̇ = ∇δ·v_N), n = −∇δ/|∇δ|,
+/// so the normal force is still exactly −∇V of V = V_law(δ) on the worn hole (its magnitude
+/// F_n |∇δ|; the tangential part pushes the point along the scar's slope); friction acts on the
+/// slip v_t = v_N − (n·v_N) n with that magnitude. A contact at φ wears the two sectors whose
+/// centres bracket it (hat weights), ḣ_j = w_j V̇ / A_s with A_s = (2π r/S) w, so the hole
+/// recedes at the point at ḣ(φ) = Σ b_j(φ) ḣ_j (b_j the profile's weights), and the law's
+/// damping sees δ̇ = ∇δ·v_N − ḣ(φ) (penalty_load_tpl.hpp, worn_penalty_load_tpl). The spring's
+/// energy then changes by −F_e ḣ(φ): that power is in dissipated_power, so the energy balance
+/// holds on a wearing hole.
 /// Generic in the scalar type S (core/force_element.hpp); the definitions are
 /// gap_support_impl.hpp's.
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "contact/contact_laws.hpp"
 #include "contact/penalty_load_tpl.hpp"
+#include "contact/worn_profile_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/node_attachment.hpp"
 
@@ -65,9 +84,12 @@ class GapSupportTpl final : public core::ForceElementTpl<S> {
   /// The point p_BoN_B of `body` (a node's undeformed position when `node` deforms). Throws
   /// std::invalid_argument for a non-unit or dependent axis/normal or a clearance ≤ 0.
   /// effective_mass (kg, 0: the body's mass) only sets the penalty mode of the step limit.
+  /// A wear law (a circular support only; core::validate_wear_law, one depth per sector) needs a
+  /// name (std::invalid_argument).
   GapSupportTpl(int body, const Vector3& p_BoN_B, core::NodeAttachmentTpl<S> node,
                 GapSupportGeometry geometry, NormalLaw normal, FrictionLaw friction,
-                double effective_mass = 0.0, std::string name = {});
+                double effective_mass = 0.0, std::string name = {},
+                std::optional<core::WearLaw> wear = std::nullopt);
   /// The same support in another scalar type (its axis and normal unit vectors of S).
   template <typename U>
   explicit GapSupportTpl(const GapSupportTpl<U>& other);
@@ -75,12 +97,19 @@ class GapSupportTpl final : public core::ForceElementTpl<S> {
   Point gap_point(std::span<const Kinematics> bodies) const;
 
   /// Everything the support applies at a state: penetration rate, slip velocity, forces.
-  /// δ̇, v_t, F_n, F_t and the dissipated power are penalty_load_tpl's (penalty_load_tpl.hpp).
-  struct Evaluation : PenaltyLoadTpl<S> {
+  /// δ̇, v_t, F_n, F_t and the dissipated power are penalty_load_tpl's (penalty_load_tpl.hpp);
+  /// on a worn hole δ̇ = ∇δ·v_N and the normal force is F_n |∇δ| along n.
+  struct Evaluation : WornPenaltyLoadTpl<S> {
     Point point;
-    Vector3 force_W() const { return this->normal.total * point.n_W + this->f_friction_W; }
+    S gradient_norm = S(1);            ///< |∇δ| (1 on an unworn hole)
+    WornProfileWeightsTpl<S> profile;  ///< the worn profile's weights at the point's angle
+    /// The normal force's magnitude, N.
+    S normal_force() const { return this->normal.total * gradient_norm; }
+    Vector3 force_W() const { return normal_force() * point.n_W + this->f_friction_W; }
   };
+  /// On the support's initial geometry, or on the worn geometry of a context.
   Evaluation evaluate(std::span<const Kinematics> bodies) const;
+  Evaluation evaluate(const Context& context, std::span<const Kinematics> bodies) const;
 
   void add_wrenches(const Context& context, std::span<const Kinematics> bodies,
                     std::span<core::WrenchTpl<S>> wrenches) const override;
@@ -106,6 +135,14 @@ class GapSupportTpl final : public core::ForceElementTpl<S> {
   std::string wear_channel_name() const override { return name_; }
   void wear_samples(const Context& context, std::span<const Kinematics> bodies,
                     std::span<core::WearSampleTpl<S>> samples) const override;
+  int wear_depth_count() const override { return wear_ ? wear_->sectors : 0; }
+  /// ḣ_j of every sector (the two bracketing the contact's angle, 0 elsewhere).
+  void wear_depth_rates(const Context& context, std::span<const Kinematics> bodies,
+                        std::span<S> rates) const override;
+  double wear_depth_area(int) const override { return wear_ ? wear_->sector_area() : 0.0; }
+  const core::WearLaw* wear_law() const override { return wear_ ? &*wear_ : nullptr; }
+  /// The sector angle φ of a point (rad, in (−π, π]) and the basis it is measured in.
+  S sector_angle(const Vector3& p_WN) const;
   int max_body_index() const override { return body_; }
   std::string describe() const override;
   std::string describe_with_names(std::span<const core::Body> bodies) const override;
@@ -131,6 +168,19 @@ class GapSupportTpl final : public core::ForceElementTpl<S> {
   FrictionLaw friction_;
   double effective_mass_;
   std::string name_;
+  std::optional<core::WearLaw> wear_;
+  Vector3 e1_W_ = Vector3::UnitY();  ///< the sectors' angle origin, ⊥ a
+  Vector3 e2_W_ = Vector3::UnitZ();  ///< a × e1
+  std::vector<S> initial_depth_;     ///< the law's initial depths in S (zeros when none)
+
+  /// The depths the geometry sees: the context's, or the initial ones (frozen geometry, none
+  /// given).
+  std::span<const S> worn_depths(const Context& context) const;
+  /// The load on the worn hole (wear law): the point, and with `loaded_only` nothing more while
+  /// separated.
+  Evaluation evaluate_worn(const Context& context, std::span<const Kinematics> bodies,
+                           bool loaded_only) const;
+  void set_sector_basis();
 };
 
 using GapSupport = GapSupportTpl<double>;

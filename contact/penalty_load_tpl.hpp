@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "contact/contact_laws.hpp"
+#include "core/wear_law.hpp"
 
 namespace flexref::contact {
 
@@ -47,6 +48,53 @@ PenaltyLoadTpl<S> penalty_load_tpl(const NormalLaw& normal, const FrictionLaw& f
         -(friction.mu * e.normal.total * friction.slip_factor_in(S(sqrt(e.v_t_W.squaredNorm())))) *
         e.v_t_W;
   }
+  return e;
+}
+
+/// What a point of a wearing contact applies (docs/wear.md): the penalty load, the worn volume
+/// rate V̇ of its wear law and the rate ḣ at which its worn surface recedes at the point.
+template <typename S>
+struct WornPenaltyLoadTpl : PenaltyLoadTpl<S> {
+  S volume_rate = S(0);  ///< V̇, m³/s
+  S recession = S(0);    ///< ḣ of the surface the point sees, m/s (0 on a frozen geometry)
+};
+
+/// The load at a point of a wearing contact with gap `gap`, unit normal n_W along which the load
+/// pushes, approach rate u (m/s; −n·v_rel for a contact pair, ∇δ·v on a worn hole) and relative
+/// velocity v_rel_W (its slip v_t = v_rel − (n·v_rel) n). The normal force is `force_scale` F_n
+/// (1, or |∇δ| on a worn hole) with F_n from the law at δ = −gap and δ̇ = u − ḣ: the surface the
+/// point sees recedes at ḣ = β F_n, β = (V̇ per F_n) · `depth_per_volume` (1/A for a pin, the
+/// profile's share over the sector area on a hole; 0 when the geometry is frozen), so that a
+/// contact that wears at a steady rate is not damped by its own wear
+/// (NormalLaw::force_with_recession_in). V̇ per F_n: Archard F k s_n |v_t| / H, work rate
+/// F K_w μ s_n s(|v_t|) |v_t|² (|F_t·v_t| with F_t = −μ s_n F_n s(|v_t|) v_t), s_n the
+/// force_scale. Dissipation: PenaltyLoadTpl's with δ̇ = u, plus the spring energy the recession
+/// releases, F_e ḣ (the callers add it).
+template <typename S>
+WornPenaltyLoadTpl<S> worn_penalty_load_tpl(const NormalLaw& normal, const FrictionLaw& friction,
+                                            const core::WearLaw& wear, const S& gap,
+                                            const Eigen::Matrix<S, 3, 1>& n_W,
+                                            const S& approach_rate,
+                                            const Eigen::Matrix<S, 3, 1>& v_rel_W,
+                                            const S& force_scale, const S& depth_per_volume) {
+  using std::sqrt;
+  WornPenaltyLoadTpl<S> e;
+  if (gap >= S(0)) return e;
+  e.delta_dot = approach_rate;
+  e.v_t_W = v_rel_W - n_W.dot(v_rel_W) * n_W;
+  const S slip = sqrt(e.v_t_W.squaredNorm());
+  const S slip_factor = friction.mu > 0.0 ? friction.slip_factor_in(slip) : S(0);
+  const S volume_per_force =
+      wear.kind == core::WearLaw::Kind::kArchard
+          ? S(wear.rate_factor()) * force_scale * slip
+          : S(wear.rate_factor() * friction.mu) * force_scale * slip_factor * slip * slip;
+  const S beta = wear.geometry_frozen ? S(0) : volume_per_force * depth_per_volume;
+  e.normal = normal.force_with_recession_in(S(-gap), approach_rate, beta);
+  if (friction.mu > 0.0 && e.normal.total > S(0)) {
+    e.f_friction_W = -(friction.mu * force_scale * e.normal.total * slip_factor) * e.v_t_W;
+  }
+  e.volume_rate = volume_per_force * e.normal.total;
+  e.recession = beta * e.normal.total;
   return e;
 }
 

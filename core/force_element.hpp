@@ -18,17 +18,21 @@
 #include <vector>
 
 #include "core/state.hpp"
+#include "core/wear_law.hpp"
 #include "flexible/modal_data.hpp"
 
 namespace flexref::core {
 
 /// When loads are evaluated: t (in the model's scalar type S), and a time strictly inside the
 /// current step or solver interval that selects the active branch of piecewise time laws (see
-/// time_profile.hpp).
+/// time_profile.hpp); and on which worn geometry: the model passes each element the worn depths
+/// of its own points or sectors (StateTpl::wear_depth, ForceElementTpl::wear_depth_count; empty
+/// for an element without a wear law, or evaluated outside a model: its initial depths).
 template <typename S>
 struct LoadContextTpl {
   S t = S(0);
   double t_segment = 0.0;
+  std::span<const S> wear_depth = {};
 };
 
 using LoadContext = LoadContextTpl<double>;
@@ -202,6 +206,23 @@ class ForceElementTpl {
     (void)bodies;
     (void)samples;
   }
+  /// Worn depths the element integrates (docs/wear.md): one per contact point or gap-support
+  /// sector when it has a wear law, else 0. Its geometry sees them through context.wear_depth.
+  virtual int wear_depth_count() const { return 0; }
+  /// ḣ of each depth at this configuration, m/s (wear_depth_count() entries).
+  virtual void wear_depth_rates(const Context& context, std::span<const Kinematics> bodies,
+                                std::span<S> rates) const {
+    (void)context;
+    (void)bodies;
+    (void)rates;
+  }
+  /// The scar area of depth k, m² (the worn volume is Σ area·h).
+  virtual double wear_depth_area(int k) const {
+    (void)k;
+    return 0.0;
+  }
+  /// The wear law, or nullptr.
+  virtual const WearLaw* wear_law() const { return nullptr; }
   /// True when the element's work is tracked as an integral (applied_work): prescribed loads,
   /// which do work that no potential or dissipation accounts for.
   virtual bool tracks_applied_work() const { return false; }

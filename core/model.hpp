@@ -61,6 +61,9 @@ struct WorkspaceTpl {
   std::vector<WearSampleTpl<S>> wear;           ///< one per wear channel (Model::wear_samples)
   /// The accelerations integral_rates solves for when it needs the drives' power on its own.
   std::vector<BodyAccelerationTpl<S>> integral_accelerations;
+  /// The worn depths of the state last posed (StateTpl::wear_depth), which the model hands each
+  /// element as its slice of them (LoadContextTpl::wear_depth).
+  std::span<const S> wear_depth;
   S time = S(0);                     ///< t of the last compute_wrenches (prescribed α̅)
   ConstraintSolveTpl<S> constraint;  ///< the ideal joints' solve (empty without joints)
   /// Baumgarte's rate α (1/s) of the ideal joints in the accelerations: J v̇ = γ − 2α (J v + Φ_t)
@@ -317,6 +320,31 @@ class ModelTpl {
   const std::vector<int>& switching_channels() const { return switching_channels_; }
   /// Normal force, slip speed and friction power of every channel at a state (into ws.wear).
   void wear_samples(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// Worn depths (docs/wear.md): the states StateTpl::wear_depth holds, contact after contact in
+  /// element order; per wear channel the first of its depths and their count (0 without a wear
+  /// law), its law (nullptr without) and the scar area of each depth (m²).
+  int wear_depth_count() const { return wear_depth_count_; }
+  int channel_depth_first(int channel) const {
+    return static_cast<int>(element_depth_first_[static_cast<std::size_t>(
+        wear_elements_[static_cast<std::size_t>(channel)])]);
+  }
+  int channel_depth_count(int channel) const {
+    return elements_[static_cast<std::size_t>(wear_elements_[static_cast<std::size_t>(channel)])]
+        ->wear_depth_count();
+  }
+  const WearLaw* channel_wear_law(int channel) const {
+    return elements_[static_cast<std::size_t>(wear_elements_[static_cast<std::size_t>(channel)])]
+        ->wear_law();
+  }
+  /// The scar area of each depth, m² (wear_depth_count() entries).
+  const std::vector<double>& wear_depth_areas() const { return wear_depth_areas_; }
+  /// ḣ of every depth at a state (wear_depth_count() entries), m/s. Allocates nothing.
+  void wear_depth_rates(const LoadContext& context, const State& state, Workspace& ws,
+                        std::span<S> rates) const;
+  /// The worn volume Σ area·h of a channel's depths at a state, m³.
+  S wear_volume(int channel, const State& state) const;
+  /// The largest of a channel's depths at a state, m (0 without a wear law).
+  S wear_depth_max(int channel, const State& state) const;
   /// True when the model integrates the work of its applied loads (ForceElement::
   /// tracks_applied_work: every prescribed force) — when it tracks work at all (tracks_work).
   bool tracks_applied_work() const { return tracks_work() && applied_work_; }
@@ -367,8 +395,18 @@ class ModelTpl {
   /// With joints: the independent rows and length scale at the scene's initial state, then the
   /// consistent initial state (see the constructor).
   void assemble_initial_state(const ConstraintOptions& options);
-  /// Points ws.kinematics at the state (A(θ), and the q_f the loads see).
+  /// Points ws.kinematics at the state (A(θ), and the q_f the loads see) and ws.wear_depth at
+  /// its worn depths; throws std::invalid_argument when the state has not wear_depth_count() of
+  /// them.
   void pose_bodies(const State& state, Workspace& ws) const;
+  /// `context` with element e's slice of the posed depths (ws.wear_depth).
+  LoadContext element_context(const LoadContext& context, const Workspace& ws,
+                              std::size_t e) const {
+    LoadContext c = context;
+    const auto count = static_cast<std::size_t>(elements_[e]->wear_depth_count());
+    if (count > 0) c.wear_depth = ws.wear_depth.subspan(element_depth_first_[e], count);
+    return c;
+  }
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
   /// α̅ of body i's angle law at ws.time (zero for a body not prescribed).
   Vector3 prescribed_alpha_WB_B(int i, const Workspace& ws) const;
@@ -429,6 +467,9 @@ class ModelTpl {
   std::vector<int> wear_elements_;     ///< element index of each channel
   std::vector<int> element_channels_;  ///< the wear channel of each element (−1: none)
   std::vector<int> switching_channels_;
+  int wear_depth_count_ = 0;
+  std::vector<std::size_t> element_depth_first_;  ///< per element: its first depth
+  std::vector<double> wear_depth_areas_;
   bool applied_work_ = false;
   bool drive_work_ = false;
   IntegralLayout integral_layout_;

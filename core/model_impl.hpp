@@ -62,6 +62,14 @@ ModelTpl<S>::ModelTpl(std::vector<Body> bodies,
       wear_elements_.push_back(static_cast<int>(e));
     }
     element_channels_.push_back(channel);
+    element_depth_first_.push_back(static_cast<std::size_t>(wear_depth_count_));
+    if (element.wear_depth_count() > 0 && channel < 0) {
+      throw std::invalid_argument("a wear law needs a named contact");
+    }
+    for (int k = 0; k < element.wear_depth_count(); ++k) {
+      wear_depth_areas_.push_back(element.wear_depth_area(k));
+    }
+    wear_depth_count_ += element.wear_depth_count();
     switching_channels_.insert(switching_channels_.end(),
                                static_cast<std::size_t>(element.switching_function_count()),
                                channel);
@@ -125,6 +133,16 @@ typename ModelTpl<S>::State ModelTpl<S>::scene_initial_state() const {
     }
   }
   apply_prescribed_motion(S(0), state);
+  // The contacts' worn depths start at their laws' initial depths (zero unless given).
+  state.wear_depth = Vector::Zero(wear_depth_count_);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const WearLaw* law = elements_[e]->wear_law();
+    if (law == nullptr) continue;
+    for (std::size_t k = 0; k < law->initial_depth.size(); ++k) {
+      state.wear_depth(static_cast<Eigen::Index>(element_depth_first_[e] + k)) =
+          S(law->initial_depth[k]);
+    }
+  }
   return state;
 }
 
@@ -213,6 +231,13 @@ template <typename S>
 void ModelTpl<S>::pose_bodies(const State& state, Workspace& ws) const {
   // Loads see the state's q_f under the coupled model, q_f = 0 under LTE (undeformed body).
   const bool lte = formulation_ == FlexibleFormulation::kLte;
+  if (state.wear_depth.size() != wear_depth_count_) {
+    throw std::invalid_argument("the state has " + std::to_string(state.wear_depth.size()) +
+                                " worn depths; the model integrates " +
+                                std::to_string(wear_depth_count_));
+  }
+  ws.wear_depth = std::span<const S>(state.wear_depth.data(),
+                                     static_cast<std::size_t>(state.wear_depth.size()));
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     ws.kinematics[i].state = &state[i];
     ws.kinematics[i].R_WB = rotation::rotation_matrix<S>(state[i].theta_WB);
@@ -226,7 +251,9 @@ void ModelTpl<S>::compute_wrenches(const LoadContext& context, const State& stat
   ws.time = context.t;
   pose_bodies(state, ws);
   for (WrenchTpl<S>& w : ws.wrenches) w.set_zero();
-  for (const auto& e : elements_) e->add_wrenches(context, ws.kinematics, ws.wrenches);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    elements_[e]->add_wrenches(element_context(context, ws, e), ws.kinematics, ws.wrenches);
+  }
 }
 
 template <typename S>
@@ -416,7 +443,9 @@ S ModelTpl<S>::potential_energy(const LoadContext& context, const State& state,
                                 Workspace& ws) const {
   pose_bodies(state, ws);
   S v = elastic_energy(state);
-  for (const auto& e : elements_) v += e->potential_energy(context, ws.kinematics);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    v += elements_[e]->potential_energy(element_context(context, ws, e), ws.kinematics);
+  }
   return v;
 }
 
@@ -424,10 +453,10 @@ template <typename S>
 template <typename Evaluate>
 void ModelTpl<S>::for_each_switching_element(std::span<S> out, Evaluate&& evaluate) const {
   std::size_t offset = 0;
-  for (const auto& e : elements_) {
-    const auto count = static_cast<std::size_t>(e->switching_function_count());
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const auto count = static_cast<std::size_t>(elements_[e]->switching_function_count());
     if (count == 0) continue;
-    evaluate(*e, out.subspan(offset, count));
+    evaluate(*elements_[e], e, out.subspan(offset, count));
     offset += count;
   }
 }
@@ -436,8 +465,8 @@ template <typename S>
 void ModelTpl<S>::switching_functions(const LoadContext& context, const State& state, Workspace& ws,
                                       std::span<S> g) const {
   pose_bodies(state, ws);
-  for_each_switching_element(g, [&](const ForceElement& e, std::span<S> values) {
-    e.switching_functions(context, ws.kinematics, values);
+  for_each_switching_element(g, [&](const ForceElement& e, std::size_t j, std::span<S> values) {
+    e.switching_functions(element_context(context, ws, j), ws.kinematics, values);
   });
 }
 
@@ -445,8 +474,8 @@ template <typename S>
 void ModelTpl<S>::clamp_functions(const LoadContext& context, const State& state, Workspace& ws,
                                   std::span<S> c) const {
   pose_bodies(state, ws);
-  for_each_switching_element(c, [&](const ForceElement& e, std::span<S> values) {
-    e.clamp_functions(context, ws.kinematics, values);
+  for_each_switching_element(c, [&](const ForceElement& e, std::size_t j, std::span<S> values) {
+    e.clamp_functions(element_context(context, ws, j), ws.kinematics, values);
   });
 }
 
@@ -467,9 +496,10 @@ void ModelTpl<S>::compute_wrenches_and_rates(const LoadContext& context, const S
     const int channel = element_channels_[j];
     std::span<WearSampleTpl<S>> wear;
     if (with_rates && channel >= 0) wear = {&ws.wear[static_cast<std::size_t>(channel)], 1};
-    e.add_wrenches_and_rates(
-        context, ws.kinematics, ws.wrenches, with_rates ? &dissipation : nullptr, wear,
-        g.empty() ? g : g.subspan(offset, count), c.empty() ? c : c.subspan(offset, count));
+    e.add_wrenches_and_rates(element_context(context, ws, j), ws.kinematics, ws.wrenches,
+                             with_rates ? &dissipation : nullptr, wear,
+                             g.empty() ? g : g.subspan(offset, count),
+                             c.empty() ? c : c.subspan(offset, count));
     offset += count;
   }
   if (!with_rates) return;
@@ -488,7 +518,9 @@ S ModelTpl<S>::dissipated_power(const LoadContext& context, const State& state,
                                 Workspace& ws) const {
   pose_bodies(state, ws);
   S p = modal_dissipated_power(state);
-  for (const auto& e : elements_) p += e->dissipated_power(context, ws.kinematics);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    p += elements_[e]->dissipated_power(element_context(context, ws, e), ws.kinematics);
+  }
   return p;
 }
 
@@ -507,7 +539,9 @@ S ModelTpl<S>::modal_dissipated_power(const State& state) const {
 template <typename S>
 S ModelTpl<S>::applied_power(const LoadContext& context, const Workspace& ws) const {
   S p = S(0);
-  for (const auto& e : elements_) p += e->applied_power(context, ws.kinematics);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    p += elements_[e]->applied_power(element_context(context, ws, e), ws.kinematics);
+  }
   return p;
 }
 
@@ -601,9 +635,40 @@ void ModelTpl<S>::wear_samples(const LoadContext& context, const State& state,
                                Workspace& ws) const {
   pose_bodies(state, ws);
   for (std::size_t c = 0; c < wear_elements_.size(); ++c) {
-    const ForceElementTpl<S>& element = *elements_[static_cast<std::size_t>(wear_elements_[c])];
-    element.wear_samples(context, ws.kinematics, std::span<WearSampleTpl<S>>(&ws.wear[c], 1));
+    const auto e = static_cast<std::size_t>(wear_elements_[c]);
+    elements_[e]->wear_samples(element_context(context, ws, e), ws.kinematics,
+                               std::span<WearSampleTpl<S>>(&ws.wear[c], 1));
   }
+}
+
+template <typename S>
+void ModelTpl<S>::wear_depth_rates(const LoadContext& context, const State& state, Workspace& ws,
+                                   std::span<S> rates) const {
+  if (wear_depth_count_ == 0) return;
+  pose_bodies(state, ws);
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    const auto count = static_cast<std::size_t>(elements_[e]->wear_depth_count());
+    if (count == 0) continue;
+    elements_[e]->wear_depth_rates(element_context(context, ws, e), ws.kinematics,
+                                   rates.subspan(element_depth_first_[e], count));
+  }
+}
+
+template <typename S>
+S ModelTpl<S>::wear_depth_max(int channel, const State& state) const {
+  const int count = channel_depth_count(channel);
+  if (count == 0) return S(0);
+  return state.wear_depth.segment(channel_depth_first(channel), count).maxCoeff();
+}
+
+template <typename S>
+S ModelTpl<S>::wear_volume(int channel, const State& state) const {
+  const int first = channel_depth_first(channel);
+  S v = S(0);
+  for (int k = first; k < first + channel_depth_count(channel); ++k) {
+    v += S(wear_depth_areas_[static_cast<std::size_t>(k)]) * state.wear_depth(k);
+  }
+  return v;
 }
 
 template <typename S>
@@ -625,8 +690,9 @@ void ModelTpl<S>::integral_rates(const LoadContext& context, const State& state,
   if (k.count == 0) return;
   if (k.applied >= 0) rates[static_cast<std::size_t>(k.applied)] = applied_power(context, ws);
   for (std::size_t c = 0; c < wear_elements_.size(); ++c) {
-    const ForceElementTpl<S>& element = *elements_[static_cast<std::size_t>(wear_elements_[c])];
-    element.wear_samples(context, ws.kinematics, std::span<WearSampleTpl<S>>(&ws.wear[c], 1));
+    const auto e = static_cast<std::size_t>(wear_elements_[c]);
+    elements_[e]->wear_samples(element_context(context, ws, e), ws.kinematics,
+                               std::span<WearSampleTpl<S>>(&ws.wear[c], 1));
     rates[static_cast<std::size_t>(k.first_wear) + c] = ws.wear[c].wear_power;
   }
 }

@@ -3,7 +3,8 @@
 /// The state every integrator advances, body by body, in the quasi-velocity variables of
 /// docs/design/model.md: position of the reference point Br (world), Euler parameters θ (B → W),
 /// velocity of Br (world) and body-frame angular velocity ω̄ = w_WB_B, and for a flexible body
-/// the modal coordinates q_f and their rates (empty for a rigid body). A pivot body keeps p_WBr
+/// the modal coordinates q_f and their rates (empty for a rigid body); and the contacts' worn
+/// depths (StateTpl::wear_depth). A pivot body keeps p_WBr
 /// fixed and v_WBr = 0; a prescribed body's rigid part is the angle law's at the state's time.
 /// Copying a state into one of the same shape allocates nothing (Eigen keeps the storage).
 #include <Eigen/Core>
@@ -29,8 +30,16 @@ struct BodyStateTpl {
 
 using BodyState = BodyStateTpl<double>;
 
+/// The state of a model in scalar type S: its bodies' states, body after body (a std::vector, so
+/// state[i] is body i's), and the worn depths h of its contacts' wear points and sectors (m;
+/// docs/wear.md): states like the bodies', integrated with them by every integrator, and the
+/// geometry the contacts see. Model::initial_state() sizes wear_depth (empty without a wear law).
 template <typename S>
-using StateTpl = std::vector<BodyStateTpl<S>>;
+struct StateTpl : std::vector<BodyStateTpl<S>> {
+  using std::vector<BodyStateTpl<S>>::vector;
+  /// Model::wear_depth_count() depths, contact after contact in the model's element order.
+  Eigen::Matrix<S, Eigen::Dynamic, 1> wear_depth;
+};
 using State = StateTpl<double>;
 
 /// Accelerations of one body: of Br (world) and the body-frame angular acceleration α̅.

@@ -31,7 +31,8 @@ C1Stepper::C1Stepper(const core::Model& model)
       jacobian_(state_.size(), Matrix3d::Identity()),
       w_accepted_(state_.size(), Vector3d::Zero()),
       delta_(state_.size(), Vector3d::Zero()),
-      ws_(model.make_workspace()) {
+      ws_(model.make_workspace()),
+      wear_(model) {
   detail::require_hybrid_scheme_model(model, "c1");
   for (const core::Body& body : model.bodies()) {
     has_free_body_ = has_free_body_ || body.is_free() || body.is_flexible();
@@ -54,6 +55,7 @@ void C1Stepper::initialize(double t0, const core::State& state) {
   // t_segment = t0 selects the branch on the right of t0; the first step re-evaluates on its
   // own segment [t0, t0 + h).
   model_.compute_accelerations(core::LoadContext{t0, t0}, state_, ws_, acc_);
+  wear_.start(core::LoadContext{t0, t0}, state_, ws_);
   restart_pending_ = true;
   newton_iterations_ = 0;
   max_newton_iterations_ = 0;
@@ -64,6 +66,7 @@ void C1Stepper::initialize(double t0, const core::State& state) {
 void C1Stepper::restart(double h) {
   // a_n = f_n/m (right limit at t_n); A_n from the Euler equation (the Newton predictor).
   model_.compute_accelerations(core::LoadContext{time_, time_ + 0.5 * h}, state_, ws_, acc_);
+  wear_.start(core::LoadContext{time_, time_ + 0.5 * h}, state_, ws_);
   ++evaluations_;
 }
 
@@ -198,6 +201,9 @@ StepStatus C1Stepper::step(double h) {
     restart(h);
   }
   const std::size_t n_bodies = state_.size();
+  // The worn depths the step's loads see: h_n + Δt ḣ_n at t_{n+1}, h_n + ½ Δt ḣ_n at t_{n+½}.
+  wear_.predict(state_, h, next_);
+  wear_.predict(state_, 0.5 * h, mid_);
 
   // 1. Translation (explicit) and the Newton predictor.
   for (std::size_t i = 0; i < n_bodies; ++i) {
@@ -268,8 +274,10 @@ StepStatus C1Stepper::step(double h) {
   detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C1", t_n, h)};
+  wear_.correct(core::LoadContext{t_np1, t_n + 0.5 * h}, state_, h, next_, ws_);
   std::swap(state_, next_);
   std::swap(acc_, acc_next_);
+  wear_.accept();
   time_ = t_np1;
   restart_pending_ = false;
   newton_iterations_ += newton.iterations;

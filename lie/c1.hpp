@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "lie/stepper.hpp"
+#include "lie/wear_depth_update.hpp"
 
 namespace flexref::lie {
 
@@ -62,6 +63,8 @@ class C1Stepper final : public Stepper {
 
   double time() const override { return time_; }
   const core::State& state() const override { return state_; }
+  /// Advances the contacts' worn depths (lie/wear_depth_update.hpp).
+  bool integrates_wear_depth() const override { return true; }
   /// a_n (world) and A_n = (W_n − W_{n−1})/h (body); A_0 from the Euler equation.
   const core::Accelerations& accelerations() const { return acc_; }
 
@@ -103,6 +106,7 @@ class C1Stepper final : public Stepper {
   std::vector<Eigen::Vector3d> w_accepted_;     ///< last accepted Newton iterate per body
   std::vector<Eigen::Vector3d> delta_;          ///< its Newton correction per body
   core::Workspace ws_;
+  detail::WearDepthUpdate wear_;  ///< the worn depths' rates
   long newton_iterations_ = 0;
   int max_newton_iterations_ = 0;
   long evaluations_ = 0;

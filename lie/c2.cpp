@@ -22,7 +22,8 @@ C2Stepper::C2Stepper(const core::Model& model)
       torque_next_W_(state_.size(), Vector3d::Zero()),
       momentum_W_(state_.size(), Vector3d::Zero()),
       momentum_next_W_(state_.size(), Vector3d::Zero()),
-      ws_(model.make_workspace()) {
+      ws_(model.make_workspace()),
+      wear_(model) {
   detail::require_hybrid_scheme_model(model, "c2");
 }
 
@@ -36,6 +37,7 @@ void C2Stepper::initialize(double t0, const core::State& state) {
   // The step length is not known yet: evaluate on the right of t0 (t_segment = t0 is inside
   // [t0, t0 + h) for every half-open time law); the first step re-evaluates on its own segment.
   model_.compute_accelerations(core::LoadContext{t0, t0}, state_, ws_, acc_);
+  wear_.start(core::LoadContext{t0, t0}, state_, ws_);
   for (std::size_t i = 0; i < state_.size(); ++i) {
     torque_W_[i] = ws_.wrenches[i].tau_Br_W;
     // π_0 = R_0 J W_0, then carried by the scheme (it is the scheme's primary unknown).
@@ -47,6 +49,7 @@ void C2Stepper::initialize(double t0, const core::State& state) {
 
 void C2Stepper::restart(double h) {
   const core::LoadContext start{time_, time_ + 0.5 * h};
+  wear_.start(start, state_, ws_);
   if (restart_pending_) {
     // First step: a_0 = f_0/m, A_0 = J⁻¹ (R_0ᵀ Γ_0 − W_0 × J W_0)   (Euler, right limit at t0)
     model_.compute_accelerations(start, state_, ws_, acc_);
@@ -79,6 +82,8 @@ StepStatus C2Stepper::step(double h) {
   if (restart_pending_ || detail::starts_on_discontinuity(model_.discontinuities(), t_n, h)) {
     restart(h);
   }
+  // The worn depths the step's loads see: h_n + Δt ḣ_n.
+  wear_.predict(state_, h, next_);
 
   // 1. Configuration at t_{n+1}, explicit (Θ ← h W_n + ½ h² A_n, x_{n+1} ← x_n + h v_n + ½ h² a_n).
   detail::predict_configuration(model_, state_, acc_, h, next_);
@@ -110,8 +115,10 @@ StepStatus C2Stepper::step(double h) {
   detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C2", t_n, h)};
+  wear_.correct(core::LoadContext{t_np1, t_n + 0.5 * h}, state_, h, next_, ws_);
   std::swap(state_, next_);
   std::swap(acc_, acc_next_);
+  wear_.accept();
   std::swap(torque_W_, torque_next_W_);
   std::swap(momentum_W_, momentum_next_W_);
   time_ = t_np1;

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "lie/stepper.hpp"
+#include "lie/wear_depth_update.hpp"
 
 namespace flexref::lie {
 
@@ -41,6 +42,8 @@ class C2Stepper final : public Stepper {
 
   double time() const override { return time_; }
   const core::State& state() const override { return state_; }
+  /// Advances the contacts' worn depths (lie/wear_depth_update.hpp).
+  bool integrates_wear_depth() const override { return true; }
   /// a_n (world) and A_n (body), the Newmark accelerations carried by the scheme.
   const core::Accelerations& accelerations() const { return acc_; }
 
@@ -61,6 +64,7 @@ class C2Stepper final : public Stepper {
   std::vector<Eigen::Vector3d> momentum_W_;       ///< π_n = R_n J W_n about Br (world)
   std::vector<Eigen::Vector3d> momentum_next_W_;  ///< π_{n+1}
   core::Workspace ws_;
+  detail::WearDepthUpdate wear_;  ///< the worn depths' rates
 };
 
 }  // namespace flexref::lie

@@ -19,6 +19,7 @@ GenAlphaStepper::GenAlphaStepper(const core::Model& model, const GenAlphaParamet
       next_(state_),
       ws_(model.make_workspace()),
       tracker_(model.make_workspace()),
+      wear_(model),
       acc_(model.make_accelerations()),
       vdot_(Eigen::VectorXd::Zero(system_.body_unknowns())),
       a_(vdot_),
@@ -88,6 +89,7 @@ void GenAlphaStepper::restart() {
   // starts there), and a_n = v̇_n; with joints, λ_n from the index-1 solve as the predictor.
   const double segment = time_ + (last_h_ > 0.0 ? 0.5 * last_h_ : 0.0);
   model_.compute_accelerations(core::LoadContext{time_, segment}, state_, ws_, acc_);
+  wear_.start(core::LoadContext{time_, segment}, state_, ws_);
   system_.stack_accelerations(acc_, vdot_);
   if (system_.multiplier_count() > 0) {
     // λ_n on the Newton system's rows (the solve may have chosen others: the same reactions,
@@ -164,6 +166,9 @@ StepStatus GenAlphaStepper::step(double h) {
       lambda_hat_ *= bh2 / previous;
     }
   }
+  // The worn depths the step's loads see: h_n + Δt ḣ_n.
+  wear_.predict(state_, h, next_);
+  system_.set_wear_depth(next_.wear_depth);
   system_.begin_step(t_n, h, state_, vdot_, a_);
   system_.predictor(lambda_hat_, z_);
 
@@ -236,6 +241,7 @@ StepStatus GenAlphaStepper::step(double h) {
   if (!detail::all_finite(next_) || !std::isfinite(z_.sum())) {
     return fail(detail::non_finite_failure("genalpha", t_n, h));
   }
+  wear_.correct(core::LoadContext{t_n + h, t_n + 0.5 * h}, state_, h, next_, ws_);
   if (system_.multiplier_count() > 0) {
     // λ̂_{n+1} on the rows the system solved them for, then the joints at the new state (λ̂_n
     // kept for a failure, which leaves the stepper at the start of the step).
@@ -248,6 +254,7 @@ StepStatus GenAlphaStepper::step(double h) {
     }
   }
   std::swap(state_, next_);
+  wear_.accept();
   std::swap(vdot_, vdot_next_);
   std::swap(a_, a_next_);
   time_ = t_n + h;

@@ -32,6 +32,7 @@
 #include "lie/genalpha_newton.hpp"
 #include "lie/genalpha_parameters.hpp"
 #include "lie/stepper.hpp"
+#include "lie/wear_depth_update.hpp"
 
 namespace flexref::lie {
 
@@ -74,6 +75,8 @@ class GenAlphaStepper final : public Stepper {
 
   double time() const override { return time_; }
   const core::State& state() const override { return state_; }
+  /// Advances the contacts' worn depths (lie/wear_depth_update.hpp).
+  bool integrates_wear_depth() const override { return true; }
   const GenAlphaParameters& parameters() const { return system_.parameters(); }
   /// v̇_n (stacked: per body a_WBr, α̅, q̈_f) and the auxiliary a_n.
   const Eigen::VectorXd& accelerations() const { return vdot_; }
@@ -117,6 +120,7 @@ class GenAlphaStepper final : public Stepper {
   /// The joints' rows and their history (the rows' orientation at the last accepted state):
   /// advanced only on accepted steps (track_joints).
   core::Workspace tracker_;
+  detail::WearDepthUpdate wear_;  ///< the worn depths' rates
   core::Accelerations acc_;
   Eigen::VectorXd vdot_;          ///< v̇_n
   Eigen::VectorXd a_;             ///< a_n

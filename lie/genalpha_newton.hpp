@@ -69,6 +69,12 @@ class GenAlphaSystem {
 
   /// Starts a step from t_n with the state, v̇_n and a_n (stacked). Must be called
   /// before predictor, residual and iteration_matrix.
+  /// The worn depths the step's loads see (the stepper's predicted h̃_{n+1},
+  /// lie/wear_depth_update.hpp): the residual's and the Jacobian's states take them.
+  void set_wear_depth(const Eigen::VectorXd& depth) {
+    next_.wear_depth = depth;
+    perturbed_.wear_depth = depth;
+  }
   void begin_step(double t_n, double h, const core::State& state, const Eigen::VectorXd& vdot_n,
                   const Eigen::VectorXd& a_n);
   /// The predictor z⁰: v̇_{n+1} = 0 (Brüls, Cardona & Arnold's) and λ̂ the last step's.

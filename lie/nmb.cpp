@@ -23,7 +23,8 @@ NmbStepper::NmbStepper(const core::Model& model)
       next_(state_),
       acc_(model.make_accelerations()),
       acc_next_(model.make_accelerations()),
-      ws_(model.make_workspace()) {
+      ws_(model.make_workspace()),
+      wear_(model) {
   detail::require_hybrid_scheme_model(model, "nmb");
 }
 
@@ -37,6 +38,7 @@ void NmbStepper::initialize(double t0, const core::State& state) {
   // t_segment = t0 selects the branch on the right of t0; the first step re-evaluates on its
   // own segment [t0, t0 + h).
   model_.compute_accelerations(core::LoadContext{t0, t0}, state_, ws_, acc_);
+  wear_.start(core::LoadContext{t0, t0}, state_, ws_);
   restart_pending_ = true;
   newton_iterations_ = 0;
   max_newton_iterations_ = 0;
@@ -46,6 +48,7 @@ void NmbStepper::initialize(double t0, const core::State& state) {
 void NmbStepper::restart(double h) {
   // a_n = f_n/m,  A_n = J⁻¹ (T_n − W_n × J W_n)   (Euler, right limit at t_n)
   model_.compute_accelerations(core::LoadContext{time_, time_ + 0.5 * h}, state_, ws_, acc_);
+  wear_.start(core::LoadContext{time_, time_ + 0.5 * h}, state_, ws_);
 }
 
 StepStatus NmbStepper::step(double h) {
@@ -54,6 +57,8 @@ StepStatus NmbStepper::step(double h) {
   if (restart_pending_ || detail::starts_on_discontinuity(model_.discontinuities(), t_n, h)) {
     restart(h);
   }
+  // The worn depths the step's loads see: h_n + Δt ḣ_n.
+  wear_.predict(state_, h, next_);
 
   // 1. Configuration at t_{n+1}, explicit (Θ ← h W_n + ½ h² A_n, x_{n+1} ← x_n + h v_n + ½ h² a_n).
   detail::predict_configuration(model_, state_, acc_, h, next_);
@@ -115,8 +120,10 @@ StepStatus NmbStepper::step(double h) {
   detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("NMB", t_n, h)};
+  wear_.correct(core::LoadContext{t_np1, t_n + 0.5 * h}, state_, h, next_, ws_);
   std::swap(state_, next_);
   std::swap(acc_, acc_next_);
+  wear_.accept();
   time_ = t_np1;
   restart_pending_ = false;
   newton_iterations_ += step_iterations;

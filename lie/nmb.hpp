@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "lie/stepper.hpp"
+#include "lie/wear_depth_update.hpp"
 
 namespace flexref::lie {
 
@@ -48,6 +49,8 @@ class NmbStepper final : public Stepper {
 
   double time() const override { return time_; }
   const core::State& state() const override { return state_; }
+  /// Advances the contacts' worn depths (lie/wear_depth_update.hpp).
+  bool integrates_wear_depth() const override { return true; }
   /// a_n (world) and A_n (body), the Newmark accelerations carried by the scheme.
   const core::Accelerations& accelerations() const { return acc_; }
 
@@ -68,6 +71,7 @@ class NmbStepper final : public Stepper {
   core::Accelerations acc_;       ///< a_n, A_n
   core::Accelerations acc_next_;  ///< a_{n+1}, A_{n+1}
   core::Workspace ws_;
+  detail::WearDepthUpdate wear_;  ///< the worn depths' rates
   long newton_iterations_ = 0;
   int max_newton_iterations_ = 0;
   long steps_ = 0;

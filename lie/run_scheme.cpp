@@ -106,6 +106,12 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
                             std::atomic<long>* steps_done) {
   const long n_end = validate_step_grid(model, dt, output_times);
   const double t0 = output_times.front();
+  if (model.wear_depth_count() > 0 && !stepper.integrates_wear_depth()) {
+    throw std::invalid_argument(
+        "the method " + std::string(stepper.name()) +
+        " does not integrate the contacts' worn depths (docs/wear.md): a scene with a wear law "
+        "runs with c1, c2, nmb or genalpha, or with a reference solver");
+  }
 
   core::Trajectory trajectory;
   trajectory.times = output_times;

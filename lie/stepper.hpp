@@ -39,6 +39,10 @@ class Stepper {
 
   virtual double time() const = 0;
   virtual const core::State& state() const = 0;
+  /// True when step() also advances the contacts' worn depths (core::StateTpl::wear_depth;
+  /// docs/wear.md). A method that does not leaves them at their initial values, so the driver
+  /// refuses it on a model with a wear law rather than run it on a frozen geometry.
+  virtual bool integrates_wear_depth() const { return false; }
 
  protected:
   Stepper() = default;

@@ -8,7 +8,8 @@
 ///
 /// State, body after body: p_WBr (3), θ_WB (4), v_WBr (3), ω̄ (3) unless the body is
 /// prescribed (its attitude, ω̄ and α̅ are its angle law's at t), then q_f (n), q̇_f (n); then
-/// the integrals (W_d, W_a, each wear channel's work) when the model dissipates. Equations
+/// the contacts' worn depths (h' = the wear rates, docs/wear.md); then the integrals (W_d, W_a,
+/// each wear channel's work) when the model dissipates. Equations
 /// (docs/design/model.md, quasi-velocity form): ṗ = v, θ̇ = ½ θ ⊗ (0, ω̄), v̇ = a, ω̄̇ = α̅, q̈_f,
 /// with (a, α̅, q̈_f) from core::ModelTpl::accelerations_from_wrenches. The model sees θ/|θ|
 /// (an orthogonal A whatever drift the integrator leaves in |θ|); θ̇ uses y's θ, so the exact
@@ -54,6 +55,9 @@ class OdeSystemTpl {
     return {b.mass(), b.p_BrBcm_B(), b.I_Br_B()};
   }
   int state_size() const { return integrals_offset_ + integral_count_; }
+  /// The worn depths' first slot in the state and their count.
+  int depth_offset() const { return depth_offset_; }
+  int depth_count() const { return model_.wear_depth_count(); }
   /// The double model's trajectory::trajectory_columns ("t" first): output_row fills the rest.
   const std::vector<std::string>& columns() const { return columns_; }
   /// Two per switching function of the force elements (a gap support's or contact pair's gap),
@@ -115,6 +119,7 @@ class OdeSystemTpl {
   std::vector<std::string> columns_;
   std::vector<double> discontinuities_;
   std::vector<int> offsets_;  ///< each body's first slot in y
+  int depth_offset_ = 0;      ///< the worn depths' first slot in y
   int integrals_offset_ = 0;
   int integral_count_ = 0;
   bool has_prescribed_ = false;
@@ -122,7 +127,7 @@ class OdeSystemTpl {
   mutable core::WorkspaceTpl<S> ws_;
   mutable core::StateTpl<S> state_;
   mutable core::AccelerationsTpl<S> accelerations_;
-  mutable std::vector<S> rates_, gaps_, clamps_;
+  mutable std::vector<S> rates_, depth_rates_, gaps_, clamps_;
 };
 
 }  // namespace flexref::precision

@@ -38,12 +38,14 @@ OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
   std::sort(discontinuities_.begin(), discontinuities_.end());
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());
-  integrals_offset_ = offset;
+  depth_offset_ = offset;
+  integrals_offset_ = offset + model_.wear_depth_count();
   integral_count_ = model_.integral_layout().count;
   ws_ = model_.make_workspace();
   state_ = model_.initial_state();
   accelerations_ = model_.make_accelerations();
   rates_.assign(static_cast<std::size_t>(integral_count_), S(0));
+  depth_rates_.assign(static_cast<std::size_t>(model_.wear_depth_count()), S(0));
   gaps_.assign(static_cast<std::size_t>(model_.switching_function_count()), S(0));
   clamps_ = gaps_;
   if (model_.has_constraints()) {
@@ -82,6 +84,9 @@ void OdeSystemTpl<S>::unpack(S t, const std::vector<S>& y) const {
       x.qd_f(j) = y[o + static_cast<std::size_t>(n + j)];
     }
   }
+  for (Eigen::Index k = 0; k < state_.wear_depth.size(); ++k) {
+    state_.wear_depth(k) = y[static_cast<std::size_t>(depth_offset_ + k)];
+  }
   if (has_prescribed_) model_.apply_prescribed_motion(t, state_, ws_);
 }
 
@@ -102,6 +107,9 @@ void OdeSystemTpl<S>::pack(std::vector<S>& y) const {
       y[o + static_cast<std::size_t>(j)] = x.q_f(j);
       y[o + static_cast<std::size_t>(n + j)] = x.qd_f(j);
     }
+  }
+  for (Eigen::Index k = 0; k < state_.wear_depth.size(); ++k) {
+    y[static_cast<std::size_t>(depth_offset_ + k)] = state_.wear_depth(k);
   }
 }
 
@@ -165,6 +173,12 @@ void OdeSystemTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, 
       dydt[o + static_cast<std::size_t>(k)] = y[o + static_cast<std::size_t>(n + k)];
       dydt[o + static_cast<std::size_t>(n + k)] = a.qdd_f(k);
     }
+  }
+  if (!depth_rates_.empty()) {
+    // h' = the contacts' wear rates (docs/wear.md)
+    model_.wear_depth_rates(context(t, t_segment), state_, ws_, depth_rates_);
+    std::copy(depth_rates_.begin(), depth_rates_.end(),
+              dydt.begin() + static_cast<std::ptrdiff_t>(depth_offset_));
   }
   for (int k = 0; k < integral_count_; ++k) {
     dydt[static_cast<std::size_t>(integrals_offset_ + k)] = rates_[static_cast<std::size_t>(k)];
@@ -270,6 +284,15 @@ std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
       row.push_back(ws_.wear[k].slip_speed);
       row.push_back(y[first_wear + k]);
       row.push_back(k < impacts.size() ? S(impacts[k]) : S(0));
+      const int c = static_cast<int>(k);
+      if (model_.channel_depth_count(c) == 0) continue;
+      // The worn depths: the largest, the volume, each point's or sector's.
+      row.push_back(model_.wear_depth_max(c, state_));
+      row.push_back(model_.wear_volume(c, state_));
+      const int first = model_.channel_depth_first(c);
+      for (int j = first; j < first + model_.channel_depth_count(c); ++j) {
+        row.push_back(state_.wear_depth(j));
+      }
     }
   }
   return row;

@@ -63,6 +63,15 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
     data_.scratch = form_.make_scratch();
     data_.scratch.workspace.constraint_stabilization = options.constraint_stabilization;
     data_.jacobian = options.jacobian;
+    // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
+    // works, contiguous in y (ARKStepReInit restarts ARKODE's step count).
+    data_.rtol = options.rtol;
+    data_.atol = options.absolute_tolerance();
+    data_.integrals = {form_.depth_index(), form_.depth_count() + form_.integral_count()};
+    data_.steps_since_init = [](void* ark) {
+      long steps = 0;
+      return ark == nullptr || ARKStepGetNumSteps(ark, &steps) < 0 ? 0L : steps;
+    };
     if (newton == NewtonJacobian::kStructured) {
       structured_.emplace(form_);
       data_.structured = &*structured_;
@@ -76,7 +85,7 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
     form_.pack(state, sun::data(y_.get()));
     // Ideal joints: every segment starts on the constraint manifold (else θ unit).
     form_.project(segment.start, sun::data(y_.get()), data_.scratch);
-    form_.set_integrals(sun::data(y_.get()), integrals);
+    works_.start(integrals, sun::data(y_.get()));
     if (!ark_) {
       ark_.reset(sun::check_created(
           ARKStepCreate(nullptr, sun::ode_rhs, segment.start, y_.get(), context_.get()),
@@ -86,8 +95,14 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
       sun::check(ARKStepSetUserData(ark, &data_), "ARKStepSetUserData");
       sun::check(ARKStepSetErrHandlerFn(ark, sun::record_error, &data_.log),
                  "ARKStepSetErrHandlerFn");
-      sun::check(ARKStepSStolerances(ark, options_.rtol, options_.absolute_tolerance()),
-                 "ARKStepSStolerances");
+      data_.solver_memory = ark;
+      if (data_.integrals.count > 0) {
+        sun::check(ARKStepWFtolerances(ark, sun::integral_error_weights<sun::OdeCallbackData>),
+                   "ARKStepWFtolerances");
+      } else {
+        sun::check(ARKStepSStolerances(ark, options_.rtol, options_.absolute_tolerance()),
+                   "ARKStepSStolerances");
+      }
       sun::check(ARKStepSetInterpolantType(ark, ARK_INTERP_LAGRANGE), "ARKStepSetInterpolantType");
       sun::check(ARKStepSetLinearSolver(ark, linear_solver_.get(), jacobian_.get()),
                  "ARKStepSetLinearSolver");
@@ -127,6 +142,7 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
 
   void restart_at_root(double t, const sun::Segment& segment) override {
     form_.project(t, sun::data(y_.get()), data_.scratch);
+    works_.rebase(sun::data(y_.get()));
     sun::check(ARKStepReInit(ark_.get(), nullptr, sun::ode_rhs, t, y_.get()), "ARKStepReInit");
     sun::check(ARKStepSetStopTime(ark_.get(), segment.end), "ARKStepSetStopTime");
   }
@@ -134,9 +150,7 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  void integrals(std::span<double> out) const override {
-    form_.integrals(sun::data(y_.get()), out);
-  }
+  void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
 
   void add_counters(SolverStats& stats) const override {
     void* ark = ark_.get();
@@ -171,6 +185,8 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
   SolverOptions options_;
   NewtonJacobian newton_;
   OdeForm form_;
+  /// The works in y as increments since the last (re)start (reference/integral_weights.hpp).
+  IntegralBase works_{{form_.work_index(), form_.integral_count()}};
   std::optional<StructuredJacobian> structured_;
   sun::OdeCallbackData data_;
   sun::Context context_;

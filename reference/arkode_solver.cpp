@@ -105,9 +105,25 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
     data_.scratch = form_.make_scratch();
     data_.scratch.workspace.constraint_stabilization = options.constraint_stabilization;
     data_.watch_values.assign(g_.size(), 0.0);
+    // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
+    // works, contiguous in y; ARKODE's counters survive ERKStepReset, so the steps since the
+    // last restart are counted here.
+    data_.rtol = options.rtol;
+    data_.atol = options.absolute_tolerance();
+    data_.integrals = {form_.depth_index(), form_.depth_count() + form_.integral_count()};
+    data_.solver_memory = this;
+    data_.steps_since_init = [](void* self) {
+      const auto* solver = static_cast<const ArkodeSegmentSolver*>(self);
+      return solver->accepted_steps_ - solver->restart_steps_;
+    };
     erk_ = make_fehlberg(y_.get(), context_.get(), data_);
-    sun::check(ERKStepSStolerances(erk_.get(), options.rtol, options.absolute_tolerance()),
-               "ERKStepSStolerances");
+    if (data_.integrals.count > 0) {
+      sun::check(ERKStepWFtolerances(erk_.get(), sun::integral_error_weights<sun::OdeCallbackData>),
+                 "ERKStepWFtolerances");
+    } else {
+      sun::check(ERKStepSStolerances(erk_.get(), options.rtol, options.absolute_tolerance()),
+                 "ERKStepSStolerances");
+    }
     // Adapt the step after every step: with ARKODE's default hysteresis (keep h while the
     // controller's growth factor is in [1, 1.5]) the error on free_spin stalled at ~1e-11 rad
     // from rtol 1e-10 to 1e-13 with 1.4× the steps; without it the error falls monotonically
@@ -131,7 +147,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
     form_.pack(state, sun::data(y_.get()));
     // Ideal joints: every segment starts on the constraint manifold (else θ unit).
     form_.project(segment.start, sun::data(y_.get()), data_.scratch);
-    form_.set_integrals(sun::data(y_.get()), integrals);
+    works_.start(integrals, sun::data(y_.get()));
     restart(segment.start, segment.end);
   }
 
@@ -193,6 +209,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
 
   void restart_at_root(double t, const sun::Segment& segment) override {
     form_.project(t, sun::data(y_.get()), data_.scratch);
+    works_.rebase(sun::data(y_.get()));
     restart(t, segment.end);
   }
 
@@ -200,7 +217,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
     form_.unpack(t, sun::data(output_ready_ ? y_end_.get() : y_.get()), state);
   }
   void integrals(std::span<double> out) const override {
-    form_.integrals(sun::data(output_ready_ ? y_end_.get() : y_.get()), out);
+    works_.values(sun::data(output_ready_ ? y_end_.get() : y_.get()), out);
   }
 
   void add_counters(SolverStats& stats) const override {
@@ -265,6 +282,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
     sun::check(ERKStepSetInitStep(erk_.get(), 0.0), "ERKStepSetInitStep");  // ARKODE's estimate
     sun::check(ERKStepReset(erk_.get(), t0, y_.get()), "ERKStepReset");
     sun::check(ERKStepSetStopTime(erk_.get(), stop), "ERKStepSetStopTime");
+    restart_steps_ = accepted_steps_;
     t_ = t0;
     step_start_ = t0;
     stop_ = stop;
@@ -534,6 +552,8 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
 
   SolverOptions options_;
   OdeForm form_;
+  /// The works in y as increments since the last (re)start (reference/integral_weights.hpp).
+  IntegralBase works_{{form_.work_index(), form_.integral_count()}};
   sun::OdeCallbackData data_;
   sun::Context context_;
   sun::Vector y_;                                    ///< the solution at t_
@@ -563,6 +583,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
   bool output_ready_ = false;  ///< y_end_ holds the last output (else y_ is the state)
   bool root_pending_ = false;  ///< y_, t_ are a located event not yet returned
   long accepted_steps_ = 0;
+  long restart_steps_ = 0;       ///< accepted_steps_ at the last restart
   long rejected_steps_ = 0;      ///< steps discarded by the contact step-doubling test
   mutable SolverStats counted_;  ///< counters already added to the run
   // Declared last so that they are freed first (as in SUNDIALS' examples).

@@ -87,6 +87,16 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     }
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
+    // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
+    // works, contiguous in y.
+    data_.rtol = options.rtol;
+    data_.atol = options.absolute_tolerance();
+    data_.integrals = {form_.depth_index(), form_.depth_count() + form_.integral_count()};
+    data_.solver_memory = cvode_.get();
+    data_.steps_since_init = [](void* cvode) {
+      long steps = 0;
+      return CVodeGetNumSteps(cvode, &steps) < 0 ? 0L : steps;
+    };
     data_.scratch.workspace.constraint_stabilization = options.constraint_stabilization;
     if (model.has_constraints()) data_.projected.resize(static_cast<std::size_t>(form_.size()));
     data_.jacobian = options.jacobian;
@@ -104,15 +114,20 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     form_.pack(state, sun::data(y_.get()));
     // Ideal joints: every segment starts on the constraint manifold.
     form_.project(segment.start, sun::data(y_.get()), data_.scratch);
-    form_.set_integrals(sun::data(y_.get()), integrals);
+    works_.start(integrals, sun::data(y_.get()));
     void* cvode = cvode_.get();
     if (!initialized_) {
       sun::check(CVodeInit(cvode, sun::ode_rhs, segment.start, y_.get()), "CVodeInit");
       sun::check(CVodeSetUserData(cvode, &data_), "CVodeSetUserData");
       sun::check(CVodeSetErrHandlerFn(cvode, sun::record_error, &data_.log),
                  "CVodeSetErrHandlerFn");
-      sun::check(CVodeSStolerances(cvode, options_.rtol, options_.absolute_tolerance()),
-                 "CVodeSStolerances");
+      if (data_.integrals.count > 0) {
+        sun::check(CVodeWFtolerances(cvode, sun::integral_error_weights<sun::OdeCallbackData>),
+                   "CVodeWFtolerances");
+      } else {
+        sun::check(CVodeSStolerances(cvode, options_.rtol, options_.absolute_tolerance()),
+                   "CVodeSStolerances");
+      }
       if (iterates_fixed_point()) {
         sun::check(CVodeSetNonlinearSolver(cvode, fixed_point_.get()), "CVodeSetNonlinearSolver");
       } else {
@@ -211,6 +226,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     sun::check(CVodeSetNonlinearSolver(cvode, newton_solver_.get()), "CVodeSetNonlinearSolver");
     attach_newton(cvode);
     sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
+    works_.rebase(sun::data(y_.get()));
     sun::check(CVodeReInit(cvode, t, y_.get()), "CVodeReInit");
     sun::check(CVodeSetStopTime(cvode, segment_end_), "CVodeSetStopTime");
   }
@@ -222,6 +238,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     if (method_ == CvodeMethod::kAdams || model_->has_constraints()) {
       form_.project(t, sun::data(y_.get()), data_.scratch);
     }
+    works_.rebase(sun::data(y_.get()));
     sun::check(CVodeReInit(cvode_.get(), t, y_.get()), "CVodeReInit");
     sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
     segment_end_ = segment.end;
@@ -230,9 +247,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  void integrals(std::span<double> out) const override {
-    form_.integrals(sun::data(y_.get()), out);
-  }
+  void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
 
   void add_counters(SolverStats& stats) const override {
     void* cvode = cvode_.get();
@@ -275,6 +290,8 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   NewtonJacobian newton_;
   OdeForm form_;
   std::optional<StructuredJacobian> structured_;
+  /// The works in y as increments since the last (re)start (reference/integral_weights.hpp).
+  IntegralBase works_{{form_.work_index(), form_.integral_count()}};
   sun::OdeCallbackData data_;
   bool initialized_ = false;
   sun::Context context_;

@@ -46,6 +46,9 @@ DaeForm::DaeForm(const core::Model& model) : model_(&model), fixed_(model.initia
     size_ = k.end;
     max_rows_ = std::max(max_rows_, 6 + k.n);
   }
+  depth_index_ = size_;
+  depth_count_ = model.wear_depth_count();
+  size_ += depth_count_;
   if (model.tracks_work()) {
     work_index_ = size_;
     integral_count_ = 1 + model.extra_integral_count();
@@ -115,6 +118,12 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
     MapX(yp + k.q, k.n) = s.qd_f;
     MapX(yp + k.v_q, k.n) = acc[i].qdd_f;
   }
+  if (depth_count_ > 0) {
+    MapX(y + depth_index_, depth_count_) = state.wear_depth;
+    model_->wear_depth_rates(
+        context, state, ws,
+        std::span<double>(yp + depth_index_, static_cast<std::size_t>(depth_count_)));
+  }
   if (work_index_ >= 0) {
     for (int j = 0; j < integral_count_; ++j) y[work_index_ + j] = 0.0;
     model_->integral_rates(
@@ -155,6 +164,7 @@ void DaeForm::unpack(double t, const double* y, core::State& state) const {
     s.q_f = ConstMapX(y + k.q, k.n);
     s.qd_f = ConstMapX(y + k.v_q, k.n);
   }
+  state.wear_depth = ConstMapX(y + depth_index_, depth_count_);
   model_->apply_prescribed_motion(t, state);
 }
 
@@ -274,6 +284,13 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
     MapX(res + k.q, k.n) = ConstMapX(yp + k.q, k.n) - ConstMapX(y + k.v_q, k.n);  // q̇ − v_q
     MapX(res + k.v_q, k.n) = r.tail(k.n);                                         // modal rows
     if (joints) MapX(res + k.q, k.n) += scratch.multipliers.segment(layout.size() + o + 6, k.n);
+  }
+  if (depth_count_ > 0) {
+    // h' − the contacts' wear rates = 0 (rates into res, then subtracted)
+    model_->wear_depth_rates(
+        context, state, scratch.workspace,
+        std::span<double>(res + depth_index_, static_cast<std::size_t>(depth_count_)));
+    for (int j = depth_index_; j < depth_index_ + depth_count_; ++j) res[j] = yp[j] - res[j];
   }
   if (work_index_ >= 0) {
     // W_d' − P = 0, and each extra integral's W' − rate = 0 (rates into res, then subtracted);

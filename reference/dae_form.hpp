@@ -11,7 +11,8 @@
 ///   M(θ̂, q) (v̇, ω̄̇, v̇_q) − (Qe + Qv − [0; 0; K q + D v_q]) = 0
 ///                        (Model::dynamics_residual: translation, rotation in the body frame,
 ///                         modal rows; θ̂ = θ/|θ| in every load and in A)
-/// and, last, when the model dissipates, Ẇ_d − P = 0 (the dissipated work). The layout of y is
+/// then the contacts' worn depths, ḣ − Model::wear_depth_rates = 0 (docs/wear.md), and, last,
+/// when the model dissipates, Ẇ_d − P = 0 (the dissipated work). The layout of y is
 /// the ODE form's (reference/ode_form.hpp): a Jacobian of the ODE right-hand side serves IDA
 /// too (reference/ode_jacobian.hpp).
 ///
@@ -69,8 +70,11 @@ class DaeForm {
   /// restricted to the rows and columns the body integrates. F is linear in y', so P is exact.
   void mass_rows(const core::LoadContext& context, const double* y,
                  Eigen::Ref<Eigen::MatrixXd> mass, Scratch& scratch) const;
-  /// State at time t and y (θ normalized; prescribed bodies follow their law).
+  /// State at time t and y (θ normalized; prescribed bodies follow their law; the worn depths).
   void unpack(double t, const double* y, core::State& state) const;
+  /// Index of the first worn depth in y and their count (Model::wear_depth_count()).
+  int depth_index() const { return depth_index_; }
+  int depth_count() const { return depth_count_; }
 
   /// Index of the dissipated work W_d in y (differential, W_d' = dissipated power), or −1.
   int work_index() const { return work_index_; }
@@ -117,6 +121,8 @@ class DaeForm {
   std::vector<Block> blocks_;
   int size_ = 0;
   int max_rows_ = 6;
+  int depth_index_ = 0;
+  int depth_count_ = 0;
   int work_index_ = -1;
   int integral_count_ = 0;
   int multiplier_index_ = -1;

@@ -202,6 +202,16 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         ida_(sun::check_created(IDACreate(context_.get()), "IDACreate")) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
+    // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
+    // works, contiguous in y.
+    data_.rtol = options.rtol;
+    data_.atol = options.absolute_tolerance();
+    data_.integrals = {form_.depth_index(), form_.depth_count() + form_.integral_count()};
+    data_.solver_memory = ida_.get();
+    data_.steps_since_init = [](void* ida) {
+      long steps = 0;
+      return IDAGetNumSteps(ida, &steps) < 0 ? 0L : steps;
+    };
     if (newton == NewtonJacobian::kStructured) {
       data_.structured = &*structured_;
       data_.structured_scratch = structured_->make_scratch();
@@ -225,7 +235,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     // Consistent (y, y') on the new load branch: y' from the quasi-velocity accelerations.
     form_.initial_values(core::LoadContext{segment.start, segment.t_segment}, state,
                          sun::data(y_.get()), sun::data(yp_.get()));
-    form_.set_integrals(sun::data(y_.get()), integrals);
+    works_.start(integrals, sun::data(y_.get()));
     const int n = form_.size();
     if (form_.multiplier_count() > 0 && !initialized_) {
       double largest = 0.0;
@@ -242,7 +252,17 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       sun::check(IDAInit(ida, residual, segment.start, y_.get(), yp_.get()), "IDAInit");
       sun::check(IDASetUserData(ida, &data_), "IDASetUserData");
       sun::check(IDASetErrHandlerFn(ida, sun::record_error, &data_.log), "IDASetErrHandlerFn");
-      if (form_.multiplier_count() == 0) {
+      if (data_.integrals.count > 0) {
+        // The integrals' weights (sun::integral_error_weights), with the multipliers' own
+        // absolute tolerance (below) where the model has joints.
+        if (form_.multiplier_count() > 0) {
+          data_.atol_vector.assign(static_cast<std::size_t>(form_.size()),
+                                   options_.absolute_tolerance());
+          std::fill(data_.atol_vector.begin() + form_.multiplier_index(), data_.atol_vector.end(),
+                    multiplier_tolerance_);
+        }
+        sun::check(IDAWFtolerances(ida, sun::integral_error_weights<IdaData>), "IDAWFtolerances");
+      } else if (form_.multiplier_count() == 0) {
         sun::check(IDASStolerances(ida, options_.rtol, options_.absolute_tolerance()),
                    "IDASStolerances");
       } else {
@@ -317,10 +337,10 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   void restart_at_root(double t, const sun::Segment& segment) override {
     // Restart from consistent values at the event, θ back on the unit sphere.
     form_.unpack(t, sun::data(y_.get()), data_.scratch.state);
-    form_.integrals(sun::data(y_.get()), integrals_at_event_);
+    works_.values(sun::data(y_.get()), integrals_at_event_);
     form_.initial_values(core::LoadContext{t, segment.t_segment}, data_.scratch.state,
                          sun::data(y_.get()), sun::data(yp_.get()));
-    form_.set_integrals(sun::data(y_.get()), integrals_at_event_);
+    works_.start(integrals_at_event_, sun::data(y_.get()));
     sun::check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit");
     sun::check(IDASetStopTime(ida_.get(), segment.end), "IDASetStopTime");
   }
@@ -328,9 +348,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
   }
-  void integrals(std::span<double> out) const override {
-    form_.integrals(sun::data(y_.get()), out);
-  }
+  void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
 
   void add_counters(SolverStats& stats) const override {
     void* ida = ida_.get();
@@ -401,6 +419,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   DaeForm form_;
   OdeForm ode_;
   /// W_d and the extra integrals carried across a restart at an event (sized once).
+  /// The works in y as increments since the last (re)start (reference/integral_weights.hpp).
+  IntegralBase works_{{form_.work_index(), form_.integral_count()}};
   std::vector<double> integrals_at_event_ =
       std::vector<double>(static_cast<std::size_t>(form_.integral_count()));
   std::optional<StructuredJacobian> structured_;

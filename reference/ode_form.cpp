@@ -49,6 +49,9 @@ OdeForm::OdeForm(const core::Model& model) : model_(&model), fixed_(model.initia
     if (k.theta >= 0) theta_offsets_.push_back(k.theta);
     size_ = k.end;
   }
+  depth_index_ = size_;
+  depth_count_ = model.wear_depth_count();
+  size_ += depth_count_;
   if (model.tracks_work()) {
     work_index_ = size_;
     integral_count_ = 1 + model.extra_integral_count();
@@ -80,6 +83,7 @@ void OdeForm::pack_bodies(const core::State& state, double* y) const {
     MapX(y + k.q, k.n) = s.q_f;
     MapX(y + k.qd, k.n) = s.qd_f;
   }
+  MapX(y + depth_index_, depth_count_) = state.wear_depth;
 }
 
 void OdeForm::unpack(double t, const double* y, core::State& state) const {
@@ -100,6 +104,7 @@ void OdeForm::unpack(double t, const double* y, core::State& state) const {
     s.q_f = ConstMapX(y + k.q, k.n);
     s.qd_f = ConstMapX(y + k.qd, k.n);
   }
+  state.wear_depth = ConstMapX(y + depth_index_, depth_count_);
   model_->apply_prescribed_motion(t, state);
 }
 
@@ -122,6 +127,12 @@ void OdeForm::rhs(const core::LoadContext& context, const double* y, double* ydo
     }
     MapX(ydot + k.q, k.n) = s.qd_f;    // q̇_f
     MapX(ydot + k.qd, k.n) = a.qdd_f;  // q̈_f
+  }
+  if (depth_count_ > 0) {
+    // h' = the contacts' wear rates at the same state
+    model_->wear_depth_rates(
+        context, scratch.state, scratch.workspace,
+        std::span<double>(ydot + depth_index_, static_cast<std::size_t>(depth_count_)));
   }
   if (work_index_ >= 0) {
     // W_d' = dissipated power at the same state, and the extra integrals' rates

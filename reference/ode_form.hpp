@@ -5,9 +5,11 @@
 ///   free  [p_WBr(3) θ(4) v_WBr(3) ω̄(3)]   ṗ = v,  θ̇ = ½ θ ⊗ (0, ω̄),  v̇ = a,  ω̄̇ = α̅
 ///   pivot [θ(4) ω̄(3)]
 ///   prescribed []                         (the angle law gives θ, ω̄ at the time of evaluation)
-/// followed, for a flexible body, by [q_f(n) q̇_f(n)] with q̇_f' = q̈_f; and last, when the
-/// model dissipates, the dissipated work W_d with W_d' = Model::dissipated_power (the energy
-/// balance E(t) − E(0) + W_d(t) = work of applied loads is then an output).
+/// followed, for a flexible body, by [q_f(n) q̇_f(n)] with q̇_f' = q̈_f; then the contacts' worn
+/// depths h with h' = Model::wear_depth_rates (docs/wear.md; states that the contacts'
+/// geometry sees); and last, when the model dissipates, the dissipated work W_d with W_d' =
+/// Model::dissipated_power (the energy balance E(t) − E(0) + W_d(t) = work of applied loads is
+/// then an output) and the model's extra integrals.
 /// The Euler parameters drift off the unit sphere under a generic solver; solvers project
 /// them back (normalize_euler_parameters), which is the projection CVODE is given.
 #include <cstddef>
@@ -47,8 +49,11 @@ class OdeForm {
   /// Ideal joints: projects the bodies' state in y onto Φ = 0 and J v + Φ_t = 0 at t
   /// (core::Model::project; θ unit); the integrals are left as they are.
   void project(double t, double* y, Scratch& scratch) const;
-  /// Packs the bodies' state into y, the integrals left as they are.
+  /// Packs the bodies' state and the worn depths into y, the integrals left as they are.
   void pack_bodies(const core::State& state, double* y) const;
+  /// Index of the first worn depth in y and their count (Model::wear_depth_count()).
+  int depth_index() const { return depth_index_; }
+  int depth_count() const { return depth_count_; }
   /// Index of W_d in y, or −1 when not tracked.
   int work_index() const { return work_index_; }
   double dissipated_work(const double* y) const { return work_index_ < 0 ? 0.0 : y[work_index_]; }
@@ -84,6 +89,8 @@ class OdeForm {
   std::vector<Block> blocks_;
   std::vector<int> theta_offsets_;
   int size_ = 0;
+  int depth_index_ = 0;
+  int depth_count_ = 0;
   int work_index_ = -1;
   int integral_count_ = 0;
 };

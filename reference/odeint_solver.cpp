@@ -44,6 +44,7 @@
 #include "core/error.hpp"
 #include "core/impact_counter.hpp"
 #include "reference/continuous_extension.hpp"
+#include "reference/integral_weights.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
@@ -57,7 +58,54 @@ namespace odeint = boost::numeric::odeint;
 
 using StateVector = std::vector<double>;
 using ErrorStepper = odeint::runge_kutta_fehlberg78<StateVector>;
-using ControlledStepper = odeint::controlled_runge_kutta<ErrorStepper>;
+
+/// The integral components' tolerance (reference/integral_weights.hpp): divided by `factor`,
+/// the steps since the segment start, and not below 100 round-offs of the value.
+struct IntegralScaling {
+  IntegralComponents integrals;
+  double factor = 1.0;
+  /// The tolerance `tol` of component i at value x.
+  double tolerance(std::size_t i, double tol, double x) const {
+    const auto k = static_cast<int>(i);
+    if (k < integrals.first || k >= integrals.first + integrals.count) return tol;
+    return std::max(tol / factor, 100.0 * std::numeric_limits<double>::epsilon() * std::abs(x));
+  }
+};
+
+/// odeint's default error checker, max_i |err_i| / (atol + rtol (|x_i| + h |ẋ_i|)), with the
+/// integral components' tolerances scaled (IntegralScaling).
+class IntegralErrorChecker {
+ public:
+  using value_type = double;
+  using algebra_type = ErrorStepper::algebra_type;
+  using operations_type = ErrorStepper::operations_type;
+
+  IntegralErrorChecker(double atol, double rtol, const IntegralScaling* scaling)
+      : atol_(atol), rtol_(rtol), scaling_(scaling) {}
+
+  template <class State, class Deriv, class Err, class Time>
+  double error(const State& x_old, const Deriv& dxdt_old, Err& x_err, Time dt) const {
+    double largest = 0.0;
+    for (std::size_t i = 0; i < x_old.size(); ++i) {
+      const double tol = scaling_->tolerance(
+          i, atol_ + rtol_ * (std::abs(x_old[i]) + std::abs(dt) * std::abs(dxdt_old[i])), x_old[i]);
+      largest = std::max(largest, std::abs(x_err[i]) / tol);
+    }
+    return largest;
+  }
+  template <class State, class Deriv, class Err, class Time>
+  double error(algebra_type& /*algebra*/, const State& x_old, const Deriv& dxdt_old, Err& x_err,
+               Time dt) const {
+    return error(x_old, dxdt_old, x_err, dt);
+  }
+
+ private:
+  double atol_;
+  double rtol_;
+  const IntegralScaling* scaling_;
+};
+
+using ControlledStepper = odeint::controlled_runge_kutta<ErrorStepper, IntegralErrorChecker>;
 
 /// Times closer than this to a segment boundary or output time are taken as it: a few ulp.
 double time_slack(double t) {
@@ -142,8 +190,8 @@ class Integrator {
         options_(options),
         stats_(&stats),
         scratch_(form.make_scratch()),
-        stepper_(
-            odeint::make_controlled(options.absolute_tolerance(), options.rtol, ErrorStepper())),
+        scaling_{{form.depth_index(), form.depth_count() + form.integral_count()}, 1.0},
+        stepper_(IntegralErrorChecker(options.absolute_tolerance(), options.rtol, &scaling_)),
         x_(static_cast<std::size_t>(form.size())),
         x_new_(x_.size()),
         x_mid_(x_.size()),
@@ -176,11 +224,12 @@ class Integrator {
   /// Starts a segment at the current time: the loads switch to the branch at t_segment.
   void begin_segment(const core::State& state, double t_segment) {
     t_segment_ = t_segment;
-    form_->integrals(x_.data(), carried_);  // W_d and the extra integrals, across segments
+    works_.values(x_.data(), carried_);  // W_d and the extra integrals, across segments
     form_->pack(state, x_.data());
     // Ideal joints: every segment starts on the constraint manifold.
     if (form_->model().has_constraints()) form_->project(t_, x_.data(), scratch_);
-    form_->set_integrals(x_.data(), carried_);
+    works_.start(carried_, x_.data());
+    scaling_.factor = 1.0;
     evaluate_derivative();
     evaluate_switching(x_, t_, g_);
     t_previous_ = t_;
@@ -265,6 +314,7 @@ class Integrator {
       // A truncated landing step does not shrink the next proposal.
       dt_ = landed && h < dt_ ? std::max(dt_, h_next) : h_next;
       ++stats_->steps;
+      scaling_.factor += 1.0;  // the steps since the segment start, for the next step's test
       if (++steps_since_output_ > options_.max_steps) {
         throw core::SolverError("odeint", t_, stats_->steps,
                                 "more than max_steps = " + std::to_string(options_.max_steps) +
@@ -299,9 +349,9 @@ class Integrator {
   /// W_d and the extra integrals at the output t just computed by output().
   void output_integrals(double t, std::span<double> out) const {
     if (t >= t_ - time_slack(t_)) {
-      form_->integrals(x_.data(), out);
+      works_.values(x_.data(), out);
     } else {
-      form_->integrals(x_output_.data(), out);  // the values output(t) just interpolated
+      works_.values(x_output_.data(), out);  // the values output(t) just interpolated
     }
   }
 
@@ -354,7 +404,8 @@ class Integrator {
     const double atol = options_.absolute_tolerance();
     double error = 0.0;
     for (std::size_t i = 0; i < x_.size(); ++i) {
-      const double scale = atol + rtol * (std::abs(x_[i]) + h * std::abs(dxdt_[i]));
+      const double scale =
+          scaling_.tolerance(i, atol + rtol * (std::abs(x_[i]) + h * std::abs(dxdt_[i])), x_[i]);
       error = std::max(error, std::abs(x_output_[i] - x_new_[i]) / scale);
     }
     if (!(error <= 1.0)) {
@@ -506,6 +557,10 @@ class Integrator {
   SolverStats* stats_;
   reference::OdeForm::Scratch scratch_;
   Counters counters_;
+  /// The works in x as increments since the segment start, and the integrals' tolerances
+  /// (reference/integral_weights.hpp; odeint does not restart at events).
+  IntegralBase works_{{form_->work_index(), form_->integral_count()}};
+  IntegralScaling scaling_;
   ControlledStepper stepper_;
   StateVector x_, x_new_, x_mid_, dxdt_, dxdt_mid_;
   /// The state and derivative at the near end of a located switch's bracket (locate_event).

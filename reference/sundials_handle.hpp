@@ -34,6 +34,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <span>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,8 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "reference/integral_weights.hpp"
 
 namespace flexref::reference::sundials {
 
@@ -150,7 +153,38 @@ struct CallbackRecord {
   ErrorLog log;
   std::exception_ptr callback_error;
   double last_nonfinite_time = std::numeric_limits<double>::quiet_NaN();
+  /// The error weights (integral_error_weights): the tolerances, the integral components of y,
+  /// and how to count the solver's steps since its last (re)initialization.
+  double rtol = 0.0;
+  double atol = 0.0;
+  /// When not empty, each component's own atol instead (IDA's multipliers: ida_solver.cpp).
+  std::vector<double> atol_vector;
+  IntegralComponents integrals;
+  void* solver_memory = nullptr;
+  long (*steps_since_init)(void* solver_memory) = nullptr;
 };
+
+/// The solvers' error-weight function (CVEwtFn, ARKEwtFn, IDAEwtFn; user_data a CallbackRecord
+/// of type Data): w_i = 1/(rtol |y_i| + atol), as SUNDIALS' scalar tolerances give, with the
+/// integral components' weights scaled by the steps since the solver's last (re)initialization
+/// (reference/integral_weights.hpp). Returns −1 (the solver stops) where a weight is not
+/// positive and finite.
+template <typename Data>
+int integral_error_weights(N_Vector y, N_Vector ewt, void* user_data) {
+  const auto& d = static_cast<const CallbackRecord&>(*static_cast<Data*>(user_data));
+  const sunindextype n = N_VGetLength_Serial(y);
+  const double* yv = N_VGetArrayPointer(y);
+  double* w = N_VGetArrayPointer(ewt);
+  for (sunindextype i = 0; i < n; ++i) {
+    const double atol = d.atol_vector.empty() ? d.atol : d.atol_vector[static_cast<std::size_t>(i)];
+    w[i] = 1.0 / (d.rtol * std::abs(yv[i]) + atol);
+    if (!(w[i] > 0.0) || !std::isfinite(w[i])) return -1;
+  }
+  const long steps = d.steps_since_init != nullptr ? d.steps_since_init(d.solver_memory) : 0;
+  scale_integral_weights(d.integrals, steps, d.rtol, d.atol, yv,
+                         std::span<double>(w, static_cast<std::size_t>(n)));
+  return 0;
+}
 
 /// `what`, then the solver's message, the callback's exception and the last non-finite
 /// evaluation, if any. `callback` names the function ("right-hand side", "residual").

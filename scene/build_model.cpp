@@ -240,7 +240,7 @@ std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
       return labelled(
           std::make_unique<contact::GapSupport>(
               g.body, g.p_BoN_B, attachment(bodies, g.body, g.node, spec.source, "node"),
-              g.geometry, *law, spec.friction, m_eff, spec.name),
+              g.geometry, *law, spec.friction, m_eff, spec.name, spec.wear),
           spec.source, "contact", spec.name);
     }
     std::vector<contact::ContactPair> pairs = spec.pairs;
@@ -250,10 +250,11 @@ std::unique_ptr<const core::ForceElement> build_contact(const ContactSpec& spec,
                             p.body_a >= 0 ? "node_b" : "node");
     }
     return labelled(std::make_unique<contact::ContactElement>(std::move(pairs), *law, spec.friction,
-                                                              m_eff, spec.name),
+                                                              m_eff, spec.name, spec.wear),
                     spec.source, "contact", spec.name);
   } catch (const std::invalid_argument& e) {
-    throw SpecError(spec.source, "", e.what());
+    throw SpecError(spec.source, std::string(e.what()).starts_with("wear law") ? "wear" : "",
+                    e.what());
   }
 }
 

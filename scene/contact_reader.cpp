@@ -3,6 +3,7 @@
 /// ContactSpec and JointSpec.
 #include <Eigen/Core>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,20 +52,87 @@ GapSupportSpec read_gap_support(const Table& t, int body, const std::vector<Body
   return gap;
 }
 
+/// The `wear` table of a [[contact]] (docs/wear.md): the law and its parameters, checked against
+/// the contact's kind. `gap` is the contact's gap support (nullopt for point and sphere
+/// contacts).
+core::WearLaw read_wear(const Table& contact, const std::optional<GapSupportSpec>& gap,
+                        std::size_t points) {
+  const std::optional<Table> table = contact.table(
+      "wear", "a wear law { law = \"archard\" | \"work-rate\", coefficient = ..., ... }");
+  const Table& t = *table;
+  if (!contact.has("name")) {
+    contact.fail("wear",
+                 "a wear law needs a named contact (its depths are written as C.depth1, ...); "
+                 "expected a name = \"...\" key");
+  }
+  t.check_keys({"law", "coefficient", "hardness", "area", "acceleration", "sectors", "thickness",
+                "radius", "depth"});
+  core::WearLaw law;
+  law.kind = t.choice("law", {"archard", "work-rate"}, -1) == 0 ? core::WearLaw::Kind::kArchard
+                                                                : core::WearLaw::Kind::kWorkRate;
+  const bool archard = law.kind == core::WearLaw::Kind::kArchard;
+  law.coefficient = t.number("coefficient", Sign::kPositive,
+                             archard ? "a positive dimensionless wear coefficient k"
+                                     : "a positive work-rate coefficient K_w in 1/Pa (m^3/(N*m))");
+  if (archard) {
+    law.hardness = t.number("hardness", Sign::kPositive, "a positive hardness H in Pa");
+  } else {
+    reject_keys(t, {"hardness"}, "applies only to law = \"archard\"");
+  }
+  law.acceleration = t.number_or("acceleration", 1.0, Sign::kPositive,
+                                 "a positive acceleration factor (multiplies the coefficient)");
+  if (gap) {
+    reject_keys(t, {"area"},
+                "a gap support wears by sectors of area (2 pi radius / sectors) * thickness");
+    if (gap->geometry.kind != contact::GapSupportGeometry::Kind::kCircular) {
+      contact.fail("wear",
+                   "a wear law applies to a circular gap support only (shape = "
+                   "\"circular\")");
+    }
+    const double sectors =
+        t.number("sectors", Sign::kPositive, "a whole number of angular sectors >= 1");
+    if (sectors < 1.0 || sectors != std::floor(sectors) || sectors > 1e5) {
+      t.fail("sectors",
+             "expected a whole number of angular sectors in [1, 100000], got " + format(sectors));
+    }
+    law.sectors = static_cast<int>(sectors);
+    law.thickness = t.number("thickness", Sign::kPositive, "the support's positive thickness in m");
+    law.radius = t.number("radius", Sign::kPositive, "the hole's positive radius in m");
+  } else {
+    reject_keys(t, {"sectors", "thickness", "radius"}, "applies only to a gap support");
+    law.area =
+        t.number("area", Sign::kPositive, "the positive area of each contact point's pin in m^2");
+  }
+  if (t.has("depth")) {
+    // The worn depths at t = 0 (the support or pins as inspected), one per sector or point.
+    const std::size_t n = gap ? static_cast<std::size_t>(law.sectors) : points;
+    const std::string expected = "an array of " + std::to_string(n) +
+                                 " worn depths >= 0 in m, one per " + (gap ? "sector" : "point");
+    const toml::value* v = t.find("depth");
+    if (!v->is_array() || v->as_array().size() != n) {
+      t.fail("depth", "expected " + expected + ", got " + scene_toml::describe(*v));
+    }
+    for (const toml::value& x : v->as_array()) {
+      law.initial_depth.push_back(t.to_number(x, "depth", Sign::kNonNegative, expected));
+    }
+  }
+  return law;
+}
+
 }  // namespace
 
 ContactSpec read_contact(const Table& t, const BodyNames& names,
                          const std::vector<BodySpec>& bodies) {
-  t.check_keys({"kind",          "name",        "node",
-                "node_b",        "axis_point",  "axis",
-                "clearance",     "shape",       "body",
-                "center",        "centers",     "radius",
-                "point",         "points",      "body_b",
-                "center_b",      "radius_b",    "plane_point",
-                "plane_normal",  "law",         "stiffness",
-                "exponent",      "restitution", "reference_speed",
-                "damping",       "friction",    "regularization_speed",
-                "effective_mass"});
+  t.check_keys({"kind",           "name",        "node",
+                "node_b",         "axis_point",  "axis",
+                "clearance",      "shape",       "body",
+                "center",         "centers",     "radius",
+                "point",          "points",      "body_b",
+                "center_b",       "radius_b",    "plane_point",
+                "plane_normal",   "law",         "stiffness",
+                "exponent",       "restitution", "reference_speed",
+                "damping",        "friction",    "regularization_speed",
+                "effective_mass", "wear"});
   const int kind =
       t.choice("kind", {"sphere-plane", "point-plane", "sphere-sphere", "gap-support"}, -1);
   const int body = names.resolve(t, "body");
@@ -197,6 +265,7 @@ ContactSpec read_contact(const Table& t, const BodyNames& names,
                                  "a friction coefficient mu >= 0 (0: frictionless)");
   spec.friction.v_reg = t.number_or("regularization_speed", 1e-3, Sign::kPositive,
                                     "a positive regularization speed in m/s");
+  if (t.has("wear")) spec.wear = read_wear(t, spec.gap, spec.pairs.size());
   return spec;
 }
 

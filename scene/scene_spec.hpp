@@ -107,6 +107,8 @@ struct ContactSpec {
   std::optional<GapSupportSpec> gap;
   /// Non-empty: the contact's wear outputs are written under this name (docs/output.md).
   std::string name;
+  /// The contact's wear law (docs/wear.md; a named contact only): its worn depths become states.
+  std::optional<core::WearLaw> wear;
   ContactLawSpec law;
   contact::FrictionLaw friction;
   /// kg; 0: the mass of the pairs' body shared by the pairs (reduced with the other body's for

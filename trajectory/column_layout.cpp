@@ -46,6 +46,9 @@ const std::vector<KindDescription>& description() {
       {K::slip_speed, O::contact, {"slip_speed"}, {}, "m/s", "a slip speed", false},
       {K::wear_work, O::contact, {"wear_work"}, {}, "J", "a wear work", true},
       {K::impacts, O::contact, {"impacts"}, {}, "-", "a number of impacts", false},
+      {K::wear_depth, O::contact, {"wear_depth"}, {}, "m", "a largest worn depth", false},
+      {K::wear_volume, O::contact, {"wear_volume"}, {}, "m^3", "a worn volume", false},
+      {K::depth, O::contact, {}, "depth", "m", "a worn depth", false},
   };
   return kinds;
 }
@@ -199,11 +202,17 @@ ColumnLayout ColumnLayout::of(const core::Model& model) {
     if (model.tracks_drive_work()) add(ColumnKind::drive_work, {});
     add(ColumnKind::energy_balance, {});
   }
-  for (const std::string& c : model.wear_channel_names()) {
+  const std::vector<std::string>& channels = model.wear_channel_names();
+  for (std::size_t c = 0; c < channels.size(); ++c) {
     for (ColumnKind k : {ColumnKind::normal_force, ColumnKind::slip_speed, ColumnKind::wear_work,
                          ColumnKind::impacts}) {
-      add(k, c);
+      add(k, channels[c]);
     }
+    const int depths = model.channel_depth_count(static_cast<int>(c));
+    if (depths == 0) continue;
+    add(ColumnKind::wear_depth, channels[c]);
+    add(ColumnKind::wear_volume, channels[c]);
+    add_modes(ColumnKind::depth, channels[c], depths);
   }
   return layout;
 }

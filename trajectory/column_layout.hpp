@@ -10,7 +10,8 @@
 /// joints and contacts have no dots (scenes/README.md), so the dots split a name unambiguously,
 /// and every suffix belongs to one kind: `x y z` (position), `e0..e3` (Euler parameters),
 /// `vx vy vz`, `W1 W2 W3`, `q<k>`, `qd<k>`, `drive_torque`; a joint's `fx fy fz`, `tx ty tz`,
-/// `phi`, `phi_dot`; a contact's `fn`, `slip_speed`, `wear_work`, `impacts`.
+/// `phi`, `phi_dot`; a contact's `fn`, `slip_speed`, `wear_work`, `impacts`, and with a wear law
+/// `wear_depth`, `wear_volume`, `depth<k>`.
 #include <span>
 #include <string>
 #include <string_view>
@@ -45,6 +46,9 @@ enum class ColumnKind {
   slip_speed,        ///< its slip speed, m/s
   wear_work,         ///< its wear work, J
   impacts,           ///< its number of impacts
+  wear_depth,        ///< its largest worn depth, m (a contact with a wear law)
+  wear_volume,       ///< its worn volume, m³
+  depth,             ///< the worn depth depth<k> of its point or sector k (from 1), m
   unknown,           ///< none of the above (a user's own column)
 };
 
@@ -57,7 +61,8 @@ struct Column {
   std::string owner;  ///< the body, joint or contact ("" for t and the energy columns)
   std::string point;  ///< the tracked point (kind point)
   /// The component within the kind's group (0 for x, e0, vx, W1, fx, tx; 1 for y, e1, …), or
-  /// the mode's index k of `q<k>`, `qd<k>` (from 1, as written).
+  /// the mode's index k of `q<k>`, `qd<k>`, or a contact's point or sector k of `depth<k>` (from
+  /// 1, as written).
   int component = 0;
   std::string name;  ///< the column's name as written
 };
@@ -91,7 +96,7 @@ class ColumnLayout {
   /// The columns of a model's trajectory table, in the order they are written: t; per body
   /// p, θ, v, ω̄, its tracked points, q<k>, qd<k>, the drive torque (prescribed bodies); per
   /// ideal joint its reaction and violations; the energy columns the model has; per named
-  /// contact its four outputs.
+  /// contact its four outputs, then with a wear law its largest depth, volume and depths.
   static ColumnLayout of(const core::Model& model);
 
   /// The typed columns of a header, in its order; unknown names stay as kind unknown.

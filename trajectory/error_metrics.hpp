@@ -76,8 +76,9 @@ struct ComparisonReport {
   /// as `energy`), and the largest |t_run − t_ref| accepted when matching rows.
   std::vector<std::string> ignored_columns;
   double max_time_offset = 0.0;
-  /// Named contacts' final wear work: max over contacts of |W − W_ref|/|W_ref| at the last
-  /// output (|W| when W_ref = 0); −1 when the tables have no `C.wear_work` column.
+  /// Named contacts' final wear work and largest worn depth (C.wear_depth, contacts with a wear
+  /// law): max over them of |W − W_ref|/|W_ref| at the last output (|W| when W_ref = 0); −1 when
+  /// the tables have no `C.wear_work` column.
   double max_wear_relative = -1.0;
 };
 

@@ -236,11 +236,13 @@ ComparisonReport compare_cells(const TrajectoryTable& shape, Cell cell) {
     }
     if (q.bound < kHeldFraction * largest) q.bound = std::numeric_limits<double>::infinity();
   }
-  // Wear work of named contacts: the relative error of the final value (the cumulative work is
-  // what a wear model consumes; its history is monotone).
+  // Wear work of named contacts, and the largest worn depth of those with a wear law: the
+  // relative error of the final value (the cumulative work is what a wear model consumes, the
+  // depth what it produces; both histories are monotone).
   const std::vector<std::string>& cols = shape.columns;
   for (std::size_t i = 1; i < cols.size() && shape.size() > 0; ++i) {
-    if (parse_column(cols[i]).kind != ColumnKind::wear_work) continue;
+    const ColumnKind kind = parse_column(cols[i]).kind;
+    if (kind != ColumnKind::wear_work && kind != ColumnKind::wear_depth) continue;
     const std::size_t last = shape.size() - 1;
     const S a = cell(0, last, i);
     const S b = cell(1, last, i);

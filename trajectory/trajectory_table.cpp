@@ -129,6 +129,14 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
                           : std::numeric_limits<double>::quiet_NaN());
         row.push_back(counted ? trajectory.impacts[k * channels + c]
                               : std::numeric_limits<double>::quiet_NaN());
+        const int channel = static_cast<int>(c);
+        const int depths = model.channel_depth_count(channel);
+        if (depths == 0) continue;
+        // The worn depths of the state: the largest, the volume, each point's or sector's.
+        row.push_back(model.wear_depth_max(channel, state));
+        row.push_back(model.wear_volume(channel, state));
+        const int first = model.channel_depth_first(channel);
+        for (int j = first; j < first + depths; ++j) row.push_back(state.wear_depth(j));
       }
     }
     table.rows.push_back(std::move(row));

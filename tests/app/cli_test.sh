@@ -947,6 +947,33 @@ out=$(FLEXREF_PROGRESS=0,100 "$flexref" reference "$tmp/id_fs.toml" --solver cvo
   fail "modes --estimate-factor 4 is not a 4x tighter check"
 out=$("$flexref" modes scenes/flexible_spinner.toml --modes 2,4 --rtol 1e-14 --out "$tmp/id_m" 2>&1)
 [[ $? == 1 && $out == *"below 1e-14"* ]] || fail "a check tighter than 1e-14 was accepted: $out"
+# Wear (docs/wear.md): the multi-scale scheme and its study on the closed-form block, whose
+# corners wear at a constant rate (9.81e-4 m/s: every slow-time integrator is exact on it, up to
+# the windows' averaging: a window restarts with the corners 0.49 mm above the worn plane, they
+# fall and bounce, and 0.2 s later the rate is within 6e-7 of 9.81e-4 m/s; 1e-5 as the bound);
+# refused without a wear law, with nothing written.
+"$flexref" wear scenes/wear_block.toml --window 0.02 --transient 0.2 --jump 0.5 --until 2 \
+  --slow euler --out "$tmp/wear" >/dev/null 2>&1 || fail "wear on wear_block failed"
+for f in wear_depth.csv wear_profile.csv wear_windows.csv wear.txt study.toml; do
+  [[ -f $tmp/wear/$f ]] || fail "wear did not write $f"
+done
+tail -1 "$tmp/wear/wear_depth.csv" |
+  awk -F, '{ exit !($1 == 2 && $2 > 1.962e-3 * (1 - 1e-5) && $2 < 1.962e-3 * (1 + 1e-5)) }' ||
+  fail "wear on wear_block: the depth at 2 s is not 1.962e-3 m: $(tail -1 "$tmp/wear/wear_depth.csv")"
+grep -q 'law = "archard"' "$tmp/wear/study.toml" || fail "wear's study.toml does not record the law"
+out=$("$flexref" wear scenes/sliding_block.toml --out "$tmp/wear_none" 2>&1)
+[[ $? == 1 && $out == *"no contact with a wear law"* && ! -e $tmp/wear_none ]] ||
+  fail "wear on a scene without a wear law: $out"
+out=$("$flexref" wear scenes/wear_block.toml --slow rk4 --out "$tmp/wear_bad" 2>&1)
+[[ $? == 2 && ! -e $tmp/wear_bad ]] || fail "wear --slow rk4 was not a usage error: $out"
+"$flexref" wear-jump scenes/wear_block.toml --slow euler,heun --jumps 1,2 --windows 0.02 \
+  --transient 0.2 --out "$tmp/wear_jump" >/dev/null 2>&1 || fail "wear-jump on wear_block failed"
+[[ $(head -1 "$tmp/wear_jump/wear_jump.csv") == "slow,jump,window,error,cpu,speedup,status" ]] ||
+  fail "wear_jump.csv's header: $(head -1 "$tmp/wear_jump/wear_jump.csv")"
+[[ $(tail -1 "$tmp/wear_jump/wear_jump.txt") == "  heun claimed 2, observed "*" over "*" levels" ]] ||
+  fail "wear_jump.txt does not end with the order lines: $(tail -2 "$tmp/wear_jump/wear_jump.txt")"
+[[ $(head -1 "$tmp/wear_jump/wear_jump_distances.csv") == "slow,window,coarse,fine,distance,used,limit_error" ]] ||
+  fail "wear_jump_distances.csv's header: $(head -1 "$tmp/wear_jump/wear_jump_distances.csv")"
 # The README's scene list is the folder's content, and its quad figure is a run's.
 listed=$(sed -n '/^## Bundled scenes/,/^## Layout/p' README.md | grep -o '`[a-z][a-z0-9_]*`' |
   tr -d '`' | sort -u)

@@ -179,6 +179,13 @@ TEST_CASE("the wear metric is the relative error of each contact's final wear wo
   const trajectory::ComparisonReport r = trajectory::compare_trajectories(a, b);
   // |2.2 − 2.0| / 2.0 = 0.1 to the representation error of 2.2 and 0.1 (a few ε): 1e-12.
   CHECK(trajectory::metric_value(r, "wear") == Approx(0.1).epsilon(1e-12));
+  // With a wear law, the largest worn depth's final relative error too (here the larger). Both
+  // values are one division of short decimals: 1e-12 is a few hundred round-offs.
+  a.columns = b.columns = {"t", "c.wear_work", "c.wear_depth"};
+  a.rows = {{0.0, 0.0, 0.0}, {1.0, 2.2, 1.5e-4}};
+  b.rows = {{0.0, 0.0, 0.0}, {1.0, 2.0, 1.0e-4}};
+  CHECK(trajectory::metric_value(trajectory::compare_trajectories(a, b), "wear") ==
+        Approx(0.5).epsilon(1e-12));
   trajectory::TrajectoryTable plain;
   plain.columns = {"t"};
   plain.rows = {{0.0}, {1.0}};

@@ -67,5 +67,37 @@ TEST_CASE("observed orders of textbook schemes on a harmonic oscillator", "[stud
   CHECK(least_squares_order(h, e_cd, all) == Approx(2.0).margin(0.05));
 }
 
+TEST_CASE("the distance order recovers p from solutions with a floor, at any step ratios",
+          "[studies]") {
+  // u(h) = u* + C h^p with u* = 0.7 (a limit the distances never see) and steps of unequal
+  // ratios (1.5, 2, 1.25, 3): d = C (h_c^p − h_f^p) exactly, so the fit's residual vanishes at
+  // p and the golden-section search stops within 1e-10 of it; 1e-8 covers the round-off of the
+  // logarithms near the minimum (the residual is flat there: its square root moves by ~1e-8).
+  const std::vector<double> h{0.9, 0.6, 0.3, 0.24, 0.08};
+  for (const double p : {0.8, 1.0, 2.0, 3.0}) {
+    std::vector<LevelDistance> pairs;
+    for (std::size_t i = 0; i + 1 < h.size(); ++i) {
+      const double coarse = 0.7 + 2.0 * std::pow(h[i], p);
+      const double fine = 0.7 + 2.0 * std::pow(h[i + 1], p);
+      pairs.push_back({h[i], h[i + 1], std::abs(coarse - fine)});
+    }
+    CHECK(distance_order(pairs) == Approx(p).margin(1e-8));
+  }
+}
+
+TEST_CASE("the distance order of halving steps is the slope, too few pairs give NaN", "[studies]") {
+  // Halving: d_i = C h_i^p (1 − 2^−p), the slope of log d against log h (to round-off).
+  std::vector<LevelDistance> pairs;
+  for (int k = 0; k < 3; ++k) {
+    const double hc = 1.0 / std::ldexp(1.0, k);
+    pairs.push_back({hc, 0.5 * hc, 5.0 * hc * hc * 0.75});
+  }
+  CHECK(distance_order(pairs) == Approx(2.0).margin(1e-8));  // as above
+  CHECK(std::isnan(distance_order({pairs[0]})));
+  CHECK(std::isnan(distance_order({pairs[0], {0.25, 0.125, 0.0}})));  // a zero distance
+  // Distances that do not decrease fit no order in [0.05, 10].
+  CHECK(std::isnan(distance_order({{1.0, 0.5, 1.0}, {0.5, 0.25, 2.0}, {0.25, 0.125, 4.0}})));
+}
+
 }  // namespace
 }  // namespace flexref::studies

@@ -18,10 +18,11 @@ namespace {
 /// Bundled scenes that between them have every kind of column: tracked points (book_toss),
 /// modes and a drive torque (rotating_cantilever), ideal joints (double_pendulum_ideal),
 /// dissipation with applied work and named contacts (tube_support_impact), a driven joint's work
-/// (slider_crank).
+/// (slider_crank), worn depths and volume (wear_block).
 const std::vector<std::string> kLayoutScenes = {
-    "scenes/book_toss.toml", "scenes/rotating_cantilever.toml", "scenes/double_pendulum_ideal.toml",
-    "scenes/tube_support_impact.toml", "scenes/slider_crank.toml"};
+    "scenes/book_toss.toml",           "scenes/rotating_cantilever.toml",
+    "scenes/double_pendulum_ideal.toml", "scenes/tube_support_impact.toml",
+    "scenes/slider_crank.toml",        "scenes/wear_block.toml"};
 
 core::Model layout_scene_model(const std::string& path) {
   const scene::Scene scene = scene::read_scene(path);
@@ -84,6 +85,10 @@ TEST_CASE("a column's component is the position of its suffix in its group", "[t
       {"energy_balance", {ColumnKind::energy_balance, "", "", 0, "energy_balance"}},
       {"support.fn", {ColumnKind::normal_force, "support", "", 0, "support.fn"}},
       {"support.wear_work", {ColumnKind::wear_work, "support", "", 0, "support.wear_work"}},
+      {"support.wear_depth", {ColumnKind::wear_depth, "support", "", 0, "support.wear_depth"}},
+      {"support.wear_volume", {ColumnKind::wear_volume, "support", "", 0, "support.wear_volume"}},
+      {"support.depth1", {ColumnKind::depth, "support", "", 1, "support.depth1"}},
+      {"support.depth36", {ColumnKind::depth, "support", "", 36, "support.depth36"}},
   };
   for (const auto& [name, expected] : cases) {
     require_same_column(parse_column(name), expected);
