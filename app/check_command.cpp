@@ -98,7 +98,7 @@ int check_command(const CheckOptions& options) {
       }
       std::cout << "\n";
     }
-    const core::InitialProjection& p = model.initial_projection();
+    const core::InitialProjection p = model.consistent_initial_state().projection;
     std::cout << "  initial state: relative violation " << p.position << " (positions), "
               << p.velocity << " (velocities) before the projection onto the joints\n";
   }

@@ -31,8 +31,11 @@
 #include "core/body.hpp"
 #include "core/constrained_solve_tpl.hpp"
 #include "core/constraint_equations.hpp"
+#include "core/constraint_projection_tpl.hpp"
+#include "core/constraint_tracker.hpp"
 #include "core/flexible_formulation.hpp"
 #include "core/force_element.hpp"
+#include "core/joint_multipliers_tpl.hpp"
 #include "core/state.hpp"
 #include "flexible/inertia_terms.hpp"
 #include "flexible/mass_matrix_solve.hpp"
@@ -52,7 +55,11 @@ struct FlexibleScratchTpl {
 };
 using FlexibleScratch = FlexibleScratchTpl<double>;
 
-/// Per-evaluation scratch space; make one per thread with Model::make_workspace().
+/// Per-evaluation scratch space (Pinocchio's Data); make one per thread with
+/// Model::make_workspace(). Any evaluation may overwrite all of it: nothing in it is a setting
+/// or history an evaluation reads from an earlier one (the time, the load branch and Baumgarte's
+/// rate are arguments; the joints' rows in force and their history are the integrator's
+/// ConstraintTracker).
 template <typename S>
 struct WorkspaceTpl {
   std::vector<BodyKinematicsTpl<S>> kinematics;
@@ -64,18 +71,35 @@ struct WorkspaceTpl {
   /// The worn depths of the state last posed (StateTpl::wear_depth), which the model hands each
   /// element as its slice of them (LoadContextTpl::wear_depth).
   std::span<const S> wear_depth;
-  S time = S(0);                     ///< t of the last compute_wrenches (prescribed α̅)
   ConstraintSolveTpl<S> constraint;  ///< the ideal joints' solve (empty without joints)
-  /// Baumgarte's rate α (1/s) of the ideal joints in the accelerations: J v̇ = γ − 2α (J v + Φ_t)
-  /// − α² Φ makes the constraint manifold attracting for integrators that cannot project
-  /// (reference/ode_form.hpp); 0: the plain index-1 form. On the manifold it changes nothing.
-  S constraint_stabilization = S(0);
-  /// The prescribed bodies' α̅ at prescribed_time (Model::apply_prescribed_motion with ws); used
-  /// when ws.time equals it.
+  /// A memo of the prescribed bodies' α̅ at prescribed_time (Model::apply_prescribed_motion with
+  /// ws), which an evaluation at that very time reads instead of evaluating the laws again (in
+  /// quad their trigonometry is a large part of an evaluation); the same values either way.
   std::vector<Eigen::Matrix<S, 3, 1>> prescribed_alpha;
   S prescribed_time = std::numeric_limits<S>::quiet_NaN();
 };
 using Workspace = WorkspaceTpl<double>;
+
+template <typename S>
+class ModelTpl;
+
+/// The loads compute_wrenches left in a workspace: the time and load branch and the state they
+/// were evaluated at. The functions that read a workspace's loads take it, so the order "loads
+/// first" is in their signatures and the time they need comes with it; only the model makes one.
+template <typename S>
+class LoadsTpl {
+ public:
+  const LoadContextTpl<S>& context() const { return context_; }
+  const StateTpl<S>& state() const { return *state_; }
+
+ private:
+  friend class ModelTpl<S>;
+  LoadsTpl(const LoadContextTpl<S>& context, const StateTpl<S>& state)
+      : context_(context), state_(&state) {}
+  LoadContextTpl<S> context_;
+  const StateTpl<S>* state_;
+};
+using Loads = LoadsTpl<double>;
 
 /// Where each tracked integral sits in [W_d, extra integrals] (Model::integral_rates): W_d at 0,
 /// then the applied work W_a, the drives' work W_drive, each wear channel's work. −1: absent;
@@ -150,6 +174,13 @@ struct InitialProjection {
   double velocity = 0.0;
 };
 
+/// The scene's initial state made consistent with the ideal joints, and how far it moved.
+template <typename S>
+struct ConsistentInitialStateTpl {
+  StateTpl<S> state;
+  InitialProjection projection;
+};
+
 /// The model in scalar type S (Pinocchio's ModelTpl): double for every integrator, long double
 /// and float128 for the precision references (precision/model_conversion.hpp converts a double
 /// model). One class, so the equations, the state's layout and the joints are written once.
@@ -171,11 +202,15 @@ class ModelTpl {
   using ConstraintEquations = ConstraintEquationsTpl<S>;
   using JointReaction = JointReactionTpl<S>;
   using FlexibleScratch = FlexibleScratchTpl<S>;
-  /// With ideal joints (`constraints`), the initial state is made consistent here (positions by
-  /// Newton projection, velocities by projection, in the mass metric): a violation beyond
-  /// options.initial_tolerance throws InconsistentInitialStateError unless
-  /// options.project_initial_state; a singular initial configuration throws
-  /// SingularConfigurationError.
+  using Loads = LoadsTpl<S>;
+  using ConstraintTracker = ConstraintTrackerTpl<S>;
+  using JointMultipliers = JointMultipliersTpl<S>;
+  using ConsistentInitialState = ConsistentInitialStateTpl<S>;
+  /// With ideal joints (`constraints`), the independent rows are chosen at the scene's initial
+  /// configuration and the initial state is checked to be one that can be made consistent
+  /// (initial_state): a violation beyond options.initial_tolerance throws
+  /// InconsistentInitialStateError unless options.project_initial_state; a singular initial
+  /// configuration throws SingularConfigurationError.
   ModelTpl(std::vector<Body> bodies, std::vector<std::unique_ptr<const ForceElement>> elements,
            FlexibleFormulation formulation = FlexibleFormulation::kCoupled,
            std::unique_ptr<const ConstraintEquations> constraints = nullptr,
@@ -198,8 +233,12 @@ class ModelTpl {
   /// damping: integrators then track the dissipated work W_d (Trajectory::dissipated_work).
   bool dissipates() const { return dissipates_; }
 
-  /// The scene's initial state (consistent with the ideal joints, see the constructor).
-  State initial_state() const;
+  /// The scene's initial state made consistent with the ideal joints (positions by Newton
+  /// projection, velocities by projection, in the mass metric), computed at each call — the model
+  /// keeps no solve result — and how far it moved (0 without joints).
+  ConsistentInitialState consistent_initial_state() const;
+  /// consistent_initial_state().state: where every integrator starts.
+  State initial_state() const { return consistent_initial_state().state; }
   Workspace make_workspace() const;
 
   /// Ideal joints (docs/joints.md): the constraint equations, or nullptr.
@@ -207,18 +246,42 @@ class ModelTpl {
   const ConstraintEquations* constraints() const { return constraints_.get(); }
   /// Where each body's (v_WBr, ω̄, q̇_f) sits in the stacked velocities of the constraint rows.
   const VelocityLayout& velocity_layout() const { return layout_; }
-  /// The independent constraint rows (the others are redundant: docs/joints.md).
+  /// The independent constraint rows chosen at the scene's initial configuration (the others are
+  /// redundant there: docs/joints.md): a constant of the scene, where every tracker starts.
   const std::vector<int>& independent_rows() const { return active_rows_; }
-  /// How far the scene's initial state was from its constraints.
-  const InitialProjection& initial_projection() const { return initial_projection_; }
+  /// A tracker at the start of an integration: the independent rows, no accepted state yet
+  /// (core/constraint_tracker.hpp). Empty without joints.
+  ConstraintTracker make_constraint_tracker() const;
+  /// make_constraint_tracker()'s, kept: what evaluations without a tracker of their own read.
+  const ConstraintTracker& initial_tracker() const { return default_tracker_; }
+  /// Moves `tracker` to a state the integrator accepted (a step, an output, a restart): the rows
+  /// in force chosen again where they became ill-conditioned, with `orientation` the test for a
+  /// singular configuration passed since its last accepted state, and the rows at this state
+  /// kept as the next solves' reference (docs/joints.md, "Singular configurations"). J M⁻¹ Jᵀ is
+  /// factored here, so integrators whose equations never factor it (IDA's index-2 form) get the
+  /// singular-configuration tests from it. Throws SingularConfigurationError naming the joint
+  /// and time, the tracker left as it was. Allocates only where rows are chosen again.
+  void advance_tracker(S t, const State& state, ConstraintTracker& tracker, Workspace& ws,
+                       bool orientation = true) const;
+  /// The multipliers of the last constrained solve on ws (compute_accelerations,
+  /// accelerations_from_wrenches) with the rows they belong to: a view, valid until ws's next
+  /// evaluation.
+  JointMultipliers joint_multipliers(const Workspace& ws) const {
+    return JointMultipliers(ws.constraint);
+  }
   /// Newton projection of the positions onto Φ(q, t) = 0 (mass metric; p_Br, θ by the body-frame
-  /// rotation increment, q_f), then of the velocities onto J v + Φ_t = 0. Returns the largest
-  /// relative violations before the projection.
-  InitialProjection project(S t, State& state, Workspace& ws) const;
+  /// rotation increment, q_f), then of the velocities onto J v + Φ_t = 0, on the tracker's rows
+  /// (chosen again where ill-conditioned); without one, on the initial configuration's. Returns
+  /// the largest relative violations before the projection.
+  InitialProjection project(S t, State& state, const ConstraintTracker& tracker,
+                            Workspace& ws) const;
+  InitialProjection project(S t, State& state, Workspace& ws) const {
+    return project(t, state, default_tracker_, ws);
+  }
   /// The stacked generalized velocities (v_WBr, ω̄, q̇_f) of a state.
   void stack_velocities(const State& state, Vector& v) const;
   /// The projection of the velocities alone (positions consistent).
-  void project_velocities(S t, State& state, Workspace& ws) const;
+  void project_velocities(S t, State& state, const ConstraintTracker& tracker, Workspace& ws) const;
   /// The largest relative position violation of the joints at a state (length rows by the
   /// joints' length scale ℓ, rotation rows as they are: project's measure); 0 without joints.
   S relative_position_violation(S t, const State& state, Workspace& ws) const;
@@ -234,24 +297,24 @@ class ModelTpl {
   /// Per joint: the largest |Φ| of its rows (m or rad) and of its velocity rows |J v + Φ_t| (m/s
   /// or rad/s) at a state.
   std::vector<std::array<S, 2>> constraint_violations(S t, const State& state, Workspace& ws) const;
-  /// The singular-configuration tests of the constrained solve without the accelerations, for
-  /// integrators whose equations never factor J M⁻¹ Jᵀ (IDA's index-2 form): J M⁻¹ Jᵀ factored
-  /// at the state and its rows' orientation compared with the last call's in ws (docs/joints.md,
-  /// "Singular configurations"). Throws SingularConfigurationError naming the joint and time.
-  void check_singular_configuration(S t, const State& state, Workspace& ws) const;
   /// Whether the motion from `state` at t runs into a singular configuration of the joints within
   /// a short time: the positions advanced along the state's velocities (v, ω̄, q̇_f; prescribed
   /// motion and drives at the later times) by 1e-4, 1e-3, 1e-2 and 1e-1 of the mechanism's own time
-  /// ℓ/|v| and by `step`, each tested against the last as a solver's evaluations are
-  /// (check_singular_configuration: a rank drop or the rows' orientation turning). Returns the
+  /// ℓ/|v| and by `step`, each accepted by a tracker of its own as a solver's states are
+  /// (advance_tracker: a rank drop or the rows' orientation turning). Returns the
   /// SingularConfigurationError's message naming the joint, or "" when none is ahead. For the
   /// messages of integrators that fail at a dead point (IDA, genalpha). Allocates.
   std::string singular_configuration_ahead(S t, const State& state, S step) const;
   /// Per joint: the force and torque (about the joint point, world) it exerts on its first body,
   /// from the minimum-norm multipliers of all its rows at the state's accelerations (loads of
-  /// the branch active at context.t_segment). Allocates: for outputs.
+  /// the branch active at context.t_segment, the tracker's rows, no stabilization). Allocates:
+  /// for outputs.
   std::vector<JointReaction> joint_reactions(const LoadContext& context, const State& state,
-                                             Workspace& ws) const;
+                                             const ConstraintTracker& tracker, Workspace& ws) const;
+  std::vector<JointReaction> joint_reactions(const LoadContext& context, const State& state,
+                                             Workspace& ws) const {
+    return joint_reactions(context, state, default_tracker_, ws);
+  }
   /// Accelerations sized for the model (modal parts included).
   Accelerations make_accelerations() const;
   /// Sets the rigid part of every prescribed body to its angle law's at time t (p_WBr fixed,
@@ -262,34 +325,55 @@ class ModelTpl {
   /// evaluation).
   void apply_prescribed_motion(S t, State& state, Workspace& ws) const;
 
-  /// Fills workspace.kinematics (A(θ) per body) and workspace.wrenches.
-  void compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const;
-  /// Accelerations from the loads already in ws.wrenches (see compute_wrenches).
-  void accelerations_from_wrenches(const State& state, Workspace& ws,
-                                   Accelerations& accelerations) const;
-  /// compute_wrenches then accelerations_from_wrenches.
-  void compute_accelerations(const LoadContext& context, const State& state, Workspace& ws,
-                             Accelerations& accelerations) const;
+  /// Fills workspace.kinematics (A(θ) per body) and workspace.wrenches at (context, state); the
+  /// receipt names them for the functions that read them.
+  Loads compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// Accelerations from the loads compute_wrenches left in ws, the ideal joints enforced on the
+  /// tracker's rows (core/constrained_solve_tpl.hpp) with Baumgarte's rate `stabilization` (1/s:
+  /// J v̇ = γ − 2α (J v + Φ_t) − α² Φ makes the constraint manifold attracting for integrators
+  /// that cannot project, reference/ode_form.hpp; 0, the plain index-1 form, changes nothing on
+  /// the manifold). The multipliers, with their rows, are joint_multipliers(ws) afterwards.
+  /// Throws SingularConfigurationError at a singular configuration.
+  void accelerations_from_wrenches(const Loads& loads, const ConstraintTracker& tracker,
+                                   Workspace& ws, Accelerations& accelerations,
+                                   S stabilization = S(0)) const;
+  /// The same on the rows chosen at the initial configuration (chosen again where they are
+  /// ill-conditioned at the state), no stabilization: for models without joints and outputs.
+  void accelerations_from_wrenches(const Loads& loads, Workspace& ws,
+                                   Accelerations& accelerations) const {
+    accelerations_from_wrenches(loads, default_tracker_, ws, accelerations);
+  }
+  /// compute_wrenches then accelerations_from_wrenches: a function of its arguments alone.
+  Loads compute_accelerations(const LoadContext& context, const State& state,
+                              const ConstraintTracker& tracker, Workspace& ws,
+                              Accelerations& accelerations, S stabilization = S(0)) const;
+  Loads compute_accelerations(const LoadContext& context, const State& state, Workspace& ws,
+                              Accelerations& accelerations) const {
+    return compute_accelerations(context, state, default_tracker_, ws, accelerations);
+  }
 
-  /// The generalized equations of body i as a residual at the given accelerations, with the
-  /// loads already in ws (compute_wrenches): the 6 + n rows M v − (Qe + Qv − [0; 0; Kq + Dq̇]) in
-  /// the quasi-velocity variables (translation, rotation in the body frame, modes). The rows a
+  /// The generalized equations of body i as a residual at the given accelerations and the loads
+  /// in ws (at loads.state()): the 6 + n rows M v − (Qe + Qv − [0; 0; Kq + Dq̇]) in the
+  /// quasi-velocity variables (translation, rotation in the body frame, modes). The rows a
   /// pivot or prescribed body does not integrate are the reactions its constraint supplies.
-  void dynamics_residual(int i, const BodyState& state, const BodyAcceleration& acc, Workspace& ws,
+  void dynamics_residual(int i, const Loads& loads, const BodyAcceleration& acc, Workspace& ws,
                          Eigen::Ref<Vector> out) const;
   /// ∂(dynamics_residual)/∂(a_WBr, α̅, q̈_f) of flexible body i, (6+n)², from the terms of the
   /// last dynamics_residual call on ws: [M_rr M_rf; M_rfᵀ m_ff] (LTE: no M_rf in the rigid
   /// rows, so not symmetric). Allocates nothing when `out` is sized.
   void residual_mass_matrix(int i, const Workspace& ws, Eigen::Ref<Matrix> out) const;
   /// The modal rows of a flexible body solved for q̈_f with the rigid accelerations given
-  /// (a_WBr, α̅; a prescribed body uses a = 0 and its law's α̅ at ws.time), the loads already
-  /// in ws (compute_wrenches) and the state's q_f, q̇_f, ω̄. Under LTE this is the modal
-  /// equation of docs/design/model.md, which the hybrid schemes integrate by central differences.
-  void modal_accelerations(int i, const BodyState& state, const Vector3& a_WBr,
+  /// (a_WBr, α̅; a prescribed body uses a = 0 and its law's α̅ at the loads' time), the loads
+  /// in ws and their state's q_f, q̇_f, ω̄. Under LTE this is the modal equation of
+  /// docs/design/model.md, which the hybrid schemes integrate by central differences.
+  void modal_accelerations(int i, const Loads& loads, const Vector3& a_WBr,
                            const Vector3& alpha_WB_B, Workspace& ws, Vector& qdd_f) const;
+  /// α̅ of body i's angle law at time t (zero for a body not prescribed).
+  Vector3 prescribed_alpha_WB_B(int i, S t) const;
   /// Torque about the axis that drives a prescribed body along its law (N·m): the axis
-  /// component of the rotational reaction (dynamics_residual's rotation rows, to world).
-  S driving_torque(int i, const BodyState& state, const BodyAcceleration& acc, Workspace& ws) const;
+  /// component of the rotational reaction (dynamics_residual's rotation rows, to world) at the
+  /// loads in ws.
+  S driving_torque(int i, const Loads& loads, const BodyAcceleration& acc, Workspace& ws) const;
 
   S kinetic_energy(const State& state) const;
   /// Potential energy of the force elements plus the elastic energy ½ q_fᵀ K q_f.
@@ -309,8 +393,8 @@ class ModelTpl {
   /// (integral_rates' layout; empty span: none) and the switching and clamp functions
   /// (switching_function_count() each, or empty). For integrators that need all three at every
   /// evaluation (the precision references' event location). Allocates nothing.
-  void compute_wrenches_and_rates(const LoadContext& context, const State& state, Workspace& ws,
-                                  std::span<S> rates, std::span<S> g, std::span<S> c) const;
+  Loads compute_wrenches_and_rates(const LoadContext& context, const State& state, Workspace& ws,
+                                   std::span<S> rates, std::span<S> g, std::span<S> c) const;
   /// Power dissipated by the force elements and the modal damping (q̇_fᵀ D q̇_f), W.
   S dissipated_power(const LoadContext& context, const State& state, Workspace& ws) const;
   /// Wear channels (one per contact element, core/model_integrals.cpp): their count, names
@@ -365,11 +449,12 @@ class ModelTpl {
   /// Rates of [W_d, extra integrals] at a state (integral_layout().count entries): the
   /// dissipated power, the applied power, the drives' power, each channel's |F_t·v_t|.
   /// `constraint_force`: the stacked generalized force of the ideal joints −J_aᵀλ at this state
-  /// from the caller's own constrained solve (ConstraintSolveTpl::force after
-  /// compute_accelerations), or null to solve for it here (one more evaluation). Allocates
-  /// nothing.
+  /// from the caller's own constrained solve (JointMultipliers::force after
+  /// compute_accelerations), or null to solve for it here (one more evaluation) on `tracker`'s
+  /// rows (null: the initial configuration's). Allocates nothing.
   void integral_rates(const LoadContext& context, const State& state, Workspace& ws,
-                      std::span<S> rates, const Vector* constraint_force = nullptr) const;
+                      std::span<S> rates, const Vector* constraint_force = nullptr,
+                      const ConstraintTracker* tracker = nullptr) const;
   /// Power of the ideal joints' reactions on the bodies, F_cᵀ v (W), F_c the stacked
   /// generalized constraint force: the drives' power (the other rows do no work on their
   /// manifold; off it, the reactions' work on the drift).
@@ -393,7 +478,7 @@ class ModelTpl {
   /// The scene's initial state as described (before any projection onto the joints).
   State scene_initial_state() const;
   /// With joints: the independent rows and length scale at the scene's initial state, then the
-  /// consistent initial state (see the constructor).
+  /// checks that it can be made consistent (see the constructor).
   void assemble_initial_state(const ConstraintOptions& options);
   /// Points ws.kinematics at the state (A(θ), and the q_f the loads see) and ws.wear_depth at
   /// its worn depths; throws std::invalid_argument when the state has not wear_depth_count() of
@@ -408,8 +493,8 @@ class ModelTpl {
     return c;
   }
   void flexible_system(int i, const BodyState& s, Workspace& ws) const;
-  /// α̅ of body i's angle law at ws.time (zero for a body not prescribed).
-  Vector3 prescribed_alpha_WB_B(int i, const Workspace& ws) const;
+  /// α̅ of body i's angle law at t, from ws's memo where it holds t's.
+  Vector3 prescribed_alpha_WB_B(int i, S t, const Workspace& ws) const;
   /// Calls evaluate(element, its span of `out`) for each element with switching functions, in
   /// the order that numbers them (switching_functions' layout).
   template <typename Evaluate>
@@ -420,18 +505,28 @@ class ModelTpl {
   S applied_power(const LoadContext& context, const Workspace& ws) const;
   /// apply_prescribed_motion, with the laws' α̅ into `alpha` when given.
   void set_prescribed_motion(S t, State& state, std::vector<Vector3>* alpha) const;
-  void flexible_accelerations(int i, const BodyState& s, Workspace& ws, BodyAcceleration& a) const;
+  void flexible_accelerations(int i, S t, const BodyState& s, Workspace& ws,
+                              BodyAcceleration& a) const;
   /// Each body's accelerations from its loads alone (M⁻¹ Q), before the joints' reactions.
-  void free_accelerations(const State& state, Workspace& ws, Accelerations& accelerations) const;
+  void free_accelerations(const Loads& loads, Workspace& ws, Accelerations& accelerations) const;
   /// M_b⁻¹ rhs for body b (rigid: its diag(m, I_Br) inverse; flexible: the structured solve
   /// factored by the last accelerations_from_wrenches), with the rows its motion fixes zero.
   void apply_inverse_mass(int b, const Eigen::Ref<const Vector>& rhs, Eigen::Ref<Vector> out,
                           Workspace& ws) const;
-  /// The ideal joints' multipliers and constrained accelerations at the loads in ws.
-  void apply_constraints(S t, Workspace& ws, Accelerations& accelerations) const;
+  /// The ideal joints' multipliers and constrained accelerations at the loads in ws, on the
+  /// tracker's rows, with Baumgarte's rate `stabilization`.
+  void apply_constraints(S t, const ConstraintTracker& tracker, S stabilization, Workspace& ws,
+                         Accelerations& accelerations) const;
   /// The rows at a state, and their factorization in the mass metric (flexible bodies' factors
-  /// at the state); throws SingularConfigurationError at a singular configuration.
-  void factor_constraints_at(S t, const State& state, Workspace& ws) const;
+  /// at the state) on the tracker's rows (chosen again where ill-conditioned), without the
+  /// orientation test; throws SingularConfigurationError at a singular configuration.
+  void factor_constraints_at(S t, const State& state, const ConstraintTracker& tracker,
+                             Workspace& ws) const;
+  /// Poses the bodies at the state and factors their flexible bodies' mass matrices and the
+  /// joints' rows there (the common part of factor_constraints_at and advance_tracker).
+  void evaluate_rows_at(S t, const State& state, Workspace& ws) const;
+  /// M⁻¹ rhs over the stacked coordinates, body by body (apply_inverse_mass); out sized N.
+  void stacked_inverse_mass(const Vector& in, Vector& out, Workspace& ws) const;
   /// Largest relative violation of the position rows (length rows by the joints' length scale)
   /// and of the velocity rows (by the bodies' speeds), from s.rows at `state`; s.v and s.rate
   /// are its scratch.
@@ -476,9 +571,9 @@ class ModelTpl {
   std::unique_ptr<const ConstraintEquations> constraints_;
   VelocityLayout layout_;
   std::vector<int> active_rows_;
+  /// make_constraint_tracker(): what the evaluations without a tracker of their own read.
+  ConstraintTracker default_tracker_;
   S joint_length_scale_ = S(1);  ///< the joints' largest arm from a body's Br (m)
-  State initial_state_;
-  InitialProjection initial_projection_;
 };
 
 using Model = ModelTpl<double>;

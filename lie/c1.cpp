@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -261,8 +262,9 @@ StepStatus C1Stepper::step(double h) {
 
   // 4. Translation and modes: a_{n+1} from the loads at the new configuration (central
   //    differences).
+  std::optional<core::Loads> end_loads;
   if (has_free_body_) {
-    model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
+    end_loads = model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
     ++evaluations_;
   }
   for (std::size_t i = 0; i < n_bodies; ++i) {
@@ -271,7 +273,8 @@ StepStatus C1Stepper::step(double h) {
                                acc_[i], h, next_[i], acc_next_[i]);
   }
   // 5. Modes: q̈_{n+1} from the LTE modal equation, q̇_{n+1} ← q̇_n + ½ h (q̈_n + q̈_{n+1}).
-  detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
+  detail::update_modes(model_, end_loads ? &*end_loads : nullptr, t_np1, ws_, state_, acc_, h,
+                       next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C1", t_n, h)};
   wear_.correct(core::LoadContext{t_np1, t_n + 0.5 * h}, state_, h, next_, ws_);

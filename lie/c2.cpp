@@ -60,7 +60,7 @@ void C2Stepper::restart(double h) {
   // scheme's backward difference (W_n − W_{n−1})/h, not a load: it keeps its value and takes
   // the jump of the acceleration the load jump implies, A_n ← A_n + J⁻¹ R_nᵀ (Γ_n⁺ − Γ_n⁻)
   // (zero for a body whose loads do not jump).
-  model_.compute_wrenches(start, state_, ws_);
+  const core::Loads loads = model_.compute_wrenches(start, state_, ws_);
   for (std::size_t i = 0; i < state_.size(); ++i) {
     const core::Body& body = model_.body(static_cast<int>(i));
     const Vector3d& torque_plus_W = ws_.wrenches[i].tau_Br_W;
@@ -70,8 +70,8 @@ void C2Stepper::restart(double h) {
     acc_[i].a_WBr = body.is_free() ? Vector3d(ws_.wrenches[i].f_W / body.mass()) : Vector3d::Zero();
     // The modal accelerations are loads' consequences: right limits from the new loads.
     if (body.is_flexible()) {
-      model_.modal_accelerations(static_cast<int>(i), state_[i], acc_[i].a_WBr, acc_[i].alpha_WB_B,
-                                 ws_, acc_[i].qdd_f);
+      model_.modal_accelerations(static_cast<int>(i), loads, acc_[i].a_WBr, acc_[i].alpha_WB_B, ws_,
+                                 acc_[i].qdd_f);
     }
   }
 }
@@ -91,7 +91,8 @@ StepStatus C2Stepper::step(double h) {
   detail::predict_modes(model_, state_, acc_, h, t_np1, next_);
 
   // 2. The one force evaluation: f_{n+1}, Γ_{n+1} at the new configuration.
-  model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
+  const core::Loads end_loads =
+      model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
 
   // 3. Velocities at t_{n+1}.
   for (std::size_t i = 0; i < state_.size(); ++i) {
@@ -112,7 +113,7 @@ StepStatus C2Stepper::step(double h) {
     acc_next_[i].alpha_WB_B = (s1.w_WB_B - s.w_WB_B) / h;
   }
   // 4. Modes: q̈_{n+1} from the LTE modal equation, q̇_{n+1} ← q̇_n + ½ h (q̈_n + q̈_{n+1}).
-  detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
+  detail::update_modes(model_, &end_loads, t_np1, ws_, state_, acc_, h, next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("C2", t_n, h)};
   wear_.correct(core::LoadContext{t_np1, t_n + 0.5 * h}, state_, h, next_, ws_);

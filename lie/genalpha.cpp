@@ -18,7 +18,7 @@ GenAlphaStepper::GenAlphaStepper(const core::Model& model, const GenAlphaParamet
       state_(model.initial_state()),
       next_(state_),
       ws_(model.make_workspace()),
-      tracker_(model.make_workspace()),
+      tracker_(model.make_constraint_tracker()),
       wear_(model),
       acc_(model.make_accelerations()),
       vdot_(Eigen::VectorXd::Zero(system_.body_unknowns())),
@@ -51,7 +51,7 @@ void GenAlphaStepper::initialize(double t0, const core::State& state) {
   last_h_ = 0.0;
   initialized_ = false;
   if (system_.multiplier_count() > 0) {
-    tracker_ = model_.make_workspace();
+    tracker_ = model_.make_constraint_tracker();
     system_.set_active_rows(model_.independent_rows());
     const std::string singular = track_joints(t0, state_);
     if (!singular.empty()) throw core::SingularConfigurationError("", t0, singular);
@@ -88,17 +88,16 @@ void GenAlphaStepper::restart() {
   // Consistent accelerations from the equations at t_n (right limit: the branch of loads that
   // starts there), and a_n = v̇_n; with joints, λ_n from the index-1 solve as the predictor.
   const double segment = time_ + (last_h_ > 0.0 ? 0.5 * last_h_ : 0.0);
-  model_.compute_accelerations(core::LoadContext{time_, segment}, state_, ws_, acc_);
-  wear_.start(core::LoadContext{time_, segment}, state_, ws_);
-  system_.stack_accelerations(acc_, vdot_);
+  model_.compute_accelerations(core::LoadContext{time_, segment}, state_, tracker_, ws_, acc_);
   if (system_.multiplier_count() > 0) {
     // λ_n on the Newton system's rows (the solve may have chosen others: the same reactions,
     // F = −J_aᵀ λ_a, on the system's basis of the rows' span); scaled to β h² λ_n by the next
     // step.
-    lambda_hat_ = core::multipliers_on_rows<double>(ws_.constraint.rows.J, system_.active_rows(),
-                                                    ws_.constraint.force);
+    lambda_hat_ = model_.joint_multipliers(ws_).on_rows(system_.active_rows());
     lambda_unscaled_ = true;
   }
+  wear_.start(core::LoadContext{time_, segment}, state_, ws_);
+  system_.stack_accelerations(acc_, vdot_);
   if (!initialized_) {
     a_ = vdot_;
     if (system_.parameters().perturbed_start && last_h_ > 0.0) perturbed_start(segment);
@@ -134,7 +133,8 @@ void GenAlphaStepper::perturbed_start(double segment) {
     }
   }
   model_.apply_prescribed_motion(time_ + shift, next_);
-  model_.compute_accelerations(core::LoadContext{time_ + shift, segment}, next_, ws_, acc_);
+  model_.compute_accelerations(core::LoadContext{time_ + shift, segment}, next_, tracker_, ws_,
+                               acc_);
   system_.stack_accelerations(acc_, a_);
 }
 
@@ -267,23 +267,15 @@ StepStatus GenAlphaStepper::step(double h) {
 
 std::string GenAlphaStepper::track_joints(double t, const core::State& next) {
   try {
-    model_.check_singular_configuration(t, next, tracker_);
+    model_.advance_tracker(t, next, tracker_, ws_);
   } catch (const core::SingularConfigurationError& e) {
     return e.what();
   }
-  const std::vector<int>& chosen = tracker_.constraint.active;
-  if (chosen != system_.active_rows()) {
-    // The rows chosen again at `next`: λ̂ on the old rows gives the generalized reaction
-    // F̂ = −J_oldᵀ λ̂ (the rows at `next`, where both sets span the same space), carried over to
-    // the new rows by multipliers_on_rows; the next Newton system solves for them.
-    const Eigen::MatrixXd& J = tracker_.constraint.rows.J;
-    Eigen::VectorXd force = Eigen::VectorXd::Zero(J.cols());
-    const std::vector<int>& old_rows = system_.active_rows();
-    for (std::size_t i = 0; i < old_rows.size(); ++i) {
-      force -= lambda_hat_(static_cast<Eigen::Index>(i)) * J.row(old_rows[i]).transpose();
-    }
-    lambda_hat_ = core::multipliers_on_rows<double>(J, chosen, force);
-    system_.set_active_rows(chosen);
+  if (tracker_.rows != system_.active_rows()) {
+    // The rows chosen again at `next`: λ̂ on the old rows, as the same generalized reaction
+    // there, on the new rows; the next Newton system solves for them.
+    lambda_hat_ = tracker_.carry(lambda_hat_, system_.active_rows());
+    system_.set_active_rows(tracker_.rows);
     matrix_valid_ = false;
   }
   return {};

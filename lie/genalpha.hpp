@@ -97,10 +97,11 @@ class GenAlphaStepper final : public Stepper {
   /// a_0 = v̇(t_0 + (α_m − α_f) h) (GenAlphaParameters::perturbed_start); segment: the branch.
   void perturbed_start(double segment);
   /// The joints at an accepted state (t, next): a singular configuration reached or passed since
-  /// the last accepted one (the orientation test of core/constrained_solve_tpl.hpp, on
-  /// tracker_'s rows and history) is the failure's message; rows the tracker chose again (they
-  /// became dependent among themselves) become the Newton system's, λ̂ carried over to them.
-  /// Returns "" when the step may be accepted.
+  /// the last accepted one (Model::advance_tracker: the rank and orientation tests of
+  /// core/constrained_solve_tpl.hpp on tracker_'s rows and accepted state) is the failure's
+  /// message; rows the tracker chose again (they became dependent among themselves) become the
+  /// Newton system's, λ̂ carried over to them (ConstraintTracker::carry). Returns "" when the
+  /// step may be accepted.
   std::string track_joints(double t, const core::State& next);
   /// The failure message of a step whose Newton iteration did not converge: with joints, a
   /// singular configuration ahead (Model::singular_configuration_ahead) is named.
@@ -117,9 +118,9 @@ class GenAlphaStepper final : public Stepper {
   core::State state_;
   core::State next_;
   core::Workspace ws_;
-  /// The joints' rows and their history (the rows' orientation at the last accepted state):
-  /// advanced only on accepted steps (track_joints).
-  core::Workspace tracker_;
+  /// The joints' rows in force and the last accepted state's rows: advanced only on accepted
+  /// steps (track_joints), read by the restarts' evaluations.
+  core::ConstraintTracker tracker_;
   detail::WearDepthUpdate wear_;  ///< the worn depths' rates
   core::Accelerations acc_;
   Eigen::VectorXd vdot_;          ///< v̇_n

@@ -183,7 +183,7 @@ void GenAlphaSystem::state_at(const Eigen::VectorXd& z, core::State& next, Eigen
   model_.apply_prescribed_motion(t_n_ + h_, next);
 }
 
-void GenAlphaSystem::body_residual(int b, const core::State& state) {
+void GenAlphaSystem::body_residual(int b, const core::Loads& loads) {
   const core::Body& body = model_.body(b);
   core::BodyAcceleration& acc = acc_[static_cast<std::size_t>(b)];
   const auto o = static_cast<Eigen::Index>(offset(b));
@@ -198,15 +198,15 @@ void GenAlphaSystem::body_residual(int b, const core::State& state) {
     acc.a_WBr.setZero();
   }
   if (body.mode_count() > 0) acc.qdd_f = vdot_.segment(o + 6, body.mode_count());
-  model_.dynamics_residual(b, state[static_cast<std::size_t>(b)], acc, ws_,
-                           body_residual_[static_cast<std::size_t>(b)]);
+  model_.dynamics_residual(b, loads, acc, ws_, body_residual_[static_cast<std::size_t>(b)]);
 }
 
 GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::VectorXd& r) {
   state_at(z, next_, vdot_, a_);
   stack_velocities(next_, v_);
   const double t_np1 = t_n_ + h_;
-  model_.compute_wrenches(core::LoadContext{t_np1, t_n_ + 0.5 * h_}, next_, ws_);
+  const core::Loads loads =
+      model_.compute_wrenches(core::LoadContext{t_np1, t_n_ + 0.5 * h_}, next_, ws_);
   ++evaluations_;
   for (int b = 0; b < n_bodies_; ++b) {
     const auto k = static_cast<std::size_t>(b);
@@ -250,7 +250,7 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
     if (body.is_flexible()) {
       // r_b = β h² (M v̇ − Q) + (Jᵀ λ̂)_b, Model::dynamics_residual's rows.
       const auto k = static_cast<std::size_t>(b);
-      body_residual(b, next_);
+      body_residual(b, loads);
       model_.residual_mass_matrix(b, ws_, mass_[k]);
       const Eigen::Index width = offset(b + 1) - offset(b);
       r.segment(o, width) = bh2 * body_residual_[k] + jt_lambda_.segment(o, width);
@@ -389,14 +389,14 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd&
         sj.q_f(k - 6) += eps;
         sj.qd_f(k - 6) += eps * gamma_prime;
       }
-      model_.compute_wrenches(context, perturbed_, ws_);
+      const core::Loads loads = model_.compute_wrenches(context, perturbed_, ws_);
       ++evaluations_;
       for (int i = 0; i < n_bodies_; ++i) {
         const core::Body& body_i = model_.body(i);
         const auto oi = static_cast<Eigen::Index>(offset(i));
         const auto ii = static_cast<std::size_t>(i);
         if (body_i.is_flexible()) {
-          body_residual(i, perturbed_);
+          body_residual(i, loads);
           const Eigen::Index width_i = offset(i + 1) - offset(i);
           for (Eigen::Index row = 0; row < width_i; ++row) {
             if (!integrated_row(i, static_cast<int>(row))) continue;

@@ -98,9 +98,9 @@ class GenAlphaSystem {
 
  private:
   bool integrated_row(int body, int k) const;
-  /// Model::dynamics_residual of body b at next_ with v̇ = vdot_ (prescribed: the law's α̅), into
-  /// body_residual_[b]; with the loads and kinematics of the state in ws_.
-  void body_residual(int b, const core::State& state);
+  /// Model::dynamics_residual of body b with v̇ = vdot_ (prescribed: the law's α̅), into
+  /// body_residual_[b], at the loads and kinematics compute_wrenches left in ws_.
+  void body_residual(int b, const core::Loads& loads);
 
   const core::Model& model_;
   GenAlphaParameters p_;

@@ -66,7 +66,8 @@ StepStatus NmbStepper::step(double h) {
   detail::predict_modes(model_, state_, acc_, h, t_np1, next_);
 
   // 2. The one force evaluation: f_{n+1}, Γ_{n+1} at the new configuration.
-  model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
+  const core::Loads end_loads =
+      model_.compute_wrenches(core::LoadContext{t_np1, t_n + 0.5 * h}, next_, ws_);
 
   // 3. Accelerations and velocities at t_{n+1}.
   int step_max_iterations = 0;
@@ -117,7 +118,7 @@ StepStatus NmbStepper::step(double h) {
     s1.w_WB_B = detail::nmb_velocity(W_n, A_n, A, h);
   }
   // 4. Modes: q̈_{n+1} from the LTE modal equation, q̇_{n+1} ← q̇_n + ½ h (q̈_n + q̈_{n+1}).
-  detail::update_modes(model_, ws_, state_, acc_, h, next_, acc_next_);
+  detail::update_modes(model_, &end_loads, t_np1, ws_, state_, acc_, h, next_, acc_next_);
 
   if (!detail::all_finite(next_)) return {false, detail::non_finite_failure("NMB", t_n, h)};
   wear_.correct(core::LoadContext{t_np1, t_n + 0.5 * h}, state_, h, next_, ws_);

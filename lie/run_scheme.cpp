@@ -122,6 +122,10 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
   // step, only when they exist. Impacts are counted from the gaps after every step.
   const bool track_work = model.tracks_work();
   core::Workspace ws = model.make_workspace();
+  // The drives' power needs a constrained solve at every step's end: on the rows of a tracker
+  // that follows the accepted steps (core/constraint_tracker.hpp).
+  const bool track_joints = track_work && model.tracks_drive_work();
+  core::ConstraintTracker tracker = model.make_constraint_tracker();
   const auto count = static_cast<std::size_t>(track_work ? 1 + model.extra_integral_count() : 0);
   std::vector<double> work(count, 0.0);
   std::vector<double> rate(count, 0.0);
@@ -140,7 +144,10 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
                                 impacts.counts().end());
     }
   };
-  if (track_work) model.integral_rates(core::LoadContext{t0, t0}, stepper.state(), ws, rate);
+  if (track_joints) model.advance_tracker(t0, stepper.state(), tracker, ws);
+  if (track_work) {
+    model.integral_rates(core::LoadContext{t0, t0}, stepper.state(), ws, rate, nullptr, &tracker);
+  }
   trajectory.states.clear();
   record();
 
@@ -159,7 +166,8 @@ core::Trajectory run_scheme(const core::Model& model, Stepper& stepper, double d
     const double t_np1 = stepper.time();
     const core::LoadContext end_context{t_np1, 0.5 * (t_n + t_np1)};
     if (track_work) {
-      model.integral_rates(end_context, stepper.state(), ws, rate_next);
+      if (track_joints) model.advance_tracker(t_np1, stepper.state(), tracker, ws);
+      model.integral_rates(end_context, stepper.state(), ws, rate_next, nullptr, &tracker);
       for (std::size_t j = 0; j < count; ++j) {
         work[j] += 0.5 * (t_np1 - t_n) * (rate[j] + rate_next[j]);
       }

@@ -70,17 +70,20 @@ void predict_modes(const core::Model& model, const core::State& state,
   model.apply_prescribed_motion(t_np1, next);
 }
 
-void update_modes(const core::Model& model, core::Workspace& ws, const core::State& state,
-                  const core::Accelerations& acc, double h, core::State& next,
-                  core::Accelerations& acc_next) {
+void update_modes(const core::Model& model, const core::Loads* end_loads, double t_np1,
+                  core::Workspace& ws, const core::State& state, const core::Accelerations& acc,
+                  double h, core::State& next, core::Accelerations& acc_next) {
   for (std::size_t i = 0; i < state.size(); ++i) {
     const core::Body& body = model.body(static_cast<int>(i));
     if (body.is_prescribed()) {
       const core::RigidBodyDescription& d = body.description();
       acc_next[i].alpha_WB_B =
-          core::prescribed_attitude(d.prescribed, d.initial.theta_WB, ws.time).alpha_WB_B;
+          core::prescribed_attitude(d.prescribed, d.initial.theta_WB, t_np1).alpha_WB_B;
     }
     if (!body.is_flexible()) continue;
+    if (end_loads == nullptr || &end_loads->state() != &next) {
+      throw std::logic_error("update_modes: the loads at the new configuration are needed");
+    }
     core::BodyState& s1 = next[i];
     // α̅_{n+1} ← J⁻¹ (R_{n+1}ᵀ Γ_{n+1} − W_{n+1} × J W_{n+1})   (not used for prescribed bodies)
     Eigen::Vector3d alpha = Eigen::Vector3d::Zero();
@@ -90,7 +93,7 @@ void update_modes(const core::Model& model, core::Workspace& ws, const core::Sta
       alpha = body.I_Br_B_inverse() * (T_B - s1.w_WB_B.cross(J * s1.w_WB_B));
     }
     // q̈_{n+1} from the modal equation (q_{n+1}, predicted q̇, W_{n+1}, a_{n+1}, α̅_{n+1})
-    model.modal_accelerations(static_cast<int>(i), s1, acc_next[i].a_WBr, alpha, ws,
+    model.modal_accelerations(static_cast<int>(i), *end_loads, acc_next[i].a_WBr, alpha, ws,
                               acc_next[i].qdd_f);
     // q̇_{n+1} ← q̇_n + ½ h (q̈_n + q̈_{n+1})
     s1.qd_f = state[i].qd_f + (0.5 * h) * (acc[i].qdd_f + acc_next[i].qdd_f);

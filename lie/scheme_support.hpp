@@ -71,15 +71,16 @@ void update_translation(const core::Body& body, const core::Wrench& wrench,
 /// and the rigid part of every prescribed body from its law at t_{n+1}.
 void predict_modes(const core::Model& model, const core::State& state,
                    const core::Accelerations& acc, double h, double t_np1, core::State& next);
-/// After the rigid update to t_{n+1} (W_{n+1}, a_{n+1} known, the loads at the new configuration
-/// in ws): the modal accelerations from the LTE modal equation with the rigid accelerations of
-/// the same step, a_{n+1} and α̅_{n+1} = J⁻¹ (T_{n+1} − W_{n+1} × J W_{n+1}) (the Euler equation
-/// at t_{n+1}, second-order accurate for every scheme; NMB's A_{n+1} is this value), then
+/// After the rigid update to t_{n+1} (W_{n+1}, a_{n+1} known; end_loads, the loads at the new
+/// configuration `next` in ws, needed where the model has flexible bodies): the modal
+/// accelerations from the LTE modal equation with the rigid accelerations of the same step,
+/// a_{n+1} and α̅_{n+1} = J⁻¹ (T_{n+1} − W_{n+1} × J W_{n+1}) (the Euler equation at t_{n+1},
+/// second-order accurate for every scheme; NMB's A_{n+1} is this value), then
 ///   q̇_{n+1} = q̇_n + ½ h (q̈_n + q̈_{n+1}).
-/// Prescribed bodies take the law's α̅ (stored in acc_next).
-void update_modes(const core::Model& model, core::Workspace& ws, const core::State& state,
-                  const core::Accelerations& acc, double h, core::State& next,
-                  core::Accelerations& acc_next);
+/// Prescribed bodies take the law's α̅ at t_np1 (stored in acc_next).
+void update_modes(const core::Model& model, const core::Loads* end_loads, double t_np1,
+                  core::Workspace& ws, const core::State& state, const core::Accelerations& acc,
+                  double h, core::State& next, core::Accelerations& acc_next);
 /// What the hybrid schemes (C1, C2, NMB) can step, checked when one is made: throws
 /// std::invalid_argument naming a joint when the model has ideal joints (their rotation updates
 /// have no multipliers: docs/joints.md), and when it has a flexible body under the coupled

@@ -78,9 +78,10 @@ class OdeSystemTpl {
   std::vector<S> initial_state() const;
 
   bool has_constraints() const { return model_.has_constraints(); }
-  /// Baumgarte's rate α (1/s) in the accelerations (core::WorkspaceTpl::constraint_stabilization).
-  S constraint_stabilization() const { return ws_.constraint_stabilization; }
-  void set_constraint_stabilization(S alpha) { ws_.constraint_stabilization = alpha; }
+  /// Baumgarte's rate α (1/s) in the accelerations (core::ModelTpl::accelerations_from_wrenches):
+  /// a setting of the ODE this system is.
+  S constraint_stabilization() const { return stabilization_; }
+  void set_constraint_stabilization(S alpha) { stabilization_ = alpha; }
   /// Projects the bodies' state in y onto Φ(q, t) = 0 and J v + Φ_t = 0 (core::ModelTpl::project,
   /// to S's round-off); the integrals are left as they are. Returns the largest relative position
   /// violation before it.
@@ -91,13 +92,16 @@ class OdeSystemTpl {
   /// (core::ModelTpl::relative_joint_violation).
   core::RelativeJointViolationTpl<S> relative_joint_violation(S t, const std::vector<S>& y) const;
   /// ẏ = f(t, y) on the load branch active at t_segment, with the switching values of the same
-  /// evaluation when `switching` is given. Uses the system's scratch: one evaluation at a time
-  /// (the integrators here are sequential).
+  /// evaluation when `switching` is given, the joints on the rows of the system's tracker (as at
+  /// the last output_row, the state the integration last accepted). Uses the system's scratch:
+  /// one evaluation at a time (the integrators here are sequential).
   void derivative(const std::vector<S>& y, std::vector<S>& dydt, S t, double t_segment,
                   std::vector<S>* switching = nullptr) const;
   /// Kinetic + potential energy at (t, y) (the `energy` column).
   S energy(S t, const std::vector<S>& y) const;
-  /// The trajectory_columns row at (t, y) after `t`: per body p_WBo, θ, v_WBo, ω̄, tracked points
+  /// The trajectory_columns row at (t, y) after `t`, a state the integration accepted: the
+  /// joints' tracker moves there first (core::ModelTpl::advance_tracker, without the orientation
+  /// test: outputs come at any spacing). Per body p_WBo, θ, v_WBo, ω̄, tracked points
   /// (nodes deformed), q_f, q̇_f and a prescribed body's drive torque; per joint its reaction and
   /// violations; the energy, and when the model dissipates W_d, (W_a), E − E(0) + W_d − W_a; per
   /// wear channel Σ F_n, the slip speed of its most loaded support or pair, the wear work and
@@ -124,6 +128,10 @@ class OdeSystemTpl {
   int integral_count_ = 0;
   bool has_prescribed_ = false;
   S energy0_ = S(0);
+  S stabilization_ = S(0);  ///< Baumgarte's rate α (1/s)
+  /// The joints' rows in force and their last accepted state: moved at the outputs (output_row),
+  /// read by every evaluation.
+  mutable core::ConstraintTrackerTpl<S> tracker_;
   mutable core::WorkspaceTpl<S> ws_;
   mutable core::StateTpl<S> state_;
   mutable core::AccelerationsTpl<S> accelerations_;

@@ -4,6 +4,7 @@
 /// (model_instances_{double,extended,quad}.cpp).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
 
 #include "precision/model_conversion.hpp"
@@ -42,6 +43,7 @@ OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
   integrals_offset_ = offset + model_.wear_depth_count();
   integral_count_ = model_.integral_layout().count;
   ws_ = model_.make_workspace();
+  tracker_ = model_.make_constraint_tracker();
   state_ = model_.initial_state();
   accelerations_ = model_.make_accelerations();
   rates_.assign(static_cast<std::size_t>(integral_count_), S(0));
@@ -50,8 +52,7 @@ OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
   clamps_ = gaps_;
   if (model_.has_constraints()) {
     // Baumgarte's rate of the double ODE references (reference/method_choice.hpp).
-    ws_.constraint_stabilization =
-        S(reference::constraint_stabilization_rate(built, output_spacing));
+    stabilization_ = S(reference::constraint_stabilization_rate(built, output_spacing));
   }
   energy0_ = energy(S(0), initial_state());
 }
@@ -138,12 +139,13 @@ void OdeSystemTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, 
   unpack(t, y);
   // The loads, and in the same pass over the elements the integrals' rates and the switching
   // values (they come along with every evaluation: switched_integration.hpp).
-  model_.compute_wrenches_and_rates(context(t, t_segment), state_, ws_, rates_, gaps_, clamps_);
-  model_.accelerations_from_wrenches(state_, ws_, accelerations_);
+  const core::LoadsTpl<S> loads =
+      model_.compute_wrenches_and_rates(context(t, t_segment), state_, ws_, rates_, gaps_, clamps_);
+  model_.accelerations_from_wrenches(loads, tracker_, ws_, accelerations_, stabilization_);
   if (const int drive = model_.integral_layout().drive; drive >= 0) {
     // The drives' power from this evaluation's constrained solve.
     rates_[static_cast<std::size_t>(drive)] =
-        model_.constraint_power(state_, ws_.constraint.force, ws_);
+        model_.constraint_power(state_, model_.joint_multipliers(ws_).force(), ws_);
   }
   if (switching != nullptr) interleave_switching(*switching);
   dydt.resize(y.size());
@@ -209,7 +211,7 @@ template <typename S>
 S OdeSystemTpl<S>::project(S t, std::vector<S>& y) const {
   if (!has_constraints()) return S(0);
   const S before = relative_position_violation(t, y);
-  model_.project(t, state_, ws_);
+  model_.project(t, state_, tracker_, ws_);
   pack(y);
   return before;
 }
@@ -224,12 +226,12 @@ std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
   // The drives' torques and the joints' reactions at the accelerations of (t, y), on the
   // right-limit branch at t; the reactions from the plain index-1 form (no stabilization
   // terms: core::ModelTpl::joint_reactions).
-  const S alpha = ws_.constraint_stabilization;
-  ws_.constraint_stabilization = S(0);
+  if (has_constraints()) model_.advance_tracker(t, state_, tracker_, ws_, false);
   std::vector<core::JointReactionTpl<S>> reactions;
-  if (has_prescribed_) model_.compute_accelerations(ctx, state_, ws_, accelerations_);
-  if (has_constraints()) reactions = model_.joint_reactions(ctx, state_, ws_);
-  ws_.constraint_stabilization = alpha;
+  std::optional<core::LoadsTpl<S>> loads;
+  if (has_prescribed_)
+    loads = model_.compute_accelerations(ctx, state_, tracker_, ws_, accelerations_);
+  if (has_constraints()) reactions = model_.joint_reactions(ctx, state_, tracker_, ws_);
   for (int i = 0; i < model_.num_bodies(); ++i) {
     const core::BodyTpl<S>& b = model_.body(i);
     const core::BodyStateTpl<S>& p = state_[static_cast<std::size_t>(i)];
@@ -245,7 +247,8 @@ std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
     for (int k = 0; k < b.mode_count(); ++k) row.push_back(p.q_f(k));
     for (int k = 0; k < b.mode_count(); ++k) row.push_back(p.qd_f(k));
     if (b.is_prescribed()) {
-      row.push_back(model_.driving_torque(i, p, accelerations_[static_cast<std::size_t>(i)], ws_));
+      row.push_back(
+          model_.driving_torque(i, *loads, accelerations_[static_cast<std::size_t>(i)], ws_));
     }
   }
   if (has_constraints()) {

@@ -47,11 +47,13 @@ constexpr ARKODE_DIRKTableID kTable = ARKODE_ESDIRK547L2SA_7_4_5;
 
 class EsdirkSegmentSolver final : public sun::SegmentSolver {
  public:
-  EsdirkSegmentSolver(const core::Model& model, const SolverOptions& options, NewtonJacobian newton)
+  /// `stabilization`: Baumgarte's rate of the ODE form (ARKStep cannot project).
+  EsdirkSegmentSolver(const core::Model& model, const SolverOptions& options, NewtonJacobian newton,
+                      double stabilization)
       : model_(&model),
         options_(options),
         newton_(newton),
-        form_(model),
+        form_(model, stabilization),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
@@ -60,8 +62,7 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
                 ? sun::LinearSolver(make_newton_linear_solver(form_, context_.get()))
                 : sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get())) {
     data_.form = &form_;
-    data_.scratch = form_.make_scratch();
-    data_.scratch.workspace.constraint_stabilization = options.constraint_stabilization;
+    sun::bind_scratch(data_);
     data_.jacobian = options.jacobian;
     // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
     // works, contiguous in y (ARKStepReInit restarts ARKODE's step count).
@@ -83,8 +84,10 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
                      std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     form_.pack(state, sun::data(y_.get()));
-    // Ideal joints: every segment starts on the constraint manifold (else θ unit).
+    // Ideal joints: every segment starts on the constraint manifold (else θ unit), where the
+    // joints' tracker moves.
     form_.project(segment.start, sun::data(y_.get()), data_.scratch);
+    sun::accept_tracker(data_, segment.start, sun::data(y_.get()));
     works_.start(integrals, sun::data(y_.get()));
     if (!ark_) {
       ark_.reset(sun::check_created(
@@ -142,6 +145,7 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
 
   void restart_at_root(double t, const sun::Segment& segment) override {
     form_.project(t, sun::data(y_.get()), data_.scratch);
+    sun::accept_tracker(data_, t, sun::data(y_.get()));
     works_.rebase(sun::data(y_.get()));
     sun::check(ARKStepReInit(ark_.get(), nullptr, sun::ode_rhs, t, y_.get()), "ARKStepReInit");
     sun::check(ARKStepSetStopTime(ark_.get(), segment.end), "ARKStepSetStopTime");
@@ -149,6 +153,9 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
 
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
+  }
+  void accept_output(double t, const core::State& state) override {
+    sun::accept_tracker(data_, t, state);
   }
   void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
 
@@ -203,11 +210,10 @@ ReferenceRun solve_arkode_esdirk(const core::Model& model, const std::vector<dou
                                  const SolverOptions& options) {
   const NewtonJacobian newton = choose_newton_jacobian(model, options);
   // ARKStep has no projection: the joints' drift is damped instead (Baumgarte).
-  SolverOptions o = options;
-  o.constraint_stabilization =
+  const double stabilization =
       constraint_stabilization_rate(model, mean_output_spacing(output_times));
-  ReferenceRun run = sun::integrate_segments(model, output_times, o, "arkode", [&] {
-    return std::make_unique<EsdirkSegmentSolver>(model, o, newton);
+  ReferenceRun run = sun::integrate_segments(model, output_times, options, "arkode", [&] {
+    return std::make_unique<EsdirkSegmentSolver>(model, options, newton, stabilization);
   });
   run.method = "esdirk547l2sa-7-4-5";
   run.method_reason = "chosen with --method";

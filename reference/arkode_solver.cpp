@@ -79,9 +79,10 @@ sun::ErkStepMemory make_fehlberg(N_Vector y, SUNContext context, sun::OdeCallbac
 /// ARKODE ERKStep on the ODE form, driven segment by segment by integrate_segments.
 class ArkodeSegmentSolver final : public sun::SegmentSolver {
  public:
-  ArkodeSegmentSolver(const core::Model& model, const SolverOptions& options)
+  /// `stabilization`: Baumgarte's rate of the ODE form (ERKStep cannot project).
+  ArkodeSegmentSolver(const core::Model& model, const SolverOptions& options, double stabilization)
       : options_(options),
-        form_(model),
+        form_(model, stabilization),
         context_(sun::make_context()),
         y_(make()),
         y_start_(make()),
@@ -102,8 +103,7 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
         g_start_(g_.size()),
         extension_(form_.size()) {
     data_.form = &form_;
-    data_.scratch = form_.make_scratch();
-    data_.scratch.workspace.constraint_stabilization = options.constraint_stabilization;
+    sun::bind_scratch(data_);
     data_.watch_values.assign(g_.size(), 0.0);
     // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
     // works, contiguous in y; ARKODE's counters survive ERKStepReset, so the steps since the
@@ -145,8 +145,10 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
                      std::span<const double> integrals) override {
     data_.t_segment = segment.t_segment;
     form_.pack(state, sun::data(y_.get()));
-    // Ideal joints: every segment starts on the constraint manifold (else θ unit).
+    // Ideal joints: every segment starts on the constraint manifold (else θ unit), where the
+    // joints' tracker moves.
     form_.project(segment.start, sun::data(y_.get()), data_.scratch);
+    sun::accept_tracker(data_, segment.start, sun::data(y_.get()));
     works_.start(integrals, sun::data(y_.get()));
     restart(segment.start, segment.end);
   }
@@ -209,12 +211,16 @@ class ArkodeSegmentSolver final : public sun::SegmentSolver {
 
   void restart_at_root(double t, const sun::Segment& segment) override {
     form_.project(t, sun::data(y_.get()), data_.scratch);
+    sun::accept_tracker(data_, t, sun::data(y_.get()));
     works_.rebase(sun::data(y_.get()));
     restart(t, segment.end);
   }
 
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(output_ready_ ? y_end_.get() : y_.get()), state);
+  }
+  void accept_output(double t, const core::State& state) override {
+    sun::accept_tracker(data_, t, state);
   }
   void integrals(std::span<double> out) const override {
     works_.values(sun::data(output_ready_ ? y_end_.get() : y_.get()), out);
@@ -605,11 +611,10 @@ ReferenceRun solve_arkode(const core::Model& model, const std::vector<double>& o
     return run;
   }
   // ERKStep has no projection: the joints' drift is damped instead (Baumgarte).
-  SolverOptions o = options;
-  o.constraint_stabilization =
+  const double stabilization =
       constraint_stabilization_rate(model, mean_output_spacing(output_times));
-  ReferenceRun run = sun::integrate_segments(model, output_times, o, "arkode", [&] {
-    return std::make_unique<ArkodeSegmentSolver>(model, o);
+  ReferenceRun run = sun::integrate_segments(model, output_times, options, "arkode", [&] {
+    return std::make_unique<ArkodeSegmentSolver>(model, options, stabilization);
   });
   run.method = "erk-fehlberg-13-7-8";
   run.method_reason = choice.reason;

@@ -62,13 +62,14 @@ bool uses_fixed_point(const core::Model& model, CvodeMethod method) {
 /// CVODE on the ODE form, driven segment by segment by integrate_segments.
 class CvodeSegmentSolver final : public sun::SegmentSolver {
  public:
+  /// `stabilization`: Baumgarte's rate of the ODE form (Adams on ideal joints; 0 otherwise).
   CvodeSegmentSolver(const core::Model& model, const SolverOptions& options, CvodeMethod method,
-                     NewtonJacobian newton)
+                     NewtonJacobian newton, double stabilization)
       : model_(&model),
         options_(options),
         method_(method),
         newton_(newton),
-        form_(model),
+        form_(model, stabilization),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
@@ -86,7 +87,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
       fixed_point_ = sun::make_fixed_point_solver(y_.get(), 1, context_.get());
     }
     data_.form = &form_;
-    data_.scratch = form_.make_scratch();
+    sun::bind_scratch(data_);
     // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
     // works, contiguous in y.
     data_.rtol = options.rtol;
@@ -97,7 +98,6 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
       long steps = 0;
       return CVodeGetNumSteps(cvode, &steps) < 0 ? 0L : steps;
     };
-    data_.scratch.workspace.constraint_stabilization = options.constraint_stabilization;
     if (model.has_constraints()) data_.projected.resize(static_cast<std::size_t>(form_.size()));
     data_.jacobian = options.jacobian;
     if (newton == NewtonJacobian::kStructured) {
@@ -112,8 +112,10 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     data_.t_segment = segment.t_segment;
     before_switch_ = SolverStats{};
     form_.pack(state, sun::data(y_.get()));
-    // Ideal joints: every segment starts on the constraint manifold.
+    // Ideal joints: every segment starts on the constraint manifold, where the joints' tracker
+    // moves.
     form_.project(segment.start, sun::data(y_.get()), data_.scratch);
+    sun::accept_tracker(data_, segment.start, sun::data(y_.get()));
     works_.start(integrals, sun::data(y_.get()));
     void* cvode = cvode_.get();
     if (!initialized_) {
@@ -238,6 +240,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     if (method_ == CvodeMethod::kAdams || model_->has_constraints()) {
       form_.project(t, sun::data(y_.get()), data_.scratch);
     }
+    sun::accept_tracker(data_, t, sun::data(y_.get()));
     works_.rebase(sun::data(y_.get()));
     sun::check(CVodeReInit(cvode_.get(), t, y_.get()), "CVodeReInit");
     sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
@@ -246,6 +249,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
 
   void unpack(double t, core::State& state) const override {
     form_.unpack(t, sun::data(y_.get()), state);
+  }
+  void accept_output(double t, const core::State& state) override {
+    sun::accept_tracker(data_, t, state);
   }
   void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
 
@@ -317,13 +323,13 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
   }
   const NewtonJacobian newton = choose_newton_jacobian(model, options);
   // Adams cannot project (CVODE 6.4): the joints' drift is damped instead (Baumgarte).
-  SolverOptions o = options;
-  if (choice.method == CvodeMethod::kAdams) {
-    o.constraint_stabilization =
-        constraint_stabilization_rate(model, mean_output_spacing(output_times));
-  }
-  ReferenceRun run = sun::integrate_segments(model, output_times, o, "cvode", [&] {
-    return std::make_unique<CvodeSegmentSolver>(model, o, choice.method, newton);
+  const double stabilization =
+      choice.method == CvodeMethod::kAdams
+          ? constraint_stabilization_rate(model, mean_output_spacing(output_times))
+          : 0.0;
+  ReferenceRun run = sun::integrate_segments(model, output_times, options, "cvode", [&] {
+    return std::make_unique<CvodeSegmentSolver>(model, options, choice.method, newton,
+                                                stabilization);
   });
   run.method = to_string(choice.method);
   run.method_reason = choice.reason;

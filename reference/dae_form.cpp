@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <optional>
 
 #include "rotation/euler_parameters.hpp"
 
@@ -83,6 +84,7 @@ DaeForm::Scratch DaeForm::make_scratch() const {
   }
   if (model_->has_constraints()) {
     s.velocities = Eigen::VectorXd::Zero(model_->velocity_layout().size());
+    s.rows.resize(model_->constraints()->row_count(), model_->velocity_layout().size());
     s.multipliers = Eigen::VectorXd::Zero(2 * model_->velocity_layout().size());
     s.constraint_force = Eigen::VectorXd::Zero(model_->velocity_layout().size());
   }
@@ -129,14 +131,13 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
     model_->integral_rates(
         context, state, ws,
         std::span<double>(yp + work_index_, static_cast<std::size_t>(integral_count_)),
-        model_->has_constraints() ? &ws.constraint.force : nullptr);
+        model_->has_constraints() ? &model_->joint_multipliers(ws).force() : nullptr);
   }
   if (multiplier_index_ >= 0) {
     // λ of the constrained accelerations (the same sign: M v̇ = Q − Jᵀ λ) on the DAE's rows (the
     // solve may have chosen others at this state: the same reactions on the DAE's basis), μ = 0;
     // both algebraic.
-    const Eigen::VectorXd lambda =
-        core::multipliers_on_rows<double>(ws.constraint.rows.J, active_, ws.constraint.force);
+    const Eigen::VectorXd lambda = model_->joint_multipliers(ws).on_rows(active_);
     for (int j = 0; j < multiplier_count_; ++j) {
       y[multiplier_index_ + j] = lambda(j);
       y[multiplier_index_ + multiplier_count_ + j] = 0.0;
@@ -174,7 +175,9 @@ void DaeForm::mass_rows(const core::LoadContext& context, const double* y,
   core::State& state = scratch.state;
   core::Accelerations& acc = scratch.accelerations;
   unpack(context.t, y, state);
-  if (model_->has_flexible_bodies()) model_->compute_wrenches(context, state, scratch.workspace);
+  std::optional<core::Loads> loads;
+  if (model_->has_flexible_bodies())
+    loads = model_->compute_wrenches(context, state, scratch.workspace);
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Block& k = blocks_[i];
     const core::Body& b = model_->body(static_cast<int>(i));
@@ -193,7 +196,7 @@ void DaeForm::mass_rows(const core::LoadContext& context, const double* y,
       acc[i].a_WBr.setZero();
       acc[i].alpha_WB_B.setZero();
       acc[i].qdd_f.setZero();
-      model_->dynamics_residual(static_cast<int>(i), state[i], acc[i], scratch.workspace, r);
+      model_->dynamics_residual(static_cast<int>(i), *loads, acc[i], scratch.workspace, r);
       Eigen::MatrixXd& m = scratch.body_mass[i];
       model_->residual_mass_matrix(static_cast<int>(i), scratch.workspace, m);
       for (int row = 0; row < 6 + k.n; ++row) {
@@ -231,12 +234,12 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
     }
     acc[i].qdd_f = ConstMapX(yp + k.v_q, k.n);
   }
-  model_->compute_wrenches(context, state, scratch.workspace);
+  const core::Loads loads = model_->compute_wrenches(context, state, scratch.workspace);
   const bool joints = multiplier_index_ >= 0;
   const core::VelocityLayout& layout = model_->velocity_layout();
   if (joints) {
     // Jᵀ λ and Jᵀ μ over the independent rows, stacked like the generalized velocities.
-    core::ConstraintRows& rows = scratch.workspace.constraint.rows;
+    core::ConstraintRows& rows = scratch.rows;
     model_->constraints()->evaluate(context.t, scratch.workspace.kinematics, layout, rows);
     const std::vector<int>& active = active_;
     const auto n_v = static_cast<Eigen::Index>(layout.size());
@@ -260,7 +263,7 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
   for (std::size_t i = 0; i < state.size(); ++i) {
     const Block& k = blocks_[i];
     auto r = scratch.residual.head(6 + k.n);
-    model_->dynamics_residual(static_cast<int>(i), state[i], acc[i], scratch.workspace, r);
+    model_->dynamics_residual(static_cast<int>(i), loads, acc[i], scratch.workspace, r);
     const int o = joints ? layout.offset(static_cast<int>(i)) : 0;
     if (joints) r += scratch.multipliers.segment(o, 6 + k.n);  // + Jᵀ λ
     if (k.p >= 0) {

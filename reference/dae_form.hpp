@@ -51,6 +51,7 @@ class DaeForm {
     std::vector<int> generalized_rows;       ///< mass_rows: a body's rows in y
     std::vector<Eigen::MatrixXd> body_mass;  ///< mass_rows: a flexible body's (6+n)² matrix
     Eigen::VectorXd velocities;              ///< ideal joints: the stacked (v_Br, ω̄, q̇_f)
+    core::ConstraintRows rows;               ///< ideal joints: all rows at the iterate
     Eigen::VectorXd multipliers;             ///< ideal joints: Jᵀ λ, then Jᵀ μ (stacked)
     Eigen::VectorXd constraint_force;        ///< ideal joints: −Jᵀ λ, for the drives' power
   };

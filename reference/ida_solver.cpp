@@ -73,9 +73,10 @@ struct IdaData : sun::CallbackRecord {
   const StructuredJacobian* structured = nullptr;
   StructuredJacobian::Scratch structured_scratch;
   IdaNewtonSystem* newton = nullptr;
-  /// Ideal joints: the singular-configuration monitor's own workspace (the root function checks
-  /// every step's configuration, Model::check_singular_configuration).
-  core::Workspace monitor;
+  /// Ideal joints: the rows in force and the last accepted state's rows (core/
+  /// constraint_tracker.hpp), moved by the root function after every step
+  /// (Model::advance_tracker: the singular-configuration tests IDA's residual never makes).
+  core::ConstraintTracker tracker;
   /// The callback whose exception failed the solve (failure_message).
   const char* failed_callback = "residual";
 };
@@ -83,10 +84,10 @@ struct IdaData : sun::CallbackRecord {
 /// The model's switching functions at (t, y), then with ideal joints the singular-configuration
 /// monitor: IDA evaluates the root functions after every step (and at the outputs and event
 /// searches between), and its GGL residual never factors J M⁻¹ Jᵀ, so this is where a dead point
-/// stepped over is seen (docs/joints.md). Its own entry is 1 while the monitor's independent rows
-/// are the DAE's and −1 once it chose others (the DAE's became dependent among themselves, or ill
-/// conditioned: core::factor_or_reselect): a root where the driver switches the DAE's rows.
-/// Allocates nothing but on a row change.
+/// stepped over is seen (docs/joints.md): the tracker moves to each such state. Its own entry is 1
+/// while the tracker's rows are the DAE's and −1 once it chose others (the DAE's became dependent
+/// among themselves, or ill conditioned: core::choose_rows): a root where the driver switches the
+/// DAE's rows. Allocates nothing but on a row change.
 int switching(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void* user_data) {
   auto& d = *static_cast<IdaData*>(user_data);
   try {
@@ -99,8 +100,8 @@ int switching(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void* 
                                 std::span<double>(g, static_cast<std::size_t>(count)));
     }
     if (model.has_constraints()) {
-      model.check_singular_configuration(t, d.scratch.state, d.monitor);
-      g[count] = d.monitor.constraint.active == d.form->active_rows() ? 1.0 : -1.0;
+      model.advance_tracker(t, d.scratch.state, d.tracker, d.scratch.workspace);
+      g[count] = d.tracker.rows == d.form->active_rows() ? 1.0 : -1.0;
     }
   } catch (...) {
     d.callback_error = std::current_exception();
@@ -297,7 +298,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         sun::check(IDASetId(ida, id.get()), "IDASetId");
         sun::check(IDASetSuppressAlg(ida, SUNTRUE), "IDASetSuppressAlg");
       }
-      if (model_->has_constraints()) data_.monitor = model_->make_workspace();
+      if (model_->has_constraints()) data_.tracker = model_->make_constraint_tracker();
       const int root_functions =
           model_->switching_function_count() + (model_->has_constraints() ? 1 : 0);
       if (root_functions > 0) {
@@ -325,7 +326,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       bool contact = false;
       for (int k = 0; k < count; ++k) contact = contact || roots_[static_cast<std::size_t>(k)] != 0;
       if (roots_[static_cast<std::size_t>(count)] != 0) {
-        form_.set_active_rows(data_.monitor.constraint.active);
+        form_.set_active_rows(data_.tracker.rows);
         if (!contact) restart_at_root(reached.t, segment_);
       }
       if (contact) return reached;

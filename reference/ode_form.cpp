@@ -42,7 +42,8 @@ OdeForm::Block OdeForm::block_of(const core::Body& b, int offset) {
   return k;
 }
 
-OdeForm::OdeForm(const core::Model& model) : model_(&model), fixed_(model.initial_state()) {
+OdeForm::OdeForm(const core::Model& model, double stabilization)
+    : model_(&model), stabilization_(stabilization), fixed_(model.initial_state()) {
   for (const core::Body& b : model.bodies()) {
     const Block k = block_of(b, size_);
     blocks_.push_back(k);
@@ -111,7 +112,8 @@ void OdeForm::unpack(double t, const double* y, core::State& state) const {
 void OdeForm::rhs(const core::LoadContext& context, const double* y, double* ydot,
                   Scratch& scratch) const {
   unpack(context.t, y, scratch.state);
-  model_->compute_accelerations(context, scratch.state, scratch.workspace, scratch.accelerations);
+  model_->compute_accelerations(context, scratch.state, tracker(scratch), scratch.workspace,
+                                scratch.accelerations, stabilization_);
   for (std::size_t i = 0; i < scratch.state.size(); ++i) {
     const Block& k = blocks_[i];
     const core::BodyState& s = scratch.state[i];
@@ -140,7 +142,7 @@ void OdeForm::rhs(const core::LoadContext& context, const double* y, double* ydo
     model_->integral_rates(
         context, scratch.state, scratch.workspace,
         std::span<double>(ydot + work_index_, static_cast<std::size_t>(integral_count_)),
-        &scratch.workspace.constraint.force);
+        &model_->joint_multipliers(scratch.workspace).force());
   }
 }
 
@@ -150,7 +152,7 @@ void OdeForm::project(double t, double* y, Scratch& scratch) const {
     return;
   }
   unpack(t, y, scratch.state);
-  model_->project(t, scratch.state, scratch.workspace);
+  model_->project(t, scratch.state, tracker(scratch), scratch.workspace);
   pack_bodies(scratch.state, y);
 }
 

@@ -22,17 +22,29 @@ namespace flexref::reference {
 
 class OdeForm {
  public:
-  explicit OdeForm(const core::Model& model);
+  /// `stabilization`: Baumgarte's rate α (1/s) of the ideal joints in the accelerations, for
+  /// integrators that cannot project after their steps (core::ModelTpl::
+  /// accelerations_from_wrenches): part of the ODE this form is, 0 for the plain index-1 form.
+  explicit OdeForm(const core::Model& model, double stabilization = 0.0);
 
-  /// Scratch space of one evaluation (one per thread).
+  /// What one evaluation needs besides its arguments (one per thread): scratch space, and the
+  /// integrator's joints tracker it reads (core/constraint_tracker.hpp), which the integrator
+  /// owns and advances at the states it accepts.
   struct Scratch {
     core::State state;
     core::Workspace workspace;
     core::Accelerations accelerations;
+    /// Not owned; nullptr: the rows chosen at the initial configuration (Model::initial_tracker).
+    const core::ConstraintTracker* tracker = nullptr;
   };
 
   int size() const { return size_; }
   const core::Model& model() const { return *model_; }
+  double stabilization() const { return stabilization_; }
+  /// The tracker the scratch's evaluations read.
+  const core::ConstraintTracker& tracker(const Scratch& scratch) const {
+    return scratch.tracker != nullptr ? *scratch.tracker : model_->initial_tracker();
+  }
   Scratch make_scratch() const;
 
   /// Packs the state into y, the integrals set to zero.
@@ -47,7 +59,8 @@ class OdeForm {
   /// Scales every body's θ to unit norm.
   void normalize_euler_parameters(double* y) const;
   /// Ideal joints: projects the bodies' state in y onto Φ = 0 and J v + Φ_t = 0 at t
-  /// (core::Model::project; θ unit); the integrals are left as they are.
+  /// (core::Model::project, on the scratch's tracker's rows; θ unit); the integrals are left as
+  /// they are.
   void project(double t, double* y, Scratch& scratch) const;
   /// Packs the bodies' state and the worn depths into y, the integrals left as they are.
   void pack_bodies(const core::State& state, double* y) const;
@@ -85,6 +98,7 @@ class OdeForm {
   static Block block_of(const core::Body& b, int offset);
 
   const core::Model* model_;
+  double stabilization_ = 0.0;
   core::State fixed_;  ///< pivot positions
   std::vector<Block> blocks_;
   std::vector<int> theta_offsets_;

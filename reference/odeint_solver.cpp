@@ -212,8 +212,9 @@ class Integrator {
         g_new_(g_.size()),
         g_mid_(g_.size()),
         g_stage_(g_.size()),
-        carried_(static_cast<std::size_t>(form.integral_count())) {
-    scratch_.workspace.constraint_stabilization = options.constraint_stabilization;
+        carried_(static_cast<std::size_t>(form.integral_count())),
+        tracker_(form.model().make_constraint_tracker()) {
+    scratch_.tracker = &tracker_;
   }
 
   /// Where located event times are appended.
@@ -226,8 +227,13 @@ class Integrator {
     t_segment_ = t_segment;
     works_.values(x_.data(), carried_);  // W_d and the extra integrals, across segments
     form_->pack(state, x_.data());
-    // Ideal joints: every segment starts on the constraint manifold.
-    if (form_->model().has_constraints()) form_->project(t_, x_.data(), scratch_);
+    // Ideal joints: every segment starts on the constraint manifold, where the joints' tracker
+    // moves.
+    if (form_->model().has_constraints()) {
+      form_->project(t_, x_.data(), scratch_);
+      form_->unpack(t_, x_.data(), scratch_.state);
+      form_->model().advance_tracker(t_, scratch_.state, tracker_, scratch_.workspace);
+    }
     works_.start(carried_, x_.data());
     scaling_.factor = 1.0;
     evaluate_derivative();
@@ -330,21 +336,27 @@ class Integrator {
   /// t − start from the step's start (12 evaluations), else the continuous extension (fitted
   /// once per step, 26 evaluations). Both are of the method's order; the first halves the cost
   /// of dense-output scenes whose steps hold about one output each (flexible_spinner at rtol
-  /// 1e-12: 1022 steps for 1000 outputs).
+  /// 1e-12: 1022 steps for 1000 outputs). The output is a state of the integration: the joints'
+  /// tracker moves there.
   void output(double t, core::State& state, bool only_output_inside) {
     steps_since_output_ = 0;
+    double t_state = t_;
     if (t >= t_ - time_slack(t_)) {
       form_->unpack(t_, x_.data(), state);
-      return;
-    }
-    if (only_output_inside) {
-      stepper_.stepper().do_step(SegmentRhs(*form_, scratch_, counters_, t_segment_), x_previous_,
-                                 dxdt_previous_, t_previous_, x_output_, t - t_previous_);
     } else {
-      if (!extension_fitted_) fit_extension();
-      extension_.evaluate(t, x_output_.data());
+      if (only_output_inside) {
+        stepper_.stepper().do_step(SegmentRhs(*form_, scratch_, counters_, t_segment_), x_previous_,
+                                   dxdt_previous_, t_previous_, x_output_, t - t_previous_);
+      } else {
+        if (!extension_fitted_) fit_extension();
+        extension_.evaluate(t, x_output_.data());
+      }
+      t_state = t;
+      form_->unpack(t, x_output_.data(), state);
     }
-    form_->unpack(t, x_output_.data(), state);
+    const core::Model& model = form_->model();
+    if (model.has_constraints())
+      model.advance_tracker(t_state, state, tracker_, scratch_.workspace);
   }
   /// W_d and the extra integrals at the output t just computed by output().
   void output_integrals(double t, std::span<double> out) const {
@@ -581,6 +593,9 @@ class Integrator {
   double t_ = 0.0;
   double dt_ = 0.0;  ///< proposal for the next step; 0 before the first segment
   double t_segment_ = 0.0;
+  /// The joints' rows in force and their last accepted state (core/constraint_tracker.hpp):
+  /// moved at segment starts and outputs, read by every evaluation through scratch_.
+  core::ConstraintTracker tracker_;
 };
 
 void validate(const std::vector<double>& output_times, const SolverOptions& options) {
@@ -606,7 +621,9 @@ void validate(const std::vector<double>& output_times, const SolverOptions& opti
 ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& output_times,
                           const SolverOptions& options) {
   validate(output_times, options);
-  const reference::OdeForm form(model);
+  // Odeint's steppers have no projection: the joints' drift is damped instead (Baumgarte).
+  const reference::OdeForm form(
+      model, constraint_stabilization_rate(model, mean_output_spacing(output_times)));
 
   ReferenceRun run;
   run.solver = "odeint";
@@ -650,11 +667,7 @@ ReferenceRun solve_odeint(const core::Model& model, const std::vector<double>& o
   for (; k < output_times.size() && output_times[k] <= time_slack(0.0); ++k) record();
   if (k == output_times.size()) return run;
 
-  // Odeint's steppers have no projection: the joints' drift is damped instead (Baumgarte).
-  SolverOptions o = options;
-  o.constraint_stabilization =
-      constraint_stabilization_rate(model, mean_output_spacing(output_times));
-  Integrator integrator(form, o, run.stats);
+  Integrator integrator(form, options, run.stats);
   integrator.record_events_in(&run.event_times);
   std::clock_t cpu = 0;
   try {

@@ -52,10 +52,6 @@ struct SolverOptions {
   /// Where a progress line follows the solve (solve_progress.hpp): the solver stores the time
   /// it reached at each output time. Not owned; solve_reference does not keep it in the run.
   SolveProgress* progress = nullptr;
-  /// Ideal joints: Baumgarte's rate α (1/s) the ODE drivers that cannot project after their
-  /// steps put in the accelerations (core::Workspace::constraint_stabilization); set by the
-  /// solve_* functions from the model (constraint_stabilization_rate, method_choice.hpp).
-  double constraint_stabilization = 0.0;
   double absolute_tolerance() const { return atol < 0.0 ? rtol : atol; }
 };
 

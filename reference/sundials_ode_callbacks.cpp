@@ -11,6 +11,23 @@
 
 namespace flexref::reference::sundials {
 
+void bind_scratch(OdeCallbackData& d) {
+  d.scratch = d.form->make_scratch();
+  d.tracker = d.form->model().make_constraint_tracker();
+  d.scratch.tracker = &d.tracker;
+}
+
+void accept_tracker(OdeCallbackData& d, double t, const double* y) {
+  if (!d.form->model().has_constraints()) return;
+  d.form->unpack(t, y, d.scratch.state);
+  accept_tracker(d, t, d.scratch.state);
+}
+
+void accept_tracker(OdeCallbackData& d, double t, const core::State& state) {
+  const core::Model& model = d.form->model();
+  if (model.has_constraints()) model.advance_tracker(t, state, d.tracker, d.scratch.workspace);
+}
+
 int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
   auto& d = *static_cast<OdeCallbackData*>(user_data);
   ++d.evaluations;

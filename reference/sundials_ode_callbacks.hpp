@@ -20,6 +20,10 @@ namespace flexref::reference::sundials {
 /// user_data of the ODE callbacks.
 struct OdeCallbackData : CallbackRecord {
   const OdeForm* form = nullptr;
+  /// The joints' tracker of the integration (core/constraint_tracker.hpp), which
+  /// scratch.tracker points to: moved by the driver at the states it accepts (accept_tracker),
+  /// read by every callback.
+  core::ConstraintTracker tracker;
   OdeForm::Scratch scratch;
   double t_segment = 0.0;  ///< selects the load branch of the current segment
   const OdeJacobian* jacobian = nullptr;
@@ -36,6 +40,15 @@ struct OdeCallbackData : CallbackRecord {
   /// project_constraints' copy of y (sized by the driver for models with ideal joints).
   std::vector<double> projected;
 };
+
+/// Sizes d.scratch for d.form and points it at d.tracker, which starts at the model's initial
+/// rows. d must not move afterwards.
+void bind_scratch(OdeCallbackData& d);
+
+/// The tracker moved to the accepted state at t (an output, a segment's start, a restart), given
+/// as y or as the state (Model::advance_tracker). Throws core::SingularConfigurationError.
+void accept_tracker(OdeCallbackData& d, double t, const double* y);
+void accept_tracker(OdeCallbackData& d, double t, const core::State& state);
 
 /// y' = f(t, y). Returns 1 (recoverable: the solver retries a smaller step) when f is not
 /// finite, e.g. a trial step that reached a singular load.

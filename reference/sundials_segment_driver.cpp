@@ -102,6 +102,7 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
                                 : (tout < segment.end ? segment.end : kNever);
         if (tout > t_reached) advance_to(tout, next);
         solver->unpack(tout, state);
+        solver->accept_output(tout, state);
         if (track_work) solver->integrals(integrals);
         record(tout);
       }
@@ -116,6 +117,10 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
     throw core::SolverError(solver_name, solver->current_time(t_reached),
                             run.stats.steps + solver->current_steps(),
                             solver->failure_message(e.what()));
+  } catch (const core::SingularConfigurationError& e) {
+    // Found where the solver's tracker moved to an output, a segment's start or a restart.
+    throw core::SolverError(solver_name, e.time(), run.stats.steps + solver->current_steps(),
+                            e.what());
   }
   run.stats.cpu_seconds = static_cast<double>(cpu) / CLOCKS_PER_SEC;
   return run;

@@ -58,6 +58,14 @@ class SegmentSolver {
   /// Restarts at the root t just returned by advance (same segment, same stop time).
   virtual void restart_at_root(double t, const Segment& segment) = 0;
 
+  /// The solution reached the output at t, `state` (unpack's): a state of the integration, where
+  /// the solver's joints tracker moves (core/constraint_tracker.hpp). None by default (IDA's
+  /// root function moves its own after every step and at the outputs).
+  virtual void accept_output(double t, const core::State& state) {
+    (void)t;
+    (void)state;
+  }
+
   /// The state at time t of the solution last returned by advance (θ normalized).
   virtual void unpack(double t, core::State& state) const = 0;
   /// The integrals of that solution: W_d, then the model's extra integrals (none when the model

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -43,6 +44,9 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
   table.columns = trajectory_columns(model);
   core::Workspace ws = model.make_workspace();
   core::Accelerations accelerations = model.make_accelerations();
+  // The joints' rows follow the outputs as an integrator's follow its steps (chosen again where
+  // they become ill-conditioned; outputs come at any spacing, so no orientation test).
+  core::ConstraintTracker tracker = model.make_constraint_tracker();
   bool prescribed = false;
   for (const core::Body& b : model.bodies()) prescribed = prescribed || b.is_prescribed();
   table.rows.reserve(trajectory.times.size());
@@ -50,10 +54,13 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
   for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
     const double t = trajectory.times[k];
     const core::State& state = trajectory.states[k];
+    if (model.has_constraints()) model.advance_tracker(t, state, tracker, ws, false);
     // Driving torques of prescribed bodies need the accelerations at the state (loads of the
     // right-limit branch at t, like the energy below).
+    std::optional<core::Loads> loads;
     if (prescribed) {
-      model.compute_accelerations(core::LoadContext{t, t}, state, ws, accelerations);
+      loads =
+          model.compute_accelerations(core::LoadContext{t, t}, state, tracker, ws, accelerations);
     }
     std::vector<double> row;
     row.reserve(table.columns.size());
@@ -73,13 +80,14 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
       for (int m = 0; m < b.mode_count(); ++m) row.push_back(s.q_f(m));
       for (int m = 0; m < b.mode_count(); ++m) row.push_back(s.qd_f(m));
       if (b.is_prescribed()) {
-        row.push_back(model.driving_torque(i, s, accelerations[static_cast<std::size_t>(i)], ws));
+        row.push_back(
+            model.driving_torque(i, *loads, accelerations[static_cast<std::size_t>(i)], ws));
       }
     }
     if (model.has_constraints()) {
       // Reactions at the state's accelerations (loads of the right-limit branch at t).
       const std::vector<core::JointReaction> reactions =
-          model.joint_reactions(core::LoadContext{t, t}, state, ws);
+          model.joint_reactions(core::LoadContext{t, t}, state, tracker, ws);
       const std::vector<std::array<double, 2>> violations =
           model.constraint_violations(t, state, ws);
       for (std::size_t j = 0; j < reactions.size(); ++j) {

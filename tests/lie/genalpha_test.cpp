@@ -196,7 +196,11 @@ MatrixComparison compare_iteration_matrix(const core::Model& model, double h, do
   system.begin_step(0.0, h, state, vdot, a);
   VectorXd z(system.size());
   VectorXd lambda = VectorXd::Zero(system.multiplier_count());
-  if (model.has_constraints()) lambda = ws.constraint.lambda * (system.parameters().beta * h * h);
+  if (model.has_constraints()) {
+    // The evaluation's multipliers on the system's rows (the solve may have chosen others).
+    lambda = model.joint_multipliers(ws).on_rows(system.active_rows()) *
+             (system.parameters().beta * h * h);
+  }
   system.predictor(lambda, z);
   // Off the predictor, with rotation increments large enough that T(x) is far from I.
   Eigen::Index k_body = 0;

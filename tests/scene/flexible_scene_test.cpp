@@ -473,8 +473,8 @@ TEST_CASE("trajectory CSV of flexible and prescribed bodies: columns and round t
   CHECK(model.elastic_energy(trajectory.states[row]) > 0.0);
   // The drive torque: Model::driving_torque at the accelerations of the state.
   core::Accelerations acc = model.make_accelerations();
-  model.compute_accelerations({t, t}, trajectory.states[row], ws, acc);
-  const double torque = model.driving_torque(0, st, acc[0], ws);
+  const core::Loads loads = model.compute_accelerations({t, t}, trajectory.states[row], ws, acc);
+  const double torque = model.driving_torque(0, loads, acc[0], ws);
   CHECK(torque != 0.0);
   CHECK(table.rows[row][static_cast<std::size_t>(table.column("beam.drive_torque"))] == torque);
 

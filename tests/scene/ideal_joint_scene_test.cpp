@@ -126,7 +126,7 @@ TEST_CASE("ideal joints: a violation within 1e-6 is projected, a larger one when
       replace_first(kIdealJointScene, "point_b = [0.0, 0.0, 0.0]", "point_b = [0.0, 0.0, 1e-7]"),
       "small.toml");
   // The projection removes it to Newton's tolerance: round-off of the 1e-7 correction.
-  CHECK(small.model->initial_projection().position > 0.9e-7);
+  CHECK(small.model->consistent_initial_state().projection.position > 0.9e-7);
   core::Workspace ws = small.model->make_workspace();
   CHECK(small.model->constraint_violations(0.0, small.model->initial_state(), ws)[0][0] < 1e-15);
   // 1e-3 m off with project_initial_state = true: projected instead of refused.
@@ -135,7 +135,7 @@ TEST_CASE("ideal joints: a violation within 1e-6 is projected, a larger one when
                                   "point_b = [0.0, 0.0, 1e-3]"),
                     "output_step = 0.1\n", "output_step = 0.1\nproject_initial_state = true\n"),
       "projected.toml");
-  CHECK(projected.model->initial_projection().position > 0.9e-3);
+  CHECK(projected.model->consistent_initial_state().projection.position > 0.9e-3);
 }
 
 }  // namespace flexref::scene
