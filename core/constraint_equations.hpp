@@ -17,19 +17,9 @@
 #include <vector>
 
 #include "core/force_element.hpp"
+#include "core/velocity_layout.hpp"
 
 namespace flexref::core {
-
-/// Where each body's generalized velocity sits in the stacked vector v: body b occupies
-/// [offsets[b], offsets[b] + 6 + n_b); offsets has one more entry, the total size N.
-struct VelocityLayout {
-  std::vector<int> offsets;
-  int size() const { return offsets.empty() ? 0 : offsets.back(); }
-  int offset(int body) const { return offsets[static_cast<std::size_t>(body)]; }
-  int width(int body) const {
-    return offsets[static_cast<std::size_t>(body) + 1] - offsets[static_cast<std::size_t>(body)];
-  }
-};
 
 /// The constraint rows at one configuration and time, in S.
 template <typename S>

@@ -244,7 +244,8 @@ class ModelTpl {
   /// Ideal joints (docs/joints.md): the constraint equations, or nullptr.
   bool has_constraints() const { return constraints_ != nullptr; }
   const ConstraintEquations* constraints() const { return constraints_.get(); }
-  /// Where each body's (v_WBr, ω̄, q̇_f) sits in the stacked velocities of the constraint rows.
+  /// Where each body's (v_WBr, ω̄, q̇_f) sits in the stacked coordinates, and which of those rows
+  /// it integrates: the one layout the joints, genalpha and the DAE form stack by.
   const VelocityLayout& velocity_layout() const { return layout_; }
   /// The independent constraint rows chosen at the scene's initial configuration (the others are
   /// redundant there: docs/joints.md): a constant of the scene, where every tracker starts.
@@ -278,8 +279,8 @@ class ModelTpl {
   InitialProjection project(S t, State& state, Workspace& ws) const {
     return project(t, state, default_tracker_, ws);
   }
-  /// The stacked generalized velocities (v_WBr, ω̄, q̇_f) of a state.
-  void stack_velocities(const State& state, Vector& v) const;
+  /// The stacked generalized velocities (v_WBr, ω̄, q̇_f) of a state (velocity_layout()'s).
+  void stack_velocities(const State& state, Vector& v) const { layout_.stack_velocities(state, v); }
   /// The projection of the velocities alone (positions consistent).
   void project_velocities(S t, State& state, const ConstraintTracker& tracker, Workspace& ws) const;
   /// The largest relative position violation of the joints at a state (length rows by the
@@ -515,8 +516,8 @@ class ModelTpl {
                           Workspace& ws) const;
   /// The ideal joints' multipliers and constrained accelerations at the loads in ws, on the
   /// tracker's rows, with Baumgarte's rate `stabilization`.
-  void apply_constraints(S t, const ConstraintTracker& tracker, S stabilization, Workspace& ws,
-                         Accelerations& accelerations) const;
+  void apply_constraints(S t, const State& state, const ConstraintTracker& tracker, S stabilization,
+                         Workspace& ws, Accelerations& accelerations) const;
   /// The rows at a state, and their factorization in the mass metric (flexible bodies' factors
   /// at the state) on the tracker's rows (chosen again where ill-conditioned), without the
   /// orientation test; throws SingularConfigurationError at a singular configuration.

@@ -82,8 +82,7 @@ ModelTpl<S>::ModelTpl(std::vector<Body> bodies,
       }
     }
   }
-  layout_.offsets.push_back(0);
-  for (const Body& b : bodies_) layout_.offsets.push_back(layout_.size() + 6 + b.mode_count());
+  layout_ = VelocityLayout::of(bodies_);
   if (constraints_) {
     constraints_->append_discontinuities(discontinuities_);
     for (int j = 0; j < constraints_->joint_count(); ++j) {
@@ -297,7 +296,7 @@ void ModelTpl<S>::accelerations_from_wrenches(const Loads& loads, const Constrai
                                               S stabilization) const {
   free_accelerations(loads, ws, accelerations);
   if (constraints_) {
-    apply_constraints(loads.context().t, tracker, stabilization, ws, accelerations);
+    apply_constraints(loads.context().t, loads.state(), tracker, stabilization, ws, accelerations);
   }
 }
 

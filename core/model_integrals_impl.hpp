@@ -161,8 +161,8 @@ void ModelTpl<S>::integral_rates(const LoadContext& context, const State& state,
     if (constraint_force == nullptr) {
       const Loads loads = compute_wrenches(context, state, ws);
       free_accelerations(loads, ws, ws.integral_accelerations);
-      apply_constraints(context.t, tracker != nullptr ? *tracker : default_tracker_, S(0), ws,
-                        ws.integral_accelerations);
+      apply_constraints(context.t, state, tracker != nullptr ? *tracker : default_tracker_, S(0),
+                        ws, ws.integral_accelerations);
       constraint_force = &ws.constraint.force;
     }
     rates[static_cast<std::size_t>(k.drive)] = constraint_power(state, *constraint_force, ws);

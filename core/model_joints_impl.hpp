@@ -44,16 +44,6 @@ void ModelTpl<S>::apply_inverse_mass(int b, const Eigen::Ref<const Vector>& rhs,
 }
 
 template <typename S>
-void ModelTpl<S>::stack_velocities(const State& state, Vector& v) const {
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const int o = layout_.offset(static_cast<int>(b));
-    v.template segment<3>(o) = state[b].v_WBr;
-    v.template segment<3>(o + 3) = state[b].w_WB_B;
-    v.segment(o + 6, bodies_[b].mode_count()) = state[b].qd_f;
-  }
-}
-
-template <typename S>
 void ModelTpl<S>::stacked_inverse_mass(const Vector& in, Vector& out, Workspace& ws) const {
   ConstraintSolveTpl<S>& s = ws.constraint;
   out.setZero();
@@ -67,37 +57,22 @@ void ModelTpl<S>::stacked_inverse_mass(const Vector& in, Vector& out, Workspace&
 }
 
 template <typename S>
-void ModelTpl<S>::apply_constraints(S t, const ConstraintTracker& tracker, S stabilization,
-                                    Workspace& ws, Accelerations& accelerations) const {
+void ModelTpl<S>::apply_constraints(S t, const State& state, const ConstraintTracker& tracker,
+                                    S stabilization, Workspace& ws,
+                                    Accelerations& accelerations) const {
   ConstraintSolveTpl<S>& s = ws.constraint;
   constraints_->evaluate(t, ws.kinematics, layout_, s.rows);
   if (stabilization > S(0)) {
     // Baumgarte: γ − 2α (J v + Φ_t) − α² Φ (critically damped drift at the rate α).
-    for (std::size_t b = 0; b < bodies_.size(); ++b) {
-      const int o = layout_.offset(static_cast<int>(b));
-      const BodyState& x = *ws.kinematics[b].state;
-      s.v.template segment<3>(o) = x.v_WBr;
-      s.v.template segment<3>(o + 3) = x.w_WB_B;
-      s.v.segment(o + 6, bodies_[b].mode_count()) = x.qd_f;
-    }
+    layout_.stack_velocities(state, s.v);
     add_baumgarte(stabilization, s);
   }
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const int o = layout_.offset(static_cast<int>(b));
-    s.x.template segment<3>(o) = accelerations[b].a_WBr;
-    s.x.template segment<3>(o + 3) = accelerations[b].alpha_WB_B;
-    s.x.segment(o + 6, bodies_[b].mode_count()) = accelerations[b].qdd_f;
-  }
+  layout_.stack_accelerations(accelerations, s.x);
   solve_constrained_accelerations(
       *constraints_, layout_,
       [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); },
       static_cast<double>(t), tracker, s);
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const int o = layout_.offset(static_cast<int>(b));
-    accelerations[b].a_WBr = s.x.template segment<3>(o);
-    accelerations[b].alpha_WB_B = s.x.template segment<3>(o + 3);
-    accelerations[b].qdd_f = s.x.segment(o + 6, bodies_[b].mode_count());
-  }
+  layout_.unstack_accelerations(s.x, accelerations);
 }
 
 template <typename S>

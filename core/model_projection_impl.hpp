@@ -61,16 +61,7 @@ void ModelTpl<S>::project_velocities(S t, State& state, const ConstraintTracker&
   s.rate.noalias() = s.rows.J * s.v;
   s.rate += s.rows.phi_t;
   constraint_correction<S>(s.rate, s);
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const Body& body = bodies_[b];
-    const int o = layout_.offset(static_cast<int>(b));
-    BodyState& x = state[b];
-    if (!body.is_prescribed()) {
-      if (body.is_free()) x.v_WBr += s.x.template segment<3>(o);
-      x.w_WB_B += s.x.template segment<3>(o + 3);
-    }
-    x.qd_f += s.x.segment(o + 6, body.mode_count());
-  }
+  layout_.add_to_velocities(s.x, state);
 }
 
 }  // namespace flexref::core

@@ -57,9 +57,10 @@ class GenAlphaSystem {
   GenAlphaSystem(const core::Model& model, const GenAlphaParameters& parameters);
 
   int size() const { return static_cast<int>(z_size_); }
-  /// Σ_b (6 + n_b): the stacked velocities; body b from offset(b).
-  int body_unknowns() const { return offsets_.back(); }
-  int offset(int body) const { return offsets_[static_cast<std::size_t>(body)]; }
+  /// Σ_b (6 + n_b): the stacked velocities (the model's velocity_layout()); body b from
+  /// offset(b).
+  int body_unknowns() const { return layout_.size(); }
+  int offset(int body) const { return layout_.offset(body); }
   int multiplier_count() const { return n_multipliers_; }
   /// The joint rows the multipliers λ̂ belong to (the model's independent rows at the start;
   /// chosen again in motion by the stepper, same count: set_active_rows).
@@ -93,11 +94,15 @@ class GenAlphaSystem {
   /// Evaluations one iteration_matrix call costs.
   int matrix_evaluations() const { return integrated_unknowns_; }
   /// Stacked velocities (v_WBr, ω̄, q̇_f) of a state, and accelerations into a stacked vector.
-  void stack_velocities(const core::State& state, Eigen::VectorXd& v) const;
-  void stack_accelerations(const core::Accelerations& acc, Eigen::VectorXd& x) const;
+  void stack_velocities(const core::State& state, Eigen::VectorXd& v) const {
+    layout_.stack_velocities(state, v);
+  }
+  void stack_accelerations(const core::Accelerations& acc, Eigen::VectorXd& x) const {
+    layout_.stack_accelerations(acc, x);
+  }
 
  private:
-  bool integrated_row(int body, int k) const;
+  bool integrated_row(int body, int k) const { return layout_.integrated(body, k); }
   /// Model::dynamics_residual of body b with v̇ = vdot_ (prescribed: the law's α̅), into
   /// body_residual_[b], at the loads and kinematics compute_wrenches left in ws_.
   void body_residual(int b, const core::Loads& loads);
@@ -108,8 +113,8 @@ class GenAlphaSystem {
   int n_multipliers_ = 0;
   Eigen::Index z_size_ = 0;
   int integrated_unknowns_ = 0;
-  std::vector<int> offsets_;  ///< body b: [offsets_[b], offsets_[b + 1]); last: the total
-  std::vector<int> active_;   ///< the rows of the multipliers (active_rows)
+  const core::VelocityLayout& layout_;  ///< the model's stacked coordinates
+  std::vector<int> active_;             ///< the rows of the multipliers (active_rows)
   double t_n_ = 0.0;
   double h_ = 0.0;
   const core::State* state_n_ = nullptr;

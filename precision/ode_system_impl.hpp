@@ -11,6 +11,7 @@
 #include "precision/ode_system.hpp"
 #include "reference/method_choice.hpp"
 #include "scene/build_model.hpp"
+#include "trajectory/column_order.hpp"
 #include "trajectory/trajectory_table.hpp"
 
 namespace flexref::precision {
@@ -232,72 +233,117 @@ std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
   if (has_prescribed_)
     loads = model_.compute_accelerations(ctx, state_, tracker_, ws_, accelerations_);
   if (has_constraints()) reactions = model_.joint_reactions(ctx, state_, tracker_, ws_);
-  for (int i = 0; i < model_.num_bodies(); ++i) {
-    const core::BodyTpl<S>& b = model_.body(i);
-    const core::BodyStateTpl<S>& p = state_[static_cast<std::size_t>(i)];
-    const Vector3 p_WBo = model_.p_WBo(i, p);
-    const Vector3 v_WBo = model_.v_WBo(i, p);
-    row.insert(row.end(), {p_WBo(0), p_WBo(1), p_WBo(2), p.theta_WB(0), p.theta_WB(1),
-                           p.theta_WB(2), p.theta_WB(3), v_WBo(0), v_WBo(1), v_WBo(2), p.w_WB_B(0),
-                           p.w_WB_B(1), p.w_WB_B(2)});
-    for (const core::TrackedPoint& point : b.description().points) {
-      const Vector3 r = model_.p_WP(i, p, point);
-      row.insert(row.end(), {r(0), r(1), r(2)});
-    }
-    for (int k = 0; k < b.mode_count(); ++k) row.push_back(p.q_f(k));
-    for (int k = 0; k < b.mode_count(); ++k) row.push_back(p.qd_f(k));
-    if (b.is_prescribed()) {
-      row.push_back(
-          model_.driving_torque(i, *loads, accelerations_[static_cast<std::size_t>(i)], ws_));
-    }
-  }
-  if (has_constraints()) {
-    // Per joint: its reaction on its first body (force, torque about the joint point; world)
-    // and its largest position and velocity violation (trajectory::tabulate's columns).
-    const std::vector<std::array<S, 2>> violations = model_.constraint_violations(t, state_, ws_);
-    for (std::size_t j = 0; j < reactions.size(); ++j) {
-      const core::JointReactionTpl<S>& r = reactions[j];
-      row.insert(row.end(), {r.f_W(0), r.f_W(1), r.f_W(2), r.tau_W(0), r.tau_W(1), r.tau_W(2),
-                             violations[j][0], violations[j][1]});
-    }
-  }
-  const S e = model_.kinetic_energy(state_) + model_.potential_energy(ctx, state_, ws_);
-  row.push_back(e);
   const auto integrals = static_cast<std::size_t>(integrals_offset_);
   const core::IntegralLayout& layout = model_.integral_layout();
-  if (layout.count > 0) {
-    const S work = y[integrals];
-    const S applied_work =
-        layout.applied >= 0 ? y[integrals + static_cast<std::size_t>(layout.applied)] : S(0);
-    const S drive_work =
-        layout.drive >= 0 ? y[integrals + static_cast<std::size_t>(layout.drive)] : S(0);
-    row.push_back(work);
-    if (layout.applied >= 0) row.push_back(applied_work);
-    if (layout.drive >= 0) row.push_back(drive_work);
-    // E(t) − E(0) + W_d(t) − W_a(t) − W_drive(t)
-    row.push_back(e - energy0_ + work - applied_work - drive_work);
-  }
-  if (model_.wear_channel_count() > 0) {
-    // Per channel Σ F_n, the slip speed of its most loaded support or pair (the element's
-    // wear_samples), the wear work and the impacts counted by the caller.
-    model_.wear_samples(ctx, state_, ws_);
-    const std::size_t first_wear = integrals + static_cast<std::size_t>(layout.first_wear);
-    for (std::size_t k = 0; k < static_cast<std::size_t>(model_.wear_channel_count()); ++k) {
-      row.push_back(ws_.wear[k].normal_force);
-      row.push_back(ws_.wear[k].slip_speed);
-      row.push_back(y[first_wear + k]);
-      row.push_back(k < impacts.size() ? S(impacts[k]) : S(0));
-      const int c = static_cast<int>(k);
-      if (model_.channel_depth_count(c) == 0) continue;
-      // The worn depths: the largest, the volume, each point's or sector's.
-      row.push_back(model_.wear_depth_max(c, state_));
-      row.push_back(model_.wear_volume(c, state_));
-      const int first = model_.channel_depth_first(c);
-      for (int j = first; j < first + model_.channel_depth_count(c); ++j) {
-        row.push_back(state_.wear_depth(j));
+  const S work = layout.count > 0 ? y[integrals] : S(0);
+  const S applied_work =
+      layout.applied >= 0 ? y[integrals + static_cast<std::size_t>(layout.applied)] : S(0);
+  const S drive_work =
+      layout.drive >= 0 ? y[integrals + static_cast<std::size_t>(layout.drive)] : S(0);
+  // What several groups share, evaluated where the first of them is written.
+  std::vector<std::array<S, 2>> violations;
+  S e = S(0);
+  bool wear_sampled = false;
+  const auto push3 = [&row](const Vector3& v) { row.insert(row.end(), {v(0), v(1), v(2)}); };
+  // The columns after t (trajectory/column_order.hpp: the double table's order).
+  trajectory::for_each_column_group(model_, [&](const trajectory::ColumnGroup& g) {
+    using K = trajectory::ColumnKind;
+    const auto owner = static_cast<std::size_t>(g.owner);
+    switch (g.kind) {
+      case K::time:
+        break;
+      case K::position:
+        push3(model_.p_WBo(g.owner, state_[owner]));
+        break;
+      case K::rotation:
+        row.insert(row.end(), state_[owner].theta_WB.data(), state_[owner].theta_WB.data() + 4);
+        break;
+      case K::velocity:
+        push3(model_.v_WBo(g.owner, state_[owner]));
+        break;
+      case K::angular_velocity:
+        push3(state_[owner].w_WB_B);
+        break;
+      case K::point:
+        push3(model_.p_WP(
+            g.owner, state_[owner],
+            model_.body(g.owner).description().points[static_cast<std::size_t>(g.point)]));
+        break;
+      case K::mode:
+        row.insert(row.end(), state_[owner].q_f.data(), state_[owner].q_f.data() + g.count);
+        break;
+      case K::mode_rate:
+        row.insert(row.end(), state_[owner].qd_f.data(), state_[owner].qd_f.data() + g.count);
+        break;
+      case K::drive_torque:
+        row.push_back(model_.driving_torque(g.owner, *loads, accelerations_[owner], ws_));
+        break;
+      case K::reaction_force:
+        // Per joint: its reaction on its first body (force, torque about the joint point;
+        // world) and its largest position and velocity violation.
+        if (violations.empty()) violations = model_.constraint_violations(t, state_, ws_);
+        push3(reactions[owner].f_W);
+        break;
+      case K::reaction_torque:
+        push3(reactions[owner].tau_W);
+        break;
+      case K::violation:
+        row.push_back(violations[owner][0]);
+        break;
+      case K::violation_rate:
+        row.push_back(violations[owner][1]);
+        break;
+      case K::energy:
+        e = model_.kinetic_energy(state_) + model_.potential_energy(ctx, state_, ws_);
+        row.push_back(e);
+        break;
+      case K::dissipated_work:
+        row.push_back(work);
+        break;
+      case K::applied_work:
+        row.push_back(applied_work);
+        break;
+      case K::drive_work:
+        row.push_back(drive_work);
+        break;
+      case K::energy_balance:
+        // E(t) − E(0) + W_d(t) − W_a(t) − W_drive(t)
+        row.push_back(e - energy0_ + work - applied_work - drive_work);
+        break;
+      case K::normal_force:
+        // Per channel Σ F_n, the slip speed of its most loaded support or pair (the element's
+        // wear_samples), the wear work and the impacts counted by the caller.
+        if (!wear_sampled) {
+          model_.wear_samples(ctx, state_, ws_);
+          wear_sampled = true;
+        }
+        row.push_back(ws_.wear[owner].normal_force);
+        break;
+      case K::slip_speed:
+        row.push_back(ws_.wear[owner].slip_speed);
+        break;
+      case K::wear_work:
+        row.push_back(y[integrals + static_cast<std::size_t>(layout.first_wear) + owner]);
+        break;
+      case K::impacts:
+        row.push_back(owner < impacts.size() ? S(impacts[owner]) : S(0));
+        break;
+      case K::wear_depth:
+        // The worn depths: the largest, the volume, each point's or sector's.
+        row.push_back(model_.wear_depth_max(g.owner, state_));
+        break;
+      case K::wear_volume:
+        row.push_back(model_.wear_volume(g.owner, state_));
+        break;
+      case K::depth: {
+        const int first = model_.channel_depth_first(g.owner);
+        for (int k = first; k < first + g.count; ++k) row.push_back(state_.wear_depth(k));
+        break;
       }
+      case K::unknown:
+        break;
     }
-  }
+  });
   return row;
 }
 

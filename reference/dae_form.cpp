@@ -19,31 +19,9 @@ using MapX = Eigen::Map<Eigen::VectorXd>;
 
 }  // namespace
 
-DaeForm::Block DaeForm::block_of(const core::Body& b, int offset) {
-  // The ODE form's layout (ode_form.hpp).
-  Block k;
-  const int n = b.mode_count();
-  int next = offset;
-  auto take = [&next](int count) {
-    const int at = next;
-    next += count;
-    return at;
-  };
-  if (b.is_free()) k.p = take(3);
-  if (!b.is_prescribed()) k.theta = take(4);
-  if (b.is_free()) k.v = take(3);
-  if (!b.is_prescribed()) k.w = take(3);
-  k.q = take(n);
-  k.v_q = take(n);
-  k.n = n;
-  k.end = next;
-  return k;
-}
-
-DaeForm::DaeForm(const core::Model& model) : model_(&model), fixed_(model.initial_state()) {
-  for (const core::Body& b : model.bodies()) {
-    const Block k = block_of(b, size_);
-    blocks_.push_back(k);
+DaeForm::DaeForm(const core::Model& model)
+    : model_(&model), fixed_(model.initial_state()), blocks_(body_blocks(model)) {
+  for (const Block& k : blocks_) {
     size_ = k.end;
     max_rows_ = std::max(max_rows_, 6 + k.n);
   }
@@ -116,9 +94,9 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
       Map3(yp + k.w) = acc[i].alpha_WB_B;
     }
     MapX(y + k.q, k.n) = s.q_f;
-    MapX(y + k.v_q, k.n) = s.qd_f;
+    MapX(y + k.qd, k.n) = s.qd_f;
     MapX(yp + k.q, k.n) = s.qd_f;
-    MapX(yp + k.v_q, k.n) = acc[i].qdd_f;
+    MapX(yp + k.qd, k.n) = acc[i].qdd_f;
   }
   if (depth_count_ > 0) {
     MapX(y + depth_index_, depth_count_) = state.wear_depth;
@@ -148,25 +126,7 @@ void DaeForm::initial_values(const core::LoadContext& context, const core::State
 }
 
 void DaeForm::unpack(double t, const double* y, core::State& state) const {
-  for (std::size_t i = 0; i < state.size(); ++i) {
-    const Block& k = blocks_[i];
-    core::BodyState& s = state[i];
-    if (k.theta >= 0) {
-      s.theta_WB = ConstMap4(y + k.theta).normalized();
-      s.w_WB_B = ConstMap3(y + k.w);
-    }
-    if (k.p >= 0) {
-      s.p_WBr = ConstMap3(y + k.p);
-      s.v_WBr = ConstMap3(y + k.v);
-    } else {
-      s.p_WBr = fixed_[i].p_WBr;
-      s.v_WBr.setZero();
-    }
-    s.q_f = ConstMapX(y + k.q, k.n);
-    s.qd_f = ConstMapX(y + k.v_q, k.n);
-  }
-  state.wear_depth = ConstMapX(y + depth_index_, depth_count_);
-  model_->apply_prescribed_motion(t, state);
+  unpack_bodies(*model_, blocks_, fixed_, depth_index_, t, y, state);
 }
 
 void DaeForm::mass_rows(const core::LoadContext& context, const double* y,
@@ -189,7 +149,7 @@ void DaeForm::mass_rows(const core::LoadContext& context, const double* y,
       at[static_cast<std::size_t>(j)] = k.v >= 0 ? k.v + j : -1;
       at[static_cast<std::size_t>(3 + j)] = k.w >= 0 ? k.w + j : -1;
     }
-    for (int j = 0; j < k.n; ++j) at[static_cast<std::size_t>(6 + j)] = k.v_q + j;
+    for (int j = 0; j < k.n; ++j) at[static_cast<std::size_t>(6 + j)] = k.qd + j;
     if (b.is_flexible()) {
       // The effective mass matrix the residual multiplies (dynamics_residual fills it).
       auto r = scratch.residual.head(6 + k.n);
@@ -232,7 +192,7 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
       acc[i].a_WBr = k.v >= 0 ? Eigen::Vector3d(ConstMap3(yp + k.v)) : Eigen::Vector3d::Zero();
       acc[i].alpha_WB_B = ConstMap3(yp + k.w);  // α̅ = ω̄̇
     }
-    acc[i].qdd_f = ConstMapX(yp + k.v_q, k.n);
+    acc[i].qdd_f = ConstMapX(yp + k.qd, k.n);
   }
   const core::Loads loads = model_->compute_wrenches(context, state, scratch.workspace);
   const bool joints = multiplier_index_ >= 0;
@@ -284,8 +244,8 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
                                scratch.multipliers.segment<3>(layout.size() + o + 3);
       }
     }
-    MapX(res + k.q, k.n) = ConstMapX(yp + k.q, k.n) - ConstMapX(y + k.v_q, k.n);  // q̇ − v_q
-    MapX(res + k.v_q, k.n) = r.tail(k.n);                                         // modal rows
+    MapX(res + k.q, k.n) = ConstMapX(yp + k.q, k.n) - ConstMapX(y + k.qd, k.n);  // q̇ − v_q
+    MapX(res + k.qd, k.n) = r.tail(k.n);                                         // modal rows
     if (joints) MapX(res + k.q, k.n) += scratch.multipliers.segment(layout.size() + o + 6, k.n);
   }
   if (depth_count_ > 0) {

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "reference/form_layout.hpp"
 
 namespace flexref::reference {
 
@@ -107,16 +108,12 @@ class DaeForm {
   /// 1 for a differential component of y, 0 for an algebraic one (IDASetId).
   std::vector<double> differential_ids() const;
 
-  /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
-  struct Block {
-    int p = -1, theta = -1, v = -1, w = -1, q = -1, v_q = -1;
-    int n = 0, end = 0;
-  };
+  /// Offsets of a body's blocks in y (reference/form_layout.hpp, the ODE form's too; qd is
+  /// v_q's).
+  using Block = BodyBlock;
   const std::vector<Block>& blocks() const { return blocks_; }
 
  private:
-  static Block block_of(const core::Body& b, int offset);
-
   const core::Model* model_;
   core::State fixed_;
   std::vector<Block> blocks_;

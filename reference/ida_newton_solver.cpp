@@ -19,7 +19,7 @@ IdaNewtonSystem::IdaNewtonSystem(const DaeForm& dae, const OdeForm& ode)
     for (int j = 0; j < 3; ++j) {
       if (k.w >= 0) velocity_.push_back(k.w + j);
     }
-    for (int j = 0; j < k.n; ++j) velocity_.push_back(k.v_q + j);
+    for (int j = 0; j < k.n; ++j) velocity_.push_back(k.qd + j);
   }
   const int n = dae.size();
   const auto v = static_cast<Eigen::Index>(velocity_.size());

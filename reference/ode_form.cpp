@@ -6,47 +6,19 @@ namespace flexref::reference {
 
 namespace {
 
-using ConstMap3 = Eigen::Map<const Eigen::Vector3d>;
 using ConstMap4 = Eigen::Map<const Eigen::Vector4d>;
-using ConstMapX = Eigen::Map<const Eigen::VectorXd>;
 using Map3 = Eigen::Map<Eigen::Vector3d>;
 using Map4 = Eigen::Map<Eigen::Vector4d>;
 using MapX = Eigen::Map<Eigen::VectorXd>;
 
 }  // namespace
 
-OdeForm::Block OdeForm::block_of(const core::Body& b, int offset) {
-  Block k;
-  const int n = b.mode_count();
-  int next = offset;
-  if (b.is_free()) {
-    k.p = next;
-    next += 3;
-  }
-  if (!b.is_prescribed()) {
-    k.theta = next;
-    next += 4;
-  }
-  if (b.is_free()) {
-    k.v = next;
-    next += 3;
-  }
-  if (!b.is_prescribed()) {
-    k.w = next;
-    next += 3;
-  }
-  k.q = next;
-  k.qd = next + n;
-  k.n = n;
-  k.end = next + 2 * n;
-  return k;
-}
-
 OdeForm::OdeForm(const core::Model& model, double stabilization)
-    : model_(&model), stabilization_(stabilization), fixed_(model.initial_state()) {
-  for (const core::Body& b : model.bodies()) {
-    const Block k = block_of(b, size_);
-    blocks_.push_back(k);
+    : model_(&model),
+      stabilization_(stabilization),
+      fixed_(model.initial_state()),
+      blocks_(body_blocks(model)) {
+  for (const Block& k : blocks_) {
     if (k.theta >= 0) theta_offsets_.push_back(k.theta);
     size_ = k.end;
   }
@@ -74,39 +46,11 @@ void OdeForm::pack(const core::State& state, double* y) const {
 }
 
 void OdeForm::pack_bodies(const core::State& state, double* y) const {
-  for (std::size_t i = 0; i < state.size(); ++i) {
-    const Block& k = blocks_[i];
-    const core::BodyState& s = state[i];
-    if (k.p >= 0) Map3(y + k.p) = s.p_WBr;
-    if (k.theta >= 0) Map4(y + k.theta) = s.theta_WB;
-    if (k.v >= 0) Map3(y + k.v) = s.v_WBr;
-    if (k.w >= 0) Map3(y + k.w) = s.w_WB_B;
-    MapX(y + k.q, k.n) = s.q_f;
-    MapX(y + k.qd, k.n) = s.qd_f;
-  }
-  MapX(y + depth_index_, depth_count_) = state.wear_depth;
+  reference::pack_bodies(blocks_, depth_index_, state, y);
 }
 
 void OdeForm::unpack(double t, const double* y, core::State& state) const {
-  for (std::size_t i = 0; i < state.size(); ++i) {
-    const Block& k = blocks_[i];
-    core::BodyState& s = state[i];
-    if (k.p >= 0) {
-      s.p_WBr = ConstMap3(y + k.p);
-      s.v_WBr = ConstMap3(y + k.v);
-    } else {
-      s.p_WBr = fixed_[i].p_WBr;
-      s.v_WBr.setZero();
-    }
-    if (k.theta >= 0) {
-      s.theta_WB = ConstMap4(y + k.theta).normalized();
-      s.w_WB_B = ConstMap3(y + k.w);
-    }
-    s.q_f = ConstMapX(y + k.q, k.n);
-    s.qd_f = ConstMapX(y + k.qd, k.n);
-  }
-  state.wear_depth = ConstMapX(y + depth_index_, depth_count_);
-  model_->apply_prescribed_motion(t, state);
+  unpack_bodies(*model_, blocks_, fixed_, depth_index_, t, y, state);
 }
 
 void OdeForm::rhs(const core::LoadContext& context, const double* y, double* ydot,

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "reference/form_layout.hpp"
 
 namespace flexref::reference {
 
@@ -88,15 +89,11 @@ class OdeForm {
   /// Offsets of the θ blocks in y (bodies that integrate an attitude; for projections).
   const std::vector<int>& theta_offsets() const { return theta_offsets_; }
 
-  /// Offsets of a body's blocks in y (−1 when absent) and its mode count.
-  struct Block {
-    int p = -1, theta = -1, v = -1, w = -1, q = -1, qd = -1, n = 0, end = 0;
-  };
+  /// Offsets of a body's blocks in y (reference/form_layout.hpp, the DAE form's too).
+  using Block = BodyBlock;
   const std::vector<Block>& blocks() const { return blocks_; }
 
  private:
-  static Block block_of(const core::Body& b, int offset);
-
   const core::Model* model_;
   double stabilization_ = 0.0;
   core::State fixed_;  ///< pivot positions

@@ -4,6 +4,8 @@
 #include <array>
 #include <stdexcept>
 
+#include "trajectory/column_order.hpp"
+
 namespace flexref::trajectory {
 namespace {
 
@@ -173,47 +175,33 @@ ColumnLayout ColumnLayout::of(const core::Model& model) {
       layout.columns_.push_back({kind, body, {}, k, column_name(kind, body, k)});
     }
   };
-  add(ColumnKind::time, {});
-  for (const core::Body& b : model.bodies()) {
-    const std::string& n = b.name();
-    add(ColumnKind::position, n);
-    add(ColumnKind::rotation, n);
-    add(ColumnKind::velocity, n);
-    add(ColumnKind::angular_velocity, n);
-    // Points right after the rigid block, in the order of the body's description.
-    for (const core::TrackedPoint& p : b.description().points) add(ColumnKind::point, n, p.name);
-    add_modes(ColumnKind::mode, n, b.mode_count());
-    add_modes(ColumnKind::mode_rate, n, b.mode_count());
-    if (b.is_prescribed()) add(ColumnKind::drive_torque, n);
-  }
-  if (model.has_constraints()) {
-    const core::ConstraintEquations& joints = *model.constraints();
-    for (int j = 0; j < joints.joint_count(); ++j) {
-      for (ColumnKind k : {ColumnKind::reaction_force, ColumnKind::reaction_torque,
-                           ColumnKind::violation, ColumnKind::violation_rate}) {
-        add(k, joints.joint_name(j));
-      }
+  for_each_column_group(model, [&](const ColumnGroup& g) {
+    // The owner's name: a body's, a joint's or a wear channel's (none for t and the energies).
+    std::string owner;
+    switch (owner_of(g.kind)) {
+      case ColumnOwner::body:
+      case ColumnOwner::point:
+        owner = model.body(g.owner).name();
+        break;
+      case ColumnOwner::joint:
+        owner = model.constraints()->joint_name(g.owner);
+        break;
+      case ColumnOwner::contact:
+        owner = model.wear_channel_names()[static_cast<std::size_t>(g.owner)];
+        break;
+      case ColumnOwner::none:
+        break;
     }
-  }
-  add(ColumnKind::energy, {});
-  if (model.tracks_work()) {
-    add(ColumnKind::dissipated_work, {});
-    if (model.tracks_applied_work()) add(ColumnKind::applied_work, {});
-    if (model.tracks_drive_work()) add(ColumnKind::drive_work, {});
-    add(ColumnKind::energy_balance, {});
-  }
-  const std::vector<std::string>& channels = model.wear_channel_names();
-  for (std::size_t c = 0; c < channels.size(); ++c) {
-    for (ColumnKind k : {ColumnKind::normal_force, ColumnKind::slip_speed, ColumnKind::wear_work,
-                         ColumnKind::impacts}) {
-      add(k, channels[c]);
+    if (g.kind == ColumnKind::mode || g.kind == ColumnKind::mode_rate ||
+        g.kind == ColumnKind::depth) {
+      add_modes(g.kind, owner, g.count);
+    } else if (g.kind == ColumnKind::point) {
+      add(g.kind, owner,
+          model.body(g.owner).description().points[static_cast<std::size_t>(g.point)].name);
+    } else {
+      add(g.kind, owner);
     }
-    const int depths = model.channel_depth_count(static_cast<int>(c));
-    if (depths == 0) continue;
-    add(ColumnKind::wear_depth, channels[c]);
-    add(ColumnKind::wear_volume, channels[c]);
-    add_modes(ColumnKind::depth, channels[c], depths);
-  }
+  });
   return layout;
 }
 

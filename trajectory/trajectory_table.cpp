@@ -16,6 +16,7 @@
 #include "io/input_file.hpp"
 #include "io/output_file.hpp"
 #include "trajectory/column_layout.hpp"
+#include "trajectory/column_order.hpp"
 
 namespace flexref::trajectory {
 
@@ -62,45 +63,9 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
       loads =
           model.compute_accelerations(core::LoadContext{t, t}, state, tracker, ws, accelerations);
     }
-    std::vector<double> row;
-    row.reserve(table.columns.size());
-    row.push_back(t);
-    for (int i = 0; i < model.num_bodies(); ++i) {
-      const core::BodyState& s = state[static_cast<std::size_t>(i)];
-      const Eigen::Vector3d p = model.p_WBo(i, s);
-      const Eigen::Vector3d v = model.v_WBo(i, s);
-      row.insert(row.end(),
-                 {p.x(), p.y(), p.z(), s.theta_WB(0), s.theta_WB(1), s.theta_WB(2), s.theta_WB(3),
-                  v.x(), v.y(), v.z(), s.w_WB_B.x(), s.w_WB_B.y(), s.w_WB_B.z()});
-      const core::Body& b = model.body(i);
-      for (const core::TrackedPoint& pt : b.description().points) {
-        const Eigen::Vector3d r = model.p_WP(i, s, pt);
-        row.insert(row.end(), {r.x(), r.y(), r.z()});
-      }
-      for (int m = 0; m < b.mode_count(); ++m) row.push_back(s.q_f(m));
-      for (int m = 0; m < b.mode_count(); ++m) row.push_back(s.qd_f(m));
-      if (b.is_prescribed()) {
-        row.push_back(
-            model.driving_torque(i, *loads, accelerations[static_cast<std::size_t>(i)], ws));
-      }
-    }
-    if (model.has_constraints()) {
-      // Reactions at the state's accelerations (loads of the right-limit branch at t).
-      const std::vector<core::JointReaction> reactions =
-          model.joint_reactions(core::LoadContext{t, t}, state, tracker, ws);
-      const std::vector<std::array<double, 2>> violations =
-          model.constraint_violations(t, state, ws);
-      for (std::size_t j = 0; j < reactions.size(); ++j) {
-        const core::JointReaction& r = reactions[j];
-        row.insert(row.end(), {r.f_W.x(), r.f_W.y(), r.f_W.z(), r.tau_W.x(), r.tau_W.y(),
-                               r.tau_W.z(), violations[j][0], violations[j][1]});
-      }
-    }
     // Energy at an output time: the right-limit branch of piecewise loads (potentials do not
     // depend on time, so the branch only matters for future time-dependent potentials).
     const core::LoadContext context{t, t};
-    const double energy = model.kinetic_energy(state) + model.potential_energy(context, state, ws);
-    row.push_back(energy);
     const core::IntegralLayout& integrals = model.integral_layout();
     const auto extra = static_cast<std::size_t>(model.extra_integral_count());
     const bool tracked =
@@ -110,43 +75,127 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
       return tracked ? trajectory.extra_work[k * extra + static_cast<std::size_t>(i - 1)]
                      : std::numeric_limits<double>::quiet_NaN();
     };
-    if (model.tracks_work()) {
-      // W_d(t) and the balance E(t) − E(0) + W_d(t) − W_a(t) − W_drive(t) (0 up to the
-      // integration error when every joule is accounted for). NaN when the integrator did not
-      // track the integrals.
-      const double work = trajectory.dissipated_work.size() == trajectory.times.size()
-                              ? trajectory.dissipated_work[k]
-                              : std::numeric_limits<double>::quiet_NaN();
-      if (k == 0) energy0 = energy;
-      row.push_back(work);
-      const double applied = integrals.applied >= 0 ? integral(integrals.applied) : 0.0;
-      if (integrals.applied >= 0) row.push_back(applied);
-      const double driven = integrals.drive >= 0 ? integral(integrals.drive) : 0.0;
-      if (integrals.drive >= 0) row.push_back(driven);
-      row.push_back(energy - energy0 + work - applied - driven);
-    }
+    // W_d(t); NaN when the integrator did not track the integrals.
+    const double work = trajectory.dissipated_work.size() == trajectory.times.size()
+                            ? trajectory.dissipated_work[k]
+                            : std::numeric_limits<double>::quiet_NaN();
+    const double applied = integrals.applied >= 0 ? integral(integrals.applied) : 0.0;
+    const double driven = integrals.drive >= 0 ? integral(integrals.drive) : 0.0;
     const auto channels = static_cast<std::size_t>(model.wear_channel_count());
-    if (channels > 0) {
-      model.wear_samples(context, state, ws);
-      const bool counted = trajectory.impacts.size() == channels * trajectory.times.size();
-      for (std::size_t c = 0; c < channels; ++c) {
-        row.push_back(ws.wear[c].normal_force);
-        row.push_back(ws.wear[c].slip_speed);
-        row.push_back(integrals.first_wear >= 0
-                          ? integral(integrals.first_wear + static_cast<int>(c))
-                          : std::numeric_limits<double>::quiet_NaN());
-        row.push_back(counted ? trajectory.impacts[k * channels + c]
-                              : std::numeric_limits<double>::quiet_NaN());
-        const int channel = static_cast<int>(c);
-        const int depths = model.channel_depth_count(channel);
-        if (depths == 0) continue;
-        // The worn depths of the state: the largest, the volume, each point's or sector's.
-        row.push_back(model.wear_depth_max(channel, state));
-        row.push_back(model.wear_volume(channel, state));
-        const int first = model.channel_depth_first(channel);
-        for (int j = first; j < first + depths; ++j) row.push_back(state.wear_depth(j));
+    const bool counted = trajectory.impacts.size() == channels * trajectory.times.size();
+    // What several groups share, evaluated where the first of them is written (the order of
+    // the evaluations on ws as the columns').
+    std::vector<core::JointReaction> reactions;
+    std::vector<std::array<double, 2>> violations;
+    double energy = 0.0;
+    bool wear_sampled = false;
+    std::vector<double> row;
+    row.reserve(table.columns.size());
+    const auto push3 = [&row](const Eigen::Vector3d& v) {
+      row.insert(row.end(), {v.x(), v.y(), v.z()});
+    };
+    for_each_column_group(model, [&](const ColumnGroup& g) {
+      const auto owner = static_cast<std::size_t>(g.owner);
+      switch (g.kind) {
+        case ColumnKind::time:
+          row.push_back(t);
+          break;
+        case ColumnKind::position:
+          push3(model.p_WBo(g.owner, state[owner]));
+          break;
+        case ColumnKind::rotation:
+          row.insert(row.end(), state[owner].theta_WB.data(), state[owner].theta_WB.data() + 4);
+          break;
+        case ColumnKind::velocity:
+          push3(model.v_WBo(g.owner, state[owner]));
+          break;
+        case ColumnKind::angular_velocity:
+          push3(state[owner].w_WB_B);
+          break;
+        case ColumnKind::point:
+          push3(model.p_WP(
+              g.owner, state[owner],
+              model.body(g.owner).description().points[static_cast<std::size_t>(g.point)]));
+          break;
+        case ColumnKind::mode:
+          row.insert(row.end(), state[owner].q_f.data(), state[owner].q_f.data() + g.count);
+          break;
+        case ColumnKind::mode_rate:
+          row.insert(row.end(), state[owner].qd_f.data(), state[owner].qd_f.data() + g.count);
+          break;
+        case ColumnKind::drive_torque:
+          row.push_back(model.driving_torque(g.owner, *loads, accelerations[owner], ws));
+          break;
+        case ColumnKind::reaction_force:
+          if (reactions.empty()) {
+            // Reactions at the state's accelerations (loads of the right-limit branch at t).
+            reactions = model.joint_reactions(core::LoadContext{t, t}, state, tracker, ws);
+            violations = model.constraint_violations(t, state, ws);
+          }
+          push3(reactions[owner].f_W);
+          break;
+        case ColumnKind::reaction_torque:
+          push3(reactions[owner].tau_W);
+          break;
+        case ColumnKind::violation:
+          row.push_back(violations[owner][0]);
+          break;
+        case ColumnKind::violation_rate:
+          row.push_back(violations[owner][1]);
+          break;
+        case ColumnKind::energy:
+          energy = model.kinetic_energy(state) + model.potential_energy(context, state, ws);
+          if (k == 0) energy0 = energy;
+          row.push_back(energy);
+          break;
+        case ColumnKind::dissipated_work:
+          row.push_back(work);
+          break;
+        case ColumnKind::applied_work:
+          row.push_back(applied);
+          break;
+        case ColumnKind::drive_work:
+          row.push_back(driven);
+          break;
+        case ColumnKind::energy_balance:
+          // E(t) − E(0) + W_d(t) − W_a(t) − W_drive(t) (0 up to the integration error when every
+          // joule is accounted for).
+          row.push_back(energy - energy0 + work - applied - driven);
+          break;
+        case ColumnKind::normal_force:
+          if (!wear_sampled) {
+            model.wear_samples(context, state, ws);
+            wear_sampled = true;
+          }
+          row.push_back(ws.wear[owner].normal_force);
+          break;
+        case ColumnKind::slip_speed:
+          row.push_back(ws.wear[owner].slip_speed);
+          break;
+        case ColumnKind::wear_work:
+          row.push_back(integrals.first_wear >= 0 ? integral(integrals.first_wear + g.owner)
+                                                  : std::numeric_limits<double>::quiet_NaN());
+          break;
+        case ColumnKind::impacts:
+          row.push_back(counted ? trajectory.impacts[k * channels + owner]
+                                : std::numeric_limits<double>::quiet_NaN());
+          break;
+        case ColumnKind::wear_depth:
+          // The worn depths of the state: the largest, the volume, each point's or sector's.
+          row.push_back(model.wear_depth_max(g.owner, state));
+          break;
+        case ColumnKind::wear_volume:
+          row.push_back(model.wear_volume(g.owner, state));
+          break;
+        case ColumnKind::depth: {
+          const int first = model.channel_depth_first(g.owner);
+          for (int j = first; j < first + g.count; ++j) row.push_back(state.wear_depth(j));
+          break;
+        }
+        case ColumnKind::unknown:
+          break;
       }
-    }
+    });
     table.rows.push_back(std::move(row));
   }
   return table;

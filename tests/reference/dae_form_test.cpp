@@ -68,7 +68,7 @@ TEST_CASE("DAE form has the ODE form's layout", "[core]") {
       CHECK(d.v == o.v);
       CHECK(d.w == o.w);
       CHECK(d.q == o.q);
-      CHECK(d.v_q == o.qd);
+      CHECK(d.qd == o.qd);
     }
   }
 }
