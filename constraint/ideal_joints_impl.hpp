@@ -230,13 +230,13 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
                                  core::ConstraintRowsTpl<S>& rows) const {
   using detail::EndMotion;
   const Vector3 zero = Vector3::Zero();
+  // Every row belongs to one joint, which writes only its bodies' columns: the rest of J is
+  // zeroed here once, contiguously (row by row it strides through every column once per row).
+  rows.J.setZero();
+  rows.phi_t.setZero();
   for (std::size_t j = 0; j < specs_.size(); ++j) {
     const IdealJointSpec& spec = specs_[j];
     const int row = first_row_[j];
-    for (int k = row; k < first_row_[j + 1]; ++k) {
-      rows.J.row(k).setZero();
-      rows.phi_t(k) = S(0);
-    }
     const EndMotion<S> a = detail::end_motion<S>(a_[j], bodies);
     const EndMotion<S> b = detail::end_motion<S>(b_[j], bodies);
     // The drive's relative coordinate and its rates (zero when not driven).

@@ -32,6 +32,7 @@ void factor_tracked_rows(const ConstraintEquationsTpl<S>& equations, const Veloc
                          ConstraintSolveTpl<S>& s) {
   s.active = tracker.rows;  // the same count every time: the scratch's capacity, no allocation
   s.selection_ratio = tracker.selection_ratio;
+  s.rows_chosen = false;
   if (!choose_rows(equations, layout, apply_inverse_mass, s)) throw_singular(equations, s, t);
   if (orientation && tracker.has_accepted) {
     check_orientation(equations, layout, apply_inverse_mass, tracker.J_accepted,
@@ -67,6 +68,15 @@ void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
   }
 }
 
+/// The rows s.rows holds, at the accepted state at t, as the tracker's reference for the next
+/// solves' orientation test (the rows in force and their ratio as they are).
+template <typename S>
+void move_reference(double t, const ConstraintSolveTpl<S>& s, ConstraintTrackerTpl<S>& tracker) {
+  tracker.J_accepted = s.rows.J;
+  tracker.accepted_time = t;
+  tracker.has_accepted = true;
+}
+
 /// The tracker moved to an accepted state at t whose rows s.rows holds: the rows in force chosen
 /// again where they became ill-conditioned, the test for a singular configuration passed since
 /// its last accepted state (with `orientation`), then that state's rows kept as the next
@@ -78,9 +88,7 @@ void advance_tracker(const ConstraintEquationsTpl<S>& equations, const VelocityL
   factor_tracked_rows(equations, layout, apply_inverse_mass, tracker, t, orientation, s);
   tracker.rows = s.active;
   tracker.selection_ratio = s.selection_ratio;
-  tracker.J_accepted = s.rows.J;
-  tracker.accepted_time = t;
-  tracker.has_accepted = true;
+  move_reference(t, s, tracker);
 }
 
 /// The correction δ = −M⁻¹ J_aᵀ A⁻¹ r of the stacked generalized coordinates (velocities, or

@@ -24,6 +24,21 @@
 
 namespace flexref::core {
 
+/// How far an accepted state moves a tracker (Model::advance_tracker).
+enum class TrackerAdvance {
+  /// The rows in force chosen again where they became ill-conditioned, the test for a singular
+  /// configuration passed since the last accepted state, and the rows at this state as the next
+  /// solves' reference.
+  kFull,
+  /// The same without the orientation test: outputs at any spacing, or a state the evaluations
+  /// of the step that reached it have tested against the accepted state already.
+  kWithoutOrientation,
+  /// Only the reference of the orientation test (the rows at this state; no factorization), the
+  /// rows in force and their ratio kept: where no evaluation since the tracker last moved had to
+  /// choose its rows again (JointMultipliers::rows_chosen).
+  kReference,
+};
+
 template <typename S>
 struct ConstraintTrackerTpl {
   using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;

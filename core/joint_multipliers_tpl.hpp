@@ -54,6 +54,9 @@ class JointMultipliersTpl {
   const Vector& force() const { return solve_->force; }
   /// All rows' J at the evaluated state (m × N).
   const Matrix& J() const { return solve_->rows.J; }
+  /// Whether the solve chose its rows again at its state (its tracker's had become
+  /// ill-conditioned there): a hint to the integrator that its tracker is due to move.
+  bool rows_chosen() const { return solve_->rows_chosen; }
   /// The same reactions as multipliers of other rows `target` (multipliers_on_rows); λ itself
   /// where target are rows(). Allocates.
   Vector on_rows(const std::vector<int>& target) const {

@@ -255,15 +255,16 @@ class ModelTpl {
   ConstraintTracker make_constraint_tracker() const;
   /// make_constraint_tracker()'s, kept: what evaluations without a tracker of their own read.
   const ConstraintTracker& initial_tracker() const { return default_tracker_; }
-  /// Moves `tracker` to a state the integrator accepted (a step, an output, a restart): the rows
-  /// in force chosen again where they became ill-conditioned, with `orientation` the test for a
-  /// singular configuration passed since its last accepted state, and the rows at this state
-  /// kept as the next solves' reference (docs/joints.md, "Singular configurations"). J M⁻¹ Jᵀ is
-  /// factored here, so integrators whose equations never factor it (IDA's index-2 form) get the
+  /// Moves `tracker` to a state the integrator accepted (a step, an output, a restart), as far
+  /// as `advance` says (core/constraint_tracker.hpp): the rows in force chosen again where they
+  /// became ill-conditioned, the test for a singular configuration passed since its last
+  /// accepted state, and the rows at this state kept as the next solves' reference
+  /// (docs/joints.md, "Singular configurations"). J M⁻¹ Jᵀ is factored here (but for
+  /// kReference), so integrators whose equations never factor it (IDA's index-2 form) get the
   /// singular-configuration tests from it. Throws SingularConfigurationError naming the joint
   /// and time, the tracker left as it was. Allocates only where rows are chosen again.
   void advance_tracker(S t, const State& state, ConstraintTracker& tracker, Workspace& ws,
-                       bool orientation = true) const;
+                       TrackerAdvance advance = TrackerAdvance::kFull) const;
   /// The multipliers of the last constrained solve on ws (compute_accelerations,
   /// accelerations_from_wrenches) with the rows they belong to: a view, valid until ws's next
   /// evaluation.

@@ -114,13 +114,19 @@ typename ModelTpl<S>::ConstraintTracker ModelTpl<S>::make_constraint_tracker() c
 
 template <typename S>
 void ModelTpl<S>::advance_tracker(S t, const State& state, ConstraintTracker& tracker,
-                                  Workspace& ws, bool orientation) const {
+                                  Workspace& ws, TrackerAdvance advance) const {
   if (!constraints_) return;
+  if (advance == TrackerAdvance::kReference) {
+    pose_bodies(state, ws);
+    constraints_->evaluate(t, ws.kinematics, layout_, ws.constraint.rows);
+    move_reference(static_cast<double>(t), ws.constraint, tracker);
+    return;
+  }
   evaluate_rows_at(t, state, ws);
   core::advance_tracker(
       *constraints_, layout_,
       [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); },
-      static_cast<double>(t), orientation, tracker, ws.constraint);
+      static_cast<double>(t), advance == TrackerAdvance::kFull, tracker, ws.constraint);
 }
 
 template <typename S>

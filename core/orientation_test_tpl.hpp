@@ -138,6 +138,7 @@ void check_orientation(const ConstraintEquationsTpl<S>& equations, const Velocit
   if (!rows_turned_little(layout, J_accepted, s) || kept_orientation(layout, J_accepted, s)) {
     return;
   }
+  s.rows_chosen = true;
   std::vector<int> rows = independent_rows<S>(s.rows.J);
   rows.resize(std::min(rows.size(), s.active.size()));
   if (rows.size() == s.active.size() && rows != s.active) {

@@ -130,7 +130,8 @@ template <typename S>
 /// (kReselectPivotRatio), or its pivot ratio fell by kReselectPivotFall since the rows were
 /// chosen (s.selection_ratio; 0: this factorization's), the independent rows chosen again at the
 /// current configuration (a column-pivoted QR of all rows, allocating: the rare path) into
-/// s.active and A factored anew; s.selection_ratio then is the ratio they were chosen at.
+/// s.active and A factored anew (s.rows_chosen set); s.selection_ratio then is the ratio they
+/// were chosen at.
 /// Returns false when the rows have lost rank (fewer independent rows than before: a singular
 /// configuration) or A is still singular.
 template <typename S, typename ApplyInverseMass>
@@ -142,6 +143,7 @@ bool choose_rows(const ConstraintEquationsTpl<S>& equations, const VelocityLayou
       s.pivot_ratio >= S(kReselectPivotFall) * s.selection_ratio) {
     return true;
   }
+  s.rows_chosen = true;
   std::vector<int> rows = independent_rows<S>(s.rows.J);
   if (rows.size() < s.active.size()) return false;
   rows.resize(s.active.size());  // the rank cannot grow for a mechanism that moves continuously

@@ -70,6 +70,9 @@ struct ConstraintSolveTpl {
   Vector column;         ///< widest body block
   Vector out;            ///< widest body block
   S pivot_ratio = S(1);  ///< smallest/largest |pivot| of the last factorization
+  /// Whether this solve chose its rows again (a rank-revealing QR at its state) instead of taking
+  /// its tracker's as they were: its tracker's rows have become ill-conditioned there.
+  bool rows_chosen = false;
   /// The pivot ratio the active rows were chosen at (the tracker's, or this evaluation's when it
   /// chose them again); 0: take the first factorization's.
   S selection_ratio = S(0);

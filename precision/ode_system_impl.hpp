@@ -227,7 +227,8 @@ std::vector<S> OdeSystemTpl<S>::output_row(S t, const std::vector<S>& y,
   // The drives' torques and the joints' reactions at the accelerations of (t, y), on the
   // right-limit branch at t; the reactions from the plain index-1 form (no stabilization
   // terms: core::ModelTpl::joint_reactions).
-  if (has_constraints()) model_.advance_tracker(t, state_, tracker_, ws_, false);
+  if (has_constraints())
+    model_.advance_tracker(t, state_, tracker_, ws_, core::TrackerAdvance::kWithoutOrientation);
   std::vector<core::JointReactionTpl<S>> reactions;
   std::optional<core::LoadsTpl<S>> loads;
   if (has_prescribed_)

@@ -155,7 +155,7 @@ class EsdirkSegmentSolver final : public sun::SegmentSolver {
     form_.unpack(t, sun::data(y_.get()), state);
   }
   void accept_output(double t, const core::State& state) override {
-    sun::accept_tracker(data_, t, state);
+    sun::accept_output(data_, t, state);
   }
   void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
 

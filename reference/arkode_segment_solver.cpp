@@ -158,7 +158,7 @@ void ArkodeSegmentSolver::unpack(double t, core::State& state) const {
 }
 
 void ArkodeSegmentSolver::accept_output(double t, const core::State& state) {
-  sun::accept_tracker(data_, t, state);
+  sun::accept_output(data_, t, state);
 }
 
 void ArkodeSegmentSolver::integrals(std::span<double> out) const {

@@ -164,7 +164,10 @@ void Integrator::output(double t, core::State& state, bool only_output_inside) {
     form_->unpack(t, x_output_.data(), state);
   }
   const core::Model& model = form_->model();
-  if (model.has_constraints()) model.advance_tracker(t_state, state, tracker_, scratch_.workspace);
+  if (model.has_constraints()) {
+    model.advance_tracker(t_state, state, tracker_, scratch_.workspace,
+                          output_advance(model.joint_multipliers(scratch_.workspace)));
+  }
 }
 
 void Integrator::output_integrals(double t, std::span<double> out) const {

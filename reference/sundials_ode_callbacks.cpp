@@ -18,14 +18,17 @@ void bind_scratch(OdeCallbackData& d) {
 }
 
 void accept_tracker(OdeCallbackData& d, double t, const double* y) {
-  if (!d.form->model().has_constraints()) return;
+  const core::Model& model = d.form->model();
+  if (!model.has_constraints()) return;
   d.form->unpack(t, y, d.scratch.state);
-  accept_tracker(d, t, d.scratch.state);
+  model.advance_tracker(t, d.scratch.state, d.tracker, d.scratch.workspace);
 }
 
-void accept_tracker(OdeCallbackData& d, double t, const core::State& state) {
+void accept_output(OdeCallbackData& d, double t, const core::State& state) {
   const core::Model& model = d.form->model();
-  if (model.has_constraints()) model.advance_tracker(t, state, d.tracker, d.scratch.workspace);
+  if (!model.has_constraints()) return;
+  model.advance_tracker(t, state, d.tracker, d.scratch.workspace,
+                        output_advance(model.joint_multipliers(d.scratch.workspace)));
 }
 
 int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {

@@ -45,10 +45,11 @@ struct OdeCallbackData : CallbackRecord {
 /// rows. d must not move afterwards.
 void bind_scratch(OdeCallbackData& d);
 
-/// The tracker moved to the accepted state at t (an output, a segment's start, a restart), given
-/// as y or as the state (Model::advance_tracker). Throws core::SingularConfigurationError.
+/// The tracker moved to the accepted state at t (a segment's start, a restart: from y; an
+/// output: the state, as far as output_advance says; Model::advance_tracker). Throws
+/// core::SingularConfigurationError.
 void accept_tracker(OdeCallbackData& d, double t, const double* y);
-void accept_tracker(OdeCallbackData& d, double t, const core::State& state);
+void accept_output(OdeCallbackData& d, double t, const core::State& state);
 
 /// y' = f(t, y). Returns 1 (recoverable: the solver retries a smaller step) when f is not
 /// finite, e.g. a trial step that reached a singular load.

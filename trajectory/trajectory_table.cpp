@@ -55,7 +55,9 @@ TrajectoryTable tabulate(const core::Model& model, const core::Trajectory& traje
   for (std::size_t k = 0; k < trajectory.times.size(); ++k) {
     const double t = trajectory.times[k];
     const core::State& state = trajectory.states[k];
-    if (model.has_constraints()) model.advance_tracker(t, state, tracker, ws, false);
+    if (model.has_constraints()) {
+      model.advance_tracker(t, state, tracker, ws, core::TrackerAdvance::kWithoutOrientation);
+    }
     // Driving torques of prescribed bodies need the accelerations at the state (loads of the
     // right-limit branch at t, like the energy below).
     std::optional<core::Loads> loads;
