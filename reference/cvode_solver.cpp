@@ -30,16 +30,19 @@
 #include <cvode/cvode_proj.h>
 
 #include <algorithm>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "reference/error_weights.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/newton_linear_solver.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/step_clock.hpp"
 #include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
 #include "reference/sundials_ode_callbacks.hpp"
@@ -53,6 +56,40 @@ namespace sun = sundials;
 /// Steps fixed-point iteration takes between two looks at its convergence failures (advance).
 constexpr long kStiffnessWindow = 200;
 
+/// Adds CVODE's accepted steps since the last call to the clock (step_clock.hpp).
+void record_steps(void* cvode, StepClock& clock) {
+  long steps = 0;
+  double last_step = 0.0, t = 0.0;
+  sun::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
+  if (steps == 0) return;
+  sun::check(CVodeGetLastStep(cvode, &last_step), "CVodeGetLastStep");
+  sun::check(CVodeGetCurrentTime(cvode, &t), "CVodeGetCurrentTime");
+  clock.record(steps, last_step, t);
+}
+
+/// CVEwtFn: CVODE calls it before every step (error_weights.hpp); it also records the step just
+/// taken on the clock. Allocates nothing.
+int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
+  auto& d = *static_cast<sun::OdeCallbackData*>(user_data);
+  try {
+    record_steps(d.cvode, *d.clock);
+    d.error_weights->evaluate(sun::data(y), d.clock->mean_step(), sun::data(ewt));
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  return 0;
+}
+
+/// The rotation blocks of the ODE form's bodies (θ and ω̄ offsets in y).
+std::vector<RotationBlock> rotation_blocks(const OdeForm& form) {
+  std::vector<RotationBlock> blocks;
+  for (const OdeForm::Block& k : form.blocks()) {
+    if (k.theta >= 0) blocks.push_back({k.theta, k.w});
+  }
+  return blocks;
+}
+
 /// True where the corrector iterates by fixed-point iteration instead of Newton: Adams (chosen
 /// where nothing is stiff) on a model with ideal joints (see the file's comment).
 bool uses_fixed_point(const core::Model& model, CvodeMethod method) {
@@ -63,14 +100,17 @@ bool uses_fixed_point(const core::Model& model, CvodeMethod method) {
 class CvodeSegmentSolver final : public sun::SegmentSolver {
  public:
   CvodeSegmentSolver(const core::Model& model, const SolverOptions& options, CvodeMethod method,
-                     NewtonJacobian newton)
+                     NewtonJacobian newton, double span)
       : model_(&model),
         options_(options),
         method_(method),
         newton_(newton),
         form_(model),
+        weights_(form_.size(), options.rtol, options.absolute_tolerance(), span,
+                 rotation_blocks(form_)),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
+        ydot_(sun::make_vector(form_.size(), context_.get())),
         jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
         linear_solver_(
             newton == NewtonJacobian::kStructured
@@ -90,6 +130,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     data_.scratch.workspace.constraint_stabilization = options.constraint_stabilization;
     if (model.has_constraints()) data_.projected.resize(static_cast<std::size_t>(form_.size()));
     data_.jacobian = options.jacobian;
+    data_.error_weights = &weights_;
+    data_.clock = &clock_;
+    data_.cvode = cvode_.get();
     if (newton == NewtonJacobian::kStructured) {
       structured_.emplace(form_);
       data_.structured = &*structured_;
@@ -111,8 +154,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
       sun::check(CVodeSetUserData(cvode, &data_), "CVodeSetUserData");
       sun::check(CVodeSetErrHandlerFn(cvode, sun::record_error, &data_.log),
                  "CVodeSetErrHandlerFn");
-      sun::check(CVodeSStolerances(cvode, options_.rtol, options_.absolute_tolerance()),
-                 "CVodeSStolerances");
+      sun::check(CVodeWFtolerances(cvode, error_weights), "CVodeWFtolerances");
       if (iterates_fixed_point()) {
         sun::check(CVodeSetNonlinearSolver(cvode, fixed_point_.get()), "CVodeSetNonlinearSolver");
       } else {
@@ -135,8 +177,10 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
                    "CVodeRootInit");
       }
       initialized_ = true;
+      clock_.start_run(segment.start);
     } else {
       sun::check(CVodeReInit(cvode, segment.start, y_.get()), "CVodeReInit");
+      clock_.restart(segment.start);
     }
     sun::check(CVodeSetStopTime(cvode, segment.end), "CVodeSetStopTime");
     segment_end_ = segment.end;
@@ -184,7 +228,18 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     }
     sun::check(flag, "CVode");
     reached.root = flag == CV_ROOT_RETURN;
+    to_physical_time(reached.t);
     return reached;
+  }
+
+  /// Moves y_, CVODE's solution at its time t, to the physical time t (step_clock.hpp):
+  /// y(t + δ) ≈ y(t) + δ ẏ(t), δ the clock's offset.
+  void to_physical_time(double t) {
+    record_steps(cvode_.get(), clock_);
+    const double offset = clock_.offset();
+    if (offset == 0.0) return;
+    sun::check(CVodeGetDky(cvode_.get(), t, 1, ydot_.get()), "CVodeGetDky");
+    N_VLinearSum(1.0, y_.get(), offset, ydot_.get(), y_.get());
   }
 
   /// True while the corrector iterates by fixed-point iteration (until a switch to Newton).
@@ -204,6 +259,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   /// From fixed-point to Newton iteration at t (advance), restarting from the state there.
   void switch_to_newton(double t) {
     void* cvode = cvode_.get();
+    to_physical_time(t);
     SolverStats so_far;
     add_counters(so_far);  // CVodeReInit below starts CVODE's counters again
     before_switch_ = so_far;
@@ -212,6 +268,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     attach_newton(cvode);
     sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
     sun::check(CVodeReInit(cvode, t, y_.get()), "CVodeReInit");
+    clock_.restart(t);
     sun::check(CVodeSetStopTime(cvode, segment_end_), "CVodeSetStopTime");
   }
 
@@ -223,6 +280,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
       form_.project(t, sun::data(y_.get()), data_.scratch);
     }
     sun::check(CVodeReInit(cvode_.get(), t, y_.get()), "CVodeReInit");
+    clock_.restart(t);
     sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
     segment_end_ = segment.end;
   }
@@ -274,11 +332,14 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   CvodeMethod method_;
   NewtonJacobian newton_;
   OdeForm form_;
+  ErrorWeights weights_;
+  StepClock clock_;
   std::optional<StructuredJacobian> structured_;
   sun::OdeCallbackData data_;
   bool initialized_ = false;
   sun::Context context_;
   sun::Vector y_;
+  sun::Vector ydot_;  ///< ẏ at an output (to_physical_time)
   sun::Matrix jacobian_;
   sun::LinearSolver linear_solver_;
   sun::NonlinearSolver fixed_point_;    ///< set where uses_fixed_point (else CVODE's Newton)
@@ -305,8 +366,9 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
     o.constraint_stabilization =
         constraint_stabilization_rate(model, mean_output_spacing(output_times));
   }
+  const double span = output_times.empty() ? 0.0 : output_times.back() - output_times.front();
   ReferenceRun run = sun::integrate_segments(model, output_times, o, "cvode", [&] {
-    return std::make_unique<CvodeSegmentSolver>(model, o, choice.method, newton);
+    return std::make_unique<CvodeSegmentSolver>(model, o, choice.method, newton, span);
   });
   run.method = to_string(choice.method);
   run.method_reason = choice.reason;

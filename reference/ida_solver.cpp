@@ -40,11 +40,13 @@
 #include <vector>
 
 #include "reference/dae_form.hpp"
+#include "reference/error_weights.hpp"
 #include "reference/ida_newton_solver.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/ode_jacobian.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/step_clock.hpp"
 #include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
 #include "reference/sundials_segment_driver.hpp"
@@ -78,7 +80,47 @@ struct IdaData : sun::CallbackRecord {
   core::Workspace monitor;
   /// The callback whose exception failed the solve (failure_message).
   const char* failed_callback = "residual";
+  /// The error weights (error_weights.hpp), the clock IDA's accepted steps are summed on
+  /// (step_clock.hpp) and IDA's memory to read them from.
+  const ErrorWeights* error_weights = nullptr;
+  StepClock* clock = nullptr;
+  void* ida = nullptr;
 };
+
+/// Adds IDA's accepted steps since the last call to the clock.
+void record_steps(void* ida, StepClock& clock) {
+  long steps = 0;
+  double last_step = 0.0, t = 0.0;
+  sun::check(IDAGetNumSteps(ida, &steps), "IDAGetNumSteps");
+  if (steps == 0) return;
+  sun::check(IDAGetLastStep(ida, &last_step), "IDAGetLastStep");
+  sun::check(IDAGetCurrentTime(ida, &t), "IDAGetCurrentTime");
+  clock.record(steps, last_step, t);
+}
+
+/// IDAEwtFn: IDA calls it before every step (error_weights.hpp); it also records the step just
+/// taken on the clock. Allocates nothing.
+int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
+  auto& d = *static_cast<IdaData*>(user_data);
+  try {
+    record_steps(d.ida, *d.clock);
+    d.error_weights->evaluate(sun::data(y), d.clock->mean_step(), sun::data(ewt));
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    d.failed_callback = "error weights";
+    return -1;
+  }
+  return 0;
+}
+
+/// The rotation blocks of the DAE form's bodies (θ and ω̄ offsets in y).
+std::vector<RotationBlock> rotation_blocks(const DaeForm& form) {
+  std::vector<RotationBlock> blocks;
+  for (const DaeForm::Block& k : form.blocks()) {
+    if (k.theta >= 0) blocks.push_back({k.theta, k.w});
+  }
+  return blocks;
+}
 
 /// The model's switching functions at (t, y), then with ideal joints the singular-configuration
 /// monitor: IDA evaluates the root functions after every step (and at the outputs and event
@@ -185,13 +227,15 @@ int structured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*y
 class IdaSegmentSolver final : public sun::SegmentSolver {
  public:
   IdaSegmentSolver(const core::Model& model, const SolverOptions& options, int max_order,
-                   NewtonJacobian newton)
+                   NewtonJacobian newton, double span)
       : model_(&model),
         options_(options),
         max_order_(max_order),
         newton_kind_(newton),
         form_(model),
         ode_(model),
+        weights_(form_.size(), options.rtol, options.absolute_tolerance(), span,
+                 rotation_blocks(form_)),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         yp_(sun::make_vector(form_.size(), context_.get())),
@@ -200,6 +244,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         ida_(sun::check_created(IDACreate(context_.get()), "IDACreate")) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
+    data_.error_weights = &weights_;
+    data_.clock = &clock_;
+    data_.ida = ida_.get();
     if (newton == NewtonJacobian::kStructured) {
       data_.structured = &*structured_;
       data_.structured_scratch = structured_->make_scratch();
@@ -239,10 +286,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       sun::check(IDAInit(ida, residual, segment.start, y_.get(), yp_.get()), "IDAInit");
       sun::check(IDASetUserData(ida, &data_), "IDASetUserData");
       sun::check(IDASetErrHandlerFn(ida, sun::record_error, &data_.log), "IDASetErrHandlerFn");
-      if (form_.multiplier_count() == 0) {
-        sun::check(IDASStolerances(ida, options_.rtol, options_.absolute_tolerance()),
-                   "IDASStolerances");
-      } else {
+      if (form_.multiplier_count() > 0) {
         // The multipliers' absolute tolerance: the index-2 iteration matrix scales their Newton
         // corrections by 1/h (its smallest singular values fall like σ_min(Φ_q)²/c_j), so at the
         // state's own tolerance IDA's convergence test rejects every corrector from the first
@@ -250,12 +294,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         // 1e-3 of their size still failed at rtol 1e-12). They are out of the error test, and
         // with kMultiplierTolerance × their initial size out of the Newton test too: the state's
         // components decide convergence, as for an index-1 system.
-        sun::Vector atol = sun::make_vector(form_.size(), context_.get());
-        double* a = sun::data(atol.get());
-        std::fill(a, a + form_.size(), options_.absolute_tolerance());
-        std::fill(a + form_.multiplier_index(), a + form_.size(), multiplier_tolerance_);
-        sun::check(IDASVtolerances(ida, options_.rtol, atol.get()), "IDASVtolerances");
+        weights_.set_algebraic(form_.multiplier_index(), multiplier_tolerance_);
       }
+      sun::check(IDAWFtolerances(ida, error_weights), "IDAWFtolerances");
       sun::check(IDASetLinearSolver(ida, linear_solver_.get(), jacobian_.get()),
                  "IDASetLinearSolver");
       if (newton_kind_ == NewtonJacobian::kUser) {
@@ -281,8 +322,10 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         sun::check(IDARootInit(ida, root_functions, switching), "IDARootInit");
       }
       initialized_ = true;
+      clock_.start_run(segment.start);
     } else {
       sun::check(IDAReInit(ida, segment.start, y_.get(), yp_.get()), "IDAReInit");
+      clock_.restart(segment.start);
     }
     sun::check(IDASetStopTime(ida, segment.end), "IDASetStopTime");
   }
@@ -292,6 +335,11 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     const int flag = IDASolve(ida_.get(), tout, &reached.t, y_.get(), yp_.get(), IDA_NORMAL);
     sun::check(flag, "IDASolve");
     reached.root = flag == IDA_ROOT_RETURN;
+    // y_ from IDA's time t to the physical time t (step_clock.hpp): y(t + δ) ≈ y(t) + δ y'(t),
+    // with y' = yp_ (IDASolve returns it at t).
+    record_steps(ida_.get(), clock_);
+    const double offset = clock_.offset();
+    if (offset != 0.0) N_VLinearSum(1.0, y_.get(), offset, yp_.get(), y_.get());
     return reached;
   }
 
@@ -303,6 +351,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
                          sun::data(y_.get()), sun::data(yp_.get()));
     form_.set_integrals(sun::data(y_.get()), integrals_at_event_);
     sun::check(IDAReInit(ida_.get(), t, y_.get(), yp_.get()), "IDAReInit");
+    clock_.restart(t);
     sun::check(IDASetStopTime(ida_.get(), segment.end), "IDASetStopTime");
   }
 
@@ -361,6 +410,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   NewtonJacobian newton_kind_;
   DaeForm form_;
   OdeForm ode_;
+  ErrorWeights weights_;
+  StepClock clock_;
   /// W_d and the extra integrals carried across a restart at an event (sized once).
   std::vector<double> integrals_at_event_ =
       std::vector<double>(static_cast<std::size_t>(form_.integral_count()));
@@ -390,8 +441,9 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
   }
   const int max_order = choice.method == CvodeMethod::kBdf2 ? 2 : 5;
   const NewtonJacobian newton = choose_newton_jacobian(model, options);
+  const double span = output_times.empty() ? 0.0 : output_times.back() - output_times.front();
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "ida", [&] {
-    return std::make_unique<IdaSegmentSolver>(model, options, max_order, newton);
+    return std::make_unique<IdaSegmentSolver>(model, options, max_order, newton, span);
   });
   run.method = to_string(choice.method);
   run.method_reason = choice.reason;

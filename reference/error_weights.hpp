@@ -1,0 +1,75 @@
+#pragma once
+/// \file error_weights.hpp
+/// The error weights of the multistep references, CVODE and IDA (docs/references.md, "Error
+/// weights"): w_i = 1/tol_i in their weighted RMS norms, so that the attitude error a run
+/// accumulates is rtol × the angle each body turns, whatever the formulation.
+///
+/// Why. A linear multistep method keeps every step's local error below the tolerance, and on a
+/// rotation those errors are systematic (Adams leads, BDF lags and damps): after N steps the
+/// attitude is off by ~N × tol. With SUNDIALS' per-component weights rtol|y_i| + atol, the
+/// heavy top (150 rad/s) took 13 CVODE steps and 57 IDA steps per radian turned at rtol 1e-11,
+/// and its transverse angular velocity (4.6 rad/s, turning at 145 rad/s in the body frame),
+/// held to 5.6 rtol per step, drifted the energy linearly and the attitude quadratically:
+/// 1.8e-7 and 2.4e-7 rad after 2 s against rtol × 300 rad = 3e-9.
+///
+/// What. Per body with an attitude (θ, ω̄ in y), with s = |ω̄| + 1/T (T the run's span) and
+/// f = min(1, s h̄), h̄ the run's mean step so far (StepClock::mean_step; f = 1 before the first
+/// step), the tolerances are the natural sizes of what one step may add to the attitude error:
+///   θ (unit quaternion, all four components):  tol = f (rtol + atol)
+///                       — rtol of the angle the body turns in a step, and h̄/T rad at rest;
+///   ω̄ (all three components):                  tol = f (rtol + atol) / T
+///                       — a rate error δω turns into the attitude error δω (T − t) ≤ δω T;
+/// so that the errors of all the steps add up to (rtol + atol)(∫|ω̄| dt + 1) at most: error per
+/// unit step, on the rotation only. h̄ is the mean over the run, not the current step: with the
+/// current step CVODE's order selection stalled at order 6 on heavy_top (12 493 steps at rtol
+/// 1e-11 instead of 3 561 with the mean). Both are floored at kRoundoff ε times the
+/// component's size (1 for θ; |ω_i| + 1/T for ω_i): below that the solver would be asked for
+/// less than its own rounding. Every other component (positions, velocities, modal
+/// coordinates, the integrals) keeps SUNDIALS' 1/(rtol |y_i| + atol), and algebraic components
+/// (IDA's multipliers) their own absolute tolerance (set_algebraic).
+///
+/// With algebraic components (IDA on ideal joints: the index-2 GGL form) every step gets f = 1:
+/// the rotation in attitude units, without the per-step share. That form's Newton iteration
+/// cannot converge to the share's tolerances: with them heavy_top_spherical took 1.1 million
+/// steps at rtol 1e-11 (error-test and convergence failures from t ≈ 0.5 s on, each shrinking
+/// h̄ and so the tolerance), and Andrews' squeezer stopped with IDA_CONV_FAIL at rtol 1e-12;
+/// a share floored at 0.03 still failed on the former at 1e-13 (docs/references.md).
+#include <vector>
+
+namespace flexref::reference {
+
+/// The offsets in y of a body's Euler parameters θ (4) and angular velocity ω̄ (3).
+struct RotationBlock {
+  int theta = -1;
+  int w = -1;
+};
+
+class ErrorWeights {
+ public:
+  /// Multiples of ε (machine epsilon) times a component's size below which no tolerance goes.
+  static constexpr double kRoundoff = 8.0;
+
+  /// `span`: the run's time span T (s); T ≤ 0 (a run of one output time) keeps SUNDIALS'
+  /// weights on the rotation too.
+  ErrorWeights(int size, double rtol, double atol, double span,
+               std::vector<RotationBlock> rotations);
+  /// Components [first, size) are algebraic, with absolute tolerance `atol` (IDA's multipliers:
+  /// out of its error test, in its Newton test); the rotation then gets f = 1 (see above).
+  void set_algebraic(int first, double atol);
+
+  /// The weights at y given the run's mean step so far (≤ 0: none yet); ewt has size() entries.
+  /// Allocates nothing.
+  void evaluate(const double* y, double mean_step, double* ewt) const;
+
+  int size() const { return size_; }
+
+ private:
+  int size_;
+  double rtol_, atol_, span_;
+  std::vector<RotationBlock> rotations_;
+  int algebraic_first_ = -1;
+  double algebraic_atol_ = 0.0;
+  bool per_step_share_ = true;
+};
+
+}  // namespace flexref::reference
