@@ -20,7 +20,6 @@ ErrorWeights::ErrorWeights(int size, double rtol, double atol, double span,
 void ErrorWeights::set_algebraic(int first, double atol) {
   algebraic_first_ = first;
   algebraic_atol_ = atol;
-  per_step_share_ = false;
 }
 
 void ErrorWeights::evaluate(const double* y, double mean_step, double* ewt) const {
@@ -35,7 +34,7 @@ void ErrorWeights::evaluate(const double* y, double mean_step, double* ewt) cons
     const double speed = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
     // s = |ω̄| + 1/T; f = min(1, s h̄): the share of the run's attitude budget one step gets.
     const double rate = speed + 1.0 / span_;
-    const double share = per_step_share_ && mean_step > 0.0 ? std::min(1.0, rate * mean_step) : 1.0;
+    const double share = mean_step > 0.0 ? std::min(1.0, rate * mean_step) : 1.0;
     const double tol_theta = share * (rtol_ + atol_);
     for (int k = 0; k < 4; ++k) {
       ewt[b.theta + k] = 1.0 / std::max(tol_theta, kRoundoff * kEpsilon);

@@ -28,12 +28,16 @@
 /// coordinates, the integrals) keeps SUNDIALS' 1/(rtol |y_i| + atol), and algebraic components
 /// (IDA's multipliers) their own absolute tolerance (set_algebraic).
 ///
-/// With algebraic components (IDA on ideal joints: the index-2 GGL form) every step gets f = 1:
-/// the rotation in attitude units, without the per-step share. That form's Newton iteration
-/// cannot converge to the share's tolerances: with them heavy_top_spherical took 1.1 million
-/// steps at rtol 1e-11 (error-test and convergence failures from t ≈ 0.5 s on, each shrinking
-/// h̄ and so the tolerance), and Andrews' squeezer stopped with IDA_CONV_FAIL at rtol 1e-12;
-/// a share floored at 0.03 still failed on the former at 1e-13 (docs/references.md).
+/// Where. Only on a smooth, non-stiff model (rotation_weights_per_step, method_choice.hpp: no
+/// contact, no stiff or stiff oscillatory mode; for IDA also no ideal joints); elsewhere the
+/// solvers get no RotationBlock and so SUNDIALS' weights throughout. The share presumes that the
+/// rotation's accuracy sets the steps. Where stiffness, contacts or an index-2 Newton iteration
+/// set them, smaller steps made the share smaller and the tolerance tighter, and the steps
+/// smaller again (rtol 1e-10, steps before → with the share: flexible_spinner_64 CVODE BDF2
+/// 32 743 → 391 113, IDA 42 343 → 410 346; double_pendulum_impacts CVODE 43 084 → 649 799,
+/// IDA 46 436 → 1 994 672; pendulum_on_sliding_support CVODE 1.7 million steps; IDA on
+/// heavy_top_spherical 48 206 → 1.1 million at rtol 1e-11, and IDA_CONV_FAIL on Andrews'
+/// squeezer at 1e-12 — docs/references.md).
 #include <vector>
 
 namespace flexref::reference {
@@ -50,11 +54,11 @@ class ErrorWeights {
   static constexpr double kRoundoff = 8.0;
 
   /// `span`: the run's time span T (s); T ≤ 0 (a run of one output time) keeps SUNDIALS'
-  /// weights on the rotation too.
+  /// weights on the rotation too, as does an empty `rotations`.
   ErrorWeights(int size, double rtol, double atol, double span,
                std::vector<RotationBlock> rotations);
   /// Components [first, size) are algebraic, with absolute tolerance `atol` (IDA's multipliers:
-  /// out of its error test, in its Newton test); the rotation then gets f = 1 (see above).
+  /// out of its error test, in its Newton test).
   void set_algebraic(int first, double atol);
 
   /// The weights at y given the run's mean step so far (≤ 0: none yet); ewt has size() entries.
@@ -69,7 +73,6 @@ class ErrorWeights {
   std::vector<RotationBlock> rotations_;
   int algebraic_first_ = -1;
   double algebraic_atol_ = 0.0;
-  bool per_step_share_ = true;
 };
 
 }  // namespace flexref::reference

@@ -227,7 +227,7 @@ int structured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*y
 class IdaSegmentSolver final : public sun::SegmentSolver {
  public:
   IdaSegmentSolver(const core::Model& model, const SolverOptions& options, int max_order,
-                   NewtonJacobian newton, double span)
+                   NewtonJacobian newton, double span, bool rotation_per_step)
       : model_(&model),
         options_(options),
         max_order_(max_order),
@@ -235,7 +235,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         form_(model),
         ode_(model),
         weights_(form_.size(), options.rtol, options.absolute_tolerance(), span,
-                 rotation_blocks(form_)),
+                 rotation_per_step ? rotation_blocks(form_) : std::vector<RotationBlock>{}),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         yp_(sun::make_vector(form_.size(), context_.get())),
@@ -336,10 +336,13 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     sun::check(flag, "IDASolve");
     reached.root = flag == IDA_ROOT_RETURN;
     // y_ from IDA's time t to the physical time t (step_clock.hpp): y(t + δ) ≈ y(t) + δ y'(t),
-    // with y' = yp_ (IDASolve returns it at t).
-    record_steps(ida_.get(), clock_);
-    const double offset = clock_.offset();
-    if (offset != 0.0) N_VLinearSum(1.0, y_.get(), offset, yp_.get(), y_.get());
+    // with y' = yp_ (IDASolve returns it at t). Not at a root: the state stays where the
+    // switching function is zero (as in cvode_solver.cpp).
+    if (!reached.root) {
+      record_steps(ida_.get(), clock_);
+      const double offset = clock_.offset();
+      if (offset != 0.0) N_VLinearSum(1.0, y_.get(), offset, yp_.get(), y_.get());
+    }
     return reached;
   }
 
@@ -442,8 +445,10 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
   const int max_order = choice.method == CvodeMethod::kBdf2 ? 2 : 5;
   const NewtonJacobian newton = choose_newton_jacobian(model, options);
   const double span = output_times.empty() ? 0.0 : output_times.back() - output_times.front();
+  const bool per_step = !model.has_constraints() && rotation_weights_per_step(summarize_stiffness(
+                                                        model, mean_output_spacing(output_times)));
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "ida", [&] {
-    return std::make_unique<IdaSegmentSolver>(model, options, max_order, newton, span);
+    return std::make_unique<IdaSegmentSolver>(model, options, max_order, newton, span, per_step);
   });
   run.method = to_string(choice.method);
   run.method_reason = choice.reason;

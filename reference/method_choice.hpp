@@ -93,6 +93,12 @@ struct ReferenceSolverChoice {
 };
 ReferenceSolverChoice choose_reference_solver(const core::Model& model, double output_spacing);
 
+/// Whether CVODE and IDA weigh each body's rotation per unit step (reference/error_weights.hpp):
+/// a model without contact whose spectrum is neither stiff nor stiff oscillatory — where the
+/// rotation's accuracy, not stiffness or events, sets the steps (Adams' domain in
+/// choose_cvode_method). IDA also requires no ideal joints (its index-2 Newton iteration).
+bool rotation_weights_per_step(const StiffnessSummary& summary);
+
 /// The Jacobian and linear solver of the implicit solvers' Newton systems.
 enum class NewtonJacobian {
   kDifferenceQuotients,  ///< the solver's own difference quotients, dense LU
