@@ -17,6 +17,7 @@
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
+#include "scene/scene_reader.hpp"
 #include "tests/support/contact_models.hpp"
 #include "tests/support/flexible_models.hpp"
 #include "tests/support/test_problems.hpp"
@@ -90,6 +91,33 @@ TEST_CASE("CVODE's method: Adams unless contact or a heavily damped fast mode", 
     CHECK(!undamped.stiff());
     CHECK(undamped.fastest_rate > 500.0);  // the joint is there, and fast
     CHECK(choose_cvode_method(rod_on_bushing(0.0)).method == CvodeMethod::kAdams);
+  }
+}
+
+TEST_CASE("the default reference: odeint on smooth rigid models without joints", "[method]") {
+  // Where the rotation's accuracy sets the steps, CVODE and IDA weigh it per unit step
+  // (error_weights.hpp) and the default is Odeint (a quarter of CVODE's CPU at equal error:
+  // docs/references.md, "The default solver"); elsewhere CVODE (and ARKODE when stiff
+  // oscillatory, stiff_reference_test.cpp).
+  for (const core::Model& model : {testing::free_spin(), testing::heavy_top(),
+                                   testing::coulomb_wall(), testing::book_toss()}) {
+    CHECK(rotation_weights_per_step(summarize_stiffness(model, 0.01)));
+    const ReferenceSolverChoice choice = choose_reference_solver(model, 0.01);
+    CAPTURE(choice.reason);
+    CHECK(choice.solver == "odeint");
+  }
+  SECTION("contact, stiffness, joints and flexible bodies keep CVODE") {
+    const testing::ContactScene ball = testing::bouncing_ball();
+    CHECK(!rotation_weights_per_step(summarize_stiffness(ball.model, 0.01)));
+    CHECK(choose_reference_solver(ball.model, 0.01).solver == "cvode");
+    CHECK(!rotation_weights_per_step(summarize_stiffness(rod_on_bushing(1e5), 0.01)));
+    CHECK(choose_reference_solver(rod_on_bushing(1e5), 0.01).solver == "cvode");
+    const scene::Scene jointed = scene::read_scene("scenes/heavy_top_spherical.toml");
+    CHECK(rotation_weights_per_step(summarize_stiffness(*jointed.model, 0.01)));
+    CHECK(choose_reference_solver(*jointed.model, 0.01).solver == "cvode");
+    const core::Model flexible =
+        testing::flexible_spinner_model(core::FlexibleFormulation::kCoupled);
+    CHECK(choose_reference_solver(flexible, 0.01).solver == "cvode");
   }
 }
 

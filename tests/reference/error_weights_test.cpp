@@ -1,0 +1,120 @@
+/// \file error_weights_test.cpp
+/// reference/error_weights.hpp: the multistep references' tolerances per component.
+#include "reference/error_weights.hpp"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace flexref::reference {
+namespace {
+
+/// One free body's layout [p(3) θ(4) v(3) ω̄(3)] and an integral, as in the ODE form.
+std::vector<double> weights_free_body_state() {
+  return {2.0, -1.0,  0.5,            // p
+          0.6, 0.0,   0.8,      0.0,  // θ (unit)
+          3.0, 0.0,   -4.0,           // v
+          0.0, 150.0, -4.61538,       // ω̄
+          7.5};                       // W_d
+}
+
+std::vector<double> tolerances_of(const ErrorWeights& weights, const std::vector<double>& y,
+                                  double mean_step) {
+  std::vector<double> ewt(y.size());
+  weights.evaluate(y.data(), mean_step, ewt.data());
+  for (double& w : ewt) w = 1.0 / w;
+  return ewt;
+}
+
+}  // namespace
+
+TEST_CASE("error weights: SUNDIALS' off the rotation, natural sizes on it", "[error_weights]") {
+  const double rtol = 1e-10, atol = 1e-11, span = 2.0;
+  const ErrorWeights weights(14, rtol, atol, span, {RotationBlock{3, 10}});
+  const std::vector<double> y = weights_free_body_state();
+  const double speed = std::sqrt(150.0 * 150.0 + 4.61538 * 4.61538);
+  // Tolerances are sums and quotients of a few doubles: 1e-14 relative is ~50 ulp.
+  const double eps = 1e-14;
+
+  SECTION("before the first step (f = 1)") {
+    const std::vector<double> tol = tolerances_of(weights, y, 0.0);
+    for (int i : {0, 1, 2, 7, 8, 9, 13}) {
+      CAPTURE(i);
+      CHECK(tol[i] == Approx(rtol * std::abs(y[i]) + atol).epsilon(eps));
+    }
+    // θ: the quaternion's size is 1 whatever its components; ω̄: the attitude's over T.
+    for (int i = 3; i < 7; ++i) CHECK(tol[i] == Approx(rtol + atol).epsilon(eps));
+    for (int i = 10; i < 13; ++i) CHECK(tol[i] == Approx((rtol + atol) / span).epsilon(eps));
+  }
+
+  SECTION("per unit step: f = (|ω̄| + 1/T) h̄") {
+    const double mean_step = 1e-4;
+    const double share = (speed + 1.0 / span) * mean_step;  // 0.015: one step turns 0.015 rad
+    const std::vector<double> tol = tolerances_of(weights, y, mean_step);
+    for (int i : {0, 1, 2, 7, 8, 9, 13}) {
+      CHECK(tol[i] == Approx(rtol * std::abs(y[i]) + atol).epsilon(eps));
+    }
+    for (int i = 3; i < 7; ++i) CHECK(tol[i] == Approx(share * (rtol + atol)).epsilon(eps));
+    for (int i = 10; i < 13; ++i) {
+      CHECK(tol[i] == Approx(share * (rtol + atol) / span).epsilon(eps));
+    }
+    // A step that turns the body more than a radian gets the whole tolerance, not more.
+    const std::vector<double> coarse = tolerances_of(weights, y, 1.0);
+    for (int i = 3; i < 7; ++i) CHECK(coarse[i] == Approx(rtol + atol).epsilon(eps));
+  }
+
+  SECTION("never below the rounding of the component") {
+    const ErrorWeights tight(14, 1e-15, 1e-15, span, {RotationBlock{3, 10}});
+    const std::vector<double> tol = tolerances_of(tight, y, 1e-6);
+    const double ulp = std::numeric_limits<double>::epsilon();
+    for (int i = 3; i < 7; ++i) {
+      CHECK(tol[i] == Approx(ErrorWeights::kRoundoff * ulp).epsilon(eps));
+    }
+    for (int i = 10; i < 13; ++i) {
+      CAPTURE(i);
+      CHECK(tol[i] ==
+            Approx(ErrorWeights::kRoundoff * ulp * (std::abs(y[i]) + 1.0 / span)).epsilon(eps));
+    }
+  }
+}
+
+TEST_CASE("error weights: algebraic components keep their own tolerance", "[error_weights]") {
+  const double rtol = 1e-10, atol = 1e-11, span = 2.0;
+  ErrorWeights weights(16, rtol, atol, span, {RotationBlock{3, 10}});
+  weights.set_algebraic(14, 5e3);
+  std::vector<double> y = weights_free_body_state();
+  y.push_back(147.0);  // λ
+  y.push_back(-0.5);   // μ
+  const double mean_step = 1e-4;
+  const std::vector<double> tol = tolerances_of(weights, y, mean_step);
+  // As in the first test case: 1e-14 relative is ~50 ulp of a few operations.
+  CHECK(tol[14] == Approx(rtol * 147.0 + 5e3).epsilon(1e-14));
+  CHECK(tol[15] == Approx(rtol * 0.5 + 5e3).epsilon(1e-14));
+  CHECK(tol[13] == Approx(rtol * 7.5 + atol).epsilon(1e-14));
+  // The rotation as without them (IDA gives an index-2 model no rotation blocks at all).
+  const double share = (std::sqrt(150.0 * 150.0 + 4.61538 * 4.61538) + 1.0 / span) * mean_step;
+  for (int i = 3; i < 7; ++i) CHECK(tol[i] == Approx(share * (rtol + atol)).epsilon(1e-14));
+}
+
+TEST_CASE("error weights: no rotation blocks, SUNDIALS' weights", "[error_weights]") {
+  const ErrorWeights weights(14, 1e-10, 1e-11, 2.0, {});
+  const std::vector<double> y = weights_free_body_state();
+  const std::vector<double> tol = tolerances_of(weights, y, 1e-4);
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    CAPTURE(i);
+    CHECK(tol[i] == Approx(1e-10 * std::abs(y[i]) + 1e-11).epsilon(1e-14));
+  }
+}
+
+TEST_CASE("error weights: a run of one output time keeps SUNDIALS' weights", "[error_weights]") {
+  const ErrorWeights weights(14, 1e-10, 1e-10, 0.0, {RotationBlock{3, 10}});
+  const std::vector<double> y = weights_free_body_state();
+  const std::vector<double> tol = tolerances_of(weights, y, 1e-3);
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    CAPTURE(i);
+    CHECK(tol[i] == Approx(1e-10 * std::abs(y[i]) + 1e-10).epsilon(1e-14));
+  }
+}
+
+}  // namespace flexref::reference
