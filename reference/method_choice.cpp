@@ -170,12 +170,7 @@ ReferenceSolverChoice choose_reference_solver(const core::Model& model, double o
                           "arkode (ESDIRK, L-stable, order 5): the high modes damped, the steps "
                           "set by the accuracy; BDF of order > 2 is unstable there")};
   }
-  if (rotation_weights_per_step(s) && !model.has_constraints() && !model.has_flexible_bodies()) {
-    return {"odeint",
-            "smooth and non-stiff, rigid, no joints: odeint (RKF7(8)) reaches CVODE's accuracy "
-            "at about a quarter of its CPU time (docs/references.md, \"The default solver\")"};
-  }
-  return {"cvode", "the default reference (contact, stiffness, ideal joints or flexible bodies)"};
+  return {"cvode", "the default reference (no stiff oscillatory mode)"};
 }
 
 bool rotation_weights_per_step(const StiffnessSummary& summary) {

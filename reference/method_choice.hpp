@@ -84,16 +84,12 @@ struct ArkodeMethodChoice {
 ArkodeMethodChoice choose_arkode_method(const core::Model& model, double output_spacing);
 
 /// The default reference solver (`flexref reference` without --solver; "auto" in the studies for
-/// a model without an exact solution), by accuracy per cost (docs/references.md, "The default
-/// solver"): "arkode" (which then runs its ESDIRK) for a stiff oscillatory model — measured on
-/// flexible_spinner_64, ESDIRK5(4)7L[2]SA reaches 3.4e-7 in 0.38 s where CVODE's BDF2 needs
-/// 2.3 s for 6.4e-6; "odeint" for a smooth, non-stiff rigid model without joints
-/// (rotation_weights_per_step, no constraints, no flexible bodies) — measured at equal error,
-/// Odeint's RKF7(8) takes 1/3.6 to 1/4.5 of CVODE's CPU time there (heavy_top: 2.9e-12 rad in
-/// 3.3 ms at rtol 1e-13 against CVODE's 4.4e-12 in 13 ms; free_spin, pendulum alike); else
-/// "cvode" (contacts and stiffness want its BDF, and on jointed models neither is consistently
-/// cheaper: Andrews' squeezer at rtol 1e-12, CVODE 5.1e-12 rad in 0.14 s, Odeint 1.2e-12 in
-/// 0.25 s).
+/// a model without an exact solution): "arkode" (which then runs its ESDIRK) for a stiff
+/// oscillatory model — measured on flexible_spinner_64, ESDIRK5(4)7L[2]SA reaches 3.4e-7 in
+/// 0.38 s where CVODE's BDF2 needs 2.3 s for 6.4e-6 (docs/references.md) — else "cvode". Odeint
+/// reaches CVODE's accuracy at 1/3.6–1/4.5 of its CPU time on the smooth exact scenes (heavy_top,
+/// free_spin, pendulum) but not on book_toss at the studies' rtol 1e-12 (1.9e-8 against CVODE's
+/// 6.5e-9 rad: its floor), so it is not the default (docs/references.md, "The default solver").
 struct ReferenceSolverChoice {
   std::string solver;
   std::string reason;

@@ -94,31 +94,20 @@ TEST_CASE("CVODE's method: Adams unless contact or a heavily damped fast mode", 
   }
 }
 
-TEST_CASE("the default reference: odeint on smooth rigid models without joints", "[method]") {
-  // Where the rotation's accuracy sets the steps, CVODE and IDA weigh it per unit step
-  // (error_weights.hpp) and the default is Odeint (a quarter of CVODE's CPU at equal error:
-  // docs/references.md, "The default solver"); elsewhere CVODE (and ARKODE when stiff
-  // oscillatory, stiff_reference_test.cpp).
+TEST_CASE("the rotation is weighted per unit step where it sets the steps", "[method]") {
+  // reference/error_weights.hpp: smooth, non-stiff models (CVODE's Adams), not contact or
+  // stiffness; IDA also leaves out ideal joints (ida_solver.cpp).
   for (const core::Model& model : {testing::free_spin(), testing::heavy_top(),
                                    testing::coulomb_wall(), testing::book_toss()}) {
     CHECK(rotation_weights_per_step(summarize_stiffness(model, 0.01)));
-    const ReferenceSolverChoice choice = choose_reference_solver(model, 0.01);
-    CAPTURE(choice.reason);
-    CHECK(choice.solver == "odeint");
   }
-  SECTION("contact, stiffness, joints and flexible bodies keep CVODE") {
-    const testing::ContactScene ball = testing::bouncing_ball();
-    CHECK(!rotation_weights_per_step(summarize_stiffness(ball.model, 0.01)));
-    CHECK(choose_reference_solver(ball.model, 0.01).solver == "cvode");
-    CHECK(!rotation_weights_per_step(summarize_stiffness(rod_on_bushing(1e5), 0.01)));
-    CHECK(choose_reference_solver(rod_on_bushing(1e5), 0.01).solver == "cvode");
-    const scene::Scene jointed = scene::read_scene("scenes/heavy_top_spherical.toml");
-    CHECK(rotation_weights_per_step(summarize_stiffness(*jointed.model, 0.01)));
-    CHECK(choose_reference_solver(*jointed.model, 0.01).solver == "cvode");
-    const core::Model flexible =
-        testing::flexible_spinner_model(core::FlexibleFormulation::kCoupled);
-    CHECK(choose_reference_solver(flexible, 0.01).solver == "cvode");
-  }
+  const scene::Scene jointed = scene::read_scene("scenes/heavy_top_spherical.toml");
+  CHECK(rotation_weights_per_step(summarize_stiffness(*jointed.model, 0.01)));
+  CHECK(rotation_weights_per_step(summarize_stiffness(
+      testing::flexible_spinner_model(core::FlexibleFormulation::kCoupled), 0.01)));
+  const testing::ContactScene ball = testing::bouncing_ball();
+  CHECK(!rotation_weights_per_step(summarize_stiffness(ball.model, 0.01)));
+  CHECK(!rotation_weights_per_step(summarize_stiffness(rod_on_bushing(1e5), 0.01)));
 }
 
 TEST_CASE("solve_cvode records its method and why, --method overrides", "[cvode][method]") {
