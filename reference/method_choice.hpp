@@ -99,7 +99,8 @@ ReferenceSolverChoice choose_reference_solver(const core::Model& model, double o
 /// Whether CVODE and IDA weigh each body's rotation per unit step (reference/error_weights.hpp):
 /// a model without contact whose spectrum is neither stiff nor stiff oscillatory — where the
 /// rotation's accuracy, not stiffness or events, sets the steps (Adams' domain in
-/// choose_cvode_method). IDA also requires no ideal joints (its index-2 Newton iteration).
+/// choose_cvode_method); for IDA on ideal joints with a higher floor
+/// (ErrorWeights::kIndex2Roundoff).
 bool rotation_weights_per_step(const StiffnessSummary& summary);
 
 /// The Jacobian and linear solver of the implicit solvers' Newton systems.
