@@ -18,7 +18,6 @@
 #include "core/output_times.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
-#include "tests/support/exact_scenes.hpp"
 #include "tests/support/solver_options.hpp"
 
 namespace flexref::constraint {
@@ -202,11 +201,33 @@ TEST_CASE("four-bar: a Grashof crank-rocker under gravity conserves its energy",
 
 TEST_CASE("four-bar: a parallelogram driven into its dead point is reported, not integrated",
           "[constraint][mechanisms]") {
-  // IFToMM A02 with N = 1 (testing::driven_parallelogram_toml): cranks A-B and D-C of 1 m,
-  // vertical at t = 0, the coupler B-C horizontal; the crank at A driven clockwise at 1 rad/s, so
-  // all links are collinear (the mechanism's change point, where J M⁻¹ Jᵀ loses rank) at t = π/2.
-  const scene::Scene scene =
-      scene::parse_scene(testing::driven_parallelogram_toml("2.0"), "parallelogram.toml");
+  // IFToMM A02 with N = 1: cranks A-B and D-C of 1 m, vertical at t = 0, the coupler B-C
+  // horizontal; the crank at A driven clockwise at 1 rad/s, so all links are collinear (the
+  // mechanism's change point, where J M⁻¹ Jᵀ loses rank) at t = π/2.
+  std::string text = "[scene]\nname = \"parallelogram\"\nend_time = 2.0\noutput_step = 0.01\n";
+  const auto rod = [](const std::string& name, const std::string& at, bool upright) {
+    // Upright: turned by π/2 about +z, θ = (cos π/4, 0, 0, sin π/4) to 17 digits.
+    return "[[body]]\nname = \"" + name + "\"\nmass = 1.0\ninertia = [1e-4, 0.0833333333333, " +
+           "0.0833333333333]\ncenter_of_mass = [0.5, 0.0, 0.0]\nposition = " + at +
+           (upright ? "\norientation = [0.70710678118654757, 0.0, 0.0, 0.70710678118654757]\n"
+                    : "\n");
+  };
+  text += rod("left", "[0.0, 0.0, 0.0]", true) + "angular_velocity = [0.0, 0.0, -1.0]\n";
+  text += rod("coupler", "[0.0, 1.0, 0.0]", false) + "velocity = [1.0, 0.0, 0.0]\n";
+  text += rod("right", "[1.0, 0.0, 0.0]", true) + "angular_velocity = [0.0, 0.0, -1.0]\n";
+  const auto joint = [](const std::string& name, const std::string& a, const std::string& pa,
+                        const std::string& b, const std::string& pb, const std::string& extra) {
+    return "[[joint]]\nname = \"" + name +
+           "\"\nmodel = \"ideal\"\nkind = \"revolute\"\nbody_a = \"" + a + "\"\npoint_a = " + pa +
+           "\nbody_b = \"" + b + "\"\npoint_b = " + pb +
+           "\naxis_a = [0.0, 0.0, 1.0]\naxis_b = [0.0, 0.0, 1.0]\n" + extra;
+  };
+  text += joint("A", "left", "[0.0, 0.0, 0.0]", "ground", "[0.0, 0.0, 0.0]",
+                "drive = { law = \"constant-rate\", rate = -1.0 }\n");
+  text += joint("B", "coupler", "[0.0, 0.0, 0.0]", "left", "[1.0, 0.0, 0.0]", "");
+  text += joint("C", "coupler", "[1.0, 0.0, 0.0]", "right", "[1.0, 0.0, 0.0]", "");
+  text += joint("D", "right", "[0.0, 0.0, 0.0]", "ground", "[1.0, 0.0, 0.0]", "");
+  const scene::Scene scene = scene::parse_scene(text, "parallelogram.toml");
   // IDA integrates the GGL form, whose residual never factors J M⁻¹ Jᵀ: its root function
   // checks every step's configuration instead (reference/ida_solver.cpp).
   for (const std::string solver : {"cvode", "odeint", "arkode", "ida"}) {
