@@ -573,8 +573,10 @@ std::vector<std::string> long_study(const CommandSpec& command, const fs::path& 
   for (const OptionSpec& p : command.positionals) {
     if (p.name == "scene") {
       // modes keeps up to 64 modes by default: the 64-mode scene.
+      const bool wear = command.name == "wear" || command.name == "wear-jump";
       args.push_back(command.name == "modes"     ? "scenes/flexible_spinner_64.toml"
                      : command.name == "lte-map" ? "scenes/flexible_spinner.toml"
+                     : wear                      ? "scenes/tube_support_wear.toml"
                                                  : "scenes/book_toss.toml");
     } else if (p.name == "study") {
       args.push_back("studies/paper/fig1_free_spin.toml");
@@ -597,7 +599,7 @@ TEST_CASE("every output option is tried with every kind of path", "[app][fuzz]")
   const OutputFixtures outputs = make_output_fixtures(f.dir);
   const FifoReader fifo_reader(outputs.fifo);
   // Short scenes (0.2 s) and a figure study keep each accepted case short; lte-map and modes
-  // need a flexible body.
+  // need a flexible body, wear and wear-jump a contact with a wear law.
   const auto shortened = [&](const std::string& name) {
     std::ifstream in("scenes/" + name + ".toml");
     REQUIRE(in);
@@ -614,6 +616,7 @@ TEST_CASE("every output option is tried with every kind of path", "[app][fuzz]")
   };
   const fs::path scene_path = shortened("free_spin");
   const fs::path flexible_path = shortened("flexible_spinner");
+  const fs::path wear_path = shortened("wear_block");
   std::ofstream(f.dir / "fig.toml")
       << "[figure]\nscene = \"" << scene_path.string() << "\"\nsteps = [0.01, 0.05]\n";
   fs::create_directories(f.dir / "not_a_study");
@@ -635,7 +638,8 @@ TEST_CASE("every output option is tried with every kind of path", "[app][fuzz]")
     for (const OptionSpec& p : command.positionals) {
       if (p.name == "scene") {
         const bool flexible = name == "lte-map" || name == "modes";
-        base.push_back((flexible ? flexible_path : scene_path).string());
+        const bool wear = name == "wear" || name == "wear-jump";
+        base.push_back((flexible ? flexible_path : wear ? wear_path : scene_path).string());
       } else if (p.name == "study") {
         base.push_back((f.dir / "fig.toml").string());
       } else if (p.required) {
@@ -719,7 +723,8 @@ TEST_CASE("interrupted studies leave nothing behind and end by the signal", "[ap
       if (o.name == "--out") studies.push_back(spec);
     }
   }
-  REQUIRE(studies.size() >= 6);  // converge, work-precision, stability, figure, lte-map, modes
+  REQUIRE(studies.size() >= 8);  // converge, work-precision, stability, figure, lte-map, modes,
+                                 // wear, wear-jump
   int interrupted = 0;
   std::string not_interrupted;
   for (const CommandSpec& command : studies) {

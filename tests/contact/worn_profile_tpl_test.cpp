@@ -91,6 +91,8 @@ TEST_CASE(
       const WornProfileWeightsTpl<double> w = worn_profile_weights<double>(phi, sectors);
       CHECK(w.deposit[0] >= 0.0);
       CHECK(w.deposit[1] >= 0.0);
+      // (1 − t) + t: one rounding in 1 − t and one in the sum, each ≤ ε/2 ≈ 1.1e-16 relative to
+      // 1; 1e-15 is 4.5 times their sum.
       CHECK(w.deposit[0] + w.deposit[1] == Approx(1.0).epsilon(1e-15));
       // The deposit's sectors are the spline's middle two, whose centres bracket φ.
       const double delta = 2.0 * kPi / sectors;
