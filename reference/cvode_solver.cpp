@@ -81,10 +81,9 @@ int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
     return -1;
   }
   if (d.integrals.count > 0) {
-    scale_integral_weights(d.integrals, d.steps_since_init(d.solver_memory), d.rtol, d.atol,
-                           sun::data(y),
-                           std::span<double>(sun::data(ewt), static_cast<std::size_t>(
-                                                                 N_VGetLength_Serial(ewt))));
+    scale_integral_weights(
+        d.integrals, d.steps_since_init(d.solver_memory), d.rtol, d.atol, sun::data(y),
+        std::span<double>(sun::data(ewt), static_cast<std::size_t>(N_VGetLength_Serial(ewt))));
   }
   return 0;
 }

@@ -140,6 +140,7 @@ TEST_CASE("error weights: dropping the share leaves SUNDIALS' weights", "[error_
   const std::vector<double> tol = tolerances_of(weights, y, 1e-4);
   for (std::size_t i = 0; i < y.size(); ++i) {
     CAPTURE(i);
+    // 1/w back to a tolerance: two roundings of ε/2 ≈ 1.1e-16 each; 1e-14 leaves 45×.
     CHECK(tol[i] == Approx(1e-10 * std::abs(y[i]) + 1e-11).epsilon(1e-14));
   }
 }
@@ -150,6 +151,7 @@ TEST_CASE("error weights: no rotation blocks, SUNDIALS' weights", "[error_weight
   const std::vector<double> tol = tolerances_of(weights, y, 1e-4);
   for (std::size_t i = 0; i < y.size(); ++i) {
     CAPTURE(i);
+    // 1/w back to a tolerance: two roundings of ε/2 ≈ 1.1e-16 each; 1e-14 leaves 45×.
     CHECK(tol[i] == Approx(1e-10 * std::abs(y[i]) + 1e-11).epsilon(1e-14));
   }
 }
@@ -160,6 +162,7 @@ TEST_CASE("error weights: a run of one output time keeps SUNDIALS' weights", "[e
   const std::vector<double> tol = tolerances_of(weights, y, 1e-3);
   for (std::size_t i = 0; i < y.size(); ++i) {
     CAPTURE(i);
+    // 1/w back to a tolerance: two roundings of ε/2 ≈ 1.1e-16 each; 1e-14 leaves 45×.
     CHECK(tol[i] == Approx(1e-10 * std::abs(y[i]) + 1e-10).epsilon(1e-14));
   }
 }
