@@ -6,16 +6,10 @@
 
 #include "app/cli_validators.hpp"
 #include "app/commands.hpp"
-#include "lie/genalpha_parameters.hpp"
 #include "lie/stepper.hpp"
 #include "trajectory/error_metrics.hpp"
 
 namespace flexref::app {
-
-void GenalphaCliOptions::apply() const {
-  lie::set_genalpha_rho_inf(rho_inf);
-  lie::set_genalpha_perturbed_start(perturbed_start);
-}
 
 const char* const kOutputFileHelp =
     "file to write; - for standard output; a symbolic link's target is written, a FIFO or "
@@ -24,16 +18,16 @@ const char* const kOutputFolderHelp =
     "output directory, replaced as a whole when the study completes (a link to a folder stays "
     "a link; docs/output.md)";
 
-void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha,
+void add_genalpha_options(CLI::App* command, lie::MethodOptions& options,
                           std::function<std::vector<std::string>()> schemes,
                           const std::string& scheme_option) {
   command
-      ->add_option("--rho-inf", genalpha.rho_inf,
+      ->add_option("--rho-inf", options.rho_inf,
                    "genalpha's spectral radius at infinity, in [0, 1] (1: no numerical damping); "
                    "only with genalpha among the schemes")
       ->check(number_in(0.0, 1.0))
       ->capture_default_str();
-  command->add_flag("--perturbed-start", genalpha.perturbed_start,
+  command->add_flag("--perturbed-start", options.perturbed_start,
                     "genalpha: start from a_0 = dv/dt(t0 + (alpha_m - alpha_f) h) (Arnold's "
                     "perturbed starting value) instead of a_0 = dv/dt(t0); only with genalpha "
                     "among the schemes");

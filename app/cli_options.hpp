@@ -11,7 +11,7 @@
 
 #include "app/work_limits.hpp"
 #include "core/flexible_formulation.hpp"
-#include "lie/genalpha_parameters.hpp"
+#include "lie/method_options.hpp"
 
 namespace flexref::app {
 
@@ -20,20 +20,15 @@ namespace flexref::app {
 extern const char* const kOutputFileHelp;
 extern const char* const kOutputFolderHelp;
 
-/// genalpha's options (lie/genalpha_parameters.hpp, docs/schemes.md "Lie-group generalized-α"):
-/// --rho-inf, its spectral radius at infinity, and --perturbed-start, Arnold's starting value
-/// a_0 = v̇(t_0 + (α_m − α_f) h). Given when the command runs no genalpha, they are a usage error.
-struct GenalphaCliOptions {
-  double rho_inf = lie::kDefaultRhoInfinity;
-  bool perturbed_start = false;
-  /// Sets them for the registry's `genalpha` (lie::set_genalpha_rho_inf, ...).
-  void apply() const;
-};
-/// Adds --rho-inf and --perturbed-start to `command`, and the rule that they need genalpha: when
-/// either is given and `schemes` — the schemes the command runs, read once parsing is complete —
-/// does not include "genalpha", the parse fails with a CLI::ValidationError (exit 2) naming the
-/// option, `scheme_option` ("--scheme", "--schemes") and its value.
-void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha,
+/// genalpha's options (lie/genalpha_parameters.hpp, docs/schemes.md "Lie-group generalized-α"),
+/// stored in the command's lie::MethodOptions, which the command passes down to where its
+/// steppers are made: --rho-inf (MethodOptions::rho_inf), the spectral radius at infinity, a
+/// usage error outside [0, 1], and --perturbed-start (MethodOptions::perturbed_start), Arnold's
+/// starting value a_0 = v̇(t_0 + (α_m − α_f) h). When either is given and `schemes` — the
+/// schemes the command runs, read once parsing is complete — does not include "genalpha", the
+/// parse fails with a CLI::ValidationError (exit 2) naming the option, `scheme_option`
+/// ("--scheme", "--schemes") and its value.
+void add_genalpha_options(CLI::App* command, lie::MethodOptions& options,
                           std::function<std::vector<std::string>()> schemes,
                           const std::string& scheme_option);
 

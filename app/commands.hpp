@@ -9,6 +9,7 @@
 #include "app/default_model.hpp"
 #include "app/work_limits.hpp"
 #include "core/model.hpp"
+#include "lie/method_options.hpp"
 #include "lie/stepper.hpp"
 #include "precision/precision.hpp"
 #include "scene/scene.hpp"
@@ -94,6 +95,7 @@ struct RunOptions {
   std::string scene;
   core::FlexibleFormulation model = kDefaultFormulation;
   std::string scheme = "c2";
+  lie::MethodOptions method_options;  ///< --rho-inf, --perturbed-start
   double dt = 1e-3;
   std::string output;
   WorkLimits limits;
@@ -146,6 +148,7 @@ struct ConvergeOptions {
   std::string scene;
   core::FlexibleFormulation model = kDefaultFormulation;
   std::vector<std::string> schemes = lie::default_scheme_names();
+  lie::MethodOptions method_options;  ///< --rho-inf, --perturbed-start
   double dt = 1e-2;
   int levels = 6;
   std::string metric = trajectory::kDefaultMetric;

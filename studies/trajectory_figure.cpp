@@ -11,6 +11,7 @@
 
 #include "core/invariants.hpp"
 #include "core/output_times.hpp"
+#include "lie/method_registry.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
@@ -38,7 +39,7 @@ FigureCurve run_scheme_curve(const core::Model& model, const std::string& scheme
   curve.label = scheme + " h=" + step_text(h);
   // Refuses a step that double precision cannot resolve (also bounds n_steps below).
   lie::validate_step_grid(model, h, {t0, t_end});
-  const auto stepper = lie::make_stepper(scheme, model);
+  const auto stepper = lie::make_stepper(scheme, model, settings.method_options);
   stepper->initialize(t0, model.initial_state());
   const core::TrackedPoint& point =
       model.body(settings.body).description().points[static_cast<std::size_t>(settings.point)];
@@ -117,7 +118,10 @@ FigureResult run_trajectory_figure(const core::Model& model,
                                   " does not divide the time span " + step_text(t_end - t0));
     }
   }
-  for (const std::string& s : settings.schemes) (void)lie::make_stepper(s, model);
+  lie::check_method_options(settings.method_options, settings.schemes);
+  for (const std::string& s : settings.schemes) {
+    (void)lie::make_stepper(s, model, settings.method_options);
+  }
 
   FigureResult result;
   reference::SolverOptions options;
