@@ -229,13 +229,19 @@ std::string figure_table(const FigureResult& result) {
     // The tracked point's distance, as the table's errors.
     out << ", estimated error (points [m]): " << result.reference_estimate_method << "\n";
   }
-  out << std::left << std::setw(8) << "scheme" << std::setw(12) << "step [s]" << std::setw(16)
-      << "max |dp| [m]" << std::setw(11) << "certified"
+  // The scheme column fits the longest name with two spaces after it ("genalpha", a user's
+  // method), and is 8 wide for the paper's c1, c2 and nmb.
+  int scheme_width = 8;
+  for (const FigureCurve& c : result.curves) {
+    scheme_width = std::max(scheme_width, static_cast<int>(c.scheme.size()) + 2);
+  }
+  out << std::left << std::setw(scheme_width) << "scheme" << std::setw(12) << "step [s]"
+      << std::setw(16) << "max |dp| [m]" << std::setw(11) << "certified"
       << "status\n";
   for (const FigureCurve& c : result.curves) {
     std::ostringstream error;
     error << std::setprecision(3) << std::scientific << c.max_error;
-    out << std::left << std::setw(8) << c.scheme << std::setw(12) << step_text(c.step)
+    out << std::left << std::setw(scheme_width) << c.scheme << std::setw(12) << step_text(c.step)
         << std::setw(16) << error.str() << std::setw(11) << (c.certified ? "yes" : "NO")
         << (!c.completed            ? c.failure
             : c.instability.empty() ? std::string("completed")
