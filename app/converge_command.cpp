@@ -1,3 +1,5 @@
+#include "app/converge_command.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -8,7 +10,11 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/external_methods.hpp"
+#include "app/help_text.hpp"
+#include "app/input_checks.hpp"
+#include "app/scene_metadata.hpp"
 #include "core/output_times.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"

@@ -1,3 +1,5 @@
+#include "app/run_command.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -10,7 +12,11 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/help_text.hpp"
+#include "app/input_checks.hpp"
+#include "app/output_files.hpp"
+#include "app/scene_metadata.hpp"
 #include "app/step_advice.hpp"
 #include "core/error.hpp"
 #include "core/invariants.hpp"

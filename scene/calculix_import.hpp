@@ -140,15 +140,4 @@ CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMat
                                      const CalculixImportOptions& options,
                                      const CalculixDeck* deck = nullptr);
 
-/// The report printed by `flexref import-modes` and recorded (as comments) in the modal-data
-/// file: sources, mass properties (solid vs nodes), removed rigid modes, the frequency table.
-std::string format_calculix_import_report(const CalculixImport& result);
-
-/// Parses a selection "1-4,7,9" (positive integers and inclusive ranges) into its ranges
-/// ([7, 7] for a single number), in the order given; throws std::invalid_argument naming
-/// `option`.
-std::vector<std::pair<int, int>> parse_ranges(const std::string& text, const std::string& option);
-/// The numbers of parse_ranges, sorted, without repeats.
-std::vector<int> parse_index_list(const std::string& text, const std::string& option);
-
 }  // namespace flexref::scene

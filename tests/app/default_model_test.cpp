@@ -1,8 +1,11 @@
 #include <catch2/catch.hpp>
 #include <string>
 
-#include "app/commands.hpp"
+#include "app/converge_command.hpp"
+#include "app/input_checks.hpp"
 #include "app/modal_truncation_command.hpp"
+#include "app/reference_command.hpp"
+#include "app/run_command.hpp"
 #include "app/work_precision_command.hpp"
 
 namespace flexref::app {
