@@ -200,8 +200,8 @@ StableStepBracket bisect_largest_stable(const std::function<bool(double h)>& is_
     } while (!test(lo));
   } else {
     // Scan upward h_lo·rᵏ to the first unstable step or h_cap: stability need not be monotone
-    // in h (C2 on free_spin is unstable for h|W| in [0.6, 3.8] and stable again at 4.4), and
-    // a coarse bracket could step over an unstable window.
+    // in h (a scheme can be stable again beyond an unstable window: docs/design/studies.md,
+    // "Stability at the extremes"), and a coarse bracket could step over the window.
     for (;;) {
       hi = std::min(lo * scan_ratio, h_cap);
       if (!test(hi)) break;
