@@ -114,7 +114,7 @@ void register_options_probe() {
   REQUIRE(registered);
 }
 
-TEST_CASE("a user method's named options reach its factory; undeclared names are refused",
+TEST_CASE("a user method's named options reach its factory, and undeclared names are refused",
           "[lie][options]") {
   register_options_probe();
   const core::Model model = testing::free_spin();
