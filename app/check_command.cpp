@@ -1,3 +1,5 @@
+#include "app/check_command.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -12,8 +14,9 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
 #include "app/genalpha_step.hpp"
+#include "app/input_checks.hpp"
 #include "constraint/mobility.hpp"
 #include "core/output_times.hpp"
 #include "core/step_limit.hpp"

@@ -3,37 +3,24 @@
 #include "app/cli_options.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "app/cli_validators.hpp"
-#include "app/commands.hpp"
-#include "lie/genalpha_parameters.hpp"
 #include "lie/stepper.hpp"
 #include "trajectory/error_metrics.hpp"
 
 namespace flexref::app {
 
-void GenalphaCliOptions::apply() const {
-  lie::set_genalpha_rho_inf(rho_inf);
-  lie::set_genalpha_perturbed_start(perturbed_start);
-}
-
-const char* const kOutputFileHelp =
-    "file to write; - for standard output; a symbolic link's target is written, a FIFO or "
-    "device directly (no .meta.toml sidecar then); docs/output.md";
-const char* const kOutputFolderHelp =
-    "output directory, replaced as a whole when the study completes (a link to a folder stays "
-    "a link; docs/output.md)";
-
-void add_genalpha_options(CLI::App* command, GenalphaCliOptions& genalpha,
+void add_genalpha_options(CLI::App* command, lie::MethodOptions& options,
                           std::function<std::vector<std::string>()> schemes,
                           const std::string& scheme_option) {
   command
-      ->add_option("--rho-inf", genalpha.rho_inf,
+      ->add_option("--rho-inf", options.rho_inf,
                    "genalpha's spectral radius at infinity, in [0, 1] (1: no numerical damping); "
                    "only with genalpha among the schemes")
       ->check(number_in(0.0, 1.0))
       ->capture_default_str();
-  command->add_flag("--perturbed-start", genalpha.perturbed_start,
+  command->add_flag("--perturbed-start", options.perturbed_start,
                     "genalpha: start from a_0 = dv/dt(t0 + (alpha_m - alpha_f) h) (Arnold's "
                     "perturbed starting value) instead of a_0 = dv/dt(t0); only with genalpha "
                     "among the schemes");
@@ -75,6 +62,24 @@ void add_model_option(CLI::App* command, core::FlexibleFormulation& model) {
                   [](core::FlexibleFormulation f) { return core::to_string(f); });
 }
 
+core::FlexibleFormulation parse_formulation(const std::string& model) {
+  if (model == "coupled") return core::FlexibleFormulation::kCoupled;
+  if (model == "lte") return core::FlexibleFormulation::kLte;
+  throw std::invalid_argument("unknown --model \"" + model + "\"; expected coupled or lte");
+}
+
+studies::ReferenceSolver reference_solver_for(const core::Model& model,
+                                              studies::ReferenceSolver solver,
+                                              const std::string& option) {
+  if (!model.has_flexible_bodies()) return solver;
+  if (solver == studies::ReferenceSolver::kExact) {
+    throw std::invalid_argument(option +
+                                " exact: the scene has flexible bodies, which have no analytic "
+                                "solution; use cvode, ida or odeint");
+  }
+  return solver;
+}
+
 void add_limits(CLI::App* command, WorkLimits& limits, bool steps) {
   if (steps) {
     command
@@ -108,6 +113,10 @@ void add_scheme_ladder(CLI::App* command, std::string& scene, std::vector<std::s
                    "coarsest step [s]; by default 0.01 or the scene's output interval, the shorter")
       ->check(positive_number())
       ->capture_default_str();
+}
+
+double coarsest_step(double dt, bool dt_given, double output_step) {
+  return dt_given ? dt : std::min(dt, output_step);
 }
 
 void add_estimate_factor(CLI::App* command, double& factor) {

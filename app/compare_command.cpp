@@ -4,6 +4,8 @@
 /// (its sidecar REF.meta.toml), as a table or as JSON for scripts; with the scene known (--scene,
 /// or the reference's sidecar), each ideal joint's violation measured from the run's positions
 /// and whether the run is off its joints (trajectory/joint_violation.hpp).
+#include "app/compare_command.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -17,7 +19,9 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/input_checks.hpp"
+#include "app/scene_metadata.hpp"
 #include "core/error.hpp"
 #include "precision/precise_comparison.hpp"
 #include "trajectory/error_metrics.hpp"

@@ -1,3 +1,5 @@
+#include "app/converge_command.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -8,7 +10,11 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/external_methods.hpp"
+#include "app/help_text.hpp"
+#include "app/input_checks.hpp"
+#include "app/scene_metadata.hpp"
 #include "core/output_times.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
@@ -34,6 +40,7 @@ int converge_command(const ConvergeOptions& options) {
   const bool external = !options.external.empty() || !options.runs.empty();
   // Beside an external method the built-in schemes run only when asked for.
   study.schemes = external && !options.schemes_given ? std::vector<std::string>{} : options.schemes;
+  study.method_options = options.method_options;
   study.h0 = coarsest_step(options.dt, options.dt_given, scene.output_step);
   study.levels = options.levels;
   study.metric = options.metric;
@@ -142,7 +149,6 @@ int converge_command(const ConvergeOptions& options) {
 
 RegisteredCommand register_converge_command(CLI::App& app) {
   auto options = std::make_shared<ConvergeOptions>();
-  auto genalpha = std::make_shared<GenalphaCliOptions>();
   CLI::App* cmd = app.add_subcommand("converge", "observed orders of convergence");
   add_scheme_ladder(cmd, options->scene, options->schemes, options->dt);
   cmd->add_option("--levels", options->levels,
@@ -165,7 +171,7 @@ RegisteredCommand register_converge_command(CLI::App& app) {
       ->check(integer_in(0, 1024));
   cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
   add_genalpha_options(
-      cmd, *genalpha, [options] { return options->schemes; }, "--schemes");
+      cmd, options->method_options, [options] { return options->schemes; }, "--schemes");
   add_model_option(cmd, options->model);
   add_enum_option(cmd, "--reference-precision", options->reference_precision,
                   "auto (double; quad when double cannot certify every level and the scene "
@@ -188,8 +194,7 @@ RegisteredCommand register_converge_command(CLI::App& app) {
       ->capture_default_str();
   add_allow_scene_mismatch(cmd, options->allow_scene_mismatch);
 
-  return {cmd, [options, genalpha, cmd] {
-            genalpha->apply();
+  return {cmd, [options, cmd] {
             options->schemes_given = cmd->count("--schemes") > 0;
             options->dt_given = cmd->count("--dt") > 0;
             return converge_command(*options);

@@ -1,5 +1,7 @@
 /// \file external_methods.cpp
 /// `--external` and `--runs` of the studies (docs/external.md).
+#include "app/external_methods.hpp"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -8,7 +10,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "app/commands.hpp"
+#include "app/scene_metadata.hpp"
 #include "core/error.hpp"
 #include "io/input_file.hpp"
 #include "studies/external_program.hpp"

@@ -13,10 +13,14 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/help_text.hpp"
+#include "app/input_checks.hpp"
+#include "app/scene_metadata.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
 #include "io/input_file.hpp"
+#include "lie/genalpha_parameters.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
 #include "scene/scene_reader.hpp"
@@ -79,8 +83,8 @@ int figure_command(const FigureCommandOptions& options) {
   const std::optional<scene::scene_toml::Table> figure = root.table("figure", "a [figure] table");
   if (!figure) root.fail("figure", "expected a [figure] table");
   const scene::scene_toml::Table& f = *figure;
-  f.check_keys(
-      {"title", "scene", "schemes", "steps", "body", "point", "solver", "rtol", "end_time"});
+  f.check_keys({"title", "scene", "schemes", "steps", "body", "point", "solver", "rtol", "end_time",
+                "rho_inf", "perturbed_start"});
   const std::string title = f.optional_string("title", "a title").value_or("");
   // The scene path is relative to the study file.
   const std::filesystem::path scene_path =
@@ -98,6 +102,21 @@ int figure_command(const FigureCommandOptions& options) {
       f.fail("schemes", "unknown scheme \"" + s + "\"; expected " + list);
     }
   }
+  // genalpha's options (docs/cli.md, "Schemes and models"), refused unless genalpha is among the
+  // schemes, as the command line refuses --rho-inf: accepted silently, they would change nothing.
+  const bool genalpha = std::find(settings.schemes.begin(), settings.schemes.end(), "genalpha") !=
+                        settings.schemes.end();
+  for (const char* key : {"rho_inf", "perturbed_start"}) {
+    if (f.has(key) && !genalpha)
+      f.fail(key,
+             "applies only to genalpha: add it to schemes or leave " + std::string(key) + " out");
+  }
+  settings.method_options.rho_inf =
+      f.number_or("rho_inf", lie::kDefaultRhoInfinity, scene::scene_toml::Sign::kNonNegative,
+                  "genalpha's spectral radius at infinity in [0, 1]");
+  if (settings.method_options.rho_inf > 1.0) f.fail("rho_inf", "must lie in [0, 1]");
+  settings.method_options.perturbed_start =
+      f.boolean_or("perturbed_start", false, "true or false (genalpha's perturbed start)");
   settings.steps = number_array(f, "steps");
   if (const auto body = f.optional_string("body", "a body name")) {
     settings.body = model.body_index(*body);
@@ -151,7 +170,9 @@ int figure_command(const FigureCommandOptions& options) {
   // reference; "auto" repeats the figure against a quad reference when the double one leaves a
   // curve uncertified and the scene allows it.
   // The schemes against the model before a high-precision reference (quad: minutes).
-  for (const std::string& s : settings.schemes) (void)lie::make_stepper(s, model);
+  for (const std::string& s : settings.schemes) {
+    (void)lie::make_stepper(s, model, settings.method_options);
+  }
   // The study file's solver and rtol are the double reference's.
   const studies::StudyReferences references(scene, times, "points", studies::ReferenceSolver::kAuto,
                                             "figure");

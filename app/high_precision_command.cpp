@@ -5,7 +5,11 @@
 #include <memory>
 #include <stdexcept>
 
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/input_checks.hpp"
+#include "app/output_files.hpp"
+#include "app/reference_command.hpp"
+#include "app/scene_metadata.hpp"
 #include "io/output_file.hpp"
 #include "precision/exact_high_precision.hpp"
 #include "precision/high_precision_reference.hpp"

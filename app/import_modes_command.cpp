@@ -9,13 +9,16 @@
 
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/output_files.hpp"
 #include "core/error.hpp"
 #include "io/output_file.hpp"
 #include "scene/calculix_frd.hpp"
 #include "scene/calculix_import.hpp"
+#include "scene/calculix_import_report.hpp"
 #include "scene/calculix_input_deck.hpp"
 #include "scene/calculix_matrices.hpp"
+#include "scene/index_ranges.hpp"
 #include "scene/modal_data_reader.hpp"
 
 namespace flexref::app {

@@ -1,3 +1,5 @@
+#include "app/input_checks.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -5,7 +7,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
 #include "core/step_limit.hpp"
@@ -164,10 +165,6 @@ std::vector<double> limited_output_times(double end_time, double output_step,
         " rows per file: raise output_step, shorten the end time or raise --max-rows");
   }
   return core::output_times(end_time, output_step);
-}
-
-double coarsest_step(double dt, bool dt_given, double output_step) {
-  return dt_given ? dt : std::min(dt, output_step);
 }
 
 long check_scheme_run(const core::Model& model, double dt, const std::vector<double>& times,

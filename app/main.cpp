@@ -1,7 +1,7 @@
 /// \file main.cpp
 /// The `flexref` command line (CLI11): assembles the subcommands (each registered by its own
 /// file, app/command_registry.hpp), parses, runs the one given and maps its errors to exit codes
-/// (one table: app/commands.hpp, docs/decisions.md "Command line", the --help epilogue): 0
+/// (one table: app/exit_codes.hpp, docs/decisions.md "Command line", the --help epilogue): 0
 /// success, 1 bad input, 2 usage, 3 solver failure, 4 a study refused to report, 5 an output
 /// cannot be written.
 #include <CLI/CLI.hpp>
@@ -13,7 +13,8 @@
 #include <vector>
 
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/help_text.hpp"
 #include "core/error.hpp"
 #include "io/interrupt_cleanup.hpp"
 #include "io/output_file.hpp"

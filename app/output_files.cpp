@@ -1,11 +1,12 @@
 /// \file output_files.cpp
 /// The output file of `run`, `reference` and `import-modes`, its sidecar, and where the
 /// command's summary goes, under the output rule (io/output_file.hpp, docs/output.md).
+#include "app/output_files.hpp"
+
 #include <cstdio>
 #include <iostream>
 #include <optional>
 
-#include "app/commands.hpp"
 #include "io/output_file.hpp"
 
 namespace flexref::app {

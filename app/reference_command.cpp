@@ -1,3 +1,5 @@
+#include "app/reference_command.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
@@ -9,7 +11,11 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/help_text.hpp"
+#include "app/input_checks.hpp"
+#include "app/output_files.hpp"
+#include "app/scene_metadata.hpp"
 #include "core/output_times.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/solve_progress.hpp"

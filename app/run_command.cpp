@@ -1,3 +1,5 @@
+#include "app/run_command.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <ctime>
@@ -10,7 +12,11 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/help_text.hpp"
+#include "app/input_checks.hpp"
+#include "app/output_files.hpp"
+#include "app/scene_metadata.hpp"
 #include "app/step_advice.hpp"
 #include "core/error.hpp"
 #include "core/invariants.hpp"
@@ -56,10 +62,11 @@ void add_invariants(studies::StudyRecord& record, const core::InvariantCheck& ch
 /// (core/joint_check.hpp: the position rows, which genalpha holds at index 3 to its Newton
 /// tolerance, kNewtonTolerance relative to the bodies' positions; its velocity rows drift at the
 /// scheme's own order and are reported, not bounded).
-RunAttempt attempt_run(const core::Model& model, const std::string& scheme, double dt,
+RunAttempt attempt_run(const core::Model& model, const std::string& scheme,
+                       const lie::MethodOptions& method_options, double dt,
                        const std::vector<double>& times, bool progress_line) {
   RunAttempt a;
-  auto stepper = lie::make_stepper(scheme, model);
+  auto stepper = lie::make_stepper(scheme, model, method_options);
   try {
     const long steps = std::lround((times.back() - times.front()) / dt);
     std::optional<studies::Progress> progress;
@@ -129,7 +136,8 @@ int run_command(const RunOptions& options) {
       rotational_step_warning(model, options.scheme, options.dt, model.initial_state(), times[0]);
   if (!spin_warning.empty()) std::cerr << "flexref: warning: " << spin_warning << "\n";
   const double start = studies::thread_cpu_seconds();
-  RunAttempt run = attempt_run(model, options.scheme, options.dt, times, true);
+  RunAttempt run =
+      attempt_run(model, options.scheme, options.method_options, options.dt, times, true);
   const double cpu = studies::thread_cpu_seconds() - start;
   if (!run.passed) {
     // The step to suggest from the spin before the failure (a run-away inflates the spin), run
@@ -141,7 +149,7 @@ int run_command(const RunOptions& options) {
     const auto retry = [&](double h) {
       std::cerr << "flexref: checking a smaller step: " << options.scheme << " at --dt " << h
                 << "\n";
-      return attempt_run(model, options.scheme, h, times, false);
+      return attempt_run(model, options.scheme, options.method_options, h, times, false);
     };
     throw core::SolverError(run.solver, run.time, run.step,
                             run.why + verified_step_advice(model, options.scheme, options.dt, times,
@@ -194,7 +202,6 @@ int run_command(const RunOptions& options) {
 
 RegisteredCommand register_run_command(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
-  auto genalpha = std::make_shared<GenalphaCliOptions>();
   CLI::App* cmd = app.add_subcommand("run", "integrate a scene with a Lie-group scheme");
   cmd->add_option("scene", options->scene, "scene file (TOML)")->required();
   cmd->add_option("--scheme", options->scheme, "c1 | c2 | nmb | genalpha")
@@ -206,12 +213,10 @@ RegisteredCommand register_run_command(CLI::App& app) {
   add_model_option(cmd, options->model);
   add_limits(cmd, options->limits, true);
   add_genalpha_options(
-      cmd, *genalpha, [options] { return std::vector<std::string>{options->scheme}; }, "--scheme");
+      cmd, options->method_options, [options] { return std::vector<std::string>{options->scheme}; },
+      "--scheme");
 
-  return {cmd, [options, genalpha] {
-            genalpha->apply();
-            return run_command(*options);
-          }};
+  return {cmd, [options] { return run_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -1,30 +1,12 @@
+#include "app/scene_metadata.hpp"
+
 #include <chrono>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
 
-#include "app/commands.hpp"
-
 namespace flexref::app {
-
-core::FlexibleFormulation parse_formulation(const std::string& model) {
-  if (model == "coupled") return core::FlexibleFormulation::kCoupled;
-  if (model == "lte") return core::FlexibleFormulation::kLte;
-  throw std::invalid_argument("unknown --model \"" + model + "\"; expected coupled or lte");
-}
-
-studies::ReferenceSolver reference_solver_for(const core::Model& model,
-                                              studies::ReferenceSolver solver,
-                                              const std::string& option) {
-  if (!model.has_flexible_bodies()) return solver;
-  if (solver == studies::ReferenceSolver::kExact) {
-    throw std::invalid_argument(option +
-                                " exact: the scene has flexible bodies, which have no analytic "
-                                "solution; use cvode, ida or odeint");
-  }
-  return solver;
-}
 
 trajectory::SceneIdentity scene_identity(const std::string& scene_file, const scene::Scene& scene) {
   std::error_code ec;

@@ -11,7 +11,10 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/help_text.hpp"
+#include "app/input_checks.hpp"
+#include "app/scene_metadata.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
 #include "studies/parallel.hpp"
@@ -78,6 +81,7 @@ int linear_stability_command(const StabilityCommandOptions& options) {
   studies::LinearSweepOptions study;
   study.parameter = options.parameter;
   study.schemes = options.schemes;
+  study.method_options = options.method_options;
   study.relative_tolerance = options.rtol;
   study.steps = options.steps;
   study.jobs = options.jobs > 0 ? options.jobs : studies::default_jobs();
@@ -140,6 +144,7 @@ int stability_command(const StabilityCommandOptions& options) {
   studies::StabilityOptions study;
   study.parameter = options.parameter;
   study.schemes = options.schemes;
+  study.method_options = options.method_options;
   std::string body_source = "built-in free_spin body, J = diag(3, 4, 5), W0 = (0.2, 0.3, 2.0)";
   studies::StudyRecord record;
   record.table("scene").set("file", "").set("name", "built-in free_spin body");
@@ -244,7 +249,6 @@ int stability_command(const StabilityCommandOptions& options) {
 
 RegisteredCommand register_stability_command(CLI::App& app) {
   auto options = std::make_shared<StabilityCommandOptions>();
-  auto genalpha = std::make_shared<GenalphaCliOptions>();
   CLI::App* cmd =
       app.add_subcommand("stability",
                          "largest stable step vs spin rate, inertia ratio, modal frequency or "
@@ -304,13 +308,10 @@ RegisteredCommand register_stability_command(CLI::App& app) {
       ->check(integer_in(0, 1024));
   cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
   add_genalpha_options(
-      cmd, *genalpha, [options] { return options->schemes; }, "--schemes");
+      cmd, options->method_options, [options] { return options->schemes; }, "--schemes");
   add_limits(cmd, options->limits, true);
 
-  return {cmd, [options, genalpha] {
-            genalpha->apply();
-            return stability_command(*options);
-          }};
+  return {cmd, [options] { return stability_command(*options); }};
 }
 
 }  // namespace flexref::app

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/work_limits.hpp"
+#include "lie/method_options.hpp"
 #include "lie/stepper.hpp"
 #include "studies/stability_parameter.hpp"
 
@@ -25,6 +26,7 @@ struct StabilityCommandOptions {
   double max = 0.0;
   int count = 9;
   std::vector<std::string> schemes = lie::default_scheme_names();
+  lie::MethodOptions method_options;  ///< --rho-inf, --perturbed-start
   double spin = 0.0;           ///< |W0| of the ratio sweep and degenerate set (0: the body's)
   long steps = 1000;           ///< steps per stability run
   double energy_factor = 0.5;  ///< unstable when |E − E0| > factor·|E0| (same for |π|)

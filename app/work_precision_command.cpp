@@ -9,7 +9,11 @@
 #include "app/cli_options.hpp"
 #include "app/cli_validators.hpp"
 #include "app/command_registry.hpp"
-#include "app/commands.hpp"
+#include "app/exit_codes.hpp"
+#include "app/external_methods.hpp"
+#include "app/help_text.hpp"
+#include "app/input_checks.hpp"
+#include "app/scene_metadata.hpp"
 #include "core/output_times.hpp"
 #include "lie/stepper.hpp"
 #include "scene/scene_reader.hpp"
@@ -32,6 +36,7 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
 
   studies::WorkPrecisionOptions study;
   study.schemes = app_options.schemes;
+  study.method_options = app_options.method_options;
   study.h0 = coarsest_step(app_options.dt, app_options.dt_given, scene.output_step);
   study.levels = app_options.levels;
   study.solvers = app_options.solvers;
@@ -136,7 +141,6 @@ int work_precision_command(const WorkPrecisionOptions& app_options) {
 
 RegisteredCommand register_work_precision_command(CLI::App& app) {
   auto options = std::make_shared<WorkPrecisionOptions>();
-  auto genalpha = std::make_shared<GenalphaCliOptions>();
   CLI::App* cmd = app.add_subcommand("work-precision", "error against CPU time, cheapest method");
   add_scheme_ladder(cmd, options->scene, options->schemes, options->dt);
   cmd->add_option("--levels", options->levels, "number of steps: dt, dt/2, ..., dt/2^(levels-1)")
@@ -170,7 +174,7 @@ RegisteredCommand register_work_precision_command(CLI::App& app) {
       ->check(integer_in(0, 1024));
   cmd->add_option("--out", options->out_dir, kOutputFolderHelp)->capture_default_str();
   add_genalpha_options(
-      cmd, *genalpha, [options] { return options->schemes; }, "--schemes");
+      cmd, options->method_options, [options] { return options->schemes; }, "--schemes");
   cmd->add_option("--external", options->external,
                   "another code's integrator: a command with {scene}, {dt}, {output}, run "
                   "per step; its CPU time is the program's own (docs/external.md)");
@@ -188,8 +192,7 @@ RegisteredCommand register_work_precision_command(CLI::App& app) {
   add_reference_budget(cmd, options->reference_budget);
   add_limits(cmd, options->limits, true);
 
-  return {cmd, [options, genalpha, cmd] {
-            genalpha->apply();
+  return {cmd, [options, cmd] {
             options->dt_given = cmd->count("--dt") > 0;
             return work_precision_command(*options);
           }};

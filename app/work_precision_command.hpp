@@ -8,6 +8,7 @@
 
 #include "app/default_model.hpp"
 #include "app/work_limits.hpp"
+#include "lie/method_options.hpp"
 #include "lie/stepper.hpp"
 #include "studies/reference_precision.hpp"
 #include "studies/reference_solver_name.hpp"
@@ -19,7 +20,8 @@ struct WorkPrecisionOptions {
   std::string scene;
   core::FlexibleFormulation model = kDefaultFormulation;  ///< --model coupled|lte
   std::vector<std::string> schemes = lie::default_scheme_names();
-  double dt = 1e-2;       ///< coarsest step [s]
+  lie::MethodOptions method_options;  ///< --rho-inf, --perturbed-start
+  double dt = 1e-2;                   ///< coarsest step [s]
   bool dt_given = false;  ///< --dt was given (else dt or the output interval, the shorter)
   int levels = 6;         ///< number of steps dt, dt/2, …
   std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};

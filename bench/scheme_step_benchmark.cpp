@@ -19,7 +19,7 @@ using flexref::core::Model;
 
 void BM_SchemeStep(benchmark::State& state, const std::string& scheme) {
   const Model model = flexref::testing::book_toss();
-  const auto stepper = flexref::lie::make_stepper(scheme, model);
+  const auto stepper = flexref::lie::make_stepper(scheme, model, {});
   stepper->initialize(0.0, model.initial_state());
   const double h = 1e-3;  // h|W| = 0.01: inside every scheme's asymptotic range on book_toss
   for (auto _ : state) {
@@ -40,7 +40,7 @@ void BM_GenAlphaAndrews(benchmark::State& state) {
   const flexref::scene::Scene scene =
       flexref::scene::read_scene(FLEXREF_SOURCE_DIR "/scenes/andrews_squeezer.toml");
   const Model& model = *scene.model;
-  const auto stepper = flexref::lie::make_stepper("genalpha", model);
+  const auto stepper = flexref::lie::make_stepper("genalpha", model, {});
   stepper->initialize(0.0, model.initial_state());
   int steps = 0;
   for (auto _ : state) {
@@ -64,7 +64,7 @@ BENCHMARK(BM_GenAlphaAndrews);
 void BM_HybridStep(benchmark::State& state, const std::string& scheme) {
   const Model model =
       flexref::testing::flexible_spinner_model(flexref::core::FlexibleFormulation::kLte);
-  const auto stepper = flexref::lie::make_stepper(scheme, model);
+  const auto stepper = flexref::lie::make_stepper(scheme, model, {});
   stepper->initialize(0.0, model.initial_state());
   const double h = 1e-3;
   for (auto _ : state) {

@@ -102,7 +102,7 @@ void BM_TubeRhsNoWear(benchmark::State& state) { rhs(state, false); }
 
 void BM_TubeStep(benchmark::State& state) {
   const core::Model m = tube(true, core::FlexibleFormulation::kLte);
-  const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper("c2", m);
+  const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper("c2", m, {});
   const core::State s0 = in_contact(m);
   stepper->initialize(0.0, s0);
   long steps = 0;

@@ -7,13 +7,18 @@
 ///
 /// Rows (docs/joints.md, "Ideal joints"; a the first end, b the second, X, Y, Z the world axes of
 /// an end's joint frame, d = p_a − p_b, every vector in the world frame):
-///   point     Φ = p_a − p_b                                  (3 rows, m)
-///   slide     Φ = u_b · d,  u_b ∈ {X_b, Y_b}                  (m; driven prismatic: Z_b · d −
-///   s(t)) rotation  Φ = p · q, p on one end, q on the other:         (the sine of the angle error)
-///             Z_b·X_a, Z_b·Y_a (axes parallel), X_b·Y_a (no twist), Z_b·Z_a (universal),
-///             X_a · (cos φ(t) Y_b − sin φ(t) X_b) = sin(ψ − φ(t)) (driven revolute: ψ the angle
-///             of X_a from X_b about Z_b)
-///   distance  Φ = (|d|² − L²)/(2L)                           (m near the manifold; λ in N)
+// clang-format off
+///   point     Φ = p_a − p_b                          (3 rows, m)
+///   slide     Φ = u_b · d,  u_b ∈ {X_b, Y_b}          (m)
+///             Φ = Z_b · d − s(t)                      (driven prismatic, m)
+///   rotation  Φ = p · q, p on one end, q on the other (the sine of the angle error):
+///             Z_b·X_a, Z_b·Y_a                        (axes parallel)
+///             X_b·Y_a                                 (no twist)
+///             Z_b·Z_a                                 (universal)
+///             X_a · (cos φ(t) Y_b − sin φ(t) X_b)     (driven revolute: sin(ψ − φ(t)), ψ the
+///                                                      angle of X_a from X_b about Z_b)
+///   distance  Φ = (|d|² − L²)/(2L)                   (m near the manifold; λ in N)
+// clang-format on
 /// with Φ̇ = J v + Φ_t and Φ̈ = J v̇ − γ derived in ideal_joints_impl.hpp row by row. A point
 /// P of body B moves with v_P = v_Br + ω × r + A Φ_P q̇_f (r = A (x_P − p_BoBr + Φ_P q_f),
 /// ω = A ω̄), so ∂(u·v_P)/∂(v_Br, ω̄, q̇_f) = (uᵀ, (Aᵀ (r × u))ᵀ, uᵀ A Φ_P); a vector fixed in B

@@ -1,22 +1,11 @@
 #include "lie/genalpha_parameters.hpp"
 
-#include <atomic>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 namespace flexref::lie {
 namespace {
-
-std::atomic<double>& rho_inf_setting() {
-  static std::atomic<double> value{kDefaultRhoInfinity};
-  return value;
-}
-
-std::atomic<bool>& perturbed_start_setting() {
-  static std::atomic<bool> value{false};
-  return value;
-}
 
 void require_rho_inf(double rho_inf) {
   if (std::isfinite(rho_inf) && rho_inf >= 0.0 && rho_inf <= 1.0) return;
@@ -37,16 +26,5 @@ GenAlphaParameters GenAlphaParameters::from_rho_inf(double rho_inf) {
   p.beta = 0.25 * (p.gamma + 0.5) * (p.gamma + 0.5);
   return p;
 }
-
-void set_genalpha_rho_inf(double rho_inf) {
-  require_rho_inf(rho_inf);
-  rho_inf_setting().store(rho_inf);
-}
-
-double genalpha_rho_inf() { return rho_inf_setting().load(); }
-
-void set_genalpha_perturbed_start(bool perturbed) { perturbed_start_setting().store(perturbed); }
-
-bool genalpha_perturbed_start() { return perturbed_start_setting().load(); }
 
 }  // namespace flexref::lie

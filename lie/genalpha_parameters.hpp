@@ -4,8 +4,8 @@
 /// radius at infinity ρ∞ (Chung & Hulbert 1993, as used by Brüls, Cardona & Arnold 2012):
 ///   α_m = (2ρ∞ − 1)/(ρ∞ + 1),  α_f = ρ∞/(ρ∞ + 1),  γ = ½ + α_f − α_m,  β = ¼ (γ + ½)².
 /// ρ∞ = 1 is the trapezoidal rule (no numerical damping); ρ∞ = 0 annihilates the highest
-/// frequencies in one step. The value the command line's `--rho-inf` chose is held here for the
-/// method registry's factory, which builds steppers from a model alone.
+/// frequencies in one step. The registry's `genalpha` takes ρ∞ from the lie::MethodOptions its
+/// factory receives (lie/method_options.hpp).
 namespace flexref::lie {
 
 /// Default ρ∞ of `genalpha`: 0.9, mild damping of the unresolved high frequencies with second
@@ -26,14 +26,5 @@ struct GenAlphaParameters {
   /// The coefficients for ρ∞ ∈ [0, 1]; throws std::invalid_argument otherwise, naming ρ∞.
   static GenAlphaParameters from_rho_inf(double rho_inf);
 };
-
-/// The ρ∞ the registry's `genalpha` factory uses (kDefaultRhoInfinity until set). Set it before
-/// a study starts (as register_method), e.g. from `--rho-inf`; throws std::invalid_argument
-/// for a value outside [0, 1].
-void set_genalpha_rho_inf(double rho_inf);
-double genalpha_rho_inf();
-/// Whether the registry's `genalpha` starts with Arnold's perturbed a_0 (`--perturbed-start`).
-void set_genalpha_perturbed_start(bool perturbed);
-bool genalpha_perturbed_start();
 
 }  // namespace flexref::lie

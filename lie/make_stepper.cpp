@@ -12,6 +12,7 @@
 #include "lie/c2.hpp"
 #include "lie/genalpha.hpp"
 #include "lie/genalpha_parameters.hpp"
+#include "lie/method_options.hpp"
 #include "lie/method_registry.hpp"
 #include "lie/nmb.hpp"
 #include "lie/stepper.hpp"
@@ -30,17 +31,24 @@ Registry& registry() {
   static Registry* r = [] {
     auto* reg = new Registry;  // never destroyed: steppers may be built during static teardown
     reg->methods.push_back({"c1", 2, "Simo-Wong C1 (implicit, energy-momentum)",
-                            [](const core::Model& m) { return std::make_unique<C1Stepper>(m); }});
+                            [](const core::Model& m, const MethodOptions&) {
+                              return std::make_unique<C1Stepper>(m);
+                            }});
     reg->methods.push_back({"c2", 2, "Simo-Wong C2 (explicit, momentum-conserving)",
-                            [](const core::Model& m) { return std::make_unique<C2Stepper>(m); }});
+                            [](const core::Model& m, const MethodOptions&) {
+                              return std::make_unique<C2Stepper>(m);
+                            }});
     reg->methods.push_back({"nmb", 2, "Krysl-Endres NMB (explicit Newmark on the Lie group)",
-                            [](const core::Model& m) { return std::make_unique<NmbStepper>(m); }});
-    // The comparison method, with the ρ∞ of set_genalpha_rho_inf (--rho-inf); run when named.
+                            [](const core::Model& m, const MethodOptions&) {
+                              return std::make_unique<NmbStepper>(m);
+                            }});
+    // The comparison method, with the caller's ρ∞ and start (--rho-inf, --perturbed-start); run
+    // when named.
     reg->methods.push_back(
         {"genalpha", 2, "Lie-group generalized-alpha (Bruls-Cardona-Arnold 2012, implicit)",
-         [](const core::Model& m) {
-           GenAlphaParameters parameters = GenAlphaParameters::from_rho_inf(genalpha_rho_inf());
-           parameters.perturbed_start = genalpha_perturbed_start();
+         [](const core::Model& m, const MethodOptions& options) {
+           GenAlphaParameters parameters = GenAlphaParameters::from_rho_inf(options.rho_inf);
+           parameters.perturbed_start = options.perturbed_start;
            return std::make_unique<GenAlphaStepper>(m, parameters);
          },
          false});
@@ -95,7 +103,28 @@ std::vector<MethodInfo> registered_methods() {
   return {r.methods.begin(), r.methods.end()};
 }
 
-std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model) {
+void check_method_options(const MethodOptions& options, const std::vector<std::string>& schemes) {
+  for (const auto& entry : options.values) {
+    const std::string& option = entry.first;
+    bool read = false;
+    for (const std::string& scheme : schemes) {
+      const MethodInfo* method = find_method(scheme);
+      if (method == nullptr) continue;
+      const std::vector<std::string>& names = method->option_names;
+      read = read || std::find(names.begin(), names.end(), option) != names.end();
+    }
+    if (read) continue;
+    std::string list;
+    for (const std::string& s : schemes) list += (list.empty() ? "" : ", ") + s;
+    throw std::invalid_argument("method option '" + option + "' is read by none of the schemes (" +
+                                (list.empty() ? std::string("none") : list) +
+                                "): a method declares the options it reads in "
+                                "MethodInfo::option_names");
+  }
+}
+
+std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model,
+                                      const MethodOptions& options) {
   const MethodInfo* method = find_method(name);
   if (method == nullptr) {
     std::string known;
@@ -103,7 +132,7 @@ std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& 
     throw std::invalid_argument("unknown scheme '" + std::string(name) + "' (expected one of " +
                                 known + ")");
   }
-  return method->factory(model);
+  return method->factory(model, options);
 }
 
 std::vector<std::string> scheme_names() {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/method_options.hpp"
 
 namespace flexref::lie {
 
@@ -49,9 +50,11 @@ class Stepper {
 };
 
 /// A stepper of a registered method (lie/method_registry.hpp: "c1", "c2", "nmb", "genalpha" and
-/// whatever the program registered); throws std::invalid_argument for any other name. The model
-/// must outlive the stepper.
-std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model);
+/// whatever the program registered), built by its factory with `options`; throws
+/// std::invalid_argument for any other name, or when the factory refuses an option value
+/// (genalpha: ρ∞ outside [0, 1]). The model must outlive the stepper.
+std::unique_ptr<Stepper> make_stepper(std::string_view name, const core::Model& model,
+                                      const MethodOptions& options);
 
 /// The names make_stepper accepts, in registration order: {"c1", "c2", "nmb", "genalpha", ...}.
 std::vector<std::string> scheme_names();

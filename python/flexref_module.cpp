@@ -8,6 +8,7 @@
 ///     flexref.compare({"t": t, "body.e0": e0, ...}, ref).value        # the contract's metric
 ///     flexref.convergence(ref, [(h, run), ...]).observed_order        # runs: dicts of arrays
 ///     flexref.run_scheme(scene, "c2", 1e-3)                          # any registered scheme
+///     flexref.run_scheme(scene, "genalpha", 1e-3, rho_inf=0.5)       # with its options
 ///     flexref.converge(scene, ["c1", "nmb"], dt=1e-2, levels=6)        # the `converge` study
 ///     flexref.work_precision(scene, ["nmb"], solvers=["cvode"])        # `work-precision`
 ///
@@ -20,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -27,6 +29,8 @@
 
 #include "core/error.hpp"
 #include "core/output_times.hpp"
+#include "lie/genalpha_parameters.hpp"
+#include "lie/method_options.hpp"
 #include "lie/method_registry.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
@@ -160,6 +164,32 @@ std::pair<studies::ReferenceSolver, studies::ReferencePrecision> reference_choic
     throw std::invalid_argument("reference_budget must be 0 (no bound) or positive");
   }
   return {solver, studies::parse_reference_precision(precision)};
+}
+
+/// The lie::MethodOptions of a call that runs `schemes`, from its keyword arguments: rho_inf
+/// and perturbed_start (genalpha's; None: not given), options (a registered method's own,
+/// name -> number). As on the command line, genalpha's options given without genalpha among the
+/// schemes, a ρ∞ outside [0, 1] and a name no scheme reads are refused (ValueError).
+lie::MethodOptions method_options(const std::vector<std::string>& schemes,
+                                  const py::object& rho_inf, const py::object& perturbed_start,
+                                  const std::map<std::string, double>& options) {
+  const bool genalpha = std::find(schemes.begin(), schemes.end(), "genalpha") != schemes.end();
+  for (const auto& [name, given] : {std::pair<const char*, const py::object&>{"rho_inf", rho_inf},
+                                    {"perturbed_start", perturbed_start}}) {
+    if (!given.is_none() && !genalpha) {
+      throw std::invalid_argument(std::string(name) +
+                                  " applies only to genalpha, which is not among the schemes");
+    }
+  }
+  lie::MethodOptions out;
+  if (!rho_inf.is_none()) {
+    out.rho_inf = rho_inf.cast<double>();
+    (void)lie::GenAlphaParameters::from_rho_inf(out.rho_inf);  // refuses ρ∞ outside [0, 1]
+  }
+  if (!perturbed_start.is_none()) out.perturbed_start = perturbed_start.cast<bool>();
+  out.values.insert(options.begin(), options.end());
+  lie::check_method_options(out, schemes);
+  return out;
 }
 
 }  // namespace
@@ -344,19 +374,27 @@ PYBIND11_MODULE(flexref, m) {
 
   m.def(
       "run_scheme",
-      [](const PyScene& s, const std::string& scheme, double dt) {
+      [](const PyScene& s, const std::string& scheme, double dt, const py::object& rho_inf,
+         const py::object& perturbed_start, const std::map<std::string, double>& options) {
         const core::Model& model = *s.scene->model;
+        const lie::MethodOptions method =
+            method_options({scheme}, rho_inf, perturbed_start, options);
         PyTrajectory out;
         out.integrator = scheme;
         out.setting = dt;
         const std::vector<double> times = s.times();
         py::gil_scoped_release release;
-        const auto stepper = lie::make_stepper(scheme, model);
+        const auto stepper = lie::make_stepper(scheme, model, method);
         out.table = trajectory::tabulate(model, lie::run_scheme(model, *stepper, dt, times));
         return out;
       },
-      py::arg("scene"), py::arg("scheme"), py::arg("dt"),
-      "Integrates the scene with a registered scheme (flexref.schemes()) at the fixed step dt.");
+      py::arg("scene"), py::arg("scheme"), py::arg("dt"), py::kw_only(),
+      py::arg("rho_inf") = py::none(), py::arg("perturbed_start") = py::none(),
+      py::arg("options") = std::map<std::string, double>{},
+      "Integrates the scene with a registered scheme (flexref.schemes()) at the fixed step dt."
+      " rho_inf (in [0, 1], default 0.9) and perturbed_start are genalpha's options (only with "
+      "genalpha among the schemes); options, a dict of name -> number, a registered method's "
+      "own (lie::MethodOptions: a name no scheme reads raises ValueError).");
 
   m.def(
       "schemes",
@@ -459,13 +497,15 @@ PYBIND11_MODULE(flexref, m) {
       "converge",
       [](const PyScene& s, const std::vector<std::string>& schemes, double dt, int levels,
          const std::string& metric, const std::string& reference_solver, double reference_rtol,
-         const std::string& precision, double reference_budget, int jobs) {
+         const std::string& precision, double reference_budget, int jobs, const py::object& rho_inf,
+         const py::object& perturbed_start, const std::map<std::string, double>& method) {
         const core::Model& model = *s.scene->model;
         const auto [solver, wanted] =
             reference_choice(model, reference_solver, precision, reference_budget);
         const std::vector<double> times = s.times();
         studies::ConvergenceOptions options;
         options.schemes = schemes;
+        options.method_options = method_options(schemes, rho_inf, perturbed_start, method);
         options.h0 = dt;
         options.levels = levels;
         options.metric = metric;
@@ -509,12 +549,16 @@ PYBIND11_MODULE(flexref, m) {
       py::arg("levels") = 6, py::arg("metric") = trajectory::kDefaultMetric,
       py::arg("reference_solver") = "auto", py::arg("reference_rtol") = 1e-12,
       py::arg("precision") = "auto", py::arg("reference_budget") = studies::kDefaultReferenceBudget,
-      py::arg("jobs") = 0,
+      py::arg("jobs") = 0, py::kw_only(), py::arg("rho_inf") = py::none(),
+      py::arg("perturbed_start") = py::none(), py::arg("options") = std::map<std::string, double>{},
       "The `converge` study: each scheme at dt, dt/2, ..., dt/2^(levels-1) against a certified "
       "reference, and the observed orders. precision: 'auto' (double; a quad-precision "
       "reference when the double one cannot certify every level and the scene allows it, "
       "within reference_budget seconds, 0: no bound), 'double', 'extended' or 'quad' "
-      "(docs/precision.md). Returns a dict: levels, observed_orders, notes, table, "
+      "(docs/precision.md). rho_inf (in [0, 1], default 0.9) and perturbed_start are "
+      "genalpha's options (only with genalpha among the schemes); options, a dict of name -> "
+      "number, a registered method's own (lie::MethodOptions: a name no scheme reads raises "
+      "ValueError). Returns a dict: levels, observed_orders, notes, table, "
       "reference_precision, reference_estimate, reference_refused.");
 
   m.def(
@@ -522,13 +566,16 @@ PYBIND11_MODULE(flexref, m) {
       [](const PyScene& s, const std::vector<std::string>& schemes, double dt, int levels,
          const std::vector<std::string>& solvers, const std::vector<double>& tolerances,
          int repeats, const std::string& metric, const std::string& reference_solver,
-         double reference_rtol, const std::string& precision, double reference_budget, int jobs) {
+         double reference_rtol, const std::string& precision, double reference_budget, int jobs,
+         const py::object& rho_inf, const py::object& perturbed_start,
+         const std::map<std::string, double>& method) {
         const core::Model& model = *s.scene->model;
         const auto [solver, wanted] =
             reference_choice(model, reference_solver, precision, reference_budget);
         const std::vector<double> times = s.times();
         studies::WorkPrecisionOptions options;
         options.schemes = schemes;
+        options.method_options = method_options(schemes, rho_inf, perturbed_start, method);
         options.h0 = dt;
         options.levels = levels;
         options.solvers = solvers;
@@ -576,10 +623,11 @@ PYBIND11_MODULE(flexref, m) {
       py::arg("repeats") = 3, py::arg("metric") = trajectory::kDefaultMetric,
       py::arg("reference_solver") = "auto", py::arg("reference_rtol") = 1e-12,
       py::arg("precision") = "auto", py::arg("reference_budget") = studies::kDefaultReferenceBudget,
-      py::arg("jobs") = 0,
+      py::arg("jobs") = 0, py::kw_only(), py::arg("rho_inf") = py::none(),
+      py::arg("perturbed_start") = py::none(), py::arg("options") = std::map<std::string, double>{},
       "The `work-precision` study: error against CPU time of each scheme level and solver "
       "tolerance, against a certified reference. precision: as flexref.converge's ('auto' "
       "repeats the study against a quad-precision reference when the double one cannot "
-      "certify every run). Returns a dict: runs, notes, table, reference_precision, "
-      "reference_estimate, reference_refused.");
+      "certify every run). rho_inf, perturbed_start, options: as flexref.converge's. Returns "
+      "a dict: runs, notes, table, reference_precision, reference_estimate, reference_refused.");
 }

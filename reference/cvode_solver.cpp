@@ -30,16 +30,20 @@
 #include <cvode/cvode_proj.h>
 
 #include <algorithm>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "reference/error_weights.hpp"
+#include "reference/integral_weights.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/newton_linear_solver.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/reference_solver.hpp"
+#include "reference/step_clock.hpp"
 #include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
 #include "reference/sundials_ode_callbacks.hpp"
@@ -53,6 +57,46 @@ namespace sun = sundials;
 /// Steps fixed-point iteration takes between two looks at its convergence failures (advance).
 constexpr long kStiffnessWindow = 200;
 
+/// Adds CVODE's accepted steps since the last call to the clock (step_clock.hpp).
+void record_steps(void* cvode, StepClock& clock) {
+  long steps = 0;
+  double last_step = 0.0, t = 0.0;
+  sun::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
+  if (steps == 0) return;
+  sun::check(CVodeGetLastStep(cvode, &last_step), "CVodeGetLastStep");
+  sun::check(CVodeGetCurrentTime(cvode, &t), "CVodeGetCurrentTime");
+  clock.record(steps, last_step, t);
+}
+
+/// CVEwtFn: CVODE calls it before every step (error_weights.hpp, then the integrals' share of
+/// their stretch, integral_weights.hpp); it also records the step just taken on the clock.
+/// Allocates nothing.
+int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
+  auto& d = *static_cast<sun::OdeCallbackData*>(user_data);
+  try {
+    record_steps(d.cvode, *d.clock);
+    d.error_weights->evaluate(sun::data(y), d.clock->mean_step(), sun::data(ewt));
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  if (d.integrals.count > 0) {
+    scale_integral_weights(
+        d.integrals, d.steps_since_init(d.solver_memory), d.rtol, d.atol, sun::data(y),
+        std::span<double>(sun::data(ewt), static_cast<std::size_t>(N_VGetLength_Serial(ewt))));
+  }
+  return 0;
+}
+
+/// The rotation blocks of the ODE form's bodies (θ and ω̄ offsets in y).
+std::vector<RotationBlock> rotation_blocks(const OdeForm& form) {
+  std::vector<RotationBlock> blocks;
+  for (const OdeForm::Block& k : form.blocks()) {
+    if (k.theta >= 0) blocks.push_back({k.theta, k.w});
+  }
+  return blocks;
+}
+
 /// True where the corrector iterates by fixed-point iteration instead of Newton: Adams (chosen
 /// where nothing is stiff) on a model with ideal joints (see the file's comment).
 bool uses_fixed_point(const core::Model& model, CvodeMethod method) {
@@ -64,14 +108,18 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
  public:
   /// `stabilization`: Baumgarte's rate of the ODE form (Adams on ideal joints; 0 otherwise).
   CvodeSegmentSolver(const core::Model& model, const SolverOptions& options, CvodeMethod method,
-                     NewtonJacobian newton, double stabilization)
+                     NewtonJacobian newton, double stabilization, double span,
+                     bool rotation_per_step)
       : model_(&model),
         options_(options),
         method_(method),
         newton_(newton),
         form_(model, stabilization),
+        weights_(form_.size(), options.rtol, options.absolute_tolerance(), span,
+                 rotation_per_step ? rotation_blocks(form_) : std::vector<RotationBlock>{}),
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
+        ydot_(sun::make_vector(form_.size(), context_.get())),
         jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
         linear_solver_(
             newton == NewtonJacobian::kStructured
@@ -100,6 +148,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     };
     if (model.has_constraints()) data_.projected.resize(static_cast<std::size_t>(form_.size()));
     data_.jacobian = options.jacobian;
+    data_.error_weights = &weights_;
+    data_.clock = &clock_;
+    data_.cvode = cvode_.get();
     if (newton == NewtonJacobian::kStructured) {
       structured_.emplace(form_);
       data_.structured = &*structured_;
@@ -123,13 +174,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
       sun::check(CVodeSetUserData(cvode, &data_), "CVodeSetUserData");
       sun::check(CVodeSetErrHandlerFn(cvode, sun::record_error, &data_.log),
                  "CVodeSetErrHandlerFn");
-      if (data_.integrals.count > 0) {
-        sun::check(CVodeWFtolerances(cvode, sun::integral_error_weights<sun::OdeCallbackData>),
-                   "CVodeWFtolerances");
-      } else {
-        sun::check(CVodeSStolerances(cvode, options_.rtol, options_.absolute_tolerance()),
-                   "CVodeSStolerances");
-      }
+      sun::check(CVodeWFtolerances(cvode, error_weights), "CVodeWFtolerances");
       if (iterates_fixed_point()) {
         sun::check(CVodeSetNonlinearSolver(cvode, fixed_point_.get()), "CVodeSetNonlinearSolver");
       } else {
@@ -152,8 +197,10 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
                    "CVodeRootInit");
       }
       initialized_ = true;
+      clock_.start_run(segment.start);
     } else {
       sun::check(CVodeReInit(cvode, segment.start, y_.get()), "CVodeReInit");
+      clock_.restart(segment.start);
     }
     sun::check(CVodeSetStopTime(cvode, segment.end), "CVodeSetStopTime");
     segment_end_ = segment.end;
@@ -201,7 +248,21 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     }
     sun::check(flag, "CVode");
     reached.root = flag == CV_ROOT_RETURN;
+    // At a root the state stays where the switching function is zero (moved, the restart could
+    // find the same root again); the clock restarts there, and the time offset (≲ 1e-12 s on
+    // scenes with contacts, whose runs take few steps between events) is not carried over.
+    if (!reached.root) to_physical_time(reached.t);
     return reached;
+  }
+
+  /// Moves y_, CVODE's solution at its time t, to the physical time t (step_clock.hpp):
+  /// y(t + δ) ≈ y(t) + δ ẏ(t), δ the clock's offset.
+  void to_physical_time(double t) {
+    record_steps(cvode_.get(), clock_);
+    const double offset = clock_.offset();
+    if (offset == 0.0) return;
+    sun::check(CVodeGetDky(cvode_.get(), t, 1, ydot_.get()), "CVodeGetDky");
+    N_VLinearSum(1.0, y_.get(), offset, ydot_.get(), y_.get());
   }
 
   /// True while the corrector iterates by fixed-point iteration (until a switch to Newton).
@@ -221,6 +282,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   /// From fixed-point to Newton iteration at t (advance), restarting from the state there.
   void switch_to_newton(double t) {
     void* cvode = cvode_.get();
+    to_physical_time(t);
     SolverStats so_far;
     add_counters(so_far);  // CVodeReInit below starts CVODE's counters again
     before_switch_ = so_far;
@@ -230,6 +292,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
     works_.rebase(sun::data(y_.get()));
     sun::check(CVodeReInit(cvode, t, y_.get()), "CVodeReInit");
+    clock_.restart(t);
     sun::check(CVodeSetStopTime(cvode, segment_end_), "CVodeSetStopTime");
   }
 
@@ -243,6 +306,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     sun::accept_tracker(data_, t, sun::data(y_.get()));
     works_.rebase(sun::data(y_.get()));
     sun::check(CVodeReInit(cvode_.get(), t, y_.get()), "CVodeReInit");
+    clock_.restart(t);
     sun::check(CVodeSetStopTime(cvode_.get(), segment.end), "CVodeSetStopTime");
     segment_end_ = segment.end;
   }
@@ -295,6 +359,8 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   CvodeMethod method_;
   NewtonJacobian newton_;
   OdeForm form_;
+  ErrorWeights weights_;
+  StepClock clock_;
   std::optional<StructuredJacobian> structured_;
   /// The works in y as increments since the last (re)start (reference/integral_weights.hpp).
   IntegralBase works_{{form_.work_index(), form_.integral_count()}};
@@ -302,6 +368,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   bool initialized_ = false;
   sun::Context context_;
   sun::Vector y_;
+  sun::Vector ydot_;  ///< ẏ at an output (to_physical_time)
   sun::Matrix jacobian_;
   sun::LinearSolver linear_solver_;
   sun::NonlinearSolver fixed_point_;    ///< set where uses_fixed_point (else CVODE's Newton)
@@ -327,9 +394,16 @@ ReferenceRun solve_cvode(const core::Model& model, const std::vector<double>& ou
       choice.method == CvodeMethod::kAdams
           ? constraint_stabilization_rate(model, mean_output_spacing(output_times))
           : 0.0;
+  const double span = output_times.empty() ? 0.0 : output_times.back() - output_times.front();
+  // Adams is chosen exactly where the rotation is weighted per unit step; a method given with
+  // --method leaves the model to decide.
+  const bool per_step = options.cvode_method == CvodeMethod::kAuto
+                            ? choice.method == CvodeMethod::kAdams
+                            : rotation_weights_per_step(
+                                  summarize_stiffness(model, mean_output_spacing(output_times)));
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "cvode", [&] {
     return std::make_unique<CvodeSegmentSolver>(model, options, choice.method, newton,
-                                                stabilization);
+                                                stabilization, span, per_step);
   });
   run.method = to_string(choice.method);
   run.method_reason = choice.reason;

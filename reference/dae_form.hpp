@@ -105,7 +105,8 @@ class DaeForm {
   /// in motion (the IDA driver's row switch, at a restart: initial_values maps λ to them).
   const std::vector<int>& active_rows() const { return active_; }
   void set_active_rows(const std::vector<int>& rows) { active_ = rows; }
-  /// 1 for a differential component of y, 0 for an algebraic one (IDASetId).
+  /// 1 for a component of y in IDA's error test, 0 for one out of it (IDASetId with
+  /// IDASetSuppressAlg): with ideal joints the multipliers (algebraic) and the works.
   std::vector<double> differential_ids() const;
 
   /// Offsets of a body's blocks in y (reference/form_layout.hpp, the ODE form's too; qd is

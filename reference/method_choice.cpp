@@ -173,6 +173,10 @@ ReferenceSolverChoice choose_reference_solver(const core::Model& model, double o
   return {"cvode", "the default reference (no stiff oscillatory mode)"};
 }
 
+bool rotation_weights_per_step(const StiffnessSummary& summary) {
+  return summary.switching_functions == 0 && !summary.stiff() && !summary.stiff_oscillatory();
+}
+
 double constraint_stabilization_rate(const core::Model& model, double output_spacing) {
   if (!model.has_constraints()) return 0.0;
   const StiffnessSummary summary = summarize_stiffness(model, output_spacing);

@@ -86,12 +86,22 @@ ArkodeMethodChoice choose_arkode_method(const core::Model& model, double output_
 /// The default reference solver (`flexref reference` without --solver; "auto" in the studies for
 /// a model without an exact solution): "arkode" (which then runs its ESDIRK) for a stiff
 /// oscillatory model — measured on flexible_spinner_64, ESDIRK5(4)7L[2]SA reaches 3.4e-7 in
-/// 0.38 s where CVODE's BDF2 needs 2.3 s for 6.4e-6 (docs/references.md) — else "cvode".
+/// 0.38 s where CVODE's BDF2 needs 2.3 s for 6.4e-6 (docs/references.md) — else "cvode". Odeint
+/// reaches CVODE's accuracy at 1/3.6–1/4.5 of its CPU time on the smooth exact scenes (heavy_top,
+/// free_spin, pendulum) but not on book_toss at the studies' rtol 1e-12 (1.9e-8 against CVODE's
+/// 6.5e-9 rad: its floor), so it is not the default (docs/references.md, "The default solver").
 struct ReferenceSolverChoice {
   std::string solver;
   std::string reason;
 };
 ReferenceSolverChoice choose_reference_solver(const core::Model& model, double output_spacing);
+
+/// Whether CVODE and IDA weigh each body's rotation per unit step (reference/error_weights.hpp):
+/// a model without contact whose spectrum is neither stiff nor stiff oscillatory — where the
+/// rotation's accuracy, not stiffness or events, sets the steps (Adams' domain in
+/// choose_cvode_method); for IDA on ideal joints with a higher floor
+/// (ErrorWeights::kIndex2Roundoff).
+bool rotation_weights_per_step(const StiffnessSummary& summary);
 
 /// The Jacobian and linear solver of the implicit solvers' Newton systems.
 enum class NewtonJacobian {

@@ -10,8 +10,10 @@
 
 #include <vector>
 
+#include "reference/error_weights.hpp"
 #include "reference/ode_form.hpp"
 #include "reference/ode_jacobian.hpp"
+#include "reference/step_clock.hpp"
 #include "reference/structured_jacobian.hpp"
 #include "reference/sundials_handle.hpp"
 
@@ -39,6 +41,11 @@ struct OdeCallbackData : CallbackRecord {
   bool other_side = false;
   /// project_constraints' copy of y (sized by the driver for models with ideal joints).
   std::vector<double> projected;
+  /// CVODE only (its error-weight callback, cvode_solver.cpp): the weights, the clock its
+  /// accepted steps are summed on, and CVODE's memory to read the steps from.
+  const ErrorWeights* error_weights = nullptr;
+  StepClock* clock = nullptr;
+  void* cvode = nullptr;
 };
 
 /// Sizes d.scratch for d.form and points it at d.tracker, which starts at the model's initial

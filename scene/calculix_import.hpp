@@ -44,26 +44,26 @@
 
 namespace flexref::scene {
 
-/// Default of `frequency_tolerance` (docs/calculix.md, "Self-check"): 1 %. With the modal
-/// masses matched (step 5) the body's frequencies are ccx's to ≲ 5e-4 on the coarse meshes of
-/// the examples; with the moments alone (HRZ-type lumping) they are 1–3 % low for the higher
-/// modes of the same meshes, which the default refuses.
+/// Default of `frequency_tolerance` (docs/calculix.md, "Self-check"): 1 %. It accepts the
+/// lumped-mass error left when the modal masses are matched (step 5) and refuses the larger
+/// one of the moments alone (HRZ-type lumping), whose higher modes come out low by more than a
+/// percent on coarse meshes (measured: docs/calculix.md, "Nodal masses" and "Accuracy").
 inline constexpr double kDefaultFrequencyTolerance = 0.01;
 /// A mode lies within this relative M-norm distance of a rigid motion: rigid-body mode.
 inline constexpr double kDefaultRigidTolerance = 1e-3;
 /// Rayleigh quotient against ccx's eigenvalue: the .frd's 6 significant digits perturb a
 /// shape by ≈ 5e-6 relative per entry, whose strain energy raises the quotient by
-/// ≈ (5e-6)² λ_max/λ_i, λ_max the mesh's highest eigenvalue: 1e-3 measured for the first mode of
-/// the example blade (λ_max/λ_1 ≈ 4e7, elements 10 times thinner than long); 1e-2 allows
-/// λ_max/λ_1 up to 4e8. Files of another model differ by O(1).
+/// ≈ (5e-6)² λ_max/λ_i, λ_max the mesh's highest eigenvalue, so 1e-2 allows λ_max/λ_1 up to
+/// 4e8 (thin elements raise λ_max: the example blade's are near it, docs/calculix.md step 4).
+/// Files of another model differ by O(1).
 inline constexpr double kRayleighTolerance = 1e-2;
 /// ccx scales its modes to unit modal mass with its mass matrix: φᵀMφ = 1 up to the .frd's
-/// rounding (first order in the 5e-6 perturbation, ≲ 1e-5 measured). A mass matrix of another
+/// rounding, first order in the shapes' 5e-6 perturbation (≈ 1e-5). A mass matrix of another
 /// model (another density, mesh or element type) misses by its ratio.
 inline constexpr double kModalMassTolerance = 1e-4;
-/// Bubble amplitudes of incompatible modes are zero on rigid motions (the patch test; 1e-17 of
-/// the nodes' motion measured on C3D8I): a row the .frd does not show that moves more than
-/// this with a rigid motion is a node of another mesh.
+/// Bubble amplitudes of incompatible modes are zero on rigid motions (the patch test: zero to
+/// round-off, docs/calculix.md): a row the .frd does not show that moves more than this with a
+/// rigid motion is a node of another mesh.
 inline constexpr double kInternalRigidTolerance = 1e-6;
 /// Largest force of a rigid motion of the .frd's nodes with the stiffness matrix, relative to
 /// max|K| max|R|: the positions' 6 printed digits leave ≲ 5e-6; rows mapped to wrong nodes
@@ -139,16 +139,5 @@ CalculixImport import_calculix_modes(const CalculixModes& frd, const CalculixMat
                                      const std::vector<CalculixEigenvalueTable>* dat,
                                      const CalculixImportOptions& options,
                                      const CalculixDeck* deck = nullptr);
-
-/// The report printed by `flexref import-modes` and recorded (as comments) in the modal-data
-/// file: sources, mass properties (solid vs nodes), removed rigid modes, the frequency table.
-std::string format_calculix_import_report(const CalculixImport& result);
-
-/// Parses a selection "1-4,7,9" (positive integers and inclusive ranges) into its ranges
-/// ([7, 7] for a single number), in the order given; throws std::invalid_argument naming
-/// `option`.
-std::vector<std::pair<int, int>> parse_ranges(const std::string& text, const std::string& option);
-/// The numbers of parse_ranges, sorted, without repeats.
-std::vector<int> parse_index_list(const std::string& text, const std::string& option);
 
 }  // namespace flexref::scene

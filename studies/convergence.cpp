@@ -13,6 +13,7 @@
 #include "core/invariants.hpp"
 #include "io/input_file.hpp"
 #include "io/output_file.hpp"
+#include "lie/method_registry.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "studies/missing_value.hpp"
@@ -256,7 +257,10 @@ void check_convergence_inputs(const core::Model& model, const std::vector<double
       }
     }
   }
-  for (const std::string& scheme : options.schemes) lie::make_stepper(scheme, model);
+  lie::check_method_options(options.method_options, options.schemes);
+  for (const std::string& scheme : options.schemes) {
+    lie::make_stepper(scheme, model, options.method_options);
+  }
   if (options.schemes.empty()) return;
   for (int level = 0; level < options.levels; ++level) {
     const double h = options.h0 / std::ldexp(1.0, level);
@@ -349,7 +353,7 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
       trajectory::ComparisonReport report;
       std::vector<trajectory::JointViolation> joints;
       if (block.external < 0) {
-        auto stepper = lie::make_stepper(block.name, model);
+        auto stepper = lie::make_stepper(block.name, model, options.method_options);
         const double start = thread_cpu_seconds();
         const core::Trajectory trajectory = lie::run_scheme(model, *stepper, out.h, output_times);
         out.cpu_seconds = thread_cpu_seconds() - start;
@@ -410,7 +414,7 @@ ConvergenceResult run_convergence(const core::Model& model, const std::vector<do
                                          result.levels.begin() + first + count);
     int claimed = 0;
     if (block.external < 0) {
-      claimed = lie::make_stepper(block.name, model)->order();
+      claimed = lie::make_stepper(block.name, model, options.method_options)->order();
     } else {
       claimed = options.external[static_cast<std::size_t>(block.external)].claimed_order;
       // What the metric measured in this method's files (the first level that was read).

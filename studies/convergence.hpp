@@ -22,6 +22,7 @@
 
 #include "core/model.hpp"
 #include "core/step_limit.hpp"
+#include "lie/method_options.hpp"
 #include "lie/stepper.hpp"
 #include "trajectory/certified_reference.hpp"
 #include "trajectory/error_metrics.hpp"
@@ -63,6 +64,9 @@ void restore_kept_file(const ExternalMethod& method, int level, const std::strin
 
 struct ConvergenceOptions {
   std::vector<std::string> schemes = lie::default_scheme_names();
+  /// The options every scheme's stepper is built with (genalpha's ρ∞ and perturbed start, a
+  /// user method's named values; lie/method_options.hpp).
+  lie::MethodOptions method_options;
   double h0 = 1e-2;
   int levels = 6;
   std::string metric = trajectory::kDefaultMetric;

@@ -12,6 +12,7 @@
 #include "core/body.hpp"
 #include "core/force_element.hpp"
 #include "core/invariants.hpp"
+#include "lie/method_registry.hpp"
 #include "lie/stepper.hpp"
 #include "studies/mpi/distribution.hpp"
 #include "trajectory/trajectory_table.hpp"
@@ -53,22 +54,25 @@ std::string format_double(double x, int precision = 4) {
 std::string csv_double(double x) { return format_double(x, 17); }
 
 /// One bisection on the free body (I, w0); classification of the unstable end.
-StabilityPoint bisect_point(const std::string& scheme, const Eigen::Matrix3d& I_Bcm_B,
-                            const Eigen::Vector3d& w_WB_B, const StabilityCriterion& criterion,
-                            double relative_tolerance) {
+StabilityPoint bisect_point(const std::string& scheme, const lie::MethodOptions& method_options,
+                            const Eigen::Matrix3d& I_Bcm_B, const Eigen::Vector3d& w_WB_B,
+                            const StabilityCriterion& criterion, double relative_tolerance) {
   const core::Model model = make_free_body_model(I_Bcm_B, w_WB_B);
   const double spin = w_WB_B.norm();
   const StableStepBracket bracket = bisect_largest_stable(
-      [&](double h) { return classify_run(model, scheme, h, criterion) == "stable"; },
+      [&](double h) {
+        return classify_run(model, scheme, method_options, h, criterion) == "stable";
+      },
       kLowStepTimesSpin / spin, kCapStepTimesSpin / spin, relative_tolerance);
   StabilityPoint point;
   point.scheme = scheme;
   point.spin = spin;
   point.h_max = bracket.h_stable;
   point.h_unstable = bracket.h_unstable;
-  point.classification = std::isfinite(bracket.h_unstable)
-                             ? classify_run(model, scheme, bracket.h_unstable, criterion)
-                             : "stable to cap";
+  point.classification =
+      std::isfinite(bracket.h_unstable)
+          ? classify_run(model, scheme, method_options, bracket.h_unstable, criterion)
+          : "stable to cap";
   return point;
 }
 
@@ -110,7 +114,8 @@ SlotCodec long_run_codec(std::vector<std::vector<LongRunSample>>& runs) {
 
 std::vector<LongRunSample> long_run(const std::string& scheme, const StabilityOptions& options) {
   const core::Model model = make_free_body_model(options.I_Bcm_B, options.w_direction_B);
-  const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(scheme, model);
+  const std::unique_ptr<lie::Stepper> stepper =
+      lie::make_stepper(scheme, model, options.method_options);
   const core::State s0 = model.initial_state();
   stepper->initialize(0.0, s0);
   const double E0 = model.kinetic_energy(s0);
@@ -195,8 +200,8 @@ StableStepBracket bisect_largest_stable(const std::function<bool(double h)>& is_
     } while (!test(lo));
   } else {
     // Scan upward h_lo·rᵏ to the first unstable step or h_cap: stability need not be monotone
-    // in h (C2 on free_spin is unstable for h|W| in [0.6, 3.8] and stable again at 4.4), and
-    // a coarse bracket could step over an unstable window.
+    // in h (a scheme can be stable again beyond an unstable window: docs/design/studies.md,
+    // "Stability at the extremes"), and a coarse bracket could step over the window.
     for (;;) {
       hi = std::min(lo * scan_ratio, h_cap);
       if (!test(hi)) break;
@@ -221,10 +226,11 @@ StableStepBracket bisect_largest_stable(const std::function<bool(double h)>& is_
   return bracket;
 }
 
-std::string classify_run(const core::Model& model, const std::string& scheme, double h,
+std::string classify_run(const core::Model& model, const std::string& scheme,
+                         const lie::MethodOptions& method_options, double h,
                          const StabilityCriterion& criterion) {
   require_torque_free(model);
-  const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(scheme, model);
+  const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(scheme, model, method_options);
   try {
     const core::State s0 = model.initial_state();
     stepper->initialize(0.0, s0);
@@ -248,12 +254,15 @@ std::string classify_run(const core::Model& model, const std::string& scheme, do
 }
 
 double largest_stable_step(const core::Model& model, const std::string& scheme,
+                           const lie::MethodOptions& method_options,
                            const StabilityCriterion& criterion, double h_lo, double h_cap,
                            double relative_tolerance) {
   require_torque_free(model);
   return bisect_largest_stable(
-             [&](double h) { return classify_run(model, scheme, h, criterion) == "stable"; }, h_lo,
-             h_cap, relative_tolerance)
+             [&](double h) {
+               return classify_run(model, scheme, method_options, h, criterion) == "stable";
+             },
+             h_lo, h_cap, relative_tolerance)
       .h_stable;
 }
 
@@ -299,6 +308,12 @@ StabilityResult run_stability(const StabilityOptions& options) {
       throw std::invalid_argument("stability: unknown scheme '" + scheme + "'");
     }
   }
+  // Refusals before any run: an option no scheme reads, a value a scheme's factory refuses.
+  lie::check_method_options(options.method_options, options.schemes);
+  const core::Model base = make_free_body_model(options.I_Bcm_B, options.w_direction_B);
+  for (const std::string& scheme : options.schemes) {
+    (void)lie::make_stepper(scheme, base, options.method_options);
+  }
   StabilityResult result;
   result.options = options;
   const Eigen::Vector3d direction = options.w_direction_B.normalized();
@@ -322,10 +337,11 @@ StabilityResult run_stability(const StabilityOptions& options) {
         const double value = options.values[static_cast<std::size_t>(task / n_schemes)];
         StabilityPoint point =
             options.parameter == StabilityParameter::kSpin
-                ? bisect_point(scheme_of(task), options.I_Bcm_B, value * direction,
-                               options.criterion, options.relative_tolerance)
-                : bisect_point(scheme_of(task), rod_inertia(value), options.spin * direction,
-                               options.criterion, options.relative_tolerance);
+                ? bisect_point(scheme_of(task), options.method_options, options.I_Bcm_B,
+                               value * direction, options.criterion, options.relative_tolerance)
+                : bisect_point(scheme_of(task), options.method_options, rod_inertia(value),
+                               options.spin * direction, options.criterion,
+                               options.relative_tolerance);
         point.parameter = to_string(options.parameter);
         point.value = value;
         result.sweep[static_cast<std::size_t>(task)] = std::move(point);
@@ -342,12 +358,13 @@ StabilityResult run_stability(const StabilityOptions& options) {
         [&](int task) {
           const auto& [name, inertia] = bodies[static_cast<std::size_t>(task / n_schemes)];
           const Eigen::Vector3d w = options.spin * direction;
-          StabilityPoint point = bisect_point(scheme_of(task), inertia, w, options.criterion,
-                                              options.relative_tolerance);
+          StabilityPoint point = bisect_point(scheme_of(task), options.method_options, inertia, w,
+                                              options.criterion, options.relative_tolerance);
           point.parameter = name;
           point.value = inertia(2, 2) / inertia(0, 0);
           point.near_pi = classify_run(make_free_body_model(inertia, w), scheme_of(task),
-                                       kNearPiStepTimesSpin / options.spin, options.criterion);
+                                       options.method_options, kNearPiStepTimesSpin / options.spin,
+                                       options.criterion);
           result.degenerate[static_cast<std::size_t>(task)] = std::move(point);
         },
         point_codec(result.degenerate), progress.callback(offset, n_total));

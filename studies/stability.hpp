@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/method_options.hpp"
 #include "lie/stepper.hpp"
 #include "studies/stability_parameter.hpp"
 
@@ -62,16 +63,19 @@ struct StabilityCriterion {
   double momentum_factor = 0.5;  ///< unstable when |π − π₀| > momentum_factor·|π₀|
 };
 
-/// Classification of one run: "stable", "energy growth", "momentum growth", "non-finite",
-/// "newton failure: <the scheme's message>", or "exception: <what>". Never throws for an
-/// unstable run; throws std::invalid_argument for a model with force elements (the energy and
-/// momentum tests assume a torque-free model) or an unknown scheme.
-std::string classify_run(const core::Model& model, const std::string& scheme, double h,
+/// Classification of one run of `scheme` built with `method_options`: "stable", "energy
+/// growth", "momentum growth", "non-finite", "newton failure: <the scheme's message>", or
+/// "exception: <what>". Never throws for an unstable run; throws std::invalid_argument for a
+/// model with force elements (the energy and momentum tests assume a torque-free model), an
+/// unknown scheme or an option value its factory refuses.
+std::string classify_run(const core::Model& model, const std::string& scheme,
+                         const lie::MethodOptions& method_options, double h,
                          const StabilityCriterion& criterion);
 
 /// Largest stable step of a scheme on a torque-free model (the first limit above h_lo, at
 /// most h_cap), by bisect_largest_stable on classify_run(…) == "stable".
 double largest_stable_step(const core::Model& model, const std::string& scheme,
+                           const lie::MethodOptions& method_options,
                            const StabilityCriterion& criterion, double h_lo, double h_cap,
                            double relative_tolerance);
 
@@ -86,6 +90,9 @@ struct StabilityOptions {
   StabilityParameter parameter = StabilityParameter::kSpin;  ///< or kInertiaRatio
   std::vector<double> values;
   std::vector<std::string> schemes = lie::default_scheme_names();
+  /// The options every scheme's stepper is built with (genalpha's ρ∞ and perturbed start, a
+  /// user method's named values; lie/method_options.hpp).
+  lie::MethodOptions method_options;
   /// The body: free_spin's J = diag(3, 4, 5) and W0 direction (0.2, 0.3, 2.0) by default.
   Eigen::Matrix3d I_Bcm_B = Eigen::Vector3d(3.0, 4.0, 5.0).asDiagonal();
   Eigen::Vector3d w_direction_B{0.2, 0.3, 2.0};

@@ -11,6 +11,7 @@
 #include "contact/contact.hpp"
 #include "core/step_limit.hpp"
 #include "flexible/beam_model.hpp"
+#include "lie/method_registry.hpp"
 #include "lie/stepper.hpp"
 #include "scene/build_model.hpp"
 #include "studies/mpi/distribution.hpp"
@@ -112,7 +113,7 @@ core::Model make_linear_sweep_model(StabilityParameter parameter, double value, 
 std::string classify_linear_run(const core::Model& model, StabilityParameter parameter,
                                 const std::string& scheme, double h,
                                 const LinearSweepOptions& options) {
-  const auto stepper = lie::make_stepper(scheme, model);
+  const auto stepper = lie::make_stepper(scheme, model, options.method_options);
   const core::State s0 = model.initial_state();
   stepper->initialize(0.0, s0);
   const bool modal = parameter == StabilityParameter::kModalFrequency;
@@ -140,6 +141,7 @@ std::string classify_linear_run(const core::Model& model, StabilityParameter par
 }
 
 std::vector<LinearSweepPoint> run_linear_sweep(const LinearSweepOptions& options) {
+  lie::check_method_options(options.method_options, options.schemes);
   const std::size_t n_schemes = options.schemes.size();
   std::vector<LinearSweepPoint> points(options.values.size() * n_schemes);
   require_codec_size<LinearSweepPoint, 96>();

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/method_options.hpp"
 #include "lie/stepper.hpp"
 #include "studies/stability_parameter.hpp"
 
@@ -37,6 +38,9 @@ struct LinearSweepOptions {
   /// ω_max (rad/s) for modal_frequency, k (N/m) for contact_stiffness.
   std::vector<double> values;
   std::vector<std::string> schemes = lie::default_scheme_names();
+  /// The options every scheme's stepper is built with (genalpha's ρ∞ and perturbed start, a
+  /// user method's named values; lie/method_options.hpp).
+  lie::MethodOptions method_options;
   long steps = 2000;
   double growth_factor = 10.0;
   double relative_tolerance = 1e-3;

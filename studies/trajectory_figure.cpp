@@ -11,6 +11,7 @@
 
 #include "core/invariants.hpp"
 #include "core/output_times.hpp"
+#include "lie/method_registry.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
@@ -38,7 +39,7 @@ FigureCurve run_scheme_curve(const core::Model& model, const std::string& scheme
   curve.label = scheme + " h=" + step_text(h);
   // Refuses a step that double precision cannot resolve (also bounds n_steps below).
   lie::validate_step_grid(model, h, {t0, t_end});
-  const auto stepper = lie::make_stepper(scheme, model);
+  const auto stepper = lie::make_stepper(scheme, model, settings.method_options);
   stepper->initialize(t0, model.initial_state());
   const core::TrackedPoint& point =
       model.body(settings.body).description().points[static_cast<std::size_t>(settings.point)];
@@ -117,7 +118,10 @@ FigureResult run_trajectory_figure(const core::Model& model,
                                   " does not divide the time span " + step_text(t_end - t0));
     }
   }
-  for (const std::string& s : settings.schemes) (void)lie::make_stepper(s, model);
+  lie::check_method_options(settings.method_options, settings.schemes);
+  for (const std::string& s : settings.schemes) {
+    (void)lie::make_stepper(s, model, settings.method_options);
+  }
 
   FigureResult result;
   reference::SolverOptions options;
@@ -225,13 +229,19 @@ std::string figure_table(const FigureResult& result) {
     // The tracked point's distance, as the table's errors.
     out << ", estimated error (points [m]): " << result.reference_estimate_method << "\n";
   }
-  out << std::left << std::setw(8) << "scheme" << std::setw(12) << "step [s]" << std::setw(16)
-      << "max |dp| [m]" << std::setw(11) << "certified"
+  // The scheme column fits the longest name with two spaces after it ("genalpha", a user's
+  // method), and is 8 wide for the paper's c1, c2 and nmb.
+  int scheme_width = 8;
+  for (const FigureCurve& c : result.curves) {
+    scheme_width = std::max(scheme_width, static_cast<int>(c.scheme.size()) + 2);
+  }
+  out << std::left << std::setw(scheme_width) << "scheme" << std::setw(12) << "step [s]"
+      << std::setw(16) << "max |dp| [m]" << std::setw(11) << "certified"
       << "status\n";
   for (const FigureCurve& c : result.curves) {
     std::ostringstream error;
     error << std::setprecision(3) << std::scientific << c.max_error;
-    out << std::left << std::setw(8) << c.scheme << std::setw(12) << step_text(c.step)
+    out << std::left << std::setw(scheme_width) << c.scheme << std::setw(12) << step_text(c.step)
         << std::setw(16) << error.str() << std::setw(11) << (c.certified ? "yes" : "NO")
         << (!c.completed            ? c.failure
             : c.instability.empty() ? std::string("completed")

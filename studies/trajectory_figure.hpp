@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/method_options.hpp"
 #include "lie/stepper.hpp"
 #include "studies/reference_precision.hpp"
 #include "trajectory/certified_reference.hpp"
@@ -24,6 +25,9 @@ namespace flexref::studies {
 
 struct FigureSettings {
   std::vector<std::string> schemes = lie::default_scheme_names();
+  /// The options every scheme's stepper is built with (genalpha's ρ∞ and perturbed start, a
+  /// user method's named values; lie/method_options.hpp).
+  lie::MethodOptions method_options;
   std::vector<double> steps;  ///< s
   int body = 0;
   int point = 0;                 ///< index into the body's tracked points

@@ -12,6 +12,7 @@
 
 #include "core/invariants.hpp"
 #include "core/state.hpp"
+#include "lie/method_registry.hpp"
 #include "lie/run_scheme.hpp"
 #include "lie/stepper.hpp"
 #include "reference/solve_reference.hpp"
@@ -115,7 +116,8 @@ void check_work_precision_inputs(const core::Model& model, const std::vector<dou
   }
   // Refusals before the reference: a scheme that refuses the model (the coupled model of a
   // flexible body), a level whose step does not fit the output grid.
-  for (const auto& s : options.schemes) lie::make_stepper(s, model);
+  lie::check_method_options(options.method_options, options.schemes);
+  for (const auto& s : options.schemes) lie::make_stepper(s, model, options.method_options);
   if (options.schemes.empty()) return;
   for (int level = 0; level < options.levels; ++level) {
     const double h = options.h0 / std::ldexp(1.0, level);
@@ -226,7 +228,7 @@ WorkPrecisionResult run_work_precision(const core::Model& model,
         trajectory = timed_min(options.repeats, out.cpu_seconds, [&] {
           // The stepper is built inside the timed region: building it is part of the run's
           // cost just as a reference solver's setup is part of solve_reference.
-          auto stepper = lie::make_stepper(out.method, model);
+          auto stepper = lie::make_stepper(out.method, model, options.method_options);
           return lie::run_scheme(model, *stepper, out.setting, output_times);
         });
       } else if (k >= n_scheme_runs + n_solver_runs) {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "lie/method_options.hpp"
 #include "lie/stepper.hpp"
 #include "studies/convergence.hpp"
 #include "trajectory/certified_reference.hpp"
@@ -28,6 +29,9 @@ namespace flexref::studies {
 
 struct WorkPrecisionOptions {
   std::vector<std::string> schemes = lie::default_scheme_names();
+  /// The options every scheme's stepper is built with (genalpha's ρ∞ and perturbed start, a
+  /// user method's named values; lie/method_options.hpp).
+  lie::MethodOptions method_options;
   double h0 = 1e-2;  ///< coarsest step [s]
   int levels = 6;    ///< steps h0, h0/2, …, h0/2^(levels−1)
   std::vector<std::string> solvers{"ida", "cvode", "arkode", "odeint"};

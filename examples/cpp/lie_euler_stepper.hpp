@@ -84,7 +84,9 @@ class LieEulerStepper final : public flexref::lie::Stepper {
 inline void register_lie_euler() {
   flexref::lie::register_method(
       {"lie_euler", 1, "explicit Lie-Euler (user example)",
-       [](const flexref::core::Model& m) { return std::make_unique<LieEulerStepper>(m); }});
+       [](const flexref::core::Model& m, const flexref::lie::MethodOptions&) {
+         return std::make_unique<LieEulerStepper>(m);
+       }});
 }
 
 }  // namespace user

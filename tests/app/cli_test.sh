@@ -242,8 +242,10 @@ printf '[figure]\nscene = "%s/scenes/free_spin.toml"\nsteps = [0.3]\n' "$PWD" >"
 out=$("$flexref" figure "$tmp/fig_bad.toml" --out "$tmp/fig_bad" 2>&1)
 [[ $? -eq 1 && $out == *"fig_bad.toml:"*"figure.steps"* ]] || fail "figure bad step: $out"
 # figure --reference-precision: auto switches to quad when the double reference cannot certify
-# a curve (NMB at 1e-4 s on book_toss: error 1.3e-7 m, double estimate 3.2e-9 m); quad given.
-printf '[figure]\nscene = "%s/scenes/book_toss.toml"\nschemes = ["nmb"]\nsteps = [0.0001]\npoint = "corner"\nrtol = 1e-12\nend_time = 3.0\n' \
+# a curve (NMB at 1e-4 s on book_toss: error 1.3e-7 m; the double reference at rtol 1e-9
+# estimates 4.6e-9 m, and certifying needs an error 100x it); quad given. (At rtol 1e-12 the
+# double reference, 4.5e-12 m since issue 51's error weights, certifies it.)
+printf '[figure]\nscene = "%s/scenes/book_toss.toml"\nschemes = ["nmb"]\nsteps = [0.0001]\npoint = "corner"\nrtol = 1e-9\nend_time = 3.0\n' \
   "$PWD" >"$tmp/fig_bt.toml"
 out=$("$flexref" figure "$tmp/fig_bt.toml" --jobs 2 --out "$tmp/fig_bt" 2>&1) ||
   fail "figure auto failed: $out"
@@ -1057,6 +1059,35 @@ for opt in "--rho-inf 0.5" --perturbed-start; do
     "$flexref" stability --values 1 $opt --out "$tmp/ga_study"
 done
 [[ ! -e $tmp/ga_c1.csv && ! -e $tmp/ga_study ]] || fail "a refused genalpha option wrote output"
+# The options reach the stepper (lie::MethodOptions, passed down, nothing process-wide):
+# --rho-inf 0.9 is the default's run byte for byte, 0.5 and --perturbed-start change it.
+sed 's/^end_time = .*/end_time = 0.5/' scenes/heavy_top.toml >"$tmp/top_short.toml"
+for v in default 0.9 0.5 perturbed; do
+  case $v in
+    default) opts=() ;; perturbed) opts=(--perturbed-start) ;; *) opts=(--rho-inf "$v") ;;
+  esac
+  "$flexref" run "$tmp/top_short.toml" --scheme genalpha --dt 1e-3 "${opts[@]}" \
+    -o "$tmp/ga_$v.csv" >/dev/null 2>&1 || fail "run genalpha ${opts[*]} failed"
+done
+cmp -s "$tmp/ga_default.csv" "$tmp/ga_0.9.csv" || fail "run --rho-inf 0.9 differs from the default"
+! cmp -s "$tmp/ga_default.csv" "$tmp/ga_0.5.csv" || fail "run --rho-inf 0.5 changed nothing"
+! cmp -s "$tmp/ga_default.csv" "$tmp/ga_perturbed.csv" || fail "run --perturbed-start changed nothing"
+# A figure study file carries them as keys beside its schemes, refused the same way.
+printf '[figure]\nscene = "%s/scenes/free_spin.toml"\nschemes = ["c2"]\nsteps = [0.01]\nend_time = 0.2\nrho_inf = 0.5\n' \
+  "$PWD" >"$tmp/fig_ga.toml"
+expect 1 "figure rho_inf without genalpha" "key 'figure.rho_inf': applies only to genalpha: add it to schemes" \
+  "$flexref" figure "$tmp/fig_ga.toml" --out "$tmp/fig_ga"
+sed -i 's/\["c2"\]/["genalpha"]/; s/rho_inf = 0.5/rho_inf = 1.5/' "$tmp/fig_ga.toml"
+expect 1 "figure rho_inf 1.5" "key 'figure.rho_inf': must lie in [0, 1]" \
+  "$flexref" figure "$tmp/fig_ga.toml" --out "$tmp/fig_ga"
+[[ ! -e $tmp/fig_ga ]] || fail "a refused figure study file created its folder"
+for v in 0.5 0.9; do
+  sed -i "s/^rho_inf = .*/rho_inf = $v/" "$tmp/fig_ga.toml"
+  "$flexref" figure "$tmp/fig_ga.toml" --jobs 1 --out "$tmp/fig_ga_$v" >/dev/null 2>&1 ||
+    fail "figure genalpha rho_inf $v failed"
+done
+! cmp -s "$tmp/fig_ga_0.5/figure.csv" "$tmp/fig_ga_0.9/figure.csv" ||
+  fail "figure: rho_inf changed nothing"
 cat >"$tmp/spring.toml" <<'TOML'
 [scene]
 name = "spring"

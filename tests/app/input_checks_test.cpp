@@ -1,3 +1,5 @@
+#include "app/input_checks.hpp"
+
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <regex>
@@ -5,7 +7,6 @@
 #include <string>
 
 #include "app/cli_validators.hpp"
-#include "app/commands.hpp"
 #include "core/error.hpp"
 #include "core/output_times.hpp"
 #include "tests/support/temp_dir.hpp"

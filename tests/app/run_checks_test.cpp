@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "app/commands.hpp"
+#include "app/run_command.hpp"
 #include "core/error.hpp"
 #include "scene/scene_reader.hpp"
 #include "tests/support/temp_dir.hpp"

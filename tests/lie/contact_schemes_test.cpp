@@ -119,7 +119,7 @@ TEST_CASE("contact scenes: C1, C2 and NMB stay bounded inside the explicit step 
       INFO(scene.name << " " << name << " h = " << h << " (limit " << scene.step_limit() << ")");
       core::Trajectory run;
       try {
-        const std::unique_ptr<Stepper> stepper = make_stepper(name, scene.model);
+        const std::unique_ptr<Stepper> stepper = make_stepper(name, scene.model, {});
         run = run_scheme(scene.model, *stepper, h, times);
       } catch (const core::SolverError& error) {
         FAIL_CHECK("the run failed: " << error.what());
@@ -181,7 +181,7 @@ TEST_CASE("contact scenes: observed orders of C1, C2 and NMB", "[contact][order]
       INFO(c.scene.name << " " << name << " from h = " << c.h);
       std::vector<double> errors;
       for (double h : {c.h, c.h / 2.0, c.h / 4.0}) {
-        const std::unique_ptr<Stepper> stepper = make_stepper(name, c.scene.model);
+        const std::unique_ptr<Stepper> stepper = make_stepper(name, c.scene.model, {});
         const Error e = contact_trajectory_error(
             c.scene.model, run_scheme(c.scene.model, *stepper, h, times), ref.trajectory);
         errors.push_back(e.position + e.angle);

@@ -79,7 +79,7 @@ TEST_CASE("the schemes accumulate the dissipated work to their own order", "[lie
       balance(model, solve_odeint(model, times, options).trajectory).first;
   std::vector<double> differences;
   for (double h : {0.01, 0.005}) {
-    const auto stepper = lie::make_stepper("c2", model);
+    const auto stepper = lie::make_stepper("c2", model, {});
     const core::Trajectory run = lie::run_scheme(model, *stepper, h, times);
     differences.push_back(std::abs(balance(model, run).first - reference_residual));
   }

@@ -117,9 +117,7 @@ TEST_CASE("genalpha: coefficients from rho_inf, and out-of-range values refused"
   }
   for (double bad : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
     CHECK_THROWS_WITH(GenAlphaParameters::from_rho_inf(bad), Catch::Matchers::Contains("rho_inf"));
-    CHECK_THROWS_AS(set_genalpha_rho_inf(bad), std::invalid_argument);
   }
-  CHECK(genalpha_rho_inf() == kDefaultRhoInfinity);
   const lie::MethodInfo* method = find_method("genalpha");
   REQUIRE(method != nullptr);
   CHECK(method->claimed_order == 2);
@@ -293,7 +291,7 @@ void check_genalpha_order_2(const core::Model& model, std::initializer_list<doub
       testing::trajectory_error(model, testing::odeint_reference(model, times, 1e-12), reference);
   std::vector<double> errors;
   for (double step : h) {
-    const auto stepper = make_stepper("genalpha", model);
+    const auto stepper = make_stepper("genalpha", model, {});
     errors.push_back(
         testing::trajectory_error(model, run_scheme(model, *stepper, step, times), reference));
   }

@@ -51,7 +51,7 @@ std::vector<double> errors_for(const core::Model& model, const std::string& sche
                                double h0) {
   std::vector<double> errors;
   for (double h : {h0, h0 / 2.0, h0 / 4.0}) {
-    const auto stepper = make_stepper(scheme, model);
+    const auto stepper = make_stepper(scheme, model, {});
     errors.push_back(modal_trajectory_error(model, run_scheme(model, *stepper, h, times), ref));
   }
   return errors;
@@ -74,7 +74,7 @@ void check_hybrid_orders(const core::Model& model) {
 TEST_CASE("the hybrid schemes refuse the coupled model", "[lie][flexible]") {
   const core::Model coupled = testing::flexible_spinner_model(FlexibleFormulation::kCoupled);
   for (const std::string& name : builtin_scheme_names()) {
-    CHECK_THROWS_AS(make_stepper(name, coupled), std::invalid_argument);
+    CHECK_THROWS_AS(make_stepper(name, coupled, {}), std::invalid_argument);
   }
 }
 
@@ -127,7 +127,7 @@ TEST_CASE("hybrid scheme: central differences on the modes are stable below 2/om
   const double omega_max = model.body(0).natural_frequencies().maxCoeff();
   const double h_limit = 2.0 / omega_max;
   auto max_modal = [&](double h, int steps) {
-    const auto stepper = make_stepper("c2", model);
+    const auto stepper = make_stepper("c2", model, {});
     stepper->initialize(0.0, model.initial_state());
     double m = 0.0;
     for (int k = 0; k < steps; ++k) {

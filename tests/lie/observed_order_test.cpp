@@ -43,7 +43,7 @@ std::vector<double> scheme_errors(const core::Model& model, const std::string& s
                                   double h0) {
   std::vector<double> errors;
   for (double h : {h0, h0 / 2.0, h0 / 4.0}) {
-    const auto stepper = make_stepper(scheme, model);
+    const auto stepper = make_stepper(scheme, model, {});
     errors.push_back(testing::trajectory_error(model, run_scheme(model, *stepper, h, times),
                                                reference.trajectory));
   }
@@ -150,7 +150,7 @@ TEST_CASE("finding: C2 leaves the book_toss separatrix distance at moderate step
   REQUIRE(std::abs(d_reference) <=
           1e-6 * model.angular_momentum_W(reference.states.back()).squaredNorm());
   for (const std::string& name : builtin_scheme_names()) {
-    const auto stepper = make_stepper(name, model);
+    const auto stepper = make_stepper(name, model, {});
     const core::Trajectory run = run_scheme(model, *stepper, 1.25e-3, times);
     double d_error = 0.0;
     for (std::size_t k = 2; k < times.size(); ++k) {  // after the pulse

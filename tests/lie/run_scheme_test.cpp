@@ -18,7 +18,7 @@ namespace {
 
 std::string invalid_argument_message(const core::Model& model, double dt,
                                      const std::vector<double>& times) {
-  const auto stepper = make_stepper("c2", model);
+  const auto stepper = make_stepper("c2", model, {});
   try {
     run_scheme(model, *stepper, dt, times);
   } catch (const std::invalid_argument& e) {
@@ -52,7 +52,7 @@ TEST_CASE("run_scheme requires load discontinuities with t0 < t <= t_end on the 
   CHECK(message.find("load discontinuity t = 0.1") != std::string::npos);
   CHECK(message.find("dt = 0.075") != std::string::npos);
   // Outside (t0, t_end] the discontinuities do not constrain the step.
-  const auto stepper = make_stepper("c2", model);
+  const auto stepper = make_stepper("c2", model, {});
   CHECK_NOTHROW(run_scheme(model, *stepper, 0.0075, {0.0, 0.03}));
 }
 
@@ -63,7 +63,7 @@ TEST_CASE("run_scheme steps on t0 + n dt and records the output times", "[lie][r
   const std::vector<double> times{t0, 0.5, 0.55, 1.3};
   for (const std::string& name : builtin_scheme_names()) {
     DYNAMIC_SECTION("scheme " << name) {
-      const auto stepper = make_stepper(name, model);
+      const auto stepper = make_stepper(name, model, {});
       const core::Trajectory run = run_scheme(model, *stepper, dt, times);
       CHECK(run.times == times);
       REQUIRE(run.states.size() == times.size());
@@ -71,7 +71,7 @@ TEST_CASE("run_scheme steps on t0 + n dt and records the output times", "[lie][r
       // The clock is t0 + n·dt by multiplication, never accumulated: exact at the end.
       CHECK(stepper->time() == t0 + 100.0 * dt);
       // The same steps taken by hand give the same recorded states.
-      const auto manual = make_stepper(name, model);
+      const auto manual = make_stepper(name, model, {});
       manual->initialize(t0, model.initial_state());
       for (long n = 0; n < 100; ++n) {
         REQUIRE(manual->step(t0 + static_cast<double>(n + 1) * dt - manual->time()).ok);
@@ -144,7 +144,7 @@ TEST_CASE("run_scheme stops with a SolverError when the energy is not finite",
   std::vector<core::Body> bodies;
   bodies.emplace_back(testing::rigid_body("spinner", 1.0, {3.0, 4.0, 5.0}, {1e160, 0.0, 0.0}));
   const core::Model model(std::move(bodies), testing::Elements{});
-  const auto stepper = make_stepper("c2", model);
+  const auto stepper = make_stepper("c2", model, {});
   try {
     run_scheme(model, *stepper, 1e-3, {0.0, 1e-2});
     FAIL("no exception");
@@ -156,7 +156,7 @@ TEST_CASE("run_scheme stops with a SolverError when the energy is not finite",
 
 TEST_CASE("run_scheme reports its step count for a progress line", "[lie][run_scheme]") {
   const core::Model model = testing::free_spin();
-  const auto stepper = make_stepper("c1", model);
+  const auto stepper = make_stepper("c1", model, {});
   std::atomic<long> steps{0};
   run_scheme(model, *stepper, 0.01, core::output_times(1.0, 0.1), &steps);
   CHECK(steps.load() == 100);

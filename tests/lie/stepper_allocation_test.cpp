@@ -34,7 +34,7 @@ TEST_CASE("step() allocates nothing", "[lie][conformance][allocation]") {
       testing::rotating_cantilever_model(core::FlexibleFormulation::kLte, 3.0);
   for (const core::Model* model : {&book, &top, &wall, &spinner, &cantilever}) {
     for (const std::string& name : builtin_scheme_names()) {
-      const auto stepper = make_stepper(name, *model);
+      const auto stepper = make_stepper(name, *model, {});
       stepper->initialize(0.0, model->initial_state());
       g_allocations = 0;
       g_counting = true;
@@ -62,7 +62,7 @@ TEST_CASE("genalpha: step() allocates nothing", "[lie][conformance][allocation]"
   for (const core::Model* model :
        {&book, &top, &wall, static_cast<const core::Model*>(andrews.model.get()), &spinner,
         &cantilever}) {
-    const auto stepper = make_stepper("genalpha", *model);
+    const auto stepper = make_stepper("genalpha", *model, {});
     stepper->initialize(0.0, model->initial_state());
     const double h = model->has_constraints() ? 1e-4 : 1e-3;
     g_allocations = 0;

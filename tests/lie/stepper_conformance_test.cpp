@@ -40,8 +40,11 @@ TEST_CASE("the registry lists the built-in schemes first and refuses bad entries
     CHECK(find_method(name)->claimed_order == 2);  // Simo–Wong and Krysl–Endres claim order 2
   }
   const core::Model model = testing::free_spin();
-  CHECK_THROWS_WITH(make_stepper("rk4", model), Catch::Matchers::Contains("unknown scheme 'rk4'"));
-  const StepperFactory factory = [](const core::Model& m) { return make_stepper("c2", m); };
+  CHECK_THROWS_WITH(make_stepper("rk4", model, {}),
+                    Catch::Matchers::Contains("unknown scheme 'rk4'"));
+  const StepperFactory factory = [](const core::Model& m, const MethodOptions& options) {
+    return make_stepper("c2", m, options);
+  };
   CHECK_THROWS_WITH(register_method({"c2", 2, "", factory}),
                     Catch::Matchers::Contains("already registered"));
   CHECK_THROWS_AS(register_method({"bad name", 2, "", factory}), std::invalid_argument);

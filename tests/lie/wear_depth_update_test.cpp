@@ -54,7 +54,7 @@ std::vector<std::string> pins_wearing_schemes() {
 /// A stepper of the model that advances everything but the worn depths.
 class FrozenDepthStepper final : public Stepper {
  public:
-  explicit FrozenDepthStepper(const core::Model& model) : inner_(make_stepper("nmb", model)) {}
+  explicit FrozenDepthStepper(const core::Model& model) : inner_(make_stepper("nmb", model, {})) {}
   std::string_view name() const override { return "frozen"; }
   int order() const override { return 2; }
   double force_evaluations_per_step() const override { return 1.0; }
@@ -76,7 +76,7 @@ TEST_CASE("schemes: the worn depths converge at second order to the closed form"
   for (const std::string& name : pins_wearing_schemes()) {
     std::vector<double> steps, errors;
     for (const double dt : {0.1, 0.05, 0.025}) {
-      const std::unique_ptr<Stepper> stepper = make_stepper(name, model);
+      const std::unique_ptr<Stepper> stepper = make_stepper(name, model, {});
       const core::Trajectory tr = run_scheme(model, *stepper, dt, t);
       const double h = tr.states.back().wear_depth(0);
       steps.push_back(dt);
@@ -105,7 +105,7 @@ TEST_CASE("run_scheme refuses a method that does not advance the worn depths") {
 TEST_CASE("a step that advances worn depths allocates nothing") {
   const scene::Scene scene = scene::parse_scene(kSpinningPins, "pins.toml");
   for (const std::string& name : pins_wearing_schemes()) {
-    const std::unique_ptr<Stepper> stepper = make_stepper(name, *scene.model);
+    const std::unique_ptr<Stepper> stepper = make_stepper(name, *scene.model, {});
     stepper->initialize(0.0, scene.model->initial_state());
     REQUIRE(stepper->step(0.01).ok);  // warm-up: the first step may size the schemes' scratch
     StepStatus status;

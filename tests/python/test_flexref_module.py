@@ -83,6 +83,39 @@ class ModuleTest(unittest.TestCase):
         self.assertEqual([lv["status"] for lv in result["levels"]], ["ok"] * 3)
         self.assertIn("nmb", [s[0] for s in flexref.schemes()])
 
+    def test_genalpha_options_reach_the_stepper(self):
+        # lie::MethodOptions from keyword arguments: the default rho_inf is 0.9, and 0.5 damps
+        # differently, so the run and a converge study change with it.
+        default = flexref.run_scheme(self.scene, "genalpha", 1e-2)
+        mild = flexref.run_scheme(self.scene, "genalpha", 1e-2, rho_inf=0.9)
+        damped = flexref.run_scheme(self.scene, "genalpha", 1e-2, rho_inf=0.5)
+        perturbed = flexref.run_scheme(self.scene, "genalpha", 1e-2, perturbed_start=True)
+        for column in ("body.e1", "body.W1"):
+            np.testing.assert_array_equal(default[column], mild[column])
+            self.assertFalse(np.array_equal(default[column], damped[column]))
+            self.assertFalse(np.array_equal(default[column], perturbed[column]))
+        errors = {}
+        for rho in (0.5, 0.9):
+            out = flexref.converge(self.scene, ["genalpha"], dt=0.02, levels=3,
+                                   reference_solver="cvode", precision="double", jobs=1,
+                                   rho_inf=rho)
+            errors[rho] = [lv["error"] for lv in out["levels"]]
+        self.assertEqual(len(errors[0.5]), 3)
+        for a, b in zip(errors[0.5], errors[0.9]):
+            self.assertNotEqual(a, b)
+
+    def test_method_options_that_apply_to_no_scheme_are_refused(self):
+        with self.assertRaisesRegex(ValueError, "rho_inf applies only to genalpha"):
+            flexref.run_scheme(self.scene, "c2", 1e-2, rho_inf=0.5)
+        with self.assertRaisesRegex(ValueError, "perturbed_start applies only to genalpha"):
+            flexref.converge(self.scene, ["c1", "nmb"], perturbed_start=True)
+        with self.assertRaisesRegex(ValueError, "rho_inf"):
+            flexref.run_scheme(self.scene, "genalpha", 1e-2, rho_inf=1.5)
+        with self.assertRaisesRegex(ValueError, "method option 'gain'"):
+            flexref.run_scheme(self.scene, "c2", 1e-2, options={"gain": 1.0})
+        with self.assertRaisesRegex(ValueError, "method option 'gain'"):
+            flexref.work_precision(self.scene, ["nmb"], options={"gain": 1.0})
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -17,6 +17,7 @@
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/reference_solver.hpp"
+#include "scene/scene_reader.hpp"
 #include "tests/support/contact_models.hpp"
 #include "tests/support/flexible_models.hpp"
 #include "tests/support/test_problems.hpp"
@@ -91,6 +92,22 @@ TEST_CASE("CVODE's method: Adams unless contact or a heavily damped fast mode", 
     CHECK(undamped.fastest_rate > 500.0);  // the joint is there, and fast
     CHECK(choose_cvode_method(rod_on_bushing(0.0)).method == CvodeMethod::kAdams);
   }
+}
+
+TEST_CASE("the rotation is weighted per unit step where it sets the steps", "[method]") {
+  // reference/error_weights.hpp: smooth, non-stiff models (CVODE's Adams), not contact or
+  // stiffness; IDA also leaves out ideal joints (ida_solver.cpp).
+  for (const core::Model& model : {testing::free_spin(), testing::heavy_top(),
+                                   testing::coulomb_wall(), testing::book_toss()}) {
+    CHECK(rotation_weights_per_step(summarize_stiffness(model, 0.01)));
+  }
+  const scene::Scene jointed = scene::read_scene("scenes/heavy_top_spherical.toml");
+  CHECK(rotation_weights_per_step(summarize_stiffness(*jointed.model, 0.01)));
+  CHECK(rotation_weights_per_step(summarize_stiffness(
+      testing::flexible_spinner_model(core::FlexibleFormulation::kCoupled), 0.01)));
+  const testing::ContactScene ball = testing::bouncing_ball();
+  CHECK(!rotation_weights_per_step(summarize_stiffness(ball.model, 0.01)));
+  CHECK(!rotation_weights_per_step(summarize_stiffness(rod_on_bushing(1e5), 0.01)));
 }
 
 TEST_CASE("solve_cvode records its method and why, --method overrides", "[cvode][method]") {

@@ -18,6 +18,7 @@
 #include "scene/calculix_import.hpp"
 #include "scene/calculix_input_deck.hpp"
 #include "scene/calculix_matrices.hpp"
+#include "scene/index_ranges.hpp"
 #include "scene/nodal_mass_lumping.hpp"
 #include "tests/support/temp_dir.hpp"
 

@@ -183,7 +183,7 @@ TEST_CASE("tube_support_impact: the schemes' wear work converges at second order
     INFO(name);
     std::vector<double> errors;
     for (const double h : {2.5e-5, 1.25e-5, 6.25e-6}) {
-      const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(name, model);
+      const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(name, model, {});
       const core::Trajectory run = lie::run_scheme(model, *stepper, h, t);
       const trajectory::TrajectoryTable table = trajectory::tabulate(model, run);
       const double wear =

@@ -78,7 +78,7 @@ TEST_CASE("wear_block: the schemes give the closed-form depth and sinking at h =
   const core::Model& model = *scene.model;
   const std::vector<double> t = block_grid(scene.end_time, 0.1);
   for (const std::string& scheme : lie::scheme_names()) {
-    const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(scheme, model);
+    const std::unique_ptr<lie::Stepper> stepper = lie::make_stepper(scheme, model, {});
     REQUIRE(stepper->integrates_wear_depth());
     const core::Trajectory tr = lie::run_scheme(model, *stepper, 1e-3, t);
     const ClosedFormErrors e = closed_form_errors(model, tr);

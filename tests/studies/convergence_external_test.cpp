@@ -18,7 +18,7 @@ namespace {
 /// C2's trajectory at step h as another code would hand it over: only t, the Euler
 /// parameters and the angular velocity, as columns in memory.
 ExternalLevel c2_as_external(const core::Model& model, const std::vector<double>& times, double h) {
-  const auto stepper = lie::make_stepper("c2", model);
+  const auto stepper = lie::make_stepper("c2", model, {});
   const trajectory::TrajectoryTable table =
       trajectory::tabulate(model, lie::run_scheme(model, *stepper, h, times));
   std::vector<std::string> names{"t"};

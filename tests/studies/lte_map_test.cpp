@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "studies/lte_map_grid.hpp"
+#include "studies/lte_map_report.hpp"
 #include "tests/support/flexible_models.hpp"
 
 namespace flexref::studies {

@@ -73,9 +73,9 @@ TEST_CASE("runs are classified: stable at h|W| = 0.01, not stable for C2 at 3", 
   StabilityCriterion criterion;
   criterion.steps = 500;
   for (const char* scheme : {"c1", "c2", "nmb"}) {
-    CHECK(classify_run(model, scheme, 0.01 / 10.0, criterion) == "stable");
+    CHECK(classify_run(model, scheme, {}, 0.01 / 10.0, criterion) == "stable");
   }
-  const std::string c2 = classify_run(model, "c2", 3.0 / 10.0, criterion);
+  const std::string c2 = classify_run(model, "c2", {}, 3.0 / 10.0, criterion);
   CHECK(c2 != "stable");
   CHECK_FALSE(c2.empty());
 }
@@ -86,7 +86,8 @@ TEST_CASE("C2's largest stable step scales like 1/|W|", "[stability]") {
   std::vector<double> h_times_spin;
   for (double spin : {1.0, 10.0, 100.0}) {
     const core::Model model = free_spin_at(spin);
-    const double h = largest_stable_step(model, "c2", criterion, 1e-3 / spin, 100.0 / spin, 1e-2);
+    const double h =
+        largest_stable_step(model, "c2", {}, criterion, 1e-3 / spin, 100.0 / spin, 1e-2);
     REQUIRE(h > 0.0);
     h_times_spin.push_back(h * spin);
   }

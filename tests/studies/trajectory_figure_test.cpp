@@ -106,5 +106,23 @@ TEST_CASE("trajectory figure: bad settings are refused", "[studies][figure]") {
   CHECK_THROWS_AS(run_trajectory_figure(model, times, settings), std::invalid_argument);
 }
 
+TEST_CASE("trajectory figure: the table's scheme column fits the longest name",
+          "[studies][figure]") {
+  FigureResult result;
+  result.reference.label = "reference (cvode)";
+  for (const char* scheme : {"c2", "genalpha"}) {
+    FigureCurve curve;
+    curve.scheme = scheme;
+    curve.step = 0.01;
+    curve.max_error = 1.5e-7;
+    result.curves.push_back(curve);
+  }
+  const std::string table = figure_table(result);
+  // "genalpha" is 8 characters: two spaces before its step, and c2's row aligned with it.
+  CHECK(table.find("\ngenalpha  0.01") != std::string::npos);
+  CHECK(table.find("\nc2        0.01") != std::string::npos);
+  CHECK(table.find("\nscheme    step") != std::string::npos);
+}
+
 }  // namespace
 }  // namespace flexref::studies

@@ -11,6 +11,7 @@
 #include "core/output_times.hpp"
 #include "studies/convergence.hpp"
 #include "studies/lte_map.hpp"
+#include "studies/lte_map_report.hpp"
 #include "studies/stability.hpp"
 #include "studies/trajectory_figure.hpp"
 #include "studies/work_precision.hpp"

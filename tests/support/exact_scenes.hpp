@@ -2,8 +2,8 @@
 /// \file exact_scenes.hpp
 /// The models with an exact solution (reference/exact_solution.hpp) that the reference tests
 /// run, with their spans: the torque-free body in both circulation cases and near the
-/// separatrix, the symmetric heavy top, and the compound pendulum (docs/design/scenes.md).
-/// Header-only.
+/// separatrix, the symmetric heavy top, and the compound pendulum (docs/design/scenes.md); and
+/// a driven mechanism whose drive sets its motion (driven_parallelogram_toml). Header-only.
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
@@ -79,6 +79,39 @@ inline std::vector<ExactScene> exact_scenes() {
       {"heavy_top", [] { return heavy_top(); }, 2.0},
       {"pendulum", [] { return compound_pendulum(); }, 10.0},
   };
+}
+
+/// IFToMM A02 with N = 1 as a scene file's text: a parallelogram four-bar, cranks `left` and
+/// `right` of 1 m (m = 1 kg) vertical at t = 0, the coupler horizontal; joint A drives the left
+/// crank clockwise at 1 rad/s, so the cranks' attitude is exactly a turn of π/2 − t about +z and
+/// the coupler's the identity (it translates), until the links become collinear at t = π/2 (the
+/// mechanism's change point, where J M⁻¹ Jᵀ loses rank).
+inline std::string driven_parallelogram_toml(const std::string& end_time) {
+  std::string text =
+      "[scene]\nname = \"parallelogram\"\nend_time = " + end_time + "\noutput_step = 0.01\n";
+  const auto rod = [](const std::string& name, const std::string& at, bool upright) {
+    // Upright: turned by π/2 about +z, θ = (cos π/4, 0, 0, sin π/4) to 17 digits.
+    return "[[body]]\nname = \"" + name + "\"\nmass = 1.0\ninertia = [1e-4, 0.0833333333333, " +
+           "0.0833333333333]\ncenter_of_mass = [0.5, 0.0, 0.0]\nposition = " + at +
+           (upright ? "\norientation = [0.70710678118654757, 0.0, 0.0, 0.70710678118654757]\n"
+                    : "\n");
+  };
+  text += rod("left", "[0.0, 0.0, 0.0]", true) + "angular_velocity = [0.0, 0.0, -1.0]\n";
+  text += rod("coupler", "[0.0, 1.0, 0.0]", false) + "velocity = [1.0, 0.0, 0.0]\n";
+  text += rod("right", "[1.0, 0.0, 0.0]", true) + "angular_velocity = [0.0, 0.0, -1.0]\n";
+  const auto joint = [](const std::string& name, const std::string& a, const std::string& pa,
+                        const std::string& b, const std::string& pb, const std::string& extra) {
+    return "[[joint]]\nname = \"" + name +
+           "\"\nmodel = \"ideal\"\nkind = \"revolute\"\nbody_a = \"" + a + "\"\npoint_a = " + pa +
+           "\nbody_b = \"" + b + "\"\npoint_b = " + pb +
+           "\naxis_a = [0.0, 0.0, 1.0]\naxis_b = [0.0, 0.0, 1.0]\n" + extra;
+  };
+  text += joint("A", "left", "[0.0, 0.0, 0.0]", "ground", "[0.0, 0.0, 0.0]",
+                "drive = { law = \"constant-rate\", rate = -1.0 }\n");
+  text += joint("B", "coupler", "[0.0, 0.0, 0.0]", "left", "[1.0, 0.0, 0.0]", "");
+  text += joint("C", "coupler", "[1.0, 0.0, 0.0]", "right", "[1.0, 0.0, 0.0]", "");
+  text += joint("D", "right", "[0.0, 0.0, 0.0]", "ground", "[1.0, 0.0, 0.0]", "");
+  return text;
 }
 
 }  // namespace flexref::testing

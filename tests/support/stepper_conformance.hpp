@@ -47,7 +47,7 @@ inline void check_registry_entry(const std::string& name) {
   const lie::MethodInfo* method = lie::find_method(name);
   REQUIRE(method != nullptr);
   const core::Model model = free_spin();
-  const auto stepper = lie::make_stepper(name, model);
+  const auto stepper = lie::make_stepper(name, model, {});
   CHECK(stepper->name() == name);
   CHECK(stepper->order() == method->claimed_order);
   CHECK(stepper->force_evaluations_per_step() >= 1.0);
@@ -67,7 +67,7 @@ inline void check_order_on_regular_precession(const std::string& name) {
   std::vector<double> errors;
   const std::vector<double> steps{0.05, 0.025, 0.0125};
   for (double h : steps) {
-    const auto stepper = lie::make_stepper(name, model);
+    const auto stepper = lie::make_stepper(name, model, {});
     errors.push_back(
         trajectory_error(model, lie::run_scheme(model, *stepper, h, times), reference));
   }
@@ -89,7 +89,7 @@ inline void check_order_on_regular_precession(const std::string& name) {
 inline void check_failed_step_leaves_state(const std::string& name) {
   // The torque becomes NaN for steps inside (0.5, ∞): the sixth step of h = 0.1 fails.
   const core::Model model = free_spin_failing_after(0.5);
-  const auto stepper = lie::make_stepper(name, model);
+  const auto stepper = lie::make_stepper(name, model, {});
   stepper->initialize(0.0, model.initial_state());
   for (int n = 0; n < 5; ++n) REQUIRE(stepper->step(0.1).ok);
   const core::State before = stepper->state();
@@ -108,7 +108,7 @@ inline void check_failed_step_leaves_state(const std::string& name) {
 
 inline void check_run_scheme_reports_failure(const std::string& name) {
   const core::Model model = free_spin_failing_after(0.5);
-  const auto stepper = lie::make_stepper(name, model);
+  const auto stepper = lie::make_stepper(name, model, {});
   try {
     lie::run_scheme(model, *stepper, 0.1, core::output_times(1.0, 0.1));
     FAIL("no SolverError");
@@ -126,9 +126,9 @@ inline void check_bodies_independent(const std::string& name) {
   const core::Model top = heavy_top();
   const std::vector<double> times = core::output_times(0.2, 0.1);
   const double h = 1e-3;
-  const auto s_both = lie::make_stepper(name, both);
-  const auto s_book = lie::make_stepper(name, book);
-  const auto s_top = lie::make_stepper(name, top);
+  const auto s_both = lie::make_stepper(name, both, {});
+  const auto s_book = lie::make_stepper(name, book, {});
+  const auto s_top = lie::make_stepper(name, top, {});
   const core::Trajectory r_both = lie::run_scheme(both, *s_both, h, times);
   const core::Trajectory r_book = lie::run_scheme(book, *s_book, h, times);
   const core::Trajectory r_top = lie::run_scheme(top, *s_top, h, times);
@@ -151,7 +151,7 @@ inline void check_bodies_independent(const std::string& name) {
 inline void check_unit_euler_parameters(const std::string& name) {
   // Renormalized after every composition: |θ| − 1 is a single rounding, ≤ 2ε.
   const core::Model model = book_toss();
-  const auto stepper = lie::make_stepper(name, model);
+  const auto stepper = lie::make_stepper(name, model, {});
   stepper->initialize(0.0, model.initial_state());
   double drift = 0.0;
   for (int n = 0; n < 1000; ++n) {

@@ -43,7 +43,7 @@ struct Fixture {
   TrajectoryTable run, reference;
   Fixture() {
     auto run_with = [&](double h) {
-      const auto stepper = lie::make_stepper("c2", model);
+      const auto stepper = lie::make_stepper("c2", model, {});
       return tabulate(model, lie::run_scheme(model, *stepper, h, times));
     };
     run = run_with(1e-2);
