@@ -121,6 +121,7 @@ ArkodeSegmentSolver::Advance ArkodeSegmentSolver::advance(double tout, double ne
       continue;
     }
     step_start_ = t_start;
+    sun::accept_step(data_, t_reached, sun::data(y_.get()));
     t_ = t_reached;
     fitted_ = false;
     ended_at_event_ = false;

@@ -69,11 +69,17 @@ void record_steps(void* cvode, StepClock& clock) {
 }
 
 /// CVEwtFn: CVODE calls it before every step (error_weights.hpp, then the integrals' share of
-/// their stretch, integral_weights.hpp); it also records the step just taken on the clock.
-/// Allocates nothing.
+/// their stretch, integral_weights.hpp), with the state of the step it accepted last; it also
+/// records the step just taken on the clock and there moves the joints' tracker where
+/// evaluations chose rows of their own (sun::accept_step). Allocates nothing but there.
 int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
   auto& d = *static_cast<sun::OdeCallbackData*>(user_data);
   try {
+    if (d.rows_chosen) {
+      double t = 0.0;
+      sun::check(CVodeGetCurrentTime(d.cvode, &t), "CVodeGetCurrentTime");
+      sun::accept_step(d, t, sun::data(y));
+    }
     record_steps(d.cvode, *d.clock);
     d.error_weights->evaluate(sun::data(y), d.clock->mean_step(), sun::data(ewt));
   } catch (...) {

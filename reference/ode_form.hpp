@@ -22,14 +22,13 @@
 namespace flexref::reference {
 
 /// How far an ODE reference moves its joints' tracker at an output, from the last solve on its
-/// workspace: without the orientation test (every evaluation of the steps that reached the
-/// output, up to the step's end beyond it, has compared the rows' orientation with the tracker's
-/// accepted state already), and only the reference where that solve kept the tracker's rows (no
-/// factorization at each output: on Andrews' squeezer, outputs every 1e-4 s, they would be
-/// 300 solves beside the reference's 1 300 evaluations).
+/// workspace: only the orientation test's reference where that solve kept the tracker's rows
+/// (no factorization at each output: on Andrews' squeezer, outputs every 1e-4 s, they would be
+/// 300 solves beside the reference's 1 300 evaluations); fully where it chose rows of its own
+/// (the tracker's had become ill-conditioned, or turned through a dependency among themselves:
+/// the rows are chosen at the output as the evaluations chose them).
 inline core::TrackerAdvance output_advance(const core::JointMultipliers& last_solve) {
-  return last_solve.rows_chosen() ? core::TrackerAdvance::kWithoutOrientation
-                                  : core::TrackerAdvance::kReference;
+  return last_solve.rows_chosen() ? core::TrackerAdvance::kFull : core::TrackerAdvance::kReference;
 }
 
 class OdeForm {

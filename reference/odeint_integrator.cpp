@@ -51,6 +51,7 @@ void Integrator::begin_segment(const core::State& state, double t_segment) {
     form_->project(t_, x_.data(), scratch_);
     form_->unpack(t_, x_.data(), scratch_.state);
     form_->model().advance_tracker(t_, scratch_.state, tracker_, scratch_.workspace);
+    counters_.rows_chosen = false;
   }
   works_.start(carried_, x_.data());
   scaling_.factor = 1.0;
@@ -143,6 +144,14 @@ void Integrator::step(double end) {
                                   " steps between output times (too much work)");
     }
     evaluate_derivative();
+    if (counters_.rows_chosen) {
+      // Evaluations chose joint rows of their own since the tracker last moved: the tracker
+      // chooses them at the accepted state, so that the next step's stages share its rows.
+      const core::Model& model = form_->model();
+      form_->unpack(t_, x_.data(), scratch_.state);
+      model.advance_tracker(t_, scratch_.state, tracker_, scratch_.workspace);
+      counters_.rows_chosen = false;
+    }
     return;
   }
 }

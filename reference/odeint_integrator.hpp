@@ -100,6 +100,9 @@ struct Counters {
   /// Set when a watched evaluation's switching functions were on another side than the step
   /// start's (SegmentRhs::watch).
   bool other_side = false;
+  /// Set when an evaluation chose joint rows of its own (its tracker's were ill-conditioned at
+  /// its state: core::JointMultipliers::rows_chosen); cleared where the tracker moves.
+  bool rows_chosen = false;
 };
 
 /// The ODE form as an odeint system on one segment: counts evaluations and flags non-finite
@@ -115,6 +118,10 @@ class SegmentRhs {
     ++counters_->rhs_evaluations;
     form_->rhs(core::LoadContext{t, t_segment_}, x.data(), dxdt.data(), *scratch_);
     if (!all_finite(dxdt)) counters_->nonfinite = true;
+    const core::Model& model = form_->model();
+    if (model.has_constraints() && model.joint_multipliers(scratch_->workspace).rows_chosen()) {
+      counters_->rows_chosen = true;
+    }
     if (start_side_ == nullptr) return;
     form_->unpack(t, x.data(), scratch_->state);
     form_->model().switching_functions(core::LoadContext{t, t_segment_}, scratch_->state,

@@ -22,6 +22,11 @@ void accept_tracker(OdeCallbackData& d, double t, const double* y) {
   if (!model.has_constraints()) return;
   d.form->unpack(t, y, d.scratch.state);
   model.advance_tracker(t, d.scratch.state, d.tracker, d.scratch.workspace);
+  d.rows_chosen = false;
+}
+
+void accept_step(OdeCallbackData& d, double t, const double* y) {
+  if (d.rows_chosen) accept_tracker(d, t, y);
 }
 
 void accept_output(OdeCallbackData& d, double t, const core::State& state) {
@@ -36,6 +41,10 @@ int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
   ++d.evaluations;
   try {
     d.form->rhs(core::LoadContext{t, d.t_segment}, data(y), data(ydot), d.scratch);
+    const core::Model& model = d.form->model();
+    if (model.has_constraints() && model.joint_multipliers(d.scratch.workspace).rows_chosen()) {
+      d.rows_chosen = true;
+    }
   } catch (...) {
     d.callback_error = std::current_exception();
     return -1;  // unrecoverable; the driver rethrows the message

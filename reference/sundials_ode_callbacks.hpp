@@ -26,6 +26,9 @@ struct OdeCallbackData : CallbackRecord {
   /// scratch.tracker points to: moved by the driver at the states it accepts (accept_tracker),
   /// read by every callback.
   core::ConstraintTracker tracker;
+  /// Set when an evaluation chose joint rows of its own (the tracker's were ill-conditioned at
+  /// its state: core::JointMultipliers::rows_chosen), cleared where the tracker moves.
+  bool rows_chosen = false;
   OdeForm::Scratch scratch;
   double t_segment = 0.0;  ///< selects the load branch of the current segment
   const OdeJacobian* jacobian = nullptr;
@@ -57,6 +60,10 @@ void bind_scratch(OdeCallbackData& d);
 /// core::SingularConfigurationError.
 void accept_tracker(OdeCallbackData& d, double t, const double* y);
 void accept_output(OdeCallbackData& d, double t, const core::State& state);
+/// At a step the solver accepted (t, y): where evaluations chose joint rows of their own since
+/// the tracker last moved, it moves there (chooses them at the accepted state), so that the next
+/// step's evaluations share its rows; otherwise nothing (no factorization per step).
+void accept_step(OdeCallbackData& d, double t, const double* y);
 
 /// y' = f(t, y). Returns 1 (recoverable: the solver retries a smaller step) when f is not
 /// finite, e.g. a trial step that reached a singular load.
