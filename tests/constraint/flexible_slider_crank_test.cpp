@@ -137,7 +137,7 @@ TEST_CASE("flexible slider-crank: four elastic degrees of freedom, solvers agree
 }
 
 TEST_CASE("flexible slider-crank: a stiff rod is the rigid slider-crank",
-          "[constraint][mechanisms]") {
+          "[constraint][mechanisms][long]") {
   // EI and EA × 100: the deflection, ∝ 1/EI, falls 100-fold, the frequencies rise 10-fold (× 1e6
   // would need 1e3 times the steps of the nominal rod: minutes). The stiff rod starts from the
   // rigid motion, its elastic coordinates at rest (the smooth start's velocities belong to the

@@ -220,7 +220,7 @@ TEST_CASE("four-bar: a Grashof crank-rocker under gravity conserves its energy",
 }
 
 TEST_CASE("four-bar: a parallelogram driven into its dead point is reported, not integrated",
-          "[constraint][mechanisms]") {
+          "[constraint][mechanisms][long]") {
   // IFToMM A02 with N = 1: cranks A-B and D-C of 1 m, vertical at t = 0, the coupler B-C
   // horizontal; the crank at A driven clockwise at 1 rad/s, so all links are collinear (the
   // mechanism's change point, where J M⁻¹ Jᵀ loses rank) at t = π/2.

@@ -59,7 +59,8 @@ std::vector<double> grid(double end, double step) {
   return t;
 }
 
-TEST_CASE("contact references: the energy balance converges with the tolerance", "[energy]") {
+TEST_CASE("contact references: the energy balance converges with the tolerance",
+          "[energy][long]") {
   for (const Slice& slice : {Slice{"scenes/bouncing_ball.toml", 1.0, 0.01},
                              Slice{"scenes/tube_support_impact.toml", 0.1, 0.001}}) {
     scene::SceneSpec spec = scene::read_scene(slice.scene).spec;
