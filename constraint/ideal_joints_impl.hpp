@@ -242,9 +242,9 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
     // The drive's relative coordinate and its rates (zero when not driven).
     S q = S(0), q1 = S(0), q2 = S(0);
     if (spec.drive.active) {
-      q = spec.drive.law.template angle_in<S>(t);
-      q1 = spec.drive.law.template angular_rate_in<S>(t);
-      q2 = spec.drive.law.template angular_acceleration_in<S>(t);
+      q = spec.drive.law.template angle<S>(t);
+      q1 = spec.drive.law.template angular_rate<S>(t);
+      q2 = spec.drive.law.template angular_acceleration<S>(t);
     }
     switch (spec.type) {
       case JointType::kSpherical:

@@ -109,7 +109,7 @@ BushingEnd end_in_double(const BushingEndTpl<S>& end) {
 template <typename S, typename U>
 BushingEndTpl<S> end_in(const BushingEndTpl<U>& end) {
   return {end.body, end.point.template cast<S>(),
-          core::unit_vector_in<S>(end.axis.template cast<double>())};
+          core::unit_vector_as<S>(end.axis.template cast<double>())};
 }
 
 /// The pose and velocity of an end: a body's hub point p_WBr + A (P − Bo − p_BoBr), its Br, v_Br,

@@ -39,7 +39,7 @@ ContactPairTpl<S> pair_in(const ContactPair& p) {
   q.p_BoCb_B = p.p_BoCb_B.cast<S>();
   q.radius_b = S(p.radius_b);
   q.p_WQ = p.p_WQ.cast<S>();
-  q.n_W = core::unit_vector_in<S>(p.n_W);
+  q.n_W = core::unit_vector_as<S>(p.n_W);
   q.node_a = core::NodeAttachmentTpl<S>(p.node_a);
   q.node_b = core::NodeAttachmentTpl<S>(p.node_b);
   return q;

@@ -69,8 +69,8 @@ GapGeometryTpl<S> gap_geometry_in(const GapSupportGeometry& geometry) {
   GapGeometryTpl<S> g;
   g.circular = geometry.kind == GapSupportGeometry::Kind::kCircular;
   g.p_WS = geometry.p_WS.cast<S>();
-  g.a_W = core::unit_vector_in<S>(geometry.a_W);
-  g.m_W = core::unit_vector_in<S>(geometry.m_W);
+  g.a_W = core::unit_vector_as<S>(geometry.a_W);
+  g.m_W = core::unit_vector_as<S>(geometry.m_W);
   g.clearance = S(geometry.clearance);
   return g;
 }
@@ -125,8 +125,8 @@ void GapSupportTpl<S>::set_sector_basis() {
   }
   const Eigen::Vector3d axis = Eigen::Vector3d::Unit(best);
   const Eigen::Vector3d e1 = axis - a.dot(axis) * a;
-  e1_W_ = core::unit_vector_in<S>(e1);
-  e2_W_ = core::unit_vector_in<S>(a.cross(e1));
+  e1_W_ = core::unit_vector_as<S>(e1);
+  e2_W_ = core::unit_vector_as<S>(a.cross(e1));
   if (!wear_) return;
   initial_depth_.assign(static_cast<std::size_t>(wear_->sectors), S(0));
   for (std::size_t j = 0; j < wear_->initial_depth.size(); ++j) {

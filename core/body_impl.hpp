@@ -17,9 +17,9 @@ namespace flexref::core {
 namespace detail {
 
 /// The scene's unit quaternion in S: as given in double (validated unit to 1e-12), normalized
-/// in another S, whose round-off resolves that gap (the data's unit vectors, as unit_vector_in).
+/// in another S, whose round-off resolves that gap (the data's unit vectors, as unit_vector_as).
 template <typename S>
-Eigen::Matrix<S, 4, 1> unit_quaternion_in(const Eigen::Vector4d& theta) {
+Eigen::Matrix<S, 4, 1> unit_quaternion_as(const Eigen::Vector4d& theta) {
   if constexpr (std::is_same_v<S, double>) {
     return theta;
   } else {
@@ -36,8 +36,8 @@ template <typename S>
 BodyTpl<S>::BodyTpl(RigidBodyDescription description) : description_(std::move(description)) {
   const auto& d = description_;
   validate_body_description(d);
-  axis_W_ = unit_vector_in<S>(d.prescribed.axis_W);
-  theta_WB0_ = detail::unit_quaternion_in<S>(d.initial.theta_WB);
+  axis_W_ = unit_vector_as<S>(d.prescribed.axis_W);
+  theta_WB0_ = detail::unit_quaternion_as<S>(d.initial.theta_WB);
   const Eigen::Matrix3d I_sym_d = 0.5 * (d.I_Bcm_B + d.I_Bcm_B.transpose());
   const Matrix3 I_sym = I_sym_d.template cast<S>();
 

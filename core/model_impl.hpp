@@ -179,7 +179,7 @@ void ModelTpl<S>::set_prescribed_motion(S t, State& state, std::vector<Vector3>*
     if (!b.is_prescribed()) continue;
     const RigidBodyDescription& d = b.description();
     const PrescribedAttitudeTpl<S> law =
-        prescribed_attitude_in<S>(d.prescribed.law, b.axis_W(), b.theta_WB0(), t);
+        prescribed_attitude<S>(d.prescribed.law, b.axis_W(), b.theta_WB0(), t);
     BodyState& s = state[i];
     s.p_WBr = d.initial.p_WBo.template cast<S>();  // Br = Bo, fixed on the axis
     s.v_WBr.setZero();
@@ -262,7 +262,7 @@ template <typename S>
 typename ModelTpl<S>::Vector3 ModelTpl<S>::prescribed_alpha_WB_B(int i, S t) const {
   const Body& b = bodies_[static_cast<std::size_t>(i)];
   if (!b.is_prescribed()) return Vector3::Zero();
-  return prescribed_attitude_in<S>(b.description().prescribed.law, b.axis_W(), b.theta_WB0(), t)
+  return prescribed_attitude<S>(b.description().prescribed.law, b.axis_W(), b.theta_WB0(), t)
       .alpha_WB_B;
 }
 

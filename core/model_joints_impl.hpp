@@ -218,7 +218,7 @@ std::string ModelTpl<S>::singular_configuration_ahead(S t, const State& state, S
         if (!body.is_prescribed()) {
           x.p_WBr += span * x.v_WBr;
           x.theta_WB = rotation::quaternion_multiply<S>(
-              x.theta_WB, rotation::exp_quaternion_in<S>(Vector3(span * x.w_WB_B)));
+              x.theta_WB, rotation::exp_quaternion(Vector3(span * x.w_WB_B)));
           x.theta_WB.normalize();
         }
         x.q_f += span * x.qd_f;

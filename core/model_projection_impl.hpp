@@ -21,7 +21,7 @@ void ModelTpl<S>::apply_position_increment(const Vector& delta, State& state) co
       x.p_WBr += delta.template segment<3>(o);
       // A ← A exp(δφ̃): θ ← θ ⊗ exp(δφ), renormalized.
       x.theta_WB = rotation::quaternion_multiply<S>(
-          x.theta_WB, rotation::exp_quaternion_in<S>(Vector3(delta.template segment<3>(o + 3))));
+          x.theta_WB, rotation::exp_quaternion(Vector3(delta.template segment<3>(o + 3))));
       x.theta_WB.normalize();
     }
     x.q_f += delta.segment(o + 6, body.mode_count());

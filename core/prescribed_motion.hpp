@@ -31,24 +31,21 @@ struct AngleLaw {
   double rate = 0.0;  ///< Ω (constant rate) or Ω_s (spin-up), rad/s (a prismatic drive: m/s)
   double spin_up_time = 1.0;  ///< T_s, s (spin-up only)
 
-  double angle(double t) const;
-  double angular_rate(double t) const;
-  double angular_acceleration(double t) const;
-  /// The same three in any floating-point type S (double, long double, float128: the
-  /// precision/ references evaluate the law in their precision); the double ones call these.
-  template <typename S>
-  S angle_in(S t) const;
-  template <typename S>
-  S angular_rate_in(S t) const;
-  template <typename S>
-  S angular_acceleration_in(S t) const;
+  /// φ, φ̇, φ̈ at t in any floating-point type S (double, long double, float128: the precision/
+  /// references evaluate the law in their precision).
+  template <typename S = double>
+  S angle(S t) const;
+  template <typename S = double>
+  S angular_rate(S t) const;
+  template <typename S = double>
+  S angular_acceleration(S t) const;
   /// "constant rate 2 rad/s" / "spin-up to 2 rad/s over 15 s", the rate in `rate_unit`: rad/s
   /// for an angle, m/s for a prismatic drive's displacement (constraint::JointDrive).
   std::string describe(std::string_view rate_unit = "rad/s") const;
 };
 
 template <typename S>
-S AngleLaw::angle_in(S t) const {
+S AngleLaw::angle(S t) const {
   using std::cos;
   const S two_pi = boost::math::constants::two_pi<S>();
   const S Omega(rate);
@@ -60,7 +57,7 @@ S AngleLaw::angle_in(S t) const {
 }
 
 template <typename S>
-S AngleLaw::angular_rate_in(S t) const {
+S AngleLaw::angular_rate(S t) const {
   using std::sin;
   const S two_pi = boost::math::constants::two_pi<S>();
   const S Omega(rate);
@@ -72,7 +69,7 @@ S AngleLaw::angular_rate_in(S t) const {
 }
 
 template <typename S>
-S AngleLaw::angular_acceleration_in(S t) const {
+S AngleLaw::angular_acceleration(S t) const {
   using std::cos;
   const S two_pi = boost::math::constants::two_pi<S>();
   if (kind == Kind::kConstantRate) return S(0);
@@ -100,24 +97,28 @@ using PrescribedAttitude = PrescribedAttitudeTpl<double>;
 /// θ(t) = q(φ a_W) ⊗ θ0 (a rotation about a world axis composes on the left), ω̄ = φ̇ Aᵀ a_W,
 /// α̅ = φ̈ Aᵀ a_W, in any scalar type S with the axis and θ0 given in S.
 template <typename S>
-PrescribedAttitudeTpl<S> prescribed_attitude_in(const AngleLaw& law,
-                                                const Eigen::Matrix<S, 3, 1>& axis_W,
-                                                const Eigen::Matrix<S, 4, 1>& theta_WB0, S t) {
+PrescribedAttitudeTpl<S> prescribed_attitude(const AngleLaw& law,
+                                             const Eigen::Matrix<S, 3, 1>& axis_W,
+                                             const Eigen::Matrix<S, 4, 1>& theta_WB0, S t) {
   using std::cos;
   using std::sin;
-  const S phi = law.angle_in<S>(t);
+  const S phi = law.template angle<S>(t);
   Eigen::Matrix<S, 4, 1> q_axis;
   q_axis << cos(S(0.5) * phi), sin(S(0.5) * phi) * axis_W;
   PrescribedAttitudeTpl<S> out;
   out.theta_WB = rotation::quaternion_multiply<S>(q_axis, theta_WB0);
   const Eigen::Matrix<S, 3, 1> axis_B =
       rotation::rotation_matrix<S>(out.theta_WB).transpose() * axis_W;
-  out.w_WB_B = law.angular_rate_in<S>(t) * axis_B;
-  out.alpha_WB_B = law.angular_acceleration_in<S>(t) * axis_B;
+  out.w_WB_B = law.template angular_rate<S>(t) * axis_B;
+  out.alpha_WB_B = law.template angular_acceleration<S>(t) * axis_B;
   return out;
 }
 
-PrescribedAttitude prescribed_attitude(const PrescribedRotation& rotation,
-                                       const rotation::EulerParameters& theta_WB0, double t);
+/// The same in double, from a body's description.
+inline PrescribedAttitude prescribed_attitude(const PrescribedRotation& rotation,
+                                              const rotation::EulerParameters& theta_WB0,
+                                              double t) {
+  return prescribed_attitude<double>(rotation.law, rotation.axis_W, theta_WB0, t);
+}
 
 }  // namespace flexref::core

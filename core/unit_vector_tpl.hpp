@@ -15,7 +15,7 @@
 namespace flexref::core {
 
 template <typename S>
-Eigen::Matrix<S, 3, 1> unit_vector_in(const Eigen::Vector3d& n) {
+Eigen::Matrix<S, 3, 1> unit_vector_as(const Eigen::Vector3d& n) {
   if constexpr (std::is_same_v<S, double>) {
     return n;
   } else {

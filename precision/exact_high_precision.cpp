@@ -92,9 +92,12 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
   const auto start = std::chrono::steady_clock::now();
   const OdeSystemTpl<S> model(spec, core::FlexibleFormulation::kCoupled);
   const typename OdeSystemTpl<S>::MassProperties body = model.mass_properties(0);
-  const std::vector<S> y0 = model.initial_state();  // p_WBr, θ_WB (unit in S), v_WBr, ω̄
-  const Quaternion<S> theta0(y0[3], y0[4], y0[5], y0[6]);
-  const Vector3<S> w0_B(y0[10], y0[11], y0[12]);
+  const std::vector<S> y0 = model.initial_state();  // (p_WBr), θ_WB (unit in S), (v_WBr), ω̄
+  const reference::BodyBlock& block = model.blocks().front();
+  const auto at = [](int offset, int k) { return static_cast<std::size_t>(offset + k); };
+  const Quaternion<S> theta0(y0[at(block.theta, 0)], y0[at(block.theta, 1)], y0[at(block.theta, 2)],
+                             y0[at(block.theta, 3)]);
+  const Vector3<S> w0_B(y0[at(block.w, 0)], y0[at(block.w, 1)], y0[at(block.w, 2)]);
   const S t0(output_times.front());
 
   HighPrecisionRun run;
@@ -108,9 +111,11 @@ HighPrecisionRun evaluate(const scene::SceneSpec& spec, const std::string& kind,
   const auto record = [&](double t, const Quaternion<S>& theta_WB, const Vector3<S>& w_B) {
     // A free body's centre of mass moves uniformly: p_WBr(t) = p_WBr(t0) + (t − t0) v_WBr.
     const S dt = S(t) - t0;
-    for (std::size_t k = 0; k < 3; ++k) y[k] = y0[k] + dt * y0[7 + k];
-    for (Eigen::Index k = 0; k < 4; ++k) y[3 + static_cast<std::size_t>(k)] = theta_WB(k);
-    for (Eigen::Index k = 0; k < 3; ++k) y[10 + static_cast<std::size_t>(k)] = w_B(k);
+    if (block.p >= 0) {
+      for (int k = 0; k < 3; ++k) y[at(block.p, k)] = y0[at(block.p, k)] + dt * y0[at(block.v, k)];
+    }
+    for (int k = 0; k < 4; ++k) y[at(block.theta, k)] = theta_WB(k);
+    for (int k = 0; k < 3; ++k) y[at(block.w, k)] = w_B(k);
     std::vector<std::string> text;
     std::vector<double> values{t};
     for (const S& v : model.output_row(S(t), y)) {

@@ -6,8 +6,9 @@
 /// (model_conversion.hpp) — with the state packed body after body, the switching and clamp
 /// functions of its contacts interleaved, and the output rows of the trajectory's columns.
 ///
-/// State, body after body: p_WBr (3), θ_WB (4), v_WBr (3), ω̄ (3) unless the body is
-/// prescribed (its attitude, ω̄ and α̅ are its angle law's at t), then q_f (n), q̇_f (n); then
+/// State, body after body, in the double forms' layout (reference/form_layout.hpp): p_WBr (3),
+/// θ_WB (4), v_WBr (3), ω̄ (3) — a pivot without p and v, a prescribed body without all four (its
+/// attitude, ω̄ and α̅ are its angle law's at t) — then q_f (n), q̇_f (n); then
 /// the contacts' worn depths (h' = the wear rates, docs/wear.md); then the integrals (W_d, W_a,
 /// each wear channel's work) when the model dissipates. Equations
 /// (docs/design/model.md, quasi-velocity form): ṗ = v, θ̇ = ½ θ ⊗ (0, ω̄), v̇ = a, ω̄̇ = α̅, q̈_f,
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "reference/form_layout.hpp"
 #include "scene/scene_spec.hpp"
 
 namespace flexref::precision {
@@ -38,10 +40,8 @@ class OdeSystemTpl {
 
   const core::ModelTpl<S>& model() const { return model_; }
   int num_bodies() const { return model_.num_bodies(); }
-  /// The first slot of body i in the state.
-  int body_offset(int i) const { return offsets_[static_cast<std::size_t>(i)]; }
-  /// False for a prescribed body (no rigid slots: its law gives them).
-  bool integrates_rigid_motion(int i) const { return !model_.body(i).is_prescribed(); }
+  /// Where each body's blocks sit in the state (reference/form_layout.hpp).
+  const std::vector<reference::BodyBlock>& blocks() const { return blocks_; }
   int mode_count(int i = 0) const { return model_.body(i).mode_count(); }
   /// A body's mass, centre of mass from Br and inertia about Br (body frame), hub and nodes
   /// included, formed in S (the exact solutions' data: exact_high_precision.cpp).
@@ -122,8 +122,9 @@ class OdeSystemTpl {
   core::ModelTpl<S> model_;
   std::vector<std::string> columns_;
   std::vector<double> discontinuities_;
-  std::vector<int> offsets_;  ///< each body's first slot in y
-  int depth_offset_ = 0;      ///< the worn depths' first slot in y
+  std::vector<reference::BodyBlock> blocks_ = reference::body_blocks(model_);
+  core::StateTpl<S> fixed_;  ///< the initial state: a pivot's position
+  int depth_offset_ = 0;     ///< the worn depths' first slot in y
   int integrals_offset_ = 0;
   int integral_count_ = 0;
   bool has_prescribed_ = false;

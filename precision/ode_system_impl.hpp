@@ -9,6 +9,7 @@
 
 #include "precision/model_conversion.hpp"
 #include "precision/ode_system.hpp"
+#include "reference/form_layout.hpp"
 #include "reference/method_choice.hpp"
 #include "scene/build_model.hpp"
 #include "trajectory/column_order.hpp"
@@ -27,11 +28,8 @@ OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
     : model_(model_in<S>(built, name)),
       columns_(trajectory::trajectory_columns(built)),
       discontinuities_(built.discontinuities()) {
-  int offset = 0;
   for (int i = 0; i < model_.num_bodies(); ++i) {
     const core::BodyTpl<S>& b = model_.body(i);
-    offsets_.push_back(offset);
-    offset += (b.is_prescribed() ? 0 : 13) + 2 * b.mode_count();
     if (!b.is_prescribed()) continue;
     has_prescribed_ = true;
     const core::AngleLaw& law = b.description().prescribed.law;
@@ -40,9 +38,10 @@ OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
   std::sort(discontinuities_.begin(), discontinuities_.end());
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());
-  depth_offset_ = offset;
+  depth_offset_ = blocks_.empty() ? 0 : blocks_.back().end;
   integrals_offset_ = offset + model_.wear_depth_count();
   integral_count_ = model_.integral_layout().count;
+  fixed_ = model_.initial_state();
   ws_ = model_.make_workspace();
   tracker_ = model_.make_constraint_tracker();
   state_ = model_.initial_state();
@@ -68,51 +67,13 @@ std::vector<S> OdeSystemTpl<S>::initial_state() const {
 
 template <typename S>
 void OdeSystemTpl<S>::unpack(S t, const std::vector<S>& y) const {
-  using std::sqrt;
-  for (int i = 0; i < model_.num_bodies(); ++i) {
-    core::BodyStateTpl<S>& x = state_[static_cast<std::size_t>(i)];
-    auto o = static_cast<std::size_t>(offsets_[static_cast<std::size_t>(i)]);
-    if (integrates_rigid_motion(i)) {
-      x.p_WBr = Vector3(y[o], y[o + 1], y[o + 2]);
-      x.theta_WB = Eigen::Matrix<S, 4, 1>(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
-      x.theta_WB /= sqrt(x.theta_WB.squaredNorm());
-      x.v_WBr = Vector3(y[o + 7], y[o + 8], y[o + 9]);
-      x.w_WB_B = Vector3(y[o + 10], y[o + 11], y[o + 12]);
-      o += 13;
-    }
-    const int n = mode_count(i);
-    for (int j = 0; j < n; ++j) {
-      x.q_f(j) = y[o + static_cast<std::size_t>(j)];
-      x.qd_f(j) = y[o + static_cast<std::size_t>(n + j)];
-    }
-  }
-  for (Eigen::Index k = 0; k < state_.wear_depth.size(); ++k) {
-    state_.wear_depth(k) = y[static_cast<std::size_t>(depth_offset_ + k)];
-  }
+  reference::unpack_bodies<S>(blocks_, fixed_, depth_offset_, y.data(), state_);
   if (has_prescribed_) model_.apply_prescribed_motion(t, state_, ws_);
 }
 
 template <typename S>
 void OdeSystemTpl<S>::pack(std::vector<S>& y) const {
-  for (int i = 0; i < model_.num_bodies(); ++i) {
-    const core::BodyStateTpl<S>& x = state_[static_cast<std::size_t>(i)];
-    auto o = static_cast<std::size_t>(offsets_[static_cast<std::size_t>(i)]);
-    if (integrates_rigid_motion(i)) {
-      for (int j = 0; j < 3; ++j) y[o + static_cast<std::size_t>(j)] = x.p_WBr(j);
-      for (int j = 0; j < 4; ++j) y[o + 3 + static_cast<std::size_t>(j)] = x.theta_WB(j);
-      for (int j = 0; j < 3; ++j) y[o + 7 + static_cast<std::size_t>(j)] = x.v_WBr(j);
-      for (int j = 0; j < 3; ++j) y[o + 10 + static_cast<std::size_t>(j)] = x.w_WB_B(j);
-      o += 13;
-    }
-    const int n = mode_count(i);
-    for (int j = 0; j < n; ++j) {
-      y[o + static_cast<std::size_t>(j)] = x.q_f(j);
-      y[o + static_cast<std::size_t>(n + j)] = x.qd_f(j);
-    }
-  }
-  for (Eigen::Index k = 0; k < state_.wear_depth.size(); ++k) {
-    y[static_cast<std::size_t>(depth_offset_ + k)] = state_.wear_depth(k);
-  }
+  reference::pack_bodies<S>(blocks_, depth_offset_, state_, y.data());
 }
 
 template <typename S>
@@ -151,30 +112,33 @@ void OdeSystemTpl<S>::derivative(const std::vector<S>& y, std::vector<S>& dydt, 
   if (switching != nullptr) interleave_switching(*switching);
   dydt.resize(y.size());
   for (int i = 0; i < model_.num_bodies(); ++i) {
+    const reference::BodyBlock& k = blocks_[static_cast<std::size_t>(i)];
     const core::BodyStateTpl<S>& x = state_[static_cast<std::size_t>(i)];
     const core::BodyAccelerationTpl<S>& a = accelerations_[static_cast<std::size_t>(i)];
-    auto o = static_cast<std::size_t>(offsets_[static_cast<std::size_t>(i)]);
-    if (integrates_rigid_motion(i)) {
-      // ṗ = v; θ̇ = ½ θ ⊗ (0, ω̄) with y's θ; v̇ = a; ω̄̇ = α̅. A pivot's Br stays (v = 0).
-      const S h(0.5);
-      const S e0 = y[o + 3], e1 = y[o + 4], e2 = y[o + 5], e3 = y[o + 6];
-      const Vector3& w = x.w_WB_B;
-      const bool pivot = model_.body(i).motion() == core::MotionKind::kPivot;
-      for (std::size_t k = 0; k < 3; ++k) dydt[o + k] = pivot ? S(0) : y[o + 7 + k];
-      dydt[o + 3] = -h * (e1 * w(0) + e2 * w(1) + e3 * w(2));
-      dydt[o + 4] = h * (e0 * w(0) + e2 * w(2) - e3 * w(1));
-      dydt[o + 5] = h * (e0 * w(1) + e3 * w(0) - e1 * w(2));
-      dydt[o + 6] = h * (e0 * w(2) + e1 * w(1) - e2 * w(0));
-      for (int k = 0; k < 3; ++k) {
-        dydt[o + 7 + static_cast<std::size_t>(k)] = a.a_WBr(k);
-        dydt[o + 10 + static_cast<std::size_t>(k)] = a.alpha_WB_B(k);
+    const auto at = [&dydt](int offset, int j) -> S& {
+      return dydt[static_cast<std::size_t>(offset + j)];
+    };
+    // ṗ = v; θ̇ = ½ θ ⊗ (0, ω̄) with y's θ; v̇ = a; ω̄̇ = α̅ (a pivot has no p, v blocks).
+    if (k.p >= 0) {
+      for (int j = 0; j < 3; ++j) {
+        at(k.p, j) = y[static_cast<std::size_t>(k.v + j)];
+        at(k.v, j) = a.a_WBr(j);
       }
-      o += 13;
     }
-    const int n = mode_count(i);
-    for (int k = 0; k < n; ++k) {
-      dydt[o + static_cast<std::size_t>(k)] = y[o + static_cast<std::size_t>(n + k)];
-      dydt[o + static_cast<std::size_t>(n + k)] = a.qdd_f(k);
+    if (k.theta >= 0) {
+      const S h(0.5);
+      const auto o = static_cast<std::size_t>(k.theta);
+      const S e0 = y[o], e1 = y[o + 1], e2 = y[o + 2], e3 = y[o + 3];
+      const Vector3& w = x.w_WB_B;
+      at(k.theta, 0) = -h * (e1 * w(0) + e2 * w(1) + e3 * w(2));
+      at(k.theta, 1) = h * (e0 * w(0) + e2 * w(2) - e3 * w(1));
+      at(k.theta, 2) = h * (e0 * w(1) + e3 * w(0) - e1 * w(2));
+      at(k.theta, 3) = h * (e0 * w(2) + e1 * w(1) - e2 * w(0));
+      for (int j = 0; j < 3; ++j) at(k.w, j) = a.alpha_WB_B(j);
+    }
+    for (int j = 0; j < k.n; ++j) {
+      at(k.q, j) = y[static_cast<std::size_t>(k.qd + j)];
+      at(k.qd, j) = a.qdd_f(j);
     }
   }
   if (!depth_rates_.empty()) {

@@ -7,23 +7,6 @@
 
 namespace flexref::rotation {
 
-EulerParameters exp_quaternion(const Eigen::Vector3d& phi) {
-  const double angle = phi.norm();
-  const double half = 0.5 * angle;
-  // sin(|φ|/2)/|φ| = ½ sinc(|φ|/2); Taylor below 1e-2 (first neglected term ~ x⁶/5040 < 1e-16).
-  double s;
-  if (half < 1e-2) {
-    const double h2 = half * half;
-    s = 0.5 * (1.0 - h2 / 6.0 + h2 * h2 / 120.0);
-  } else {
-    s = std::sin(half) / angle;
-  }
-  EulerParameters q;
-  q(0) = std::cos(half);
-  q.tail<3>() = s * phi;
-  return q;
-}
-
 Eigen::Vector3d log_quaternion(const EulerParameters& theta) {
   EulerParameters q = theta;
   if (q(0) < 0.0) q = -q;

@@ -108,25 +108,36 @@ inline EulerParameters euler_parameter_rate(const EulerParameters& theta,
   return rate;
 }
 
-/// Unit quaternion of the rotation exp(φ̃): (cos(|φ|/2), sin(|φ|/2) φ/|φ|).
-EulerParameters exp_quaternion(const Eigen::Vector3d& phi);
-/// exp(φ) in any scalar type S: double's is exp_quaternion (a Taylor series below |φ| = 2e-2,
-/// accurate to double's ε); another S takes sin(|φ|/2)/|φ| itself, exact to its own ε.
-template <typename S>
-Eigen::Matrix<S, 4, 1> exp_quaternion_in(const Eigen::Matrix<S, 3, 1>& phi) {
+/// Unit quaternion of the rotation exp(φ̃): (cos(|φ|/2), sin(|φ|/2) φ/|φ|), in the scalar type
+/// of φ (any Eigen expression of a 3-vector). sin(|φ|/2)/|φ| = ½ sinc(|φ|/2): in double a Taylor
+/// series below |φ|/2 = 1e-2 (its first neglected term x⁶/5040 < 1e-16); another S takes the
+/// quotient itself, exact to its own ε away from 0, and ½ φ at 0.
+template <typename Derived>
+Eigen::Matrix<typename Derived::Scalar, 4, 1> exp_quaternion(
+    const Eigen::MatrixBase<Derived>& phi) {
+  using S = typename Derived::Scalar;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  const Eigen::Matrix<S, 3, 1> p = phi;
+  const S angle = sqrt(p.squaredNorm());
+  const S half = S(0.5) * angle;
+  Eigen::Matrix<S, 4, 1> q;
+  q(0) = cos(half);
   if constexpr (std::is_same_v<S, double>) {
-    return exp_quaternion(phi);
+    double s;
+    if (half < 1e-2) {
+      const double h2 = half * half;
+      s = 0.5 * (1.0 - h2 / 6.0 + h2 * h2 / 120.0);
+    } else {
+      s = std::sin(half) / angle;
+    }
+    q.template tail<3>() = s * p;
   } else {
-    using std::cos;
-    using std::sin;
-    using std::sqrt;
-    const S angle = sqrt(phi.squaredNorm());
-    Eigen::Matrix<S, 4, 1> q;
-    q(0) = cos(S(0.5) * angle);
-    q.template tail<3>() = angle > S(0) ? Eigen::Matrix<S, 3, 1>(sin(S(0.5) * angle) / angle * phi)
-                                        : Eigen::Matrix<S, 3, 1>(S(0.5) * phi);
-    return q;
+    q.template tail<3>() = angle > S(0) ? Eigen::Matrix<S, 3, 1>(sin(half) / angle * p)
+                                        : Eigen::Matrix<S, 3, 1>(S(0.5) * p);
   }
+  return q;
 }
 /// Rotation vector of a unit quaternion, |φ| ≤ π (the shortest of ±θ).
 Eigen::Vector3d log_quaternion(const EulerParameters& theta);

@@ -63,24 +63,29 @@ inline int check_against_core_model(const scene::SceneSpec& spec,
       core::BodyState& s = state[static_cast<std::size_t>(i)];
       const int n = body.mode_count();
       REQUIRE(tpl.mode_count(i) == n);
-      auto o = static_cast<std::size_t>(tpl.body_offset(i));
-      REQUIRE(tpl.integrates_rigid_motion(i) == !body.is_prescribed());
-      if (tpl.integrates_rigid_motion(i)) {
-        for (std::size_t k = 3; k < 7; ++k) y[o + k] += spread.attitude * unit(random);
-        const double norm = std::sqrt(y[o + 3] * y[o + 3] + y[o + 4] * y[o + 4] +
-                                      y[o + 5] * y[o + 5] + y[o + 6] * y[o + 6]);
-        for (std::size_t k = 3; k < 7; ++k) y[o + k] /= norm;
-        if (body.is_free()) {
-          for (std::size_t k = 0; k < 3; ++k) y[o + k] += spread.position * unit(random);
-          for (std::size_t k = 7; k < 10; ++k) y[o + k] += spread.velocity * unit(random);
+      const reference::BodyBlock& blk = tpl.blocks()[static_cast<std::size_t>(i)];
+      REQUIRE((blk.theta >= 0) == !body.is_prescribed());
+      REQUIRE((blk.p >= 0) == body.is_free());
+      const auto at = [&y](int offset, int j) -> double& {
+        return y[static_cast<std::size_t>(offset + j)];
+      };
+      if (blk.theta >= 0) {
+        for (int k = 0; k < 4; ++k) at(blk.theta, k) += spread.attitude * unit(random);
+        double norm = 0.0;
+        for (int k = 0; k < 4; ++k) norm += at(blk.theta, k) * at(blk.theta, k);
+        for (int k = 0; k < 4; ++k) at(blk.theta, k) /= std::sqrt(norm);
+        if (blk.p >= 0) {
+          for (int k = 0; k < 3; ++k) at(blk.p, k) += spread.position * unit(random);
+          for (int k = 0; k < 3; ++k) at(blk.v, k) += spread.velocity * unit(random);
+          s.p_WBr = Eigen::Vector3d(at(blk.p, 0), at(blk.p, 1), at(blk.p, 2));
+          s.v_WBr = Eigen::Vector3d(at(blk.v, 0), at(blk.v, 1), at(blk.v, 2));
         }
-        for (std::size_t k = 10; k < 13; ++k) y[o + k] += spread.rate * unit(random);
-        s.p_WBr = Eigen::Vector3d(y[o], y[o + 1], y[o + 2]);
-        s.theta_WB = Eigen::Vector4d(y[o + 3], y[o + 4], y[o + 5], y[o + 6]);
-        s.v_WBr = Eigen::Vector3d(y[o + 7], y[o + 8], y[o + 9]);
-        s.w_WB_B = Eigen::Vector3d(y[o + 10], y[o + 11], y[o + 12]);
-        o += 13;
+        for (int k = 0; k < 3; ++k) at(blk.w, k) += spread.rate * unit(random);
+        s.theta_WB =
+            Eigen::Vector4d(at(blk.theta, 0), at(blk.theta, 1), at(blk.theta, 2), at(blk.theta, 3));
+        s.w_WB_B = Eigen::Vector3d(at(blk.w, 0), at(blk.w, 1), at(blk.w, 2));
       }
+      const auto o = static_cast<std::size_t>(blk.q);
       for (int k = 0; k < n; ++k) {
         y[o + static_cast<std::size_t>(k)] = spread.q * unit(random);
         y[o + static_cast<std::size_t>(n + k)] = spread.qd * unit(random);
@@ -97,26 +102,29 @@ inline int check_against_core_model(const scene::SceneSpec& spec,
       const core::BodyAcceleration& a = acc[static_cast<std::size_t>(i)];
       const int n = model.body(i).mode_count();
       const double scale = std::max({1.0, a.a_WBr.norm(), a.alpha_WB_B.norm(), a.qdd_f.norm()});
-      auto o = static_cast<std::size_t>(tpl.body_offset(i));
-      if (tpl.integrates_rigid_motion(i)) {
-        // ṗ = v (0 on a pivot), θ̇ = ½ θ ⊗ (0, ω̄) (model.md eq. (2)).
+      const reference::BodyBlock& blk = tpl.blocks()[static_cast<std::size_t>(i)];
+      const auto rate = [&dydt](int offset, int j) {
+        return dydt[static_cast<std::size_t>(offset + j)];
+      };
+      if (blk.theta >= 0) {
+        // ṗ = v, θ̇ = ½ θ ⊗ (0, ω̄) (model.md eq. (2)); a pivot has no p, v blocks.
         const core::BodyState& s = state[static_cast<std::size_t>(i)];
         const Eigen::Vector4d theta_dot = rotation::euler_parameter_rate(s.theta_WB, s.w_WB_B);
-        for (int k = 0; k < 3; ++k) {
-          const double v = model.body(i).is_free() ? s.v_WBr(k) : 0.0;
-          CHECK(dydt[o + static_cast<std::size_t>(k)] == v);
+        if (blk.p >= 0) {
+          for (int k = 0; k < 3; ++k) {
+            CHECK(rate(blk.p, k) == s.v_WBr(k));
+            CHECK(std::abs(rate(blk.v, k) - a.a_WBr(k)) <= 1e-9 * scale);
+          }
         }
         for (int k = 0; k < 4; ++k) {
-          CHECK(std::abs(dydt[o + 3 + static_cast<std::size_t>(k)] - theta_dot(k)) <=
+          CHECK(std::abs(rate(blk.theta, k) - theta_dot(k)) <=
                 1e-14 * std::max(1.0, s.w_WB_B.norm()));
         }
         for (int k = 0; k < 3; ++k) {
-          CHECK(std::abs(dydt[o + 7 + static_cast<std::size_t>(k)] - a.a_WBr(k)) <= 1e-9 * scale);
-          CHECK(std::abs(dydt[o + 10 + static_cast<std::size_t>(k)] - a.alpha_WB_B(k)) <=
-                1e-9 * scale);
+          CHECK(std::abs(rate(blk.w, k) - a.alpha_WB_B(k)) <= 1e-9 * scale);
         }
-        o += 13;
       }
+      const auto o = static_cast<std::size_t>(blk.q);
       for (int k = 0; k < n; ++k) {
         CHECK(std::abs(dydt[o + static_cast<std::size_t>(n + k)] - a.qdd_f(k)) <= 1e-9 * scale);
         CHECK(dydt[o + static_cast<std::size_t>(k)] == y[o + static_cast<std::size_t>(n + k)]);
