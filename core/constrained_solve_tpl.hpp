@@ -14,6 +14,7 @@
 /// (core/orientation_test_tpl.hpp). An evaluation reads the tracker and never changes it;
 /// advance_tracker, at a state the integrator accepted, does.
 #include <Eigen/Core>
+#include <limits>
 
 #include "core/constraint_tracker.hpp"
 #include "core/orientation_test_tpl.hpp"
@@ -23,15 +24,17 @@ namespace flexref::core {
 /// The rows an evaluation enforces at the configuration whose rows s.rows holds, factored: the
 /// tracker's rows, chosen again where they became ill-conditioned (choose_rows), and with
 /// `orientation` and an accepted state in the tracker the test for a singular configuration
-/// passed since (check_orientation). s.active and s.selection_ratio end as the rows enforced
-/// and the ratio they were chosen at. Throws SingularConfigurationError (t names the time).
+/// passed since (check_orientation); with `choose` the rows chosen again at this state whatever
+/// their conditioning. s.active and s.selection_ratio end as the rows enforced and the ratio they
+/// were chosen at. Throws SingularConfigurationError (t names the time).
 template <typename S, typename ApplyInverseMass>
 void factor_tracked_rows(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
                          ApplyInverseMass&& apply_inverse_mass,
                          const ConstraintTrackerTpl<S>& tracker, double t, bool orientation,
-                         ConstraintSolveTpl<S>& s) {
+                         ConstraintSolveTpl<S>& s, bool choose = false) {
   s.active = tracker.rows;  // the same count every time: the scratch's capacity, no allocation
-  s.selection_ratio = tracker.selection_ratio;
+  // `choose`: a reference no ratio reaches makes choose_rows choose them at this state.
+  s.selection_ratio = choose ? std::numeric_limits<S>::infinity() : tracker.selection_ratio;
   s.rows_chosen = false;
   if (!choose_rows(equations, layout, apply_inverse_mass, s)) throw_singular(equations, s, t);
   if (orientation && tracker.has_accepted) {
@@ -78,14 +81,15 @@ void move_reference(double t, const ConstraintSolveTpl<S>& s, ConstraintTrackerT
 }
 
 /// The tracker moved to an accepted state at t whose rows s.rows holds: the rows in force chosen
-/// again where they became ill-conditioned, the test for a singular configuration passed since
+/// again where they became ill-conditioned (with `choose`, whatever their conditioning), the
+/// test for a singular configuration passed since
 /// its last accepted state (with `orientation`), then that state's rows kept as the next
 /// solves' reference. Throws SingularConfigurationError, leaving the tracker as it was.
 template <typename S, typename ApplyInverseMass>
 void advance_tracker(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
-                     ApplyInverseMass&& apply_inverse_mass, double t, bool orientation,
+                     ApplyInverseMass&& apply_inverse_mass, double t, bool orientation, bool choose,
                      ConstraintTrackerTpl<S>& tracker, ConstraintSolveTpl<S>& s) {
-  factor_tracked_rows(equations, layout, apply_inverse_mass, tracker, t, orientation, s);
+  factor_tracked_rows(equations, layout, apply_inverse_mass, tracker, t, orientation, s, choose);
   tracker.rows = s.active;
   tracker.selection_ratio = s.selection_ratio;
   move_reference(t, s, tracker);

@@ -37,6 +37,12 @@ enum class TrackerAdvance {
   /// rows in force and their ratio kept: where no evaluation since the tracker last moved had to
   /// choose its rows again (JointMultipliers::rows_chosen).
   kReference,
+  /// As kFull, the rows chosen again at this state whatever their conditioning here: where a
+  /// solve since the tracker last moved found them ill-conditioned at its own state (a trial
+  /// point further on, where their conditioning was falling), so that the integration goes on
+  /// with the best-conditioned rows of the accepted state rather than with rows its next
+  /// evaluations would each choose again.
+  kChooseRows,
 };
 
 template <typename S>

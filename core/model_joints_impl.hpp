@@ -126,7 +126,8 @@ void ModelTpl<S>::advance_tracker(S t, const State& state, ConstraintTracker& tr
   core::advance_tracker(
       *constraints_, layout_,
       [&](int b, const auto& rhs, auto&& out) { apply_inverse_mass(b, rhs, out, ws); },
-      static_cast<double>(t), advance == TrackerAdvance::kFull, tracker, ws.constraint);
+      static_cast<double>(t), advance != TrackerAdvance::kWithoutOrientation,
+      advance == TrackerAdvance::kChooseRows, tracker, ws.constraint);
 }
 
 template <typename S>

@@ -24,11 +24,12 @@ namespace flexref::reference {
 /// How far an ODE reference moves its joints' tracker at an output, from the last solve on its
 /// workspace: only the orientation test's reference where that solve kept the tracker's rows
 /// (no factorization at each output: on Andrews' squeezer, outputs every 1e-4 s, they would be
-/// 300 solves beside the reference's 1 300 evaluations); fully where it chose rows of its own
-/// (the tracker's had become ill-conditioned, or turned through a dependency among themselves:
-/// the rows are chosen at the output as the evaluations chose them).
+/// 300 solves beside the reference's 1 300 evaluations); where it chose rows of its own (the
+/// tracker's had become ill-conditioned at its state, or turned through a dependency among
+/// themselves), the rows are chosen at the output (TrackerAdvance::kChooseRows).
 inline core::TrackerAdvance output_advance(const core::JointMultipliers& last_solve) {
-  return last_solve.rows_chosen() ? core::TrackerAdvance::kFull : core::TrackerAdvance::kReference;
+  return last_solve.rows_chosen() ? core::TrackerAdvance::kChooseRows
+                                  : core::TrackerAdvance::kReference;
 }
 
 class OdeForm {

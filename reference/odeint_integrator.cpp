@@ -143,15 +143,17 @@ void Integrator::step(double end) {
                               "more than max_steps = " + std::to_string(options_.max_steps) +
                                   " steps between output times (too much work)");
     }
-    evaluate_derivative();
     if (counters_.rows_chosen) {
       // Evaluations chose joint rows of their own since the tracker last moved: the tracker
-      // chooses them at the accepted state, so that the next step's stages share its rows.
+      // chooses them at the accepted state before the next step's first derivative there, so
+      // that all of the next step's stages share its rows.
       const core::Model& model = form_->model();
       form_->unpack(t_, x_.data(), scratch_.state);
-      model.advance_tracker(t_, scratch_.state, tracker_, scratch_.workspace);
+      model.advance_tracker(t_, scratch_.state, tracker_, scratch_.workspace,
+                            core::TrackerAdvance::kChooseRows);
       counters_.rows_chosen = false;
     }
+    evaluate_derivative();
     return;
   }
 }

@@ -26,7 +26,11 @@ void accept_tracker(OdeCallbackData& d, double t, const double* y) {
 }
 
 void accept_step(OdeCallbackData& d, double t, const double* y) {
-  if (d.rows_chosen) accept_tracker(d, t, y);
+  if (!d.rows_chosen) return;
+  d.form->unpack(t, y, d.scratch.state);
+  d.form->model().advance_tracker(t, d.scratch.state, d.tracker, d.scratch.workspace,
+                                  core::TrackerAdvance::kChooseRows);
+  d.rows_chosen = false;
 }
 
 void accept_output(OdeCallbackData& d, double t, const core::State& state) {

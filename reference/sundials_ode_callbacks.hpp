@@ -61,8 +61,9 @@ void bind_scratch(OdeCallbackData& d);
 void accept_tracker(OdeCallbackData& d, double t, const double* y);
 void accept_output(OdeCallbackData& d, double t, const core::State& state);
 /// At a step the solver accepted (t, y): where evaluations chose joint rows of their own since
-/// the tracker last moved, it moves there (chooses them at the accepted state), so that the next
-/// step's evaluations share its rows; otherwise nothing (no factorization per step).
+/// the tracker last moved, it moves there and chooses the rows at the accepted state
+/// (TrackerAdvance::kChooseRows), so that the next step's evaluations share them; otherwise
+/// nothing (no factorization per step).
 void accept_step(OdeCallbackData& d, double t, const double* y);
 
 /// y' = f(t, y). Returns 1 (recoverable: the solver retries a smaller step) when f is not

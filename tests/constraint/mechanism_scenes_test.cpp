@@ -377,3 +377,40 @@ TEST_CASE("Bricard mechanism: energy constant to 1e-9 relative over 10 s, joints
 }
 
 }  // namespace flexref::constraint
+
+namespace flexref::constraint {
+namespace {
+
+TEST_CASE("Bricard mechanism: IDA and Odeint keep their accuracy through the rows chosen again",
+          "[constraint][mechanisms]") {
+  // The Bricard linkage's independent rows are chosen again near t = 1.05 s (docs/decisions.md,
+  // "Model, Workspace, tracker"). Where a trial point's rows were kept for the integration (IDA)
+  // or a step's stages each chose rows of their own (Odeint before kChooseRows), the error grew
+  // past its tolerance there: IDA at rtol 1e-8 8.0e-7 m, Odeint at rtol 1e-9 1.4e-8 m. Bound:
+  // 10 × rtol × the 1 m links over the 10 s (measured now: 1.3e-10 m and 2.7e-9 m). The check
+  // is CVODE at rtol 1e-12 (2e-11 m from CVODE at 1e-13), far below both bounds.
+  const scene::Scene scene = scene::read_scene("scenes/bricard.toml");
+  const reference::ReferenceRun check = mechanism_reference(scene, 1e-12);
+  const auto largest_position_error = [&](const reference::ReferenceRun& run) {
+    REQUIRE(run.trajectory.states.size() == check.trajectory.states.size());
+    double worst = 0.0;
+    for (std::size_t k = 0; k < run.trajectory.states.size(); ++k) {
+      for (std::size_t b = 0; b < run.trajectory.states[k].size(); ++b) {
+        worst = std::max(worst,
+                         (run.trajectory.states[k][b].p_WBr - check.trajectory.states[k][b].p_WBr)
+                             .lpNorm<Eigen::Infinity>());
+      }
+    }
+    return worst;
+  };
+  for (const auto& [solver, rtol] :
+       {std::pair<std::string, double>{"ida", 1e-8}, {"odeint", 1e-9}}) {
+    INFO(solver << " at rtol " << rtol);
+    const double error = largest_position_error(mechanism_reference(scene, rtol, solver));
+    INFO("largest position error " << error << " m");
+    CHECK(error < 10 * rtol * 1.0);
+  }
+}
+
+}  // namespace
+}  // namespace flexref::constraint
