@@ -81,15 +81,10 @@ int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
       sun::accept_step(d, t, sun::data(y));
     }
     record_steps(d.cvode, *d.clock);
-    d.error_weights->evaluate(sun::data(y), d.clock->mean_step(), sun::data(ewt));
+    sun::step_error_weights(d, y, ewt);
   } catch (...) {
     d.callback_error = std::current_exception();
     return -1;
-  }
-  if (d.integrals.count > 0) {
-    scale_integral_weights(
-        d.integrals, d.steps_since_init(d.solver_memory), d.rtol, d.atol, sun::data(y),
-        std::span<double>(sun::data(ewt), static_cast<std::size_t>(N_VGetLength_Serial(ewt))));
   }
   return 0;
 }

@@ -94,10 +94,7 @@ struct IdaData : sun::CallbackRecord {
   core::ConstraintTracker tracker;
   /// The callback whose exception failed the solve (failure_message).
   const char* failed_callback = "residual";
-  /// The error weights (error_weights.hpp), the clock IDA's accepted steps are summed on
-  /// (step_clock.hpp) and IDA's memory to read them from.
-  const ErrorWeights* error_weights = nullptr;
-  StepClock* clock = nullptr;
+  /// IDA's memory, to read its accepted steps from (error_weights).
   void* ida = nullptr;
 };
 
@@ -118,17 +115,11 @@ int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
   auto& d = *static_cast<IdaData*>(user_data);
   try {
     record_steps(d.ida, *d.clock);
-    d.error_weights->evaluate(sun::data(y), d.clock->mean_step(), sun::data(ewt));
+    sun::step_error_weights(d, y, ewt);
   } catch (...) {
     d.callback_error = std::current_exception();
     d.failed_callback = "error weights";
     return -1;
-  }
-  if (d.integrals.count > 0) {
-    // The worn depths and works: each step's share of its stretch (integral_weights.hpp).
-    scale_integral_weights(
-        d.integrals, d.steps_since_init(d.solver_memory), d.rtol, d.atol, sun::data(y),
-        std::span<double>(sun::data(ewt), static_cast<std::size_t>(N_VGetLength_Serial(ewt))));
   }
   return 0;
 }

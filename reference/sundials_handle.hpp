@@ -43,7 +43,9 @@
 #include <utility>
 #include <vector>
 
+#include "reference/error_weights.hpp"
 #include "reference/integral_weights.hpp"
+#include "reference/step_clock.hpp"
 
 namespace flexref::reference::sundials {
 
@@ -162,6 +164,10 @@ struct CallbackRecord {
   IntegralComponents integrals;
   void* solver_memory = nullptr;
   long (*steps_since_init)(void* solver_memory) = nullptr;
+  /// CVODE and IDA (their error-weight functions: step_error_weights): the rotation's weights,
+  /// and the clock the solver's accepted steps are summed on.
+  const ErrorWeights* error_weights = nullptr;
+  StepClock* clock = nullptr;
 };
 
 /// The solvers' error-weight function (CVEwtFn, ARKEwtFn, IDAEwtFn; user_data a CallbackRecord
@@ -257,6 +263,19 @@ inline NonlinearSolver make_newton_solver(N_Vector y, SUNContext context) {
 
 /// Raw data of a serial vector.
 inline double* data(N_Vector v) { return N_VGetArrayPointer(v); }
+
+/// The weights of the step CVODE or IDA takes next from y, in their error-weight function
+/// after it recorded the step just taken on d.clock: the rotation's per-step share
+/// (error_weights.hpp), then the integral components' share of their stretch
+/// (integral_weights.hpp).
+inline void step_error_weights(const CallbackRecord& d, N_Vector y, N_Vector ewt) {
+  d.error_weights->evaluate(data(y), d.clock->mean_step(), data(ewt));
+  if (d.integrals.count > 0) {
+    scale_integral_weights(
+        d.integrals, d.steps_since_init(d.solver_memory), d.rtol, d.atol, data(y),
+        std::span<double>(data(ewt), static_cast<std::size_t>(N_VGetLength_Serial(ewt))));
+  }
+}
 
 /// True when the n entries at p are finite.
 inline bool all_finite(const double* p, long n) {

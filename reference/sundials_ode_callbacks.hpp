@@ -44,10 +44,8 @@ struct OdeCallbackData : CallbackRecord {
   bool other_side = false;
   /// project_constraints' copy of y (sized by the driver for models with ideal joints).
   std::vector<double> projected;
-  /// CVODE only (its error-weight callback, cvode_solver.cpp): the weights, the clock its
-  /// accepted steps are summed on, and CVODE's memory to read the steps from.
-  const ErrorWeights* error_weights = nullptr;
-  StepClock* clock = nullptr;
+  /// CVODE only (its error-weight callback, cvode_solver.cpp): CVODE's memory to read the steps
+  /// from.
   void* cvode = nullptr;
 };
 
