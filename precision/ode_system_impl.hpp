@@ -39,7 +39,7 @@ OdeSystemTpl<S>::OdeSystemTpl(const core::Model& built, const std::string& name,
   discontinuities_.erase(std::unique(discontinuities_.begin(), discontinuities_.end()),
                          discontinuities_.end());
   depth_offset_ = blocks_.empty() ? 0 : blocks_.back().end;
-  integrals_offset_ = offset + model_.wear_depth_count();
+  integrals_offset_ = depth_offset_ + model_.wear_depth_count();
   integral_count_ = model_.integral_layout().count;
   fixed_ = model_.initial_state();
   ws_ = model_.make_workspace();
