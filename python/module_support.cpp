@@ -4,6 +4,7 @@
 
 #include "core/error.hpp"
 #include "lie/genalpha_parameters.hpp"
+#include "lie/method_registry.hpp"
 #include "trajectory/error_metrics.hpp"
 #include "trajectory/reference_sidecar.hpp"
 

@@ -16,6 +16,7 @@
 #include "core/output_times.hpp"
 #include "lie/method_options.hpp"
 #include "scene/scene_reader.hpp"
+#include "studies/reference_precision.hpp"
 #include "studies/reference_solver_name.hpp"
 #include "trajectory/certified_reference.hpp"
 #include "trajectory/trajectory_contract.hpp"
