@@ -113,7 +113,7 @@ std::vector<Top> tops() {
                     0.6,
                     0.2,
                     {0.0, 0.0, -9.81},
-                    rotation::exp_quaternion({0.1, -0.3, 0.2}),
+                    rotation::exp_quaternion(Eigen::Vector3d(0.1, -0.3, 0.2)),
                     Eigen::Vector3d(0.5, -1.0, 3.0),
                     5.0});
   // Near the upright position: b − a = 1e-6, the axis passes within ~1e-6 rad of straight up
@@ -126,7 +126,7 @@ std::vector<Top> tops() {
             0.05,
             0.02,
             {0.0, 0.0, -9.81},
-            rotation::exp_quaternion({0.5, 0.0, 0.0}),
+            rotation::exp_quaternion(Eigen::Vector3d(0.5, 0.0, 0.0)),
             Eigen::Vector3d::Zero(),
             3.0};
     const Eigen::Vector3d up_B = rotation::rotation_matrix(top.theta0).transpose() * top.up_W();
@@ -268,8 +268,8 @@ TEST_CASE("HeavyTopExact special motions", "[reference][exact_heavy_top]") {
     for (double t : {0.0, 0.7, 1.9}) {
       const ref::RigidAttitude s = sleeping.at(t);
       CHECK(s.w_B == Eigen::Vector3d(0.0, 0.0, 100.0));
-      CHECK(rotation::geodesic_angle(s.theta, rotation::exp_quaternion({0.0, 0.0, 100.0 * t})) <=
-            4 * kEps);
+      CHECK(rotation::geodesic_angle(s.theta, rotation::exp_quaternion(Eigen::Vector3d(
+                                                  0.0, 0.0, 100.0 * t))) <= 4 * kEps);
     }
   }
   // Steady precession of a horizontal axis: φ̇ = m g l/(J_a ω₃) solves 2u₀φ̇² − 2aφ̇ + β = 0

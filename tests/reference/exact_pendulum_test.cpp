@@ -65,7 +65,8 @@ Pendulum scene() {
 /// gravity chosen to give that angle, and an inertia whose principal axis is the resulting n.
 Pendulum oblique(const std::string& name, double amplitude, double t_end, double t_end_numeric) {
   const Eigen::Vector3d c_B(0.3, -0.2, 0.5);
-  const rotation::EulerParameters theta0 = rotation::exp_quaternion({0.4, -1.1, 0.7});
+  const rotation::EulerParameters theta0 =
+      rotation::exp_quaternion(Eigen::Vector3d(0.4, -1.1, 0.7));
   const Eigen::Vector3d c_hat_W = (rotation::rotation_matrix(theta0) * c_B).normalized();
   const Eigen::Vector3d p_hat_W = c_hat_W.cross(Eigen::Vector3d(0.2, 0.9, -0.3)).normalized();
   const Eigen::Vector3d down = std::cos(amplitude) * c_hat_W + std::sin(amplitude) * p_hat_W;
