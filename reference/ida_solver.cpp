@@ -33,7 +33,9 @@
 /// - SolverOptions::max_steps is IDA's mxstep: the most steps taken to reach one output time.
 #include <ida/ida.h>
 #include <ida/ida_ls.h>
+#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -48,6 +50,7 @@
 #include <string>
 #include <vector>
 
+#include "reference/dae_coloured_jacobian.hpp"
 #include "reference/dae_form.hpp"
 #include "reference/error_weights.hpp"
 #include "reference/ida_newton_solver.hpp"
@@ -88,6 +91,11 @@ struct IdaData : sun::CallbackRecord {
   const StructuredJacobian* structured = nullptr;
   StructuredJacobian::Scratch structured_scratch;
   IdaNewtonSystem* newton = nullptr;
+  /// For NewtonJacobian::kColoured: the pattern and groups, KLU (re-analysed when the pattern
+  /// changes) and the residuals its difference quotients cost (IDA does not count them).
+  DaeColouredJacobian* coloured = nullptr;
+  SUNLinearSolver klu = nullptr;
+  long coloured_residuals = 0;
   /// Ideal joints: the rows in force and the last accepted state's rows (core/
   /// constraint_tracker.hpp), moved by the root function after every step
   /// (Model::advance_tracker: the singular-configuration tests IDA's residual never makes).
@@ -245,6 +253,38 @@ int structured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*y
   return 0;
 }
 
+/// IDALsJacFn of the sparse path: G = ∂F/∂y + c_j ∂F/∂y' by coloured difference quotients with
+/// IDA's increments (dae_coloured_jacobian.hpp) into the CSC matrix KLU factors; the error
+/// weights in tmp1, the perturbed residual in tmp2. Allocates nothing but where the rows in force
+/// changed (a new pattern, analysed again by KLU).
+int coloured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector yp, N_Vector r,
+                      SUNMatrix matrix, void* user_data, N_Vector tmp1, N_Vector tmp2,
+                      N_Vector /*tmp3*/) {
+  auto& d = *static_cast<IdaData*>(user_data);
+  try {
+    if (d.coloured->update_pattern()) {
+      sun::check(SUNLinSol_KLUReInit(d.klu, matrix, d.coloured->nonzeros(), SUNKLU_REINIT_FULL),
+                 "SUNLinSol_KLUReInit");
+    }
+    double h = 0.0;
+    sun::check(IDAGetCurrentStep(d.ida, &h), "IDAGetCurrentStep");
+    sun::check(IDAGetErrWeights(d.ida, tmp1), "IDAGetErrWeights");
+    const bool finite = d.coloured->evaluate(
+        core::LoadContext{t, d.t_segment}, c_j, h, sun::data(y), sun::data(yp), sun::data(r),
+        sun::data(tmp1), sun::data(tmp2), d.scratch, SUNSparseMatrix_IndexPointers(matrix),
+        SUNSparseMatrix_IndexValues(matrix), SUNSparseMatrix_Data(matrix));
+    d.coloured_residuals += d.coloured->group_count();
+    if (!finite) {
+      d.last_nonfinite_time = t;
+      return 1;  // recoverable: IDA retries with a smaller step
+    }
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
+  }
+  return 0;
+}
+
 /// IDA on the DAE form, driven segment by segment by integrate_segments.
 class IdaSegmentSolver final : public sun::SegmentSolver {
  public:
@@ -265,7 +305,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         yp_(sun::make_vector(form_.size(), context_.get())),
-        jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
+        jacobian_(make_jacobian_matrix()),
         linear_solver_(make_linear_solver()),
         ida_(sun::check_created(IDACreate(context_.get()), "IDACreate")) {
     data_.form = &form_;
@@ -293,6 +333,10 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       data_.structured = &*structured_;
       data_.structured_scratch = structured_->make_scratch();
       data_.newton = &*newton_;
+    }
+    if (newton == NewtonJacobian::kColoured) {
+      data_.coloured = &*coloured_;
+      data_.klu = linear_solver_.get();
     }
     if (newton == NewtonJacobian::kUser) {
       const int n = form_.size();
@@ -347,6 +391,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         sun::check(IDASetJacFn(ida, jacobian), "IDASetJacFn");
       } else if (newton_kind_ == NewtonJacobian::kStructured) {
         sun::check(IDASetJacFn(ida, structured_jacobian), "IDASetJacFn");
+      } else if (newton_kind_ == NewtonJacobian::kColoured) {
+        sun::check(IDASetJacFn(ida, coloured_jacobian), "IDASetJacFn");
       }
       sun::check(IDASetMaxOrd(ida, max_order_), "IDASetMaxOrd");
       sun::check(IDASetMaxNumSteps(ida, options_.max_steps), "IDASetMaxNumSteps");
@@ -435,6 +481,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
                "IDAGetNumNonlinSolvConvFails");
     stats.steps += steps;
     stats.rhs_evaluations += residuals + jacobian_residuals;
+    stats.rhs_evaluations += data_.coloured_residuals - coloured_counted_;
+    coloured_counted_ = data_.coloured_residuals;
     stats.jacobian_evaluations += jacobians;
     stats.error_test_failures += error_fails;
     stats.nonlinear_failures += convergence_fails;
@@ -478,9 +526,25 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   }
 
  private:
-  /// The structured Newton system (constructed here, before linear_solver_ refers to it) or a
-  /// dense LU.
+  /// The sparse matrix of the coloured path (its pattern and groups constructed here, before
+  /// jacobian_ is sized by them) or a dense one.
+  sun::Matrix make_jacobian_matrix() {
+    if (newton_kind_ != NewtonJacobian::kColoured) {
+      return sun::make_dense_matrix(form_.size(), context_.get());
+    }
+    coloured_.emplace(form_);
+    return sun::Matrix(sun::check_created(
+        SUNSparseMatrix(form_.size(), form_.size(), coloured_->nonzeros(), CSC_MAT, context_.get()),
+        "SUNSparseMatrix"));
+  }
+
+  /// The structured Newton system (constructed here, before linear_solver_ refers to it), KLU
+  /// for the coloured path, or a dense LU.
   sun::LinearSolver make_linear_solver() {
+    if (newton_kind_ == NewtonJacobian::kColoured) {
+      return sun::LinearSolver(sun::check_created(
+          SUNLinSol_KLU(y_.get(), jacobian_.get(), context_.get()), "SUNLinSol_KLU"));
+    }
     if (newton_kind_ != NewtonJacobian::kStructured) {
       return sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get());
     }
@@ -533,6 +597,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   double* share_dropped_at_;
   /// IDA's counters before a fallback's IDAReInit reset them (added in add_counters).
   mutable SolverStats dropped_counters_;
+  /// The coloured path's residuals already added to the stats (add_counters).
+  mutable long coloured_counted_ = 0;
   SolverOptions options_;
   int max_order_;
   NewtonJacobian newton_kind_;
@@ -547,6 +613,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       std::vector<double>(static_cast<std::size_t>(form_.integral_count()));
   std::optional<StructuredJacobian> structured_;
   std::optional<IdaNewtonSystem> newton_;
+  std::optional<DaeColouredJacobian> coloured_;
   IdaData data_;
   bool initialized_ = false;
   double multiplier_tolerance_ = 0.0;
@@ -570,7 +637,7 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
     choice = choose_ida_method(model, mean_output_spacing(output_times));
   }
   const int max_order = choice.method == CvodeMethod::kBdf2 ? 2 : 5;
-  const NewtonJacobian newton = choose_newton_jacobian(model, options);
+  const NewtonJacobian newton = choose_ida_newton_jacobian(model, options);
   const double span = output_times.empty() ? 0.0 : output_times.back() - output_times.front();
   const bool per_step =
       rotation_weights_per_step(summarize_stiffness(model, mean_output_spacing(output_times)));
