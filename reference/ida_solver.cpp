@@ -48,12 +48,14 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "reference/dae_coloured_jacobian.hpp"
 #include "reference/dae_form.hpp"
 #include "reference/error_weights.hpp"
 #include "reference/ida_newton_solver.hpp"
+#include "reference/ida_work_completion.hpp"
 #include "reference/integral_weights.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/ode_form.hpp"
@@ -96,6 +98,8 @@ struct IdaData : sun::CallbackRecord {
   DaeColouredJacobian* coloured = nullptr;
   SUNLinearSolver klu = nullptr;
   long coloured_residuals = 0;
+  /// With tracked works: their corrections completed with the state's (ida_work_completion.hpp).
+  IdaWorkCompletion* completion = nullptr;
   /// Ideal joints: the rows in force and the last accepted state's rows (core/
   /// constraint_tracker.hpp), moved by the root function after every step
   /// (Model::advance_tracker: the singular-configuration tests IDA's residual never makes).
@@ -186,6 +190,9 @@ int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void* user_data
   try {
     d.form->residual(core::LoadContext{t, d.t_segment}, sun::data(y), sun::data(yp), sun::data(r),
                      d.scratch);
+    if (d.completion != nullptr) {
+      d.completion->remember(t, d.t_segment, sun::data(y), sun::data(yp), sun::data(r));
+    }
   } catch (...) {
     d.callback_error = std::current_exception();
     return -1;  // unrecoverable; the driver rethrows the message
@@ -274,6 +281,7 @@ int coloured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector yp, N
         sun::data(tmp1), sun::data(tmp2), d.scratch, SUNSparseMatrix_IndexPointers(matrix),
         SUNSparseMatrix_IndexValues(matrix), SUNSparseMatrix_Data(matrix));
     d.coloured_residuals += d.coloured->group_count();
+    if (d.completion != nullptr) d.completion->set_matrix(c_j, sun::data(tmp1));
     if (!finite) {
       d.last_nonfinite_time = t;
       return 1;  // recoverable: IDA retries with a smaller step
@@ -336,7 +344,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
     }
     if (newton == NewtonJacobian::kColoured) {
       data_.coloured = &*coloured_;
-      data_.klu = linear_solver_.get();
+      data_.klu = klu_ ? klu_.get() : linear_solver_.get();
+      if (completion_) data_.completion = &*completion_;
     }
     if (newton == NewtonJacobian::kUser) {
       const int n = form_.size();
@@ -481,8 +490,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
                "IDAGetNumNonlinSolvConvFails");
     stats.steps += steps;
     stats.rhs_evaluations += residuals + jacobian_residuals;
-    stats.rhs_evaluations += data_.coloured_residuals - coloured_counted_;
-    coloured_counted_ = data_.coloured_residuals;
+    const long own = data_.coloured_residuals + (completion_ ? completion_->residuals() : 0L);
+    stats.rhs_evaluations += own - coloured_counted_;
+    coloured_counted_ = own;
     stats.jacobian_evaluations += jacobians;
     stats.error_test_failures += error_fails;
     stats.nonlinear_failures += convergence_fails;
@@ -542,8 +552,14 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   /// for the coloured path, or a dense LU.
   sun::LinearSolver make_linear_solver() {
     if (newton_kind_ == NewtonJacobian::kColoured) {
-      return sun::LinearSolver(sun::check_created(
+      sun::LinearSolver klu(sun::check_created(
           SUNLinSol_KLU(y_.get(), jacobian_.get(), context_.get()), "SUNLinSol_KLU"));
+      if (form_.work_index() < 0) return klu;
+      // The works' corrections completed after KLU's (ida_work_completion.hpp).
+      klu_ = std::move(klu);
+      completion_.emplace(form_);
+      return sun::LinearSolver(
+          make_ida_work_completing_solver(klu_.get(), *completion_, data_.scratch, context_.get()));
     }
     if (newton_kind_ != NewtonJacobian::kStructured) {
       return sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get());
@@ -614,12 +630,14 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   std::optional<StructuredJacobian> structured_;
   std::optional<IdaNewtonSystem> newton_;
   std::optional<DaeColouredJacobian> coloured_;
+  std::optional<IdaWorkCompletion> completion_;
   IdaData data_;
   bool initialized_ = false;
   double multiplier_tolerance_ = 0.0;
   sun::Context context_;
   sun::Vector y_, yp_;
   sun::Matrix jacobian_;
+  sun::LinearSolver klu_;  ///< KLU under the works' completion (freed after it)
   sun::LinearSolver linear_solver_;
   // Declared last so that it is freed first (as in SUNDIALS' examples).
   sun::IdaMemory ida_;
