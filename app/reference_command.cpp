@@ -227,7 +227,7 @@ RegisteredCommand register_reference_command(CLI::App& app) {
                   [](studies::ReferenceMethod v) { return studies::to_string(v); });
   add_enum_option(
       cmd, "--newton-matrix", options->newton_matrix,
-      "ida on ideal joints: auto (sparse from 8 bodies on) | dense (difference quotients, dense "
+      "ida on ideal joints: auto (sparse) | dense (difference quotients, dense "
       "LU) | sparse (coloured difference quotients, KLU)",
       {"auto", "dense", "sparse"},
       [](const std::string& v) {

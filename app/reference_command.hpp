@@ -21,8 +21,7 @@ struct ReferenceOptions {
   studies::ReferenceSolver solver = studies::ReferenceSolver::kAuto;
   /// cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
   studies::ReferenceMethod method = studies::ReferenceMethod::kAuto;
-  /// ida on ideal joints: its Newton matrix (auto: sparse from reference::kSparseNewtonBodies
-  /// bodies on).
+  /// ida on ideal joints: its Newton matrix (auto: sparse).
   reference::NewtonMatrix newton_matrix = reference::NewtonMatrix::kAuto;
   double rtol = 1e-10;
   bool rtol_given = false;  ///< else extended and quad use precision::default_rtol

@@ -196,15 +196,7 @@ NewtonJacobian choose_newton_jacobian(const core::Model& model, const SolverOpti
 NewtonJacobian choose_ida_newton_jacobian(const core::Model& model, const SolverOptions& options) {
   const NewtonJacobian chosen = choose_newton_jacobian(model, options);
   if (chosen != NewtonJacobian::kDifferenceQuotients || !model.has_constraints()) return chosen;
-  switch (options.newton_matrix) {
-    case NewtonMatrix::kDense:
-      return chosen;
-    case NewtonMatrix::kSparse:
-      return NewtonJacobian::kColoured;
-    case NewtonMatrix::kAuto:
-      break;
-  }
-  return model.num_bodies() >= kSparseNewtonBodies ? NewtonJacobian::kColoured : chosen;
+  return options.newton_matrix == NewtonMatrix::kDense ? chosen : NewtonJacobian::kColoured;
 }
 
 const char* to_string(NewtonJacobian jacobian) {

@@ -111,10 +111,6 @@ enum class NewtonJacobian {
   kColoured,  ///< IDA on ideal joints: coloured difference quotients, KLU (dae_coloured_jacobian.hpp)
 };
 
-/// IDA's coloured sparse Newton matrix is chosen from this many bodies on (NewtonMatrix::kAuto):
-/// below, IDA's dense difference quotients and dense LU cost less (docs/performance.md,
-/// "Constrained systems at scale").
-constexpr int kSparseNewtonBodies = 8;
 
 /// Baumgarte's rate α for a model with ideal joints integrated without projection (CVODE's
 /// Adams, ARKODE, Odeint; docs/joints.md, "References"): the fastest rate the solution must
@@ -132,8 +128,10 @@ double constraint_stabilization_rate(const core::Model& model, double output_spa
 /// O((13 + 2n)³); docs/performance.md); otherwise kDifferenceQuotients (rigid models keep
 /// SUNDIALS' own, the figures of docs/references.md).
 NewtonJacobian choose_newton_jacobian(const core::Model& model, const SolverOptions& options);
-/// IDA's: choose_newton_jacobian's, but kColoured for a model with ideal joints where
-/// options.newton_matrix asks for it (kSparse) or, under kAuto, from kSparseNewtonBodies bodies on.
+/// IDA's: choose_newton_jacobian's, but kColoured for a model with ideal joints unless
+/// options.newton_matrix asks for the dense one (kDense). No jointed model was measured faster
+/// with the dense matrix, from one body on (docs/performance.md, "Constrained systems at
+/// scale"): the coloured quotients cost fewer residuals from the smallest mechanism up.
 NewtonJacobian choose_ida_newton_jacobian(const core::Model& model, const SolverOptions& options);
 const char* to_string(NewtonJacobian jacobian);
 

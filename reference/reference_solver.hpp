@@ -38,7 +38,7 @@ enum class ArkodeMethod {
 /// IDA's Newton matrix on a model with ideal joints (docs/references.md, "IDA"; choose_ida_newton_jacobian,
 /// method_choice.hpp).
 enum class NewtonMatrix {
-  kAuto,    ///< sparse from kSparseNewtonBodies bodies on, dense below
+  kAuto,    ///< sparse (measured never slower on a jointed model)
   kDense,   ///< IDA's difference quotients, dense LU
   kSparse,  ///< coloured difference quotients, KLU (reference/dae_coloured_jacobian.hpp)
 };
