@@ -8,13 +8,17 @@
 ///   (error_weights.hpp). With ideal joints the form is the stabilized index-2 (GGL) system of
 ///   dae_form.hpp: the multipliers are algebraic (IDASetId) and out of the error test
 ///   (IDASetSuppressAlg), the other weights scaled by √(N/N_d) and the rotation's floored at
-///   ErrorWeights::kIndex2Roundoff ε, and the Newton matrix is IDA's difference quotients.
+///   ErrorWeights::kIndex2Roundoff ε, and the Newton matrix is IDA's difference quotients
+///   grouped by the bodies' coupling into a sparse matrix factored by KLU
+///   (dae_coloured_jacobian.hpp; the works' corrections completed by ida_work_completion.hpp),
+///   or with --newton-matrix dense IDA's own with a dense LU.
 /// - BDF orders 1–5, or 1–2 (A-stable) where undamped modes oscillate far above every rate the
 ///   outputs show (choose_ida_method, reference/method_choice.hpp; --method bdf|bdf2 overrides).
 /// - Newton iteration (choose_newton_jacobian): a flexible model's StructuredJacobian through
 ///   the structured Newton system (reference/ida_newton_solver.hpp); SolverOptions::jacobian
-///   through P (c_j I − J) (reference/ode_jacobian.hpp) with a dense LU; or IDA's
-///   difference-quotient Jacobian with a dense LU (rigid models).
+///   through P (c_j I − J) (reference/ode_jacobian.hpp) with a dense LU; coloured difference
+///   quotients and KLU (ideal joints, choose_ida_newton_jacobian); or IDA's difference-quotient
+///   Jacobian with a dense LU (rigid models).
 /// - The iteration matrix is rebuilt whenever c_j = α/h changes (IDASetDeltaCjLSetup(0)),
 ///   measured on free_spin: with IDA's default reuse (until c_j changes by 25 %) the stale matrix
 ///   moved the step sequence and the error by up to 15× at the same rtol (1.7e-9 instead of
