@@ -153,7 +153,8 @@ void BM_IdaDenseMatrix(benchmark::State& st) {
       p.yp[sj] += kCj * inc;
       p.form->residual({0.0, 0.0}, p.y.data(), p.yp.data(), p.work.data(), p.scratch);
       for (int i = 0; i < n; ++i) {
-        G(i, j) = (1.0 / inc) * (p.work[static_cast<std::size_t>(i)] - p.r[static_cast<std::size_t>(i)]);
+        G(i, j) =
+            (1.0 / inc) * (p.work[static_cast<std::size_t>(i)] - p.r[static_cast<std::size_t>(i)]);
       }
       p.y[sj] = yj;
       p.yp[sj] = ypj;
@@ -186,8 +187,8 @@ void BM_GenAlphaMatrix(benchmark::State& st) {
   const flexref::scene::Scene scene =
       flexref::scene::parse_scene(chain_text(static_cast<int>(st.range(0))), "chain");
   const flexref::core::Model& model = *scene.model;
-  flexref::lie::detail::GenAlphaSystem system(
-      model, flexref::lie::GenAlphaParameters::from_rho_inf(0.9));
+  flexref::lie::detail::GenAlphaSystem system(model,
+                                              flexref::lie::GenAlphaParameters::from_rho_inf(0.9));
   flexref::core::Workspace ws = model.make_workspace();
   flexref::core::Accelerations acc = model.make_accelerations();
   const flexref::core::State state = model.initial_state();

@@ -49,12 +49,14 @@ std::vector<int> colour_bodies(const std::vector<std::vector<int>>& coupling) {
       for (const int j : coupling[static_cast<std::size_t>(k)]) {
         const int c = colour[static_cast<std::size_t>(j)];
         if (c < 0) continue;
-        if (static_cast<std::size_t>(c) >= taken.size()) taken.resize(static_cast<std::size_t>(c) + 1, n);
+        if (static_cast<std::size_t>(c) >= taken.size())
+          taken.resize(static_cast<std::size_t>(c) + 1, n);
         taken[static_cast<std::size_t>(c)] = b;
       }
     }
     int c = 0;
-    while (static_cast<std::size_t>(c) < taken.size() && taken[static_cast<std::size_t>(c)] == b) ++c;
+    while (static_cast<std::size_t>(c) < taken.size() && taken[static_cast<std::size_t>(c)] == b)
+      ++c;
     colour[b] = c;
   }
   return colour;

@@ -321,7 +321,8 @@ void GenAlphaSystem::add_rows_transpose(const core::ConstraintRows& rows, const 
       const Eigen::Index width = offset(b + 1) - offset(b);
       const auto J_b = rows.J.row(row).segment(o, width);
       out.segment(o, width) += J_b.transpose() * z(n + a);
-      if (terms != nullptr) terms->segment(o, width) += J_b.transpose().cwiseAbs() * std::abs(z(n + a));
+      if (terms != nullptr)
+        terms->segment(o, width) += J_b.transpose().cwiseAbs() * std::abs(z(n + a));
     }
   }
 }
@@ -377,7 +378,8 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::SparseMat
       for (Eigen::Index i = 0; i < width; ++i) {
         if (!integrated_row(b, static_cast<int>(i))) continue;
         for (Eigen::Index j = 0; j < width; ++j) {
-          if (integrated_row(b, static_cast<int>(j))) S.coeffRef(o + i, o + j) = mass_factor * M(i, j);
+          if (integrated_row(b, static_cast<int>(j)))
+            S.coeffRef(o + i, o + j) = mass_factor * M(i, j);
         }
       }
       body_residual_base_[static_cast<std::size_t>(b)] =
@@ -408,7 +410,8 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::SparseMat
     std::fill(source_.begin(), source_.end(), -1);
     Eigen::Index widest = 0;
     for (const int j : bodies) {
-      for (const int i : coupling_[static_cast<std::size_t>(j)]) source_[static_cast<std::size_t>(i)] = j;
+      for (const int i : coupling_[static_cast<std::size_t>(j)])
+        source_[static_cast<std::size_t>(i)] = j;
       widest = std::max<Eigen::Index>(widest, offset(j + 1) - offset(j));
     }
     for (Eigen::Index k = 0; k < widest; ++k) {
@@ -424,8 +427,8 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::SparseMat
         } else if (k < 6) {
           // configuration q exp(ε (T e_k)~), velocity W + ε γ' e_k
           const Matrix3d T = rotation::right_jacobian(z.segment<3>(offset(j) + 3));
-          sj.theta_WB = rotation::quaternion_multiply(
-              sj.theta_WB, rotation::exp_quaternion(eps * T.col(k - 3)));
+          sj.theta_WB = rotation::quaternion_multiply(sj.theta_WB,
+                                                      rotation::exp_quaternion(eps * T.col(k - 3)));
           renormalize_unit_product(sj.theta_WB);
           sj.w_WB_B(k - 3) += eps * gamma_prime;
         } else {

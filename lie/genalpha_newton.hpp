@@ -30,11 +30,11 @@
 /// every body of the colour at once; two bodies share a colour only when no body's equations
 /// read both, core/body_coupling.hpp, so each difference is one body's column, the quotient the
 /// body-by-body difference forms: 6 × 3 evaluations on a chain, whatever its length) along the
-/// direction that unknown moves the state (configuration by ε T e_k, velocity by ε γ' e_k), ε = 1.5e-8 (√ε_mach: truncation
-/// ε |f''| and round-off ε_mach |f|/ε balance at ~1e-8 relative); for a flexible body the same
-/// difference of its whole residual at fixed v̇ (loads, elastic and damping forces, and the
-/// velocity- and configuration-dependent inertia terms); the joints' geometric stiffness
-/// ∂(Jᵀ λ̂)/∂x from the rows at the same perturbed configurations.
+/// direction that unknown moves the state (configuration by ε T e_k, velocity by ε γ' e_k), ε
+/// = 1.5e-8 (√ε_mach: truncation ε |f''| and round-off ε_mach |f|/ε balance at ~1e-8 relative); for
+/// a flexible body the same difference of its whole residual at fixed v̇ (loads, elastic and damping
+/// forces, and the velocity- and configuration-dependent inertia terms); the joints' geometric
+/// stiffness ∂(Jᵀ λ̂)/∂x from the rows at the same perturbed configurations.
 ///
 /// Rows a body does not integrate (a pivot's translation, the rigid six of a prescribed body)
 /// have r = m̂ x and the matrix m̂ I (m̂: the scaled mass or inertia diagonal), so they stay at

@@ -49,8 +49,8 @@ void SparseLu::analyze(int n, const int* column_start, const int* row_index) {
   column_start_ = column_start;
   row_index_ = row_index;
   // KLU's arguments are not const-qualified; it does not write them.
-  symbolic_ = klu_analyze(n, const_cast<int*>(column_start), const_cast<int*>(row_index),
-                          &common_->klu);
+  symbolic_ =
+      klu_analyze(n, const_cast<int*>(column_start), const_cast<int*>(row_index), &common_->klu);
   if (symbolic_ == nullptr) throw std::runtime_error("KLU could not order the Newton matrix");
 }
 

@@ -58,7 +58,8 @@ void DaeColouredJacobian::build() {
   }
   const std::vector<std::vector<int>> coupling = core::body_coupling(model);
   for (std::size_t i = 0; i < body.size(); ++i) {
-    for (const int k : coupling[i]) add_dae_block(body[i], body[static_cast<std::size_t>(k)], pattern);
+    for (const int k : coupling[i])
+      add_dae_block(body[i], body[static_cast<std::size_t>(k)], pattern);
   }
   // The worn depths, element by element (the model's order of Model::wear_depth_count()).
   int depth = form.depth_index();
@@ -116,7 +117,8 @@ void DaeColouredJacobian::build() {
     if (std::find(works_.begin(), works_.end(), c) != works_.end()) continue;
     for (int p = column_start_[static_cast<std::size_t>(c)];
          p < column_start_[static_cast<std::size_t>(c) + 1]; ++p) {
-      for (const int other : row_columns[static_cast<std::size_t>(row_index_[static_cast<std::size_t>(p)])]) {
+      for (const int other :
+           row_columns[static_cast<std::size_t>(row_index_[static_cast<std::size_t>(p)])]) {
         const int k = colour[static_cast<std::size_t>(other)];
         if (k >= 0) forbidden[static_cast<std::size_t>(k)] = c;
       }
@@ -136,7 +138,8 @@ void DaeColouredJacobian::build() {
     for (int c = 0; c < size_; ++c) {
       if (colour[static_cast<std::size_t>(c)] == k) group_columns_.push_back(c);
     }
-    widest = std::max(widest, group_columns_.size() - static_cast<std::size_t>(group_start_.back()));
+    widest =
+        std::max(widest, group_columns_.size() - static_cast<std::size_t>(group_start_.back()));
     group_start_.push_back(static_cast<int>(group_columns_.size()));
   }
   increment_.assign(3 * widest, 0.0);

@@ -108,9 +108,9 @@ enum class NewtonJacobian {
   kDifferenceQuotients,  ///< the solver's own difference quotients, dense LU
   kStructured,           ///< StructuredJacobian + the structured Newton solve (newton_matrix.hpp)
   kUser,                 ///< SolverOptions::jacobian, dense LU
-  kColoured,  ///< IDA on ideal joints: coloured difference quotients, KLU (dae_coloured_jacobian.hpp)
+  kColoured,             ///< IDA on ideal joints: coloured difference quotients, KLU
+                         ///< (dae_coloured_jacobian.hpp)
 };
-
 
 /// Baumgarte's rate α for a model with ideal joints integrated without projection (CVODE's
 /// Adams, ARKODE, Odeint; docs/joints.md, "References"): the fastest rate the solution must

@@ -35,8 +35,8 @@ enum class ArkodeMethod {
   kEsdirk,  ///< ARKStep, ESDIRK5(4)7L[2]SA (implicit, L-stable, order 5)
 };
 
-/// IDA's Newton matrix on a model with ideal joints (docs/references.md, "IDA"; choose_ida_newton_jacobian,
-/// method_choice.hpp).
+/// IDA's Newton matrix on a model with ideal joints (docs/references.md, "IDA";
+/// choose_ida_newton_jacobian, method_choice.hpp).
 enum class NewtonMatrix {
   kAuto,    ///< sparse (measured never slower on a jointed model)
   kDense,   ///< IDA's difference quotients, dense LU

@@ -278,8 +278,7 @@ TEST_CASE("genalpha: the iteration matrix is the derivative of the residual", "[
     // The loads' differences move a colour of bodies at once (genalpha_newton.hpp): rods 0, 3
     // and 6 together, say; the spring from rod 1 to rod 5 makes their rows read each other, so
     // a colouring that missed the element would put its stiffness in the wrong column.
-    const scene::Scene scene =
-        scene::parse_scene(testing::chain_scene_text(7, 0.5, 1, 5), "chain");
+    const scene::Scene scene = scene::parse_scene(testing::chain_scene_text(7, 0.5, 1, 5), "chain");
     const MatrixComparison c = compare_iteration_matrix(*scene.model, 1e-3, 0.9, 1e-3);
     INFO("difference " << c.difference << ", beyond inertia " << c.beyond_inertia);
     CHECK(c.difference <= 1e-5);

@@ -57,7 +57,8 @@ Eigen::MatrixXd dense_quotients(const DaeForm& form, ColouredJacobianPoint& p,
     p.yp[sj] += p.c_j * inc;
     form.residual({0.0, 0.0}, p.y.data(), p.yp.data(), p.work.data(), scratch);
     for (int i = 0; i < n; ++i) {
-      G(i, j) = (1.0 / inc) * (p.work[static_cast<std::size_t>(i)] - p.r[static_cast<std::size_t>(i)]);
+      G(i, j) =
+          (1.0 / inc) * (p.work[static_cast<std::size_t>(i)] - p.r[static_cast<std::size_t>(i)]);
     }
     p.y[sj] = yj;
     p.yp[sj] = ypj;

@@ -29,8 +29,8 @@ inline std::string chain_scene_text(int rods, double end_time = 0.5, int spring_
   for (int k = 0; k < rods; ++k) {
     text << "\n[[joint]]\nname = \"j" << k << "\"\nmodel = \"ideal\"\nkind = \"spherical\"\n"
          << "body_a = \"rod" << k << "\"\npoint_a = [0.0, 0.0, 0.0]\nbody_b = \""
-         << (k == 0 ? std::string("ground") : "rod" + std::to_string(k - 1))
-         << "\"\npoint_b = [" << (k == 0 ? 0.0 : length) << ", 0.0, 0.0]\n";
+         << (k == 0 ? std::string("ground") : "rod" + std::to_string(k - 1)) << "\"\npoint_b = ["
+         << (k == 0 ? 0.0 : length) << ", 0.0, 0.0]\n";
   }
   if (spring_a >= 0) {
     text << "\n[[spring]]\nbody_a = \"rod" << spring_a << "\"\npoint_a = [" << length
