@@ -1,6 +1,7 @@
 #include "reference/dae_coloured_jacobian.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -8,8 +9,10 @@
 #include <limits>
 #include <vector>
 
+#include "reference/ida_work_completion.hpp"
 #include "reference/reference_solver.hpp"
 #include "scene/scene_reader.hpp"
+#include "tests/support/allocation_counting.hpp"
 #include "tests/support/chain_scene.hpp"
 
 namespace flexref {
@@ -129,6 +132,67 @@ TEST_CASE("coloured Newton matrix of the DAE form is IDA's dense difference quot
   CHECK(std::abs(D(w, w) - p.c_j) <= 4.0 * std::numeric_limits<double>::epsilon() * p.c_j);
   CHECK(D.col(w).cwiseAbs().sum() - std::abs(D(w, w)) == 0.0);
   CHECK(D.row(w).cwiseAbs().sum() - std::abs(D(w, w)) > 0.0);
+
+  // The linear solve with the works completed (ida_work_completion.hpp) is the dense matrix's:
+  // x_s from the same state block, x_W = (b_W − G_Ws x_s)/c_j with G_Ws x_s by one directional
+  // quotient instead of the dense row's column quotients (their agreement derived below).
+  // Without the completion x_W is b_W/c_j,
+  // off by the whole G_Ws x_s term: with b_W = 0, x_W is that term alone and the lagged one 0.
+  Eigen::VectorXd b(n);
+  for (int k = 0; k < n; ++k) b(k) = std::cos(0.5 + k);
+  b(w) = 0.0;  // x_W is then the coupling term alone: −G_Ws x_s / c_j
+  const Eigen::VectorXd x_dense = D.partialPivLu().solve(b);
+  Eigen::VectorXd x = G.partialPivLu().solve(b);
+  const double lagged = x(w);
+  reference::IdaWorkCompletion completion(form);
+  completion.remember(0.0, 0.0, p.y.data(), p.yp.data(), p.r.data());
+  completion.set_matrix(p.c_j, p.ewt.data());
+  bool completed = false;
+  CHECK(testing::count_allocations([&] { completed = completion.complete(x.data(), scratch); }) ==
+        0);
+  CHECK(completed);
+  // Their agreement: both quotients of F_W = W' − P(y) are set by rounding, each evaluation of
+  // F_W off by ~2 ε |P| (P = W' − F_W at these values), divided by the increment: the
+  // directional one's, σ (its x_s has unit weighted norm), and each column's inc_j, weighted by
+  // |x_j| in the dense row's sum. Twice that (two evaluations each) over c_j bounds x_W's.
+  const double eps = std::numeric_limits<double>::epsilon();
+  double weighted = 0.0, over_increments = 0.0;
+  for (int k = 0; k < n; ++k) {
+    if (k == w) continue;
+    const auto sk = static_cast<std::size_t>(k);
+    weighted += (x(k) * p.ewt[sk]) * (x(k) * p.ewt[sk]);
+    const double inc = std::max(
+        std::sqrt(eps) * std::max(std::abs(p.y[sk]), std::abs(p.h * p.yp[sk])), 1.0 / p.ewt[sk]);
+    over_increments += std::abs(x_dense(k)) / inc;
+  }
+  const double over_sigma = std::sqrt(weighted / static_cast<double>(n));  // 1/σ
+  const double power =
+      std::abs(p.yp[static_cast<std::size_t>(w)] - p.r[static_cast<std::size_t>(w)]);
+  const double agreement = 4.0 * (2.0 * eps * power) * (over_sigma + over_increments) / p.c_j;
+  INFO("x_W " << x(w) << ", dense " << x_dense(w) << ", agreement " << agreement);
+  CHECK(std::abs(x(w) - x_dense(w)) <= agreement);
+  CHECK(agreement < 1e-2 * std::abs(x_dense(w)));
+  CHECK(lagged == 0.0);
+  CHECK(std::abs(x_dense(w)) > 0.0);
+  // The state's entries are the dense solve's (the same block, up to the LU's rounding).
+  CHECK((x - x_dense).head(w).cwiseAbs().maxCoeff() <=
+        1e-9 * x_dense.head(w).cwiseAbs().maxCoeff());
+}
+
+TEST_CASE("the coloured Newton matrix allocates nothing", "[core][allocation]") {
+  const scene::Scene scene = scene::parse_scene(testing::chain_scene_text(7, 0.5, 1, 5), "chain");
+  const DaeForm form(*scene.model);
+  DaeForm::Scratch scratch = form.make_scratch();
+  ColouredJacobianPoint p = coloured_point(form, scratch);
+  const reference::DaeColouredJacobian coloured(form);
+  std::vector<sunindextype> start(static_cast<std::size_t>(form.size()) + 1);
+  std::vector<sunindextype> rows(static_cast<std::size_t>(coloured.nonzeros()));
+  std::vector<double> values(rows.size());
+  const long allocations = testing::count_allocations([&] {
+    coloured.evaluate({0.0, 0.0}, p.c_j, p.h, p.y.data(), p.yp.data(), p.r.data(), p.ewt.data(),
+                      p.work.data(), scratch, start.data(), rows.data(), values.data());
+  });
+  CHECK(allocations == 0);
 }
 
 TEST_CASE("a chain's coloured Newton matrix costs as many residuals whatever its length",
