@@ -1,6 +1,7 @@
 #include "lie/genalpha_newton.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -315,8 +316,9 @@ void GenAlphaSystem::add_rows_transpose(const core::ConstraintRows& rows, const 
   const Eigen::Index n = layout_.size();
   for (int a = 0; a < n_multipliers_; ++a) {
     const int row = active_[static_cast<std::size_t>(a)];
-    for (const int b : model_.constraints()->row_bodies(row)) {
-      if (b < 0) continue;
+    const std::array<int, 2> ends = model_.constraints()->row_bodies(row);
+    for (const int b : ends) {
+      if (b < 0 || (b == ends[1] && ends[0] == ends[1])) continue;  // one body's block once
       const auto o = static_cast<Eigen::Index>(offset(b));
       const Eigen::Index width = offset(b + 1) - offset(b);
       const auto J_b = rows.J.row(row).segment(o, width);

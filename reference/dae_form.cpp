@@ -223,6 +223,7 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
     for (int j = 0; j < multiplier_count_; ++j) {
       const int r = active[static_cast<std::size_t>(j)];
       std::array<int, 2> ends = model_->constraints()->row_bodies(r);
+      if (ends[1] == ends[0]) ends[1] = -1;  // one body's block once
       if (ends[1] >= 0 && (ends[0] < 0 || ends[1] < ends[0])) std::swap(ends[0], ends[1]);
       const double lambda = y[multiplier_index_ + j];
       const double mu = y[multiplier_index_ + multiplier_count_ + j];
