@@ -193,6 +193,12 @@ NewtonJacobian choose_newton_jacobian(const core::Model& model, const SolverOpti
   return NewtonJacobian::kDifferenceQuotients;
 }
 
+NewtonJacobian choose_ida_newton_jacobian(const core::Model& model, const SolverOptions& options) {
+  const NewtonJacobian chosen = choose_newton_jacobian(model, options);
+  if (chosen != NewtonJacobian::kDifferenceQuotients || !model.has_constraints()) return chosen;
+  return options.newton_matrix == NewtonMatrix::kDense ? chosen : NewtonJacobian::kColoured;
+}
+
 const char* to_string(NewtonJacobian jacobian) {
   switch (jacobian) {
     case NewtonJacobian::kDifferenceQuotients:
@@ -201,6 +207,8 @@ const char* to_string(NewtonJacobian jacobian) {
       return "structured, structured Newton solve";
     case NewtonJacobian::kUser:
       return "user, dense LU";
+    case NewtonJacobian::kColoured:
+      return "coloured difference quotients, sparse LU (KLU)";
   }
   return "difference quotients, dense LU";
 }
