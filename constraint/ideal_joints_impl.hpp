@@ -60,26 +60,21 @@ EndMotion<S> end_motion(const typename IdealJointsTpl<S>::End& e,
 /// J(row, ·) += sign ∂(u · v_P)/∂v_b = sign (uᵀ, (Aᵀ (r × u))ᵀ, uᵀ A Φ_P) on the end's body.
 template <typename S>
 void add_point_row(const EndMotion<S>& m, const Eigen::Matrix<S, 3, 1>& u, const S& sign, int row,
-                   const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows) {
+                   core::ConstraintRowsTpl<S>& rows) {
   if (m.body == nullptr) return;
-  const int o = layout.offset(m.end->body);
-  rows.J.row(row).template segment<3>(o) += sign * u.transpose();
-  rows.J.row(row).template segment<3>(o + 3) += sign * (m.R.transpose() * m.r.cross(u)).transpose();
+  auto J_b = rows.jacobian.block(row, m.end->body);
+  J_b.template head<3>() += sign * u;
+  J_b.template segment<3>(3) += sign * (m.R.transpose() * m.r.cross(u));
   const Eigen::Index n = m.end->phi.cols();
-  if (n > 0) {
-    rows.J.row(row).segment(o + 6, n) +=
-        sign * (m.end->phi.transpose() * (m.R.transpose() * u)).transpose();
-  }
+  if (n > 0) J_b.segment(6, n) += sign * (m.end->phi.transpose() * (m.R.transpose() * u));
 }
 
 /// J(row, ·) += sign ∂(c · ω)/∂ω̄ = sign (Aᵀ c)ᵀ on the end's body.
 template <typename S>
 void add_rotation_row(const EndMotion<S>& m, const Eigen::Matrix<S, 3, 1>& c, const S& sign,
-                      int row, const core::VelocityLayout& layout,
-                      core::ConstraintRowsTpl<S>& rows) {
+                      int row, core::ConstraintRowsTpl<S>& rows) {
   if (m.body == nullptr) return;
-  const int o = layout.offset(m.end->body);
-  rows.J.row(row).template segment<3>(o + 3) += sign * (m.R.transpose() * c).transpose();
+  rows.jacobian.block(row, m.end->body).template segment<3>(3) += sign * (m.R.transpose() * c);
 }
 
 /// Rotation row Φ = p · q for a vector p of end P (p = A_P p̄(t), with p' = A_P p̄', p'' = A_P p̄''
@@ -95,8 +90,8 @@ void rotation_dot_row(const EndMotion<S>& P, const Eigen::Matrix<S, 3, 1>& p,
   using Vector3 = Eigen::Matrix<S, 3, 1>;
   const Vector3 pxq = p.cross(q);
   rows.phi(row) = p.dot(q);
-  add_rotation_row(P, pxq, S(1), row, layout, rows);
-  add_rotation_row(Q, pxq, S(-1), row, layout, rows);
+  add_rotation_row(P, pxq, S(1), row, rows);
+  add_rotation_row(Q, pxq, S(-1), row, rows);
   rows.phi_t(row) = q.dot(p1);
   const Vector3 w_rel = P.w - Q.w;
   const Vector3 q_dot = Q.w.cross(q);
@@ -116,9 +111,9 @@ void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix
   const Vector3 d = a.p - b.p;
   const Vector3 d_dot = a.v - b.v;
   rows.phi(row) = u.dot(d) - s;
-  add_rotation_row(b, u.cross(d), S(1), row, layout, rows);
-  add_point_row(a, u, S(1), row, layout, rows);
-  add_point_row(b, u, S(-1), row, layout, rows);
+  add_rotation_row(b, u.cross(d), S(1), row, rows);
+  add_point_row(a, u, S(1), row, rows);
+  add_point_row(b, u, S(-1), row, rows);
   rows.phi_t(row) = -s1;
   const Vector3 u_dot = b.w.cross(u);
   rows.gamma(row) =
@@ -132,8 +127,8 @@ void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
   for (int k = 0; k < 3; ++k) {
     const Eigen::Matrix<S, 3, 1> u = Eigen::Matrix<S, 3, 1>::Unit(k);
     rows.phi(row + k) = a.p(k) - b.p(k);
-    add_point_row(a, u, S(1), row + k, layout, rows);
-    add_point_row(b, u, S(-1), row + k, layout, rows);
+    add_point_row(a, u, S(1), row + k, rows);
+    add_point_row(b, u, S(-1), row + k, rows);
     rows.phi_t(row + k) = S(0);
     rows.gamma(row + k) = -(a.c(k) - b.c(k));
   }
@@ -230,9 +225,10 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
                                  core::ConstraintRowsTpl<S>& rows) const {
   using detail::EndMotion;
   const Vector3 zero = Vector3::Zero();
-  // Every row belongs to one joint, which writes only its bodies' columns: the rest of J is
-  // zeroed here once, contiguously (row by row it strides through every column once per row).
-  rows.J.setZero();
+  // Every row belongs to one joint, which writes only its bodies' blocks of J: those are zeroed
+  // here, contiguously (the rest of J is not stored).
+  this->prepare_rows(layout, rows);
+  rows.jacobian.set_zero();
   rows.phi_t.setZero();
   for (std::size_t j = 0; j < specs_.size(); ++j) {
     const IdealJointSpec& spec = specs_[j];
@@ -299,12 +295,16 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
         const Vector3 d_dot = a.v - b.v;
         rows.phi(row) = (d.squaredNorm() - L * L) / (S(2) * L);
         const Vector3 u = d / L;
-        detail::add_point_row(a, u, S(1), row, layout, rows);
-        detail::add_point_row(b, u, S(-1), row, layout, rows);
+        detail::add_point_row(a, u, S(1), row, rows);
+        detail::add_point_row(b, u, S(-1), row, rows);
         rows.gamma(row) = -(d_dot.squaredNorm() + d.dot(a.c - b.c)) / L;
         break;
       }
     }
+  }
+  if (rows.J.size() > 0) {
+    rows.J.setZero();
+    rows.jacobian.scatter(rows.J);
   }
 }
 
