@@ -126,7 +126,8 @@ class ConstraintJacobianTpl {
   }
   /// Same pattern and values.
   bool operator==(const ConstraintJacobianTpl& other) const {
-    if (rows_ != other.rows_ || columns_ != other.columns_ || values_.size() != other.values_.size())
+    if (rows_ != other.rows_ || columns_ != other.columns_ ||
+        values_.size() != other.values_.size())
       return false;
     for (std::size_t i = 0; i < slots_.size(); ++i) {
       if (slots_[i].body != other.slots_[i].body || slots_[i].start != other.slots_[i].start) {
@@ -142,5 +143,7 @@ class ConstraintJacobianTpl {
   std::vector<Slot> slots_;
   Vector values_;
 };
+
+using ConstraintJacobian = ConstraintJacobianTpl<double>;
 
 }  // namespace flexref::core

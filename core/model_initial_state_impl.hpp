@@ -36,7 +36,8 @@ void ModelTpl<S>::check_joint_data(const ConstraintRowsTpl<S>& rows) const {
     const int joint = constraints_->joint_of_row(row);
     bool finite = true;
     for (int k = 0; k < 2; ++k) {
-      if (rows.jacobian.slot(row, k).body >= 0) finite = finite && rows.jacobian.values(row, k).allFinite();
+      if (rows.jacobian.slot(row, k).body >= 0)
+        finite = finite && rows.jacobian.values(row, k).allFinite();
     }
     if (!finite || !(rows.phi(r) == rows.phi(r)) ||
         !(abs(rows.phi(r)) < std::numeric_limits<S>::infinity()) ||
@@ -55,10 +56,11 @@ void ModelTpl<S>::check_joint_data(const ConstraintRowsTpl<S>& rows) const {
       if (!body.is_free()) continue;
       // In double (the check runs on the double model, whose rows the others keep): the arm
       // without overflowing its square, ρ² = λ_min(I_Br)/m.
-      const double arm = rows.jacobian.values(row, rows.jacobian.slot(row, 0).body == ends[k] ? 0 : 1)
-                             .template segment<3>(3)
-                             .template cast<double>()
-                             .stableNorm();
+      const double arm =
+          rows.jacobian.values(row, rows.jacobian.slot(row, 0).body == ends[k] ? 0 : 1)
+              .template segment<3>(3)
+              .template cast<double>()
+              .stableNorm();
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(
           body.I_Br_B().template cast<double>(), Eigen::EigenvaluesOnly);
       const double rho = std::sqrt(eigen.eigenvalues()(0) / static_cast<double>(body.mass()));
@@ -273,8 +275,7 @@ void ModelTpl<S>::assemble_initial_state(const ConstraintOptions& options) {
   constraints_->evaluate(S(0), ws.kinematics, layout_, rows);
   const bool chosen_here = options.independent_rows.empty();
   if (chosen_here) check_joint_data(rows);
-  active_rows_ =
-      chosen_here ? core::independent_rows<S>(rows.jacobian) : options.independent_rows;
+  active_rows_ = chosen_here ? core::independent_rows<S>(rows.jacobian) : options.independent_rows;
   default_tracker_ = make_constraint_tracker();
   // The joints' length scale ℓ: the largest arm from a body's Br to a joint point.
   joint_length_scale_ = core::joint_length_scale<S>(*constraints_, layout_, rows.jacobian);

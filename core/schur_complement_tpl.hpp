@@ -64,19 +64,19 @@ struct ConstraintSolveTpl {
   std::vector<int> active;  ///< the rows this evaluation enforces (indices into rows)
   /// Y = M⁻¹ J_aᵀ by J's blocks: row r's blocks hold M_b⁻¹ J_r,bᵀ (active rows only).
   ConstraintJacobianTpl<S> Y;
-  SchurPattern schur;     ///< A's pattern for the rows it was built for
-  Vector A;               ///< A's upper triangle by schur's entries
-  SparseLdlTpl<S> ldlt;   ///< A = L D Lᵀ in schur's pivot order
-  Vector rhs;             ///< m_a
-  Vector lambda;          ///< m_a: the multipliers of the active rows
-  Vector pivoted;         ///< m_a: a right-hand side in the pivot order
-  Vector x;               ///< N: stacked accelerations (free in, constrained out)
-  Vector force;           ///< N: the generalized constraint force −J_aᵀ λ
-  Vector v;               ///< N: stacked velocities (stabilization)
-  Vector rate;            ///< m: J v + Φ_t of all rows (stabilization, projection)
-  Vector column;          ///< widest body block
-  Vector out;             ///< widest body block
-  S pivot_ratio = S(1);   ///< smallest/largest |pivot| of the last factorization
+  SchurPattern schur;    ///< A's pattern for the rows it was built for
+  Vector A;              ///< A's upper triangle by schur's entries
+  SparseLdlTpl<S> ldlt;  ///< A = L D Lᵀ in schur's pivot order
+  Vector rhs;            ///< m_a
+  Vector lambda;         ///< m_a: the multipliers of the active rows
+  Vector pivoted;        ///< m_a: a right-hand side in the pivot order
+  Vector x;              ///< N: stacked accelerations (free in, constrained out)
+  Vector force;          ///< N: the generalized constraint force −J_aᵀ λ
+  Vector v;              ///< N: stacked velocities (stabilization)
+  Vector rate;           ///< m: J v + Φ_t of all rows (stabilization, projection)
+  Vector column;         ///< widest body block
+  Vector out;            ///< widest body block
+  S pivot_ratio = S(1);  ///< smallest/largest |pivot| of the last factorization
   /// Whether this solve chose its rows again (a rank-revealing QR at its state) instead of taking
   /// its tracker's as they were: its tracker's rows have become ill-conditioned there.
   bool rows_chosen = false;
@@ -137,7 +137,8 @@ struct ConstraintSolveTpl {
     const auto m = static_cast<Eigen::Index>(active.size());
     for (Eigen::Index k = 0; k < m; ++k) pivoted(k) = rhs(schur.order[static_cast<std::size_t>(k)]);
     ldlt.solve_in_place(pivoted);
-    for (Eigen::Index k = 0; k < m; ++k) lambda(schur.order[static_cast<std::size_t>(k)]) = pivoted(k);
+    for (Eigen::Index k = 0; k < m; ++k)
+      lambda(schur.order[static_cast<std::size_t>(k)]) = pivoted(k);
   }
 
   /// x ← x − Y λ (the active rows' blocks).
@@ -147,6 +148,8 @@ struct ConstraintSolveTpl {
     }
   }
 };
+
+using ConstraintSolve = ConstraintSolveTpl<double>;
 
 /// True for the bodies[k] a row acts on that count once: not the ground (−1), not a repeat.
 inline bool distinct_body(const std::array<int, 2>& bodies, std::size_t k) {

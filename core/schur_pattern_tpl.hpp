@@ -27,9 +27,9 @@ struct SchurPattern {
     int b = 0;
     int width = 0;
   };
-  std::vector<int> rows;        ///< the active rows the pattern is for (indices into J)
-  std::vector<int> order;       ///< pivot k → active index
-  std::vector<int> position;    ///< active index → pivot
+  std::vector<int> rows;          ///< the active rows the pattern is for (indices into J)
+  std::vector<int> order;         ///< pivot k → active index
+  std::vector<int> position;      ///< active index → pivot
   std::vector<int> column_start;  ///< upper triangle in pivot order: column k's entries
   std::vector<int> row_index;     ///< each entry's pivot row (≤ its column)
   /// Entry p's products: those at product_start[p] .. product_start[p + 1], each J_row(i) block
@@ -99,12 +99,14 @@ struct SchurPattern {
       const int i = order[static_cast<std::size_t>(k)];
       column.clear();
       for (int j : neighbours[static_cast<std::size_t>(i)]) {
-        if (position[static_cast<std::size_t>(j)] <= k) column.push_back(position[static_cast<std::size_t>(j)]);
+        if (position[static_cast<std::size_t>(j)] <= k)
+          column.push_back(position[static_cast<std::size_t>(j)]);
       }
       std::sort(column.begin(), column.end());
       for (int pivot_row : column) {
         row_index.push_back(pivot_row);
-        const int row_i = active[static_cast<std::size_t>(order[static_cast<std::size_t>(pivot_row)])];
+        const int row_i =
+            active[static_cast<std::size_t>(order[static_cast<std::size_t>(pivot_row)])];
         const int row_k = active[static_cast<std::size_t>(i)];
         for (int ka = 0; ka < 2; ++ka) {
           const auto& sa = J.slot(row_i, ka);

@@ -113,7 +113,7 @@ class SparseLdlTpl {
         z_(i) = S(0);
         const int end = Lp_[i] + count_[i];
         for (int p = Lp_[i]; p < end; ++p) {
-          y_(Li_[p]) -= Lx_(p) * yi;  // L u = C(0:k, k)
+          y_(Li_[p]) -= Lx_(p) * yi;                  // L u = C(0:k, k)
           if (!symmetric) z_(Li_[p]) -= Wx_(p) * zi;  // W̃ z = C(k, 0:k)ᵀ, z = D L(k, :)ᵀ
         }
         // L(k, i) = z_i / d_i; W̃(k, i) = U(i, k) / d_i = y_i / d_i (equal when symmetric).

@@ -32,8 +32,7 @@ constexpr int kKrylovSteps = 80;
 
 /// The ODE form at the initial state, on the first segment's loads, for difference quotients.
 struct InitialPoint {
-  explicit InitialPoint(const core::Model& model)
-      : form(model), scratch(form.make_scratch()) {
+  explicit InitialPoint(const core::Model& model) : form(model), scratch(form.make_scratch()) {
     const auto n = static_cast<std::size_t>(form.size());
     y.resize(n);
     f0.resize(n);
