@@ -38,7 +38,8 @@ const flexref::scene::Scene& chain(int n) {
   auto found = scenes.find(n);
   if (found != scenes.end()) return found->second;
   const std::string file = folder + "/chain_" + std::to_string(n) + ".toml";
-  const std::string command = "/usr/bin/python3 " FLEXREF_SOURCE_DIR "/scripts/scenes/make_chain.py " +
+  const std::string command = "/usr/bin/python3 " FLEXREF_SOURCE_DIR
+                              "/scripts/scenes/make_chain.py " +
                               std::to_string(n) + " > " + file;
   if (std::system(command.c_str()) != 0) {
     throw std::runtime_error("chain benchmark: " + command + " failed");
