@@ -86,7 +86,7 @@ template <typename S>
 void rotation_dot_row(const EndMotion<S>& P, const Eigen::Matrix<S, 3, 1>& p,
                       const Eigen::Matrix<S, 3, 1>& p1, const Eigen::Matrix<S, 3, 1>& p2,
                       const EndMotion<S>& Q, const Eigen::Matrix<S, 3, 1>& q, int row,
-                      const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows) {
+                      core::ConstraintRowsTpl<S>& rows) {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
   const Vector3 pxq = p.cross(q);
   rows.phi(row) = p.dot(q);
@@ -105,8 +105,7 @@ void rotation_dot_row(const EndMotion<S>& P, const Eigen::Matrix<S, 3, 1>& p,
 ///   d̈ = a_a − a_b = (terms in v̇) + c_a − c_b.
 template <typename S>
 void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix<S, 3, 1>& u,
-               const S& s, const S& s1, const S& s2, int row, const core::VelocityLayout& layout,
-               core::ConstraintRowsTpl<S>& rows) {
+               const S& s, const S& s1, const S& s2, int row, core::ConstraintRowsTpl<S>& rows) {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
   const Vector3 d = a.p - b.p;
   const Vector3 d_dot = a.v - b.v;
@@ -123,7 +122,7 @@ void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix
 /// The three point rows Φ = p_a − p_b from `row` on: J = ∂(v_a − v_b)/∂v, γ = −(c_a − c_b).
 template <typename S>
 void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
-                const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows) {
+                core::ConstraintRowsTpl<S>& rows) {
   for (int k = 0; k < 3; ++k) {
     const Eigen::Matrix<S, 3, 1> u = Eigen::Matrix<S, 3, 1>::Unit(k);
     rows.phi(row + k) = a.p(k) - b.p(k);
@@ -137,11 +136,11 @@ void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
 /// Z_b·X_a and Z_b·Y_a: the axes stay parallel.
 template <typename S>
 void parallel_axis_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
-                        const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows) {
+                        core::ConstraintRowsTpl<S>& rows) {
   const Eigen::Matrix<S, 3, 1> zero = Eigen::Matrix<S, 3, 1>::Zero();
   const Eigen::Matrix<S, 3, 1> z_b = b.axis(2);
-  rotation_dot_row(b, z_b, zero, zero, a, a.axis(0), row, layout, rows);
-  rotation_dot_row(b, z_b, zero, zero, a, a.axis(1), row + 1, layout, rows);
+  rotation_dot_row(b, z_b, zero, zero, a, a.axis(0), row, rows);
+  rotation_dot_row(b, z_b, zero, zero, a, a.axis(1), row + 1, rows);
 }
 
 }  // namespace detail
@@ -244,11 +243,11 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
     }
     switch (spec.type) {
       case JointType::kSpherical:
-        detail::point_rows(a, b, row, layout, rows);
+        detail::point_rows(a, b, row, rows);
         break;
       case JointType::kRevolute:
-        detail::point_rows(a, b, row, layout, rows);
-        detail::parallel_axis_rows(a, b, row + 3, layout, rows);
+        detail::point_rows(a, b, row, rows);
+        detail::parallel_axis_rows(a, b, row + 3, rows);
         if (spec.drive.active) {
           // p(t) = A_b (cos φ Ȳ − sin φ X̄): Φ = X_a·p = sin(ψ − φ); p̄' = −φ̇ m̄,
           // p̄'' = −φ̈ m̄ − φ̇² p̄ with m̄ = cos φ X̄ + sin φ Ȳ (joint axes of end b).
@@ -260,32 +259,31 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
           const Vector3 m = cos(q) * x_b + sin(q) * y_b;
           const Vector3 p1 = -q1 * m;
           const Vector3 p2 = -q2 * m - q1 * q1 * p;
-          detail::rotation_dot_row(b, p, p1, p2, a, a.axis(0), row + 5, layout, rows);
+          detail::rotation_dot_row(b, p, p1, p2, a, a.axis(0), row + 5, rows);
         }
         break;
       case JointType::kUniversal:
-        detail::point_rows(a, b, row, layout, rows);
-        detail::rotation_dot_row(b, b.axis(2), zero, zero, a, a.axis(2), row + 3, layout, rows);
+        detail::point_rows(a, b, row, rows);
+        detail::rotation_dot_row(b, b.axis(2), zero, zero, a, a.axis(2), row + 3, rows);
         break;
       case JointType::kFixed:
-        detail::point_rows(a, b, row, layout, rows);
-        detail::parallel_axis_rows(a, b, row + 3, layout, rows);
-        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 5, layout, rows);
+        detail::point_rows(a, b, row, rows);
+        detail::parallel_axis_rows(a, b, row + 3, rows);
+        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 5, rows);
         break;
       case JointType::kCylindrical:
-        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, layout, rows);
-        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, layout, rows);
-        detail::parallel_axis_rows(a, b, row + 2, layout, rows);
+        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
+        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
+        detail::parallel_axis_rows(a, b, row + 2, rows);
         break;
       case JointType::kPrismatic:
-        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, layout, rows);
-        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, layout, rows);
-        detail::parallel_axis_rows(a, b, row + 2, layout, rows);
-        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 4, layout, rows);
+        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
+        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
+        detail::parallel_axis_rows(a, b, row + 2, rows);
+        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 4, rows);
         if (spec.drive.active) {
           // Z_b·d − s(t), s = the initial Z_b·d (the drive's offset) + the law's displacement.
-          detail::slide_row(a, b, b.axis(2), S(S(spec.drive.offset) + q), q1, q2, row + 5, layout,
-                            rows);
+          detail::slide_row(a, b, b.axis(2), S(S(spec.drive.offset) + q), q1, q2, row + 5, rows);
         }
         break;
       case JointType::kDistance: {

@@ -23,17 +23,19 @@ template <typename S>
 class SparseLdlTpl {
  public:
   using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
+  /// Integer arrays indexed by int without sign conversions.
+  using Ints = Eigen::VectorXi;
 
   /// The symbolic phase for an n × n matrix whose upper triangle (pivot order) has column k's
   /// rows at row_index[column_start[k] .. column_start[k + 1]). Allocates.
   void analyze(int n, const std::vector<int>& column_start, const std::vector<int>& row_index) {
     n_ = n;
-    Ap_ = column_start;
-    Ai_ = row_index;
-    parent_.assign(static_cast<std::size_t>(n), -1);
-    flag_.assign(static_cast<std::size_t>(n), -1);
-    count_.assign(static_cast<std::size_t>(n), 0);
-    pattern_.assign(static_cast<std::size_t>(n), 0);
+    Ap_ = Eigen::Map<const Ints>(column_start.data(), static_cast<Eigen::Index>(n) + 1);
+    Ai_ = Eigen::Map<const Ints>(row_index.data(), Ap_(n));
+    parent_.setConstant(n, -1);
+    flag_.setConstant(n, -1);
+    count_.setZero(n);
+    pattern_.setZero(n);
     for (int k = 0; k < n; ++k) {
       flag_[k] = k;
       for (int p = Ap_[k]; p < Ap_[k + 1]; ++p) {
@@ -44,9 +46,9 @@ class SparseLdlTpl {
         }
       }
     }
-    Lp_.assign(static_cast<std::size_t>(n) + 1, 0);
+    Lp_.setZero(n + 1);
     for (int k = 0; k < n; ++k) Lp_[k + 1] = Lp_[k] + count_[k];
-    Li_.assign(static_cast<std::size_t>(Lp_[n]), 0);
+    Li_.setZero(Lp_[n]);
     Lx_ = Vector::Zero(Lp_[n]);
     Wx_ = Vector::Zero(Lp_[n]);
     d_ = Vector::Zero(n);
@@ -135,11 +137,11 @@ class SparseLdlTpl {
   }
 
   int n_ = 0;
-  std::vector<int> Ap_, Ai_;       ///< the upper triangle's pattern
-  std::vector<int> parent_;        ///< the elimination tree
-  std::vector<int> flag_, count_;  ///< per column: visited mark, entries of L so far
-  std::vector<int> pattern_;       ///< the reach of a column (a stack)
-  std::vector<int> Lp_, Li_;       ///< L's (and W̃'s) pattern by columns
+  Ints Ap_, Ai_;       ///< the upper triangle's pattern
+  Ints parent_;        ///< the elimination tree
+  Ints flag_, count_;  ///< per column: visited mark, entries of L so far
+  Ints pattern_;       ///< the reach of a column (a stack)
+  Ints Lp_, Li_;       ///< L's (and W̃'s) pattern by columns
   Vector Lx_, Wx_, d_, y_, z_;
 };
 

@@ -160,7 +160,8 @@ TEST_CASE("sparse LU: the crossing product's determinant sign for a non-symmetri
     VectorXd upper(static_cast<Eigen::Index>(rows.size())), lower(upper.size());
     MatrixXd C = MatrixXd::Zero(n, n);
     for (int k = 0; k < n; ++k) {
-      for (int p = start[k]; p < start[k + 1]; ++p) {
+      const auto column = static_cast<std::size_t>(k);
+      for (int p = start[column]; p < start[column + 1]; ++p) {
         const int i = rows[static_cast<std::size_t>(p)];
         upper(p) = u(rng) + (i == k ? shift : 0.0);
         lower(p) = i == k ? upper(p) : u(rng);
