@@ -68,6 +68,9 @@ GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameter
     const int rows = model.constraints()->row_count();
     rows_.resize(rows, static_cast<int>(n));
     rows_perturbed_.resize(rows, static_cast<int>(n));
+    // The rows' block pattern now, not at the first evaluation (steps allocate nothing).
+    model.constraints()->prepare_rows(model.velocity_layout(), rows_);
+    model.constraints()->prepare_rows(model.velocity_layout(), rows_perturbed_);
   }
   z_size_ = n + n_multipliers_;
   v_n_ = Eigen::VectorXd::Zero(n);
