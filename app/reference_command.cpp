@@ -93,6 +93,12 @@ int reference_command(const ReferenceOptions& options) {
   solver_options.rtol = options.rtol;
   solver_options.atol = options.atol;
   set_method(chosen, options.method, solver_options);
+  if (options.newton_matrix != reference::NewtonMatrix::kAuto &&
+      chosen != studies::ReferenceSolver::kIda) {
+    throw std::invalid_argument(std::string("--newton-matrix: ") + studies::to_string(chosen) +
+                                " takes none (ida only)");
+  }
+  solver_options.newton_matrix = options.newton_matrix;
 
   trajectory::CertifiedReference ref;
   {
@@ -219,6 +225,21 @@ RegisteredCommand register_reference_command(CLI::App& app) {
                   {"auto", "adams", "bdf", "bdf2", "erk", "esdirk"},
                   studies::parse_reference_method,
                   [](studies::ReferenceMethod v) { return studies::to_string(v); });
+  add_enum_option(
+      cmd, "--newton-matrix", options->newton_matrix,
+      "ida on ideal joints: auto (sparse) | dense (difference quotients, dense "
+      "LU) | sparse (coloured difference quotients, KLU)",
+      {"auto", "dense", "sparse"},
+      [](const std::string& v) {
+        return v == "dense"    ? reference::NewtonMatrix::kDense
+               : v == "sparse" ? reference::NewtonMatrix::kSparse
+                               : reference::NewtonMatrix::kAuto;
+      },
+      [](reference::NewtonMatrix v) {
+        return v == reference::NewtonMatrix::kDense    ? std::string("dense")
+               : v == reference::NewtonMatrix::kSparse ? std::string("sparse")
+                                                       : std::string("auto");
+      });
   cmd->add_option("--rtol", options->rtol,
                   "relative tolerance (double >= 1e-15; default for extended 1e-16, quad 1e-28)")
       ->check(number_in(1e-32, 1e-1))

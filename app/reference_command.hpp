@@ -8,6 +8,7 @@
 #include "app/work_limits.hpp"
 #include "core/flexible_formulation.hpp"
 #include "precision/precision.hpp"
+#include "reference/reference_solver.hpp"
 #include "studies/reference_solver_name.hpp"
 
 namespace flexref::app {
@@ -20,6 +21,8 @@ struct ReferenceOptions {
   studies::ReferenceSolver solver = studies::ReferenceSolver::kAuto;
   /// cvode: auto|adams|bdf|bdf2; ida: auto|bdf|bdf2; arkode: auto|erk|esdirk
   studies::ReferenceMethod method = studies::ReferenceMethod::kAuto;
+  /// ida on ideal joints: its Newton matrix (auto: sparse).
+  reference::NewtonMatrix newton_matrix = reference::NewtonMatrix::kAuto;
   double rtol = 1e-10;
   bool rtol_given = false;  ///< else extended and quad use precision::default_rtol
   double atol = -1.0;

@@ -16,9 +16,10 @@ include(CMakePackageConfigHelpers)
 # installed; no installed header includes them.
 set(FLEXREF_INTERNAL_HEADERS
   lie/c1_newton.hpp lie/nmb_newton.hpp lie/scheme_support.hpp
-  reference/ida_newton_solver.hpp reference/newton_linear_solver.hpp reference/sundials_handle.hpp
+  reference/dae_coloured_jacobian.hpp reference/ida_newton_solver.hpp
+  reference/ida_work_completion.hpp reference/newton_linear_solver.hpp reference/sundials_handle.hpp
   reference/sundials_ode_callbacks.hpp reference/sundials_segment_driver.hpp
-  reference/arkode_segment_solver.hpp
+  reference/arkode_segment_solver.hpp reference/ida_callbacks.hpp
   scene/reader_parts.hpp scene/scene_toml.hpp precision/multibody_model_impl.hpp)
 
 # The build tree offers the same <flexref/...> prefix (links to the source folders), so code

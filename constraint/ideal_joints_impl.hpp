@@ -60,26 +60,21 @@ EndMotion<S> end_motion(const typename IdealJointsTpl<S>::End& e,
 /// J(row, ·) += sign ∂(u · v_P)/∂v_b = sign (uᵀ, (Aᵀ (r × u))ᵀ, uᵀ A Φ_P) on the end's body.
 template <typename S>
 void add_point_row(const EndMotion<S>& m, const Eigen::Matrix<S, 3, 1>& u, const S& sign, int row,
-                   const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows) {
+                   core::ConstraintRowsTpl<S>& rows) {
   if (m.body == nullptr) return;
-  const int o = layout.offset(m.end->body);
-  rows.J.row(row).template segment<3>(o) += sign * u.transpose();
-  rows.J.row(row).template segment<3>(o + 3) += sign * (m.R.transpose() * m.r.cross(u)).transpose();
+  auto J_b = rows.jacobian.block(row, m.end->body);
+  J_b.template head<3>() += sign * u;
+  J_b.template segment<3>(3) += sign * (m.R.transpose() * m.r.cross(u));
   const Eigen::Index n = m.end->phi.cols();
-  if (n > 0) {
-    rows.J.row(row).segment(o + 6, n) +=
-        sign * (m.end->phi.transpose() * (m.R.transpose() * u)).transpose();
-  }
+  if (n > 0) J_b.segment(6, n) += sign * (m.end->phi.transpose() * (m.R.transpose() * u));
 }
 
 /// J(row, ·) += sign ∂(c · ω)/∂ω̄ = sign (Aᵀ c)ᵀ on the end's body.
 template <typename S>
 void add_rotation_row(const EndMotion<S>& m, const Eigen::Matrix<S, 3, 1>& c, const S& sign,
-                      int row, const core::VelocityLayout& layout,
-                      core::ConstraintRowsTpl<S>& rows) {
+                      int row, core::ConstraintRowsTpl<S>& rows) {
   if (m.body == nullptr) return;
-  const int o = layout.offset(m.end->body);
-  rows.J.row(row).template segment<3>(o + 3) += sign * (m.R.transpose() * c).transpose();
+  rows.jacobian.block(row, m.end->body).template segment<3>(3) += sign * (m.R.transpose() * c);
 }
 
 /// Rotation row Φ = p · q for a vector p of end P (p = A_P p̄(t), with p' = A_P p̄', p'' = A_P p̄''
@@ -91,12 +86,12 @@ template <typename S>
 void rotation_dot_row(const EndMotion<S>& P, const Eigen::Matrix<S, 3, 1>& p,
                       const Eigen::Matrix<S, 3, 1>& p1, const Eigen::Matrix<S, 3, 1>& p2,
                       const EndMotion<S>& Q, const Eigen::Matrix<S, 3, 1>& q, int row,
-                      const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows) {
+                      core::ConstraintRowsTpl<S>& rows) {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
   const Vector3 pxq = p.cross(q);
   rows.phi(row) = p.dot(q);
-  add_rotation_row(P, pxq, S(1), row, layout, rows);
-  add_rotation_row(Q, pxq, S(-1), row, layout, rows);
+  add_rotation_row(P, pxq, S(1), row, rows);
+  add_rotation_row(Q, pxq, S(-1), row, rows);
   rows.phi_t(row) = q.dot(p1);
   const Vector3 w_rel = P.w - Q.w;
   const Vector3 q_dot = Q.w.cross(q);
@@ -110,15 +105,14 @@ void rotation_dot_row(const EndMotion<S>& P, const Eigen::Matrix<S, 3, 1>& p,
 ///   d̈ = a_a − a_b = (terms in v̇) + c_a − c_b.
 template <typename S>
 void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix<S, 3, 1>& u,
-               const S& s, const S& s1, const S& s2, int row, const core::VelocityLayout& layout,
-               core::ConstraintRowsTpl<S>& rows) {
+               const S& s, const S& s1, const S& s2, int row, core::ConstraintRowsTpl<S>& rows) {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
   const Vector3 d = a.p - b.p;
   const Vector3 d_dot = a.v - b.v;
   rows.phi(row) = u.dot(d) - s;
-  add_rotation_row(b, u.cross(d), S(1), row, layout, rows);
-  add_point_row(a, u, S(1), row, layout, rows);
-  add_point_row(b, u, S(-1), row, layout, rows);
+  add_rotation_row(b, u.cross(d), S(1), row, rows);
+  add_point_row(a, u, S(1), row, rows);
+  add_point_row(b, u, S(-1), row, rows);
   rows.phi_t(row) = -s1;
   const Vector3 u_dot = b.w.cross(u);
   rows.gamma(row) =
@@ -128,12 +122,12 @@ void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix
 /// The three point rows Φ = p_a − p_b from `row` on: J = ∂(v_a − v_b)/∂v, γ = −(c_a − c_b).
 template <typename S>
 void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
-                const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows) {
+                core::ConstraintRowsTpl<S>& rows) {
   for (int k = 0; k < 3; ++k) {
     const Eigen::Matrix<S, 3, 1> u = Eigen::Matrix<S, 3, 1>::Unit(k);
     rows.phi(row + k) = a.p(k) - b.p(k);
-    add_point_row(a, u, S(1), row + k, layout, rows);
-    add_point_row(b, u, S(-1), row + k, layout, rows);
+    add_point_row(a, u, S(1), row + k, rows);
+    add_point_row(b, u, S(-1), row + k, rows);
     rows.phi_t(row + k) = S(0);
     rows.gamma(row + k) = -(a.c(k) - b.c(k));
   }
@@ -142,11 +136,11 @@ void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
 /// Z_b·X_a and Z_b·Y_a: the axes stay parallel.
 template <typename S>
 void parallel_axis_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
-                        const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows) {
+                        core::ConstraintRowsTpl<S>& rows) {
   const Eigen::Matrix<S, 3, 1> zero = Eigen::Matrix<S, 3, 1>::Zero();
   const Eigen::Matrix<S, 3, 1> z_b = b.axis(2);
-  rotation_dot_row(b, z_b, zero, zero, a, a.axis(0), row, layout, rows);
-  rotation_dot_row(b, z_b, zero, zero, a, a.axis(1), row + 1, layout, rows);
+  rotation_dot_row(b, z_b, zero, zero, a, a.axis(0), row, rows);
+  rotation_dot_row(b, z_b, zero, zero, a, a.axis(1), row + 1, rows);
 }
 
 }  // namespace detail
@@ -230,9 +224,10 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
                                  core::ConstraintRowsTpl<S>& rows) const {
   using detail::EndMotion;
   const Vector3 zero = Vector3::Zero();
-  // Every row belongs to one joint, which writes only its bodies' columns: the rest of J is
-  // zeroed here once, contiguously (row by row it strides through every column once per row).
-  rows.J.setZero();
+  // Every row belongs to one joint, which writes only its bodies' blocks of J: those are zeroed
+  // here, contiguously (the rest of J is not stored).
+  this->prepare_rows(layout, rows);
+  rows.jacobian.set_zero();
   rows.phi_t.setZero();
   for (std::size_t j = 0; j < specs_.size(); ++j) {
     const IdealJointSpec& spec = specs_[j];
@@ -248,11 +243,11 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
     }
     switch (spec.type) {
       case JointType::kSpherical:
-        detail::point_rows(a, b, row, layout, rows);
+        detail::point_rows(a, b, row, rows);
         break;
       case JointType::kRevolute:
-        detail::point_rows(a, b, row, layout, rows);
-        detail::parallel_axis_rows(a, b, row + 3, layout, rows);
+        detail::point_rows(a, b, row, rows);
+        detail::parallel_axis_rows(a, b, row + 3, rows);
         if (spec.drive.active) {
           // p(t) = A_b (cos φ Ȳ − sin φ X̄): Φ = X_a·p = sin(ψ − φ); p̄' = −φ̇ m̄,
           // p̄'' = −φ̈ m̄ − φ̇² p̄ with m̄ = cos φ X̄ + sin φ Ȳ (joint axes of end b).
@@ -264,32 +259,31 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
           const Vector3 m = cos(q) * x_b + sin(q) * y_b;
           const Vector3 p1 = -q1 * m;
           const Vector3 p2 = -q2 * m - q1 * q1 * p;
-          detail::rotation_dot_row(b, p, p1, p2, a, a.axis(0), row + 5, layout, rows);
+          detail::rotation_dot_row(b, p, p1, p2, a, a.axis(0), row + 5, rows);
         }
         break;
       case JointType::kUniversal:
-        detail::point_rows(a, b, row, layout, rows);
-        detail::rotation_dot_row(b, b.axis(2), zero, zero, a, a.axis(2), row + 3, layout, rows);
+        detail::point_rows(a, b, row, rows);
+        detail::rotation_dot_row(b, b.axis(2), zero, zero, a, a.axis(2), row + 3, rows);
         break;
       case JointType::kFixed:
-        detail::point_rows(a, b, row, layout, rows);
-        detail::parallel_axis_rows(a, b, row + 3, layout, rows);
-        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 5, layout, rows);
+        detail::point_rows(a, b, row, rows);
+        detail::parallel_axis_rows(a, b, row + 3, rows);
+        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 5, rows);
         break;
       case JointType::kCylindrical:
-        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, layout, rows);
-        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, layout, rows);
-        detail::parallel_axis_rows(a, b, row + 2, layout, rows);
+        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
+        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
+        detail::parallel_axis_rows(a, b, row + 2, rows);
         break;
       case JointType::kPrismatic:
-        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, layout, rows);
-        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, layout, rows);
-        detail::parallel_axis_rows(a, b, row + 2, layout, rows);
-        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 4, layout, rows);
+        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
+        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
+        detail::parallel_axis_rows(a, b, row + 2, rows);
+        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 4, rows);
         if (spec.drive.active) {
           // Z_b·d − s(t), s = the initial Z_b·d (the drive's offset) + the law's displacement.
-          detail::slide_row(a, b, b.axis(2), S(S(spec.drive.offset) + q), q1, q2, row + 5, layout,
-                            rows);
+          detail::slide_row(a, b, b.axis(2), S(S(spec.drive.offset) + q), q1, q2, row + 5, rows);
         }
         break;
       case JointType::kDistance: {
@@ -299,12 +293,16 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
         const Vector3 d_dot = a.v - b.v;
         rows.phi(row) = (d.squaredNorm() - L * L) / (S(2) * L);
         const Vector3 u = d / L;
-        detail::add_point_row(a, u, S(1), row, layout, rows);
-        detail::add_point_row(b, u, S(-1), row, layout, rows);
+        detail::add_point_row(a, u, S(1), row, rows);
+        detail::add_point_row(b, u, S(-1), row, rows);
         rows.gamma(row) = -(d_dot.squaredNorm() + d.dot(a.c - b.c)) / L;
         break;
       }
     }
+  }
+  if (rows.J.size() > 0) {
+    rows.J.setZero();
+    rows.jacobian.scatter(rows.J);
   }
 }
 

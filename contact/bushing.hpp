@@ -127,6 +127,7 @@ class BushingTpl final : public core::ForceElementTpl<S> {
     return parameters_.damping > 0.0 || parameters_.angular_damping > 0.0;
   }
   int max_body_index() const override;
+  std::vector<int> coupled_bodies() const override;
   std::string describe() const override;
   std::string describe_with_names(std::span<const core::Body> bodies) const override;
   /// "joint" translational, and for a revolute bushing angular (rotations perpendicular to the

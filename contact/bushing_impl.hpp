@@ -225,6 +225,12 @@ int BushingTpl<S, kRevolute>::max_body_index() const {
 }
 
 template <typename S, bool kRevolute>
+std::vector<int> BushingTpl<S, kRevolute>::coupled_bodies() const {
+  if (b_.body == kGround) return {a_.body};
+  return {a_.body, b_.body};
+}
+
+template <typename S, bool kRevolute>
 std::string BushingTpl<S, kRevolute>::describe() const {
   return describe_with_names(std::span<const core::Body>{});
 }

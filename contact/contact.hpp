@@ -155,6 +155,8 @@ class ContactElementTpl final : public core::ForceElementTpl<S> {
   void wear_samples(const Context& context, std::span<const Kinematics> bodies,
                     std::span<core::WearSampleTpl<S>> samples) const override;
   int max_body_index() const override;
+  /// The bodies of all its pairs (the ground left out).
+  std::vector<int> coupled_bodies() const override;
   std::string describe() const override;
   /// One mode "contact": the effective stiffness at the effective mass (the constructor's, or
   /// when 0 the first pair's body mass shared by the pairs, reduced with body_b's for

@@ -296,6 +296,17 @@ int ContactElementTpl<S>::max_body_index() const {
 }
 
 template <typename S>
+std::vector<int> ContactElementTpl<S>::coupled_bodies() const {
+  std::vector<int> bodies;
+  for (const ContactPair& p : pairs_) {
+    for (const int b : {p.body_a, p.body_b}) {
+      if (b >= 0 && std::find(bodies.begin(), bodies.end(), b) == bodies.end()) bodies.push_back(b);
+    }
+  }
+  return bodies;
+}
+
+template <typename S>
 double ContactElementTpl<S>::effective_stiffness(double effective_mass) const {
   if (normal_.kind() == NormalLaw::Kind::kLinear) return normal_.stiffness();
   return normal_.linearized_stiffness(

@@ -144,6 +144,7 @@ class GapSupportTpl final : public core::ForceElementTpl<S> {
   /// The sector angle φ of a point (rad, in (−π, π]) and the basis it is measured in.
   S sector_angle(const Vector3& p_WN) const;
   int max_body_index() const override { return body_; }
+  std::vector<int> coupled_bodies() const override { return {body_}; }
   std::string describe() const override;
   std::string describe_with_names(std::span<const core::Body> bodies) const override;
   void append_penalty_modes(std::span<const core::Body> bodies,

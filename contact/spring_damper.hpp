@@ -91,6 +91,10 @@ class SpringDamperTpl final : public core::ForceElementTpl<S> {
   }
   bool depends_on_velocity() const override { return parameters_.damping > 0.0; }
   int max_body_index() const override { return std::max(body_a_, body_b_); }
+  std::vector<int> coupled_bodies() const override {
+    if (body_b_ == kGround) return {body_a_};
+    return {body_a_, body_b_};
+  }
   std::string describe() const override {
     return describe_with_names(std::span<const core::Body>{});
   }

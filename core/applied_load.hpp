@@ -45,6 +45,7 @@ class AppliedForceTpl final : public ForceElementTpl<S> {
   std::string describe() const override;
   std::string describe_with_names(std::span<const Body> bodies) const override;
   int max_body_index() const override { return body_; }
+  std::vector<int> coupled_bodies() const override { return {body_}; }
 
  private:
   template <typename>
@@ -85,6 +86,7 @@ class AppliedTorqueTpl final : public ForceElementTpl<S> {
   std::string describe() const override;
   std::string describe_with_names(std::span<const Body> bodies) const override;
   int max_body_index() const override { return body_; }
+  std::vector<int> coupled_bodies() const override { return {body_}; }
 
  private:
   template <typename>

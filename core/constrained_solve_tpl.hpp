@@ -59,15 +59,15 @@ void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
   // A λ = J_a x_free − γ_a
   for (Eigen::Index i = 0; i < m; ++i) {
     const int row = s.active[static_cast<std::size_t>(i)];
-    s.rhs(i) = s.rows.J.row(row).dot(s.x) - s.rows.gamma(row);
+    s.rhs(i) = s.rows.jacobian.row_dot(row, s.x) - s.rows.gamma(row);
   }
-  s.lambda = s.ldlt.solve(s.rhs);
+  s.solve_schur();
   // v̇ = x_free − Y λ;  F = −J_aᵀ λ
-  s.x.noalias() -= s.Y * s.lambda;
+  s.subtract_y_lambda();
   s.force.setZero();
   for (Eigen::Index i = 0; i < m; ++i) {
-    const int row = s.active[static_cast<std::size_t>(i)];
-    s.force.noalias() -= s.lambda(i) * s.rows.J.row(row).transpose();
+    s.rows.jacobian.add_row_transpose(s.active[static_cast<std::size_t>(i)], S(-s.lambda(i)),
+                                      s.force);
   }
 }
 
@@ -75,7 +75,7 @@ void solve_constrained_accelerations(const ConstraintEquationsTpl<S>& equations,
 /// solves' orientation test (the rows in force and their ratio as they are).
 template <typename S>
 void move_reference(double t, const ConstraintSolveTpl<S>& s, ConstraintTrackerTpl<S>& tracker) {
-  tracker.J_accepted = s.rows.J;
+  tracker.J_accepted = s.rows.jacobian;
   tracker.accepted_time = t;
   tracker.has_accepted = true;
 }
@@ -105,8 +105,9 @@ void constraint_correction(const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynami
                            ConstraintSolveTpl<S>& s) {
   const auto m = static_cast<Eigen::Index>(s.active.size());
   for (Eigen::Index i = 0; i < m; ++i) s.rhs(i) = residual(s.active[static_cast<std::size_t>(i)]);
-  s.lambda = s.ldlt.solve(s.rhs);
-  s.x.noalias() = -(s.Y * s.lambda);
+  s.solve_schur();
+  s.x.setZero();
+  s.subtract_y_lambda();
 }
 
 /// Baumgarte stabilization of the accelerations: γ ← γ − 2α (J v + Φ_t) − α² Φ, so that J v̇ = γ
@@ -114,9 +115,7 @@ void constraint_correction(const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynami
 /// the stacked velocities and s.rows the rows at the state. On the manifold it changes nothing.
 template <typename S>
 void add_baumgarte(const S& alpha, ConstraintSolveTpl<S>& s) {
-  // The product into the sized scratch first: inside the sum Eigen would evaluate it into a
-  // temporary on the heap, once per evaluation.
-  s.rate.noalias() = s.rows.J * s.v;
+  s.rows.jacobian.multiply(s.v, s.rate);
   s.rate += s.rows.phi_t;
   s.rows.gamma -= (S(2) * alpha) * s.rate;
   s.rows.gamma -= (alpha * alpha) * s.rows.phi;

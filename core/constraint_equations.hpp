@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/constraint_jacobian_tpl.hpp"
 #include "core/force_element.hpp"
 #include "core/velocity_layout.hpp"
 
@@ -26,14 +27,25 @@ template <typename S>
 struct ConstraintRowsTpl {
   using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
   using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
-  Matrix J;      ///< m × N: ∂Φ̇/∂v
+  /// m × N: ∂Φ̇/∂v by its body blocks (core/constraint_jacobian_tpl.hpp), always filled; its
+  /// pattern is built at the first evaluation unless the owner built it (allocation-free after).
+  ConstraintJacobianTpl<S> jacobian;
+  /// The same J dense, filled only where sized (resize(); resize_sparse() leaves it empty): for
+  /// callers that read J entry by entry. Its cost is O(m N) per evaluation.
+  Matrix J;
   Vector phi;    ///< Φ (m or rad per row: point and slide rows in m, rotation rows the sine of
                  ///< an angle, distance rows (|d|² − L²)/(2L) in m)
   Vector phi_t;  ///< Φ_t: Φ̇ = J v + Φ_t (driven rows; zero otherwise)
   Vector gamma;  ///< γ: Φ̈ = J v̇ − γ (everything of Φ̈ but J v̇, with its sign changed)
 
+  /// Sized for `rows` rows, the dense J included.
   void resize(int rows, int velocities) {
+    resize_sparse(rows);
     J = Matrix::Zero(rows, velocities);
+  }
+  /// Sized for `rows` rows, J by its blocks only.
+  void resize_sparse(int rows) {
+    J.resize(0, 0);
     phi = Vector::Zero(rows);
     phi_t = Vector::Zero(rows);
     gamma = Vector::Zero(rows);
@@ -70,10 +82,11 @@ class ConstraintEquationsTpl {
   /// True when row r is a position row in m (point, slide, distance), false for a rotation row
   /// (dimensionless: the sine of an angle).
   virtual bool is_length_row(int row) const = 0;
-  /// Fills rows.phi, rows.J, rows.phi_t and rows.gamma at the bodies' poses and velocities
-  /// (kinematics: A(θ), the state and the q_f the equations see). rows is sized by the caller
-  /// (row_count() × layout.size()); the entries of J outside the rows' bodies stay zero.
-  /// Must not allocate.
+  /// Fills rows.phi, rows.jacobian (and rows.J where sized), rows.phi_t and rows.gamma at the
+  /// bodies' poses and velocities (kinematics: A(θ), the state and the q_f the equations see).
+  /// rows is sized by the caller (ConstraintRowsTpl::resize or resize_sparse); the entries of J
+  /// outside the rows' bodies stay zero. Must not allocate once rows.jacobian has its pattern
+  /// (prepare_rows).
   virtual void evaluate(const S& t, std::span<const Kinematics> bodies,
                         const VelocityLayout& layout, ConstraintRowsTpl<S>& rows) const = 0;
   /// The reaction of each joint on its first body from the stacked generalized constraint forces
@@ -90,6 +103,12 @@ class ConstraintEquationsTpl {
   /// One line per joint for `flexref check`, naming its ends' bodies and nodes by their names in
   /// `bodies` (the model's; core/element_text.hpp).
   virtual std::string describe(int joint, std::span<const Body> bodies) const = 0;
+  /// Builds rows.jacobian's pattern on `layout` (the rows' bodies) unless it has it. Allocates
+  /// only then.
+  void prepare_rows(const VelocityLayout& layout, ConstraintRowsTpl<S>& rows) const {
+    if (rows.jacobian.rows() == row_count() && rows.jacobian.cols() == layout.size()) return;
+    rows.jacobian.build(row_count(), layout, [&](int r) { return row_bodies(r); });
+  }
   /// Known times where a drive law's derivatives jump.
   virtual void append_discontinuities(std::vector<double>& times) const { (void)times; }
 };

@@ -17,13 +17,14 @@ namespace flexref::core {
 /// over the length rows of J (1 when every joint sits at its bodies' reference points). Relative
 /// violations divide a length row's Φ by it.
 template <typename S>
-S joint_length_scale(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
-                     const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J) {
+S joint_length_scale(const ConstraintEquationsTpl<S>& equations, const VelocityLayout&,
+                     const ConstraintJacobianTpl<S>& J) {
   S scale = S(0);
-  for (Eigen::Index r = 0; r < J.rows(); ++r) {
-    if (!equations.is_length_row(static_cast<int>(r))) continue;
-    for (std::size_t b = 0; b + 1 < layout.offsets.size(); ++b) {
-      const S arm = J.row(r).template segment<3>(layout.offset(static_cast<int>(b)) + 3).norm();
+  for (int r = 0; r < J.rows(); ++r) {
+    if (!equations.is_length_row(r)) continue;
+    for (int k = 0; k < 2; ++k) {
+      if (J.slot(r, k).body < 0) continue;
+      const S arm = J.values(r, k).template segment<3>(3).norm();
       if (arm > scale) scale = arm;
     }
   }
@@ -74,7 +75,9 @@ std::vector<std::array<S, 2>> joint_violations(const ConstraintEquationsTpl<S>& 
                                                const ConstraintRowsTpl<S>& rows,
                                                const Eigen::Matrix<S, Eigen::Dynamic, 1>& v) {
   using std::abs;
-  const Eigen::Matrix<S, Eigen::Dynamic, 1> rate = rows.J * v + rows.phi_t;
+  Eigen::Matrix<S, Eigen::Dynamic, 1> rate(rows.phi.size());
+  rows.jacobian.multiply(v, rate);
+  rate += rows.phi_t;
   std::vector<std::array<S, 2>> out(static_cast<std::size_t>(equations.joint_count()),
                                     {S(0), S(0)});
   for (Eigen::Index r = 0; r < rows.phi.size(); ++r) {

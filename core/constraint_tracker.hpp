@@ -18,9 +18,11 @@
 /// the rows they belong to (core/joint_multipliers_tpl.hpp). Only Model::advance_tracker changes
 /// a tracker, at a state the integrator accepted (a step, an output, a restart): a trial point a
 /// solver rejects never moves it.
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <vector>
+
+#include "core/constraint_jacobian_tpl.hpp"
+#include "core/row_gram_tpl.hpp"
 
 namespace flexref::core {
 
@@ -54,8 +56,9 @@ struct ConstraintTrackerTpl {
   /// The pivot ratio of J M⁻¹ Jᵀ over `rows` when they were chosen (the reference of
   /// kReselectPivotFall); 0: not yet factored, the first solve's ratio is taken.
   S selection_ratio = S(0);
-  /// All rows' J (m × N) at the last accepted state, its time, and whether there is one.
-  Matrix J_accepted;
+  /// All rows' J (m × N, by its body blocks) at the last accepted state, its time, and whether
+  /// there is one.
+  ConstraintJacobianTpl<S> J_accepted;
   double accepted_time = 0.0;
   bool has_accepted = false;
 
@@ -66,13 +69,9 @@ struct ConstraintTrackerTpl {
   Vector carry(const Vector& lambda, const std::vector<int>& from) const {
     Vector force = Vector::Zero(J_accepted.cols());
     for (std::size_t i = 0; i < from.size(); ++i) {
-      force -= lambda(static_cast<Eigen::Index>(i)) * J_accepted.row(from[i]).transpose();
+      J_accepted.add_row_transpose(from[i], S(-lambda(static_cast<Eigen::Index>(i))), force);
     }
-    Matrix J_r(static_cast<Eigen::Index>(rows.size()), J_accepted.cols());
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      J_r.row(static_cast<Eigen::Index>(i)) = J_accepted.row(rows[i]);
-    }
-    return (J_r * J_r.transpose()).ldlt().solve(-(J_r * force));
+    return multipliers_on_rows<S>(J_accepted, rows, force);
   }
 };
 using ConstraintTracker = ConstraintTrackerTpl<double>;

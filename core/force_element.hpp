@@ -247,6 +247,18 @@ class ForceElementTpl {
   virtual bool depends_on_velocity() const { return false; }
   /// Largest body index the element refers to (−1 for none); the model checks it.
   virtual int max_body_index() const = 0;
+  /// The bodies the element couples, for the sparsity of Jacobians (core/body_coupling.hpp): its
+  /// loads on, and the rates of its worn depths from, any listed body may depend on the state of
+  /// every listed body (a spring's two ends, a contact's pairs, a one-body element's body). An
+  /// element whose load on each body depends on that body's state alone and that integrates no
+  /// depths lists none (uniform gravity, a potential of fixed charges). The default lists every
+  /// body up to max_body_index(): it assumes the most, so an element that does not say is never
+  /// taken to decouple two bodies.
+  virtual std::vector<int> coupled_bodies() const {
+    std::vector<int> all(static_cast<std::size_t>(std::max(max_body_index() + 1, 0)));
+    for (std::size_t b = 0; b < all.size(); ++b) all[b] = static_cast<int>(b);
+    return all;
+  }
   /// One line saying what the element is, for messages; a body it acts on is named by its
   /// [[body]] table, "body[2]" (core::body_text without the bodies).
   virtual std::string describe() const = 0;

@@ -37,6 +37,8 @@ class UniformGravityTpl final : public ForceElementTpl<S> {
   double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   std::string describe() const override;
   int max_body_index() const override;
+  /// None: each body's weight depends on that body alone.
+  std::vector<int> coupled_bodies() const override { return {}; }
   const Vector3& g_W() const { return g_W_; }
 
  private:

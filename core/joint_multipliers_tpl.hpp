@@ -19,23 +19,6 @@
 
 namespace flexref::core {
 
-/// The multipliers on `rows` that give the generalized constraint force F = −Σ_r λ_r J_rᵀ: the
-/// same reactions on another basis of the rows' span (any two independent row sets of the same
-/// rank span it), from the normal equations (J_r J_rᵀ) λ = −J_r F. For integrators that carry
-/// multipliers of their own rows across a solve that chose others (a restart, rows chosen again
-/// in motion). Allocates: those rare paths only.
-template <typename S>
-Eigen::Matrix<S, Eigen::Dynamic, 1> multipliers_on_rows(
-    const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J, const std::vector<int>& rows,
-    const Eigen::Matrix<S, Eigen::Dynamic, 1>& force) {
-  Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> J_r(static_cast<Eigen::Index>(rows.size()),
-                                                       J.cols());
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    J_r.row(static_cast<Eigen::Index>(i)) = J.row(rows[i]);
-  }
-  return (J_r * J_r.transpose()).ldlt().solve(-(J_r * force));
-}
-
 /// The multipliers of the last constrained evaluation on a workspace's scratch, with the rows
 /// they belong to (Model::joint_multipliers): λ_i is the multiplier of row rows()[i]. A view:
 /// valid until the workspace's next evaluation.
@@ -52,15 +35,17 @@ class JointMultipliersTpl {
   /// The stacked generalized constraint force −J_rowsᵀ λ (basis-independent: the same whatever
   /// rows enforce the joints).
   const Vector& force() const { return solve_->force; }
-  /// All rows' J at the evaluated state (m × N).
-  const Matrix& J() const { return solve_->rows.J; }
+  /// All rows' J at the evaluated state (m × N) by its body blocks.
+  const ConstraintJacobianTpl<S>& jacobian() const { return solve_->rows.jacobian; }
+  /// The same dense (for tests and rare paths: allocates).
+  Matrix J() const { return solve_->rows.jacobian.dense(); }
   /// Whether the solve chose its rows again at its state (its tracker's had become
   /// ill-conditioned there): a hint to the integrator that its tracker is due to move.
   bool rows_chosen() const { return solve_->rows_chosen; }
   /// The same reactions as multipliers of other rows `target` (multipliers_on_rows); λ itself
   /// where target are rows(). Allocates.
   Vector on_rows(const std::vector<int>& target) const {
-    return multipliers_on_rows<S>(solve_->rows.J, target, solve_->force);
+    return multipliers_on_rows<S>(solve_->rows.jacobian, target, solve_->force);
   }
 
  private:
@@ -103,20 +88,36 @@ Eigen::Matrix<S, Eigen::Dynamic, 1> minimum_norm_multipliers(
 /// Per joint, the force and torque it exerts on its first body (ConstraintEquationsTpl::reaction)
 /// from the constrained solve at a state (the multipliers of solve_constrained_accelerations):
 /// the minimum-norm multipliers of all rows, then each joint's own rows' generalized force
-/// −J_jᵀ λ_j. Allocates: for outputs.
+/// −J_jᵀ λ_j. Where the solve enforced every row (no redundant row), those are its own λ (−Jᵀ λ
+/// = F has one solution), and each joint's force is gathered on its bodies' blocks only: linear
+/// in the rows. Otherwise the complete orthogonal decomposition, dense. Allocates: for outputs.
 template <typename S>
 std::vector<JointReactionTpl<S>> joint_reactions_from_solve(
     const ConstraintEquationsTpl<S>& equations, std::span<const BodyKinematicsTpl<S>> bodies,
     const VelocityLayout& layout, const JointMultipliersTpl<S>& multipliers) {
   using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
-  const Vector lambda = minimum_norm_multipliers<S>(
-      multipliers.J(), multipliers.force(), static_cast<Eigen::Index>(multipliers.rows().size()));
-  Vector force(layout.size());
+  const ConstraintJacobianTpl<S>& J = multipliers.jacobian();
+  const auto m = static_cast<Eigen::Index>(J.rows());
+  Vector lambda = Vector::Zero(m);
+  if (static_cast<Eigen::Index>(multipliers.rows().size()) == m) {
+    for (std::size_t i = 0; i < multipliers.rows().size(); ++i) {
+      lambda(multipliers.rows()[i]) = multipliers.lambda()(static_cast<Eigen::Index>(i));
+    }
+  } else {
+    lambda = minimum_norm_multipliers<S>(J.dense(), multipliers.force(),
+                                         static_cast<Eigen::Index>(multipliers.rows().size()));
+  }
+  Vector force = Vector::Zero(layout.size());
   std::vector<JointReactionTpl<S>> out;
   for (int j = 0; j < equations.joint_count(); ++j) {
     const std::array<int, 2> rows = equations.joint_rows(j);
-    force.noalias() = -multipliers.J().middleRows(rows[0], rows[1]).transpose() *
-                      lambda.segment(rows[0], rows[1]);
+    for (int r = rows[0]; r < rows[0] + rows[1]; ++r) {
+      for (int k = 0; k < 2; ++k) {
+        const auto& slot = J.slot(r, k);
+        if (slot.body >= 0) force.segment(slot.offset, slot.width).setZero();
+      }
+    }
+    for (int r = rows[0]; r < rows[0] + rows[1]; ++r) J.add_row_transpose(r, S(-lambda(r)), force);
     out.push_back(equations.reaction(j, bodies, layout, force));
   }
   return out;

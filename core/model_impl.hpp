@@ -199,7 +199,7 @@ typename ModelTpl<S>::Workspace ModelTpl<S>::make_workspace() const {
   ws.wear.resize(wear_names_.size());
   if (drive_work_) ws.integral_accelerations = make_accelerations();
   if (constraints_) {
-    ws.constraint = ConstraintSolveTpl<S>(constraints_->row_count(), layout_, active_rows_);
+    ws.constraint = ConstraintSolveTpl<S>(*constraints_, layout_, active_rows_);
   }
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     const Body& b = bodies_[i];

@@ -31,10 +31,15 @@ inline constexpr double kJointArmLimit = 1e5;
 template <typename S>
 void ModelTpl<S>::check_joint_data(const ConstraintRowsTpl<S>& rows) const {
   using std::abs;
-  for (Eigen::Index r = 0; r < rows.J.rows(); ++r) {
-    const int row = static_cast<int>(r);
+  for (int row = 0; row < rows.jacobian.rows(); ++row) {
+    const Eigen::Index r = row;
     const int joint = constraints_->joint_of_row(row);
-    if (!rows.J.row(r).allFinite() || !(rows.phi(r) == rows.phi(r)) ||
+    bool finite = true;
+    for (int k = 0; k < 2; ++k) {
+      if (rows.jacobian.slot(row, k).body >= 0)
+        finite = finite && rows.jacobian.values(row, k).allFinite();
+    }
+    if (!finite || !(rows.phi(r) == rows.phi(r)) ||
         !(abs(rows.phi(r)) < std::numeric_limits<S>::infinity()) ||
         !(abs(rows.phi_t(r)) < std::numeric_limits<S>::infinity())) {
       throw JointDataError(joint, 0,
@@ -51,10 +56,11 @@ void ModelTpl<S>::check_joint_data(const ConstraintRowsTpl<S>& rows) const {
       if (!body.is_free()) continue;
       // In double (the check runs on the double model, whose rows the others keep): the arm
       // without overflowing its square, ρ² = λ_min(I_Br)/m.
-      const double arm = rows.J.row(r)
-                             .template segment<3>(layout_.offset(ends[k]) + 3)
-                             .template cast<double>()
-                             .stableNorm();
+      const double arm =
+          rows.jacobian.values(row, rows.jacobian.slot(row, 0).body == ends[k] ? 0 : 1)
+              .template segment<3>(3)
+              .template cast<double>()
+              .stableNorm();
       const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(
           body.I_Br_B().template cast<double>(), Eigen::EigenvaluesOnly);
       const double rho = std::sqrt(eigen.eigenvalues()(0) / static_cast<double>(body.mass()));
@@ -133,7 +139,7 @@ void ModelTpl<S>::check_singular_start(const State& state, Workspace& ws) const 
   tracker.rows = s.active;
   tracker.selection_ratio = s.selection_ratio;
   const std::vector<int> active = s.active;
-  const Matrix J0 = s.rows.J;
+  const Matrix J0 = s.rows.jacobian.dense();
   const Eigen::Index n = layout_.size();
   // A motion the enforced rows allow: the drives' own motion v_p = −M⁻¹J_aᵀA⁻¹Φ_t (the smallest
   // in the mass metric), and a generic free one d = (I − M⁻¹J_aᵀA⁻¹J_a) M⁻¹ z, z pseudo-random
@@ -147,7 +153,7 @@ void ModelTpl<S>::check_singular_start(const State& state, Workspace& ws) const 
   for (Eigen::Index k = 0; k < n; ++k) z(k) = S(gaussian(random));
   Vector free(n);
   stacked_inverse_mass(z, free, ws);
-  s.rate.noalias() = s.rows.J * free;
+  s.rows.jacobian.multiply(free, s.rate);
   constraint_correction<S>(s.rate, s);
   free += s.x;
   // Each motion's size: the largest displacement of a body point within ℓ of its Br per unit.
@@ -193,10 +199,11 @@ void ModelTpl<S>::check_singular_start(const State& state, Workspace& ws) const 
   pose_bodies(moved, ws);
   constraints_->evaluate(tau, ws.kinematics, layout_, s.rows);
   // The set-aside row that moved furthest from the enforced rows' span, or was violated most.
+  const Matrix J_moved = s.rows.jacobian.dense();
   const Matrix Jt_active = [&] {
     Matrix J_a(static_cast<Eigen::Index>(active.size()), n);
     for (std::size_t i = 0; i < active.size(); ++i) {
-      J_a.row(static_cast<Eigen::Index>(i)) = s.rows.J.row(active[i]);
+      J_a.row(static_cast<Eigen::Index>(i)) = J_moved.row(active[i]);
     }
     return row_normalized_transpose<S>(J_a);
   }();
@@ -206,9 +213,9 @@ void ModelTpl<S>::check_singular_start(const State& state, Workspace& ws) const 
   S worst_drift = S(0);
   for (int row = 0; row < constraints_->row_count(); ++row) {
     if (std::find(active.begin(), active.end(), row) != active.end()) continue;
-    const S norm = s.rows.J.row(row).norm();
+    const S norm = J_moved.row(row).norm();
     const Vector direction =
-        norm > S(0) ? Vector(s.rows.J.row(row).transpose() / norm) : Vector(Vector::Zero(n));
+        norm > S(0) ? Vector(J_moved.row(row).transpose() / norm) : Vector(Vector::Zero(n));
     const S independence = (Jt_active * qr.solve(direction) - direction).norm();
     const S drift =
         abs(s.rows.phi(row)) / (constraints_->is_length_row(row) ? joint_length_scale_ : S(1));
@@ -264,14 +271,14 @@ void ModelTpl<S>::assemble_initial_state(const ConstraintOptions& options) {
   Workspace ws = make_workspace();
   pose_bodies(state, ws);
   ConstraintRowsTpl<S> rows;
-  rows.resize(constraints_->row_count(), layout_.size());
+  rows.resize_sparse(constraints_->row_count());
   constraints_->evaluate(S(0), ws.kinematics, layout_, rows);
   const bool chosen_here = options.independent_rows.empty();
   if (chosen_here) check_joint_data(rows);
-  active_rows_ = chosen_here ? core::independent_rows<S>(rows.J) : options.independent_rows;
+  active_rows_ = chosen_here ? core::independent_rows<S>(rows.jacobian) : options.independent_rows;
   default_tracker_ = make_constraint_tracker();
   // The joints' length scale ℓ: the largest arm from a body's Br to a joint point.
-  joint_length_scale_ = core::joint_length_scale<S>(*constraints_, layout_, rows.J);
+  joint_length_scale_ = core::joint_length_scale<S>(*constraints_, layout_, rows.jacobian);
   ws = make_workspace();
   ws.constraint.rows = rows;
   const RelativeJointViolationTpl<S> before = relative_violation(ws.constraint, state);

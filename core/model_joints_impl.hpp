@@ -108,7 +108,8 @@ typename ModelTpl<S>::ConstraintTracker ModelTpl<S>::make_constraint_tracker() c
   ConstraintTracker tracker;
   if (!constraints_) return tracker;
   tracker.rows = active_rows_;
-  tracker.J_accepted = Matrix::Zero(constraints_->row_count(), layout_.size());
+  tracker.J_accepted.build(constraints_->row_count(), layout_,
+                           [&](int r) { return constraints_->row_bodies(r); });
   return tracker;
 }
 
@@ -135,7 +136,7 @@ RelativeJointViolationTpl<S> ModelTpl<S>::relative_violation(ConstraintSolveTpl<
                                                              const State& state) const {
   const ConstraintRowsTpl<S>& rows = s.rows;
   stack_velocities(state, s.v);
-  s.rate.noalias() = rows.J * s.v;
+  rows.jacobian.multiply(s.v, s.rate);
   s.rate += rows.phi_t;
   const Vector& rate = s.rate;
   // Velocity scale: the bodies' speeds (|v_Br| + |ω̄| ℓ) and the drives' rates.
@@ -186,7 +187,8 @@ int ModelTpl<S>::constraint_rank(S t, const State& state, Workspace& ws, double 
   if (!constraints_) return 0;
   pose_bodies(state, ws);
   constraints_->evaluate(t, ws.kinematics, layout_, ws.constraint.rows);
-  Eigen::ColPivHouseholderQR<Matrix> qr(row_normalized_transpose<S>(ws.constraint.rows.J));
+  Eigen::ColPivHouseholderQR<Matrix> qr(
+      row_normalized_transpose<S>(ws.constraint.rows.jacobian.dense()));
   qr.setThreshold(S(tolerance));
   return static_cast<int>(qr.rank());
 }

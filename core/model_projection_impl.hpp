@@ -58,7 +58,7 @@ void ModelTpl<S>::project_velocities(S t, State& state, const ConstraintTracker&
   ConstraintSolveTpl<S>& s = ws.constraint;
   factor_constraints_at(t, state, tracker, ws);
   stack_velocities(state, s.v);
-  s.rate.noalias() = s.rows.J * s.v;
+  s.rows.jacobian.multiply(s.v, s.rate);
   s.rate += s.rows.phi_t;
   constraint_correction<S>(s.rate, s);
   layout_.add_to_velocities(s.x, state);

@@ -23,65 +23,45 @@ namespace flexref::core {
 inline constexpr double kOrientationTestCosine = 0.87758256189037276;  // cos 0.5
 
 /// True when the active rows kept their orientation since the accepted rows J_accepted (all
-/// rows, m × N): det(J_a,accepted M⁻¹ J_aᵀ) > 0. Both are bases of the rows' span; away from
-/// singular configurations and for the small state changes between a solver's evaluations the
-/// product is close to A, symmetric positive definite. When a configuration where the rows lose
-/// rank lies between the two (a four-bar's change point, stepped over), a singular value of J
-/// changes sign and the determinant with it. s factored at the current rows (s.Y = M⁻¹ J_aᵀ).
+/// rows, by J's blocks): det(J_a,accepted M⁻¹ J_aᵀ) > 0. Both are bases of the rows' span; away
+/// from singular configurations and for the small state changes between a solver's evaluations
+/// the product is close to A, symmetric positive definite. When a configuration where the rows
+/// lose rank lies between the two (a four-bar's change point, stepped over), a singular value of
+/// J changes sign and the determinant with it. s factored at the current rows (s.Y = M⁻¹ J_aᵀ).
+/// The product has A's pattern; its sparse LU in A's pivot order without pivoting
+/// (core/sparse_ldl_tpl.hpp) is stable for a matrix this close to A, and a symmetric
+/// permutation leaves the determinant's sign as it is: the sign is the product of D's.
 template <typename S>
-bool kept_orientation(const VelocityLayout& layout,
-                      const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J_accepted,
-                      ConstraintSolveTpl<S>& s) {
+bool kept_orientation(const ConstraintJacobianTpl<S>& J_accepted, ConstraintSolveTpl<S>& s) {
   const auto m = static_cast<Eigen::Index>(s.active.size());
   if (m == 0) return true;
-  for (Eigen::Index i = 0; i < m; ++i) {
-    const auto& bodies_i = s.active_bodies[static_cast<std::size_t>(i)];
-    for (Eigen::Index j = 0; j < m; ++j) {
-      s.crossing(i, j) = share_body(bodies_i, s.active_bodies[static_cast<std::size_t>(j)])
-                             ? sparse_row_product(J_accepted, s.active[static_cast<std::size_t>(i)],
-                                                  bodies_i, layout, s, j)
-                             : S(0);
-    }
+  for (int p = 0; p < s.schur.nonzeros(); ++p) {
+    s.crossing_upper(p) = s.schur.entry(p, J_accepted.all_values(), s.Y.all_values(), false);
+    s.crossing_lower(p) = s.schur.entry(p, J_accepted.all_values(), s.Y.all_values(), true);
   }
-  s.crossing_lu.compute(s.crossing);
-  // The determinant's sign: the permutation's and the signs of U's diagonal (no product, which
-  // could underflow). The permutation's sign is the parity of its inversions (O(m²)
-  // comparisons, no scratch: Eigen's PermutationMatrix::determinant allocates a mask).
-  const auto& indices = s.crossing_lu.permutationP().indices();
+  if (!s.crossing_lu.factor_unsymmetric(s.crossing_upper, s.crossing_lower)) return false;
   int sign = 1;
-  for (Eigen::Index i = 0; i < m; ++i) {
-    for (Eigen::Index j = i + 1; j < m; ++j) {
-      if (indices(i) > indices(j)) sign = -sign;
-    }
-  }
-  const auto& lu = s.crossing_lu.matrixLU();
+  const auto& d = s.crossing_lu.d();
   for (Eigen::Index k = 0; k < m; ++k) {
-    if (!(lu(k, k) != S(0))) return false;
-    if (lu(k, k) < S(0)) sign = -sign;
+    if (!(d(k) != S(0))) return false;
+    if (d(k) < S(0)) sign = -sign;
   }
   return sign > 0;
 }
 
 /// Throws SingularConfigurationError for a singular configuration passed between two solves, at
 /// t0 and t1 (kept_orientation): the joint of the active row with the smallest pivot of A's
-/// pivoted LDLᵀ at t1, the row nearest to dependence on the others.
+/// LDLᵀ (in its fill-reducing order) at t1, the row nearest to dependence on the others.
 template <typename S>
 [[noreturn]] void throw_singular_between(const ConstraintEquationsTpl<S>& equations,
                                          const ConstraintSolveTpl<S>& s, double t0, double t1) {
   using std::abs;
-  const auto d = s.ldlt.vectorD();
+  const auto& d = s.ldlt.d();
   Eigen::Index smallest = 0;
   for (Eigen::Index k = 1; k < d.size(); ++k) {
     if (abs(d(k)) < abs(d(smallest))) smallest = k;
   }
-  // vectorD is in the pivoted order: P A Pᵀ = L D Lᵀ, so pivot k is row transpositions⁻¹(k).
-  Eigen::Matrix<S, Eigen::Dynamic, 1> unit = Eigen::Matrix<S, Eigen::Dynamic, 1>::Zero(d.size());
-  unit(smallest) = S(1);
-  const Eigen::Matrix<S, Eigen::Dynamic, 1> original = s.ldlt.transpositionsP().transpose() * unit;
-  Eigen::Index row = 0;
-  for (Eigen::Index k = 0; k < original.size(); ++k) {
-    if (original(k) != S(0)) row = k;
-  }
+  const int row = d.size() > 0 ? s.schur.order[static_cast<std::size_t>(smallest)] : 0;
   const std::string& name =
       equations.joint_name(equations.joint_of_row(s.active[static_cast<std::size_t>(row)]));
   throw SingularConfigurationError(
@@ -99,19 +79,14 @@ template <typename S>
 /// accepted rows (each row's direction on the bodies it acts on, accepted against current):
 /// where they turned more, the orientation test is not conclusive.
 template <typename S>
-bool rows_turned_little(const VelocityLayout& layout,
-                        const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J_accepted,
+bool rows_turned_little(const ConstraintJacobianTpl<S>& J_accepted,
                         const ConstraintSolveTpl<S>& s) {
-  for (std::size_t i = 0; i < s.active.size(); ++i) {
-    const int row = s.active[i];
-    const std::array<int, 2>& bodies = s.active_bodies[i];
+  for (const int row : s.active) {
     S dot = S(0), previous = S(0), current = S(0);
-    for (std::size_t k = 0; k < bodies.size(); ++k) {
-      if (!distinct_body(bodies, k)) continue;
-      const int offset = layout.offset(bodies[k]);
-      const int width = layout.width(bodies[k]);
-      const auto a = J_accepted.row(row).segment(offset, width);
-      const auto b = s.rows.J.row(row).segment(offset, width);
+    for (int k = 0; k < 2; ++k) {
+      if (J_accepted.slot(row, k).body < 0) continue;
+      const auto a = J_accepted.values(row, k);
+      const auto b = s.rows.jacobian.values(row, k);
       dot += a.dot(b);
       previous += a.squaredNorm();
       current += b.squaredNorm();
@@ -130,16 +105,16 @@ bool rows_turned_little(const VelocityLayout& layout,
 template <typename S, typename ApplyInverseMass>
 void check_orientation(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
                        ApplyInverseMass&& apply_inverse_mass,
-                       const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J_accepted,
-                       double t_accepted, double t, ConstraintSolveTpl<S>& s) {
+                       const ConstraintJacobianTpl<S>& J_accepted, double t_accepted, double t,
+                       ConstraintSolveTpl<S>& s) {
   // The test assumes the small changes between a solver's evaluations; where the rows turned
   // through more (an explicit solver's long steps on a smooth driven motion), it would read the
   // turn for a crossing: it is skipped.
-  if (!rows_turned_little(layout, J_accepted, s) || kept_orientation(layout, J_accepted, s)) {
+  if (!rows_turned_little(J_accepted, s) || kept_orientation(J_accepted, s)) {
     return;
   }
   s.rows_chosen = true;
-  std::vector<int> rows = independent_rows<S>(s.rows.J);
+  std::vector<int> rows = independent_rows<S>(s.rows.jacobian);
   rows.resize(std::min(rows.size(), s.active.size()));
   if (rows.size() == s.active.size() && rows != s.active) {
     s.active = std::move(rows);
@@ -147,7 +122,7 @@ void check_orientation(const ConstraintEquationsTpl<S>& equations, const Velocit
       throw_singular(equations, s, t);
     }
   }
-  if (!kept_orientation(layout, J_accepted, s)) throw_singular_between(equations, s, t_accepted, t);
+  if (!kept_orientation(J_accepted, s)) throw_singular_between(equations, s, t_accepted, t);
 }
 
 }  // namespace flexref::core

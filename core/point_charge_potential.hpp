@@ -39,6 +39,8 @@ class PointChargePotentialTpl final : public ForceElementTpl<S> {
   double energy_balanced_from() const override { return -std::numeric_limits<double>::infinity(); }
   std::string describe() const override;
   int max_body_index() const override;
+  /// None: each charge's load depends on its own body's pose alone (the attractor is fixed).
+  std::vector<int> coupled_bodies() const override { return {}; }
 
   /// Force on a unit-weight charge at r (world); exposed for derivative tests.
   Vector3 unit_force_W(const Vector3& p_WP) const;

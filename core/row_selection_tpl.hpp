@@ -8,9 +8,11 @@
 /// configuration (a four-bar's dead point): SingularConfigurationError names the joint.
 #include <Eigen/QR>
 #include <algorithm>
+#include <numeric>
 #include <string>
 #include <vector>
 
+#include "core/row_gram_tpl.hpp"
 #include "core/schur_complement_tpl.hpp"
 
 namespace flexref::core {
@@ -92,15 +94,30 @@ std::vector<int> independent_rows(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::
   return rows;
 }
 
+/// The independent rows of J given by its blocks: all rows where they are clearly independent
+/// (rows_clearly_independent: a sparse LDLᵀ of their Gram matrix, near-linear in the rows), else
+/// the dense rank-revealing choice above on J made dense (over-constrained mechanisms and rows
+/// near dependence: small mechanisms, or a rare path). Allocates.
+template <typename S>
+std::vector<int> independent_rows(const ConstraintJacobianTpl<S>& J) {
+  if (rows_clearly_independent(J)) {
+    std::vector<int> rows(static_cast<std::size_t>(J.rows()));
+    std::iota(rows.begin(), rows.end(), 0);
+    return rows;
+  }
+  return independent_rows<S>(J.dense());
+}
+
 /// The joint whose row falls out of the independent set at the current rows (for the message of
 /// a singular configuration): the first active row a rank-revealing QR of J_aᵀ leaves out.
 /// Allocates (the failure path only).
 template <typename S>
 int singular_joint(const ConstraintEquationsTpl<S>& equations, const ConstraintSolveTpl<S>& s) {
+  const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> J = s.rows.jacobian.dense();
   Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic> J_a(static_cast<Eigen::Index>(s.active.size()),
-                                                       s.rows.J.cols());
+                                                       J.cols());
   for (std::size_t i = 0; i < s.active.size(); ++i) {
-    J_a.row(static_cast<Eigen::Index>(i)) = s.rows.J.row(s.active[i]);
+    J_a.row(static_cast<Eigen::Index>(i)) = J.row(s.active[i]);
   }
   const std::vector<int> kept = independent_rows<S>(J_a);
   for (std::size_t i = 0; i < s.active.size(); ++i) {
@@ -144,7 +161,7 @@ bool choose_rows(const ConstraintEquationsTpl<S>& equations, const VelocityLayou
     return true;
   }
   s.rows_chosen = true;
-  std::vector<int> rows = independent_rows<S>(s.rows.J);
+  std::vector<int> rows = independent_rows<S>(s.rows.jacobian);
   if (rows.size() < s.active.size()) return false;
   rows.resize(s.active.size());  // the rank cannot grow for a mechanism that moves continuously
   if (rows == s.active) {

@@ -10,9 +10,13 @@
 /// chosen again for it: core/row_selection_tpl.hpp), with M⁻¹ applied body by body by the model
 /// (a rigid body's diag(m, I_Br) inverse, a flexible body's structured solve; the rows a body's
 /// motion fixes stay zero). The scratch every constrained evaluation fills is here too.
-#include <Eigen/Cholesky>
+///
+/// Everything here is sparse (docs/decisions.md, "Constrained systems at scale"): J by its body
+/// blocks (core/constraint_jacobian_tpl.hpp), Y = M⁻¹ J_aᵀ by the same blocks, A by the pattern
+/// of rows sharing a body in a fill-reducing order (core/schur_pattern_tpl.hpp), factored by a
+/// sparse LDLᵀ (core/sparse_ldl_tpl.hpp) whose symbolic phase runs once per row set: an
+/// evaluation costs O(m) for a chain, not O(m³).
 #include <Eigen/Core>
-#include <Eigen/LU>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -21,6 +25,8 @@
 #include <vector>
 
 #include "core/constraint_equations.hpp"
+#include "core/schur_pattern_tpl.hpp"
+#include "core/sparse_ldl_tpl.hpp"
 
 namespace flexref::core {
 
@@ -44,25 +50,26 @@ class SingularConfigurationError : public std::runtime_error {
 /// Andrews squeezer's is ~1e-5 at worst, measured over its horizon).
 inline constexpr double kSingularPivotRatio = 1e-12;
 
-/// Scratch of one constrained evaluation, sized once (allocation-free evaluations). It holds
-/// nothing an evaluation reads from an earlier one: `active` and `selection_ratio` start from
-/// the caller's tracker at every evaluation (core/constraint_tracker.hpp) and end as the rows
-/// this evaluation enforced and the multipliers' rows (core/joint_multipliers_tpl.hpp).
+/// Scratch of one constrained evaluation, sized once (allocation-free evaluations; the pattern
+/// of A is built again only where the rows enforced change: setup and the rare evaluations that
+/// choose rows again). It holds nothing an evaluation reads from an earlier one: `active` and
+/// `selection_ratio` start from the caller's tracker at every evaluation
+/// (core/constraint_tracker.hpp) and end as the rows this evaluation enforced and the
+/// multipliers' rows (core/joint_multipliers_tpl.hpp).
 template <typename S>
 struct ConstraintSolveTpl {
   using Matrix = Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>;
   using Vector = Eigen::Matrix<S, Eigen::Dynamic, 1>;
   ConstraintRowsTpl<S> rows;
   std::vector<int> active;  ///< the rows this evaluation enforces (indices into rows)
-  /// Per active row, the bodies it acts on (−1: the ground), cached by factor_constraints: A and
-  /// the crossing product are sparse — entry (i, j) is non-zero only where rows i and j share a
-  /// body.
-  std::vector<std::array<int, 2>> active_bodies;
-  Matrix Y;  ///< N × m_a: M⁻¹ J_aᵀ
-  Matrix A;  ///< m_a × m_a: J_a M⁻¹ J_aᵀ
-  Eigen::LDLT<Matrix> ldlt;
+  /// Y = M⁻¹ J_aᵀ by J's blocks: row r's blocks hold M_b⁻¹ J_r,bᵀ (active rows only).
+  ConstraintJacobianTpl<S> Y;
+  SchurPattern schur;    ///< A's pattern for the rows it was built for
+  Vector A;              ///< A's upper triangle by schur's entries
+  SparseLdlTpl<S> ldlt;  ///< A = L D Lᵀ in schur's pivot order
   Vector rhs;            ///< m_a
   Vector lambda;         ///< m_a: the multipliers of the active rows
+  Vector pivoted;        ///< m_a: a right-hand side in the pivot order
   Vector x;              ///< N: stacked accelerations (free in, constrained out)
   Vector force;          ///< N: the generalized constraint force −J_aᵀ λ
   Vector v;              ///< N: stacked velocities (stabilization)
@@ -76,24 +83,24 @@ struct ConstraintSolveTpl {
   /// The pivot ratio the active rows were chosen at (the tracker's, or this evaluation's when it
   /// chose them again); 0: take the first factorization's.
   S selection_ratio = S(0);
-  Matrix crossing;  ///< m_a × m_a: J_a,accepted M⁻¹ J_aᵀ (the orientation test)
-  Eigen::PartialPivLU<Matrix> crossing_lu;
+  /// J_a,accepted M⁻¹ J_aᵀ (the orientation test) by schur's entries, upper and lower, and its
+  /// L D W̃ᵀ.
+  Vector crossing_upper, crossing_lower;
+  SparseLdlTpl<S> crossing_lu;
 
-  /// Every Eigen decomposition here is computed once at construction (on an identity or an
-  /// empty matrix): a decomposition never computed holds an uninitialized ComputationInfo, which
-  /// moving the scratch would copy (UBSan: invalid enum load).
-  ConstraintSolveTpl() { ldlt.compute(Matrix::Identity(0, 0)); }
-  ConstraintSolveTpl(int rows_count, const VelocityLayout& layout, std::vector<int> active_rows) {
-    rows.resize(rows_count, layout.size());
+  ConstraintSolveTpl() = default;
+  ConstraintSolveTpl(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
+                     std::vector<int> active_rows) {
+    const int rows_count = equations.row_count();
+    rows.resize_sparse(rows_count);
+    equations.prepare_rows(layout, rows);
+    Y = rows.jacobian;
     active = std::move(active_rows);
-    active_bodies.assign(active.size(), {-1, -1});
     const auto m = static_cast<Eigen::Index>(active.size());
     const Eigen::Index n = layout.size();
-    Y = Matrix::Zero(n, m);
-    A = Matrix::Zero(m, m);
-    ldlt.compute(Matrix::Identity(m, m));
     rhs = Vector::Zero(m);
     lambda = Vector::Zero(m);
+    pivoted = Vector::Zero(m);
     x = Vector::Zero(n);
     force = Vector::Zero(n);
     v = Vector::Zero(n);
@@ -104,80 +111,80 @@ struct ConstraintSolveTpl {
     }
     column = Vector::Zero(widest);
     out = Vector::Zero(widest);
-    crossing = Matrix::Zero(m, m);
-    crossing_lu = Eigen::PartialPivLU<Matrix>(m);
+    prepare_pattern();
+  }
+
+  /// A's pattern and factorizations' symbolic phase for `active`, unless they are for it.
+  /// Allocates only then.
+  void prepare_pattern() {
+    if (schur.is_for(active)) return;
+    schur.build(active, rows.jacobian);
+    const int m = static_cast<int>(active.size());
+    ldlt.analyze(m, schur.column_start, schur.row_index);
+    crossing_lu.analyze(m, schur.column_start, schur.row_index);
+    A = Vector::Zero(schur.nonzeros());
+    crossing_upper = Vector::Zero(schur.nonzeros());
+    crossing_lower = Vector::Zero(schur.nonzeros());
+    if (rhs.size() != m) {
+      rhs = Vector::Zero(m);
+      lambda = Vector::Zero(m);
+      pivoted = Vector::Zero(m);
+    }
+  }
+
+  /// lambda ← A⁻¹ rhs (both by active index), A factored.
+  void solve_schur() {
+    const auto m = static_cast<Eigen::Index>(active.size());
+    for (Eigen::Index k = 0; k < m; ++k) pivoted(k) = rhs(schur.order[static_cast<std::size_t>(k)]);
+    ldlt.solve_in_place(pivoted);
+    for (Eigen::Index k = 0; k < m; ++k)
+      lambda(schur.order[static_cast<std::size_t>(k)]) = pivoted(k);
+  }
+
+  /// x ← x − Y λ (the active rows' blocks).
+  void subtract_y_lambda() {
+    for (std::size_t i = 0; i < active.size(); ++i) {
+      Y.add_row_transpose(active[i], S(-lambda(static_cast<Eigen::Index>(i))), x);
+    }
   }
 };
+
+using ConstraintSolve = ConstraintSolveTpl<double>;
 
 /// True for the bodies[k] a row acts on that count once: not the ground (−1), not a repeat.
 inline bool distinct_body(const std::array<int, 2>& bodies, std::size_t k) {
   return bodies[k] >= 0 && !(k == 1 && bodies[1] == bodies[0]);
 }
 
-/// Σ over the bodies b of active row i of J_row,b · Y_b,j: entry (i, j) of J_rows M⁻¹ J_aᵀ for
-/// rows J_rows with the sparsity of the active rows (J_row is zero outside row i's bodies).
-template <typename S>
-S sparse_row_product(const Eigen::Matrix<S, Eigen::Dynamic, Eigen::Dynamic>& J, int row,
-                     const std::array<int, 2>& bodies, const VelocityLayout& layout,
-                     const ConstraintSolveTpl<S>& s, Eigen::Index j) {
-  S sum = S(0);
-  for (std::size_t k = 0; k < bodies.size(); ++k) {
-    if (!distinct_body(bodies, k)) continue;
-    const int offset = layout.offset(bodies[k]);
-    const int width = layout.width(bodies[k]);
-    sum += J.row(row).segment(offset, width).dot(s.Y.col(j).segment(offset, width));
-  }
-  return sum;
-}
-
-/// True when active rows i and j act on a common body (else A_ij = 0).
-inline bool share_body(const std::array<int, 2>& a, const std::array<int, 2>& b) {
-  return (a[0] >= 0 && (a[0] == b[0] || a[0] == b[1])) ||
-         (a[1] >= 0 && (a[1] == b[0] || a[1] == b[1]));
-}
-
-/// Y = M⁻¹ J_aᵀ, A = J_a Y and A's LDLᵀ for the active rows of s.rows.J. apply_inverse_mass(b,
+/// Y = M⁻¹ J_aᵀ, A = J_a Y and A's LDLᵀ for the active rows of s.rows. apply_inverse_mass(b,
 /// rhs, out) writes M_b⁻¹ rhs into out (body b's block width; the rows the body's motion fixes
 /// stay zero). Returns false (s.pivot_ratio set) when A is singular by kSingularPivotRatio.
 template <typename S, typename ApplyInverseMass>
-bool factor_constraints(const ConstraintEquationsTpl<S>& equations, const VelocityLayout& layout,
+bool factor_constraints(const ConstraintEquationsTpl<S>&, const VelocityLayout&,
                         ApplyInverseMass&& apply_inverse_mass, ConstraintSolveTpl<S>& s) {
   using std::abs;
+  s.prepare_pattern();
   const auto m = static_cast<Eigen::Index>(s.active.size());
-  s.Y.setZero();
   for (Eigen::Index i = 0; i < m; ++i) {
     const int row = s.active[static_cast<std::size_t>(i)];
-    auto& bodies = s.active_bodies[static_cast<std::size_t>(i)];
-    bodies = equations.row_bodies(row);
-    for (std::size_t k = 0; k < bodies.size(); ++k) {
-      if (!distinct_body(bodies, k)) continue;
-      const int b = bodies[k];
-      const int offset = layout.offset(b);
-      const int width = layout.width(b);
-      s.column.head(width) = s.rows.J.row(row).segment(offset, width).transpose();
-      apply_inverse_mass(b, s.column.head(width), s.out.head(width));
-      s.Y.col(i).segment(offset, width) = s.out.head(width);
+    for (int k = 0; k < 2; ++k) {
+      const auto& slot = s.rows.jacobian.slot(row, k);
+      if (slot.body < 0) continue;
+      s.column.head(slot.width) = s.rows.jacobian.values(row, k);
+      apply_inverse_mass(slot.body, s.column.head(slot.width), s.out.head(slot.width));
+      s.Y.values(row, k) = s.out.head(slot.width);
     }
   }
-  // A_ij = Σ over the bodies row i acts on of J_i,b · Y_b,j: zero unless rows i and j share a
-  // body (Y_b,j is zero outside row j's bodies).
-  for (Eigen::Index i = 0; i < m; ++i) {
-    const auto& bodies_i = s.active_bodies[static_cast<std::size_t>(i)];
-    for (Eigen::Index j = 0; j <= i; ++j) {
-      const S sum = share_body(bodies_i, s.active_bodies[static_cast<std::size_t>(j)])
-                        ? sparse_row_product(s.rows.J, s.active[static_cast<std::size_t>(i)],
-                                             bodies_i, layout, s, j)
-                        : S(0);
-      s.A(i, j) = sum;
-      s.A(j, i) = sum;
-    }
+  // A_ik = Σ over the bodies rows i and k share of J_i,b · Y_b,k (schur's entries).
+  for (int p = 0; p < s.schur.nonzeros(); ++p) {
+    s.A(p) = s.schur.entry(p, s.rows.jacobian.all_values(), s.Y.all_values(), false);
   }
   if (m == 0) {
     s.pivot_ratio = S(1);
     return true;
   }
-  s.ldlt.compute(s.A);
-  const auto d = s.ldlt.vectorD();
+  const bool factored = s.ldlt.factor_symmetric(s.A);
+  const auto& d = s.ldlt.d();
   S smallest = abs(d(0));
   S largest = abs(d(0));
   for (Eigen::Index k = 1; k < m; ++k) {
@@ -185,7 +192,7 @@ bool factor_constraints(const ConstraintEquationsTpl<S>& equations, const Veloci
     largest = std::max<S>(largest, abs(d(k)));
   }
   s.pivot_ratio = largest > S(0) ? S(smallest / largest) : S(0);
-  return s.ldlt.info() == Eigen::Success && s.pivot_ratio > S(kSingularPivotRatio);
+  return factored && s.pivot_ratio > S(kSingularPivotRatio);
 }
 
 }  // namespace flexref::core

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -31,8 +32,7 @@ GenAlphaStepper::GenAlphaStepper(const core::Model& model, const GenAlphaParamet
       r_(z_),
       dz_(z_),
       z_base_(z_),
-      S_(Eigen::MatrixXd::Identity(system_.size(), system_.size())),
-      lu_(S_) {}
+      pattern_rows_(1, -1) {}
 
 double GenAlphaStepper::force_evaluations_per_step() const {
   if (steps_ == 0) return 1.0 + system_.matrix_evaluations();
@@ -206,16 +206,31 @@ StepStatus GenAlphaStepper::step(double h) {
     if (!assembled || (slow && (reassemblies < kMaxReassemblies || !(norm.relative < previous)) &&
                        !detail::newton_stagnated(norm.relative, previous))) {
       reassemblies += assembled ? 1 : 0;
+      if (pattern_rows_ != system_.active_rows()) {
+        // A new set of rows in force (or the first matrix): a new pattern, ordered once.
+        pattern_rows_ = system_.active_rows();
+        system_.make_iteration_matrix(S_);
+        lu_.analyze(static_cast<int>(S_.rows()), S_.outerIndexPtr(), S_.innerIndexPtr());
+      }
       system_.iteration_matrix(z_, S_);
-      if (!std::isfinite(S_.sum())) return fail(detail::non_finite_failure("genalpha", t_n, h));
-      lu_.compute(S_);
+      if (!std::isfinite(S_.coeffs().sum())) {
+        return fail(detail::non_finite_failure("genalpha", t_n, h));
+      }
+      if (!lu_.factor(S_.valuePtr())) {
+        std::ostringstream message;
+        message.precision(17);
+        message << "genalpha: singular Newton matrix in the step from t = " << t_n
+                << " with h = " << h;
+        return fail(message.str());
+      }
       assembled = true;
       fresh = true;
       matrix_valid_ = true;
       matrix_h_ = h;
     }
     // z ← z − S⁻¹ r   (also after the test has passed: the last correction costs no evaluation)
-    dz_.noalias() = lu_.solve(r_);
+    dz_ = r_;
+    lu_.solve(dz_.data());
     z_base_ = z_;
     merit_base = merit;
     fraction = 1.0;

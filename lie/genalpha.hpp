@@ -12,7 +12,9 @@
 /// ρ∞ (lie/genalpha_parameters.hpp). Initial accelerations from the equations at t0: a_0 = v̇_0.
 ///
 /// Newton on all unknowns at once (x per body, λ̂ per independent joint row) with the iteration
-/// matrix S of genalpha_newton.hpp, LU-factored, and kept across iterations and steps of the
+/// matrix S of genalpha_newton.hpp, sparse (the bodies' coupling), LU-factored by KLU
+/// (lie/sparse_lu.hpp: ordered once per set of rows in force, refactored with the same pivots
+/// while they hold), and kept across iterations and steps of the
 /// same length while the residual contracts by kSlowContraction or better per iteration
 /// (modified Newton); reassembled at the current iterate when it does not, and after a restart
 /// or a change of h. A correction computed with a matrix assembled at its own iterate is a
@@ -20,17 +22,19 @@
 /// does not decrease ‖r‖² enough (kArmijo) it is halved (a backtracking line search): the
 /// Newton iteration then follows the residual down instead of cycling across a contact's onset
 /// or a regularized friction's steep slope, where the linear model holds over less than a full
-/// correction. Assembly costs 6 evaluations per body and an O(n³) factorization, an
-/// iteration one evaluation and an O(n²) solve. Converged when every component is ≤
-/// kNewtonTolerance (1e-14) of the size of its terms, or at the round-off floor
-/// (newton_stagnated); the last correction is applied as well. At a known load discontinuity
+/// correction. Assembly costs 6 evaluations per colour of bodies (genalpha_newton.hpp; 18 on a
+/// chain) and a sparse factorization, an iteration one evaluation and a sparse solve. Converged
+/// when every component is ≤ kNewtonTolerance (1e-14) of the size of its terms, or at the round-off
+/// floor (newton_stagnated); the last correction is applied as well. At a known load discontinuity
 /// v̇_n is re-evaluated on the new branch (its right limit) and a_n kept: bodies whose loads do
 /// not jump step exactly as they would alone.
 #include <Eigen/Core>
-#include <Eigen/LU>
+#include <Eigen/SparseCore>
+#include <vector>
 
 #include "lie/genalpha_newton.hpp"
 #include "lie/genalpha_parameters.hpp"
+#include "lie/sparse_lu.hpp"
 #include "lie/stepper.hpp"
 #include "lie/wear_depth_update.hpp"
 
@@ -123,19 +127,20 @@ class GenAlphaStepper final : public Stepper {
   core::ConstraintTracker tracker_;
   detail::WearDepthUpdate wear_;  ///< the worn depths' rates
   core::Accelerations acc_;
-  Eigen::VectorXd vdot_;          ///< v̇_n
-  Eigen::VectorXd a_;             ///< a_n
-  Eigen::VectorXd vdot_next_;     ///< v̇_{n+1}
-  Eigen::VectorXd a_next_;        ///< a_{n+1}
-  Eigen::VectorXd lambda_hat_;    ///< β h² λ_n
-  Eigen::VectorXd lambda_saved_;  ///< λ̂_n while a step's joints are checked
-  Eigen::VectorXd z_;             ///< Newton unknowns
-  Eigen::VectorXd r_;             ///< residual
-  Eigen::VectorXd dz_;            ///< correction
-  Eigen::VectorXd z_base_;        ///< the iterate a fresh correction was computed at
-  Eigen::MatrixXd S_;             ///< iteration matrix
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
-  bool matrix_valid_ = false;  ///< lu_ holds a factored matrix of step length matrix_h_
+  Eigen::VectorXd vdot_;           ///< v̇_n
+  Eigen::VectorXd a_;              ///< a_n
+  Eigen::VectorXd vdot_next_;      ///< v̇_{n+1}
+  Eigen::VectorXd a_next_;         ///< a_{n+1}
+  Eigen::VectorXd lambda_hat_;     ///< β h² λ_n
+  Eigen::VectorXd lambda_saved_;   ///< λ̂_n while a step's joints are checked
+  Eigen::VectorXd z_;              ///< Newton unknowns
+  Eigen::VectorXd r_;              ///< residual
+  Eigen::VectorXd dz_;             ///< correction
+  Eigen::VectorXd z_base_;         ///< the iterate a fresh correction was computed at
+  Eigen::SparseMatrix<double> S_;  ///< iteration matrix, the pattern of pattern_rows_
+  SparseLu lu_;                    ///< its sparse LU (ordered once per pattern)
+  std::vector<int> pattern_rows_;  ///< the rows in force S_'s pattern and lu_'s ordering are for
+  bool matrix_valid_ = false;      ///< lu_ holds a factored matrix of step length matrix_h_
   double matrix_h_ = 0.0;
   long evaluations_at_start_ = 0;
   long newton_iterations_ = 0;

@@ -1,10 +1,12 @@
 #include "lie/genalpha_newton.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "core/body_coupling.hpp"
 #include "core/prescribed_motion.hpp"
 #include "lie/scheme_support.hpp"
 #include "rotation/euler_parameters.hpp"
@@ -33,10 +35,28 @@ GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameter
       wrenches_(ws_.wrenches),
       R_(static_cast<std::size_t>(model.num_bodies()), Matrix3d::Identity()),
       acc_(model.make_accelerations()) {
+  coupling_ = core::body_coupling(model);
+  const std::vector<int> colour = core::colour_bodies(coupling_);
+  for (int b = 0; b < n_bodies_; ++b) {
+    const auto c = static_cast<std::size_t>(colour[static_cast<std::size_t>(b)]);
+    if (c >= colours_.size()) colours_.resize(c + 1);
+    colours_[c].push_back(b);
+  }
+  source_.assign(static_cast<std::size_t>(n_bodies_), -1);
+  for (const std::vector<int>& bodies : colours_) {
+    for (Eigen::Index k = 0;; ++k) {
+      bool any = false, inside = false;
+      for (const int j : bodies) {
+        inside = inside || k < layout_.width(j);
+        any = any || moves(j, k);
+      }
+      if (!inside) break;
+      matrix_evaluations_ += any ? 1 : 0;
+    }
+  }
   for (int b = 0; b < n_bodies_; ++b) {
     const core::Body& body = model.body(b);
     const int width = layout_.width(b);
-    for (int k = 0; k < width; ++k) integrated_unknowns_ += integrated_row(b, k) ? 1 : 0;
     body_residual_.push_back(Eigen::VectorXd::Zero(width));
     body_residual_base_.push_back(Eigen::VectorXd::Zero(width));
     mass_.push_back(body.is_flexible() ? Eigen::MatrixXd::Zero(width, width) : Eigen::MatrixXd());
@@ -48,6 +68,9 @@ GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameter
     const int rows = model.constraints()->row_count();
     rows_.resize(rows, static_cast<int>(n));
     rows_perturbed_.resize(rows, static_cast<int>(n));
+    // The rows' block pattern now, not at the first evaluation (steps allocate nothing).
+    model.constraints()->prepare_rows(model.velocity_layout(), rows_);
+    model.constraints()->prepare_rows(model.velocity_layout(), rows_perturbed_);
   }
   z_size_ = n + n_multipliers_;
   v_n_ = Eigen::VectorXd::Zero(n);
@@ -189,13 +212,8 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
   jt_lambda_terms_.setZero();
   if (n_multipliers_ > 0) {
     model_.constraints()->evaluate(t_np1, ws_.kinematics, model_.velocity_layout(), rows_);
-    const std::vector<int>& active = active_;
-    for (int a = 0; a < n_multipliers_; ++a) {
-      // J_aᵀ λ̂ (λ̂ = β h² λ)
-      const auto row = rows_.J.row(active[static_cast<std::size_t>(a)]);
-      jt_lambda_ += row.transpose() * z(n + a);
-      jt_lambda_terms_ += row.transpose().cwiseAbs() * std::abs(z(n + a));
-    }
+    // J_aᵀ λ̂ (λ̂ = β h² λ), each row on its two bodies' blocks
+    add_rows_transpose(rows_, z, jt_lambda_, &jt_lambda_terms_);
   }
   const double bh2 = p_.beta * h_ * h_;
   GenAlphaResidualNorm norm;
@@ -296,25 +314,77 @@ GenAlphaResidualNorm GenAlphaSystem::residual(const Eigen::VectorXd& z, Eigen::V
   return norm;
 }
 
+void GenAlphaSystem::add_rows_transpose(const core::ConstraintRows& rows, const Eigen::VectorXd& z,
+                                        Eigen::VectorXd& out, Eigen::VectorXd* terms) const {
+  const Eigen::Index n = layout_.size();
+  for (int a = 0; a < n_multipliers_; ++a) {
+    const int row = active_[static_cast<std::size_t>(a)];
+    const std::array<int, 2> ends = model_.constraints()->row_bodies(row);
+    for (const int b : ends) {
+      if (b < 0 || (b == ends[1] && ends[0] == ends[1])) continue;  // one body's block once
+      const auto o = static_cast<Eigen::Index>(offset(b));
+      const Eigen::Index width = offset(b + 1) - offset(b);
+      const auto J_b = rows.J.row(row).segment(o, width);
+      out.segment(o, width) += J_b.transpose() * z(n + a);
+      if (terms != nullptr)
+        terms->segment(o, width) += J_b.transpose().cwiseAbs() * std::abs(z(n + a));
+    }
+  }
+}
+
+void GenAlphaSystem::make_iteration_matrix(Eigen::SparseMatrix<double>& S) const {
+  const Eigen::Index n = layout_.size();
+  std::vector<Eigen::Triplet<double>> entries;
+  const auto block = [&](Eigen::Index r0, Eigen::Index rows, Eigen::Index c0, Eigen::Index cols) {
+    for (Eigen::Index c = c0; c < c0 + cols; ++c) {
+      for (Eigen::Index r = r0; r < r0 + rows; ++r) entries.emplace_back(r, c, 0.0);
+    }
+  };
+  for (int i = 0; i < n_bodies_; ++i) {
+    for (const int k : coupling_[static_cast<std::size_t>(i)]) {
+      block(offset(i), offset(i + 1) - offset(i), offset(k), offset(k + 1) - offset(k));
+    }
+  }
+  for (int a = 0; a < n_multipliers_; ++a) {
+    for (const int b : model_.constraints()->row_bodies(active_[static_cast<std::size_t>(a)])) {
+      if (b < 0) continue;
+      block(offset(b), offset(b + 1) - offset(b), n + a, 1);
+      block(n + a, 1, offset(b), offset(b + 1) - offset(b));
+    }
+  }
+  for (Eigen::Index k = 0; k < z_size_; ++k) entries.emplace_back(k, k, 0.0);
+  S.resize(z_size_, z_size_);
+  S.setFromTriplets(entries.begin(), entries.end());
+  S.makeCompressed();
+}
+
 void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd& S) {
+  Eigen::SparseMatrix<double> sparse;
+  make_iteration_matrix(sparse);
+  iteration_matrix(z, sparse);
+  S = Eigen::MatrixXd(sparse);
+}
+
+void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::SparseMatrix<double>& S) {
   const double bh2 = p_.beta * h_ * h_;
   const double gamma_prime = p_.gamma / (p_.beta * h_);                // ∂v_{n+1}/∂x
   const double mass_factor = (1.0 - p_.alpha_m) / (1.0 - p_.alpha_f);  // β h² β'
   const Eigen::Index n = layout_.size();
-  S.setZero();
+  S.coeffs().setZero();
   // Inertia, gyroscopic damping, the frame of the torque (analytic); fixed rows m̂ I.
   for (int b = 0; b < n_bodies_; ++b) {
     const core::Body& body = model_.body(b);
     const auto o = static_cast<Eigen::Index>(offset(b));
     const Eigen::Index width = offset(b + 1) - offset(b);
-    for (Eigen::Index k = 0; k < width; ++k) S(o + k, o + k) = diagonal_(o + k);
+    for (Eigen::Index k = 0; k < width; ++k) S.coeffRef(o + k, o + k) = diagonal_(o + k);
     if (body.is_flexible()) {
       // β h² M β' from the residual's mass matrix, on the integrated rows and columns.
       const Eigen::MatrixXd& M = mass_[static_cast<std::size_t>(b)];
       for (Eigen::Index i = 0; i < width; ++i) {
         if (!integrated_row(b, static_cast<int>(i))) continue;
         for (Eigen::Index j = 0; j < width; ++j) {
-          if (integrated_row(b, static_cast<int>(j))) S(o + i, o + j) = mass_factor * M(i, j);
+          if (integrated_row(b, static_cast<int>(j)))
+            S.coeffRef(o + i, o + j) = mass_factor * M(i, j);
         }
       }
       body_residual_base_[static_cast<std::size_t>(b)] =
@@ -328,39 +398,56 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd&
                               wrenches_[static_cast<std::size_t>(b)].tau_Br_W;
     const Matrix3d T = rotation::right_jacobian(z.segment<3>(o + 3));
     // β h² (J β' + (W̃ J − (J W)~) γ' − (Rᵀτ)~ T);  β h² J β' = J (1 − α_m)/(1 − α_f)
-    S.block<3, 3>(o + 3, o + 3) =
+    const Matrix3d rotation_block =
         J * mass_factor + bh2 * (gamma_prime * (rotation::hat(W) * J - rotation::hat(J * W)) -
                                  rotation::hat(torque_B) * T);
+    for (Eigen::Index c = 0; c < 3; ++c) {
+      for (Eigen::Index r = 0; r < 3; ++r) S.coeffRef(o + 3 + r, o + 3 + c) = rotation_block(r, c);
+    }
   }
   // The loads' K T + C γ' (a flexible body: its whole residual at fixed v̇; and the joints'
-  // ∂(Jᵀλ̂)/∂x): one directional forward difference per integrated unknown.
+  // ∂(Jᵀλ̂)/∂x): one directional forward difference per colour of bodies and unknown, the
+  // unknown moved in every body of the colour at once (colours_: each body's equations see one
+  // of them at most, source_).
   const core::LoadContext context{t_n_ + h_, t_n_ + 0.5 * h_};
-  const std::vector<int>* active = n_multipliers_ > 0 ? &active_ : nullptr;
   const double eps = kDirectionalStep;
-  for (int j = 0; j < n_bodies_; ++j) {
-    const auto oj = static_cast<Eigen::Index>(offset(j));
-    const Eigen::Index width_j = offset(j + 1) - offset(j);
-    const Matrix3d T = rotation::right_jacobian(z.segment<3>(oj + 3));
-    core::BodyState& sj = perturbed_[static_cast<std::size_t>(j)];
-    for (Eigen::Index k = 0; k < width_j; ++k) {
-      if (!integrated_row(j, static_cast<int>(k))) continue;
+  for (const std::vector<int>& bodies : colours_) {
+    std::fill(source_.begin(), source_.end(), -1);
+    Eigen::Index widest = 0;
+    for (const int j : bodies) {
+      for (const int i : coupling_[static_cast<std::size_t>(j)])
+        source_[static_cast<std::size_t>(i)] = j;
+      widest = std::max<Eigen::Index>(widest, offset(j + 1) - offset(j));
+    }
+    for (Eigen::Index k = 0; k < widest; ++k) {
       for (std::size_t b = 0; b < next_.size(); ++b) perturbed_[b] = next_[b];
-      if (k < 3) {
-        sj.p_WBr(k) += eps;
-        sj.v_WBr(k) += eps * gamma_prime;
-      } else if (k < 6) {
-        // configuration q exp(ε (T e_k)~), velocity W + ε γ' e_k
-        sj.theta_WB = rotation::quaternion_multiply(sj.theta_WB,
-                                                    rotation::exp_quaternion(eps * T.col(k - 3)));
-        renormalize_unit_product(sj.theta_WB);
-        sj.w_WB_B(k - 3) += eps * gamma_prime;
-      } else {
-        sj.q_f(k - 6) += eps;
-        sj.qd_f(k - 6) += eps * gamma_prime;
+      bool moved = false;
+      for (const int j : bodies) {
+        if (!moves(j, k)) continue;
+        moved = true;
+        core::BodyState& sj = perturbed_[static_cast<std::size_t>(j)];
+        if (k < 3) {
+          sj.p_WBr(k) += eps;
+          sj.v_WBr(k) += eps * gamma_prime;
+        } else if (k < 6) {
+          // configuration q exp(ε (T e_k)~), velocity W + ε γ' e_k
+          const Matrix3d T = rotation::right_jacobian(z.segment<3>(offset(j) + 3));
+          sj.theta_WB = rotation::quaternion_multiply(sj.theta_WB,
+                                                      rotation::exp_quaternion(eps * T.col(k - 3)));
+          renormalize_unit_product(sj.theta_WB);
+          sj.w_WB_B(k - 3) += eps * gamma_prime;
+        } else {
+          sj.q_f(k - 6) += eps;
+          sj.qd_f(k - 6) += eps * gamma_prime;
+        }
       }
+      if (!moved) continue;
       const core::Loads loads = model_.compute_wrenches(context, perturbed_, ws_);
       ++evaluations_;
       for (int i = 0; i < n_bodies_; ++i) {
+        const int j = source_[static_cast<std::size_t>(i)];
+        if (j < 0 || !moves(j, k)) continue;
+        const Eigen::Index column = offset(j) + k;
         const core::Body& body_i = model_.body(i);
         const auto oi = static_cast<Eigen::Index>(offset(i));
         const auto ii = static_cast<std::size_t>(i);
@@ -369,7 +456,7 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd&
           const Eigen::Index width_i = offset(i + 1) - offset(i);
           for (Eigen::Index row = 0; row < width_i; ++row) {
             if (!integrated_row(i, static_cast<int>(row))) continue;
-            S(oi + row, oj + k) +=
+            S.coeffRef(oi + row, column) +=
                 (bh2 / eps) * (body_residual_[ii](row) - body_residual_base_[ii](row));
           }
           continue;
@@ -377,22 +464,25 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd&
         if (body_i.is_prescribed()) continue;
         const core::Wrench& w0 = wrenches_[ii];
         const core::Wrench& w1 = ws_.wrenches[ii];
-        if (body_i.is_free()) S.block<3, 1>(oi, oj + k) -= (bh2 / eps) * (w1.f_W - w0.f_W);
-        S.block<3, 1>(oi + 3, oj + k) -=
-            (bh2 / eps) * (R_[ii].transpose() * (w1.tau_Br_W - w0.tau_Br_W));
+        if (body_i.is_free()) {
+          const Vector3d df = (bh2 / eps) * (w1.f_W - w0.f_W);
+          for (Eigen::Index r = 0; r < 3; ++r) S.coeffRef(oi + r, column) -= df(r);
+        }
+        const Vector3d dtau = (bh2 / eps) * (R_[ii].transpose() * (w1.tau_Br_W - w0.tau_Br_W));
+        for (Eigen::Index r = 0; r < 3; ++r) S.coeffRef(oi + 3 + r, column) -= dtau(r);
       }
-      if (active != nullptr) {
+      if (n_multipliers_ > 0) {
         model_.constraints()->evaluate(context.t, ws_.kinematics, model_.velocity_layout(),
                                        rows_perturbed_);
         jt_lambda_perturbed_.setZero();
-        for (int a = 0; a < n_multipliers_; ++a) {
-          jt_lambda_perturbed_ +=
-              rows_perturbed_.J.row((*active)[static_cast<std::size_t>(a)]).transpose() * z(n + a);
-        }
+        add_rows_transpose(rows_perturbed_, z, jt_lambda_perturbed_, nullptr);
         for (int b = 0; b < n_bodies_; ++b) {
+          const int j = source_[static_cast<std::size_t>(b)];
+          if (j < 0 || !moves(j, k)) continue;
+          const Eigen::Index column = offset(j) + k;
           for (int row = offset(b); row < offset(b + 1); ++row) {
             if (!integrated_row(b, row - offset(b))) continue;
-            S(row, oj + k) += (jt_lambda_perturbed_(row) - jt_lambda_(row)) / eps;
+            S.coeffRef(row, column) += (jt_lambda_perturbed_(row) - jt_lambda_(row)) / eps;
           }
         }
       }
@@ -406,21 +496,23 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd&
           body_residual_base_[static_cast<std::size_t>(b)];
     }
   }
-  if (active == nullptr) return;
+  if (n_multipliers_ == 0) return;
   // Joint blocks: Jᵀ in the dynamic rows, J T in the constraint rows (integrated unknowns).
   for (int a = 0; a < n_multipliers_; ++a) {
-    const int row = (*active)[static_cast<std::size_t>(a)];
-    for (int b = 0; b < n_bodies_; ++b) {
+    const int row = active_[static_cast<std::size_t>(a)];
+    for (const int b : model_.constraints()->row_bodies(row)) {
+      if (b < 0) continue;
       const auto o = static_cast<Eigen::Index>(offset(b));
       const Eigen::Index width = offset(b + 1) - offset(b);
       const Matrix3d T = rotation::right_jacobian(z.segment<3>(o + 3));
       for (Eigen::Index k = 0; k < width; ++k) {
         if (!integrated_row(b, static_cast<int>(k))) continue;
-        S(o + k, n + a) = rows_.J(row, o + k);
-        if (k < 3 || k >= 6) S(n + a, o + k) = rows_.J(row, o + k);
+        S.coeffRef(o + k, n + a) = rows_.J(row, o + k);
+        if (k < 3 || k >= 6) S.coeffRef(n + a, o + k) = rows_.J(row, o + k);
       }
       if (integrated_row(b, 3)) {
-        S.block<1, 3>(n + a, o + 3) = rows_.J.block<1, 3>(row, o + 3) * T;
+        const Eigen::RowVector3d JT = rows_.J.block<1, 3>(row, o + 3) * T;
+        for (Eigen::Index c = 0; c < 3; ++c) S.coeffRef(n + a, o + 3 + c) = JT(c);
       }
     }
   }

@@ -26,17 +26,21 @@
 /// flexible body's from Model::residual_mass_matrix), and for a rigid body the gyroscopic
 /// damping W̃ J − (J W)~ and the rotation of the world torque into the body frame, −(Rᵀτ)~ T.
 /// Finite differences: the force elements' stiffness and damping, K T + C γ', by one forward
-/// difference of the model's wrenches per unknown along the direction that unknown moves the
-/// state (configuration by ε T e_k, velocity by ε γ' e_k), ε = 1.5e-8 (√ε_mach: truncation
-/// ε |f''| and round-off ε_mach |f|/ε balance at ~1e-8 relative); for a flexible body the same
-/// difference of its whole residual at fixed v̇ (loads, elastic and damping forces, and the
-/// velocity- and configuration-dependent inertia terms); the joints' geometric stiffness
-/// ∂(Jᵀ λ̂)/∂x from the rows at the same perturbed configurations.
+/// difference of the model's wrenches per colour of bodies and unknown (the unknown moved in
+/// every body of the colour at once; two bodies share a colour only when no body's equations
+/// read both, core/body_coupling.hpp, so each difference is one body's column, the quotient the
+/// body-by-body difference forms: 6 × 3 evaluations on a chain, whatever its length) along the
+/// direction that unknown moves the state (configuration by ε T e_k, velocity by ε γ' e_k), ε
+/// = 1.5e-8 (√ε_mach: truncation ε |f''| and round-off ε_mach |f|/ε balance at ~1e-8 relative); for
+/// a flexible body the same difference of its whole residual at fixed v̇ (loads, elastic and damping
+/// forces, and the velocity- and configuration-dependent inertia terms); the joints' geometric
+/// stiffness ∂(Jᵀ λ̂)/∂x from the rows at the same perturbed configurations.
 ///
 /// Rows a body does not integrate (a pivot's translation, the rigid six of a prescribed body)
 /// have r = m̂ x and the matrix m̂ I (m̂: the scaled mass or inertia diagonal), so they stay at
 /// x = 0; a prescribed body's rigid motion follows its law.
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <vector>
 
 #include "core/model.hpp"
@@ -87,12 +91,19 @@ class GenAlphaSystem {
   /// r(z): one evaluation of the model's loads at t_{n+1}. Leaves the loads, rows and state of z
   /// in the system for iteration_matrix.
   GenAlphaResidualNorm residual(const Eigen::VectorXd& z, Eigen::VectorXd& r);
-  /// S = ∂r/∂z at the z of the last residual call (6 evaluations per integrated body).
+  /// S's pattern at the rows in force, its values zero (compressed): the blocks of coupled
+  /// bodies (core/body_coupling.hpp), each multiplier's column and row on its row's bodies, the
+  /// diagonal. Allocates: once per set of rows in force.
+  void make_iteration_matrix(Eigen::SparseMatrix<double>& S) const;
+  /// S = ∂r/∂z at the z of the last residual call into the values of a matrix with
+  /// make_iteration_matrix's pattern (matrix_evaluations() evaluations). Allocates nothing.
+  void iteration_matrix(const Eigen::VectorXd& z, Eigen::SparseMatrix<double>& S);
+  /// The same, dense (for tests; allocates).
   void iteration_matrix(const Eigen::VectorXd& z, Eigen::MatrixXd& S);
   /// Force evaluations made since construction.
   long evaluations() const { return evaluations_; }
   /// Evaluations one iteration_matrix call costs.
-  int matrix_evaluations() const { return integrated_unknowns_; }
+  int matrix_evaluations() const { return matrix_evaluations_; }
   /// Stacked velocities (v_WBr, ω̄, q̇_f) of a state, and accelerations into a stacked vector.
   void stack_velocities(const core::State& state, Eigen::VectorXd& v) const {
     layout_.stack_velocities(state, v);
@@ -103,6 +114,14 @@ class GenAlphaSystem {
 
  private:
   bool integrated_row(int body, int k) const { return layout_.integrated(body, k); }
+  /// Whether unknown k of body j is one the differences move (an integrated row of the body).
+  bool moves(int j, Eigen::Index k) const {
+    return k < offset(j + 1) - offset(j) && integrated_row(j, static_cast<int>(k));
+  }
+  /// out += Σ_a J_aᵀ λ̂_a over the rows in force, each row on its bodies' blocks only (terms:
+  /// the same with absolute values, when given).
+  void add_rows_transpose(const core::ConstraintRows& rows, const Eigen::VectorXd& z,
+                          Eigen::VectorXd& out, Eigen::VectorXd* terms) const;
   /// Model::dynamics_residual of body b with v̇ = vdot_ (prescribed: the law's α̅), into
   /// body_residual_[b], at the loads and kinematics compute_wrenches left in ws_.
   void body_residual(int b, const core::Loads& loads);
@@ -112,7 +131,10 @@ class GenAlphaSystem {
   int n_bodies_ = 0;
   int n_multipliers_ = 0;
   Eigen::Index z_size_ = 0;
-  int integrated_unknowns_ = 0;
+  int matrix_evaluations_ = 0;
+  std::vector<std::vector<int>> coupling_;  ///< per body, the bodies its equations read
+  std::vector<std::vector<int>> colours_;   ///< the bodies of each colour (colour_bodies)
+  std::vector<int> source_;  ///< per body, the body of the colour being differenced it reads
   const core::VelocityLayout& layout_;  ///< the model's stacked coordinates
   std::vector<int> active_;             ///< the rows of the multipliers (active_rows)
   double t_n_ = 0.0;

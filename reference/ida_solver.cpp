@@ -8,13 +8,17 @@
 ///   (error_weights.hpp). With ideal joints the form is the stabilized index-2 (GGL) system of
 ///   dae_form.hpp: the multipliers are algebraic (IDASetId) and out of the error test
 ///   (IDASetSuppressAlg), the other weights scaled by √(N/N_d) and the rotation's floored at
-///   ErrorWeights::kIndex2Roundoff ε, and the Newton matrix is IDA's difference quotients.
+///   ErrorWeights::kIndex2Roundoff ε, and the Newton matrix is IDA's difference quotients
+///   grouped by the bodies' coupling into a sparse matrix factored by KLU
+///   (dae_coloured_jacobian.hpp; the works' corrections completed by ida_work_completion.hpp),
+///   or with --newton-matrix dense IDA's own with a dense LU.
 /// - BDF orders 1–5, or 1–2 (A-stable) where undamped modes oscillate far above every rate the
 ///   outputs show (choose_ida_method, reference/method_choice.hpp; --method bdf|bdf2 overrides).
 /// - Newton iteration (choose_newton_jacobian): a flexible model's StructuredJacobian through
 ///   the structured Newton system (reference/ida_newton_solver.hpp); SolverOptions::jacobian
-///   through P (c_j I − J) (reference/ode_jacobian.hpp) with a dense LU; or IDA's
-///   difference-quotient Jacobian with a dense LU (rigid models).
+///   through P (c_j I − J) (reference/ode_jacobian.hpp) with a dense LU; coloured difference
+///   quotients and KLU (ideal joints, choose_ida_newton_jacobian); or IDA's difference-quotient
+///   Jacobian with a dense LU (rigid models).
 /// - The iteration matrix is rebuilt whenever c_j = α/h changes (IDASetDeltaCjLSetup(0)),
 ///   measured on free_spin: with IDA's default reuse (until c_j changes by 25 %) the stale matrix
 ///   moved the step sequence and the error by up to 15× at the same rtol (1.7e-9 instead of
@@ -33,7 +37,9 @@
 /// - SolverOptions::max_steps is IDA's mxstep: the most steps taken to reach one output time.
 #include <ida/ida.h>
 #include <ida/ida_ls.h>
+#include <sunlinsol/sunlinsol_klu.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
 #include <Eigen/Core>
 #include <algorithm>
@@ -46,11 +52,15 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "reference/dae_coloured_jacobian.hpp"
 #include "reference/dae_form.hpp"
 #include "reference/error_weights.hpp"
+#include "reference/ida_callbacks.hpp"
 #include "reference/ida_newton_solver.hpp"
+#include "reference/ida_work_completion.hpp"
 #include "reference/integral_weights.hpp"
 #include "reference/method_choice.hpp"
 #include "reference/ode_form.hpp"
@@ -65,176 +75,7 @@ namespace flexref::reference {
 namespace {
 
 namespace sun = sundials;
-
-/// Absolute tolerance of the joints' multipliers relative to their largest initial size (see
-/// start_segment): large enough that they never decide the Newton convergence test.
-constexpr double kMultiplierTolerance = 1e3;
-
-/// IDA's smallest step after a fallback, in ulp of the time (continue_without_share).
-constexpr double kMinStepUlps = 8.0;
-
-struct IdaData : sun::CallbackRecord {
-  const DaeForm* form = nullptr;
-  DaeForm::Scratch scratch;
-  double t_segment = 0.0;
-  /// For SolverOptions::jacobian: the ODE form (same layout), its scratch and J, P.
-  const OdeJacobian* jacobian = nullptr;
-  const OdeForm* ode = nullptr;
-  OdeForm::Scratch ode_scratch;
-  Eigen::MatrixXd ode_jacobian;
-  Eigen::MatrixXd mass;
-  Eigen::VectorXd f;
-  /// For NewtonJacobian::kStructured: the structured Jacobian and Newton system.
-  const StructuredJacobian* structured = nullptr;
-  StructuredJacobian::Scratch structured_scratch;
-  IdaNewtonSystem* newton = nullptr;
-  /// Ideal joints: the rows in force and the last accepted state's rows (core/
-  /// constraint_tracker.hpp), moved by the root function after every step
-  /// (Model::advance_tracker: the singular-configuration tests IDA's residual never makes).
-  core::ConstraintTracker tracker;
-  /// The callback whose exception failed the solve (failure_message).
-  const char* failed_callback = "residual";
-  /// IDA's memory, to read its accepted steps from (error_weights).
-  void* ida = nullptr;
-};
-
-/// Adds IDA's accepted steps since the last call to the clock.
-void record_steps(void* ida, StepClock& clock) {
-  long steps = 0;
-  double last_step = 0.0, t = 0.0;
-  sun::check(IDAGetNumSteps(ida, &steps), "IDAGetNumSteps");
-  if (steps == 0) return;
-  sun::check(IDAGetLastStep(ida, &last_step), "IDAGetLastStep");
-  sun::check(IDAGetCurrentTime(ida, &t), "IDAGetCurrentTime");
-  clock.record(steps, last_step, t);
-}
-
-/// IDAEwtFn: IDA calls it before every step (error_weights.hpp); it also records the step just
-/// taken on the clock. Allocates nothing.
-int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
-  auto& d = *static_cast<IdaData*>(user_data);
-  try {
-    record_steps(d.ida, *d.clock);
-    sun::step_error_weights(d, y, ewt);
-  } catch (...) {
-    d.callback_error = std::current_exception();
-    d.failed_callback = "error weights";
-    return -1;
-  }
-  return 0;
-}
-
-/// The rotation blocks of the DAE form's bodies (θ and ω̄ offsets in y).
-std::vector<RotationBlock> rotation_blocks(const DaeForm& form) {
-  std::vector<RotationBlock> blocks;
-  for (const DaeForm::Block& k : form.blocks()) {
-    if (k.theta >= 0) blocks.push_back({k.theta, k.w});
-  }
-  return blocks;
-}
-
-/// The model's switching functions at (t, y), then with ideal joints the singular-configuration
-/// tracker: IDA evaluates the root functions after every step (and at the outputs and event
-/// searches between), and its GGL residual never factors J M⁻¹ Jᵀ, so this is where a dead point
-/// stepped over is seen (docs/joints.md): the tracker moves to each such state. Its own entry is 1
-/// while the tracker's rows are the DAE's and −1 once it chose others (the DAE's became dependent
-/// among themselves, or ill conditioned: core::choose_rows): a root where the driver switches the
-/// DAE's rows. Allocates nothing but on a row change.
-int switching(sunrealtype t, N_Vector y, N_Vector /*yp*/, sunrealtype* g, void* user_data) {
-  auto& d = *static_cast<IdaData*>(user_data);
-  try {
-    d.form->unpack(t, sun::data(y), d.scratch.state);
-    const core::Model& model = d.form->model();
-    const int count = model.switching_function_count();
-    if (count > 0) {
-      model.switching_functions(core::LoadContext{t, d.t_segment}, d.scratch.state,
-                                d.scratch.workspace,
-                                std::span<double>(g, static_cast<std::size_t>(count)));
-    }
-    if (model.has_constraints()) {
-      model.advance_tracker(t, d.scratch.state, d.tracker, d.scratch.workspace);
-      g[count] = d.tracker.rows == d.form->active_rows() ? 1.0 : -1.0;
-    }
-  } catch (...) {
-    d.callback_error = std::current_exception();
-    d.failed_callback = "root function";
-    return -1;
-  }
-  return 0;
-}
-
-/// F(t, y, y') of the DAE form; allocates nothing.
-int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void* user_data) {
-  auto& d = *static_cast<IdaData*>(user_data);
-  try {
-    d.form->residual(core::LoadContext{t, d.t_segment}, sun::data(y), sun::data(yp), sun::data(r),
-                     d.scratch);
-  } catch (...) {
-    d.callback_error = std::current_exception();
-    return -1;  // unrecoverable; the driver rethrows the message
-  }
-  if (!sun::all_finite(sun::data(r), d.form->size())) {
-    // Recoverable: a trial step may have reached a singular load (a charge on the wall); IDA
-    // retries with a smaller step and gives up with its own message if that does not help.
-    d.last_nonfinite_time = t;
-    return 1;
-  }
-  return 0;
-}
-
-/// IDALsJacFn from the user's ODE Jacobian: ∂F/∂y + c_j ∂F/∂y' ≈ P (c_j I − J)
-/// (ode_jacobian.hpp); allocates nothing.
-int jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*yp*/, N_Vector /*r*/,
-             SUNMatrix matrix, void* user_data, N_Vector /*tmp1*/, N_Vector /*tmp2*/,
-             N_Vector /*tmp3*/) {
-  auto& d = *static_cast<IdaData*>(user_data);
-  const int n = d.form->size();
-  try {
-    const core::LoadContext context{t, d.t_segment};
-    d.ode->rhs(context, sun::data(y), d.f.data(), d.ode_scratch);
-    d.jacobian->evaluate(*d.ode, context, sun::data(y), d.f.data(), d.ode_jacobian, d.ode_scratch);
-    d.form->mass_rows(context, sun::data(y), d.mass, d.scratch);
-    d.ode_jacobian *= -1.0;
-    d.ode_jacobian.diagonal().array() += c_j;
-    Eigen::Map<Eigen::MatrixXd>(SUNDenseMatrix_Data(matrix), n, n).noalias() =
-        d.mass * d.ode_jacobian;
-  } catch (...) {
-    d.callback_error = std::current_exception();
-    return -1;
-  }
-  if (!sun::all_finite(SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n)) {
-    d.last_nonfinite_time = t;
-    return 1;  // recoverable: IDA retries with a smaller step
-  }
-  return 0;
-}
-
-/// IDALsJacFn of the structured path: J from the StructuredJacobian, then A = I − J/c_j and the
-/// factored mass rows (ida_newton_solver.hpp); allocates nothing.
-int structured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*yp*/, N_Vector /*r*/,
-                        SUNMatrix matrix, void* user_data, N_Vector /*tmp1*/, N_Vector /*tmp2*/,
-                        N_Vector /*tmp3*/) {
-  auto& d = *static_cast<IdaData*>(user_data);
-  const int n = d.form->size();
-  try {
-    const core::LoadContext context{t, d.t_segment};
-    d.structured->evaluate(context, sun::data(y), SUNDenseMatrix_Data(matrix), n,
-                           d.structured_scratch);
-    if (!d.newton->setup_matrix(context, sun::data(y), c_j, SUNDenseMatrix_Data(matrix),
-                                d.scratch)) {
-      d.last_nonfinite_time = t;
-      return 1;
-    }
-  } catch (...) {
-    d.callback_error = std::current_exception();
-    return -1;
-  }
-  if (!sun::all_finite(SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n)) {
-    d.last_nonfinite_time = t;
-    return 1;  // recoverable: IDA retries with a smaller step
-  }
-  return 0;
-}
+using namespace ida;  // IdaData and the callbacks (reference/ida_callbacks.hpp)
 
 /// IDA on the DAE form, driven segment by segment by integrate_segments.
 class IdaSegmentSolver final : public sun::SegmentSolver {
@@ -256,7 +97,7 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         context_(sun::make_context()),
         y_(sun::make_vector(form_.size(), context_.get())),
         yp_(sun::make_vector(form_.size(), context_.get())),
-        jacobian_(sun::make_dense_matrix(form_.size(), context_.get())),
+        jacobian_(make_jacobian_matrix()),
         linear_solver_(make_linear_solver()),
         ida_(sun::check_created(IDACreate(context_.get()), "IDACreate")) {
     data_.form = &form_;
@@ -284,6 +125,11 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       data_.structured = &*structured_;
       data_.structured_scratch = structured_->make_scratch();
       data_.newton = &*newton_;
+    }
+    if (newton == NewtonJacobian::kColoured) {
+      data_.coloured = &*coloured_;
+      data_.klu = klu_ ? klu_.get() : linear_solver_.get();
+      if (completion_) data_.completion = &*completion_;
     }
     if (newton == NewtonJacobian::kUser) {
       const int n = form_.size();
@@ -338,6 +184,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         sun::check(IDASetJacFn(ida, jacobian), "IDASetJacFn");
       } else if (newton_kind_ == NewtonJacobian::kStructured) {
         sun::check(IDASetJacFn(ida, structured_jacobian), "IDASetJacFn");
+      } else if (newton_kind_ == NewtonJacobian::kColoured) {
+        sun::check(IDASetJacFn(ida, coloured_jacobian), "IDASetJacFn");
       }
       sun::check(IDASetMaxOrd(ida, max_order_), "IDASetMaxOrd");
       sun::check(IDASetMaxNumSteps(ida, options_.max_steps), "IDASetMaxNumSteps");
@@ -426,6 +274,9 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
                "IDAGetNumNonlinSolvConvFails");
     stats.steps += steps;
     stats.rhs_evaluations += residuals + jacobian_residuals;
+    const long own = data_.coloured_residuals + (completion_ ? completion_->residuals() : 0L);
+    stats.rhs_evaluations += own - coloured_counted_;
+    coloured_counted_ = own;
     stats.jacobian_evaluations += jacobians;
     stats.error_test_failures += error_fails;
     stats.nonlinear_failures += convergence_fails;
@@ -469,9 +320,31 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   }
 
  private:
-  /// The structured Newton system (constructed here, before linear_solver_ refers to it) or a
-  /// dense LU.
+  /// The sparse matrix of the coloured path (its pattern and groups constructed here, before
+  /// jacobian_ is sized by them) or a dense one.
+  sun::Matrix make_jacobian_matrix() {
+    if (newton_kind_ != NewtonJacobian::kColoured) {
+      return sun::make_dense_matrix(form_.size(), context_.get());
+    }
+    coloured_.emplace(form_);
+    return sun::Matrix(sun::check_created(
+        SUNSparseMatrix(form_.size(), form_.size(), coloured_->nonzeros(), CSC_MAT, context_.get()),
+        "SUNSparseMatrix"));
+  }
+
+  /// The structured Newton system (constructed here, before linear_solver_ refers to it), KLU
+  /// for the coloured path, or a dense LU.
   sun::LinearSolver make_linear_solver() {
+    if (newton_kind_ == NewtonJacobian::kColoured) {
+      sun::LinearSolver klu(sun::check_created(
+          SUNLinSol_KLU(y_.get(), jacobian_.get(), context_.get()), "SUNLinSol_KLU"));
+      if (form_.work_index() < 0) return klu;
+      // The works' corrections completed after KLU's (ida_work_completion.hpp).
+      klu_ = std::move(klu);
+      completion_.emplace(form_);
+      return sun::LinearSolver(
+          make_ida_work_completing_solver(klu_.get(), *completion_, data_.scratch, context_.get()));
+    }
     if (newton_kind_ != NewtonJacobian::kStructured) {
       return sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get());
     }
@@ -524,6 +397,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
   double* share_dropped_at_;
   /// IDA's counters before a fallback's IDAReInit reset them (added in add_counters).
   mutable SolverStats dropped_counters_;
+  /// The coloured path's residuals already added to the stats (add_counters).
+  mutable long coloured_counted_ = 0;
   SolverOptions options_;
   int max_order_;
   NewtonJacobian newton_kind_;
@@ -538,12 +413,15 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
       std::vector<double>(static_cast<std::size_t>(form_.integral_count()));
   std::optional<StructuredJacobian> structured_;
   std::optional<IdaNewtonSystem> newton_;
+  std::optional<DaeColouredJacobian> coloured_;
+  std::optional<IdaWorkCompletion> completion_;
   IdaData data_;
   bool initialized_ = false;
   double multiplier_tolerance_ = 0.0;
   sun::Context context_;
   sun::Vector y_, yp_;
   sun::Matrix jacobian_;
+  sun::LinearSolver klu_;  ///< KLU under the works' completion (freed after it)
   sun::LinearSolver linear_solver_;
   // Declared last so that it is freed first (as in SUNDIALS' examples).
   sun::IdaMemory ida_;
@@ -561,7 +439,7 @@ ReferenceRun solve_ida(const core::Model& model, const std::vector<double>& outp
     choice = choose_ida_method(model, mean_output_spacing(output_times));
   }
   const int max_order = choice.method == CvodeMethod::kBdf2 ? 2 : 5;
-  const NewtonJacobian newton = choose_newton_jacobian(model, options);
+  const NewtonJacobian newton = choose_ida_newton_jacobian(model, options);
   const double span = output_times.empty() ? 0.0 : output_times.back() - output_times.front();
   const bool per_step =
       rotation_weights_per_step(summarize_stiffness(model, mean_output_spacing(output_times)));

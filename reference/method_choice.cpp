@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <limits>
 #include <numbers>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -18,33 +19,103 @@ namespace flexref::reference {
 
 namespace {
 
+/// The ODE form's size above which the spectrum comes from a Krylov space instead of the dense
+/// Jacobian: the dense eigenvalues cost O(n³) and its difference quotients n evaluations (a
+/// chain of 128 bodies, n = 1664: 10 s, fifteen times its whole CVODE reference), where
+/// kKrylovSteps evaluations and O(n k²) find the outer eigenvalues the summary reads
+/// (docs/decisions.md, "Constrained systems at scale"). Every bundled scene is below it.
+constexpr int kDenseSpectrumSize = 400;
+/// Arnoldi steps of the Krylov estimate: the Ritz values of k steps approximate the eigenvalues
+/// on the outside of the spectrum (the largest |λ|, the most negative and most positive Re λ),
+/// which are the rates the choice compares with factors of kStiffnessRatio.
+constexpr int kKrylovSteps = 80;
+
+/// The ODE form at the initial state, on the first segment's loads, for difference quotients.
+struct InitialPoint {
+  explicit InitialPoint(const core::Model& model) : form(model), scratch(form.make_scratch()) {
+    const auto n = static_cast<std::size_t>(form.size());
+    y.resize(n);
+    f0.resize(n);
+    f1.resize(n);
+    form.pack(model.initial_state(), y.data());
+    const std::vector<double>& switches = model.discontinuities();
+    context = core::LoadContext{0.0, switches.empty() ? 0.0 : 0.5 * switches.front()};
+    form.rhs(context, y.data(), f0.data(), scratch);
+  }
+  OdeForm form;
+  OdeForm::Scratch scratch;
+  std::vector<double> y, f0, f1;
+  core::LoadContext context{0.0, 0.0};
+};
+
 /// J = ∂f/∂y of the ODE form at the initial state by forward differences (step
 /// √u · max(1, |y_j|), the optimum for a forward difference), on the first segment's loads.
-Eigen::MatrixXd initial_jacobian(const core::Model& model) {
-  const OdeForm form(model);
-  const int n = form.size();
-  OdeForm::Scratch scratch = form.make_scratch();
-  std::vector<double> y(static_cast<std::size_t>(n)), f0(y.size()), f1(y.size());
-  form.pack(model.initial_state(), y.data());
-  const std::vector<double>& switches = model.discontinuities();
-  const double t_segment = switches.empty() ? 0.0 : 0.5 * switches.front();
-  const core::LoadContext context{0.0, t_segment};
-  form.rhs(context, y.data(), f0.data(), scratch);
+Eigen::MatrixXd initial_jacobian(InitialPoint& p) {
+  const int n = p.form.size();
   Eigen::MatrixXd jacobian(n, n);
   for (int j = 0; j < n; ++j) {
     const auto u = static_cast<std::size_t>(j);
-    const double saved = y[u];
+    const double saved = p.y[u];
     const double step =
         std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(saved));
-    y[u] = saved + step;
-    form.rhs(context, y.data(), f1.data(), scratch);
-    y[u] = saved;
+    p.y[u] = saved + step;
+    p.form.rhs(p.context, p.y.data(), p.f1.data(), p.scratch);
+    p.y[u] = saved;
     for (int i = 0; i < n; ++i) {
       const auto v = static_cast<std::size_t>(i);
-      jacobian(i, j) = (f1[v] - f0[v]) / step;
+      jacobian(i, j) = (p.f1[v] - p.f0[v]) / step;
     }
   }
   return jacobian;
+}
+
+/// The Ritz values of kKrylovSteps Arnoldi steps on J (Saad, Numerical Methods for Large
+/// Eigenvalue Problems, Algorithm 6.2, with the Gram–Schmidt pass done twice), each product J v
+/// a forward difference along the unit vector v (step √u · max(1, |y|)); the start vector a
+/// fixed pseudo-random one (the same answer on every machine). Also the difference quotients'
+/// noise level: 1e-6 of the largest |J v| met.
+Eigen::VectorXcd krylov_eigenvalues(InitialPoint& p, double& noise) {
+  const int n = p.form.size();
+  const int k = std::min(n, kKrylovSteps);
+  Eigen::MatrixXd V = Eigen::MatrixXd::Zero(n, k + 1);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(k + 1, k);
+  Eigen::VectorXd y0(n);
+  for (int i = 0; i < n; ++i) y0(i) = p.y[static_cast<std::size_t>(i)];
+  const double step = std::sqrt(std::numeric_limits<double>::epsilon()) *
+                      std::max(1.0, y0.lpNorm<Eigen::Infinity>());
+  std::mt19937 random(20260052u);
+  std::normal_distribution<double> gaussian(0.0, 1.0);
+  for (int i = 0; i < n; ++i) V(i, 0) = gaussian(random);
+  V.col(0).normalize();
+  double largest = 0.0;
+  int steps = k;
+  for (int j = 0; j < k; ++j) {
+    for (int i = 0; i < n; ++i) p.y[static_cast<std::size_t>(i)] = y0(i) + step * V(i, j);
+    p.form.rhs(p.context, p.y.data(), p.f1.data(), p.scratch);
+    Eigen::VectorXd w(n);
+    for (int i = 0; i < n; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      w(i) = (p.f1[u] - p.f0[u]) / step;
+    }
+    largest = std::max(largest, w.norm());
+    for (int pass = 0; pass < 2; ++pass) {
+      for (int i = 0; i <= j; ++i) {
+        const double h = V.col(i).dot(w);
+        H(i, j) += h;
+        w -= h * V.col(i);
+      }
+    }
+    H(j + 1, j) = w.norm();
+    if (!(H(j + 1, j) > 1e-12 * largest)) {  // an invariant subspace: its Ritz values are exact
+      steps = j + 1;
+      break;
+    }
+    V.col(j + 1) = w / H(j + 1, j);
+  }
+  for (int i = 0; i < n; ++i) p.y[static_cast<std::size_t>(i)] = y0(i);
+  noise = 1e-6 * largest;
+  if (!std::isfinite(largest)) return Eigen::VectorXcd::Constant(1, largest);
+  return Eigen::MatrixXd(H.topLeftCorner(steps, steps)).eigenvalues();
 }
 
 }  // namespace
@@ -75,15 +146,23 @@ StiffnessSummary summarize_stiffness(const core::Model& model, double output_spa
   summary.accuracy_rate = output_spacing > 0.0
                               ? std::max(std::numbers::pi / output_spacing, angular_speed)
                               : std::numeric_limits<double>::infinity();
-  const Eigen::MatrixXd jacobian = initial_jacobian(model);
-  if (jacobian.size() == 0) return summary;
-  if (!jacobian.allFinite()) {
-    // Singular loads at the initial state: the solvers report it; no stiffness to infer.
-    return summary;
-  }
+  InitialPoint point(model);
+  if (point.form.size() == 0) return summary;
   // Eigenvalues below the difference quotients' noise, ~1e-6 of the largest entry, are zero.
-  const double noise = 1e-6 * jacobian.cwiseAbs().maxCoeff();
-  const Eigen::VectorXcd eigenvalues = jacobian.eigenvalues();
+  double noise = 0.0;
+  Eigen::VectorXcd eigenvalues;
+  if (point.form.size() > kDenseSpectrumSize) {
+    eigenvalues = krylov_eigenvalues(point, noise);
+    if (!eigenvalues.allFinite()) return summary;
+  } else {
+    const Eigen::MatrixXd jacobian = initial_jacobian(point);
+    if (!jacobian.allFinite()) {
+      // Singular loads at the initial state: the solvers report it; no stiffness to infer.
+      return summary;
+    }
+    noise = 1e-6 * jacobian.cwiseAbs().maxCoeff();
+    eigenvalues = jacobian.eigenvalues();
+  }
   for (const std::complex<double>& lambda : eigenvalues) {
     const double magnitude = std::abs(lambda);
     summary.fastest_rate = std::max(summary.fastest_rate, magnitude);
@@ -193,6 +272,12 @@ NewtonJacobian choose_newton_jacobian(const core::Model& model, const SolverOpti
   return NewtonJacobian::kDifferenceQuotients;
 }
 
+NewtonJacobian choose_ida_newton_jacobian(const core::Model& model, const SolverOptions& options) {
+  const NewtonJacobian chosen = choose_newton_jacobian(model, options);
+  if (chosen != NewtonJacobian::kDifferenceQuotients || !model.has_constraints()) return chosen;
+  return options.newton_matrix == NewtonMatrix::kDense ? chosen : NewtonJacobian::kColoured;
+}
+
 const char* to_string(NewtonJacobian jacobian) {
   switch (jacobian) {
     case NewtonJacobian::kDifferenceQuotients:
@@ -201,6 +286,8 @@ const char* to_string(NewtonJacobian jacobian) {
       return "structured, structured Newton solve";
     case NewtonJacobian::kUser:
       return "user, dense LU";
+    case NewtonJacobian::kColoured:
+      return "coloured difference quotients, sparse LU (KLU)";
   }
   return "difference quotients, dense LU";
 }

@@ -108,6 +108,8 @@ enum class NewtonJacobian {
   kDifferenceQuotients,  ///< the solver's own difference quotients, dense LU
   kStructured,           ///< StructuredJacobian + the structured Newton solve (newton_matrix.hpp)
   kUser,                 ///< SolverOptions::jacobian, dense LU
+  kColoured,             ///< IDA on ideal joints: coloured difference quotients, KLU
+                         ///< (dae_coloured_jacobian.hpp)
 };
 
 /// Baumgarte's rate α for a model with ideal joints integrated without projection (CVODE's
@@ -126,6 +128,11 @@ double constraint_stabilization_rate(const core::Model& model, double output_spa
 /// O((13 + 2n)³); docs/performance.md); otherwise kDifferenceQuotients (rigid models keep
 /// SUNDIALS' own, the figures of docs/references.md).
 NewtonJacobian choose_newton_jacobian(const core::Model& model, const SolverOptions& options);
+/// IDA's: choose_newton_jacobian's, but kColoured for a model with ideal joints unless
+/// options.newton_matrix asks for the dense one (kDense). No jointed model was measured faster
+/// with the dense matrix, from one body on (docs/performance.md, "Constrained systems at
+/// scale"): the coloured quotients cost fewer residuals from the smallest mechanism up.
+NewtonJacobian choose_ida_newton_jacobian(const core::Model& model, const SolverOptions& options);
 const char* to_string(NewtonJacobian jacobian);
 
 }  // namespace flexref::reference

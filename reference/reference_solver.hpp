@@ -35,6 +35,14 @@ enum class ArkodeMethod {
   kEsdirk,  ///< ARKStep, ESDIRK5(4)7L[2]SA (implicit, L-stable, order 5)
 };
 
+/// IDA's Newton matrix on a model with ideal joints (docs/references.md, "IDA";
+/// choose_ida_newton_jacobian, method_choice.hpp).
+enum class NewtonMatrix {
+  kAuto,    ///< sparse (measured never slower on a jointed model)
+  kDense,   ///< IDA's difference quotients, dense LU
+  kSparse,  ///< coloured difference quotients, KLU (reference/dae_coloured_jacobian.hpp)
+};
+
 struct SolverOptions {
   double rtol = 1e-10;
   /// Absolute tolerance; a negative value means atol = rtol (the states are O(1) in SI).
@@ -49,6 +57,8 @@ struct SolverOptions {
   /// (flexible models) or difference quotients (rigid ones) (ode_jacobian.hpp); not owned, must
   /// outlive the solve.
   const OdeJacobian* jacobian = nullptr;
+  /// IDA on ideal joints: its Newton matrix dense or sparse (kAuto: by the number of bodies).
+  NewtonMatrix newton_matrix = NewtonMatrix::kAuto;
   /// Where a progress line follows the solve (solve_progress.hpp): the solver stores the time
   /// it reached at each output time. Not owned; solve_reference does not keep it in the run.
   SolveProgress* progress = nullptr;

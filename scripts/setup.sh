@@ -15,7 +15,8 @@ while (($#)); do
   esac
 done
 
-packages=(build-essential cmake ninja-build libsundials-dev libeigen3-dev libboost-dev libcli11-dev catch2
+packages=(build-essential cmake ninja-build libsundials-dev libsuitesparse-dev libeigen3-dev
+          libboost-dev libcli11-dev catch2
           libtoml11-dev libbenchmark-dev python3-matplotlib python3-numpy pybind11-dev
           python3-pybind11 python3-dev calculix-ccx libopenmpi-dev openmpi-bin)
 # The engines the examples verify (docs/engines.md) are needed only when everything is built:

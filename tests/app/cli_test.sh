@@ -315,6 +315,20 @@ out=$("$flexref" reference scenes/book_toss.toml --solver arkode --rtol 1e-8 --n
 "$flexref" reference scenes/book_toss.toml --solver ida --method adams -o "$tmp/z.csv" \
   >/dev/null 2>&1 && fail "ida --method adams accepted"
 [[ ! -e $tmp/z.csv ]] || fail "ida --method adams: an output file was written"
+# IDA on ideal joints: the sparse Newton matrix by default, SUNDIALS' dense one on request; the
+# option names IDA's matrix, so another solver refuses it.
+for matrix in auto dense; do
+  "$flexref" reference scenes/double_pendulum_ideal.toml --solver ida --rtol 1e-6 --no-estimate \
+    --newton-matrix $matrix -o "$tmp/dp_$matrix.csv" >/dev/null 2>&1 ||
+    fail "reference --newton-matrix $matrix failed"
+done
+[[ $(cat "$tmp/dp_auto.csv.meta.toml") == *'jacobian = "coloured difference quotients, sparse LU (KLU)"'* ]] ||
+  fail "reference ida on joints: not the sparse Newton matrix"
+[[ $(cat "$tmp/dp_dense.csv.meta.toml") == *'jacobian = "difference quotients, dense LU"'* ]] ||
+  fail "reference --newton-matrix dense: not the dense Newton matrix"
+"$flexref" reference scenes/double_pendulum_ideal.toml --solver cvode --newton-matrix sparse \
+  -o "$tmp/z.csv" >/dev/null 2>&1 && fail "cvode --newton-matrix sparse accepted"
+[[ ! -e $tmp/z.csv ]] || fail "cvode --newton-matrix sparse: an output file was written"
 
 # A stiff oscillatory scene (undamped modes 57x the output Nyquist rate): the default reference
 # is ARKODE's ESDIRK with the structured Newton systems, the choice recorded and printed;

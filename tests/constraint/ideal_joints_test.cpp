@@ -174,6 +174,19 @@ void check_rows_against_differences(const IdealJointSpec& spec, const Bodies& bo
     INFO(spec.name << " row " << r << ": J v + Φ_t = " << rate(r) << ", difference " << rate_fd(r));
     CHECK(rate(r) == Approx(rate_fd(r)).margin(rate_margin));
   }
+  // The same rates by J's body blocks, as the constrained solve reads them (row_dot, and the
+  // transposed product add_row_transpose through vᵀ(Jᵀμ) = μᵀ(J v) for one μ per row): a block
+  // at a wrong offset, or with another row's values, misses the differences by O(1).
+  VectorXd sparse_rate(rate.size());
+  rows.jacobian.multiply(v, sparse_rate);
+  sparse_rate += rows.phi_t;
+  for (Eigen::Index r = 0; r < rate.size(); ++r) {
+    INFO(spec.name << " row " << r << ": by blocks J v + Φ_t = " << sparse_rate(r));
+    CHECK(sparse_rate(r) == Approx(rate_fd(r)).margin(rate_margin));
+    VectorXd transposed = VectorXd::Zero(v.size());
+    rows.jacobian.add_row_transpose(static_cast<int>(r), 1.0, transposed);
+    CHECK(transposed.dot(v) + rows.phi_t(r) == Approx(rate_fd(r)).margin(rate_margin));
+  }
   // Φ̈ by the second difference along the second-order exact curve, step 1e-4: truncation
   // ~ε² Φ'''' ≈ 1e-8 × O(1e4), round-off ~4 ε_mach Φ/ε² ≈ 1e-7: 1e-5 relative to the
   // accelerations' size (~1e3) still catches every term (the smallest, 2 ω × A Φ q̇_f, is ~1).
