@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <new>
 
+#include "reference/custom_linear_solver.hpp"
+
 namespace flexref::reference {
 
 IdaNewtonSystem::IdaNewtonSystem(const DaeForm& dae, const OdeForm& ode)
@@ -67,10 +69,8 @@ struct Content {
   sunindextype last_flag = SUNLS_SUCCESS;
 };
 
-Content& content(SUNLinearSolver S) { return *static_cast<Content*>(S->content); }
+Content& content(SUNLinearSolver S) { return sundials::solver_content<Content>(S); }
 
-SUNLinearSolver_Type get_type(SUNLinearSolver /*S*/) { return SUNLINEARSOLVER_DIRECT; }
-SUNLinearSolver_ID get_id(SUNLinearSolver /*S*/) { return SUNLINEARSOLVER_CUSTOM; }
 int initialize(SUNLinearSolver S) {
   content(S).last_flag = SUNLS_SUCCESS;
   return SUNLS_SUCCESS;
@@ -97,33 +97,12 @@ int solve(SUNLinearSolver S, SUNMatrix /*A*/, N_Vector x, N_Vector b, realtype /
 
 sunindextype last_flag(SUNLinearSolver S) { return content(S).last_flag; }
 
-int free_solver(SUNLinearSolver S) {
-  if (S == nullptr) return SUNLS_SUCCESS;
-  delete static_cast<Content*>(S->content);
-  S->content = nullptr;
-  SUNLinSolFreeEmpty(S);
-  return SUNLS_SUCCESS;
-}
-
 }  // namespace ida_ops
 }  // namespace
 
 SUNLinearSolver make_ida_newton_linear_solver(IdaNewtonSystem& system, SUNContext context) {
-  SUNLinearSolver S = SUNLinSolNewEmpty(context);
-  if (S == nullptr) throw std::bad_alloc();
-  S->content = new (std::nothrow) ida_ops::Content{&system, SUNLS_SUCCESS};
-  if (S->content == nullptr) {
-    SUNLinSolFreeEmpty(S);
-    throw std::bad_alloc();
-  }
-  S->ops->gettype = ida_ops::get_type;
-  S->ops->getid = ida_ops::get_id;
-  S->ops->initialize = ida_ops::initialize;
-  S->ops->setup = ida_ops::setup;
-  S->ops->solve = ida_ops::solve;
-  S->ops->lastflag = ida_ops::last_flag;
-  S->ops->free = ida_ops::free_solver;
-  return S;
+  return sundials::make_custom_solver<ida_ops::Content>(
+      context, {ida_ops::initialize, ida_ops::setup, ida_ops::solve, ida_ops::last_flag}, &system);
 }
 
 }  // namespace flexref::reference

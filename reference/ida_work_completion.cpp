@@ -9,6 +9,8 @@
 #include <cstddef>
 #include <new>
 
+#include "reference/custom_linear_solver.hpp"
+
 namespace flexref::reference {
 
 IdaWorkCompletion::IdaWorkCompletion(const DaeForm& form)
@@ -72,10 +74,8 @@ struct Content {
   sunindextype last_flag = SUNLS_SUCCESS;
 };
 
-Content& content(SUNLinearSolver S) { return *static_cast<Content*>(S->content); }
+Content& content(SUNLinearSolver S) { return sundials::solver_content<Content>(S); }
 
-SUNLinearSolver_Type get_type(SUNLinearSolver /*S*/) { return SUNLINEARSOLVER_DIRECT; }
-SUNLinearSolver_ID get_id(SUNLinearSolver /*S*/) { return SUNLINEARSOLVER_CUSTOM; }
 int initialize(SUNLinearSolver S) {
   content(S).last_flag = SUNLinSolInitialize(content(S).klu);
   return static_cast<int>(content(S).last_flag);
@@ -94,34 +94,17 @@ int solve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, realtype tol) 
   return static_cast<int>(c.last_flag);
 }
 sunindextype last_flag(SUNLinearSolver S) { return content(S).last_flag; }
-int free_solver(SUNLinearSolver S) {
-  if (S == nullptr) return SUNLS_SUCCESS;
-  delete static_cast<Content*>(S->content);
-  S->content = nullptr;
-  SUNLinSolFreeEmpty(S);
-  return SUNLS_SUCCESS;
-}
 
 }  // namespace completing_ops
 }  // namespace
 
 SUNLinearSolver make_ida_work_completing_solver(SUNLinearSolver klu, IdaWorkCompletion& completion,
                                                 DaeForm::Scratch& scratch, SUNContext context) {
-  SUNLinearSolver S = SUNLinSolNewEmpty(context);
-  if (S == nullptr) throw std::bad_alloc();
-  S->content = new (std::nothrow) completing_ops::Content{klu, &completion, &scratch};
-  if (S->content == nullptr) {
-    SUNLinSolFreeEmpty(S);
-    throw std::bad_alloc();
-  }
-  S->ops->gettype = completing_ops::get_type;
-  S->ops->getid = completing_ops::get_id;
-  S->ops->initialize = completing_ops::initialize;
-  S->ops->setup = completing_ops::setup;
-  S->ops->solve = completing_ops::solve;
-  S->ops->lastflag = completing_ops::last_flag;
-  S->ops->free = completing_ops::free_solver;
-  return S;
+  return sundials::make_custom_solver<completing_ops::Content>(
+      context,
+      {completing_ops::initialize, completing_ops::setup, completing_ops::solve,
+       completing_ops::last_flag},
+      klu, &completion, &scratch);
 }
 
 }  // namespace flexref::reference

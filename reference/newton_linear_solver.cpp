@@ -8,6 +8,7 @@
 #include <exception>
 #include <new>
 
+#include "reference/custom_linear_solver.hpp"
 #include "reference/newton_matrix.hpp"
 
 namespace flexref::reference {
@@ -19,10 +20,8 @@ struct Content {
   sunindextype last_flag = SUNLS_SUCCESS;
 };
 
-Content& content(SUNLinearSolver S) { return *static_cast<Content*>(S->content); }
+Content& content(SUNLinearSolver S) { return sundials::solver_content<Content>(S); }
 
-SUNLinearSolver_Type get_type(SUNLinearSolver /*S*/) { return SUNLINEARSOLVER_DIRECT; }
-SUNLinearSolver_ID get_id(SUNLinearSolver /*S*/) { return SUNLINEARSOLVER_CUSTOM; }
 int initialize(SUNLinearSolver S) {
   content(S).last_flag = SUNLS_SUCCESS;
   return SUNLS_SUCCESS;
@@ -50,33 +49,11 @@ int solve(SUNLinearSolver S, SUNMatrix /*A*/, N_Vector x, N_Vector b, realtype /
 
 sunindextype last_flag(SUNLinearSolver S) { return content(S).last_flag; }
 
-int free_solver(SUNLinearSolver S) {
-  if (S == nullptr) return SUNLS_SUCCESS;
-  delete static_cast<Content*>(S->content);
-  S->content = nullptr;
-  SUNLinSolFreeEmpty(S);
-  return SUNLS_SUCCESS;
-}
-
 }  // namespace
 
 SUNLinearSolver make_newton_linear_solver(const OdeForm& form, SUNContext context) {
-  SUNLinearSolver S = SUNLinSolNewEmpty(context);
-  if (S == nullptr) throw std::bad_alloc();
-  try {
-    S->content = new Content(form);
-  } catch (...) {
-    SUNLinSolFreeEmpty(S);
-    throw;
-  }
-  S->ops->gettype = get_type;
-  S->ops->getid = get_id;
-  S->ops->initialize = initialize;
-  S->ops->setup = setup;
-  S->ops->solve = solve;
-  S->ops->lastflag = last_flag;
-  S->ops->free = free_solver;
-  return S;
+  return sundials::make_custom_solver<Content>(context, {initialize, setup, solve, last_flag},
+                                               form);
 }
 
 }  // namespace flexref::reference
