@@ -93,7 +93,7 @@ int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
 std::vector<RotationBlock> rotation_blocks(const OdeForm& form) {
   std::vector<RotationBlock> blocks;
   for (const OdeForm::Block& k : form.blocks()) {
-    if (k.theta >= 0) blocks.push_back({k.theta, k.w});
+    if (k.theta >= 0) blocks.push_back({k.theta, k.w, k.p, k.v});
   }
   return blocks;
 }
@@ -137,6 +137,8 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     }
     data_.form = &form_;
     sun::bind_scratch(data_);
+    // The joints' rounding in the rotation's floors (error_weights.hpp).
+    if (model.has_constraints()) weights_.set_joint_rounding(model.joint_length_scale());
     // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
     // works, contiguous in y.
     data_.rtol = options.rtol;

@@ -72,7 +72,7 @@ DaeForm::Scratch DaeForm::make_scratch() const {
   }
   if (model_->has_constraints()) {
     s.velocities = Eigen::VectorXd::Zero(model_->velocity_layout().size());
-    s.rows.resize(model_->constraints()->row_count(), model_->velocity_layout().size());
+    s.rows.resize_sparse(model_->constraints()->row_count());  // J by its body blocks
     s.multipliers = Eigen::VectorXd::Zero(2 * model_->velocity_layout().size());
     s.constraint_force = Eigen::VectorXd::Zero(model_->velocity_layout().size());
   }
@@ -217,24 +217,28 @@ void DaeForm::residual(const core::LoadContext& context, const double* y, const 
     auto shift = scratch.multipliers.tail(n_v);
     force.setZero();
     shift.setZero();
-    // Each row on its bodies' columns alone (J is zero elsewhere), in column order: the sums
-    // are the dense ones' term by term, without the O(m N) of the zeros.
+    // Each row on its bodies' blocks of J alone (core/constraint_jacobian_tpl.hpp), in column
+    // order: the sums are the dense product's term by term, without the O(m N) of the zeros.
+    const core::ConstraintJacobian& J = rows.jacobian;
     model_->stack_velocities(state, scratch.velocities);
     for (int j = 0; j < multiplier_count_; ++j) {
       const int r = active[static_cast<std::size_t>(j)];
-      std::array<int, 2> ends = model_->constraints()->row_bodies(r);
-      if (ends[1] == ends[0]) ends[1] = -1;  // one body's block once
-      if (ends[1] >= 0 && (ends[0] < 0 || ends[1] < ends[0])) std::swap(ends[0], ends[1]);
+      std::array<int, 2> slots{0, 1};
+      if (J.slot(r, 1).body >= 0 &&
+          (J.slot(r, 0).body < 0 || J.slot(r, 1).body < J.slot(r, 0).body))
+        std::swap(slots[0], slots[1]);
       const double lambda = y[multiplier_index_ + j];
       const double mu = y[multiplier_index_ + multiplier_count_ + j];
       double jv = 0.0;
-      for (const int b : ends) {
-        if (b < 0) continue;
-        for (int c = layout.offset(b); c < layout.offset(b + 1); ++c) {
-          const double J_rc = rows.J(r, c);
-          force(c) += lambda * J_rc;
-          shift(c) += mu * J_rc;
-          jv += J_rc * scratch.velocities(c);
+      for (const int k : slots) {
+        const core::ConstraintJacobian::Slot& slot = J.slot(r, k);
+        if (slot.body < 0) continue;
+        const auto J_rb = J.values(r, k);
+        for (int i = 0; i < slot.width; ++i) {
+          const int c = slot.offset + i;
+          force(c) += lambda * J_rb(i);
+          shift(c) += mu * J_rb(i);
+          jv += J_rb(i) * scratch.velocities(c);
         }
       }
       // J v + Φ_t = 0 (λ's equation), Φ = 0 (μ's)

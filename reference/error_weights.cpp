@@ -30,6 +30,8 @@ void ErrorWeights::set_algebraic(int first, double atol) {
       first > 0 ? std::sqrt(static_cast<double>(size_) / static_cast<double>(first)) : 1.0;
 }
 
+void ErrorWeights::set_joint_rounding(double length_scale) { joint_length_scale_ = length_scale; }
+
 void ErrorWeights::evaluate(const double* y, double mean_step, double* ewt) const {
   const int differential_end = algebraic_first_ >= 0 ? algebraic_first_ : size_;
   for (int i = 0; i < differential_end; ++i) ewt[i] = 1.0 / (rtol_ * std::abs(y[i]) + atol_);
@@ -46,11 +48,22 @@ void ErrorWeights::evaluate(const double* y, double mean_step, double* ewt) cons
     const double rate = speed + 1.0 / span_;
     const double share = mean_step > 0.0 ? std::min(1.0, rate * mean_step) : 1.0;
     const double tol_theta = share * (rtol_ + atol_);
+    // The joints' rounding turned into attitude: |p| / ℓ (rad per ε) and |v| / ℓ (rad/s per ε).
+    double attitude_rounding = 1.0;
+    double rate_rounding = 0.0;
+    if (joint_length_scale_ > 0.0 && b.p >= 0 && b.v >= 0) {
+      const double* p = y + b.p;
+      const double* v = y + b.v;
+      attitude_rounding =
+          std::max(1.0, std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) / joint_length_scale_);
+      rate_rounding = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) / joint_length_scale_;
+    }
     for (int k = 0; k < 4; ++k) {
-      ewt[b.theta + k] = 1.0 / std::max(tol_theta, roundoff_ * kEpsilon);
+      ewt[b.theta + k] = 1.0 / std::max(tol_theta, roundoff_ * kEpsilon * attitude_rounding);
     }
     for (int k = 0; k < 3; ++k) {
-      const double floor = roundoff_ * kEpsilon * (std::abs(w[k]) + 1.0 / span_);
+      const double floor =
+          roundoff_ * kEpsilon * std::max(std::abs(w[k]) + 1.0 / span_, rate_rounding);
       ewt[b.w + k] = 1.0 / std::max(tol_theta / span_, floor);
     }
   }

@@ -51,14 +51,30 @@
 /// heavy_top_spherical at rtol 1e-11; at 100 ε neither (docs/references.md). Near a singular
 /// configuration the iteration's rounding grows beyond any fixed floor; IDA then drops the
 /// share (drop_rotation_share, ida_solver.cpp).
+///
+/// On ideal joints the floors also grow with the bodies' distance from the origin
+/// (set_joint_rounding): a length row compares world coordinates, so it is rounded at ε |p|
+/// (m), and the joint's arm ℓ turns that into ε |p| / ℓ rad of the body's attitude; a velocity
+/// row likewise into ε |v| / ℓ rad/s of its angular velocity. So the floors are
+///   θ:  R ε max(1, |p| / ℓ),        ω̄_i:  R ε max(|ω̄_i| + 1/T, |v| / ℓ),
+/// with R the multiple above and ℓ the joints' length scale (core::Model::joint_length_scale).
+/// Why: on issue 52's chain of N rods of 0.2 m (|p| up to 0.2 N m) the fixed floors lay below
+/// that rounding from N ≈ 64 on; the error estimates of the attitudes were then rounding, the
+/// steps fell, the mean step h̄ and with it the share fell, and the steps fell again. IDA at
+/// rtol 1e-8 took 28 939 steps over 0.45 s at N = 96 (20 s; 1 756 without the share) and did
+/// not end at N = 128; CVODE at rtol 1e-11 took 38 185 steps at N = 128. With the floors above:
+/// 4 861 steps (N = 96), 7 016 steps (IDA, N = 128), 12 379 (CVODE, rtol 1e-11, N = 128).
 #include <vector>
 
 namespace flexref::reference {
 
-/// The offsets in y of a body's Euler parameters θ (4) and angular velocity ω̄ (3).
+/// The offsets in y of a body's Euler parameters θ (4) and angular velocity ω̄ (3), and of its
+/// position p (3) and velocity v (3) for the joints' rounding (−1: none).
 struct RotationBlock {
   int theta = -1;
   int w = -1;
+  int p = -1;
+  int v = -1;
 };
 
 class ErrorWeights {
@@ -77,6 +93,9 @@ class ErrorWeights {
   /// out of its error test, in its Newton test, in both norms' count); the weights of the others
   /// are multiplied by √(size/first).
   void set_algebraic(int first, double atol);
+  /// On ideal joints: the floors grow with |p| / ℓ and |v| / ℓ (above); `length_scale` ℓ > 0 (m),
+  /// the joints' length scale. Blocks without p and v offsets keep the fixed floors.
+  void set_joint_rounding(double length_scale);
 
   /// The weights at y given the run's mean step so far (≤ 0: none yet); ewt has size() entries.
   /// Allocates nothing.
@@ -94,6 +113,7 @@ class ErrorWeights {
   double rtol_, atol_, span_;
   std::vector<RotationBlock> rotations_;
   double roundoff_;
+  double joint_length_scale_ = 0.0;  ///< ℓ with ideal joints (set_joint_rounding), else 0
   int algebraic_first_ = -1;
   double algebraic_atol_ = 0.0;
   double differential_scale_ = 1.0;  ///< √(size/first) with algebraic components, else 1

@@ -31,7 +31,7 @@ int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
 std::vector<RotationBlock> rotation_blocks(const DaeForm& form) {
   std::vector<RotationBlock> blocks;
   for (const DaeForm::Block& k : form.blocks()) {
-    if (k.theta >= 0) blocks.push_back({k.theta, k.w});
+    if (k.theta >= 0) blocks.push_back({k.theta, k.w, k.p, k.v});
   }
   return blocks;
 }

@@ -102,6 +102,8 @@ class IdaSegmentSolver final : public sun::SegmentSolver {
         ida_(sun::check_created(IDACreate(context_.get()), "IDACreate")) {
     data_.form = &form_;
     data_.scratch = form_.make_scratch();
+    // The joints' rounding in the rotation's floors (error_weights.hpp).
+    if (model.has_constraints()) weights_.set_joint_rounding(model.joint_length_scale());
     // The integrals' error weights (reference/integral_weights.hpp): the worn depths and the
     // works, contiguous in y.
     data_.rtol = options.rtol;

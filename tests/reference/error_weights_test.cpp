@@ -129,6 +129,43 @@ TEST_CASE("error weights: IDA's index-2 floor", "[error_weights]") {
   CHECK(tol[0] == Approx(1e-15 * 2.0 + 1e-15).epsilon(1e-14));
 }
 
+TEST_CASE("error weights: on joints the floors grow with |p| / ℓ and |v| / ℓ", "[error_weights]") {
+  // The body of weights_free_body_state at |p| = √5.25 = 2.291 m, |v| = 5 m/s, on joints of arm
+  // ℓ = 0.1 m: a length row's rounding ε |p| is ε |p| / ℓ = 22.9 ε of attitude, a velocity
+  // row's ε |v| / ℓ = 50 ε rad/s of angular velocity (error_weights.hpp). At rtol = atol =
+  // 1e-15 and h̄ = 1e-6 every rotation tolerance is at its floor.
+  const double span = 2.0, arm = 0.1;
+  const ErrorWeights fixed(14, 1e-15, 1e-15, span, {RotationBlock{3, 10, 0, 7}},
+                           ErrorWeights::kIndex2Roundoff);
+  ErrorWeights joints = fixed;
+  joints.set_joint_rounding(arm);
+  const std::vector<double> y = weights_free_body_state();
+  const std::vector<double> tol = tolerances_of(joints, y, 1e-6);
+  const std::vector<double> tol_fixed = tolerances_of(fixed, y, 1e-6);
+  const double floor = ErrorWeights::kIndex2Roundoff * std::numeric_limits<double>::epsilon();
+  const double p = std::sqrt(2.0 * 2.0 + 1.0 + 0.25), v = 5.0;
+  // Sums, square roots and quotients of a few doubles: 1e-14 relative is ~50 ulp.
+  for (std::size_t i = 3; i < 7; ++i) {
+    CHECK(tol[i] == Approx(floor * p / arm).epsilon(1e-14));
+    CHECK(tol_fixed[i] == Approx(floor).epsilon(1e-14));
+  }
+  // ω̄ = (0, 150, −4.6): |v| / ℓ = 50 is above |ω̄_i| + 1/T for the first and third components,
+  // below it for the second (150.5).
+  CHECK(tol[10] == Approx(floor * v / arm).epsilon(1e-14));
+  CHECK(tol[11] == Approx(floor * (150.0 + 1.0 / span)).epsilon(1e-14));
+  CHECK(tol[12] == Approx(floor * v / arm).epsilon(1e-14));
+  CHECK(tol_fixed[10] == Approx(floor / span).epsilon(1e-14));
+  // Off the rotation the weights are SUNDIALS', whatever the joints.
+  for (std::size_t i : {0u, 1u, 2u, 7u, 8u, 9u, 13u}) CHECK(tol[i] == tol_fixed[i]);
+
+  // Near the origin (|p| < ℓ) the attitude's floor stays R ε: the rows' rounding is then the
+  // arm's own.
+  std::vector<double> near = y;
+  near[0] = 0.01, near[1] = 0.0, near[2] = 0.0;
+  const std::vector<double> tol_near = tolerances_of(joints, near, 1e-6);
+  CHECK(tol_near[3] == Approx(floor).epsilon(1e-14));
+}
+
 TEST_CASE("error weights: dropping the share leaves SUNDIALS' weights", "[error_weights]") {
   // IDA's fallback (ida_solver.cpp): after drop_rotation_share the rotation's tolerances are
   // rtol |y_i| + atol, as on every other component.
