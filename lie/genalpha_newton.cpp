@@ -22,6 +22,13 @@ namespace {
 /// Forward-difference step of the loads' directional derivatives (see the header).
 constexpr double kDirectionalStep = 1.5e-8;
 
+/// Row `row` of J on body `body`'s columns: that body's block (core/constraint_jacobian_tpl.hpp;
+/// J is stored by its blocks only, the rest is zero).
+core::ConstraintJacobian::ConstBlock row_block(const core::ConstraintJacobian& J, int row,
+                                               int body) {
+  return J.values(row, J.slot(row, 0).body == body ? 0 : 1);
+}
+
 }  // namespace
 
 GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameters& parameters)
@@ -66,8 +73,8 @@ GenAlphaSystem::GenAlphaSystem(const core::Model& model, const GenAlphaParameter
     n_multipliers_ = static_cast<int>(model.independent_rows().size());
     active_ = model.independent_rows();
     const int rows = model.constraints()->row_count();
-    rows_.resize(rows, static_cast<int>(n));
-    rows_perturbed_.resize(rows, static_cast<int>(n));
+    rows_.resize_sparse(rows);  // J by its body blocks
+    rows_perturbed_.resize_sparse(rows);
     // The rows' block pattern now, not at the first evaluation (steps allocate nothing).
     model.constraints()->prepare_rows(model.velocity_layout(), rows_);
     model.constraints()->prepare_rows(model.velocity_layout(), rows_perturbed_);
@@ -324,10 +331,9 @@ void GenAlphaSystem::add_rows_transpose(const core::ConstraintRows& rows, const 
       if (b < 0 || (b == ends[1] && ends[0] == ends[1])) continue;  // one body's block once
       const auto o = static_cast<Eigen::Index>(offset(b));
       const Eigen::Index width = offset(b + 1) - offset(b);
-      const auto J_b = rows.J.row(row).segment(o, width);
-      out.segment(o, width) += J_b.transpose() * z(n + a);
-      if (terms != nullptr)
-        terms->segment(o, width) += J_b.transpose().cwiseAbs() * std::abs(z(n + a));
+      const auto J_b = row_block(rows.jacobian, row, b);
+      out.segment(o, width) += J_b * z(n + a);
+      if (terms != nullptr) terms->segment(o, width) += J_b.cwiseAbs() * std::abs(z(n + a));
     }
   }
 }
@@ -505,13 +511,14 @@ void GenAlphaSystem::iteration_matrix(const Eigen::VectorXd& z, Eigen::SparseMat
       const auto o = static_cast<Eigen::Index>(offset(b));
       const Eigen::Index width = offset(b + 1) - offset(b);
       const Matrix3d T = rotation::right_jacobian(z.segment<3>(o + 3));
+      const auto J_b = row_block(rows_.jacobian, row, b);
       for (Eigen::Index k = 0; k < width; ++k) {
         if (!integrated_row(b, static_cast<int>(k))) continue;
-        S.coeffRef(o + k, n + a) = rows_.J(row, o + k);
-        if (k < 3 || k >= 6) S.coeffRef(n + a, o + k) = rows_.J(row, o + k);
+        S.coeffRef(o + k, n + a) = J_b(k);
+        if (k < 3 || k >= 6) S.coeffRef(n + a, o + k) = J_b(k);
       }
       if (integrated_row(b, 3)) {
-        const Eigen::RowVector3d JT = rows_.J.block<1, 3>(row, o + 3) * T;
+        const Eigen::RowVector3d JT = J_b.segment<3>(3).transpose() * T;
         for (Eigen::Index c = 0; c < 3; ++c) S.coeffRef(n + a, o + 3 + c) = JT(c);
       }
     }
