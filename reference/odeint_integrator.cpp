@@ -63,6 +63,8 @@ void Integrator::begin_segment(const core::State& state, double t_segment) {
 }
 
 void Integrator::step(double end) {
+  // Whether this step already chose the joints' rows at its start (below).
+  bool rows_chosen_at_start = false;
   for (;;) {
     const double remaining = end - t_;
     // Land when the proposal reaches the end or would leave a sliver of a few ulp. Never
@@ -79,6 +81,21 @@ void Integrator::step(double end) {
     if (counters_.nonfinite || !all_finite(x_new_)) {
       // A trial stage reached a singular load: reject and retry a quarter of the step.
       reject(0.25 * h, "a trial step produced a non-finite right-hand side or state");
+      continue;
+    }
+    if (counters_.rows_chosen && !rows_chosen_at_start) {
+      // A stage chose joint rows of its own (the tracker's fell ill-conditioned within the
+      // step): the stages would mix two row sets, and the step's error estimate would not see
+      // the change. The tracker chooses the best-conditioned rows at the step's start and the
+      // step is taken again on them (once: if its stages still choose, the error test decides).
+      const core::Model& model = form_->model();
+      form_->unpack(t_, x_.data(), scratch_.state);
+      model.advance_tracker(t_, scratch_.state, tracker_, scratch_.workspace,
+                            core::TrackerAdvance::kChooseRows);
+      counters_.rows_chosen = false;
+      rows_chosen_at_start = true;
+      evaluate_derivative();
+      dt_ = h;
       continue;
     }
     if (result == odeint::fail) {
