@@ -12,7 +12,7 @@
 /// column's entries in the tree — row k of L's pattern — (allocating, once per pattern); the
 /// numeric phase computes row k of L by a sparse triangular solve over that stored reach. Davis
 /// finds the reach again in every numeric factorization; stored, the numeric phase of the
-/// Schur complement on Andrews' squeezer (41 rows) took a third of the time (docs/decisions.md).
+/// Schur complement on Andrews' squeezer (41 rows) takes about half the time (docs/decisions.md).
 /// The LU form is the same solve done twice: for a
 /// structurally symmetric C = L D W̃ᵀ (L, W̃ unit lower of one pattern: U = D W̃ᵀ), column k of U
 /// solves L u = C(0:k, k) and row k of L solves (D W̃ᵀ)ᵀ l = C(k, 0:k), both over the same reach.
