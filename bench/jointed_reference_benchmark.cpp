@@ -4,6 +4,10 @@
 /// solver at rtol 1e-8, 1e-10 and 1e-12. CVODE runs with its automatic choice (Adams with
 /// Baumgarte stabilization on both scenes) and forced BDF with projection; IDA on the GGL
 /// index-2 form; ARKODE and Odeint with Baumgarte stabilization (docs/joints.md, "References").
+/// `andrews/evaluation`: one constrained evaluation (Model::compute_accelerations with
+/// Baumgarte's term, as CVODE's Adams evaluates it) at the output state t = 2e-4 s on a tracker
+/// accepted at t = 1e-4 s (so that the orientation test compares two different row sets, as
+/// between a solver's accepted state and its trial points): the cost per evaluation alone.
 /// Counters: steps, right-hand-side (or residual) evaluations, the solver's own CPU time of the
 /// integration (solver_cpu_s, output excluded), and the error of the result, computed once
 /// outside the timed loop: on Andrews the largest difference of the seven angles at t = 0.03
@@ -109,7 +113,30 @@ void BM_JointedReference(benchmark::State& state, const JointedScene& (*scene)()
   state.SetLabel(run.method);
 }
 
+void BM_AndrewsEvaluation(benchmark::State& state) {
+  const Model& model = *andrews().scene.model;
+  ref::SolverOptions options;
+  options.rtol = 1e-10;
+  const ref::ReferenceRun run = ref::solve_reference("cvode", model, andrews().times, options);
+  const flexref::core::State& accepted = run.trajectory.states[1];
+  const flexref::core::State& x = run.trajectory.states[2];
+  const double t = run.trajectory.times[2];
+  flexref::core::Workspace ws = model.make_workspace();
+  flexref::core::ConstraintTracker tracker = model.make_constraint_tracker();
+  model.advance_tracker(run.trajectory.times[1], accepted, tracker, ws);
+  flexref::core::Accelerations acc = model.make_accelerations();
+  const flexref::core::LoadContext context{t, 0.0};
+  // Baumgarte's rate: any positive value takes the same path (its term is O(m)).
+  const double stabilization = 100.0;
+  for (auto _ : state) {
+    model.compute_accelerations(context, x, tracker, ws, acc, stabilization);
+    benchmark::DoNotOptimize(acc[0].alpha_WB_B.data());
+  }
+}
+
 void register_all() {
+  benchmark::RegisterBenchmark("andrews/evaluation", BM_AndrewsEvaluation)
+      ->Unit(benchmark::kMicrosecond);
   for (const char* solver : {"cvode", "cvode-bdf", "ida", "arkode", "odeint"}) {
     for (double rtol : {1e-8, 1e-10, 1e-12}) {
       const std::string tol = rtol == 1e-8 ? "1e-8" : rtol == 1e-10 ? "1e-10" : "1e-12";

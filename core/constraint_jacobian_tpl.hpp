@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "core/block_dot_tpl.hpp"
 #include "core/velocity_layout.hpp"
 
 namespace flexref::core {
@@ -84,7 +85,7 @@ class ConstraintJacobianTpl {
     S sum = S(0);
     for (int k = 0; k < 2; ++k) {
       const Slot& s = slot(r, k);
-      if (s.body >= 0) sum += values(r, k).dot(x.segment(s.offset, s.width));
+      if (s.body >= 0) sum += block_dot<S>(values_.data() + s.start, x.data() + s.offset, s.width);
     }
     return sum;
   }
@@ -93,7 +94,14 @@ class ConstraintJacobianTpl {
   void add_row_transpose(int r, const S& c, Out&& out) const {
     for (int k = 0; k < 2; ++k) {
       const Slot& s = slot(r, k);
-      if (s.body >= 0) out.segment(s.offset, s.width) += c * values(r, k);
+      if (s.body < 0) continue;
+      if (s.width == 6) {
+        // A rigid body's block, at a size known to the compiler (block_dot_tpl.hpp).
+        out.template segment<6>(s.offset) +=
+            c * Eigen::Map<const Eigen::Matrix<S, 6, 1>>(values_.data() + s.start);
+      } else {
+        out.segment(s.offset, s.width) += c * values(r, k);
+      }
     }
   }
   /// |J_r|².

@@ -36,8 +36,8 @@ bool kept_orientation(const ConstraintJacobianTpl<S>& J_accepted, ConstraintSolv
   const auto m = static_cast<Eigen::Index>(s.active.size());
   if (m == 0) return true;
   for (int p = 0; p < s.schur.nonzeros(); ++p) {
-    s.crossing_upper(p) = s.schur.entry(p, J_accepted.all_values(), s.Y.all_values(), false);
-    s.crossing_lower(p) = s.schur.entry(p, J_accepted.all_values(), s.Y.all_values(), true);
+    s.schur.entries(p, J_accepted.all_values(), s.Y.all_values(), s.crossing_upper(p),
+                    s.crossing_lower(p));
   }
   if (!s.crossing_lu.factor_unsymmetric(s.crossing_upper, s.crossing_lower)) return false;
   int sign = 1;
@@ -87,9 +87,10 @@ bool rows_turned_little(const ConstraintJacobianTpl<S>& J_accepted,
       if (J_accepted.slot(row, k).body < 0) continue;
       const auto a = J_accepted.values(row, k);
       const auto b = s.rows.jacobian.values(row, k);
-      dot += a.dot(b);
-      previous += a.squaredNorm();
-      current += b.squaredNorm();
+      const int width = J_accepted.slot(row, k).width;
+      dot += block_dot<S>(a.data(), b.data(), width);
+      previous += block_dot<S>(a.data(), a.data(), width);
+      current += block_dot<S>(b.data(), b.data(), width);
     }
     using std::sqrt;
     if (dot < S(kOrientationTestCosine) * sqrt(previous * current)) return false;

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "core/block_dot_tpl.hpp"
 #include "core/constraint_jacobian_tpl.hpp"
 
 namespace flexref::core {
@@ -129,15 +130,31 @@ struct SchurPattern {
   /// y_i) for entry (i, k).
   template <typename Vector>
   auto entry(int p, const Vector& x, const Vector& y, bool transposed) const {
-    typename Vector::Scalar sum(0);
+    using S = typename Vector::Scalar;
+    S sum(0);
     for (int q = product_start[static_cast<std::size_t>(p)];
          q < product_start[static_cast<std::size_t>(p) + 1]; ++q) {
       const Product& product = products[static_cast<std::size_t>(q)];
       const int first = transposed ? product.b : product.a;
       const int second = transposed ? product.a : product.b;
-      sum += x.segment(first, product.width).dot(y.segment(second, product.width));
+      sum += block_dot<S>(x.data() + first, y.data() + second, product.width);
     }
     return sum;
+  }
+
+  /// Both entries p of X_a M⁻¹ J_aᵀ (entry's upper and lower) in one pass over its products.
+  template <typename Vector>
+  void entries(int p, const Vector& x, const Vector& y, typename Vector::Scalar& upper,
+               typename Vector::Scalar& lower) const {
+    using S = typename Vector::Scalar;
+    upper = S(0);
+    lower = S(0);
+    for (int q = product_start[static_cast<std::size_t>(p)];
+         q < product_start[static_cast<std::size_t>(p) + 1]; ++q) {
+      const Product& product = products[static_cast<std::size_t>(q)];
+      upper += block_dot<S>(x.data() + product.a, y.data() + product.b, product.width);
+      lower += block_dot<S>(x.data() + product.b, y.data() + product.a, product.width);
+    }
   }
 };
 

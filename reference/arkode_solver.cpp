@@ -27,6 +27,7 @@
 /// - SolverOptions::max_steps bounds the steps between two consecutive output times (ARKODE's
 ///   mxstep meaning), reported as ARK_TOO_MUCH_WORK.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "reference/arkode_esdirk_solver.hpp"
@@ -45,10 +46,15 @@ using arkode_detail::ArkodeSegmentSolver;
 
 ReferenceRun solve_arkode(const core::Model& model, const std::vector<double>& output_times,
                           const SolverOptions& options) {
+  // One spectrum for the method and Baumgarte's rate, taken where either needs it.
+  const double spacing = mean_output_spacing(output_times);
+  std::optional<StiffnessSummary> summary;
+  const auto summarized = [&]() -> const StiffnessSummary& {
+    if (!summary) summary = summarize_stiffness(model, spacing);
+    return *summary;
+  };
   ArkodeMethodChoice choice{options.arkode_method, "chosen with --method"};
-  if (options.arkode_method == ArkodeMethod::kAuto) {
-    choice = choose_arkode_method(model, mean_output_spacing(output_times));
-  }
+  if (options.arkode_method == ArkodeMethod::kAuto) choice = choose_arkode_method(summarized());
   if (choice.method == ArkodeMethod::kEsdirk) {
     ReferenceRun run = solve_arkode_esdirk(model, output_times, options);
     run.method_reason = choice.reason;
@@ -56,7 +62,7 @@ ReferenceRun solve_arkode(const core::Model& model, const std::vector<double>& o
   }
   // ERKStep has no projection: the joints' drift is damped instead (Baumgarte).
   const double stabilization =
-      constraint_stabilization_rate(model, mean_output_spacing(output_times));
+      model.has_constraints() ? constraint_stabilization_rate(model, summarized(), spacing) : 0.0;
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "arkode", [&] {
     return std::make_unique<ArkodeSegmentSolver>(model, options, stabilization);
   });

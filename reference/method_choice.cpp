@@ -200,7 +200,10 @@ constexpr const char* kBdf2Reason =
 }  // namespace
 
 CvodeMethodChoice choose_cvode_method(const core::Model& model, double output_spacing) {
-  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  return choose_cvode_method(summarize_stiffness(model, output_spacing));
+}
+
+CvodeMethodChoice choose_cvode_method(const StiffnessSummary& s) {
   std::ostringstream why;
   why.precision(3);
   if (s.stiff_oscillatory()) {
@@ -230,7 +233,10 @@ CvodeMethodChoice choose_ida_method(const core::Model& model, double output_spac
 }
 
 ArkodeMethodChoice choose_arkode_method(const core::Model& model, double output_spacing) {
-  const StiffnessSummary s = summarize_stiffness(model, output_spacing);
+  return choose_arkode_method(summarize_stiffness(model, output_spacing));
+}
+
+ArkodeMethodChoice choose_arkode_method(const StiffnessSummary& s) {
   if (s.stiff_oscillatory()) {
     return {ArkodeMethod::kEsdirk,
             stiff_oscillatory_reason(s,
@@ -258,7 +264,13 @@ bool rotation_weights_per_step(const StiffnessSummary& summary) {
 
 double constraint_stabilization_rate(const core::Model& model, double output_spacing) {
   if (!model.has_constraints()) return 0.0;
-  const StiffnessSummary summary = summarize_stiffness(model, output_spacing);
+  return constraint_stabilization_rate(model, summarize_stiffness(model, output_spacing),
+                                       output_spacing);
+}
+
+double constraint_stabilization_rate(const core::Model& model, const StiffnessSummary& summary,
+                                     double output_spacing) {
+  if (!model.has_constraints()) return 0.0;
   if (summary.resolved_rate > 0.0) return summary.resolved_rate;
   return output_spacing > 0.0 ? std::numbers::pi / output_spacing : 1.0;
 }

@@ -70,6 +70,9 @@ struct CvodeMethodChoice {
 
 /// kBdf for contact, else kBdf2 if stiff_oscillatory(), else kBdf if stiff(), else kAdams.
 CvodeMethodChoice choose_cvode_method(const core::Model& model, double output_spacing = 0.0);
+/// The same from the model's summary (summarize_stiffness), for a caller that reads it twice
+/// (each summary is a difference-quotient Jacobian and its spectrum).
+CvodeMethodChoice choose_cvode_method(const StiffnessSummary& summary);
 
 /// IDA's order cap from the same summary: kBdf2 if stiff_oscillatory(), else kBdf.
 CvodeMethodChoice choose_ida_method(const core::Model& model, double output_spacing);
@@ -82,6 +85,7 @@ struct ArkodeMethodChoice {
 /// ARKODE's method: the implicit ESDIRK (L-stable) if stiff_oscillatory(), else the explicit
 /// Fehlberg 13-7-8.
 ArkodeMethodChoice choose_arkode_method(const core::Model& model, double output_spacing);
+ArkodeMethodChoice choose_arkode_method(const StiffnessSummary& summary);
 
 /// The default reference solver (`flexref reference` without --solver; "auto" in the studies for
 /// a model without an exact solution): "arkode" (which then runs its ESDIRK) for a stiff
@@ -120,6 +124,9 @@ enum class NewtonJacobian {
 /// and h·α stays within the step's accuracy range, so the term adds no stiffness. 0 without
 /// joints.
 double constraint_stabilization_rate(const core::Model& model, double output_spacing);
+/// The same from the model's summary at that output spacing.
+double constraint_stabilization_rate(const core::Model& model, const StiffnessSummary& summary,
+                                     double output_spacing);
 
 /// kDifferenceQuotients for a model with ideal joints (the user's and the structured Jacobians
 /// are the unconstrained equations'); kUser when the options give a Jacobian; kStructured for a
