@@ -2,6 +2,19 @@
 
 namespace flexref::reference::ida {
 
+namespace {
+
+/// A callback's return for its `count` values: 0 where all are finite, else 1 (recoverable: a
+/// trial step may have reached a singular load, a charge on the wall; IDA retries with a smaller
+/// step and gives up with its own message if that does not help), the time kept for that message.
+int finite_or_retry(IdaData& d, sunrealtype t, const double* values, long count) {
+  if (sun::all_finite(values, count)) return 0;
+  d.last_nonfinite_time = t;
+  return 1;
+}
+
+}  // namespace
+
 void record_steps(void* ida, StepClock& clock) {
   long steps = 0;
   double last_step = 0.0, t = 0.0;
@@ -79,13 +92,7 @@ int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void* user_data
     d.callback_error = std::current_exception();
     return -1;  // unrecoverable; the driver rethrows the message
   }
-  if (!sun::all_finite(sun::data(r), d.form->size())) {
-    // Recoverable: a trial step may have reached a singular load (a charge on the wall); IDA
-    // retries with a smaller step and gives up with its own message if that does not help.
-    d.last_nonfinite_time = t;
-    return 1;
-  }
-  return 0;
+  return finite_or_retry(d, t, sun::data(r), d.form->size());
 }
 
 /// IDALsJacFn from the user's ODE Jacobian: ∂F/∂y + c_j ∂F/∂y' ≈ P (c_j I − J)
@@ -108,11 +115,7 @@ int jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*yp*/, N_Vect
     d.callback_error = std::current_exception();
     return -1;
   }
-  if (!sun::all_finite(SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n)) {
-    d.last_nonfinite_time = t;
-    return 1;  // recoverable: IDA retries with a smaller step
-  }
-  return 0;
+  return finite_or_retry(d, t, SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n);
 }
 
 /// IDALsJacFn of the structured path: J from the StructuredJacobian, then A = I − J/c_j and the
@@ -135,11 +138,7 @@ int structured_jacobian(sunrealtype t, sunrealtype c_j, N_Vector y, N_Vector /*y
     d.callback_error = std::current_exception();
     return -1;
   }
-  if (!sun::all_finite(SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n)) {
-    d.last_nonfinite_time = t;
-    return 1;  // recoverable: IDA retries with a smaller step
-  }
-  return 0;
+  return finite_or_retry(d, t, SUNDenseMatrix_Data(matrix), static_cast<long>(n) * n);
 }
 
 /// IDALsJacFn of the sparse path: G = ∂F/∂y + c_j ∂F/∂y' by coloured difference quotients with
