@@ -45,6 +45,7 @@
 
 #include "reference/error_weights.hpp"
 #include "reference/integral_weights.hpp"
+#include "reference/serial_vector_ops.hpp"
 #include "reference/step_clock.hpp"
 
 namespace flexref::reference::sundials {
@@ -234,9 +235,11 @@ inline Context make_context() {
   return Context(context);
 }
 
-/// A serial vector of length n, zero-filled.
+/// A serial vector of length n, zero-filled, with the compiled vector operations
+/// (serial_vector_ops.hpp; the integrators' clones of it inherit them).
 inline Vector make_vector(int n, SUNContext context) {
   Vector v(check_created(N_VNew_Serial(n, context), "N_VNew_Serial"));
+  use_compiled_serial_ops(v.get());
   N_VConst(0.0, v.get());
   return v;
 }
