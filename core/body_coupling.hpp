@@ -18,6 +18,11 @@ namespace flexref::core {
 /// included. Every row of the joints counts (the rows in force may be any of them).
 std::vector<std::vector<int>> body_coupling(const Model& model);
 
+/// As body_coupling, the force elements' coupling alone (each body itself, and the bodies an
+/// element couples it with): for a form whose joint terms read the other end's pose only and
+/// lays them out itself (IDA's GGL residual, reference/dae_coloured_jacobian.hpp).
+std::vector<std::vector<int>> element_coupling(const Model& model);
+
 /// A colouring of the bodies in which two bodies that share a neighbour (or are neighbours)
 /// get different colours (a distance-2 colouring of body_coupling's graph, greedy in body
 /// order): perturbing every body of one colour at once changes each body's equations through
