@@ -1,8 +1,9 @@
 #pragma once
 /// \file body_coupling.hpp
 /// Which bodies' equations read which bodies' states: the graph behind the sparsity of the
-/// Jacobians of the implicit solvers (IDA's Newton matrix, reference/dae_jacobian_pattern.hpp;
-/// genalpha's iteration matrix, lie/genalpha_newton.hpp). Body i's loads, its joints' reactions
+/// Jacobians of the implicit solvers (genalpha's iteration matrix, lie/genalpha_newton.hpp; IDA's
+/// Newton matrix takes the elements' part, element_coupling, and lays the joints out finer:
+/// reference/dae_coloured_jacobian.hpp). Body i's loads, its joints' reactions
 /// on it and its rows depend on its own state, on the states of the bodies an element couples it
 /// with (ForceElementTpl::coupled_bodies: a spring's two ends, a contact's pairs) and on the
 /// states of the bodies it shares a joint row with (ConstraintEquationsTpl::row_bodies: the rows'
