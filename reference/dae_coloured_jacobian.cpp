@@ -77,10 +77,10 @@ void DaeColouredJacobian::build() {
     }
   }
   // The joints (dae_form.hpp's GGL residual), row active[j] on its bodies a, b: J_r,a (and Φ,
-  // Φ_t) read the poses of both ends and no velocity, so body a's equations read λ_j in its
-  // velocity-level equations (+ J_aᵀ λ), μ_j in its position-level ones (+ J_aᵀ μ) and both
-  // ends' poses (p, θ, q_f) through J_a; λ_j's equation J v + Φ_t = 0 reads both ends' whole
-  // blocks, μ_j's Φ = 0 their poses.
+  // Φ_t) read the poses of both ends (a point row's J_r,a a's alone) and no velocity, so body a's
+  // equations read λ_j in its velocity-level equations (+ J_aᵀ λ), μ_j in its position-level ones
+  // (+ J_aᵀ μ) and both ends' poses (p, θ, q_f) through J_a; λ_j's equation J v + Φ_t = 0 reads
+  // both ends' whole blocks, μ_j's Φ = 0 their poses.
   const int m = form.multiplier_count();
   const std::vector<DaeForm::Block>& blocks = form.blocks();
   const auto pose = [&](int b, auto&& add) {
@@ -108,7 +108,9 @@ void DaeColouredJacobian::build() {
       add_dae_block(lambda, rows_a, pattern);
       pose(a, [&](IndexRange c) { add_dae_block(mu, c, pattern); });
       for (const int b : ends) {
-        if (b >= 0) pose(b, [&](IndexRange c) { add_dae_block(rows_a, c, pattern); });
+        // A point row's block on a reads a's pose alone (ConstraintEquations::blocks_read_own_end).
+        if (b < 0 || (b != a && model.constraints()->blocks_read_own_end(row))) continue;
+        pose(b, [&](IndexRange c) { add_dae_block(rows_a, c, pattern); });
       }
     }
   }

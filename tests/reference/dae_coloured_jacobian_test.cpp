@@ -269,12 +269,13 @@ TEST_CASE("a chain's coloured Newton matrix costs as many residuals whatever its
   // The pattern grows linearly: nonzeros per column bounded.
   CHECK(coloured_large.nonzeros() < 60L * form_large.size());
   // And it is the GGL residual's (dae_coloured_jacobian.cpp): per rod inside the chain, its 13
-  // rows read its own 13 columns and its two neighbours' poses (7 each: 351), its two joints'
-  // λ in its 6 velocity rows and μ in its 7 pose rows (2 × 3 × 13 = 78); per joint, λ's 3 rows
-  // read both rods' blocks (78), μ's both poses (42), and the 6 multipliers their diagonal:
-  // 555 per rod and joint at most (the chain's ends have fewer). Joint-coupled blocks in full
-  // (the rods' velocities too) gave 825.
-  CHECK(coloured_large.nonzeros() <= 555L * large.model->num_bodies());
+  // rows read its own 13 columns (169; a spherical joint's point rows read each rod's own pose
+  // alone, so no neighbour's), its two joints' λ in its 6 velocity rows and μ in its 7 pose rows
+  // (2 × 3 × 13 = 78); per joint, λ's 3 rows read both rods' blocks (78), μ's both poses (42),
+  // and the 6 multipliers their diagonal: 373 per rod and joint at most (the chain's ends have
+  // fewer). Joint-coupled blocks in full (the rods' velocities too) gave 825, the neighbours'
+  // poses 555.
+  CHECK(coloured_large.nonzeros() <= 373L * large.model->num_bodies());
 }
 
 TEST_CASE("IDA's sparse Newton matrix solves a chain as accurately as the dense one", "[core]") {
