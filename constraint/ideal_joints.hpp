@@ -60,6 +60,9 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
             core_row_count(static_cast<std::size_t>(joint))};
   }
   bool is_length_row(int row) const override { return length_row_[static_cast<std::size_t>(row)]; }
+  bool blocks_read_own_end(int row) const override {
+    return point_row_[static_cast<std::size_t>(row)];
+  }
   void evaluate(const S& t, std::span<const Kinematics> bodies, const core::VelocityLayout& layout,
                 core::ConstraintRowsTpl<S>& rows) const override;
   core::JointReactionTpl<S> reaction(int joint, std::span<const Kinematics> bodies,
@@ -90,6 +93,8 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
   std::vector<int> first_row_;  ///< per joint, and one past the last
   std::vector<int> row_joint_;
   std::vector<bool> length_row_;
+  /// The point rows (detail::point_rows in evaluate): each J block reads its own end alone.
+  std::vector<bool> point_row_;
 };
 
 using IdealJoints = IdealJointsTpl<double>;

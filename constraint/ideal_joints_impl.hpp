@@ -208,6 +208,13 @@ IdealJointsTpl<S>::IdealJointsTpl(std::vector<IdealJointSpec> joints, int body_c
           break;
       }
       length_row_.push_back(length);
+      // The point rows evaluate lays out first: all of a spherical joint's, the first three of
+      // a revolute, universal and fixed joint's.
+      const bool points = spec.type == JointType::kSpherical ||
+                          ((spec.type == JointType::kRevolute ||
+                            spec.type == JointType::kUniversal || spec.type == JointType::kFixed) &&
+                           k < 3);
+      point_row_.push_back(points);
     }
   }
 }

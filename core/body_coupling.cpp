@@ -18,13 +18,31 @@ void couple_all(const std::vector<int>& bodies, std::vector<std::vector<int>>& c
   }
 }
 
-}  // namespace
+void sort_unique(std::vector<std::vector<int>>& coupling) {
+  for (std::vector<int>& c : coupling) {
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+  }
+}
 
-std::vector<std::vector<int>> body_coupling(const Model& model) {
+std::vector<std::vector<int>> coupling_by_elements(const Model& model) {
   const auto n = static_cast<std::size_t>(model.num_bodies());
   std::vector<std::vector<int>> coupling(n);
   for (std::size_t b = 0; b < n; ++b) coupling[b].push_back(static_cast<int>(b));
   for (const auto& element : model.elements()) couple_all(element->coupled_bodies(), coupling);
+  return coupling;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> element_coupling(const Model& model) {
+  std::vector<std::vector<int>> coupling = coupling_by_elements(model);
+  sort_unique(coupling);
+  return coupling;
+}
+
+std::vector<std::vector<int>> body_coupling(const Model& model) {
+  std::vector<std::vector<int>> coupling = coupling_by_elements(model);
   if (model.has_constraints()) {
     const ConstraintEquations& joints = *model.constraints();
     for (int row = 0; row < joints.row_count(); ++row) {
@@ -32,10 +50,7 @@ std::vector<std::vector<int>> body_coupling(const Model& model) {
       couple_all({ends[0], ends[1]}, coupling);
     }
   }
-  for (std::vector<int>& c : coupling) {
-    std::sort(c.begin(), c.end());
-    c.erase(std::unique(c.begin(), c.end()), c.end());
-  }
+  sort_unique(coupling);
   return coupling;
 }
 

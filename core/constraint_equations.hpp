@@ -82,6 +82,12 @@ class ConstraintEquationsTpl {
   /// True when row r is a position row in m (point, slide, distance), false for a rotation row
   /// (dimensionless: the sine of an angle).
   virtual bool is_length_row(int row) const = 0;
+  /// True when row r's J block on each of its bodies reads that body's pose alone (a point row:
+  /// Φ = (p_a − p_b)·u with u a world axis, J_b = ±(uᵀ, (Aᵀ(r × u))ᵀ, uᵀAΦ_P) from body b's own
+  /// arm and attitude); false where a block reads the other end's pose too (a vector fixed in
+  /// the other body, a slide along its axis, a distance's direction). For the sparsity of
+  /// Jacobians that read J (reference/dae_coloured_jacobian.hpp).
+  virtual bool blocks_read_own_end(int row) const = 0;
   /// Fills rows.phi, rows.jacobian (and rows.J where sized), rows.phi_t and rows.gamma at the
   /// bodies' poses and velocities (kinematics: A(θ), the state and the q_f the equations see).
   /// rows is sized by the caller (ConstraintRowsTpl::resize or resize_sparse); the entries of J

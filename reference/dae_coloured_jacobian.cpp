@@ -3,6 +3,7 @@
 #include "reference/dae_coloured_jacobian.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -56,7 +57,9 @@ void DaeColouredJacobian::build() {
     body.push_back({begin, k.end});
     begin = k.end;
   }
-  const std::vector<std::vector<int>> coupling = core::body_coupling(model);
+  // Loads: the bodies an element couples read each other's whole blocks (positions and
+  // velocities: a damper's force).
+  const std::vector<std::vector<int>> coupling = core::element_coupling(model);
   for (std::size_t i = 0; i < body.size(); ++i) {
     for (const int k : coupling[i])
       add_dae_block(body[i], body[static_cast<std::size_t>(k)], pattern);
@@ -73,15 +76,41 @@ void DaeColouredJacobian::build() {
       add_dae_block(depths, body[static_cast<std::size_t>(b)], pattern);
     }
   }
-  // The multipliers of the rows in force: λ_j, μ_j and the bodies of row active[j].
+  // The joints (dae_form.hpp's GGL residual), row active[j] on its bodies a, b: J_r,a (and Φ,
+  // Φ_t) read the poses of both ends (a point row's J_r,a a's alone) and no velocity, so body a's
+  // equations read λ_j in its velocity-level equations (+ J_aᵀ λ), μ_j in its position-level ones
+  // (+ J_aᵀ μ) and both ends' poses (p, θ, q_f) through J_a; λ_j's equation J v + Φ_t = 0 reads
+  // both ends' whole blocks, μ_j's Φ = 0 their poses.
   const int m = form.multiplier_count();
+  const std::vector<DaeForm::Block>& blocks = form.blocks();
+  const auto pose = [&](int b, auto&& add) {
+    const DaeForm::Block& k = blocks[static_cast<std::size_t>(b)];
+    if (k.p >= 0) add(IndexRange{k.p, k.p + 3});
+    if (k.theta >= 0) add(IndexRange{k.theta, k.theta + 4});
+    add(IndexRange{k.q, k.q + k.n});
+  };
+  const auto rates = [&](int b, auto&& add) {
+    const DaeForm::Block& k = blocks[static_cast<std::size_t>(b)];
+    if (k.v >= 0) add(IndexRange{k.v, k.v + 3});
+    if (k.w >= 0) add(IndexRange{k.w, k.w + 3});
+    add(IndexRange{k.qd, k.qd + k.n});
+  };
   for (int j = 0; j < m; ++j) {
     const int row = rows_built_for_[static_cast<std::size_t>(j)];
-    for (const int b : model.constraints()->row_bodies(row)) {
-      if (b < 0) continue;
-      for (const int slot : {form.multiplier_index() + j, form.multiplier_index() + m + j}) {
-        add_dae_block(body[static_cast<std::size_t>(b)], {slot, slot + 1}, pattern);
-        add_dae_block({slot, slot + 1}, body[static_cast<std::size_t>(b)], pattern);
+    const IndexRange lambda{form.multiplier_index() + j, form.multiplier_index() + j + 1};
+    const IndexRange mu{form.multiplier_index() + m + j, form.multiplier_index() + m + j + 1};
+    const std::array<int, 2> ends = model.constraints()->row_bodies(row);
+    for (const int a : ends) {
+      if (a < 0) continue;
+      const IndexRange rows_a = body[static_cast<std::size_t>(a)];
+      rates(a, [&](IndexRange r) { add_dae_block(r, lambda, pattern); });
+      pose(a, [&](IndexRange r) { add_dae_block(r, mu, pattern); });
+      add_dae_block(lambda, rows_a, pattern);
+      pose(a, [&](IndexRange c) { add_dae_block(mu, c, pattern); });
+      for (const int b : ends) {
+        // A point row's block on a reads a's pose alone (ConstraintEquations::blocks_read_own_end).
+        if (b < 0 || (b != a && model.constraints()->blocks_read_own_end(row))) continue;
+        pose(b, [&](IndexRange c) { add_dae_block(rows_a, c, pattern); });
       }
     }
   }

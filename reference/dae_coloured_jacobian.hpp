@@ -5,17 +5,21 @@
 /// 1974): columns that share no row of the pattern are perturbed together, one residual per
 /// group instead of one per column.
 ///
-/// The pattern follows from the bodies' coupling (core/body_coupling.hpp), in the order of the
-/// form's y (reference/form_layout.hpp): body i's block (p, θ, v, ω̄, q, v_q: dense within the
-/// body) reads the blocks of the bodies coupled with it and the multipliers λ, μ of the rows in
-/// force that act on it; each multiplier's two rows (J v + Φ_t, Φ) read the blocks of that row's
-/// bodies; an element's worn depths are read by the element's bodies and their rates read those
-/// bodies and the element's depths. The works W (W_d and the extra integrals) are read by nothing;
-/// their rows Ẇ − P read every state but are kept to their diagonal, ∂F_W/∂W + c_j ∂F_W/∂W' = c_j,
-/// set exactly and not differenced: G is block lower triangular in (state, W), so the state's
-/// Newton corrections are those of the full G, and a work's correction lags the state's by one
-/// iteration (a dense row would put every column in a group of its own). A chain of N bodies
-/// needs a number of groups independent of N (three bodies' blocks and their multipliers).
+/// The pattern is what the GGL residual reads, in the order of the form's y
+/// (reference/form_layout.hpp): body i's block (p, θ, v, ω̄, q, v_q: dense within the body)
+/// reads the blocks of the bodies a force element couples with it (core::element_coupling);
+/// for each row in force acting on it, the other end's pose (p, θ, q: J_i reads poses, no
+/// velocity; not for a point row, whose J_i reads i's pose alone), the row's λ in its
+/// velocity-level rows (+ J_iᵀλ) and μ in its position-level rows
+/// (+ J_iᵀμ); λ's row J v + Φ_t reads both ends' blocks, μ's row Φ both ends' poses
+/// (docs/decisions.md, "IDA's joint terms by what the residual reads"); an element's worn depths
+/// are read by the element's bodies and their rates read those bodies and the element's depths. The
+/// works W (W_d and the extra integrals) are read by nothing; their rows Ẇ − P read every state but
+/// are kept to their diagonal, ∂F_W/∂W + c_j ∂F_W/∂W' = c_j, set exactly and not differenced: G is
+/// block lower triangular in (state, W), so the state's Newton corrections are those of the full G,
+/// and a work's correction lags the state's by one iteration (a dense row would put every column in
+/// a group of its own). A chain of N bodies needs a number of groups independent of N (32 on a
+/// chain of rods).
 ///
 /// Each column's increment is IDA's own (idaLsDenseDQJac, SUNDIALS 6.4):
 ///   inc_j = max(√u · max(|y_j|, |h y'_j|), 1/ewt_j), with the sign of h y'_j, rounded to

@@ -16,8 +16,8 @@
 /// for term and case for case: N_VLinearSum's special cases (axpy in place, a = b = 1,
 /// a = ±1 and b = ∓1, a = b, a = −b) round differently from the general a x + b y, and the
 /// reductions (dot products, weighted sums of squares, the L1 norm) add in index order. flexref
-/// compiles without -ffast-math and without FMA contraction (no -march), so the results are the
-/// library's bit for bit (serial_vector_ops_test compares every operation and case with
+/// compiles without -ffast-math, and this file with -ffp-contract=off whatever the target
+/// (reference/CMakeLists.txt), so the results are the library's bit for bit (serial_vector_ops_test compares every operation and case with
 /// SUNDIALS' own). The content (N_VectorContent_Serial) and the constructors, clones and
 /// destructors stay SUNDIALS': a clone copies the operations table (N_VCopyOps), so the
 /// integrators' internal vectors get them too. The fused and vector-array operations stay unset

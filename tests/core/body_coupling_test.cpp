@@ -21,6 +21,13 @@ TEST_CASE("body coupling: a chain's joints and a spring, not gravity", "[core]")
   CHECK(coupling[3] == std::vector<int>{2, 3, 4});
   CHECK(coupling[4] == std::vector<int>{1, 3, 4, 5});
   CHECK(coupling[5] == std::vector<int>{4, 5});
+  // The elements' part alone: the spring's ends, every body itself, no joint.
+  const std::vector<std::vector<int>> elements = element_coupling(*scene.model);
+  REQUIRE(elements.size() == 6);
+  CHECK(elements[0] == std::vector<int>{0});
+  CHECK(elements[1] == std::vector<int>{1, 4});
+  CHECK(elements[3] == std::vector<int>{3});
+  CHECK(elements[4] == std::vector<int>{1, 4});
 }
 
 TEST_CASE("body colouring: no two bodies of a colour are read by one body", "[core]") {

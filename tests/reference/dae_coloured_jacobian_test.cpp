@@ -6,7 +6,11 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstddef>
+#include <fstream>
 #include <limits>
+#include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "reference/ida_work_completion.hpp"
@@ -14,6 +18,7 @@
 #include "scene/scene_reader.hpp"
 #include "tests/support/allocation_counting.hpp"
 #include "tests/support/chain_scene.hpp"
+#include "tests/support/joint_kind_scenes.hpp"
 
 namespace flexref {
 namespace {
@@ -89,6 +94,32 @@ Eigen::MatrixXd coloured_quotients(const reference::DaeColouredJacobian& coloure
   return G;
 }
 
+/// Entries where the coloured matrix G and IDA's dense quotient D disagree, the works' rows
+/// (`works` of them from `first_work`; their diagonal alone is kept, checked apart) aside:
+/// `missed`, an entry the pattern leaves out though the dense quotient is not exactly 0 (the
+/// residual reads it), and `differ`, any entry not equal bit for bit. An entry the pattern leaves
+/// out must be one the residual does not read, whose dense quotient is exactly 0 (F_r does not
+/// change when y_c moves); where the pattern has it, the same quotient: F_r at a point where the
+/// group's other columns moved too, which row r does not read, so the same operations on the same
+/// operands (no tolerance is needed, none is given).
+struct PatternMismatch {
+  int missed = 0;
+  int differ = 0;
+};
+
+PatternMismatch compare_with_dense(const Eigen::MatrixXd& G, const Eigen::MatrixXd& D,
+                                   int first_work, int works) {
+  PatternMismatch out;
+  for (Eigen::Index c = 0; c < G.cols(); ++c) {
+    for (Eigen::Index r = 0; r < G.rows(); ++r) {
+      if (r >= first_work && r < first_work + works) continue;
+      if (G(r, c) == 0.0 && D(r, c) != 0.0) ++out.missed;
+      if (G(r, c) != D(r, c)) ++out.differ;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE("coloured Newton matrix of the DAE form is IDA's dense difference quotient", "[core]") {
@@ -109,21 +140,11 @@ TEST_CASE("coloured Newton matrix of the DAE form is IDA's dense difference quot
   const Eigen::MatrixXd D = dense_quotients(form, p, scratch);
   const int n = form.size();
   const int w = form.work_index();
-  int missed = 0, differ = 0;
-  for (int c = 0; c < n; ++c) {
-    for (int r = 0; r < n; ++r) {
-      if (r == w) continue;  // the work's row: its diagonal alone, below
-      // An entry the pattern leaves out must be one the residual does not read: the dense
-      // quotient of such an entry is exactly 0 (F_r does not change when y_c moves).
-      if (G(r, c) == 0.0 && D(r, c) != 0.0) ++missed;
-      // Where the pattern has it, the same quotient: F_r at a point where the group's other
-      // columns moved too, which row r does not read, so the same operations on the same
-      // operands (bit for bit; no tolerance is needed, none is given).
-      if (G(r, c) != D(r, c)) ++differ;
-    }
-  }
-  CHECK(missed == 0);
-  CHECK(differ == 0);
+  // The work's row: its diagonal alone, below.
+  REQUIRE(form.integral_count() == 1);
+  const PatternMismatch mismatch = compare_with_dense(G, D, w, 1);
+  CHECK(mismatch.missed == 0);
+  CHECK(mismatch.differ == 0);
   // The works: nothing reads W (its dense column is zero off the diagonal, so G is block lower
   // triangular), and its row keeps ∂F_W/∂W + c_j ∂F_W/∂W' = c_j alone (the dense row reads the
   // state: the coupling dae_coloured_jacobian.hpp leaves out).
@@ -179,6 +200,45 @@ TEST_CASE("coloured Newton matrix of the DAE form is IDA's dense difference quot
         1e-9 * x_dense.head(w).cwiseAbs().maxCoeff());
 }
 
+TEST_CASE("the joints' pattern holds for every joint kind, flexible bodies and drives", "[core]") {
+  // The pattern lays out the joints' terms by what the GGL residual reads: a body's equations
+  // read the other end's pose (p, θ, q_f) through J and no velocity of it, λ only in the
+  // velocity-level rows, μ only in the position-level ones, and Φ's row no velocity. Every
+  // joint kind's rows (one scene each, two bodies where the kind joins bodies: the Hooke joint,
+  // the weld), the bundled mechanisms (revolute loops with a drive, a prismatic support, the
+  // Bricard linkage's redundant row, flexible rods) and a chain with a spring: an entry the
+  // residual reads and the pattern leaves out is caught as in the test above.
+  std::vector<std::pair<std::string, std::string>> scenes;
+  for (const testing::JointKindScene& s : testing::joint_kind_scenes()) {
+    scenes.emplace_back(s.kind, s.toml);
+  }
+  for (const char* path :
+       {"scenes/four_bar.toml", "scenes/slider_crank.toml", "scenes/slider_crank_flexible.toml",
+        "scenes/andrews_squeezer.toml", "scenes/bricard.toml", "scenes/double_pendulum_ideal.toml",
+        "scenes/heavy_top_spherical.toml"}) {
+    std::ifstream file(path);
+    REQUIRE(file);
+    std::stringstream text;
+    text << file.rdbuf();
+    scenes.emplace_back(path, text.str());
+  }
+  for (const auto& [name, text] : scenes) {
+    CAPTURE(name);
+    const scene::Scene scene = scene::parse_scene(text, name);
+    const DaeForm form(*scene.model);
+    REQUIRE(form.multiplier_count() > 0);
+    DaeForm::Scratch scratch = form.make_scratch();
+    ColouredJacobianPoint p = coloured_point(form, scratch);
+    const reference::DaeColouredJacobian coloured(form);
+    const Eigen::MatrixXd G = coloured_quotients(coloured, form, p, scratch);
+    const Eigen::MatrixXd D = dense_quotients(form, p, scratch);
+    const PatternMismatch mismatch = compare_with_dense(
+        G, D, form.work_index(), form.work_index() >= 0 ? form.integral_count() : 0);
+    CHECK(mismatch.missed == 0);
+    CHECK(mismatch.differ == 0);
+  }
+}
+
 TEST_CASE("the coloured Newton matrix allocates nothing", "[core][allocation]") {
   const scene::Scene scene = scene::parse_scene(testing::chain_scene_text(7, 0.5, 1, 5), "chain");
   const DaeForm form(*scene.model);
@@ -208,6 +268,14 @@ TEST_CASE("a chain's coloured Newton matrix costs as many residuals whatever its
   CHECK(coloured_large.group_count() <= 3 * 19);
   // The pattern grows linearly: nonzeros per column bounded.
   CHECK(coloured_large.nonzeros() < 60L * form_large.size());
+  // And it is the GGL residual's (dae_coloured_jacobian.cpp): per rod inside the chain, its 13
+  // rows read its own 13 columns (169; a spherical joint's point rows read each rod's own pose
+  // alone, so no neighbour's), its two joints' λ in its 6 velocity rows and μ in its 7 pose rows
+  // (2 × 3 × 13 = 78); per joint, λ's 3 rows read both rods' blocks (78), μ's both poses (42),
+  // and the 6 multipliers their diagonal: 373 per rod and joint at most (the chain's ends have
+  // fewer). Joint-coupled blocks in full (the rods' velocities too) gave 825, the neighbours'
+  // poses 555.
+  CHECK(coloured_large.nonzeros() <= 373L * large.model->num_bodies());
 }
 
 TEST_CASE("IDA's sparse Newton matrix solves a chain as accurately as the dense one", "[core]") {
