@@ -25,7 +25,7 @@ namespace {
 
 const std::string kScene = "scenes/tube_support_impact.toml";
 
-std::vector<double> grid(double end, double step) {
+std::vector<double> tube_grid(double end, double step) {
   std::vector<double> t;
   for (int k = 0; k * step <= end + 1e-12; ++k) t.push_back(k * step);
   return t;
@@ -71,7 +71,7 @@ TEST_CASE("tube_support_impact: energy balance, wear outputs and impacts in ever
   REQUIRE(model.tracks_applied_work());
   reference::SolverOptions o;
   o.rtol = 1e-10;
-  const std::vector<double> t = grid(0.3, 0.005);
+  const std::vector<double> t = tube_grid(0.3, 0.005);
   using Solve = reference::ReferenceRun (*)(const core::Model&, const std::vector<double>&,
                                             const reference::SolverOptions&);
   std::vector<Columns> all;
@@ -119,7 +119,7 @@ TEST_CASE("tube_support_impact: LTE and coupled models agree with the frame fixe
   const core::Model lte = scene::build_model(spec, core::FlexibleFormulation::kLte);
   reference::SolverOptions o;
   o.rtol = 1e-10;
-  const std::vector<double> t = grid(0.1, 0.005);
+  const std::vector<double> t = tube_grid(0.1, 0.005);
   const Columns a = columns(coupled, reference::solve_cvode(coupled, t, o));
   const Columns b = columns(lte, reference::solve_cvode(lte, t, o));
   // With ω̄ = 0 and α̅ = 0 the coupled model's modal rows are m_ff q̈ + D q̇ + K q = Q_f, the
@@ -146,7 +146,7 @@ TEST_CASE("tube_support_impact spinning about its axis: coupled is spin-invarian
   spinning.bodies[0].description.prescribed.law.rate = 2.0;  // rad/s
   reference::SolverOptions o;
   o.rtol = 1e-10;
-  const std::vector<double> t = grid(0.3, 0.005);
+  const std::vector<double> t = tube_grid(0.3, 0.005);
   const auto solve = [&](const scene::SceneSpec& spec, core::FlexibleFormulation f) {
     const core::Model m = scene::build_model(spec, f);
     return columns(m, reference::solve_cvode(m, t, o));
@@ -176,7 +176,7 @@ TEST_CASE("tube_support_impact: the schemes' wear work converges at second order
   const core::Model model = scene::build_model(spec, core::FlexibleFormulation::kLte);
   reference::SolverOptions o;
   o.rtol = 1e-11;
-  const std::vector<double> t = grid(0.3, 0.005);
+  const std::vector<double> t = tube_grid(0.3, 0.005);
   const Columns reference_columns = columns(model, reference::solve_cvode(model, t, o));
   const double reference_wear = reference_columns.wear.back();
   for (const std::string& name : lie::builtin_scheme_names()) {
