@@ -17,11 +17,12 @@
 /// a = ±1 and b = ∓1, a = b, a = −b) round differently from the general a x + b y, and the
 /// reductions (dot products, weighted sums of squares, the L1 norm) add in index order. flexref
 /// compiles without -ffast-math, and this file with -ffp-contract=off whatever the target
-/// (reference/CMakeLists.txt), so the results are the library's bit for bit (serial_vector_ops_test compares every operation and case with
-/// SUNDIALS' own). The content (N_VectorContent_Serial) and the constructors, clones and
-/// destructors stay SUNDIALS': a clone copies the operations table (N_VCopyOps), so the
-/// integrators' internal vectors get them too. The fused and vector-array operations stay unset
-/// (as in N_VNew_Serial): SUNDIALS' generic fallbacks then call the operations here.
+/// (reference/CMakeLists.txt), so the results are the library's bit for bit (serial_vector_ops_test
+/// compares every operation and case with SUNDIALS' own). The content (N_VectorContent_Serial) and
+/// the constructors, clones and destructors stay SUNDIALS': a clone copies the operations table
+/// (N_VCopyOps), so the integrators' internal vectors get them too. The fused and vector-array
+/// operations stay unset (as in N_VNew_Serial): SUNDIALS' generic fallbacks then call the
+/// operations here.
 #include <sundials/sundials_nvector.h>
 
 namespace flexref::reference::sundials {
