@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
 # Installs what flexref needs on Debian 12 (only what is missing) and builds it in build/.
-# Usage: scripts/setup.sh [--target NAME]... [extra cmake arguments]
-#   --target NAME   build only this target (repeatable; default: everything: the library, the
-#                   command line, the tests and the benchmarks)
+# Usage: scripts/setup.sh [--target NAME]... [--packages-only] [extra cmake arguments]
+#   --target NAME     build only this target (repeatable; default: everything: the library, the
+#                     command line, the tests and the benchmarks)
+#   --packages-only   install what is missing and build nothing (.ci/run, before its two builds)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 targets=()
 cmake_args=()
+packages_only=0
 while (($#)); do
   case $1 in
     --target) targets+=(--target "$2"); shift 2 ;;
+    --packages-only) packages_only=1; shift ;;
     *) cmake_args+=("$1"); shift ;;
   esac
 done
@@ -33,6 +36,7 @@ if ((${#missing[@]})); then
   "${sudo_cmd[@]}" apt-get update -qq
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
+((packages_only == 0)) || exit 0
 
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
