@@ -1,0 +1,202 @@
+/// \file reduced_model_test.cpp
+/// The reduced (joint-coordinate) form (constraint/reduced_model.hpp) against what is known
+/// independently of it: its body-velocity Jacobian S and bias Ṡ u against central differences of
+/// its own forward kinematics along q ⊕ h u, and the bodies' accelerations it gives against the
+/// maximal model's (core::Model::compute_accelerations, the Schur complement of all joints'
+/// rows: a different formulation sharing only the loads and the closures' rows) at consistent
+/// states of Andrews' squeezer, a spatial chain on spherical joints, the heavy top on its
+/// spherical joint, and the joint-kind scenes (prismatic, cylindrical, universal with a driven
+/// closure, fixed, distance and driven revolute closures). Also: the tree it chooses on Andrews
+/// (the IVP test set's), no allocation per evaluation, and the refusals.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "constraint/reduced_model.hpp"
+#include "core/output_times.hpp"
+#include "reference/solve_reference.hpp"
+#include "rotation/so3.hpp"
+#include "scene/scene_reader.hpp"
+#include "tests/support/allocation_counting.hpp"
+#include "tests/support/chain_scene.hpp"
+#include "tests/support/joint_kind_scenes.hpp"
+#include "tests/support/solver_options.hpp"
+
+namespace flexref::constraint {
+namespace {
+
+struct ReducedCase {
+  std::string name;
+  scene::Scene scene;
+  double horizon;  ///< the maximal reference run the states are taken from (s)
+};
+
+std::vector<ReducedCase> reduced_cases() {
+  std::vector<ReducedCase> cases;
+  cases.push_back({"andrews", scene::read_scene("scenes/andrews_squeezer.toml"), 3e-3});
+  cases.push_back({"chain6", scene::parse_scene(testing::chain_scene_text(6), "chain6.toml"), 0.1});
+  cases.push_back(
+      {"heavy_top_spherical", scene::read_scene("scenes/heavy_top_spherical.toml"), 0.05});
+  for (const testing::JointKindScene& s : testing::joint_kind_scenes()) {
+    cases.push_back({s.kind, scene::parse_scene(s.toml, s.kind + ".toml"), 0.1});
+  }
+  return cases;
+}
+
+/// Consistent states of a case: the maximal CVODE reference's at three times of its horizon,
+/// projected onto all rows (Model::project: Newton to round-off), so that both formulations see
+/// a state on the constraint manifold.
+std::vector<core::State> reduced_states(const ReducedCase& c, std::vector<double>& times) {
+  const core::Model& model = *c.scene.model;
+  times = {0.0, c.horizon / 3.0, c.horizon};
+  const reference::ReferenceRun run =
+      reference::solve_reference("cvode", model, times, testing::with_rtol(1e-8));
+  std::vector<core::State> states = run.trajectory.states;
+  core::Workspace ws = model.make_workspace();
+  for (std::size_t k = 0; k < states.size(); ++k) model.project(times[k], states[k], ws);
+  return states;
+}
+
+/// The stacked (v_WBr, ω̄) central difference of the forward kinematics along q ⊕ h u: the
+/// translation (p(+) − p(−))/2h, the rotation vee(log(R(−)ᵀ R(+)))/2h (body frame).
+Eigen::VectorXd reduced_pose_difference(const TreeKinematics& k, const Eigen::VectorXd& q,
+                                        const Eigen::VectorXd& u, double h) {
+  Eigen::VectorXd q_plus = q, q_minus = q;
+  k.advance(q, u, h, q_plus);
+  k.advance(q, u, -h, q_minus);
+  TreeWorkspace plus = k.make_workspace(), minus = k.make_workspace();
+  k.evaluate(q_plus, u, plus);
+  k.evaluate(q_minus, u, minus);
+  Eigen::VectorXd out(6 * k.body_count());
+  for (int b = 0; b < k.body_count(); ++b) {
+    const auto i = static_cast<std::size_t>(b);
+    out.segment<3>(6 * b) = (plus.state[i].p_WBr - minus.state[i].p_WBr) / (2.0 * h);
+    out.segment<3>(6 * b + 3) =
+        rotation::log_so3(minus.R_WB[i].transpose() * plus.R_WB[i]) / (2.0 * h);
+  }
+  return out;
+}
+
+Eigen::VectorXd reduced_random_velocity(int n, std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Eigen::VectorXd u(n);
+  for (Eigen::Index k = 0; k < n; ++k) u(k) = unit(rng);
+  return u;
+}
+
+TEST_CASE("reduced: S and the bias Ṡu against central differences of the forward kinematics",
+          "[reduced]") {
+  std::mt19937 rng(52);
+  for (const ReducedCase& c : reduced_cases()) {
+    const ReducedModel reduced(*c.scene.model);
+    const TreeKinematics& k = reduced.kinematics();
+    Eigen::VectorXd q, u;
+    reduced.coordinates(c.scene.model->initial_state(), q, u);
+    // Any u (S is defined off the closures' manifold too), |u_i| ≤ 1 in rad/s and m/s.
+    u = reduced_random_velocity(k.velocity_count(), rng);
+    TreeWorkspace ws = k.make_workspace();
+    k.evaluate(q, u, ws);
+    // Step h = 1e-5 s: the central difference's truncation h²/6 |x'''| ~ h² |u|² |ẋ| / 6 ≈ 2e-11
+    // |ẋ| (rates |u| ≤ 1 per mobilizer, a few in series: |u|² ≲ 10) and its round-off
+    // ε |x| / h ≈ 2e-11 |x| (the poses are O(1) m at most, speeds ≳ 1e-2 m/s on the smallest
+    // scene, Andrews) stay below 1e-8 of the largest rate; 1e-7 leaves a margin of 10 for the
+    // scene-to-scene spread of those scales.
+    const double h = 1e-5, tolerance = 1e-7;
+    const Eigen::VectorXd v = ws.S * u;
+    const Eigen::VectorXd v_fd = reduced_pose_difference(k, q, u, h);
+    INFO(c.name << ": S u " << v.transpose() << "\n FD " << v_fd.transpose());
+    CHECK((v - v_fd).cwiseAbs().maxCoeff() <= tolerance * v.cwiseAbs().maxCoeff());
+    // Ṡ u: d(S u)/dt along q ⊕ h u at constant u, (S(q ⊕ hu) − S(q ⊖ hu)) u / 2h; the same
+    // truncation and round-off relative to the bias's own scale |u|² |x|.
+    Eigen::VectorXd q_plus = q, q_minus = q;
+    k.advance(q, u, h, q_plus);
+    k.advance(q, u, -h, q_minus);
+    TreeWorkspace plus = k.make_workspace(), minus = k.make_workspace();
+    k.evaluate(q_plus, u, plus);
+    k.evaluate(q_minus, u, minus);
+    const Eigen::VectorXd bias_fd = (plus.S * u - minus.S * u) / (2.0 * h);
+    INFO(c.name << ": Ṡu " << ws.bias.transpose() << "\n FD " << bias_fd.transpose());
+    CHECK((ws.bias - bias_fd).cwiseAbs().maxCoeff() <=
+          tolerance * std::max(ws.bias.cwiseAbs().maxCoeff(), v.cwiseAbs().maxCoeff()));
+  }
+}
+
+TEST_CASE("reduced: the bodies' accelerations equal the maximal model's at consistent states",
+          "[reduced]") {
+  for (const ReducedCase& c : reduced_cases()) {
+    const core::Model& model = *c.scene.model;
+    const ReducedModel reduced(model);
+    ReducedWorkspace rws = reduced.make_workspace();
+    core::Workspace ws = model.make_workspace();
+    core::Accelerations maximal = model.make_accelerations();
+    core::Accelerations from_reduced = model.make_accelerations();
+    std::vector<double> times;
+    const std::vector<core::State> states = reduced_states(c, times);
+    for (std::size_t s = 0; s < states.size(); ++s) {
+      Eigen::VectorXd q, u, u_dot(reduced.velocity_count());
+      reduced.coordinates(states[s], q, u);
+      const core::LoadContext context{times[s], times[s]};
+      reduced.accelerations(context, q, u, rws, u_dot);
+      reduced.body_accelerations(rws, u_dot, from_reduced);
+      // The maximal model at the very state the reduced one evaluated (its forward kinematics).
+      model.compute_accelerations(context, rws.tree.state, ws, maximal);
+      Eigen::VectorXd a(6 * model.num_bodies()), b(6 * model.num_bodies());
+      for (int i = 0; i < model.num_bodies(); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        a.segment<3>(6 * i) = maximal[k].a_WBr;
+        a.segment<3>(6 * i + 3) = maximal[k].alpha_WB_B;
+        b.segment<3>(6 * i) = from_reduced[k].a_WBr;
+        b.segment<3>(6 * i + 3) = from_reduced[k].alpha_WB_B;
+      }
+      // Both solve the same equations at the same state; they differ by the round-off of their
+      // solves, ε κ of the largest acceleration with κ the condition of the constrained system.
+      // The worst here is Andrews' (masses 0.004–0.07 kg on arms of 4–40 mm, its Schur pivot
+      // ratio ~1e-5 at worst: core/schur_complement_tpl.hpp), κ ≲ 1e5, ε κ ≈ 2e-11; 1e-10
+      // leaves a margin of 5. The scale has a floor of 1 (m/s², rad/s²): the scenes that start
+      // from rest with their drives have no acceleration at t = 0.
+      const double tolerance = 1e-10;
+      const double scale = std::max(1.0, a.cwiseAbs().maxCoeff());
+      INFO(c.name << " at t = " << times[s] << ":\n maximal " << a.transpose() << "\n reduced "
+                  << b.transpose());
+      CHECK((a - b).cwiseAbs().maxCoeff() <= tolerance * scale);
+    }
+  }
+}
+
+TEST_CASE("reduced: Andrews' tree is the IVP test set's, one evaluation allocates nothing",
+          "[reduced]") {
+  const scene::Scene andrews = scene::read_scene("scenes/andrews_squeezer.toml");
+  const core::Model& model = *andrews.model;
+  const ReducedModel reduced(model);
+  const SpanningTree& tree = reduced.kinematics().tree();
+  // Seven revolute joints (O, F, B, A5, A7, G, H) carry the seven angles; E3, E4, E6 close the
+  // three loops: 15 rows of which 6 are independent (the planar loops' in-plane rows).
+  REQUIRE(tree.mobilizers.size() == 7);
+  for (const Mobilizer& m : tree.mobilizers) CHECK(m.kind == MobilizerKind::kRevolute);
+  CHECK(reduced.velocity_count() == 7);
+  std::vector<std::string> closures;
+  for (const int j : tree.closures) closures.push_back(model.constraints()->joint_name(j));
+  CHECK(closures == std::vector<std::string>{"E3", "E4", "E6"});
+  CHECK(reduced.closure_joints()->row_count() == 15);
+  CHECK(reduced.independent_rows().size() == 6);
+  ReducedWorkspace ws = reduced.make_workspace();
+  Eigen::VectorXd q, u, u_dot(reduced.velocity_count());
+  reduced.coordinates(model.initial_state(), q, u);
+  reduced.accelerations({0.0, 0.0}, q, u, ws, u_dot, 100.0);
+  CHECK(testing::count_allocations([&] {
+          reduced.accelerations({1e-4, 0.0}, q, u, ws, u_dot, 100.0);
+        }) == 0);
+}
+
+TEST_CASE("reduced: flexible bodies and contacts are refused with their reason", "[reduced]") {
+  const scene::Scene flexible = scene::read_scene("scenes/flexible_spinner.toml");
+  CHECK_THROWS_WITH(ReducedModel(*flexible.model), Catch::Contains("is flexible"));
+  const scene::Scene contact = scene::read_scene("scenes/bouncing_ball.toml");
+  CHECK_THROWS_WITH(ReducedModel(*contact.model), Catch::Contains("contact element"));
+}
+
+}  // namespace
+}  // namespace flexref::constraint
