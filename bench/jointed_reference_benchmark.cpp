@@ -8,6 +8,9 @@
 /// Baumgarte's term, as CVODE's Adams evaluates it) at the output state t = 2e-4 s on a tracker
 /// accepted at t = 1e-4 s (so that the orientation test compares two different row sets, as
 /// between a solver's accepted state and its trial points): the cost per evaluation alone.
+/// `andrews/reduced_evaluation`: the same state's evaluation in joint coordinates
+/// (constraint/reduced_model.hpp: seven angles, M_r 7 × 7, the three loops' 6 independent rows,
+/// Baumgarte's term as above), from its coordinates: the cost per evaluation of the reduced form.
 /// Counters: steps, right-hand-side (or residual) evaluations, the solver's own CPU time of the
 /// integration (solver_cpu_s, output excluded), and the error of the result, computed once
 /// outside the timed loop: on Andrews the largest difference of the seven angles at t = 0.03
@@ -25,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "constraint/reduced_model.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/exact_solution.hpp"
@@ -134,8 +138,27 @@ void BM_AndrewsEvaluation(benchmark::State& state) {
   }
 }
 
+void BM_AndrewsReducedEvaluation(benchmark::State& state) {
+  const Model& model = *andrews().scene.model;
+  ref::SolverOptions options;
+  options.rtol = 1e-10;
+  const ref::ReferenceRun run = ref::solve_reference("cvode", model, andrews().times, options);
+  const flexref::constraint::ReducedModel reduced(model);
+  flexref::constraint::ReducedWorkspace ws = reduced.make_workspace();
+  Eigen::VectorXd q, u, u_dot(reduced.velocity_count());
+  reduced.coordinates(run.trajectory.states[2], q, u);
+  const flexref::core::LoadContext context{run.trajectory.times[2], 0.0};
+  const double stabilization = 100.0;
+  for (auto _ : state) {
+    reduced.accelerations(context, q, u, ws, u_dot, stabilization);
+    benchmark::DoNotOptimize(u_dot.data());
+  }
+}
+
 void register_all() {
   benchmark::RegisterBenchmark("andrews/evaluation", BM_AndrewsEvaluation)
+      ->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("andrews/reduced_evaluation", BM_AndrewsReducedEvaluation)
       ->Unit(benchmark::kMicrosecond);
   for (const char* solver : {"cvode", "cvode-bdf", "ida", "arkode", "odeint"}) {
     for (double rtol : {1e-8, 1e-10, 1e-12}) {
