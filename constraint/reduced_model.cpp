@@ -9,6 +9,8 @@
 namespace flexref::constraint {
 namespace {
 
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
 /// The model's ideal joints, or an empty list; refuses what the reduced form cannot carry.
 const std::vector<IdealJointSpec>& model_joints(const core::Model& model) {
   static const std::vector<IdealJointSpec> none;
@@ -49,8 +51,10 @@ ReducedModel::ReducedModel(const core::Model& model)
   coordinates(model.initial_state(), q, u);
   kinematics_.evaluate(q, u, ws.tree);
   model.compute_wrenches({0.0, 0.0}, ws.tree.state, ws.model);
-  closures_->evaluate(0.0, ws.model.kinematics, model.velocity_layout(), ws.rows);
-  ws.J_c.noalias() = ws.rows.J * ws.tree.S;
+  core::ConstraintRows rows;
+  rows.resize(closures_->row_count(), model.velocity_layout().size());
+  closures_->evaluate(0.0, ws.model.kinematics, model.velocity_layout(), rows);
+  ws.J_c.noalias() = rows.J * ws.tree.S;
   active_ = core::independent_rows<double>(ws.J_c);
 }
 
@@ -64,12 +68,11 @@ ReducedWorkspace ReducedModel::make_workspace() const {
   const int m = closures_ ? closures_->row_count() : 0;
   const auto r = static_cast<Eigen::Index>(active_.size());
   if (closures_) {
-    ws.rows.resize(m, n6);
+    ws.rows.resize_sparse(m);
     closures_->prepare_rows(model.velocity_layout(), ws.rows);
   }
   ws.bias = model.make_accelerations();
   ws.residual = Vector::Zero(n6);
-  ws.MS = Eigen::MatrixXd::Zero(n6, nu);
   ws.M_r = Eigen::MatrixXd::Zero(nu, nu);
   ws.Q_r = Vector::Zero(nu);
   ws.J_c = Eigen::MatrixXd::Zero(m, nu);
@@ -91,7 +94,10 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
   const core::Model& model = *model_;
   kinematics_.evaluate(q, u, ws.tree);
   const core::Loads loads = model.compute_wrenches(context, ws.tree.state, ws.model);
-  // r(Ṡu) = M Ṡ u − Q body by body (the model's own equations), and M S.
+  // r(Ṡu) = M Ṡ u − Q body by body (the model's own equations); then, over each body's columns
+  // of S (its ancestors'), M_r = Σ_b S_bᵀ M_b S_b and Q_r = Σ_b −S_bᵀ r_b(Ṡu).
+  ws.M_r.setZero();
+  ws.Q_r.setZero();
   const int n = model.num_bodies();
   for (int b = 0; b < n; ++b) {
     const auto k = static_cast<std::size_t>(b);
@@ -100,23 +106,44 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
     ws.bias[k].alpha_WB_B = ws.tree.bias.segment<3>(o + 3);
     model.dynamics_residual(b, loads, ws.bias[k], ws.model, ws.residual.segment(o, 6));
     const core::Body& body = model.body(b);
-    ws.MS.middleRows<3>(o) = body.mass() * ws.tree.S.middleRows<3>(o);
-    ws.MS.middleRows<3>(o + 3).noalias() = body.I_Br_B() * ws.tree.S.middleRows<3>(o + 3);
+    const Vector6 r_b = ws.residual.segment<6>(o);
+    const std::vector<int>& columns = kinematics_.body_columns(b);
+    for (std::size_t x = 0; x < columns.size(); ++x) {
+      const int i = columns[x];
+      const Vector6 S_i = ws.tree.S.block<6, 1>(o, i);
+      Vector6 MS_i;
+      MS_i.head<3>() = body.mass() * S_i.head<3>();
+      MS_i.tail<3>().noalias() = body.I_Br_B() * S_i.tail<3>();
+      ws.Q_r(i) -= S_i.dot(r_b);
+      for (std::size_t y = 0; y <= x; ++y) {
+        const int j = columns[y];
+        ws.M_r(i, j) += ws.tree.S.block<6, 1>(o, j).dot(MS_i);
+      }
+    }
   }
-  // M_r = Sᵀ M S,  Q_r = Sᵀ (Q − M Ṡ u) = −Sᵀ r(Ṡu).
-  ws.M_r.noalias() = ws.tree.S.transpose() * ws.MS;
-  ws.Q_r.noalias() = -ws.tree.S.transpose() * ws.residual;
-  ws.mass.compute(ws.M_r);
+  ws.mass.compute(ws.M_r);  // reads the lower triangle
   if (ws.mass.info() != Eigen::Success) {
     throw std::runtime_error("reduced model: the tree's mass matrix is not positive definite");
   }
   u_dot = ws.mass.solve(ws.Q_r);
   if (active_.empty()) return;
-  // The closures: J_c = J S, γ_c = γ − J Ṡ u, on the independent rows.
+  // The closures: J_c = J S, γ_c = γ − J Ṡ u, row by row over its two bodies' blocks of J.
   closures_->evaluate(context.t, ws.model.kinematics, model.velocity_layout(), ws.rows);
-  ws.J_c.noalias() = ws.rows.J * ws.tree.S;
-  ws.gamma_c = ws.rows.gamma;
-  ws.gamma_c.noalias() -= ws.rows.J * ws.tree.bias;
+  ws.J_c.setZero();
+  for (int r = 0; r < closures_->row_count(); ++r) {
+    double gamma = ws.rows.gamma(r);
+    for (int slot = 0; slot < 2; ++slot) {
+      const int b = ws.rows.jacobian.slot(r, slot).body;
+      if (b < 0) continue;
+      const Eigen::Index o = 6 * static_cast<Eigen::Index>(b);
+      const Vector6 J_rb = ws.rows.jacobian.values(r, slot).head<6>();
+      gamma -= J_rb.dot(ws.tree.bias.segment<6>(o));
+      for (const int i : kinematics_.body_columns(b)) {
+        ws.J_c(r, i) += J_rb.dot(ws.tree.S.block<6, 1>(o, i));
+      }
+    }
+    ws.gamma_c(r) = gamma;
+  }
   const double a = stabilization;
   if (a != 0.0) {
     ws.velocity_rows = ws.rows.phi_t;

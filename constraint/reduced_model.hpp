@@ -37,11 +37,10 @@ namespace flexref::constraint {
 struct ReducedWorkspace {
   TreeWorkspace tree;
   core::Workspace model;          ///< the maximal model's scratch: loads and kinematics
-  core::ConstraintRows rows;      ///< the closures' rows, J dense (m × 6N)
+  core::ConstraintRows rows;      ///< the closures' rows, J by its blocks
   core::Accelerations bias;       ///< Ṡ u body by body (dynamics_residual's argument)
   Eigen::VectorXd residual;       ///< 6N: M Ṡ u − Q
-  Eigen::MatrixXd MS;             ///< 6N × n_u
-  Eigen::MatrixXd M_r;            ///< n_u × n_u
+  Eigen::MatrixXd M_r;            ///< n_u × n_u (its lower triangle)
   Eigen::VectorXd Q_r;            ///< n_u
   Eigen::MatrixXd J_c;            ///< m × n_u
   Eigen::VectorXd gamma_c;        ///< m

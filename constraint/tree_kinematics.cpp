@@ -1,14 +1,17 @@
 #include "constraint/tree_kinematics.hpp"
 
+#include <algorithm>
+
 #include "rotation/euler_parameters.hpp"
 
 namespace flexref::constraint {
 namespace {
 
-/// [r]× M: each column c of M replaced by r × c.
-template <typename Block>
-void subtract_cross(const Eigen::Vector3d& r, const Block& M, Eigen::Ref<Eigen::MatrixXd> out) {
-  for (Eigen::Index c = 0; c < M.cols(); ++c) {
+/// out −= [r]× M on the given columns: each column c of out less r × (column c of M).
+template <typename In, typename Out>
+void subtract_cross(const Eigen::Vector3d& r, const In& M, Out& out,
+                    const std::vector<int>& columns) {
+  for (const int c : columns) {
     out.col(c) -= r.cross(Eigen::Vector3d(M.col(c)));
   }
 }
@@ -18,6 +21,13 @@ void subtract_cross(const Eigen::Vector3d& r, const Block& M, Eigen::Ref<Eigen::
 TreeKinematics::TreeKinematics(SpanningTree tree, const std::vector<core::Body>& bodies)
     : tree_(std::move(tree)) {
   for (const core::Body& b : bodies) p_BoBr_B_.push_back(b.p_BoBr_B());
+  columns_.resize(bodies.size());
+  for (const Mobilizer& m : tree_.mobilizers) {
+    std::vector<int>& columns = columns_[static_cast<std::size_t>(m.child)];
+    if (m.parent != kGround) columns = columns_[static_cast<std::size_t>(m.parent)];
+    for (int k = 0; k < constraint::velocity_count(m.kind); ++k) columns.push_back(m.u_offset + k);
+    std::sort(columns.begin(), columns.end());
+  }
 }
 
 TreeWorkspace TreeKinematics::make_workspace() const {
@@ -87,11 +97,12 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
     const Eigen::Vector3d p_WCr = p_WM - R_WC * m.p_CrM_C;
     const Eigen::Vector3d r_PM = p_WM - p_WPr, r_MC = p_WCr - p_WM;
     // Jacobians: ω_C = ω_P + R_WF H_w u;  v_Cr = v_Pr + ω_P × r_PM + R_WF H_v u + ω_C × r_MC.
-    subtract_cross(r_PM, Jw_C, Jv_C);
+    const std::vector<int>& columns = columns_[c];
+    subtract_cross(r_PM, Jw_C, Jv_C, columns);
     const auto cols = Eigen::seqN(m.u_offset, nu_m);
     Jw_C(Eigen::all, cols).noalias() += R_WF * rel.H_w;
     Jv_C(Eigen::all, cols).noalias() += R_WF * rel.H_v;
-    subtract_cross(r_MC, Jw_C, Jv_C);
+    subtract_cross(r_MC, Jw_C, Jv_C, columns);
     // Velocities and bias (the recursion of the header).
     const auto u_m = u.segment(m.u_offset, nu_m);
     const Eigen::Vector3d w_rel = R_WF * (rel.H_w * u_m);

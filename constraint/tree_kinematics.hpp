@@ -21,8 +21,9 @@
 // clang-format on
 /// (the second derivative of p_WM = p_WPr + r_PF + R_WF p_FM, Ṙ_WF = ω̃_P R_WF), and in the
 /// model's variables ω̄ = R_WCᵀ ω_C, α̅ = R_WCᵀ ω̇_C (d(Rᵀω)/dt = Rᵀω̇ − Rᵀ ω̃ ω = Rᵀω̇).
-/// S is dense, 6N × n_u: O(N n_u) per evaluation, which is what a tree of a few bodies and a
-/// handful of loops needs; long chains want the articulated-body recursion instead.
+/// S is stored dense, 6N × n_u, and swept on each body's ancestors' columns only (body_columns):
+/// O(N d) per evaluation with d the tree's depth, what a tree of a few bodies and a handful of
+/// loops needs; long chains want the articulated-body recursion instead.
 #include <Eigen/Core>
 #include <vector>
 
@@ -64,12 +65,18 @@ class TreeKinematics {
   /// The joint coordinates of a maximal state that satisfies the tree's joints (the inverse of
   /// evaluate on its image; a violation of a tree joint's rows is dropped, not represented).
   void coordinates(const core::State& state, Vector& q, Vector& u) const;
+  /// The columns of S body b's rows can be non-zero on: its mobilizer's and its ancestors' u,
+  /// ascending. The sums over S's rows (M_r, Q_r, J_c) run over these alone.
+  const std::vector<int>& body_columns(int b) const {
+    return columns_[static_cast<std::size_t>(b)];
+  }
   /// q ⊕ h u, mobilizer by mobilizer (advance_coordinates). Allocates nothing.
   void advance(const Vector& q, const Vector& u, double h, Vector& q_out) const;
 
  private:
   SpanningTree tree_;
   std::vector<Eigen::Vector3d> p_BoBr_B_;
+  std::vector<std::vector<int>> columns_;
 };
 
 }  // namespace flexref::constraint
