@@ -17,7 +17,9 @@ Eigen::Matrix3d rotation_z(double angle) {
 /// The angle of a rotation about z (R = R_z(ψ)): ψ = atan2(R(1,0), R(0,0)).
 double angle_z(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 
-Eigen::Vector4d euler_parameters(const double* q) { return Eigen::Vector4d(q[0], q[1], q[2], q[3]); }
+Eigen::Vector4d euler_parameters(const double* q) {
+  return Eigen::Vector4d(q[0], q[1], q[2], q[3]);
+}
 
 /// θ ⊗ exp(h ω̄) into q[0..3].
 void advance_euler_parameters(const double* q, const double* w, double h, double* q_out) {

@@ -88,9 +88,8 @@ ReducedWorkspace ReducedModel::make_workspace() const {
   return ws;
 }
 
-void ReducedModel::accelerations(const core::LoadContext& context, const Vector& q,
-                                 const Vector& u, ReducedWorkspace& ws, Vector& u_dot,
-                                 double stabilization) const {
+void ReducedModel::accelerations(const core::LoadContext& context, const Vector& q, const Vector& u,
+                                 ReducedWorkspace& ws, Vector& u_dot, double stabilization) const {
   const core::Model& model = *model_;
   kinematics_.evaluate(q, u, ws.tree);
   const core::Loads loads = model.compute_wrenches(context, ws.tree.state, ws.model);
@@ -169,10 +168,10 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
     Eigen::Index at = 0;
     pivots.minCoeff(&at);
     const int joint = closures_->joint_of_row(active_[static_cast<std::size_t>(at)]);
-    throw core::SingularConfigurationError(
-        closures_->joint_name(joint), context.t,
-        "reduced model: the closure rows of joint '" + closures_->joint_name(joint) +
-            "' lost rank (a singular configuration)");
+    throw core::SingularConfigurationError(closures_->joint_name(joint), context.t,
+                                           "reduced model: the closure rows of joint '" +
+                                               closures_->joint_name(joint) +
+                                               "' lost rank (a singular configuration)");
   }
   ws.lambda = ws.schur.solve(ws.rhs);
   u_dot.noalias() -= ws.W * ws.lambda;

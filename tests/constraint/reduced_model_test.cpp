@@ -8,14 +8,15 @@
 /// spherical joint, and the joint-kind scenes (prismatic, cylindrical, universal with a driven
 /// closure, fixed, distance and driven revolute closures). Also: the tree it chooses on Andrews
 /// (the IVP test set's), no allocation per evaluation, and the refusals.
-#include <catch2/catch.hpp>
+#include "constraint/reduced_model.hpp"
+
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "constraint/reduced_model.hpp"
 #include "core/output_times.hpp"
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
@@ -100,7 +101,8 @@ std::vector<ReducedCase> reduced_cases() {
   cases.push_back({"chain6", scene::parse_scene(testing::chain_scene_text(6), "chain6.toml"), 0.1});
   cases.push_back(
       {"heavy_top_spherical", scene::read_scene("scenes/heavy_top_spherical.toml"), 0.05});
-  cases.push_back({"sliders", scene::parse_scene(reduced_slider_scene_text(), "sliders.toml"), 0.1});
+  cases.push_back(
+      {"sliders", scene::parse_scene(reduced_slider_scene_text(), "sliders.toml"), 0.1});
   for (const testing::JointKindScene& s : testing::joint_kind_scenes()) {
     cases.push_back({s.kind, scene::parse_scene(s.toml, s.kind + ".toml"), 0.1});
   }
@@ -149,8 +151,8 @@ core::State reduced_moved_state(const core::State& state, const core::Accelerati
   for (std::size_t i = 0; i < out.size(); ++i) {
     core::BodyState& s = out[i];
     s.p_WBr += delta * s.v_WBr;
-    s.theta_WB = rotation::quaternion_multiply(s.theta_WB,
-                                               rotation::exp_quaternion(delta * s.w_WB_B));
+    s.theta_WB =
+        rotation::quaternion_multiply(s.theta_WB, rotation::exp_quaternion(delta * s.w_WB_B));
     s.v_WBr += delta * acc[i].a_WBr;
     s.w_WB_B += delta * acc[i].alpha_WB_B;
   }
