@@ -155,6 +155,38 @@ void advance_coordinates(const Mobilizer& m, const double* q, const double* u, d
   }
 }
 
+void coordinate_rates(const Mobilizer& m, const double* q, const double* u, double* q_dot) {
+  const auto theta_rate = [](const double* theta, const double* w, double* out) {
+    const Eigen::Vector4d t = euler_parameters(theta).normalized();
+    const Eigen::Vector4d rate =
+        rotation::euler_parameter_rate(t, Eigen::Vector3d(w[0], w[1], w[2]));
+    for (int k = 0; k < 4; ++k) out[k] = rate(k);
+  };
+  switch (m.kind) {
+    case MobilizerKind::kFree:
+      for (int k = 0; k < 3; ++k) q_dot[k] = u[k];
+      theta_rate(q + 3, u + 3, q_dot + 3);
+      break;
+    case MobilizerKind::kPivot:
+    case MobilizerKind::kSpherical:
+      theta_rate(q, u, q_dot);
+      break;
+    default:
+      for (int k = 0; k < position_count(m.kind); ++k) q_dot[k] = u[k];
+      break;
+  }
+}
+
+void normalize_coordinates(const Mobilizer& m, double* q) {
+  double* theta = m.kind == MobilizerKind::kFree ? q + 3
+                  : (m.kind == MobilizerKind::kPivot || m.kind == MobilizerKind::kSpherical)
+                      ? q
+                      : nullptr;
+  if (theta == nullptr) return;
+  Eigen::Map<Eigen::Vector4d> t(theta);
+  t.normalize();
+}
+
 void mobilizer_coordinates(const Mobilizer& m, const Eigen::Matrix3d& R_FM,
                            const Eigen::Vector3d& p_FM_F, const Eigen::Vector3d& w_FM_F,
                            const Eigen::Vector3d& p_dot_FM_F, const Eigen::Vector4d* theta,

@@ -87,6 +87,14 @@ void relative_motion(const Mobilizer& m, const double* q, const double* u, Relat
 void advance_coordinates(const Mobilizer& m, const double* q, const double* u, double h,
                          double* q_out);
 
+/// q̇ at (q, u): u, or for Euler parameters ½ θ̂ ⊗ (0, ω̄) with θ̂ = θ/|θ| (tangent to the sphere
+/// through θ, so the exact flow keeps |θ|; as the maximal ODE form's, reference/ode_form.hpp).
+/// Allocates nothing.
+void coordinate_rates(const Mobilizer& m, const double* q, const double* u, double* q_dot);
+
+/// Scales the mobilizer's Euler parameters (if any) to unit norm. Allocates nothing.
+void normalize_coordinates(const Mobilizer& m, double* q);
+
 /// The coordinates of a relative pose and motion: the inverse of relative_motion on its image
 /// (angles in (−π, π]; Euler parameters with e0 ≥ 0 unless `theta` is given, which a root's
 /// q takes as is). w_FM_F and p_dot_FM_F: the relative angular velocity and ṗ_FM in F.

@@ -162,6 +162,16 @@ void TreeKinematics::coordinates(const core::State& state, Vector& q, Vector& u)
   }
 }
 
+void TreeKinematics::rates(const double* q, const double* u, double* q_dot) const {
+  for (const Mobilizer& m : tree_.mobilizers) {
+    coordinate_rates(m, q + m.q_offset, u + m.u_offset, q_dot + m.q_offset);
+  }
+}
+
+void TreeKinematics::normalize(double* q) const {
+  for (const Mobilizer& m : tree_.mobilizers) normalize_coordinates(m, q + m.q_offset);
+}
+
 void TreeKinematics::advance(const Vector& q, const Vector& u, double h, Vector& q_out) const {
   for (const Mobilizer& m : tree_.mobilizers) {
     advance_coordinates(m, q.data() + m.q_offset, u.data() + m.u_offset, h,

@@ -70,6 +70,10 @@ class TreeKinematics {
   const std::vector<int>& body_columns(int b) const {
     return columns_[static_cast<std::size_t>(b)];
   }
+  /// q̇ at (q, u), mobilizer by mobilizer (coordinate_rates). Allocates nothing.
+  void rates(const double* q, const double* u, double* q_dot) const;
+  /// Every mobilizer's Euler parameters scaled to unit norm. Allocates nothing.
+  void normalize(double* q) const;
   /// q ⊕ h u, mobilizer by mobilizer (advance_coordinates). Allocates nothing.
   void advance(const Vector& q, const Vector& u, double h, Vector& q_out) const;
 
