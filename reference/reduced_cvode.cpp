@@ -109,9 +109,9 @@ int reduced_weights(N_Vector y, N_Vector ewt, void* user_data) {
 /// at the initial state — the bodies' angular speeds, the modes damped less than critically
 /// (|Re λ| ≤ |Im λ|) and the growth rates Re λ > 0 of the Jacobian of y' = f(y) (forward
 /// differences, step √ε max(1, |y_j|); eigenvalues below 1e-6 of its largest entry are zero) —
-/// or π/Δt_out when none is known. The maximal rule's own summary differences the 91-state
-/// form (a third of this reference's setup on Andrews); the reduced Jacobian is 14 × 14 and has
-/// the same mechanism's spectrum (Andrews: the growth rate 471/s).
+/// or π/Δt_out when none is known. The maximal rule's own summary differences the maximal form
+/// (13 states per body); the reduced Jacobian is n_q + n_u square and has the same mechanism's
+/// spectrum.
 double reduced_stabilization_rate(ReducedOde& d, const Eigen::VectorXd& y0, double spacing) {
   const int n = static_cast<int>(y0.size());
   const sun::Context context = sun::make_context();

@@ -5,14 +5,16 @@
 ///   q̇ = u (angles, slides),  θ̇ = ½ θ̂ ⊗ (0, ω̄) (Euler parameters),
 ///   u̇ = constraint::ReducedModel::accelerations with Baumgarte's rate on the loop closures,
 /// Adams–Moulton with fixed-point iteration and Anderson acceleration of depth 1, as the maximal
-/// CVODE reference on ideal joints (reference/cvode_solver.cpp), with SUNDIALS' scalar
-/// tolerances (rtol, atol) on y. The outputs are the bodies' states by forward kinematics at the
-/// output times, CVODE's interpolation of y in between its steps.
+/// CVODE reference on ideal joints (reference/cvode_solver.cpp); the error weights per unit step
+/// of reference/error_weights.hpp on the coordinates that turn (angles, Euler parameters) and
+/// their rates, SUNDIALS' rtol |y_i| + atol on the others; Baumgarte's rate by the maximal rule
+/// (constraint_stabilization_rate) read on the reduced ODE's own Jacobian. The outputs are the
+/// bodies' states by forward kinematics at the output times, CVODE's interpolation of y in
+/// between its steps (docs/reduced_coordinates.md, "The reference").
 ///
 /// Not yet the maximal driver's equal: no segments (a model with known load switches is
-/// refused), no event location (contacts are refused by ReducedModel), no work integrals, the
-/// error weights SUNDIALS' own (not reference/error_weights.hpp's), and Baumgarte's rate is the
-/// maximal form's (constraint_stabilization_rate of the model at the output spacing).
+/// refused), no event location (contacts are refused by ReducedModel), no work integrals, no
+/// joint reactions in the outputs.
 #include <string>
 #include <vector>
 
