@@ -8,6 +8,9 @@
 /// Baumgarte's term, as CVODE's Adams evaluates it) at the output state t = 2e-4 s on a tracker
 /// accepted at t = 1e-4 s (so that the orientation test compares two different row sets, as
 /// between a solver's accepted state and its trial points): the cost per evaluation alone.
+/// `andrews/reduced_evaluation`: the same state's evaluation in joint coordinates
+/// (constraint/reduced_model.hpp: seven angles, M_r 7 × 7, the three loops' 6 independent rows,
+/// Baumgarte's term as above), from its coordinates: the cost per evaluation of the reduced form.
 /// Counters: steps, right-hand-side (or residual) evaluations, the solver's own CPU time of the
 /// integration (solver_cpu_s, output excluded), and the error of the result, computed once
 /// outside the timed loop: on Andrews the largest difference of the seven angles at t = 0.03
@@ -25,9 +28,11 @@
 #include <string>
 #include <vector>
 
+#include "constraint/reduced_model.hpp"
 #include "core/model.hpp"
 #include "core/output_times.hpp"
 #include "reference/exact_solution.hpp"
+#include "reference/reduced_cvode.hpp"
 #include "reference/reference_solver.hpp"
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
@@ -65,8 +70,8 @@ constexpr double kK2AngleRk4 = 15.810771195153839 - 15.756371058412032;
 
 /// |angle of body `body` about +z at the last output − `expected`|, modulo 2π (planar motion:
 /// the angle is 2 atan2(e3, e0)).
-double planar_angle_error(const ref::ReferenceRun& run, std::size_t body, double expected) {
-  const auto& q = run.trajectory.states.back()[body].theta_WB;
+double planar_angle_error(const flexref::core::State& last, std::size_t body, double expected) {
+  const auto& q = last[body].theta_WB;
   return std::abs(std::remainder(2.0 * std::atan2(q[3], q[0]) - expected, 2.0 * M_PI));
 }
 
@@ -107,8 +112,8 @@ void BM_JointedReference(benchmark::State& state, const JointedScene& (*scene)()
     state.counters["error_rad"] = heavy_top_error(run);
   } else {
     // K1 and K2 are bodies 0 and 1 of the scene (scripts/scenes/make_andrews_squeezer.py).
-    state.counters["beta_error"] = planar_angle_error(run, 0, kBetaRk4);
-    state.counters["k2_error"] = planar_angle_error(run, 1, kK2AngleRk4);
+    state.counters["beta_error"] = planar_angle_error(run.trajectory.states.back(), 0, kBetaRk4);
+    state.counters["k2_error"] = planar_angle_error(run.trajectory.states.back(), 1, kK2AngleRk4);
   }
   state.SetLabel(run.method);
 }
@@ -134,9 +139,54 @@ void BM_AndrewsEvaluation(benchmark::State& state) {
   }
 }
 
+void BM_AndrewsReducedEvaluation(benchmark::State& state) {
+  const Model& model = *andrews().scene.model;
+  ref::SolverOptions options;
+  options.rtol = 1e-10;
+  const ref::ReferenceRun run = ref::solve_reference("cvode", model, andrews().times, options);
+  const flexref::constraint::ReducedModel reduced(model);
+  flexref::constraint::ReducedWorkspace ws = reduced.make_workspace();
+  Eigen::VectorXd q, u, u_dot(reduced.velocity_count());
+  reduced.coordinates(run.trajectory.states[2], q, u);
+  const flexref::core::LoadContext context{run.trajectory.times[2], 0.0};
+  const double stabilization = 100.0;
+  for (auto _ : state) {
+    reduced.accelerations(context, q, u, ws, u_dot, stabilization);
+    benchmark::DoNotOptimize(u_dot.data());
+  }
+}
+
+/// The reduced reference (reference/reduced_cvode.hpp) on Andrews at rtol, the reduced model
+/// built in the timed loop as the maximal reference's setup is.
+void BM_AndrewsReducedReference(benchmark::State& state, double rtol) {
+  const Model& model = *andrews().scene.model;
+  ref::SolverOptions options;
+  options.rtol = rtol;
+  ref::ReducedRun run;
+  for (auto _ : state) {
+    const flexref::constraint::ReducedModel reduced(model);
+    run = ref::solve_reduced_cvode(reduced, andrews().times, options);
+    benchmark::DoNotOptimize(run.states.back()[0].w_WB_B.data());
+  }
+  state.counters["rtol"] = rtol;
+  state.counters["steps"] = static_cast<double>(run.steps);
+  state.counters["rhs_evals"] = static_cast<double>(run.evaluations);
+  state.counters["baumgarte_per_s"] = run.stabilization;
+  state.counters["beta_error"] = planar_angle_error(run.states.back(), 0, kBetaRk4);
+  state.counters["k2_error"] = planar_angle_error(run.states.back(), 1, kK2AngleRk4);
+}
+
 void register_all() {
   benchmark::RegisterBenchmark("andrews/evaluation", BM_AndrewsEvaluation)
       ->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("andrews/reduced_evaluation", BM_AndrewsReducedEvaluation)
+      ->Unit(benchmark::kMicrosecond);
+  for (double rtol : {1e-8, 1e-10, 1e-12}) {
+    const std::string tol = rtol == 1e-8 ? "1e-8" : rtol == 1e-10 ? "1e-10" : "1e-12";
+    benchmark::RegisterBenchmark(("andrews/reduced_cvode/" + tol).c_str(),
+                                 BM_AndrewsReducedReference, rtol)
+        ->Unit(benchmark::kMillisecond);
+  }
   for (const char* solver : {"cvode", "cvode-bdf", "ida", "arkode", "odeint"}) {
     for (double rtol : {1e-8, 1e-10, 1e-12}) {
       const std::string tol = rtol == 1e-8 ? "1e-8" : rtol == 1e-10 ? "1e-10" : "1e-12";

@@ -1,0 +1,182 @@
+#include "constraint/tree_kinematics.hpp"
+
+#include <algorithm>
+
+#include "rotation/euler_parameters.hpp"
+
+namespace flexref::constraint {
+namespace {
+
+/// out −= [r]× M on the given columns: each column c of out less r × (column c of M).
+template <typename In, typename Out>
+void subtract_cross(const Eigen::Vector3d& r, const In& M, Out& out,
+                    const std::vector<int>& columns) {
+  for (const int c : columns) {
+    out.col(c) -= r.cross(Eigen::Vector3d(M.col(c)));
+  }
+}
+
+}  // namespace
+
+TreeKinematics::TreeKinematics(SpanningTree tree, const std::vector<core::Body>& bodies)
+    : tree_(std::move(tree)) {
+  for (const core::Body& b : bodies) p_BoBr_B_.push_back(b.p_BoBr_B());
+  columns_.resize(bodies.size());
+  for (const Mobilizer& m : tree_.mobilizers) {
+    std::vector<int>& columns = columns_[static_cast<std::size_t>(m.child)];
+    if (m.parent != kGround) columns = columns_[static_cast<std::size_t>(m.parent)];
+    for (int k = 0; k < constraint::velocity_count(m.kind); ++k) columns.push_back(m.u_offset + k);
+    std::sort(columns.begin(), columns.end());
+  }
+}
+
+TreeWorkspace TreeKinematics::make_workspace() const {
+  const auto n = static_cast<std::size_t>(body_count());
+  const int nu = velocity_count();
+  TreeWorkspace ws;
+  ws.state.resize(n);
+  for (core::BodyState& s : ws.state) {
+    s.q_f.resize(0);
+    s.qd_f.resize(0);
+  }
+  ws.state.wear_depth.resize(0);
+  ws.R_WB.assign(n, Eigen::Matrix3d::Identity());
+  ws.w_WB_W.assign(n, Eigen::Vector3d::Zero());
+  ws.alpha_bias_W.assign(n, Eigen::Vector3d::Zero());
+  ws.a_bias_WBr.assign(n, Eigen::Vector3d::Zero());
+  ws.relative.resize(tree_.mobilizers.size());
+  const auto rows = static_cast<Eigen::Index>(3 * n);
+  ws.Jw = Eigen::MatrixXd::Zero(rows, nu);
+  ws.Jv = Eigen::MatrixXd::Zero(rows, nu);
+  ws.S = Eigen::MatrixXd::Zero(2 * rows, nu);
+  ws.bias = Eigen::VectorXd::Zero(2 * rows);
+  return ws;
+}
+
+void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& ws) const {
+  for (std::size_t k = 0; k < tree_.mobilizers.size(); ++k) {
+    const Mobilizer& m = tree_.mobilizers[k];
+    RelativeMotion& rel = ws.relative[k];
+    relative_motion(m, q.data() + m.q_offset, u.data() + m.u_offset, rel);
+    const int nu_m = constraint::velocity_count(m.kind);
+    const auto c = static_cast<std::size_t>(m.child);
+    const Eigen::Index rc = 3 * static_cast<Eigen::Index>(c);
+    // The parent's pose, motion, Jacobian rows and bias (the ground's: identity, zero).
+    Eigen::Matrix3d R_WP = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d p_WPr = Eigen::Vector3d::Zero(), w_P = Eigen::Vector3d::Zero();
+    Eigen::Vector3d alpha_P = Eigen::Vector3d::Zero(), a_P = Eigen::Vector3d::Zero();
+    auto Jw_C = ws.Jw.middleRows<3>(rc);
+    auto Jv_C = ws.Jv.middleRows<3>(rc);
+    if (m.parent == kGround) {
+      Jw_C.setZero();
+      Jv_C.setZero();
+    } else {
+      const auto p = static_cast<std::size_t>(m.parent);
+      const Eigen::Index rp = 3 * static_cast<Eigen::Index>(p);
+      R_WP = ws.R_WB[p];
+      p_WPr = ws.state[p].p_WBr;
+      w_P = ws.w_WB_W[p];
+      alpha_P = ws.alpha_bias_W[p];
+      a_P = ws.a_bias_WBr[p];
+      Jw_C = ws.Jw.middleRows<3>(rp);
+      Jv_C = ws.Jv.middleRows<3>(rp);
+    }
+    // Poses: R_WF, p_WF; R_WM, p_WM; R_WC, p_WCr.
+    const Eigen::Matrix3d R_WF = R_WP * m.R_PF;
+    const Eigen::Vector3d p_WF = p_WPr + R_WP * m.p_PrF_P;
+    const Eigen::Vector3d p_WM = p_WF + R_WF * rel.p_FM_F;
+    Eigen::Matrix3d R_WC = R_WF * rel.R_FM * m.R_CM.transpose();
+    core::BodyState& s = ws.state[c];
+    if (m.kind == MobilizerKind::kFree || m.kind == MobilizerKind::kPivot) {
+      // A root's attitude is its coordinates' (F = W, M = B): θ_WB as integrated.
+      const int o = m.kind == MobilizerKind::kFree ? 3 : 0;
+      s.theta_WB = q.segment<4>(m.q_offset + o);
+    } else {
+      s.theta_WB = rotation::euler_parameters_from_matrix(R_WC);
+    }
+    const Eigen::Vector3d p_WCr = p_WM - R_WC * m.p_CrM_C;
+    const Eigen::Vector3d r_PM = p_WM - p_WPr, r_MC = p_WCr - p_WM;
+    // Jacobians: ω_C = ω_P + R_WF H_w u;  v_Cr = v_Pr + ω_P × r_PM + R_WF H_v u + ω_C × r_MC.
+    const std::vector<int>& columns = columns_[c];
+    subtract_cross(r_PM, Jw_C, Jv_C, columns);
+    const auto cols = Eigen::seqN(m.u_offset, nu_m);
+    Jw_C(Eigen::all, cols).noalias() += R_WF * rel.H_w;
+    Jv_C(Eigen::all, cols).noalias() += R_WF * rel.H_v;
+    subtract_cross(r_MC, Jw_C, Jv_C, columns);
+    // Velocities and bias (the recursion of the header).
+    const auto u_m = u.segment(m.u_offset, nu_m);
+    const Eigen::Vector3d w_rel = R_WF * (rel.H_w * u_m);
+    const Eigen::Vector3d v_rel = R_WF * (rel.H_v * u_m);
+    const Eigen::Vector3d w_C = w_P + w_rel;
+    const Eigen::Vector3d alpha_C = alpha_P + w_P.cross(w_rel) + R_WF * rel.w_dot_bias_F;
+    const Eigen::Vector3d a_M = a_P + alpha_P.cross(r_PM) + w_P.cross(w_P.cross(r_PM)) +
+                                2.0 * w_P.cross(v_rel) + R_WF * rel.p_ddot_bias_F;
+    const Eigen::Vector3d a_C = a_M + alpha_C.cross(r_MC) + w_C.cross(w_C.cross(r_MC));
+    ws.R_WB[c] = R_WC;
+    ws.w_WB_W[c] = w_C;
+    ws.alpha_bias_W[c] = alpha_C;
+    ws.a_bias_WBr[c] = a_C;
+    s.p_WBr = p_WCr;
+    s.v_WBr.noalias() = Jv_C * u;
+    s.w_WB_B.noalias() = R_WC.transpose() * w_C;
+    // The model's variables: (v_WBr, ω̄ = R_WCᵀ ω) = S u, (a_WBr, α̅ = R_WCᵀ ω̇) at u̇ = 0.
+    const Eigen::Index r6 = 2 * rc;
+    ws.S.middleRows<3>(r6) = Jv_C;
+    ws.S.middleRows<3>(r6 + 3).noalias() = R_WC.transpose() * Jw_C;
+    ws.bias.segment<3>(r6) = a_C;
+    ws.bias.segment<3>(r6 + 3).noalias() = R_WC.transpose() * alpha_C;
+  }
+}
+
+void TreeKinematics::coordinates(const core::State& state, Vector& q, Vector& u) const {
+  q.resize(position_count());
+  u.resize(velocity_count());
+  for (const Mobilizer& m : tree_.mobilizers) {
+    // The frames F and M in the world, and their velocities, from the bodies' states.
+    Eigen::Matrix3d R_WP = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d p_WPr = Eigen::Vector3d::Zero(), v_WPr = Eigen::Vector3d::Zero();
+    Eigen::Vector3d w_P = Eigen::Vector3d::Zero();
+    if (m.parent != kGround) {
+      const core::BodyState& sp = state[static_cast<std::size_t>(m.parent)];
+      R_WP = rotation::rotation_matrix(sp.theta_WB);
+      p_WPr = sp.p_WBr;
+      v_WPr = sp.v_WBr;
+      w_P = R_WP * sp.w_WB_B;
+    }
+    const core::BodyState& sc = state[static_cast<std::size_t>(m.child)];
+    const Eigen::Matrix3d R_WC = rotation::rotation_matrix(sc.theta_WB);
+    const Eigen::Vector3d w_C = R_WC * sc.w_WB_B;
+    const Eigen::Matrix3d R_WF = R_WP * m.R_PF;
+    const Eigen::Vector3d p_WF = p_WPr + R_WP * m.p_PrF_P;
+    const Eigen::Vector3d p_WM = sc.p_WBr + R_WC * m.p_CrM_C;
+    const Eigen::Vector3d v_WF = v_WPr + w_P.cross(p_WF - p_WPr);
+    const Eigen::Vector3d v_WM = sc.v_WBr + w_C.cross(p_WM - sc.p_WBr);
+    // p_FM = R_WFᵀ (p_WM − p_WF):  its rate in F is R_WFᵀ (v_WM − v_WF − ω_P × (p_WM − p_WF)).
+    const Eigen::Matrix3d R_FM = R_WF.transpose() * R_WC * m.R_CM;
+    const Eigen::Vector3d p_FM = R_WF.transpose() * (p_WM - p_WF);
+    const Eigen::Vector3d p_dot_FM = R_WF.transpose() * (v_WM - v_WF - w_P.cross(p_WM - p_WF));
+    const Eigen::Vector3d w_FM = R_WF.transpose() * (w_C - w_P);
+    const bool root = m.kind == MobilizerKind::kFree || m.kind == MobilizerKind::kPivot;
+    mobilizer_coordinates(m, R_FM, p_FM, w_FM, p_dot_FM, root ? &sc.theta_WB : nullptr,
+                          q.data() + m.q_offset, u.data() + m.u_offset);
+  }
+}
+
+void TreeKinematics::rates(const double* q, const double* u, double* q_dot) const {
+  for (const Mobilizer& m : tree_.mobilizers) {
+    coordinate_rates(m, q + m.q_offset, u + m.u_offset, q_dot + m.q_offset);
+  }
+}
+
+void TreeKinematics::normalize(double* q) const {
+  for (const Mobilizer& m : tree_.mobilizers) normalize_coordinates(m, q + m.q_offset);
+}
+
+void TreeKinematics::advance(const Vector& q, const Vector& u, double h, Vector& q_out) const {
+  for (const Mobilizer& m : tree_.mobilizers) {
+    advance_coordinates(m, q.data() + m.q_offset, u.data() + m.u_offset, h,
+                        q_out.data() + m.q_offset);
+  }
+}
+
+}  // namespace flexref::constraint
