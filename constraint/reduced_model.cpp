@@ -83,8 +83,10 @@ ReducedWorkspace ReducedModel::make_workspace() const {
   ws.lambda = Vector::Zero(r);
   ws.W = Eigen::MatrixXd::Zero(nu, r);
   ws.A = Eigen::MatrixXd::Zero(r, r);
-  ws.mass = Eigen::LLT<Eigen::MatrixXd>(nu);
-  ws.schur = Eigen::LLT<Eigen::MatrixXd>(r);
+  // Sized by a first factorization (LLT's sizing constructor leaves its status unset, which a
+  // copy then reads): the evaluations' factorizations of the same sizes allocate nothing.
+  ws.mass.compute(Eigen::MatrixXd::Identity(nu, nu));
+  ws.schur.compute(Eigen::MatrixXd::Identity(r, r));
   return ws;
 }
 
