@@ -43,7 +43,9 @@ void ErrorWeights::evaluate(const double* y, double mean_step, double* ewt) cons
   for (std::size_t r = 0; r < blocks; ++r) {
     const RotationBlock& b = rotations_[r];
     const double* w = y + b.w;
-    const double speed = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    double squared_speed = w[0] * w[0];
+    for (int k = 1; k < b.rates; ++k) squared_speed += w[k] * w[k];
+    const double speed = std::sqrt(squared_speed);
     // s = |ω̄| + 1/T; f = min(1, s h̄): the share of the run's attitude budget one step gets.
     const double rate = speed + 1.0 / span_;
     const double share = mean_step > 0.0 ? std::min(1.0, rate * mean_step) : 1.0;
@@ -58,10 +60,10 @@ void ErrorWeights::evaluate(const double* y, double mean_step, double* ewt) cons
           std::max(1.0, std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) / joint_length_scale_);
       rate_rounding = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) / joint_length_scale_;
     }
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < b.attitudes; ++k) {
       ewt[b.theta + k] = 1.0 / std::max(tol_theta, roundoff_ * kEpsilon * attitude_rounding);
     }
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < b.rates; ++k) {
       const double floor =
           roundoff_ * kEpsilon * std::max(std::abs(w[k]) + 1.0 / span_, rate_rounding);
       ewt[b.w + k] = 1.0 / std::max(tol_theta / span_, floor);

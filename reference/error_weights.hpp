@@ -69,12 +69,16 @@
 namespace flexref::reference {
 
 /// The offsets in y of a body's Euler parameters θ (4) and angular velocity ω̄ (3), and of its
-/// position p (3) and velocity v (3) for the joints' rounding (−1: none).
+/// position p (3) and velocity v (3) for the joints' rounding (−1: none). A joint angle and its
+/// rate (the reduced form's coordinates, reference/reduced_cvode.hpp) are a block of one
+/// attitude and one rate component: the same budget per unit step, its speed |u|.
 struct RotationBlock {
   int theta = -1;
   int w = -1;
   int p = -1;
   int v = -1;
+  int attitudes = 4;  ///< components at theta
+  int rates = 3;      ///< components at w
 };
 
 class ErrorWeights {

@@ -9,7 +9,10 @@
 #include <exception>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "core/error.hpp"
 #include "reference/error_weights.hpp"
@@ -21,25 +24,14 @@ namespace {
 
 namespace sun = sundials;
 
-/// Coordinates that turn, with their rates, in y: one angle (positions = rates = 1) or Euler
-/// parameters (4) with their ω̄ (3).
-struct TurningBlock {
-  int q = 0;
-  int positions = 0;
-  int u = 0;
-  int rates = 0;
-};
-
 /// What the right-hand side reads and leaves behind (one per run).
 struct ReducedOde {
   const constraint::ReducedModel* reduced = nullptr;
   constraint::ReducedWorkspace ws;
   Eigen::VectorXd q, u, u_dot;
   double stabilization = 0.0;
-  double rtol = 0.0, atol = 0.0;
-  double span = 0.0;  ///< the run's time span T (s)
-  std::size_t size = 0;
-  std::vector<TurningBlock> turning;
+  /// reference/error_weights.hpp's weights per unit step on the coordinates that turn.
+  std::optional<ErrorWeights> weights;
   void* cvode = nullptr;
   sun::ErrorLog log;
   std::exception_ptr error;
@@ -68,39 +60,20 @@ int reduced_rhs(double t, N_Vector y, N_Vector ydot, void* user_data) {
   }
 }
 
-/// The error weights per unit step of reference/error_weights.hpp, on the joint coordinates
-/// that turn: for each angle (revolute, universal, a cylindrical joint's first) and each Euler
-/// parameter block (spherical, pivot, free) with its rates u, s = |u| + 1/T and
-/// f = min(1, s h̄) (h̄ the run's mean step so far; f = 1 before the first step),
-///   angle or θ: tol = f (rtol + atol),   its rates: tol = f (rtol + atol) / T,
-/// floored at kRoundoff ε (times |u_i| + 1/T for the rates); every other component keeps
-/// SUNDIALS' rtol |y_i| + atol. The errors of all the steps then add up to (rtol + atol) times
-/// the angle turned, as the maximal reference's (an angle's scale is the radian, not how many
-/// turns it has made).
+/// The error weights per unit step of reference/error_weights.hpp on the joint coordinates
+/// that turn — each angle (revolute, universal, a cylindrical joint's first) and each Euler
+/// parameter block (spherical, pivot, free) with its rates — and SUNDIALS' rtol |y_i| + atol on
+/// every other component: the errors of all the steps add up to (rtol + atol) times the angle
+/// turned, as the maximal reference's (an angle's scale is the radian, not how many turns it has
+/// made).
 int reduced_weights(N_Vector y, N_Vector ewt, void* user_data) {
   const auto& d = *static_cast<const ReducedOde*>(user_data);
-  const double* Y = sun::data(y);
-  double* W = sun::data(ewt);
-  for (std::size_t i = 0; i < d.size; ++i) W[i] = 1.0 / (d.rtol * std::abs(Y[i]) + d.atol);
-  if (!(d.span > 0.0)) return 0;
   long steps = 0;
   double t = 0.0;
   CVodeGetNumSteps(d.cvode, &steps);
   CVodeGetCurrentTime(d.cvode, &t);
-  const double mean_step = steps > 0 ? t / static_cast<double>(steps) : 0.0;
-  const double tol = d.rtol + d.atol;
-  const double floor = ErrorWeights::kRoundoff * std::numeric_limits<double>::epsilon();
-  for (const TurningBlock& b : d.turning) {
-    double speed = 0.0;
-    for (int k = 0; k < b.rates; ++k) speed += Y[b.u + k] * Y[b.u + k];
-    const double s = std::sqrt(speed) + 1.0 / d.span;
-    const double f = mean_step > 0.0 ? std::min(1.0, s * mean_step) : 1.0;
-    for (int k = 0; k < b.positions; ++k) W[b.q + k] = 1.0 / std::max(f * tol, floor);
-    for (int k = 0; k < b.rates; ++k) {
-      const double rate_floor = floor * (std::abs(Y[b.u + k]) + 1.0 / d.span);
-      W[b.u + k] = 1.0 / std::max(f * tol / d.span, rate_floor);
-    }
-  }
+  d.weights->evaluate(sun::data(y), steps > 0 ? t / static_cast<double>(steps) : 0.0,
+                      sun::data(ewt));
   return 0;
 }
 
@@ -189,33 +162,32 @@ ReducedRun solve_reduced_cvode(const constraint::ReducedModel& reduced,
   sun::check(CVodeInit(mem, reduced_rhs, 0.0, y.get()), "CVodeInit");
   sun::check(CVodeSetUserData(mem, &d), "CVodeSetUserData");
   sun::check(CVodeSetErrHandlerFn(mem, sun::record_error, &d.log), "CVodeSetErrHandlerFn");
-  d.rtol = options.rtol;
-  d.atol = options.absolute_tolerance();
-  d.size = static_cast<std::size_t>(nq + nu);
-  d.span = output_times.back();
   d.cvode = mem;
+  std::vector<RotationBlock> turning;
   for (const constraint::Mobilizer& m : k.tree().mobilizers) {
     const int u_first = nq + m.u_offset;
     switch (m.kind) {
       case constraint::MobilizerKind::kRevolute:
       case constraint::MobilizerKind::kCylindrical:
-        d.turning.push_back({m.q_offset, 1, u_first, 1});
+        turning.push_back({m.q_offset, u_first, -1, -1, 1, 1});
         break;
       case constraint::MobilizerKind::kUniversal:
-        d.turning.push_back({m.q_offset, 1, u_first, 1});
-        d.turning.push_back({m.q_offset + 1, 1, u_first + 1, 1});
+        turning.push_back({m.q_offset, u_first, -1, -1, 1, 1});
+        turning.push_back({m.q_offset + 1, u_first + 1, -1, -1, 1, 1});
         break;
       case constraint::MobilizerKind::kSpherical:
       case constraint::MobilizerKind::kPivot:
-        d.turning.push_back({m.q_offset, 4, u_first, 3});
+        turning.push_back({m.q_offset, u_first, -1, -1, 4, 3});
         break;
       case constraint::MobilizerKind::kFree:
-        d.turning.push_back({m.q_offset + 3, 4, u_first + 3, 3});
+        turning.push_back({m.q_offset + 3, u_first + 3, -1, -1, 4, 3});
         break;
       default:
         break;
     }
   }
+  d.weights.emplace(nq + nu, options.rtol, options.absolute_tolerance(), output_times.back(),
+                    std::move(turning));
   sun::check(CVodeWFtolerances(mem, reduced_weights), "CVodeWFtolerances");
   sun::check(CVodeSetNonlinearSolver(mem, fixed_point.get()), "CVodeSetNonlinearSolver");
   sun::check(CVodeSetMaxNumSteps(mem, options.max_steps), "CVodeSetMaxNumSteps");
