@@ -1,8 +1,10 @@
 #include "constraint/reduced_model.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "core/orientation_test_tpl.hpp"
 #include "core/row_selection_tpl.hpp"
 #include "core/schur_complement_tpl.hpp"
 
@@ -10,6 +12,31 @@ namespace flexref::constraint {
 namespace {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+/// The sign of det(a) by Gaussian elimination with partial pivoting, in place (a is destroyed):
+/// +1, −1, or 0 where a pivot is exactly zero. For the orientation test's r × r product, where
+/// a library LU's dispatch costs more than the arithmetic.
+int determinant_sign(Eigen::MatrixXd& a) {
+  const Eigen::Index n = a.rows();
+  int sign = 1;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    Eigen::Index pivot = k;
+    for (Eigen::Index i = k + 1; i < n; ++i) {
+      if (std::abs(a(i, k)) > std::abs(a(pivot, k))) pivot = i;
+    }
+    if (!(a(pivot, k) != 0.0)) return 0;
+    if (pivot != k) {
+      a.row(k).swap(a.row(pivot));
+      sign = -sign;
+    }
+    if (a(k, k) < 0.0) sign = -sign;
+    for (Eigen::Index i = k + 1; i < n; ++i) {
+      const double factor = a(i, k) / a(k, k);
+      for (Eigen::Index j = k + 1; j < n; ++j) a(i, j) -= factor * a(k, j);
+    }
+  }
+  return sign;
+}
 
 /// The model's ideal joints, or an empty list; refuses what the reduced form cannot carry.
 const std::vector<IdealJointSpec>& model_joints(const core::Model& model) {
@@ -29,15 +56,14 @@ const std::vector<IdealJointSpec>& model_joints(const core::Model& model) {
   return joints->joints();
 }
 
-TreeKinematics make_kinematics(const core::Model& model) {
-  return TreeKinematics(spanning_tree(model.bodies(), model_joints(model), model.initial_state()),
-                        model.bodies());
-}
-
 }  // namespace
 
-ReducedModel::ReducedModel(const core::Model& model)
-    : model_(&model), kinematics_(make_kinematics(model)) {
+ReducedModel::ReducedModel(const core::Model& model) : ReducedModel(model, model.initial_state()) {}
+
+ReducedModel::ReducedModel(const core::Model& model, const core::State& initial)
+    : model_(&model),
+      kinematics_(spanning_tree(model.bodies(), model_joints(model), initial), model.bodies()) {
+  kinematics_.coordinates(initial, q0_, u0_);
   const std::vector<IdealJointSpec>& joints = model_joints(model);
   std::vector<IdealJointSpec> closures;
   for (const int j : kinematics_.tree().closures) {
@@ -47,9 +73,7 @@ ReducedModel::ReducedModel(const core::Model& model)
   closures_ = std::make_unique<IdealJoints>(std::move(closures), model.num_bodies());
   // The independent closure rows at the consistent initial state, by the maximal model's rule.
   ReducedWorkspace ws = make_workspace();
-  Vector q, u, u_dot(velocity_count());
-  coordinates(model.initial_state(), q, u);
-  kinematics_.evaluate(q, u, ws.tree);
+  kinematics_.evaluate(q0_, u0_, ws.tree);
   model.compute_wrenches({0.0, 0.0}, ws.tree.state, ws.model);
   core::ConstraintRows rows;
   rows.resize(closures_->row_count(), model.velocity_layout().size());
@@ -87,11 +111,15 @@ ReducedWorkspace ReducedModel::make_workspace() const {
   // copy then reads): the evaluations' factorizations of the same sizes allocate nothing.
   ws.mass.compute(Eigen::MatrixXd::Identity(nu, nu));
   ws.schur.compute(Eigen::MatrixXd::Identity(r, r));
+  ws.chosen.reserve(static_cast<std::size_t>(m));
+  ws.solved.reserve(static_cast<std::size_t>(m));
+  ws.crossing = Eigen::MatrixXd::Identity(r, r);
   return ws;
 }
 
 void ReducedModel::accelerations(const core::LoadContext& context, const Vector& q, const Vector& u,
-                                 ReducedWorkspace& ws, Vector& u_dot, double stabilization) const {
+                                 ReducedWorkspace& ws, Vector& u_dot, double stabilization,
+                                 const ClosureTracker* tracker) const {
   const core::Model& model = *model_;
   kinematics_.evaluate(q, u, ws.tree);
   const core::Loads loads = model.compute_wrenches(context, ws.tree.state, ws.model);
@@ -150,33 +178,147 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
     ws.velocity_rows = ws.rows.phi_t;
     ws.velocity_rows.noalias() += ws.J_c * u;
   }
-  for (std::size_t i = 0; i < active_.size(); ++i) {
-    const auto row = static_cast<Eigen::Index>(active_[i]);
+  // The rows in force: the tracker's, or rows of this evaluation's own where they became
+  // ill-conditioned (core::choose_rows' rule on J_c).
+  const std::vector<int>* rows = tracker != nullptr ? &tracker->rows : &active_;
+  const double reference_ratio = tracker != nullptr ? tracker->selection_ratio : 0.0;
+  ws.rows_chosen = false;
+  ws.pivot_ratio = factor_closures(*rows, ws);
+  if (!(ws.pivot_ratio >= core::kReselectPivotRatio &&
+        ws.pivot_ratio >= core::kReselectPivotFall * reference_ratio)) {
+    if (!choose_closure_rows(ws)) throw_singular(*rows, ws, context.t);
+    rows = &ws.chosen;
+  }
+  if (!(ws.pivot_ratio >= core::kSingularPivotRatio)) throw_singular(*rows, ws, context.t);
+  if (tracker != nullptr && tracker->has_accepted && !kept_orientation(*rows, *tracker, ws)) {
+    // Rows that alone turned through a dependency among themselves, while all rows kept their
+    // rank, are replaced by rows chosen here, which keep the orientation (check_orientation's
+    // rule); otherwise the mechanism passed a singular configuration since the accepted state.
+    if (rows == &ws.chosen || !choose_closure_rows(ws)) {
+      throw_passed_singular(*rows, ws, tracker->accepted_time, context.t);
+    }
+    rows = &ws.chosen;
+    if (!(ws.pivot_ratio >= core::kSingularPivotRatio) || !kept_orientation(*rows, *tracker, ws)) {
+      throw_passed_singular(*rows, ws, tracker->accepted_time, context.t);
+    }
+  }
+  for (std::size_t i = 0; i < rows->size(); ++i) {
+    const auto row = static_cast<Eigen::Index>((*rows)[i]);
     const auto k = static_cast<Eigen::Index>(i);
-    ws.J_a.row(k) = ws.J_c.row(row);
     // (J_a M_r⁻¹ J_aᵀ) λ = J_a u̇₀ − γ_a (γ_a with Baumgarte's term).
     double g = ws.gamma_c(row);
     if (a != 0.0) g -= 2.0 * a * ws.velocity_rows(row) + a * a * ws.rows.phi(row);
     ws.rhs(k) = ws.J_a.row(k).dot(u_dot) - g;
   }
+  ws.lambda = ws.schur.solve(ws.rhs);
+  u_dot.noalias() -= ws.W * ws.lambda;
+  ws.solved.assign(rows->begin(), rows->end());
+}
+
+double ReducedModel::factor_closures(const std::vector<int>& rows, ReducedWorkspace& ws) const {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ws.J_a.row(static_cast<Eigen::Index>(i)) = ws.J_c.row(static_cast<Eigen::Index>(rows[i]));
+  }
   ws.W = ws.J_a.transpose();
   ws.mass.solveInPlace(ws.W);
   ws.A.noalias() = ws.J_a * ws.W;
   ws.schur.compute(ws.A);
+  if (ws.schur.info() != Eigen::Success) return 0.0;
   const auto pivots = ws.schur.matrixLLT().diagonal();
-  const double smallest = pivots.minCoeff();
-  if (ws.schur.info() != Eigen::Success ||
-      !(smallest * smallest >= core::kSingularPivotRatio * pivots.maxCoeff() * pivots.maxCoeff())) {
-    Eigen::Index at = 0;
-    pivots.minCoeff(&at);
-    const int joint = closures_->joint_of_row(active_[static_cast<std::size_t>(at)]);
-    throw core::SingularConfigurationError(closures_->joint_name(joint), context.t,
-                                           "reduced model: the closure rows of joint '" +
-                                               closures_->joint_name(joint) +
-                                               "' lost rank (a singular configuration)");
+  const double ratio = pivots.minCoeff() / pivots.maxCoeff();
+  return std::isfinite(ratio) ? ratio * ratio : 0.0;
+}
+
+bool ReducedModel::choose_closure_rows(ReducedWorkspace& ws) const {
+  ws.rows_chosen = true;
+  ws.chosen = core::independent_rows<double>(ws.J_c);
+  // The rank cannot grow for a mechanism that moves continuously (core::choose_rows).
+  if (ws.chosen.size() < active_.size()) return false;
+  ws.chosen.resize(active_.size());
+  ws.pivot_ratio = factor_closures(ws.chosen, ws);
+  return true;
+}
+
+bool ReducedModel::kept_orientation(const std::vector<int>& rows, const ClosureTracker& tracker,
+                                    ReducedWorkspace& ws) const {
+  const auto r = static_cast<Eigen::Index>(rows.size());
+  for (Eigen::Index i = 0; i < r; ++i) {
+    const auto accepted = tracker.J_accepted.row(rows[static_cast<std::size_t>(i)]);
+    const double dot = accepted.dot(ws.J_a.row(i));
+    if (dot < core::kOrientationTestCosine * accepted.norm() * ws.J_a.row(i).norm()) return true;
+    for (Eigen::Index j = 0; j < r; ++j) ws.crossing(i, j) = accepted.dot(ws.W.col(j));
   }
-  ws.lambda = ws.schur.solve(ws.rhs);
-  u_dot.noalias() -= ws.W * ws.lambda;
+  return determinant_sign(ws.crossing) > 0;
+}
+
+void ReducedModel::throw_singular(const std::vector<int>& rows, const ReducedWorkspace& ws,
+                                  double t) const {
+  const std::string name = closures_->joint_name(smallest_pivot_joint(rows, ws));
+  throw core::SingularConfigurationError(
+      name, t,
+      "singular configuration at t = " + std::to_string(t) + ": the constraints of joint '" + name +
+          "' became dependent on the others (smallest/largest pivot of J M^-1 J^T " +
+          std::to_string(ws.pivot_ratio) +
+          "); the mechanism is at a dead point or a bifurcation, where its multipliers and "
+          "motion are not determined");
+}
+
+void ReducedModel::throw_passed_singular(const std::vector<int>& rows, const ReducedWorkspace& ws,
+                                         double t0, double t1) const {
+  const std::string name = closures_->joint_name(smallest_pivot_joint(rows, ws));
+  throw core::SingularConfigurationError(
+      name, t1,
+      "singular configuration passed between t = " + std::to_string(t0) +
+          " and t = " + std::to_string(t1) + ": the constraints of joint '" + name +
+          "' became dependent on the others there (the rows' orientation turned; smallest/largest "
+          "pivot of J M^-1 J^T now " +
+          std::to_string(ws.pivot_ratio) +
+          "); the mechanism passed a dead point or a bifurcation, where its multipliers and "
+          "motion are not determined");
+}
+
+int ReducedModel::smallest_pivot_joint(const std::vector<int>& rows,
+                                       const ReducedWorkspace& ws) const {
+  if (rows.empty()) return 0;
+  Eigen::Index at = 0;
+  if (ws.schur.info() == Eigen::Success) ws.schur.matrixLLT().diagonal().minCoeff(&at);
+  return closures_->joint_of_row(rows[static_cast<std::size_t>(at)]);
+}
+
+ClosureTracker ReducedModel::make_tracker() const {
+  ClosureTracker tracker;
+  tracker.rows = active_;
+  tracker.J_accepted =
+      Eigen::MatrixXd::Zero(closures_ ? closures_->row_count() : 0, velocity_count());
+  return tracker;
+}
+
+void ReducedModel::accept(double t, const ReducedWorkspace& ws, ClosureTracker& tracker) const {
+  if (active_.empty()) return;
+  if (ws.rows_chosen) {
+    tracker.rows = ws.solved;
+    tracker.selection_ratio = ws.pivot_ratio;
+  } else if (!(tracker.selection_ratio > 0.0)) {
+    tracker.selection_ratio = ws.pivot_ratio;
+  }
+  tracker.J_accepted = ws.J_c;
+  tracker.accepted_time = t;
+  tracker.has_accepted = true;
+}
+
+void ReducedModel::closure_force(const ReducedWorkspace& ws, Vector& force) const {
+  force.setZero();
+  if (active_.empty()) return;
+  for (std::size_t i = 0; i < ws.solved.size(); ++i) {
+    const int r = ws.solved[i];
+    const double lambda = ws.lambda(static_cast<Eigen::Index>(i));
+    for (int slot = 0; slot < 2; ++slot) {
+      const int b = ws.rows.jacobian.slot(r, slot).body;
+      if (b < 0) continue;
+      force.segment<6>(6 * static_cast<Eigen::Index>(b)) -=
+          lambda * ws.rows.jacobian.values(r, slot).head<6>();
+    }
+  }
 }
 
 void ReducedModel::body_accelerations(const ReducedWorkspace& ws, const Vector& u_dot,

@@ -11,9 +11,13 @@
 /// J, γ the closures' rows evaluated at the bodies' forward-kinematics poses, Q the bodies'
 /// applied and velocity-product forces as core::Model computes them (its dynamics_residual at
 /// the accelerations Ṡ u is M Ṡ u − Q, so Q_r = −Sᵀ r(Ṡ u)). Of the closure rows, the
-/// independent ones are chosen once, at the model's consistent initial state, by the maximal
-/// model's rank-revealing choice (core::independent_rows on J_c); the others are redundant
-/// (a planar loop's out-of-plane rows). The solve is the Schur complement of the small system:
+/// independent ones are chosen at the model's consistent initial state by the maximal model's
+/// rank-revealing choice (core::independent_rows on J_c); the others are redundant (a planar
+/// loop's out-of-plane rows). In motion an integrator carries them in a ClosureTracker, which
+/// the maximal tracker's rules move (core/constraint_tracker.hpp, docs/joints.md): rows chosen
+/// again where their pivot ratio falls, and the orientation test for a singular configuration
+/// passed between the last accepted state and the one solved now. The solve is the Schur
+/// complement of the small system:
 ///   u̇₀ = M_r⁻¹ Q_r,   (J_a M_r⁻¹ J_aᵀ) λ = J_a u̇₀ − γ_a,   u̇ = u̇₀ − M_r⁻¹ J_aᵀ λ,
 /// both matrices by Cholesky. Baumgarte's term, as the maximal form's, replaces γ_a by
 /// γ_a − 2α (J_a S u + Φ_t) − α² Φ_a.
@@ -52,6 +56,28 @@ struct ReducedWorkspace {
   Eigen::MatrixXd A;              ///< r × r: J_a M_r⁻¹ J_aᵀ
   Eigen::LLT<Eigen::MatrixXd> mass;
   Eigen::LLT<Eigen::MatrixXd> schur;
+  /// (min/max)² of the Schur factor's diagonal over the rows solved with: the ratio of A's
+  /// pivots, as the maximal solve's (core/schur_complement_tpl.hpp).
+  double pivot_ratio = 0.0;
+  /// Rows this evaluation chose for itself (rows_chosen) where the tracker's had become
+  /// ill-conditioned or turned through a dependency; ClosureTracker takes them at the next
+  /// accepted state.
+  std::vector<int> chosen;
+  bool rows_chosen = false;
+  std::vector<int> solved;   ///< the rows the last evaluation solved with (λ's rows)
+  Eigen::MatrixXd crossing;  ///< r × r: J_a,accepted M_r⁻¹ J_aᵀ (the orientation test)
+};
+
+/// The closures' history an integrator carries from one accepted state to the next (the reduced
+/// form's core::ConstraintTracker): the independent closure rows in force, the pivot ratio they
+/// were chosen at, and J_c at the last accepted state, against which every solve tests the rows'
+/// orientation. Only ReducedModel::accept moves it, at a state the integrator accepted.
+struct ClosureTracker {
+  std::vector<int> rows;
+  double selection_ratio = 0.0;  ///< 0: the first accepted solve's ratio is taken
+  Eigen::MatrixXd J_accepted;    ///< m × n_u
+  double accepted_time = 0.0;
+  bool has_accepted = false;
 };
 
 class ReducedModel {
@@ -71,16 +97,36 @@ class ReducedModel {
   /// The loop-closure joints alone (their rows in the order of the tree's closures), or null.
   const IdealJoints* closure_joints() const { return closures_.get(); }
   ReducedWorkspace make_workspace() const;
+  /// The initial configuration's rows, nothing accepted yet.
+  ClosureTracker make_tracker() const;
+  /// Moves `tracker` to the state of the last evaluation in `ws`, which the integrator accepted
+  /// at time t (or one within its tolerance of it: the last corrector iterate of the step it
+  /// accepted): the rows that evaluation chose, if it chose any, and its J_c as the orientation
+  /// test's reference. Allocates nothing.
+  void accept(double t, const ReducedWorkspace& ws, ClosureTracker& tracker) const;
 
+  /// The joint coordinates of the model's consistent initial state.
+  const Vector& initial_positions() const { return q0_; }
+  const Vector& initial_velocities() const { return u0_; }
   /// The joint coordinates of a maximal state (TreeKinematics::coordinates).
   void coordinates(const core::State& state, Vector& q, Vector& u) const {
     kinematics_.coordinates(state, q, u);
   }
   /// u̇ at (context, q, u) with Baumgarte's rate `stabilization` on the closures (1/s; 0: the
-  /// index-1 form). Throws core::SingularConfigurationError where the enforced closure rows lose
-  /// rank. Allocates nothing.
+  /// index-1 form), on `tracker`'s rows (null: the initial configuration's, no orientation test).
+  /// Where those rows are ill-conditioned (core::kReselectPivotRatio, or their ratio fell by
+  /// core::kReselectPivotFall since they were chosen) or turned through a dependency among
+  /// themselves, the evaluation chooses rows of its own (ws.rows_chosen; allocating, the rare
+  /// path). Throws core::SingularConfigurationError where the closure rows lose rank, or where
+  /// the orientation test finds a singular configuration passed since the tracker's accepted
+  /// state. Allocates nothing otherwise.
   void accelerations(const core::LoadContext& context, const Vector& q, const Vector& u,
-                     ReducedWorkspace& ws, Vector& u_dot, double stabilization = 0.0) const;
+                     ReducedWorkspace& ws, Vector& u_dot, double stabilization = 0.0,
+                     const ClosureTracker* tracker = nullptr) const;
+  /// The closures' stacked generalized force on the bodies, −J_aᵀ λ (6 per body, the maximal
+  /// model's velocity layout), at the last evaluation in `ws`: what Model::integral_rates reads
+  /// for the drives' power (the tree joints are never driven and do no work).
+  void closure_force(const ReducedWorkspace& ws, Vector& force) const;
   /// The bodies' accelerations S u̇ + Ṡ u at the last evaluation's state.
   void body_accelerations(const ReducedWorkspace& ws, const Vector& u_dot,
                           core::Accelerations& accelerations) const;
@@ -88,8 +134,28 @@ class ReducedModel {
  private:
   const core::Model* model_;
   TreeKinematics kinematics_;
+  ReducedModel(const core::Model& model, const core::State& initial);
+  /// Factors A = J_a M_r⁻¹ J_aᵀ on `rows` (J_a, W, A, schur in ws) and returns its pivot ratio
+  /// (0 where the factorization fails).
+  double factor_closures(const std::vector<int>& rows, ReducedWorkspace& ws) const;
+  /// The independent rows of J_c at this evaluation into ws.chosen (ws.rows_chosen), factored;
+  /// false where fewer than the rows in force remain independent (rank lost). Allocates.
+  bool choose_closure_rows(ReducedWorkspace& ws) const;
+  /// det(J_a,accepted M_r⁻¹ J_aᵀ) > 0 on `rows`, factored in ws (core/orientation_test_tpl.hpp's
+  /// test in joint space); true where a row turned by more than kOrientationTestCosine's angle,
+  /// where the test is not conclusive.
+  bool kept_orientation(const std::vector<int>& rows, const ClosureTracker& tracker,
+                        ReducedWorkspace& ws) const;
+  /// The closure joint of the smallest pivot of A on `rows` (the row nearest to dependence).
+  int smallest_pivot_joint(const std::vector<int>& rows, const ReducedWorkspace& ws) const;
+  [[noreturn]] void throw_singular(const std::vector<int>& rows, const ReducedWorkspace& ws,
+                                   double t) const;
+  [[noreturn]] void throw_passed_singular(const std::vector<int>& rows, const ReducedWorkspace& ws,
+                                          double t0, double t1) const;
+
   std::unique_ptr<IdealJoints> closures_;
   std::vector<int> active_;
+  Vector q0_, u0_;
 };
 
 }  // namespace flexref::constraint

@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "reference/cvode_step_clock.hpp"
 #include "reference/error_weights.hpp"
 #include "reference/integral_weights.hpp"
 #include "reference/method_choice.hpp"
@@ -57,17 +58,6 @@ namespace sun = sundials;
 /// Steps fixed-point iteration takes between two looks at its convergence failures (advance).
 constexpr long kStiffnessWindow = 200;
 
-/// Adds CVODE's accepted steps since the last call to the clock (step_clock.hpp).
-void record_steps(void* cvode, StepClock& clock) {
-  long steps = 0;
-  double last_step = 0.0, t = 0.0;
-  sun::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
-  if (steps == 0) return;
-  sun::check(CVodeGetLastStep(cvode, &last_step), "CVodeGetLastStep");
-  sun::check(CVodeGetCurrentTime(cvode, &t), "CVodeGetCurrentTime");
-  clock.record(steps, last_step, t);
-}
-
 /// CVEwtFn: CVODE calls it before every step (error_weights.hpp, then the integrals' share of
 /// their stretch, integral_weights.hpp), with the state of the step it accepted last; it also
 /// records the step just taken on the clock and there moves the joints' tracker where
@@ -80,7 +70,7 @@ int error_weights(N_Vector y, N_Vector ewt, void* user_data) {
       sun::check(CVodeGetCurrentTime(d.cvode, &t), "CVodeGetCurrentTime");
       sun::accept_step(d, t, sun::data(y));
     }
-    record_steps(d.cvode, *d.clock);
+    record_cvode_steps(d.cvode, *d.clock);
     sun::step_error_weights(d, y, ewt);
   } catch (...) {
     d.callback_error = std::current_exception();
@@ -261,7 +251,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   /// Moves y_, CVODE's solution at its time t, to the physical time t (step_clock.hpp):
   /// y(t + δ) ≈ y(t) + δ ẏ(t), δ the clock's offset.
   void to_physical_time(double t) {
-    record_steps(cvode_.get(), clock_);
+    record_cvode_steps(cvode_.get(), clock_);
     const double offset = clock_.offset();
     if (offset == 0.0) return;
     sun::check(CVodeGetDky(cvode_.get(), t, 1, ydot_.get()), "CVodeGetDky");

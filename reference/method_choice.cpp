@@ -135,7 +135,11 @@ double mean_output_spacing(const std::vector<double>& output_times) {
          static_cast<double>(output_times.size() - 1);
 }
 
-StiffnessSummary summarize_stiffness(const core::Model& model, double output_spacing) {
+namespace {
+
+/// The summary's rates that need no spectrum: the switching functions, the bodies' angular
+/// speeds and ω_acc.
+StiffnessSummary initial_rates(const core::Model& model, double output_spacing) {
   StiffnessSummary summary;
   summary.switching_functions = model.switching_function_count();
   double angular_speed = 0.0;
@@ -146,6 +150,42 @@ StiffnessSummary summarize_stiffness(const core::Model& model, double output_spa
   summary.accuracy_rate = output_spacing > 0.0
                               ? std::max(std::numbers::pi / output_spacing, angular_speed)
                               : std::numeric_limits<double>::infinity();
+  return summary;
+}
+
+/// Adds the eigenvalues' rates to the summary.
+void read_spectrum(std::span<const std::complex<double>> eigenvalues, double noise,
+                   StiffnessSummary& summary) {
+  for (const std::complex<double>& lambda : eigenvalues) {
+    const double magnitude = std::abs(lambda);
+    summary.fastest_rate = std::max(summary.fastest_rate, magnitude);
+    if (-lambda.real() > noise)
+      summary.fastest_decay = std::max(summary.fastest_decay, -lambda.real());
+    if (std::abs(lambda.real()) <= std::abs(lambda.imag())) {
+      summary.resolved_rate = std::max(summary.resolved_rate, magnitude);
+      summary.fastest_oscillation = std::max(summary.fastest_oscillation, magnitude);
+    }
+    // A growing mode is resolved whatever the method (its growth sets the step): a mechanism
+    // linearized away from equilibrium has real pairs ±σ (Andrews' squeezer: ±471/s at its
+    // initial state), whose decaying half is then no faster than what the solution resolves.
+    if (lambda.real() > noise) {
+      summary.resolved_rate = std::max(summary.resolved_rate, lambda.real());
+    }
+  }
+}
+
+}  // namespace
+
+StiffnessSummary summarize_spectrum(const core::Model& model,
+                                    std::span<const std::complex<double>> eigenvalues, double noise,
+                                    double output_spacing) {
+  StiffnessSummary summary = initial_rates(model, output_spacing);
+  read_spectrum(eigenvalues, noise, summary);
+  return summary;
+}
+
+StiffnessSummary summarize_stiffness(const core::Model& model, double output_spacing) {
+  StiffnessSummary summary = initial_rates(model, output_spacing);
   InitialPoint point(model);
   if (point.form.size() == 0) return summary;
   // Eigenvalues below the difference quotients' noise, ~1e-6 of the largest entry, are zero.
@@ -163,22 +203,9 @@ StiffnessSummary summarize_stiffness(const core::Model& model, double output_spa
     noise = 1e-6 * jacobian.cwiseAbs().maxCoeff();
     eigenvalues = jacobian.eigenvalues();
   }
-  for (const std::complex<double>& lambda : eigenvalues) {
-    const double magnitude = std::abs(lambda);
-    summary.fastest_rate = std::max(summary.fastest_rate, magnitude);
-    if (-lambda.real() > noise)
-      summary.fastest_decay = std::max(summary.fastest_decay, -lambda.real());
-    if (std::abs(lambda.real()) <= std::abs(lambda.imag())) {
-      summary.resolved_rate = std::max(summary.resolved_rate, magnitude);
-      summary.fastest_oscillation = std::max(summary.fastest_oscillation, magnitude);
-    }
-    // A growing mode is resolved whatever the method (its growth sets the step): a mechanism
-    // linearized away from equilibrium has real pairs ±σ (Andrews' squeezer: ±471/s at its
-    // initial state), whose decaying half is then no faster than what the solution resolves.
-    if (lambda.real() > noise) {
-      summary.resolved_rate = std::max(summary.resolved_rate, lambda.real());
-    }
-  }
+  read_spectrum(std::span<const std::complex<double>>(eigenvalues.data(),
+                                                      static_cast<std::size_t>(eigenvalues.size())),
+                noise, summary);
   return summary;
 }
 
@@ -335,6 +362,25 @@ ArkodeMethod parse_arkode_method(const std::string& name) {
   if (name == "erk") return ArkodeMethod::kErk;
   if (name == "esdirk") return ArkodeMethod::kEsdirk;
   throw std::invalid_argument("unknown ARKODE method '" + name + "' (auto, erk, esdirk)");
+}
+
+const char* to_string(Coordinates coordinates) {
+  switch (coordinates) {
+    case Coordinates::kAuto:
+      return "auto";
+    case Coordinates::kMaximal:
+      return "maximal";
+    case Coordinates::kJoint:
+      return "joint";
+  }
+  return "auto";
+}
+
+Coordinates parse_coordinates(const std::string& name) {
+  if (name == "auto") return Coordinates::kAuto;
+  if (name == "maximal") return Coordinates::kMaximal;
+  if (name == "joint") return Coordinates::kJoint;
+  throw std::invalid_argument("unknown coordinates '" + name + "' (auto, maximal, joint)");
 }
 
 CvodeMethod parse_cvode_method(const std::string& name) {

@@ -32,6 +32,8 @@
 /// with contacts, which keeps BDF ≤ 5: contact modes are damped by the contact law and engaged
 /// intermittently (pendulum_on_sliding_support has a 3.2e3 rad/s mode with ζ ≈ 0.2 at its
 /// initial state; measured at rtol 1e-8: BDF ≤ 5 31 789 steps, 0.31 s; ESDIRK 2.5 s).
+#include <complex>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -59,6 +61,13 @@ struct StiffnessSummary {
 /// output_spacing: the mean spacing of the output times (s); 0 leaves ω_acc = +∞ (no
 /// oscillatory stiffness).
 StiffnessSummary summarize_stiffness(const core::Model& model, double output_spacing = 0.0);
+/// The same reading of the eigenvalues of another ODE form of the model at its initial state
+/// (the joint-coordinate form, reference/reduced_cvode.hpp): real parts within `noise` (the
+/// difference quotients' noise, ~1e-6 of the Jacobian's largest entry) count as zero; the
+/// switching functions and the bodies' angular speeds are the model's.
+StiffnessSummary summarize_spectrum(const core::Model& model,
+                                    std::span<const std::complex<double>> eigenvalues, double noise,
+                                    double output_spacing);
 
 /// (last − first)/(count − 1) of the output times; the last time itself (from t = 0) for one.
 double mean_output_spacing(const std::vector<double>& output_times);

@@ -1,6 +1,7 @@
 #include "reference/reduced_cvode.hpp"
 
 #include <cvode/cvode.h>
+#include <cvode/cvode_ls.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -8,161 +9,104 @@
 #include <complex>
 #include <exception>
 #include <limits>
-#include <numbers>
+#include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
-#include "core/error.hpp"
+#include "constraint/reduced_model.hpp"
+#include "reference/cvode_step_clock.hpp"
 #include "reference/error_weights.hpp"
+#include "reference/integral_weights.hpp"
 #include "reference/method_choice.hpp"
+#include "reference/step_clock.hpp"
 #include "reference/sundials_handle.hpp"
+#include "reference/sundials_segment_driver.hpp"
 
 namespace flexref::reference {
 namespace {
 
 namespace sun = sundials;
 
-/// What the right-hand side reads and leaves behind (one per run).
-struct ReducedOde {
+/// What the callbacks read and leave behind (one per run).
+struct ReducedOde : sun::CallbackRecord {
   const constraint::ReducedModel* reduced = nullptr;
   constraint::ReducedWorkspace ws;
+  constraint::ClosureTracker tracker;
   Eigen::VectorXd q, u, u_dot;
+  Eigen::VectorXd force;  ///< the closures' generalized force (the drives' power)
   double stabilization = 0.0;
-  /// reference/error_weights.hpp's weights per unit step on the coordinates that turn.
-  std::optional<ErrorWeights> weights;
+  double t_segment = 0.0;
+  int nq = 0, nu = 0;
+  IntegralComponents works;  ///< the works in y (none when the model tracks no work)
   void* cvode = nullptr;
-  sun::ErrorLog log;
-  std::exception_ptr error;
 };
 
 /// y' = f(t, y): the Euler parameters normalized for the evaluation (the loads and the forward
-/// kinematics see an orthogonal A(θ)), q̇ from u, u̇ from the reduced model. Never throws through C.
+/// kinematics see an orthogonal A(θ)), q̇ from u, u̇ from the reduced model on the tracker's rows,
+/// and the works' rates at the bodies' states.
+void evaluate(ReducedOde& d, double t, const double* Y, double* Yd) {
+  const constraint::ReducedModel& reduced = *d.reduced;
+  const constraint::TreeKinematics& k = reduced.kinematics();
+  d.q = Eigen::Map<const Eigen::VectorXd>(Y, d.nq);
+  d.u = Eigen::Map<const Eigen::VectorXd>(Y + d.nq, d.nu);
+  k.normalize(d.q.data());
+  k.rates(d.q.data(), d.u.data(), Yd);
+  const core::LoadContext context{t, d.t_segment};
+  reduced.accelerations(context, d.q, d.u, d.ws, d.u_dot, d.stabilization, &d.tracker);
+  Eigen::Map<Eigen::VectorXd>(Yd + d.nq, d.nu) = d.u_dot;
+  if (d.works.count > 0) {
+    reduced.closure_force(d.ws, d.force);
+    reduced.model().integral_rates(
+        context, d.ws.tree.state, d.ws.model,
+        std::span<double>(Yd + d.works.first, static_cast<std::size_t>(d.works.count)), &d.force);
+  }
+}
+
+/// CVRhsFn. Never throws through C: an exception (a singular configuration) stops CVODE and
+/// reaches the failure message; a non-finite derivative makes it retry with a smaller step.
 int reduced_rhs(double t, N_Vector y, N_Vector ydot, void* user_data) {
   auto& d = *static_cast<ReducedOde*>(user_data);
   try {
-    const constraint::TreeKinematics& k = d.reduced->kinematics();
-    const int nq = k.position_count();
-    const int nu = k.velocity_count();
-    const double* Y = sun::data(y);
-    double* Yd = sun::data(ydot);
-    d.q = Eigen::Map<const Eigen::VectorXd>(Y, nq);
-    d.u = Eigen::Map<const Eigen::VectorXd>(Y + nq, nu);
-    k.normalize(d.q.data());
-    k.rates(d.q.data(), d.u.data(), Yd);
-    d.reduced->accelerations({t, 0.0}, d.q, d.u, d.ws, d.u_dot, d.stabilization);
-    Eigen::Map<Eigen::VectorXd>(Yd + nq, nu) = d.u_dot;
-    return d.u_dot.allFinite() ? 0 : 1;  // 1: recoverable, CVODE retries with a smaller step
+    evaluate(d, t, sun::data(y), sun::data(ydot));
   } catch (...) {
-    d.error = std::current_exception();
+    d.callback_error = std::current_exception();
     return -1;
   }
-}
-
-/// The error weights per unit step of reference/error_weights.hpp on the joint coordinates
-/// that turn — each angle (revolute, universal, a cylindrical joint's first) and each Euler
-/// parameter block (spherical, pivot, free) with its rates — and SUNDIALS' rtol |y_i| + atol on
-/// every other component: the errors of all the steps add up to (rtol + atol) times the angle
-/// turned, as the maximal reference's (an angle's scale is the radian, not how many turns it has
-/// made).
-int reduced_weights(N_Vector y, N_Vector ewt, void* user_data) {
-  const auto& d = *static_cast<const ReducedOde*>(user_data);
-  long steps = 0;
-  double t = 0.0;
-  CVodeGetNumSteps(d.cvode, &steps);
-  CVodeGetCurrentTime(d.cvode, &t);
-  d.weights->evaluate(sun::data(y), steps > 0 ? t / static_cast<double>(steps) : 0.0,
-                      sun::data(ewt));
+  if (!sun::all_finite(sun::data(ydot), N_VGetLength_Serial(ydot))) {
+    d.last_nonfinite_time = t;
+    return 1;
+  }
   return 0;
 }
 
-/// Baumgarte's rate on the closures by the maximal reference's rule (constraint_stabilization_rate,
-/// method_choice.hpp) read on the reduced ODE itself: the fastest rate the solution must resolve
-/// at the initial state — the bodies' angular speeds, the modes damped less than critically
-/// (|Re λ| ≤ |Im λ|) and the growth rates Re λ > 0 of the Jacobian of y' = f(y) (forward
-/// differences, step √ε max(1, |y_j|); eigenvalues below 1e-6 of its largest entry are zero) —
-/// or π/Δt_out when none is known. The maximal rule's own summary differences the maximal form
-/// (13 states per body); the reduced Jacobian is n_q + n_u square and has the same mechanism's
-/// spectrum.
-double reduced_stabilization_rate(ReducedOde& d, const Eigen::VectorXd& y0, double spacing) {
-  const int n = static_cast<int>(y0.size());
-  const sun::Context context = sun::make_context();
-  const sun::Vector y = sun::make_vector(n, context.get());
-  const sun::Vector f0 = sun::make_vector(n, context.get());
-  const sun::Vector f1 = sun::make_vector(n, context.get());
-  Eigen::Map<Eigen::VectorXd> Y(sun::data(y.get()), n);
-  const Eigen::Map<Eigen::VectorXd> F0(sun::data(f0.get()), n), F1(sun::data(f1.get()), n);
-  Y = y0;
-  const double alpha = d.stabilization;
-  d.stabilization = 0.0;
-  double rate = 0.0;
-  for (const core::BodyState& s : d.ws.tree.state) rate = std::max(rate, s.w_WB_B.norm());
-  bool finite = reduced_rhs(0.0, y.get(), f0.get(), &d) == 0;
-  for (const core::BodyState& s : d.ws.tree.state) rate = std::max(rate, s.w_WB_B.norm());
-  Eigen::MatrixXd jacobian(n, n);
-  for (int j = 0; finite && j < n; ++j) {
-    const double step =
-        std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(y0(j)));
-    Y(j) = y0(j) + step;
-    finite = reduced_rhs(0.0, y.get(), f1.get(), &d) == 0;
-    Y(j) = y0(j);
-    jacobian.col(j) = (F1 - F0) / step;
+/// CVEwtFn, called before every step with the state CVODE accepted last: the closures' tracker
+/// moves there (the last evaluation was the accepted step's final corrector iterate, within the
+/// tolerance of that state), the step goes on the clock, and the weights are the rotation's per
+/// unit step and the works' (sun::step_error_weights). Allocates nothing.
+int reduced_error_weights(N_Vector y, N_Vector ewt, void* user_data) {
+  auto& d = *static_cast<ReducedOde*>(user_data);
+  try {
+    double t = 0.0;
+    sun::check(CVodeGetCurrentTime(d.cvode, &t), "CVodeGetCurrentTime");
+    d.reduced->accept(t, d.ws, d.tracker);
+    record_cvode_steps(d.cvode, *d.clock);
+    sun::step_error_weights(d, y, ewt);
+  } catch (...) {
+    d.callback_error = std::current_exception();
+    return -1;
   }
-  d.stabilization = alpha;
-  if (finite && jacobian.allFinite()) {
-    const double noise = 1e-6 * jacobian.cwiseAbs().maxCoeff();
-    for (const std::complex<double>& lambda : jacobian.eigenvalues()) {
-      if (std::abs(lambda.real()) <= std::abs(lambda.imag()))
-        rate = std::max(rate, std::abs(lambda));
-      if (lambda.real() > noise) rate = std::max(rate, lambda.real());
-    }
-  }
-  if (rate > 0.0) return rate;
-  return spacing > 0.0 ? std::numbers::pi / spacing : 1.0;
+  return 0;
 }
 
-}  // namespace
-
-ReducedRun solve_reduced_cvode(const constraint::ReducedModel& reduced,
-                               const std::vector<double>& output_times,
-                               const SolverOptions& options) {
-  const core::Model& model = reduced.model();
-  sun::validate_output_times(output_times);
-  sun::validate_tolerances(options.rtol, options.absolute_tolerance(), options.max_steps);
-  if (!model.discontinuities().empty()) {
-    throw std::invalid_argument(
-        "the reduced reference has no segments yet: the model's loads switch at known times");
-  }
-  const constraint::TreeKinematics& k = reduced.kinematics();
+/// The rotation blocks of the coordinates that turn: each angle (revolute, universal, a
+/// cylindrical joint's first) with its rate, each Euler-parameter block (spherical, pivot, free)
+/// with ω̄ — an angle's scale is the radian, not how many turns it has made.
+std::vector<RotationBlock> turning_blocks(const constraint::TreeKinematics& k) {
   const int nq = k.position_count();
-  const int nu = k.velocity_count();
-  ReducedOde d;
-  d.reduced = &reduced;
-  d.ws = reduced.make_workspace();
-  d.u_dot = Eigen::VectorXd::Zero(nu);
-  Eigen::VectorXd q0, u0;
-  reduced.coordinates(model.initial_state(), q0, u0);
-  d.q = q0;
-  d.u = u0;
-  if (reduced.closure_joints() != nullptr) {
-    Eigen::VectorXd y0(nq + nu);
-    y0 << q0, u0;
-    d.stabilization = reduced_stabilization_rate(d, y0, mean_output_spacing(output_times));
-  }
-
-  const sun::Context context = sun::make_context();
-  const sun::Vector y = sun::make_vector(nq + nu, context.get());
-  Eigen::Map<Eigen::VectorXd>(sun::data(y.get()), nq) = q0;
-  Eigen::Map<Eigen::VectorXd>(sun::data(y.get()) + nq, nu) = u0;
-  const sun::NonlinearSolver fixed_point = sun::make_fixed_point_solver(y.get(), 1, context.get());
-  const sun::CvodeMemory cvode(
-      sun::check_created(CVodeCreate(CV_ADAMS, context.get()), "CVodeCreate"));
-  void* mem = cvode.get();
-  sun::check(CVodeInit(mem, reduced_rhs, 0.0, y.get()), "CVodeInit");
-  sun::check(CVodeSetUserData(mem, &d), "CVodeSetUserData");
-  sun::check(CVodeSetErrHandlerFn(mem, sun::record_error, &d.log), "CVodeSetErrHandlerFn");
-  d.cvode = mem;
   std::vector<RotationBlock> turning;
   for (const constraint::Mobilizer& m : k.tree().mobilizers) {
     const int u_first = nq + m.u_offset;
@@ -186,43 +130,354 @@ ReducedRun solve_reduced_cvode(const constraint::ReducedModel& reduced,
         break;
     }
   }
-  d.weights.emplace(nq + nu, options.rtol, options.absolute_tolerance(), output_times.back(),
-                    std::move(turning));
-  sun::check(CVodeWFtolerances(mem, reduced_weights), "CVodeWFtolerances");
-  sun::check(CVodeSetNonlinearSolver(mem, fixed_point.get()), "CVodeSetNonlinearSolver");
-  sun::check(CVodeSetMaxNumSteps(mem, options.max_steps), "CVodeSetMaxNumSteps");
+  return turning;
+}
 
-  ReducedRun run;
-  run.stabilization = d.stabilization;
-  constraint::TreeWorkspace fk = k.make_workspace();
-  Eigen::VectorXd q(nq), u(nu);
-  const auto record = [&](double t, const double* Y) {
-    q = Eigen::Map<const Eigen::VectorXd>(Y, nq);
-    u = Eigen::Map<const Eigen::VectorXd>(Y + nq, nu);
-    k.normalize(q.data());
-    k.evaluate(q, u, fk);
-    run.times.push_back(t);
-    run.states.push_back(fk.state);
-  };
-  for (const double t_out : output_times) {
-    if (t_out == 0.0) {
-      record(0.0, sun::data(y.get()));
-      continue;
-    }
-    double t_reached = 0.0;
-    const int flag = CVode(mem, t_out, y.get(), &t_reached, CV_NORMAL);
-    if (flag < 0) {
+/// Steps fixed-point iteration takes between two looks at its convergence failures (advance).
+constexpr long kStiffnessWindow = 200;
+
+/// The joint-coordinate form behind the segment loop.
+class ReducedSegmentSolver final : public sun::SegmentSolver {
+ public:
+  ReducedSegmentSolver(const constraint::ReducedModel& reduced, const SolverOptions& options,
+                       double stabilization, double span, bool rotation_per_step)
+      : reduced_(&reduced),
+        options_(options),
+        nq_(reduced.position_count()),
+        nu_(reduced.velocity_count()),
+        work_count_(reduced.model().tracks_work() ? 1 + reduced.model().extra_integral_count() : 0),
+        size_(nq_ + nu_ + work_count_),
+        weights_(size_, options.rtol, options.absolute_tolerance(), span,
+                 rotation_per_step ? turning_blocks(reduced.kinematics())
+                                   : std::vector<RotationBlock>{}),
+        works_({nq_ + nu_, work_count_}),
+        fk_(reduced.kinematics().make_workspace()),
+        context_(sun::make_context()),
+        y_(sun::make_vector(size_, context_.get())),
+        ydot_(sun::make_vector(size_, context_.get())),
+        fixed_point_(sun::make_fixed_point_solver(y_.get(), 1, context_.get())),
+        cvode_(sun::check_created(CVodeCreate(CV_ADAMS, context_.get()), "CVodeCreate")) {
+    d_.reduced = &reduced;
+    d_.ws = reduced.make_workspace();
+    d_.tracker = reduced.make_tracker();
+    d_.nq = nq_;
+    d_.nu = nu_;
+    d_.q = Eigen::VectorXd::Zero(nq_);
+    d_.u = Eigen::VectorXd::Zero(nu_);
+    d_.u_dot = Eigen::VectorXd::Zero(nu_);
+    d_.force = Eigen::VectorXd::Zero(reduced.model().velocity_layout().size());
+    d_.stabilization = stabilization;
+    d_.works = {nq_ + nu_, work_count_};
+    d_.rtol = options.rtol;
+    d_.atol = options.absolute_tolerance();
+    d_.integrals = d_.works;
+    d_.solver_memory = cvode_.get();
+    d_.steps_since_init = [](void* cvode) {
       long steps = 0;
-      CVodeGetNumSteps(mem, &steps);
-      if (d.error) std::rethrow_exception(d.error);
-      throw core::SolverError(
-          "cvode (reduced)", t_reached, steps,
-          d.log.message.empty() ? sun::flag_name(flag, "CVode") : d.log.message);
-    }
-    record(t_out, sun::data(y.get()));
+      return CVodeGetNumSteps(cvode, &steps) < 0 ? 0L : steps;
+    };
+    d_.error_weights = &weights_;
+    d_.clock = &clock_;
+    d_.cvode = cvode_.get();
+    q_ = Eigen::VectorXd::Zero(nq_);
+    u_ = Eigen::VectorXd::Zero(nu_);
   }
-  sun::check(CVodeGetNumSteps(mem, &run.steps), "CVodeGetNumSteps");
-  sun::check(CVodeGetNumRhsEvals(mem, &run.evaluations), "CVodeGetNumRhsEvals");
+
+  void start_segment(const sun::Segment& segment, const core::State& state,
+                     std::span<const double> integrals) override {
+    d_.t_segment = segment.t_segment;
+    before_switch_ = SolverStats{};
+    double* y = sun::data(y_.get());
+    reduced_->coordinates(state, q_, u_);
+    Eigen::Map<Eigen::VectorXd>(y, nq_) = q_;
+    Eigen::Map<Eigen::VectorXd>(y + nq_, nu_) = u_;
+    works_.start(integrals, y);
+    // The closures' tracker moves to the segment's start (an evaluation there, accepted).
+    evaluate(d_, segment.start, y, sun::data(ydot_.get()));
+    reduced_->accept(segment.start, d_.ws, d_.tracker);
+    void* cvode = cvode_.get();
+    if (!initialized_) {
+      sun::check(CVodeInit(cvode, reduced_rhs, segment.start, y_.get()), "CVodeInit");
+      sun::check(CVodeSetUserData(cvode, &d_), "CVodeSetUserData");
+      sun::check(CVodeSetErrHandlerFn(cvode, sun::record_error, &d_.log), "CVodeSetErrHandlerFn");
+      sun::check(CVodeWFtolerances(cvode, reduced_error_weights), "CVodeWFtolerances");
+      sun::check(CVodeSetNonlinearSolver(cvode, fixed_point_.get()), "CVodeSetNonlinearSolver");
+      sun::check(CVodeSetMaxNumSteps(cvode, std::min(options_.max_steps, kStiffnessWindow)),
+                 "CVodeSetMaxNumSteps");
+      initialized_ = true;
+      clock_.start_run(segment.start);
+    } else {
+      sun::check(CVodeReInit(cvode, segment.start, y_.get()), "CVodeReInit");
+      clock_.restart(segment.start);
+    }
+    sun::check(CVodeSetStopTime(cvode, segment.end), "CVodeSetStopTime");
+    segment_end_ = segment.end;
+    // The first step towards the segment end, so that the output grid does not size it
+    // (cvode_solver.cpp's start_segment has the measurement).
+    double t_internal = segment.start;
+    sun::check(CVode(cvode, segment.end, y_.get(), &t_internal, CV_ONE_STEP), "CVode");
+  }
+
+  Advance advance(double tout, double /*next*/) override {
+    Advance reached;
+    int flag = 0;
+    if (newton_solver_) {
+      flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
+    } else {
+      // Fixed-point iteration in windows of kStiffnessWindow steps, and Newton for the rest of
+      // the run where its corrector failed in a tenth of a window's steps (a mechanism nearing
+      // a dead point: cvode_solver.cpp's advance, LSODA's switch one way).
+      long taken = 0;
+      for (;;) {
+        long steps0 = 0, fails0 = 0, steps1 = 0, fails1 = 0;
+        CVodeGetNumSteps(cvode_.get(), &steps0);
+        CVodeGetNumNonlinSolvConvFails(cvode_.get(), &fails0);
+        flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
+        if (flag != CV_TOO_MUCH_WORK) break;
+        CVodeGetNumSteps(cvode_.get(), &steps1);
+        CVodeGetNumNonlinSolvConvFails(cvode_.get(), &fails1);
+        taken += steps1 - steps0;
+        if (taken >= options_.max_steps) break;
+        if (10 * (fails1 - fails0) >= steps1 - steps0) {
+          switch_to_newton(reached.t);
+          flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
+          break;
+        }
+      }
+    }
+    sun::check(flag, "CVode");
+    to_physical_time(reached.t);
+    return reached;
+  }
+
+  void restart_at_root(double /*t*/, const sun::Segment& /*segment*/) override {
+    throw std::logic_error("the joint-coordinate form has no switching functions");
+  }
+
+  void unpack(double /*t*/, core::State& state) const override {
+    const double* y = sun::data(y_.get());
+    q_ = Eigen::Map<const Eigen::VectorXd>(y, nq_);
+    u_ = Eigen::Map<const Eigen::VectorXd>(y + nq_, nu_);
+    const constraint::TreeKinematics& k = reduced_->kinematics();
+    k.normalize(q_.data());
+    k.evaluate(q_, u_, fk_);
+    state = fk_.state;
+  }
+  void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
+
+  void add_counters(SolverStats& stats) const override {
+    void* cvode = cvode_.get();
+    long steps = 0, rhs_evaluations = 0, jacobian_rhs = 0, jacobians = 0, error_fails = 0,
+         convergence_fails = 0;
+    sun::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
+    sun::check(CVodeGetNumRhsEvals(cvode, &rhs_evaluations), "CVodeGetNumRhsEvals");
+    if (newton_solver_) {
+      sun::check(CVodeGetNumLinRhsEvals(cvode, &jacobian_rhs), "CVodeGetNumLinRhsEvals");
+      sun::check(CVodeGetNumJacEvals(cvode, &jacobians), "CVodeGetNumJacEvals");
+    }
+    sun::check(CVodeGetNumErrTestFails(cvode, &error_fails), "CVodeGetNumErrTestFails");
+    sun::check(CVodeGetNumNonlinSolvConvFails(cvode, &convergence_fails),
+               "CVodeGetNumNonlinSolvConvFails");
+    stats.steps += steps + before_switch_.steps;
+    stats.rhs_evaluations += rhs_evaluations + jacobian_rhs + before_switch_.rhs_evaluations;
+    stats.jacobian_evaluations += jacobians;
+    stats.error_test_failures += error_fails + before_switch_.error_test_failures;
+    stats.nonlinear_failures += convergence_fails + before_switch_.nonlinear_failures;
+  }
+
+  double current_time(double fallback) const override {
+    double t = fallback;
+    return CVodeGetCurrentTime(cvode_.get(), &t) < 0 ? fallback : t;
+  }
+  long current_steps() const override {
+    long steps = 0;
+    return (CVodeGetNumSteps(cvode_.get(), &steps) < 0 ? 0 : steps) + before_switch_.steps;
+  }
+  std::string failure_message(const std::string& what) const override {
+    return sun::failure_message(what, d_, "right-hand side");
+  }
+
+  bool switched_to_newton() const { return static_cast<bool>(newton_solver_); }
+
+ private:
+  /// Moves y_, CVODE's solution at its time t, to the physical time t (step_clock.hpp).
+  void to_physical_time(double t) {
+    record_cvode_steps(cvode_.get(), clock_);
+    const double offset = clock_.offset();
+    if (offset == 0.0) return;
+    sun::check(CVodeGetDky(cvode_.get(), t, 1, ydot_.get()), "CVodeGetDky");
+    N_VLinearSum(1.0, y_.get(), offset, ydot_.get(), y_.get());
+  }
+
+  /// From fixed-point to Newton iteration at t, on CVODE's dense difference quotients (the
+  /// reduced form's n_q + n_u + works columns), restarting from the state there.
+  void switch_to_newton(double t) {
+    void* cvode = cvode_.get();
+    to_physical_time(t);
+    SolverStats so_far;
+    add_counters(so_far);  // CVodeReInit below starts CVODE's counters again
+    before_switch_ = so_far;
+    jacobian_ = sun::make_dense_matrix(size_, context_.get());
+    linear_solver_ = sun::make_dense_linear_solver(y_.get(), jacobian_.get(), context_.get());
+    newton_solver_ = sun::make_newton_solver(y_.get(), context_.get());
+    sun::check(CVodeSetNonlinearSolver(cvode, newton_solver_.get()), "CVodeSetNonlinearSolver");
+    sun::check(CVodeSetLinearSolver(cvode, linear_solver_.get(), jacobian_.get()),
+               "CVodeSetLinearSolver");
+    sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
+    works_.rebase(sun::data(y_.get()));
+    sun::check(CVodeReInit(cvode, t, y_.get()), "CVodeReInit");
+    clock_.restart(t);
+    sun::check(CVodeSetStopTime(cvode, segment_end_), "CVodeSetStopTime");
+  }
+
+  const constraint::ReducedModel* reduced_;
+  SolverOptions options_;
+  int nq_, nu_, work_count_, size_;
+  ErrorWeights weights_;
+  StepClock clock_;
+  /// The works in y as increments since the last (re)start (reference/integral_weights.hpp).
+  IntegralBase works_;
+  ReducedOde d_;
+  mutable constraint::TreeWorkspace fk_;  ///< forward kinematics at the outputs
+  mutable Eigen::VectorXd q_, u_;
+  bool initialized_ = false;
+  double segment_end_ = 0.0;
+  SolverStats before_switch_;
+  sun::Context context_;
+  sun::Vector y_;
+  sun::Vector ydot_;
+  sun::NonlinearSolver fixed_point_;
+  sun::Matrix jacobian_;
+  sun::LinearSolver linear_solver_;
+  sun::NonlinearSolver newton_solver_;
+  // Declared last so that it is freed first (as in SUNDIALS' examples).
+  sun::CvodeMemory cvode_;
+};
+
+/// The reduced ODE's spectrum at the initial state (Baumgarte off, the first segment's loads):
+/// forward differences of (q̇, u̇) in (q, u), step √ε max(1, |y_j|), as summarize_stiffness
+/// differences the maximal form; the same mechanism's spectrum without the maximal form's
+/// drift modes.
+StiffnessSummary reduced_summary(const constraint::ReducedModel& reduced, double spacing) {
+  const core::Model& model = reduced.model();
+  ReducedOde d;
+  d.reduced = &reduced;
+  d.ws = reduced.make_workspace();
+  d.tracker = reduced.make_tracker();
+  d.nq = reduced.position_count();
+  d.nu = reduced.velocity_count();
+  const std::vector<double>& switches = model.discontinuities();
+  d.t_segment = switches.empty() ? 0.0 : 0.5 * switches.front();
+  const int n = d.nq + d.nu;
+  Eigen::VectorXd y0(n), f0(n), f1(n);
+  y0 << reduced.initial_positions(), reduced.initial_velocities();
+  Eigen::VectorXd y = y0;
+  Eigen::MatrixXd jacobian(n, n);
+  evaluate(d, 0.0, y0.data(), f0.data());
+  for (int j = 0; j < n; ++j) {
+    const double step =
+        std::sqrt(std::numeric_limits<double>::epsilon()) * std::max(1.0, std::abs(y0(j)));
+    y(j) = y0(j) + step;
+    evaluate(d, 0.0, y.data(), f1.data());
+    y(j) = y0(j);
+    jacobian.col(j) = (f1 - f0) / step;
+  }
+  if (!jacobian.allFinite()) return summarize_spectrum(model, {}, 0.0, spacing);
+  const Eigen::VectorXcd eigenvalues = jacobian.eigenvalues();
+  return summarize_spectrum(model,
+                            std::span<const std::complex<double>>(
+                                eigenvalues.data(), static_cast<std::size_t>(eigenvalues.size())),
+                            1e-6 * jacobian.cwiseAbs().maxCoeff(), spacing);
+}
+
+/// Why the joint-coordinate form does not apply to the model with these options, or nothing.
+std::optional<std::string> refusal(const core::Model& model, const SolverOptions& options) {
+  if (!model.has_constraints()) return "no ideal joints";
+  if (options.cvode_method == CvodeMethod::kBdf || options.cvode_method == CvodeMethod::kBdf2) {
+    return std::string("--method ") + to_string(options.cvode_method) +
+           ": BDF projects the maximal form (the joint coordinates run Adams)";
+  }
+  if (options.jacobian != nullptr) return "a user's Jacobian is of the maximal form";
+  return std::nullopt;
+}
+
+/// The joint-coordinate run, or nothing with `why_not` set where the form does not apply.
+std::optional<ReferenceRun> try_reduced(const core::Model& model,
+                                        const std::vector<double>& output_times,
+                                        const SolverOptions& options, std::string& why_not) {
+  if (const std::optional<std::string> no = refusal(model, options)) {
+    why_not = *no;
+    return std::nullopt;
+  }
+  std::unique_ptr<constraint::ReducedModel> reduced;
+  try {
+    reduced = std::make_unique<constraint::ReducedModel>(model);
+  } catch (const std::invalid_argument& e) {
+    why_not = e.what();
+    return std::nullopt;
+  }
+  sun::validate_output_times(output_times);
+  sun::validate_tolerances(options.rtol, options.absolute_tolerance(), options.max_steps);
+  const double spacing = mean_output_spacing(output_times);
+  const StiffnessSummary summary = reduced_summary(*reduced, spacing);
+  CvodeMethodChoice choice{CvodeMethod::kAdams, "chosen with --method"};
+  if (options.cvode_method == CvodeMethod::kAuto) {
+    choice = choose_cvode_method(summary);
+    if (choice.method != CvodeMethod::kAdams) {
+      why_not = "the joint coordinates' spectrum asks for BDF (" + choice.reason + ")";
+      return std::nullopt;
+    }
+  }
+  const double stabilization = reduced->closure_joints() != nullptr
+                                   ? constraint_stabilization_rate(model, summary, spacing)
+                                   : 0.0;
+  const double span = output_times.empty() ? 0.0 : output_times.back() - output_times.front();
+  const bool per_step =
+      options.cvode_method == CvodeMethod::kAuto ? true : rotation_weights_per_step(summary);
+  ReferenceRun run = sun::integrate_segments(model, output_times, options, "cvode", [&] {
+    return std::make_unique<ReducedSegmentSolver>(*reduced, options, stabilization, span, per_step);
+  });
+  run.method = to_string(CvodeMethod::kAdams);
+  run.method_reason = choice.reason;
+  run.jacobian = "none (fixed-point iteration, Anderson acceleration of depth 1)";
+  run.coordinates = "joint";
+  const int closures =
+      reduced->closure_joints() != nullptr ? reduced->closure_joints()->row_count() : 0;
+  run.coordinates_reason = "rigid bodies on ideal joints, no contact, Adams: " +
+                           std::to_string(reduced->velocity_count()) +
+                           " joint coordinates of the spanning tree, " + std::to_string(closures) +
+                           " loop-closure rows (" +
+                           std::to_string(reduced->independent_rows().size()) + " independent)";
+  return run;
+}
+
+}  // namespace
+
+ReferenceRun solve_reduced_cvode(const core::Model& model, const std::vector<double>& output_times,
+                                 const SolverOptions& options) {
+  std::string why_not;
+  std::optional<ReferenceRun> run = try_reduced(model, output_times, options, why_not);
+  if (!run) throw std::invalid_argument("joint coordinates do not apply: " + why_not);
+  return std::move(*run);
+}
+
+ReferenceRun solve_cvode_in_coordinates(const core::Model& model,
+                                        const std::vector<double>& output_times,
+                                        const SolverOptions& options) {
+  if (options.coordinates == Coordinates::kJoint) {
+    ReferenceRun run = solve_reduced_cvode(model, output_times, options);
+    run.coordinates_reason = "chosen with --coordinates; " + run.coordinates_reason;
+    return run;
+  }
+  std::string why_not = "chosen with --coordinates";
+  if (options.coordinates == Coordinates::kAuto) {
+    if (std::optional<ReferenceRun> run = try_reduced(model, output_times, options, why_not)) {
+      return std::move(*run);
+    }
+  }
+  ReferenceRun run = solve_cvode(model, output_times, options);
+  run.coordinates = "maximal";
+  run.coordinates_reason = why_not;
   return run;
 }
 

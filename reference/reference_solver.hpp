@@ -43,6 +43,18 @@ enum class NewtonMatrix {
   kSparse,  ///< coloured difference quotients, KLU (reference/dae_coloured_jacobian.hpp)
 };
 
+/// The coordinates CVODE integrates a model of rigid bodies on ideal joints in
+/// (docs/reduced_coordinates.md, "In the product"; reference/reduced_cvode.hpp).
+enum class Coordinates {
+  /// Joint coordinates where they apply — rigid bodies on ideal joints, no contact, Adams (a
+  /// spectrum that is not stiff) — else maximal.
+  kAuto,
+  kMaximal,  ///< the bodies' own states, every joint row enforced with multipliers
+  /// The spanning tree's joint coordinates, the loop closures with multipliers; refused
+  /// (std::invalid_argument) where they do not apply.
+  kJoint,
+};
+
 struct SolverOptions {
   double rtol = 1e-10;
   /// Absolute tolerance; a negative value means atol = rtol (the states are O(1) in SI).
@@ -59,6 +71,9 @@ struct SolverOptions {
   const OdeJacobian* jacobian = nullptr;
   /// IDA on ideal joints: its Newton matrix dense or sparse (kAuto: by the number of bodies).
   NewtonMatrix newton_matrix = NewtonMatrix::kAuto;
+  /// CVODE on ideal joints: maximal or joint coordinates (solve_reference chooses; solve_cvode
+  /// is the maximal form).
+  Coordinates coordinates = Coordinates::kAuto;
   /// Where a progress line follows the solve (solve_progress.hpp): the solver stores the time
   /// it reached at each output time. Not owned; solve_reference does not keep it in the run.
   SolveProgress* progress = nullptr;
@@ -88,6 +103,10 @@ struct ReferenceRun {
   /// with the structured Newton solve), "difference quotients" (the solver's own, dense LU),
   /// "user" (SolverOptions::jacobian, dense LU); empty for the explicit ones.
   std::string jacobian;
+  /// "maximal" (the bodies' states) or "joint" (joint coordinates, reference/reduced_cvode.hpp),
+  /// and why (for the metadata).
+  std::string coordinates = "maximal";
+  std::string coordinates_reason;
   SolverOptions options;
   core::Trajectory trajectory;
   SolverStats stats;
@@ -112,5 +131,8 @@ CvodeMethod parse_cvode_method(const std::string& name);
 /// "auto", "erk", "esdirk"; and back (std::invalid_argument for another name).
 const char* to_string(ArkodeMethod method);
 ArkodeMethod parse_arkode_method(const std::string& name);
+/// "auto", "maximal", "joint"; and back (std::invalid_argument for another name).
+const char* to_string(Coordinates coordinates);
+Coordinates parse_coordinates(const std::string& name);
 
 }  // namespace flexref::reference

@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/joint_check.hpp"
 #include "reference/exact_solution.hpp"
+#include "reference/reduced_cvode.hpp"
 #include "reference/solve_progress.hpp"
 
 namespace flexref::reference {
@@ -29,8 +30,12 @@ bool finite(const core::State& state) {
 
 ReferenceRun dispatch(const std::string& solver, const core::Model& model,
                       const std::vector<double>& output_times, const SolverOptions& options) {
+  if (options.coordinates == Coordinates::kJoint && solver != "cvode") {
+    throw std::invalid_argument("joint coordinates: only cvode integrates them (" + solver +
+                                " integrates the maximal form)");
+  }
   if (solver == "ida") return solve_ida(model, output_times, options);
-  if (solver == "cvode") return solve_cvode(model, output_times, options);
+  if (solver == "cvode") return solve_cvode_in_coordinates(model, output_times, options);
   if (solver == "arkode") return solve_arkode(model, output_times, options);
   if (solver == "odeint") return solve_odeint(model, output_times, options);
   if (solver == "exact") return solve_exact(model, output_times);
