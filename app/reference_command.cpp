@@ -99,6 +99,12 @@ int reference_command(const ReferenceOptions& options) {
                                 " takes none (ida only)");
   }
   solver_options.newton_matrix = options.newton_matrix;
+  if (options.coordinates != reference::Coordinates::kAuto &&
+      chosen != studies::ReferenceSolver::kCvode) {
+    throw std::invalid_argument(std::string("--coordinates: ") + studies::to_string(chosen) +
+                                " takes none (cvode only)");
+  }
+  solver_options.coordinates = options.coordinates;
 
   trajectory::CertifiedReference ref;
   {
@@ -128,6 +134,8 @@ int reference_command(const ReferenceOptions& options) {
       .set("method", ref.run.method)
       .set("method_reason", ref.run.method_reason)
       .set("jacobian", ref.run.jacobian)
+      .set("coordinates", ref.run.coordinates)
+      .set("coordinates_reason", ref.run.coordinates_reason)
       .set("rtol", options.rtol)
       .set("atol", solver_options.absolute_tolerance())
       .set("steps", st.steps)
@@ -188,6 +196,10 @@ int reference_command(const ReferenceOptions& options) {
     summary << "method: " << ref.run.method_reason << "\n";
   }
   if (!ref.run.jacobian.empty()) summary << "newton systems: " << ref.run.jacobian << "\n";
+  if (model.has_constraints() && ref.run.solver == "cvode") {
+    summary << "coordinates: " << ref.run.coordinates << " (" << ref.run.coordinates_reason
+            << ")\n";
+  }
   if (!options.estimate && !std::isnan(balance.value)) {
     summary << "energy balance: largest |E - E0 + W_d - W_a - W_drive| " << balance.value
             << " J at t = " << balance.time << " s\n";
@@ -240,6 +252,12 @@ RegisteredCommand register_reference_command(CLI::App& app) {
                : v == reference::NewtonMatrix::kSparse ? std::string("sparse")
                                                        : std::string("auto");
       });
+  add_enum_option(
+      cmd, "--coordinates", options->coordinates,
+      "cvode on ideal joints: auto (joint coordinates for rigid bodies without contact where "
+      "Adams runs, else maximal) | maximal | joint",
+      {"auto", "maximal", "joint"}, reference::parse_coordinates,
+      [](reference::Coordinates v) { return std::string(reference::to_string(v)); });
   cmd->add_option("--rtol", options->rtol,
                   "relative tolerance (double >= 1e-15; default for extended 1e-16, quad 1e-28)")
       ->check(number_in(1e-32, 1e-1))

@@ -23,6 +23,7 @@ struct ReferenceOptions {
   studies::ReferenceMethod method = studies::ReferenceMethod::kAuto;
   /// ida on ideal joints: its Newton matrix (auto: sparse).
   reference::NewtonMatrix newton_matrix = reference::NewtonMatrix::kAuto;
+  reference::Coordinates coordinates = reference::Coordinates::kAuto;
   double rtol = 1e-10;
   bool rtol_given = false;  ///< else extended and quad use precision::default_rtol
   double atol = -1.0;

@@ -56,6 +56,19 @@ const std::vector<IdealJointSpec>& model_joints(const core::Model& model) {
   return joints->joints();
 }
 
+/// The independent rows of J_c (core::independent_rows), the rows that vanish on the tree's
+/// coordinates set to zero first: a row below kRedundantRowTolerance of its own scale
+/// Σ_b |J_rb| |S_b| (the rows' blocks on the bodies, S's rows of the bodies) is satisfied by the
+/// tree's joints identically — a distance between two points a spherical joint already holds, a
+/// fixed joint's position rows between two bodies hinged on one axis — and its rounding, scaled to
+/// unit length by the rank decision, would look independent.
+std::vector<int> independent_closure_rows(Eigen::MatrixXd J_c, const Eigen::VectorXd& scale) {
+  for (Eigen::Index r = 0; r < J_c.rows(); ++r) {
+    if (J_c.row(r).norm() <= core::kRedundantRowTolerance * scale(r)) J_c.row(r).setZero();
+  }
+  return core::independent_rows<double>(J_c);
+}
+
 }  // namespace
 
 ReducedModel::ReducedModel(const core::Model& model) : ReducedModel(model, model.initial_state()) {}
@@ -79,7 +92,15 @@ ReducedModel::ReducedModel(const core::Model& model, const core::State& initial)
   rows.resize(closures_->row_count(), model.velocity_layout().size());
   closures_->evaluate(0.0, ws.model.kinematics, model.velocity_layout(), rows);
   ws.J_c.noalias() = rows.J * ws.tree.S;
-  active_ = core::independent_rows<double>(ws.J_c);
+  Eigen::VectorXd scale = Eigen::VectorXd::Zero(rows.J.rows());
+  for (int b = 0; b < model.num_bodies(); ++b) {
+    const Eigen::Index o = 6 * static_cast<Eigen::Index>(b);
+    const double S_b = ws.tree.S.middleRows<6>(o).norm();
+    for (Eigen::Index r = 0; r < rows.J.rows(); ++r) {
+      scale(r) += rows.J.row(r).segment<6>(o).norm() * S_b;
+    }
+  }
+  active_ = independent_closure_rows(ws.J_c, scale);
 }
 
 ReducedWorkspace ReducedModel::make_workspace() const {
@@ -190,7 +211,9 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
     rows = &ws.chosen;
   }
   if (!(ws.pivot_ratio >= core::kSingularPivotRatio)) throw_singular(*rows, ws, context.t);
-  if (tracker != nullptr && tracker->has_accepted && !kept_orientation(*rows, *tracker, ws)) {
+  ws.rows_turned = false;
+  int turn = tracker != nullptr && tracker->has_accepted ? orientation(*rows, *tracker, ws) : 1;
+  if (turn < 0) {
     // Rows that alone turned through a dependency among themselves, while all rows kept their
     // rank, are replaced by rows chosen here, which keep the orientation (check_orientation's
     // rule); otherwise the mechanism passed a singular configuration since the accepted state.
@@ -198,10 +221,15 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
       throw_passed_singular(*rows, ws, tracker->accepted_time, context.t);
     }
     rows = &ws.chosen;
-    if (!(ws.pivot_ratio >= core::kSingularPivotRatio) || !kept_orientation(*rows, *tracker, ws)) {
-      throw_passed_singular(*rows, ws, tracker->accepted_time, context.t);
-    }
+    if (!(ws.pivot_ratio >= core::kSingularPivotRatio)) throw_singular(*rows, ws, context.t);
+    turn = orientation(*rows, *tracker, ws);
+    if (turn < 0) throw_passed_singular(*rows, ws, tracker->accepted_time, context.t);
   }
+  // The test is not conclusive where a row turned by more than its angle: the step from the
+  // accepted state was too long for it (a motion the tree's coordinates follow exactly, such as
+  // a parallelogram's, lets Adams take steps of many radians), and the integrator takes a shorter
+  // one.
+  ws.rows_turned = turn == 0;
   for (std::size_t i = 0; i < rows->size(); ++i) {
     const auto row = static_cast<Eigen::Index>((*rows)[i]);
     const auto k = static_cast<Eigen::Index>(i);
@@ -231,7 +259,16 @@ double ReducedModel::factor_closures(const std::vector<int>& rows, ReducedWorksp
 
 bool ReducedModel::choose_closure_rows(ReducedWorkspace& ws) const {
   ws.rows_chosen = true;
-  ws.chosen = core::independent_rows<double>(ws.J_c);
+  Eigen::VectorXd scale = Eigen::VectorXd::Zero(ws.J_c.rows());
+  for (int r = 0; r < closures_->row_count(); ++r) {
+    for (int slot = 0; slot < 2; ++slot) {
+      const int b = ws.rows.jacobian.slot(r, slot).body;
+      if (b < 0) continue;
+      scale(r) += ws.rows.jacobian.values(r, slot).head<6>().norm() *
+                  ws.tree.S.middleRows<6>(6 * static_cast<Eigen::Index>(b)).norm();
+    }
+  }
+  ws.chosen = independent_closure_rows(ws.J_c, scale);
   // The rank cannot grow for a mechanism that moves continuously (core::choose_rows).
   if (ws.chosen.size() < active_.size()) return false;
   ws.chosen.resize(active_.size());
@@ -239,16 +276,16 @@ bool ReducedModel::choose_closure_rows(ReducedWorkspace& ws) const {
   return true;
 }
 
-bool ReducedModel::kept_orientation(const std::vector<int>& rows, const ClosureTracker& tracker,
-                                    ReducedWorkspace& ws) const {
+int ReducedModel::orientation(const std::vector<int>& rows, const ClosureTracker& tracker,
+                              ReducedWorkspace& ws) const {
   const auto r = static_cast<Eigen::Index>(rows.size());
   for (Eigen::Index i = 0; i < r; ++i) {
     const auto accepted = tracker.J_accepted.row(rows[static_cast<std::size_t>(i)]);
     const double dot = accepted.dot(ws.J_a.row(i));
-    if (dot < core::kOrientationTestCosine * accepted.norm() * ws.J_a.row(i).norm()) return true;
+    if (dot < core::kOrientationTestCosine * accepted.norm() * ws.J_a.row(i).norm()) return 0;
     for (Eigen::Index j = 0; j < r; ++j) ws.crossing(i, j) = accepted.dot(ws.W.col(j));
   }
-  return determinant_sign(ws.crossing) > 0;
+  return determinant_sign(ws.crossing) > 0 ? 1 : -1;
 }
 
 void ReducedModel::throw_singular(const std::vector<int>& rows, const ReducedWorkspace& ws,

@@ -64,6 +64,10 @@ struct ReducedWorkspace {
   /// accepted state.
   std::vector<int> chosen;
   bool rows_chosen = false;
+  /// A closure row turned by more than core::kOrientationTestCosine's angle since the tracker's
+  /// accepted state, where the orientation test is not conclusive: an integrator must not accept
+  /// a step from this evaluation, but take a shorter one.
+  bool rows_turned = false;
   std::vector<int> solved;   ///< the rows the last evaluation solved with (λ's rows)
   Eigen::MatrixXd crossing;  ///< r × r: J_a,accepted M_r⁻¹ J_aᵀ (the orientation test)
 };
@@ -119,7 +123,8 @@ class ReducedModel {
   /// themselves, the evaluation chooses rows of its own (ws.rows_chosen; allocating, the rare
   /// path). Throws core::SingularConfigurationError where the closure rows lose rank, or where
   /// the orientation test finds a singular configuration passed since the tracker's accepted
-  /// state. Allocates nothing otherwise.
+  /// state; sets ws.rows_turned where the rows turned too far for the test. Allocates nothing
+  /// otherwise.
   void accelerations(const core::LoadContext& context, const Vector& q, const Vector& u,
                      ReducedWorkspace& ws, Vector& u_dot, double stabilization = 0.0,
                      const ClosureTracker* tracker = nullptr) const;
@@ -141,11 +146,12 @@ class ReducedModel {
   /// The independent rows of J_c at this evaluation into ws.chosen (ws.rows_chosen), factored;
   /// false where fewer than the rows in force remain independent (rank lost). Allocates.
   bool choose_closure_rows(ReducedWorkspace& ws) const;
-  /// det(J_a,accepted M_r⁻¹ J_aᵀ) > 0 on `rows`, factored in ws (core/orientation_test_tpl.hpp's
-  /// test in joint space); true where a row turned by more than kOrientationTestCosine's angle,
-  /// where the test is not conclusive.
-  bool kept_orientation(const std::vector<int>& rows, const ClosureTracker& tracker,
-                        ReducedWorkspace& ws) const;
+  /// The sign of det(J_a,accepted M_r⁻¹ J_aᵀ) on `rows`, factored in ws
+  /// (core/orientation_test_tpl.hpp's test in joint space): +1 kept, −1 turned through a
+  /// dependency; 0 where a row turned by more than kOrientationTestCosine's angle, where the
+  /// test is not conclusive.
+  int orientation(const std::vector<int>& rows, const ClosureTracker& tracker,
+                  ReducedWorkspace& ws) const;
   /// The closure joint of the smallest pivot of A on `rows` (the row nearest to dependence).
   int smallest_pivot_joint(const std::vector<int>& rows, const ReducedWorkspace& ws) const;
   [[noreturn]] void throw_singular(const std::vector<int>& rows, const ReducedWorkspace& ws,

@@ -42,8 +42,26 @@ struct ReducedOde : sun::CallbackRecord {
   double t_segment = 0.0;
   int nq = 0, nu = 0;
   IntegralComponents works;  ///< the works in y (none when the model tracks no work)
+  /// Each body's Euler parameters at the last accepted step with the sign that makes them
+  /// continuous in time (accept_lift): the maximal references integrate θ itself, which keeps
+  /// its sign, where forward kinematics returns θ or −θ as its conversion from the rotation
+  /// matrix picks.
+  std::vector<Eigen::Vector4d> lift;
   void* cvode = nullptr;
 };
+
+/// θ or −θ, whichever is nearer to `previous` (the same rotation; the bodies turn through far
+/// less than π between two accepted steps or between a step and an output within it).
+Eigen::Vector4d continued(const Eigen::Vector4d& theta, const Eigen::Vector4d& previous) {
+  return theta.dot(previous) < 0.0 ? Eigen::Vector4d(-theta) : theta;
+}
+
+/// The lift moves to the bodies' attitudes at the last evaluation (that of the step accepted).
+void accept_lift(ReducedOde& d) {
+  for (std::size_t b = 0; b < d.lift.size(); ++b) {
+    d.lift[b] = continued(d.ws.tree.state[b].theta_WB, d.lift[b]);
+  }
+}
 
 /// y' = f(t, y): the Euler parameters normalized for the evaluation (the loads and the forward
 /// kinematics see an orthogonal A(θ)), q̇ from u, u̇ from the reduced model on the tracker's rows,
@@ -67,7 +85,9 @@ void evaluate(ReducedOde& d, double t, const double* Y, double* Yd) {
 }
 
 /// CVRhsFn. Never throws through C: an exception (a singular configuration) stops CVODE and
-/// reaches the failure message; a non-finite derivative makes it retry with a smaller step.
+/// reaches the failure message; a non-finite derivative, or closure rows turned too far since the
+/// accepted state for the orientation test (ReducedWorkspace::rows_turned), make it retry with a
+/// smaller step.
 int reduced_rhs(double t, N_Vector y, N_Vector ydot, void* user_data) {
   auto& d = *static_cast<ReducedOde*>(user_data);
   try {
@@ -76,6 +96,7 @@ int reduced_rhs(double t, N_Vector y, N_Vector ydot, void* user_data) {
     d.callback_error = std::current_exception();
     return -1;
   }
+  if (d.ws.rows_turned) return 1;
   if (!sun::all_finite(sun::data(ydot), N_VGetLength_Serial(ydot))) {
     d.last_nonfinite_time = t;
     return 1;
@@ -93,6 +114,7 @@ int reduced_error_weights(N_Vector y, N_Vector ewt, void* user_data) {
     double t = 0.0;
     sun::check(CVodeGetCurrentTime(d.cvode, &t), "CVodeGetCurrentTime");
     d.reduced->accept(t, d.ws, d.tracker);
+    accept_lift(d);
     record_cvode_steps(d.cvode, *d.clock);
     sun::step_error_weights(d, y, ewt);
   } catch (...) {
@@ -168,6 +190,7 @@ class ReducedSegmentSolver final : public sun::SegmentSolver {
     d_.force = Eigen::VectorXd::Zero(reduced.model().velocity_layout().size());
     d_.stabilization = stabilization;
     d_.works = {nq_ + nu_, work_count_};
+    d_.lift.resize(static_cast<std::size_t>(reduced.model().num_bodies()));
     d_.rtol = options.rtol;
     d_.atol = options.absolute_tolerance();
     d_.integrals = d_.works;
@@ -192,6 +215,7 @@ class ReducedSegmentSolver final : public sun::SegmentSolver {
     Eigen::Map<Eigen::VectorXd>(y, nq_) = q_;
     Eigen::Map<Eigen::VectorXd>(y + nq_, nu_) = u_;
     works_.start(integrals, y);
+    for (std::size_t b = 0; b < d_.lift.size(); ++b) d_.lift[b] = state[b].theta_WB;
     // The closures' tracker moves to the segment's start (an evaluation there, accepted).
     evaluate(d_, segment.start, y, sun::data(ydot_.get()));
     reduced_->accept(segment.start, d_.ws, d_.tracker);
@@ -262,6 +286,9 @@ class ReducedSegmentSolver final : public sun::SegmentSolver {
     k.normalize(q_.data());
     k.evaluate(q_, u_, fk_);
     state = fk_.state;
+    for (std::size_t b = 0; b < state.size(); ++b) {
+      state[b].theta_WB = continued(state[b].theta_WB, d_.lift[b]);
+    }
   }
   void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
 
