@@ -55,12 +55,12 @@ TEST_CASE("reduced cvode: Andrews' angles at t = 0.03 against the test set's equ
   CHECK(reduced_planar_error(states.back()[1], k2) <= 1e2 * rtol);
   // The Euler parameters are continuous in time, as the maximal references' integrated θ: K1
   // turns by at most ~1.4 rad between two outputs (β reaches 15.8 rad, the last millisecond the
-  // fastest), so consecutive θ are within 0.7 rad of each other on the unit sphere (θ·θ' > 0.9),
-  // where θ and −θ, the same rotation, are 2 apart.
+  // fastest), so consecutive θ have θ·θ' = cos(Δφ/2) ≥ cos 0.7 = 0.76; a flipped sign makes it
+  // ≤ −0.76. The bound 0.5 lies between.
   for (std::size_t k = 1; k < states.size(); ++k) {
     for (std::size_t b = 0; b < states[k].size(); ++b) {
       INFO("output " << k << ", body " << b);
-      CHECK(states[k][b].theta_WB.dot(states[k - 1][b].theta_WB) > 0.9);
+      CHECK(states[k][b].theta_WB.dot(states[k - 1][b].theta_WB) > 0.5);
     }
   }
 }
