@@ -20,7 +20,7 @@ set(FLEXREF_INTERNAL_HEADERS
   reference/ida_work_completion.hpp reference/newton_linear_solver.hpp reference/sundials_handle.hpp
   reference/sundials_ode_callbacks.hpp reference/sundials_segment_driver.hpp
   reference/arkode_segment_solver.hpp reference/ida_callbacks.hpp
-  reference/custom_linear_solver.hpp reference/cvode_step_clock.hpp
+  reference/custom_linear_solver.hpp reference/cvode_support.hpp
   scene/reader_parts.hpp scene/scene_toml.hpp precision/multibody_model_impl.hpp)
 
 # The build tree offers the same <flexref/...> prefix (links to the source folders), so code

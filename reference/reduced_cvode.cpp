@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "constraint/reduced_model.hpp"
-#include "reference/cvode_step_clock.hpp"
+#include "reference/cvode_support.hpp"
 #include "reference/error_weights.hpp"
 #include "reference/integral_weights.hpp"
 #include "reference/method_choice.hpp"
@@ -155,9 +155,6 @@ std::vector<RotationBlock> turning_blocks(const constraint::TreeKinematics& k) {
   return turning;
 }
 
-/// Steps fixed-point iteration takes between two looks at its convergence failures (advance).
-constexpr long kStiffnessWindow = 200;
-
 /// The joint-coordinate form behind the segment loop.
 class ReducedSegmentSolver final : public sun::SegmentSolver {
  public:
@@ -248,26 +245,9 @@ class ReducedSegmentSolver final : public sun::SegmentSolver {
     if (newton_solver_) {
       flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
     } else {
-      // Fixed-point iteration in windows of kStiffnessWindow steps, and Newton for the rest of
-      // the run where its corrector failed in a tenth of a window's steps (a mechanism nearing
-      // a dead point: cvode_solver.cpp's advance, LSODA's switch one way).
-      long taken = 0;
-      for (;;) {
-        long steps0 = 0, fails0 = 0, steps1 = 0, fails1 = 0;
-        CVodeGetNumSteps(cvode_.get(), &steps0);
-        CVodeGetNumNonlinSolvConvFails(cvode_.get(), &fails0);
-        flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
-        if (flag != CV_TOO_MUCH_WORK) break;
-        CVodeGetNumSteps(cvode_.get(), &steps1);
-        CVodeGetNumNonlinSolvConvFails(cvode_.get(), &fails1);
-        taken += steps1 - steps0;
-        if (taken >= options_.max_steps) break;
-        if (10 * (fails1 - fails0) >= steps1 - steps0) {
-          switch_to_newton(reached.t);
-          flag = CVode(cvode_.get(), tout, y_.get(), &reached.t, CV_NORMAL);
-          break;
-        }
-      }
+      // Fixed-point iteration in windows, Newton where it stalls (cvode_support.hpp).
+      flag = advance_fixed_point(cvode_.get(), tout, y_.get(), reached.t, options_.max_steps,
+                                 [this](double t) { switch_to_newton(t); });
     }
     sun::check(flag, "CVode");
     to_physical_time(reached.t);
@@ -293,23 +273,7 @@ class ReducedSegmentSolver final : public sun::SegmentSolver {
   void integrals(std::span<double> out) const override { works_.values(sun::data(y_.get()), out); }
 
   void add_counters(SolverStats& stats) const override {
-    void* cvode = cvode_.get();
-    long steps = 0, rhs_evaluations = 0, jacobian_rhs = 0, jacobians = 0, error_fails = 0,
-         convergence_fails = 0;
-    sun::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
-    sun::check(CVodeGetNumRhsEvals(cvode, &rhs_evaluations), "CVodeGetNumRhsEvals");
-    if (newton_solver_) {
-      sun::check(CVodeGetNumLinRhsEvals(cvode, &jacobian_rhs), "CVodeGetNumLinRhsEvals");
-      sun::check(CVodeGetNumJacEvals(cvode, &jacobians), "CVodeGetNumJacEvals");
-    }
-    sun::check(CVodeGetNumErrTestFails(cvode, &error_fails), "CVodeGetNumErrTestFails");
-    sun::check(CVodeGetNumNonlinSolvConvFails(cvode, &convergence_fails),
-               "CVodeGetNumNonlinSolvConvFails");
-    stats.steps += steps + before_switch_.steps;
-    stats.rhs_evaluations += rhs_evaluations + jacobian_rhs + before_switch_.rhs_evaluations;
-    stats.jacobian_evaluations += jacobians;
-    stats.error_test_failures += error_fails + before_switch_.error_test_failures;
-    stats.nonlinear_failures += convergence_fails + before_switch_.nonlinear_failures;
+    add_cvode_counters(cvode_.get(), static_cast<bool>(newton_solver_), before_switch_, stats);
   }
 
   double current_time(double fallback) const override {

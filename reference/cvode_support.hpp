@@ -1,0 +1,83 @@
+#pragma once
+/// \file cvode_support.hpp
+/// What the CVODE references of both forms (cvode_solver.cpp on the maximal form,
+/// reduced_cvode.cpp on joint coordinates) do alike with a CVODE handle: the accepted steps onto
+/// the exact clock (step_clock.hpp), fixed-point iteration in windows with the switch to Newton
+/// where it stalls, and the counters.
+#include <cvode/cvode.h>
+
+#include <functional>
+
+#include "reference/reference_solver.hpp"
+#include "reference/step_clock.hpp"
+#include "reference/sundials_handle.hpp"
+
+namespace flexref::reference {
+
+/// Steps fixed-point iteration takes between two looks at its convergence failures
+/// (advance_fixed_point).
+inline constexpr long kStiffnessWindow = 200;
+
+/// Adds CVODE's accepted steps since the last call to the clock.
+inline void record_cvode_steps(void* cvode, StepClock& clock) {
+  long steps = 0;
+  double last_step = 0.0, t = 0.0;
+  sundials::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
+  if (steps == 0) return;
+  sundials::check(CVodeGetLastStep(cvode, &last_step), "CVodeGetLastStep");
+  sundials::check(CVodeGetCurrentTime(cvode, &t), "CVodeGetCurrentTime");
+  clock.record(steps, last_step, t);
+}
+
+/// CVode towards tout in CV_NORMAL mode with fixed-point iteration, which the handle runs with
+/// CVodeSetMaxNumSteps(kStiffnessWindow): where its corrector fails to converge in a tenth of a
+/// window's steps the problem has become stiff (a mechanism approaching a dead point: the
+/// multipliers' Lipschitz constant grows without bound, and fixed-point steps would shrink
+/// towards it for ever), and `switch_to_newton(t)` makes the rest of the run iterate by Newton —
+/// LSODA's switch, one way. `max_steps` (the user's) still bounds the steps to tout. Returns
+/// CVode's flag; `reached` is where it stopped.
+inline int advance_fixed_point(void* cvode, double tout, N_Vector y, double& reached,
+                               long max_steps,
+                               const std::function<void(double)>& switch_to_newton) {
+  long taken = 0;
+  for (;;) {
+    long steps0 = 0, fails0 = 0, steps1 = 0, fails1 = 0;
+    CVodeGetNumSteps(cvode, &steps0);
+    CVodeGetNumNonlinSolvConvFails(cvode, &fails0);
+    const int flag = CVode(cvode, tout, y, &reached, CV_NORMAL);
+    if (flag != CV_TOO_MUCH_WORK) return flag;
+    CVodeGetNumSteps(cvode, &steps1);
+    CVodeGetNumNonlinSolvConvFails(cvode, &fails1);
+    taken += steps1 - steps0;
+    if (taken >= max_steps) return flag;
+    if (10 * (fails1 - fails0) >= steps1 - steps0) {
+      switch_to_newton(reached);
+      return CVode(cvode, tout, y, &reached, CV_NORMAL);
+    }
+  }
+}
+
+/// Adds the counters of CVODE's current run to `stats`, with `before_switch` (the run's counters
+/// up to a switch to Newton, which re-initialized CVODE); `newton`: the linear solver's counters
+/// exist.
+inline void add_cvode_counters(void* cvode, bool newton, const SolverStats& before_switch,
+                               SolverStats& stats) {
+  long steps = 0, rhs_evaluations = 0, jacobian_rhs = 0, jacobians = 0, error_fails = 0,
+       convergence_fails = 0;
+  sundials::check(CVodeGetNumSteps(cvode, &steps), "CVodeGetNumSteps");
+  sundials::check(CVodeGetNumRhsEvals(cvode, &rhs_evaluations), "CVodeGetNumRhsEvals");
+  if (newton) {
+    sundials::check(CVodeGetNumLinRhsEvals(cvode, &jacobian_rhs), "CVodeGetNumLinRhsEvals");
+    sundials::check(CVodeGetNumJacEvals(cvode, &jacobians), "CVodeGetNumJacEvals");
+  }
+  sundials::check(CVodeGetNumErrTestFails(cvode, &error_fails), "CVodeGetNumErrTestFails");
+  sundials::check(CVodeGetNumNonlinSolvConvFails(cvode, &convergence_fails),
+                  "CVodeGetNumNonlinSolvConvFails");
+  stats.steps += steps + before_switch.steps;
+  stats.rhs_evaluations += rhs_evaluations + jacobian_rhs + before_switch.rhs_evaluations;
+  stats.jacobian_evaluations += jacobians;
+  stats.error_test_failures += error_fails + before_switch.error_test_failures;
+  stats.nonlinear_failures += convergence_fails + before_switch.nonlinear_failures;
+}
+
+}  // namespace flexref::reference
