@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "constraint/small_cholesky.hpp"
 #include "core/row_selection_tpl.hpp"
 #include "core/schur_complement_tpl.hpp"
 
@@ -83,10 +84,7 @@ ReducedWorkspace ReducedModel::make_workspace() const {
   ws.lambda = Vector::Zero(r);
   ws.W = Eigen::MatrixXd::Zero(nu, r);
   ws.A = Eigen::MatrixXd::Zero(r, r);
-  // Sized by a first factorization (LLT's sizing constructor leaves its status unset, which a
-  // copy then reads): the evaluations' factorizations of the same sizes allocate nothing.
-  ws.mass.compute(Eigen::MatrixXd::Identity(nu, nu));
-  ws.schur.compute(Eigen::MatrixXd::Identity(r, r));
+  ws.correction = Vector::Zero(nu);
   return ws;
 }
 
@@ -122,11 +120,12 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
       }
     }
   }
-  ws.mass.compute(ws.M_r);  // reads the lower triangle
-  if (ws.mass.info() != Eigen::Success) {
+  if (cholesky_in_place(ws.M_r) >= 0) {  // reads the lower triangle, leaves L there
     throw std::runtime_error("reduced model: the tree's mass matrix is not positive definite");
   }
-  u_dot = ws.mass.solve(ws.Q_r);
+  u_dot = ws.Q_r;
+  forward_substitute(ws.M_r, u_dot.data());
+  back_substitute(ws.M_r, u_dot.data());
   if (active_.empty()) return;
   // The closures: J_c = J S, γ_c = γ − J Ṡ u, row by row over its two bodies' blocks of J.
   closures_->evaluate(context.t, ws.model.kinematics, model.velocity_layout(), ws.rows);
@@ -160,23 +159,29 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
     ws.rhs(k) = ws.J_a.row(k).dot(u_dot) - g;
   }
   ws.W = ws.J_a.transpose();
-  ws.mass.solveInPlace(ws.W);
-  ws.A.noalias() = ws.J_a * ws.W;
-  ws.schur.compute(ws.A);
-  const auto pivots = ws.schur.matrixLLT().diagonal();
+  for (Eigen::Index j = 0; j < ws.W.cols(); ++j) forward_substitute(ws.M_r, ws.W.col(j).data());
+  for (Eigen::Index j = 0; j < ws.A.cols(); ++j) {
+    for (Eigen::Index i = j; i < ws.A.rows(); ++i) ws.A(i, j) = ws.W.col(i).dot(ws.W.col(j));
+  }
+  const Eigen::Index failed = cholesky_in_place(ws.A);
+  const auto pivots = ws.A.diagonal();
   const double smallest = pivots.minCoeff();
-  if (ws.schur.info() != Eigen::Success ||
+  if (failed >= 0 ||
       !(smallest * smallest >= core::kSingularPivotRatio * pivots.maxCoeff() * pivots.maxCoeff())) {
-    Eigen::Index at = 0;
-    pivots.minCoeff(&at);
+    Eigen::Index at = failed;
+    if (failed < 0) pivots.minCoeff(&at);
     const int joint = closures_->joint_of_row(active_[static_cast<std::size_t>(at)]);
     throw core::SingularConfigurationError(closures_->joint_name(joint), context.t,
                                            "reduced model: the closure rows of joint '" +
                                                closures_->joint_name(joint) +
                                                "' lost rank (a singular configuration)");
   }
-  ws.lambda = ws.schur.solve(ws.rhs);
-  u_dot.noalias() -= ws.W * ws.lambda;
+  ws.lambda = ws.rhs;
+  forward_substitute(ws.A, ws.lambda.data());
+  back_substitute(ws.A, ws.lambda.data());
+  ws.correction.noalias() = ws.W * ws.lambda;
+  back_substitute(ws.M_r, ws.correction.data());
+  u_dot -= ws.correction;
 }
 
 void ReducedModel::body_accelerations(const ReducedWorkspace& ws, const Vector& u_dot,
