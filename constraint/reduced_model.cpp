@@ -82,9 +82,12 @@ ReducedWorkspace ReducedModel::make_workspace() const {
   ws.J_a = Eigen::MatrixXd::Zero(r, nu);
   ws.rhs = Vector::Zero(r);
   ws.lambda = Vector::Zero(r);
-  ws.W = Eigen::MatrixXd::Zero(nu, r);
+  ws.W = Eigen::MatrixXd::Zero(r, nu);
   ws.A = Eigen::MatrixXd::Zero(r, r);
   ws.correction = Vector::Zero(nu);
+  ws.M_r_inv_diag = Vector::Zero(nu);
+  ws.A_inv_diag = Vector::Zero(r);
+  ws.A_diag = Vector::Zero(r);
   return ws;
 }
 
@@ -120,12 +123,13 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
       }
     }
   }
-  if (cholesky_in_place(ws.M_r) >= 0) {  // reads the lower triangle, leaves L there
+  if (cholesky_in_place(ws.M_r, ws.M_r_inv_diag.data()) >=
+      0) {  // reads the lower triangle, leaves L there
     throw std::runtime_error("reduced model: the tree's mass matrix is not positive definite");
   }
   u_dot = ws.Q_r;
-  forward_substitute(ws.M_r, u_dot.data());
-  back_substitute(ws.M_r, u_dot.data());
+  forward_substitute(ws.M_r, ws.M_r_inv_diag.data(), u_dot.data());
+  back_substitute(ws.M_r, ws.M_r_inv_diag.data(), u_dot.data());
   if (active_.empty()) return;
   // The closures: J_c = J S, γ_c = γ − J Ṡ u, row by row over its two bodies' blocks of J.
   closures_->evaluate(context.t, ws.model.kinematics, model.velocity_layout(), ws.rows);
@@ -158,13 +162,14 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
     if (a != 0.0) g -= 2.0 * a * ws.velocity_rows(row) + a * a * ws.rows.phi(row);
     ws.rhs(k) = ws.J_a.row(k).dot(u_dot) - g;
   }
-  ws.W = ws.J_a.transpose();
-  for (Eigen::Index j = 0; j < ws.W.cols(); ++j) forward_substitute(ws.M_r, ws.W.col(j).data());
-  for (Eigen::Index j = 0; j < ws.A.cols(); ++j) {
-    for (Eigen::Index i = j; i < ws.A.rows(); ++i) ws.A(i, j) = ws.W.col(i).dot(ws.W.col(j));
+  ws.W = ws.J_a;
+  forward_substitute_rows(ws.M_r, ws.M_r_inv_diag.data(), ws.W);
+  ws.A.setZero();  // A = W Wᵀ by its columns: A.col(j) = Σ_k W(j,k) W.col(k)
+  for (Eigen::Index k = 0; k < ws.W.cols(); ++k) {
+    for (Eigen::Index j = 0; j < ws.A.cols(); ++j) ws.A.col(j) += ws.W(j, k) * ws.W.col(k);
   }
-  const Eigen::Index failed = cholesky_in_place(ws.A);
-  const auto pivots = ws.A.diagonal();
+  const Eigen::Index failed = cholesky_in_place(ws.A, ws.A_inv_diag.data(), ws.A_diag.data());
+  const auto& pivots = ws.A_diag;
   const double smallest = pivots.minCoeff();
   if (failed >= 0 ||
       !(smallest * smallest >= core::kSingularPivotRatio * pivots.maxCoeff() * pivots.maxCoeff())) {
@@ -177,10 +182,10 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
                                                "' lost rank (a singular configuration)");
   }
   ws.lambda = ws.rhs;
-  forward_substitute(ws.A, ws.lambda.data());
-  back_substitute(ws.A, ws.lambda.data());
-  ws.correction.noalias() = ws.W * ws.lambda;
-  back_substitute(ws.M_r, ws.correction.data());
+  forward_substitute(ws.A, ws.A_inv_diag.data(), ws.lambda.data());
+  back_substitute(ws.A, ws.A_inv_diag.data(), ws.lambda.data());
+  ws.correction.noalias() = ws.W.transpose() * ws.lambda;
+  back_substitute(ws.M_r, ws.M_r_inv_diag.data(), ws.correction.data());
   u_dot -= ws.correction;
 }
 

@@ -15,9 +15,9 @@
 /// model's rank-revealing choice (core::independent_rows on J_c); the others are redundant
 /// (a planar loop's out-of-plane rows). The solve is the Schur complement of the small system:
 ///   u̇₀ = M_r⁻¹ Q_r,   (J_a M_r⁻¹ J_aᵀ) λ = J_a u̇₀ − γ_a,   u̇ = u̇₀ − M_r⁻¹ J_aᵀ λ,
-/// both matrices by Cholesky (constraint/small_cholesky.hpp), M_r = L Lᵀ, M_r⁻¹ J_aᵀ = L⁻ᵀ W with
-/// W = L⁻¹ J_aᵀ, so that J_a M_r⁻¹ J_aᵀ = Wᵀ W. Baumgarte's term, as the maximal form's, replaces
-/// γ_a by γ_a − 2α (J_a S u + Φ_t) − α² Φ_a.
+/// both matrices by Cholesky (constraint/small_cholesky.hpp): with M_r = L Lᵀ and W = J_a L⁻ᵀ,
+/// J_a M_r⁻¹ J_aᵀ = W Wᵀ and M_r⁻¹ J_aᵀ λ = L⁻ᵀ (Wᵀ λ). Baumgarte's term, as the maximal form's,
+/// replaces γ_a by γ_a − 2α (J_a S u + Φ_t) − α² Φ_a.
 ///
 /// Refused (std::invalid_argument naming the reason): flexible and prescribed bodies
 /// (constraint/spanning_tree.hpp), constraints other than ideal joints, and force elements with
@@ -40,7 +40,8 @@ struct ReducedWorkspace {
   core::ConstraintRows rows;      ///< the closures' rows, J by its blocks
   core::Accelerations bias;       ///< Ṡ u body by body (dynamics_residual's argument)
   Eigen::VectorXd residual;       ///< 6N: M Ṡ u − Q
-  Eigen::MatrixXd M_r;            ///< n_u × n_u (its lower triangle), then its Cholesky factor L
+  Eigen::MatrixXd M_r;            ///< n_u × n_u (its lower triangle), then L − diag(L)
+  Eigen::VectorXd M_r_inv_diag;   ///< n_u: 1/L(j,j), M_r = L Lᵀ
   Eigen::VectorXd Q_r;            ///< n_u
   Eigen::MatrixXd J_c;            ///< m × n_u
   Eigen::VectorXd gamma_c;        ///< m
@@ -48,8 +49,10 @@ struct ReducedWorkspace {
   Eigen::MatrixXd J_a;            ///< r × n_u, the independent rows
   Eigen::VectorXd rhs;            ///< r
   Eigen::VectorXd lambda;         ///< r: the independent rows' multipliers
-  Eigen::MatrixXd W;              ///< n_u × r: L⁻¹ J_aᵀ
-  Eigen::MatrixXd A;              ///< r × r: Wᵀ W = J_a M_r⁻¹ J_aᵀ (lower), then its L
+  Eigen::MatrixXd W;              ///< r × n_u: J_a L⁻ᵀ
+  Eigen::MatrixXd A;              ///< r × r: W Wᵀ = J_a M_r⁻¹ J_aᵀ, then L_A − diag(L_A)
+  Eigen::VectorXd A_diag;         ///< r: L_A(j,j), A = L_A L_Aᵀ
+  Eigen::VectorXd A_inv_diag;     ///< r: 1/L_A(j,j)
   Eigen::VectorXd correction;     ///< n_u: M_r⁻¹ J_aᵀ λ
 };
 
