@@ -164,9 +164,14 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
   }
   ws.W = ws.J_a;
   forward_substitute_rows(ws.M_r, ws.M_r_inv_diag.data(), ws.W);
-  ws.A.setZero();  // A = W Wᵀ by its columns: A.col(j) = Σ_k W(j,k) W.col(k)
+  // A = W Wᵀ = Σ_k w_k w_kᵀ (w_k: W's contiguous column k), column by column of A.
+  ws.A.setZero();
   for (Eigen::Index k = 0; k < ws.W.cols(); ++k) {
-    for (Eigen::Index j = 0; j < ws.A.cols(); ++j) ws.A.col(j) += ws.W(j, k) * ws.W.col(k);
+    const double* w_k = ws.W.col(k).data();
+    for (Eigen::Index j = 0; j < ws.A.cols(); ++j) {
+      double* a_j = ws.A.col(j).data();
+      for (Eigen::Index i = 0; i < ws.A.rows(); ++i) a_j[i] += w_k[i] * w_k[j];
+    }
   }
   const Eigen::Index failed = cholesky_in_place(ws.A, ws.A_inv_diag.data(), ws.A_diag.data());
   const auto& pivots = ws.A_diag;

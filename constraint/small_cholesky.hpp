@@ -27,6 +27,7 @@ inline Eigen::Index cholesky_in_place(Eigen::MatrixXd& A, double* inverse_diagon
     double* a_j = A.col(j).data();
     for (Eigen::Index k = 0; k < j; ++k) {
       const double l_jk = A(j, k);
+      if (l_jk == 0.0) continue;  // a tree's M_r: bodies on different branches do not couple
       const double* n_k = A.col(k).data();
       for (Eigen::Index i = 0; i < n; ++i) a_j[i] -= l_jk * n_k[i];  // rows ≤ j: discarded
     }
@@ -48,7 +49,9 @@ inline void forward_substitute(const Eigen::MatrixXd& N, const double* inverse_d
   const Eigen::Index n = N.rows();
   for (Eigen::Index j = 0; j < n; ++j) {
     double sum = x[j];
-    for (Eigen::Index k = 0; k < j; ++k) sum -= N(j, k) * x[k];
+    for (Eigen::Index k = 0; k < j; ++k) {
+      if (N(j, k) != 0.0) sum -= N(j, k) * x[k];
+    }
     x[j] = sum * inverse_diagonal[j];
   }
 }
@@ -59,7 +62,9 @@ inline void back_substitute(const Eigen::MatrixXd& N, const double* inverse_diag
   for (Eigen::Index j = n - 1; j >= 0; --j) {
     const double* n_j = N.col(j).data();
     double sum = x[j];
-    for (Eigen::Index i = j + 1; i < n; ++i) sum -= n_j[i] * x[i];
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      if (n_j[i] != 0.0) sum -= n_j[i] * x[i];  // zeros kept off the chain of subtractions
+    }
     x[j] = sum * inverse_diagonal[j];
   }
 }
@@ -74,6 +79,7 @@ inline void forward_substitute_rows(const Eigen::MatrixXd& N, const double* inve
     for (Eigen::Index c = 0; c < m; ++c) x_j[c] *= inverse_diagonal[j];
     for (Eigen::Index i = j + 1; i < n; ++i) {
       const double l_ij = N(i, j);
+      if (l_ij == 0.0) continue;
       double* x_i = X.col(i).data();
       for (Eigen::Index c = 0; c < m; ++c) x_i[c] -= l_ij * x_j[c];
     }
