@@ -2,12 +2,11 @@
 /// \file small_cholesky.hpp
 /// Cholesky factorization A = L Lᵀ and its triangular solves for the small dense symmetric
 /// positive definite matrices of the reduced form (constraint/reduced_model.hpp: M_r, n_u × n_u,
-/// and the closures' Schur complement, r × r), in plain loops over the columns of a column-major
+/// and the closures' Schur complement, r × r), in plain loops over a column-major
 /// Eigen::MatrixXd. At these sizes (a handful to a few tens) Eigen's dynamic-size LLT,
 /// triangular solves and products spend more in their blocking and dispatch than in the
-/// arithmetic (docs/performance.md, "Reduced coordinates"); the loops are the textbook
-/// column-oriented ones (Golub & Van Loan, "Matrix computations", 4th ed., Alg. 4.2.2 and
-/// 3.1.3-3.1.4), O(n³/6) and O(n²), allocating nothing.
+/// arithmetic (docs/reduced_coordinates.md, "Cost"). The factorization is the left-looking
+/// (column by column) one, O(n³/6); the substitutions O(n²). Nothing allocates.
 #include <Eigen/Core>
 #include <cmath>
 

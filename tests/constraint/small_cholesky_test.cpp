@@ -6,6 +6,7 @@
 #include "constraint/small_cholesky.hpp"
 
 #include <catch2/catch.hpp>
+#include <limits>
 #include <random>
 
 namespace flexref::constraint {
