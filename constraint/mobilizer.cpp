@@ -14,12 +14,6 @@ Eigen::Matrix3d rotation_z(double angle) {
   return r;
 }
 
-/// The Euler parameters of R_z(ψ): (cos ψ/2, 0, 0, sin ψ/2) (one sincos, as R_z itself).
-Eigen::Vector4d euler_parameters_z(double angle) {
-  const double half = 0.5 * angle;
-  return Eigen::Vector4d(std::cos(half), 0.0, 0.0, std::sin(half));
-}
-
 /// The angle of a rotation about z (R = R_z(ψ)): ψ = atan2(R(1,0), R(0,0)).
 double angle_z(const Eigen::Matrix3d& R) { return std::atan2(R(1, 0), R(0, 0)); }
 
@@ -98,12 +92,10 @@ void relative_motion(const Mobilizer& m, const double* q, const double* u, Relat
   out.w_dot_bias_F.setZero();
   out.p_ddot_bias_F.setZero();
   out.p_FM_F.setZero();
-  out.theta_FM = rotation::identity_euler_parameters();
   switch (m.kind) {
     case MobilizerKind::kFree:
       // q = (p_WBr, θ_WB), u = (v_WBr, ω̄): w_FM_F = A ω̄, ṗ = v; Ȧ ω̄ = A (ω̄ × ω̄) = 0.
-      out.theta_FM = euler_parameters(q + 3);
-      out.R_FM = rotation::rotation_matrix(out.theta_FM);
+      out.R_FM = rotation::rotation_matrix(euler_parameters(q + 3));
       out.p_FM_F = Eigen::Vector3d(q[0], q[1], q[2]);
       out.H_v.leftCols<3>().setIdentity();
       out.H_w.rightCols<3>() = out.R_FM;
@@ -111,14 +103,11 @@ void relative_motion(const Mobilizer& m, const double* q, const double* u, Relat
     case MobilizerKind::kPivot:
     case MobilizerKind::kSpherical:
       // u = w_FM_M: w_FM_F = A u, and Ȧ u = A (u × u) = 0.
-      out.theta_FM = euler_parameters(q);
-      out.R_FM = rotation::rotation_matrix(out.theta_FM);
+      out.R_FM = rotation::rotation_matrix(euler_parameters(q));
       out.H_w = out.R_FM;
       break;
     case MobilizerKind::kRevolute:
-      // R_z(ψ) = A(cos ψ/2, 0, 0, sin ψ/2): the half angle's sincos gives both.
-      out.theta_FM = euler_parameters_z(q[0]);
-      out.R_FM = rotation::rotation_matrix(out.theta_FM);
+      out.R_FM = rotation_z(q[0]);
       out.H_w.col(0) = z;
       break;
     case MobilizerKind::kPrismatic:
@@ -127,8 +116,7 @@ void relative_motion(const Mobilizer& m, const double* q, const double* u, Relat
       out.H_v.col(0) = z;
       break;
     case MobilizerKind::kCylindrical:
-      out.theta_FM = euler_parameters_z(q[0]);
-      out.R_FM = rotation::rotation_matrix(out.theta_FM);
+      out.R_FM = rotation_z(q[0]);
       out.p_FM_F = q[1] * z;
       out.H_w.col(0) = z;
       out.H_v.col(1) = z;
@@ -136,12 +124,9 @@ void relative_motion(const Mobilizer& m, const double* q, const double* u, Relat
     case MobilizerKind::kUniversal: {
       // R_FM = R_z(ψ1) C R_z(ψ2): w_FM_F = z ψ̇1 + a ψ̇2 with a = R_z(ψ1) C z (the child's axis
       // in F); ȧ = (z ψ̇1) × a, so Ḣ_w u = (z × a) ψ̇1 ψ̇2.
-      const Eigen::Vector4d theta_1 = euler_parameters_z(q[0]);
-      out.theta_FM = rotation::quaternion_multiply(
-          rotation::quaternion_multiply(theta_1, rotation::euler_parameters_from_matrix(m.C)),
-          euler_parameters_z(q[1]));
-      out.R_FM = rotation::rotation_matrix(out.theta_FM);
-      const Eigen::Vector3d a = rotation::rotation_matrix(theta_1) * m.C.col(2);
+      const Eigen::Matrix3d R1 = rotation_z(q[0]);
+      out.R_FM = R1 * m.C * rotation_z(q[1]);
+      const Eigen::Vector3d a = R1 * m.C.col(2);
       out.H_w.col(0) = z;
       out.H_w.col(1) = a;
       out.w_dot_bias_F = z.cross(a) * (u[0] * u[1]);

@@ -70,9 +70,6 @@ struct Mobilizer {
 /// X_FM, its rate maps and bias at (q, u) of one mobilizer (q, u: its own coordinates).
 struct RelativeMotion {
   Eigen::Matrix3d R_FM = Eigen::Matrix3d::Identity();
-  /// Euler parameters of R_FM (R_FM = A(theta_FM), either sign): forward kinematics composes
-  /// these rather than turning the product of matrices back into Euler parameters.
-  Eigen::Vector4d theta_FM = Eigen::Vector4d(1.0, 0.0, 0.0, 0.0);
   Eigen::Vector3d p_FM_F = Eigen::Vector3d::Zero();
   MobilizerMap H_w;  ///< w_FM_F = H_w u
   MobilizerMap H_v;  ///< ṗ_FM (in F) = H_v u

@@ -14,9 +14,6 @@ TreeKinematics::TreeKinematics(SpanningTree tree, const std::vector<core::Body>&
     if (m.parent != kGround) columns = columns_[static_cast<std::size_t>(m.parent)];
     for (int k = 0; k < constraint::velocity_count(m.kind); ++k) columns.push_back(m.u_offset + k);
     std::sort(columns.begin(), columns.end());
-    theta_PF_.push_back(rotation::euler_parameters_from_matrix(m.R_PF));
-    theta_MC_.push_back(
-        rotation::quaternion_conjugate(rotation::euler_parameters_from_matrix(m.R_CM)));
   }
 }
 
@@ -52,13 +49,13 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
     // The parent's pose, motion and bias (the ground's: identity, zero).
     const bool grounded = m.parent == kGround;
     const auto p = grounded ? c : static_cast<std::size_t>(m.parent);
-    rotation::EulerParameters theta_WF = theta_PF_[k];
+    Eigen::Matrix3d R_WF = m.R_PF;
     Eigen::Vector3d p_WF = m.p_PrF_P, p_WPr = Eigen::Vector3d::Zero();
     Eigen::Vector3d v_P = Eigen::Vector3d::Zero(), w_P = Eigen::Vector3d::Zero();
     Eigen::Vector3d alpha_P = Eigen::Vector3d::Zero(), a_P = Eigen::Vector3d::Zero();
     if (!grounded) {
       const core::BodyState& sp = ws.state[p];
-      theta_WF = rotation::quaternion_multiply(sp.theta_WB, theta_PF_[k]);
+      R_WF.noalias() = ws.R_WB[p] * m.R_PF;
       p_WPr = sp.p_WBr;
       p_WF = p_WPr + ws.R_WB[p] * m.p_PrF_P;
       v_P = sp.v_WBr;
@@ -66,18 +63,18 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
       alpha_P = ws.alpha_bias_W[p];
       a_P = ws.a_bias_WBr[p];
     }
-    // Poses: θ_WC = θ_WF ⊗ θ_FM ⊗ θ_CM*, with the same products' matrices.
+    // Poses: R_WC = R_WF R_FM R_CMᵀ (products of the frames' matrices keep the exact zeros of
+    // axis-aligned frames, which the closures' rank-revealing row choice relies on: a planar
+    // loop's out-of-plane rows must come out exactly zero, not at rounding level).
+    const Eigen::Matrix3d R_WC = R_WF * rel.R_FM * m.R_CM.transpose();
     core::BodyState& s = ws.state[c];
     if (m.kind == MobilizerKind::kFree || m.kind == MobilizerKind::kPivot) {
       // A root's attitude is its coordinates' (F = W, M = B): θ_WB as integrated.
-      s.theta_WB = rel.theta_FM;
+      const int o = m.kind == MobilizerKind::kFree ? 3 : 0;
+      s.theta_WB = q.segment<4>(m.q_offset + o);
     } else {
-      s.theta_WB = rotation::quaternion_multiply(
-          rotation::quaternion_multiply(theta_WF, rel.theta_FM), theta_MC_[k]);
-      if (s.theta_WB(0) < 0.0) s.theta_WB = -s.theta_WB;  // the convention e0 ≥ 0
+      s.theta_WB = rotation::euler_parameters_from_matrix(R_WC);
     }
-    const Eigen::Matrix3d R_WF = rotation::rotation_matrix(theta_WF);
-    const Eigen::Matrix3d R_WC = rotation::rotation_matrix(s.theta_WB);
     const Eigen::Vector3d p_WM = p_WF + R_WF * rel.p_FM_F;
     const Eigen::Vector3d p_WCr = p_WM - R_WC * m.p_CrM_C;
     const Eigen::Vector3d r_PM = p_WM - p_WPr, r_MC = p_WCr - p_WM, r_PC = p_WCr - p_WPr;

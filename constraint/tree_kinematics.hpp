@@ -21,9 +21,6 @@
 // clang-format on
 /// (the second derivative of p_WM = p_WPr + r_PF + R_WF p_FM, Ṙ_WF = ω̃_P R_WF), and in the
 /// model's variables ω̄ = R_WCᵀ ω_C, α̅ = R_WCᵀ ω̇_C (d(Rᵀω)/dt = Rᵀω̇ − Rᵀ ω̃ ω = Rᵀω̇).
-/// The attitudes compose as Euler parameters, θ_WF = θ_WP ⊗ θ_PF, θ_WC = θ_WF ⊗ θ_FM ⊗ θ_CM*
-/// (e0 ≥ 0 as the maximal state's), and R_WF, R_WC are A(θ): the bodies' θ_WB need no rotation
-/// matrix turned back into Euler parameters, and R_WC is the A(θ_WB) the model evaluates.
 /// S is stored dense, 6N × n_u, and swept on each body's ancestors' columns only (body_columns):
 /// O(N d) per evaluation with d the tree's depth, what a tree of a few bodies and a handful of
 /// loops needs; long chains want the articulated-body recursion instead.
@@ -33,7 +30,6 @@
 #include "constraint/spanning_tree.hpp"
 #include "core/body.hpp"
 #include "core/state.hpp"
-#include "rotation/euler_parameters.hpp"
 
 namespace flexref::constraint {
 
@@ -84,9 +80,6 @@ class TreeKinematics {
   SpanningTree tree_;
   std::vector<Eigen::Vector3d> p_BoBr_B_;
   std::vector<std::vector<int>> columns_;
-  /// Per mobilizer: the Euler parameters of R_PF and of R_CMᵀ (constant).
-  std::vector<rotation::EulerParameters> theta_PF_;
-  std::vector<rotation::EulerParameters> theta_MC_;
 };
 
 }  // namespace flexref::constraint
