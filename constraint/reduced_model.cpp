@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "constraint/small_cholesky.hpp"
 #include "core/orientation_test_tpl.hpp"
 #include "core/row_selection_tpl.hpp"
 #include "core/schur_complement_tpl.hpp"
@@ -126,12 +127,14 @@ ReducedWorkspace ReducedModel::make_workspace() const {
   ws.J_a = Eigen::MatrixXd::Zero(r, nu);
   ws.rhs = Vector::Zero(r);
   ws.lambda = Vector::Zero(r);
-  ws.W = Eigen::MatrixXd::Zero(nu, r);
+  ws.W = Eigen::MatrixXd::Zero(r, nu);
   ws.A = Eigen::MatrixXd::Zero(r, r);
-  // Sized by a first factorization (LLT's sizing constructor leaves its status unset, which a
-  // copy then reads): the evaluations' factorizations of the same sizes allocate nothing.
-  ws.mass.compute(Eigen::MatrixXd::Identity(nu, nu));
-  ws.schur.compute(Eigen::MatrixXd::Identity(r, r));
+  ws.correction = Vector::Zero(nu);
+  ws.M_r_inv_diag = Vector::Zero(nu);
+  ws.A_inv_diag = Vector::Zero(r);
+  ws.A_diag = Vector::Zero(r);
+  ws.accepted_rows = Eigen::MatrixXd::Zero(r, nu);
+  ws.row_norms = Eigen::MatrixXd::Zero(r, 2);
   ws.chosen.reserve(static_cast<std::size_t>(m));
   ws.solved.reserve(static_cast<std::size_t>(m));
   ws.crossing = Eigen::MatrixXd::Identity(r, r);
@@ -171,11 +174,13 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
       }
     }
   }
-  ws.mass.compute(ws.M_r);  // reads the lower triangle
-  if (ws.mass.info() != Eigen::Success) {
+  // M_r = L Lᵀ in place (reads the lower triangle, leaves L − diag(L) there).
+  if (cholesky_in_place(ws.M_r, ws.M_r_inv_diag.data()) >= 0) {
     throw std::runtime_error("reduced model: the tree's mass matrix is not positive definite");
   }
-  u_dot = ws.mass.solve(ws.Q_r);
+  u_dot = ws.Q_r;
+  forward_substitute(ws.M_r, ws.M_r_inv_diag.data(), u_dot.data());
+  back_substitute(ws.M_r, ws.M_r_inv_diag.data(), u_dot.data());
   if (active_.empty()) return;
   // The closures: J_c = J S, γ_c = γ − J Ṡ u, row by row over its two bodies' blocks of J.
   closures_->evaluate(context.t, ws.model.kinematics, model.velocity_layout(), ws.rows);
@@ -238,8 +243,12 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
     if (a != 0.0) g -= 2.0 * a * ws.velocity_rows(row) + a * a * ws.rows.phi(row);
     ws.rhs(k) = ws.J_a.row(k).dot(u_dot) - g;
   }
-  ws.lambda = ws.schur.solve(ws.rhs);
-  u_dot.noalias() -= ws.W * ws.lambda;
+  ws.lambda = ws.rhs;
+  forward_substitute(ws.A, ws.A_inv_diag.data(), ws.lambda.data());
+  back_substitute(ws.A, ws.A_inv_diag.data(), ws.lambda.data());
+  ws.correction.noalias() = ws.W.transpose() * ws.lambda;
+  back_substitute(ws.M_r, ws.M_r_inv_diag.data(), ws.correction.data());
+  u_dot -= ws.correction;
   ws.solved.assign(rows->begin(), rows->end());
 }
 
@@ -247,13 +256,20 @@ double ReducedModel::factor_closures(const std::vector<int>& rows, ReducedWorksp
   for (std::size_t i = 0; i < rows.size(); ++i) {
     ws.J_a.row(static_cast<Eigen::Index>(i)) = ws.J_c.row(static_cast<Eigen::Index>(rows[i]));
   }
-  ws.W = ws.J_a.transpose();
-  ws.mass.solveInPlace(ws.W);
-  ws.A.noalias() = ws.J_a * ws.W;
-  ws.schur.compute(ws.A);
-  if (ws.schur.info() != Eigen::Success) return 0.0;
-  const auto pivots = ws.schur.matrixLLT().diagonal();
-  const double ratio = pivots.minCoeff() / pivots.maxCoeff();
+  ws.W = ws.J_a;
+  forward_substitute_rows(ws.M_r, ws.M_r_inv_diag.data(), ws.W);
+  // A = W Wᵀ = Σ_k w_k w_kᵀ (w_k: W's contiguous column k), column by column of A.
+  ws.A.setZero();
+  for (Eigen::Index k = 0; k < ws.W.cols(); ++k) {
+    const double* w_k = ws.W.col(k).data();
+    for (Eigen::Index j = 0; j < ws.A.cols(); ++j) {
+      double* a_j = ws.A.col(j).data();
+      for (Eigen::Index i = 0; i < ws.A.rows(); ++i) a_j[i] += w_k[i] * w_k[j];
+    }
+  }
+  ws.schur_failed = cholesky_in_place(ws.A, ws.A_inv_diag.data(), ws.A_diag.data());
+  if (ws.schur_failed >= 0) return 0.0;
+  const double ratio = ws.A_diag.minCoeff() / ws.A_diag.maxCoeff();
   return std::isfinite(ratio) ? ratio * ratio : 0.0;
 }
 
@@ -279,11 +295,33 @@ bool ReducedModel::choose_closure_rows(ReducedWorkspace& ws) const {
 int ReducedModel::orientation(const std::vector<int>& rows, const ClosureTracker& tracker,
                               ReducedWorkspace& ws) const {
   const auto r = static_cast<Eigen::Index>(rows.size());
+  const Eigen::Index n = ws.W.cols();
+  // X = J_a,accepted L⁻ᵀ beside W = J_a L⁻ᵀ: J_a,accepted M_r⁻¹ J_aᵀ = X Wᵀ, and each row's turn
+  // is read in M_r⁻¹'s metric, cos = x_i · w_i / (|x_i| |w_i|), column by column of the
+  // column-major X and W.
+  for (Eigen::Index k = 0; k < n; ++k) {
+    for (Eigen::Index i = 0; i < r; ++i) {
+      ws.accepted_rows(i, k) = tracker.J_accepted(rows[static_cast<std::size_t>(i)], k);
+    }
+  }
+  forward_substitute_rows(ws.M_r, ws.M_r_inv_diag.data(), ws.accepted_rows);
+  ws.crossing.setZero();
+  ws.row_norms.setZero();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double* x_k = ws.accepted_rows.col(k).data();
+    const double* w_k = ws.W.col(k).data();
+    for (Eigen::Index j = 0; j < r; ++j) {
+      double* c_j = ws.crossing.col(j).data();
+      for (Eigen::Index i = 0; i < r; ++i) c_j[i] += x_k[i] * w_k[j];
+    }
+    for (Eigen::Index i = 0; i < r; ++i) {
+      ws.row_norms(i, 0) += x_k[i] * x_k[i];
+      ws.row_norms(i, 1) += w_k[i] * w_k[i];
+    }
+  }
   for (Eigen::Index i = 0; i < r; ++i) {
-    const auto accepted = tracker.J_accepted.row(rows[static_cast<std::size_t>(i)]);
-    const double dot = accepted.dot(ws.J_a.row(i));
-    if (dot < core::kOrientationTestCosine * accepted.norm() * ws.J_a.row(i).norm()) return 0;
-    for (Eigen::Index j = 0; j < r; ++j) ws.crossing(i, j) = accepted.dot(ws.W.col(j));
+    const double cosine = core::kOrientationTestCosine;
+    if (ws.crossing(i, i) < cosine * std::sqrt(ws.row_norms(i, 0) * ws.row_norms(i, 1))) return 0;
   }
   return determinant_sign(ws.crossing) > 0 ? 1 : -1;
 }
@@ -317,8 +355,8 @@ void ReducedModel::throw_passed_singular(const std::vector<int>& rows, const Red
 int ReducedModel::smallest_pivot_joint(const std::vector<int>& rows,
                                        const ReducedWorkspace& ws) const {
   if (rows.empty()) return 0;
-  Eigen::Index at = 0;
-  if (ws.schur.info() == Eigen::Success) ws.schur.matrixLLT().diagonal().minCoeff(&at);
+  Eigen::Index at = ws.schur_failed;
+  if (at < 0) ws.A_diag.minCoeff(&at);
   return closures_->joint_of_row(rows[static_cast<std::size_t>(at)]);
 }
 

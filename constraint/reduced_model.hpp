@@ -19,14 +19,14 @@
 /// passed between the last accepted state and the one solved now. The solve is the Schur
 /// complement of the small system:
 ///   u̇₀ = M_r⁻¹ Q_r,   (J_a M_r⁻¹ J_aᵀ) λ = J_a u̇₀ − γ_a,   u̇ = u̇₀ − M_r⁻¹ J_aᵀ λ,
-/// both matrices by Cholesky. Baumgarte's term, as the maximal form's, replaces γ_a by
-/// γ_a − 2α (J_a S u + Φ_t) − α² Φ_a.
+/// both matrices by Cholesky (constraint/small_cholesky.hpp): with M_r = L Lᵀ and W = J_a L⁻ᵀ,
+/// J_a M_r⁻¹ J_aᵀ = W Wᵀ and M_r⁻¹ J_aᵀ λ = L⁻ᵀ (Wᵀ λ). Baumgarte's term, as the maximal form's,
+/// replaces γ_a by γ_a − 2α (J_a S u + Φ_t) − α² Φ_a.
 ///
 /// Refused (std::invalid_argument naming the reason): flexible and prescribed bodies
 /// (constraint/spanning_tree.hpp), constraints other than ideal joints, and force elements with
 /// switching functions or worn depths (contact: their events need the maximal references'
 /// event location, which the reduced form does not have).
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
@@ -40,22 +40,25 @@ namespace flexref::constraint {
 /// Per-evaluation scratch of ReducedModel (sized once; evaluations allocate nothing).
 struct ReducedWorkspace {
   TreeWorkspace tree;
-  core::Workspace model;          ///< the maximal model's scratch: loads and kinematics
-  core::ConstraintRows rows;      ///< the closures' rows, J by its blocks
-  core::Accelerations bias;       ///< Ṡ u body by body (dynamics_residual's argument)
-  Eigen::VectorXd residual;       ///< 6N: M Ṡ u − Q
-  Eigen::MatrixXd M_r;            ///< n_u × n_u (its lower triangle)
-  Eigen::VectorXd Q_r;            ///< n_u
-  Eigen::MatrixXd J_c;            ///< m × n_u
-  Eigen::VectorXd gamma_c;        ///< m
-  Eigen::VectorXd velocity_rows;  ///< m: J_c u + Φ_t
-  Eigen::MatrixXd J_a;            ///< r × n_u, the independent rows
-  Eigen::VectorXd rhs;            ///< r
-  Eigen::VectorXd lambda;         ///< r: the independent rows' multipliers
-  Eigen::MatrixXd W;              ///< n_u × r: M_r⁻¹ J_aᵀ
-  Eigen::MatrixXd A;              ///< r × r: J_a M_r⁻¹ J_aᵀ
-  Eigen::LLT<Eigen::MatrixXd> mass;
-  Eigen::LLT<Eigen::MatrixXd> schur;
+  core::Workspace model;           ///< the maximal model's scratch: loads and kinematics
+  core::ConstraintRows rows;       ///< the closures' rows, J by its blocks
+  core::Accelerations bias;        ///< Ṡ u body by body (dynamics_residual's argument)
+  Eigen::VectorXd residual;        ///< 6N: M Ṡ u − Q
+  Eigen::MatrixXd M_r;             ///< n_u × n_u (its lower triangle), then L − diag(L)
+  Eigen::VectorXd M_r_inv_diag;    ///< n_u: 1/L(j,j), M_r = L Lᵀ
+  Eigen::VectorXd Q_r;             ///< n_u
+  Eigen::MatrixXd J_c;             ///< m × n_u
+  Eigen::VectorXd gamma_c;         ///< m
+  Eigen::VectorXd velocity_rows;   ///< m: J_c u + Φ_t
+  Eigen::MatrixXd J_a;             ///< r × n_u, the independent rows
+  Eigen::VectorXd rhs;             ///< r
+  Eigen::VectorXd lambda;          ///< r: the independent rows' multipliers
+  Eigen::MatrixXd W;               ///< r × n_u: J_a L⁻ᵀ
+  Eigen::MatrixXd A;               ///< r × r: W Wᵀ = J_a M_r⁻¹ J_aᵀ, then L_A − diag(L_A)
+  Eigen::VectorXd A_diag;          ///< r: L_A(j,j), A = L_A L_Aᵀ
+  Eigen::VectorXd A_inv_diag;      ///< r: 1/L_A(j,j)
+  Eigen::VectorXd correction;      ///< n_u: M_r⁻¹ J_aᵀ λ
+  Eigen::Index schur_failed = -1;  ///< A's failed pivot (cholesky_in_place), or −1
   /// (min/max)² of the Schur factor's diagonal over the rows solved with: the ratio of A's
   /// pivots, as the maximal solve's (core/schur_complement_tpl.hpp).
   double pivot_ratio = 0.0;
@@ -68,8 +71,10 @@ struct ReducedWorkspace {
   /// accepted state, where the orientation test is not conclusive: an integrator must not accept
   /// a step from this evaluation, but take a shorter one.
   bool rows_turned = false;
-  std::vector<int> solved;   ///< the rows the last evaluation solved with (λ's rows)
-  Eigen::MatrixXd crossing;  ///< r × r: J_a,accepted M_r⁻¹ J_aᵀ (the orientation test)
+  std::vector<int> solved;        ///< the rows the last evaluation solved with (λ's rows)
+  Eigen::MatrixXd crossing;       ///< r × r: J_a,accepted M_r⁻¹ J_aᵀ (the orientation test)
+  Eigen::MatrixXd accepted_rows;  ///< r × n_u: J_a,accepted L⁻ᵀ (the orientation test)
+  Eigen::MatrixXd row_norms;      ///< r × 2: |x_i|², |w_i|² (the orientation test)
 };
 
 /// The closures' history an integrator carries from one accepted state to the next (the reduced
@@ -148,8 +153,8 @@ class ReducedModel {
   bool choose_closure_rows(ReducedWorkspace& ws) const;
   /// The sign of det(J_a,accepted M_r⁻¹ J_aᵀ) on `rows`, factored in ws
   /// (core/orientation_test_tpl.hpp's test in joint space): +1 kept, −1 turned through a
-  /// dependency; 0 where a row turned by more than kOrientationTestCosine's angle, where the
-  /// test is not conclusive.
+  /// dependency; 0 where a row turned by more than kOrientationTestCosine's angle (in M_r⁻¹'s
+  /// metric), where the test is not conclusive.
   int orientation(const std::vector<int>& rows, const ClosureTracker& tracker,
                   ReducedWorkspace& ws) const;
   /// The closure joint of the smallest pivot of A on `rows` (the row nearest to dependence).

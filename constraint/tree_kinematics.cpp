@@ -5,19 +5,6 @@
 #include "rotation/euler_parameters.hpp"
 
 namespace flexref::constraint {
-namespace {
-
-/// out −= [r]× M on the given columns: each column c of out less r × (column c of M).
-template <typename In, typename Out>
-void subtract_cross(const Eigen::Vector3d& r, const In& M, Out& out,
-                    const std::vector<int>& columns) {
-  for (const int c : columns) {
-    out.col(c) -= r.cross(Eigen::Vector3d(M.col(c)));
-  }
-}
-
-}  // namespace
-
 TreeKinematics::TreeKinematics(SpanningTree tree, const std::vector<core::Body>& bodies)
     : tree_(std::move(tree)) {
   for (const core::Body& b : bodies) p_BoBr_B_.push_back(b.p_BoBr_B());
@@ -47,7 +34,6 @@ TreeWorkspace TreeKinematics::make_workspace() const {
   ws.relative.resize(tree_.mobilizers.size());
   const auto rows = static_cast<Eigen::Index>(3 * n);
   ws.Jw = Eigen::MatrixXd::Zero(rows, nu);
-  ws.Jv = Eigen::MatrixXd::Zero(rows, nu);
   ws.S = Eigen::MatrixXd::Zero(2 * rows, nu);
   ws.bias = Eigen::VectorXd::Zero(2 * rows);
   return ws;
@@ -60,32 +46,27 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
     relative_motion(m, q.data() + m.q_offset, u.data() + m.u_offset, rel);
     const int nu_m = constraint::velocity_count(m.kind);
     const auto c = static_cast<std::size_t>(m.child);
-    const Eigen::Index rc = 3 * static_cast<Eigen::Index>(c);
-    // The parent's pose, motion, Jacobian rows and bias (the ground's: identity, zero).
-    Eigen::Matrix3d R_WP = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d p_WPr = Eigen::Vector3d::Zero(), w_P = Eigen::Vector3d::Zero();
+    // The parent's pose, motion and bias (the ground's: identity, zero).
+    const bool grounded = m.parent == kGround;
+    const auto p = grounded ? c : static_cast<std::size_t>(m.parent);
+    Eigen::Matrix3d R_WF = m.R_PF;
+    Eigen::Vector3d p_WF = m.p_PrF_P, p_WPr = Eigen::Vector3d::Zero();
+    Eigen::Vector3d v_P = Eigen::Vector3d::Zero(), w_P = Eigen::Vector3d::Zero();
     Eigen::Vector3d alpha_P = Eigen::Vector3d::Zero(), a_P = Eigen::Vector3d::Zero();
-    auto Jw_C = ws.Jw.middleRows<3>(rc);
-    auto Jv_C = ws.Jv.middleRows<3>(rc);
-    if (m.parent == kGround) {
-      Jw_C.setZero();
-      Jv_C.setZero();
-    } else {
-      const auto p = static_cast<std::size_t>(m.parent);
-      const Eigen::Index rp = 3 * static_cast<Eigen::Index>(p);
-      R_WP = ws.R_WB[p];
-      p_WPr = ws.state[p].p_WBr;
+    if (!grounded) {
+      const core::BodyState& sp = ws.state[p];
+      R_WF.noalias() = ws.R_WB[p] * m.R_PF;
+      p_WPr = sp.p_WBr;
+      p_WF = p_WPr + ws.R_WB[p] * m.p_PrF_P;
+      v_P = sp.v_WBr;
       w_P = ws.w_WB_W[p];
       alpha_P = ws.alpha_bias_W[p];
       a_P = ws.a_bias_WBr[p];
-      Jw_C = ws.Jw.middleRows<3>(rp);
-      Jv_C = ws.Jv.middleRows<3>(rp);
     }
-    // Poses: R_WF, p_WF; R_WM, p_WM; R_WC, p_WCr.
-    const Eigen::Matrix3d R_WF = R_WP * m.R_PF;
-    const Eigen::Vector3d p_WF = p_WPr + R_WP * m.p_PrF_P;
-    const Eigen::Vector3d p_WM = p_WF + R_WF * rel.p_FM_F;
-    Eigen::Matrix3d R_WC = R_WF * rel.R_FM * m.R_CM.transpose();
+    // Poses: R_WC = R_WF R_FM R_CMᵀ (products of the frames' matrices keep the exact zeros of
+    // axis-aligned frames, which the closures' rank-revealing row choice relies on: a planar
+    // loop's out-of-plane rows must come out exactly zero, not at rounding level).
+    const Eigen::Matrix3d R_WC = R_WF * rel.R_FM * m.R_CM.transpose();
     core::BodyState& s = ws.state[c];
     if (m.kind == MobilizerKind::kFree || m.kind == MobilizerKind::kPivot) {
       // A root's attitude is its coordinates' (F = W, M = B): θ_WB as integrated.
@@ -94,19 +75,37 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
     } else {
       s.theta_WB = rotation::euler_parameters_from_matrix(R_WC);
     }
+    const Eigen::Vector3d p_WM = p_WF + R_WF * rel.p_FM_F;
     const Eigen::Vector3d p_WCr = p_WM - R_WC * m.p_CrM_C;
-    const Eigen::Vector3d r_PM = p_WM - p_WPr, r_MC = p_WCr - p_WM;
-    // Jacobians: ω_C = ω_P + R_WF H_w u;  v_Cr = v_Pr + ω_P × r_PM + R_WF H_v u + ω_C × r_MC.
-    const std::vector<int>& columns = columns_[c];
-    subtract_cross(r_PM, Jw_C, Jv_C, columns);
-    const auto cols = Eigen::seqN(m.u_offset, nu_m);
-    Jw_C(Eigen::all, cols).noalias() += R_WF * rel.H_w;
-    Jv_C(Eigen::all, cols).noalias() += R_WF * rel.H_v;
-    subtract_cross(r_MC, Jw_C, Jv_C, columns);
+    const Eigen::Vector3d r_PM = p_WM - p_WPr, r_MC = p_WCr - p_WM, r_PC = p_WCr - p_WPr;
+    // Jacobians, column by column: ω_C = ω_P + R_WF H_w u; v_Cr = v_Pr + ω_P × r_PM + R_WF H_v u
+    // + ω_C × r_MC, i.e. v_Pr's column less r_PC × ω_P's on the ancestors' columns (their H is
+    // zero) and R_WF H_v − r_MC × R_WF H_w on the mobilizer's own. S stores v_WBr's rows (the
+    // children's Jv) and ω̄'s = R_WCᵀ ω's; Jw keeps ω's in the world for the children.
+    const Eigen::Index rc = 3 * static_cast<Eigen::Index>(c), rp = 3 * static_cast<Eigen::Index>(p);
+    for (const int col : columns_[c]) {
+      Eigen::Map<Eigen::Vector3d> Jw_C(&ws.Jw(rc, col));
+      Eigen::Map<Eigen::Vector3d> Jv_C(&ws.S(2 * rc, col));
+      const int own = col - m.u_offset;
+      if (own >= 0 && own < nu_m) {
+        Jw_C.noalias() = R_WF * rel.H_w.col(own);
+        Jv_C.noalias() = R_WF * rel.H_v.col(own);
+        Jv_C -= r_MC.cross(Jw_C);
+      } else {
+        Jw_C = ws.Jw.block<3, 1>(rp, col);
+        Jv_C = ws.S.block<3, 1>(2 * rp, col);
+        Jv_C -= r_PC.cross(Jw_C);
+      }
+      ws.S.block<3, 1>(2 * rc + 3, col).noalias() = R_WC.transpose() * Jw_C;
+    }
     // Velocities and bias (the recursion of the header).
-    const auto u_m = u.segment(m.u_offset, nu_m);
-    const Eigen::Vector3d w_rel = R_WF * (rel.H_w * u_m);
-    const Eigen::Vector3d v_rel = R_WF * (rel.H_v * u_m);
+    Eigen::Vector3d w_rel_F = Eigen::Vector3d::Zero(), v_rel_F = Eigen::Vector3d::Zero();
+    for (int j = 0; j < nu_m; ++j) {
+      w_rel_F += rel.H_w.col(j) * u(m.u_offset + j);
+      v_rel_F += rel.H_v.col(j) * u(m.u_offset + j);
+    }
+    const Eigen::Vector3d w_rel = R_WF * w_rel_F;
+    const Eigen::Vector3d v_rel = R_WF * v_rel_F;
     const Eigen::Vector3d w_C = w_P + w_rel;
     const Eigen::Vector3d alpha_C = alpha_P + w_P.cross(w_rel) + R_WF * rel.w_dot_bias_F;
     const Eigen::Vector3d a_M = a_P + alpha_P.cross(r_PM) + w_P.cross(w_P.cross(r_PM)) +
@@ -117,14 +116,11 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
     ws.alpha_bias_W[c] = alpha_C;
     ws.a_bias_WBr[c] = a_C;
     s.p_WBr = p_WCr;
-    s.v_WBr.noalias() = Jv_C * u;
+    s.v_WBr = v_P + w_P.cross(r_PM) + v_rel + w_C.cross(r_MC);
     s.w_WB_B.noalias() = R_WC.transpose() * w_C;
-    // The model's variables: (v_WBr, ω̄ = R_WCᵀ ω) = S u, (a_WBr, α̅ = R_WCᵀ ω̇) at u̇ = 0.
-    const Eigen::Index r6 = 2 * rc;
-    ws.S.middleRows<3>(r6) = Jv_C;
-    ws.S.middleRows<3>(r6 + 3).noalias() = R_WC.transpose() * Jw_C;
-    ws.bias.segment<3>(r6) = a_C;
-    ws.bias.segment<3>(r6 + 3).noalias() = R_WC.transpose() * alpha_C;
+    // The model's variables: (a_WBr, α̅ = R_WCᵀ ω̇) at u̇ = 0.
+    ws.bias.segment<3>(2 * rc) = a_C;
+    ws.bias.segment<3>(2 * rc + 3).noalias() = R_WC.transpose() * alpha_C;
   }
 }
 

@@ -43,7 +43,6 @@ struct TreeWorkspace {
   std::vector<Eigen::Vector3d> a_bias_WBr;    ///< (Ṡu)_a per body, world
   std::vector<RelativeMotion> relative;       ///< per mobilizer
   Eigen::MatrixXd Jw;                         ///< 3N × n_u: ω_W = Jw u, body after body
-  Eigen::MatrixXd Jv;                         ///< 3N × n_u: v_WBr = Jv u
   Eigen::MatrixXd S;                          ///< 6N × n_u: (v_WBr, ω̄) = S u, body after body
   Eigen::VectorXd bias;                       ///< 6N: (a_WBr, α̅) at u̇ = 0, i.e. Ṡ u
 };
