@@ -226,14 +226,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     return reached;
   }
 
-  /// Moves y_, CVODE's solution at its time t, to the physical time t (step_clock.hpp):
-  /// y(t + δ) ≈ y(t) + δ ẏ(t), δ the clock's offset.
+  /// Moves y_, CVODE's solution at its time t, to the physical time t (cvode_support.hpp).
   void to_physical_time(double t) {
-    record_cvode_steps(cvode_.get(), clock_);
-    const double offset = clock_.offset();
-    if (offset == 0.0) return;
-    sun::check(CVodeGetDky(cvode_.get(), t, 1, ydot_.get()), "CVodeGetDky");
-    N_VLinearSum(1.0, y_.get(), offset, ydot_.get(), y_.get());
+    reference::to_physical_time(cvode_.get(), clock_, t, y_.get(), ydot_.get());
   }
 
   /// True while the corrector iterates by fixed-point iteration (until a switch to Newton).
@@ -295,13 +290,9 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
   }
 
   double current_time(double fallback) const override {
-    double t = fallback;
-    return CVodeGetCurrentTime(cvode_.get(), &t) < 0 ? fallback : t;
+    return cvode_current_time(cvode_.get(), fallback);
   }
-  long current_steps() const override {
-    long steps = 0;
-    return (CVodeGetNumSteps(cvode_.get(), &steps) < 0 ? 0 : steps) + before_switch_.steps;
-  }
+  long current_steps() const override { return cvode_steps(cvode_.get()) + before_switch_.steps; }
   std::string failure_message(const std::string& what) const override {
     return sun::failure_message(what, data_, "right-hand side");
   }

@@ -29,6 +29,29 @@ inline void record_cvode_steps(void* cvode, StepClock& clock) {
   clock.record(steps, last_step, t);
 }
 
+/// Moves y, CVODE's solution at its time t, to the physical time t (step_clock.hpp):
+/// y(t + δ) ≈ y(t) + δ ẏ(t), δ the clock's offset after the steps CVODE took so far; `ydot`
+/// scratch of y's size.
+inline void to_physical_time(void* cvode, StepClock& clock, double t, N_Vector y, N_Vector ydot) {
+  record_cvode_steps(cvode, clock);
+  const double offset = clock.offset();
+  if (offset == 0.0) return;
+  sundials::check(CVodeGetDky(cvode, t, 1, ydot), "CVodeGetDky");
+  N_VLinearSum(1.0, y, offset, ydot, y);
+}
+
+/// CVODE's current time, or `fallback` where it has none (a failure report).
+inline double cvode_current_time(void* cvode, double fallback) {
+  double t = fallback;
+  return CVodeGetCurrentTime(cvode, &t) < 0 ? fallback : t;
+}
+
+/// CVODE's steps since its last (re)initialization, 0 where it cannot say.
+inline long cvode_steps(void* cvode) {
+  long steps = 0;
+  return CVodeGetNumSteps(cvode, &steps) < 0 ? 0 : steps;
+}
+
 /// CVode towards tout in CV_NORMAL mode with fixed-point iteration, which the handle runs with
 /// CVodeSetMaxNumSteps(kStiffnessWindow): where its corrector fails to converge in a tenth of a
 /// window's steps the problem has become stiff (a mechanism approaching a dead point: the
