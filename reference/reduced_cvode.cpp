@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -382,10 +383,21 @@ std::optional<std::string> refusal(const core::Model& model, const SolverOptions
   return std::nullopt;
 }
 
-/// The joint-coordinate run, or nothing with `why_not` set where the form does not apply.
+/// The automatic choice's cost rule: the joint form's evaluation sums, body by body, over pairs of
+/// the body's tree coordinates (its ancestors' columns of S: M_r = Σ_b S_bᵀ M_b S_b), Σ_b c_b²
+/// terms, and factors M_r, dense where the tree is a chain; the maximal form's evaluation costs
+/// about the same per body and row whatever the tree. Measured on spherical chains
+/// (scripts/scenes/make_chain.py, CVODE at rtol 1e-8, CPU per evaluation joint/maximal): 6 rods
+/// (Σ_b c_b² = 136 per body) 5.2/5.0 µs, 8 rods (230) 8.0/6.9 µs, 32 rods 239/25 µs; Andrews'
+/// squeezer (about 5 per body) 2.1/8.2 µs. The joint form is chosen up to half the break-even.
+constexpr double kJointTreeCostPerBody = 64.0;
+
+/// The joint-coordinate run, or nothing with `why_not` set where the form does not apply or, when
+/// `automatic`, where its tree is too deep to be the cheaper (kJointTreeCostPerBody).
 std::optional<ReferenceRun> try_reduced(const core::Model& model,
                                         const std::vector<double>& output_times,
-                                        const SolverOptions& options, std::string& why_not) {
+                                        const SolverOptions& options, bool automatic,
+                                        std::string& why_not) {
   if (const std::optional<std::string> no = refusal(model, options)) {
     why_not = *no;
     return std::nullopt;
@@ -395,6 +407,20 @@ std::optional<ReferenceRun> try_reduced(const core::Model& model,
     reduced = std::make_unique<constraint::ReducedModel>(model);
   } catch (const std::invalid_argument& e) {
     why_not = e.what();
+    return std::nullopt;
+  }
+  double tree_cost = 0.0;
+  for (int b = 0; b < model.num_bodies(); ++b) {
+    const auto columns = static_cast<double>(reduced->kinematics().body_columns(b).size());
+    tree_cost += columns * columns;
+  }
+  const double bodies = static_cast<double>(model.num_bodies());
+  if (automatic && tree_cost > kJointTreeCostPerBody * bodies) {
+    std::ostringstream why;
+    why << "a deep tree: the bodies' tree coordinates give sum c_b^2 = " << tree_cost << " over "
+        << model.num_bodies() << " bodies (more than " << kJointTreeCostPerBody
+        << " per body), where the joint form's evaluation costs more than the maximal form's";
+    why_not = why.str();
     return std::nullopt;
   }
   sun::validate_output_times(output_times);
@@ -437,7 +463,7 @@ std::optional<ReferenceRun> try_reduced(const core::Model& model,
 ReferenceRun solve_reduced_cvode(const core::Model& model, const std::vector<double>& output_times,
                                  const SolverOptions& options) {
   std::string why_not;
-  std::optional<ReferenceRun> run = try_reduced(model, output_times, options, why_not);
+  std::optional<ReferenceRun> run = try_reduced(model, output_times, options, false, why_not);
   if (!run) throw std::invalid_argument("joint coordinates do not apply: " + why_not);
   return std::move(*run);
 }
@@ -452,7 +478,8 @@ ReferenceRun solve_cvode_in_coordinates(const core::Model& model,
   }
   std::string why_not = "chosen with --coordinates";
   if (options.coordinates == Coordinates::kAuto) {
-    if (std::optional<ReferenceRun> run = try_reduced(model, output_times, options, why_not)) {
+    if (std::optional<ReferenceRun> run =
+            try_reduced(model, output_times, options, true, why_not)) {
       return std::move(*run);
     }
   }

@@ -20,6 +20,7 @@
 #include "reference/solve_reference.hpp"
 #include "rotation/euler_parameters.hpp"
 #include "scene/scene_reader.hpp"
+#include "tests/support/chain_scene.hpp"
 #include "tests/support/solver_options.hpp"
 #include "trajectory/certified_reference.hpp"
 #include "trajectory/trajectory_table.hpp"
@@ -219,6 +220,15 @@ TEST_CASE("reduced cvode: the coordinates are chosen where they apply, refused w
   const scene::Scene impacts = scene::read_scene("scenes/double_pendulum_ideal_strike.toml");
   CHECK_THROWS_WITH(solve_reference("cvode", *impacts.model, times, options),
                     Catch::Contains("contact element"));
+  // A deep tree: a chain of 8 rods on spherical joints (scripts/scenes/make_chain.py 8), whose
+  // joint form costs more per evaluation than the maximal one; forced, it runs.
+  const scene::Scene chain = scene::parse_scene(testing::chain_scene_text(8), "chain_8.toml");
+  options.coordinates = Coordinates::kAuto;
+  const ReferenceRun deep = solve_reference("cvode", *chain.model, times, options);
+  CHECK(deep.coordinates == "maximal");
+  CHECK_THAT(deep.coordinates_reason, Catch::Contains("a deep tree"));
+  options.coordinates = Coordinates::kJoint;
+  CHECK(solve_reference("cvode", *chain.model, times, options).coordinates == "joint");
   // No joints: nothing to reduce.
   const scene::Scene top = scene::read_scene("scenes/heavy_top.toml");
   options.coordinates = Coordinates::kAuto;
