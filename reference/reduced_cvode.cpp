@@ -439,8 +439,10 @@ std::optional<ReferenceRun> try_reduced(const core::Model& model,
                                    ? constraint_stabilization_rate(model, summary, spacing)
                                    : 0.0;
   const double span = output_times.empty() ? 0.0 : output_times.back() - output_times.front();
+  // Adams chosen from the spectrum is where the rotation is weighted per unit step (as
+  // solve_cvode's rule); Adams asked for leaves the spectrum to decide.
   const bool per_step =
-      options.cvode_method == CvodeMethod::kAuto ? true : rotation_weights_per_step(summary);
+      options.cvode_method == CvodeMethod::kAuto || rotation_weights_per_step(summary);
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "cvode", [&] {
     return std::make_unique<ReducedSegmentSolver>(*reduced, options, stabilization, span, per_step);
   });
