@@ -63,7 +63,7 @@ const std::vector<IdealJointSpec>& model_joints(const core::Model& model) {
 /// tree's joints identically — a distance between two points a spherical joint already holds, a
 /// fixed joint's position rows between two bodies hinged on one axis — and its rounding, scaled to
 /// unit length by the rank decision, would look independent.
-std::vector<int> independent_closure_rows(Eigen::MatrixXd J_c, const Eigen::VectorXd& scale) {
+std::vector<int> independent_rows_of(Eigen::MatrixXd J_c, const Eigen::VectorXd& scale) {
   for (Eigen::Index r = 0; r < J_c.rows(); ++r) {
     if (J_c.row(r).norm() <= core::kRedundantRowTolerance * scale(r)) J_c.row(r).setZero();
   }
@@ -89,19 +89,8 @@ ReducedModel::ReducedModel(const core::Model& model, const core::State& initial)
   ReducedWorkspace ws = make_workspace();
   kinematics_.evaluate(q0_, u0_, ws.tree);
   model.compute_wrenches({0.0, 0.0}, ws.tree.state, ws.model);
-  core::ConstraintRows rows;
-  rows.resize(closures_->row_count(), model.velocity_layout().size());
-  closures_->evaluate(0.0, ws.model.kinematics, model.velocity_layout(), rows);
-  ws.J_c.noalias() = rows.J * ws.tree.S;
-  Eigen::VectorXd scale = Eigen::VectorXd::Zero(rows.J.rows());
-  for (int b = 0; b < model.num_bodies(); ++b) {
-    const Eigen::Index o = 6 * static_cast<Eigen::Index>(b);
-    const double S_b = ws.tree.S.middleRows<6>(o).norm();
-    for (Eigen::Index r = 0; r < rows.J.rows(); ++r) {
-      scale(r) += rows.J.row(r).segment<6>(o).norm() * S_b;
-    }
-  }
-  active_ = independent_closure_rows(ws.J_c, scale);
+  assemble_closures(0.0, ws);
+  active_ = independent_closure_rows(ws);
 }
 
 ReducedWorkspace ReducedModel::make_workspace() const {
@@ -182,23 +171,7 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
   forward_substitute(ws.M_r, ws.M_r_inv_diag.data(), u_dot.data());
   back_substitute(ws.M_r, ws.M_r_inv_diag.data(), u_dot.data());
   if (active_.empty()) return;
-  // The closures: J_c = J S, γ_c = γ − J Ṡ u, row by row over its two bodies' blocks of J.
-  closures_->evaluate(context.t, ws.model.kinematics, model.velocity_layout(), ws.rows);
-  ws.J_c.setZero();
-  for (int r = 0; r < closures_->row_count(); ++r) {
-    double gamma = ws.rows.gamma(r);
-    for (int slot = 0; slot < 2; ++slot) {
-      const int b = ws.rows.jacobian.slot(r, slot).body;
-      if (b < 0) continue;
-      const Eigen::Index o = 6 * static_cast<Eigen::Index>(b);
-      const Vector6 J_rb = ws.rows.jacobian.values(r, slot).head<6>();
-      gamma -= J_rb.dot(ws.tree.bias.segment<6>(o));
-      for (const int i : kinematics_.body_columns(b)) {
-        ws.J_c(r, i) += J_rb.dot(ws.tree.S.block<6, 1>(o, i));
-      }
-    }
-    ws.gamma_c(r) = gamma;
-  }
+  assemble_closures(context.t, ws);
   const double a = stabilization;
   if (a != 0.0) {
     ws.velocity_rows = ws.rows.phi_t;
@@ -273,8 +246,28 @@ double ReducedModel::factor_closures(const std::vector<int>& rows, ReducedWorksp
   return std::isfinite(ratio) ? ratio * ratio : 0.0;
 }
 
-bool ReducedModel::choose_closure_rows(ReducedWorkspace& ws) const {
-  ws.rows_chosen = true;
+void ReducedModel::assemble_closures(double t, ReducedWorkspace& ws) const {
+  // J_c = J S, γ_c = γ − J Ṡ u, row by row over its two bodies' blocks of J.
+  closures_->evaluate(t, ws.model.kinematics, model_->velocity_layout(), ws.rows);
+  ws.J_c.setZero();
+  for (int r = 0; r < closures_->row_count(); ++r) {
+    double gamma = ws.rows.gamma(r);
+    for (int slot = 0; slot < 2; ++slot) {
+      const int b = ws.rows.jacobian.slot(r, slot).body;
+      if (b < 0) continue;
+      const Eigen::Index o = 6 * static_cast<Eigen::Index>(b);
+      const Vector6 J_rb = ws.rows.jacobian.values(r, slot).head<6>();
+      gamma -= J_rb.dot(ws.tree.bias.segment<6>(o));
+      for (const int i : kinematics_.body_columns(b)) {
+        ws.J_c(r, i) += J_rb.dot(ws.tree.S.block<6, 1>(o, i));
+      }
+    }
+    ws.gamma_c(r) = gamma;
+  }
+}
+
+std::vector<int> ReducedModel::independent_closure_rows(const ReducedWorkspace& ws) const {
+  // Each row's own scale Σ_b |J_rb| |S_b|, for the rows the tree satisfies identically.
   Eigen::VectorXd scale = Eigen::VectorXd::Zero(ws.J_c.rows());
   for (int r = 0; r < closures_->row_count(); ++r) {
     for (int slot = 0; slot < 2; ++slot) {
@@ -284,7 +277,12 @@ bool ReducedModel::choose_closure_rows(ReducedWorkspace& ws) const {
                   ws.tree.S.middleRows<6>(6 * static_cast<Eigen::Index>(b)).norm();
     }
   }
-  ws.chosen = independent_closure_rows(ws.J_c, scale);
+  return independent_rows_of(ws.J_c, scale);
+}
+
+bool ReducedModel::choose_closure_rows(ReducedWorkspace& ws) const {
+  ws.rows_chosen = true;
+  ws.chosen = independent_closure_rows(ws);
   // The rank cannot grow for a mechanism that moves continuously (core::choose_rows).
   if (ws.chosen.size() < active_.size()) return false;
   ws.chosen.resize(active_.size());

@@ -148,6 +148,11 @@ class ReducedModel {
   /// Factors A = J_a M_r⁻¹ J_aᵀ on `rows` (J_a, W, A, schur in ws) and returns its pivot ratio
   /// (0 where the factorization fails).
   double factor_closures(const std::vector<int>& rows, ReducedWorkspace& ws) const;
+  /// The closures' rows at the poses in ws into ws.rows, J_c = J S and γ_c = γ − J Ṡ u.
+  void assemble_closures(double t, ReducedWorkspace& ws) const;
+  /// The independent rows of ws.J_c, the rows the tree satisfies identically set aside (each
+  /// row against its own scale; reduced_model.cpp). Allocates.
+  std::vector<int> independent_closure_rows(const ReducedWorkspace& ws) const;
   /// The independent rows of J_c at this evaluation into ws.chosen (ws.rows_chosen), factored;
   /// false where fewer than the rows in force remain independent (rank lost). Allocates.
   bool choose_closure_rows(ReducedWorkspace& ws) const;

@@ -132,10 +132,7 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     data_.atol = options.absolute_tolerance();
     data_.integrals = {form_.depth_index(), form_.depth_count() + form_.integral_count()};
     data_.solver_memory = cvode_.get();
-    data_.steps_since_init = [](void* cvode) {
-      long steps = 0;
-      return CVodeGetNumSteps(cvode, &steps) < 0 ? 0L : steps;
-    };
+    data_.steps_since_init = cvode_steps;
     if (model.has_constraints()) data_.projected.resize(static_cast<std::size_t>(form_.size()));
     data_.jacobian = options.jacobian;
     data_.error_weights = &weights_;
@@ -255,11 +252,8 @@ class CvodeSegmentSolver final : public sun::SegmentSolver {
     newton_solver_ = sun::make_newton_solver(y_.get(), context_.get());
     sun::check(CVodeSetNonlinearSolver(cvode, newton_solver_.get()), "CVodeSetNonlinearSolver");
     attach_newton(cvode);
-    sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
     works_.rebase(sun::data(y_.get()));
-    sun::check(CVodeReInit(cvode, t, y_.get()), "CVodeReInit");
-    clock_.restart(t);
-    sun::check(CVodeSetStopTime(cvode, segment_end_), "CVodeSetStopTime");
+    restart_with_newton(cvode, t, y_.get(), options_.max_steps, segment_end_, clock_);
   }
 
   void restart_at_root(double t, const sun::Segment& segment) override {

@@ -80,6 +80,18 @@ inline int advance_fixed_point(void* cvode, double tout, N_Vector y, double& rea
   }
 }
 
+/// The end of a switch from fixed-point to Newton iteration at t (advance_fixed_point), the
+/// Newton and linear solvers attached: the user's step budget back, CVODE re-initialized from y
+/// (its counters restart: the caller keeps them first), the clock restarted there, the
+/// segment's stop time set again.
+inline void restart_with_newton(void* cvode, double t, N_Vector y, long max_steps,
+                                double segment_end, StepClock& clock) {
+  sundials::check(CVodeSetMaxNumSteps(cvode, max_steps), "CVodeSetMaxNumSteps");
+  sundials::check(CVodeReInit(cvode, t, y), "CVodeReInit");
+  clock.restart(t);
+  sundials::check(CVodeSetStopTime(cvode, segment_end), "CVodeSetStopTime");
+}
+
 /// Adds the counters of CVODE's current run to `stats`, with `before_switch` (the run's counters
 /// up to a switch to Newton, which re-initialized CVODE); `newton`: the linear solver's counters
 /// exist.

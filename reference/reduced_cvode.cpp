@@ -32,7 +32,9 @@ namespace {
 
 namespace sun = sundials;
 
-/// What the callbacks read and leave behind (one per run).
+/// What the callbacks read and leave behind (one per run; make_ode). The works in y are
+/// CallbackRecord::integrals (none while the spectrum is read, and when the model tracks no
+/// work).
 struct ReducedOde : sun::CallbackRecord {
   const constraint::ReducedModel* reduced = nullptr;
   constraint::ReducedWorkspace ws;
@@ -41,15 +43,27 @@ struct ReducedOde : sun::CallbackRecord {
   Eigen::VectorXd force;  ///< the closures' generalized force (the drives' power)
   double stabilization = 0.0;
   double t_segment = 0.0;
-  int nq = 0, nu = 0;
-  IntegralComponents works;  ///< the works in y (none when the model tracks no work)
   /// Each body's Euler parameters at the last accepted step with the sign that makes them
   /// continuous in time (accept_lift): the maximal references integrate θ itself, which keeps
   /// its sign, where forward kinematics returns θ or −θ as its conversion from the rotation
   /// matrix picks.
   std::vector<Eigen::Vector4d> lift;
-  void* cvode = nullptr;
 };
+
+/// The callback data of `reduced`: its workspace, the initial configuration's tracker and the
+/// scratch, sized once (the solver's part of the record is the solver's to set).
+ReducedOde make_ode(const constraint::ReducedModel& reduced) {
+  ReducedOde d;
+  d.reduced = &reduced;
+  d.ws = reduced.make_workspace();
+  d.tracker = reduced.make_tracker();
+  d.q = Eigen::VectorXd::Zero(reduced.position_count());
+  d.u = Eigen::VectorXd::Zero(reduced.velocity_count());
+  d.u_dot = Eigen::VectorXd::Zero(reduced.velocity_count());
+  d.force = Eigen::VectorXd::Zero(reduced.model().velocity_layout().size());
+  d.lift.resize(static_cast<std::size_t>(reduced.model().num_bodies()));
+  return d;
+}
 
 /// θ or −θ, whichever is nearer to `previous` (the same rotation; the bodies turn through far
 /// less than π between two accepted steps or between a step and an output within it).
@@ -70,18 +84,21 @@ void accept_lift(ReducedOde& d) {
 void evaluate(ReducedOde& d, double t, const double* Y, double* Yd) {
   const constraint::ReducedModel& reduced = *d.reduced;
   const constraint::TreeKinematics& k = reduced.kinematics();
-  d.q = Eigen::Map<const Eigen::VectorXd>(Y, d.nq);
-  d.u = Eigen::Map<const Eigen::VectorXd>(Y + d.nq, d.nu);
+  const int nq = reduced.position_count();
+  const int nu = reduced.velocity_count();
+  d.q = Eigen::Map<const Eigen::VectorXd>(Y, nq);
+  d.u = Eigen::Map<const Eigen::VectorXd>(Y + nq, nu);
   k.normalize(d.q.data());
   k.rates(d.q.data(), d.u.data(), Yd);
   const core::LoadContext context{t, d.t_segment};
   reduced.accelerations(context, d.q, d.u, d.ws, d.u_dot, d.stabilization, &d.tracker);
-  Eigen::Map<Eigen::VectorXd>(Yd + d.nq, d.nu) = d.u_dot;
-  if (d.works.count > 0) {
+  Eigen::Map<Eigen::VectorXd>(Yd + nq, nu) = d.u_dot;
+  if (d.integrals.count > 0) {
     reduced.closure_force(d.ws, d.force);
     reduced.model().integral_rates(
         context, d.ws.tree.state, d.ws.model,
-        std::span<double>(Yd + d.works.first, static_cast<std::size_t>(d.works.count)), &d.force);
+        std::span<double>(Yd + d.integrals.first, static_cast<std::size_t>(d.integrals.count)),
+        &d.force);
   }
 }
 
@@ -113,10 +130,10 @@ int reduced_error_weights(N_Vector y, N_Vector ewt, void* user_data) {
   auto& d = *static_cast<ReducedOde*>(user_data);
   try {
     double t = 0.0;
-    sun::check(CVodeGetCurrentTime(d.cvode, &t), "CVodeGetCurrentTime");
+    sun::check(CVodeGetCurrentTime(d.solver_memory, &t), "CVodeGetCurrentTime");
     d.reduced->accept(t, d.ws, d.tracker);
     accept_lift(d);
-    record_cvode_steps(d.cvode, *d.clock);
+    record_cvode_steps(d.solver_memory, *d.clock);
     sun::step_error_weights(d, y, ewt);
   } catch (...) {
     d.callback_error = std::current_exception();
@@ -159,47 +176,35 @@ std::vector<RotationBlock> turning_blocks(const constraint::TreeKinematics& k) {
 /// The joint-coordinate form behind the segment loop.
 class ReducedSegmentSolver final : public sun::SegmentSolver {
  public:
-  ReducedSegmentSolver(const constraint::ReducedModel& reduced, const SolverOptions& options,
-                       double stabilization, double span, bool rotation_per_step)
-      : reduced_(&reduced),
+  /// `ode`: make_ode's data of the reduced model (the spectrum's, reused).
+  ReducedSegmentSolver(ReducedOde ode, const SolverOptions& options, double stabilization,
+                       double span, bool rotation_per_step)
+      : reduced_(ode.reduced),
         options_(options),
-        nq_(reduced.position_count()),
-        nu_(reduced.velocity_count()),
-        work_count_(reduced.model().tracks_work() ? 1 + reduced.model().extra_integral_count() : 0),
+        nq_(reduced_->position_count()),
+        nu_(reduced_->velocity_count()),
+        work_count_(reduced_->model().tracks_work() ? 1 + reduced_->model().extra_integral_count()
+                                                    : 0),
         size_(nq_ + nu_ + work_count_),
         weights_(size_, options.rtol, options.absolute_tolerance(), span,
-                 rotation_per_step ? turning_blocks(reduced.kinematics())
+                 rotation_per_step ? turning_blocks(reduced_->kinematics())
                                    : std::vector<RotationBlock>{}),
         works_({nq_ + nu_, work_count_}),
-        fk_(reduced.kinematics().make_workspace()),
+        d_(std::move(ode)),
+        fk_(reduced_->kinematics().make_workspace()),
         context_(sun::make_context()),
         y_(sun::make_vector(size_, context_.get())),
         ydot_(sun::make_vector(size_, context_.get())),
         fixed_point_(sun::make_fixed_point_solver(y_.get(), 1, context_.get())),
         cvode_(sun::check_created(CVodeCreate(CV_ADAMS, context_.get()), "CVodeCreate")) {
-    d_.reduced = &reduced;
-    d_.ws = reduced.make_workspace();
-    d_.tracker = reduced.make_tracker();
-    d_.nq = nq_;
-    d_.nu = nu_;
-    d_.q = Eigen::VectorXd::Zero(nq_);
-    d_.u = Eigen::VectorXd::Zero(nu_);
-    d_.u_dot = Eigen::VectorXd::Zero(nu_);
-    d_.force = Eigen::VectorXd::Zero(reduced.model().velocity_layout().size());
     d_.stabilization = stabilization;
-    d_.works = {nq_ + nu_, work_count_};
-    d_.lift.resize(static_cast<std::size_t>(reduced.model().num_bodies()));
     d_.rtol = options.rtol;
     d_.atol = options.absolute_tolerance();
-    d_.integrals = d_.works;
+    d_.integrals = {nq_ + nu_, work_count_};
     d_.solver_memory = cvode_.get();
-    d_.steps_since_init = [](void* cvode) {
-      long steps = 0;
-      return CVodeGetNumSteps(cvode, &steps) < 0 ? 0L : steps;
-    };
+    d_.steps_since_init = cvode_steps;
     d_.error_weights = &weights_;
     d_.clock = &clock_;
-    d_.cvode = cvode_.get();
     q_ = Eigen::VectorXd::Zero(nq_);
     u_ = Eigen::VectorXd::Zero(nu_);
   }
@@ -305,11 +310,8 @@ class ReducedSegmentSolver final : public sun::SegmentSolver {
     sun::check(CVodeSetNonlinearSolver(cvode, newton_solver_.get()), "CVodeSetNonlinearSolver");
     sun::check(CVodeSetLinearSolver(cvode, linear_solver_.get(), jacobian_.get()),
                "CVodeSetLinearSolver");
-    sun::check(CVodeSetMaxNumSteps(cvode, options_.max_steps), "CVodeSetMaxNumSteps");
     works_.rebase(sun::data(y_.get()));
-    sun::check(CVodeReInit(cvode, t, y_.get()), "CVodeReInit");
-    clock_.restart(t);
-    sun::check(CVodeSetStopTime(cvode, segment_end_), "CVodeSetStopTime");
+    restart_with_newton(cvode, t, y_.get(), options_.max_steps, segment_end_, clock_);
   }
 
   const constraint::ReducedModel* reduced_;
@@ -340,17 +342,12 @@ class ReducedSegmentSolver final : public sun::SegmentSolver {
 /// forward differences of (q̇, u̇) in (q, u), step √ε max(1, |y_j|), as summarize_stiffness
 /// differences the maximal form; the same mechanism's spectrum without the maximal form's
 /// drift modes.
-StiffnessSummary reduced_summary(const constraint::ReducedModel& reduced, double spacing) {
+StiffnessSummary reduced_summary(ReducedOde& d, double spacing) {
+  const constraint::ReducedModel& reduced = *d.reduced;
   const core::Model& model = reduced.model();
-  ReducedOde d;
-  d.reduced = &reduced;
-  d.ws = reduced.make_workspace();
-  d.tracker = reduced.make_tracker();
-  d.nq = reduced.position_count();
-  d.nu = reduced.velocity_count();
   const std::vector<double>& switches = model.discontinuities();
   d.t_segment = switches.empty() ? 0.0 : 0.5 * switches.front();
-  const int n = d.nq + d.nu;
+  const int n = reduced.position_count() + reduced.velocity_count();
   Eigen::VectorXd y0(n), f0(n), f1(n);
   y0 << reduced.initial_positions(), reduced.initial_velocities();
   Eigen::VectorXd y = y0;
@@ -426,7 +423,8 @@ std::optional<ReferenceRun> try_reduced(const core::Model& model,
   sun::validate_output_times(output_times);
   sun::validate_tolerances(options.rtol, options.absolute_tolerance(), options.max_steps);
   const double spacing = mean_output_spacing(output_times);
-  const StiffnessSummary summary = reduced_summary(*reduced, spacing);
+  ReducedOde ode = make_ode(*reduced);
+  const StiffnessSummary summary = reduced_summary(ode, spacing);
   CvodeMethodChoice choice{CvodeMethod::kAdams, "chosen with --method"};
   if (options.cvode_method == CvodeMethod::kAuto) {
     choice = choose_cvode_method(summary);
@@ -444,7 +442,8 @@ std::optional<ReferenceRun> try_reduced(const core::Model& model,
   const bool per_step =
       options.cvode_method == CvodeMethod::kAuto || rotation_weights_per_step(summary);
   ReferenceRun run = sun::integrate_segments(model, output_times, options, "cvode", [&] {
-    return std::make_unique<ReducedSegmentSolver>(*reduced, options, stabilization, span, per_step);
+    return std::make_unique<ReducedSegmentSolver>(std::move(ode), options, stabilization, span,
+                                                  per_step);
   });
   run.method = to_string(CvodeMethod::kAdams);
   run.method_reason = choice.reason;
