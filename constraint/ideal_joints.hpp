@@ -65,6 +65,14 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
   }
   void evaluate(const S& t, std::span<const Kinematics> bodies, const core::VelocityLayout& layout,
                 core::ConstraintRowsTpl<S>& rows) const override;
+  /// evaluate on the rows r with wanted[r] ≠ 0 alone (row_count() entries), each by the same
+  /// arithmetic as evaluate's, so to the same bits; a joint none of whose rows is wanted is
+  /// skipped whole. The other rows' J blocks and Φ_t are zero, their Φ and γ left as they were:
+  /// for a caller that enforces a few of many rows (the reduced form's closures,
+  /// constraint/reduced_model.hpp) and reads no other.
+  void evaluate_rows(const S& t, std::span<const Kinematics> bodies,
+                     const core::VelocityLayout& layout, std::span<const char> wanted,
+                     core::ConstraintRowsTpl<S>& rows) const;
   core::JointReactionTpl<S> reaction(int joint, std::span<const Kinematics> bodies,
                                      const core::VelocityLayout& layout,
                                      const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynamic, 1>>&
@@ -85,6 +93,11 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
 
  private:
   int core_row_count(std::size_t joint) const { return first_row_[joint + 1] - first_row_[joint]; }
+  /// evaluate's body on the rows r with wanted(r) true.
+  template <typename Wanted>
+  void evaluate_where(const S& t, std::span<const Kinematics> bodies,
+                      const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows,
+                      const Wanted& wanted) const;
 
   std::vector<IdealJointSpec> specs_;
   std::vector<End> a_;

@@ -119,11 +119,13 @@ void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix
       -((u_dot.cross(d) + u.cross(d_dot)).dot(b.w) + u_dot.dot(d_dot) + u.dot(a.c - b.c)) + s2;
 }
 
-/// The three point rows Φ = p_a − p_b from `row` on: J = ∂(v_a − v_b)/∂v, γ = −(c_a − c_b).
-template <typename S>
+/// The three point rows Φ = p_a − p_b from `row` on: J = ∂(v_a − v_b)/∂v, γ = −(c_a − c_b);
+/// those `wanted` of their row.
+template <typename S, typename Wanted>
 void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
-                core::ConstraintRowsTpl<S>& rows) {
+                core::ConstraintRowsTpl<S>& rows, const Wanted& wanted) {
   for (int k = 0; k < 3; ++k) {
+    if (!wanted(row + k)) continue;
     const Eigen::Matrix<S, 3, 1> u = Eigen::Matrix<S, 3, 1>::Unit(k);
     rows.phi(row + k) = a.p(k) - b.p(k);
     add_point_row(a, u, S(1), row + k, rows);
@@ -133,14 +135,14 @@ void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
   }
 }
 
-/// Z_b·X_a and Z_b·Y_a: the axes stay parallel.
-template <typename S>
+/// Z_b·X_a and Z_b·Y_a: the axes stay parallel (those `wanted` of their row).
+template <typename S, typename Wanted>
 void parallel_axis_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
-                        core::ConstraintRowsTpl<S>& rows) {
+                        core::ConstraintRowsTpl<S>& rows, const Wanted& wanted) {
   const Eigen::Matrix<S, 3, 1> zero = Eigen::Matrix<S, 3, 1>::Zero();
   const Eigen::Matrix<S, 3, 1> z_b = b.axis(2);
-  rotation_dot_row(b, z_b, zero, zero, a, a.axis(0), row, rows);
-  rotation_dot_row(b, z_b, zero, zero, a, a.axis(1), row + 1, rows);
+  if (wanted(row)) rotation_dot_row(b, z_b, zero, zero, a, a.axis(0), row, rows);
+  if (wanted(row + 1)) rotation_dot_row(b, z_b, zero, zero, a, a.axis(1), row + 1, rows);
 }
 
 }  // namespace detail
@@ -229,6 +231,24 @@ template <typename S>
 void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
                                  const core::VelocityLayout& layout,
                                  core::ConstraintRowsTpl<S>& rows) const {
+  evaluate_where(t, bodies, layout, rows, [](int) { return true; });
+}
+
+template <typename S>
+void IdealJointsTpl<S>::evaluate_rows(const S& t, std::span<const Kinematics> bodies,
+                                      const core::VelocityLayout& layout,
+                                      std::span<const char> wanted,
+                                      core::ConstraintRowsTpl<S>& rows) const {
+  evaluate_where(t, bodies, layout, rows,
+                 [wanted](int row) { return wanted[static_cast<std::size_t>(row)] != 0; });
+}
+
+template <typename S>
+template <typename Wanted>
+void IdealJointsTpl<S>::evaluate_where(const S& t, std::span<const Kinematics> bodies,
+                                       const core::VelocityLayout& layout,
+                                       core::ConstraintRowsTpl<S>& rows,
+                                       const Wanted& wanted) const {
   using detail::EndMotion;
   const Vector3 zero = Vector3::Zero();
   // Every row belongs to one joint, which writes only its bodies' blocks of J: those are zeroed
@@ -239,6 +259,9 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
   for (std::size_t j = 0; j < specs_.size(); ++j) {
     const IdealJointSpec& spec = specs_[j];
     const int row = first_row_[j];
+    bool any = false;
+    for (int r = row; r < first_row_[j + 1] && !any; ++r) any = wanted(r);
+    if (!any) continue;  // a joint none of whose rows is wanted: not even its ends' motion
     const EndMotion<S> a = detail::end_motion<S>(a_[j], bodies);
     const EndMotion<S> b = detail::end_motion<S>(b_[j], bodies);
     // The drive's relative coordinate and its rates (zero when not driven).
@@ -250,12 +273,12 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
     }
     switch (spec.type) {
       case JointType::kSpherical:
-        detail::point_rows(a, b, row, rows);
+        detail::point_rows(a, b, row, rows, wanted);
         break;
       case JointType::kRevolute:
-        detail::point_rows(a, b, row, rows);
-        detail::parallel_axis_rows(a, b, row + 3, rows);
-        if (spec.drive.active) {
+        detail::point_rows(a, b, row, rows, wanted);
+        detail::parallel_axis_rows(a, b, row + 3, rows, wanted);
+        if (spec.drive.active && wanted(row + 5)) {
           // p(t) = A_b (cos φ Ȳ − sin φ X̄): Φ = X_a·p = sin(ψ − φ); p̄' = −φ̇ m̄,
           // p̄'' = −φ̈ m̄ − φ̇² p̄ with m̄ = cos φ X̄ + sin φ Ȳ (joint axes of end b).
           using std::cos;
@@ -270,25 +293,31 @@ void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
         }
         break;
       case JointType::kUniversal:
-        detail::point_rows(a, b, row, rows);
-        detail::rotation_dot_row(b, b.axis(2), zero, zero, a, a.axis(2), row + 3, rows);
+        detail::point_rows(a, b, row, rows, wanted);
+        if (wanted(row + 3)) {
+          detail::rotation_dot_row(b, b.axis(2), zero, zero, a, a.axis(2), row + 3, rows);
+        }
         break;
       case JointType::kFixed:
-        detail::point_rows(a, b, row, rows);
-        detail::parallel_axis_rows(a, b, row + 3, rows);
-        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 5, rows);
+        detail::point_rows(a, b, row, rows, wanted);
+        detail::parallel_axis_rows(a, b, row + 3, rows, wanted);
+        if (wanted(row + 5)) {
+          detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 5, rows);
+        }
         break;
       case JointType::kCylindrical:
-        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
-        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
-        detail::parallel_axis_rows(a, b, row + 2, rows);
+        if (wanted(row)) detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
+        if (wanted(row + 1)) detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
+        detail::parallel_axis_rows(a, b, row + 2, rows, wanted);
         break;
       case JointType::kPrismatic:
-        detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
-        detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
-        detail::parallel_axis_rows(a, b, row + 2, rows);
-        detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 4, rows);
-        if (spec.drive.active) {
+        if (wanted(row)) detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
+        if (wanted(row + 1)) detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
+        detail::parallel_axis_rows(a, b, row + 2, rows, wanted);
+        if (wanted(row + 4)) {
+          detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 4, rows);
+        }
+        if (spec.drive.active && wanted(row + 5)) {
           // Z_b·d − s(t), s = the initial Z_b·d (the drive's offset) + the law's displacement.
           detail::slide_row(a, b, b.axis(2), S(S(spec.drive.offset) + q), q1, q2, row + 5, rows);
         }

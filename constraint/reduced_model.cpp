@@ -1,5 +1,6 @@
 #include "constraint/reduced_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -8,6 +9,7 @@
 #include "core/orientation_test_tpl.hpp"
 #include "core/row_selection_tpl.hpp"
 #include "core/schur_complement_tpl.hpp"
+#include "rotation/euler_parameters.hpp"
 
 namespace flexref::constraint {
 namespace {
@@ -70,6 +72,31 @@ std::vector<int> independent_rows_of(Eigen::MatrixXd J_c, const Eigen::VectorXd&
   return core::independent_rows<double>(J_c);
 }
 
+/// J_c = J S and γ_c = γ − J Ṡ u on the closure rows r with (*evaluated)[r] ≠ 0 (null: all),
+/// row by row over its two bodies' blocks of J (`rows` evaluated at the poses of `tree`); J_c's
+/// other rows zero.
+void assemble_closures(const IdealJoints& closures, const TreeKinematics& kinematics,
+                       const TreeWorkspace& tree, const core::ConstraintRows& rows,
+                       const std::vector<char>* evaluated, Eigen::MatrixXd& J_c,
+                       Eigen::VectorXd& gamma_c) {
+  J_c.setZero();
+  for (int r = 0; r < closures.row_count(); ++r) {
+    if (evaluated != nullptr && (*evaluated)[static_cast<std::size_t>(r)] == 0) continue;
+    double gamma = rows.gamma(r);
+    for (int slot = 0; slot < 2; ++slot) {
+      const int b = rows.jacobian.slot(r, slot).body;
+      if (b < 0) continue;
+      const Eigen::Index o = 6 * static_cast<Eigen::Index>(b);
+      const Vector6 J_rb = rows.jacobian.values(r, slot).head<6>();
+      gamma -= J_rb.dot(tree.bias.segment<6>(o));
+      for (const int i : kinematics.body_columns(b)) {
+        J_c(r, i) += J_rb.dot(tree.S.block<6, 1>(o, i));
+      }
+    }
+    gamma_c(r) = gamma;
+  }
+}
+
 }  // namespace
 
 ReducedModel::ReducedModel(const core::Model& model) : ReducedModel(model, model.initial_state()) {}
@@ -89,7 +116,8 @@ ReducedModel::ReducedModel(const core::Model& model, const core::State& initial)
   ReducedWorkspace ws = make_workspace();
   kinematics_.evaluate(q0_, u0_, ws.tree);
   model.compute_wrenches({0.0, 0.0}, ws.tree.state, ws.model);
-  assemble_closures(0.0, ws);
+  std::fill(ws.evaluated.begin(), ws.evaluated.end(), 1);
+  evaluate_closures(0.0, u0_, 0.0, ws);
   active_ = independent_closure_rows(ws);
 }
 
@@ -127,6 +155,17 @@ ReducedWorkspace ReducedModel::make_workspace() const {
   ws.chosen.reserve(static_cast<std::size_t>(m));
   ws.solved.reserve(static_cast<std::size_t>(m));
   ws.crossing = Eigen::MatrixXd::Identity(r, r);
+  ws.evaluated.assign(static_cast<std::size_t>(m), 0);
+  ws.q = Vector::Zero(position_count());
+  ws.u = Vector::Zero(nu);
+  if (closures_) {
+    ws.accepted_tree = kinematics_.make_workspace();
+    ws.accepted_kinematics = ws.model.kinematics;
+    ws.accepted_closures.resize_sparse(m);
+    closures_->prepare_rows(model.velocity_layout(), ws.accepted_closures);
+    ws.accepted_J_c = Eigen::MatrixXd::Zero(m, nu);
+    ws.accepted_gamma_c = Vector::Zero(m);
+  }
   return ws;
 }
 
@@ -134,6 +173,9 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
                                  ReducedWorkspace& ws, Vector& u_dot, double stabilization,
                                  const ClosureTracker* tracker) const {
   const core::Model& model = *model_;
+  ws.t = context.t;
+  ws.q = q;
+  ws.u = u;
   kinematics_.evaluate(q, u, ws.tree);
   const core::Loads loads = model.compute_wrenches(context, ws.tree.state, ws.model);
   // r(Ṡu) = M Ṡ u − Q body by body (the model's own equations); then, over each body's columns
@@ -171,21 +213,20 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
   forward_substitute(ws.M_r, ws.M_r_inv_diag.data(), u_dot.data());
   back_substitute(ws.M_r, ws.M_r_inv_diag.data(), u_dot.data());
   if (active_.empty()) return;
-  assemble_closures(context.t, ws);
   const double a = stabilization;
-  if (a != 0.0) {
-    ws.velocity_rows = ws.rows.phi_t;
-    ws.velocity_rows.noalias() += ws.J_c * u;
-  }
   // The rows in force: the tracker's, or rows of this evaluation's own where they became
-  // ill-conditioned (core::choose_rows' rule on J_c).
+  // ill-conditioned (core::choose_rows' rule on J_c). The closures are evaluated on the rows in
+  // force alone; a choice of rows evaluates them all (choose_closure_rows).
   const std::vector<int>* rows = tracker != nullptr ? &tracker->rows : &active_;
   const double reference_ratio = tracker != nullptr ? tracker->selection_ratio : 0.0;
+  std::fill(ws.evaluated.begin(), ws.evaluated.end(), 0);
+  for (const int row : *rows) ws.evaluated[static_cast<std::size_t>(row)] = 1;
+  evaluate_closures(context.t, u, a, ws);
   ws.rows_chosen = false;
   ws.pivot_ratio = factor_closures(*rows, ws);
   if (!(ws.pivot_ratio >= core::kReselectPivotRatio &&
         ws.pivot_ratio >= core::kReselectPivotFall * reference_ratio)) {
-    if (!choose_closure_rows(ws)) throw_singular(*rows, ws, context.t);
+    if (!choose_closure_rows(context.t, u, a, ws)) throw_singular(*rows, ws, context.t);
     rows = &ws.chosen;
   }
   if (!(ws.pivot_ratio >= core::kSingularPivotRatio)) throw_singular(*rows, ws, context.t);
@@ -195,7 +236,7 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
     // Rows that alone turned through a dependency among themselves, while all rows kept their
     // rank, are replaced by rows chosen here, which keep the orientation (check_orientation's
     // rule); otherwise the mechanism passed a singular configuration since the accepted state.
-    if (rows == &ws.chosen || !choose_closure_rows(ws)) {
+    if (rows == &ws.chosen || !choose_closure_rows(context.t, u, a, ws)) {
       throw_passed_singular(*rows, ws, tracker->accepted_time, context.t);
     }
     rows = &ws.chosen;
@@ -231,7 +272,9 @@ double ReducedModel::factor_closures(const std::vector<int>& rows, ReducedWorksp
   }
   ws.W = ws.J_a;
   forward_substitute_rows(ws.M_r, ws.M_r_inv_diag.data(), ws.W);
-  // A = W Wᵀ = Σ_k w_k w_kᵀ (w_k: W's contiguous column k), column by column of A.
+  // A = W Wᵀ = Σ_k w_k w_kᵀ (w_k: W's contiguous column k), column by column of A (whole
+  // columns: a loop over the lower triangle alone ran more instructions). Its diagonal, |w_i|²,
+  // is also the orientation test's.
   ws.A.setZero();
   for (Eigen::Index k = 0; k < ws.W.cols(); ++k) {
     const double* w_k = ws.W.col(k).data();
@@ -240,29 +283,40 @@ double ReducedModel::factor_closures(const std::vector<int>& rows, ReducedWorksp
       for (Eigen::Index i = 0; i < ws.A.rows(); ++i) a_j[i] += w_k[i] * w_k[j];
     }
   }
+  ws.row_norms.col(1) = ws.A.diagonal();
   ws.schur_failed = cholesky_in_place(ws.A, ws.A_inv_diag.data(), ws.A_diag.data());
   if (ws.schur_failed >= 0) return 0.0;
   const double ratio = ws.A_diag.minCoeff() / ws.A_diag.maxCoeff();
   return std::isfinite(ratio) ? ratio * ratio : 0.0;
 }
 
-void ReducedModel::assemble_closures(double t, ReducedWorkspace& ws) const {
-  // J_c = J S, γ_c = γ − J Ṡ u, row by row over its two bodies' blocks of J.
-  closures_->evaluate(t, ws.model.kinematics, model_->velocity_layout(), ws.rows);
-  ws.J_c.setZero();
-  for (int r = 0; r < closures_->row_count(); ++r) {
-    double gamma = ws.rows.gamma(r);
-    for (int slot = 0; slot < 2; ++slot) {
-      const int b = ws.rows.jacobian.slot(r, slot).body;
-      if (b < 0) continue;
-      const Eigen::Index o = 6 * static_cast<Eigen::Index>(b);
-      const Vector6 J_rb = ws.rows.jacobian.values(r, slot).head<6>();
-      gamma -= J_rb.dot(ws.tree.bias.segment<6>(o));
-      for (const int i : kinematics_.body_columns(b)) {
-        ws.J_c(r, i) += J_rb.dot(ws.tree.S.block<6, 1>(o, i));
-      }
-    }
-    ws.gamma_c(r) = gamma;
+void ReducedModel::evaluate_closures(double t, const Vector& u, double a,
+                                     ReducedWorkspace& ws) const {
+  closures_->evaluate_rows(t, ws.model.kinematics, model_->velocity_layout(), ws.evaluated,
+                           ws.rows);
+  assemble_closures(*closures_, kinematics_, ws.tree, ws.rows, &ws.evaluated, ws.J_c, ws.gamma_c);
+  if (a != 0.0) {
+    ws.velocity_rows = ws.rows.phi_t;
+    ws.velocity_rows.noalias() += ws.J_c * u;
+  }
+}
+
+void ReducedModel::evaluate_accepted_closures(const ClosureTracker& tracker,
+                                              ReducedWorkspace& ws) const {
+  kinematics_.evaluate(tracker.q, tracker.u, ws.accepted_tree);
+  pose_bodies(ws.accepted_tree, ws.accepted_kinematics);
+  closures_->evaluate(tracker.evaluated_time, ws.accepted_kinematics, model_->velocity_layout(),
+                      ws.accepted_closures);
+  assemble_closures(*closures_, kinematics_, ws.accepted_tree, ws.accepted_closures, nullptr,
+                    ws.accepted_J_c, ws.accepted_gamma_c);
+}
+
+void ReducedModel::pose_bodies(const TreeWorkspace& tree,
+                               std::vector<core::BodyKinematics>& bodies) const {
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    bodies[b].state = &tree.state[b];
+    bodies[b].R_WB = rotation::rotation_matrix(tree.state[b].theta_WB);
+    bodies[b].q_f = &tree.state[b].q_f;
   }
 }
 
@@ -280,7 +334,12 @@ std::vector<int> ReducedModel::independent_closure_rows(const ReducedWorkspace& 
   return independent_rows_of(ws.J_c, scale);
 }
 
-bool ReducedModel::choose_closure_rows(ReducedWorkspace& ws) const {
+bool ReducedModel::choose_closure_rows(double t, const Vector& u, double a,
+                                       ReducedWorkspace& ws) const {
+  // The choice reads every row: those not in force are evaluated too (the rows in force again,
+  // to the same bits).
+  std::fill(ws.evaluated.begin(), ws.evaluated.end(), 1);
+  evaluate_closures(t, u, a, ws);
   ws.rows_chosen = true;
   ws.chosen = independent_closure_rows(ws);
   // The rank cannot grow for a mechanism that moves continuously (core::choose_rows).
@@ -294,17 +353,28 @@ int ReducedModel::orientation(const std::vector<int>& rows, const ClosureTracker
                               ReducedWorkspace& ws) const {
   const auto r = static_cast<Eigen::Index>(rows.size());
   const Eigen::Index n = ws.W.cols();
+  // The accepted J_c's rows: the tracker's, or where rows chosen here were not in force at the
+  // accepted state, that state's closures evaluated again (all rows, the same bits).
+  const Eigen::MatrixXd* J_accepted = &tracker.J_accepted;
+  for (const int row : rows) {
+    if (tracker.evaluated[static_cast<std::size_t>(row)] == 0) {
+      evaluate_accepted_closures(tracker, ws);
+      J_accepted = &ws.accepted_J_c;
+      break;
+    }
+  }
   // X = J_a,accepted L⁻ᵀ beside W = J_a L⁻ᵀ: J_a,accepted M_r⁻¹ J_aᵀ = X Wᵀ, and each row's turn
   // is read in M_r⁻¹'s metric, cos = x_i · w_i / (|x_i| |w_i|), column by column of the
   // column-major X and W.
   for (Eigen::Index k = 0; k < n; ++k) {
     for (Eigen::Index i = 0; i < r; ++i) {
-      ws.accepted_rows(i, k) = tracker.J_accepted(rows[static_cast<std::size_t>(i)], k);
+      ws.accepted_rows(i, k) = (*J_accepted)(rows[static_cast<std::size_t>(i)], k);
     }
   }
   forward_substitute_rows(ws.M_r, ws.M_r_inv_diag.data(), ws.accepted_rows);
+  // |w_i|² is A's diagonal, which factor_closures kept in row_norms' second column.
   ws.crossing.setZero();
-  ws.row_norms.setZero();
+  ws.row_norms.col(0).setZero();
   for (Eigen::Index k = 0; k < n; ++k) {
     const double* x_k = ws.accepted_rows.col(k).data();
     const double* w_k = ws.W.col(k).data();
@@ -312,10 +382,7 @@ int ReducedModel::orientation(const std::vector<int>& rows, const ClosureTracker
       double* c_j = ws.crossing.col(j).data();
       for (Eigen::Index i = 0; i < r; ++i) c_j[i] += x_k[i] * w_k[j];
     }
-    for (Eigen::Index i = 0; i < r; ++i) {
-      ws.row_norms(i, 0) += x_k[i] * x_k[i];
-      ws.row_norms(i, 1) += w_k[i] * w_k[i];
-    }
+    for (Eigen::Index i = 0; i < r; ++i) ws.row_norms(i, 0) += x_k[i] * x_k[i];
   }
   for (Eigen::Index i = 0; i < r; ++i) {
     const double cosine = core::kOrientationTestCosine;
@@ -361,8 +428,11 @@ int ReducedModel::smallest_pivot_joint(const std::vector<int>& rows,
 ClosureTracker ReducedModel::make_tracker() const {
   ClosureTracker tracker;
   tracker.rows = active_;
-  tracker.J_accepted =
-      Eigen::MatrixXd::Zero(closures_ ? closures_->row_count() : 0, velocity_count());
+  const int m = closures_ ? closures_->row_count() : 0;
+  tracker.J_accepted = Eigen::MatrixXd::Zero(m, velocity_count());
+  tracker.evaluated.assign(static_cast<std::size_t>(m), 0);
+  tracker.q = Vector::Zero(position_count());
+  tracker.u = Vector::Zero(velocity_count());
   return tracker;
 }
 
@@ -375,6 +445,10 @@ void ReducedModel::accept(double t, const ReducedWorkspace& ws, ClosureTracker& 
     tracker.selection_ratio = ws.pivot_ratio;
   }
   tracker.J_accepted = ws.J_c;
+  tracker.evaluated = ws.evaluated;
+  tracker.evaluated_time = ws.t;
+  tracker.q = ws.q;
+  tracker.u = ws.u;
   tracker.accepted_time = t;
   tracker.has_accepted = true;
 }

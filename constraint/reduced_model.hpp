@@ -16,8 +16,9 @@
 /// loop's out-of-plane rows). In motion an integrator carries them in a ClosureTracker, which
 /// the maximal tracker's rules move (core/constraint_tracker.hpp, docs/joints.md): rows chosen
 /// again where their pivot ratio falls, and the orientation test for a singular configuration
-/// passed between the last accepted state and the one solved now. The solve is the Schur
-/// complement of the small system:
+/// passed between the last accepted state and the one solved now. An evaluation evaluates the
+/// closure rows in force alone (Andrews: 6 of 15), all of them only where it chooses rows. The
+/// solve is the Schur complement of the small system:
 ///   u̇₀ = M_r⁻¹ Q_r,   (J_a M_r⁻¹ J_aᵀ) λ = J_a u̇₀ − γ_a,   u̇ = u̇₀ − M_r⁻¹ J_aᵀ λ,
 /// both matrices by Cholesky (constraint/small_cholesky.hpp): with M_r = L Lᵀ and W = J_a L⁻ᵀ,
 /// J_a M_r⁻¹ J_aᵀ = W Wᵀ and M_r⁻¹ J_aᵀ λ = L⁻ᵀ (Wᵀ λ). Baumgarte's term, as the maximal form's,
@@ -74,7 +75,22 @@ struct ReducedWorkspace {
   std::vector<int> solved;        ///< the rows the last evaluation solved with (λ's rows)
   Eigen::MatrixXd crossing;       ///< r × r: J_a,accepted M_r⁻¹ J_aᵀ (the orientation test)
   Eigen::MatrixXd accepted_rows;  ///< r × n_u: J_a,accepted L⁻ᵀ (the orientation test)
-  Eigen::MatrixXd row_norms;      ///< r × 2: |x_i|², |w_i|² (the orientation test)
+  /// r × 2: |x_i|², |w_i|² (the orientation test; |w_i|² = A(i,i), kept by factor_closures)
+  Eigen::MatrixXd row_norms;
+  /// m: 1 for the closure rows this evaluation evaluated (rows, J_c, γ_c, velocity_rows): the
+  /// rows in force, or all of them where it chose rows of its own. The others are zero or stale.
+  std::vector<char> evaluated;
+  /// The evaluation's time and coordinates, which ClosureTracker keeps at an accepted state.
+  double t = 0.0;
+  Eigen::VectorXd q, u;
+  /// The closures at the tracker's accepted state, all rows, evaluated again from its (t, q, u)
+  /// where this evaluation chose rows that were not in force there (ReducedModel::orientation):
+  /// the tree, the bodies' kinematics, the rows and J_c (γ_c: assembly's scratch).
+  TreeWorkspace accepted_tree;
+  std::vector<core::BodyKinematics> accepted_kinematics;
+  core::ConstraintRows accepted_closures;
+  Eigen::MatrixXd accepted_J_c;      ///< m × n_u
+  Eigen::VectorXd accepted_gamma_c;  ///< m
 };
 
 /// The closures' history an integrator carries from one accepted state to the next (the reduced
@@ -84,7 +100,13 @@ struct ReducedWorkspace {
 struct ClosureTracker {
   std::vector<int> rows;
   double selection_ratio = 0.0;  ///< 0: the first accepted solve's ratio is taken
-  Eigen::MatrixXd J_accepted;    ///< m × n_u
+  /// m × n_u, the rows the accepted evaluation evaluated (`evaluated`): the rows in force there,
+  /// all of them where it chose rows; the others are evaluated again from (t, q, u) when rows
+  /// chosen later need them.
+  Eigen::MatrixXd J_accepted;
+  std::vector<char> evaluated;  ///< m
+  double evaluated_time = 0.0;  ///< the accepted evaluation's t, q and u
+  Eigen::VectorXd q, u;
   double accepted_time = 0.0;
   bool has_accepted = false;
 };
@@ -148,14 +170,24 @@ class ReducedModel {
   /// Factors A = J_a M_r⁻¹ J_aᵀ on `rows` (J_a, W, A, schur in ws) and returns its pivot ratio
   /// (0 where the factorization fails).
   double factor_closures(const std::vector<int>& rows, ReducedWorkspace& ws) const;
-  /// The closures' rows at the poses in ws into ws.rows, J_c = J S and γ_c = γ − J Ṡ u.
-  void assemble_closures(double t, ReducedWorkspace& ws) const;
+  /// The closure rows marked in ws.evaluated at the poses in ws (ws.model.kinematics, ws.tree)
+  /// into ws.rows, J_c = J S and γ_c = γ − J Ṡ u, and with Baumgarte's rate a ≠ 0 their
+  /// velocity rows J_c u + Φ_t; the others' entries of J_c zero.
+  void evaluate_closures(double t, const Vector& u, double a, ReducedWorkspace& ws) const;
+  /// The closures' rows at the tracker's accepted state, all of them, into ws.accepted_J_c: the
+  /// accepted evaluation's own arithmetic from its (t, q, u), so the same bits as its J_c had for
+  /// the rows it evaluated. The rare path (rows chosen that were not in force there).
+  void evaluate_accepted_closures(const ClosureTracker& tracker, ReducedWorkspace& ws) const;
+  /// Each body's kinematics at the poses of `tree` as Model::compute_wrenches poses them (A(θ)
+  /// from the tree's θ_WB), for the closures at the accepted state.
+  void pose_bodies(const TreeWorkspace& tree, std::vector<core::BodyKinematics>& bodies) const;
   /// The independent rows of ws.J_c, the rows the tree satisfies identically set aside (each
   /// row against its own scale; reduced_model.cpp). Allocates.
   std::vector<int> independent_closure_rows(const ReducedWorkspace& ws) const;
-  /// The independent rows of J_c at this evaluation into ws.chosen (ws.rows_chosen), factored;
-  /// false where fewer than the rows in force remain independent (rank lost). Allocates.
-  bool choose_closure_rows(ReducedWorkspace& ws) const;
+  /// The independent rows of J_c at this evaluation (at t, u, Baumgarte's rate a; every closure
+  /// row evaluated first) into ws.chosen (ws.rows_chosen), factored; false where fewer than the
+  /// rows in force remain independent (rank lost). Allocates.
+  bool choose_closure_rows(double t, const Vector& u, double a, ReducedWorkspace& ws) const;
   /// The sign of det(J_a,accepted M_r⁻¹ J_aᵀ) on `rows`, factored in ws
   /// (core/orientation_test_tpl.hpp's test in joint space): +1 kept, −1 turned through a
   /// dependency; 0 where a row turned by more than kOrientationTestCosine's angle (in M_r⁻¹'s

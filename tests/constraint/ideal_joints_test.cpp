@@ -235,6 +235,57 @@ TEST_CASE("ideal joints: J v + Φ_t and J v̇ − γ are Φ's rates along a moti
   }
 }
 
+TEST_CASE("ideal joints: evaluate_rows gives evaluate's bits on the rows wanted", "[constraint]") {
+  // Every joint type (driven where it can be), on body–body, body–ground and body–node ends, at
+  // random states: the rows wanted must be evaluate's to the bit (the reduced form's tracker mixes
+  // rows of both, constraint/reduced_model.hpp), the others' J blocks and Φ_t zero and their Φ
+  // and γ untouched.
+  std::mt19937 rng(52);
+  Bodies bodies;
+  bodies.randomize(rng);
+  std::vector<IdealJointSpec> specs;
+  const JointType types[] = {JointType::kSpherical,   JointType::kRevolute,  JointType::kPrismatic,
+                             JointType::kCylindrical, JointType::kUniversal, JointType::kFixed,
+                             JointType::kDistance};
+  for (const JointType type : types) {
+    const bool can_drive = type == JointType::kRevolute || type == JointType::kPrismatic;
+    specs.push_back(random_joint(type, 1, false, can_drive, bodies, rng));
+    specs.push_back(random_joint(type, kGround, false, false, bodies, rng));
+    specs.push_back(random_joint(type, 2, true, false, bodies, rng));
+  }
+  const IdealJoints joints(specs, 3);
+  const int m = joints.row_count();
+  const double t = 0.5;  // inside the drives' spin-up
+  const core::ConstraintRows all = evaluate(joints, bodies, t, bodies.states);
+  const std::vector<core::BodyKinematicsTpl<double>> k = bodies.kinematics(bodies.states);
+  std::bernoulli_distribution coin(0.3);
+  for (int draw = 0; draw < 8; ++draw) {
+    std::vector<char> wanted(static_cast<std::size_t>(m));
+    for (char& w : wanted) w = coin(rng) ? 1 : 0;
+    core::ConstraintRows some;
+    some.resize(m, bodies.layout.size());
+    // Stale values from an earlier evaluation, which the rows not wanted must keep.
+    some.phi.setConstant(7.0);
+    some.gamma.setConstant(-7.0);
+    joints.evaluate_rows(t, std::span<const core::BodyKinematicsTpl<double>>(k), bodies.layout,
+                         wanted, some);
+    for (int r = 0; r < m; ++r) {
+      INFO("draw " << draw << ", row " << r << " (joint " << joints.joint_of_row(r) << ")");
+      if (wanted[static_cast<std::size_t>(r)] != 0) {
+        CHECK(some.phi(r) == all.phi(r));
+        CHECK(some.phi_t(r) == all.phi_t(r));
+        CHECK(some.gamma(r) == all.gamma(r));
+        CHECK(some.J.row(r) == all.J.row(r));
+      } else {
+        CHECK(some.phi(r) == 7.0);
+        CHECK(some.gamma(r) == -7.0);
+        CHECK(some.phi_t(r) == 0.0);
+        CHECK(some.J.row(r).isZero(0.0));
+      }
+    }
+  }
+}
+
 TEST_CASE("ideal joints: rows per type, their owners and length rows", "[constraint]") {
   CHECK(row_count(JointType::kSpherical, false) == 3);
   CHECK(row_count(JointType::kRevolute, false) == 5);

@@ -13,8 +13,10 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/output_times.hpp"
@@ -331,6 +333,81 @@ TEST_CASE("reduced: Andrews' tree is the IVP test set's, one evaluation allocate
   CHECK(testing::count_allocations([&] {
           reduced.accelerations({1e-4, 0.0}, q, u, ws, u_dot, 100.0);
         }) == 0);
+  // On a tracker, with its orientation test and the accepted state's move.
+  ClosureTracker tracker = reduced.make_tracker();
+  reduced.accelerations({0.0, 0.0}, q, u, ws, u_dot, 100.0, &tracker);
+  reduced.accept(0.0, ws, tracker);
+  CHECK(testing::count_allocations([&] {
+          reduced.accelerations({1e-4, 0.0}, q, u, ws, u_dot, 100.0, &tracker);
+          reduced.accept(1e-4, ws, tracker);
+        }) == 0);
+}
+
+TEST_CASE("reduced: the tracker's accepted rows are the full evaluation's, bit for bit",
+          "[reduced]") {
+  // An evaluation on a tracker evaluates the closure rows in force alone; where it chooses rows
+  // (here forced by an unreachable reference ratio) it evaluates all. The tracker keeps J_c's rows
+  // of the accepted evaluation, and where rows chosen later were not evaluated there, the
+  // orientation test evaluates that state's closures again: the same bits as if all had been.
+  const scene::Scene andrews = scene::read_scene("scenes/andrews_squeezer.toml");
+  const ReducedModel reduced(*andrews.model);
+  ReducedWorkspace ws = reduced.make_workspace();
+  const int nu = reduced.velocity_count();
+  Eigen::VectorXd q0, u0, q1, u_dot(nu);
+  reduced.coordinates(andrews.model->initial_state(), q0, u0);  // at rest
+  // Every angle turned by 0.05 rad (off the closures' manifold, which the evaluation allows),
+  // and joint rates of 10 rad/s.
+  q1 = q0;
+  reduced.kinematics().advance(q0, Eigen::VectorXd::Ones(nu), 0.05, q1);
+  const Eigen::VectorXd u1 = Eigen::VectorXd::Constant(nu, 10.0);
+  const double alpha = 470.0;  // the reference's Baumgarte rate
+  const double never = std::numeric_limits<double>::infinity();
+
+  ClosureTracker in_force = reduced.make_tracker();
+  reduced.accelerations({0.0, 0.0}, q0, u0, ws, u_dot, alpha, &in_force);
+  CHECK_FALSE(ws.rows_chosen);
+  reduced.accept(0.0, ws, in_force);
+  ClosureTracker all = reduced.make_tracker();
+  all.selection_ratio = never;
+  reduced.accelerations({0.0, 0.0}, q0, u0, ws, u_dot, alpha, &all);
+  REQUIRE(ws.rows_chosen);
+  reduced.accept(0.0, ws, all);
+  // Andrews' only independent rows are the loops' in-plane point rows: chosen again, the same.
+  REQUIRE(all.rows == in_force.rows);
+  const auto count = [](const std::vector<char>& v) { return std::count(v.begin(), v.end(), 1); };
+  CHECK(count(in_force.evaluated) == 6);
+  CHECK(count(all.evaluated) == 15);
+  for (const int r : in_force.rows) CHECK(in_force.J_accepted.row(r) == all.J_accepted.row(r));
+
+  // The next evaluation's orientation test on the three trackers: `all`; `in_force`; and a copy
+  // of `in_force` that lacks one of its rows (stale: NaN), so that rows chosen at q1 need the
+  // accepted state's closures evaluated again. Each must see the same X = J_a,accepted L⁻ᵀ.
+  ClosureTracker gap = in_force;
+  const int missing = gap.rows.front();
+  gap.evaluated[static_cast<std::size_t>(missing)] = 0;
+  gap.J_accepted.row(missing).setConstant(std::numeric_limits<double>::quiet_NaN());
+  all.selection_ratio = never;
+  gap.selection_ratio = never;
+  const auto evaluate_on = [&](const ClosureTracker& tracker) {
+    reduced.accelerations({2e-4, 0.0}, q1, u1, ws, u_dot, alpha, &tracker);
+    return std::pair<Eigen::MatrixXd, Eigen::VectorXd>(ws.accepted_rows, u_dot);
+  };
+  const auto [x_all, u_dot_all] = evaluate_on(all);
+  const auto [x_in_force, u_dot_in_force] = evaluate_on(in_force);
+  CHECK_FALSE(ws.rows_chosen);
+  const auto [x_gap, u_dot_gap] = evaluate_on(gap);
+  CHECK(ws.rows_chosen);
+  CHECK(x_all.allFinite());
+  CHECK(x_in_force == x_all);
+  CHECK(x_gap == x_all);
+  CHECK(u_dot_in_force == u_dot_all);
+  CHECK(u_dot_gap == u_dot_all);
+  // The accepted state matters: accepted at q1 itself, X differs (so a gap filled from the
+  // evaluated state instead of the accepted one would not pass).
+  ClosureTracker at_q1 = reduced.make_tracker();
+  reduced.accelerations({2e-4, 0.0}, q1, u1, ws, u_dot, alpha, &at_q1);
+  reduced.accept(2e-4, ws, at_q1);
+  CHECK(evaluate_on(at_q1).first != x_all);
 }
 
 TEST_CASE("reduced: flexible bodies and contacts are refused with their reason", "[reduced]") {
