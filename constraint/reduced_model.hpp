@@ -91,6 +91,8 @@ struct ReducedWorkspace {
   core::ConstraintRows accepted_closures;
   Eigen::MatrixXd accepted_J_c;      ///< m × n_u
   Eigen::VectorXd accepted_gamma_c;  ///< m
+  /// 6 × Σ_b c_b: M_b S_i on each body's c_b columns of S, body after body (M_r's products)
+  Eigen::Matrix<double, 6, Eigen::Dynamic> MS;
 };
 
 /// The closures' history an integrator carries from one accepted state to the next (the reduced
