@@ -12,7 +12,7 @@
 /// (constraint/reduced_model.hpp: seven angles, M_r 7 × 7, the three loops' 6 independent rows,
 /// Baumgarte's term as above), from its coordinates: the cost per evaluation of the reduced form.
 /// Counters: steps, right-hand-side (or residual) evaluations, the solver's own CPU time of the
-/// integration (solver_cpu_s, output excluded), and the error of the result, computed once
+/// integration and its output states (solver_cpu_s), and the error of the result, computed once
 /// outside the timed loop: on Andrews the largest difference of the seven angles at t = 0.03
 /// from the values an independent RK4 of the test set's own equations gives (docs/joints.md:
 /// the published PSIDE reference is off by 1.2e-9 in β and 1.4e-9 in Θ, so it is not used

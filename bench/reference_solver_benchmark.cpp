@@ -3,8 +3,9 @@
 /// 1e-12, and each solver's setting for the issue-9 targets at 1e-13. CVODE runs with its
 /// automatic method (Adams on both scenes) and, for comparison, forced BDF with projection.
 /// Counters: steps, right-hand-side (or residual) evaluations, the solver's own process-CPU
-/// time of the integration (solver_cpu_s, output excluded), and on free_spin the error against
-/// the exact solution (L∞ geodesic attitude angle, rad; computed once, outside the timed loop).
+/// time of the integration and its output states (solver_cpu_s), and on free_spin the error
+/// against the exact solution (L∞ geodesic attitude angle, rad; computed once, outside the timed
+/// loop).
 ///
 /// For scale: on free_spin Simbody's RK-Merson needs about 4 s of CPU for 4e-11 rad
 /// and its CPodes about 2.4 s for 7e-11 rad.

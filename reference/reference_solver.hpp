@@ -86,8 +86,9 @@ struct SolverStats {
   long jacobian_evaluations = 0;
   long error_test_failures = 0;
   long nonlinear_failures = 0;
-  long events = 0;           ///< zeros of switching functions located (contact onset and release)
-  double cpu_seconds = 0.0;  ///< process CPU time of the integration, output excluded
+  long events = 0;  ///< zeros of switching functions located (contact onset and release)
+  /// Process CPU time of the integration and its output states (setup and checks excluded).
+  double cpu_seconds = 0.0;
 };
 
 struct ReferenceRun {
