@@ -9,7 +9,6 @@
 #include "core/orientation_test_tpl.hpp"
 #include "core/row_selection_tpl.hpp"
 #include "core/schur_complement_tpl.hpp"
-#include "rotation/euler_parameters.hpp"
 
 namespace flexref::constraint {
 namespace {
@@ -115,7 +114,7 @@ ReducedModel::ReducedModel(const core::Model& model, const core::State& initial)
   // The independent closure rows at the consistent initial state, by the maximal model's rule.
   ReducedWorkspace ws = make_workspace();
   kinematics_.evaluate(q0_, u0_, ws.tree);
-  model.compute_wrenches({0.0, 0.0}, ws.tree.state, ws.model);
+  model.compute_wrenches({0.0, 0.0}, ws.tree.state, ws.tree.R_WB, ws.model);
   std::fill(ws.evaluated.begin(), ws.evaluated.end(), 1);
   evaluate_closures(0.0, u0_, 0.0, ws);
   active_ = independent_closure_rows(ws);
@@ -181,8 +180,10 @@ void ReducedModel::accelerations(const core::LoadContext& context, const Vector&
   ws.t = context.t;
   ws.q = q;
   ws.u = u;
-  kinematics_.evaluate(q, u, ws.tree);
-  const core::Loads loads = model.compute_wrenches(context, ws.tree.state, ws.model);
+  // The bodies' Euler parameters are left to attitudes(): the loads and the closures read the
+  // tree's attitude matrices.
+  kinematics_.evaluate(q, u, ws.tree, false);
+  const core::Loads loads = model.compute_wrenches(context, ws.tree.state, ws.tree.R_WB, ws.model);
   // r(Ṡu) = M Ṡ u − Q body by body (the model's own equations); then, over each body's columns
   // of S (its ancestors'), M_r = Σ_b S_bᵀ M_b S_b and Q_r = Σ_b −S_bᵀ r_b(Ṡu).
   ws.M_r.setZero();
@@ -323,7 +324,7 @@ void ReducedModel::evaluate_closures(double t, const Vector& u, double a,
 
 void ReducedModel::evaluate_accepted_closures(const ClosureTracker& tracker,
                                               ReducedWorkspace& ws) const {
-  kinematics_.evaluate(tracker.q, tracker.u, ws.accepted_tree);
+  kinematics_.evaluate(tracker.q, tracker.u, ws.accepted_tree, false);
   pose_bodies(ws.accepted_tree, ws.accepted_kinematics);
   closures_->evaluate(tracker.evaluated_time, ws.accepted_kinematics, model_->velocity_layout(),
                       ws.accepted_closures);
@@ -335,7 +336,7 @@ void ReducedModel::pose_bodies(const TreeWorkspace& tree,
                                std::vector<core::BodyKinematics>& bodies) const {
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     bodies[b].state = &tree.state[b];
-    bodies[b].R_WB = rotation::rotation_matrix(tree.state[b].theta_WB);
+    bodies[b].R_WB = tree.R_WB[b];
     bodies[b].q_f = &tree.state[b].q_f;
   }
 }

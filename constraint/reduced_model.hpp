@@ -153,10 +153,15 @@ class ReducedModel {
   /// path). Throws core::SingularConfigurationError where the closure rows lose rank, or where
   /// the orientation test finds a singular configuration passed since the tracker's accepted
   /// state; sets ws.rows_turned where the rows turned too far for the test. Allocates nothing
-  /// otherwise.
+  /// otherwise. The loads and the closures take the bodies' attitude matrices from the forward
+  /// kinematics (Model::compute_wrenches' second form): ws.tree.state's Euler parameters are
+  /// left NaN for attitudes() (TreeKinematics::evaluate), which a caller that reads them calls.
   void accelerations(const core::LoadContext& context, const Vector& q, const Vector& u,
                      ReducedWorkspace& ws, Vector& u_dot, double stabilization = 0.0,
                      const ClosureTracker* tracker = nullptr) const;
+  /// The bodies' Euler parameters θ_WB at the last evaluation's state (ws.tree.state), which
+  /// accelerations leaves NaN: the forward kinematics' own conversion. Allocates nothing.
+  void attitudes(ReducedWorkspace& ws) const { kinematics_.attitudes(ws.tree); }
   /// The closures' stacked generalized force on the bodies, −J_aᵀ λ (6 per body, the maximal
   /// model's velocity layout), at the last evaluation in `ws`: what Model::integral_rates reads
   /// for the drives' power (the tree joints are never driven and do no work).
@@ -180,8 +185,8 @@ class ReducedModel {
   /// accepted evaluation's own arithmetic from its (t, q, u), so the same bits as its J_c had for
   /// the rows it evaluated. The rare path (rows chosen that were not in force there).
   void evaluate_accepted_closures(const ClosureTracker& tracker, ReducedWorkspace& ws) const;
-  /// Each body's kinematics at the poses of `tree` as Model::compute_wrenches poses them (A(θ)
-  /// from the tree's θ_WB), for the closures at the accepted state.
+  /// Each body's kinematics at the poses of `tree` as Model::compute_wrenches poses them from the
+  /// tree's attitude matrices, for the closures at the accepted state.
   void pose_bodies(const TreeWorkspace& tree, std::vector<core::BodyKinematics>& bodies) const;
   /// The independent rows of ws.J_c, the rows the tree satisfies identically set aside (each
   /// row against its own scale; reduced_model.cpp). Allocates.

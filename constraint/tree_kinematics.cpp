@@ -1,6 +1,7 @@
 #include "constraint/tree_kinematics.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "rotation/euler_parameters.hpp"
 
@@ -39,7 +40,8 @@ TreeWorkspace TreeKinematics::make_workspace() const {
   return ws;
 }
 
-void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& ws) const {
+void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& ws,
+                              bool attitudes) const {
   for (std::size_t k = 0; k < tree_.mobilizers.size(); ++k) {
     const Mobilizer& m = tree_.mobilizers[k];
     RelativeMotion& rel = ws.relative[k];
@@ -72,8 +74,10 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
       // A root's attitude is its coordinates' (F = W, M = B): θ_WB as integrated.
       const int o = m.kind == MobilizerKind::kFree ? 3 : 0;
       s.theta_WB = q.segment<4>(m.q_offset + o);
-    } else {
+    } else if (attitudes) {
       s.theta_WB = rotation::euler_parameters_from_matrix(R_WC);
+    } else {
+      s.theta_WB.setConstant(std::numeric_limits<double>::quiet_NaN());
     }
     const Eigen::Vector3d p_WM = p_WF + R_WF * rel.p_FM_F;
     const Eigen::Vector3d p_WCr = p_WM - R_WC * m.p_CrM_C;
@@ -121,6 +125,14 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
     // The model's variables: (a_WBr, α̅ = R_WCᵀ ω̇) at u̇ = 0.
     ws.bias.segment<3>(2 * rc) = a_C;
     ws.bias.segment<3>(2 * rc + 3).noalias() = R_WC.transpose() * alpha_C;
+  }
+}
+
+void TreeKinematics::attitudes(TreeWorkspace& ws) const {
+  for (const Mobilizer& m : tree_.mobilizers) {
+    if (m.kind == MobilizerKind::kFree || m.kind == MobilizerKind::kPivot) continue;
+    const auto c = static_cast<std::size_t>(m.child);
+    ws.state[c].theta_WB = rotation::euler_parameters_from_matrix(ws.R_WB[c]);
   }
 }
 

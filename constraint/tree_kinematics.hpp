@@ -59,8 +59,13 @@ class TreeKinematics {
   int velocity_count() const { return tree_.velocity_count; }
   TreeWorkspace make_workspace() const;
 
-  /// Poses, velocities (ws.state), S and Ṡ u at (q, u). Allocates nothing.
-  void evaluate(const Vector& q, const Vector& u, TreeWorkspace& ws) const;
+  /// Poses, velocities (ws.state), S and Ṡ u at (q, u). Without `attitudes`, the Euler
+  /// parameters θ_WB of the bodies whose attitude the tree composes (all but free and pivot
+  /// roots, whose θ are their coordinates) are left NaN: a caller that reads ws.R_WB alone saves
+  /// their conversion from the matrix, and attitudes() sets them. Allocates nothing.
+  void evaluate(const Vector& q, const Vector& u, TreeWorkspace& ws, bool attitudes = true) const;
+  /// θ_WB from ws.R_WB where evaluate left them NaN: evaluate's own conversion, the same bits.
+  void attitudes(TreeWorkspace& ws) const;
   /// The joint coordinates of a maximal state that satisfies the tree's joints (the inverse of
   /// evaluate on its image; a violation of a tree joint's rows is dropped, not represented).
   void coordinates(const core::State& state, Vector& q, Vector& u) const;

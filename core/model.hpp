@@ -330,6 +330,11 @@ class ModelTpl {
   /// Fills workspace.kinematics (A(θ) per body) and workspace.wrenches at (context, state); the
   /// receipt names them for the functions that read them.
   Loads compute_wrenches(const LoadContext& context, const State& state, Workspace& ws) const;
+  /// compute_wrenches with each body's attitude matrix A(θ_i) given (R_WB, one per body): for a
+  /// caller whose own kinematics formed the matrices that A(θ) would form again from θ (the joint
+  /// form's forward kinematics, constraint/reduced_model.hpp). The state's θ are not read.
+  Loads compute_wrenches(const LoadContext& context, const State& state,
+                         std::span<const Eigen::Matrix<S, 3, 3>> R_WB, Workspace& ws) const;
   /// Accelerations from the loads compute_wrenches left in ws, the ideal joints enforced on the
   /// tracker's rows (core/constrained_solve_tpl.hpp) with Baumgarte's rate `stabilization` (1/s:
   /// J v̇ = γ − 2α (J v + Φ_t) − α² Φ makes the constraint manifold attracting for integrators
@@ -486,6 +491,10 @@ class ModelTpl {
   /// its worn depths; throws std::invalid_argument when the state has not wear_depth_count() of
   /// them.
   void pose_bodies(const State& state, Workspace& ws) const;
+  /// pose_bodies with A(θ_i) = R_WB[i] given (compute_wrenches' second form); null: from θ.
+  void pose_bodies(const State& state, const Eigen::Matrix<S, 3, 3>* R_WB, Workspace& ws) const;
+  /// The elements' wrenches at the bodies posed in ws (compute_wrenches after pose_bodies).
+  Loads posed_wrenches(const LoadContext& context, const State& state, Workspace& ws) const;
   /// `context` with element e's slice of the posed depths (ws.wear_depth).
   LoadContext element_context(const LoadContext& context, const Workspace& ws,
                               std::size_t e) const {

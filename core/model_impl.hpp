@@ -222,6 +222,12 @@ typename ModelTpl<S>::Workspace ModelTpl<S>::make_workspace() const {
 
 template <typename S>
 void ModelTpl<S>::pose_bodies(const State& state, Workspace& ws) const {
+  pose_bodies(state, nullptr, ws);
+}
+
+template <typename S>
+void ModelTpl<S>::pose_bodies(const State& state, const Eigen::Matrix<S, 3, 3>* R_WB,
+                              Workspace& ws) const {
   // Loads see the state's q_f under the coupled model, q_f = 0 under LTE (undeformed body).
   const bool lte = formulation_ == FlexibleFormulation::kLte;
   if (state.wear_depth.size() != wear_depth_count_) {
@@ -233,7 +239,8 @@ void ModelTpl<S>::pose_bodies(const State& state, Workspace& ws) const {
                                      static_cast<std::size_t>(state.wear_depth.size()));
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     ws.kinematics[i].state = &state[i];
-    ws.kinematics[i].R_WB = rotation::rotation_matrix<S>(state[i].theta_WB);
+    ws.kinematics[i].R_WB =
+        R_WB != nullptr ? R_WB[i] : rotation::rotation_matrix<S>(state[i].theta_WB);
     ws.kinematics[i].q_f = lte ? &ws.flexible[i].zero : &state[i].q_f;
   }
 }
@@ -242,6 +249,25 @@ template <typename S>
 typename ModelTpl<S>::Loads ModelTpl<S>::compute_wrenches(const LoadContext& context,
                                                           const State& state, Workspace& ws) const {
   pose_bodies(state, ws);
+  return posed_wrenches(context, state, ws);
+}
+
+template <typename S>
+typename ModelTpl<S>::Loads ModelTpl<S>::compute_wrenches(
+    const LoadContext& context, const State& state, std::span<const Eigen::Matrix<S, 3, 3>> R_WB,
+    Workspace& ws) const {
+  if (R_WB.size() != bodies_.size()) {
+    throw std::invalid_argument("compute_wrenches: " + std::to_string(R_WB.size()) +
+                                " attitude matrices for " + std::to_string(bodies_.size()) +
+                                " bodies");
+  }
+  pose_bodies(state, R_WB.data(), ws);
+  return posed_wrenches(context, state, ws);
+}
+
+template <typename S>
+typename ModelTpl<S>::Loads ModelTpl<S>::posed_wrenches(const LoadContext& context,
+                                                        const State& state, Workspace& ws) const {
   for (WrenchTpl<S>& w : ws.wrenches) w.set_zero();
   for (std::size_t e = 0; e < elements_.size(); ++e) {
     elements_[e]->add_wrenches(element_context(context, ws, e), ws.kinematics, ws.wrenches);

@@ -71,8 +71,10 @@ Eigen::Vector4d continued(const Eigen::Vector4d& theta, const Eigen::Vector4d& p
   return theta.dot(previous) < 0.0 ? Eigen::Vector4d(-theta) : theta;
 }
 
-/// The lift moves to the bodies' attitudes at the last evaluation (that of the step accepted).
+/// The lift moves to the bodies' attitudes at the last evaluation (that of the step accepted),
+/// whose Euler parameters are formed here (the evaluations leave them to attitudes()).
 void accept_lift(ReducedOde& d) {
+  d.reduced->attitudes(d.ws);
   for (std::size_t b = 0; b < d.lift.size(); ++b) {
     d.lift[b] = continued(d.ws.tree.state[b].theta_WB, d.lift[b]);
   }
@@ -94,6 +96,7 @@ void evaluate(ReducedOde& d, double t, const double* Y, double* Yd) {
   reduced.accelerations(context, d.q, d.u, d.ws, d.u_dot, d.stabilization, &d.tracker);
   Eigen::Map<Eigen::VectorXd>(Yd + nq, nu) = d.u_dot;
   if (d.integrals.count > 0) {
+    reduced.attitudes(d.ws);  // the works' rates pose the bodies from their Euler parameters
     reduced.closure_force(d.ws, d.force);
     reduced.model().integral_rates(
         context, d.ws.tree.state, d.ws.model,

@@ -222,6 +222,7 @@ TEST_CASE("reduced: the bodies' accelerations equal the maximal model's at consi
       const core::LoadContext context{times[s], times[s]};
       reduced.accelerations(context, q, u, rws, u_dot);
       reduced.body_accelerations(rws, u_dot, from_reduced);
+      reduced.attitudes(rws);
       // The maximal model at the very state the reduced one evaluated (its forward kinematics).
       model.compute_accelerations(context, rws.tree.state, ws, maximal);
       Eigen::VectorXd a(6 * model.num_bodies()), b(6 * model.num_bodies());
@@ -288,6 +289,7 @@ TEST_CASE("reduced: Baumgarte's term on the closures equals the maximal model's 
     ReducedWorkspace rws = reduced.make_workspace();
     const double t = 0.05, alpha = 30.0;
     reduced.accelerations({t, t}, q, u, rws, u_dot, alpha);
+    reduced.attitudes(rws);
     core::Accelerations from_reduced = model.make_accelerations();
     reduced.body_accelerations(rws, u_dot, from_reduced);
     core::Workspace ws = model.make_workspace();
@@ -408,6 +410,35 @@ TEST_CASE("reduced: the tracker's accepted rows are the full evaluation's, bit f
   reduced.accelerations({2e-4, 0.0}, q1, u1, ws, u_dot, alpha, &at_q1);
   reduced.accept(2e-4, ws, at_q1);
   CHECK(evaluate_on(at_q1).first != x_all);
+}
+
+TEST_CASE("reduced: an evaluation leaves the Euler parameters to attitudes(), to the same bits",
+          "[reduced]") {
+  // The evaluation poses the loads and the closures on the tree's attitude matrices and leaves
+  // θ_WB NaN (a stale θ read by mistake shows); attitudes() forms them as the full forward
+  // kinematics does. The heavy top's pivot root keeps its θ, its coordinates.
+  for (const ReducedCase& c : reduced_cases()) {
+    const core::Model& model = *c.scene.model;
+    const ReducedModel reduced(model);
+    ReducedWorkspace rws = reduced.make_workspace();
+    Eigen::VectorXd q, u, u_dot(reduced.velocity_count());
+    reduced.coordinates(model.initial_state(), q, u);
+    reduced.accelerations({0.0, 0.0}, q, u, rws, u_dot);
+    TreeWorkspace full = reduced.kinematics().make_workspace();
+    reduced.kinematics().evaluate(q, u, full);
+    for (const Mobilizer& m : reduced.kinematics().tree().mobilizers) {
+      const auto b = static_cast<std::size_t>(m.child);
+      const bool root = m.kind == MobilizerKind::kFree || m.kind == MobilizerKind::kPivot;
+      INFO(c.name << ", body " << b);
+      CHECK(rws.tree.state[b].theta_WB.hasNaN() == !root);
+      CHECK(rws.tree.R_WB[b] == full.R_WB[b]);
+    }
+    reduced.attitudes(rws);
+    for (std::size_t b = 0; b < full.state.size(); ++b) {
+      INFO(c.name << ", body " << b);
+      CHECK(rws.tree.state[b].theta_WB == full.state[b].theta_WB);
+    }
+  }
 }
 
 TEST_CASE("reduced: flexible bodies and contacts are refused with their reason", "[reduced]") {

@@ -2,8 +2,11 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "reference/ode_form.hpp"
+#include "rotation/euler_parameters.hpp"
 #include "tests/support/finite_difference.hpp"
 #include "tests/support/test_models.hpp"
 
@@ -113,6 +116,39 @@ TEST_CASE("pivot bodies use the inertia about the pivot", "[core]") {
   Accelerations acc(1);
   model.accelerations_from_wrenches(loads, ws, acc);
   CHECK(acc[0].a_WBr.norm() == 0.0);
+}
+
+TEST_CASE("compute_wrenches on given attitude matrices: the loads of A(θ), θ unread", "[core]") {
+  // A body-frame force at a point, gravity about an off-centre origin and a world torque: each
+  // wrench reads A. Given A(θ) itself the wrenches are compute_wrenches' to the bit, with the
+  // state's θ unread (NaN here); given another attitude's matrix, they are that attitude's.
+  const Model model = testing::loaded_free_body_model();
+  const State s = model.initial_state();
+  const LoadContext context{0.05, 0.0};  // inside the torque pulse
+  Workspace ws = model.make_workspace();
+  model.compute_wrenches(context, s, ws);
+  const Wrench expected = ws.wrenches[0];
+  State unread = s;
+  unread[0].theta_WB.setConstant(std::numeric_limits<double>::quiet_NaN());
+  const std::vector<Eigen::Matrix3d> A{rotation::rotation_matrix(s[0].theta_WB)};
+  model.compute_wrenches(context, unread, A, ws);
+  CHECK(ws.wrenches[0].f_W == expected.f_W);
+  CHECK(ws.wrenches[0].tau_Br_W == expected.tau_Br_W);
+  CHECK(ws.kinematics[0].R_WB == A[0]);
+  // Another attitude: the body-frame force turns with it, so the wrench is not the first one.
+  State turned = s;
+  turned[0].theta_WB = Eigen::Vector4d(0.2, 0.9, 0.3, -0.1).normalized();
+  model.compute_wrenches(context, turned, ws);
+  const Wrench turned_expected = ws.wrenches[0];
+  model.compute_wrenches(
+      context, unread, std::vector<Eigen::Matrix3d>{rotation::rotation_matrix(turned[0].theta_WB)},
+      ws);
+  CHECK(ws.wrenches[0].f_W == turned_expected.f_W);
+  CHECK(ws.wrenches[0].tau_Br_W == turned_expected.tau_Br_W);
+  CHECK((turned_expected.f_W - expected.f_W).norm() > 0.1);
+  // One matrix per body.
+  CHECK_THROWS_AS(model.compute_wrenches(context, s, std::vector<Eigen::Matrix3d>{}, ws),
+                  std::invalid_argument);
 }
 
 TEST_CASE("bodies reject unphysical data", "[core]") {
