@@ -73,6 +73,9 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
   void evaluate_rows(const S& t, std::span<const Kinematics> bodies,
                      const core::VelocityLayout& layout, std::span<const char> wanted,
                      core::ConstraintRowsTpl<S>& rows) const;
+  void evaluate_rates(const S& t, std::span<const Kinematics> bodies,
+                      const core::VelocityLayout& layout,
+                      core::ConstraintRowsTpl<S>& rows) const override;
   core::JointReactionTpl<S> reaction(int joint, std::span<const Kinematics> bodies,
                                      const core::VelocityLayout& layout,
                                      const Eigen::Ref<const Eigen::Matrix<S, Eigen::Dynamic, 1>>&
@@ -93,8 +96,8 @@ class IdealJointsTpl final : public core::ConstraintEquationsTpl<S> {
 
  private:
   int core_row_count(std::size_t joint) const { return first_row_[joint + 1] - first_row_[joint]; }
-  /// evaluate's body on the rows r with wanted(r) true.
-  template <typename Wanted>
+  /// evaluate's body on the rows r with wanted(r) true, γ only with kGamma.
+  template <bool kGamma, typename Wanted>
   void evaluate_where(const S& t, std::span<const Kinematics> bodies,
                       const core::VelocityLayout& layout, core::ConstraintRowsTpl<S>& rows,
                       const Wanted& wanted) const;

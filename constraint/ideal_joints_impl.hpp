@@ -14,8 +14,9 @@ namespace detail {
 
 /// An end's pose and motion at the evaluation, all in the world frame: the joint point p, its
 /// arm r from the body's Br, its velocity v = v_Br + ω × r + A Φ q̇_f, the part of its
-/// acceleration that does not involve v̇ (c = ω × (ω × r) + 2 ω × A Φ q̇_f), the body's ω and
-/// A. A ground end has p = its world point and everything else zero (A = I).
+/// acceleration that does not involve v̇ (c = ω × (ω × r) + 2 ω × A Φ q̇_f; γ's alone, zero
+/// where end_motion is asked for no γ), the body's ω and A. A ground end has p = its world
+/// point and everything else zero (A = I).
 template <typename S>
 struct EndMotion {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
@@ -31,7 +32,8 @@ struct EndMotion {
 
 template <typename S>
 EndMotion<S> end_motion(const typename IdealJointsTpl<S>::End& e,
-                        std::span<const core::BodyKinematicsTpl<S>> bodies) {
+                        std::span<const core::BodyKinematicsTpl<S>> bodies,
+                        bool with_gamma = true) {
   EndMotion<S> m;
   m.end = &e;
   if (e.body == kGround) {
@@ -48,11 +50,11 @@ EndMotion<S> end_motion(const typename IdealJointsTpl<S>::End& e,
   m.r = m.R * x;
   m.p = s.p_WBr + m.r;
   m.v = s.v_WBr + m.w.cross(m.r);
-  m.c = m.w.cross(m.w.cross(m.r));
+  if (with_gamma) m.c = m.w.cross(m.w.cross(m.r));  // γ's alone
   if (e.phi.cols() > 0) {
     const Eigen::Matrix<S, 3, 1> u_dot = m.R * (e.phi * s.qd_f);  // A Φ_P q̇_f
     m.v += u_dot;
-    m.c += S(2) * m.w.cross(u_dot);
+    if (with_gamma) m.c += S(2) * m.w.cross(u_dot);
   }
   return m;
 }
@@ -86,13 +88,14 @@ template <typename S>
 void rotation_dot_row(const EndMotion<S>& P, const Eigen::Matrix<S, 3, 1>& p,
                       const Eigen::Matrix<S, 3, 1>& p1, const Eigen::Matrix<S, 3, 1>& p2,
                       const EndMotion<S>& Q, const Eigen::Matrix<S, 3, 1>& q, int row,
-                      core::ConstraintRowsTpl<S>& rows) {
+                      core::ConstraintRowsTpl<S>& rows, bool with_gamma = true) {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
   const Vector3 pxq = p.cross(q);
   rows.phi(row) = p.dot(q);
   add_rotation_row(P, pxq, S(1), row, rows);
   add_rotation_row(Q, pxq, S(-1), row, rows);
   rows.phi_t(row) = q.dot(p1);
+  if (!with_gamma) return;
   const Vector3 w_rel = P.w - Q.w;
   const Vector3 q_dot = Q.w.cross(q);
   const Vector3 pxq_dot = (P.w.cross(p) + p1).cross(q) + p.cross(q_dot);
@@ -105,7 +108,8 @@ void rotation_dot_row(const EndMotion<S>& P, const Eigen::Matrix<S, 3, 1>& p,
 ///   d̈ = a_a − a_b = (terms in v̇) + c_a − c_b.
 template <typename S>
 void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix<S, 3, 1>& u,
-               const S& s, const S& s1, const S& s2, int row, core::ConstraintRowsTpl<S>& rows) {
+               const S& s, const S& s1, const S& s2, int row, core::ConstraintRowsTpl<S>& rows,
+               bool with_gamma = true) {
   using Vector3 = Eigen::Matrix<S, 3, 1>;
   const Vector3 d = a.p - b.p;
   const Vector3 d_dot = a.v - b.v;
@@ -114,6 +118,7 @@ void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix
   add_point_row(a, u, S(1), row, rows);
   add_point_row(b, u, S(-1), row, rows);
   rows.phi_t(row) = -s1;
+  if (!with_gamma) return;
   const Vector3 u_dot = b.w.cross(u);
   rows.gamma(row) =
       -((u_dot.cross(d) + u.cross(d_dot)).dot(b.w) + u_dot.dot(d_dot) + u.dot(a.c - b.c)) + s2;
@@ -123,7 +128,7 @@ void slide_row(const EndMotion<S>& a, const EndMotion<S>& b, const Eigen::Matrix
 /// those `wanted` of their row.
 template <typename S, typename Wanted>
 void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
-                core::ConstraintRowsTpl<S>& rows, const Wanted& wanted) {
+                core::ConstraintRowsTpl<S>& rows, const Wanted& wanted, bool with_gamma) {
   for (int k = 0; k < 3; ++k) {
     if (!wanted(row + k)) continue;
     const Eigen::Matrix<S, 3, 1> u = Eigen::Matrix<S, 3, 1>::Unit(k);
@@ -131,18 +136,20 @@ void point_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
     add_point_row(a, u, S(1), row + k, rows);
     add_point_row(b, u, S(-1), row + k, rows);
     rows.phi_t(row + k) = S(0);
-    rows.gamma(row + k) = -(a.c(k) - b.c(k));
+    if (with_gamma) rows.gamma(row + k) = -(a.c(k) - b.c(k));
   }
 }
 
 /// Z_b·X_a and Z_b·Y_a: the axes stay parallel (those `wanted` of their row).
 template <typename S, typename Wanted>
 void parallel_axis_rows(const EndMotion<S>& a, const EndMotion<S>& b, int row,
-                        core::ConstraintRowsTpl<S>& rows, const Wanted& wanted) {
+                        core::ConstraintRowsTpl<S>& rows, const Wanted& wanted, bool with_gamma) {
   const Eigen::Matrix<S, 3, 1> zero = Eigen::Matrix<S, 3, 1>::Zero();
   const Eigen::Matrix<S, 3, 1> z_b = b.axis(2);
-  if (wanted(row)) rotation_dot_row(b, z_b, zero, zero, a, a.axis(0), row, rows);
-  if (wanted(row + 1)) rotation_dot_row(b, z_b, zero, zero, a, a.axis(1), row + 1, rows);
+  if (wanted(row)) rotation_dot_row(b, z_b, zero, zero, a, a.axis(0), row, rows, with_gamma);
+  if (wanted(row + 1)) {
+    rotation_dot_row(b, z_b, zero, zero, a, a.axis(1), row + 1, rows, with_gamma);
+  }
 }
 
 }  // namespace detail
@@ -231,7 +238,14 @@ template <typename S>
 void IdealJointsTpl<S>::evaluate(const S& t, std::span<const Kinematics> bodies,
                                  const core::VelocityLayout& layout,
                                  core::ConstraintRowsTpl<S>& rows) const {
-  evaluate_where(t, bodies, layout, rows, [](int) { return true; });
+  evaluate_where<true>(t, bodies, layout, rows, [](int) { return true; });
+}
+
+template <typename S>
+void IdealJointsTpl<S>::evaluate_rates(const S& t, std::span<const Kinematics> bodies,
+                                       const core::VelocityLayout& layout,
+                                       core::ConstraintRowsTpl<S>& rows) const {
+  evaluate_where<false>(t, bodies, layout, rows, [](int) { return true; });
 }
 
 template <typename S>
@@ -239,12 +253,12 @@ void IdealJointsTpl<S>::evaluate_rows(const S& t, std::span<const Kinematics> bo
                                       const core::VelocityLayout& layout,
                                       std::span<const char> wanted,
                                       core::ConstraintRowsTpl<S>& rows) const {
-  evaluate_where(t, bodies, layout, rows,
-                 [wanted](int row) { return wanted[static_cast<std::size_t>(row)] != 0; });
+  evaluate_where<true>(t, bodies, layout, rows,
+                       [wanted](int row) { return wanted[static_cast<std::size_t>(row)] != 0; });
 }
 
 template <typename S>
-template <typename Wanted>
+template <bool kGamma, typename Wanted>
 void IdealJointsTpl<S>::evaluate_where(const S& t, std::span<const Kinematics> bodies,
                                        const core::VelocityLayout& layout,
                                        core::ConstraintRowsTpl<S>& rows,
@@ -262,22 +276,22 @@ void IdealJointsTpl<S>::evaluate_where(const S& t, std::span<const Kinematics> b
     bool any = false;
     for (int r = row; r < first_row_[j + 1] && !any; ++r) any = wanted(r);
     if (!any) continue;  // a joint none of whose rows is wanted: not even its ends' motion
-    const EndMotion<S> a = detail::end_motion<S>(a_[j], bodies);
-    const EndMotion<S> b = detail::end_motion<S>(b_[j], bodies);
+    const EndMotion<S> a = detail::end_motion<S>(a_[j], bodies, kGamma);
+    const EndMotion<S> b = detail::end_motion<S>(b_[j], bodies, kGamma);
     // The drive's relative coordinate and its rates (zero when not driven).
     S q = S(0), q1 = S(0), q2 = S(0);
     if (spec.drive.active) {
       q = spec.drive.law.template angle<S>(t);
       q1 = spec.drive.law.template angular_rate<S>(t);
-      q2 = spec.drive.law.template angular_acceleration<S>(t);
+      if (kGamma) q2 = spec.drive.law.template angular_acceleration<S>(t);
     }
     switch (spec.type) {
       case JointType::kSpherical:
-        detail::point_rows(a, b, row, rows, wanted);
+        detail::point_rows(a, b, row, rows, wanted, kGamma);
         break;
       case JointType::kRevolute:
-        detail::point_rows(a, b, row, rows, wanted);
-        detail::parallel_axis_rows(a, b, row + 3, rows, wanted);
+        detail::point_rows(a, b, row, rows, wanted, kGamma);
+        detail::parallel_axis_rows(a, b, row + 3, rows, wanted, kGamma);
         if (spec.drive.active && wanted(row + 5)) {
           // p(t) = A_b (cos φ Ȳ − sin φ X̄): Φ = X_a·p = sin(ψ − φ); p̄' = −φ̇ m̄,
           // p̄'' = −φ̈ m̄ − φ̇² p̄ with m̄ = cos φ X̄ + sin φ Ȳ (joint axes of end b).
@@ -289,37 +303,40 @@ void IdealJointsTpl<S>::evaluate_where(const S& t, std::span<const Kinematics> b
           const Vector3 m = cos(q) * x_b + sin(q) * y_b;
           const Vector3 p1 = -q1 * m;
           const Vector3 p2 = -q2 * m - q1 * q1 * p;
-          detail::rotation_dot_row(b, p, p1, p2, a, a.axis(0), row + 5, rows);
+          detail::rotation_dot_row(b, p, p1, p2, a, a.axis(0), row + 5, rows, kGamma);
         }
         break;
       case JointType::kUniversal:
-        detail::point_rows(a, b, row, rows, wanted);
+        detail::point_rows(a, b, row, rows, wanted, kGamma);
         if (wanted(row + 3)) {
-          detail::rotation_dot_row(b, b.axis(2), zero, zero, a, a.axis(2), row + 3, rows);
+          detail::rotation_dot_row(b, b.axis(2), zero, zero, a, a.axis(2), row + 3, rows, kGamma);
         }
         break;
       case JointType::kFixed:
-        detail::point_rows(a, b, row, rows, wanted);
-        detail::parallel_axis_rows(a, b, row + 3, rows, wanted);
+        detail::point_rows(a, b, row, rows, wanted, kGamma);
+        detail::parallel_axis_rows(a, b, row + 3, rows, wanted, kGamma);
         if (wanted(row + 5)) {
-          detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 5, rows);
+          detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 5, rows, kGamma);
         }
         break;
       case JointType::kCylindrical:
-        if (wanted(row)) detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
-        if (wanted(row + 1)) detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
-        detail::parallel_axis_rows(a, b, row + 2, rows, wanted);
+        if (wanted(row)) detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows, kGamma);
+        if (wanted(row + 1))
+          detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows, kGamma);
+        detail::parallel_axis_rows(a, b, row + 2, rows, wanted, kGamma);
         break;
       case JointType::kPrismatic:
-        if (wanted(row)) detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows);
-        if (wanted(row + 1)) detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows);
-        detail::parallel_axis_rows(a, b, row + 2, rows, wanted);
+        if (wanted(row)) detail::slide_row(a, b, b.axis(0), S(0), S(0), S(0), row, rows, kGamma);
+        if (wanted(row + 1))
+          detail::slide_row(a, b, b.axis(1), S(0), S(0), S(0), row + 1, rows, kGamma);
+        detail::parallel_axis_rows(a, b, row + 2, rows, wanted, kGamma);
         if (wanted(row + 4)) {
-          detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 4, rows);
+          detail::rotation_dot_row(b, b.axis(0), zero, zero, a, a.axis(1), row + 4, rows, kGamma);
         }
         if (spec.drive.active && wanted(row + 5)) {
           // Z_b·d − s(t), s = the initial Z_b·d (the drive's offset) + the law's displacement.
-          detail::slide_row(a, b, b.axis(2), S(S(spec.drive.offset) + q), q1, q2, row + 5, rows);
+          detail::slide_row(a, b, b.axis(2), S(S(spec.drive.offset) + q), q1, q2, row + 5, rows,
+                            kGamma);
         }
         break;
       case JointType::kDistance: {
@@ -331,7 +348,7 @@ void IdealJointsTpl<S>::evaluate_where(const S& t, std::span<const Kinematics> b
         const Vector3 u = d / L;
         detail::add_point_row(a, u, S(1), row, rows);
         detail::add_point_row(b, u, S(-1), row, rows);
-        rows.gamma(row) = -(d_dot.squaredNorm() + d.dot(a.c - b.c)) / L;
+        if (kGamma) rows.gamma(row) = -(d_dot.squaredNorm() + d.dot(a.c - b.c)) / L;
         break;
       }
     }

@@ -42,6 +42,16 @@ TreeWorkspace TreeKinematics::make_workspace() const {
 
 void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& ws,
                               bool attitudes) const {
+  evaluate_tree<true>(q, u, ws, attitudes);
+}
+
+void TreeKinematics::evaluate_state(const Vector& q, const Vector& u, TreeWorkspace& ws) const {
+  evaluate_tree<false>(q, u, ws, true);
+}
+
+template <bool kJacobians>
+void TreeKinematics::evaluate_tree(const Vector& q, const Vector& u, TreeWorkspace& ws,
+                                   bool attitudes) const {
   for (std::size_t k = 0; k < tree_.mobilizers.size(); ++k) {
     const Mobilizer& m = tree_.mobilizers[k];
     RelativeMotion& rel = ws.relative[k];
@@ -87,20 +97,22 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
     // zero) and R_WF H_v − r_MC × R_WF H_w on the mobilizer's own. S stores v_WBr's rows (the
     // children's Jv) and ω̄'s = R_WCᵀ ω's; Jw keeps ω's in the world for the children.
     const Eigen::Index rc = 3 * static_cast<Eigen::Index>(c), rp = 3 * static_cast<Eigen::Index>(p);
-    for (const int col : columns_[c]) {
-      Eigen::Map<Eigen::Vector3d> Jw_C(&ws.Jw(rc, col));
-      Eigen::Map<Eigen::Vector3d> Jv_C(&ws.S(2 * rc, col));
-      const int own = col - m.u_offset;
-      if (own >= 0 && own < nu_m) {
-        Jw_C.noalias() = R_WF * rel.H_w.col(own);
-        Jv_C.noalias() = R_WF * rel.H_v.col(own);
-        Jv_C -= r_MC.cross(Jw_C);
-      } else {
-        Jw_C = ws.Jw.block<3, 1>(rp, col);
-        Jv_C = ws.S.block<3, 1>(2 * rp, col);
-        Jv_C -= r_PC.cross(Jw_C);
+    if constexpr (kJacobians) {
+      for (const int col : columns_[c]) {
+        Eigen::Map<Eigen::Vector3d> Jw_C(&ws.Jw(rc, col));
+        Eigen::Map<Eigen::Vector3d> Jv_C(&ws.S(2 * rc, col));
+        const int own = col - m.u_offset;
+        if (own >= 0 && own < nu_m) {
+          Jw_C.noalias() = R_WF * rel.H_w.col(own);
+          Jv_C.noalias() = R_WF * rel.H_v.col(own);
+          Jv_C -= r_MC.cross(Jw_C);
+        } else {
+          Jw_C = ws.Jw.block<3, 1>(rp, col);
+          Jv_C = ws.S.block<3, 1>(2 * rp, col);
+          Jv_C -= r_PC.cross(Jw_C);
+        }
+        ws.S.block<3, 1>(2 * rc + 3, col).noalias() = R_WC.transpose() * Jw_C;
       }
-      ws.S.block<3, 1>(2 * rc + 3, col).noalias() = R_WC.transpose() * Jw_C;
     }
     // Velocities and bias (the recursion of the header).
     Eigen::Vector3d w_rel_F = Eigen::Vector3d::Zero(), v_rel_F = Eigen::Vector3d::Zero();
@@ -111,20 +123,22 @@ void TreeKinematics::evaluate(const Vector& q, const Vector& u, TreeWorkspace& w
     const Eigen::Vector3d w_rel = R_WF * w_rel_F;
     const Eigen::Vector3d v_rel = R_WF * v_rel_F;
     const Eigen::Vector3d w_C = w_P + w_rel;
-    const Eigen::Vector3d alpha_C = alpha_P + w_P.cross(w_rel) + R_WF * rel.w_dot_bias_F;
-    const Eigen::Vector3d a_M = a_P + alpha_P.cross(r_PM) + w_P.cross(w_P.cross(r_PM)) +
-                                2.0 * w_P.cross(v_rel) + R_WF * rel.p_ddot_bias_F;
-    const Eigen::Vector3d a_C = a_M + alpha_C.cross(r_MC) + w_C.cross(w_C.cross(r_MC));
     ws.R_WB[c] = R_WC;
     ws.w_WB_W[c] = w_C;
-    ws.alpha_bias_W[c] = alpha_C;
-    ws.a_bias_WBr[c] = a_C;
     s.p_WBr = p_WCr;
     s.v_WBr = v_P + w_P.cross(r_PM) + v_rel + w_C.cross(r_MC);
     s.w_WB_B.noalias() = R_WC.transpose() * w_C;
-    // The model's variables: (a_WBr, α̅ = R_WCᵀ ω̇) at u̇ = 0.
-    ws.bias.segment<3>(2 * rc) = a_C;
-    ws.bias.segment<3>(2 * rc + 3).noalias() = R_WC.transpose() * alpha_C;
+    if constexpr (kJacobians) {
+      const Eigen::Vector3d alpha_C = alpha_P + w_P.cross(w_rel) + R_WF * rel.w_dot_bias_F;
+      const Eigen::Vector3d a_M = a_P + alpha_P.cross(r_PM) + w_P.cross(w_P.cross(r_PM)) +
+                                  2.0 * w_P.cross(v_rel) + R_WF * rel.p_ddot_bias_F;
+      const Eigen::Vector3d a_C = a_M + alpha_C.cross(r_MC) + w_C.cross(w_C.cross(r_MC));
+      ws.alpha_bias_W[c] = alpha_C;
+      ws.a_bias_WBr[c] = a_C;
+      // The model's variables: (a_WBr, α̅ = R_WCᵀ ω̇) at u̇ = 0.
+      ws.bias.segment<3>(2 * rc) = a_C;
+      ws.bias.segment<3>(2 * rc + 3).noalias() = R_WC.transpose() * alpha_C;
+    }
   }
 }
 

@@ -66,6 +66,9 @@ class TreeKinematics {
   void evaluate(const Vector& q, const Vector& u, TreeWorkspace& ws, bool attitudes = true) const;
   /// θ_WB from ws.R_WB where evaluate left them NaN: evaluate's own conversion, the same bits.
   void attitudes(TreeWorkspace& ws) const;
+  /// The bodies' maximal state alone (ws.state, ws.R_WB, ws.w_WB_W), as evaluate forms it, to
+  /// the same bits: an output's state, without S, Jw and the bias (left as they were).
+  void evaluate_state(const Vector& q, const Vector& u, TreeWorkspace& ws) const;
   /// The joint coordinates of a maximal state that satisfies the tree's joints (the inverse of
   /// evaluate on its image; a violation of a tree joint's rows is dropped, not represented).
   void coordinates(const core::State& state, Vector& q, Vector& u) const;
@@ -82,6 +85,10 @@ class TreeKinematics {
   void advance(const Vector& q, const Vector& u, double h, Vector& q_out) const;
 
  private:
+  /// evaluate's recursion; without kJacobians, the state alone (evaluate_state).
+  template <bool kJacobians>
+  void evaluate_tree(const Vector& q, const Vector& u, TreeWorkspace& ws, bool attitudes) const;
+
   SpanningTree tree_;
   std::vector<Eigen::Vector3d> p_BoBr_B_;
   std::vector<std::vector<int>> columns_;

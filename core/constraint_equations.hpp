@@ -95,6 +95,13 @@ class ConstraintEquationsTpl {
   /// (prepare_rows).
   virtual void evaluate(const S& t, std::span<const Kinematics> bodies,
                         const VelocityLayout& layout, ConstraintRowsTpl<S>& rows) const = 0;
+  /// evaluate without γ (rows.gamma left as it was): Φ, J and Φ_t to evaluate's bits, for a
+  /// caller that reads the rows' positions and rates alone (the joint check,
+  /// Model::relative_joint_violation). evaluate itself where not overridden.
+  virtual void evaluate_rates(const S& t, std::span<const Kinematics> bodies,
+                              const VelocityLayout& layout, ConstraintRowsTpl<S>& rows) const {
+    evaluate(t, bodies, layout, rows);
+  }
   /// The reaction of each joint on its first body from the stacked generalized constraint forces
   /// on the bodies, F = −Jᵀ λ restricted to the joint's rows (joint_forces: N entries per joint,
   /// only the joint's first body's block read).

@@ -178,7 +178,7 @@ RelativeJointViolationTpl<S> ModelTpl<S>::relative_joint_violation(S t, const St
                                                                    Workspace& ws) const {
   if (!constraints_) return {};
   pose_bodies(state, ws);
-  constraints_->evaluate(t, ws.kinematics, layout_, ws.constraint.rows);
+  constraints_->evaluate_rates(t, ws.kinematics, layout_, ws.constraint.rows);  // no γ read
   return relative_violation(ws.constraint, state);
 }
 

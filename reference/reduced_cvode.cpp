@@ -273,7 +273,7 @@ class ReducedSegmentSolver final : public sun::SegmentSolver {
     u_ = Eigen::Map<const Eigen::VectorXd>(y + nq_, nu_);
     const constraint::TreeKinematics& k = reduced_->kinematics();
     k.normalize(q_.data());
-    k.evaluate(q_, u_, fk_);
+    k.evaluate_state(q_, u_, fk_);
     state = fk_.state;
     for (std::size_t b = 0; b < state.size(); ++b) {
       state[b].theta_WB = continued(state[b].theta_WB, d_.lift[b]);

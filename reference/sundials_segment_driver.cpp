@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <ctime>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "core/error.hpp"
@@ -32,10 +33,15 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
   // W_d and the extra integrals (applied work, wear work), carried across restarts.
   std::vector<double> integrals(
       track_work ? static_cast<std::size_t>(1 + model.extra_integral_count()) : 0, 0.0);
-  core::Workspace ws = model.make_workspace();
-  core::ImpactCounter impacts(model);
-  impacts.start(core::LoadContext{0.0, 0.0}, state, ws);
+  // The impact counter and its workspace only where there are contacts to count (a workspace
+  // sizes the joints' constrained solve, which nothing here uses otherwise).
   const bool count_impacts = model.wear_channel_count() > 0;
+  core::ImpactCounter impacts(model);
+  std::optional<core::Workspace> impact_ws;
+  if (count_impacts) {
+    impact_ws.emplace(model.make_workspace());
+    impacts.start(core::LoadContext{0.0, 0.0}, state, *impact_ws);
+  }
   const auto record = [&](double t) {
     run.trajectory.states.push_back(state);
     if (options.progress != nullptr) options.progress->reached(t);
@@ -45,7 +51,7 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
                                        integrals.end());
     }
     if (count_impacts) {
-      impacts.update(core::LoadContext{t, t}, state, ws);
+      impacts.update(core::LoadContext{t, t}, state, *impact_ws);
       run.trajectory.impacts.insert(run.trajectory.impacts.end(), impacts.counts().begin(),
                                     impacts.counts().end());
     }
@@ -85,7 +91,8 @@ ReferenceRun integrate_segments(const core::Model& model, const std::vector<doub
               // The root finder returns the state just past the sign change: an onset is seen
               // here, however short the contact.
               solver->unpack(t_returned, state);
-              impacts.update_at_root(core::LoadContext{t_returned, segment.t_segment}, state, ws);
+              impacts.update_at_root(core::LoadContext{t_returned, segment.t_segment}, state,
+                                     *impact_ws);
             }
             solver->add_counters(run.stats);
             solver->restart_at_root(t_returned, segment);

@@ -286,6 +286,39 @@ TEST_CASE("ideal joints: evaluate_rows gives evaluate's bits on the rows wanted"
   }
 }
 
+TEST_CASE("ideal joints: evaluate_rates gives evaluate's Φ, J and Φ_t bits, γ untouched",
+          "[constraint]") {
+  // The joint check's evaluation (Model::relative_joint_violation) reads no γ: every other entry
+  // must be evaluate's to the bit, on every joint type (driven where it can be) and end.
+  std::mt19937 rng(53);
+  Bodies bodies;
+  bodies.randomize(rng);
+  std::vector<IdealJointSpec> specs;
+  const JointType types[] = {JointType::kSpherical,   JointType::kRevolute,  JointType::kPrismatic,
+                             JointType::kCylindrical, JointType::kUniversal, JointType::kFixed,
+                             JointType::kDistance};
+  for (const JointType type : types) {
+    const bool can_drive = type == JointType::kRevolute || type == JointType::kPrismatic;
+    specs.push_back(random_joint(type, 1, false, can_drive, bodies, rng));
+    specs.push_back(random_joint(type, kGround, false, false, bodies, rng));
+    specs.push_back(random_joint(type, 2, true, false, bodies, rng));
+  }
+  const IdealJoints joints(specs, 3);
+  const double t = 0.5;  // inside the drives' spin-up
+  const core::ConstraintRows all = evaluate(joints, bodies, t, bodies.states);
+  const std::vector<core::BodyKinematicsTpl<double>> k = bodies.kinematics(bodies.states);
+  core::ConstraintRows rates;
+  rates.resize(joints.row_count(), bodies.layout.size());
+  rates.gamma.setConstant(-7.0);  // a stale γ, which must stay
+  joints.evaluate_rates(t, std::span<const core::BodyKinematicsTpl<double>>(k), bodies.layout,
+                        rates);
+  CHECK(rates.phi == all.phi);
+  CHECK(rates.phi_t == all.phi_t);
+  CHECK(rates.J == all.J);
+  CHECK((rates.gamma.array() == -7.0).all());
+  CHECK(all.phi_t.cwiseAbs().maxCoeff() > 0.0);  // the drives' rows are in the comparison
+}
+
 TEST_CASE("ideal joints: rows per type, their owners and length rows", "[constraint]") {
   CHECK(row_count(JointType::kSpherical, false) == 3);
   CHECK(row_count(JointType::kRevolute, false) == 5);

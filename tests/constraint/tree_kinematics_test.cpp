@@ -5,7 +5,8 @@
 /// (constraint/reduced_model.hpp) sees a planar loop's out-of-plane rows as the zero rows they
 /// are. (Euler parameters composed by quaternion products, tried for speed, left ~1e-16 there;
 /// the slider crank's choice then took a numerically zero row and its first evaluation failed
-/// on the Schur pivot: docs/reduced_coordinates.md, "Cost".)
+/// on the Schur pivot: docs/reduced_coordinates.md, "Cost".) Also: the state alone
+/// (evaluate_state, the outputs') is evaluate's to the bit.
 #include "constraint/tree_kinematics.hpp"
 
 #include <catch2/catch.hpp>
@@ -38,6 +39,33 @@ TEST_CASE("tree kinematics: a planar mechanism's out-of-plane rows of S are exac
     // The closure rows it enforces are the loop's in-plane ones: the evaluation's Schur
     // pivots pass (a chosen out-of-plane row would throw SingularConfigurationError).
     CHECK_NOTHROW(reduced.accelerations({0.0, 0.0}, q_h, u, rws, u_dot, 150.0));
+  }
+}
+
+TEST_CASE("tree kinematics: the state alone is evaluate's, bit for bit", "[reduced]") {
+  // Andrews' revolute chains and the heavy top's pivot root; the workspace holds another
+  // configuration's state first, so that a part evaluate_state forgot would show as stale.
+  for (const char* path : {"scenes/andrews_squeezer.toml", "scenes/heavy_top_spherical.toml"}) {
+    const scene::Scene scene = scene::read_scene(path);
+    const ReducedModel reduced(*scene.model);
+    const TreeKinematics& k = reduced.kinematics();
+    Eigen::VectorXd q, u, q_other;
+    reduced.coordinates(scene.model->initial_state(), q, u);
+    u = Eigen::VectorXd::LinSpaced(k.velocity_count(), 1.0, 3.0);  // rad/s: every body moves
+    q_other = q;
+    k.advance(q, u, 0.1, q_other);
+    TreeWorkspace full = k.make_workspace(), state_only = k.make_workspace();
+    k.evaluate(q, u, full);
+    k.evaluate(q_other, -u, state_only);
+    k.evaluate_state(q, u, state_only);
+    for (std::size_t b = 0; b < full.state.size(); ++b) {
+      INFO(path << ", body " << b);
+      CHECK(state_only.state[b].p_WBr == full.state[b].p_WBr);
+      CHECK(state_only.state[b].theta_WB == full.state[b].theta_WB);
+      CHECK(state_only.state[b].v_WBr == full.state[b].v_WBr);
+      CHECK(state_only.state[b].w_WB_B == full.state[b].w_WB_B);
+      CHECK(state_only.R_WB[b] == full.R_WB[b]);
+    }
   }
 }
 
