@@ -11,8 +11,8 @@
 # undefined operation on the paths they run, and Eigen's assertions, which -DNDEBUG removes in
 # Release), and the double arithmetic is the same as -O3's on x86-64 (no -ffast-math; no FMA
 # contraction without -march). Compiling them twice was a quarter of CI's CPU (docs/performance.md,
-# "Build"; docs/decisions.md, "Tests"). `cmake -B build && ctest -L unit` in a folder configured
-# with the defaults still builds and runs them in Release.
+# "Build"; docs/decisions.md, "Tests"). A folder configured with the defaults
+# (FLEXREF_BUILD_UNIT_TESTS=ON) still builds them in Release; `ctest -L unit` runs them there.
 # Usage: scripts/test.sh   (exit 0 when both pass)
 set -uo pipefail
 cd "$(dirname "$0")/.."

@@ -2,8 +2,8 @@
 # Builds the library, the command line and the tests with AddressSanitizer + UBSan in a second
 # build directory (build-sanitize/) and runs the unit label there, the command-line fuzz target
 # and the scene fuzz included: the test command (scripts/test.sh) runs the unit tests here only.
-# The long measurements (label study) are compiled, not run, so that they build. -O1: ASan's recommended optimization, a shorter
-# build than -O2 and tests several times faster than -O0; -g1 (line tables) keeps the stack
+# The long measurements (label study) are compiled, not run, so that they build. -O1: ASan's
+# recommended optimization, a shorter build than -O2 and tests several times faster than -O0; -g1 (line tables) keeps the stack
 # traces and compiles faster than -g (docs/decisions.md, "Tests").
 # Left out of this build: the Python module (the interpreter would need the ASan runtime
 # preloaded), the installed-package examples (a second project), and MPI (OpenMPI's own
