@@ -42,6 +42,15 @@ foreach(folder ${FLEXREF_LIBRARY_FOLDERS})
   list(APPEND flexref_library_targets flexref_${folder})
 endforeach()
 target_link_libraries(flexref_all INTERFACE ${flexref_library_targets})
+# A sanitized build's libraries call the sanitizers' runtimes, and Eigen allocates otherwise under
+# AddressSanitizer (handmade aligned blocks where glibc's malloc would do, Eigen/src/Core/util/
+# Memory.h): whoever uses one compiles and links with the sanitizers too.
+if(FLEXREF_SANITIZE)
+  foreach(target ${flexref_library_targets})
+    target_compile_options(${target} INTERFACE -fsanitize=address,undefined)
+    target_link_options(${target} INTERFACE -fsanitize=address,undefined)
+  endforeach()
+endif()
 
 install(TARGETS ${flexref_library_targets} flexref_all EXPORT flexrefTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -8,4 +8,18 @@ if(FLEXREF_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-sanitize=null,alignment
                       -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
+  # A program not built here that loads this build's code (the Python interpreter importing the
+  # module) needs ASan's runtime loaded before anything else, with the C++ runtime beside it (the
+  # runtime's interceptor of __cxa_throw finds no libstdc++ in a C program otherwise): its tests
+  # preload both (FLEXREF_SANITIZER_PRELOAD, tests/CMakeLists.txt). The interpreter's own
+  # allocations live to its exit by design, so leak detection is off there; every other check
+  # stays on.
+  execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=libasan.so
+                  OUTPUT_VARIABLE flexref_asan_runtime OUTPUT_STRIP_TRAILING_WHITESPACE)
+  if(NOT IS_ABSOLUTE "${flexref_asan_runtime}" OR NOT EXISTS "${flexref_asan_runtime}")
+    message(FATAL_ERROR "FLEXREF_SANITIZE: the compiler names no ASan runtime (libasan.so)")
+  endif()
+  set(FLEXREF_SANITIZER_NO_LEAKS "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1")
+  set(FLEXREF_SANITIZER_PRELOAD "LD_PRELOAD=${flexref_asan_runtime}:libstdc++.so.6"
+                                ${FLEXREF_SANITIZER_NO_LEAKS})
 endif()

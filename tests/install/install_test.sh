@@ -5,6 +5,9 @@
 #      suite in one line when Catch2 is there) configures, builds and runs against the
 #      installed package (find_package(flexref), flexref::flexref);
 #   3. the installed Python module imports from the prefix (when it was built).
+# A sanitized build's package carries the sanitizers' link options to its users
+# (cmake/FlexrefInstall.cmake); its Python module needs ASan's runtime preloaded, which
+# FLEXREF_PYTHON_PRELOAD gives (VAR=value words, set by the test's registration).
 # Usage: install_test.sh BUILD_DIR (from the repository root).
 set -euo pipefail
 build=$(cd "$1" && pwd)
@@ -43,7 +46,8 @@ fi
 
 module=$(find "$prefix" -name 'flexref*.so' | head -1)
 if [[ -n $module ]]; then
-  PYTHONPATH=$(dirname "$module") /usr/bin/python3 -c 'import flexref; print("python module", flexref.__version__, "imports from the prefix")' ||
+  # shellcheck disable=SC2086  # FLEXREF_PYTHON_PRELOAD: VAR=value words (a sanitized build's)
+  env ${FLEXREF_PYTHON_PRELOAD:-} PYTHONPATH=$(dirname "$module") /usr/bin/python3 -c 'import flexref; print("python module", flexref.__version__, "imports from the prefix")' ||
     { echo "FAIL: installed Python module"; exit 1; }
 fi
 echo "install test: 3 passed, 0 failed"
