@@ -3,7 +3,7 @@
 # Usage: scripts/setup.sh [--target NAME]... [--packages-only] [extra cmake arguments]
 #   --target NAME     build only this target (repeatable; default: everything: the library, the
 #                     command line, the tests and the benchmarks)
-#   --packages-only   install what is missing and build nothing (.ci/run, before its two builds)
+#   --packages-only   install what is missing and build nothing (the test command, before its build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

@@ -2,7 +2,7 @@
 # Tests write only inside a folder of their own, unique per process and removed afterwards:
 # C++ tests through tests/support/temp_dir.hpp (TempDir, made by mkdtemp), shell tests through
 # `mktemp -d` with a trap that removes it. A fixed name in the shared temporary folder collides
-# when two builds' suites run at once (Release and sanitizers in CI), a file left behind changes
+# when two suites run at once (two builds, or ctest -j), a file left behind changes
 # the next run's verdict, and a path outside the test's folder touches the machine. This check
 # reads what the tests write (comments and, in shell scripts, here-documents aside) and fails on:
 #  C++ (tests/support/temp_dir.* aside):

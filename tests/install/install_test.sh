@@ -34,8 +34,14 @@ cmake -S "$src/tests/install" -B "$tmp/headers" -DCMAKE_PREFIX_PATH="$prefix" \
 cmake --build "$tmp/headers" -j2 >"$tmp/headers_build.log" 2>&1 ||
   { tail -30 "$tmp/headers_build.log"; echo "FAIL: installed headers do not compile"; exit 1; }
 
+# The example compiled as the package was: its build type and that type's flags (Release's -O3
+# from a Release build; -O1 from the sanitized build, whose sanitizers the package carries).
+build_type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt")
+build_type=${build_type:-Release}
+type_flags=$(sed -n "s/^CMAKE_CXX_FLAGS_${build_type^^}:[A-Z]*=//p" "$build/CMakeCache.txt")
 cmake -S "$src/examples/cpp" -B "$tmp/example" -DCMAKE_PREFIX_PATH="$prefix" \
-  -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >"$tmp/example.log" ||
+  -DCMAKE_BUILD_TYPE="$build_type" "-DCMAKE_CXX_FLAGS_${build_type^^}=$type_flags" \
+  "${launcher[@]}" >"$tmp/example.log" ||
   { cat "$tmp/example.log"; echo "FAIL: example configure"; exit 1; }
 cmake --build "$tmp/example" -j2 >"$tmp/example_build.log" 2>&1 ||
   { tail -30 "$tmp/example_build.log"; echo "FAIL: example build"; exit 1; }
