@@ -19,14 +19,6 @@ cmake -S . -B build-sanitize "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo
   "${launcher[@]}" "$@" >/dev/null
 cmake --build build-sanitize -j"$(nproc)"
 cd build-sanitize
-# ctest starts the tests it knows to be long first; a new folder knows none, and the long fuzz
-# cases discovered from the Catch programs would start last and run alone: it starts from the
-# durations of a sanitized run (tests/ctest_costs.txt, the tests of 2 s and more; a stale entry
-# only reorders) until its own replace them.
-if [[ ! -f Testing/Temporary/CTestCostData.txt ]]; then
-  mkdir -p Testing/Temporary
-  cp ../tests/ctest_costs.txt Testing/Temporary/CTestCostData.txt
-fi
 # Any report fails the test that triggered it (UBSan does not recover: -fno-sanitize-recover).
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
