@@ -155,6 +155,23 @@ IdealJointSpec random_joint(JointType type, int body_b, bool node_b, bool driven
   return j;
 }
 
+/// Every joint type, each on a body–body end (driven where the type can be), a body–ground end
+/// and a body–node end: the joint set of the tests that compare a partial evaluation with
+/// evaluate's.
+std::vector<IdealJointSpec> every_joint_kind(const Bodies& bodies, std::mt19937& rng) {
+  std::vector<IdealJointSpec> specs;
+  const JointType types[] = {JointType::kSpherical,   JointType::kRevolute,  JointType::kPrismatic,
+                             JointType::kCylindrical, JointType::kUniversal, JointType::kFixed,
+                             JointType::kDistance};
+  for (const JointType type : types) {
+    const bool can_drive = type == JointType::kRevolute || type == JointType::kPrismatic;
+    specs.push_back(random_joint(type, 1, false, can_drive, bodies, rng));
+    specs.push_back(random_joint(type, kGround, false, false, bodies, rng));
+    specs.push_back(random_joint(type, 2, true, false, bodies, rng));
+  }
+  return specs;
+}
+
 void check_rows_against_differences(const IdealJointSpec& spec, const Bodies& bodies, double t) {
   const IdealJoints joints({spec}, 3);
   const core::ConstraintRows rows = evaluate(joints, bodies, t, bodies.states);
@@ -243,17 +260,7 @@ TEST_CASE("ideal joints: evaluate_rows gives evaluate's bits on the rows wanted"
   std::mt19937 rng(52);
   Bodies bodies;
   bodies.randomize(rng);
-  std::vector<IdealJointSpec> specs;
-  const JointType types[] = {JointType::kSpherical,   JointType::kRevolute,  JointType::kPrismatic,
-                             JointType::kCylindrical, JointType::kUniversal, JointType::kFixed,
-                             JointType::kDistance};
-  for (const JointType type : types) {
-    const bool can_drive = type == JointType::kRevolute || type == JointType::kPrismatic;
-    specs.push_back(random_joint(type, 1, false, can_drive, bodies, rng));
-    specs.push_back(random_joint(type, kGround, false, false, bodies, rng));
-    specs.push_back(random_joint(type, 2, true, false, bodies, rng));
-  }
-  const IdealJoints joints(specs, 3);
+  const IdealJoints joints(every_joint_kind(bodies, rng), 3);
   const int m = joints.row_count();
   const double t = 0.5;  // inside the drives' spin-up
   const core::ConstraintRows all = evaluate(joints, bodies, t, bodies.states);
@@ -293,17 +300,7 @@ TEST_CASE("ideal joints: evaluate_rates gives evaluate's Φ, J and Φ_t bits, γ
   std::mt19937 rng(53);
   Bodies bodies;
   bodies.randomize(rng);
-  std::vector<IdealJointSpec> specs;
-  const JointType types[] = {JointType::kSpherical,   JointType::kRevolute,  JointType::kPrismatic,
-                             JointType::kCylindrical, JointType::kUniversal, JointType::kFixed,
-                             JointType::kDistance};
-  for (const JointType type : types) {
-    const bool can_drive = type == JointType::kRevolute || type == JointType::kPrismatic;
-    specs.push_back(random_joint(type, 1, false, can_drive, bodies, rng));
-    specs.push_back(random_joint(type, kGround, false, false, bodies, rng));
-    specs.push_back(random_joint(type, 2, true, false, bodies, rng));
-  }
-  const IdealJoints joints(specs, 3);
+  const IdealJoints joints(every_joint_kind(bodies, rng), 3);
   const double t = 0.5;  // inside the drives' spin-up
   const core::ConstraintRows all = evaluate(joints, bodies, t, bodies.states);
   const std::vector<core::BodyKinematicsTpl<double>> k = bodies.kinematics(bodies.states);
